@@ -1,0 +1,9 @@
+//! framelab-replay runs a compiled frame on the GPU through wgpu.
+//!
+//! This crate knows wgpu, WGSL and images; it knows nothing of the capture's JSON, DXGI format
+//! names or D3D12 heaps. The root crate lowers a validated capture into the wgpu-level types
+//! here, so that the GPU side can be tested and reused without the capture model.
+
+pub mod device;
+
+pub use device::{AdapterSummary, DeviceError, GpuContext, list_adapters, open_device};
