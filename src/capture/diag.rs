@@ -1,0 +1,147 @@
+//! Diagnostics: one problem found in a capture, located by its JSON path, with a suggestion for
+//! misspelled names. Validation collects all of them before reporting, so a user fixes a capture
+//! in one round instead of one error per run.
+
+use std::fmt;
+
+use serde::Serialize;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Severity {
+    Error,
+    Warning,
+}
+
+/// One problem in a capture.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Diagnostic {
+    pub severity: Severity,
+    /// Stable kebab-case code, e.g. `unknown-resource`, `heap-tier`.
+    pub code: &'static str,
+    /// JSON path of the offending value, e.g. `$.passes[3].bindings.albedo.resource`.
+    pub path: String,
+    pub message: String,
+    /// The name the user probably meant, for unknown names.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub suggestion: Option<String>,
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let level = match self.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
+        write!(f, "{level}[{}] {}: {}", self.code, self.path, self.message)?;
+        if let Some(s) = &self.suggestion {
+            write!(f, " (did you mean \"{s}\"?)")?;
+        }
+        Ok(())
+    }
+}
+
+/// The closest candidate to a misspelled name, if one is close enough to be a likely typo.
+pub fn suggest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<String> {
+    let lowered = name.to_ascii_lowercase();
+    candidates
+        .into_iter()
+        .map(|c| (strsim::normalized_damerau_levenshtein(&lowered, &c.to_ascii_lowercase()), c))
+        .filter(|(score, _)| *score >= 0.6)
+        .max_by(|a, b| a.0.total_cmp(&b.0).then_with(|| b.1.cmp(a.1)))
+        .map(|(_, c)| c.to_owned())
+}
+
+/// A JSON path under construction: `$`, `.field`, `[index]`, `["odd key"]`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct JsonPath(String);
+
+impl JsonPath {
+    pub fn root() -> Self {
+        Self("$".to_owned())
+    }
+    pub fn field(&self, name: &str) -> Self {
+        let plain = !name.is_empty()
+            && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+            && !name.starts_with(|c: char| c.is_ascii_digit());
+        if plain {
+            Self(format!("{}.{name}", self.0))
+        } else {
+            Self(format!("{}[{name:?}]", self.0))
+        }
+    }
+    pub fn index(&self, i: usize) -> Self {
+        Self(format!("{}[{i}]", self.0))
+    }
+    pub fn as_str(&self) -> &str {
+        &self.0
+    }
+}
+
+impl fmt::Display for JsonPath {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// Collects diagnostics during validation.
+#[derive(Debug, Default)]
+pub struct Diagnostics {
+    items: Vec<Diagnostic>,
+}
+
+impl Diagnostics {
+    pub fn error(&mut self, code: &'static str, path: &JsonPath, message: impl Into<String>) {
+        self.push(Severity::Error, code, path, message.into(), None);
+    }
+    pub fn warning(&mut self, code: &'static str, path: &JsonPath, message: impl Into<String>) {
+        self.push(Severity::Warning, code, path, message.into(), None);
+    }
+    pub fn error_with_suggestion(
+        &mut self,
+        code: &'static str,
+        path: &JsonPath,
+        message: impl Into<String>,
+        suggestion: Option<String>,
+    ) {
+        self.push(Severity::Error, code, path, message.into(), suggestion);
+    }
+    fn push(
+        &mut self,
+        severity: Severity,
+        code: &'static str,
+        path: &JsonPath,
+        message: String,
+        suggestion: Option<String>,
+    ) {
+        self.items.push(Diagnostic { severity, code, path: path.0.clone(), message, suggestion });
+    }
+    pub fn error_count(&self) -> usize {
+        self.items.iter().filter(|d| d.severity == Severity::Error).count()
+    }
+    pub fn has_errors(&self) -> bool {
+        self.items.iter().any(|d| d.severity == Severity::Error)
+    }
+    pub fn into_vec(self) -> Vec<Diagnostic> {
+        self.items
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn suggests_close_names_only() {
+        let names = ["gbuffer_albedo", "gbuffer_normal", "depth"];
+        assert_eq!(suggest("gbuffer_albdeo", names), Some("gbuffer_albedo".into()));
+        assert_eq!(suggest("GBUFFER_NORMAL", names), Some("gbuffer_normal".into()));
+        assert_eq!(suggest("swapchain", names), None);
+    }
+
+    #[test]
+    fn paths_quote_odd_keys() {
+        let p = JsonPath::root().field("passes").index(3).field("bindings").field("my var");
+        assert_eq!(p.as_str(), "$.passes[3].bindings[\"my var\"]");
+    }
+}

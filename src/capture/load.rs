@@ -1,0 +1,173 @@
+//! Reading a capture file: bytes to `RawCapture`, with syntax and structure errors located by
+//! file, line and column (and JSON path for structure errors), and the format version checked
+//! before anything else so that a newer file gets "unsupported version", not a field error.
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use super::diag::Diagnostic;
+use super::format::{FORMAT_VERSION, RawCapture};
+
+/// Why a capture could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum CaptureError {
+    #[error("cannot read {}: {source}", path.display())]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{}:{line}:{column}: JSON syntax error: {message}", path.display())]
+    Syntax { path: PathBuf, line: usize, column: usize, message: String },
+    #[error("{}:{line}:{column}: {json_path}: {message}", path.display())]
+    Structure { path: PathBuf, json_path: String, line: usize, column: usize, message: String },
+    #[error(
+        "{}: unsupported format_version {found}; this framelab reads version {supported}",
+        path.display()
+    )]
+    UnsupportedVersion { path: PathBuf, found: u64, supported: u32 },
+    #[error("{}: {} error(s) in capture", path.display(), count_errors(diagnostics))]
+    Invalid { path: PathBuf, diagnostics: Vec<Diagnostic> },
+}
+
+fn count_errors(diagnostics: &[Diagnostic]) -> usize {
+    diagnostics.iter().filter(|d| d.severity == super::diag::Severity::Error).count()
+}
+
+impl CaptureError {
+    /// Every problem as diagnostics, for uniform printing and `--json` output.
+    pub fn diagnostics(&self) -> Vec<Diagnostic> {
+        use super::diag::Severity::Error;
+        let one = |code: &'static str, path: String, message: String| {
+            vec![Diagnostic { severity: Error, code, path, message, suggestion: None }]
+        };
+        match self {
+            CaptureError::Read { source, .. } => one("read", "$".into(), source.to_string()),
+            CaptureError::Syntax { line, column, message, .. } => {
+                one("syntax", "$".into(), format!("line {line}, column {column}: {message}"))
+            }
+            CaptureError::Structure { json_path, line, column, message, .. } => one(
+                "structure",
+                json_path.clone(),
+                format!("line {line}, column {column}: {message}"),
+            ),
+            CaptureError::UnsupportedVersion { found, supported, .. } => one(
+                "format-version",
+                "$.format_version".into(),
+                format!("unsupported format_version {found}; this framelab reads {supported}"),
+            ),
+            CaptureError::Invalid { diagnostics, .. } => diagnostics.clone(),
+        }
+    }
+}
+
+#[derive(Deserialize)]
+struct VersionProbe {
+    format_version: Option<serde_json::Value>,
+}
+
+/// Parses capture bytes. `path` is only used in messages.
+pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawCapture, CaptureError> {
+    let mut de = serde_json::Deserializer::from_slice(bytes);
+    let result: Result<RawCapture, _> = serde_path_to_error::deserialize(&mut de);
+    let raw = match result {
+        Ok(raw) => {
+            if let Err(inner) = de.end() {
+                return Err(CaptureError::Syntax {
+                    path: path.to_owned(),
+                    line: inner.line(),
+                    column: inner.column(),
+                    message: strip_position(&inner.to_string()),
+                });
+            }
+            raw
+        }
+        Err(err) => {
+            let inner = err.inner();
+            if inner.is_syntax() || inner.is_eof() {
+                return Err(CaptureError::Syntax {
+                    path: path.to_owned(),
+                    line: inner.line(),
+                    column: inner.column(),
+                    message: strip_position(&inner.to_string()),
+                });
+            }
+            // A structure error in a file of another version is reported as the version.
+            if let Ok(VersionProbe { format_version: Some(v) }) = serde_json::from_slice(bytes) {
+                if let Some(found) = v.as_u64().filter(|&f| f != u64::from(FORMAT_VERSION)) {
+                    return Err(unsupported(path, found));
+                }
+            }
+            let json_path = format!("$.{}", err.path()).replace(".[", "[");
+            let json_path = if json_path == "$.." { "$".to_owned() } else { json_path };
+            return Err(CaptureError::Structure {
+                path: path.to_owned(),
+                json_path,
+                line: inner.line(),
+                column: inner.column(),
+                message: strip_position(&inner.to_string()),
+            });
+        }
+    };
+    if raw.format_version != FORMAT_VERSION {
+        return Err(unsupported(path, u64::from(raw.format_version)));
+    }
+    Ok(raw)
+}
+
+fn unsupported(path: &Path, found: u64) -> CaptureError {
+    CaptureError::UnsupportedVersion { path: path.to_owned(), found, supported: FORMAT_VERSION }
+}
+
+/// serde_json appends " at line L column C", which we report separately.
+fn strip_position(message: &str) -> String {
+    match message.rfind(" at line ") {
+        Some(i) => message[..i].to_owned(),
+        None => message.to_owned(),
+    }
+}
+
+/// Reads and parses a capture file.
+pub fn read(path: &Path) -> Result<RawCapture, CaptureError> {
+    let bytes = std::fs::read(path)
+        .map_err(|source| CaptureError::Read { path: path.to_owned(), source })?;
+    parse(path, &bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn syntax_errors_have_line_and_column() {
+        let err = parse(Path::new("x.json"), b"{\n  \"format_version\": 1,\n  oops\n}").unwrap_err();
+        match err {
+            CaptureError::Syntax { line, column, .. } => assert_eq!((line, column), (3, 3)),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn structure_errors_have_json_path() {
+        let text = br#"{"format_version": 1, "name": "x", "resolution": {"width": 1, "height": 1},
+            "camera": {"position": [0,0,0], "target": [0,0,1], "fov_y_degrees": 60},
+            "queues": [{"name": "gfx", "type": "graphics"}],
+            "resources": [{"name": "a", "kind": "texture_2d", "colour": 1}]}"#;
+        let err = parse(Path::new("x.json"), text).unwrap_err();
+        match err {
+            CaptureError::Structure { json_path, message, .. } => {
+                assert_eq!(json_path, "$.resources[0].colour");
+                assert!(message.contains("unknown field `colour`"), "{message}");
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn newer_versions_are_named_as_such() {
+        let err = parse(Path::new("x.json"), br#"{"format_version": 7, "future": true}"#)
+            .unwrap_err();
+        assert!(matches!(err, CaptureError::UnsupportedVersion { found: 7, .. }), "{err:?}");
+    }
+}
