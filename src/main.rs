@@ -30,7 +30,7 @@ enum Command {
         #[arg(long)]
         json: bool,
         /// Output-resolution multiplier; relative sizes follow it.
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
         scale: f64,
     },
     /// Print the JSON Schema of the capture format.
@@ -151,4 +151,13 @@ fn info(path: &std::path::Path, json: bool, scale: f64) -> anyhow::Result<ExitCo
         print_stdout(&framelab::info::render_text(&report))?;
     }
     Ok(ExitCode::SUCCESS)
+}
+
+fn parse_scale(text: &str) -> Result<f64, String> {
+    let v: f64 = text.parse().map_err(|_| format!("\"{text}\" is not a number"))?;
+    if v.is_finite() && v > 0.0 && v <= 16.0 {
+        Ok(v)
+    } else {
+        Err(format!("scale must be in (0, 16], not {v}"))
+    }
 }

@@ -148,6 +148,10 @@ impl<'a> Validator<'a> {
 
     fn run(&mut self, path: &Path) -> Option<Capture> {
         self.check_top_level();
+        if self.diags.has_errors() && !(self.options.scale.is_finite() && self.options.scale > 0.0) {
+            // Every relative size would be wrong; one message says why.
+            return None;
+        }
         self.collect_names();
         let heaps = self.check_heaps();
         let resources = self.check_resources(&heaps);
@@ -932,7 +936,7 @@ impl<'a> Validator<'a> {
                 }
                 if h.alignment < alignment {
                     self.diags.error("placement-alignment", &hpath, format!(
-                        "heap \"{}\" is aligned to {} but multisampled \"{}\" needs {alignment}", h.name, h.alignment, r.name
+                        "heap \"{}\" is aligned to {} but \"{}\" needs {alignment}", h.name, h.alignment, r.name
                     ));
                 }
                 let end = offset.checked_add(bytes);
@@ -2210,7 +2214,7 @@ fn mesh_file_bytes(m: &Mesh) -> Option<u64> {
 }
 
 pub fn human_bytes(b: u64) -> String {
-    const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
+    const UNITS: [&str; 7] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
     let mut v = b as f64;
     let mut u = 0;
     while v >= 1024.0 && u < UNITS.len() - 1 {
