@@ -103,7 +103,10 @@ impl FormatInfo {
     }
     /// The dominant numeric type: what a shader sees when it reads the first channel.
     pub fn numeric(&self) -> Option<Numeric> {
-        self.channels.iter().find(|c| c.name != 'X').map(|c| c.numeric)
+        self.channels
+            .iter()
+            .find(|c| c.name != 'X')
+            .map(|c| c.numeric)
     }
     pub fn is_integer(&self) -> bool {
         matches!(self.numeric(), Some(Numeric::Uint | Numeric::Sint))
@@ -115,11 +118,15 @@ impl FormatInfo {
         }
         if self.layout == Layout::Planar {
             let texels = width.checked_mul(height)?;
-            return texels.checked_mul(u64::from(self.bits_per_element)).map(|b| b.div_ceil(8));
+            return texels
+                .checked_mul(u64::from(self.bits_per_element))
+                .map(|b| b.div_ceil(8));
         }
         let bw = width.div_ceil(u64::from(self.block_width));
         let bh = height.div_ceil(u64::from(self.block_height));
-        let bits = bw.checked_mul(bh)?.checked_mul(u64::from(self.bits_per_element))?;
+        let bits = bw
+            .checked_mul(bh)?
+            .checked_mul(u64::from(self.bits_per_element))?;
         Some(bits.div_ceil(8))
     }
 }
@@ -326,16 +333,27 @@ fn channels_from_name(name: &str) -> Option<Vec<Channel>> {
             if pending.is_empty() {
                 return None;
             }
-            channels.extend(pending.drain(..).map(|(name, bits)| Channel { name, bits, numeric }));
+            channels.extend(pending.drain(..).map(|(name, bits)| Channel {
+                name,
+                bits,
+                numeric,
+            }));
         } else {
             pending.extend(channel_bits(token)?);
         }
     }
-    pending.is_empty().then_some(channels).filter(|c: &Vec<Channel>| !c.is_empty())
+    pending
+        .is_empty()
+        .then_some(channels)
+        .filter(|c: &Vec<Channel>| !c.is_empty())
 }
 
 fn ch(name: char, bits: u32, numeric: Numeric) -> Channel {
-    Channel { name, bits, numeric }
+    Channel {
+        name,
+        bits,
+        numeric,
+    }
 }
 
 /// Channels of the formats whose names are not channel lists.
@@ -352,10 +370,17 @@ fn channels_special(name: &str) -> Vec<Channel> {
         Unorm
     };
     match name {
-        "UNKNOWN" | "SAMPLER_FEEDBACK_MIN_MIP_OPAQUE" | "SAMPLER_FEEDBACK_MIP_REGION_USED_OPAQUE"
+        "UNKNOWN"
+        | "SAMPLER_FEEDBACK_MIN_MIP_OPAQUE"
+        | "SAMPLER_FEEDBACK_MIP_REGION_USED_OPAQUE"
         | "OPAQUE_420" => Vec::new(),
         "R10G10B10_XR_BIAS_A2_UNORM" => {
-            vec![ch('R', 10, XrBias), ch('G', 10, XrBias), ch('B', 10, XrBias), ch('A', 2, Unorm)]
+            vec![
+                ch('R', 10, XrBias),
+                ch('G', 10, XrBias),
+                ch('B', 10, XrBias),
+                ch('A', 2, Unorm),
+            ]
         }
         "R8G8_B8G8_UNORM" => vec![ch('R', 8, Unorm), ch('G', 8, Unorm), ch('B', 8, Unorm)],
         "G8R8_G8B8_UNORM" => vec![ch('G', 8, Unorm), ch('R', 8, Unorm), ch('B', 8, Unorm)],
@@ -368,9 +393,24 @@ fn channels_special(name: &str) -> Vec<Channel> {
         _ if name.starts_with("BC4") => bc("R", numeric),
         _ if name.starts_with("BC5") => bc("RG", numeric),
         _ if name.starts_with("BC7") => bc("RGBA", numeric),
-        "AYUV" => vec![ch('V', 8, Other), ch('U', 8, Other), ch('Y', 8, Other), ch('A', 8, Unorm)],
-        "Y410" => vec![ch('U', 10, Other), ch('Y', 10, Other), ch('V', 10, Other), ch('A', 2, Unorm)],
-        "Y416" => vec![ch('U', 16, Other), ch('Y', 16, Other), ch('V', 16, Other), ch('A', 16, Unorm)],
+        "AYUV" => vec![
+            ch('V', 8, Other),
+            ch('U', 8, Other),
+            ch('Y', 8, Other),
+            ch('A', 8, Unorm),
+        ],
+        "Y410" => vec![
+            ch('U', 10, Other),
+            ch('Y', 10, Other),
+            ch('V', 10, Other),
+            ch('A', 2, Unorm),
+        ],
+        "Y416" => vec![
+            ch('U', 16, Other),
+            ch('Y', 16, Other),
+            ch('V', 16, Other),
+            ch('A', 16, Unorm),
+        ],
         "YUY2" | "NV12" | "NV11" | "P208" | "V208" | "V408" => {
             vec![ch('Y', 8, Other), ch('U', 8, Other), ch('V', 8, Other)]
         }
@@ -386,9 +426,9 @@ fn channels_special(name: &str) -> Vec<Channel> {
 
 fn layout_of(name: &str, bw: u32) -> Layout {
     match name {
-        "UNKNOWN" | "SAMPLER_FEEDBACK_MIN_MIP_OPAQUE" | "SAMPLER_FEEDBACK_MIP_REGION_USED_OPAQUE" => {
-            Layout::Opaque
-        }
+        "UNKNOWN"
+        | "SAMPLER_FEEDBACK_MIN_MIP_OPAQUE"
+        | "SAMPLER_FEEDBACK_MIP_REGION_USED_OPAQUE" => Layout::Opaque,
         "NV12" | "P010" | "P016" | "OPAQUE_420" | "NV11" | "P208" | "V208" | "V408" => {
             Layout::Planar
         }
@@ -400,7 +440,10 @@ fn layout_of(name: &str, bw: u32) -> Layout {
 /// The layout signature used to find a format's typeless family: channel letters and bits,
 /// with X channels ignored and B/R order kept.
 fn family_key(channels: &[Channel]) -> String {
-    channels.iter().map(|c| format!("{}{}", c.name, c.bits)).collect()
+    channels
+        .iter()
+        .map(|c| format!("{}{}", c.name, c.bits))
+        .collect()
 }
 
 fn build_table() -> Vec<FormatInfo> {
@@ -413,8 +456,16 @@ fn build_table() -> Vec<FormatInfo> {
                 None
             };
             let channels = parsed.unwrap_or_else(|| channels_special(name));
-            let depth_bits = channels.iter().filter(|c| c.name == 'D').map(|c| c.bits).sum();
-            let stencil_bits = channels.iter().filter(|c| c.name == 'S').map(|c| c.bits).sum();
+            let depth_bits = channels
+                .iter()
+                .filter(|c| c.name == 'D')
+                .map(|c| c.bits)
+                .sum();
+            let stencil_bits = channels
+                .iter()
+                .filter(|c| c.name == 'S')
+                .map(|c| c.bits)
+                .sum();
             FormatInfo {
                 name,
                 value,
@@ -446,7 +497,10 @@ fn build_table() -> Vec<FormatInfo> {
         }
     }
     for info in &mut infos {
-        let exception = FAMILY_EXCEPTIONS.iter().find(|(n, _)| *n == info.name).map(|(_, f)| *f);
+        let exception = FAMILY_EXCEPTIONS
+            .iter()
+            .find(|(n, _)| *n == info.name)
+            .map(|(_, f)| *f);
         let key = if info.is_block_compressed() {
             info.name.split('_').next().unwrap_or_default().to_owned()
         } else {
@@ -469,7 +523,11 @@ pub fn all() -> &'static [FormatInfo] {
 pub fn lookup(name: &str) -> Option<&'static FormatInfo> {
     let upper = name.trim().to_ascii_uppercase();
     let bare = upper.strip_prefix("DXGI_FORMAT_").unwrap_or(&upper);
-    let bare = if bare == "420_OPAQUE" { "OPAQUE_420" } else { bare };
+    let bare = if bare == "420_OPAQUE" {
+        "OPAQUE_420"
+    } else {
+        bare
+    };
     TABLE.iter().find(|f| f.name == bare)
 }
 
@@ -519,9 +577,15 @@ mod tests {
         assert_eq!(r.channels.len(), 4);
         assert!(r.channels.iter().all(|c| c.numeric == Numeric::Unorm));
         let f = lookup("R11G11B10_FLOAT").unwrap();
-        assert_eq!(f.channels.iter().map(|c| c.bits).collect::<Vec<_>>(), vec![11, 11, 10]);
+        assert_eq!(
+            f.channels.iter().map(|c| c.bits).collect::<Vec<_>>(),
+            vec![11, 11, 10]
+        );
         // Every linear format's channel bits add up to its element size.
-        for info in all().iter().filter(|f| f.layout == Layout::Linear && f.block_width == 1) {
+        for info in all()
+            .iter()
+            .filter(|f| f.layout == Layout::Linear && f.block_width == 1)
+        {
             if info.channels.iter().all(|c| c.bits > 0) && !info.channels.is_empty() {
                 let sum: u32 = info.channels.iter().map(|c| c.bits).sum();
                 assert_eq!(sum, info.bits_per_element, "{}", info.name);
@@ -544,7 +608,10 @@ mod tests {
 
     #[test]
     fn lookup_accepts_prefix_and_case() {
-        assert_eq!(lookup("dxgi_format_bc7_unorm_srgb").map(|f| f.value), Some(99));
+        assert_eq!(
+            lookup("dxgi_format_bc7_unorm_srgb").map(|f| f.value),
+            Some(99)
+        );
         assert_eq!(lookup("420_OPAQUE").map(|f| f.value), Some(106));
         assert!(lookup("R8G8B8A8_UNROM").is_none());
     }
@@ -554,8 +621,14 @@ mod tests {
         let f = |n| lookup(n).unwrap();
         assert!(view_compatible(f("R16_TYPELESS"), f("D16_UNORM")));
         assert!(view_compatible(f("R16_TYPELESS"), f("R16_UNORM")));
-        assert!(view_compatible(f("R32G8X24_TYPELESS"), f("R32_FLOAT_X8X24_TYPELESS")));
-        assert!(!view_compatible(f("R8G8B8A8_UNORM"), f("R8G8B8A8_UNORM_SRGB")));
+        assert!(view_compatible(
+            f("R32G8X24_TYPELESS"),
+            f("R32_FLOAT_X8X24_TYPELESS")
+        ));
+        assert!(!view_compatible(
+            f("R8G8B8A8_UNORM"),
+            f("R8G8B8A8_UNORM_SRGB")
+        ));
         assert!(!view_compatible(f("R16_TYPELESS"), f("R8G8_UNORM")));
     }
 

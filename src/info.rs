@@ -9,7 +9,9 @@ use serde::Serialize;
 
 use crate::capture::format::{HeapType, ResourceFlag};
 use crate::capture::model::{Capture, PlacementDesc, QueueCapabilities};
-use crate::capture::validate::{buffer_kind_name, flag_name, heap_type_name, human_bytes, queue_type_name};
+use crate::capture::validate::{
+    buffer_kind_name, flag_name, heap_type_name, human_bytes, queue_type_name,
+};
 
 #[derive(Debug, Serialize)]
 pub struct InfoReport {
@@ -113,7 +115,12 @@ pub fn report(capture: &Capture) -> InfoReport {
     let heaps = capture
         .heaps
         .iter()
-        .map(|h| HeapInfo { name: h.name.clone(), heap_type: heap_type_name(h.heap_type), size: h.size, alignment: h.alignment })
+        .map(|h| HeapInfo {
+            name: h.name.clone(),
+            heap_type: heap_type_name(h.heap_type),
+            size: h.size,
+            alignment: h.alignment,
+        })
         .collect();
     let mut totals: BTreeMap<String, Total> = BTreeMap::new();
     let resources = capture
@@ -123,10 +130,14 @@ pub fn report(capture: &Capture) -> InfoReport {
             let heap_type: HeapType = r.heap_type(&capture.heaps);
             let (heap, offset) = match &r.placement {
                 PlacementDesc::Committed { .. } => ("committed".to_owned(), None),
-                PlacementDesc::Placed { heap, offset } => (capture.heaps[heap.index()].name.clone(), Some(*offset)),
+                PlacementDesc::Placed { heap, offset } => {
+                    (capture.heaps[heap.index()].name.clone(), Some(*offset))
+                }
                 PlacementDesc::Reserved => ("reserved".to_owned(), None),
             };
-            let total = totals.entry(heap_type_name(heap_type).to_owned()).or_default();
+            let total = totals
+                .entry(heap_type_name(heap_type).to_owned())
+                .or_default();
             total.resources += 1;
             total.bytes += r.bytes;
             ResourceInfo {
@@ -145,7 +156,11 @@ pub fn report(capture: &Capture) -> InfoReport {
                 heap,
                 heap_type: heap_type_name(heap_type),
                 offset,
-                flags: r.flags.iter().map(|f: &ResourceFlag| flag_name(*f)).collect(),
+                flags: r
+                    .flags
+                    .iter()
+                    .map(|f: &ResourceFlag| flag_name(*f))
+                    .collect(),
                 history: r.history,
                 output: r.output,
             }
@@ -171,7 +186,12 @@ pub fn report(capture: &Capture) -> InfoReport {
         .iter()
         .map(|p| {
             let names = |f: fn(&crate::capture::model::ResourceAccess) -> bool| {
-                let mut v: Vec<String> = p.accesses.iter().filter(|a| f(a)).map(|a| capture.resource(a.resource).name.clone()).collect();
+                let mut v: Vec<String> = p
+                    .accesses
+                    .iter()
+                    .filter(|a| f(a))
+                    .map(|a| capture.resource(a.resource).name.clone())
+                    .collect();
                 v.sort();
                 v.dedup();
                 v
@@ -238,12 +258,45 @@ pub fn table(headers: &[&str], rows: &[Vec<String>]) -> String {
 
 pub fn render_text(r: &InfoReport) -> String {
     let mut out = String::new();
-    let _ = writeln!(out, "capture {}  output {}x{} (scale {})\n", r.capture, r.width, r.height, r.scale);
-    let queues: Vec<Vec<String>> = r.queues.iter().map(|q| vec![q.name.clone(), q.queue_type.to_owned(), q.capabilities.join(", ")]).collect();
-    let _ = writeln!(out, "Queues\n{}", table(&["name", "type", "can do"], &queues));
+    let _ = writeln!(
+        out,
+        "capture {}  output {}x{} (scale {})\n",
+        r.capture, r.width, r.height, r.scale
+    );
+    let queues: Vec<Vec<String>> = r
+        .queues
+        .iter()
+        .map(|q| {
+            vec![
+                q.name.clone(),
+                q.queue_type.to_owned(),
+                q.capabilities.join(", "),
+            ]
+        })
+        .collect();
+    let _ = writeln!(
+        out,
+        "Queues\n{}",
+        table(&["name", "type", "can do"], &queues)
+    );
     if !r.heaps.is_empty() {
-        let heaps: Vec<Vec<String>> = r.heaps.iter().map(|h| vec![h.name.clone(), h.heap_type.to_owned(), human_bytes(h.size), h.alignment.to_string()]).collect();
-        let _ = writeln!(out, "Heaps\n{}", table(&["name", "type", "size", "alignment"], &heaps));
+        let heaps: Vec<Vec<String>> = r
+            .heaps
+            .iter()
+            .map(|h| {
+                vec![
+                    h.name.clone(),
+                    h.heap_type.to_owned(),
+                    human_bytes(h.size),
+                    h.alignment.to_string(),
+                ]
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "Heaps\n{}",
+            table(&["name", "type", "size", "alignment"], &heaps)
+        );
     }
     let resources: Vec<Vec<String>> = r
         .resources
@@ -264,14 +317,43 @@ pub fn render_text(r: &InfoReport) -> String {
                 x.array_layers.to_string(),
                 x.mip_levels.to_string(),
                 human_bytes(x.bytes),
-                if x.heap == "committed" { format!("committed {}", x.heap_type) } else { x.heap.clone() },
+                if x.heap == "committed" {
+                    format!("committed {}", x.heap_type)
+                } else {
+                    x.heap.clone()
+                },
             ]
         })
         .collect();
-    let _ = writeln!(out, "Resources ({})\n{}", r.resources.len(), table(&["name", "kind", "format", "size", "layers", "mips", "bytes", "heap"], &resources));
+    let _ = writeln!(
+        out,
+        "Resources ({})\n{}",
+        r.resources.len(),
+        table(
+            &[
+                "name", "kind", "format", "size", "layers", "mips", "bytes", "heap"
+            ],
+            &resources
+        )
+    );
     if !r.descriptor_heaps.is_empty() {
-        let d: Vec<Vec<String>> = r.descriptor_heaps.iter().map(|d| vec![d.name.clone(), d.heap_type.to_owned(), d.capacity.to_string(), d.shader_visible.to_string()]).collect();
-        let _ = writeln!(out, "Descriptor heaps\n{}", table(&["name", "type", "capacity", "shader-visible"], &d));
+        let d: Vec<Vec<String>> = r
+            .descriptor_heaps
+            .iter()
+            .map(|d| {
+                vec![
+                    d.name.clone(),
+                    d.heap_type.to_owned(),
+                    d.capacity.to_string(),
+                    d.shader_visible.to_string(),
+                ]
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "Descriptor heaps\n{}",
+            table(&["name", "type", "capacity", "shader-visible"], &d)
+        );
     }
     let passes: Vec<Vec<String>> = r
         .passes
@@ -284,11 +366,30 @@ pub fn render_text(r: &InfoReport) -> String {
                 "copy" => format!("{} copies", p.copies),
                 _ => String::new(),
             };
-            vec![(i + 1).to_string(), p.marker_path.clone(), p.queue.clone(), p.kind.to_owned(), work]
+            vec![
+                (i + 1).to_string(),
+                p.marker_path.clone(),
+                p.queue.clone(),
+                p.kind.to_owned(),
+                work,
+            ]
         })
         .collect();
-    let _ = writeln!(out, "Passes ({})\n{}", r.passes.len(), table(&["#", "marker path", "queue", "kind", "work"], &passes));
-    let totals: Vec<Vec<String>> = r.totals.iter().map(|(k, t)| vec![k.clone(), t.resources.to_string(), human_bytes(t.bytes)]).collect();
-    let _ = write!(out, "Totals per heap type\n{}", table(&["heap type", "resources", "bytes"], &totals));
+    let _ = writeln!(
+        out,
+        "Passes ({})\n{}",
+        r.passes.len(),
+        table(&["#", "marker path", "queue", "kind", "work"], &passes)
+    );
+    let totals: Vec<Vec<String>> = r
+        .totals
+        .iter()
+        .map(|(k, t)| vec![k.clone(), t.resources.to_string(), human_bytes(t.bytes)])
+        .collect();
+    let _ = write!(
+        out,
+        "Totals per heap type\n{}",
+        table(&["heap type", "resources", "bytes"], &totals)
+    );
     out
 }

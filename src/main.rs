@@ -9,7 +9,11 @@ use clap::{Parser, Subcommand};
 use framelab::capture::{self, CaptureError, Diagnostic, Options, Severity};
 
 #[derive(Parser, Debug)]
-#[command(name = "framelab", version, about = "Frame-capture analysis and pass reconstruction")]
+#[command(
+    name = "framelab",
+    version,
+    about = "Frame-capture analysis and pass reconstruction"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -57,7 +61,11 @@ fn main() -> ExitCode {
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Validate { capture, json } => Ok(validate(&capture, json)),
-        Command::Info { capture, json, scale } => info(&capture, json, scale),
+        Command::Info {
+            capture,
+            json,
+            scale,
+        } => info(&capture, json, scale),
         Command::Schema => {
             print_stdout(&framelab::schema::schema_json())?;
             Ok(ExitCode::SUCCESS)
@@ -129,11 +137,18 @@ fn validate(path: &std::path::Path, json: bool) -> ExitCode {
             }
         }
     }
-    if valid { ExitCode::SUCCESS } else { ExitCode::from(1) }
+    if valid {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
 }
 
 fn info(path: &std::path::Path, json: bool, scale: f64) -> anyhow::Result<ExitCode> {
-    let options = Options { scale, ..Options::default() };
+    let options = Options {
+        scale,
+        ..Options::default()
+    };
     let validated = match capture::load_and_validate(path, &options) {
         Ok(v) => v,
         Err(e) => {
@@ -154,7 +169,9 @@ fn info(path: &std::path::Path, json: bool, scale: f64) -> anyhow::Result<ExitCo
 }
 
 fn parse_scale(text: &str) -> Result<f64, String> {
-    let v: f64 = text.parse().map_err(|_| format!("\"{text}\" is not a number"))?;
+    let v: f64 = text
+        .parse()
+        .map_err(|_| format!("\"{text}\" is not a number"))?;
     if v.is_finite() && v > 0.0 && v <= 16.0 {
         Ok(v)
     } else {

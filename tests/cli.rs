@@ -1,13 +1,18 @@
 //! End-to-end tests of the `framelab` command on the bundled captures: exit codes, the info
 //! report against the Night City manifest, scaling, the committed schema, and robustness.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 mod common;
 
 use common::{framelab, json, repo, stderr, stdout};
 
 #[test]
 fn bundled_captures_are_valid() {
-    for capture in ["captures/example/frame.json", "captures/night_city/main_street_day.json"] {
+    for capture in [
+        "captures/example/frame.json",
+        "captures/night_city/main_street_day.json",
+    ] {
         let out = framelab(&["validate", capture]);
         assert_eq!(out.status.code(), Some(0), "{capture}: {}", stderr(&out));
         assert!(stdout(&out).contains("valid"), "{}", stdout(&out));
@@ -16,7 +21,11 @@ fn bundled_captures_are_valid() {
 
 #[test]
 fn validate_json_reports_a_valid_capture() {
-    let report = json(&framelab(&["validate", "--json", "captures/example/frame.json"]));
+    let report = json(&framelab(&[
+        "validate",
+        "--json",
+        "captures/example/frame.json",
+    ]));
     assert_eq!(report["valid"], true);
     assert_eq!(report["errors"], 0);
 }
@@ -29,7 +38,11 @@ fn night_city_info_lists_every_manifest_resource() {
         &std::fs::read_to_string(repo().join("tests/fixtures/night_city_manifest.json")).unwrap(),
     )
     .unwrap();
-    let info = json(&framelab(&["info", "--json", "captures/night_city/main_street_day.json"]));
+    let info = json(&framelab(&[
+        "info",
+        "--json",
+        "captures/night_city/main_street_day.json",
+    ]));
     let resources = info["resources"].as_array().unwrap();
     let mut problems = Vec::new();
     for row in manifest["resources"].as_array().unwrap() {
@@ -43,7 +56,14 @@ fn night_city_info_lists_every_manifest_resource() {
         if row[2] == "buffer" {
             continue;
         }
-        let got = [&r["format"], &r["width"], &r["height"], &r["depth"], &r["array_layers"], &r["mip_levels"]];
+        let got = [
+            &r["format"],
+            &r["width"],
+            &r["height"],
+            &r["depth"],
+            &r["array_layers"],
+            &r["mip_levels"],
+        ];
         let want = [&row[1], &row[3], &row[4], &row[5], &row[6], &row[7]];
         if got != want {
             problems.push(format!("{name}: got {got:?}, manifest says {want:?}"));
@@ -52,33 +72,78 @@ fn night_city_info_lists_every_manifest_resource() {
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     assert_eq!(info["width"], 1920);
     assert_eq!(info["height"], 1080);
-    let queues: Vec<&str> = info["queues"].as_array().unwrap().iter().map(|q| q["type"].as_str().unwrap()).collect();
+    let queues: Vec<&str> = info["queues"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|q| q["type"].as_str().unwrap())
+        .collect();
     assert_eq!(queues, ["graphics", "compute", "copy"]);
-    let cbv = info["descriptor_heaps"].as_array().unwrap().iter().find(|d| d["type"] == "CBV_SRV_UAV").unwrap();
+    let cbv = info["descriptor_heaps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|d| d["type"] == "CBV_SRV_UAV")
+        .unwrap();
     assert_eq!(cbv["capacity"], 500_000);
 }
 
 #[test]
 fn scale_resolves_relative_sizes_only() {
-    let info = json(&framelab(&["info", "--json", "--scale", "0.25", "captures/night_city/main_street_day.json"]));
-    let find = |n: &str| info["resources"].as_array().unwrap().iter().find(|r| r["name"] == n).unwrap().clone();
-    assert_eq!((info["width"].as_u64(), info["height"].as_u64()), (Some(480), Some(270)));
+    let info = json(&framelab(&[
+        "info",
+        "--json",
+        "--scale",
+        "0.25",
+        "captures/night_city/main_street_day.json",
+    ]));
+    let find = |n: &str| {
+        info["resources"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["name"] == n)
+            .unwrap()
+            .clone()
+    };
+    assert_eq!(
+        (info["width"].as_u64(), info["height"].as_u64()),
+        (Some(480), Some(270))
+    );
     let depth = find("depth");
-    assert_eq!((depth["width"].as_u64(), depth["height"].as_u64()), (Some(480), Some(270)));
+    assert_eq!(
+        (depth["width"].as_u64(), depth["height"].as_u64()),
+        (Some(480), Some(270))
+    );
     let ao = find("ao");
-    assert_eq!((ao["width"].as_u64(), ao["height"].as_u64()), (Some(240), Some(135)));
+    assert_eq!(
+        (ao["width"].as_u64(), ao["height"].as_u64()),
+        (Some(240), Some(135))
+    );
     // Absolute sizes do not follow the output.
     let csm = find("csm");
     assert_eq!(csm["width"], 4096);
     // Tile grids round up: 480/32 = 15, 270/32 = 8.4 -> 9.
     let clusters = find("cluster_light_index");
-    assert_eq!((clusters["width"].as_u64(), clusters["height"].as_u64()), (Some(15), Some(9)));
+    assert_eq!(
+        (clusters["width"].as_u64(), clusters["height"].as_u64()),
+        (Some(15), Some(9))
+    );
 }
 
 #[test]
 fn info_reports_bytes_and_totals() {
-    let info = json(&framelab(&["info", "--json", "captures/example/frame.json"]));
-    let bloom = info["resources"].as_array().unwrap().iter().find(|r| r["name"] == "bloom").unwrap();
+    let info = json(&framelab(&[
+        "info",
+        "--json",
+        "captures/example/frame.json",
+    ]));
+    let bloom = info["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["name"] == "bloom")
+        .unwrap();
     // R11G11B10: 4 bytes per texel; 320x180 + 160x90 + 80x45.
     assert_eq!(bloom["bytes"], (320 * 180 + 160 * 90 + 80 * 45) * 4);
     assert_eq!(bloom["heap"], "render_targets");
@@ -86,8 +151,18 @@ fn info_reports_bytes_and_totals() {
     let scene = passes.iter().find(|p| p["name"] == "scene").unwrap();
     assert_eq!(scene["marker_path"], "Frame/Scene/scene");
     assert_eq!(scene["queue_type"], "graphics");
-    let total: u64 = info["resources"].as_array().unwrap().iter().map(|r| r["bytes"].as_u64().unwrap()).sum();
-    let sum_of_totals: u64 = info["totals"].as_object().unwrap().values().map(|t| t["bytes"].as_u64().unwrap()).sum();
+    let total: u64 = info["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["bytes"].as_u64().unwrap())
+        .sum();
+    let sum_of_totals: u64 = info["totals"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|t| t["bytes"].as_u64().unwrap())
+        .sum();
     assert_eq!(total, sum_of_totals);
     assert!(info["totals"]["UPLOAD"]["resources"] == 1);
 }
@@ -98,7 +173,12 @@ fn info_text_is_a_table() {
     assert_eq!(out.status.code(), Some(0));
     let text = stdout(&out);
     assert!(text.contains("Passes (7)"), "{text}");
-    assert!(text.lines().any(|l| l.starts_with("scene_color") && l.contains("R16G16B16A16_FLOAT") && l.contains("640x360")), "{text}");
+    assert!(
+        text.lines().any(|l| l.starts_with("scene_color")
+            && l.contains("R16G16B16A16_FLOAT")
+            && l.contains("640x360")),
+        "{text}"
+    );
 }
 
 #[test]
@@ -120,10 +200,19 @@ fn schema_matches_the_committed_copy() {
 fn usage_errors_exit_2_and_input_errors_exit_1() {
     assert_eq!(framelab(&["frobnicate"]).status.code(), Some(2));
     assert_eq!(framelab(&["validate"]).status.code(), Some(2));
-    assert_eq!(framelab(&["info", "--scale", "-1", "captures/example/frame.json"]).status.code(), Some(2));
+    assert_eq!(
+        framelab(&["info", "--scale", "-1", "captures/example/frame.json"])
+            .status
+            .code(),
+        Some(2)
+    );
     let missing = framelab(&["validate", "no/such/capture.json"]);
     assert_eq!(missing.status.code(), Some(1));
-    assert!(stderr(&missing).contains("no/such/capture.json"), "{}", stderr(&missing));
+    assert!(
+        stderr(&missing).contains("no/such/capture.json"),
+        "{}",
+        stderr(&missing)
+    );
     let invalid_info = framelab(&["info", "tests/invalid/unknown_format.json"]);
     assert_eq!(invalid_info.status.code(), Some(1));
     assert!(stdout(&invalid_info).is_empty());
@@ -148,7 +237,12 @@ fn garbage_input_never_panics() {
         std::fs::write(&file, input).unwrap();
         for cmd in ["validate", "info"] {
             let out = framelab(&[cmd, file.to_str().unwrap()]);
-            assert_eq!(out.status.code(), Some(1), "{cmd} on input {i}: {}", stderr(&out));
+            assert_eq!(
+                out.status.code(),
+                Some(1),
+                "{cmd} on input {i}: {}",
+                stderr(&out)
+            );
             assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
         }
     }

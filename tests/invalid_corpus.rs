@@ -3,6 +3,8 @@
 //! the human-readable stderr. A file without an expectation fails the test, so the corpus and
 //! its expectations cannot drift apart.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
 mod common;
 
 use std::collections::BTreeSet;
@@ -43,7 +45,11 @@ fn every_invalid_capture_is_rejected_with_its_diagnostic() {
         let file = format!("tests/invalid/{}", case.file);
         let out = framelab(&["validate", "--json", &file]);
         if out.status.code() != Some(1) {
-            failures.push(format!("{}: exit {:?}, expected 1", case.file, out.status.code()));
+            failures.push(format!(
+                "{}: exit {:?}, expected 1",
+                case.file,
+                out.status.code()
+            ));
             continue;
         }
         let report = json(&out);
@@ -67,7 +73,10 @@ fn every_invalid_capture_is_rejected_with_its_diagnostic() {
         assert_eq!(human.status.code(), Some(1), "{}", case.file);
         let err = stderr(&human);
         if !err.contains(&case.message) || !err.contains(&case.file) {
-            failures.push(format!("{}: stderr lacks the file name or {:?}:\n{err}", case.file, case.message));
+            failures.push(format!(
+                "{}: stderr lacks the file name or {:?}:\n{err}",
+                case.file, case.message
+            ));
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
@@ -75,15 +84,29 @@ fn every_invalid_capture_is_rejected_with_its_diagnostic() {
 
 #[test]
 fn misspelled_names_get_suggestions() {
-    let out = framelab(&["validate", "--json", "tests/invalid/misspelled_resource.json"]);
+    let out = framelab(&[
+        "validate",
+        "--json",
+        "tests/invalid/misspelled_resource.json",
+    ]);
     let report = json(&out);
     let d = &report["diagnostics"][0];
     assert_eq!(d["suggestion"], "data");
-    let human = stderr(&framelab(&["validate", "tests/invalid/misspelled_resource.json"]));
-    assert!(human.contains("$.passes[0].bindings.particles.resource"), "{human}");
+    let human = stderr(&framelab(&[
+        "validate",
+        "tests/invalid/misspelled_resource.json",
+    ]));
+    assert!(
+        human.contains("$.passes[0].bindings.particles.resource"),
+        "{human}"
+    );
     assert!(human.contains("did you mean \"data\"?"), "{human}");
 
-    let format = json(&framelab(&["validate", "--json", "tests/invalid/unknown_format.json"]));
+    let format = json(&framelab(&[
+        "validate",
+        "--json",
+        "tests/invalid/unknown_format.json",
+    ]));
     assert_eq!(format["diagnostics"][0]["suggestion"], "R8G8B8A8_UNORM");
 }
 
@@ -100,9 +123,16 @@ fn validation_reports_all_errors_at_once() {
     let file = dir.join("two_errors.json");
     std::fs::write(&file, serde_json::to_string(&capture).unwrap()).unwrap();
     let report = json(&framelab(&["validate", "--json", file.to_str().unwrap()]));
-    let codes: Vec<&str> =
-        report["diagnostics"].as_array().unwrap().iter().map(|d| d["code"].as_str().unwrap()).collect();
-    assert!(codes.contains(&"unknown-format") && codes.contains(&"unknown-queue"), "{codes:?}");
+    let codes: Vec<&str> = report["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["code"].as_str().unwrap())
+        .collect();
+    assert!(
+        codes.contains(&"unknown-format") && codes.contains(&"unknown-queue"),
+        "{codes:?}"
+    );
     std::fs::remove_dir_all(dir).unwrap();
 }
 

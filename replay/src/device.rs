@@ -71,7 +71,10 @@ pub enum DeviceError {
     )]
     NoAdapter { backends: String },
     #[error("no adapter matches {requested:?}; available: {}", available.join(", "))]
-    NoMatchingAdapter { requested: String, available: Vec<String> },
+    NoMatchingAdapter {
+        requested: String,
+        available: Vec<String>,
+    },
     #[error("adapter {adapter} refused to open a device: {source}")]
     RequestDevice {
         adapter: String,
@@ -101,7 +104,10 @@ pub fn list_adapters() -> Vec<AdapterSummary> {
     let instance = instance();
     let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
     adapters.sort_by_key(|a| preference(a.get_info().device_type));
-    adapters.iter().map(|a| AdapterSummary::from_info(&a.get_info())).collect()
+    adapters
+        .iter()
+        .map(|a| AdapterSummary::from_info(&a.get_info()))
+        .collect()
 }
 
 /// Opens a device on the adapter whose name contains `name_filter` (case-insensitive) or, with
@@ -114,7 +120,9 @@ pub fn open_device(
     let instance = instance();
     let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
     if adapters.is_empty() {
-        return Err(DeviceError::NoAdapter { backends: format!("{:?}", wgpu::Backends::all()) });
+        return Err(DeviceError::NoAdapter {
+            backends: format!("{:?}", wgpu::Backends::all()),
+        });
     }
     adapters.sort_by_key(|a| preference(a.get_info().device_type));
     let adapter = match name_filter {
@@ -148,10 +156,20 @@ pub fn open_device(
         memory_hints: wgpu::MemoryHints::Performance,
         trace: wgpu::Trace::Off,
     };
-    let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).map_err(
-        |source| DeviceError::RequestDevice { adapter: summary.name.clone(), source },
-    )?;
-    Ok(GpuContext { adapter, device, queue, summary, missing_features: wanted - available })
+    let (device, queue) =
+        pollster::block_on(adapter.request_device(&descriptor)).map_err(|source| {
+            DeviceError::RequestDevice {
+                adapter: summary.name.clone(),
+                source,
+            }
+        })?;
+    Ok(GpuContext {
+        adapter,
+        device,
+        queue,
+        summary,
+        missing_features: wanted - available,
+    })
 }
 
 #[cfg(test)]

@@ -5,5 +5,9 @@
 //! here, so that the GPU side can be tested and reused without the capture model.
 
 pub mod device;
+pub mod readback;
+pub mod shader;
 
 pub use device::{AdapterSummary, DeviceError, GpuContext, list_adapters, open_device};
+pub use readback::{ReadbackError, read_buffer};
+pub use shader::{ShaderError, ValidatedShader, validate_wgsl};

@@ -46,7 +46,12 @@ pub fn suggest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) ->
     let lowered = name.to_ascii_lowercase();
     candidates
         .into_iter()
-        .map(|c| (strsim::normalized_damerau_levenshtein(&lowered, &c.to_ascii_lowercase()), c))
+        .map(|c| {
+            (
+                strsim::normalized_damerau_levenshtein(&lowered, &c.to_ascii_lowercase()),
+                c,
+            )
+        })
         .filter(|(score, _)| *score >= 0.6)
         .max_by(|a, b| a.0.total_cmp(&b.0).then_with(|| b.1.cmp(a.1)))
         .map(|(_, c)| c.to_owned())
@@ -114,10 +119,19 @@ impl Diagnostics {
         message: String,
         suggestion: Option<String>,
     ) {
-        self.items.push(Diagnostic { severity, code, path: path.0.clone(), message, suggestion });
+        self.items.push(Diagnostic {
+            severity,
+            code,
+            path: path.0.clone(),
+            message,
+            suggestion,
+        });
     }
     pub fn error_count(&self) -> usize {
-        self.items.iter().filter(|d| d.severity == Severity::Error).count()
+        self.items
+            .iter()
+            .filter(|d| d.severity == Severity::Error)
+            .count()
     }
     pub fn has_errors(&self) -> bool {
         self.items.iter().any(|d| d.severity == Severity::Error)
@@ -134,14 +148,24 @@ mod tests {
     #[test]
     fn suggests_close_names_only() {
         let names = ["gbuffer_albedo", "gbuffer_normal", "depth"];
-        assert_eq!(suggest("gbuffer_albdeo", names), Some("gbuffer_albedo".into()));
-        assert_eq!(suggest("GBUFFER_NORMAL", names), Some("gbuffer_normal".into()));
+        assert_eq!(
+            suggest("gbuffer_albdeo", names),
+            Some("gbuffer_albedo".into())
+        );
+        assert_eq!(
+            suggest("GBUFFER_NORMAL", names),
+            Some("gbuffer_normal".into())
+        );
         assert_eq!(suggest("swapchain", names), None);
     }
 
     #[test]
     fn paths_quote_odd_keys() {
-        let p = JsonPath::root().field("passes").index(3).field("bindings").field("my var");
+        let p = JsonPath::root()
+            .field("passes")
+            .index(3)
+            .field("bindings")
+            .field("my var");
         assert_eq!(p.as_str(), "$.passes[3].bindings[\"my var\"]");
     }
 }

@@ -78,7 +78,10 @@ pub struct AdapterModel {
 
 impl Default for AdapterModel {
     fn default() -> Self {
-        Self { architecture: default_architecture(), resource_heap_tier: default_tier() }
+        Self {
+            architecture: default_architecture(),
+            resource_heap_tier: default_tier(),
+        }
     }
 }
 
@@ -230,7 +233,9 @@ fn default_heap_alignment() -> u64 {
 }
 
 /// D3D12_HEAP_TYPE.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema,
+)]
 #[serde(rename_all = "SCREAMING_SNAKE_CASE")]
 pub enum HeapType {
     /// GPU-only memory, fastest for the GPU.
@@ -265,7 +270,9 @@ pub enum MemoryPool {
 }
 
 /// D3D12_HEAP_FLAGS members.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize, JsonSchema)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize, JsonSchema,
+)]
 #[serde(rename_all = "SCREAMING_SNAKE_CASE")]
 pub enum HeapFlag {
     None,
@@ -427,7 +434,9 @@ pub enum BufferKind {
 }
 
 /// D3D12_RESOURCE_FLAGS members.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema,
+)]
 #[serde(rename_all = "SCREAMING_SNAKE_CASE")]
 pub enum ResourceFlag {
     AllowRenderTarget,
@@ -500,7 +509,9 @@ pub struct DescriptorHeap {
     pub shader_visible: bool,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize, JsonSchema)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize, JsonSchema,
+)]
 pub enum DescriptorHeapType {
     #[serde(rename = "CBV_SRV_UAV")]
     CbvSrvUav,
@@ -596,7 +607,9 @@ pub struct Queue {
     pub queue_type: QueueType,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum QueueType {
     Graphics,
@@ -810,7 +823,9 @@ pub struct Pass {
     pub timing: Option<RecordedTiming>,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum PassKind {
     Raster,
@@ -900,7 +915,9 @@ pub struct ByteRange {
 
 /// How a pass touches a resource. Shader bindings use the first five; the rest arise from
 /// attachments, draws, copies and the other pass kinds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Access {
     Sampled,
@@ -975,7 +992,10 @@ impl Access {
     }
     /// Whether the access is an unordered-access (UAV) use.
     pub fn is_unordered(self) -> bool {
-        matches!(self, Access::StorageRead | Access::StorageWrite | Access::StorageReadWrite)
+        matches!(
+            self,
+            Access::StorageRead | Access::StorageWrite | Access::StorageReadWrite
+        )
     }
 }
 
@@ -1171,7 +1191,12 @@ pub struct StencilFace {
 
 impl Default for StencilFace {
     fn default() -> Self {
-        Self { compare: always(), fail: keep(), depth_fail: keep(), pass: keep() }
+        Self {
+            compare: always(),
+            fail: keep(),
+            depth_fail: keep(),
+            pass: keep(),
+        }
     }
 }
 
@@ -1462,7 +1487,9 @@ impl States {
 }
 
 /// D3D12_RESOURCE_STATES members.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema,
+)]
 #[serde(rename_all = "SCREAMING_SNAKE_CASE")]
 pub enum ResourceState {
     Common,

@@ -17,7 +17,11 @@ pub const MESH_GENERATORS: &[GeneratorSpec] = &[
         description: "flat XZ grid of size x size metres with divisions^2 quads",
         params: &[("size", 10.0), ("divisions", 16.0)],
     },
-    GeneratorSpec { name: "box", description: "unit box scaled by size", params: &[("size", 1.0)] },
+    GeneratorSpec {
+        name: "box",
+        description: "unit box scaled by size",
+        params: &[("size", 1.0)],
+    },
     GeneratorSpec {
         name: "city_blocks",
         description: "building boxes on a street grid with seeded heights",
@@ -34,7 +38,12 @@ pub const MESH_GENERATORS: &[GeneratorSpec] = &[
     GeneratorSpec {
         name: "terrain",
         description: "noise heightfield of size x size metres with resolution^2 vertices",
-        params: &[("size", 512.0), ("resolution", 128.0), ("height", 20.0), ("octaves", 5.0)],
+        params: &[
+            ("size", 512.0),
+            ("resolution", 128.0),
+            ("height", 20.0),
+            ("octaves", 5.0),
+        ],
     },
     GeneratorSpec {
         name: "water_plate",
@@ -44,7 +53,12 @@ pub const MESH_GENERATORS: &[GeneratorSpec] = &[
     GeneratorSpec {
         name: "foliage_cards",
         description: "crossed alpha-tested quads scattered over an area",
-        params: &[("count", 64.0), ("area", 100.0), ("height", 4.0), ("width", 2.0)],
+        params: &[
+            ("count", 64.0),
+            ("area", 100.0),
+            ("height", 4.0),
+            ("width", 2.0),
+        ],
     },
     GeneratorSpec {
         name: "sphere",

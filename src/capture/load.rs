@@ -19,20 +19,41 @@ pub enum CaptureError {
         source: std::io::Error,
     },
     #[error("{}:{line}:{column}: JSON syntax error: {message}", path.display())]
-    Syntax { path: PathBuf, line: usize, column: usize, message: String },
+    Syntax {
+        path: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
     #[error("{}:{line}:{column}: {json_path}: {message}", path.display())]
-    Structure { path: PathBuf, json_path: String, line: usize, column: usize, message: String },
+    Structure {
+        path: PathBuf,
+        json_path: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
     #[error(
         "{}: unsupported format_version {found}; this framelab reads version {supported}",
         path.display()
     )]
-    UnsupportedVersion { path: PathBuf, found: u64, supported: u32 },
+    UnsupportedVersion {
+        path: PathBuf,
+        found: u64,
+        supported: u32,
+    },
     #[error("{}: {} error(s) in capture", path.display(), count_errors(diagnostics))]
-    Invalid { path: PathBuf, diagnostics: Vec<Diagnostic> },
+    Invalid {
+        path: PathBuf,
+        diagnostics: Vec<Diagnostic>,
+    },
 }
 
 fn count_errors(diagnostics: &[Diagnostic]) -> usize {
-    diagnostics.iter().filter(|d| d.severity == super::diag::Severity::Error).count()
+    diagnostics
+        .iter()
+        .filter(|d| d.severity == super::diag::Severity::Error)
+        .count()
 }
 
 impl CaptureError {
@@ -40,19 +61,40 @@ impl CaptureError {
     pub fn diagnostics(&self) -> Vec<Diagnostic> {
         use super::diag::Severity::Error;
         let one = |code: &'static str, path: String, message: String| {
-            vec![Diagnostic { severity: Error, code, path, message, suggestion: None }]
+            vec![Diagnostic {
+                severity: Error,
+                code,
+                path,
+                message,
+                suggestion: None,
+            }]
         };
         match self {
             CaptureError::Read { source, .. } => one("read", "$".into(), source.to_string()),
-            CaptureError::Syntax { line, column, message, .. } => {
-                one("syntax", "$".into(), format!("line {line}, column {column}: {message}"))
-            }
-            CaptureError::Structure { json_path, line, column, message, .. } => one(
+            CaptureError::Syntax {
+                line,
+                column,
+                message,
+                ..
+            } => one(
+                "syntax",
+                "$".into(),
+                format!("line {line}, column {column}: {message}"),
+            ),
+            CaptureError::Structure {
+                json_path,
+                line,
+                column,
+                message,
+                ..
+            } => one(
                 "structure",
                 json_path.clone(),
                 format!("line {line}, column {column}: {message}"),
             ),
-            CaptureError::UnsupportedVersion { found, supported, .. } => one(
+            CaptureError::UnsupportedVersion {
+                found, supported, ..
+            } => one(
                 "format-version",
                 "$.format_version".into(),
                 format!("unsupported format_version {found}; this framelab reads {supported}"),
@@ -94,13 +136,19 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawCapture, CaptureError> {
                 });
             }
             // A structure error in a file of another version is reported as the version.
-            if let Ok(VersionProbe { format_version: Some(v) }) = serde_json::from_slice(bytes) {
-                if let Some(found) = v.as_u64().filter(|&f| f != u64::from(FORMAT_VERSION)) {
-                    return Err(unsupported(path, found));
-                }
+            if let Ok(VersionProbe {
+                format_version: Some(v),
+            }) = serde_json::from_slice(bytes)
+                && let Some(found) = v.as_u64().filter(|&f| f != u64::from(FORMAT_VERSION))
+            {
+                return Err(unsupported(path, found));
             }
             let json_path = format!("$.{}", err.path()).replace(".[", "[");
-            let json_path = if json_path == "$.." { "$".to_owned() } else { json_path };
+            let json_path = if json_path == "$.." {
+                "$".to_owned()
+            } else {
+                json_path
+            };
             return Err(CaptureError::Structure {
                 path: path.to_owned(),
                 json_path,
@@ -117,7 +165,11 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawCapture, CaptureError> {
 }
 
 fn unsupported(path: &Path, found: u64) -> CaptureError {
-    CaptureError::UnsupportedVersion { path: path.to_owned(), found, supported: FORMAT_VERSION }
+    CaptureError::UnsupportedVersion {
+        path: path.to_owned(),
+        found,
+        supported: FORMAT_VERSION,
+    }
 }
 
 /// serde_json appends " at line L column C", which we report separately.
@@ -130,8 +182,10 @@ fn strip_position(message: &str) -> String {
 
 /// Reads and parses a capture file.
 pub fn read(path: &Path) -> Result<RawCapture, CaptureError> {
-    let bytes = std::fs::read(path)
-        .map_err(|source| CaptureError::Read { path: path.to_owned(), source })?;
+    let bytes = std::fs::read(path).map_err(|source| CaptureError::Read {
+        path: path.to_owned(),
+        source,
+    })?;
     parse(path, &bytes)
 }
 
@@ -141,7 +195,11 @@ mod tests {
 
     #[test]
     fn syntax_errors_have_line_and_column() {
-        let err = parse(Path::new("x.json"), b"{\n  \"format_version\": 1,\n  oops\n}").unwrap_err();
+        let err = parse(
+            Path::new("x.json"),
+            b"{\n  \"format_version\": 1,\n  oops\n}",
+        )
+        .unwrap_err();
         match err {
             CaptureError::Syntax { line, column, .. } => assert_eq!((line, column), (3, 3)),
             other => panic!("{other:?}"),
@@ -156,7 +214,9 @@ mod tests {
             "resources": [{"name": "a", "kind": "texture_2d", "colour": 1}]}"#;
         let err = parse(Path::new("x.json"), text).unwrap_err();
         match err {
-            CaptureError::Structure { json_path, message, .. } => {
+            CaptureError::Structure {
+                json_path, message, ..
+            } => {
                 assert_eq!(json_path, "$.resources[0].colour");
                 assert!(message.contains("unknown field `colour`"), "{message}");
             }
@@ -166,8 +226,14 @@ mod tests {
 
     #[test]
     fn newer_versions_are_named_as_such() {
-        let err = parse(Path::new("x.json"), br#"{"format_version": 7, "future": true}"#)
-            .unwrap_err();
-        assert!(matches!(err, CaptureError::UnsupportedVersion { found: 7, .. }), "{err:?}");
+        let err = parse(
+            Path::new("x.json"),
+            br#"{"format_version": 7, "future": true}"#,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(err, CaptureError::UnsupportedVersion { found: 7, .. }),
+            "{err:?}"
+        );
     }
 }

@@ -11,9 +11,9 @@ use std::path::PathBuf;
 use serde::Serialize;
 
 use super::format::{
-    Access, AdapterModel, BarrierType, Blend, BufferKind, Camera, FrameConstants,
-    HeapFlag, HeapType, IndexFormat, LoadOp, ParamValue, PassKind, QueueType, RenderState,
-    ResourceFlag, ResourceKind, ResourceState, SplitFlag, StoreOp, VertexStream,
+    Access, AdapterModel, BarrierType, Blend, BufferKind, Camera, FrameConstants, HeapFlag,
+    HeapType, IndexFormat, LoadOp, ParamValue, PassKind, QueueType, RenderState, ResourceFlag,
+    ResourceKind, ResourceState, SplitFlag, StoreOp, VertexStream,
 };
 use crate::dxgi::FormatInfo;
 
@@ -28,7 +28,16 @@ macro_rules! id_type {
         }
     )*};
 }
-id_type!(ResourceId, PassId, HeapId, QueueId, MeshId, SamplerId, FenceId, DescriptorHeapId);
+id_type!(
+    ResourceId,
+    PassId,
+    HeapId,
+    QueueId,
+    MeshId,
+    SamplerId,
+    FenceId,
+    DescriptorHeapId
+);
 
 /// A validated capture, resolved for one output scale.
 #[derive(Clone, Debug)]
@@ -182,12 +191,20 @@ impl ResourceDesc {
     /// Mip dimensions (width, height, depth) of level `mip`.
     pub fn mip_extent(&self, mip: u32) -> (u32, u32, u32) {
         let shrink = |v: u32| (v >> mip).max(1);
-        let depth = if self.kind == ResourceKind::Texture3D { shrink(self.depth) } else { 1 };
+        let depth = if self.kind == ResourceKind::Texture3D {
+            shrink(self.depth)
+        } else {
+            1
+        };
         (shrink(self.width), shrink(self.height), depth)
     }
     /// Number of subresources (mips x layers), D3D12's subresource count.
     pub fn subresource_count(&self) -> u32 {
-        if self.is_texture() { self.mip_levels * self.array_layers } else { 1 }
+        if self.is_texture() {
+            self.mip_levels * self.array_layers
+        } else {
+            1
+        }
     }
 }
 
@@ -202,7 +219,11 @@ pub enum PlacementDesc {
 pub enum InitialDesc {
     Undefined,
     File(PathBuf),
-    Generator { name: String, seed: u64, params: std::collections::BTreeMap<String, ParamValue> },
+    Generator {
+        name: String,
+        seed: u64,
+        params: std::collections::BTreeMap<String, ParamValue>,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -234,9 +255,21 @@ pub struct QueueCapabilities {
 impl QueueCapabilities {
     pub fn of(queue_type: QueueType) -> Self {
         match queue_type {
-            QueueType::Graphics => Self { graphics: true, compute: true, transfer: true },
-            QueueType::Compute => Self { graphics: false, compute: true, transfer: true },
-            QueueType::Copy => Self { graphics: false, compute: false, transfer: true },
+            QueueType::Graphics => Self {
+                graphics: true,
+                compute: true,
+                transfer: true,
+            },
+            QueueType::Compute => Self {
+                graphics: false,
+                compute: true,
+                transfer: true,
+            },
+            QueueType::Copy => Self {
+                graphics: false,
+                compute: false,
+                transfer: true,
+            },
         }
     }
     pub fn names(self) -> Vec<&'static str> {
@@ -269,7 +302,11 @@ pub struct MeshDesc {
 #[derive(Clone, Debug, PartialEq)]
 pub enum MeshSourceDesc {
     File(PathBuf),
-    Generator { name: String, seed: u64, params: std::collections::BTreeMap<String, ParamValue> },
+    Generator {
+        name: String,
+        seed: u64,
+        params: std::collections::BTreeMap<String, ParamValue>,
+    },
 }
 
 /// A subresource range: mips `[mip_base, mip_base + mip_count)` of layers
@@ -289,11 +326,23 @@ impl Subresources {
     pub fn whole(resource: &ResourceDesc) -> Self {
         Self {
             mip_base: 0,
-            mip_count: if resource.is_texture() { resource.mip_levels } else { 1 },
+            mip_count: if resource.is_texture() {
+                resource.mip_levels
+            } else {
+                1
+            },
             layer_base: 0,
-            layer_count: if resource.is_texture() { resource.array_layers } else { 1 },
+            layer_count: if resource.is_texture() {
+                resource.array_layers
+            } else {
+                1
+            },
             byte_offset: 0,
-            byte_size: if resource.is_texture() { 0 } else { resource.bytes },
+            byte_size: if resource.is_texture() {
+                0
+            } else {
+                resource.bytes
+            },
         }
     }
     pub fn overlaps(&self, other: &Self) -> bool {
@@ -348,7 +397,11 @@ pub struct ShaderDesc {
 
 #[derive(Clone, Debug)]
 pub enum BindingTarget {
-    Resource { resource: ResourceId, view_format: Option<&'static FormatInfo>, view_kind: ResourceKind },
+    Resource {
+        resource: ResourceId,
+        view_format: Option<&'static FormatInfo>,
+        view_kind: ResourceKind,
+    },
     Sampler(SamplerId),
 }
 

@@ -1,0 +1,62 @@
+//! Copying GPU buffers back to the CPU: one blocking map of a staging buffer. Export and the
+//! pixel tests read render targets through this, so a mapping failure is an error naming the
+//! buffer, never a panic.
+
+#[derive(Debug, thiserror::Error)]
+pub enum ReadbackError {
+    #[error("mapping {label} for reading failed: {message}")]
+    Map { label: String, message: String },
+    #[error("waiting for the GPU while reading {label} failed: {message}")]
+    Poll { label: String, message: String },
+}
+
+/// Copies `size` bytes from the start of `source` (which needs COPY_SRC usage) to the CPU.
+pub fn read_buffer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    source: &wgpu::Buffer,
+    size: u64,
+    label: &str,
+) -> Result<Vec<u8>, ReadbackError> {
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("framelab readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("framelab readback"),
+    });
+    encoder.copy_buffer_to_buffer(source, 0, &staging, 0, size);
+    queue.submit([encoder.finish()]);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    staging
+        .slice(..)
+        .map_async(wgpu::MapMode::Read, move |result| {
+            let _ = sender.send(result);
+        });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| ReadbackError::Poll {
+            label: label.to_owned(),
+            message: e.to_string(),
+        })?;
+    let mapped = receiver.recv().map_err(|e| ReadbackError::Map {
+        label: label.to_owned(),
+        message: e.to_string(),
+    })?;
+    mapped.map_err(|e| ReadbackError::Map {
+        label: label.to_owned(),
+        message: e.to_string(),
+    })?;
+    let bytes = staging
+        .slice(..)
+        .get_mapped_range()
+        .map_err(|e| ReadbackError::Map {
+            label: label.to_owned(),
+            message: e.to_string(),
+        })?
+        .to_vec();
+    staging.unmap();
+    Ok(bytes)
+}

@@ -1,0 +1,115 @@
+//! WGSL front end: parse and validate a shader with naga before wgpu sees it, so an error is
+//! reported as `file:line:col` with the offending source line instead of a driver message.
+//! The validated module is also what binding reflection reads.
+
+use std::fmt;
+
+/// A WGSL error located in its file.
+#[derive(Debug)]
+pub struct ShaderError {
+    pub file: String,
+    pub line: u32,
+    pub column: u32,
+    pub message: String,
+    /// The source line the error points at.
+    pub source_line: String,
+    /// naga's full report with labels and notes.
+    pub report: String,
+}
+
+impl fmt::Display for ShaderError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{}:{}:{}: {}",
+            self.file, self.line, self.column, self.message
+        )?;
+        writeln!(f, "    {}", self.source_line)?;
+        write!(
+            f,
+            "    {}^",
+            " ".repeat(self.column.saturating_sub(1) as usize)
+        )
+    }
+}
+
+impl std::error::Error for ShaderError {}
+
+/// A parsed and validated shader.
+#[derive(Debug)]
+pub struct ValidatedShader {
+    pub module: naga::Module,
+    pub info: naga::valid::ModuleInfo,
+}
+
+fn locate(
+    file: &str,
+    source: &str,
+    location: Option<naga::SourceLocation>,
+    message: String,
+    report: String,
+) -> ShaderError {
+    let (line, column) = location.map_or((1, 1), |l| (l.line_number, l.line_position));
+    let source_line = source
+        .lines()
+        .nth(line.saturating_sub(1) as usize)
+        .unwrap_or_default()
+        .to_owned();
+    ShaderError {
+        file: file.to_owned(),
+        line,
+        column,
+        message,
+        source_line,
+        report,
+    }
+}
+
+/// Parses and validates WGSL; `file` names the shader in messages.
+pub fn validate_wgsl(file: &str, source: &str) -> Result<ValidatedShader, ShaderError> {
+    let module = naga::front::wgsl::parse_str(source).map_err(|e| {
+        locate(
+            file,
+            source,
+            e.location(source),
+            e.message().to_owned(),
+            e.emit_to_string_with_path(source, file),
+        )
+    })?;
+    let mut validator = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    );
+    let info = validator.validate(&module).map_err(|e| {
+        let message = e.as_inner().to_string();
+        locate(
+            file,
+            source,
+            e.location(source),
+            message,
+            e.emit_to_string_with_path(source, file),
+        )
+    })?;
+    Ok(ValidatedShader { module, info })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parse_errors_point_at_line_and_column() {
+        let src = "@compute @workgroup_size(1)\nfn main() {\n    let x: f32 = 1.0 +;\n}\n";
+        let err = validate_wgsl("bad.wgsl", src).unwrap_err();
+        assert_eq!(err.line, 3);
+        assert!(err.source_line.contains("let x"), "{err}");
+        assert!(err.to_string().starts_with("bad.wgsl:3:"), "{err}");
+    }
+
+    #[test]
+    fn validation_errors_are_located_too() {
+        let src = "@compute @workgroup_size(1)\nfn main() {\n    let x: u32 = 1.0;\n}\n";
+        let err = validate_wgsl("types.wgsl", src).unwrap_err();
+        assert_eq!(err.line, 3, "{err}");
+    }
+}
