@@ -393,3 +393,17 @@ pub fn render_text(r: &InfoReport) -> String {
     );
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tables_pad_to_the_widest_cell() {
+        let t = table(&["a", "bb"], &[vec!["long cell".into(), "x".into()]]);
+        let lines: Vec<&str> = t.lines().collect();
+        assert_eq!(lines[0], "a          bb");
+        assert_eq!(lines[1], "---------  --");
+        assert_eq!(lines[2], "long cell  x");
+    }
+}

@@ -1531,3 +1531,44 @@ impl ResourceState {
 pub struct RecordedTiming {
     pub gpu_ns: u64,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn access_read_write_classification() {
+        assert!(Access::StorageReadWrite.reads() && Access::StorageReadWrite.writes());
+        assert!(!Access::StorageWrite.reads() && Access::StorageWrite.writes());
+        assert!(Access::Sampled.reads() && !Access::Sampled.writes());
+        assert!(Access::DepthWrite.reads() && Access::DepthWrite.writes());
+        assert!(!Access::CopyDst.reads());
+        assert!(Access::StorageRead.is_unordered() && !Access::Sampled.is_unordered());
+    }
+
+    #[test]
+    fn extents_accept_every_spelling() {
+        let parse = |s: &str| serde_json::from_str::<Extent>(s).unwrap();
+        assert_eq!(parse("1024"), Extent::Texels(1024));
+        assert_eq!(parse("\"half\""), Extent::Named(RelativeSize::Half));
+        assert_eq!(
+            parse(r#"{"scale": 0.125, "multiple_of": 8}"#),
+            Extent::Scaled {
+                scale: 0.125,
+                multiple_of: Some(8)
+            }
+        );
+        assert!(serde_json::from_str::<Extent>("\"double\"").is_err());
+    }
+
+    #[test]
+    fn states_take_one_or_many() {
+        let one: States = serde_json::from_str("\"RENDER_TARGET\"").unwrap();
+        assert_eq!(one.as_slice(), [ResourceState::RenderTarget]);
+        let many: States =
+            serde_json::from_str(r#"["PIXEL_SHADER_RESOURCE", "NON_PIXEL_SHADER_RESOURCE"]"#)
+                .unwrap();
+        assert_eq!(many.as_slice().len(), 2);
+        assert!(ResourceState::UnorderedAccess.is_write() && !ResourceState::CopySource.is_write());
+    }
+}

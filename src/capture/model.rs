@@ -538,3 +538,43 @@ impl PassDesc {
         parts.join("/")
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn range(mips: (u32, u32), layers: (u32, u32), bytes: (u64, u64)) -> Subresources {
+        Subresources {
+            mip_base: mips.0,
+            mip_count: mips.1,
+            layer_base: layers.0,
+            layer_count: layers.1,
+            byte_offset: bytes.0,
+            byte_size: bytes.1,
+        }
+    }
+
+    #[test]
+    fn subresource_overlap_needs_both_mips_and_layers() {
+        let a = range((0, 2), (0, 1), (0, 0));
+        assert!(a.overlaps(&range((1, 1), (0, 1), (0, 0))));
+        assert!(!a.overlaps(&range((2, 1), (0, 1), (0, 0))));
+        assert!(!a.overlaps(&range((0, 1), (1, 1), (0, 0))));
+    }
+
+    #[test]
+    fn buffer_ranges_overlap_by_bytes() {
+        let a = range((0, 1), (0, 1), (0, 16));
+        assert!(a.overlaps(&range((0, 1), (0, 1), (8, 16))));
+        assert!(!a.overlaps(&range((0, 1), (0, 1), (16, 16))));
+    }
+
+    #[test]
+    fn queue_capabilities_follow_the_stage_table() {
+        let copy = QueueCapabilities::of(QueueType::Copy);
+        assert_eq!(copy.names(), ["transfer"]);
+        let compute = QueueCapabilities::of(QueueType::Compute);
+        assert!(compute.compute && !compute.graphics);
+        assert_eq!(QueueCapabilities::of(QueueType::Graphics).names().len(), 3);
+    }
+}
