@@ -4,6 +4,7 @@
 //! (in later stages) the pass graph, its analyses and the lowering to a replay plan. The binary
 //! in `main.rs` is a thin layer mapping these to commands and exit codes.
 
+pub mod analysis;
 pub mod capture;
 pub mod dxgi;
 pub mod info;

@@ -990,12 +990,15 @@ impl Access {
                 | Access::Uniform
         )
     }
-    /// Whether the access is an unordered-access (UAV) use.
-    pub fn is_unordered(self) -> bool {
-        matches!(
-            self,
-            Access::StorageRead | Access::StorageWrite | Access::StorageReadWrite
-        )
+    /// Whether the access is an unordered-access (UAV) use. A read-only storage *buffer*
+    /// (`var<storage, read>`) is a shader resource view in D3D12 terms; a read-only storage
+    /// *texture* is still a UAV.
+    pub fn is_unordered(self, texture: bool) -> bool {
+        match self {
+            Access::StorageWrite | Access::StorageReadWrite => true,
+            Access::StorageRead => texture,
+            _ => false,
+        }
     }
 }
 
@@ -1543,7 +1546,8 @@ mod tests {
         assert!(Access::Sampled.reads() && !Access::Sampled.writes());
         assert!(Access::DepthWrite.reads() && Access::DepthWrite.writes());
         assert!(!Access::CopyDst.reads());
-        assert!(Access::StorageRead.is_unordered() && !Access::Sampled.is_unordered());
+        assert!(Access::StorageRead.is_unordered(true) && !Access::StorageRead.is_unordered(false));
+        assert!(!Access::Sampled.is_unordered(true));
     }
 
     #[test]

@@ -2462,7 +2462,9 @@ impl<'a> Validator<'a> {
                     );
                     return None;
                 }
-                if access.is_unordered() && !r.has_flag(ResourceFlag::AllowUnorderedAccess) {
+                if access.is_unordered(r.is_texture())
+                    && !r.has_flag(ResourceFlag::AllowUnorderedAccess)
+                {
                     self.diags.error("binding-flags", &path.field("access"), format!(
                         "\"{}\" is bound for {} access in pass \"{pass}\" but lacks ALLOW_UNORDERED_ACCESS", r.name, access.as_str()
                     ));
@@ -2484,7 +2486,7 @@ impl<'a> Validator<'a> {
                         format!("texture \"{}\" cannot be a uniform buffer", r.name),
                     );
                 }
-                if r.samples > 1 && access.is_unordered() {
+                if r.samples > 1 && access.is_unordered(r.is_texture()) {
                     self.diags.error(
                         "binding-access",
                         &path.field("access"),
@@ -2508,7 +2510,7 @@ impl<'a> Validator<'a> {
                 }
                 let view_format = if r.is_texture() {
                     let f = self.view_format(r, b.format.as_deref(), &path.field("format"))?;
-                    if access.is_unordered()
+                    if access.is_unordered(r.is_texture())
                         && (f.is_block_compressed() || f.is_depth_stencil() || f.srgb)
                     {
                         self.diags.error(
@@ -2539,7 +2541,7 @@ impl<'a> Validator<'a> {
                             "`bytes` applies to buffers",
                         );
                     }
-                    if access.is_unordered()
+                    if access.is_unordered(r.is_texture())
                         && b.mips.is_none_or(|m| m.count != Some(1))
                         && r.mip_levels > 1
                     {

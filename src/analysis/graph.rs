@@ -1,0 +1,534 @@
+//! The pass DAG: a petgraph graph whose nodes are passes and whose edges are read-after-write,
+//! write-after-read and write-after-write hazards per subresource unit, submission order within
+//! a queue, and fences between queues. Also the topological order that keeps each queue's
+//! recorded order, cycle reporting, and culling of passes whose work never reaches an output.
+//!
+//! Edges are found in recorded order with one pass over the accesses: each unit remembers its
+//! last writer and the readers since, so the work is linear in the number of unit accesses.
+
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, HashMap};
+
+use petgraph::graph::{DiGraph, NodeIndex};
+use petgraph::visit::EdgeRef;
+use serde::Serialize;
+
+use super::model::{FrameModel, Units};
+use crate::capture::model::Subresources;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EdgeKind {
+    /// Read after write: the later pass reads what the earlier wrote.
+    Raw,
+    /// Write after read: the later pass overwrites what the earlier read.
+    War,
+    /// Write after write.
+    Waw,
+    /// Submission order on one queue.
+    Queue,
+    /// A fence from the signalling pass to the waiting pass.
+    Fence,
+}
+
+impl EdgeKind {
+    pub fn is_data(self) -> bool {
+        matches!(self, EdgeKind::Raw | EdgeKind::War | EdgeKind::Waw)
+    }
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Edge {
+    pub kind: EdgeKind,
+    /// The resource and the later pass's access range, for data edges.
+    pub resource: Option<u32>,
+    pub range: Option<Subresources>,
+}
+
+/// A read of a `history` resource before the frame writes it: it sees the previous frame.
+#[derive(Clone, Debug, Serialize)]
+pub struct HistoryRead {
+    pub pass: u32,
+    pub resource: u32,
+}
+
+#[derive(Debug)]
+pub struct PassGraph {
+    pub graph: DiGraph<u32, Edge>,
+    /// Node of each pass (node index == pass index; kept for clarity at call sites).
+    pub nodes: Vec<NodeIndex>,
+    pub history_reads: Vec<HistoryRead>,
+    /// The last writer of each unit at the end of the frame (for culling).
+    final_writers: Vec<Option<u32>>,
+}
+
+/// A cycle in the pass graph: the passes on it, and the resources whose hazards close it.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("the pass graph has a cycle: {} (through {})", passes.join(" -> "), if resources.is_empty() { "queue order and fences".to_owned() } else { resources.join(", ") })]
+pub struct CycleError {
+    pub passes: Vec<String>,
+    pub resources: Vec<String>,
+}
+
+const NO_PASS: u32 = u32::MAX;
+
+pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
+    let n = model.passes.len();
+    let mut graph: DiGraph<u32, Edge> = DiGraph::with_capacity(n, n * 4);
+    let nodes: Vec<NodeIndex> = (0..n as u32).map(|i| graph.add_node(i)).collect();
+    let mut last_writer: Vec<u32> = vec![NO_PASS; units.total];
+    let mut readers: Vec<Vec<u32>> = vec![Vec::new(); units.total];
+    let mut history_reads = Vec::new();
+    // (from, to, resource, kind) -> range; keeps one edge per hazard and resource.
+    let mut edges: HashMap<(u32, u32, u32, EdgeKind), Subresources> = HashMap::new();
+
+    for (p, pass) in model.passes.iter().enumerate() {
+        let p = p as u32;
+        for a in &pass.accesses {
+            if let Some(of) = model.resources[a.resource as usize].previous_of {
+                history_reads.push(HistoryRead {
+                    pass: p,
+                    resource: of,
+                });
+            }
+            let mut add = |from: u32, kind: EdgeKind| {
+                if from != p {
+                    edges.entry((from, p, a.resource, kind)).or_insert(a.range);
+                }
+            };
+            units.for_each(model, a, |u| {
+                let w = last_writer[u];
+                if a.reads && w != NO_PASS {
+                    add(w, EdgeKind::Raw);
+                }
+                if a.writes {
+                    if w != NO_PASS {
+                        add(w, EdgeKind::Waw);
+                    }
+                    for &reader in &readers[u] {
+                        add(reader, EdgeKind::War);
+                    }
+                }
+            });
+        }
+        // Update after all of the pass's accesses, so a read-modify-write is one access.
+        for a in &pass.accesses {
+            units.for_each(model, a, |u| {
+                if a.writes {
+                    last_writer[u] = p;
+                    readers[u].clear();
+                } else if a.reads && readers[u].last() != Some(&p) {
+                    readers[u].push(p);
+                }
+            });
+        }
+    }
+
+    let mut sorted: Vec<_> = edges.into_iter().collect();
+    sorted.sort_unstable_by_key(|((from, to, res, kind), _)| (*from, *to, *res, *kind));
+    for ((from, to, resource, kind), range) in sorted {
+        graph.add_edge(
+            nodes[from as usize],
+            nodes[to as usize],
+            Edge {
+                kind,
+                resource: Some(resource),
+                range: Some(range),
+            },
+        );
+    }
+    let mut last_on_queue: HashMap<u32, u32> = HashMap::new();
+    for (p, pass) in model.passes.iter().enumerate() {
+        if let Some(prev) = last_on_queue.insert(pass.queue, p as u32) {
+            graph.add_edge(
+                nodes[prev as usize],
+                nodes[p],
+                Edge {
+                    kind: EdgeKind::Queue,
+                    resource: None,
+                    range: None,
+                },
+            );
+        }
+    }
+    for &(from, to) in &model.fences {
+        graph.add_edge(
+            nodes[from as usize],
+            nodes[to as usize],
+            Edge {
+                kind: EdgeKind::Fence,
+                resource: None,
+                range: None,
+            },
+        );
+    }
+    let final_writers = last_writer
+        .into_iter()
+        .map(|w| (w != NO_PASS).then_some(w))
+        .collect();
+    PassGraph {
+        graph,
+        nodes,
+        history_reads,
+        final_writers,
+    }
+}
+
+/// A topological order; among ready passes the earliest recorded goes first, so each queue's
+/// recorded order is kept (queue edges force it) and the result is deterministic.
+pub fn order(model: &FrameModel, g: &PassGraph) -> Result<Vec<u32>, CycleError> {
+    let n = model.passes.len();
+    let mut indegree = vec![0u32; n];
+    for e in g.graph.edge_references() {
+        indegree[e.target().index()] += 1;
+    }
+    let mut ready: BinaryHeap<Reverse<u32>> = (0..n as u32)
+        .filter(|&p| indegree[p as usize] == 0)
+        .map(Reverse)
+        .collect();
+    let mut out = Vec::with_capacity(n);
+    while let Some(Reverse(p)) = ready.pop() {
+        out.push(p);
+        for e in g.graph.edges(g.nodes[p as usize]) {
+            let t = e.target().index();
+            indegree[t] -= 1;
+            if indegree[t] == 0 {
+                ready.push(Reverse(t as u32));
+            }
+        }
+    }
+    if out.len() == n {
+        return Ok(out);
+    }
+    Err(find_cycle(model, g, &indegree))
+}
+
+/// Walks backwards from a pass left with unmet dependencies until a pass repeats.
+fn find_cycle(model: &FrameModel, g: &PassGraph, indegree: &[u32]) -> CycleError {
+    let start = indegree.iter().position(|&d| d > 0).unwrap_or(0);
+    let mut path: Vec<usize> = vec![start];
+    let mut via: Vec<Option<u32>> = Vec::new();
+    let mut seen = vec![usize::MAX; model.passes.len()];
+    seen[start] = 0;
+    let mut current = start;
+    loop {
+        let incoming = g
+            .graph
+            .edges_directed(g.nodes[current], petgraph::Direction::Incoming)
+            .filter(|e| indegree[e.source().index()] > 0)
+            .min_by_key(|e| (e.source().index(), e.weight().kind));
+        let Some(e) = incoming else { break };
+        let prev = e.source().index();
+        via.push(e.weight().resource);
+        if seen[prev] != usize::MAX {
+            let from = seen[prev];
+            let mut passes: Vec<String> = path[from..]
+                .iter()
+                .rev()
+                .map(|&p| model.passes[p].name.clone())
+                .collect();
+            passes.push(model.passes[prev].name.clone());
+            let mut resources: Vec<String> = via[from..]
+                .iter()
+                .flatten()
+                .map(|&r| model.resources[r as usize].name.clone())
+                .collect();
+            resources.sort();
+            resources.dedup();
+            return CycleError { passes, resources };
+        }
+        seen[prev] = path.len();
+        path.push(prev);
+        current = prev;
+    }
+    CycleError {
+        passes: vec![model.passes[start].name.clone()],
+        resources: Vec::new(),
+    }
+}
+
+/// Passes whose writes never reach a frame output: not a sink (present), not the final writer
+/// of an output or history resource, and not read (transitively) by a pass that is.
+pub fn culled(model: &FrameModel, units: &Units, g: &PassGraph) -> Vec<u32> {
+    let n = model.passes.len();
+    let mut live = vec![false; n];
+    let mut stack: Vec<u32> = Vec::new();
+    for (p, pass) in model.passes.iter().enumerate() {
+        if pass.sink {
+            live[p] = true;
+            stack.push(p as u32);
+        }
+    }
+    for (r, res) in model.resources.iter().enumerate() {
+        if res.output || res.history {
+            let base = units.base(r as u32);
+            for u in base..base + units.count(model, r as u32) {
+                if let Some(w) = g.final_writers[u]
+                    && !live[w as usize]
+                {
+                    live[w as usize] = true;
+                    stack.push(w);
+                }
+            }
+        }
+    }
+    while let Some(p) = stack.pop() {
+        for e in g
+            .graph
+            .edges_directed(g.nodes[p as usize], petgraph::Direction::Incoming)
+        {
+            let s = e.source().index();
+            if e.weight().kind == EdgeKind::Raw && !live[s] {
+                live[s] = true;
+                stack.push(s as u32);
+            }
+        }
+    }
+    (0..n as u32).filter(|&p| !live[p as usize]).collect()
+}
+
+/// The model without the given passes (for `--cull`); fences touching them are dropped.
+pub fn without_passes(model: &FrameModel, drop: &[u32]) -> FrameModel {
+    let mut keep_index = vec![None; model.passes.len()];
+    let mut passes = Vec::new();
+    for (i, p) in model.passes.iter().enumerate() {
+        if !drop.contains(&(i as u32)) {
+            keep_index[i] = Some(passes.len() as u32);
+            passes.push(p.clone());
+        }
+    }
+    let fences = model
+        .fences
+        .iter()
+        .filter_map(|&(a, b)| Some((keep_index[a as usize]?, keep_index[b as usize]?)))
+        .collect();
+    FrameModel {
+        queues: model.queues.clone(),
+        resources: model.resources.clone(),
+        passes,
+        fences,
+        heap_tier: model.heap_tier,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::model::*;
+    use crate::capture::format::{HeapType, QueueType};
+    use crate::capture::model::ResourceCategory;
+
+    pub(crate) fn texture(name: &str, mips: u32) -> ModelResource {
+        ModelResource {
+            name: name.into(),
+            is_buffer: false,
+            mips,
+            layers: 1,
+            buffer_bytes: 0,
+            aligned_bytes: 65536,
+            alignment: 65536,
+            heap_type: HeapType::Default,
+            category: ResourceCategory::RtDsTexture,
+            history: false,
+            output: false,
+            initialised: false,
+            initial_state: State::COMMON,
+            previous_of: None,
+        }
+    }
+
+    fn access(resource: u32, mip: u32, state: State, reads: bool, writes: bool) -> ModelAccess {
+        ModelAccess {
+            resource,
+            range: Subresources {
+                mip_base: mip,
+                mip_count: 1,
+                layer_base: 0,
+                layer_count: 1,
+                byte_offset: 0,
+                byte_size: 0,
+            },
+            state,
+            reads,
+            writes,
+            uav: state == State::UNORDERED_ACCESS,
+        }
+    }
+
+    fn pass(name: &str, queue: u32, accesses: Vec<ModelAccess>) -> ModelPass {
+        ModelPass {
+            name: name.into(),
+            queue,
+            accesses,
+            raster: queue == 0,
+            sink: false,
+            gpu_ns: None,
+            markers: vec![],
+        }
+    }
+
+    fn model(resources: Vec<ModelResource>, passes: Vec<ModelPass>) -> FrameModel {
+        FrameModel {
+            queues: vec![
+                QueueInfo {
+                    name: "gfx".into(),
+                    queue_type: QueueType::Graphics,
+                },
+                QueueInfo {
+                    name: "async".into(),
+                    queue_type: QueueType::Compute,
+                },
+            ],
+            resources,
+            passes,
+            fences: vec![],
+            heap_tier: 2,
+        }
+    }
+
+    fn data_edges(g: &PassGraph) -> Vec<(usize, usize, EdgeKind)> {
+        let mut v: Vec<_> = g
+            .graph
+            .edge_references()
+            .filter(|e| e.weight().kind.is_data())
+            .map(|e| (e.source().index(), e.target().index(), e.weight().kind))
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn hazards_per_subresource() {
+        // a writes mip 0, b writes mip 1, c reads mip 0, d writes mip 0.
+        let m = model(
+            vec![texture("t", 2)],
+            vec![
+                pass(
+                    "a",
+                    0,
+                    vec![access(0, 0, State::RENDER_TARGET, false, true)],
+                ),
+                pass(
+                    "b",
+                    1,
+                    vec![access(0, 1, State::UNORDERED_ACCESS, false, true)],
+                ),
+                pass(
+                    "c",
+                    1,
+                    vec![access(0, 0, State::NON_PIXEL_SHADER_RESOURCE, true, false)],
+                ),
+                pass(
+                    "d",
+                    0,
+                    vec![access(0, 0, State::RENDER_TARGET, false, true)],
+                ),
+            ],
+        );
+        let units = Units::new(&m);
+        let g = build(&m, &units);
+        assert_eq!(
+            data_edges(&g),
+            vec![
+                (0, 2, EdgeKind::Raw),
+                (0, 3, EdgeKind::Waw),
+                (2, 3, EdgeKind::War)
+            ],
+            "b touches only mip 1 and has no data edge"
+        );
+        assert_eq!(order(&m, &g).unwrap(), vec![0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn history_reads_add_no_edge() {
+        let mut t = texture("taa", 1);
+        t.history = true;
+        let mut m = model(
+            vec![t],
+            vec![
+                pass(
+                    "taa",
+                    0,
+                    vec![access(0, 0, State::PIXEL_SHADER_RESOURCE, true, false)],
+                ),
+                pass(
+                    "resolve",
+                    0,
+                    vec![access(0, 0, State::RENDER_TARGET, false, true)],
+                ),
+                pass(
+                    "blur",
+                    1,
+                    vec![access(0, 0, State::NON_PIXEL_SHADER_RESOURCE, true, false)],
+                ),
+            ],
+        );
+        m.split_history();
+        assert_eq!(m.resources[1].name, "taa (previous frame)");
+        let units = Units::new(&m);
+        let g = build(&m, &units);
+        assert_eq!(g.history_reads.len(), 1);
+        assert_eq!(data_edges(&g), vec![(1, 2, EdgeKind::Raw)]);
+    }
+
+    #[test]
+    fn cycles_name_passes_and_resources() {
+        let mut m = model(
+            vec![texture("shared", 1)],
+            vec![
+                pass(
+                    "producer",
+                    1,
+                    vec![access(0, 0, State::UNORDERED_ACCESS, false, true)],
+                ),
+                pass(
+                    "consumer",
+                    0,
+                    vec![access(0, 0, State::PIXEL_SHADER_RESOURCE, true, false)],
+                ),
+            ],
+        );
+        m.fences.push((1, 0)); // producer waits on the consumer: impossible.
+        let units = Units::new(&m);
+        let g = build(&m, &units);
+        let err = order(&m, &g).unwrap_err();
+        assert!(
+            err.passes.contains(&"producer".to_owned())
+                && err.passes.contains(&"consumer".to_owned()),
+            "{err}"
+        );
+        assert_eq!(err.resources, vec!["shared".to_owned()]);
+    }
+
+    #[test]
+    fn culling_keeps_what_reaches_outputs() {
+        let mut out = texture("out", 1);
+        out.output = true;
+        let m = model(
+            vec![texture("a", 1), texture("dead", 1), out],
+            vec![
+                pass(
+                    "make_a",
+                    0,
+                    vec![access(0, 0, State::RENDER_TARGET, false, true)],
+                ),
+                pass(
+                    "dead_pass",
+                    0,
+                    vec![access(1, 0, State::RENDER_TARGET, false, true)],
+                ),
+                pass(
+                    "final",
+                    0,
+                    vec![
+                        access(0, 0, State::PIXEL_SHADER_RESOURCE, true, false),
+                        access(2, 0, State::RENDER_TARGET, false, true),
+                    ],
+                ),
+            ],
+        );
+        let units = Units::new(&m);
+        let g = build(&m, &units);
+        assert_eq!(culled(&m, &units, &g), vec![1]);
+    }
+}

@@ -1,0 +1,452 @@
+//! An independent hazard checker. Given an order, a list of barriers and the fences, it replays
+//! every access per subresource unit and reports unsynchronised read-after-write,
+//! write-after-read and write-after-write pairs, accesses made in the wrong state, transitions
+//! whose "before" state is wrong or that race with earlier accesses, and barriers on a queue
+//! that cannot hold their states.
+//!
+//! It shares no code with the derivation (`barriers.rs`): it has its own rules, stated here,
+//! so that a property test can hold one against the other.
+//! - Two accesses conflict when at least one writes. They are synchronised when the first
+//!   happens before the second (queue order and fences, transitively) and, on one queue, a
+//!   barrier on the unit sits between them (or both are in the same non-UAV write state, which
+//!   D3D12 orders implicitly: render target, depth, copy and resolve writes).
+//! - A barrier acts like a write: every access since the unit's previous barrier must happen
+//!   before it, and it must happen before the accesses that rely on the state it sets.
+//! - An access needs the unit in its state, or in a read state that includes its read state,
+//!   and the state must be one the access's queue may hold.
+
+use serde::Serialize;
+
+use super::model::{FrameModel, State, Units};
+use crate::capture::format::QueueType;
+use crate::capture::model::Subresources;
+
+/// A barrier as the checker sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SyncBarrier {
+    /// Executes before this pass (`after == false`) or right after it (`after == true`).
+    pub pass: u32,
+    pub after: bool,
+    pub queue: u32,
+    /// A UAV barrier changes no state.
+    pub uav: bool,
+    pub resource: u32,
+    pub range: Subresources,
+    pub before: State,
+    pub after_state: State,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HazardKind {
+    ReadAfterWrite,
+    WriteAfterRead,
+    WriteAfterWrite,
+    /// An access races with a barrier (the barrier's layout change is a write).
+    BarrierRace,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Hazard {
+    pub kind: HazardKind,
+    pub earlier: u32,
+    pub later: u32,
+    pub resource: u32,
+    pub mip: u32,
+    pub layer: u32,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum StateError {
+    WrongState {
+        pass: u32,
+        resource: u32,
+        mip: u32,
+        layer: u32,
+        have: State,
+        need: State,
+    },
+    WrongBefore {
+        barrier: usize,
+        have: State,
+        recorded: State,
+    },
+    QueueCannotHold {
+        barrier: usize,
+        queue: u32,
+        state: State,
+    },
+    UnorderedState {
+        pass: u32,
+        resource: u32,
+        barrier: usize,
+    },
+    /// The frame leaves a unit in a state other than the one the next frame starts with.
+    FrameEndMismatch {
+        resource: u32,
+        mip: u32,
+        layer: u32,
+        end: State,
+        start: State,
+    },
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct CheckReport {
+    pub hazards: Vec<Hazard>,
+    pub state_errors: Vec<StateError>,
+}
+
+impl CheckReport {
+    pub fn is_clean(&self) -> bool {
+        self.hazards.is_empty() && self.state_errors.is_empty()
+    }
+}
+
+/// Happens-before as a transitive closure over queue order and fences, one bitset per pass.
+struct HappensBefore {
+    words: usize,
+    bits: Vec<u64>,
+}
+
+impl HappensBefore {
+    fn new(model: &FrameModel, order: &[u32], fences: &[(u32, u32)]) -> Self {
+        let n = model.passes.len();
+        let words = n.div_ceil(64).max(1);
+        let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
+        let mut last: Vec<Option<u32>> = vec![None; model.queues.len()];
+        for &p in order {
+            let q = model.passes[p as usize].queue as usize;
+            if let Some(prev) = last[q] {
+                preds[p as usize].push(prev);
+            }
+            last[q] = Some(p);
+        }
+        for &(a, b) in fences {
+            preds[b as usize].push(a);
+        }
+        let mut bits = vec![0u64; n * words];
+        // `order` is topological for queue order and fences, so predecessors are complete.
+        for &p in order {
+            for &a in &preds[p as usize] {
+                let (pa, pp) = (a as usize * words, p as usize * words);
+                for w in 0..words {
+                    bits[pp + w] |= bits[pa + w];
+                }
+                bits[pp + a as usize / 64] |= 1 << (a % 64);
+            }
+        }
+        Self { words, bits }
+    }
+    /// Whether `a` strictly happens before `b`.
+    fn before(&self, a: u32, b: u32) -> bool {
+        self.bits[b as usize * self.words + a as usize / 64] & (1 << (a % 64)) != 0
+    }
+    fn before_or_same(&self, a: u32, b: u32) -> bool {
+        a == b || self.before(a, b)
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Use {
+    pass: u32,
+    queue: u32,
+    state: State,
+    time: u32,
+}
+
+#[derive(Clone, Copy)]
+struct Applied {
+    barrier: usize,
+    time: u32,
+}
+
+/// Whether barrier `b` lies between access `a` and pass `later` in happens-before terms.
+fn barrier_between(hb: &HappensBefore, b: &SyncBarrier, a: u32, later: u32) -> bool {
+    if b.after {
+        hb.before_or_same(a, b.pass) && hb.before(b.pass, later)
+    } else {
+        hb.before(a, b.pass) && hb.before_or_same(b.pass, later)
+    }
+}
+
+/// Whether the barrier happens before pass `p`'s accesses.
+fn barrier_before(hb: &HappensBefore, b: &SyncBarrier, p: u32) -> bool {
+    if b.after {
+        hb.before(b.pass, p)
+    } else {
+        hb.before_or_same(b.pass, p)
+    }
+}
+
+fn implicitly_ordered(a: State, b: State) -> bool {
+    a == b
+        && [
+            State::RENDER_TARGET,
+            State::DEPTH_WRITE,
+            State::COPY_DEST,
+            State::RESOLVE_DEST,
+        ]
+        .contains(&a)
+}
+
+fn holds(queue: QueueType, s: State) -> bool {
+    let graphics_only = State::RENDER_TARGET.0
+        | State::DEPTH_WRITE.0
+        | State::DEPTH_READ.0
+        | State::PIXEL_SHADER_RESOURCE.0
+        | State::INDEX_BUFFER.0
+        | State::RESOLVE_DEST.0
+        | State::RESOLVE_SOURCE.0
+        | State::PRESENT.0;
+    match queue {
+        QueueType::Graphics => true,
+        QueueType::Compute => s.0 & graphics_only == 0,
+        QueueType::Copy => s.0 & !(State::COPY_DEST.0 | State::COPY_SOURCE.0) == 0,
+    }
+}
+
+/// Replays the frame and reports every unsynchronised pair and state error.
+pub fn check(
+    model: &FrameModel,
+    units: &Units,
+    order: &[u32],
+    barriers: &[SyncBarrier],
+    fences: &[(u32, u32)],
+    initial: &[State],
+) -> CheckReport {
+    let hb = HappensBefore::new(model, order, fences);
+    let mut report = CheckReport::default();
+    let mut state: Vec<State> = initial.to_vec();
+    let mut last_write: Vec<Option<Use>> = vec![None; units.total];
+    let mut reads: Vec<Vec<Use>> = vec![Vec::new(); units.total];
+    let mut since_barrier: Vec<Vec<Use>> = vec![Vec::new(); units.total];
+    let mut applied: Vec<Vec<Applied>> = vec![Vec::new(); units.total];
+    let mut before_pass: Vec<Vec<usize>> = vec![Vec::new(); model.passes.len()];
+    let mut after_pass: Vec<Vec<usize>> = vec![Vec::new(); model.passes.len()];
+    for (i, b) in barriers.iter().enumerate() {
+        if b.after {
+            after_pass[b.pass as usize].push(i)
+        } else {
+            before_pass[b.pass as usize].push(i)
+        }
+    }
+    let mut time = 0u32;
+    let apply = |i: usize,
+                 time: u32,
+                 report: &mut CheckReport,
+                 state: &mut Vec<State>,
+                 since: &mut Vec<Vec<Use>>,
+                 applied: &mut Vec<Vec<Applied>>| {
+        let b = &barriers[i];
+        let qtype = model.queues[b.queue as usize].queue_type;
+        if !b.uav {
+            for s in [b.before, b.after_state] {
+                if !holds(qtype, s) {
+                    report.state_errors.push(StateError::QueueCannotHold {
+                        barrier: i,
+                        queue: b.queue,
+                        state: s,
+                    });
+                }
+            }
+        }
+        let access = super::model::ModelAccess {
+            resource: b.resource,
+            range: b.range,
+            state: b.after_state,
+            reads: false,
+            writes: false,
+            uav: false,
+        };
+        units.for_each(model, &access, |u| {
+            if !b.uav {
+                if state[u] != b.before {
+                    report.state_errors.push(StateError::WrongBefore {
+                        barrier: i,
+                        have: state[u],
+                        recorded: b.before,
+                    });
+                }
+                state[u] = b.after_state;
+            }
+            for a in since[u].drain(..) {
+                let ordered = if b.after {
+                    hb.before_or_same(a.pass, b.pass)
+                } else {
+                    hb.before(a.pass, b.pass)
+                };
+                if !ordered {
+                    let (resource, mip, layer) = units.locate(model, u);
+                    report.hazards.push(Hazard {
+                        kind: HazardKind::BarrierRace,
+                        earlier: a.pass,
+                        later: b.pass,
+                        resource,
+                        mip,
+                        layer,
+                    });
+                }
+            }
+            applied[u].push(Applied { barrier: i, time });
+        });
+    };
+    for &p in order {
+        for &i in &before_pass[p as usize] {
+            apply(
+                i,
+                time,
+                &mut report,
+                &mut state,
+                &mut since_barrier,
+                &mut applied,
+            );
+        }
+        time += 1;
+        let queue = model.passes[p as usize].queue;
+        let qtype = model.queues[queue as usize].queue_type;
+        // The pass's combined need per unit: read states add up; a write state stands alone.
+        let mut need: Vec<(usize, State, bool, bool)> = Vec::new();
+        for a in &model.passes[p as usize].accesses {
+            units.for_each(model, a, |u| {
+                if let Some(e) = need.iter_mut().find(|e| e.0 == u) {
+                    if a.state.is_write() {
+                        e.1 = a.state;
+                    } else if !e.1.is_write() {
+                        e.1 = State(e.1.0 | a.state.0);
+                    }
+                    e.2 |= a.reads;
+                    e.3 |= a.writes;
+                } else {
+                    need.push((u, a.state, a.reads, a.writes));
+                }
+            });
+        }
+        for &(u, s, r, w) in &need {
+            let (resource, mip, layer) = units.locate(model, u);
+            let have = state[u];
+            let ok = have == s
+                || (!s.is_write()
+                    && s != State::COMMON
+                    && !have.is_write()
+                    && have != State::COMMON
+                    && have.0 & s.0 == s.0);
+            if !ok || !holds(qtype, have) {
+                report.state_errors.push(StateError::WrongState {
+                    pass: p,
+                    resource,
+                    mip,
+                    layer,
+                    have,
+                    need: s,
+                });
+            }
+            if let Some(last) = applied[u].last()
+                && !barrier_before(&hb, &barriers[last.barrier], p)
+            {
+                report.state_errors.push(StateError::UnorderedState {
+                    pass: p,
+                    resource,
+                    barrier: last.barrier,
+                });
+            }
+            let synced = |earlier: &Use, applied: &[Applied]| -> bool {
+                if !hb.before(earlier.pass, p) {
+                    return false;
+                }
+                if earlier.queue != queue {
+                    return true;
+                }
+                implicitly_ordered(earlier.state, s)
+                    || applied.iter().any(|x| {
+                        x.time > earlier.time
+                            && barrier_between(&hb, &barriers[x.barrier], earlier.pass, p)
+                    })
+            };
+            let mut found = |kind: HazardKind, earlier: u32| {
+                report.hazards.push(Hazard {
+                    kind,
+                    earlier,
+                    later: p,
+                    resource,
+                    mip,
+                    layer,
+                });
+            };
+            if let Some(wr) = last_write[u].filter(|wr| wr.pass != p) {
+                if r && !synced(&wr, &applied[u]) {
+                    found(HazardKind::ReadAfterWrite, wr.pass);
+                } else if w && !r && !synced(&wr, &applied[u]) {
+                    found(HazardKind::WriteAfterWrite, wr.pass);
+                }
+            }
+            if w {
+                for rd in reads[u].iter().filter(|rd| rd.pass != p) {
+                    if !synced(rd, &applied[u]) {
+                        found(HazardKind::WriteAfterRead, rd.pass);
+                    }
+                }
+            }
+        }
+        for &(u, s, r, w) in &need {
+            let use_ = Use {
+                pass: p,
+                queue,
+                state: s,
+                time,
+            };
+            if w {
+                last_write[u] = Some(use_);
+                reads[u].clear();
+            } else if r {
+                reads[u].push(use_);
+            }
+            since_barrier[u].push(use_);
+        }
+        time += 1;
+        for &i in &after_pass[p as usize] {
+            apply(
+                i,
+                time,
+                &mut report,
+                &mut state,
+                &mut since_barrier,
+                &mut applied,
+            );
+        }
+        time += 1;
+    }
+    // Frames repeat: the next one starts where this one ends.
+    for u in 0..units.total {
+        if state[u] != initial[u] {
+            let (resource, mip, layer) = units.locate(model, u);
+            report.state_errors.push(StateError::FrameEndMismatch {
+                resource,
+                mip,
+                layer,
+                end: state[u],
+                start: initial[u],
+            });
+        }
+    }
+    report
+}
+
+/// Barriers that can be removed without introducing a hazard or a state error.
+pub fn redundant(
+    model: &FrameModel,
+    units: &Units,
+    order: &[u32],
+    barriers: &[SyncBarrier],
+    fences: &[(u32, u32)],
+    initial: &[State],
+) -> Vec<usize> {
+    (0..barriers.len())
+        .filter(|&i| {
+            let mut fewer = barriers.to_vec();
+            fewer.remove(i);
+            check(model, units, order, &fewer, fences, initial).is_clean()
+        })
+        .collect()
+}

@@ -1,0 +1,514 @@
+//! The frame as the analyses see it: passes on queues with resource accesses expressed as D3D12
+//! states over subresource units, and resources with their sizes and placement class.
+//!
+//! Analyses run on this model rather than on `Capture` so that property tests and benchmarks can
+//! generate frames directly, and so that the graph, barrier and memory code never needs to know
+//! how a capture spells things. `from_capture` is the one bridge.
+
+use std::fmt;
+
+use serde::Serialize;
+
+use crate::capture::format::{Access, HeapType, PassKind, QueueType, ResourceKind};
+use crate::capture::model::{Capture, InitialDesc, ResourceCategory, Subresources};
+
+/// A D3D12 resource state, as bit flags so read states can be combined. The values are
+/// D3D12's, except PRESENT, which D3D12 aliases to COMMON and which gets its own bit here so
+/// reports can name it.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+pub struct State(pub u32);
+
+impl State {
+    pub const COMMON: State = State(0);
+    pub const VERTEX_AND_CONSTANT_BUFFER: State = State(0x1);
+    pub const INDEX_BUFFER: State = State(0x2);
+    pub const RENDER_TARGET: State = State(0x4);
+    pub const UNORDERED_ACCESS: State = State(0x8);
+    pub const DEPTH_WRITE: State = State(0x10);
+    pub const DEPTH_READ: State = State(0x20);
+    pub const NON_PIXEL_SHADER_RESOURCE: State = State(0x40);
+    pub const PIXEL_SHADER_RESOURCE: State = State(0x80);
+    pub const INDIRECT_ARGUMENT: State = State(0x200);
+    pub const COPY_DEST: State = State(0x400);
+    pub const COPY_SOURCE: State = State(0x800);
+    pub const RESOLVE_DEST: State = State(0x1000);
+    pub const RESOLVE_SOURCE: State = State(0x2000);
+    pub const PRESENT: State = State(0x10_0000);
+
+    const NAMES: [(State, &'static str); 14] = [
+        (
+            State::VERTEX_AND_CONSTANT_BUFFER,
+            "VERTEX_AND_CONSTANT_BUFFER",
+        ),
+        (State::INDEX_BUFFER, "INDEX_BUFFER"),
+        (State::RENDER_TARGET, "RENDER_TARGET"),
+        (State::UNORDERED_ACCESS, "UNORDERED_ACCESS"),
+        (State::DEPTH_WRITE, "DEPTH_WRITE"),
+        (State::DEPTH_READ, "DEPTH_READ"),
+        (
+            State::NON_PIXEL_SHADER_RESOURCE,
+            "NON_PIXEL_SHADER_RESOURCE",
+        ),
+        (State::PIXEL_SHADER_RESOURCE, "PIXEL_SHADER_RESOURCE"),
+        (State::INDIRECT_ARGUMENT, "INDIRECT_ARGUMENT"),
+        (State::COPY_DEST, "COPY_DEST"),
+        (State::COPY_SOURCE, "COPY_SOURCE"),
+        (State::RESOLVE_DEST, "RESOLVE_DEST"),
+        (State::RESOLVE_SOURCE, "RESOLVE_SOURCE"),
+        (State::PRESENT, "PRESENT"),
+    ];
+
+    /// States in which the GPU writes: they cannot be combined with any other state.
+    const WRITE_STATES: u32 = 0x4 | 0x8 | 0x10 | 0x400 | 0x1000;
+
+    pub fn union(self, other: State) -> State {
+        State(self.0 | other.0)
+    }
+    pub fn contains(self, other: State) -> bool {
+        self.0 & other.0 == other.0
+    }
+    pub fn is_write(self) -> bool {
+        self.0 & Self::WRITE_STATES != 0
+    }
+    pub fn is_read_only(self) -> bool {
+        !self.is_write() && self != State::COMMON
+    }
+    /// Every single state in this set.
+    pub fn bits(self) -> impl Iterator<Item = State> {
+        Self::NAMES
+            .iter()
+            .map(|(s, _)| *s)
+            .filter(move |s| self.contains(*s))
+    }
+    /// The D3D12 name, with `|` between combined read states.
+    pub fn name(self) -> String {
+        if self == State::COMMON {
+            return "COMMON".to_owned();
+        }
+        Self::NAMES
+            .iter()
+            .filter(|(s, _)| self.contains(*s))
+            .map(|(_, n)| *n)
+            .collect::<Vec<_>>()
+            .join("|")
+    }
+    /// Whether a command list of this queue type may hold a resource in this state
+    /// (D3D12: compute lists support shader-resource, UAV, indirect, constant and copy states;
+    /// copy lists only COMMON and copy states).
+    pub fn allowed_on(self, queue: QueueType) -> bool {
+        let allowed = match queue {
+            QueueType::Graphics => return true,
+            QueueType::Compute => {
+                State::VERTEX_AND_CONSTANT_BUFFER.0
+                    | State::UNORDERED_ACCESS.0
+                    | State::NON_PIXEL_SHADER_RESOURCE.0
+                    | State::INDIRECT_ARGUMENT.0
+                    | State::COPY_DEST.0
+                    | State::COPY_SOURCE.0
+            }
+            QueueType::Copy => State::COPY_DEST.0 | State::COPY_SOURCE.0,
+        };
+        self.0 & !allowed == 0
+    }
+}
+
+impl fmt::Debug for State {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+impl Serialize for State {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.name())
+    }
+}
+
+/// One access of a pass to a range of a resource, in the state it needs.
+#[derive(Clone, Debug)]
+pub struct ModelAccess {
+    pub resource: u32,
+    pub range: Subresources,
+    pub state: State,
+    /// Reads the previous contents.
+    pub reads: bool,
+    pub writes: bool,
+    /// Whether the access is an unordered-access view use (needs UAV barriers between passes).
+    pub uav: bool,
+}
+
+#[derive(Clone, Debug)]
+pub struct ModelPass {
+    pub name: String,
+    pub queue: u32,
+    pub accesses: Vec<ModelAccess>,
+    /// Runs graphics pipelines (shader reads are pixel-shader reads, Vulkan stages are graphics
+    /// stages); otherwise compute or transfer work.
+    pub raster: bool,
+    /// A frame output by itself (present).
+    pub sink: bool,
+    /// Recorded or measured GPU time, for the critical path.
+    pub gpu_ns: Option<u64>,
+    pub markers: Vec<String>,
+}
+
+#[derive(Clone, Debug)]
+pub struct ModelResource {
+    pub name: String,
+    pub is_buffer: bool,
+    pub mips: u32,
+    pub layers: u32,
+    /// Buffer size (byte ranges of accesses are within it).
+    pub buffer_bytes: u64,
+    /// Bytes it occupies in a heap, aligned.
+    pub aligned_bytes: u64,
+    pub alignment: u64,
+    pub heap_type: HeapType,
+    pub category: ResourceCategory,
+    /// Read by the next frame: kept alive to the end, and reads before the first write see the
+    /// previous frame.
+    pub history: bool,
+    pub output: bool,
+    /// Has initial contents, so it is live from the start of the frame.
+    pub initialised: bool,
+    /// State at the start of the frame.
+    pub initial_state: State,
+    /// For the previous-frame copy of a `history` resource: the resource it is the copy of.
+    pub previous_of: Option<u32>,
+}
+
+#[derive(Clone, Debug)]
+pub struct FrameModel {
+    pub queues: Vec<QueueInfo>,
+    pub resources: Vec<ModelResource>,
+    pub passes: Vec<ModelPass>,
+    /// Declared fences as (signalling pass, waiting pass).
+    pub fences: Vec<(u32, u32)>,
+    /// D3D12 resource heap tier (1 keeps buffers, RT/DS and other textures apart).
+    pub heap_tier: u8,
+}
+
+#[derive(Clone, Debug)]
+pub struct QueueInfo {
+    pub name: String,
+    pub queue_type: QueueType,
+}
+
+impl FrameModel {
+    pub fn queue_type(&self, pass: usize) -> QueueType {
+        self.queues[self.passes[pass].queue as usize].queue_type
+    }
+}
+
+/// The state a capture access needs. Sampled textures in raster passes are taken to be read by
+/// the pixel shader and buffers by any stage; compute passes read as non-pixel shaders.
+pub fn state_for(access: Access, raster: bool, texture: bool) -> State {
+    match access {
+        Access::Sampled | Access::StorageRead if !access.is_unordered(texture) => {
+            if !raster {
+                State::NON_PIXEL_SHADER_RESOURCE
+            } else if texture {
+                State::PIXEL_SHADER_RESOURCE
+            } else {
+                State::PIXEL_SHADER_RESOURCE.union(State::NON_PIXEL_SHADER_RESOURCE)
+            }
+        }
+        Access::Sampled => State::PIXEL_SHADER_RESOURCE,
+        Access::StorageRead | Access::StorageWrite | Access::StorageReadWrite => {
+            State::UNORDERED_ACCESS
+        }
+        Access::Uniform | Access::VertexBuffer => State::VERTEX_AND_CONSTANT_BUFFER,
+        Access::IndexBuffer => State::INDEX_BUFFER,
+        Access::IndirectArgs => State::INDIRECT_ARGUMENT,
+        Access::CopySrc => State::COPY_SOURCE,
+        Access::CopyDst => State::COPY_DEST,
+        Access::ColorAttachment => State::RENDER_TARGET,
+        Access::DepthWrite => State::DEPTH_WRITE,
+        Access::DepthRead => State::DEPTH_READ,
+        Access::ResolveSrc => State::RESOLVE_SOURCE,
+        Access::ResolveDst => State::RESOLVE_DEST,
+        Access::Present => State::PRESENT,
+    }
+}
+
+/// Builds the analysis model of a validated capture.
+pub fn from_capture(capture: &Capture) -> FrameModel {
+    let resources = capture
+        .resources
+        .iter()
+        .map(|r| {
+            let heap_type = r.heap_type(&capture.heaps);
+            ModelResource {
+                name: r.name.clone(),
+                is_buffer: r.kind == ResourceKind::Buffer,
+                mips: if r.is_texture() { r.mip_levels } else { 1 },
+                layers: if r.is_texture() { r.array_layers } else { 1 },
+                buffer_bytes: if r.is_texture() { 0 } else { r.bytes },
+                aligned_bytes: r.aligned_bytes,
+                alignment: r.alignment,
+                heap_type,
+                category: r.category(),
+                history: r.history,
+                output: r.output,
+                initialised: r.initial != InitialDesc::Undefined,
+                initial_state: match heap_type {
+                    HeapType::Upload => State::VERTEX_AND_CONSTANT_BUFFER
+                        .union(State::INDEX_BUFFER)
+                        .union(State::NON_PIXEL_SHADER_RESOURCE)
+                        .union(State::PIXEL_SHADER_RESOURCE)
+                        .union(State::INDIRECT_ARGUMENT)
+                        .union(State::COPY_SOURCE),
+                    HeapType::Readback => State::COPY_DEST,
+                    _ => State::COMMON,
+                },
+                previous_of: None,
+            }
+        })
+        .collect();
+    let passes = capture
+        .passes
+        .iter()
+        .map(|p| {
+            let raster = p.kind == PassKind::Raster;
+            let accesses = p
+                .accesses
+                .iter()
+                .map(|a| {
+                    let texture = capture.resource(a.resource).is_texture();
+                    ModelAccess {
+                        resource: a.resource.0,
+                        range: a.range,
+                        state: state_for(a.access, raster, texture),
+                        reads: a.reads,
+                        writes: a.writes,
+                        uav: a.access.is_unordered(texture),
+                    }
+                })
+                .collect();
+            ModelPass {
+                name: p.name.clone(),
+                queue: p.queue.0,
+                accesses,
+                raster: raster || p.kind == PassKind::GenerateMips,
+                sink: p.kind == PassKind::Present,
+                gpu_ns: p.recorded_gpu_ns,
+                markers: p.markers.clone(),
+            }
+        })
+        .collect();
+    let mut fences = Vec::new();
+    for waiter in &capture.passes {
+        for f in &waiter.wait {
+            if let Some(signaller) = capture.passes.iter().find(|p| p.signal.contains(f)) {
+                fences.push((signaller.id.0, waiter.id.0));
+            }
+        }
+    }
+    let mut model = FrameModel {
+        queues: capture
+            .queues
+            .iter()
+            .map(|q| QueueInfo {
+                name: q.name.clone(),
+                queue_type: q.queue_type,
+            })
+            .collect(),
+        resources,
+        passes,
+        fences,
+        heap_tier: capture.adapter.resource_heap_tier,
+    };
+    model.split_history();
+    model
+}
+
+impl FrameModel {
+    /// Gives each `history` resource read before the frame writes it a second resource, its
+    /// previous-frame copy (the other half of the ping-pong pair), and points those reads at it.
+    /// Later analyses then need no special case: the copy is never written in the frame, so
+    /// reads of it add no edge, and both halves stay alive for the whole frame.
+    pub fn split_history(&mut self) {
+        for r in 0..self.resources.len() {
+            if !self.resources[r].history || self.resources[r].previous_of.is_some() {
+                continue;
+            }
+            let mut previous: Option<u32> = None;
+            'passes: for p in 0..self.passes.len() {
+                let writes_here = self.passes[p]
+                    .accesses
+                    .iter()
+                    .any(|a| a.resource as usize == r && a.writes);
+                for a in 0..self.passes[p].accesses.len() {
+                    let access = &self.passes[p].accesses[a];
+                    if access.resource as usize != r || !access.reads || access.writes {
+                        continue;
+                    }
+                    let id = *previous.get_or_insert_with(|| {
+                        let mut copy = self.resources[r].clone();
+                        copy.name = format!("{} (previous frame)", copy.name);
+                        copy.previous_of = Some(r as u32);
+                        copy.initialised = true;
+                        copy.output = false;
+                        self.resources.push(copy);
+                        (self.resources.len() - 1) as u32
+                    });
+                    self.passes[p].accesses[a].resource = id;
+                }
+                if writes_here {
+                    break 'passes;
+                }
+            }
+        }
+    }
+}
+
+/// Subresource units: every (mip, layer) of a texture, and for buffers the elementary byte
+/// intervals between the boundaries of all accesses to it. Hazards and states are tracked per
+/// unit, so accesses to different mips, layers or byte ranges never conflict.
+#[derive(Debug)]
+pub struct Units {
+    /// First unit of each resource in the flat unit space.
+    base: Vec<u32>,
+    /// Buffers: sorted interior boundaries of the byte intervals.
+    breaks: Vec<Vec<u64>>,
+    pub total: usize,
+}
+
+impl Units {
+    pub fn new(model: &FrameModel) -> Self {
+        let mut breaks: Vec<Vec<u64>> = vec![Vec::new(); model.resources.len()];
+        for pass in &model.passes {
+            for a in &pass.accesses {
+                let r = &model.resources[a.resource as usize];
+                if r.is_buffer {
+                    let b = &mut breaks[a.resource as usize];
+                    b.push(a.range.byte_offset);
+                    b.push(a.range.byte_offset.saturating_add(a.range.byte_size));
+                }
+            }
+        }
+        let mut base = Vec::with_capacity(model.resources.len());
+        let mut total: usize = 0;
+        for (i, r) in model.resources.iter().enumerate() {
+            base.push(total as u32);
+            let count = if r.is_buffer {
+                let b = &mut breaks[i];
+                b.retain(|&x| x > 0 && x < r.buffer_bytes.max(1));
+                b.sort_unstable();
+                b.dedup();
+                b.len() + 1
+            } else {
+                (r.mips * r.layers) as usize
+            };
+            total += count;
+        }
+        Self {
+            base,
+            breaks,
+            total,
+        }
+    }
+
+    /// Calls `f` with each unit an access touches.
+    pub fn for_each(&self, model: &FrameModel, a: &ModelAccess, mut f: impl FnMut(usize)) {
+        let r = &model.resources[a.resource as usize];
+        let base = self.base[a.resource as usize] as usize;
+        if r.is_buffer {
+            let b = &self.breaks[a.resource as usize];
+            let (start, end) = (
+                a.range.byte_offset,
+                a.range.byte_offset.saturating_add(a.range.byte_size),
+            );
+            let whole = a.range.byte_size == 0;
+            let first = if whole {
+                0
+            } else {
+                b.partition_point(|&x| x <= start)
+            };
+            let last = if whole {
+                b.len()
+            } else {
+                b.partition_point(|&x| x < end)
+            };
+            for u in first..=last {
+                f(base + u);
+            }
+        } else {
+            let rg = &a.range;
+            for mip in rg.mip_base..(rg.mip_base + rg.mip_count).min(r.mips) {
+                for layer in rg.layer_base..(rg.layer_base + rg.layer_count).min(r.layers) {
+                    f(base + (mip * r.layers + layer) as usize);
+                }
+            }
+        }
+    }
+
+    /// The resource and (mip, layer) of a unit, for messages and range merging.
+    pub fn locate(&self, model: &FrameModel, unit: usize) -> (u32, u32, u32) {
+        let resource = self.base.partition_point(|&b| b as usize <= unit) - 1;
+        let r = &model.resources[resource];
+        let offset = (unit - self.base[resource] as usize) as u32;
+        if r.is_buffer {
+            (resource as u32, 0, offset)
+        } else {
+            (resource as u32, offset / r.layers, offset % r.layers)
+        }
+    }
+
+    pub fn base(&self, resource: u32) -> usize {
+        self.base[resource as usize] as usize
+    }
+
+    pub fn count(&self, model: &FrameModel, resource: u32) -> usize {
+        let r = &model.resources[resource as usize];
+        if r.is_buffer {
+            self.breaks[resource as usize].len() + 1
+        } else {
+            (r.mips * r.layers) as usize
+        }
+    }
+
+    /// The byte interval of a buffer unit.
+    pub fn buffer_interval(&self, model: &FrameModel, resource: u32, index: u32) -> (u64, u64) {
+        let b = &self.breaks[resource as usize];
+        let start = if index == 0 { 0 } else { b[index as usize - 1] };
+        let end = b
+            .get(index as usize)
+            .copied()
+            .unwrap_or(model.resources[resource as usize].buffer_bytes);
+        (start, end)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn state_names_and_sets() {
+        let s = State::PIXEL_SHADER_RESOURCE.union(State::NON_PIXEL_SHADER_RESOURCE);
+        assert_eq!(s.name(), "NON_PIXEL_SHADER_RESOURCE|PIXEL_SHADER_RESOURCE");
+        assert!(s.is_read_only());
+        assert!(State::UNORDERED_ACCESS.is_write());
+        assert_eq!(State::COMMON.name(), "COMMON");
+        assert!(!State::RENDER_TARGET.allowed_on(QueueType::Compute));
+        assert!(State::UNORDERED_ACCESS.allowed_on(QueueType::Compute));
+        assert!(!State::UNORDERED_ACCESS.allowed_on(QueueType::Copy));
+    }
+
+    #[test]
+    fn storage_read_of_a_buffer_is_a_shader_resource() {
+        assert_eq!(
+            state_for(Access::StorageRead, false, false),
+            State::NON_PIXEL_SHADER_RESOURCE
+        );
+        assert_eq!(
+            state_for(Access::StorageRead, false, true),
+            State::UNORDERED_ACCESS
+        );
+        assert_eq!(
+            state_for(Access::Sampled, true, true),
+            State::PIXEL_SHADER_RESOURCE
+        );
+    }
+}
