@@ -8,4 +8,5 @@ pub mod analysis;
 pub mod capture;
 pub mod dxgi;
 pub mod info;
+pub mod output;
 pub mod schema;

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use framelab::analysis::report;
 use framelab::capture::{self, CaptureError, Diagnostic, Options, Severity};
 
 #[derive(Parser, Debug)]
@@ -34,6 +35,30 @@ enum Command {
         #[arg(long)]
         json: bool,
         /// Output-resolution multiplier; relative sizes follow it.
+        #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
+        scale: f64,
+    },
+    /// Build the pass DAG and print it as Graphviz DOT (default), JSON, or SVG.
+    Graph {
+        capture: PathBuf,
+        /// Write DOT to this file instead of stdout.
+        #[arg(long)]
+        dot: Option<PathBuf>,
+        /// Print the graph as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Render SVG with Graphviz's `dot` into this file.
+        #[arg(long)]
+        svg: Option<PathBuf>,
+    },
+    /// Order, culling, barriers per boundary, memory aliasing, lints, critical path.
+    Analyze {
+        capture: PathBuf,
+        #[arg(long)]
+        json: bool,
+        /// Drop passes whose work never reaches an output before deriving barriers and memory.
+        #[arg(long)]
+        cull: bool,
         #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
         scale: f64,
     },
@@ -66,6 +91,18 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             json,
             scale,
         } => info(&capture, json, scale),
+        Command::Graph {
+            capture,
+            dot,
+            json,
+            svg,
+        } => graph(&capture, dot, json, svg),
+        Command::Analyze {
+            capture,
+            json,
+            cull,
+            scale,
+        } => analyze(&capture, json, cull, scale),
         Command::Schema => {
             print_stdout(&framelab::schema::schema_json())?;
             Ok(ExitCode::SUCCESS)
@@ -144,22 +181,81 @@ fn validate(path: &std::path::Path, json: bool) -> ExitCode {
     }
 }
 
-fn info(path: &std::path::Path, json: bool, scale: f64) -> anyhow::Result<ExitCode> {
+/// Loads a capture for a command that needs a valid one; reports problems and returns `None`.
+fn load(path: &std::path::Path, scale: f64) -> Option<framelab::capture::Capture> {
     let options = Options {
         scale,
         ..Options::default()
     };
-    let validated = match capture::load_and_validate(path, &options) {
-        Ok(v) => v,
+    match capture::load_and_validate(path, &options) {
+        Ok(v) => Some(v.capture),
         Err(e) => {
             if let CaptureError::Invalid { diagnostics, .. } = &e {
                 print_diagnostics(diagnostics, path);
             }
             let _ = writeln!(std::io::stderr(), "{e}");
-            return Ok(ExitCode::from(1));
+            None
         }
+    }
+}
+
+type Analysed = (framelab::capture::Capture, report::Analysis);
+
+fn analysis(path: &std::path::Path, cull: bool, scale: f64) -> Option<Analysed> {
+    let capture = load(path, scale)?;
+    match report::analyze(&capture, report::AnalyzeOptions { cull }) {
+        Ok(a) => Some((capture, a)),
+        Err(e) => {
+            let _ = writeln!(std::io::stderr(), "{}: {e}", path.display());
+            None
+        }
+    }
+}
+
+fn graph(
+    path: &std::path::Path,
+    dot: Option<PathBuf>,
+    json: bool,
+    svg: Option<PathBuf>,
+) -> anyhow::Result<ExitCode> {
+    let Some((_, a)) = analysis(path, false, 1.0) else {
+        return Ok(ExitCode::from(1));
     };
-    let report = framelab::info::report(&validated.capture);
+    let text = report::dot(&a);
+    if json {
+        print_stdout(&(serde_json::to_string_pretty(&report::graph_report(&a))? + "\n"))?;
+    }
+    if let Some(file) = &dot {
+        framelab::output::write_atomically(file, text.as_bytes())?;
+    }
+    if let Some(file) = &svg {
+        let rendered = framelab::output::render_svg(&text)?;
+        framelab::output::write_atomically(file, &rendered)?;
+    }
+    if !json && dot.is_none() && svg.is_none() {
+        print_stdout(&text)?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn analyze(path: &std::path::Path, json: bool, cull: bool, scale: f64) -> anyhow::Result<ExitCode> {
+    let Some((capture, a)) = analysis(path, cull, scale) else {
+        return Ok(ExitCode::from(1));
+    };
+    let r = report::report(&capture, &a);
+    if json {
+        print_stdout(&(serde_json::to_string_pretty(&r)? + "\n"))?;
+    } else {
+        print_stdout(&report::render_text(&r))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn info(path: &std::path::Path, json: bool, scale: f64) -> anyhow::Result<ExitCode> {
+    let Some(capture) = load(path, scale) else {
+        return Ok(ExitCode::from(1));
+    };
+    let report = framelab::info::report(&capture);
     if json {
         print_stdout(&(serde_json::to_string_pretty(&report)? + "\n"))?;
     } else {

@@ -113,3 +113,58 @@ mod tests {
         assert_eq!(err.line, 3, "{err}");
     }
 }
+
+impl ValidatedShader {
+    /// Names of the global variables entry point `entry` uses (directly or through functions it
+    /// calls), or `None` when the shader has no such entry point.
+    pub fn globals_used_by(&self, entry: &str) -> Option<std::collections::BTreeSet<String>> {
+        let index = self
+            .module
+            .entry_points
+            .iter()
+            .position(|e| e.name == entry)?;
+        let info = self.info.get_entry_point(index);
+        Some(
+            self.module
+                .global_variables
+                .iter()
+                .filter(|(handle, _)| !info[*handle].is_empty())
+                .filter_map(|(_, var)| var.name.clone())
+                .collect(),
+        )
+    }
+}
+
+#[cfg(test)]
+mod reflection_tests {
+    use super::*;
+
+    #[test]
+    fn entry_points_report_the_globals_they_touch() {
+        let src = "
+            @group(0) @binding(0) var<storage, read> positions: array<vec4<f32>>;
+            @group(0) @binding(1) var albedo: texture_2d<f32>;
+            fn fetch(i: u32) -> vec4<f32> { return positions[i]; }
+            @vertex fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> { return fetch(i); }
+            @fragment fn fs() -> @location(0) vec4<f32> { return textureLoad(albedo, vec2<i32>(0, 0), 0); }
+        ";
+        let shader = validate_wgsl("s.wgsl", src).unwrap();
+        assert_eq!(
+            shader
+                .globals_used_by("vs")
+                .unwrap()
+                .into_iter()
+                .collect::<Vec<_>>(),
+            ["positions"]
+        );
+        assert_eq!(
+            shader
+                .globals_used_by("fs")
+                .unwrap()
+                .into_iter()
+                .collect::<Vec<_>>(),
+            ["albedo"]
+        );
+        assert!(shader.globals_used_by("missing").is_none());
+    }
+}

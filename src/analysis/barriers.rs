@@ -72,8 +72,29 @@ pub struct Barrier {
     /// An end-of-frame transition that prepares the resource for `for_pass` of the next frame,
     /// whose queue cannot hold the state this frame leaves it in.
     pub next_frame: bool,
-    pub vk_src: VkScope,
-    pub vk_dst: VkScope,
+}
+
+impl Barrier {
+    /// Vulkan's source and destination scopes for this barrier (computed on demand: reports
+    /// need them, the derivation does not).
+    pub fn vulkan(&self, model: &FrameModel) -> (VkScope, VkScope) {
+        let qtype = model.queues[self.queue as usize].queue_type;
+        let buffer = model.resources[self.resource as usize].is_buffer;
+        let src_pass = self.split_begin_after.unwrap_or(self.placement.pass());
+        let src = vk_scope(
+            self.before,
+            qtype,
+            buffer,
+            model.passes[src_pass as usize].raster,
+        );
+        let dst = vk_scope(
+            self.after,
+            qtype,
+            buffer,
+            model.passes[self.for_pass as usize].raster,
+        );
+        (src, dst)
+    }
 }
 
 /// A fence a cross-queue dependency needs.
@@ -110,6 +131,7 @@ pub struct BarrierPlan {
 #[derive(Clone, Copy, Debug)]
 struct Need {
     unit: usize,
+    resource: u32,
     state: State,
     reads: bool,
     writes: bool,
@@ -124,6 +146,7 @@ fn needs(model: &FrameModel, units: &Units, pass: usize, out: &mut Vec<Need>) {
         units.for_each(model, a, |unit| {
             out.push(Need {
                 unit,
+                resource: a.resource,
                 state: a.state,
                 reads: a.reads,
                 writes: a.writes,
@@ -131,24 +154,26 @@ fn needs(model: &FrameModel, units: &Units, pass: usize, out: &mut Vec<Need>) {
             })
         });
     }
-    out.sort_by_key(|n| n.unit);
-    let mut merged: Vec<Need> = Vec::with_capacity(out.len());
-    for n in out.drain(..) {
-        match merged.last_mut() {
-            Some(m) if m.unit == n.unit => {
-                m.state = match (m.state.is_write(), n.state.is_write()) {
-                    (true, _) => m.state,
-                    (false, true) => n.state,
-                    (false, false) => m.state.union(n.state),
-                };
-                m.reads |= n.reads;
-                m.writes |= n.writes;
-                m.uav |= n.uav;
-            }
-            _ => merged.push(n),
+    out.sort_unstable_by_key(|n| n.unit);
+    let mut w = 0;
+    for r in 0..out.len() {
+        let n = out[r];
+        if w > 0 && out[w - 1].unit == n.unit {
+            let m = &mut out[w - 1];
+            m.state = match (m.state.is_write(), n.state.is_write()) {
+                (true, _) => m.state,
+                (false, true) => n.state,
+                (false, false) => m.state.union(n.state),
+            };
+            m.reads |= n.reads;
+            m.writes |= n.writes;
+            m.uav |= n.uav;
+        } else {
+            out[w] = n;
+            w += 1;
         }
     }
-    *out = merged;
+    out.truncate(w);
 }
 
 /// Per-unit tracking while walking the order.
@@ -163,6 +188,8 @@ struct UnitTrack {
     pending_uav_write: u64,
     pending_uav_read: u64,
 }
+
+const NO_PASS: u32 = u32::MAX;
 
 fn queue_bit(queue: u32) -> u64 {
     1u64 << queue.min(63)
@@ -256,7 +283,10 @@ fn walk(
         })
         .collect();
     // Passes that accessed each unit since its last barrier, and where that barrier sits.
-    let mut since_sync: Vec<Vec<u32>> = vec![Vec::new(); units.total];
+    // The latest pass on each queue that accessed each unit since its last barrier (flat,
+    // unit-major); only the latest per queue matters, queue order covers the earlier ones.
+    let nq = model.queues.len();
+    let mut since_sync: Vec<u32> = vec![NO_PASS; units.total * nq];
     let mut anchor: Vec<Option<(Placement, u32)>> = vec![None; units.total];
     // requires[b] lists passes that must happen before pass b starts.
     let mut requires: Vec<Vec<u32>> = vec![Vec::new(); model.passes.len()];
@@ -271,7 +301,8 @@ fn walk(
         // `needs` merged accesses per unit, so each unit is seen once per pass.
         for n in &scratch {
             let t = track[n.unit];
-            let (resource, mip, layer) = units.locate(model, n.unit);
+            let resource = n.resource;
+            let (mip, layer) = units.cell(model, resource, n.unit);
             let transition = !serves(t.state, n.state, qtype);
             let qbit = queue_bit(queue);
             let uav_barrier = !transition
@@ -297,15 +328,16 @@ fn walk(
                 };
                 // The barrier acts like a write: earlier accesses on other queues come first.
                 let target = placement.pass();
-                for &a in &since_sync[n.unit] {
-                    if model.passes[a as usize].queue != barrier_queue && a != target {
-                        requires[target as usize].push(a);
+                let accessors = &mut since_sync[n.unit * nq..(n.unit + 1) * nq];
+                for (q, a) in accessors.iter().enumerate() {
+                    if *a != NO_PASS && q as u32 != barrier_queue && *a != target {
+                        requires[target as usize].push(*a);
                     }
                 }
+                accessors.fill(NO_PASS);
                 if let Placement::After(q) = placement {
                     requires[p as usize].push(q);
                 }
-                since_sync[n.unit].clear();
                 anchor[n.unit] = Some((placement, barrier_queue));
                 pending.push(Pending {
                     placement,
@@ -354,9 +386,7 @@ fn walk(
             }
             t.last_pos = Some(pos);
             t.last_pass = p;
-            if since_sync[n.unit].last() != Some(&p) {
-                since_sync[n.unit].push(p);
-            }
+            since_sync[n.unit * nq + queue as usize] = p;
         }
     }
     for (u, next) in end_of_frame.iter().enumerate() {
@@ -366,8 +396,8 @@ fn walk(
         let t = track[u];
         let (resource, mip, layer) = units.locate(model, u);
         let queue = model.passes[t.last_pass as usize].queue;
-        for &a in &since_sync[u] {
-            if model.passes[a as usize].queue != queue && a != t.last_pass {
+        for (q, &a) in since_sync[u * nq..(u + 1) * nq].iter().enumerate() {
+            if a != NO_PASS && q as u32 != queue && a != t.last_pass {
                 requires[t.last_pass as usize].push(a);
             }
         }
@@ -400,8 +430,9 @@ fn walk(
 
 /// Merges per-unit barriers with the same key into rectangles of mips x layers (or runs of
 /// byte intervals for buffers).
-fn batch(model: &FrameModel, units: &Units, mut pending: Vec<Pending>) -> Vec<Barrier> {
-    pending.sort_unstable();
+fn batch(model: &FrameModel, units: &Units, pending: Vec<Pending>) -> Vec<Barrier> {
+    // Pending barriers arrive in pass order and, within a pass, in unit order, so a resource's
+    // barriers with equal keys are adjacent: group runs without sorting.
     let mut out = Vec::new();
     let mut i = 0;
     while i < pending.len() {
@@ -430,11 +461,6 @@ fn batch(model: &FrameModel, units: &Units, mut pending: Vec<Pending>) -> Vec<Ba
             head.resource,
             group.iter().map(|x| (x.mip, x.layer)),
         ) {
-            let qtype = model.queues[head.queue as usize].queue_type;
-            let resource = &model.resources[head.resource as usize];
-            let src_pass = head.split.unwrap_or(head.placement.pass());
-            let src_raster = model.passes[src_pass as usize].raster;
-            let dst_raster = model.passes[head.for_pass as usize].raster;
             out.push(Barrier {
                 kind: head.kind,
                 placement: head.placement,
@@ -447,8 +473,6 @@ fn batch(model: &FrameModel, units: &Units, mut pending: Vec<Pending>) -> Vec<Ba
                 after: head.after,
                 split_begin_after: head.split,
                 next_frame: head.next_frame,
-                vk_src: vk_scope(head.before, qtype, resource.is_buffer, src_raster),
-                vk_dst: vk_scope(head.after, qtype, resource.is_buffer, dst_raster),
             });
         }
         i = j;
@@ -496,6 +520,39 @@ fn rectangles(
     cells: impl Iterator<Item = (u32, u32)>,
 ) -> Vec<Subresources> {
     let r = &model.resources[resource as usize];
+    let cells: Vec<(u32, u32)> = cells.collect();
+    let all = if r.is_buffer {
+        units.count(model, resource)
+    } else {
+        (r.mips * r.layers) as usize
+    };
+    if cells.len() == all && all > 1 {
+        // Cells are distinct units, so all of them is the whole resource.
+        return vec![r.whole()];
+    }
+    if let [(mip, layer)] = cells[..] {
+        // The common case: one unit, no merging.
+        return vec![if r.is_buffer {
+            let (begin, end) = units.buffer_interval(model, resource, layer);
+            Subresources {
+                mip_base: 0,
+                mip_count: 1,
+                layer_base: 0,
+                layer_count: 1,
+                byte_offset: begin,
+                byte_size: end - begin,
+            }
+        } else {
+            Subresources {
+                mip_base: mip,
+                mip_count: 1,
+                layer_base: layer,
+                layer_count: 1,
+                byte_offset: 0,
+                byte_size: 0,
+            }
+        }];
+    }
     let mut by_mip: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
     for (mip, layer) in cells {
         by_mip.entry(mip).or_default().push(layer);
@@ -583,18 +640,19 @@ fn fences(
         }
     }
     const NONE: i64 = -1;
-    let mut clock: Vec<Vec<i64>> = vec![Vec::new(); n];
+    // Vector clocks, pass-major: clock[p * nq + q].
+    let mut clock: Vec<i64> = vec![NONE; n * nq];
     let mut last_on_queue: Vec<Option<u32>> = vec![None; nq];
     let mut out = Vec::new();
     for &p in order {
         let q = model.passes[p as usize].queue as usize;
         let mut c = match last_on_queue[q] {
-            Some(prev) => clock[prev as usize].clone(),
+            Some(prev) => clock[prev as usize * nq..(prev as usize + 1) * nq].to_vec(),
             None => vec![NONE; nq],
         };
         for &a in &declared_into[p as usize] {
             for k in 0..nq {
-                c[k] = c[k].max(clock[a as usize][k]);
+                c[k] = c[k].max(clock[a as usize * nq + k]);
             }
             out.push(FenceNeed {
                 signal_after: a,
@@ -612,7 +670,7 @@ fn fences(
                 continue;
             }
             for k in 0..nq {
-                c[k] = c[k].max(clock[a as usize][k]);
+                c[k] = c[k].max(clock[a as usize * nq + k]);
             }
             out.push(FenceNeed {
                 signal_after: a,
@@ -621,7 +679,7 @@ fn fences(
             });
         }
         c[q] = i64::from(pos[p as usize]);
-        clock[p as usize] = c;
+        clock[p as usize * nq..(p as usize + 1) * nq].copy_from_slice(&c);
         last_on_queue[q] = Some(p);
     }
     out.sort();

@@ -77,10 +77,14 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
     let mut graph: DiGraph<u32, Edge> = DiGraph::with_capacity(n, n * 4);
     let nodes: Vec<NodeIndex> = (0..n as u32).map(|i| graph.add_node(i)).collect();
     let mut last_writer: Vec<u32> = vec![NO_PASS; units.total];
-    let mut readers: Vec<Vec<u32>> = vec![Vec::new(); units.total];
+    // Readers since the last write, per unit, as linked lists in one arena (no allocation per
+    // unit): head index per unit, then (pass, next) entries.
+    let mut reader_head: Vec<u32> = vec![NO_PASS; units.total];
+    let mut reader_arena: Vec<(u32, u32)> = Vec::new();
     let mut history_reads = Vec::new();
     // (from, to, resource, kind) -> range; keeps one edge per hazard and resource.
-    let mut edges: HashMap<(u32, u32, u32, EdgeKind), Subresources> = HashMap::new();
+    // (from, to, resource, kind, range); deduplicated below to one edge per hazard and resource.
+    let mut edges: Vec<(u32, u32, u32, EdgeKind, Subresources)> = Vec::new();
 
     for (p, pass) in model.passes.iter().enumerate() {
         let p = p as u32;
@@ -92,8 +96,9 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
                 });
             }
             let mut add = |from: u32, kind: EdgeKind| {
-                if from != p {
-                    edges.entry((from, p, a.resource, kind)).or_insert(a.range);
+                let key = (from, p, a.resource, kind);
+                if from != p && edges.last().is_none_or(|e| (e.0, e.1, e.2, e.3) != key) {
+                    edges.push((from, p, a.resource, kind, a.range));
                 }
             };
             units.for_each(model, a, |u| {
@@ -105,8 +110,11 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
                     if w != NO_PASS {
                         add(w, EdgeKind::Waw);
                     }
-                    for &reader in &readers[u] {
+                    let mut cursor = reader_head[u];
+                    while cursor != NO_PASS {
+                        let (reader, next) = reader_arena[cursor as usize];
                         add(reader, EdgeKind::War);
+                        cursor = next;
                     }
                 }
             });
@@ -116,17 +124,21 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
             units.for_each(model, a, |u| {
                 if a.writes {
                     last_writer[u] = p;
-                    readers[u].clear();
-                } else if a.reads && readers[u].last() != Some(&p) {
-                    readers[u].push(p);
+                    reader_head[u] = NO_PASS;
+                } else if a.reads
+                    && (reader_head[u] == NO_PASS || reader_arena[reader_head[u] as usize].0 != p)
+                {
+                    reader_arena.push((p, reader_head[u]));
+                    reader_head[u] = (reader_arena.len() - 1) as u32;
                 }
             });
         }
     }
 
-    let mut sorted: Vec<_> = edges.into_iter().collect();
-    sorted.sort_unstable_by_key(|((from, to, res, kind), _)| (*from, *to, *res, *kind));
-    for ((from, to, resource, kind), range) in sorted {
+    // Stable sort keeps the first range seen for each edge.
+    edges.sort_by_key(|e| (e.0, e.1, e.2, e.3));
+    edges.dedup_by_key(|e| (e.0, e.1, e.2, e.3));
+    for (from, to, resource, kind, range) in edges {
         graph.add_edge(
             nodes[from as usize],
             nodes[to as usize],

@@ -4,7 +4,12 @@
 pub mod barriers;
 pub mod graph;
 pub mod hazards;
+pub mod lints;
+pub mod memory;
 pub mod model;
+pub mod report;
+pub mod schedule;
+pub mod synthetic;
 
 use barriers::{Barrier, BarrierKind, Placement};
 use hazards::SyncBarrier;

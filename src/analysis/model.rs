@@ -5,12 +5,18 @@
 //! generate frames directly, and so that the graph, barrier and memory code never needs to know
 //! how a capture spells things. `from_capture` is the one bridge.
 
+use std::collections::{BTreeSet, HashMap};
 use std::fmt;
+use std::path::PathBuf;
+
+use framelab_replay::{ValidatedShader, validate_wgsl};
 
 use serde::Serialize;
 
 use crate::capture::format::{Access, HeapType, PassKind, QueueType, ResourceKind};
-use crate::capture::model::{Capture, InitialDesc, ResourceCategory, Subresources};
+use crate::capture::model::{
+    AccessSource, Capture, InitialDesc, PassDesc, ResourceCategory, Subresources,
+};
 
 /// A D3D12 resource state, as bit flags so read states can be combined. The values are
 /// D3D12's, except PRESENT, which D3D12 aliases to COMMON and which gets its own bit here so
@@ -177,6 +183,20 @@ pub struct ModelResource {
     pub previous_of: Option<u32>,
 }
 
+impl ModelResource {
+    /// Every subresource (the whole buffer).
+    pub fn whole(&self) -> Subresources {
+        Subresources {
+            mip_base: 0,
+            mip_count: self.mips,
+            layer_base: 0,
+            layer_count: self.layers,
+            byte_offset: 0,
+            byte_size: self.buffer_bytes,
+        }
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct FrameModel {
     pub queues: Vec<QueueInfo>,
@@ -200,19 +220,33 @@ impl FrameModel {
     }
 }
 
-/// The state a capture access needs. Sampled textures in raster passes are taken to be read by
-/// the pixel shader and buffers by any stage; compute passes read as non-pixel shaders.
-pub fn state_for(access: Access, raster: bool, texture: bool) -> State {
-    match access {
-        Access::Sampled | Access::StorageRead if !access.is_unordered(texture) => {
-            if !raster {
-                State::NON_PIXEL_SHADER_RESOURCE
-            } else if texture {
-                State::PIXEL_SHADER_RESOURCE
-            } else {
-                State::PIXEL_SHADER_RESOURCE.union(State::NON_PIXEL_SHADER_RESOURCE)
+/// Which raster stages read a binding, from shader reflection.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stages {
+    /// Not a raster pass: compute (or transfer) work.
+    Compute,
+    /// Raster: read by the vertex stage, the fragment stage, or both.
+    Raster { vertex: bool, fragment: bool },
+}
+
+/// The state a capture access needs. Shader reads are pixel-shader reads when the fragment
+/// stage uses the binding, non-pixel when the vertex stage (or compute) does, both when both do.
+pub fn state_for(access: Access, stages: Stages, texture: bool) -> State {
+    let shader_read = match stages {
+        Stages::Compute => State::NON_PIXEL_SHADER_RESOURCE,
+        Stages::Raster { vertex, fragment } => {
+            let mut s = State::COMMON;
+            if vertex {
+                s = s.union(State::NON_PIXEL_SHADER_RESOURCE);
             }
+            if fragment || !vertex {
+                s = s.union(State::PIXEL_SHADER_RESOURCE);
+            }
+            s
         }
+    };
+    match access {
+        Access::Sampled | Access::StorageRead if !access.is_unordered(texture) => shader_read,
         Access::Sampled => State::PIXEL_SHADER_RESOURCE,
         Access::StorageRead | Access::StorageWrite | Access::StorageReadWrite => {
             State::UNORDERED_ACCESS
@@ -231,8 +265,40 @@ pub fn state_for(access: Access, raster: bool, texture: bool) -> State {
     }
 }
 
+type StageSets = (BTreeSet<String>, BTreeSet<String>);
+
+/// Globals used by the vertex entry points (the pass's and per-draw overrides) and by the
+/// fragment entry point of a raster pass; `None` when the shader does not parse.
+fn stage_usage(
+    p: &PassDesc,
+    cache: &mut HashMap<PathBuf, Option<ValidatedShader>>,
+) -> Option<StageSets> {
+    let shader = p.shader.as_ref()?;
+    let parsed = cache
+        .entry(shader.path.clone())
+        .or_insert_with(|| {
+            let source = std::fs::read_to_string(&shader.path).ok()?;
+            validate_wgsl(&shader.file, &source).ok()
+        })
+        .as_ref()?;
+    let mut vertex = BTreeSet::new();
+    let entries = shader
+        .vertex
+        .iter()
+        .chain(p.draws.iter().filter_map(|d| d.vertex.as_ref()));
+    for entry in entries {
+        vertex.extend(parsed.globals_used_by(entry)?);
+    }
+    let fragment = match &shader.fragment {
+        Some(entry) => parsed.globals_used_by(entry)?,
+        None => BTreeSet::new(),
+    };
+    Some((vertex, fragment))
+}
+
 /// Builds the analysis model of a validated capture.
 pub fn from_capture(capture: &Capture) -> FrameModel {
+    let mut shaders: HashMap<PathBuf, Option<ValidatedShader>> = HashMap::new();
     let resources = capture
         .resources
         .iter()
@@ -270,15 +336,33 @@ pub fn from_capture(capture: &Capture) -> FrameModel {
         .iter()
         .map(|p| {
             let raster = p.kind == PassKind::Raster;
+            let usage = raster.then(|| stage_usage(p, &mut shaders));
             let accesses = p
                 .accesses
                 .iter()
                 .map(|a| {
                     let texture = capture.resource(a.resource).is_texture();
+                    let stages = match (&usage, &a.source) {
+                        (Some(Some((vs, fs))), AccessSource::Binding(var)) => Stages::Raster {
+                            vertex: vs.contains(var),
+                            fragment: fs.contains(var),
+                        },
+                        // Without reflection, assume every stage reads it.
+                        (Some(_), _) => Stages::Raster {
+                            vertex: true,
+                            fragment: true,
+                        },
+                        // Mip generation samples the previous level in a pixel shader.
+                        (None, _) if p.kind == PassKind::GenerateMips => Stages::Raster {
+                            vertex: false,
+                            fragment: true,
+                        },
+                        (None, _) => Stages::Compute,
+                    };
                     ModelAccess {
                         resource: a.resource.0,
                         range: a.range,
-                        state: state_for(a.access, raster, texture),
+                        state: state_for(a.access, stages, texture),
                         reads: a.reads,
                         writes: a.writes,
                         uav: a.access.is_unordered(texture),
@@ -409,6 +493,17 @@ impl Units {
         }
     }
 
+    /// The (mip, layer) of a unit of a known resource (buffer interval index in `layer`).
+    pub fn cell(&self, model: &FrameModel, resource: u32, unit: usize) -> (u32, u32) {
+        let r = &model.resources[resource as usize];
+        let offset = (unit - self.base[resource as usize] as usize) as u32;
+        if r.is_buffer {
+            (0, offset)
+        } else {
+            (offset / r.layers, offset % r.layers)
+        }
+    }
+
     /// Calls `f` with each unit an access touches.
     pub fn for_each(&self, model: &FrameModel, a: &ModelAccess, mut f: impl FnMut(usize)) {
         let r = &model.resources[a.resource as usize];
@@ -498,17 +593,37 @@ mod tests {
 
     #[test]
     fn storage_read_of_a_buffer_is_a_shader_resource() {
+        let both = Stages::Raster {
+            vertex: true,
+            fragment: true,
+        };
+        let fragment = Stages::Raster {
+            vertex: false,
+            fragment: true,
+        };
+        let vertex = Stages::Raster {
+            vertex: true,
+            fragment: false,
+        };
         assert_eq!(
-            state_for(Access::StorageRead, false, false),
+            state_for(Access::StorageRead, Stages::Compute, false),
             State::NON_PIXEL_SHADER_RESOURCE
         );
         assert_eq!(
-            state_for(Access::StorageRead, false, true),
+            state_for(Access::StorageRead, Stages::Compute, true),
             State::UNORDERED_ACCESS
         );
         assert_eq!(
-            state_for(Access::Sampled, true, true),
+            state_for(Access::Sampled, fragment, true),
             State::PIXEL_SHADER_RESOURCE
+        );
+        assert_eq!(
+            state_for(Access::StorageRead, vertex, false),
+            State::NON_PIXEL_SHADER_RESOURCE
+        );
+        assert_eq!(
+            state_for(Access::Sampled, both, true).name(),
+            "NON_PIXEL_SHADER_RESOURCE|PIXEL_SHADER_RESOURCE"
         );
     }
 }

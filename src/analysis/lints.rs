@@ -1,0 +1,727 @@
+//! Lints: the warnings a frame debugger gives (PIX's "remove ALLOW_UNORDERED_ACCESS", unused
+//! results, missing or redundant barriers) with stable codes, a severity, and the pass and
+//! resource they are about. Rules read the validated capture for flags, formats and descriptor
+//! heaps, and the analysis results for order, culling, barriers and fences.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use serde::Serialize;
+
+use super::barriers::{Barrier, BarrierKind, BarrierPlan};
+use super::graph::{EdgeKind, PassGraph};
+use super::model::{FrameModel, State};
+use crate::capture::format::{
+    Access, BarrierType, DescriptorHeapType, ResourceFlag, ResourceState, SplitFlag,
+};
+use crate::capture::model::{BindingTarget, Capture, Subresources};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LintSeverity {
+    Error,
+    Warning,
+    Info,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+pub struct Lint {
+    /// Stable code, e.g. `FL001`.
+    pub code: &'static str,
+    /// Short name, e.g. `unused-uav-flag`.
+    pub name: &'static str,
+    pub severity: LintSeverity,
+    pub message: String,
+    pub pass: Option<String>,
+    pub resource: Option<String>,
+}
+
+/// Every lint: code, name, severity, what it finds.
+pub const CATALOGUE: &[(&str, &str, LintSeverity, &str)] = &[
+    (
+        "FL001",
+        "unused-uav-flag",
+        LintSeverity::Warning,
+        "ALLOW_UNORDERED_ACCESS on a resource never bound as a UAV",
+    ),
+    (
+        "FL002",
+        "unused-render-target-flag",
+        LintSeverity::Warning,
+        "ALLOW_RENDER_TARGET on a resource never rendered to",
+    ),
+    (
+        "FL003",
+        "unused-depth-stencil-flag",
+        LintSeverity::Warning,
+        "ALLOW_DEPTH_STENCIL on a resource never bound as depth",
+    ),
+    (
+        "FL004",
+        "written-never-read",
+        LintSeverity::Warning,
+        "a resource written and never read (and not a frame output)",
+    ),
+    (
+        "FL005",
+        "pass-without-effect",
+        LintSeverity::Warning,
+        "a pass whose writes never reach a frame output",
+    ),
+    (
+        "FL006",
+        "read-before-write",
+        LintSeverity::Error,
+        "a read of contents nothing wrote (no initial contents, not history)",
+    ),
+    (
+        "FL007",
+        "redundant-copy",
+        LintSeverity::Warning,
+        "a copy whose result is never read, or that repeats an identical copy",
+    ),
+    (
+        "FL008",
+        "typeless-without-typed-view",
+        LintSeverity::Warning,
+        "a TYPELESS resource no pass views with a typed format",
+    ),
+    (
+        "FL009",
+        "depth-could-be-read-only",
+        LintSeverity::Info,
+        "depth bound writable by a pass that only tests it: bind it read-only (DEPTH_READ)",
+    ),
+    (
+        "FL010",
+        "descriptor-heap-capacity",
+        LintSeverity::Error,
+        "more descriptors needed than a descriptor heap holds, or no heap of a needed type",
+    ),
+    (
+        "FL011",
+        "unused-channels",
+        LintSeverity::Info,
+        "every write masks off channels: a format with fewer channels would do",
+    ),
+    (
+        "FL012",
+        "unused-mips",
+        LintSeverity::Info,
+        "mip levels no pass touches",
+    ),
+    (
+        "FL013",
+        "unused-resource",
+        LintSeverity::Warning,
+        "a resource no pass touches",
+    ),
+    (
+        "FL014",
+        "missing-fence",
+        LintSeverity::Error,
+        "a cross-queue dependency no fence orders",
+    ),
+    (
+        "FL015",
+        "upload-heap-read-often",
+        LintSeverity::Info,
+        "a resource in an UPLOAD heap read by several passes: copy it to a DEFAULT heap",
+    ),
+    (
+        "FL020",
+        "barrier-missing",
+        LintSeverity::Error,
+        "a transition or UAV barrier the frame needs was not recorded",
+    ),
+    (
+        "FL021",
+        "barrier-redundant",
+        LintSeverity::Warning,
+        "a recorded barrier the frame does not need",
+    ),
+    (
+        "FL022",
+        "barrier-over-broad",
+        LintSeverity::Warning,
+        "a recorded barrier covers more subresources or states than needed",
+    ),
+    (
+        "FL023",
+        "barrier-could-split",
+        LintSeverity::Info,
+        "a recorded barrier could be split (begin after the last use, end before the next)",
+    ),
+    (
+        "FL024",
+        "barrier-wrong-before-state",
+        LintSeverity::Error,
+        "a recorded transition names a before-state the resource is not in",
+    ),
+];
+
+fn lint(code: &'static str, message: String, pass: Option<&str>, resource: Option<&str>) -> Lint {
+    let (name, severity) = CATALOGUE
+        .iter()
+        .find(|(c, ..)| *c == code)
+        .map_or(("unknown", LintSeverity::Warning), |(_, n, s, _)| (*n, *s));
+    Lint {
+        code,
+        name,
+        severity,
+        message,
+        pass: pass.map(str::to_owned),
+        resource: resource.map(str::to_owned),
+    }
+}
+
+#[derive(Debug)]
+pub struct LintInput<'a> {
+    pub capture: &'a Capture,
+    pub model: &'a FrameModel,
+    pub graph: &'a PassGraph,
+    pub order: &'a [u32],
+    pub culled: &'a [u32],
+    pub plan: &'a BarrierPlan,
+}
+
+pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
+    let LintInput {
+        capture,
+        model,
+        graph,
+        order,
+        culled,
+        plan,
+    } = *input;
+    let mut out = Vec::new();
+    let in_order: BTreeSet<u32> = order.iter().copied().collect();
+    let accesses = || {
+        capture
+            .passes
+            .iter()
+            .filter(|p| in_order.contains(&p.id.0))
+            .flat_map(|p| p.accesses.iter().map(move |a| (p, a)))
+    };
+
+    // Flags never used.
+    for r in &capture.resources {
+        let uses: Vec<Access> = accesses()
+            .filter(|(_, a)| a.resource == r.id)
+            .map(|(_, a)| a.access)
+            .collect();
+        if uses.is_empty() {
+            out.push(lint(
+                "FL013",
+                format!("\"{}\" is declared but no pass uses it", r.name),
+                None,
+                Some(&r.name),
+            ));
+            continue;
+        }
+        let checks = [
+            (
+                ResourceFlag::AllowUnorderedAccess,
+                "FL001",
+                uses.iter().any(|a| a.is_unordered(r.is_texture())),
+                "bound as an unordered-access view",
+            ),
+            (
+                ResourceFlag::AllowRenderTarget,
+                "FL002",
+                uses.contains(&Access::ColorAttachment),
+                "rendered to",
+            ),
+            (
+                ResourceFlag::AllowDepthStencil,
+                "FL003",
+                uses.iter()
+                    .any(|a| matches!(a, Access::DepthRead | Access::DepthWrite)),
+                "bound as depth-stencil",
+            ),
+        ];
+        for (flag, code, used, how) in checks {
+            if r.has_flag(flag) && !used {
+                let flag_name = crate::capture::validate::flag_name(flag);
+                out.push(lint(code, format!("\"{}\" has {flag_name} but is never {how}; removing the flag can enable compression", r.name), None, Some(&r.name)));
+            }
+        }
+    }
+
+    // Written, never read.
+    let read_by: BTreeSet<u32> = model
+        .passes
+        .iter()
+        .flat_map(|p| p.accesses.iter())
+        .filter(|a| a.reads)
+        .map(|a| {
+            model.resources[a.resource as usize]
+                .previous_of
+                .unwrap_or(a.resource)
+        })
+        .collect();
+    for r in &capture.resources {
+        let written = accesses().any(|(_, a)| a.resource == r.id && a.writes);
+        if written && !read_by.contains(&r.id.0) && !r.output && !r.history {
+            out.push(lint(
+                "FL004",
+                format!("\"{}\" is written but nothing reads it", r.name),
+                None,
+                Some(&r.name),
+            ));
+        }
+    }
+
+    // Dead passes.
+    for &p in culled {
+        let pass = &model.passes[p as usize];
+        let message = if pass.accesses.iter().any(|a| a.writes) {
+            format!(
+                "the results of \"{}\" never reach a frame output (use --cull to drop it)",
+                pass.name
+            )
+        } else {
+            format!("\"{}\" writes nothing", pass.name)
+        };
+        out.push(lint("FL005", message, Some(&pass.name), None));
+    }
+
+    // Read before anything wrote it, in order.
+    let mut written: BTreeSet<u32> = BTreeSet::new();
+    let mut reported: BTreeSet<u32> = BTreeSet::new();
+    for &p in order {
+        let pass = &model.passes[p as usize];
+        for a in &pass.accesses {
+            let r = &model.resources[a.resource as usize];
+            if a.reads
+                && !written.contains(&a.resource)
+                && !r.initialised
+                && r.previous_of.is_none()
+                && reported.insert(a.resource)
+            {
+                out.push(lint("FL006", format!("\"{}\" reads \"{}\" before any pass writes it and it has no initial contents", pass.name, r.name), Some(&pass.name), Some(&r.name)));
+            }
+        }
+        for a in &pass.accesses {
+            if a.writes {
+                written.insert(a.resource);
+            }
+        }
+    }
+
+    // Copies whose result nobody reads, and repeated identical copies.
+    let mut seen_copies: BTreeMap<(u32, u32, String), u32> = BTreeMap::new();
+    for &p in order {
+        let pass = &capture.passes[p as usize];
+        for (i, c) in pass.copies.iter().enumerate() {
+            let dst = c.dst.resource;
+            let read_later = graph
+                .graph
+                .edges(graph.nodes[p as usize])
+                .any(|e| e.weight().kind == EdgeKind::Raw && e.weight().resource == Some(dst.0));
+            let dst_res = capture.resource(dst);
+            if !read_later && !dst_res.output && !dst_res.history {
+                out.push(lint(
+                    "FL007",
+                    format!(
+                        "copy {i} of \"{}\" into \"{}\" is never read",
+                        pass.name, dst_res.name
+                    ),
+                    Some(&pass.name),
+                    Some(&dst_res.name),
+                ));
+            }
+            let key = (
+                c.src.resource.0,
+                dst.0,
+                format!("{:?}{:?}{:?}", c.src.origin, c.dst.origin, c.extent),
+            );
+            if let Some(&earlier) = seen_copies.get(&key) {
+                let touched_between = order
+                    .iter()
+                    .skip_while(|&&q| q != earlier)
+                    .skip(1)
+                    .take_while(|&&q| q != p)
+                    .any(|&q| {
+                        model.passes[q as usize].accesses.iter().any(|a| {
+                            a.writes && (a.resource == c.src.resource.0 || a.resource == dst.0)
+                        })
+                    });
+                if !touched_between {
+                    out.push(lint(
+                        "FL007",
+                        format!(
+                            "\"{}\" repeats the copy \"{}\" made from \"{}\" to \"{}\"",
+                            pass.name,
+                            capture.passes[earlier as usize].name,
+                            capture.resource(c.src.resource).name,
+                            dst_res.name
+                        ),
+                        Some(&pass.name),
+                        Some(&dst_res.name),
+                    ));
+                }
+            }
+            seen_copies.insert(key, p);
+        }
+    }
+
+    // Typeless resources without a typed view.
+    for r in &capture.resources {
+        let Some(f) = r.format.filter(|f| f.is_typeless()) else {
+            continue;
+        };
+        let typed_view = capture.passes.iter().any(|p| {
+            p.bindings.iter().any(|b| matches!(b.target, BindingTarget::Resource { resource, view_format: Some(vf), .. } if resource == r.id && !vf.is_typeless()))
+                || p.color_attachments.iter().any(|c| c.resource == r.id)
+                || p.depth_stencil.as_ref().is_some_and(|d| d.resource == r.id)
+        });
+        let used = accesses().any(|(_, a)| a.resource == r.id);
+        if used && !typed_view {
+            out.push(lint(
+                "FL008",
+                format!(
+                    "\"{}\" is {} and no pass views it with a typed format; give it a typed format",
+                    r.name, f.name
+                ),
+                None,
+                Some(&r.name),
+            ));
+        }
+    }
+
+    // Depth bound writable but only tested.
+    for &p in order {
+        let pass = &capture.passes[p as usize];
+        if let Some(d) = &pass.depth_stencil {
+            let access = pass.accesses.iter().find(|a| {
+                a.resource == d.resource
+                    && matches!(a.access, Access::DepthRead | Access::DepthWrite)
+            });
+            if !d.read_only && access.is_some_and(|a| a.access == Access::DepthRead) {
+                let name = &capture.resource(d.resource).name;
+                out.push(lint("FL009", format!("\"{}\" binds \"{name}\" writable but never writes it: bind it read_only so it stays in DEPTH_READ", pass.name), Some(&pass.name), Some(name)));
+            }
+        }
+    }
+
+    // Descriptor heaps.
+    let mut needed: BTreeMap<DescriptorHeapType, u64> = BTreeMap::new();
+    for &p in order {
+        let pass = &capture.passes[p as usize];
+        for b in &pass.bindings {
+            let ty = match b.target {
+                BindingTarget::Sampler(_) => DescriptorHeapType::Sampler,
+                BindingTarget::Resource { .. } => DescriptorHeapType::CbvSrvUav,
+            };
+            *needed.entry(ty).or_default() += 1;
+        }
+        if pass.shader.is_some() {
+            // The frame-constants and per-pass parameter buffers.
+            *needed.entry(DescriptorHeapType::CbvSrvUav).or_default() += 2;
+        }
+        *needed.entry(DescriptorHeapType::Rtv).or_default() += pass.color_attachments.len() as u64;
+        *needed.entry(DescriptorHeapType::Dsv).or_default() +=
+            u64::from(pass.depth_stencil.is_some());
+    }
+    for (ty, count) in needed.into_iter().filter(|(_, c)| *c > 0) {
+        let name = match ty {
+            DescriptorHeapType::CbvSrvUav => "CBV_SRV_UAV",
+            DescriptorHeapType::Sampler => "SAMPLER",
+            DescriptorHeapType::Rtv => "RTV",
+            DescriptorHeapType::Dsv => "DSV",
+        };
+        let capacity: u64 = capture
+            .descriptor_heaps
+            .iter()
+            .filter(|h| h.heap_type == ty)
+            .map(|h| u64::from(h.capacity))
+            .sum();
+        if capture.descriptor_heaps.is_empty() {
+            continue; // A capture without descriptor heaps does not model them.
+        }
+        if capacity == 0 {
+            out.push(lint(
+                "FL010",
+                format!("the frame needs {count} {name} descriptors but declares no {name} heap"),
+                None,
+                None,
+            ));
+        } else if count > capacity {
+            out.push(lint("FL010", format!("the frame needs {count} {name} descriptors but its {name} heaps hold {capacity}"), None, None));
+        }
+    }
+
+    // Channels masked off in every write.
+    for r in &capture.resources {
+        let Some(f) = r.format else { continue };
+        let channels = f.channels.iter().filter(|c| c.name != 'X').count();
+        let masks: Vec<Option<&String>> = capture
+            .passes
+            .iter()
+            .flat_map(|p| p.color_attachments.iter())
+            .filter(|c| c.resource == r.id)
+            .map(|c| c.write_mask.as_ref())
+            .collect();
+        if masks.is_empty()
+            || masks.iter().any(Option::is_none)
+            || accesses()
+                .any(|(_, a)| a.resource == r.id && a.writes && a.access != Access::ColorAttachment)
+        {
+            continue;
+        }
+        let union: BTreeSet<char> = masks.iter().flatten().flat_map(|m| m.chars()).collect();
+        if union.len() < channels {
+            let used: String = union.iter().collect();
+            out.push(lint("FL011", format!("\"{}\" ({}) is only ever written in channels \"{used}\"; a {}-channel format would do", r.name, f.name, union.len()), None, Some(&r.name)));
+        }
+    }
+
+    // Mips no pass touches.
+    for r in capture
+        .resources
+        .iter()
+        .filter(|r| r.is_texture() && r.mip_levels > 1)
+    {
+        let max_mip = accesses()
+            .filter(|(_, a)| a.resource == r.id)
+            .map(|(_, a)| a.range.mip_base + a.range.mip_count)
+            .max();
+        if let Some(used) = max_mip.filter(|&m| m < r.mip_levels) {
+            out.push(lint(
+                "FL012",
+                format!(
+                    "\"{}\" has {} mips but passes use only the first {used}",
+                    r.name, r.mip_levels
+                ),
+                None,
+                Some(&r.name),
+            ));
+        }
+    }
+
+    // Fences the frame lacks.
+    for f in plan.fences.iter().filter(|f| !f.declared) {
+        let (a, b) = (
+            &model.passes[f.signal_after as usize],
+            &model.passes[f.wait_before as usize],
+        );
+        out.push(lint(
+            "FL014",
+            format!(
+                "\"{}\" (queue {}) must wait for \"{}\" (queue {}), but no fence orders them",
+                b.name,
+                model.queues[b.queue as usize].name,
+                a.name,
+                model.queues[a.queue as usize].name
+            ),
+            Some(&b.name),
+            None,
+        ));
+    }
+
+    // Upload-heap resources read by several passes.
+    for r in &capture.resources {
+        if r.heap_type(&capture.heaps) == crate::capture::format::HeapType::Upload {
+            let readers: BTreeSet<u32> = accesses()
+                .filter(|(_, a)| a.resource == r.id && a.reads)
+                .map(|(p, _)| p.id.0)
+                .collect();
+            if readers.len() >= 2 {
+                out.push(lint("FL015", format!("\"{}\" lives in an UPLOAD heap and {} passes read it across the bus; copy it to a DEFAULT heap once", r.name, readers.len()), None, Some(&r.name)));
+            }
+        }
+    }
+
+    out.extend(compare_recorded(capture, model, plan));
+    out.sort();
+    out.dedup();
+    out
+}
+
+fn state_of(s: ResourceState) -> State {
+    match s {
+        ResourceState::Common => State::COMMON,
+        ResourceState::VertexAndConstantBuffer => State::VERTEX_AND_CONSTANT_BUFFER,
+        ResourceState::IndexBuffer => State::INDEX_BUFFER,
+        ResourceState::RenderTarget => State::RENDER_TARGET,
+        ResourceState::UnorderedAccess => State::UNORDERED_ACCESS,
+        ResourceState::DepthWrite => State::DEPTH_WRITE,
+        ResourceState::DepthRead => State::DEPTH_READ,
+        ResourceState::NonPixelShaderResource => State::NON_PIXEL_SHADER_RESOURCE,
+        ResourceState::PixelShaderResource => State::PIXEL_SHADER_RESOURCE,
+        ResourceState::IndirectArgument => State::INDIRECT_ARGUMENT,
+        ResourceState::CopyDest => State::COPY_DEST,
+        ResourceState::CopySource => State::COPY_SOURCE,
+        ResourceState::ResolveDest => State::RESOLVE_DEST,
+        ResourceState::ResolveSource => State::RESOLVE_SOURCE,
+        ResourceState::GenericRead => State::VERTEX_AND_CONSTANT_BUFFER
+            .union(State::INDEX_BUFFER)
+            .union(State::NON_PIXEL_SHADER_RESOURCE)
+            .union(State::PIXEL_SHADER_RESOURCE)
+            .union(State::INDIRECT_ARGUMENT)
+            .union(State::COPY_SOURCE),
+        ResourceState::AllShaderResource => {
+            State::NON_PIXEL_SHADER_RESOURCE.union(State::PIXEL_SHADER_RESOURCE)
+        }
+        ResourceState::Present => State::PRESENT,
+    }
+}
+
+fn covers(outer: Option<&Subresources>, inner: &Subresources) -> bool {
+    outer.is_none_or(|o| {
+        o.mip_base <= inner.mip_base
+            && inner.mip_base + inner.mip_count <= o.mip_base + o.mip_count
+            && o.layer_base <= inner.layer_base
+            && inner.layer_base + inner.layer_count <= o.layer_base + o.layer_count
+    })
+}
+
+/// Compares the barriers a capture recorded with the derived ones, PIX style. Runs only when
+/// the capture recorded barriers at all.
+fn compare_recorded(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -> Vec<Lint> {
+    let mut out = Vec::new();
+    if capture.passes.iter().all(|p| p.barriers.is_empty()) {
+        return out;
+    }
+    let mut by_pass: BTreeMap<u32, Vec<&Barrier>> = BTreeMap::new();
+    for b in plan.barriers.iter().filter(|b| !b.next_frame) {
+        by_pass.entry(b.for_pass).or_default().push(b);
+    }
+    let name = |r: u32| model.resources[r as usize].name.clone();
+    for pass in &capture.passes {
+        let derived = by_pass.get(&pass.id.0).cloned().unwrap_or_default();
+        let recorded: Vec<_> = pass
+            .barriers
+            .iter()
+            .filter(|b| b.split != SplitFlag::BeginOnly)
+            .collect();
+        let mut used = vec![false; recorded.len()];
+        for d in &derived {
+            let resource = model.resources[d.resource as usize]
+                .previous_of
+                .unwrap_or(d.resource);
+            let matching = recorded
+                .iter()
+                .enumerate()
+                .find(|(_, r)| {
+                    r.resource.map(|x| x.0) == Some(resource)
+                        && match d.kind {
+                            BarrierKind::Transition => {
+                                r.barrier_type == BarrierType::Transition
+                                    && covers(r.range.as_ref(), &d.range)
+                                    && {
+                                        let after = r
+                                            .after
+                                            .iter()
+                                            .fold(State::COMMON, |s, x| s.union(state_of(*x)));
+                                        after.contains(d.after)
+                                    }
+                            }
+                            BarrierKind::Uav => r.barrier_type == BarrierType::Uav,
+                            BarrierKind::Aliasing => false,
+                        }
+                })
+                .or_else(|| {
+                    // A global UAV barrier (no resource) covers every UAV barrier.
+                    recorded.iter().enumerate().find(|(_, r)| {
+                        d.kind == BarrierKind::Uav
+                            && r.barrier_type == BarrierType::Uav
+                            && r.resource.is_none()
+                    })
+                });
+            let Some((i, r)) = matching else {
+                let what = match d.kind {
+                    BarrierKind::Uav => "UAV barrier".to_owned(),
+                    _ => format!("transition {} -> {}", d.before.name(), d.after.name()),
+                };
+                out.push(lint("FL020", format!("\"{}\" needs a {what} on \"{}\" that the capture did not record (a hazard)", pass.name, name(resource)), Some(&pass.name), Some(&name(resource))));
+                continue;
+            };
+            used[i] = true;
+            if d.kind != BarrierKind::Transition {
+                continue;
+            }
+            let before = r
+                .before
+                .iter()
+                .fold(State::COMMON, |s, x| s.union(state_of(*x)));
+            let after = r
+                .after
+                .iter()
+                .fold(State::COMMON, |s, x| s.union(state_of(*x)));
+            if before != d.before {
+                out.push(lint(
+                    "FL024",
+                    format!(
+                        "\"{}\" records \"{}\" going from {} but it is in {}",
+                        pass.name,
+                        name(resource),
+                        before.name(),
+                        d.before.name()
+                    ),
+                    Some(&pass.name),
+                    Some(&name(resource)),
+                ));
+            }
+            let whole = model.resources[resource as usize].whole();
+            let wider_range = r
+                .range
+                .as_ref()
+                .map_or(d.range != whole, |rr| *rr != d.range);
+            if after != d.after || wider_range {
+                out.push(lint(
+                    "FL022",
+                    format!(
+                        "\"{}\" transitions \"{}\" to {} over {}; {} over {} is enough",
+                        pass.name,
+                        name(resource),
+                        after.name(),
+                        describe(r.range.as_ref()),
+                        d.after.name(),
+                        describe(Some(&d.range))
+                    ),
+                    Some(&pass.name),
+                    Some(&name(resource)),
+                ));
+            }
+            if let (Some(q), SplitFlag::None) = (d.split_begin_after, r.split) {
+                out.push(lint("FL023", format!("the transition of \"{}\" before \"{}\" could begin after \"{}\" (split barrier)", name(resource), pass.name, model.passes[q as usize].name), Some(&pass.name), Some(&name(resource))));
+            }
+        }
+        for (i, r) in recorded.iter().enumerate() {
+            if !used[i] && r.barrier_type != BarrierType::Aliasing {
+                let res = r.resource.map(|x| capture.resource(x).name.clone());
+                out.push(lint(
+                    "FL021",
+                    format!(
+                        "\"{}\" records a {:?} barrier on {} that the frame does not need",
+                        pass.name,
+                        r.barrier_type,
+                        res.as_deref().unwrap_or("all resources")
+                    )
+                    .replace("Transition", "transition")
+                    .replace("Uav", "UAV"),
+                    Some(&pass.name),
+                    res.as_deref(),
+                ));
+            }
+        }
+    }
+    out
+}
+
+fn describe(r: Option<&Subresources>) -> String {
+    match r {
+        None => "all subresources".to_owned(),
+        Some(r) if r.byte_size > 0 => {
+            format!("bytes {}..{}", r.byte_offset, r.byte_offset + r.byte_size)
+        }
+        Some(r) => format!(
+            "mips {}..{} layers {}..{}",
+            r.mip_base,
+            r.mip_base + r.mip_count,
+            r.layer_base,
+            r.layer_base + r.layer_count
+        ),
+    }
+}
