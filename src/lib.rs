@@ -9,4 +9,5 @@ pub mod capture;
 pub mod dxgi;
 pub mod info;
 pub mod output;
+pub mod replay;
 pub mod schema;

@@ -62,6 +62,39 @@ enum Command {
         #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
         scale: f64,
     },
+    /// Replay the capture through wgpu: time every pass, export every texture.
+    Replay {
+        capture: PathBuf,
+        #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
+        scale: f64,
+        /// Frames to run (history resources ping-pong, the camera moves and jitters).
+        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=10000))]
+        frames: u32,
+        /// Use the adapter whose name contains this text.
+        #[arg(long)]
+        adapter: Option<String>,
+        /// Drop passes whose results never reach an output.
+        #[arg(long)]
+        cull: bool,
+        /// Export every texture (PNG/EXR) and a manifest into this folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Export the state right after this pass of the last frame.
+        #[arg(long, requires = "out")]
+        after: Option<String>,
+        /// Export only this resource.
+        #[arg(long, requires = "out")]
+        resource: Option<String>,
+        /// Write per-pass GPU and CPU times as JSON.
+        #[arg(long)]
+        timings: Option<PathBuf>,
+        /// Write a Chrome trace-event file (one track per queue; opens in Perfetto).
+        #[arg(long)]
+        trace: Option<PathBuf>,
+        /// No progress bar or summary.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Print the JSON Schema of the capture format.
     Schema,
     /// List the GPU adapters wgpu can use here, best first.
@@ -103,6 +136,32 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             cull,
             scale,
         } => analyze(&capture, json, cull, scale),
+        Command::Replay {
+            capture,
+            scale,
+            frames,
+            adapter,
+            cull,
+            out,
+            after,
+            resource,
+            timings,
+            trace,
+            quiet,
+        } => {
+            let options = framelab::replay::ReplayOptions {
+                scale,
+                frames,
+                adapter,
+                cull,
+                out,
+                after,
+                resource,
+                timings,
+                trace,
+            };
+            replay(&capture, &options, quiet)
+        }
         Command::Schema => {
             print_stdout(&framelab::schema::schema_json())?;
             Ok(ExitCode::SUCCESS)
@@ -247,6 +306,72 @@ fn analyze(path: &std::path::Path, json: bool, cull: bool, scale: f64) -> anyhow
         print_stdout(&(serde_json::to_string_pretty(&r)? + "\n"))?;
     } else {
         print_stdout(&report::render_text(&r))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn replay(
+    path: &std::path::Path,
+    options: &framelab::replay::ReplayOptions,
+    quiet: bool,
+) -> anyhow::Result<ExitCode> {
+    use framelab::replay::Event;
+    let bar = if quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(u64::from(options.frames))
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg:>10} [{bar:30}] {pos}/{len} frames")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message("replaying");
+    // indicatif draws nothing (and prints nothing) when stderr is not a terminal.
+    let say = |text: String| {
+        if quiet {
+        } else if bar.is_hidden() {
+            let _ = writeln!(std::io::stderr(), "{text}");
+        } else {
+            bar.println(text);
+        }
+    };
+    let report = framelab::replay::replay(path, options, |event| match event {
+        Event::Adapter(a) => say(format!("adapter: {a}")),
+        Event::Note(n) => say(format!("note: {n}")),
+        Event::Frame { index, .. } => bar.set_position(u64::from(index)),
+        Event::Exported { files } => say(format!("exported {files} images")),
+    });
+    bar.finish_and_clear();
+    let report = report?;
+    if !quiet {
+        let mut rows = Vec::new();
+        for p in &report.passes {
+            let gpu: Vec<u64> = p.gpu_ns.iter().flatten().copied().collect();
+            let gpu = if gpu.is_empty() {
+                "-".to_owned()
+            } else {
+                format!(
+                    "{:.3}",
+                    gpu.iter().sum::<u64>() as f64 / gpu.len() as f64 / 1e6
+                )
+            };
+            let cpu = p.cpu_ns.iter().sum::<u64>() as f64 / p.cpu_ns.len().max(1) as f64 / 1e6;
+            rows.push(vec![
+                p.name.clone(),
+                p.queue.clone(),
+                gpu,
+                format!("{cpu:.3}"),
+            ]);
+        }
+        print_stdout(&format!(
+            "{} on {} ({}), {} frame(s) at scale {}\n{}",
+            report.capture,
+            report.adapter,
+            report.backend,
+            report.frames,
+            report.scale,
+            framelab::info::table(&["pass", "queue", "gpu ms (mean)", "cpu ms (mean)"], &rows)
+        ))?;
     }
     Ok(ExitCode::SUCCESS)
 }

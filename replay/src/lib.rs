@@ -5,9 +5,15 @@
 //! here, so that the GPU side can be tested and reused without the capture model.
 
 pub mod device;
+pub mod export;
+pub mod plan;
 pub mod readback;
+pub mod run;
 pub mod shader;
+pub mod uniforms;
 
 pub use device::{AdapterSummary, DeviceError, GpuContext, list_adapters, open_device};
 pub use readback::{ReadbackError, read_buffer};
+pub use run::{PassTime, ReplayError, Session};
 pub use shader::{ShaderError, ValidatedShader, validate_wgsl};
+pub use wgpu;

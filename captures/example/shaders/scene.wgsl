@@ -30,7 +30,7 @@ struct Params {
 struct VertexIn {
     @location(0) position: vec4<f32>,   // snorm16x4, scaled by w
     @location(1) uv: vec2<f32>,         // float16x2
-    @location(2) normal: vec4<f32>,     // packed 10:10:10:2
+    @location(2) normal: vec4<f32>,     // packed 10:10:10:2, biased to unsigned
     @builtin(instance_index) instance: u32,
 }
 
@@ -47,7 +47,7 @@ fn vs_ground(v: VertexIn) -> VertexOut {
     var out: VertexOut;
     let world = v.position.xyz * 64.0;
     out.world = world;
-    out.normal = normalize(v.normal.xyz);
+    out.normal = normalize(v.normal.xyz * 2.0 - 1.0);
     out.uv = v.uv * 8.0;
     out.clip = frame.view_proj * vec4<f32>(world, 1.0);
     out.kind = 0u;
@@ -60,7 +60,7 @@ fn vs_orb(v: VertexIn) -> VertexOut {
     let p = particles[v.instance].position_radius;
     let world = p.xyz + v.position.xyz * p.w;
     out.world = world;
-    out.normal = normalize(v.normal.xyz);
+    out.normal = normalize(v.normal.xyz * 2.0 - 1.0);
     out.uv = v.uv;
     out.clip = frame.view_proj * vec4<f32>(world, 1.0);
     out.kind = 1u;

@@ -24,11 +24,15 @@ struct DrawIndexedArgs {
     first_instance: u32,
 }
 
+struct Params {
+    // Index count of the instanced mesh (the orb), for the indirect draw.
+    index_count: u32,
+}
+
 @group(0) @binding(0) var<uniform> frame: FrameConstants;
+@group(0) @binding(3) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read_write> particles: array<Particle>;
 @group(0) @binding(2) var<storage, read_write> draw_args: DrawIndexedArgs;
-
-const SPHERE_INDEX_COUNT: u32 = 2880u;
 
 fn hash(n: u32) -> f32 {
     var x = n * 747796405u + 2891336453u;
@@ -40,7 +44,7 @@ fn hash(n: u32) -> f32 {
 fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if (i == 0u) {
-        draw_args.index_count = SPHERE_INDEX_COUNT;
+        draw_args.index_count = params.index_count;
         draw_args.first_index = 0u;
         draw_args.base_vertex = 0;
         draw_args.first_instance = 0u;

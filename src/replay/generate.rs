@@ -1,0 +1,814 @@
+//! Procedural contents named by captures: textures (noise, blue noise, checker, constant,
+//! gradient, atlas, coastline), buffers (lights, instances, constant, noise) and meshes (grid,
+//! box, city blocks, terrain, water plate, foliage cards, sphere, capsule), all from a seed and
+//! deterministic, so a capture stays small and a replay is the same everywhere.
+//!
+//! Meshes are built as float attributes and then encoded into the capture's stream formats
+//! (snorm16x4 positions, float16x2 UVs, packed 10:10:10:2 normals, unorm8x4 colours,
+//! per-instance float4 rows).
+
+use std::collections::BTreeMap;
+
+use framelab_replay::wgpu::TextureFormat;
+
+use crate::capture::format::{ParamValue, StepMode, VertexFormat, VertexStream};
+
+fn param(
+    params: &BTreeMap<String, ParamValue>,
+    table: &[crate::capture::generators::GeneratorSpec],
+    generator: &str,
+    name: &str,
+) -> f64 {
+    match params.get(name) {
+        Some(ParamValue::Scalar(v)) => *v,
+        _ => crate::capture::generators::find(table, generator)
+            .and_then(|g| g.params.iter().find(|(p, _)| *p == name))
+            .map_or(0.0, |(_, d)| *d),
+    }
+}
+
+/// A seeded integer hash to [0, 1).
+fn hash(seed: u64, x: i64, y: i64, z: i64) -> f64 {
+    let mut h = seed
+        ^ (x as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ (y as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+        ^ (z as u64).wrapping_mul(0x1656_67B1_9E37_79F9);
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+    h ^= h >> 33;
+    (h >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// Smooth value noise in [0, 1), periodic with period `period` (so textures tile).
+fn value_noise(seed: u64, x: f64, y: f64, z: f64, period: i64) -> f64 {
+    let (xi, yi, zi) = (x.floor(), y.floor(), z.floor());
+    let (fx, fy, fz) = (x - xi, y - yi, z - zi);
+    let s = |t: f64| t * t * (3.0 - 2.0 * t);
+    let (u, v, w) = (s(fx), s(fy), s(fz));
+    let wrap = |a: f64| (a as i64).rem_euclid(period.max(1));
+    let corner =
+        |dx: f64, dy: f64, dz: f64| hash(seed, wrap(xi + dx), wrap(yi + dy), zi as i64 + dz as i64);
+    let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
+    let x00 = lerp(corner(0.0, 0.0, 0.0), corner(1.0, 0.0, 0.0), u);
+    let x10 = lerp(corner(0.0, 1.0, 0.0), corner(1.0, 1.0, 0.0), u);
+    let x01 = lerp(corner(0.0, 0.0, 1.0), corner(1.0, 0.0, 1.0), u);
+    let x11 = lerp(corner(0.0, 1.0, 1.0), corner(1.0, 1.0, 1.0), u);
+    lerp(lerp(x00, x10, v), lerp(x01, x11, v), w)
+}
+
+/// Fractal (fBm) value noise in [0, 1].
+pub fn fbm(seed: u64, x: f64, y: f64, z: f64, frequency: f64, octaves: u32) -> f64 {
+    let (mut sum, mut amp, mut norm, mut f) = (0.0, 0.5, 0.0, frequency.max(1.0));
+    for o in 0..octaves.max(1) {
+        sum += amp
+            * value_noise(
+                seed.wrapping_add(u64::from(o) * 131),
+                x * f,
+                y * f,
+                z * f,
+                f as i64,
+            );
+        norm += amp;
+        amp *= 0.5;
+        f *= 2.0;
+    }
+    sum / norm
+}
+
+/// The value of a texture generator at normalised coordinates (u, v, w) for `layer`.
+fn texel(
+    name: &str,
+    seed: u64,
+    params: &BTreeMap<String, ParamValue>,
+    u: f64,
+    v: f64,
+    w: f64,
+    layer: u32,
+) -> [f64; 4] {
+    let table = crate::capture::generators::CONTENT_GENERATORS;
+    let p = |n: &str| param(params, table, name, n);
+    let s = seed.wrapping_add(u64::from(layer) * 7919);
+    match name {
+        "noise" => {
+            let (f, o, a) = (p("frequency"), p("octaves") as u32, p("amplitude"));
+            [0.0, 1.0, 2.0, 3.0].map(|c| a * fbm(s.wrapping_add(c as u64 * 1013), u, v, w, f, o))
+        }
+        "blue_noise" => {
+            // R2 low-discrepancy sequence over a hashed index: well spread, high-frequency
+            // values like blue noise, per channel decorrelated.
+            let (x, y) = ((u * 4096.0) as u64, (v * 4096.0) as u64);
+            [0.0, 1.0, 2.0, 3.0].map(|c| {
+                let n = (x + y * 4099) as f64
+                    + hash(s.wrapping_add(c as u64), x as i64, y as i64, 0) * 0.5;
+                (0.5 + n * 0.754_877_666_246_692_7 + (y as f64) * 0.569_840_290_998_053_3).fract()
+            })
+        }
+        "checker" => {
+            let cells = p("cells").max(1.0);
+            let c = (((u * cells).floor() + (v * cells).floor()) as i64).rem_euclid(2) as f64;
+            [c, c, c, 1.0]
+        }
+        "constant" => {
+            let c = p("value");
+            [c, c, c, c]
+        }
+        "gradient" => [u, v, w, 1.0],
+        "atlas" => {
+            // Glyph-like panels: a grid of cells, each with a seeded bar pattern and frame.
+            let cells = p("cells").max(1.0);
+            let (cu, cv) = ((u * cells).floor(), (v * cells).floor());
+            let (fu, fv) = ((u * cells).fract(), (v * cells).fract());
+            let frame = !(0.06..=0.94).contains(&fu) || !(0.06..=0.94).contains(&fv);
+            let bars =
+                (hash(s, cu as i64, cv as i64, (fv * 8.0) as i64) > 0.45) && fu > 0.15 && fu < 0.85;
+            let hue = hash(s, cu as i64, cv as i64, 99);
+            let on = if frame || bars { 1.0 } else { 0.08 };
+            [on * (0.4 + 0.6 * hue), on * (1.0 - hue), on, 1.0]
+        }
+        "coastline" => {
+            let land = fbm(s, u, v, 0.0, p("frequency"), 5) + (v - 0.5) * 0.6;
+            let m = if land > p("shore") { 0.0 } else { 1.0 };
+            [m, m, m, 1.0]
+        }
+        _ => [0.0, 0.0, 0.0, 1.0],
+    }
+}
+
+fn f16(x: f32) -> [u8; 2] {
+    half::f16::from_f32(x).to_le_bytes()
+}
+
+/// Unsigned small float with 5-bit exponent (R11G11B10).
+fn small_float(x: f32, mantissa_bits: u32) -> u32 {
+    let x = x.max(0.0);
+    if x == 0.0 {
+        return 0;
+    }
+    let max = (2.0 - 2f32.powi(-(mantissa_bits as i32))) * 2f32.powi(15);
+    let x = x.min(max);
+    let e = x.log2().floor().max(-14.0);
+    let m = if e <= -14.0 && x < 2f32.powi(-14) {
+        x / 2f32.powi(-14)
+    } else {
+        x / 2f32.powf(e) - 1.0
+    };
+    let exponent = if x < 2f32.powi(-14) {
+        0
+    } else {
+        (e as i32 + 15) as u32
+    };
+    (exponent << mantissa_bits)
+        | ((m * (1u32 << mantissa_bits) as f32).round() as u32).min((1 << mantissa_bits) - 1)
+}
+
+/// Encodes one texel of RGBA values in `format`, or says the format cannot be generated.
+pub fn encode_texel(format: TextureFormat, c: [f64; 4]) -> Result<Vec<u8>, String> {
+    use TextureFormat as F;
+    let un8 = |x: f64| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+    let sn8 = |x: f64| (x.clamp(-1.0, 1.0) * 127.0).round() as i8 as u8;
+    let un16 = |x: f64| ((x.clamp(0.0, 1.0) * 65535.0).round() as u16).to_le_bytes();
+    let f32b = |x: f64| (x as f32).to_le_bytes();
+    let h = |x: f64| f16(x as f32);
+    Ok(match format {
+        F::R8Unorm => vec![un8(c[0])],
+        F::Rg8Unorm => vec![un8(c[0]), un8(c[1])],
+        F::Rgba8Unorm | F::Rgba8UnormSrgb => vec![un8(c[0]), un8(c[1]), un8(c[2]), un8(c[3])],
+        F::Bgra8Unorm | F::Bgra8UnormSrgb => vec![un8(c[2]), un8(c[1]), un8(c[0]), un8(c[3])],
+        F::R8Snorm => vec![sn8(c[0])],
+        F::Rgba8Snorm => vec![sn8(c[0]), sn8(c[1]), sn8(c[2]), sn8(c[3])],
+        F::R8Uint => vec![(c[0].clamp(0.0, 1.0) * 255.0) as u8],
+        F::R16Unorm => un16(c[0]).to_vec(),
+        F::Rg16Unorm => [un16(c[0]), un16(c[1])].concat(),
+        F::Rgba16Unorm => [un16(c[0]), un16(c[1]), un16(c[2]), un16(c[3])].concat(),
+        F::R16Float => h(c[0]).to_vec(),
+        F::Rg16Float => [h(c[0]), h(c[1])].concat(),
+        F::Rgba16Float => [h(c[0]), h(c[1]), h(c[2]), h(c[3])].concat(),
+        F::R32Float => f32b(c[0]).to_vec(),
+        F::Rg32Float => [f32b(c[0]), f32b(c[1])].concat(),
+        F::Rgba32Float => [f32b(c[0]), f32b(c[1]), f32b(c[2]), f32b(c[3])].concat(),
+        F::R16Uint => ((c[0].clamp(0.0, 1.0) * 65535.0) as u16)
+            .to_le_bytes()
+            .to_vec(),
+        F::R32Uint => ((c[0].clamp(0.0, 1.0) * f64::from(u32::MAX)) as u32)
+            .to_le_bytes()
+            .to_vec(),
+        F::Rgb10a2Unorm => {
+            let q = |x: f64, m: f64| (x.clamp(0.0, 1.0) * m).round() as u32;
+            (q(c[0], 1023.0)
+                | (q(c[1], 1023.0) << 10)
+                | (q(c[2], 1023.0) << 20)
+                | (q(c[3], 3.0) << 30))
+                .to_le_bytes()
+                .to_vec()
+        }
+        F::Rg11b10Ufloat => (small_float(c[0] as f32, 6)
+            | (small_float(c[1] as f32, 6) << 11)
+            | (small_float(c[2] as f32, 5) << 22))
+            .to_le_bytes()
+            .to_vec(),
+        other => {
+            return Err(format!(
+                "a generator cannot write {other:?} (block-compressed or depth): give the texture a side file"
+            ));
+        }
+    })
+}
+
+/// Contents of every mip (all layers / slices of a mip together), for a texture generator.
+#[allow(clippy::too_many_arguments)]
+pub fn texture(
+    name: &str,
+    seed: u64,
+    params: &BTreeMap<String, ParamValue>,
+    format: TextureFormat,
+    width: u32,
+    height: u32,
+    depth_or_layers: u32,
+    volume: bool,
+    mips: u32,
+) -> Result<Vec<Vec<u8>>, String> {
+    let mut out = Vec::new();
+    for mip in 0..mips {
+        let (w, h) = ((width >> mip).max(1), (height >> mip).max(1));
+        let d = if volume {
+            (depth_or_layers >> mip).max(1)
+        } else {
+            depth_or_layers
+        };
+        let mut bytes = Vec::new();
+        for z in 0..d {
+            for y in 0..h {
+                for x in 0..w {
+                    let (u, v) = (
+                        (f64::from(x) + 0.5) / f64::from(w),
+                        (f64::from(y) + 0.5) / f64::from(h),
+                    );
+                    let (wz, layer) = if volume {
+                        ((f64::from(z) + 0.5) / f64::from(d), 0)
+                    } else {
+                        (0.0, z)
+                    };
+                    bytes.extend(encode_texel(
+                        format,
+                        texel(name, seed, params, u, v, wz, layer),
+                    )?);
+                }
+            }
+        }
+        out.push(bytes);
+    }
+    Ok(out)
+}
+
+/// Contents of a buffer generator.
+pub fn buffer(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>, size: u64) -> Vec<u8> {
+    let table = crate::capture::generators::CONTENT_GENERATORS;
+    let p = |n: &str| param(params, table, name, n);
+    let mut out: Vec<u8> = Vec::with_capacity(size as usize);
+    match name {
+        "lights" => {
+            // 64-byte records: position.xyz, radius, colour.rgb, intensity, direction.xyz,
+            // spot cosine (-1: point light), then 16 bytes of zero padding.
+            let count = (p("count") as u64).min(size / 64);
+            let area = p("area");
+            for i in 0..count {
+                let r = |k: u64| hash(seed, i as i64, k as i64, 0);
+                let hue = r(4);
+                let colour = [
+                    0.5 + 0.5 * (6.283 * hue).cos(),
+                    0.5 + 0.5 * (6.283 * (hue + 0.33)).cos(),
+                    0.5 + 0.5 * (6.283 * (hue + 0.67)).cos(),
+                ];
+                let radius = p("min_radius") + (p("max_radius") - p("min_radius")) * r(3);
+                let record = [
+                    (r(0) - 0.5) * area,
+                    1.0 + 12.0 * r(1),
+                    (r(2) - 0.5) * area,
+                    radius,
+                    colour[0],
+                    colour[1],
+                    colour[2],
+                    p("intensity") * (0.5 + r(5)),
+                    0.0,
+                    -1.0,
+                    0.0,
+                    -1.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                ];
+                for v in record {
+                    out.extend((v as f32).to_le_bytes());
+                }
+            }
+        }
+        "instances" => {
+            // Three float4 rows of an affine transform per instance (seed's VB7 layout).
+            let count = (p("count") as u64).min(size / 48);
+            let area = p("area");
+            for i in 0..count {
+                let r = |k: u64| hash(seed, i as i64, k as i64, 1);
+                let (angle, scale) = (6.283 * r(3), 0.6 + 0.8 * r(4));
+                let (s, c) = (angle.sin() * scale, angle.cos() * scale);
+                let (x, z) = ((r(0) - 0.5) * area, (r(1) - 0.5) * area);
+                for v in [c, 0.0, s, x, 0.0, scale, 0.0, 0.0, -s, 0.0, c, z] {
+                    out.extend((v as f32).to_le_bytes());
+                }
+            }
+        }
+        "constant" => {
+            let v = p("value") as u32;
+            while (out.len() as u64) + 4 <= size {
+                out.extend(v.to_le_bytes());
+            }
+        }
+        _ => {
+            for i in 0..size / 4 {
+                out.extend((hash(seed, i as i64, 0, 0) as f32).to_le_bytes());
+            }
+        }
+    }
+    out.resize(size as usize, 0);
+    out
+}
+
+/// A mesh as float attributes.
+#[derive(Debug, Default, Clone)]
+pub struct MeshData {
+    pub positions: Vec<[f32; 3]>,
+    pub normals: Vec<[f32; 3]>,
+    pub uvs: Vec<[f32; 2]>,
+    pub colors: Vec<[f32; 4]>,
+    pub indices: Vec<u32>,
+}
+
+impl MeshData {
+    fn vertex(&mut self, p: [f32; 3], n: [f32; 3], uv: [f32; 2], color: [f32; 4]) -> u32 {
+        self.positions.push(p);
+        self.normals.push(n);
+        self.uvs.push(uv);
+        self.colors.push(color);
+        (self.positions.len() - 1) as u32
+    }
+    fn quad(&mut self, corners: [[f32; 3]; 4], n: [f32; 3], color: [f32; 4]) {
+        let uv = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let i: Vec<u32> = (0..4)
+            .map(|k| self.vertex(corners[k], n, uv[k], color))
+            .collect();
+        self.indices.extend([i[0], i[1], i[2], i[0], i[2], i[3]]);
+    }
+    fn cuboid(&mut self, min: [f32; 3], max: [f32; 3], color: [f32; 4]) {
+        let [x0, y0, z0] = min;
+        let [x1, y1, z1] = max;
+        self.quad(
+            [[x0, y0, z1], [x1, y0, z1], [x1, y1, z1], [x0, y1, z1]],
+            [0.0, 0.0, 1.0],
+            color,
+        );
+        self.quad(
+            [[x1, y0, z0], [x0, y0, z0], [x0, y1, z0], [x1, y1, z0]],
+            [0.0, 0.0, -1.0],
+            color,
+        );
+        self.quad(
+            [[x1, y0, z1], [x1, y0, z0], [x1, y1, z0], [x1, y1, z1]],
+            [1.0, 0.0, 0.0],
+            color,
+        );
+        self.quad(
+            [[x0, y0, z0], [x0, y0, z1], [x0, y1, z1], [x0, y1, z0]],
+            [-1.0, 0.0, 0.0],
+            color,
+        );
+        self.quad(
+            [[x0, y1, z1], [x1, y1, z1], [x1, y1, z0], [x0, y1, z0]],
+            [0.0, 1.0, 0.0],
+            color,
+        );
+        self.quad(
+            [[x0, y0, z0], [x1, y0, z0], [x1, y0, z1], [x0, y0, z1]],
+            [0.0, -1.0, 0.0],
+            color,
+        );
+    }
+    fn grid(&mut self, size: f32, divisions: u32, height: impl Fn(f32, f32) -> f32) {
+        let n = divisions.max(1);
+        let base = self.positions.len() as u32;
+        for j in 0..=n {
+            for i in 0..=n {
+                let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
+                let (x, z) = ((u - 0.5) * size, (v - 0.5) * size);
+                let e = size / n as f32;
+                let (hx, hz) = (
+                    height(x + e, z) - height(x - e, z),
+                    height(x, z + e) - height(x, z - e),
+                );
+                let normal = normalize([-hx, 2.0 * e, -hz]);
+                self.vertex([x, height(x, z), z], normal, [u, v], [1.0, 1.0, 1.0, 1.0]);
+            }
+        }
+        for j in 0..n {
+            for i in 0..n {
+                let a = base + j * (n + 1) + i;
+                let b = a + n + 1;
+                self.indices.extend([a, b, a + 1, a + 1, b, b + 1]);
+            }
+        }
+    }
+    fn sphere(&mut self, center: [f32; 3], radius: f32, segments: u32, rings: u32) {
+        let (segments, rings) = (segments.max(3), rings.max(2));
+        let base = self.positions.len() as u32;
+        for r in 0..=rings {
+            let phi = std::f32::consts::PI * r as f32 / rings as f32;
+            for s in 0..=segments {
+                let theta = 2.0 * std::f32::consts::PI * s as f32 / segments as f32;
+                let n = [phi.sin() * theta.cos(), phi.cos(), phi.sin() * theta.sin()];
+                let p = [
+                    center[0] + radius * n[0],
+                    center[1] + radius * n[1],
+                    center[2] + radius * n[2],
+                ];
+                self.vertex(
+                    p,
+                    n,
+                    [s as f32 / segments as f32, r as f32 / rings as f32],
+                    [1.0, 1.0, 1.0, 1.0],
+                );
+            }
+        }
+        for r in 0..rings {
+            for s in 0..segments {
+                let a = base + r * (segments + 1) + s;
+                let b = a + segments + 1;
+                self.indices.extend([a, a + 1, b, a + 1, b + 1, b]);
+            }
+        }
+    }
+}
+
+fn normalize(v: [f32; 3]) -> [f32; 3] {
+    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-12);
+    [v[0] / l, v[1] / l, v[2] / l]
+}
+
+/// Builds a generator mesh.
+pub fn mesh(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>) -> MeshData {
+    let table = crate::capture::generators::MESH_GENERATORS;
+    let p = |n: &str| param(params, table, name, n) as f32;
+    let mut m = MeshData::default();
+    match name {
+        "grid" | "water_plate" => {
+            let h = if name == "water_plate" {
+                p("height")
+            } else {
+                0.0
+            };
+            m.grid(p("size"), p("divisions") as u32, |_, _| h);
+        }
+        "terrain" => {
+            let (size, height, octaves) = (p("size"), p("height"), p("octaves") as u32);
+            m.grid(size, p("resolution") as u32, |x, z| {
+                height
+                    * (fbm(
+                        seed,
+                        f64::from(x / size) + 0.5,
+                        f64::from(z / size) + 0.5,
+                        0.0,
+                        3.0,
+                        octaves,
+                    ) as f32
+                        - 0.5)
+            });
+        }
+        "box" => {
+            let s = p("size") * 0.5;
+            m.cuboid([-s, -s, -s], [s, s, s], [1.0, 1.0, 1.0, 1.0]);
+        }
+        "city_blocks" => {
+            let (bx, bz, block, street) = (
+                p("blocks_x") as i64,
+                p("blocks_z") as i64,
+                p("block_size"),
+                p("street_width"),
+            );
+            let per = p("buildings_per_block").max(1.0) as i64;
+            let pitch = block + street;
+            for i in 0..bx {
+                for j in 0..bz {
+                    let (ox, oz) = (
+                        (i as f32 - bx as f32 / 2.0) * pitch,
+                        (j as f32 - bz as f32 / 2.0) * pitch,
+                    );
+                    let side = (per as f32).sqrt().ceil() as i64;
+                    let lot = block / side as f32;
+                    for k in 0..per {
+                        let r = |c: i64| hash(seed, i * 1000 + j, k, c) as f32;
+                        let height =
+                            p("min_height") + (p("max_height") - p("min_height")) * r(0).powi(2);
+                        let (lx, lz) = (ox + (k % side) as f32 * lot, oz + (k / side) as f32 * lot);
+                        let inset = lot * (0.05 + 0.1 * r(1));
+                        // Window tint in the colour stream; shaders turn it into emissive windows.
+                        m.cuboid(
+                            [lx + inset, 0.0, lz + inset],
+                            [lx + lot - inset, height, lz + lot - inset],
+                            [r(2), r(3), r(4), 1.0],
+                        );
+                    }
+                }
+            }
+        }
+        "foliage_cards" => {
+            let (count, area, height, width) =
+                (p("count") as i64, p("area"), p("height"), p("width"));
+            for i in 0..count {
+                let r = |c: i64| hash(seed, i, c, 7) as f32;
+                let (x, z, h) = (
+                    (r(0) - 0.5) * area,
+                    (r(1) - 0.5) * area,
+                    height * (0.6 + 0.8 * r(2)),
+                );
+                let w = width * 0.5;
+                let green = [0.2 + 0.2 * r(3), 0.5 + 0.3 * r(4), 0.15, 1.0];
+                m.quad(
+                    [
+                        [x - w, 0.0, z],
+                        [x + w, 0.0, z],
+                        [x + w, h, z],
+                        [x - w, h, z],
+                    ],
+                    [0.0, 0.0, 1.0],
+                    green,
+                );
+                m.quad(
+                    [
+                        [x, 0.0, z - w],
+                        [x, 0.0, z + w],
+                        [x, h, z + w],
+                        [x, h, z - w],
+                    ],
+                    [1.0, 0.0, 0.0],
+                    green,
+                );
+            }
+        }
+        "sphere" => m.sphere(
+            [0.0; 3],
+            p("radius"),
+            p("segments") as u32,
+            p("rings") as u32,
+        ),
+        "capsule" => {
+            let (radius, height, segments) = (p("radius"), p("height"), p("segments") as u32);
+            let half = (height * 0.5 - radius).max(0.0);
+            // Two end spheres (their inner halves hide inside the cylinder) and the cylinder.
+            m.sphere([0.0, half, 0.0], radius, segments, segments / 2);
+            m.sphere([0.0, -half, 0.0], radius, segments, segments / 2);
+            // The cylinder between the two caps.
+            let base = m.positions.len() as u32;
+            for s in 0..=segments {
+                let t = 2.0 * std::f32::consts::PI * s as f32 / segments as f32;
+                let n = [t.cos(), 0.0, t.sin()];
+                m.vertex(
+                    [radius * n[0], -half, radius * n[2]],
+                    n,
+                    [s as f32 / segments as f32, 0.0],
+                    [1.0; 4],
+                );
+                m.vertex(
+                    [radius * n[0], half, radius * n[2]],
+                    n,
+                    [s as f32 / segments as f32, 1.0],
+                    [1.0; 4],
+                );
+            }
+            for s in 0..segments {
+                let a = base + 2 * s;
+                m.indices.extend([a, a + 1, a + 2, a + 1, a + 3, a + 2]);
+            }
+        }
+        _ => {}
+    }
+    m
+}
+
+/// Encodes one attribute value in a vertex format. Positions in snorm formats are stored
+/// divided by `scale` (the mesh's largest coordinate, so they fit in [-1, 1]).
+fn encode_attribute(format: VertexFormat, v: [f32; 4]) -> Vec<u8> {
+    let sn16 = |x: f32| ((x.clamp(-1.0, 1.0) * 32767.0).round() as i16).to_le_bytes();
+    let un16 = |x: f32| ((x.clamp(0.0, 1.0) * 65535.0).round() as u16).to_le_bytes();
+    let un8 = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+    let sn8 = |x: f32| (x.clamp(-1.0, 1.0) * 127.0).round() as i8 as u8;
+    match format {
+        VertexFormat::Snorm16x4 => [sn16(v[0]), sn16(v[1]), sn16(v[2]), sn16(v[3])].concat(),
+        VertexFormat::Snorm16x2 => [sn16(v[0]), sn16(v[1])].concat(),
+        VertexFormat::Unorm16x2 => [un16(v[0]), un16(v[1])].concat(),
+        VertexFormat::Float16x2 => [f16(v[0]), f16(v[1])].concat(),
+        VertexFormat::Float16x4 => [f16(v[0]), f16(v[1]), f16(v[2]), f16(v[3])].concat(),
+        VertexFormat::PackedSnorm10x3 => {
+            // Biased into unsigned 10-bit fields (fetched as Unorm10_10_10_2).
+            let q = |x: f32| ((x.clamp(-1.0, 1.0) * 0.5 + 0.5) * 1023.0).round() as u32;
+            (q(v[0]) | (q(v[1]) << 10) | (q(v[2]) << 20))
+                .to_le_bytes()
+                .to_vec()
+        }
+        VertexFormat::Unorm8x4 => vec![un8(v[0]), un8(v[1]), un8(v[2]), un8(v[3])],
+        VertexFormat::Snorm8x4 => vec![sn8(v[0]), sn8(v[1]), sn8(v[2]), sn8(v[3])],
+        VertexFormat::Uint8x4 => v.map(|x| x as u8).to_vec(),
+        VertexFormat::Float32 => v[0].to_le_bytes().to_vec(),
+        VertexFormat::Float32x2 => [v[0].to_le_bytes(), v[1].to_le_bytes()].concat(),
+        VertexFormat::Float32x3 => {
+            [v[0].to_le_bytes(), v[1].to_le_bytes(), v[2].to_le_bytes()].concat()
+        }
+        VertexFormat::Float32x4 => v.iter().flat_map(|x| x.to_le_bytes()).collect(),
+        VertexFormat::Uint32 => (v[0] as u32).to_le_bytes().to_vec(),
+        VertexFormat::Uint32x2 => {
+            [(v[0] as u32).to_le_bytes(), (v[1] as u32).to_le_bytes()].concat()
+        }
+    }
+}
+
+/// Encodes the streams of a capture mesh: per-vertex attributes by semantic, per-instance rows
+/// from the `instances` generator with the mesh's seed.
+pub fn encode_streams(
+    data: &MeshData,
+    streams: &[VertexStream],
+    instance_count: u32,
+    seed: u64,
+) -> Vec<Vec<u8>> {
+    let scale = data
+        .positions
+        .iter()
+        .flat_map(|p| p.iter().map(|c| c.abs()))
+        .fold(0.0f32, f32::max)
+        .max(1.0);
+    let rows = buffer(
+        "instances",
+        seed,
+        &BTreeMap::from([(
+            "count".to_owned(),
+            ParamValue::Scalar(f64::from(instance_count)),
+        )]),
+        u64::from(instance_count) * 48,
+    );
+    let row = |i: usize, r: usize| -> [f32; 4] {
+        let o = i * 48 + r * 16;
+        let f = |k: usize| {
+            f32::from_le_bytes(
+                rows[o + 4 * k..o + 4 * k + 4]
+                    .try_into()
+                    .unwrap_or_default(),
+            )
+        };
+        [f(0), f(1), f(2), f(3)]
+    };
+    streams
+        .iter()
+        .map(|s| {
+            let count = match s.step {
+                StepMode::Vertex => data.positions.len(),
+                StepMode::Instance => instance_count as usize,
+            };
+            let mut out = Vec::new();
+            for i in 0..count {
+                for a in &s.attributes {
+                    let sem = a.semantic.to_ascii_uppercase();
+                    let snorm = matches!(
+                        a.format,
+                        VertexFormat::Snorm16x4 | VertexFormat::Snorm16x2 | VertexFormat::Snorm8x4
+                    );
+                    let v: [f32; 4] = if sem.starts_with("INSTANCE") {
+                        let r =
+                            sem.chars().last().and_then(|c| c.to_digit(10)).unwrap_or(0) as usize;
+                        row(i, r.min(2))
+                    } else if sem.starts_with("POSITION") {
+                        let p = data.positions[i];
+                        if snorm {
+                            [p[0] / scale, p[1] / scale, p[2] / scale, 1.0]
+                        } else {
+                            [p[0], p[1], p[2], 1.0]
+                        }
+                    } else if sem.starts_with("NORMAL") {
+                        let n = data.normals[i];
+                        [n[0], n[1], n[2], 0.0]
+                    } else if sem.starts_with("TANGENT") {
+                        let n = data.normals[i];
+                        let t = normalize(if n[1].abs() < 0.99 {
+                            [n[2], 0.0, -n[0]]
+                        } else {
+                            [1.0, 0.0, 0.0]
+                        });
+                        [t[0], t[1], t[2], 1.0]
+                    } else if sem.starts_with("COLOR") {
+                        data.colors[i]
+                    } else if sem.starts_with("TEXCOORD") {
+                        let uv = data.uvs[i];
+                        [uv[0], uv[1], 0.0, 0.0]
+                    } else {
+                        [0.0; 4]
+                    };
+                    out.extend(encode_attribute(a.format, v));
+                }
+            }
+            out
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn generators_are_deterministic_and_vary() {
+        let p = BTreeMap::new();
+        let a = texture(
+            "noise",
+            7,
+            &p,
+            TextureFormat::Rgba8Unorm,
+            16,
+            16,
+            1,
+            false,
+            1,
+        )
+        .unwrap();
+        let b = texture(
+            "noise",
+            7,
+            &p,
+            TextureFormat::Rgba8Unorm,
+            16,
+            16,
+            1,
+            false,
+            1,
+        )
+        .unwrap();
+        assert_eq!(a, b);
+        let c = texture(
+            "noise",
+            8,
+            &p,
+            TextureFormat::Rgba8Unorm,
+            16,
+            16,
+            1,
+            false,
+            1,
+        )
+        .unwrap();
+        assert_ne!(a, c);
+        let distinct: std::collections::BTreeSet<u8> = a[0].iter().copied().collect();
+        assert!(distinct.len() > 20);
+    }
+
+    #[test]
+    fn meshes_have_consistent_indices() {
+        for name in [
+            "grid",
+            "box",
+            "city_blocks",
+            "terrain",
+            "water_plate",
+            "foliage_cards",
+            "sphere",
+            "capsule",
+        ] {
+            let m = mesh(name, 3, &BTreeMap::new());
+            assert!(!m.indices.is_empty(), "{name}");
+            assert_eq!(m.indices.len() % 3, 0, "{name}");
+            assert!(
+                m.indices.iter().all(|&i| (i as usize) < m.positions.len()),
+                "{name}"
+            );
+            assert!(
+                m.normals
+                    .iter()
+                    .all(|n| (n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0).abs() < 1e-3),
+                "{name}"
+            );
+        }
+    }
+
+    #[test]
+    fn packed_formats_encode() {
+        assert_eq!(
+            encode_attribute(VertexFormat::Snorm16x4, [1.0, -1.0, 0.0, 0.5]).len(),
+            8
+        );
+        let n = u32::from_le_bytes(
+            encode_attribute(VertexFormat::PackedSnorm10x3, [1.0, 0.0, -1.0, 0.0])
+                .try_into()
+                .unwrap(),
+        );
+        assert_eq!(n & 0x3FF, 1023);
+        assert_eq!((n >> 10) & 0x3FF, 512);
+        assert_eq!((n >> 20) & 0x3FF, 0);
+        let one = small_float(1.0, 6);
+        assert_eq!(one, 15 << 6);
+    }
+}
