@@ -22,7 +22,7 @@ pub enum ReplayError {
     Shader(#[from] Box<ShaderError>),
     #[error("pass \"{pass}\": {message}")]
     Pass { pass: String, message: String },
-    #[error("pass \"{pass}\": parameters: {source}")]
+    #[error("pass \"{pass}\": parameters")]
     Params {
         pass: String,
         #[source]
@@ -106,15 +106,21 @@ impl std::fmt::Debug for Session {
     }
 }
 
-fn scope(device: &wgpu::Device) -> (wgpu::ErrorScopeGuard, wgpu::ErrorScopeGuard) {
-    (
-        device.push_error_scope(wgpu::ErrorFilter::OutOfMemory),
-        device.push_error_scope(wgpu::ErrorFilter::Validation),
-    )
+/// Validation and out-of-memory error scopes. Fields drop in declaration order, so the
+/// validation scope (pushed last) is popped first even when an early return drops the pair.
+struct Scopes {
+    validation: wgpu::ErrorScopeGuard,
+    oom: wgpu::ErrorScopeGuard,
 }
 
-fn close(guards: (wgpu::ErrorScopeGuard, wgpu::ErrorScopeGuard)) -> Option<String> {
-    let (oom, validation) = guards;
+fn scope(device: &wgpu::Device) -> Scopes {
+    let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    Scopes { validation, oom }
+}
+
+fn close(scopes: Scopes) -> Option<String> {
+    let Scopes { validation, oom } = scopes;
     let v = pollster::block_on(validation.pop());
     let o = pollster::block_on(oom.pop());
     v.or(o).map(|e| e.to_string())
@@ -374,14 +380,28 @@ impl Session {
         (frame % 2) as usize
     }
 
+    /// Globals any of `entries` uses (missing entry points are reported by the caller).
+    fn used_by<'e>(
+        &self,
+        module: usize,
+        entries: impl Iterator<Item = &'e String>,
+    ) -> BTreeSet<String> {
+        entries
+            .filter_map(|e| self.modules[module].reflection.globals_used_by(e))
+            .flatten()
+            .collect()
+    }
+
+    /// The packed `params` uniform, when the pass's entry points use one.
     fn params_buffer(
         &self,
         pass: &str,
         module: usize,
         params: &Params,
+        used: &BTreeSet<String>,
     ) -> Result<Option<wgpu::Buffer>, ReplayError> {
         let m = &self.modules[module].reflection.module;
-        if uniforms::uniform_struct(m, "params").is_none() {
+        if uniforms::uniform_struct(m, "params").is_none() || !used.contains("params") {
             if let Some(k) = params.keys().next() {
                 return Err(ReplayError::Pass {
                     pass: pass.to_owned(),
@@ -596,7 +616,8 @@ impl Session {
             .unwrap_or(1);
         let mut pipelines = BTreeMap::new();
         let mut groups = BTreeMap::new();
-        let pass_params = self.params_buffer(name, r.shader, &r.params)?;
+        let all_used = self.used_by(r.shader, entries.iter().chain(r.fragment.iter()));
+        let pass_params = self.params_buffer(name, r.shader, &r.params, &all_used)?;
         for vertex in &entries {
             let mut used = m
                 .reflection
@@ -685,7 +706,7 @@ impl Session {
             }) {
                 let mut merged = r.params.clone();
                 merged.extend(d.params.clone());
-                let buffer = self.params_buffer(name, r.shader, &merged)?;
+                let buffer = self.params_buffer(name, r.shader, &merged, &all_used)?;
                 sets.push(self.bind_groups(
                     name,
                     r.shader,
@@ -731,7 +752,8 @@ impl Session {
         for d in &c.dispatches {
             entries.insert(d.entry.clone().unwrap_or_else(|| c.entry.clone()));
         }
-        let pass_params = self.params_buffer(name, c.shader, &c.params)?;
+        let all_used = self.used_by(c.shader, entries.iter());
+        let pass_params = self.params_buffer(name, c.shader, &c.params, &all_used)?;
         let mut pipelines = BTreeMap::new();
         let mut groups = BTreeMap::new();
         for entry in &entries {
@@ -764,7 +786,7 @@ impl Session {
             {
                 let mut merged = c.params.clone();
                 merged.extend(d.params.clone());
-                let buffer = self.params_buffer(name, c.shader, &merged)?;
+                let buffer = self.params_buffer(name, c.shader, &merged, &all_used)?;
                 sets.push(self.bind_groups(
                     name,
                     c.shader,

@@ -277,9 +277,9 @@ pub fn buffer(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>, size
                 let r = |k: u64| hash(seed, i as i64, k as i64, 0);
                 let hue = r(4);
                 let colour = [
-                    0.5 + 0.5 * (6.283 * hue).cos(),
-                    0.5 + 0.5 * (6.283 * (hue + 0.33)).cos(),
-                    0.5 + 0.5 * (6.283 * (hue + 0.67)).cos(),
+                    0.5 + 0.5 * (std::f64::consts::TAU * hue).cos(),
+                    0.5 + 0.5 * (std::f64::consts::TAU * (hue + 0.33)).cos(),
+                    0.5 + 0.5 * (std::f64::consts::TAU * (hue + 0.67)).cos(),
                 ];
                 let radius = p("min_radius") + (p("max_radius") - p("min_radius")) * r(3);
                 let record = [
@@ -311,7 +311,7 @@ pub fn buffer(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>, size
             let area = p("area");
             for i in 0..count {
                 let r = |k: u64| hash(seed, i as i64, k as i64, 1);
-                let (angle, scale) = (6.283 * r(3), 0.6 + 0.8 * r(4));
+                let (angle, scale) = (std::f64::consts::TAU * r(3), 0.6 + 0.8 * r(4));
                 let (s, c) = (angle.sin() * scale, angle.cos() * scale);
                 let (x, z) = ((r(0) - 0.5) * area, (r(1) - 0.5) * area);
                 for v in [c, 0.0, s, x, 0.0, scale, 0.0, 0.0, -s, 0.0, c, z] {
