@@ -319,3 +319,33 @@ fn a_missing_device_feature_names_the_pass() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A history resource read (previous frame) and written (this frame) in one pass: after N
+/// frames texel x holds N * (1 + x), which only holds if the two copies swap every frame.
+#[test]
+fn history_resources_ping_pong_between_frames() {
+    for frames in [1u32, 3] {
+        let dir = temp(&format!("history{frames}"));
+        let out = dir.join("out");
+        let run = framelab(&[
+            "replay",
+            "tests/fixtures/history/history.json",
+            "--quiet",
+            "--frames",
+            &frames.to_string(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+        let manifest: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap())
+                .unwrap();
+        let f = &manifest["files"][0];
+        assert_eq!(
+            (f["min"].as_f64(), f["max"].as_f64()),
+            (Some(f64::from(frames)), Some(f64::from(4 * frames))),
+            "{frames} frames"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}

@@ -93,6 +93,29 @@ pub struct GpuContext {
     /// Features the caller asked for that this adapter lacks; the caller decides which pass
     /// needs each and reports it, because only the caller knows the passes.
     pub missing_features: wgpu::Features,
+    /// Errors no error scope caught, and the reason the device was lost, if it was. wgpu's
+    /// default handler panics; framelab records them and reports them instead.
+    pub faults: Faults,
+}
+
+/// Errors recorded outside error scopes and device loss.
+#[derive(Clone, Debug, Default)]
+pub struct Faults {
+    uncaptured: std::sync::Arc<std::sync::Mutex<Vec<String>>>,
+    lost: std::sync::Arc<std::sync::Mutex<Option<String>>>,
+}
+
+impl Faults {
+    /// Takes the errors recorded since the last call.
+    pub fn take_uncaptured(&self) -> Vec<String> {
+        self.uncaptured
+            .lock()
+            .map(|mut v| std::mem::take(&mut *v))
+            .unwrap_or_default()
+    }
+    pub fn lost(&self) -> Option<String> {
+        self.lost.lock().ok().and_then(|l| l.clone())
+    }
 }
 
 fn instance() -> wgpu::Instance {
@@ -163,12 +186,26 @@ pub fn open_device(
                 source,
             }
         })?;
+    let faults = Faults::default();
+    let uncaptured = faults.uncaptured.clone();
+    device.on_uncaptured_error(std::sync::Arc::new(move |e: wgpu::Error| {
+        if let Ok(mut v) = uncaptured.lock() {
+            v.push(e.to_string());
+        }
+    }));
+    let lost = faults.lost.clone();
+    device.set_device_lost_callback(move |reason, message| {
+        if let Ok(mut l) = lost.lock() {
+            *l = Some(format!("{reason:?}: {message}"));
+        }
+    });
     Ok(GpuContext {
         adapter,
         device,
         queue,
         summary,
         missing_features: wanted - available,
+        faults,
     })
 }
 

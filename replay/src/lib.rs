@@ -12,7 +12,7 @@ pub mod run;
 pub mod shader;
 pub mod uniforms;
 
-pub use device::{AdapterSummary, DeviceError, GpuContext, list_adapters, open_device};
+pub use device::{AdapterSummary, DeviceError, Faults, GpuContext, list_adapters, open_device};
 pub use readback::{ReadbackError, read_buffer};
 pub use run::{PassTime, ReplayError, Session};
 pub use shader::{ShaderError, ValidatedShader, validate_wgsl};

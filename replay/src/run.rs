@@ -82,6 +82,7 @@ enum Prepared {
 }
 
 pub struct Session {
+    faults: crate::device::Faults,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub plan: Plan,
@@ -346,6 +347,7 @@ impl Session {
         });
         let timestamp_period = queue.get_timestamp_period();
         let mut session = Session {
+            faults: ctx.faults.clone(),
             device,
             queue,
             plan,
@@ -364,7 +366,24 @@ impl Session {
             let p = session.prepare(i)?;
             session.prepared.push(p);
         }
+        session.check_faults("setting up the replay")?;
         Ok(session)
+    }
+
+    /// Turns errors recorded outside error scopes, or a lost device, into an error.
+    pub fn check_faults(&self, during: &str) -> Result<(), ReplayError> {
+        if let Some(reason) = self.faults.lost() {
+            return Err(ReplayError::DeviceLost(reason));
+        }
+        let errors = self.faults.take_uncaptured();
+        if errors.is_empty() {
+            Ok(())
+        } else {
+            Err(ReplayError::Setup {
+                what: during.to_owned(),
+                message: errors.join("; "),
+            })
+        }
     }
 
     pub fn texture(&self, index: usize) -> &wgpu::Texture {
@@ -973,6 +992,7 @@ impl Session {
                 }
             }
         }
+        self.check_faults(&format!("frame {}", self.frames_run))?;
         self.frames_run += 1;
         Ok(times)
     }

@@ -438,24 +438,9 @@ pub fn lower(
         plan.meshes.push(lower_mesh(m)?);
     }
 
-    // Reads of history resources before the frame writes them see the previous frame.
+    // Read-only bindings of history resources the frame has not written yet see the previous
+    // frame's copy; written bindings always address this frame's.
     let mut written: BTreeSet<ResourceId> = BTreeSet::new();
-    let mut previous: BTreeSet<(PassId, ResourceId)> = BTreeSet::new();
-    for p in &passes {
-        for a in &p.accesses {
-            if capture.resource(a.resource).history
-                && !written.contains(&a.resource)
-                && a.reads
-                && !a.writes
-            {
-                previous.insert((p.id, a.resource));
-            }
-        }
-        for a in p.accesses.iter().filter(|a| a.writes) {
-            written.insert(a.resource);
-        }
-    }
-
     let mut shader_index: BTreeMap<std::path::PathBuf, usize> = BTreeMap::new();
     for p in &passes {
         let perr = |message: String| LowerError::Pass {
@@ -501,7 +486,8 @@ pub fn lower(
                 } => {
                     let r = capture.resource(*resource);
                     let range = b.range.unwrap_or_else(|| Subresources::whole(r));
-                    let previous_frame = previous.contains(&(p.id, *resource));
+                    let read_only = b.access.is_some_and(|a| !a.writes());
+                    let previous_frame = r.history && read_only && !written.contains(resource);
                     if r.is_texture() {
                         let t = tex(*resource)?;
                         let format = formats::view_format(plan.textures[t].format, *view_format)
@@ -817,6 +803,7 @@ pub fn lower(
                 texture: tex(p.present.ok_or_else(|| perr("nothing to present".into()))?)?,
             },
         };
+        written.extend(p.accesses.iter().filter(|a| a.writes).map(|a| a.resource));
         let queue = capture.queue(p.queue).name.clone();
         plan.passes.push(PassSpec {
             name: p.name.clone(),
