@@ -1,4 +1,4 @@
-// Async-compute particle update: advances 1024 orbiting particles and writes the indirect
+// Async-compute particle update: advances 256 orbiting particles and writes the indirect
 // draw arguments the scene pass consumes (one instance per live particle).
 
 struct FrameConstants {
