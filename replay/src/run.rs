@@ -81,8 +81,14 @@ enum Prepared {
     Other,
 }
 
+/// Views and blit bind groups made once and reused every frame: (texture, copy, mip, layer,
+/// view format).
+type ViewKey = (usize, usize, u32, u32, Option<wgpu::TextureFormat>);
+
 pub struct Session {
     faults: crate::device::Faults,
+    views: std::cell::RefCell<std::collections::HashMap<ViewKey, wgpu::TextureView>>,
+    mip_groups: std::cell::RefCell<std::collections::HashMap<ViewKey, wgpu::BindGroup>>,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub plan: Plan,
@@ -348,6 +354,8 @@ impl Session {
         let timestamp_period = queue.get_timestamp_period();
         let mut session = Session {
             faults: ctx.faults.clone(),
+            views: Default::default(),
+            mip_groups: Default::default(),
             device,
             queue,
             plan,
@@ -368,6 +376,59 @@ impl Session {
         }
         session.check_faults("setting up the replay")?;
         Ok(session)
+    }
+
+    /// Encodes passes `0..=last` again, each in its own error scope and without submitting,
+    /// and returns the first pass's error (encoding is deterministic, so it recurs).
+    fn attribute(&self, parity: usize, last: usize, with_timestamps: bool) -> Option<ReplayError> {
+        let timestamps = self.timestamps.as_ref().filter(|_| with_timestamps);
+        let inside_encoders = timestamps.is_some_and(|t| t.2);
+        for i in 0..=last.min(self.plan.passes.len().saturating_sub(1)) {
+            let guards = scope(&self.device);
+            let mut encoder = self
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some(&self.plan.passes[i].name),
+                });
+            let stamps = timestamps.map(|(set, _, _)| (set, 2 * i as u32));
+            let encoded = self.encode(i, parity, &mut encoder, stamps, inside_encoders);
+            drop(encoder.finish());
+            let scoped = close(guards);
+            if let Err(e) = encoded {
+                return Some(e);
+            }
+            if let Some(message) = scoped {
+                return Some(ReplayError::Gpu {
+                    pass: self.plan.passes[i].name.clone(),
+                    message,
+                });
+            }
+        }
+        None
+    }
+
+    /// A cached single-mip, single-layer view of copy `copy` of texture `texture`.
+    fn view(
+        &self,
+        texture: usize,
+        copy: usize,
+        mip: u32,
+        layer: u32,
+        format: Option<wgpu::TextureFormat>,
+    ) -> wgpu::TextureView {
+        self.views
+            .borrow_mut()
+            .entry((texture, copy, mip, layer, format))
+            .or_insert_with(|| {
+                single_view(
+                    &self.textures[texture][copy],
+                    &self.plan.textures[texture],
+                    mip,
+                    layer,
+                    format,
+                )
+            })
+            .clone()
     }
 
     /// Turns errors recorded outside error scopes, or a lost device, into an error.
@@ -884,12 +945,13 @@ impl Session {
         self.mip_pipelines.insert(key, (pipeline, sampler));
     }
 
-    /// Runs one frame with the given frame constants (by member name), stopping after pass
-    /// `stop_after` when given. Returns per-pass times (for the passes that ran).
-    pub fn run_frame(
+    /// Encodes every pass of one frame (up to `stop_after`) and submits it without waiting:
+    /// the CPU side of a replay, which the benchmark measures. Times carry CPU encode time only.
+    pub fn submit_frame(
         &mut self,
         frame_constants: &Params,
         stop_after: Option<usize>,
+        with_timestamps: bool,
     ) -> Result<Vec<PassTime>, ReplayError> {
         let parity = self.parity(self.frames_run);
         for (i, m) in self.modules.iter().enumerate() {
@@ -910,54 +972,64 @@ impl Session {
             .min(self.plan.passes.len().saturating_sub(1));
         let mut command_buffers = Vec::new();
         let mut times = Vec::new();
-        let inside_encoders = self.timestamps.as_ref().is_some_and(|t| t.2);
+        // One error scope for the frame keeps encoding cheap; if it catches anything, each pass
+        // is encoded again in its own scope to name the one at fault.
+        let frame_scope = scope(&self.device);
+        let timestamps = self.timestamps.as_ref().filter(|_| with_timestamps);
+        let inside_encoders = timestamps.is_some_and(|t| t.2);
         for i in 0..=last.min(self.plan.passes.len().saturating_sub(1)) {
             if self.plan.passes.is_empty() {
                 break;
             }
-            let name = self.plan.passes[i].name.clone();
-            let guards = scope(&self.device);
             let start = Instant::now();
             let mut encoder = self
                 .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(&name) });
-            let stamps = self
-                .timestamps
-                .as_ref()
-                .map(|(set, _, _)| (set, 2 * i as u32));
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some(&self.plan.passes[i].name),
+                });
+            let stamps = timestamps.map(|(set, _, _)| (set, 2 * i as u32));
             self.encode(i, parity, &mut encoder, stamps, inside_encoders)?;
             command_buffers.push(encoder.finish());
             let cpu_ns = start.elapsed().as_nanos() as u64;
-            if let Some(message) = close(guards) {
-                return Err(ReplayError::Gpu {
-                    pass: name,
-                    message,
-                });
-            }
             times.push(PassTime {
                 gpu_ns: None,
                 cpu_ns,
                 gpu_start_ns: None,
             });
         }
-        let mut resolve_encoder =
-            self.device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("timestamps"),
-                });
-        if let Some((set, buffer, _)) = &self.timestamps {
+        if let Some((set, buffer, _)) = timestamps {
+            let mut resolve_encoder =
+                self.device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("timestamps"),
+                    });
             let count = (2 * times.len() as u32).max(2);
             resolve_encoder.resolve_query_set(set, 0..count, buffer, 0);
+            command_buffers.push(resolve_encoder.finish());
         }
-        command_buffers.push(resolve_encoder.finish());
-        let guards = scope(&self.device);
         self.queue.submit(command_buffers);
-        if let Some(message) = close(guards) {
-            return Err(ReplayError::Gpu {
-                pass: "(submit)".into(),
-                message,
-            });
+        if let Some(message) = close(frame_scope) {
+            return Err(self.attribute(parity, last, with_timestamps).unwrap_or(
+                ReplayError::Gpu {
+                    pass: "(frame)".into(),
+                    message,
+                },
+            ));
         }
+        self.frames_run += 1;
+        Ok(times)
+    }
+
+    /// Runs one frame with the given frame constants (by member name), stopping after pass
+    /// `stop_after` when given: encodes and submits, waits for the GPU, and returns per-pass
+    /// times (GPU times from the timestamp pairs where the adapter has them).
+    pub fn run_frame(
+        &mut self,
+        frame_constants: &Params,
+        stop_after: Option<usize>,
+    ) -> Result<Vec<PassTime>, ReplayError> {
+        let mut times = self.submit_frame(frame_constants, stop_after, true)?;
+        let inside_encoders = self.timestamps.as_ref().is_some_and(|t| t.2);
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| ReplayError::DeviceLost(e.to_string()))?;
@@ -993,7 +1065,6 @@ impl Session {
             }
         }
         self.check_faults(&format!("frame {}", self.frames_run))?;
-        self.frames_run += 1;
         Ok(times)
     }
 
@@ -1029,25 +1100,12 @@ impl Session {
                 let color_views: Vec<wgpu::TextureView> = r
                     .color
                     .iter()
-                    .map(|c| {
-                        single_view(
-                            tex(c.texture),
-                            &self.plan.textures[c.texture],
-                            c.mip,
-                            c.layer,
-                            Some(c.format),
-                        )
-                    })
+                    .map(|c| self.view(c.texture, parity, c.mip, c.layer, Some(c.format)))
                     .collect();
-                let depth_view = r.depth.as_ref().map(|d| {
-                    single_view(
-                        tex(d.texture),
-                        &self.plan.textures[d.texture],
-                        d.mip,
-                        d.layer,
-                        None,
-                    )
-                });
+                let depth_view = r
+                    .depth
+                    .as_ref()
+                    .map(|d| self.view(d.texture, parity, d.mip, d.layer, None));
                 let attachments: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = r
                     .color
                     .iter()
@@ -1319,8 +1377,8 @@ impl Session {
                 stamp_encoder(encoder, 1);
             }
             (PassOp::Resolve { src, dst }, _) => {
-                let src_view = tex(*src).create_view(&Default::default());
-                let dst_view = tex(*dst).create_view(&Default::default());
+                let src_view = self.view(*src, parity, 0, 0, None);
+                let dst_view = self.view(*dst, parity, 0, 0, None);
                 let _rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some(&pass.name),
                     color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -1359,22 +1417,29 @@ impl Session {
                 let layout = pipeline.get_bind_group_layout(0);
                 for layer in *base_layer..*base_layer + *layers {
                     for mip in 1..spec.mip_levels {
-                        let src = single_view(tex(*texture), spec, mip - 1, layer, None);
-                        let dst = single_view(tex(*texture), spec, mip, layer, None);
-                        let bg = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                            label: Some("mip source"),
-                            layout: &layout,
-                            entries: &[
-                                wgpu::BindGroupEntry {
-                                    binding: 0,
-                                    resource: wgpu::BindingResource::TextureView(&src),
-                                },
-                                wgpu::BindGroupEntry {
-                                    binding: 1,
-                                    resource: wgpu::BindingResource::Sampler(sampler),
-                                },
-                            ],
-                        });
+                        let dst = self.view(*texture, parity, mip, layer, None);
+                        let bg = self
+                            .mip_groups
+                            .borrow_mut()
+                            .entry((*texture, parity, mip, layer, None))
+                            .or_insert_with(|| {
+                                let src = self.view(*texture, parity, mip - 1, layer, None);
+                                self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                                    label: Some("mip source"),
+                                    layout: &layout,
+                                    entries: &[
+                                        wgpu::BindGroupEntry {
+                                            binding: 0,
+                                            resource: wgpu::BindingResource::TextureView(&src),
+                                        },
+                                        wgpu::BindGroupEntry {
+                                            binding: 1,
+                                            resource: wgpu::BindingResource::Sampler(sampler),
+                                        },
+                                    ],
+                                })
+                            })
+                            .clone();
                         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                             label: Some("mip"),
                             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -1425,12 +1490,11 @@ impl Session {
                 stencil,
             } => {
                 let spec = &self.plan.textures[*texture];
-                let t = &self.textures[*texture][parity];
                 for mip in *base_mip..base_mip + mips {
                     for layer in *base_layer..base_layer + layers {
-                        let view = single_view(
-                            t,
-                            spec,
+                        let view = self.view(
+                            *texture,
+                            parity,
                             mip,
                             layer,
                             if format.has_depth_aspect() {
