@@ -773,48 +773,32 @@ impl Session {
                     multiview_mask: None,
                     cache: None,
                 });
-            let mut sets = vec![self.bind_groups(
+            let own = r
+                .draws
+                .iter()
+                .filter(|d| {
+                    !d.params.is_empty() && d.vertex.as_ref().unwrap_or(&r.vertex) == vertex
+                })
+                .map(|d| &d.params);
+            let layout = |g| pipeline.get_bind_group_layout(g);
+            let sets = self.group_sets(
                 name,
                 r.shader,
-                &used,
+                (&used, &all_used),
                 &r.bindings,
-                pass_params.as_ref(),
-                |g| pipeline.get_bind_group_layout(g),
-            )?];
-            for d in r.draws.iter().filter(|d| {
-                !d.params.is_empty() && d.vertex.as_ref().unwrap_or(&r.vertex) == vertex
-            }) {
-                let mut merged = r.params.clone();
-                merged.extend(d.params.clone());
-                let buffer = self.params_buffer(name, r.shader, &merged, &all_used)?;
-                sets.push(self.bind_groups(
-                    name,
-                    r.shader,
-                    &used,
-                    &r.bindings,
-                    buffer.as_ref(),
-                    |g| pipeline.get_bind_group_layout(g),
-                )?);
-            }
+                (&r.params, pass_params.as_ref()),
+                own,
+                &layout,
+            )?;
             groups.insert(vertex.clone(), sets);
             pipelines.insert(vertex.clone(), pipeline);
         }
-        // Which bind-group set each draw uses: its own when it has parameters.
-        let mut next: BTreeMap<&str, usize> = BTreeMap::new();
-        let draw_groups = r
-            .draws
-            .iter()
-            .map(|d| {
-                let v = d.vertex.as_deref().unwrap_or(&r.vertex);
-                if d.params.is_empty() {
-                    0
-                } else {
-                    let n = next.entry(v).or_insert(0);
-                    *n += 1;
-                    *n
-                }
-            })
-            .collect();
+        let draw_groups = set_indices(r.draws.iter().map(|d| {
+            (
+                d.vertex.as_deref().unwrap_or(&r.vertex),
+                !d.params.is_empty(),
+            )
+        }));
         Ok(Prepared::Raster {
             pipelines,
             groups,
@@ -851,54 +835,57 @@ impl Session {
                     compilation_options: Default::default(),
                     cache: None,
                 });
-            let mut sets = vec![self.bind_groups(
-                name,
-                c.shader,
-                &used,
-                &c.bindings,
-                pass_params.as_ref(),
-                |g| pipeline.get_bind_group_layout(g),
-            )?];
-            for d in c
+            let own = c
                 .dispatches
                 .iter()
                 .filter(|d| !d.params.is_empty() && d.entry.as_ref().unwrap_or(&c.entry) == entry)
-            {
-                let mut merged = c.params.clone();
-                merged.extend(d.params.clone());
-                let buffer = self.params_buffer(name, c.shader, &merged, &all_used)?;
-                sets.push(self.bind_groups(
-                    name,
-                    c.shader,
-                    &used,
-                    &c.bindings,
-                    buffer.as_ref(),
-                    |g| pipeline.get_bind_group_layout(g),
-                )?);
-            }
+                .map(|d| &d.params);
+            let layout = |g| pipeline.get_bind_group_layout(g);
+            let sets = self.group_sets(
+                name,
+                c.shader,
+                (&used, &all_used),
+                &c.bindings,
+                (&c.params, pass_params.as_ref()),
+                own,
+                &layout,
+            )?;
             groups.insert(entry.clone(), sets);
             pipelines.insert(entry.clone(), pipeline);
         }
-        let mut next: BTreeMap<String, usize> = BTreeMap::new();
-        let dispatch_groups = c
-            .dispatches
-            .iter()
-            .map(|d| {
-                let e = d.entry.clone().unwrap_or_else(|| c.entry.clone());
-                if d.params.is_empty() {
-                    0
-                } else {
-                    let n = next.entry(e).or_insert(0);
-                    *n += 1;
-                    *n
-                }
-            })
-            .collect();
+        let dispatch_groups = set_indices(
+            c.dispatches
+                .iter()
+                .map(|d| (d.entry.as_deref().unwrap_or(&c.entry), !d.params.is_empty())),
+        );
         Ok(Prepared::Compute {
             pipelines,
             groups,
             dispatch_groups,
         })
+    }
+
+    /// Bind-group sets of one pipeline: the pass's, then one per draw or dispatch that has its
+    /// own parameters (merged over the pass's). `used`: globals of this pipeline, and of the pass.
+    #[allow(clippy::too_many_arguments)]
+    fn group_sets<'p, L: Fn(u32) -> wgpu::BindGroupLayout>(
+        &self,
+        name: &str,
+        module: usize,
+        (used, all_used): (&BTreeSet<String>, &BTreeSet<String>),
+        bindings: &[Binding],
+        (pass_params, pass_buffer): (&Params, Option<&wgpu::Buffer>),
+        own: impl Iterator<Item = &'p Params>,
+        layout: &L,
+    ) -> Result<Vec<Groups>, ReplayError> {
+        let mut sets = vec![self.bind_groups(name, module, used, bindings, pass_buffer, layout)?];
+        for params in own {
+            let mut merged = pass_params.clone();
+            merged.extend(params.clone());
+            let buffer = self.params_buffer(name, module, &merged, all_used)?;
+            sets.push(self.bind_groups(name, module, used, bindings, buffer.as_ref(), layout)?);
+        }
+        Ok(sets)
     }
 
     /// A full-screen blit that downsamples one mip into the next.
@@ -1596,6 +1583,23 @@ impl Session {
             }
         }
     }
+}
+
+/// Which bind-group set each draw or dispatch uses: 0 (the pass's) or, when it has its own
+/// parameters, the next one made for its pipeline (keyed by entry point).
+fn set_indices<'k>(items: impl Iterator<Item = (&'k str, bool)>) -> Vec<usize> {
+    let mut next: BTreeMap<&str, usize> = BTreeMap::new();
+    items
+        .map(|(key, own)| {
+            if own {
+                let n = next.entry(key).or_insert(0);
+                *n += 1;
+                *n
+            } else {
+                0
+            }
+        })
+        .collect()
 }
 
 fn extent(e: [u32; 3]) -> wgpu::Extent3d {
