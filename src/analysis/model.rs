@@ -453,6 +453,8 @@ impl FrameModel {
 pub struct Units {
     /// First unit of each resource in the flat unit space.
     base: Vec<u32>,
+    /// Units of each resource (0 for resources no pass accesses).
+    counts: Vec<u32>,
     /// Buffers: sorted interior boundaries of the byte intervals.
     breaks: Vec<Vec<u64>>,
     pub total: usize,
@@ -461,8 +463,12 @@ pub struct Units {
 impl Units {
     pub fn new(model: &FrameModel) -> Self {
         let mut breaks: Vec<Vec<u64>> = vec![Vec::new(); model.resources.len()];
+        // Only resources some pass accesses get units: per-unit state then scales with the
+        // frame's work, not with how many resources it declares.
+        let mut accessed = vec![false; model.resources.len()];
         for pass in &model.passes {
             for a in &pass.accesses {
+                accessed[a.resource as usize] = true;
                 let r = &model.resources[a.resource as usize];
                 if r.is_buffer {
                     let b = &mut breaks[a.resource as usize];
@@ -472,10 +478,13 @@ impl Units {
             }
         }
         let mut base = Vec::with_capacity(model.resources.len());
+        let mut counts = Vec::with_capacity(model.resources.len());
         let mut total: usize = 0;
         for (i, r) in model.resources.iter().enumerate() {
             base.push(total as u32);
-            let count = if r.is_buffer {
+            let count = if !accessed[i] {
+                0
+            } else if r.is_buffer {
                 let b = &mut breaks[i];
                 b.retain(|&x| x > 0 && x < r.buffer_bytes.max(1));
                 b.sort_unstable();
@@ -485,9 +494,11 @@ impl Units {
                 (r.mips * r.layers) as usize
             };
             total += count;
+            counts.push(count as u32);
         }
         Self {
             base,
+            counts,
             breaks,
             total,
         }
@@ -554,13 +565,9 @@ impl Units {
         self.base[resource as usize] as usize
     }
 
-    pub fn count(&self, model: &FrameModel, resource: u32) -> usize {
-        let r = &model.resources[resource as usize];
-        if r.is_buffer {
-            self.breaks[resource as usize].len() + 1
-        } else {
-            (r.mips * r.layers) as usize
-        }
+    /// Units of a resource; 0 for a resource no pass accesses.
+    pub fn count(&self, _model: &FrameModel, resource: u32) -> usize {
+        self.counts[resource as usize] as usize
     }
 
     /// The byte interval of a buffer unit.
