@@ -349,3 +349,29 @@ fn history_resources_ping_pong_between_frames() {
         std::fs::remove_dir_all(dir).unwrap();
     }
 }
+
+/// A texture no pass uses whose contents cannot be generated (BC7 needs a side file) is
+/// skipped with a note instead of failing the replay.
+#[test]
+fn unused_textures_without_contents_are_noted_not_fatal() {
+    let dir = temp("nightcity");
+    let out = dir.join("out");
+    let run = framelab(&[
+        "replay",
+        "captures/night_city/main_street_day.json",
+        "--scale",
+        "0.25",
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    assert!(
+        stderr(&run).contains("note: \"ocean_mask\" is not replayed"),
+        "{}",
+        stderr(&run)
+    );
+    assert!(out.join("blue_noise.png").exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -318,8 +318,8 @@ pub fn lower(
             let volume = r.kind == ResourceKind::Texture3D;
             let initial = match &r.initial {
                 InitialDesc::Undefined => None,
-                InitialDesc::Generator { name, seed, params } => Some(
-                    generate::texture(
+                InitialDesc::Generator { name, seed, params } => {
+                    let generated = generate::texture(
                         name,
                         *seed,
                         params,
@@ -329,9 +329,18 @@ pub fn lower(
                         if volume { r.depth } else { r.array_layers },
                         volume,
                         r.mip_levels,
-                    )
-                    .map_err(contents_err)?,
-                ),
+                    );
+                    match generated {
+                        Ok(mips) => Some(mips),
+                        // A texture no replayed pass uses is only there to be looked at: say
+                        // why it is missing instead of failing the replay.
+                        Err(message) if !first_user.contains_key(&r.id) => {
+                            notes.push(format!("\"{}\" is not replayed: {message}", r.name));
+                            continue;
+                        }
+                        Err(message) => return Err(contents_err(message)),
+                    }
+                }
                 InitialDesc::File(path) => {
                     let bytes = std::fs::read(path)
                         .map_err(|e| contents_err(format!("reading {}: {e}", path.display())))?;
