@@ -15,6 +15,15 @@ fn main() {
         args.get(1).copied().unwrap_or(50_000),
     );
     let model = synthetic::frame(passes, resources, 7);
+    if std::env::var_os("ONLY_MEMORY").is_some() {
+        let units = Units::new(&model);
+        let g = graph::build(&model, &units);
+        let order = graph::order(&model, &g).unwrap_or_default();
+        for _ in 0..20 {
+            std::hint::black_box(memory::plan(&model, &order));
+        }
+        return;
+    }
     if std::env::var_os("ONLY_BARRIERS").is_some() {
         let units = Units::new(&model);
         let g = graph::build(&model, &units);
