@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use super::graph::{EdgeKind, PassGraph};
+use super::graph::PassGraph;
 use super::model::{FrameModel, State, Units};
 use crate::capture::format::QueueType;
 use crate::capture::model::Subresources;
@@ -219,7 +219,7 @@ pub fn derive(model: &FrameModel, units: &Units, graph: &PassGraph, order: &[u32
     let mut initial: Vec<State> = vec![State::COMMON; units.total];
     for (r, res) in model.resources.iter().enumerate() {
         let base = units.base(r as u32);
-        let count = units.count(model, r as u32);
+        let count = units.count(r as u32);
         initial[base..base + count].fill(res.initial_state);
     }
     let mut last: Vec<State> = initial.clone();
@@ -236,7 +236,7 @@ pub fn derive(model: &FrameModel, units: &Units, graph: &PassGraph, order: &[u32
     for (r, res) in model.resources.iter().enumerate() {
         if let Some(of) = res.previous_of {
             let (base, of_base) = (units.base(r as u32), units.base(of));
-            for i in 0..units.count(model, r as u32) {
+            for i in 0..units.count(r as u32) {
                 last[base + i] = last[of_base + i];
             }
         }
@@ -522,7 +522,7 @@ fn rectangles(
     let r = &model.resources[resource as usize];
     let cells: Vec<(u32, u32)> = cells.collect();
     let all = if r.is_buffer {
-        units.count(model, resource)
+        units.count(resource)
     } else {
         (r.mips * r.layers) as usize
     };
@@ -801,20 +801,6 @@ pub fn vk_scope(state: State, queue: QueueType, buffer: bool, raster: bool) -> V
         stages,
         access,
     }
-}
-
-/// Edges of the DAG that cross queues, for the schedule report.
-pub fn cross_queue_edges(model: &FrameModel, graph: &PassGraph) -> Vec<(u32, u32)> {
-    let mut v: Vec<(u32, u32)> = graph
-        .graph
-        .edge_references()
-        .filter(|e| e.weight().kind != EdgeKind::Queue)
-        .map(|e| (e.source().index() as u32, e.target().index() as u32))
-        .filter(|(a, b)| model.passes[*a as usize].queue != model.passes[*b as usize].queue)
-        .collect();
-    v.sort_unstable();
-    v.dedup();
-    v
 }
 
 #[cfg(test)]

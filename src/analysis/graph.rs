@@ -274,7 +274,7 @@ pub fn culled(model: &FrameModel, units: &Units, g: &PassGraph) -> Vec<u32> {
     for (r, res) in model.resources.iter().enumerate() {
         if res.output || res.history {
             let base = units.base(r as u32);
-            for u in base..base + units.count(model, r as u32) {
+            for u in base..base + units.count(r as u32) {
                 if let Some(w) = g.final_writers[u]
                     && !live[w as usize]
                 {

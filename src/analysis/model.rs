@@ -566,7 +566,7 @@ impl Units {
     }
 
     /// Units of a resource; 0 for a resource no pass accesses.
-    pub fn count(&self, _model: &FrameModel, resource: u32) -> usize {
+    pub fn count(&self, resource: u32) -> usize {
         self.counts[resource as usize] as usize
     }
 

@@ -41,25 +41,36 @@ pub struct AnalyzeOptions {
 }
 
 pub fn analyze(capture: &Capture, options: AnalyzeOptions) -> Result<Analysis, CycleError> {
+    // The whole frame is analysed once; lints describe it (model indices are capture pass ids).
     let full = model::from_capture(capture);
-    let units = Units::new(&full);
-    let full_graph = graph::build(&full, &units);
-    graph::order(&full, &full_graph)?;
-    let culled = graph::culled(&full, &units, &full_graph);
+    let full_units = Units::new(&full);
+    let full_graph = graph::build(&full, &full_units);
+    let full_order = graph::order(&full, &full_graph)?;
+    let culled = graph::culled(&full, &full_units, &full_graph);
     let culled_names = culled
         .iter()
         .map(|&p| full.passes[p as usize].name.clone())
         .collect();
-    let (model, graph, units) = if options.cull && !culled.is_empty() {
+    let full_plan = barriers::derive(&full, &full_units, &full_graph, &full_order);
+    let lints = lints::lints(&LintInput {
+        capture,
+        model: &full,
+        graph: &full_graph,
+        order: &full_order,
+        culled: &culled,
+        plan: &full_plan,
+    });
+    // With --cull, order, barriers and memory are derived again for the frame without them.
+    let (model, graph, order, plan) = if options.cull && !culled.is_empty() {
         let model = graph::without_passes(&full, &culled);
         let units = Units::new(&model);
         let graph = graph::build(&model, &units);
-        (model, graph, units)
+        let order = graph::order(&model, &graph)?;
+        let plan = barriers::derive(&model, &units, &graph, &order);
+        (model, graph, order, plan)
     } else {
-        (full, full_graph, units)
+        (full, full_graph, full_order, full_plan)
     };
-    let order = graph::order(&model, &graph)?;
-    let plan = barriers::derive(&model, &units, &graph, &order);
     let memory = memory::plan(&model, &order);
     let times: Vec<Option<u64>> = model.passes.iter().map(|p| p.gpu_ns).collect();
     let source = if times.iter().any(Option::is_some) {
@@ -68,39 +79,6 @@ pub fn analyze(capture: &Capture, options: AnalyzeOptions) -> Result<Analysis, C
         "none"
     };
     let schedule = schedule::schedule(&model, &graph, &order, &plan.fences, &times, source);
-    // Lints speak of the capture's passes; map the (possibly culled) model back by name.
-    let lint_order: Vec<u32> = order
-        .iter()
-        .filter_map(|&p| {
-            capture
-                .pass_by_name(&model.passes[p as usize].name)
-                .map(|d| d.id.0)
-        })
-        .collect();
-    let lints = if options.cull {
-        let full = model::from_capture(capture);
-        let units = Units::new(&full);
-        let g = graph::build(&full, &units);
-        let full_order = graph::order(&full, &g)?;
-        let full_plan = barriers::derive(&full, &units, &g, &full_order);
-        lints::lints(&LintInput {
-            capture,
-            model: &full,
-            graph: &g,
-            order: &full_order,
-            culled: &culled,
-            plan: &full_plan,
-        })
-    } else {
-        lints::lints(&LintInput {
-            capture,
-            model: &model,
-            graph: &graph,
-            order: &lint_order,
-            culled: &culled,
-            plan: &plan,
-        })
-    };
     Ok(Analysis {
         model,
         graph,

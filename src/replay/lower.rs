@@ -8,7 +8,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use framelab_replay::plan::*;
 use framelab_replay::wgpu::{self, Features};
 
-use super::formats::{self, features_of};
+use super::formats;
 use super::generate;
 use crate::capture::format::{self as cf, Access, LoadOp, PassKind, ResourceKind, StoreOp};
 use crate::capture::model::*;
@@ -830,7 +830,6 @@ pub fn lower(
             });
         }
     }
-    let _ = features_of;
     Ok(Lowered {
         plan,
         texture_of,
