@@ -1,0 +1,107 @@
+// Environment probes: the 512x256 dual-paraboloid array (two hemispheres side by side, 32
+// probes, 6 mips prefiltered by roughness). Probe 0 is the street probe captured into env_cube
+// this frame; the others are distant probes that see only the sky, taken from the sky cube's
+// prefiltered mips.
+
+struct Params {
+    mip: u32,
+    mip_count: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var env_cube: texture_cube<f32>;
+@group(0) @binding(2) var sky_cube: texture_cube<f32>;
+@group(0) @binding(3) var linear_clamp: sampler;
+@group(0) @binding(4) var dp_mip_0: texture_storage_2d_array<rg11b10ufloat, write>;
+@group(0) @binding(5) var dp_mip_1: texture_storage_2d_array<rg11b10ufloat, write>;
+@group(0) @binding(6) var dp_mip_2: texture_storage_2d_array<rg11b10ufloat, write>;
+@group(0) @binding(7) var dp_mip_3: texture_storage_2d_array<rg11b10ufloat, write>;
+@group(0) @binding(8) var dp_mip_4: texture_storage_2d_array<rg11b10ufloat, write>;
+@group(0) @binding(9) var dp_mip_5: texture_storage_2d_array<rg11b10ufloat, write>;
+
+const PI: f32 = 3.14159265;
+
+// Dual-paraboloid texel to direction: left half the +z hemisphere, right half the -z one.
+fn paraboloid_direction(uv: vec2<f32>) -> vec3<f32> {
+    let back = uv.x >= 0.5;
+    let local = vec2<f32>(fract(uv.x * 2.0), uv.y) * 2.0 - 1.0;
+    let r2 = dot(local, local);
+    let z = (1.0 - r2) * 0.5;
+    var d = normalize(vec3<f32>(local.x, -local.y, max(z, 0.0)));
+    if (back) {
+        d = vec3<f32>(-d.x, d.y, -d.z);
+    }
+    return d;
+}
+
+fn radical_inverse(i: u32) -> f32 {
+    var b = (i << 16u) | (i >> 16u);
+    b = ((b & 0x55555555u) << 1u) | ((b & 0xAAAAAAAAu) >> 1u);
+    b = ((b & 0x33333333u) << 2u) | ((b & 0xCCCCCCCCu) >> 2u);
+    b = ((b & 0x0F0F0F0Fu) << 4u) | ((b & 0xF0F0F0F0u) >> 4u);
+    b = ((b & 0x00FF00FFu) << 8u) | ((b & 0xFF00FF00u) >> 8u);
+    return f32(b) * 2.3283064e-10;
+}
+
+// GGX prefilter of the captured cube around n, sampling a blurrier cube mip as the lobe widens.
+fn prefilter_capture(n: vec3<f32>, roughness: f32) -> vec3<f32> {
+    if (roughness <= 0.0) {
+        return textureSampleLevel(env_cube, linear_clamp, n, 0.0).rgb;
+    }
+    let a = roughness * roughness;
+    let up = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n.y) < 0.99);
+    let tx = normalize(cross(up, n));
+    let ty = cross(n, tx);
+    var sum = vec3<f32>(0.0);
+    var weight = 0.0;
+    let count = 16u;
+    for (var i = 0u; i < count; i++) {
+        let xi = vec2<f32>(f32(i) / f32(count), radical_inverse(i));
+        let phi = 2.0 * PI * xi.x;
+        let cos_t = sqrt((1.0 - xi.y) / (1.0 + (a * a - 1.0) * xi.y));
+        let sin_t = sqrt(1.0 - cos_t * cos_t);
+        let h = tx * cos(phi) * sin_t + ty * sin(phi) * sin_t + n * cos_t;
+        let l = normalize(2.0 * dot(n, h) * h - n);
+        let nl = dot(n, l);
+        if (nl > 0.0) {
+            sum += textureSampleLevel(env_cube, linear_clamp, l, 0.0).rgb * nl;
+            weight += nl;
+        }
+    }
+    return sum / max(weight, 1e-4);
+}
+
+fn store_mip(mip: u32, p: vec2<u32>, layer: u32, c: vec4<f32>) {
+    switch mip {
+        case 0u: { textureStore(dp_mip_0, p, layer, c); }
+        case 1u: { textureStore(dp_mip_1, p, layer, c); }
+        case 2u: { textureStore(dp_mip_2, p, layer, c); }
+        case 3u: { textureStore(dp_mip_3, p, layer, c); }
+        case 4u: { textureStore(dp_mip_4, p, layer, c); }
+        default: { textureStore(dp_mip_5, p, layer, c); }
+    }
+}
+
+// One dispatch per mip; z is the probe (array layer).
+@compute @workgroup_size(8, 8, 1)
+fn cs_dual_paraboloid(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(max(512u >> params.mip, 1u), max(256u >> params.mip, 1u));
+    if (any(id.xy >= size)) {
+        return;
+    }
+    let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(size);
+    let dir = paraboloid_direction(uv);
+    let roughness = f32(params.mip) / f32(max(params.mip_count - 1u, 1u));
+    var c: vec3<f32>;
+    if (id.z == 0u) {
+        c = prefilter_capture(dir, roughness);
+    } else {
+        let sky_mips = f32(textureNumLevels(sky_cube) - 1u);
+        c = textureSampleLevel(sky_cube, linear_clamp, dir, roughness * sky_mips).rgb;
+        // Distant probes sit over the hills or the water: darken the lower hemisphere by
+        // a ground term that varies per probe.
+        let ground = 0.3 + 0.5 * fract(f32(id.z) * 0.618);
+        c = select(c, c * ground, dir.y < 0.0);
+    }
+    store_mip(params.mip, id.xy, id.z, vec4<f32>(c, 1.0));
+}
