@@ -88,6 +88,88 @@ fn night_city_info_lists_every_manifest_resource() {
     assert_eq!(cbv["capacity"], 500_000);
 }
 
+/// Every pass 1-36 of NIGHT_CITY_PASSES.md exists, by its name or as the marker grouping its
+/// steps, on the manifest's queues, writing and reading what the manifest says.
+#[test]
+fn night_city_info_lists_every_manifest_pass() {
+    let manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(repo().join("tests/fixtures/night_city_manifest.json")).unwrap(),
+    )
+    .unwrap();
+    let info = json(&framelab(&[
+        "info",
+        "--json",
+        "captures/night_city/main_street_day.json",
+    ]));
+    let passes = info["passes"].as_array().unwrap();
+    let manifest_resources: std::collections::BTreeSet<String> = manifest["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r[0].as_str().unwrap().to_owned())
+        .collect();
+    let strings = |v: &serde_json::Value| -> std::collections::BTreeSet<String> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s.as_str().unwrap().to_owned())
+            .collect()
+    };
+    let mut problems = Vec::new();
+    for row in manifest["passes"].as_array().unwrap() {
+        let number = row[0].as_u64().unwrap();
+        let name = row[1].as_str().unwrap();
+        let steps: Vec<&serde_json::Value> = passes
+            .iter()
+            .filter(|p| {
+                p["name"] == name
+                    || p["marker_path"]
+                        .as_str()
+                        .unwrap()
+                        .split('/')
+                        .any(|m| m == name)
+            })
+            .collect();
+        if steps.is_empty() {
+            problems.push(format!("pass {number} {name}: missing"));
+            continue;
+        }
+        let mut queues = std::collections::BTreeSet::new();
+        let mut writes = std::collections::BTreeSet::new();
+        let mut reads = std::collections::BTreeSet::new();
+        for s in &steps {
+            queues.insert(s["queue_type"].as_str().unwrap().to_owned());
+            writes.extend(strings(&s["writes"]));
+            reads.extend(strings(&s["reads"]));
+        }
+        if queues != strings(&row[2]) {
+            problems.push(format!(
+                "pass {number} {name}: queues {queues:?}, manifest {}",
+                row[2]
+            ));
+        }
+        // Exactly the manifest's writes among the manifest's resources; helpers of our own (a
+        // depth buffer for the environment capture) may come on top.
+        let declared: std::collections::BTreeSet<String> = writes
+            .iter()
+            .filter(|w| manifest_resources.contains(*w))
+            .cloned()
+            .collect();
+        if declared != strings(&row[3]) {
+            problems.push(format!(
+                "pass {number} {name}: writes {declared:?}, manifest {}",
+                row[3]
+            ));
+        }
+        let missing: Vec<String> = strings(&row[4]).difference(&reads).cloned().collect();
+        if !missing.is_empty() {
+            problems.push(format!("pass {number} {name}: does not read {missing:?}"));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    assert_eq!(manifest["passes"].as_array().unwrap().len(), 36);
+}
+
 #[test]
 fn scale_resolves_relative_sizes_only() {
     let info = json(&framelab(&[

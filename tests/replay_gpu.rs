@@ -350,10 +350,51 @@ fn history_resources_ping_pong_between_frames() {
     }
 }
 
-/// A texture no pass uses whose contents cannot be generated (BC7 needs a side file) is
-/// skipped with a note instead of failing the replay.
+/// A texture no pass uses whose contents cannot be generated (BC1 has no generator) is skipped
+/// with a note instead of failing the replay.
 #[test]
 fn unused_textures_without_contents_are_noted_not_fatal() {
+    let dir = temp("ungenerated");
+    let capture = dir.join("frame.json");
+    std::fs::write(
+        &capture,
+        r#"{"format_version": 1, "name": "ungenerated",
+            "resolution": {"width": 16, "height": 16},
+            "camera": {"position": [0, 0, -5], "target": [0, 0, 0], "fov_y_degrees": 60},
+            "queues": [{"name": "gfx", "type": "graphics"}],
+            "resources": [
+              {"name": "atlas", "kind": "texture_2d", "format": "BC1_UNORM", "width": 64, "height": 64,
+               "initial": {"generator": {"name": "noise", "seed": 1}}},
+              {"name": "target", "kind": "texture_2d", "format": "R8G8B8A8_UNORM", "width": 16,
+               "height": 16, "flags": ["ALLOW_RENDER_TARGET"], "output": true}],
+            "passes": [{"name": "clear", "queue": "gfx", "kind": "clear",
+                        "clears": [{"resource": "target", "value": [1, 0, 0, 1]}]}]}"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let run = framelab(&[
+        "replay",
+        capture.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    assert!(
+        stderr(&run).contains("note: \"atlas\" is not replayed"),
+        "{}",
+        stderr(&run)
+    );
+    assert!(out.join("target.png").exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// Night City at quarter resolution: every texture a pass writes ends the frame with content
+/// (not one uniform value), except `lod_ids`, which its pass clips by design. Two frames, so
+/// history reads and the light-buffer update have run once before the exported frame.
+#[test]
+fn night_city_writes_content_into_every_target() {
     let dir = temp("nightcity");
     let out = dir.join("out");
     let run = framelab(&[
@@ -362,16 +403,49 @@ fn unused_textures_without_contents_are_noted_not_fatal() {
         "--scale",
         "0.25",
         "--frames",
-        "1",
+        "2",
+        "--quiet",
         "--out",
         out.to_str().unwrap(),
     ]);
     assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
-    assert!(
-        stderr(&run).contains("note: \"ocean_mask\" is not replayed"),
-        "{}",
-        stderr(&run)
-    );
-    assert!(out.join("blue_noise.png").exists());
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let files = manifest["files"].as_array().unwrap();
+    let capture = framelab::capture::load_and_validate(
+        &repo().join("captures/night_city/main_street_day.json"),
+        &framelab::capture::Options {
+            scale: 0.25,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .capture;
+    let mut written = std::collections::BTreeSet::new();
+    for pass in &capture.passes {
+        for a in pass.accesses.iter().filter(|a| a.writes) {
+            let r = capture.resource(a.resource);
+            if r.is_texture() {
+                written.insert(r.name.clone());
+            }
+        }
+    }
+    assert!(written.len() >= 45, "{written:?}");
+    let mut flat = Vec::new();
+    for name in &written {
+        let mine: Vec<&serde_json::Value> =
+            files.iter().filter(|f| f["resource"] == **name).collect();
+        assert!(!mine.is_empty(), "{name} was not exported");
+        let has_content = mine.iter().any(|f| f["uniform"] == false);
+        if name == "lod_ids" {
+            assert!(
+                !has_content,
+                "lod_ids should stay cleared: its draws are clipped"
+            );
+        } else if !has_content {
+            flat.push(name.clone());
+        }
+    }
+    assert!(flat.is_empty(), "uniform targets: {flat:?}");
     std::fs::remove_dir_all(dir).unwrap();
 }

@@ -69,9 +69,9 @@ MESHES = [
 ]
 
 FENCES = [
-    "billboard_sources", "gui_drawn", "voxels_ready", "instances_ready", "gbuffer_ready",
-    "depth_converted", "noised_ready", "cascades_done", "sun_shadow_ready", "env_captured",
-    "direct_lit",
+    "billboard_sources", "gui_drawn", "voxels_ready", "instances_ready",
+    "reflection_done", "masks_done", "noised_ready", "ao_done", "omni_done", "cascades_done",
+    "sun_shadow_ready", "env_captured", "direct_lit",
 ]
 
 # ---------------------------------------------------------------------------------------------
@@ -172,7 +172,7 @@ def world_draws(shadow=False, with_instances=True, with_foliage=True, with_groun
               instance_base=FIRST_PEDESTRIAN, indirect=20, stencil=0x35),
         ]
     if with_foliage:
-        draws.append(d("foliage", "trees", "vs_static", material=6, object_mask=1,
+        draws.append(d("foliage", "trees", "vs_foliage", material=6, object_mask=1,
                        offset=[-6, 0, 158, 0], scale=[1.9, 1, 0.22, 0], stencil=0xA0))
     if not shadow and with_instances:
         # Zebra crossings where the view street meets the cross streets.
@@ -199,12 +199,37 @@ def with_view(draws, **params):
     return out
 
 
-SCENE_BINDINGS = {
-    "instance_data": storage("instance_data", "storage_read"),
+# What each scene.wgsl entry point reads, so a pass binds (and the analysis sees) exactly the
+# resources its draws use.
+SCENE_GLOBALS = {
+    "vs_static": [], "vs_terrain": [], "vs_foliage": ["voxel_normals", "linear_clamp"],
+    "vs_water": ["ocean_height", "linear_clamp"],
+    "vs_instanced": ["instance_data"], "vs_character_body": ["instance_data"],
+    "vs_character_head": ["instance_data"], "vs_character_hair": ["instance_data"],
+    "vs_character_fur": ["instance_data"],
+    "vs_omni_static": ["lights"], "vs_omni_terrain": ["lights"],
+    "vs_omni_instanced": ["instance_data", "lights"], "vs_omni_character": ["instance_data", "lights"],
+    "fs_depth": [], "fs_omni_depth": ["lights"], "fs_env": [],
+    "fs_gbuffer": ["billboard_atlas", "blue_noise", "linear_clamp", "terrain_layers"],
+}
+SCENE_BINDING = {
     "voxel_normals": sampled("voxel_normals"),
     "linear_clamp": sampler("linear_clamp"),
     "ocean_height": sampled("ocean_height"),
+    "instance_data": storage("instance_data", "storage_read"),
+    "lights": storage("lights", "storage_read"),
+    "billboard_atlas": sampled("billboard_atlas"),
+    "terrain_layers": sampled("terrain_layers"),
+    "blue_noise": sampled("blue_noise"),
 }
+
+
+def scene_bindings(pass_):
+    entries = {pass_["shader"]["vertex"], pass_["shader"].get("fragment")}
+    entries |= {dr.get("vertex") for dr in pass_["draws"]}
+    names = sorted({g for e in entries if e for g in SCENE_GLOBALS[e]})
+    pass_["bindings"] = {n: SCENE_BINDING[n] for n in names}
+    return pass_
 
 DEPTH_ATTACH = {"resource": "depth", "format": "D32_FLOAT_S8X24_UINT"}
 
@@ -214,16 +239,15 @@ def depth_only(name, markers, resource, fmt, draws, params, layer=0, clear=1.0, 
     if bias[0]:
         state["depth_bias"] = bias[0]
         state["depth_bias_slope"] = bias[1]
-    return raster(
+    return scene_bindings(raster(
         name, markers, "scene.wgsl", "vs_static", "fs_depth", [],
         depth_stencil={"resource": resource, "format": fmt, "layer": layer,
                        "depth_load": "clear", "depth_clear": clear},
         state=state,
-        bindings=dict(SCENE_BINDINGS),
         params={**SCENE_DEFAULTS, **params},
         draws=draws,
         **rest,
-    )
+    ))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -271,7 +295,7 @@ def passes(day=True):
     })
     # 4: top-view depth for sky visibility: the city and the signs from straight above.
     out.append(depth_only("sky_visibility_top_view", pre, "top_view_depth", "D16_UNORM",
-                          with_view(world_draws(shadow=True, with_instances=False), view=5),
+                          with_view(world_draws(shadow=True, with_instances=False, with_foliage=False), view=5),
                           {"view": 5}))
     # 5: voxel normals, two dispatches.
     out.append(compute("voxel_normals", pre, "geometry_prep.wgsl", "cs_voxel_terrain", [
@@ -328,29 +352,22 @@ def passes(day=True):
     prepass_draws = [dr for dr in world_draws() if not dr["label"].startswith(("decals", "fur"))]
     for dr in prepass_draws:
         dr.pop("stencil_reference", None)
-    out.append(raster("depth_prepass", geo, "scene.wgsl", "vs_static", "fs_depth", [],
+    out.append(scene_bindings(raster("depth_prepass", geo, "scene.wgsl", "vs_static", "fs_depth", [],
                       depth_stencil={**DEPTH_ATTACH, "depth_load": "clear", "depth_clear": 1.0,
                                      "stencil_load": "clear"},
                       state={"depth_compare": "less", "depth_write": True, "cull": "none"},
-                      bindings=dict(SCENE_BINDINGS), params=dict(SCENE_DEFAULTS),
-                      draws=prepass_draws, wait=["voxels_ready", "instances_ready"]))
+                      params=dict(SCENE_DEFAULTS),
+                      draws=prepass_draws, wait=["voxels_ready", "instances_ready"])))
     # 11: base material into the G-buffer.
-    base_bindings = dict(SCENE_BINDINGS)
-    base_bindings.update({
-        "billboard_atlas": sampled("billboard_atlas"),
-        "terrain_layers": sampled("terrain_layers"),
-        "blue_noise": sampled("blue_noise"),
-        "linear_wrap": sampler("linear_wrap"),
-    })
-    out.append(raster("base_material", geo, "scene.wgsl", "vs_static", "fs_gbuffer",
+    out.append(scene_bindings(raster("base_material", geo, "scene.wgsl", "vs_static", "fs_gbuffer",
                       [color("gbuffer_albedo"), color("gbuffer_normal"), color("gbuffer_material"),
                        color("motion_vectors")],
                       depth_stencil={**DEPTH_ATTACH, "depth_load": "load", "stencil_load": "clear"},
                       state={"depth_compare": "less_equal", "depth_write": True, "cull": "none",
                              "stencil": {"write_mask": 255, "front": {"compare": "always", "pass": "replace"},
                                          "back": {"compare": "always", "pass": "replace"}}},
-                      bindings=base_bindings, params=dict(SCENE_DEFAULTS),
-                      draws=world_draws(), signal=["gbuffer_ready"]))
+                      params=dict(SCENE_DEFAULTS),
+                      draws=world_draws())))
     # 12: depth/stencil conversion.
     depth_view = sampled("depth", format="R32_FLOAT_X8X24_TYPELESS")
     stencil_view = sampled("depth", format="X32_TYPELESS_G8X24_UINT")
@@ -361,7 +378,7 @@ def passes(day=True):
                       draws=[fullscreen("R16_FLOAT half")]))
     out.append(raster("ds_convert_stencil_half", [*geo, "ds_convert"], "gbuffer_post.wgsl", "vs_fullscreen",
                       "fs_stencil_half", [color("stencil_half")], bindings={"stencil": stencil_view},
-                      draws=[fullscreen("R8_UINT half")], signal=["depth_converted"]))
+                      draws=[fullscreen("R8_UINT half")]))
     # 13: motion stencil.
     out.append(raster("motion_stencil", geo, "gbuffer_post.wgsl", "vs_fullscreen", "fs_motion_stencil",
                       [color("motion_stencil")],
@@ -374,13 +391,13 @@ def passes(day=True):
                       [color("reflection_mask")],
                       bindings={"depth_r32": sampled("depth_r32"), "gbuffer_normal": sampled("gbuffer_normal"),
                                 "gbuffer_material": sampled("gbuffer_material")},
-                      draws=[fullscreen("reflectivity")]))
+                      draws=[fullscreen("reflectivity")], signal=["reflection_done"]))
     # 15: noised normal.
     out.append(compute("noised_normal", masks, "gbuffer_post.wgsl", "cs_noised_normal",
                        [groups(240, 135)],
                        bindings={"gbuffer_normal": sampled("gbuffer_normal"), "blue_noise": sampled("blue_noise"),
                                  "noised_normal": storage("noised_normal")},
-                       wait=["gbuffer_ready"], signal=["noised_ready"]))
+                       wait=["reflection_done"], signal=["noised_ready"]))
     # 16: sky masks: coarse, its mips rebuilt one from the other, then the accurate mask.
     out.append(raster("sky_mask", masks, "gbuffer_post.wgsl", "vs_fullscreen", "fs_sky_coarse",
                       [color("sky_mask_coarse", mip=0)], bindings={"depth_half": sampled("depth_half")},
@@ -393,12 +410,12 @@ def passes(day=True):
     out.append(raster("sky_mask_accurate", [*masks, "sky_mask"], "gbuffer_post.wgsl", "vs_fullscreen",
                       "fs_sky_accurate", [color("sky_mask")],
                       bindings={"sky_mask_coarse": sampled("sky_mask_coarse"), "depth": depth_view},
-                      draws=[fullscreen("accurate sky")]))
+                      draws=[fullscreen("accurate sky")], signal=["masks_done"]))
     # 17: HBAO.
     out.append(compute("hbao", masks, "hbao.wgsl", "cs_hbao", [groups(120, 68)],
                        bindings={"depth_half": sampled("depth_half"), "noised_normal": sampled("noised_normal"),
                                  "blue_noise": sampled("blue_noise"), "ao": storage("ao")},
-                       wait=["depth_converted"]))
+                       wait=["masks_done"], signal=["ao_done"]))
     # 18: colour grading LUT.
     out.append(compute("color_grading_lut", masks, "luts.wgsl", "cs_grading_lut", [groups(8, 8, 8)],
                        bindings={"grading_lut": storage("grading_lut")}))
@@ -430,12 +447,12 @@ def passes(day=True):
                        draws, {"view": 6, "light": i})
         p["shader"]["vertex"] = "vs_omni_static"
         p["shader"]["fragment"] = "fs_omni_depth"
-        p["bindings"]["lights"] = storage("lights", "storage_read")
-        out.append(p)
+        out.append(scene_bindings(p))
         out.append(raster(f"omni_shadows_vsm_{i}", [*lights, "omni_shadows"], "shadows.wgsl", "vs_fullscreen",
                           "fs_omni_vsm", [color("omni_vsm", layer=i)],
                           bindings={"omni_depth": sampled("omni_depth", format="R32_FLOAT")},
-                          draws=[fullscreen(f"moments of light {i}")]))
+                          draws=[fullscreen(f"moments of light {i}")],
+                          **({"signal": ["omni_done"]} if i == SHADOWED_LIGHTS - 1 else {})))
     # 23: cloud distribution.
     out.append(compute("cloud_distribution", lights, "luts.wgsl", "cs_clouds", [groups(64, 64)],
                        bindings={"cloud_distribution": storage("cloud_distribution")}))
@@ -458,9 +475,10 @@ def passes(day=True):
     # 26: clustered light index.
     out.append(compute("clustered_light_index", lights, "lights.wgsl", "cs_cluster", [groups(60, 34)],
                        bindings={"lights": storage("lights", "storage_read"),
-                                 "light_list": storage("light_list", "storage_read_write"),
+                                 "light_list": storage("light_list"),
                                  "cluster_index_out": storage("cluster_light_index"),
                                  "depth_half": sampled("depth_half")},
+                       wait=["omni_done"],
                        params={"light_count": LIGHT_COUNT if day else 1024, "shadowed_lights": SHADOWED_LIGHTS}))
     # 27: sun shadow from the cascades.
     out.append(raster("sun_shadow", lights, "shadows.wgsl", "vs_fullscreen", "fs_sun_shadow",
@@ -468,7 +486,7 @@ def passes(day=True):
                       bindings={"depth_r32": sampled("depth_r32"), "noised_normal": sampled("noised_normal"),
                                 "csm": sampled("csm", format="R16_UNORM"),
                                 "shadow_compare": sampler("shadow_compare")},
-                      draws=[fullscreen("cascaded PCF")], wait=["noised_ready"], signal=["sun_shadow_ready"]))
+                      draws=[fullscreen("cascaded PCF")], wait=["ao_done"], signal=["sun_shadow_ready"]))
     # 28: local light masks, two resolutions.
     out.append(compute("local_light_mask", lights, "lights.wgsl", "cs_light_mask_fine",
                        [groups(15, 9, label="120x68"), groups(8, 5, label="60x34", entry="cs_light_mask_coarse")],
@@ -485,13 +503,13 @@ def passes(day=True):
     for f in range(6):
         draws = with_view(world_draws(shadow=True, with_instances=False, with_foliage=False), view=8, face=f,
                           probe=probe)
-        out.append(raster(f"env_capture_face_{f}", [*lights, "env_capture"], "scene.wgsl", "vs_static", "fs_env",
+        out.append(scene_bindings(raster(f"env_capture_face_{f}", [*lights, "env_capture"], "scene.wgsl", "vs_static", "fs_env",
                           [color("env_cube", layer=f)],
                           depth_stencil={"resource": "env_depth", "format": "D32_FLOAT",
                                          "depth_load": "clear", "depth_clear": 1.0},
                           state={"depth_compare": "less", "depth_write": True, "cull": "none"},
-                          bindings=dict(SCENE_BINDINGS), params={**SCENE_DEFAULTS, "view": 8, "face": f, "probe": probe},
-                          draws=draws, **({"signal": ["env_captured"]} if f == 5 else {})))
+                          params={**SCENE_DEFAULTS, "view": 8, "face": f, "probe": probe},
+                          draws=draws, **({"signal": ["env_captured"]} if f == 5 else {}))))
     dp = {f"dp_mip_{m}": storage("env_dual_paraboloid", mips={"base": m, "count": 1}) for m in range(6)}
     dp.update({"env_cube": sampled("env_cube"), "sky_cube": sampled("sky_cube"),
                "linear_clamp": sampler("linear_clamp")})
@@ -510,10 +528,8 @@ def passes(day=True):
                       draws=[fullscreen("normal and heat")]))
     # 33: local volumetric fog.
     out.append(compute("volumetric_fog_local", lights, "fog.wgsl", "cs_fog_integrate",
-                       [groups(30, 17, 1, label="scatter and integrate"),
-                        groups(30, 17, 16, label="mip 1", entry="cs_fog_downsample")],
-                       bindings={"fog_mip_0": storage("fog_volume", "storage_read_write", mips={"base": 0, "count": 1}),
-                                 "fog_mip_1": storage("fog_volume", mips={"base": 1, "count": 1}),
+                       [groups(30, 17, 1, label="scatter and integrate")],
+                       bindings={"fog_mip_0": storage("fog_volume", mips={"base": 0, "count": 1}),
                                  "csm": sampled("csm", format="R16_UNORM"),
                                  "shadow_compare": sampler("shadow_compare"),
                                  "cluster_light_index": sampled("cluster_light_index"),
@@ -522,6 +538,10 @@ def passes(day=True):
                        params={"density": 0.012 if day else 0.03, "height_falloff": 0.08,
                                "anisotropy": 0.6, "light_count": LIGHT_COUNT if day else 1024},
                        wait=["cascades_done"]))
+    out.append(compute("volumetric_fog_local_mip1", [*lights, "volumetric_fog_local"], "fog.wgsl",
+                       "cs_fog_downsample", [groups(30, 17, 16, label="mip 1")],
+                       bindings={"fog_source": sampled("fog_volume", mips={"base": 0, "count": 1}),
+                                 "fog_mip_1": storage("fog_volume", mips={"base": 1, "count": 1})}))
     # 34: head mask.
     out.append(raster("head_mask", lights, "gbuffer_post.wgsl", "vs_fullscreen", "fs_head_mask",
                       [color("head_mask")], bindings={"stencil": stencil_view}, draws=[fullscreen("faces")]))
@@ -577,6 +597,13 @@ def update_resources(resources, day=True):
     if "env_depth" not in by_name:
         resources.append({"name": "env_depth", "kind": "texture_2d", "format": "D32_FLOAT",
                           "width": 128, "height": 128, "flags": ["ALLOW_DEPTH_STENCIL"]})
+    # The GUI copied into the mega texture this frame is what next frame's billboard copies read.
+    by_name["mega_texture"]["history"] = True
+    # Cleared before use, as a D3D12 frame clears its UAVs.
+    by_name["draw_args"]["initial"] = {"generator": {"name": "constant", "seed": 0, "params": {"value": 0}}}
+    by_name["instance_data"]["initial"] = {"generator": {"name": "constant", "seed": 0, "params": {"value": 0}}}
+    # Calm water for the first frame, before any wave field exists.
+    by_name["ocean_wave_noise"]["initial"] = {"generator": {"name": "constant", "seed": 0, "params": {"value": 0}}}
     lights = by_name["lights"]
     lights["initial"]["generator"]["params"]["count"] = LIGHT_COUNT if day else 1024
     # The cube is also viewed as a 2D array of faces by the compute pass that writes it.

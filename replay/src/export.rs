@@ -24,6 +24,35 @@ pub struct ExportedFile {
     /// Smallest and largest channel value found (in the format's own units).
     pub min: f64,
     pub max: f64,
+    /// For EXR files: an 8-bit PNG to look at, range-mapped like a texture viewer's range
+    /// control (depth: min..max, nearest bright; colour: 0..99.5th percentile, gamma 2.2).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preview: Option<String>,
+    /// Every texel holds the same value (a cleared or never-written target).
+    pub uniform: bool,
+}
+
+/// The display range of float data: depth spans min..max; colour spans 0 (or a negative
+/// minimum) up to the 99.5th percentile, so a few very bright texels (a sun disk) do not
+/// flatten the rest of the image.
+fn preview_range(values: &[[f32; 4]], channels: usize, depth: bool) -> (f32, f32) {
+    let mut finite: Vec<f32> = values
+        .iter()
+        .flat_map(|v| v[..channels.min(3)].iter().copied())
+        .filter(|x| x.is_finite())
+        .collect();
+    if finite.is_empty() {
+        return (0.0, 1.0);
+    }
+    let lo = finite.iter().copied().fold(f32::INFINITY, f32::min);
+    let hi = if depth {
+        finite.iter().copied().fold(f32::NEG_INFINITY, f32::max)
+    } else {
+        let k = ((finite.len() - 1) as f64 * 0.995) as usize;
+        *finite.select_nth_unstable_by(k, f32::total_cmp).1
+    };
+    let lo = if depth { lo } else { lo.min(0.0) };
+    (lo, if hi > lo { hi } else { lo + 1.0 })
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -308,6 +337,9 @@ pub fn write_image(
         (a.min(x), b.max(x))
     });
     let (min, max) = if min > max { (0.0, 0.0) } else { (min, max) };
+    let uniform = values
+        .first()
+        .is_none_or(|first| values.iter().all(|v| v[..channels] == first[..channels]));
     let integer = matches!(decoder, Decode::Uint(..) | Decode::Sint(..));
     let float = matches!(
         decoder,
@@ -338,14 +370,37 @@ pub fn write_image(
     };
     let name = file_name(resource, spec, mip, layer, z, ext);
     let path = dir.join(&name);
-    match encoding {
-        "exr" => atomically(&path, |tmp| {
+    let mut preview = None;
+    if encoding == "exr" {
+        atomically(&path, |tmp| {
             exr::prelude::write_rgba_file(tmp, width as usize, height as usize, |x, y| {
                 let v = to_rgba(&values[y * width as usize + x]);
                 (v[0], v[1], v[2], v[3])
             })
             .map_err(|e| e.to_string())
-        })?,
+        })?;
+        let depth = format.has_depth_aspect();
+        let (lo, hi) = preview_range(&values, channels, depth);
+        let preview_name = file_name(resource, spec, mip, layer, z, "preview.png");
+        atomically(&dir.join(&preview_name), |tmp| {
+            let mut img = image::RgbaImage::new(width, height);
+            for (i, p) in img.pixels_mut().enumerate() {
+                let v = to_rgba(&values[i]);
+                let map = |c: f32| {
+                    let t = ((c - lo) / (hi - lo)).clamp(0.0, 1.0);
+                    // Depth reads better with near bright; colour gets a display gamma.
+                    let t = if depth { 1.0 - t } else { t.powf(1.0 / 2.2) };
+                    (t * 255.0).round() as u8
+                };
+                *p = image::Rgba([map(v[0]), map(v[1]), map(v[2]), 255]);
+            }
+            img.save_with_format(tmp, image::ImageFormat::Png)
+                .map_err(|e| e.to_string())
+        })?;
+        preview = Some(preview_name);
+    }
+    match encoding {
+        "exr" => {}
         "png8" => atomically(&path, |tmp| {
             let mut img = image::RgbaImage::new(width, height);
             for (i, p) in img.pixels_mut().enumerate() {
@@ -389,6 +444,8 @@ pub fn write_image(
         encoding,
         min: f64::from(min),
         max: f64::from(max),
+        preview,
+        uniform,
     }))
 }
 

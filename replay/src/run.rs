@@ -151,6 +151,27 @@ fn view_dimension(module: &naga::Module, variable: &str) -> Option<wgpu::Texture
     }
 }
 
+/// Whether a texture variable samples unsigned integers: on a depth-stencil texture that is a
+/// view of the stencil aspect (D3D12's X32_TYPELESS_G8X24_UINT / X24_TYPELESS_G8_UINT SRVs).
+fn samples_uint(module: &naga::Module, variable: &str) -> bool {
+    module
+        .global_variables
+        .iter()
+        .find(|(_, v)| v.name.as_deref() == Some(variable))
+        .is_some_and(|(_, v)| {
+            matches!(
+                module.types[v.ty].inner,
+                naga::TypeInner::Image {
+                    class: naga::ImageClass::Sampled {
+                        kind: naga::ScalarKind::Uint,
+                        ..
+                    },
+                    ..
+                }
+            )
+        })
+}
+
 fn binding_slot(module: &naga::Module, variable: &str) -> Option<(u32, u32)> {
     module
         .global_variables
@@ -565,7 +586,11 @@ impl Session {
                             let tex = &self.textures[*texture][copy];
                             let spec = &self.plan.textures[*texture];
                             let dimension = view_dimension(&m.reflection.module, var);
-                            let aspect = if format.has_depth_aspect() && has_stencil(*format) {
+                            let aspect = if has_stencil(*format)
+                                && samples_uint(&m.reflection.module, var)
+                            {
+                                wgpu::TextureAspect::StencilOnly
+                            } else if format.has_depth_aspect() && has_stencil(*format) {
                                 wgpu::TextureAspect::DepthOnly
                             } else {
                                 wgpu::TextureAspect::All

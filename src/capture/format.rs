@@ -160,6 +160,51 @@ pub struct FrameConstants {
     /// Camera exposure multiplier applied before tone mapping.
     #[serde(default = "default_exposure")]
     pub exposure: f32,
+    /// Cascaded shadow maps for the sun (or the moon when the sun is below the horizon).
+    #[serde(default)]
+    pub shadow_cascades: ShadowCascades,
+    /// Half-width in metres of the orthographic top view centred under the camera (sky
+    /// visibility and mini-map passes use it as `top_view_proj`).
+    #[serde(default = "default_top_view_extent")]
+    pub top_view_extent: f32,
+}
+
+/// How the four shadow cascades are fitted to the view frustum: practical split scheme
+/// (`split_lambda` blends logarithmic and linear splits) up to `max_distance`, each cascade a
+/// bounding sphere of its frustum slice snapped to whole texels of a `resolution` map so the
+/// shadows do not shimmer as the camera moves.
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ShadowCascades {
+    #[serde(default = "default_cascade_resolution")]
+    pub resolution: u32,
+    #[serde(default = "default_split_lambda")]
+    pub split_lambda: f32,
+    #[serde(default = "default_shadow_distance")]
+    pub max_distance: f32,
+}
+
+impl Default for ShadowCascades {
+    fn default() -> Self {
+        Self {
+            resolution: default_cascade_resolution(),
+            split_lambda: default_split_lambda(),
+            max_distance: default_shadow_distance(),
+        }
+    }
+}
+
+fn default_cascade_resolution() -> u32 {
+    2048
+}
+fn default_split_lambda() -> f32 {
+    0.75
+}
+fn default_shadow_distance() -> f32 {
+    200.0
+}
+fn default_top_view_extent() -> f32 {
+    256.0
 }
 
 impl Default for FrameConstants {
@@ -172,6 +217,8 @@ impl Default for FrameConstants {
             moon_direction: default_moon(),
             moon_color: default_moon_color(),
             exposure: default_exposure(),
+            shadow_cascades: ShadowCascades::default(),
+            top_view_extent: default_top_view_extent(),
         }
     }
 }

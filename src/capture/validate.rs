@@ -280,6 +280,42 @@ impl<'a> Validator<'a> {
                 format!("need 0 < near < far (near {}, far {})", cam.near, cam.far),
             );
         }
+        let sc = &raw.frame.shadow_cascades;
+        let spath = self.root.field("frame").field("shadow_cascades");
+        if !(1..=16384).contains(&sc.resolution) {
+            self.diags.error(
+                "frame",
+                &spath.field("resolution"),
+                format!(
+                    "shadow map resolution must be in 1..=16384, not {}",
+                    sc.resolution
+                ),
+            );
+        }
+        if !(0.0..=1.0).contains(&sc.split_lambda) {
+            self.diags.error(
+                "frame",
+                &spath.field("split_lambda"),
+                format!("split_lambda must be in [0, 1], not {}", sc.split_lambda),
+            );
+        }
+        if !(sc.max_distance > cam.near) {
+            self.diags.error(
+                "frame",
+                &spath.field("max_distance"),
+                format!(
+                    "max_distance {} must exceed the camera's near plane {}",
+                    sc.max_distance, cam.near
+                ),
+            );
+        }
+        if !(raw.frame.top_view_extent > 0.0) {
+            self.diags.error(
+                "frame",
+                &self.root.field("frame").field("top_view_extent"),
+                "top_view_extent must be positive",
+            );
+        }
         if cam.position == cam.target {
             self.diags.error(
                 "camera",
@@ -1893,7 +1929,9 @@ impl<'a> Validator<'a> {
                 resource: r.id,
                 access: if writes { Access::DepthWrite } else { Access::DepthRead },
                 range,
-                reads: d.depth_load == LoadOp::Load || d.stencil_load == LoadOp::Load,
+                // A format without stencil has no stencil contents to load.
+                reads: d.depth_load == LoadOp::Load
+                    || (format.stencil_bits > 0 && d.stencil_load == LoadOp::Load),
                 writes,
                 source: AccessSource::DepthStencil,
             });

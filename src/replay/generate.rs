@@ -216,6 +216,52 @@ pub fn encode_texel(format: TextureFormat, c: [f64; 4]) -> Result<Vec<u8>, Strin
     })
 }
 
+/// One BC7 block (mode 6, both endpoints equal) holding a single RGBA8 colour: a real BC7
+/// encoding at 4x4-texel resolution, enough for masks and generated detail without an encoder.
+fn bc7_solid_block(c: [u8; 4]) -> [u8; 16] {
+    // The shared p-bit is the channels' majority low bit; the others are off by one.
+    let p = u32::from(c.iter().filter(|&&x| x & 1 == 1).count() >= 2);
+    let mut bits: u128 = 1 << 6;
+    let mut at = 7;
+    for ch in c {
+        let e = u128::from(ch >> 1);
+        bits |= e << at;
+        bits |= e << (at + 7);
+        at += 14;
+    }
+    bits |= u128::from(p) << at;
+    bits |= u128::from(p) << (at + 1);
+    bits.to_le_bytes()
+}
+
+fn bc7_mip(
+    name: &str,
+    seed: u64,
+    params: &BTreeMap<String, ParamValue>,
+    (w, h): (u32, u32),
+    layers: u32,
+) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    for layer in 0..layers {
+        for by in 0..h.div_ceil(4) {
+            for bx in 0..w.div_ceil(4) {
+                let mut sum = [0.0f64; 4];
+                for (dx, dy) in (0..4).flat_map(|dy| (0..4).map(move |dx| (dx, dy))) {
+                    let u = (f64::from((bx * 4 + dx).min(w - 1)) + 0.5) / f64::from(w);
+                    let v = (f64::from((by * 4 + dy).min(h - 1)) + 0.5) / f64::from(h);
+                    let t = texel(name, seed, params, u, v, 0.0, layer);
+                    for k in 0..4 {
+                        sum[k] += t[k] / 16.0;
+                    }
+                }
+                let q = sum.map(|x| (x.clamp(0.0, 1.0) * 255.0).round() as u8);
+                bytes.extend(bc7_solid_block(q));
+            }
+        }
+    }
+    bytes
+}
+
 /// Contents of every mip (all layers / slices of a mip together), for a texture generator.
 #[allow(clippy::too_many_arguments)]
 pub fn texture(
@@ -232,6 +278,14 @@ pub fn texture(
     let mut out = Vec::new();
     for mip in 0..mips {
         let (w, h) = ((width >> mip).max(1), (height >> mip).max(1));
+        if matches!(
+            format,
+            TextureFormat::Bc7RgbaUnorm | TextureFormat::Bc7RgbaUnormSrgb
+        ) && !volume
+        {
+            out.push(bc7_mip(name, seed, params, (w, h), depth_or_layers));
+            continue;
+        }
         let d = if volume {
             (depth_or_layers >> mip).max(1)
         } else {
@@ -638,12 +692,17 @@ pub fn encode_streams(
     instance_count: u32,
     seed: u64,
 ) -> Vec<Vec<u8>> {
+    // Snorm positions are stored as xyz / s with w = s / 4096, s the power of two bounding the
+    // mesh (exact in snorm16 to 1e-4), so a shader decodes xyz * exp2(round(log2(w * 4096))).
     let scale = data
         .positions
         .iter()
         .flat_map(|p| p.iter().map(|c| c.abs()))
         .fold(0.0f32, f32::max)
-        .max(1.0);
+        .max(1.0)
+        .log2()
+        .ceil()
+        .exp2();
     let rows = buffer(
         "instances",
         seed,
@@ -686,7 +745,7 @@ pub fn encode_streams(
                     } else if sem.starts_with("POSITION") {
                         let p = data.positions[i];
                         if snorm {
-                            [p[0] / scale, p[1] / scale, p[2] / scale, 1.0]
+                            [p[0] / scale, p[1] / scale, p[2] / scale, scale / 4096.0]
                         } else {
                             [p[0], p[1], p[2], 1.0]
                         }
@@ -770,6 +829,21 @@ mod tests {
                 "{name}"
             );
         }
+    }
+
+    #[test]
+    fn bc7_solid_blocks_decode_to_their_colour() {
+        // Mode 6 with equal endpoints and zero indices decodes to (e << 1 | p) per channel.
+        let block = u128::from_le_bytes(bc7_solid_block([200, 100, 51, 255]));
+        assert_eq!(block & 0x7F, 1 << 6);
+        let field = |at: u32| ((block >> at) & 0x7F) as u8;
+        let p = ((block >> 63) & 1) as u8;
+        assert_eq!(p, ((block >> 64) & 1) as u8);
+        let decoded: Vec<u8> = (0..4).map(|c| (field(7 + 14 * c) << 1) | p).collect();
+        for (d, want) in decoded.iter().zip([200u8, 100, 51, 255]) {
+            assert!(d.abs_diff(want) <= 1, "{decoded:?}");
+        }
+        assert_eq!(block >> 65, 0, "indices must be zero");
     }
 
     #[test]

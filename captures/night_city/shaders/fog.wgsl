@@ -3,7 +3,8 @@
 // column front to back: height fog density, in-scattering of the sun through the shadow
 // cascades and of the clustered local lights (Henyey-Greenstein phase), integrated with
 // energy-conserving steps. Each froxel stores the scattered light reaching the eye from in
-// front of its far face (rgb) and the transmittance up to it (a). Mip 1 is a 2x2x2 average.
+// front of its far face (rgb) and the transmittance up to it (a). Mip 1, a 2x2x2 average, is
+// built by a second pass.
 
 struct FrameConstants {
     view: mat4x4<f32>,
@@ -36,8 +37,9 @@ struct Light {
 
 @group(0) @binding(0) var<uniform> frame: FrameConstants;
 @group(0) @binding(1) var<uniform> params: Params;
-@group(0) @binding(2) var fog_mip_0: texture_storage_3d<rgba16float, read_write>;
+@group(0) @binding(2) var fog_mip_0: texture_storage_3d<rgba16float, write>;
 @group(0) @binding(3) var fog_mip_1: texture_storage_3d<rgba16float, write>;
+@group(0) @binding(9) var fog_source: texture_3d<f32>;
 @group(0) @binding(4) var csm: texture_depth_2d_array;
 @group(0) @binding(5) var shadow_compare: sampler_comparison;
 @group(0) @binding(6) var cluster_light_index: texture_3d<u32>;
@@ -150,11 +152,11 @@ fn cs_fog_downsample(@builtin(global_invocation_id) id: vec3<u32>) {
     if (any(id >= size)) {
         return;
     }
-    let src = textureDimensions(fog_mip_0);
+    let src = textureDimensions(fog_source);
     var sum = vec4<f32>(0.0);
     for (var k = 0u; k < 8u; k++) {
         let p = min(id * 2u + vec3<u32>(k & 1u, (k >> 1u) & 1u, k >> 2u), src - 1u);
-        sum += textureLoad(fog_mip_0, p);
+        sum += textureLoad(fog_source, p, 0);
     }
     textureStore(fog_mip_1, id, sum / 8.0);
 }

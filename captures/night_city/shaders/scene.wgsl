@@ -253,22 +253,30 @@ fn vs_omni_static(v: VertexIn) -> VertexOut {
 }
 
 fn static_vertex(v: VertexIn) -> VertexOut {
-    var out = base_out(v);
-    var local = decode_position(v.position) * params.scale.xyz;
-    if (params.material == 6u) {
-        // Foliage sways with the wind; the bend follows the voxel normal field so cards on a
-        // slope lean downhill, and the same offset is applied in every pass.
-        let vuv = (local + params.offset.xyz - VOXEL_MIN) / VOXEL_SIZE;
-        let g = textureSampleLevel(voxel_normals, linear_clamp, vuv, 0.0).xyz;
-        let sway = sin(frame.time.x * 1.7 + local.x * 0.3 + local.z * 0.2) * 0.15;
-        local += (vec3<f32>(sway, 0.0, sway * 0.5) + vec3<f32>(g.x, 0.0, g.z) * 0.2) * max(local.y, 0.0) / 4.0;
-    }
-    var world = local + params.offset.xyz;
+    let out = base_out(v);
+    var world = decode_position(v.position) * params.scale.xyz + params.offset.xyz;
     if (params.material == 7u) {
         // Decals float just above the street they lie on.
         world.y = terrain_height(world.xz) + 0.03;
     }
     return finish(out, world, world);
+}
+
+// Foliage cards sway in the wind; the bend also follows the voxel normal field, so cards near
+// walls lean away from them and cards on slopes lean downhill. Every pass that draws foliage
+// uses this function, so their depths agree.
+@vertex
+fn vs_foliage(v: VertexIn) -> VertexOut {
+    let out = base_out(v);
+    var local = decode_position(v.position) * params.scale.xyz;
+    let vuv = (local + params.offset.xyz - VOXEL_MIN) / VOXEL_SIZE;
+    let g = textureSampleLevel(voxel_normals, linear_clamp, vuv, 0.0).xyz;
+    let sway = sin(frame.time.x * 1.7 + local.x * 0.3 + local.z * 0.2) * 0.15;
+    let bend = (vec3<f32>(sway, 0.0, sway * 0.5) + vec3<f32>(g.x, 0.0, g.z) * 0.2) * max(local.y, 0.0) / 4.0;
+    let prev_sway = sin((frame.time.x - frame.time.y) * 1.7 + local.x * 0.3 + local.z * 0.2) * 0.15;
+    let prev_bend = (vec3<f32>(prev_sway, 0.0, prev_sway * 0.5) + vec3<f32>(g.x, 0.0, g.z) * 0.2) * max(local.y, 0.0) / 4.0;
+    let world = local + bend + params.offset.xyz;
+    return finish(out, world, local + prev_bend + params.offset.xyz);
 }
 
 // Terrain: a flat grid displaced by terrain_height, so every pass agrees on the ground.
@@ -543,9 +551,14 @@ fn fs_gbuffer(in: VertexOut) -> GBuffer {
             n = vec3<f32>(0.0, 1.0, 0.0);
         }
         default: {
-            // Hair and fur.
-            if ((in.variant & 0x1000u) != 0u && fur_alpha(in.world) < 0.5) {
-                discard;
+            // Hair and fur: the fur shell is cut into strands, and its tips thin out with a
+            // blue-noise dither (TAA resolves it into soft edges).
+            if ((in.variant & 0x1000u) != 0u) {
+                let dither = textureLoad(blue_noise, vec2<u32>(in.clip.xy) % textureDimensions(blue_noise), 0).r;
+                let tip = clamp((in.world.y - 1.7) * 12.0, 0.0, 1.0);
+                if (fur_alpha(in.world) < 0.5 || dither < tip) {
+                    discard;
+                }
             }
             let hue = f32(in.variant & 15u) / 16.0;
             albedo = mix(vec3<f32>(0.05, 0.03, 0.02), vec3<f32>(0.6, 0.1, 0.5), step(0.8, hue));
