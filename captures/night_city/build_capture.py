@@ -605,7 +605,9 @@ def update_resources(resources, day=True):
     # Calm water for the first frame, before any wave field exists.
     by_name["ocean_wave_noise"]["initial"] = {"generator": {"name": "constant", "seed": 0, "params": {"value": 0}}}
     lights = by_name["lights"]
-    lights["initial"]["generator"]["params"]["count"] = LIGHT_COUNT if day else 1024
+    # Neon and shop lights over the district (the city spans about 200 x 300 m).
+    lights["initial"]["generator"]["params"].update(
+        {"count": LIGHT_COUNT if day else 1024, "area": 240, "intensity": 300})
     # The cube is also viewed as a 2D array of faces by the compute pass that writes it.
     return resources
 

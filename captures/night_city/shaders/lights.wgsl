@@ -67,8 +67,8 @@ fn cs_update_lights(@builtin(global_invocation_id) id: vec3<u32>) {
         // Street lamps down both sides of the main street: warm, steady, shadowed.
         let side = select(-5.5, 5.5, (i & 1u) == 1u);
         l.position_radius = vec4<f32>(-6.0 + side, 7.0, -30.0 + f32(i) * 22.0, 22.0);
-        l.color_intensity = vec4<f32>(1.0, 0.82, 0.6, 90.0);
-        l.extra = vec4<f32>(90.0, 0.0, 1.0, 0.0);
+        l.color_intensity = vec4<f32>(1.0, 0.82, 0.6, 400.0);
+        l.extra = vec4<f32>(400.0, 0.0, 1.0, 0.0);
     }
     if (l.extra.z == 0.0) {
         l.extra = vec4<f32>(l.color_intensity.w, hash11(f32(i) * 3.3), 1.0, 0.0);

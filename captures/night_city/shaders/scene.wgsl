@@ -442,13 +442,22 @@ struct GBuffer {
     @location(3) motion: vec2<f32>,
 }
 
+fn pcg(v: u32) -> u32 {
+    let state = v * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
 fn window_pattern(world: vec3<f32>, n: vec3<f32>, seed: f32) -> vec2<f32> {
     // Facade coordinates: along the wall and up.
     let along = select(world.x, world.z, abs(n.x) > 0.5);
     let cell = vec2<f32>(along / 3.2, world.y / 3.6);
     let f = fract(cell);
     let inside = step(0.18, f.x) * step(f.x, 0.82) * step(0.25, f.y) * step(f.y, 0.8);
-    let lit = step(0.55, hash21(floor(cell) + seed * 17.0));
+    // Integer hash of the window cell and the building, so every texel of a window agrees.
+    let c = vec2<i32>(floor(cell));
+    let h = pcg(u32(c.x + 4096) * 7919u + u32(c.y + 4096) * 104729u + u32(seed * 1000.0));
+    let lit = step(0.55, f32(h & 0xFFFFu) / 65535.0);
     let ground_floor = step(world.y, 3.2);
     return vec2<f32>(inside * (1.0 - ground_floor), lit);
 }
