@@ -299,7 +299,7 @@ impl<'a> Validator<'a> {
                 format!("split_lambda must be in [0, 1], not {}", sc.split_lambda),
             );
         }
-        if !(sc.max_distance > cam.near) {
+        if sc.max_distance.is_nan() || sc.max_distance <= cam.near {
             self.diags.error(
                 "frame",
                 &spath.field("max_distance"),
@@ -309,7 +309,7 @@ impl<'a> Validator<'a> {
                 ),
             );
         }
-        if !(raw.frame.top_view_extent > 0.0) {
+        if raw.frame.top_view_extent.is_nan() || raw.frame.top_view_extent <= 0.0 {
             self.diags.error(
                 "frame",
                 &self.root.field("frame").field("top_view_extent"),
