@@ -55,10 +55,21 @@ def mesh(name, generator, seed, params, index_format="uint32"):
     }
 
 
+CITY = {"blocks_x": 4, "blocks_z": 6, "block_size": 40, "street_width": 12,
+        "min_height": 12, "max_height": 95, "buildings_per_block": 4}
+BUILDINGS = CITY["blocks_x"] * CITY["blocks_z"] * CITY["buildings_per_block"]
+# VB7: three float4 rows of each instance's transform.
+INSTANCE_ROWS = {"slot": 7, "step": "instance", "attributes": [
+    {"semantic": f"INSTANCE{r}", "format": "float32x4", "location": 6 + r} for r in range(3)]}
+
+
 MESHES = [
-    mesh("city", "city_blocks", 21, {
-        "blocks_x": 4, "blocks_z": 6, "block_size": 40, "street_width": 12,
-        "min_height": 12, "max_height": 95, "buildings_per_block": 4}),
+    # Instanced boxes, one per building lot.
+    {**mesh("buildings", "box", 21, {"size": 1}, "uint16"),
+     "streams": [*SOA, INSTANCE_ROWS], "instance_count": BUILDINGS,
+     "instances": {"name": "city_lots", "seed": 21, "params": CITY}},
+    # One box per block: the CSM proxy's simple meshes.
+    mesh("block_proxies", "city_blocks", 21, {**CITY, "buildings_per_block": 1}),
     mesh("ground", "grid", 22, {"size": 1200, "divisions": 160}),
     mesh("terrain_chunk", "grid", 23, {"size": 300, "divisions": 48}),
     mesh("water", "water_plate", 24, {"size": 600, "divisions": 96, "height": 0}),
@@ -157,7 +168,8 @@ FIRST_SIGN = CANDIDATES + KIND_COUNTS[0] + KIND_COUNTS[1]
 
 # Draws of the world, in the base pass's order, with the stencil values the seed describes.
 def world_draws(shadow=False, with_instances=True, with_foliage=True, with_ground=True):
-    draws = [d("static meshes", "city", "vs_static", material=0, object_mask=0)]
+    draws = [dict(d("static meshes: buildings", "buildings", "vs_building", material=0, object_mask=0),
+                  instances=BUILDINGS)]
     if with_ground:
         draws.append(d("ground", "ground", "vs_terrain", material=1, object_mask=1))
         if not shadow:
@@ -202,7 +214,7 @@ def with_view(draws, **params):
 # What each scene.wgsl entry point reads, so a pass binds (and the analysis sees) exactly the
 # resources its draws use.
 SCENE_GLOBALS = {
-    "vs_static": [], "vs_terrain": [], "vs_foliage": ["voxel_normals", "linear_clamp"],
+    "vs_static": [], "vs_terrain": [], "vs_building": [], "vs_omni_building": ["lights"], "vs_foliage": ["voxel_normals", "linear_clamp"],
     "vs_water": ["ocean_height", "linear_clamp"],
     "vs_instanced": ["instance_data"], "vs_character_body": ["instance_data"],
     "vs_character_head": ["instance_data"], "vs_character_hair": ["instance_data"],
@@ -294,9 +306,14 @@ def passes(day=True):
                     "dst": {"resource": "mega_texture", "offset": 8 * 1024 * 1024, "bytes_per_row": 4096}}],
     })
     # 4: top-view depth for sky visibility: the city and the signs from straight above.
+    per_block = CITY["buildings_per_block"]
+    top = [dict(d(f"block {b}", "buildings", "vs_building", material=0), instances=per_block,
+                first_instance=b * per_block)
+           for b in range(BUILDINGS // per_block)]
+    top += [dr for dr in world_draws(shadow=True, with_instances=False, with_foliage=False)
+            if dr["mesh"] != "buildings"]
     out.append(depth_only("sky_visibility_top_view", pre, "top_view_depth", "D16_UNORM",
-                          with_view(world_draws(shadow=True, with_instances=False, with_foliage=False), view=5),
-                          {"view": 5}))
+                          with_view(top, view=5), {"view": 5}))
     # 5: voxel normals, two dispatches.
     out.append(compute("voxel_normals", pre, "geometry_prep.wgsl", "cs_voxel_terrain", [
         groups(2, 2, 64, label="terrain field"),
@@ -427,7 +444,7 @@ def passes(day=True):
 
     lights = ["Lights and shadows"]
     # 20: the never-read CSM proxy.
-    proxy = [d("block proxies", "city", "vs_static", material=0, view=7)]
+    proxy = [d("block proxies", "block_proxies", "vs_static", material=0, view=7)]
     out.append(depth_only("csm_proxy", lights, "csm_proxy", "D16_UNORM", proxy, {"view": 7}))
     # 21: four cascades, one pass each.
     for c in range(4):
@@ -437,7 +454,7 @@ def passes(day=True):
                               **({"signal": ["cascades_done"]} if c == 3 else {})))
     # 22: omni shadows: paraboloid depth of each shadowed light, then its variance map.
     for i in range(SHADOWED_LIGHTS):
-        omni_entry = {"vs_static": "vs_omni_static", "vs_instanced": "vs_omni_instanced",
+        omni_entry = {"vs_building": "vs_omni_building", "vs_static": "vs_omni_static", "vs_instanced": "vs_omni_instanced",
                       "vs_character_body": "vs_omni_character", "vs_terrain": "vs_omni_terrain"}
         draws = [dict(dr, vertex=omni_entry[dr["vertex"]])
                  for dr in with_view(world_draws(shadow=True, with_foliage=False),

@@ -692,12 +692,15 @@ impl Session {
             pass: name.to_owned(),
             message,
         };
-        let mut entries: BTreeSet<String> = BTreeSet::new();
-        entries.insert(r.vertex.clone());
-        for d in &r.draws {
-            if let Some(v) = &d.vertex {
-                entries.insert(v.clone());
-            }
+        // Pipelines only for the vertex entry points some draw uses (the pass's default entry
+        // may be overridden by every draw, and then has no mesh to take a layout from).
+        let mut entries: BTreeSet<String> = r
+            .draws
+            .iter()
+            .map(|d| d.vertex.clone().unwrap_or_else(|| r.vertex.clone()))
+            .collect();
+        if entries.is_empty() {
+            entries.insert(r.vertex.clone());
         }
         let targets: Vec<Option<wgpu::ColorTargetState>> = r
             .color

@@ -696,6 +696,22 @@ pub struct Mesh {
     /// Instance count of per-instance streams; required when any stream steps per instance.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub instance_count: Option<u32>,
+    /// Content generator of the per-instance transform rows of a generator mesh (`instances`
+    /// scatters them, `city_lots` places one box per building lot); `instances` with the mesh's
+    /// seed when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instances: Option<InstanceGenerator>,
+}
+
+/// A named content generator for per-instance rows, with its seed and parameters.
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct InstanceGenerator {
+    pub name: String,
+    #[serde(default)]
+    pub seed: u64,
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub params: BTreeMap<String, ParamValue>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]

@@ -125,6 +125,19 @@ pub const CONTENT_GENERATORS: &[GeneratorSpec] = &[
         description: "per-instance transform rows for instanced meshes",
         params: &[("count", 64.0), ("area", 200.0)],
     },
+    GeneratorSpec {
+        name: "city_lots",
+        description: "one transform per building lot of a street grid, the same lots and heights as city_blocks (a unit box becomes a building)",
+        params: &[
+            ("blocks_x", 8.0),
+            ("blocks_z", 8.0),
+            ("block_size", 40.0),
+            ("street_width", 12.0),
+            ("min_height", 10.0),
+            ("max_height", 120.0),
+            ("buildings_per_block", 4.0),
+        ],
+    },
 ];
 
 pub fn find<'a>(table: &'a [GeneratorSpec], name: &str) -> Option<&'a GeneratorSpec> {

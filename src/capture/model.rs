@@ -297,6 +297,8 @@ pub struct MeshDesc {
     pub vertex_count: Option<u32>,
     pub index_count: Option<u32>,
     pub instance_count: Option<u32>,
+    /// Generator of the per-instance rows: name, seed, parameters.
+    pub instances: Option<(String, u64, std::collections::BTreeMap<String, ParamValue>)>,
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -1594,6 +1594,26 @@ impl<'a> Validator<'a> {
                     })
                 }
             };
+            if let Some(g) = &m.instances {
+                let ipath = path.field("instances");
+                if !matches!(g.name.as_str(), "instances" | "city_lots") {
+                    self.diags.error(
+                        "unknown-generator",
+                        &ipath.field("name"),
+                        format!(
+                            "\"{}\" does not make instance rows (use instances or city_lots)",
+                            g.name
+                        ),
+                    );
+                } else {
+                    self.check_generator_params(
+                        generators::CONTENT_GENERATORS,
+                        &g.name,
+                        &g.params,
+                        &ipath,
+                    );
+                }
+            }
             match source {
                 Some(source) if self.diags.error_count() == errors_before => out.push(MeshDesc {
                     id: MeshId(i as u32),
@@ -1604,6 +1624,10 @@ impl<'a> Validator<'a> {
                     vertex_count: m.vertex_count,
                     index_count: m.index_count,
                     instance_count: m.instance_count,
+                    instances: m
+                        .instances
+                        .as_ref()
+                        .map(|g| (g.name.clone(), g.seed, g.params.clone())),
                 }),
                 _ => ok = false,
             }

@@ -373,6 +373,56 @@ pub fn buffer(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>, size
                 }
             }
         }
+        "city_lots" => {
+            // The lots of `city_blocks` with the same seed: a unit box (centred, size 1) scaled
+            // to the building and moved onto its lot.
+            let (bx, bz, block, street) = (
+                p("blocks_x") as i64,
+                p("blocks_z") as i64,
+                p("block_size"),
+                p("street_width"),
+            );
+            let per = p("buildings_per_block").max(1.0) as i64;
+            let pitch = block + street;
+            let side = (per as f64).sqrt().ceil() as i64;
+            let lot = block / side as f64;
+            'lots: for i in 0..bx {
+                for j in 0..bz {
+                    let (ox, oz) = (
+                        (i as f64 - bx as f64 / 2.0) * pitch,
+                        (j as f64 - bz as f64 / 2.0) * pitch,
+                    );
+                    for k in 0..per {
+                        if out.len() as u64 + 48 > size {
+                            break 'lots;
+                        }
+                        let r = |c: i64| hash(seed, i * 1000 + j, k, c);
+                        let height =
+                            p("min_height") + (p("max_height") - p("min_height")) * r(0).powi(2);
+                        let (lx, lz) = (ox + (k % side) as f64 * lot, oz + (k / side) as f64 * lot);
+                        let inset = lot * (0.05 + 0.1 * r(1));
+                        let w = lot - 2.0 * inset;
+                        let (cx, cz) = (lx + lot / 2.0, lz + lot / 2.0);
+                        for v in [
+                            w,
+                            0.0,
+                            0.0,
+                            cx,
+                            0.0,
+                            height,
+                            0.0,
+                            height / 2.0,
+                            0.0,
+                            0.0,
+                            w,
+                            cz,
+                        ] {
+                            out.extend((v as f32).to_le_bytes());
+                        }
+                    }
+                }
+            }
+        }
         "constant" => {
             let v = p("value") as u32;
             while (out.len() as u64) + 4 <= size {
@@ -691,6 +741,7 @@ pub fn encode_streams(
     streams: &[VertexStream],
     instance_count: u32,
     seed: u64,
+    instances: Option<&(String, u64, BTreeMap<String, ParamValue>)>,
 ) -> Vec<Vec<u8>> {
     // Snorm positions are stored as xyz / s with w = s / 4096, s the power of two bounding the
     // mesh (exact in snorm16 to 1e-4), so a shader decodes xyz * exp2(round(log2(w * 4096))).
@@ -703,15 +754,18 @@ pub fn encode_streams(
         .log2()
         .ceil()
         .exp2();
-    let rows = buffer(
-        "instances",
-        seed,
-        &BTreeMap::from([(
-            "count".to_owned(),
-            ParamValue::Scalar(f64::from(instance_count)),
-        )]),
-        u64::from(instance_count) * 48,
-    );
+    let rows = match instances {
+        Some((name, seed, params)) => buffer(name, *seed, params, u64::from(instance_count) * 48),
+        None => buffer(
+            "instances",
+            seed,
+            &BTreeMap::from([(
+                "count".to_owned(),
+                ParamValue::Scalar(f64::from(instance_count)),
+            )]),
+            u64::from(instance_count) * 48,
+        ),
+    };
     let row = |i: usize, r: usize| -> [f32; 4] {
         let o = i * 48 + r * 16;
         let f = |k: usize| {
@@ -828,6 +882,37 @@ mod tests {
                     .all(|n| (n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0).abs() < 1e-3),
                 "{name}"
             );
+        }
+    }
+
+    #[test]
+    fn city_lots_place_the_buildings_of_city_blocks() {
+        let params = BTreeMap::from([
+            ("blocks_x".to_owned(), ParamValue::Scalar(2.0)),
+            ("blocks_z".to_owned(), ParamValue::Scalar(3.0)),
+        ]);
+        let city = mesh("city_blocks", 9, &params);
+        let count = 2 * 3 * 4;
+        let rows = buffer("city_lots", 9, &params, count * 48);
+        let f = |o: usize| f32::from_le_bytes(rows[o..o + 4].try_into().unwrap());
+        for b in 0..count as usize {
+            // city_blocks writes 24 vertices per building; the box spans +-0.5 of the lot row.
+            let verts = &city.positions[b * 24..(b + 1) * 24];
+            let min = |c: usize| verts.iter().map(|p| p[c]).fold(f32::INFINITY, f32::min);
+            let max = |c: usize| verts.iter().map(|p| p[c]).fold(f32::NEG_INFINITY, f32::max);
+            let o = b * 48;
+            let (sx, tx, sy, ty, sz, tz) =
+                (f(o), f(o + 12), f(o + 20), f(o + 28), f(o + 40), f(o + 44));
+            for (lo, hi, s, t) in [
+                (min(0), max(0), sx, tx),
+                (min(1), max(1), sy, ty),
+                (min(2), max(2), sz, tz),
+            ] {
+                assert!(
+                    (t - s / 2.0 - lo).abs() < 1e-3 && (t + s / 2.0 - hi).abs() < 1e-3,
+                    "building {b}"
+                );
+            }
         }
     }
 

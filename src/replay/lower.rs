@@ -857,7 +857,13 @@ fn lower_mesh(m: &MeshDesc) -> Result<MeshSpec, LowerError> {
             if data.positions.is_empty() {
                 return Err(err(format!("generator \"{name}\" produced no vertices")));
             }
-            let streams = generate::encode_streams(&data, &m.streams, instance_count, *seed);
+            let streams = generate::encode_streams(
+                &data,
+                &m.streams,
+                instance_count,
+                *seed,
+                m.instances.as_ref(),
+            );
             let indices = m.index_format.map(|f| {
                 let bytes: Vec<u8> = match f {
                     cf::IndexFormat::Uint16 => data

@@ -279,6 +279,42 @@ fn vs_foliage(v: VertexIn) -> VertexOut {
     return finish(out, world, local + prev_bend + params.offset.xyz);
 }
 
+// Buildings: a unit box per lot, placed and sized by the VB7 instance rows (three float4 rows
+// of an affine transform, the seed's per-instance layout).
+struct BuildingIn {
+    @location(0) position: vec4<f32>,
+    @location(1) uv: vec2<f32>,
+    @location(2) normal: vec4<f32>,
+    @location(4) color: vec4<f32>,
+    @location(6) row0: vec4<f32>,
+    @location(7) row1: vec4<f32>,
+    @location(8) row2: vec4<f32>,
+}
+
+fn building_vertex(v: BuildingIn) -> VertexOut {
+    var out: VertexOut;
+    let p = vec4<f32>(decode_position(v.position), 1.0);
+    let world = vec3<f32>(dot(v.row0, p), dot(v.row1, p), dot(v.row2, p));
+    let n = normalize(v.normal.xyz * 2.0 - 1.0);
+    out.normal = normalize(vec3<f32>(n.x * sign(v.row0.x), n.y, n.z * sign(v.row2.z)));
+    out.uv = v.uv;
+    // A per-building tint and window seed from the lot position.
+    let lot = vec2<f32>(v.row0.w, v.row2.w);
+    out.color = vec4<f32>(hash21(lot * 0.013), hash21(lot * 0.029 + 3.1), hash21(lot * 0.047 + 7.3), 1.0);
+    out.variant = 0u;
+    return finish(out, world, world);
+}
+
+@vertex
+fn vs_building(v: BuildingIn) -> VertexOut {
+    return building_vertex(v);
+}
+
+@vertex
+fn vs_omni_building(v: BuildingIn) -> VertexOut {
+    return to_paraboloid(building_vertex(v));
+}
+
 // Terrain: a flat grid displaced by terrain_height, so every pass agrees on the ground.
 @vertex
 fn vs_terrain(v: VertexIn) -> VertexOut {
