@@ -37,3 +37,42 @@ fn every_capture_shader_validates() {
         .collect();
     assert!(errors.is_empty(), "{}", errors.join("\n"));
 }
+
+/// WGSL has no includes, so the Night City shaders repeat the few functions that define the
+/// world (the terrain height, its noise, the position decoding). Every copy must be the same
+/// text, or passes would disagree about where the ground is.
+#[test]
+fn shared_world_functions_agree_across_night_city_shaders() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../captures/night_city/shaders");
+    let mut files = Vec::new();
+    wgsl_files(&dir, &mut files);
+    files.sort();
+    let shared = [
+        "fn terrain_height(",
+        "fn fbm2(",
+        "fn noise2(",
+        "fn hash21(",
+        "fn decode_position(",
+        "fn vs_fullscreen(",
+    ];
+    for head in shared {
+        let mut copies: Vec<(String, String)> = Vec::new();
+        for f in &files {
+            let source = std::fs::read_to_string(f).unwrap();
+            if let Some(start) = source.find(head) {
+                // The function runs to the first line that is a lone closing brace.
+                let body = &source[start..];
+                let end = body.find("\n}\n").map_or(body.len(), |e| e + 2);
+                copies.push((f.display().to_string(), body[..end].to_owned()));
+            }
+        }
+        assert!(!copies.is_empty(), "no shader defines {head}");
+        for (file, text) in &copies[1..] {
+            assert_eq!(
+                text, &copies[0].1,
+                "{head}...) in {file} differs from {}",
+                copies[0].0
+            );
+        }
+    }
+}
