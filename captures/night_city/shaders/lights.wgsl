@@ -72,6 +72,9 @@ fn cs_update_lights(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     if (l.extra.z == 0.0) {
         l.extra = vec4<f32>(l.color_intensity.w, hash11(f32(i) * 3.3), 1.0, 0.0);
+        // Neon is saturated: square the generated colour and renormalise its peak to 1.
+        let c = l.color_intensity.rgb * l.color_intensity.rgb;
+        l.color_intensity = vec4<f32>(c / max(max(c.r, c.g), max(c.b, 1e-3)), l.color_intensity.w);
         var p = l.position_radius.xyz;
         if (all(p.xz > CITY_MIN) && all(p.xz < CITY_MAX)) {
             let local = fract((p.xz - CITY_MIN) / BLOCK_PITCH) * BLOCK_PITCH;
