@@ -1596,7 +1596,16 @@ impl<'a> Validator<'a> {
             };
             if let Some(g) = &m.instances {
                 let ipath = path.field("instances");
-                if !matches!(g.name.as_str(), "instances" | "city_lots") {
+                if matches!(m.source, MeshSource::File { .. }) {
+                    self.diags.error(
+                        "mesh",
+                        &ipath,
+                        format!(
+                            "mesh \"{}\" reads its instance rows from its side file; `instances` applies to generator meshes",
+                            m.name
+                        ),
+                    );
+                } else if !matches!(g.name.as_str(), "instances" | "city_lots") {
                     self.diags.error(
                         "unknown-generator",
                         &ipath.field("name"),
