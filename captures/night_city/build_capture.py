@@ -184,8 +184,10 @@ def world_draws(shadow=False, with_instances=True, with_foliage=True, with_groun
               instance_base=FIRST_PEDESTRIAN, indirect=20, stencil=0x35),
         ]
     if with_foliage:
-        draws.append(d("foliage", "trees", "vs_foliage", material=6, object_mask=1,
-                       offset=[-6, 0, 158, 0], scale=[1.9, 1, 0.22, 0], stencil=0xA0))
+        # The riverside park either side of the main street, which runs on to the water.
+        for side, x in (("west", -62), ("east", 47)):
+            draws.append(d(f"foliage {side}", "trees", "vs_foliage", material=6, object_mask=1,
+                           offset=[x, 0, 158, 0], scale=[0.9, 1, 0.22, 0], stencil=0xA0))
     if not shadow and with_instances:
         # Zebra crossings where the view street meets the cross streets.
         for k, z in enumerate([-58, -6, 46, 98]):
