@@ -225,12 +225,45 @@ mod tests {
     use super::*;
 
     #[test]
-    fn cascades_cover_growing_slices_and_are_texel_snapped() {
+    fn cascade_splits_grow_to_the_shadow_distance() {
         let splits = cascade_splits(0.1, 200.0, 0.75);
         assert!(splits.windows(2).all(|w| w[0] < w[1]));
         assert!((splits[3] - 200.0).abs() < 1e-3);
         // Logarithmic weighting puts the first split far closer than a uniform quarter.
         assert!(splits[0] < 50.0 * 0.5);
+    }
+
+    /// As the camera moves, each cascade's projection of a fixed world point moves by whole
+    /// shadow-map texels, so shadow edges do not crawl.
+    #[test]
+    fn cascades_move_in_whole_texels() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("captures/night_city/main_street_day.json");
+        let capture = crate::capture::load_and_validate(&path, &Default::default())
+            .unwrap()
+            .capture;
+        let resolution = capture.frame.shadow_cascades.resolution as f32;
+        let (a, b) = (constants(&capture, 0), constants(&capture, 7));
+        for c in 0..4 {
+            let key = format!("csm_view_proj_{c}");
+            let m = |p: &Params| Mat4::from_cols_array(&std::array::from_fn(|i| p[&key][i] as f32));
+            let (ma, mb) = (m(&a), m(&b));
+            assert_ne!(ma, mb, "cascade {c} should follow the moving camera");
+            for point in [
+                Vec3::ZERO,
+                Vec3::new(13.0, 2.0, -40.0),
+                Vec3::new(-60.0, 30.0, 90.0),
+            ] {
+                let (pa, pb) = (ma.project_point3(point), mb.project_point3(point));
+                let texels = (pb - pa).truncate() * resolution * 0.5;
+                for d in [texels.x, texels.y] {
+                    assert!(
+                        (d - d.round()).abs() < 0.05,
+                        "cascade {c}: moved {d} texels"
+                    );
+                }
+            }
+        }
     }
 
     #[test]
