@@ -4,15 +4,14 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use framelab::analysis::model::Units;
-use framelab::analysis::{barriers, graph, memory, synthetic};
+use framelab::analysis::{graph, synthetic};
 use std::hint::black_box;
 
 fn pipeline(model: &framelab::analysis::model::FrameModel) -> usize {
     let units = Units::new(model);
     let g = graph::build(model, &units);
     let order = graph::order(model, &g).unwrap_or_default();
-    let plan = barriers::derive(model, &units, &g, &order);
-    let mem = memory::plan(model, &order);
+    let (plan, mem) = framelab::analysis::barriers_and_memory(model, &units, &g, &order);
     plan.barriers.len() + mem.aliasing_barriers.len()
 }
 

@@ -35,3 +35,27 @@ pub fn to_sync(b: &Barrier) -> Option<SyncBarrier> {
         }),
     }
 }
+
+/// Barriers and the memory plan of one ordered frame. They depend on the order but not on each
+/// other, so they are derived on two threads when the machine has two cores.
+pub fn barriers_and_memory(
+    model: &model::FrameModel,
+    units: &model::Units,
+    graph: &graph::PassGraph,
+    order: &[u32],
+) -> (barriers::BarrierPlan, memory::MemoryPlan) {
+    let parallel = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
+    if !parallel {
+        return (
+            barriers::derive(model, units, graph, order),
+            memory::plan(model, order),
+        );
+    }
+    std::thread::scope(|s| {
+        let memory = s.spawn(|| memory::plan(model, order));
+        let plan = barriers::derive(model, units, graph, order);
+        // A panic in the planner is a bug; run it again here so it surfaces on this thread.
+        let memory = memory.join().unwrap_or_else(|_| memory::plan(model, order));
+        (plan, memory)
+    })
+}

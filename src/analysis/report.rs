@@ -11,7 +11,7 @@ use serde::Serialize;
 use super::barriers::{self, BarrierKind, BarrierPlan, Placement, VkScope};
 use super::graph::{self, CycleError, EdgeKind, PassGraph};
 use super::lints::{self, Lint, LintInput};
-use super::memory::{self, MemoryPlan, Totals};
+use super::memory::{MemoryPlan, Totals};
 use super::model::{self, FrameModel, Units};
 use super::schedule::{self, Schedule};
 use crate::capture::model::{Capture, Subresources};
@@ -51,7 +51,18 @@ pub fn analyze(capture: &Capture, options: AnalyzeOptions) -> Result<Analysis, C
         .iter()
         .map(|&p| full.passes[p as usize].name.clone())
         .collect();
-    let full_plan = barriers::derive(&full, &full_units, &full_graph, &full_order);
+    let cull = options.cull && !culled.is_empty();
+    // Without --cull the memory plan is for this frame: derive it beside the barriers.
+    let (full_plan, full_memory) = if cull {
+        (
+            barriers::derive(&full, &full_units, &full_graph, &full_order),
+            None,
+        )
+    } else {
+        let (plan, memory) =
+            super::barriers_and_memory(&full, &full_units, &full_graph, &full_order);
+        (plan, Some(memory))
+    };
     let lints = lints::lints(&LintInput {
         capture,
         model: &full,
@@ -61,17 +72,17 @@ pub fn analyze(capture: &Capture, options: AnalyzeOptions) -> Result<Analysis, C
         plan: &full_plan,
     });
     // With --cull, order, barriers and memory are derived again for the frame without them.
-    let (model, graph, order, plan) = if options.cull && !culled.is_empty() {
-        let model = graph::without_passes(&full, &culled);
-        let units = Units::new(&model);
-        let graph = graph::build(&model, &units);
-        let order = graph::order(&model, &graph)?;
-        let plan = barriers::derive(&model, &units, &graph, &order);
-        (model, graph, order, plan)
-    } else {
-        (full, full_graph, full_order, full_plan)
+    let (model, graph, order, plan, memory) = match full_memory {
+        Some(memory) => (full, full_graph, full_order, full_plan, memory),
+        None => {
+            let model = graph::without_passes(&full, &culled);
+            let units = Units::new(&model);
+            let graph = graph::build(&model, &units);
+            let order = graph::order(&model, &graph)?;
+            let (plan, memory) = super::barriers_and_memory(&model, &units, &graph, &order);
+            (model, graph, order, plan, memory)
+        }
     };
-    let memory = memory::plan(&model, &order);
     let times: Vec<Option<u64>> = model.passes.iter().map(|p| p.gpu_ns).collect();
     let source = if times.iter().any(Option::is_some) {
         "recorded"
