@@ -30,11 +30,9 @@ fn validate_json_reports_a_valid_capture() {
     assert_eq!(report["errors"], 0);
 }
 
-/// The expected resources, typed from NIGHT_CITY_PASSES.md at 1920x1080 (absolute sizes), are
-/// compared with what the loader resolves from the capture's relative sizes.
-#[test]
-fn night_city_info_lists_every_manifest_resource() {
-    let manifest: serde_json::Value = serde_json::from_str(
+/// The machine-readable copy of NIGHT_CITY_PASSES.md, and `info --json` of the capture.
+fn night_city_manifest_and_info() -> (serde_json::Value, serde_json::Value) {
+    let manifest = serde_json::from_str(
         &std::fs::read_to_string(repo().join("tests/fixtures/night_city_manifest.json")).unwrap(),
     )
     .unwrap();
@@ -43,6 +41,14 @@ fn night_city_info_lists_every_manifest_resource() {
         "--json",
         "captures/night_city/main_street_day.json",
     ]));
+    (manifest, info)
+}
+
+/// The expected resources, typed from NIGHT_CITY_PASSES.md at 1920x1080 (absolute sizes), are
+/// compared with what the loader resolves from the capture's relative sizes.
+#[test]
+fn night_city_info_lists_every_manifest_resource() {
+    let (manifest, info) = night_city_manifest_and_info();
     let resources = info["resources"].as_array().unwrap();
     let mut problems = Vec::new();
     for row in manifest["resources"].as_array().unwrap() {
@@ -92,15 +98,7 @@ fn night_city_info_lists_every_manifest_resource() {
 /// steps, on the manifest's queues, writing and reading what the manifest says.
 #[test]
 fn night_city_info_lists_every_manifest_pass() {
-    let manifest: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(repo().join("tests/fixtures/night_city_manifest.json")).unwrap(),
-    )
-    .unwrap();
-    let info = json(&framelab(&[
-        "info",
-        "--json",
-        "captures/night_city/main_street_day.json",
-    ]));
+    let (manifest, info) = night_city_manifest_and_info();
     let passes = info["passes"].as_array().unwrap();
     let manifest_resources: std::collections::BTreeSet<String> = manifest["resources"]
         .as_array()

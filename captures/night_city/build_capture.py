@@ -555,7 +555,7 @@ def passes(day=True):
                                  "light_list": storage("light_list", "storage_read"),
                                  "lights": storage("lights", "storage_read")},
                        params={"density": 0.012 if day else 0.03, "height_falloff": 0.08,
-                               "anisotropy": 0.6, "light_count": LIGHT_COUNT if day else 1024},
+                               "anisotropy": 0.6},
                        wait=["cascades_done"]))
     out.append(compute("volumetric_fog_local_mip1", [*lights, "volumetric_fog_local"], "fog.wgsl",
                        "cs_fog_downsample", [groups(30, 17, 16, label="mip 1")],
@@ -586,7 +586,7 @@ def passes(day=True):
                            "lit_diffuse": storage("lit_diffuse"),
                            "lit_specular": storage("lit_specular"),
                        },
-                       params={"light_count": LIGHT_COUNT if day else 1024, "shadowed_lights": SHADOWED_LIGHTS,
+                       params={"shadowed_lights": SHADOWED_LIGHTS,
                                "emissive_scale": 6.0 if day else 12.0, "ambient_scale": 1.0},
                        wait=["sun_shadow_ready"], signal=["direct_lit"]))
     # 36: the sky, where the sky mask says.
@@ -627,7 +627,6 @@ def update_resources(resources, day=True):
     # Neon and shop lights over the district (the city spans about 200 x 300 m).
     lights["initial"]["generator"]["params"].update(
         {"count": LIGHT_COUNT if day else 1024, "area": 240, "intensity": 300})
-    # The cube is also viewed as a 2D array of faces by the compute pass that writes it.
     return resources
 
 

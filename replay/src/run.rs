@@ -133,11 +133,17 @@ fn close(scopes: Scopes) -> Option<String> {
     v.or(o).map(|e| e.to_string())
 }
 
-fn view_dimension(module: &naga::Module, variable: &str) -> Option<wgpu::TextureViewDimension> {
-    let (_, var) = module
+/// The WGSL global variable named `variable`.
+fn global<'m>(module: &'m naga::Module, variable: &str) -> Option<&'m naga::GlobalVariable> {
+    module
         .global_variables
         .iter()
-        .find(|(_, v)| v.name.as_deref() == Some(variable))?;
+        .find(|(_, v)| v.name.as_deref() == Some(variable))
+        .map(|(_, v)| v)
+}
+
+fn view_dimension(module: &naga::Module, variable: &str) -> Option<wgpu::TextureViewDimension> {
+    let var = global(module, variable)?;
     match module.types[var.ty].inner {
         naga::TypeInner::Image { dim, arrayed, .. } => Some(match (dim, arrayed) {
             (naga::ImageDimension::D1, _) => wgpu::TextureViewDimension::D1,
@@ -154,30 +160,22 @@ fn view_dimension(module: &naga::Module, variable: &str) -> Option<wgpu::Texture
 /// Whether a texture variable samples unsigned integers: on a depth-stencil texture that is a
 /// view of the stencil aspect (D3D12's X32_TYPELESS_G8X24_UINT / X24_TYPELESS_G8_UINT SRVs).
 fn samples_uint(module: &naga::Module, variable: &str) -> bool {
-    module
-        .global_variables
-        .iter()
-        .find(|(_, v)| v.name.as_deref() == Some(variable))
-        .is_some_and(|(_, v)| {
-            matches!(
-                module.types[v.ty].inner,
-                naga::TypeInner::Image {
-                    class: naga::ImageClass::Sampled {
-                        kind: naga::ScalarKind::Uint,
-                        ..
-                    },
+    global(module, variable).is_some_and(|v| {
+        matches!(
+            module.types[v.ty].inner,
+            naga::TypeInner::Image {
+                class: naga::ImageClass::Sampled {
+                    kind: naga::ScalarKind::Uint,
                     ..
-                }
-            )
-        })
+                },
+                ..
+            }
+        )
+    })
 }
 
 fn binding_slot(module: &naga::Module, variable: &str) -> Option<(u32, u32)> {
-    module
-        .global_variables
-        .iter()
-        .find(|(_, v)| v.name.as_deref() == Some(variable))
-        .and_then(|(_, v)| v.binding.as_ref().map(|b| (b.group, b.binding)))
+    global(module, variable).and_then(|v| v.binding.as_ref().map(|b| (b.group, b.binding)))
 }
 
 fn has_stencil(f: wgpu::TextureFormat) -> bool {

@@ -38,9 +38,10 @@ fn every_capture_shader_validates() {
     assert!(errors.is_empty(), "{}", errors.join("\n"));
 }
 
-/// WGSL has no includes, so the Night City shaders repeat the few functions that define the
-/// world (the terrain height, its noise, the position decoding). Every copy must be the same
-/// text, or passes would disagree about where the ground is.
+/// WGSL has no includes, so the Night City shaders repeat the few functions and constants that
+/// define the world (the terrain height, its noise, the position decoding, the cluster grid,
+/// the city layout). Every copy must be the same text, or passes would disagree about where the
+/// ground is or which cluster a pixel falls in.
 #[test]
 fn shared_world_functions_agree_across_night_city_shaders() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../captures/night_city/shaders");
@@ -54,6 +55,11 @@ fn shared_world_functions_agree_across_night_city_shaders() {
         "fn hash21(",
         "fn decode_position(",
         "fn vs_fullscreen(",
+        "fn cluster_slice(",
+        "fn cluster_first_slot(",
+        "fn cascade_matrix(",
+        "fn radical_inverse(",
+        "fn ggx_sample(",
     ];
     for head in shared {
         let mut copies: Vec<(String, String)> = Vec::new();
@@ -75,4 +81,21 @@ fn shared_world_functions_agree_across_night_city_shaders() {
             );
         }
     }
+    // Constants of the same name hold the same value everywhere.
+    let mut consts: std::collections::BTreeMap<String, (String, String)> = Default::default();
+    for f in &files {
+        for line in std::fs::read_to_string(f).unwrap().lines() {
+            let Some(rest) = line.strip_prefix("const ") else {
+                continue;
+            };
+            let name = rest.split(':').next().unwrap().to_owned();
+            let file = f.display().to_string();
+            if let Some((first, text)) = consts.get(&name) {
+                assert_eq!(line, text, "const {name} in {file} differs from {first}");
+            } else {
+                consts.insert(name, (file, line.to_owned()));
+            }
+        }
+    }
+    assert!(consts.contains_key("CLUSTER_SLICES"), "{consts:?}");
 }

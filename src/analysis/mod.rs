@@ -54,8 +54,10 @@ pub fn barriers_and_memory(
     std::thread::scope(|s| {
         let memory = s.spawn(|| memory::plan(model, order));
         let plan = barriers::derive(model, units, graph, order);
-        // A panic in the planner is a bug; run it again here so it surfaces on this thread.
-        let memory = memory.join().unwrap_or_else(|_| memory::plan(model, order));
+        // A panic in the planner is a bug: carry it on to this thread.
+        let memory = memory
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
         (plan, memory)
     })
 }

@@ -10,6 +10,17 @@ pub struct GeneratorSpec {
     pub params: &'static [(&'static str, f64)],
 }
 
+/// The street grid shared by the `city_blocks` mesh and the `city_lots` instance rows.
+const CITY_PARAMS: &[(&str, f64)] = &[
+    ("blocks_x", 8.0),
+    ("blocks_z", 8.0),
+    ("block_size", 40.0),
+    ("street_width", 12.0),
+    ("min_height", 10.0),
+    ("max_height", 120.0),
+    ("buildings_per_block", 4.0),
+];
+
 /// Generators for mesh sources.
 pub const MESH_GENERATORS: &[GeneratorSpec] = &[
     GeneratorSpec {
@@ -25,15 +36,7 @@ pub const MESH_GENERATORS: &[GeneratorSpec] = &[
     GeneratorSpec {
         name: "city_blocks",
         description: "building boxes on a street grid with seeded heights",
-        params: &[
-            ("blocks_x", 8.0),
-            ("blocks_z", 8.0),
-            ("block_size", 40.0),
-            ("street_width", 12.0),
-            ("min_height", 10.0),
-            ("max_height", 120.0),
-            ("buildings_per_block", 4.0),
-        ],
+        params: CITY_PARAMS,
     },
     GeneratorSpec {
         name: "terrain",
@@ -128,15 +131,7 @@ pub const CONTENT_GENERATORS: &[GeneratorSpec] = &[
     GeneratorSpec {
         name: "city_lots",
         description: "one transform per building lot of a street grid, the same lots and heights as city_blocks (a unit box becomes a building)",
-        params: &[
-            ("blocks_x", 8.0),
-            ("blocks_z", 8.0),
-            ("block_size", 40.0),
-            ("street_width", 12.0),
-            ("min_height", 10.0),
-            ("max_height", 120.0),
-            ("buildings_per_block", 4.0),
-        ],
+        params: CITY_PARAMS,
     },
 ];
 

@@ -374,52 +374,19 @@ pub fn buffer(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>, size
             }
         }
         "city_lots" => {
-            // The lots of `city_blocks` with the same seed: a unit box (centred, size 1) scaled
-            // to the building and moved onto its lot.
-            let (bx, bz, block, street) = (
-                p("blocks_x") as i64,
-                p("blocks_z") as i64,
-                p("block_size"),
-                p("street_width"),
-            );
-            let per = p("buildings_per_block").max(1.0) as i64;
-            let pitch = block + street;
-            let side = (per as f64).sqrt().ceil() as i64;
-            let lot = block / side as f64;
-            'lots: for i in 0..bx {
-                for j in 0..bz {
-                    let (ox, oz) = (
-                        (i as f64 - bx as f64 / 2.0) * pitch,
-                        (j as f64 - bz as f64 / 2.0) * pitch,
-                    );
-                    for k in 0..per {
-                        if out.len() as u64 + 48 > size {
-                            break 'lots;
-                        }
-                        let r = |c: i64| hash(seed, i * 1000 + j, k, c);
-                        let height =
-                            p("min_height") + (p("max_height") - p("min_height")) * r(0).powi(2);
-                        let (lx, lz) = (ox + (k % side) as f64 * lot, oz + (k / side) as f64 * lot);
-                        let inset = lot * (0.05 + 0.1 * r(1));
-                        let w = lot - 2.0 * inset;
-                        let (cx, cz) = (lx + lot / 2.0, lz + lot / 2.0);
-                        for v in [
-                            w,
-                            0.0,
-                            0.0,
-                            cx,
-                            0.0,
-                            height,
-                            0.0,
-                            height / 2.0,
-                            0.0,
-                            0.0,
-                            w,
-                            cz,
-                        ] {
-                            out.extend((v as f32).to_le_bytes());
-                        }
-                    }
+            // The buildings of `city_blocks` with the same seed and parameters: a unit box
+            // (centred, size 1) scaled to each building and moved onto its lot.
+            for b in buildings(seed, &p).take((size / 48) as usize) {
+                let size3 = [0, 1, 2].map(|c| b.max[c] - b.min[c]);
+                let centre = [0, 1, 2].map(|c| (b.max[c] + b.min[c]) / 2.0);
+                #[rustfmt::skip]
+                let rows = [
+                    size3[0], 0.0, 0.0, centre[0],
+                    0.0, size3[1], 0.0, centre[1],
+                    0.0, 0.0, size3[2], centre[2],
+                ];
+                for v in rows {
+                    out.extend((v as f32).to_le_bytes());
                 }
             }
         }
@@ -553,6 +520,48 @@ impl MeshData {
     }
 }
 
+/// One building of a street grid: its box and a seeded tint.
+struct Building {
+    min: [f64; 3],
+    max: [f64; 3],
+    tint: [f64; 3],
+}
+
+/// The buildings of a street grid of `blocks_x` x `blocks_z` blocks, `buildings_per_block` lots
+/// each, with seeded heights and insets: one layout for the `city_blocks` mesh and the
+/// `city_lots` instance rows, so the two agree building for building.
+fn buildings<'a>(seed: u64, p: &'a dyn Fn(&str) -> f64) -> impl Iterator<Item = Building> + 'a {
+    let (bx, bz, block, street) = (
+        p("blocks_x") as i64,
+        p("blocks_z") as i64,
+        p("block_size"),
+        p("street_width"),
+    );
+    let per = p("buildings_per_block").max(1.0) as i64;
+    let pitch = block + street;
+    let side = (per as f64).sqrt().ceil() as i64;
+    let lot = block / side as f64;
+    (0..bx).flat_map(move |i| {
+        (0..bz).flat_map(move |j| {
+            let (ox, oz) = (
+                (i as f64 - bx as f64 / 2.0) * pitch,
+                (j as f64 - bz as f64 / 2.0) * pitch,
+            );
+            (0..per).map(move |k| {
+                let r = |c: i64| hash(seed, i * 1000 + j, k, c);
+                let height = p("min_height") + (p("max_height") - p("min_height")) * r(0).powi(2);
+                let (lx, lz) = (ox + (k % side) as f64 * lot, oz + (k / side) as f64 * lot);
+                let inset = lot * (0.05 + 0.1 * r(1));
+                Building {
+                    min: [lx + inset, 0.0, lz + inset],
+                    max: [lx + lot - inset, height, lz + lot - inset],
+                    tint: [r(2), r(3), r(4)],
+                }
+            })
+        })
+    })
+}
+
 fn normalize(v: [f32; 3]) -> [f32; 3] {
     let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-12);
     [v[0] / l, v[1] / l, v[2] / l]
@@ -592,36 +601,15 @@ pub fn mesh(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>) -> Mes
             m.cuboid([-s, -s, -s], [s, s, s], [1.0, 1.0, 1.0, 1.0]);
         }
         "city_blocks" => {
-            let (bx, bz, block, street) = (
-                p("blocks_x") as i64,
-                p("blocks_z") as i64,
-                p("block_size"),
-                p("street_width"),
-            );
-            let per = p("buildings_per_block").max(1.0) as i64;
-            let pitch = block + street;
-            for i in 0..bx {
-                for j in 0..bz {
-                    let (ox, oz) = (
-                        (i as f32 - bx as f32 / 2.0) * pitch,
-                        (j as f32 - bz as f32 / 2.0) * pitch,
-                    );
-                    let side = (per as f32).sqrt().ceil() as i64;
-                    let lot = block / side as f32;
-                    for k in 0..per {
-                        let r = |c: i64| hash(seed, i * 1000 + j, k, c) as f32;
-                        let height =
-                            p("min_height") + (p("max_height") - p("min_height")) * r(0).powi(2);
-                        let (lx, lz) = (ox + (k % side) as f32 * lot, oz + (k / side) as f32 * lot);
-                        let inset = lot * (0.05 + 0.1 * r(1));
-                        // Window tint in the colour stream; shaders turn it into emissive windows.
-                        m.cuboid(
-                            [lx + inset, 0.0, lz + inset],
-                            [lx + lot - inset, height, lz + lot - inset],
-                            [r(2), r(3), r(4), 1.0],
-                        );
-                    }
-                }
+            let p = |n: &str| f64::from(p(n));
+            for b in buildings(seed, &p) {
+                // Window tint in the colour stream; shaders turn it into emissive windows.
+                let tint = b.tint.map(|c| c as f32);
+                m.cuboid(
+                    b.min.map(|c| c as f32),
+                    b.max.map(|c| c as f32),
+                    [tint[0], tint[1], tint[2], 1.0],
+                );
             }
         }
         "foliage_cards" => {

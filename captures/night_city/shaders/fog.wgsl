@@ -25,7 +25,6 @@ struct Params {
     density: f32,
     height_falloff: f32,
     anisotropy: f32,
-    light_count: u32,
 }
 
 struct Light {
@@ -48,12 +47,24 @@ struct Light {
 
 const FOG_NEAR: f32 = 0.5;
 const FOG_FAR: f32 = 150.0;
+// The cluster grid shared by the culling pass and its readers: 24 exponential depth slices
+// between 0.5 and 400 m; each cluster owns 32 consecutive slots of light_list.
 const CLUSTER_NEAR: f32 = 0.5;
 const CLUSTER_FAR: f32 = 400.0;
-const CLUSTER_SLICES: f32 = 24.0;
+const CLUSTER_SLICES: u32 = 24u;
+const MAX_PER_CLUSTER: u32 = 32u;
+
+fn cluster_slice(view_z: f32) -> u32 {
+    let s = log(max(view_z, CLUSTER_NEAR) / CLUSTER_NEAR) / log(CLUSTER_FAR / CLUSTER_NEAR);
+    return min(u32(s * f32(CLUSTER_SLICES)), CLUSTER_SLICES - 1u);
+}
+
+fn cluster_first_slot(tile: vec2<u32>, slice: u32, grid: vec3<u32>) -> u32 {
+    return ((slice * grid.y + tile.y) * grid.x + tile.x) * MAX_PER_CLUSTER;
+}
 const PI: f32 = 3.14159265;
 
-fn slice_depth(s: f32, count: f32) -> f32 {
+fn froxel_depth(s: f32, count: f32) -> f32 {
     return FOG_NEAR * pow(FOG_FAR / FOG_NEAR, s / count);
 }
 
@@ -114,18 +125,17 @@ fn cs_fog_integrate(@builtin(global_invocation_id) id: vec3<u32>) {
     var transmittance = 1.0;
     let count = f32(size.z);
     for (var z = 0u; z < size.z; z++) {
-        let z0 = slice_depth(f32(z), count);
-        let z1 = slice_depth(f32(z) + 1.0, count);
+        let z0 = froxel_depth(f32(z), count);
+        let z1 = froxel_depth(f32(z) + 1.0, count);
         let zc = 0.5 * (z0 + z1);
         let p = frame.camera_position.xyz + ray * (zc / along);
         let sigma = density_at(p);
         var inscatter = frame.sun_color.rgb * sun_visibility(p, zc) * sun_phase;
         // Clustered local lights at this depth.
-        let slice = u32(clamp(log(zc / CLUSTER_NEAR) / log(CLUSTER_FAR / CLUSTER_NEAR) * CLUSTER_SLICES, 0.0, CLUSTER_SLICES - 1.0));
+        let slice = cluster_slice(zc);
         let entry = textureLoad(cluster_light_index, vec3<u32>(tile, slice), 0).r;
-        // Each cluster owns 32 slots of light_list at its linear index; the volume holds the count.
-        let first = ((slice * grid.y + tile.y) * grid.x + tile.x) * 32u;
-        let n = min(entry, 32u);
+        let first = cluster_first_slot(tile, slice, grid);
+        let n = min(entry, MAX_PER_CLUSTER);
         for (var k = 0u; k < n; k++) {
             let light = lights[light_list[first + k]];
             let d = light.position_radius.xyz - p;

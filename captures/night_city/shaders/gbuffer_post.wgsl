@@ -7,7 +7,6 @@ struct FrameConstants {
     inv_view_proj: mat4x4<f32>,
     camera_position: vec4<f32>,
     resolution: vec4<f32>,
-    time: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameConstants;

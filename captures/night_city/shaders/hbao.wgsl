@@ -6,7 +6,6 @@
 struct FrameConstants {
     proj: mat4x4<f32>,
     view: mat4x4<f32>,
-    resolution: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameConstants;

@@ -20,7 +20,6 @@ struct FrameConstants {
 }
 
 struct Params {
-    light_count: u32,
     shadowed_lights: u32,
     emissive_scale: f32,
     ambient_scale: f32,
@@ -54,9 +53,21 @@ struct Light {
 @group(0) @binding(18) var lit_specular: texture_storage_2d<rgba16float, write>;
 
 const PI: f32 = 3.14159265;
+// The cluster grid shared by the culling pass and its readers: 24 exponential depth slices
+// between 0.5 and 400 m; each cluster owns 32 consecutive slots of light_list.
 const CLUSTER_NEAR: f32 = 0.5;
 const CLUSTER_FAR: f32 = 400.0;
-const CLUSTER_SLICES: f32 = 24.0;
+const CLUSTER_SLICES: u32 = 24u;
+const MAX_PER_CLUSTER: u32 = 32u;
+
+fn cluster_slice(view_z: f32) -> u32 {
+    let s = log(max(view_z, CLUSTER_NEAR) / CLUSTER_NEAR) / log(CLUSTER_FAR / CLUSTER_NEAR);
+    return min(u32(s * f32(CLUSTER_SLICES)), CLUSTER_SLICES - 1u);
+}
+
+fn cluster_first_slot(tile: vec2<u32>, slice: u32, grid: vec3<u32>) -> u32 {
+    return ((slice * grid.y + tile.y) * grid.x + tile.x) * MAX_PER_CLUSTER;
+}
 
 fn d_ggx(noh: f32, a: f32) -> f32 {
     let a2 = a * a;
@@ -213,11 +224,10 @@ fn cs_tiled_lighting(@builtin(global_invocation_id) id: vec3<u32>) {
         let tile_px = ceil(frame.resolution.xy / vec2<f32>(grid.xy));
         let tile = vec2<u32>(min(vec2<f32>(id.xy) / tile_px, vec2<f32>(grid.xy - 1u)));
         let view_z = -(frame.view * vec4<f32>(world, 1.0)).z;
-        let slice = u32(clamp(log(view_z / CLUSTER_NEAR) / log(CLUSTER_FAR / CLUSTER_NEAR) * CLUSTER_SLICES, 0.0, CLUSTER_SLICES - 1.0));
+        let slice = cluster_slice(view_z);
         let entry = textureLoad(cluster_light_index, vec3<u32>(tile, slice), 0).r;
-        // Each cluster owns 32 slots of light_list at its linear index; the volume holds the count.
-        let first = ((slice * grid.y + tile.y) * grid.x + tile.x) * 32u;
-        let n = min(entry, 32u);
+        let first = cluster_first_slot(tile, slice, grid);
+        let n = min(entry, MAX_PER_CLUSTER);
         for (var k = 0u; k < n; k++) {
             let index = light_list[first + k];
             let light = lights[index];

@@ -36,10 +36,22 @@ struct Light {
 @group(0) @binding(8) var light_mask_fine: texture_storage_2d<r8unorm, write>;
 @group(0) @binding(9) var light_mask_coarse: texture_storage_2d<r8unorm, write>;
 
+// The cluster grid shared by the culling pass and its readers: 24 exponential depth slices
+// between 0.5 and 400 m; each cluster owns 32 consecutive slots of light_list.
 const CLUSTER_NEAR: f32 = 0.5;
 const CLUSTER_FAR: f32 = 400.0;
-const SLICES: u32 = 24u;
+const CLUSTER_SLICES: u32 = 24u;
 const MAX_PER_CLUSTER: u32 = 32u;
+
+fn cluster_slice(view_z: f32) -> u32 {
+    let s = log(max(view_z, CLUSTER_NEAR) / CLUSTER_NEAR) / log(CLUSTER_FAR / CLUSTER_NEAR);
+    return min(u32(s * f32(CLUSTER_SLICES)), CLUSTER_SLICES - 1u);
+}
+
+fn cluster_first_slot(tile: vec2<u32>, slice: u32, grid: vec3<u32>) -> u32 {
+    return ((slice * grid.y + tile.y) * grid.x + tile.x) * MAX_PER_CLUSTER;
+}
+
 const TILE_PX: f32 = 32.0;
 const CITY_MIN: vec2<f32> = vec2<f32>(-104.0, -156.0);
 const CITY_MAX: vec2<f32> = vec2<f32>(92.0, 144.0);
@@ -47,7 +59,7 @@ const BLOCK_PITCH: f32 = 52.0;
 const BLOCK_SIZE: f32 = 40.0;
 
 fn slice_depth(s: f32) -> f32 {
-    return CLUSTER_NEAR * pow(CLUSTER_FAR / CLUSTER_NEAR, s / f32(SLICES));
+    return CLUSTER_NEAR * pow(CLUSTER_FAR / CLUSTER_NEAR, s / f32(CLUSTER_SLICES));
 }
 
 fn hash11(n: f32) -> f32 {
@@ -140,13 +152,12 @@ fn cs_cluster(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_in
     let zmin = bitcast<f32>(atomicLoad(&tile_min));
     let zmax = bitcast<f32>(atomicLoad(&tile_max));
     let s = lid;
-    if (s >= SLICES) {
+    if (s >= CLUSTER_SLICES) {
         return;
     }
     let z0 = slice_depth(f32(s));
     let z1 = slice_depth(f32(s + 1u));
-    let cluster = (s * grid.y + wg.y) * grid.x + wg.x;
-    let base = cluster * MAX_PER_CLUSTER;
+    let base = cluster_first_slot(wg.xy, s, grid);
     var count = 0u;
     if (z1 >= zmin && z0 <= zmax) {
         // The tile's NDC rectangle (y up) and the slice's view-space box.
@@ -176,7 +187,7 @@ fn cs_cluster(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_in
 
 fn column_count(cx: u32, cy: u32, z0: f32, z1: f32) -> u32 {
     var total = 0u;
-    for (var s = 0u; s < SLICES; s++) {
+    for (var s = 0u; s < CLUSTER_SLICES; s++) {
         let a = slice_depth(f32(s));
         let b = slice_depth(f32(s + 1u));
         if (b >= z0 && a <= z1) {

@@ -4,7 +4,6 @@
 
 struct FrameConstants {
     time: vec4<f32>,
-    sun_direction: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameConstants;

@@ -17,7 +17,6 @@ struct FrameConstants {
     csm_view_proj_2: mat4x4<f32>,
     csm_view_proj_3: mat4x4<f32>,
     top_view_proj: mat4x4<f32>,
-    camera_position: vec4<f32>,
     sun_direction: vec4<f32>,
     sun_color: vec4<f32>,
     jitter: vec4<f32>,
@@ -66,7 +65,6 @@ struct Light {
 @group(0) @binding(5) var terrain_layers: texture_2d_array<f32>;
 @group(0) @binding(6) var ocean_height: texture_2d<f32>;
 @group(0) @binding(7) var blue_noise: texture_2d<f32>;
-@group(0) @binding(8) var linear_wrap: sampler;
 @group(0) @binding(9) var linear_clamp: sampler;
 @group(0) @binding(10) var<storage, read> lights: array<Light>;
 
@@ -99,11 +97,6 @@ struct VertexOut {
     @location(4) prev_clip: vec4<f32>,
     @location(5) cur_clip: vec4<f32>,
     @location(6) @interpolate(flat) variant: u32,
-    @location(7) light_depth: f32,
-}
-
-fn hash11(n: f32) -> f32 {
-    return fract(sin(n * 12.9898) * 43758.5453);
 }
 
 fn hash21(p: vec2<f32>) -> f32 {
@@ -214,7 +207,6 @@ fn finish(out_in: VertexOut, world: vec3<f32>, prev_world: vec3<f32>) -> VertexO
     var out = out_in;
     out.world = world;
     out.clip = view_matrix(params.view) * vec4<f32>(world, 1.0);
-    out.light_depth = out.clip.z;
     out.cur_clip = frame.view_proj * vec4<f32>(world, 1.0);
     out.prev_clip = frame.prev_view_proj * vec4<f32>(prev_world, 1.0);
     return out;
@@ -224,7 +216,6 @@ fn finish(out_in: VertexOut, world: vec3<f32>, prev_world: vec3<f32>) -> VertexO
 fn to_paraboloid(in: VertexOut) -> VertexOut {
     var out = in;
     out.clip = paraboloid(in.world);
-    out.light_depth = out.clip.z;
     // Geometry above the light is behind the paraboloid: push it outside the clip volume.
     if (in.world.y > lights[params.light].position_radius.y + 0.5) {
         out.clip = vec4<f32>(0.0, 0.0, 2.0, 1.0);

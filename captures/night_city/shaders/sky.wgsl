@@ -8,9 +8,6 @@ struct FrameConstants {
     camera_position: vec4<f32>,
     sun_direction: vec4<f32>,
     sun_color: vec4<f32>,
-    moon_direction: vec4<f32>,
-    moon_color: vec4<f32>,
-    time: vec4<f32>,
 }
 
 struct Params {
@@ -97,25 +94,31 @@ fn radical_inverse(i: u32) -> f32 {
     return f32(b) * 2.3283064e-10;
 }
 
+// Sample i of count of the GGX lobe of roughness^2 `a` around n, as the reflected direction
+// (Hammersley points, Karis 2013).
+fn ggx_sample(n: vec3<f32>, a: f32, i: u32, count: u32) -> vec3<f32> {
+    let up = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n.y) < 0.99);
+    let tx = normalize(cross(up, n));
+    let ty = cross(n, tx);
+    let xi = vec2<f32>(f32(i) / f32(count), radical_inverse(i));
+    let phi = 2.0 * PI * xi.x;
+    let cos_t = sqrt((1.0 - xi.y) / (1.0 + (a * a - 1.0) * xi.y));
+    let sin_t = sqrt(1.0 - cos_t * cos_t);
+    let h = tx * cos(phi) * sin_t + ty * sin(phi) * sin_t + n * cos_t;
+    return normalize(2.0 * dot(n, h) * h - n);
+}
+
 // GGX-prefiltered radiance around `n` (= v = r, the split-sum assumption) for `roughness`.
 fn prefiltered(n: vec3<f32>, roughness: f32) -> vec3<f32> {
     if (roughness <= 0.0) {
         return sky_radiance(n, false);
     }
     let a = roughness * roughness;
-    let up = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n.y) < 0.99);
-    let tx = normalize(cross(up, n));
-    let ty = cross(n, tx);
     var sum = vec3<f32>(0.0);
     var weight = 0.0;
     let count = 48u;
     for (var i = 0u; i < count; i++) {
-        let xi = vec2<f32>(f32(i) / f32(count), radical_inverse(i));
-        let phi = 2.0 * PI * xi.x;
-        let cos_t = sqrt((1.0 - xi.y) / (1.0 + (a * a - 1.0) * xi.y));
-        let sin_t = sqrt(1.0 - cos_t * cos_t);
-        let h = tx * cos(phi) * sin_t + ty * sin(phi) * sin_t + n * cos_t;
-        let l = normalize(2.0 * dot(n, h) * h - n);
+        let l = ggx_sample(n, a, i, count);
         let nl = dot(n, l);
         if (nl > 0.0) {
             sum += sky_radiance(l, false) * nl;

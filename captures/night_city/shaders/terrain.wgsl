@@ -4,7 +4,6 @@
 
 struct FrameConstants {
     camera_position: vec4<f32>,
-    time: vec4<f32>,
 }
 
 struct Params {
@@ -20,8 +19,6 @@ struct Params {
 
 const CITY_MIN: vec2<f32> = vec2<f32>(-104.0, -156.0);
 const CITY_MAX: vec2<f32> = vec2<f32>(92.0, 144.0);
-const BLOCK_PITCH: f32 = 52.0;
-const BLOCK_SIZE: f32 = 40.0;
 const WATER_LEVEL: f32 = -1.5;
 const TERRAIN_MAP_EXTENT: f32 = 600.0;
 const VOXEL_MIN: vec3<f32> = vec3<f32>(-160.0, -32.0, -200.0);
