@@ -127,62 +127,18 @@ pub struct BarrierPlan {
     pub initial_states: Vec<State>,
 }
 
-/// What one pass needs of one unit.
-#[derive(Clone, Copy, Debug)]
-struct Need {
-    unit: usize,
-    resource: u32,
-    state: State,
-    reads: bool,
-    writes: bool,
-    uav: bool,
-}
-
-/// The state each unit must be in for `pass`: read states of several accesses combine; a write
-/// state wins (the pass orders its own accesses internally).
-fn needs(model: &FrameModel, units: &Units, pass: usize, out: &mut Vec<Need>) {
-    out.clear();
-    for a in &model.passes[pass].accesses {
-        units.for_each(model, a, |unit| {
-            out.push(Need {
-                unit,
-                resource: a.resource,
-                state: a.state,
-                reads: a.reads,
-                writes: a.writes,
-                uav: a.uav,
-            })
-        });
-    }
-    out.sort_unstable_by_key(|n| n.unit);
-    let mut w = 0;
-    for r in 0..out.len() {
-        let n = out[r];
-        if w > 0 && out[w - 1].unit == n.unit {
-            let m = &mut out[w - 1];
-            m.state = match (m.state.is_write(), n.state.is_write()) {
-                (true, _) => m.state,
-                (false, true) => n.state,
-                (false, false) => m.state.union(n.state),
-            };
-            m.reads |= n.reads;
-            m.writes |= n.writes;
-            m.uav |= n.uav;
-        } else {
-            out[w] = n;
-            w += 1;
-        }
-    }
-    out.truncate(w);
-}
-
 /// Per-unit tracking while walking the order.
 #[derive(Clone, Copy)]
 struct UnitTrack {
     state: State,
-    /// Position in the order and pass of the last access.
-    last_pos: Option<u32>,
+    /// Position in the order (`NO_PASS` before the first access) and pass of the last access.
+    last_pos: u32,
     last_pass: u32,
+    /// The unit's last barrier: the pass it is placed at (`NO_PASS` if none), whether after
+    /// that pass, and the queue it is recorded on.
+    anchor_pass: u32,
+    anchor_queue: u32,
+    anchor_after: bool,
     /// Queues (bit per queue index) with an unordered-access write / read since the last
     /// barrier: a UAV barrier orders accesses on one queue; other queues are ordered by fences.
     pending_uav_write: u64,
@@ -195,9 +151,10 @@ fn queue_bit(queue: u32) -> u64 {
     1u64 << queue.min(63)
 }
 
-/// One unit's transition or UAV barrier before batching.
-#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-struct Pending {
+/// What barriers are batched by: one unit's barriers with equal keys in one pass boundary merge
+/// into ranges.
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct BatchKey {
     placement: Placement,
     queue: u32,
     for_pass: u32,
@@ -207,29 +164,87 @@ struct Pending {
     after: State,
     split: Option<u32>,
     next_frame: bool,
-    // Unit within the resource (mip-major for textures, interval index for buffers).
-    mip: u32,
-    layer: u32,
+}
+
+/// Merges per-unit barriers into rectangles of mips x layers (or runs of byte intervals for
+/// buffers) as they are found. Barriers arrive in pass order and, within a pass, in unit order,
+/// so a resource's barriers with equal keys are adjacent: runs are grouped without sorting.
+struct Batcher<'a> {
+    model: &'a FrameModel,
+    units: &'a Units,
+    key: Option<BatchKey>,
+    /// The current run's units within the resource (mip-major for textures, interval index
+    /// for buffers).
+    cells: Vec<(u32, u32)>,
+    out: Vec<Barrier>,
+}
+
+impl<'a> Batcher<'a> {
+    fn new(model: &'a FrameModel, units: &'a Units, capacity: usize) -> Self {
+        Self {
+            model,
+            units,
+            key: None,
+            cells: Vec::new(),
+            out: Vec::with_capacity(capacity),
+        }
+    }
+
+    fn add(&mut self, key: BatchKey, unit: usize) {
+        if self.key != Some(key) {
+            self.flush();
+            self.key = Some(key);
+        }
+        let cell = self.units.cell(self.model, key.resource, unit);
+        self.cells.push(cell);
+    }
+
+    fn flush(&mut self) {
+        let Some(key) = self.key.take() else { return };
+        let out = &mut self.out;
+        rectangles(self.model, self.units, key.resource, &self.cells, |range| {
+            out.push(Barrier {
+                kind: key.kind,
+                placement: key.placement,
+                queue: key.queue,
+                for_pass: key.for_pass,
+                resource: key.resource,
+                resource_before: None,
+                range,
+                before: key.before,
+                after: key.after,
+                split_begin_after: key.split,
+                next_frame: key.next_frame,
+            })
+        });
+        self.cells.clear();
+    }
+
+    fn finish(mut self) -> Vec<Barrier> {
+        self.flush();
+        self.out
+    }
 }
 
 pub fn derive(model: &FrameModel, units: &Units, graph: &PassGraph, order: &[u32]) -> BarrierPlan {
     // First walk: the state each unit is left in, which is where the next frame starts, unless
     // the first queue to touch it next frame cannot hold that state: then the frame ends with a
     // transition to what that first access needs.
-    let mut initial: Vec<State> = vec![State::COMMON; units.total];
+    let mut steady: Vec<State> = vec![State::COMMON; units.total];
     for (r, res) in model.resources.iter().enumerate() {
         let base = units.base(r as u32);
         let count = units.count(r as u32);
-        initial[base..base + count].fill(res.initial_state);
+        steady[base..base + count].fill(res.initial_state);
     }
-    let mut last: Vec<State> = initial.clone();
-    let mut first: Vec<Option<(u32, State)>> = vec![None; units.total];
-    let mut scratch = Vec::new();
+    // The first pass to use each unit (`NO_PASS` if none) and the state it needs.
+    let mut first: Vec<(u32, State)> = vec![(NO_PASS, State::COMMON); units.total];
     for &p in order {
-        needs(model, units, p as usize, &mut scratch);
-        for n in &scratch {
-            last[n.unit] = n.state;
-            first[n.unit].get_or_insert((p, n.state));
+        for n in units.uses(p) {
+            let u = n.unit as usize;
+            steady[u] = n.state;
+            if first[u].0 == NO_PASS {
+                first[u] = (p, n.state);
+            }
         }
     }
     // Previous-frame copies end their frame where the resource they copy ends it.
@@ -237,21 +252,20 @@ pub fn derive(model: &FrameModel, units: &Units, graph: &PassGraph, order: &[u32
         if let Some(of) = res.previous_of {
             let (base, of_base) = (units.base(r as u32), units.base(of));
             for i in 0..units.count(r as u32) {
-                last[base + i] = last[of_base + i];
+                steady[base + i] = steady[of_base + i];
             }
         }
     }
-    let mut steady = last.clone();
-    let mut end_of_frame: Vec<Option<u32>> = vec![None; units.total];
-    for u in 0..units.total {
-        if let Some((p0, need)) = first[u] {
-            let queue = model.queue_type(p0 as usize);
-            if !last[u].allowed_on(queue) {
-                steady[u] = need;
-                end_of_frame[u] = Some(p0);
-            }
+    // `steady` holds each unit's last state; where the first queue can't hold it, the frame
+    // ends with a transition to what the first access needs.
+    let mut end_of_frame: Vec<u32> = vec![NO_PASS; units.total];
+    for (u, &(p0, need)) in first.iter().enumerate() {
+        if p0 != NO_PASS && !steady[u].allowed_on(model.queue_type(p0 as usize)) {
+            steady[u] = need;
+            end_of_frame[u] = p0;
         }
     }
+    drop(first);
     let (mut plan, requires) = walk(model, units, order, &steady, &end_of_frame);
     plan.initial_states = steady;
     plan.fences = fences(model, graph, order, requires);
@@ -265,51 +279,53 @@ pub(crate) fn serves(have: State, need: State, queue: QueueType) -> bool {
         && have.allowed_on(queue)
 }
 
+/// "Must happen before" constraints the walk finds, as (later pass, earlier pass).
+type Requires = Vec<(u32, u32)>;
+
 fn walk(
     model: &FrameModel,
     units: &Units,
     order: &[u32],
     initial: &[State],
-    end_of_frame: &[Option<u32>],
-) -> (BarrierPlan, Vec<Vec<u32>>) {
+    end_of_frame: &[u32],
+) -> (BarrierPlan, Requires) {
     let mut track: Vec<UnitTrack> = initial
         .iter()
         .map(|&state| UnitTrack {
             state,
-            last_pos: None,
+            last_pos: NO_PASS,
             last_pass: 0,
+            anchor_pass: NO_PASS,
+            anchor_queue: 0,
+            anchor_after: false,
             pending_uav_write: 0,
             pending_uav_read: 0,
         })
         .collect();
-    // Passes that accessed each unit since its last barrier, and where that barrier sits.
+    let pass_queue: Vec<u32> = model.passes.iter().map(|p| p.queue).collect();
     // The latest pass on each queue that accessed each unit since its last barrier (flat,
     // unit-major); only the latest per queue matters, queue order covers the earlier ones.
     let nq = model.queues.len();
     let mut since_sync: Vec<u32> = vec![NO_PASS; units.total * nq];
-    let mut anchor: Vec<Option<(Placement, u32)>> = vec![None; units.total];
-    // requires[b] lists passes that must happen before pass b starts.
-    let mut requires: Vec<Vec<u32>> = vec![Vec::new(); model.passes.len()];
-    let mut pending: Vec<Pending> = Vec::new();
+    let mut requires: Requires = Vec::with_capacity(order.len() * 4);
+    let mut batcher = Batcher::new(model, units, units.total * 2);
     let mut transfers: Vec<(u32, u32, u32, u32, u32, u32, u32)> = Vec::new();
-    let mut scratch = Vec::new();
     for (pos, &p) in order.iter().enumerate() {
         let pos = pos as u32;
-        let queue = model.passes[p as usize].queue;
+        let queue = pass_queue[p as usize];
         let qtype = model.queues[queue as usize].queue_type;
-        needs(model, units, p as usize, &mut scratch);
-        // `needs` merged accesses per unit, so each unit is seen once per pass.
-        for n in &scratch {
-            let t = track[n.unit];
+        let qbit = queue_bit(queue);
+        // Uses are merged per unit, so each unit is seen once per pass.
+        for n in units.uses(p) {
+            let unit = n.unit as usize;
+            let t = track[unit];
             let resource = n.resource;
-            let (mip, layer) = units.cell(model, resource, n.unit);
             let transition = !serves(t.state, n.state, qtype);
-            let qbit = queue_bit(queue);
             let uav_barrier = !transition
                 && n.uav
                 && (t.pending_uav_write & qbit != 0
                     || (n.writes && t.pending_uav_read & qbit != 0));
-            let last_queue = t.last_pos.map(|_| model.passes[t.last_pass as usize].queue);
+            let last_queue = (t.last_pos != NO_PASS).then(|| pass_queue[t.last_pass as usize]);
             if transition || uav_barrier {
                 let on_consumer = t.state.allowed_on(qtype) && n.state.allowed_on(qtype);
                 let (placement, barrier_queue) = match last_queue {
@@ -318,56 +334,56 @@ fn walk(
                     }
                     _ => (Placement::Before(p), queue),
                 };
-                let split = match (placement, t.last_pos) {
-                    (Placement::Before(_), Some(lp))
-                        if transition && pos > lp + 1 && last_queue == Some(queue) =>
-                    {
-                        Some(t.last_pass)
-                    }
-                    _ => None,
-                };
+                let split = (transition
+                    && matches!(placement, Placement::Before(_))
+                    && last_queue == Some(queue)
+                    && pos > t.last_pos + 1)
+                    .then_some(t.last_pass);
                 // The barrier acts like a write: earlier accesses on other queues come first.
                 let target = placement.pass();
-                let accessors = &mut since_sync[n.unit * nq..(n.unit + 1) * nq];
-                for (q, a) in accessors.iter().enumerate() {
+                let accessors = &mut since_sync[unit * nq..(unit + 1) * nq];
+                for (q, a) in accessors.iter_mut().enumerate() {
                     if *a != NO_PASS && q as u32 != barrier_queue && *a != target {
-                        requires[target as usize].push(*a);
+                        requires.push((target, *a));
                     }
+                    *a = NO_PASS;
                 }
-                accessors.fill(NO_PASS);
                 if let Placement::After(q) = placement {
-                    requires[p as usize].push(q);
+                    requires.push((p, q));
                 }
-                anchor[n.unit] = Some((placement, barrier_queue));
-                pending.push(Pending {
-                    placement,
-                    queue: barrier_queue,
-                    for_pass: p,
-                    kind: if transition {
-                        BarrierKind::Transition
-                    } else {
-                        BarrierKind::Uav
+                let t = &mut track[unit];
+                t.anchor_pass = target;
+                t.anchor_after = matches!(placement, Placement::After(_));
+                t.anchor_queue = barrier_queue;
+                batcher.add(
+                    BatchKey {
+                        placement,
+                        queue: barrier_queue,
+                        for_pass: p,
+                        kind: if transition {
+                            BarrierKind::Transition
+                        } else {
+                            BarrierKind::Uav
+                        },
+                        resource,
+                        before: t.state,
+                        after: n.state,
+                        split,
+                        next_frame: false,
                     },
-                    resource,
-                    before: t.state,
-                    after: n.state,
-                    split,
-                    next_frame: false,
-                    mip,
-                    layer,
-                });
-            } else if let Some((placement, barrier_queue)) = anchor[n.unit] {
+                    unit,
+                );
+            } else if t.anchor_pass != NO_PASS && t.anchor_queue != queue && t.anchor_pass != p {
                 // The state this access relies on was set by that barrier: it must come first.
-                if barrier_queue != queue && placement.pass() != p {
-                    requires[p as usize].push(placement.pass());
-                }
+                requires.push((p, t.anchor_pass));
             }
             if let (Some(lq), true) = (last_queue, n.reads)
                 && model.queues[lq as usize].queue_type != qtype
             {
+                let (mip, layer) = units.cell(model, resource, unit);
                 transfers.push((resource, t.last_pass, p, lq, queue, mip, layer));
             }
-            let t = &mut track[n.unit];
+            let t = &mut track[unit];
             if transition || uav_barrier {
                 t.pending_uav_write = 0;
                 t.pending_uav_read = 0;
@@ -384,38 +400,39 @@ fn walk(
                     t.pending_uav_read |= qbit;
                 }
             }
-            t.last_pos = Some(pos);
+            t.last_pos = pos;
             t.last_pass = p;
-            since_sync[n.unit * nq + queue as usize] = p;
+            since_sync[unit * nq + queue as usize] = p;
         }
     }
-    for (u, next) in end_of_frame.iter().enumerate() {
-        let (Some(p0), Some(_)) = (next, track[u].last_pos) else {
-            continue;
-        };
+    for (u, &p0) in end_of_frame.iter().enumerate() {
         let t = track[u];
-        let (resource, mip, layer) = units.locate(model, u);
-        let queue = model.passes[t.last_pass as usize].queue;
+        if p0 == NO_PASS || t.last_pos == NO_PASS {
+            continue;
+        }
+        let (resource, _, _) = units.locate(model, u);
+        let queue = pass_queue[t.last_pass as usize];
         for (q, &a) in since_sync[u * nq..(u + 1) * nq].iter().enumerate() {
             if a != NO_PASS && q as u32 != queue && a != t.last_pass {
-                requires[t.last_pass as usize].push(a);
+                requires.push((t.last_pass, a));
             }
         }
-        pending.push(Pending {
-            placement: Placement::After(t.last_pass),
-            queue,
-            for_pass: *p0,
-            kind: BarrierKind::Transition,
-            resource,
-            before: t.state,
-            after: initial[u],
-            split: None,
-            next_frame: true,
-            mip,
-            layer,
-        });
+        batcher.add(
+            BatchKey {
+                placement: Placement::After(t.last_pass),
+                queue,
+                for_pass: p0,
+                kind: BarrierKind::Transition,
+                resource,
+                before: t.state,
+                after: initial[u],
+                split: None,
+                next_frame: true,
+            },
+            u,
+        );
     }
-    let barriers = batch(model, units, pending);
+    let barriers = batcher.finish();
     let transfers = batch_transfers(model, units, transfers);
     (
         BarrierPlan {
@@ -428,58 +445,6 @@ fn walk(
     )
 }
 
-/// Merges per-unit barriers with the same key into rectangles of mips x layers (or runs of
-/// byte intervals for buffers).
-fn batch(model: &FrameModel, units: &Units, pending: Vec<Pending>) -> Vec<Barrier> {
-    // Pending barriers arrive in pass order and, within a pass, in unit order, so a resource's
-    // barriers with equal keys are adjacent: group runs without sorting.
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < pending.len() {
-        let key = |x: &Pending| {
-            (
-                x.placement,
-                x.queue,
-                x.for_pass,
-                x.kind,
-                x.resource,
-                x.before,
-                x.after,
-                x.split,
-                x.next_frame,
-            )
-        };
-        let mut j = i;
-        while j < pending.len() && key(&pending[j]) == key(&pending[i]) {
-            j += 1;
-        }
-        let group = &pending[i..j];
-        let head = group[0];
-        for range in rectangles(
-            model,
-            units,
-            head.resource,
-            group.iter().map(|x| (x.mip, x.layer)),
-        ) {
-            out.push(Barrier {
-                kind: head.kind,
-                placement: head.placement,
-                queue: head.queue,
-                for_pass: head.for_pass,
-                resource: head.resource,
-                resource_before: None,
-                range,
-                before: head.before,
-                after: head.after,
-                split_begin_after: head.split,
-                next_frame: head.next_frame,
-            });
-        }
-        i = j;
-    }
-    out
-}
-
 fn batch_transfers(
     model: &FrameModel,
     units: &Units,
@@ -488,6 +453,7 @@ fn batch_transfers(
     t.sort_unstable();
     t.dedup();
     let mut out = Vec::new();
+    let mut cells: Vec<(u32, u32)> = Vec::new();
     let mut i = 0;
     while i < t.len() {
         let mut j = i;
@@ -496,7 +462,9 @@ fn batch_transfers(
             j += 1;
         }
         let (resource, release_after, acquire_before, from_queue, to_queue, _, _) = t[i];
-        for range in rectangles(model, units, resource, t[i..j].iter().map(|x| (x.5, x.6))) {
+        cells.clear();
+        cells.extend(t[i..j].iter().map(|x| (x.5, x.6)));
+        rectangles(model, units, resource, &cells, |range| {
             out.push(OwnershipTransfer {
                 resource,
                 range,
@@ -504,8 +472,8 @@ fn batch_transfers(
                 acquire_before,
                 from_queue,
                 to_queue,
-            });
-        }
+            })
+        });
         i = j;
     }
     out
@@ -517,10 +485,10 @@ fn rectangles(
     model: &FrameModel,
     units: &Units,
     resource: u32,
-    cells: impl Iterator<Item = (u32, u32)>,
-) -> Vec<Subresources> {
+    cells: &[(u32, u32)],
+    mut emit: impl FnMut(Subresources),
+) {
     let r = &model.resources[resource as usize];
-    let cells: Vec<(u32, u32)> = cells.collect();
     let all = if r.is_buffer {
         units.count(resource)
     } else {
@@ -528,12 +496,13 @@ fn rectangles(
     };
     if cells.len() == all && all > 1 {
         // Cells are distinct units, so all of them is the whole resource.
-        return vec![r.whole()];
+        emit(r.whole());
+        return;
     }
     if let [(mip, layer)] = cells[..] {
         // The common case: one unit, no merging.
-        return vec![if r.is_buffer {
-            let (begin, end) = units.buffer_interval(model, resource, layer);
+        emit(if r.is_buffer {
+            let (begin, end) = units.buffer_interval(resource, layer);
             Subresources {
                 mip_base: 0,
                 mip_count: 1,
@@ -551,10 +520,11 @@ fn rectangles(
                 byte_offset: 0,
                 byte_size: 0,
             }
-        }];
+        });
+        return;
     }
     let mut by_mip: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
-    for (mip, layer) in cells {
+    for &(mip, layer) in cells {
         by_mip.entry(mip).or_default().push(layer);
     }
     let mut runs_by_mip: Vec<(u32, Vec<(u32, u32)>)> = Vec::new();
@@ -570,7 +540,6 @@ fn rectangles(
         }
         runs_by_mip.push((mip, runs));
     }
-    let mut out = Vec::new();
     let mut i = 0;
     while i < runs_by_mip.len() {
         let mut j = i + 1;
@@ -584,9 +553,9 @@ fn rectangles(
         let mip_count = (j - i) as u32;
         for &(start, count) in runs {
             if r.is_buffer {
-                let (begin, _) = units.buffer_interval(model, resource, start);
-                let (_, end) = units.buffer_interval(model, resource, start + count - 1);
-                out.push(Subresources {
+                let (begin, _) = units.buffer_interval(resource, start);
+                let (_, end) = units.buffer_interval(resource, start + count - 1);
+                emit(Subresources {
                     mip_base: 0,
                     mip_count: 1,
                     layer_base: 0,
@@ -595,7 +564,7 @@ fn rectangles(
                     byte_size: end - begin,
                 });
             } else {
-                out.push(Subresources {
+                emit(Subresources {
                     mip_base: *mip,
                     mip_count,
                     layer_base: start,
@@ -607,7 +576,6 @@ fn rectangles(
         }
         i = j;
     }
-    out
 }
 
 /// Fences: every cross-queue data dependency, and every "must happen before" the barrier walk
@@ -619,7 +587,7 @@ fn fences(
     model: &FrameModel,
     graph: &PassGraph,
     order: &[u32],
-    mut requires: Vec<Vec<u32>>,
+    mut requires: Requires,
 ) -> Vec<FenceNeed> {
     let nq = model.queues.len();
     let n = model.passes.len();
@@ -627,30 +595,58 @@ fn fences(
     for (i, &p) in order.iter().enumerate() {
         pos[p as usize] = i as u32;
     }
-    let mut declared_into: Vec<Vec<u32>> = vec![Vec::new(); n];
-    for &(a, b) in &model.fences {
-        declared_into[b as usize].push(a);
-    }
     for e in graph.graph.edge_references() {
         if e.weight().kind.is_data() {
             let (a, b) = (e.source().index(), e.target().index());
             if model.passes[a].queue != model.passes[b].queue {
-                requires[b].push(a as u32);
+                requires.push((b as u32, a as u32));
             }
         }
+    }
+    // Group by the later pass (counting sort): producers of pass p are
+    // `producers[start[p]..start[p + 1]]`, declared fences first.
+    let mut start = vec![0u32; n + 1];
+    for &(_, b) in &model.fences {
+        start[b as usize + 1] += 1;
+    }
+    for &(b, _) in &requires {
+        start[b as usize + 1] += 1;
+    }
+    for p in 0..n {
+        start[p + 1] += start[p];
+    }
+    let mut fill = start.clone();
+    let mut producers = vec![0u32; start[n] as usize];
+    for &(a, b) in &model.fences {
+        producers[fill[b as usize] as usize] = a;
+        fill[b as usize] += 1;
+    }
+    let declared_end = fill.clone();
+    for &(b, a) in &requires {
+        producers[fill[b as usize] as usize] = a;
+        fill[b as usize] += 1;
     }
     const NONE: i64 = -1;
     // Vector clocks, pass-major: clock[p * nq + q].
     let mut clock: Vec<i64> = vec![NONE; n * nq];
+    let mut c: Vec<i64> = vec![NONE; nq];
     let mut last_on_queue: Vec<Option<u32>> = vec![None; nq];
     let mut out = Vec::new();
     for &p in order {
-        let q = model.passes[p as usize].queue as usize;
-        let mut c = match last_on_queue[q] {
-            Some(prev) => clock[prev as usize * nq..(prev as usize + 1) * nq].to_vec(),
-            None => vec![NONE; nq],
-        };
-        for &a in &declared_into[p as usize] {
+        let pi = p as usize;
+        let q = model.passes[pi].queue as usize;
+        match last_on_queue[q] {
+            Some(prev) => {
+                c.copy_from_slice(&clock[prev as usize * nq..(prev as usize + 1) * nq]);
+            }
+            None => c.fill(NONE),
+        }
+        let (from, declared, to) = (
+            start[pi] as usize,
+            declared_end[pi] as usize,
+            fill[pi] as usize,
+        );
+        for &a in &producers[from..declared] {
             for k in 0..nq {
                 c[k] = c[k].max(clock[a as usize * nq + k]);
             }
@@ -661,10 +657,14 @@ fn fences(
             });
         }
         // Latest producers first: a fence from a later pass often covers earlier ones too.
-        let mut producers = std::mem::take(&mut requires[p as usize]);
-        producers.sort_unstable_by_key(|&a| Reverse(pos[a as usize]));
-        producers.dedup();
-        for a in producers {
+        let required = &mut producers[declared..to];
+        required.sort_unstable_by_key(|&a| Reverse(pos[a as usize]));
+        let mut previous = NO_PASS;
+        for &a in required.iter() {
+            if a == previous {
+                continue;
+            }
+            previous = a;
             let aq = model.passes[a as usize].queue as usize;
             if c[aq] >= i64::from(pos[a as usize]) {
                 continue;
@@ -678,8 +678,8 @@ fn fences(
                 declared: false,
             });
         }
-        c[q] = i64::from(pos[p as usize]);
-        clock[p as usize * nq..(p as usize + 1) * nq].copy_from_slice(&c);
+        c[q] = i64::from(pos[pi]);
+        clock[pi * nq..(pi + 1) * nq].copy_from_slice(&c);
         last_on_queue[q] = Some(p);
     }
     out.sort();

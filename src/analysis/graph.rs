@@ -7,7 +7,7 @@
 //! last writer and the readers since, so the work is linear in the number of unit accesses.
 
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::BinaryHeap;
 
 use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::EdgeRef;
@@ -40,9 +40,19 @@ impl EdgeKind {
 #[derive(Clone, Debug, Serialize)]
 pub struct Edge {
     pub kind: EdgeKind,
-    /// The resource and the later pass's access range, for data edges.
+    /// The resource, for data edges.
     pub resource: Option<u32>,
-    pub range: Option<Subresources>,
+    /// For data edges, the later pass's access (index into its accesses) whose range has the
+    /// hazard: edges stay small, and the range is one lookup away (`Edge::range`).
+    pub access: Option<u32>,
+}
+
+impl Edge {
+    /// The subresource range of a data edge: the later pass's access range.
+    pub fn range<'m>(&self, model: &'m FrameModel, to: usize) -> Option<&'m Subresources> {
+        let access = self.access?;
+        Some(&model.passes.get(to)?.accesses.get(access as usize)?.range)
+    }
 }
 
 /// A read of a `history` resource before the frame writes it: it sees the previous frame.
@@ -74,17 +84,16 @@ const NO_PASS: u32 = u32::MAX;
 
 pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
     let n = model.passes.len();
-    let mut graph: DiGraph<u32, Edge> = DiGraph::with_capacity(n, n * 4);
-    let nodes: Vec<NodeIndex> = (0..n as u32).map(|i| graph.add_node(i)).collect();
     let mut last_writer: Vec<u32> = vec![NO_PASS; units.total];
     // Readers since the last write, per unit, as linked lists in one arena (no allocation per
     // unit): head index per unit, then (pass, next) entries.
     let mut reader_head: Vec<u32> = vec![NO_PASS; units.total];
     let mut reader_arena: Vec<(u32, u32)> = Vec::new();
     let mut history_reads = Vec::new();
-    // (from, to, resource, kind) -> range; keeps one edge per hazard and resource.
-    // (from, to, resource, kind, range); deduplicated below to one edge per hazard and resource.
-    let mut edges: Vec<(u32, u32, u32, EdgeKind, Subresources)> = Vec::new();
+    // One resource's hazards in one pass as (from, kind, access index); the edge keeps the
+    // range of the first access of the pass that has the hazard.
+    let mut found: Vec<(u32, EdgeKind, u32)> = Vec::new();
+    let mut edges: Vec<(u32, u32, u32, EdgeKind, u32)> = Vec::with_capacity(n * 4);
 
     for (p, pass) in model.passes.iter().enumerate() {
         let p = p as u32;
@@ -95,70 +104,88 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
                     resource: of,
                 });
             }
-            let mut add = |from: u32, kind: EdgeKind| {
-                let key = (from, p, a.resource, kind);
-                if from != p && edges.last().is_none_or(|e| (e.0, e.1, e.2, e.3) != key) {
-                    edges.push((from, p, a.resource, kind, a.range));
-                }
-            };
-            units.for_each(model, a, |u| {
-                let w = last_writer[u];
-                if a.reads && w != NO_PASS {
-                    add(w, EdgeKind::Raw);
-                }
-                if a.writes {
-                    if w != NO_PASS {
-                        add(w, EdgeKind::Waw);
+        }
+        let uses = units.uses(p);
+        // Each unit appears once per pass, and the state below is only updated after all of
+        // the pass's uses, so a read-modify-write is one use. A resource's units are adjacent,
+        // so one hazard found on several of them is deduplicated within that group.
+        let mut group = 0;
+        while group < uses.len() {
+            let resource = uses[group].resource;
+            let mut end = group + 1;
+            while end < uses.len() && uses[end].resource == resource {
+                end += 1;
+            }
+            found.clear();
+            for u in &uses[group..end] {
+                let unit = u.unit as usize;
+                let w = last_writer[unit];
+                if w != NO_PASS {
+                    if u.reads {
+                        found.push((w, EdgeKind::Raw, u.first_read));
                     }
-                    let mut cursor = reader_head[u];
+                    if u.writes {
+                        found.push((w, EdgeKind::Waw, u.first_write));
+                    }
+                }
+                if u.writes {
+                    let mut cursor = reader_head[unit];
                     while cursor != NO_PASS {
                         let (reader, next) = reader_arena[cursor as usize];
-                        add(reader, EdgeKind::War);
+                        found.push((reader, EdgeKind::War, u.first_write));
                         cursor = next;
                     }
                 }
-            });
+            }
+            if end - group > 1 {
+                // Sorting by access index last keeps the earliest access of each hazard.
+                found.sort_unstable();
+                found.dedup_by_key(|e| (e.0, e.1));
+            }
+            edges.extend(
+                found
+                    .iter()
+                    .map(|&(from, kind, access)| (from, p, resource, kind, access)),
+            );
+            group = end;
         }
-        // Update after all of the pass's accesses, so a read-modify-write is one access.
-        for a in &pass.accesses {
-            units.for_each(model, a, |u| {
-                if a.writes {
-                    last_writer[u] = p;
-                    reader_head[u] = NO_PASS;
-                } else if a.reads
-                    && (reader_head[u] == NO_PASS || reader_arena[reader_head[u] as usize].0 != p)
-                {
-                    reader_arena.push((p, reader_head[u]));
-                    reader_head[u] = (reader_arena.len() - 1) as u32;
-                }
-            });
+        for u in uses {
+            let unit = u.unit as usize;
+            if u.writes {
+                last_writer[unit] = p;
+                reader_head[unit] = NO_PASS;
+            } else if u.reads {
+                reader_arena.push((p, reader_head[unit]));
+                reader_head[unit] = (reader_arena.len() - 1) as u32;
+            }
         }
     }
 
-    // Stable sort keeps the first range seen for each edge.
-    edges.sort_by_key(|e| (e.0, e.1, e.2, e.3));
-    edges.dedup_by_key(|e| (e.0, e.1, e.2, e.3));
-    for (from, to, resource, kind, range) in edges {
+    let mut graph: DiGraph<u32, Edge> =
+        DiGraph::with_capacity(n, edges.len() + n + model.fences.len());
+    let nodes: Vec<NodeIndex> = (0..n as u32).map(|i| graph.add_node(i)).collect();
+    for (from, to, resource, kind, access) in edges {
         graph.add_edge(
             nodes[from as usize],
             nodes[to as usize],
             Edge {
                 kind,
                 resource: Some(resource),
-                range: Some(range),
+                access: Some(access),
             },
         );
     }
-    let mut last_on_queue: HashMap<u32, u32> = HashMap::new();
+    let mut last_on_queue: Vec<Option<u32>> = vec![None; model.queues.len()];
     for (p, pass) in model.passes.iter().enumerate() {
-        if let Some(prev) = last_on_queue.insert(pass.queue, p as u32) {
+        let last = last_on_queue.get_mut(pass.queue as usize);
+        if let Some(prev) = last.and_then(|l| l.replace(p as u32)) {
             graph.add_edge(
                 nodes[prev as usize],
                 nodes[p],
                 Edge {
                     kind: EdgeKind::Queue,
                     resource: None,
-                    range: None,
+                    access: None,
                 },
             );
         }
@@ -170,7 +197,7 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
             Edge {
                 kind: EdgeKind::Fence,
                 resource: None,
-                range: None,
+                access: None,
             },
         );
     }
@@ -228,7 +255,7 @@ fn find_cycle(model: &FrameModel, g: &PassGraph, indegree: &[u32]) -> CycleError
             .graph
             .edges_directed(g.nodes[current], petgraph::Direction::Incoming)
             .filter(|e| indegree[e.source().index()] > 0)
-            .min_by_key(|e| (e.source().index(), e.weight().kind));
+            .min_by_key(|e| (e.source().index(), e.weight().kind, e.weight().resource));
         let Some(e) = incoming else { break };
         let prev = e.source().index();
         via.push(e.weight().resource);

@@ -449,59 +449,174 @@ impl FrameModel {
 /// Subresource units: every (mip, layer) of a texture, and for buffers the elementary byte
 /// intervals between the boundaries of all accesses to it. Hazards and states are tracked per
 /// unit, so accesses to different mips, layers or byte ranges never conflict.
+///
+/// Also each pass's uses of units, its accesses merged per unit. The graph, the barrier walk and
+/// its steady-state walk all consume these, so they are expanded and merged once.
 #[derive(Debug)]
 pub struct Units {
     /// First unit of each resource in the flat unit space.
     base: Vec<u32>,
     /// Units of each resource (0 for resources no pass accesses).
     counts: Vec<u32>,
-    /// Buffers: sorted interior boundaries of the byte intervals.
-    breaks: Vec<Vec<u64>>,
+    /// Per unit, for buffers: the end of its byte interval (the interior boundaries of a buffer
+    /// are the ends of all its units but the last).
+    unit_end: Vec<u64>,
     pub total: usize,
+    /// Uses of pass `p` are `uses[use_start[p]..use_start[p + 1]]`, sorted by unit.
+    use_start: Vec<u32>,
+    uses: Vec<UnitUse>,
+}
+
+/// What one pass needs of one unit: all its accesses to the unit merged. Read states combine; of
+/// several write states the first access's wins (the pass orders its own accesses internally).
+#[derive(Clone, Copy, Debug)]
+pub struct UnitUse {
+    pub unit: u32,
+    pub resource: u32,
+    pub state: State,
+    pub reads: bool,
+    pub writes: bool,
+    pub uav: bool,
+    /// Index of the pass's first access that reads (writes) the unit, `u32::MAX` if none: the
+    /// range a hazard on this unit is reported with.
+    pub first_read: u32,
+    pub first_write: u32,
 }
 
 impl Units {
     pub fn new(model: &FrameModel) -> Self {
-        let mut breaks: Vec<Vec<u64>> = vec![Vec::new(); model.resources.len()];
         // Only resources some pass accesses get units: per-unit state then scales with the
         // frame's work, not with how many resources it declares.
         let mut accessed = vec![false; model.resources.len()];
+        // Interior byte boundaries of buffer accesses, as (resource, offset).
+        let mut boundaries: Vec<(u32, u64)> = Vec::new();
+        let mut access_count = 0;
         for pass in &model.passes {
+            access_count += pass.accesses.len();
             for a in &pass.accesses {
                 accessed[a.resource as usize] = true;
                 let r = &model.resources[a.resource as usize];
                 if r.is_buffer {
-                    let b = &mut breaks[a.resource as usize];
-                    b.push(a.range.byte_offset);
-                    b.push(a.range.byte_offset.saturating_add(a.range.byte_size));
+                    let start = a.range.byte_offset;
+                    let end = start.saturating_add(a.range.byte_size);
+                    for x in [start, end] {
+                        if x > 0 && x < r.buffer_bytes {
+                            boundaries.push((a.resource, x));
+                        }
+                    }
                 }
             }
         }
+        boundaries.sort_unstable();
+        boundaries.dedup();
         let mut base = Vec::with_capacity(model.resources.len());
         let mut counts = Vec::with_capacity(model.resources.len());
-        let mut total: usize = 0;
+        let mut unit_end: Vec<u64> = Vec::new();
+        let mut next_boundary = 0;
         for (i, r) in model.resources.iter().enumerate() {
-            base.push(total as u32);
-            let count = if !accessed[i] {
-                0
-            } else if r.is_buffer {
-                let b = &mut breaks[i];
-                b.retain(|&x| x > 0 && x < r.buffer_bytes.max(1));
-                b.sort_unstable();
-                b.dedup();
-                b.len() + 1
+            base.push(unit_end.len() as u32);
+            if !accessed[i] {
+                counts.push(0);
+                continue;
+            }
+            if r.is_buffer {
+                while next_boundary < boundaries.len() && boundaries[next_boundary].0 == i as u32 {
+                    unit_end.push(boundaries[next_boundary].1);
+                    next_boundary += 1;
+                }
+                unit_end.push(r.buffer_bytes);
             } else {
-                (r.mips * r.layers) as usize
-            };
-            total += count;
-            counts.push(count as u32);
+                let count = (r.mips * r.layers) as usize;
+                unit_end.resize(unit_end.len() + count, 0);
+            }
+            counts.push(unit_end.len() as u32 - base[i]);
         }
-        Self {
+        let mut units = Self {
             base,
             counts,
-            breaks,
-            total,
+            total: unit_end.len(),
+            unit_end,
+            use_start: Vec::with_capacity(model.passes.len() + 1),
+            uses: Vec::with_capacity(access_count + access_count / 2),
+        };
+        units.merge_uses(model);
+        units
+    }
+
+    fn merge_uses(&mut self, model: &FrameModel) {
+        let mut uses = std::mem::take(&mut self.uses);
+        let mut by_resource: Vec<(u32, u32)> = Vec::new();
+        for pass in &model.passes {
+            let start = uses.len();
+            self.use_start.push(start as u32);
+            // Accesses by resource: units then come out sorted, as a resource's units are
+            // contiguous and each access lists its own in order.
+            by_resource.clear();
+            by_resource.extend(
+                pass.accesses
+                    .iter()
+                    .enumerate()
+                    .map(|(i, a)| (a.resource, i as u32)),
+            );
+            by_resource.sort_unstable();
+            let mut shared = false;
+            for (k, &(resource, i)) in by_resource.iter().enumerate() {
+                shared |= k > 0 && by_resource[k - 1].0 == resource;
+                let a = &pass.accesses[i as usize];
+                self.for_each(model, a, |unit| {
+                    uses.push(UnitUse {
+                        unit: unit as u32,
+                        resource: a.resource,
+                        state: a.state,
+                        reads: a.reads,
+                        writes: a.writes,
+                        uav: a.uav,
+                        first_read: if a.reads { i } else { u32::MAX },
+                        first_write: if a.writes { i } else { u32::MAX },
+                    })
+                });
+            }
+            if shared {
+                Self::merge_pass(&mut uses, start);
+            }
         }
+        self.use_start.push(uses.len() as u32);
+        self.uses = uses;
+    }
+
+    /// Merges a pass's uses of the same unit (several accesses to one resource).
+    fn merge_pass(uses: &mut Vec<UnitUse>, start: usize) {
+        let pass_uses = &mut uses[start..];
+        // Stable, and accesses of one resource were added in access order: the earlier access
+        // comes first within a unit.
+        pass_uses.sort_by_key(|n| n.unit);
+        let mut w = 0;
+        for r in 0..pass_uses.len() {
+            let n = pass_uses[r];
+            if w > 0 && pass_uses[w - 1].unit == n.unit {
+                let m = &mut pass_uses[w - 1];
+                m.state = match (m.state.is_write(), n.state.is_write()) {
+                    (true, _) => m.state,
+                    (false, true) => n.state,
+                    (false, false) => m.state.union(n.state),
+                };
+                m.reads |= n.reads;
+                m.writes |= n.writes;
+                m.uav |= n.uav;
+                m.first_read = m.first_read.min(n.first_read);
+                m.first_write = m.first_write.min(n.first_write);
+            } else {
+                pass_uses[w] = n;
+                w += 1;
+            }
+        }
+        uses.truncate(start + w);
+    }
+
+    /// A pass's uses of units, sorted by unit, one per unit.
+    pub fn uses(&self, pass: u32) -> &[UnitUse] {
+        let p = pass as usize;
+        &self.uses[self.use_start[p] as usize..self.use_start[p + 1] as usize]
     }
 
     /// The (mip, layer) of a unit of a known resource (buffer interval index in `layer`).
@@ -520,7 +635,8 @@ impl Units {
         let r = &model.resources[a.resource as usize];
         let base = self.base[a.resource as usize] as usize;
         if r.is_buffer {
-            let b = &self.breaks[a.resource as usize];
+            let count = self.counts[a.resource as usize] as usize;
+            let b = &self.unit_end[base..base + count.saturating_sub(1)];
             let (start, end) = (
                 a.range.byte_offset,
                 a.range.byte_offset.saturating_add(a.range.byte_size),
@@ -571,14 +687,14 @@ impl Units {
     }
 
     /// The byte interval of a buffer unit.
-    pub fn buffer_interval(&self, model: &FrameModel, resource: u32, index: u32) -> (u64, u64) {
-        let b = &self.breaks[resource as usize];
-        let start = if index == 0 { 0 } else { b[index as usize - 1] };
-        let end = b
-            .get(index as usize)
-            .copied()
-            .unwrap_or(model.resources[resource as usize].buffer_bytes);
-        (start, end)
+    pub fn buffer_interval(&self, resource: u32, index: u32) -> (u64, u64) {
+        let unit = self.base[resource as usize] as usize + index as usize;
+        let start = if index == 0 {
+            0
+        } else {
+            self.unit_end[unit - 1]
+        };
+        (start, self.unit_end[unit])
     }
 }
 
