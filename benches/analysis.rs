@@ -3,16 +3,13 @@
 //! untyped parse of the same bytes.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use framelab::analysis::model::Units;
-use framelab::analysis::{graph, synthetic};
+use framelab::analysis::synthetic;
 use std::hint::black_box;
 
 fn pipeline(model: &framelab::analysis::model::FrameModel) -> usize {
-    let units = Units::new(model);
-    let g = graph::build(model, &units);
-    let order = graph::order(model, &g).unwrap_or_default();
-    let (plan, mem) = framelab::analysis::barriers_and_memory(model, &units, &g, &order);
-    plan.barriers.len() + mem.aliasing_barriers.len()
+    framelab::analysis::derive_frame(model, true).map_or(0, |d| {
+        d.plan.barriers.len() + d.memory.map_or(0, |m| m.aliasing_barriers.len())
+    })
 }
 
 fn analysis(c: &mut Criterion) {

@@ -30,6 +30,23 @@ fn main() {
             plan.fences.len()
         );
     }
+    if std::env::var_os("FRAME").is_some() {
+        let mut best = f64::MAX;
+        let mut times = Vec::new();
+        for _ in 0..40 {
+            let t = Instant::now();
+            std::hint::black_box(framelab::analysis::derive_frame(&model, true).ok());
+            let e = t.elapsed().as_secs_f64() * 1e3;
+            times.push(e);
+            best = best.min(e);
+        }
+        times.sort_by(f64::total_cmp);
+        println!(
+            "derive_frame: best {best:.2} ms, median {:.2} ms",
+            times[times.len() / 2]
+        );
+        return;
+    }
     if std::env::var_os("ONLY_UNITS").is_some() {
         for _ in 0..50 {
             std::hint::black_box(Units::new(&model));

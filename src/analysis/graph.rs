@@ -216,6 +216,26 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
 /// A topological order; among ready passes the earliest recorded goes first, so each queue's
 /// recorded order is kept (queue edges force it) and the result is deterministic.
 pub fn order(model: &FrameModel, g: &PassGraph) -> Result<Vec<u32>, CycleError> {
+    match recorded_order(model) {
+        Some(order) => Ok(order),
+        None => topological_order(model, g),
+    }
+}
+
+/// The recorded order, when it is the order `order` picks, which is known without the graph:
+/// hazard and queue edges always run from an earlier recorded pass to a later one, so only a
+/// declared fence can point backwards. With none doing so every edge points forward, the
+/// earliest recorded ready pass is always the next one, and the order is the recorded order.
+pub fn recorded_order(model: &FrameModel) -> Option<Vec<u32>> {
+    model
+        .fences
+        .iter()
+        .all(|&(signal, wait)| signal < wait)
+        .then(|| (0..model.passes.len() as u32).collect())
+}
+
+/// Kahn's algorithm with the earliest recorded ready pass first.
+pub fn topological_order(model: &FrameModel, g: &PassGraph) -> Result<Vec<u32>, CycleError> {
     let n = model.passes.len();
     let mut indegree = vec![0u32; n];
     for e in g.graph.edge_references() {
@@ -537,6 +557,43 @@ mod tests {
             "{err}"
         );
         assert_eq!(err.resources, vec!["shared".to_owned()]);
+    }
+
+    #[test]
+    fn recorded_order_is_the_topological_order_when_no_fence_points_back() {
+        for seed in 0..20 {
+            let mut m = crate::analysis::synthetic::frame(300, 400, seed);
+            // Forward fences between queues keep the recorded order valid.
+            m.fences = vec![(3, 250), (10, 11), (100, 180)];
+            let units = Units::new(&m);
+            let g = build(&m, &units);
+            let recorded = recorded_order(&m).expect("every fence points forward");
+            assert_eq!(topological_order(&m, &g).unwrap(), recorded, "seed {seed}");
+        }
+    }
+
+    #[test]
+    fn a_fence_pointing_back_reorders() {
+        let mut m = model(
+            vec![texture("a", 1), texture("b", 1)],
+            vec![
+                pass(
+                    "late",
+                    0,
+                    vec![access(0, 0, State::RENDER_TARGET, false, true)],
+                ),
+                pass(
+                    "early",
+                    1,
+                    vec![access(1, 0, State::UNORDERED_ACCESS, false, true)],
+                ),
+            ],
+        );
+        m.fences.push((1, 0));
+        assert_eq!(recorded_order(&m), None);
+        let units = Units::new(&m);
+        let g = build(&m, &units);
+        assert_eq!(order(&m, &g).unwrap(), vec![1, 0]);
     }
 
     #[test]

@@ -98,23 +98,21 @@ fn overlaps_in_time(a: &Item, b: &Item) -> bool {
 
 /// Largest sum of bytes live at one position.
 pub fn lower_bound(items: &[Item]) -> u64 {
-    let mut events: Vec<(u32, bool, u64)> = Vec::with_capacity(items.len() * 2);
+    let Some(end) = items.iter().map(|it| it.last as usize + 1).max() else {
+        return 0;
+    };
+    // Bytes born minus bytes freed at each position; the running sum is what is live there.
+    let mut delta: Vec<i128> = vec![0; end + 1];
     for it in items {
-        events.push((it.first, true, it.bytes));
-        events.push((it.last + 1, false, it.bytes));
+        delta[it.first as usize] += i128::from(it.bytes);
+        delta[it.last as usize + 1] -= i128::from(it.bytes);
     }
-    // Frees at a position happen before allocations at it.
-    events.sort_unstable_by_key(|&(t, alloc, _)| (t, alloc));
-    let (mut live, mut peak) = (0u64, 0u64);
-    for (_, alloc, bytes) in events {
-        if alloc {
-            live += bytes;
-            peak = peak.max(live);
-        } else {
-            live -= bytes;
-        }
+    let (mut live, mut peak) = (0i128, 0i128);
+    for d in delta {
+        live += d;
+        peak = peak.max(live);
     }
-    peak
+    peak as u64
 }
 
 fn align_up(v: u64, a: u64) -> u64 {
@@ -164,16 +162,19 @@ pub fn place_greedy(items: &[Item]) -> (Vec<u64>, u64) {
 /// (largest first) from a coalescing free list, growing the pool when nothing fits.
 pub fn place_timeline(items: &[Item]) -> (Vec<u64>, u64) {
     let mut offsets = vec![0u64; items.len()];
-    let mut births: Vec<usize> = (0..items.len()).collect();
-    births.sort_by_key(|&i| {
-        (
-            items[i].first,
-            std::cmp::Reverse(items[i].bytes),
-            items[i].id,
-        )
-    });
-    let mut deaths: Vec<usize> = (0..items.len()).collect();
-    deaths.sort_by_key(|&i| items[i].last);
+    // Sort keys carry what they compare, so sorting never chases indices into `items`.
+    let mut births: Vec<(u32, std::cmp::Reverse<u64>, u32, u32)> = items
+        .iter()
+        .enumerate()
+        .map(|(i, it)| (it.first, std::cmp::Reverse(it.bytes), it.id, i as u32))
+        .collect();
+    births.sort_unstable();
+    let mut deaths: Vec<(u32, u32)> = items
+        .iter()
+        .enumerate()
+        .map(|(i, it)| (it.last, i as u32))
+        .collect();
+    deaths.sort_unstable();
     // Free blocks by offset and by (size, offset).
     let mut by_offset: BTreeMap<u64, u64> = BTreeMap::new();
     let mut by_size: BTreeSet<(u64, u64)> = BTreeSet::new();
@@ -205,10 +206,11 @@ pub fn place_timeline(items: &[Item]) -> (Vec<u64>, u64) {
         }
     };
     let mut size = 0u64;
-    for &i in &births {
+    for &(_, _, _, i) in &births {
+        let i = i as usize;
         let it = items[i];
-        while d < deaths.len() && items[deaths[d]].last < it.first {
-            let j = deaths[d];
+        while d < deaths.len() && deaths[d].0 < it.first {
+            let j = deaths[d].1 as usize;
             free(
                 offsets[j],
                 items[j].bytes,
@@ -269,52 +271,45 @@ pub fn place(items: &[Item]) -> (Vec<u64>, u64) {
 /// Aliasing barriers of one pool: walking resources by first use, a map from address ranges to
 /// their latest occupant says whose memory each resource takes over. Placement guarantees that
 /// any earlier occupant of an overlapping range is dead by then.
-fn aliasing(items: &[Item], placed: &[Placed], order: &[u32]) -> Vec<AliasingBarrier> {
-    let mut by_birth: Vec<&Item> = items.iter().collect();
-    by_birth.sort_by_key(|it| (it.first, it.id));
+fn aliasing(items: &[Item], offsets: &[u64], order: &[u32], out: &mut Vec<AliasingBarrier>) {
+    let mut by_birth: Vec<(u32, u32, u32)> = items
+        .iter()
+        .enumerate()
+        .map(|(i, it)| (it.first, it.id, i as u32))
+        .collect();
+    by_birth.sort_unstable();
     // start -> (end, occupant); segments never overlap.
     let mut painted: BTreeMap<u64, (u64, u32)> = BTreeMap::new();
-    let mut out = Vec::new();
-    for it in by_birth {
-        let (start, end) = (
-            placed[it.id as usize].offset,
-            placed[it.id as usize].offset + it.bytes,
-        );
-        let mut previous: Vec<u32> = Vec::new();
-        let mut split: Vec<(u64, (u64, u32))> = Vec::new();
-        let first_key = painted
-            .range(..start)
-            .next_back()
-            .filter(|(_, (e, _))| *e > start)
-            .map(|(k, _)| *k);
-        let keys: Vec<u64> = first_key
-            .into_iter()
-            .chain(painted.range(start..end).map(|(k, _)| *k))
-            .collect();
-        for k in keys {
-            if let Some((e, occupant)) = painted.remove(&k) {
-                previous.push(occupant);
-                if k < start {
-                    split.push((k, (start, occupant)));
-                }
-                if e > end {
-                    split.push((end, (e, occupant)));
-                }
+    let mut previous: Vec<u32> = Vec::new();
+    for (first, id, i) in by_birth {
+        let start = offsets[i as usize];
+        let end = start + items[i as usize].bytes;
+        previous.clear();
+        // Overlapping segments, from the last one starting before `end` backwards: the parts
+        // outside [start, end) stay with their occupant.
+        while let Some((&k, &(e, occupant))) = painted.range(..end).next_back() {
+            if e <= start {
+                break;
             }
+            previous.push(occupant);
+            if e > end {
+                painted.insert(end, (e, occupant));
+            }
+            if k < start {
+                painted.insert(k, (start, occupant));
+                break;
+            }
+            painted.remove(&k);
         }
-        painted.extend(split);
-        painted.insert(start, (end, it.id));
+        painted.insert(start, (end, id));
         previous.sort_unstable();
         previous.dedup();
-        for before in previous {
-            out.push(AliasingBarrier {
-                before_pass: order[it.first as usize],
-                resource_before: before,
-                resource_after: it.id,
-            });
-        }
+        out.extend(previous.iter().map(|&before| AliasingBarrier {
+            before_pass: order[first as usize],
+            resource_before: before,
+            resource_after: id,
+        }));
     }
-    out
 }
 
 fn category_name(c: ResourceCategory) -> &'static str {
@@ -414,10 +409,10 @@ pub fn plan(model: &FrameModel, order: &[u32]) -> MemoryPlan {
             .or_default();
         totals.aliased_bytes += size;
         totals.lower_bound_bytes += lower_bound(items);
-        for (item, offset) in items.iter().zip(offsets) {
+        for (item, &offset) in items.iter().zip(&offsets) {
             placed[item.id as usize].offset = offset;
         }
-        aliasing_barriers.extend(aliasing(items, &placed, order));
+        aliasing(items, &offsets, order, &mut aliasing_barriers);
     }
     aliasing_barriers.sort();
     let mut total = Totals::default();

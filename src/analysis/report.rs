@@ -11,8 +11,8 @@ use serde::Serialize;
 use super::barriers::{self, BarrierKind, BarrierPlan, Placement, VkScope};
 use super::graph::{self, CycleError, EdgeKind, PassGraph};
 use super::lints::{self, Lint, LintInput};
-use super::memory::{MemoryPlan, Totals};
-use super::model::{self, FrameModel, Units};
+use super::memory::{self, MemoryPlan, Totals};
+use super::model::{self, FrameModel};
 use super::schedule::{self, Schedule};
 use crate::capture::model::{Capture, Subresources};
 use crate::capture::validate::human_bytes;
@@ -43,26 +43,19 @@ pub struct AnalyzeOptions {
 pub fn analyze(capture: &Capture, options: AnalyzeOptions) -> Result<Analysis, CycleError> {
     // The whole frame is analysed once; lints describe it (model indices are capture pass ids).
     let full = model::from_capture(capture);
-    let full_units = Units::new(&full);
-    let full_graph = graph::build(&full, &full_units);
-    let full_order = graph::order(&full, &full_graph)?;
+    // Without --cull the memory plan is for this frame: derive it beside the rest.
+    let super::Derived {
+        units: full_units,
+        graph: full_graph,
+        order: full_order,
+        plan: full_plan,
+        memory: full_memory,
+    } = super::derive_frame(&full, !options.cull)?;
     let culled = graph::culled(&full, &full_units, &full_graph);
     let culled_names = culled
         .iter()
         .map(|&p| full.passes[p as usize].name.clone())
         .collect();
-    let cull = options.cull && !culled.is_empty();
-    // Without --cull the memory plan is for this frame: derive it beside the barriers.
-    let (full_plan, full_memory) = if cull {
-        (
-            barriers::derive(&full, &full_units, &full_graph, &full_order),
-            None,
-        )
-    } else {
-        let (plan, memory) =
-            super::barriers_and_memory(&full, &full_units, &full_graph, &full_order);
-        (plan, Some(memory))
-    };
     let lints = lints::lints(&LintInput {
         capture,
         model: &full,
@@ -72,15 +65,19 @@ pub fn analyze(capture: &Capture, options: AnalyzeOptions) -> Result<Analysis, C
         plan: &full_plan,
     });
     // With --cull, order, barriers and memory are derived again for the frame without them.
-    let (model, graph, order, plan, memory) = match full_memory {
-        Some(memory) => (full, full_graph, full_order, full_plan, memory),
-        None => {
+    let (model, graph, order, plan, memory) = match (full_memory, culled.is_empty()) {
+        (Some(memory), _) => (full, full_graph, full_order, full_plan, memory),
+        (None, true) => {
+            let memory = memory::plan(&full, &full_order);
+            (full, full_graph, full_order, full_plan, memory)
+        }
+        (None, false) => {
             let model = graph::without_passes(&full, &culled);
-            let units = Units::new(&model);
-            let graph = graph::build(&model, &units);
-            let order = graph::order(&model, &graph)?;
-            let (plan, memory) = super::barriers_and_memory(&model, &units, &graph, &order);
-            (model, graph, order, plan, memory)
+            let derived = super::derive_frame(&model, true)?;
+            let memory = derived
+                .memory
+                .unwrap_or_else(|| memory::plan(&model, &derived.order));
+            (model, derived.graph, derived.order, derived.plan, memory)
         }
     };
     let times: Vec<Option<u64>> = model.passes.iter().map(|p| p.gpu_ns).collect();
