@@ -4,6 +4,13 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use framelab::analysis::synthetic;
+
+/// The allocator the `framelab` binary uses, so the figures are the binary's
+/// (`--features system-alloc` measures with the system allocator instead).
+#[cfg(not(feature = "system-alloc"))]
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use std::hint::black_box;
 
 fn pipeline(model: &framelab::analysis::model::FrameModel) -> usize {

@@ -1,6 +1,9 @@
 //! Prints the time of each analysis stage on a synthetic frame: `cargo run --release --example
 //! stage_times -- PASSES RESOURCES`.
 
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use framelab::analysis::model::Units;
 use framelab::analysis::{barriers, graph, memory, synthetic};
 use std::time::Instant;

@@ -62,8 +62,6 @@ pub struct Barrier {
     /// The pass whose access needs it.
     pub for_pass: u32,
     pub resource: u32,
-    /// Aliasing barriers: the resource that stops using the memory.
-    pub resource_before: Option<u32>,
     pub range: Subresources,
     pub before: State,
     pub after: State,
@@ -141,14 +139,15 @@ struct UnitTrack {
     anchor_after: bool,
     /// Queues (bit per queue index) with an unordered-access write / read since the last
     /// barrier: a UAV barrier orders accesses on one queue; other queues are ordered by fences.
-    pending_uav_write: u64,
-    pending_uav_read: u64,
+    pending_uav_write: u32,
+    pending_uav_read: u32,
 }
 
 const NO_PASS: u32 = u32::MAX;
 
-fn queue_bit(queue: u32) -> u64 {
-    1u64 << queue.min(63)
+/// Queues past the 32nd share a bit: more UAV barriers among them, never fewer.
+fn queue_bit(queue: u32) -> u32 {
+    1u32 << queue.min(31)
 }
 
 /// What barriers are batched by: one unit's barriers with equal keys in one pass boundary merge
@@ -209,7 +208,6 @@ impl<'a> Batcher<'a> {
                 queue: key.queue,
                 for_pass: key.for_pass,
                 resource: key.resource,
-                resource_before: None,
                 range,
                 before: key.before,
                 after: key.after,
@@ -448,9 +446,28 @@ fn walk(
 fn batch_transfers(
     model: &FrameModel,
     units: &Units,
-    mut t: Vec<(u32, u32, u32, u32, u32, u32, u32)>,
+    cells: Vec<(u32, u32, u32, u32, u32, u32, u32)>,
 ) -> Vec<OwnershipTransfer> {
-    t.sort_unstable();
+    // Sorted: bucketed by resource (counting sort), then each resource's few sorted.
+    let mut start = vec![0u32; model.resources.len() + 1];
+    for x in &cells {
+        start[x.0 as usize + 1] += 1;
+    }
+    for r in 0..model.resources.len() {
+        start[r + 1] += start[r];
+    }
+    let mut t = vec![(0, 0, 0, 0, 0, 0, 0); cells.len()];
+    let mut fill = start.clone();
+    for x in cells {
+        t[fill[x.0 as usize] as usize] = x;
+        fill[x.0 as usize] += 1;
+    }
+    for r in 0..model.resources.len() {
+        let bucket = &mut t[start[r] as usize..start[r + 1] as usize];
+        if bucket.len() > 1 {
+            bucket.sort_unstable();
+        }
+    }
     t.dedup();
     let mut out = Vec::new();
     let mut cells: Vec<(u32, u32)> = Vec::new();

@@ -68,8 +68,8 @@ pub struct PassGraph {
     /// Node of each pass (node index == pass index; kept for clarity at call sites).
     pub nodes: Vec<NodeIndex>,
     pub history_reads: Vec<HistoryRead>,
-    /// The last writer of each unit at the end of the frame (for culling).
-    final_writers: Vec<Option<u32>>,
+    /// The last writer of each unit at the end of the frame (for culling; `NO_PASS` if none).
+    final_writers: Vec<u32>,
 }
 
 /// A cycle in the pass graph: the passes on it, and the resources whose hazards close it.
@@ -93,10 +93,26 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
     // One resource's hazards in one pass as (from, kind, access index); the edge keeps the
     // range of the first access of the pass that has the hazard.
     let mut found: Vec<(u32, EdgeKind, u32)> = Vec::new();
-    let mut edges: Vec<(u32, u32, u32, EdgeKind, u32)> = Vec::with_capacity(n * 4);
+    // Hazard edges are added as found; most uses of a unit add about one.
+    let mut graph: DiGraph<u32, Edge> =
+        DiGraph::with_capacity(n, units.use_count() + n + model.fences.len());
+    let nodes: Vec<NodeIndex> = (0..n as u32).map(|i| graph.add_node(i)).collect();
+    let mut last_on_queue: Vec<Option<u32>> = vec![None; model.queues.len()];
 
     for (p, pass) in model.passes.iter().enumerate() {
         let p = p as u32;
+        let last = last_on_queue.get_mut(pass.queue as usize);
+        if let Some(prev) = last.and_then(|l| l.replace(p)) {
+            graph.add_edge(
+                nodes[prev as usize],
+                nodes[p as usize],
+                Edge {
+                    kind: EdgeKind::Queue,
+                    resource: None,
+                    access: None,
+                },
+            );
+        }
         for a in &pass.accesses {
             if let Some(of) = model.resources[a.resource as usize].previous_of {
                 history_reads.push(HistoryRead {
@@ -142,11 +158,17 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
                 found.sort_unstable();
                 found.dedup_by_key(|e| (e.0, e.1));
             }
-            edges.extend(
-                found
-                    .iter()
-                    .map(|&(from, kind, access)| (from, p, resource, kind, access)),
-            );
+            for &(from, kind, access) in &found {
+                graph.add_edge(
+                    nodes[from as usize],
+                    nodes[p as usize],
+                    Edge {
+                        kind,
+                        resource: Some(resource),
+                        access: Some(access),
+                    },
+                );
+            }
             group = end;
         }
         for u in uses {
@@ -161,35 +183,6 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
         }
     }
 
-    let mut graph: DiGraph<u32, Edge> =
-        DiGraph::with_capacity(n, edges.len() + n + model.fences.len());
-    let nodes: Vec<NodeIndex> = (0..n as u32).map(|i| graph.add_node(i)).collect();
-    for (from, to, resource, kind, access) in edges {
-        graph.add_edge(
-            nodes[from as usize],
-            nodes[to as usize],
-            Edge {
-                kind,
-                resource: Some(resource),
-                access: Some(access),
-            },
-        );
-    }
-    let mut last_on_queue: Vec<Option<u32>> = vec![None; model.queues.len()];
-    for (p, pass) in model.passes.iter().enumerate() {
-        let last = last_on_queue.get_mut(pass.queue as usize);
-        if let Some(prev) = last.and_then(|l| l.replace(p as u32)) {
-            graph.add_edge(
-                nodes[prev as usize],
-                nodes[p],
-                Edge {
-                    kind: EdgeKind::Queue,
-                    resource: None,
-                    access: None,
-                },
-            );
-        }
-    }
     for &(from, to) in &model.fences {
         graph.add_edge(
             nodes[from as usize],
@@ -201,15 +194,11 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
             },
         );
     }
-    let final_writers = last_writer
-        .into_iter()
-        .map(|w| (w != NO_PASS).then_some(w))
-        .collect();
     PassGraph {
         graph,
         nodes,
         history_reads,
-        final_writers,
+        final_writers: last_writer,
     }
 }
 
@@ -322,9 +311,8 @@ pub fn culled(model: &FrameModel, units: &Units, g: &PassGraph) -> Vec<u32> {
         if res.output || res.history {
             let base = units.base(r as u32);
             for u in base..base + units.count(r as u32) {
-                if let Some(w) = g.final_writers[u]
-                    && !live[w as usize]
-                {
+                let w = g.final_writers[u];
+                if w != NO_PASS && !live[w as usize] {
                     live[w as usize] = true;
                     stack.push(w);
                 }

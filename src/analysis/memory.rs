@@ -414,7 +414,7 @@ pub fn plan(model: &FrameModel, order: &[u32]) -> MemoryPlan {
         }
         aliasing(items, &offsets, order, &mut aliasing_barriers);
     }
-    aliasing_barriers.sort();
+    aliasing_barriers.sort_unstable();
     let mut total = Totals::default();
     for t in per_heap_type.values() {
         total.unaliased_bytes += t.unaliased_bytes;

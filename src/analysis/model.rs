@@ -613,6 +613,11 @@ impl Units {
         uses.truncate(start + w);
     }
 
+    /// Uses of units by all passes.
+    pub fn use_count(&self) -> usize {
+        self.uses.len()
+    }
+
     /// A pass's uses of units, sorted by unit, one per unit.
     pub fn uses(&self, pass: u32) -> &[UnitUse] {
         let p = pass as usize;
