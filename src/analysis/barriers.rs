@@ -307,7 +307,8 @@ fn walk(
     let mut since_sync: Vec<u32> = vec![NO_PASS; units.total * nq];
     let mut requires: Requires = Vec::with_capacity(order.len() * 4);
     let mut batcher = Batcher::new(model, units, units.total * 2);
-    let mut transfers: Vec<(u32, u32, u32, u32, u32, u32, u32)> = Vec::new();
+    let mut transfers: Vec<(u32, u32, u32, u32, u32, u32, u32)> =
+        Vec::with_capacity(units.use_count() / 2);
     for (pos, &p) in order.iter().enumerate() {
         let pos = pos as u32;
         let queue = pass_queue[p as usize];
@@ -608,6 +609,7 @@ fn fences(
 ) -> Vec<FenceNeed> {
     let nq = model.queues.len();
     let n = model.passes.len();
+    let pass_queue: Vec<u32> = model.passes.iter().map(|p| p.queue).collect();
     let mut pos = vec![0u32; n];
     for (i, &p) in order.iter().enumerate() {
         pos[p as usize] = i as u32;
@@ -615,7 +617,7 @@ fn fences(
     for e in graph.graph.edge_references() {
         if e.weight().kind.is_data() {
             let (a, b) = (e.source().index(), e.target().index());
-            if model.passes[a].queue != model.passes[b].queue {
+            if pass_queue[a] != pass_queue[b] {
                 requires.push((b as u32, a as u32));
             }
         }
@@ -682,7 +684,7 @@ fn fences(
                 continue;
             }
             previous = a;
-            let aq = model.passes[a as usize].queue as usize;
+            let aq = pass_queue[a as usize] as usize;
             if c[aq] >= i64::from(pos[a as usize]) {
                 continue;
             }

@@ -88,7 +88,7 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
     // Readers since the last write, per unit, as linked lists in one arena (no allocation per
     // unit): head index per unit, then (pass, next) entries.
     let mut reader_head: Vec<u32> = vec![NO_PASS; units.total];
-    let mut reader_arena: Vec<(u32, u32)> = Vec::new();
+    let mut reader_arena: Vec<(u32, u32)> = Vec::with_capacity(units.use_count());
     let mut history_reads = Vec::new();
     // One resource's hazards in one pass as (from, kind, access index); the edge keeps the
     // range of the first access of the pass that has the hazard.
