@@ -17,6 +17,10 @@ fn main() {
         args.first().copied().unwrap_or(10_000),
         args.get(1).copied().unwrap_or(50_000),
     );
+    if std::env::var_os("LOAD").is_some() {
+        load_profile();
+        return;
+    }
     let model = synthetic::frame(passes, resources, 7);
     {
         let units = Units::new(&model);
@@ -169,4 +173,33 @@ pub fn memory_parts(model: &framelab::analysis::model::FrameModel, order: &[u32]
         "memory parts (ms): lifetimes {:.3} items {:.3} timeline {:.3} lower_bound {:.3} plan {:.3}",
         best[0], best[1], best[2], best[3], best[4]
     );
+}
+
+#[allow(dead_code)]
+pub fn load_profile() {
+    let dir = std::env::temp_dir().join("framelab-loadprof");
+    let _ = std::fs::create_dir_all(&dir);
+    let shader = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/compute.wgsl");
+    let _ = std::fs::copy(shader, dir.join("compute.wgsl"));
+    let text = synthetic::capture_json(20_000, 20_000, 3);
+    let path = dir.join("large.json");
+    let _ = std::fs::write(&path, &text);
+    let bytes = text.into_bytes();
+    let options = framelab::capture::Options::default();
+    for _ in 0..10 {
+        let t = Instant::now();
+        let raw = framelab::capture::load::parse(&path, &bytes);
+        let t1 = t.elapsed();
+        let ok = raw.map(|r| framelab::capture::validate::validate(&r, &path, &options).is_ok());
+        let t2 = t.elapsed();
+        let v = serde_json::from_slice::<serde_json::Value>(&bytes).map(|v| v.is_object());
+        println!(
+            "parse {:?} validate {:?} ({:?}) value {:?} ({:?})",
+            t1,
+            t2 - t1,
+            ok.is_ok(),
+            t.elapsed() - t2,
+            v.is_ok()
+        );
+    }
 }

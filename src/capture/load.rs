@@ -111,6 +111,14 @@ struct VersionProbe {
 
 /// Parses capture bytes. `path` is only used in messages.
 pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawCapture, CaptureError> {
+    // Tracking the path of every field costs as much as the parse; most files are well formed,
+    // so the path is only tracked when a second parse has to locate an error.
+    let mut de = serde_json::Deserializer::from_slice(bytes);
+    if let Ok(raw) = RawCapture::deserialize(&mut de)
+        && de.end().is_ok()
+    {
+        return check_version(path, raw);
+    }
     let mut de = serde_json::Deserializer::from_slice(bytes);
     let result: Result<RawCapture, _> = serde_path_to_error::deserialize(&mut de);
     let raw = match result {
@@ -158,6 +166,10 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawCapture, CaptureError> {
             });
         }
     };
+    check_version(path, raw)
+}
+
+fn check_version(path: &Path, raw: RawCapture) -> Result<RawCapture, CaptureError> {
     if raw.format_version != FORMAT_VERSION {
         return Err(unsupported(path, u64::from(raw.format_version)));
     }

@@ -138,6 +138,9 @@ struct Validator<'a> {
     /// Resolved output size.
     width: u32,
     height: u32,
+    /// Side files already found inside the capture's folder, by the path the capture gives:
+    /// thousands of passes naming one shader resolve it once.
+    side_files: HashMap<String, PathBuf>,
 }
 
 /// Bytes of indirect argument records (D3D12_DRAW_INDEXED_ARGUMENTS, D3D12_DRAW_ARGUMENTS,
@@ -164,6 +167,7 @@ impl<'a> Validator<'a> {
             fences: Names::default(),
             width: 1,
             height: 1,
+            side_files: HashMap::new(),
         }
     }
 
@@ -457,6 +461,9 @@ impl<'a> Validator<'a> {
                 return None;
             }
         }
+        if let Some(full) = self.side_files.get(rel) {
+            return Some(full.clone());
+        }
         let full = self.base_dir.join(p);
         if !full.is_file() {
             self.diags.error(
@@ -471,7 +478,10 @@ impl<'a> Validator<'a> {
         }
         // A symlink inside the folder may still point outside it.
         match (full.canonicalize(), self.base_dir.canonicalize()) {
-            (Ok(f), Ok(b)) if f.starts_with(&b) => Some(full),
+            (Ok(f), Ok(b)) if f.starts_with(&b) => {
+                self.side_files.insert(rel.to_owned(), full.clone());
+                Some(full)
+            }
             (Ok(_), Ok(_)) => {
                 self.diags.error(
                     "side-file",
