@@ -155,7 +155,7 @@ pub struct VulkanReport {
     pub dst_access: Vec<&'static str>,
 }
 
-#[derive(Debug, Serialize)]
+#[derive(Debug, Clone, Serialize, PartialEq, Eq, PartialOrd, Ord)]
 #[serde(untagged)]
 pub enum SubresourceReport {
     All(&'static str),
@@ -596,6 +596,9 @@ pub struct GraphEdge {
     pub kind: EdgeKind,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub resource: Option<String>,
+    /// Data edges: the later pass's range of the resource that has the hazard.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub subresource: Option<SubresourceReport>,
 }
 
 #[derive(Debug, Serialize)]
@@ -628,6 +631,10 @@ pub fn graph_report(a: &Analysis) -> GraphReport {
                 .weight()
                 .resource
                 .map(|r| m.resources[r as usize].name.clone()),
+            subresource: e.weight().resource.and_then(|r| {
+                let range = e.weight().range(m, e.target().index())?;
+                Some(subresource(m, r, range))
+            }),
         })
         .collect();
     edges.sort();
