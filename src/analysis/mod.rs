@@ -126,3 +126,50 @@ pub fn barriers_and_memory(
         (plan, memory)
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What `derive_frame` returns must not depend on which threads did the work.
+    fn same_as_one_thread(model: &model::FrameModel) {
+        let units = model::Units::new(model);
+        let g = graph::build(model, &units);
+        let order = graph::order(model, &g).unwrap();
+        let plan = barriers::derive(model, &units, &g, &order);
+        let mem = memory::plan(model, &order);
+        let derived = derive_frame(model, true).unwrap();
+        assert_eq!(derived.order, order);
+        assert_eq!(derived.graph.graph.edge_count(), g.graph.edge_count());
+        assert_eq!(
+            serde_json::to_string(&derived.plan).unwrap(),
+            serde_json::to_string(&plan).unwrap()
+        );
+        assert_eq!(
+            serde_json::to_string(&derived.memory).unwrap(),
+            serde_json::to_string(&Some(mem)).unwrap()
+        );
+        assert!(derive_frame(model, false).unwrap().memory.is_none());
+    }
+
+    #[test]
+    fn derive_frame_matches_the_stages_run_one_by_one() {
+        let mut model = synthetic::frame(400, 600, 3);
+        same_as_one_thread(&model);
+        // A last pass on a queue of its own, on a resource of its own, that the first pass
+        // waits for: the recorded order is no longer the order, and the other path runs.
+        let mut extra = model.passes[0].clone();
+        extra.name = "extra".into();
+        extra.queue = model.queues.len() as u32;
+        extra.accesses.truncate(1);
+        extra.accesses[0].resource = model.resources.len() as u32;
+        model.resources.push(model.resources[0].clone());
+        model.queues.push(model.queues[1].clone());
+        model.passes.push(extra);
+        model.fences.push((model.passes.len() as u32 - 1, 0));
+        assert!(graph::recorded_order(&model).is_none());
+        let derived = derive_frame(&model, true).unwrap();
+        assert_eq!(derived.order[0] as usize, model.passes.len() - 1);
+        same_as_one_thread(&model);
+    }
+}
