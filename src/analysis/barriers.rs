@@ -194,7 +194,7 @@ impl<'a> Batcher<'a> {
             self.flush();
             self.key = Some(key);
         }
-        let cell = self.units.cell(self.model, key.resource, unit);
+        let cell = self.units.cell(key.resource, unit);
         self.cells.push(cell);
     }
 
@@ -229,10 +229,13 @@ pub fn derive(model: &FrameModel, units: &Units, graph: &PassGraph, order: &[u32
     // the first queue to touch it next frame cannot hold that state: then the frame ends with a
     // transition to what that first access needs.
     let mut steady: Vec<State> = vec![State::COMMON; units.total];
-    for (r, res) in model.resources.iter().enumerate() {
-        let base = units.base(r as u32);
-        let count = units.count(r as u32);
-        steady[base..base + count].fill(res.initial_state);
+    for r in 0..model.resources.len() as u32 {
+        // Only accessed resources have units; the others are not read at all.
+        let count = units.count(r);
+        if count > 0 {
+            let base = units.base(r);
+            steady[base..base + count].fill(model.resources[r as usize].initial_state);
+        }
     }
     // The first pass to use each unit (`NO_PASS` if none) and the state it needs.
     let mut first: Vec<(u32, State)> = vec![(NO_PASS, State::COMMON); units.total];
@@ -246,12 +249,10 @@ pub fn derive(model: &FrameModel, units: &Units, graph: &PassGraph, order: &[u32
         }
     }
     // Previous-frame copies end their frame where the resource they copy ends it.
-    for (r, res) in model.resources.iter().enumerate() {
-        if let Some(of) = res.previous_of {
-            let (base, of_base) = (units.base(r as u32), units.base(of));
-            for i in 0..units.count(r as u32) {
-                steady[base + i] = steady[of_base + i];
-            }
+    for &(copy, of) in units.previous_copies() {
+        let (base, of_base) = (units.base(copy), units.base(of));
+        for i in 0..units.count(copy).min(units.count(of)) {
+            steady[base + i] = steady[of_base + i];
         }
     }
     // `steady` holds each unit's last state; where the first queue can't hold it, the frame
@@ -379,7 +380,7 @@ fn walk(
             if let (Some(lq), true) = (last_queue, n.reads)
                 && model.queues[lq as usize].queue_type != qtype
             {
-                let (mip, layer) = units.cell(model, resource, unit);
+                let (mip, layer) = units.cell(resource, unit);
                 transfers.push((resource, t.last_pass, p, lq, queue, mip, layer));
             }
             let t = &mut track[unit];
@@ -506,20 +507,17 @@ fn rectangles(
     cells: &[(u32, u32)],
     mut emit: impl FnMut(Subresources),
 ) {
-    let r = &model.resources[resource as usize];
-    let all = if r.is_buffer {
-        units.count(resource)
-    } else {
-        (r.mips * r.layers) as usize
-    };
+    // The resource itself is only read for a whole range: the units know its shape.
+    let all = units.count(resource);
+    let buffer = units.is_buffer(resource);
     if cells.len() == all && all > 1 {
         // Cells are distinct units, so all of them is the whole resource.
-        emit(r.whole());
+        emit(model.resources[resource as usize].whole());
         return;
     }
     if let [(mip, layer)] = cells[..] {
         // The common case: one unit, no merging.
-        emit(if r.is_buffer {
+        emit(if buffer {
             let (begin, end) = units.buffer_interval(resource, layer);
             Subresources {
                 mip_base: 0,
@@ -570,7 +568,7 @@ fn rectangles(
         let (mip, runs) = &runs_by_mip[i];
         let mip_count = (j - i) as u32;
         for &(start, count) in runs {
-            if r.is_buffer {
+            if buffer {
                 let (begin, _) = units.buffer_interval(resource, start);
                 let (_, end) = units.buffer_interval(resource, start + count - 1);
                 emit(Subresources {

@@ -458,6 +458,11 @@ pub struct Units {
     base: Vec<u32>,
     /// Units of each resource (0 for resources no pass accesses).
     counts: Vec<u32>,
+    /// Array layers of each accessed texture (0 for buffers and unaccessed resources): with
+    /// `base` it locates a unit's mip and layer without reading the resource.
+    layers: Vec<u32>,
+    /// Accessed previous-frame copies of `history` resources, as (copy, resource).
+    previous_copies: Vec<(u32, u32)>,
     /// Per unit, for buffers: the end of its byte interval (the interior boundaries of a buffer
     /// are the ends of all its units but the last).
     unit_end: Vec<u64>,
@@ -490,6 +495,8 @@ impl Units {
         let mut accessed = vec![false; model.resources.len()];
         // Interior byte boundaries of buffer accesses, as (resource, offset).
         let mut boundaries: Vec<(u32, u64)> = Vec::new();
+        // Buffers that are the previous-frame copy of another, both ways round.
+        let mut twins: HashMap<u32, u32> = HashMap::new();
         let mut access_count = 0;
         for pass in &model.passes {
             access_count += pass.accesses.len();
@@ -497,6 +504,10 @@ impl Units {
                 accessed[a.resource as usize] = true;
                 let r = &model.resources[a.resource as usize];
                 if r.is_buffer {
+                    if let Some(of) = r.previous_of {
+                        twins.insert(a.resource, of);
+                        twins.insert(of, a.resource);
+                    }
                     let start = a.range.byte_offset;
                     let end = start.saturating_add(a.range.byte_size);
                     for x in [start, end] {
@@ -507,19 +518,41 @@ impl Units {
                 }
             }
         }
+        // A copy and its resource share byte intervals, so the frame's end state of one maps
+        // unit for unit onto the other.
+        if !twins.is_empty() {
+            let own = boundaries.len();
+            for i in 0..own {
+                let (resource, x) = boundaries[i];
+                if let Some(&twin) = twins.get(&resource) {
+                    boundaries.push((twin, x));
+                }
+            }
+        }
         boundaries.sort_unstable();
         boundaries.dedup();
         let mut base = Vec::with_capacity(model.resources.len());
         let mut counts = Vec::with_capacity(model.resources.len());
+        let mut layers = Vec::with_capacity(model.resources.len());
+        let mut previous_copies = Vec::new();
         let mut unit_end: Vec<u64> = Vec::new();
         let mut next_boundary = 0;
         for (i, r) in model.resources.iter().enumerate() {
             base.push(unit_end.len() as u32);
             if !accessed[i] {
                 counts.push(0);
+                layers.push(0);
                 continue;
             }
+            layers.push(if r.is_buffer { 0 } else { r.layers.max(1) });
+            if let Some(of) = r.previous_of {
+                previous_copies.push((i as u32, of));
+            }
             if r.is_buffer {
+                // Boundaries of unaccessed twins are passed over.
+                while next_boundary < boundaries.len() && boundaries[next_boundary].0 < i as u32 {
+                    next_boundary += 1;
+                }
                 while next_boundary < boundaries.len() && boundaries[next_boundary].0 == i as u32 {
                     unit_end.push(boundaries[next_boundary].1);
                     next_boundary += 1;
@@ -534,6 +567,8 @@ impl Units {
         let mut units = Self {
             base,
             counts,
+            layers,
+            previous_copies,
             total: unit_end.len(),
             unit_end,
             use_start: Vec::with_capacity(model.passes.len() + 1),
@@ -625,14 +660,22 @@ impl Units {
     }
 
     /// The (mip, layer) of a unit of a known resource (buffer interval index in `layer`).
-    pub fn cell(&self, model: &FrameModel, resource: u32, unit: usize) -> (u32, u32) {
-        let r = &model.resources[resource as usize];
+    pub fn cell(&self, resource: u32, unit: usize) -> (u32, u32) {
         let offset = (unit - self.base[resource as usize] as usize) as u32;
-        if r.is_buffer {
-            (0, offset)
-        } else {
-            (offset / r.layers, offset % r.layers)
+        match self.layers[resource as usize] {
+            0 => (0, offset),
+            layers => (offset / layers, offset % layers),
         }
+    }
+
+    /// Whether an accessed resource is a buffer (its units are byte intervals).
+    pub fn is_buffer(&self, resource: u32) -> bool {
+        self.layers[resource as usize] == 0
+    }
+
+    /// Accessed previous-frame copies of `history` resources, as (copy, resource).
+    pub fn previous_copies(&self) -> &[(u32, u32)] {
+        &self.previous_copies
     }
 
     /// Calls `f` with each unit an access touches.
@@ -717,6 +760,82 @@ mod tests {
         assert!(!State::RENDER_TARGET.allowed_on(QueueType::Compute));
         assert!(State::UNORDERED_ACCESS.allowed_on(QueueType::Compute));
         assert!(!State::UNORDERED_ACCESS.allowed_on(QueueType::Copy));
+    }
+
+    #[test]
+    fn a_previous_frame_copy_shares_its_buffers_byte_intervals() {
+        let buffer = ModelResource {
+            name: "history".into(),
+            is_buffer: true,
+            mips: 1,
+            layers: 1,
+            buffer_bytes: 256,
+            aligned_bytes: 65536,
+            alignment: 65536,
+            heap_type: HeapType::Default,
+            category: ResourceCategory::Buffer,
+            history: true,
+            output: false,
+            initialised: false,
+            initial_state: State::COMMON,
+            previous_of: None,
+        };
+        let bytes = |offset, size| Subresources {
+            mip_base: 0,
+            mip_count: 1,
+            layer_base: 0,
+            layer_count: 1,
+            byte_offset: offset,
+            byte_size: size,
+        };
+        let access = |range: Subresources, state: State, writes: bool| ModelAccess {
+            resource: 0,
+            range,
+            state,
+            reads: !writes,
+            writes,
+            uav: false,
+        };
+        let pass = |name: &str, a: ModelAccess| ModelPass {
+            name: name.into(),
+            queue: 0,
+            accesses: vec![a],
+            raster: false,
+            sink: false,
+            gpu_ns: None,
+            markers: vec![],
+        };
+        let mut m = FrameModel {
+            queues: vec![QueueInfo {
+                name: "gfx".into(),
+                queue_type: QueueType::Graphics,
+            }],
+            resources: vec![buffer],
+            passes: vec![
+                // Reads the previous frame's bytes 0..64, then the frame writes 64..192.
+                pass(
+                    "read",
+                    access(bytes(0, 64), State::NON_PIXEL_SHADER_RESOURCE, false),
+                ),
+                pass(
+                    "write",
+                    access(bytes(64, 128), State::UNORDERED_ACCESS, true),
+                ),
+            ],
+            fences: vec![],
+            heap_tier: 2,
+        };
+        m.split_history();
+        assert_eq!(m.resources[1].previous_of, Some(0));
+        let units = Units::new(&m);
+        let intervals = |r: u32| -> Vec<(u64, u64)> {
+            (0..units.count(r) as u32)
+                .map(|i| units.buffer_interval(r, i))
+                .collect()
+        };
+        assert_eq!(intervals(0), vec![(0, 64), (64, 192), (192, 256)]);
+        assert_eq!(intervals(1), intervals(0));
+        assert_eq!(units.previous_copies(), &[(1, 0)]);
     }
 
     #[test]
