@@ -132,11 +132,10 @@ struct UnitTrack {
     /// Position in the order (`NO_PASS` before the first access) and pass of the last access.
     last_pos: u32,
     last_pass: u32,
-    /// The unit's last barrier: the pass it is placed at (`NO_PASS` if none), whether after
-    /// that pass, and the queue it is recorded on.
+    /// The unit's last barrier: the pass it is placed at (`NO_PASS` if none) and the queue it
+    /// is recorded on.
     anchor_pass: u32,
     anchor_queue: u32,
-    anchor_after: bool,
     /// Queues (bit per queue index) with an unordered-access write / read since the last
     /// barrier: a UAV barrier orders accesses on one queue; other queues are ordered by fences.
     pending_uav_write: u32,
@@ -278,6 +277,10 @@ pub(crate) fn serves(have: State, need: State, queue: QueueType) -> bool {
         && have.allowed_on(queue)
 }
 
+/// One unit's queue-ownership transfer before batching: (resource, release after, acquire
+/// before, from queue, to queue, mip, layer).
+type TransferCell = (u32, u32, u32, u32, u32, u32, u32);
+
 /// "Must happen before" constraints the walk finds, as (later pass, earlier pass).
 type Requires = Vec<(u32, u32)>;
 
@@ -296,7 +299,6 @@ fn walk(
             last_pass: 0,
             anchor_pass: NO_PASS,
             anchor_queue: 0,
-            anchor_after: false,
             pending_uav_write: 0,
             pending_uav_read: 0,
         })
@@ -308,8 +310,7 @@ fn walk(
     let mut since_sync: Vec<u32> = vec![NO_PASS; units.total * nq];
     let mut requires: Requires = Vec::with_capacity(order.len() * 4);
     let mut batcher = Batcher::new(model, units, units.total * 2);
-    let mut transfers: Vec<(u32, u32, u32, u32, u32, u32, u32)> =
-        Vec::with_capacity(units.use_count() / 2);
+    let mut transfers: Vec<TransferCell> = Vec::with_capacity(units.use_count() / 2);
     for (pos, &p) in order.iter().enumerate() {
         let pos = pos as u32;
         let queue = pass_queue[p as usize];
@@ -353,7 +354,6 @@ fn walk(
                 }
                 let t = &mut track[unit];
                 t.anchor_pass = target;
-                t.anchor_after = matches!(placement, Placement::After(_));
                 t.anchor_queue = barrier_queue;
                 batcher.add(
                     BatchKey {
@@ -445,25 +445,39 @@ fn walk(
     )
 }
 
+/// A stable counting sort into `buckets` buckets: item `i` of bucket `b` is
+/// `sorted[start[b] as usize + i]`, and bucket `b` ends at `start[b + 1]`.
+fn bucket_by<T: Copy + Default>(
+    items: impl Iterator<Item = T> + Clone,
+    buckets: usize,
+    key: impl Fn(&T) -> usize,
+) -> (Vec<u32>, Vec<T>) {
+    let mut start = vec![0u32; buckets + 1];
+    for x in items.clone() {
+        start[key(&x) + 1] += 1;
+    }
+    for b in 0..buckets {
+        start[b + 1] += start[b];
+    }
+    let mut fill = start.clone();
+    let mut sorted: Vec<T> = vec![T::default(); start[buckets] as usize];
+    for x in items {
+        let b = key(&x);
+        sorted[fill[b] as usize] = x;
+        fill[b] += 1;
+    }
+    (start, sorted)
+}
+
 fn batch_transfers(
     model: &FrameModel,
     units: &Units,
-    cells: Vec<(u32, u32, u32, u32, u32, u32, u32)>,
+    cells: Vec<TransferCell>,
 ) -> Vec<OwnershipTransfer> {
-    // Sorted: bucketed by resource (counting sort), then each resource's few sorted.
-    let mut start = vec![0u32; model.resources.len() + 1];
-    for x in &cells {
-        start[x.0 as usize + 1] += 1;
-    }
-    for r in 0..model.resources.len() {
-        start[r + 1] += start[r];
-    }
-    let mut t = vec![(0, 0, 0, 0, 0, 0, 0); cells.len()];
-    let mut fill = start.clone();
-    for x in cells {
-        t[fill[x.0 as usize] as usize] = x;
-        fill[x.0 as usize] += 1;
-    }
+    // Sorted: bucketed by resource, then each resource's few sorted.
+    let (start, mut t) = bucket_by(cells.iter().copied(), model.resources.len(), |x| {
+        x.0 as usize
+    });
     for r in 0..model.resources.len() {
         let bucket = &mut t[start[r] as usize..start[r + 1] as usize];
         if bucket.len() > 1 {
@@ -476,7 +490,7 @@ fn batch_transfers(
     let mut i = 0;
     while i < t.len() {
         let mut j = i;
-        let key = |x: &(u32, u32, u32, u32, u32, u32, u32)| (x.0, x.1, x.2, x.3, x.4);
+        let key = |x: &TransferCell| (x.0, x.1, x.2, x.3, x.4);
         while j < t.len() && key(&t[j]) == key(&t[i]) {
             j += 1;
         }
@@ -620,29 +634,12 @@ fn fences(
             }
         }
     }
-    // Group by the later pass (counting sort): producers of pass p are
-    // `producers[start[p]..start[p + 1]]`, declared fences first.
-    let mut start = vec![0u32; n + 1];
-    for &(_, b) in &model.fences {
-        start[b as usize + 1] += 1;
-    }
-    for &(b, _) in &requires {
-        start[b as usize + 1] += 1;
-    }
-    for p in 0..n {
-        start[p + 1] += start[p];
-    }
-    let mut fill = start.clone();
-    let mut producers = vec![0u32; start[n] as usize];
-    for &(a, b) in &model.fences {
-        producers[fill[b as usize] as usize] = a;
-        fill[b as usize] += 1;
-    }
-    let declared_end = fill.clone();
-    for &(b, a) in &requires {
-        producers[fill[b as usize] as usize] = a;
-        fill[b as usize] += 1;
-    }
+    // Producers of each pass as (pass, declared), grouped by the waiting pass; declared
+    // fences come first in each group.
+    let declared = model.fences.iter().map(|&(a, b)| (b, a, true));
+    let derived = requires.iter().map(|&(b, a)| (b, a, false));
+    let (start, producers) = bucket_by(declared.chain(derived), n, |x| x.0 as usize);
+    let mut producers: Vec<(u32, bool)> = producers.into_iter().map(|x| (x.1, x.2)).collect();
     const NONE: i64 = -1;
     // Vector clocks, pass-major: clock[p * nq + q].
     let mut clock: Vec<i64> = vec![NONE; n * nq];
@@ -658,12 +655,9 @@ fn fences(
             }
             None => c.fill(NONE),
         }
-        let (from, declared, to) = (
-            start[pi] as usize,
-            declared_end[pi] as usize,
-            fill[pi] as usize,
-        );
-        for &a in &producers[from..declared] {
+        let group = &mut producers[start[pi] as usize..start[pi + 1] as usize];
+        let (declared, required) = group.split_at_mut(group.partition_point(|x| x.1));
+        for &(a, _) in declared.iter() {
             for k in 0..nq {
                 c[k] = c[k].max(clock[a as usize * nq + k]);
             }
@@ -674,10 +668,9 @@ fn fences(
             });
         }
         // Latest producers first: a fence from a later pass often covers earlier ones too.
-        let required = &mut producers[declared..to];
-        required.sort_unstable_by_key(|&a| Reverse(pos[a as usize]));
+        required.sort_unstable_by_key(|&(a, _)| Reverse(pos[a as usize]));
         let mut previous = NO_PASS;
-        for &a in required.iter() {
+        for &(a, _) in required.iter() {
             if a == previous {
                 continue;
             }
