@@ -446,31 +446,30 @@ fn replay(c: &mut Criterion) {
         env!("CARGO_MANIFEST_DIR"),
         "/tests/fixtures/replay_kinds/kinds.json"
     );
-    let Ok(ctx) = framelab_replay::open_device(None, framelab::replay::wanted_features()) else {
+    let Ok(ctx) = framelab_replay::open_device(None, framelab::lower::wanted_features()) else {
         eprintln!("no GPU adapter: replay benchmarks need one (install mesa-vulkan-drivers)");
         return;
     };
     eprintln!("adapter: {}", ctx.summary);
-    let capture = match framelab::replay::load(std::path::Path::new(capture_path), 1.0) {
-        Ok(c) => c,
+    let capture = match framelab::capture::load_and_validate(
+        std::path::Path::new(capture_path),
+        &Default::default(),
+    ) {
+        Ok(v) => v.capture,
         Err(e) => {
             eprintln!("{e}");
             return;
         }
     };
     let order: Vec<_> = capture.passes.iter().map(|p| p.id).collect();
-    let lowered = match framelab::replay::lower::lower(
-        &capture,
-        &order,
-        ctx.device.features(),
-        &ctx.summary.name,
-    ) {
-        Ok(l) => l,
-        Err(e) => {
-            eprintln!("{e}");
-            return;
-        }
-    };
+    let lowered =
+        match framelab::lower::lower(&capture, &order, ctx.device.features(), &ctx.summary.name) {
+            Ok(l) => l,
+            Err(e) => {
+                eprintln!("{e}");
+                return;
+            }
+        };
     let mut session = match framelab_replay::Session::new(&ctx, lowered.plan) {
         Ok(s) => s,
         Err(e) => {
@@ -478,7 +477,7 @@ fn replay(c: &mut Criterion) {
             return;
         }
     };
-    let constants = framelab::replay::frame::constants(&capture, 0);
+    let constants = framelab::lower::frame::constants(&capture, 0);
     let hand = HandWritten::new(&ctx.device, &ctx.queue);
     let wait = |device: &wgpu::Device| {
         let _ = device.poll(wgpu::PollType::wait_indefinitely());

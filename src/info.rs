@@ -7,11 +7,10 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use crate::capture::format::BufferKind;
 use crate::capture::format::{HeapType, ResourceFlag};
 use crate::capture::model::{Capture, PlacementDesc, QueueCapabilities};
-use crate::capture::validate::{
-    buffer_kind_name, flag_name, heap_type_name, human_bytes, queue_type_name,
-};
+use crate::text::{human_bytes, table};
 
 #[derive(Debug, Serialize)]
 pub struct InfoReport {
@@ -108,7 +107,7 @@ pub fn report(capture: &Capture) -> InfoReport {
         .iter()
         .map(|q| QueueInfo {
             name: q.name.clone(),
-            queue_type: queue_type_name(q.queue_type),
+            queue_type: q.queue_type.name(),
             capabilities: QueueCapabilities::of(q.queue_type).names(),
         })
         .collect();
@@ -117,7 +116,7 @@ pub fn report(capture: &Capture) -> InfoReport {
         .iter()
         .map(|h| HeapInfo {
             name: h.name.clone(),
-            heap_type: heap_type_name(h.heap_type),
+            heap_type: h.heap_type.name(),
             size: h.size,
             alignment: h.alignment,
         })
@@ -135,9 +134,7 @@ pub fn report(capture: &Capture) -> InfoReport {
                 }
                 PlacementDesc::Reserved => ("reserved".to_owned(), None),
             };
-            let total = totals
-                .entry(heap_type_name(heap_type).to_owned())
-                .or_default();
+            let total = totals.entry(heap_type.name().to_owned()).or_default();
             total.resources += 1;
             total.bytes += r.bytes;
             ResourceInfo {
@@ -150,17 +147,13 @@ pub fn report(capture: &Capture) -> InfoReport {
                 array_layers: r.array_layers,
                 mip_levels: r.mip_levels,
                 samples: r.samples,
-                buffer_kind: r.buffer_kind.map(buffer_kind_name),
+                buffer_kind: r.buffer_kind.map(BufferKind::name),
                 stride: r.stride,
                 bytes: r.bytes,
                 heap,
-                heap_type: heap_type_name(heap_type),
+                heap_type: heap_type.name(),
                 offset,
-                flags: r
-                    .flags
-                    .iter()
-                    .map(|f: &ResourceFlag| flag_name(*f))
-                    .collect(),
+                flags: r.flags.iter().map(|f: &ResourceFlag| f.name()).collect(),
                 history: r.history,
                 output: r.output,
             }
@@ -200,7 +193,7 @@ pub fn report(capture: &Capture) -> InfoReport {
             PassInfo {
                 name: p.name.clone(),
                 queue: queue.name.clone(),
-                queue_type: queue_type_name(queue.queue_type),
+                queue_type: queue.queue_type.name(),
                 kind: p.kind.as_str(),
                 marker_path: p.marker_path(),
                 draws: p.draws.len(),
@@ -223,37 +216,6 @@ pub fn report(capture: &Capture) -> InfoReport {
         passes,
         totals,
     }
-}
-
-/// Pads columns to their widest cell.
-pub fn table(headers: &[&str], rows: &[Vec<String>]) -> String {
-    let mut widths: Vec<usize> = headers.iter().map(|h| h.len()).collect();
-    for row in rows {
-        for (w, cell) in widths.iter_mut().zip(row) {
-            *w = (*w).max(cell.chars().count());
-        }
-    }
-    let mut out = String::new();
-    let line = |out: &mut String, cells: &mut dyn Iterator<Item = &str>| {
-        let mut first = true;
-        for (cell, w) in cells.zip(&widths) {
-            if !first {
-                out.push_str("  ");
-            }
-            first = false;
-            let _ = write!(out, "{cell:<w$}");
-        }
-        let trimmed = out.trim_end().len();
-        out.truncate(trimmed);
-        out.push('\n');
-    };
-    line(&mut out, &mut headers.iter().copied());
-    let rule: Vec<String> = widths.iter().map(|w| "-".repeat(*w)).collect();
-    line(&mut out, &mut rule.iter().map(String::as_str));
-    for row in rows {
-        line(&mut out, &mut row.iter().map(String::as_str));
-    }
-    out
 }
 
 pub fn render_text(r: &InfoReport) -> String {
@@ -392,18 +354,4 @@ pub fn render_text(r: &InfoReport) -> String {
         table(&["heap type", "resources", "bytes"], &totals)
     );
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn tables_pad_to_the_widest_cell() {
-        let t = table(&["a", "bb"], &[vec!["long cell".into(), "x".into()]]);
-        let lines: Vec<&str> = t.lines().collect();
-        assert_eq!(lines[0], "a          bb");
-        assert_eq!(lines[1], "---------  --");
-        assert_eq!(lines[2], "long cell  x");
-    }
 }

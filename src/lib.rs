@@ -1,13 +1,16 @@
 //! framelab: frame-capture analysis and pass reconstruction.
 //!
-//! The library owns the capture format, its loading and validation, the DXGI format table, and
-//! (in later stages) the pass graph, its analyses and the lowering to a replay plan. The binary
-//! in `main.rs` is a thin layer mapping these to commands and exit codes.
+//! The library owns the capture format with its loading and validation (`capture`), the pass
+//! graph and what is derived from it (`analysis`), the lowering of a capture to a replay plan
+//! (`lower`, the only place that maps DXGI to wgpu), timing reports (`timing`), and the reports
+//! the commands print (`info`, `text`). The binary (`src/cli/`) maps these to commands and exit
+//! codes; `anyhow` lives only there.
 
 pub mod analysis;
 pub mod capture;
-pub mod dxgi;
 pub mod info;
+pub mod lower;
 pub mod output;
-pub mod replay;
 pub mod schema;
+pub mod text;
+pub mod timing;

@@ -78,6 +78,9 @@ pub struct ShaderSource {
     /// As named in messages (the capture's relative path).
     pub name: String,
     pub source: String,
+    /// The module parsed and validated once, by whoever built the plan; the session reflects
+    /// bindings and uniforms from it instead of parsing the source again.
+    pub validated: std::sync::Arc<crate::shader::ValidatedShader>,
 }
 
 /// Per-pass (or per-draw) parameters by uniform struct member name.

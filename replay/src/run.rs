@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use crate::device::GpuContext;
 use crate::plan::*;
-use crate::shader::{ShaderError, ValidatedShader, validate_wgsl};
+use crate::shader::{ShaderError, ValidatedShader};
 use crate::uniforms::{self, UniformError};
 
 #[derive(Debug, thiserror::Error)]
@@ -51,7 +51,7 @@ pub struct PassTime {
 
 struct Module {
     module: wgpu::ShaderModule,
-    reflection: ValidatedShader,
+    reflection: std::sync::Arc<ValidatedShader>,
     frame_buffer: Option<(wgpu::Buffer, u64)>,
 }
 
@@ -324,7 +324,7 @@ impl Session {
             .collect();
         let mut modules = Vec::new();
         for s in &plan.shaders {
-            let reflection = validate_wgsl(&s.name, &s.source).map_err(Box::new)?;
+            let reflection = s.validated.clone();
             let g = scope(&device);
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(&s.name),

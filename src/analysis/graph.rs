@@ -404,6 +404,7 @@ mod tests {
 
     fn pass(name: &str, queue: u32, accesses: Vec<ModelAccess>) -> ModelPass {
         ModelPass {
+            id: crate::capture::model::PassId(0),
             name: name.into(),
             queue,
             accesses,

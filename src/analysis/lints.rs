@@ -13,9 +13,9 @@ use super::model::{FrameModel, State};
 use crate::capture::format::{
     Access, BarrierType, DescriptorHeapType, ResourceFlag, ResourceState, SplitFlag,
 };
-use crate::capture::model::{BindingTarget, Capture, Subresources};
+use crate::capture::model::{BindingTarget, Capture, PassId, ResourceId, Subresources};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LintSeverity {
     Error,
@@ -23,154 +23,237 @@ pub enum LintSeverity {
     Info,
 }
 
-#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
-pub struct Lint {
-    /// Stable code, e.g. `FL001`.
-    pub code: &'static str,
-    /// Short name, e.g. `unused-uav-flag`.
-    pub name: &'static str,
-    pub severity: LintSeverity,
-    pub message: String,
-    pub pass: Option<String>,
-    pub resource: Option<String>,
+/// Every lint framelab knows, with its stable code, short name, severity and description.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum LintKind {
+    /// ALLOW_UNORDERED_ACCESS on a resource never bound as a UAV
+    UnusedUavFlag,
+    /// ALLOW_RENDER_TARGET on a resource never rendered to
+    UnusedRenderTargetFlag,
+    /// ALLOW_DEPTH_STENCIL on a resource never bound as depth
+    UnusedDepthStencilFlag,
+    /// a resource written and never read (and not a frame output)
+    WrittenNeverRead,
+    /// a pass whose writes never reach a frame output
+    PassWithoutEffect,
+    /// a read of contents nothing wrote (no initial contents, not history)
+    ReadBeforeWrite,
+    /// a copy whose result is never read, or that repeats an identical copy
+    RedundantCopy,
+    /// a TYPELESS resource no pass views with a typed format
+    TypelessWithoutTypedView,
+    /// depth bound writable by a pass that only tests it: bind it read-only (DEPTH_READ)
+    DepthCouldBeReadOnly,
+    /// more descriptors needed than a descriptor heap holds, or no heap of a needed type
+    DescriptorHeapCapacity,
+    /// every write masks off channels: a format with fewer channels would do
+    UnusedChannels,
+    /// mip levels no pass touches
+    UnusedMips,
+    /// a resource no pass touches
+    UnusedResource,
+    /// a cross-queue dependency no fence orders
+    MissingFence,
+    /// a resource in an UPLOAD heap read by several passes: copy it to a DEFAULT heap
+    UploadHeapReadOften,
+    /// a transition or UAV barrier the frame needs was not recorded
+    BarrierMissing,
+    /// a recorded barrier the frame does not need
+    BarrierRedundant,
+    /// a recorded barrier covers more subresources or states than needed
+    BarrierOverBroad,
+    /// a recorded barrier could be split (begin after the last use, end before the next)
+    BarrierCouldSplit,
+    /// a recorded transition names a before-state the resource is not in
+    BarrierWrongBeforeState,
 }
 
-/// Every lint: code, name, severity, what it finds.
-pub const CATALOGUE: &[(&str, &str, LintSeverity, &str)] = &[
-    (
-        "FL001",
-        "unused-uav-flag",
-        LintSeverity::Warning,
-        "ALLOW_UNORDERED_ACCESS on a resource never bound as a UAV",
-    ),
-    (
-        "FL002",
-        "unused-render-target-flag",
-        LintSeverity::Warning,
-        "ALLOW_RENDER_TARGET on a resource never rendered to",
-    ),
-    (
-        "FL003",
-        "unused-depth-stencil-flag",
-        LintSeverity::Warning,
-        "ALLOW_DEPTH_STENCIL on a resource never bound as depth",
-    ),
-    (
-        "FL004",
-        "written-never-read",
-        LintSeverity::Warning,
-        "a resource written and never read (and not a frame output)",
-    ),
-    (
-        "FL005",
-        "pass-without-effect",
-        LintSeverity::Warning,
-        "a pass whose writes never reach a frame output",
-    ),
-    (
-        "FL006",
-        "read-before-write",
-        LintSeverity::Error,
-        "a read of contents nothing wrote (no initial contents, not history)",
-    ),
-    (
-        "FL007",
-        "redundant-copy",
-        LintSeverity::Warning,
-        "a copy whose result is never read, or that repeats an identical copy",
-    ),
-    (
-        "FL008",
-        "typeless-without-typed-view",
-        LintSeverity::Warning,
-        "a TYPELESS resource no pass views with a typed format",
-    ),
-    (
-        "FL009",
-        "depth-could-be-read-only",
-        LintSeverity::Info,
-        "depth bound writable by a pass that only tests it: bind it read-only (DEPTH_READ)",
-    ),
-    (
-        "FL010",
-        "descriptor-heap-capacity",
-        LintSeverity::Error,
-        "more descriptors needed than a descriptor heap holds, or no heap of a needed type",
-    ),
-    (
-        "FL011",
-        "unused-channels",
-        LintSeverity::Info,
-        "every write masks off channels: a format with fewer channels would do",
-    ),
-    (
-        "FL012",
-        "unused-mips",
-        LintSeverity::Info,
-        "mip levels no pass touches",
-    ),
-    (
-        "FL013",
-        "unused-resource",
-        LintSeverity::Warning,
-        "a resource no pass touches",
-    ),
-    (
-        "FL014",
-        "missing-fence",
-        LintSeverity::Error,
-        "a cross-queue dependency no fence orders",
-    ),
-    (
-        "FL015",
-        "upload-heap-read-often",
-        LintSeverity::Info,
-        "a resource in an UPLOAD heap read by several passes: copy it to a DEFAULT heap",
-    ),
-    (
-        "FL020",
-        "barrier-missing",
-        LintSeverity::Error,
-        "a transition or UAV barrier the frame needs was not recorded",
-    ),
-    (
-        "FL021",
-        "barrier-redundant",
-        LintSeverity::Warning,
-        "a recorded barrier the frame does not need",
-    ),
-    (
-        "FL022",
-        "barrier-over-broad",
-        LintSeverity::Warning,
-        "a recorded barrier covers more subresources or states than needed",
-    ),
-    (
-        "FL023",
-        "barrier-could-split",
-        LintSeverity::Info,
-        "a recorded barrier could be split (begin after the last use, end before the next)",
-    ),
-    (
-        "FL024",
-        "barrier-wrong-before-state",
-        LintSeverity::Error,
-        "a recorded transition names a before-state the resource is not in",
-    ),
-];
+impl LintKind {
+    /// Every lint, in code order (the catalogue reports list).
+    pub const ALL: [LintKind; 20] = [
+        LintKind::UnusedUavFlag,
+        LintKind::UnusedRenderTargetFlag,
+        LintKind::UnusedDepthStencilFlag,
+        LintKind::WrittenNeverRead,
+        LintKind::PassWithoutEffect,
+        LintKind::ReadBeforeWrite,
+        LintKind::RedundantCopy,
+        LintKind::TypelessWithoutTypedView,
+        LintKind::DepthCouldBeReadOnly,
+        LintKind::DescriptorHeapCapacity,
+        LintKind::UnusedChannels,
+        LintKind::UnusedMips,
+        LintKind::UnusedResource,
+        LintKind::MissingFence,
+        LintKind::UploadHeapReadOften,
+        LintKind::BarrierMissing,
+        LintKind::BarrierRedundant,
+        LintKind::BarrierOverBroad,
+        LintKind::BarrierCouldSplit,
+        LintKind::BarrierWrongBeforeState,
+    ];
 
-fn lint(code: &'static str, message: String, pass: Option<&str>, resource: Option<&str>) -> Lint {
-    let (name, severity) = CATALOGUE
-        .iter()
-        .find(|(c, ..)| *c == code)
-        .map_or(("unknown", LintSeverity::Warning), |(_, n, s, _)| (*n, *s));
+    fn row(self) -> (&'static str, &'static str, LintSeverity, &'static str) {
+        match self {
+            LintKind::UnusedUavFlag => (
+                "FL001",
+                "unused-uav-flag",
+                LintSeverity::Warning,
+                "ALLOW_UNORDERED_ACCESS on a resource never bound as a UAV",
+            ),
+            LintKind::UnusedRenderTargetFlag => (
+                "FL002",
+                "unused-render-target-flag",
+                LintSeverity::Warning,
+                "ALLOW_RENDER_TARGET on a resource never rendered to",
+            ),
+            LintKind::UnusedDepthStencilFlag => (
+                "FL003",
+                "unused-depth-stencil-flag",
+                LintSeverity::Warning,
+                "ALLOW_DEPTH_STENCIL on a resource never bound as depth",
+            ),
+            LintKind::WrittenNeverRead => (
+                "FL004",
+                "written-never-read",
+                LintSeverity::Warning,
+                "a resource written and never read (and not a frame output)",
+            ),
+            LintKind::PassWithoutEffect => (
+                "FL005",
+                "pass-without-effect",
+                LintSeverity::Warning,
+                "a pass whose writes never reach a frame output",
+            ),
+            LintKind::ReadBeforeWrite => (
+                "FL006",
+                "read-before-write",
+                LintSeverity::Error,
+                "a read of contents nothing wrote (no initial contents, not history)",
+            ),
+            LintKind::RedundantCopy => (
+                "FL007",
+                "redundant-copy",
+                LintSeverity::Warning,
+                "a copy whose result is never read, or that repeats an identical copy",
+            ),
+            LintKind::TypelessWithoutTypedView => (
+                "FL008",
+                "typeless-without-typed-view",
+                LintSeverity::Warning,
+                "a TYPELESS resource no pass views with a typed format",
+            ),
+            LintKind::DepthCouldBeReadOnly => (
+                "FL009",
+                "depth-could-be-read-only",
+                LintSeverity::Info,
+                "depth bound writable by a pass that only tests it: bind it read-only (DEPTH_READ)",
+            ),
+            LintKind::DescriptorHeapCapacity => (
+                "FL010",
+                "descriptor-heap-capacity",
+                LintSeverity::Error,
+                "more descriptors needed than a descriptor heap holds, or no heap of a needed type",
+            ),
+            LintKind::UnusedChannels => (
+                "FL011",
+                "unused-channels",
+                LintSeverity::Info,
+                "every write masks off channels: a format with fewer channels would do",
+            ),
+            LintKind::UnusedMips => (
+                "FL012",
+                "unused-mips",
+                LintSeverity::Info,
+                "mip levels no pass touches",
+            ),
+            LintKind::UnusedResource => (
+                "FL013",
+                "unused-resource",
+                LintSeverity::Warning,
+                "a resource no pass touches",
+            ),
+            LintKind::MissingFence => (
+                "FL014",
+                "missing-fence",
+                LintSeverity::Error,
+                "a cross-queue dependency no fence orders",
+            ),
+            LintKind::UploadHeapReadOften => (
+                "FL015",
+                "upload-heap-read-often",
+                LintSeverity::Info,
+                "a resource in an UPLOAD heap read by several passes: copy it to a DEFAULT heap",
+            ),
+            LintKind::BarrierMissing => (
+                "FL020",
+                "barrier-missing",
+                LintSeverity::Error,
+                "a transition or UAV barrier the frame needs was not recorded",
+            ),
+            LintKind::BarrierRedundant => (
+                "FL021",
+                "barrier-redundant",
+                LintSeverity::Warning,
+                "a recorded barrier the frame does not need",
+            ),
+            LintKind::BarrierOverBroad => (
+                "FL022",
+                "barrier-over-broad",
+                LintSeverity::Warning,
+                "a recorded barrier covers more subresources or states than needed",
+            ),
+            LintKind::BarrierCouldSplit => (
+                "FL023",
+                "barrier-could-split",
+                LintSeverity::Info,
+                "a recorded barrier could be split (begin after the last use, end before the next)",
+            ),
+            LintKind::BarrierWrongBeforeState => (
+                "FL024",
+                "barrier-wrong-before-state",
+                LintSeverity::Error,
+                "a recorded transition names a before-state the resource is not in",
+            ),
+        }
+    }
+    /// Stable code, e.g. `FL001`.
+    pub fn code(self) -> &'static str {
+        self.row().0
+    }
+    /// Short name, e.g. `unused-uav-flag`.
+    pub fn name(self) -> &'static str {
+        self.row().1
+    }
+    pub fn severity(self) -> LintSeverity {
+        self.row().2
+    }
+    /// What the lint finds.
+    pub fn description(self) -> &'static str {
+        self.row().3
+    }
+}
+
+/// One finding, about a capture pass and/or resource (ids; reports name them).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Lint {
+    pub kind: LintKind,
+    pub message: String,
+    pub pass: Option<PassId>,
+    pub resource: Option<ResourceId>,
+}
+
+fn lint(
+    kind: LintKind,
+    message: String,
+    pass: Option<PassId>,
+    resource: Option<ResourceId>,
+) -> Lint {
     Lint {
-        code,
-        name,
-        severity,
+        kind,
         message,
-        pass: pass.map(str::to_owned),
-        resource: resource.map(str::to_owned),
+        pass,
+        resource,
     }
 }
 
@@ -211,29 +294,29 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
             .collect();
         if uses.is_empty() {
             out.push(lint(
-                "FL013",
+                LintKind::UnusedResource,
                 format!("\"{}\" is declared but no pass uses it", r.name),
                 None,
-                Some(&r.name),
+                Some(r.id),
             ));
             continue;
         }
         let checks = [
             (
                 ResourceFlag::AllowUnorderedAccess,
-                "FL001",
+                LintKind::UnusedUavFlag,
                 uses.iter().any(|a| a.is_unordered(r.is_texture())),
                 "bound as an unordered-access view",
             ),
             (
                 ResourceFlag::AllowRenderTarget,
-                "FL002",
+                LintKind::UnusedRenderTargetFlag,
                 uses.contains(&Access::ColorAttachment),
                 "rendered to",
             ),
             (
                 ResourceFlag::AllowDepthStencil,
-                "FL003",
+                LintKind::UnusedDepthStencilFlag,
                 uses.iter()
                     .any(|a| matches!(a, Access::DepthRead | Access::DepthWrite)),
                 "bound as depth-stencil",
@@ -241,8 +324,8 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
         ];
         for (flag, code, used, how) in checks {
             if r.has_flag(flag) && !used {
-                let flag_name = crate::capture::validate::flag_name(flag);
-                out.push(lint(code, format!("\"{}\" has {flag_name} but is never {how}; removing the flag can enable compression", r.name), None, Some(&r.name)));
+                let flag_name = flag.name();
+                out.push(lint(code, format!("\"{}\" has {flag_name} but is never {how}; removing the flag can enable compression", r.name), None, Some(r.id)));
             }
         }
     }
@@ -263,10 +346,10 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
         let written = accesses().any(|(_, a)| a.resource == r.id && a.writes);
         if written && !read_by.contains(&r.id.0) && !r.output && !r.history {
             out.push(lint(
-                "FL004",
+                LintKind::WrittenNeverRead,
                 format!("\"{}\" is written but nothing reads it", r.name),
                 None,
-                Some(&r.name),
+                Some(r.id),
             ));
         }
     }
@@ -282,7 +365,12 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
         } else {
             format!("\"{}\" writes nothing", pass.name)
         };
-        out.push(lint("FL005", message, Some(&pass.name), None));
+        out.push(lint(
+            LintKind::PassWithoutEffect,
+            message,
+            Some(pass.id),
+            None,
+        ));
     }
 
     // Read before anything wrote it, in order.
@@ -298,7 +386,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
                 && r.previous_of.is_none()
                 && reported.insert(a.resource)
             {
-                out.push(lint("FL006", format!("\"{}\" reads \"{}\" before any pass writes it and it has no initial contents", pass.name, r.name), Some(&pass.name), Some(&r.name)));
+                out.push(lint(LintKind::ReadBeforeWrite, format!("\"{}\" reads \"{}\" before any pass writes it and it has no initial contents", pass.name, r.name), Some(pass.id), Some(ResourceId(a.resource))));
             }
         }
         for a in &pass.accesses {
@@ -321,13 +409,13 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
             let dst_res = capture.resource(dst);
             if !read_later && !dst_res.output && !dst_res.history {
                 out.push(lint(
-                    "FL007",
+                    LintKind::RedundantCopy,
                     format!(
                         "copy {i} of \"{}\" into \"{}\" is never read",
                         pass.name, dst_res.name
                     ),
-                    Some(&pass.name),
-                    Some(&dst_res.name),
+                    Some(pass.id),
+                    Some(dst),
                 ));
             }
             let key = (
@@ -348,7 +436,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
                     });
                 if !touched_between {
                     out.push(lint(
-                        "FL007",
+                        LintKind::RedundantCopy,
                         format!(
                             "\"{}\" repeats the copy \"{}\" made from \"{}\" to \"{}\"",
                             pass.name,
@@ -356,8 +444,8 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
                             capture.resource(c.src.resource).name,
                             dst_res.name
                         ),
-                        Some(&pass.name),
-                        Some(&dst_res.name),
+                        Some(pass.id),
+                        Some(dst),
                     ));
                 }
             }
@@ -378,13 +466,13 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
         let used = accesses().any(|(_, a)| a.resource == r.id);
         if used && !typed_view {
             out.push(lint(
-                "FL008",
+                LintKind::TypelessWithoutTypedView,
                 format!(
                     "\"{}\" is {} and no pass views it with a typed format; give it a typed format",
                     r.name, f.name
                 ),
                 None,
-                Some(&r.name),
+                Some(r.id),
             ));
         }
     }
@@ -399,7 +487,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
             });
             if !d.read_only && access.is_some_and(|a| a.access == Access::DepthRead) {
                 let name = &capture.resource(d.resource).name;
-                out.push(lint("FL009", format!("\"{}\" binds \"{name}\" writable but never writes it: bind it read_only so it stays in DEPTH_READ", pass.name), Some(&pass.name), Some(name)));
+                out.push(lint(LintKind::DepthCouldBeReadOnly, format!("\"{}\" binds \"{name}\" writable but never writes it: bind it read_only so it stays in DEPTH_READ", pass.name), Some(pass.id), Some(d.resource)));
             }
         }
     }
@@ -441,13 +529,13 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
         }
         if capacity == 0 {
             out.push(lint(
-                "FL010",
+                LintKind::DescriptorHeapCapacity,
                 format!("the frame needs {count} {name} descriptors but declares no {name} heap"),
                 None,
                 None,
             ));
         } else if count > capacity {
-            out.push(lint("FL010", format!("the frame needs {count} {name} descriptors but its {name} heaps hold {capacity}"), None, None));
+            out.push(lint(LintKind::DescriptorHeapCapacity, format!("the frame needs {count} {name} descriptors but its {name} heaps hold {capacity}"), None, None));
         }
     }
 
@@ -472,7 +560,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
         let union: BTreeSet<char> = masks.iter().flatten().flat_map(|m| m.chars()).collect();
         if union.len() < channels {
             let used: String = union.iter().collect();
-            out.push(lint("FL011", format!("\"{}\" ({}) is only ever written in channels \"{used}\"; a {}-channel format would do", r.name, f.name, union.len()), None, Some(&r.name)));
+            out.push(lint(LintKind::UnusedChannels, format!("\"{}\" ({}) is only ever written in channels \"{used}\"; a {}-channel format would do", r.name, f.name, union.len()), None, Some(r.id)));
         }
     }
 
@@ -488,13 +576,13 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
             .max();
         if let Some(used) = max_mip.filter(|&m| m < r.mip_levels) {
             out.push(lint(
-                "FL012",
+                LintKind::UnusedMips,
                 format!(
                     "\"{}\" has {} mips but passes use only the first {used}",
                     r.name, r.mip_levels
                 ),
                 None,
-                Some(&r.name),
+                Some(r.id),
             ));
         }
     }
@@ -506,7 +594,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
             &model.passes[f.wait_before as usize],
         );
         out.push(lint(
-            "FL014",
+            LintKind::MissingFence,
             format!(
                 "\"{}\" (queue {}) must wait for \"{}\" (queue {}), but no fence orders them",
                 b.name,
@@ -514,7 +602,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
                 a.name,
                 model.queues[a.queue as usize].name
             ),
-            Some(&b.name),
+            Some(b.id),
             None,
         ));
     }
@@ -527,7 +615,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
                 .map(|(p, _)| p.id.0)
                 .collect();
             if readers.len() >= 2 {
-                out.push(lint("FL015", format!("\"{}\" lives in an UPLOAD heap and {} passes read it across the bus; copy it to a DEFAULT heap once", r.name, readers.len()), None, Some(&r.name)));
+                out.push(lint(LintKind::UploadHeapReadOften, format!("\"{}\" lives in an UPLOAD heap and {} passes read it across the bus; copy it to a DEFAULT heap once", r.name, readers.len()), None, Some(r.id)));
             }
         }
     }
@@ -634,7 +722,7 @@ fn compare_recorded(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -
                     BarrierKind::Uav => "UAV barrier".to_owned(),
                     _ => format!("transition {} -> {}", d.before.name(), d.after.name()),
                 };
-                out.push(lint("FL020", format!("\"{}\" needs a {what} on \"{}\" that the capture did not record (a hazard)", pass.name, name(resource)), Some(&pass.name), Some(&name(resource))));
+                out.push(lint(LintKind::BarrierMissing, format!("\"{}\" needs a {what} on \"{}\" that the capture did not record (a hazard)", pass.name, name(resource)), Some(pass.id), Some(ResourceId(resource))));
                 continue;
             };
             used[i] = true;
@@ -651,7 +739,7 @@ fn compare_recorded(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -
                 .fold(State::COMMON, |s, x| s.union(state_of(*x)));
             if before != d.before {
                 out.push(lint(
-                    "FL024",
+                    LintKind::BarrierWrongBeforeState,
                     format!(
                         "\"{}\" records \"{}\" going from {} but it is in {}",
                         pass.name,
@@ -659,8 +747,8 @@ fn compare_recorded(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -
                         before.name(),
                         d.before.name()
                     ),
-                    Some(&pass.name),
-                    Some(&name(resource)),
+                    Some(pass.id),
+                    Some(ResourceId(resource)),
                 ));
             }
             let whole = model.resources[resource as usize].whole();
@@ -670,7 +758,7 @@ fn compare_recorded(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -
                 .map_or(d.range != whole, |rr| *rr != d.range);
             if after != d.after || wider_range {
                 out.push(lint(
-                    "FL022",
+                    LintKind::BarrierOverBroad,
                     format!(
                         "\"{}\" transitions \"{}\" to {} over {}; {} over {} is enough",
                         pass.name,
@@ -680,19 +768,19 @@ fn compare_recorded(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -
                         d.after.name(),
                         describe(Some(&d.range))
                     ),
-                    Some(&pass.name),
-                    Some(&name(resource)),
+                    Some(pass.id),
+                    Some(ResourceId(resource)),
                 ));
             }
             if let (Some(q), SplitFlag::None) = (d.split_begin_after, r.split) {
-                out.push(lint("FL023", format!("the transition of \"{}\" before \"{}\" could begin after \"{}\" (split barrier)", name(resource), pass.name, model.passes[q as usize].name), Some(&pass.name), Some(&name(resource))));
+                out.push(lint(LintKind::BarrierCouldSplit, format!("the transition of \"{}\" before \"{}\" could begin after \"{}\" (split barrier)", name(resource), pass.name, model.passes[q as usize].name), Some(pass.id), Some(ResourceId(resource))));
             }
         }
         for (i, r) in recorded.iter().enumerate() {
             if !used[i] && r.barrier_type != BarrierType::Aliasing {
                 let res = r.resource.map(|x| capture.resource(x).name.clone());
                 out.push(lint(
-                    "FL021",
+                    LintKind::BarrierRedundant,
                     format!(
                         "\"{}\" records a {:?} barrier on {} that the frame does not need",
                         pass.name,
@@ -701,8 +789,8 @@ fn compare_recorded(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -
                     )
                     .replace("Transition", "transition")
                     .replace("Uav", "UAV"),
-                    Some(&pass.name),
-                    res.as_deref(),
+                    Some(pass.id),
+                    r.resource,
                 ));
             }
         }

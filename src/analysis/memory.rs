@@ -78,10 +78,6 @@ pub fn lifetimes(model: &FrameModel, order: &[u32]) -> Vec<Option<Lifetime>> {
     out
 }
 
-fn heap_name(h: HeapType) -> &'static str {
-    crate::capture::validate::heap_type_name(h)
-}
-
 /// One item to place: index into the caller's list, size, alignment, live interval.
 #[derive(Clone, Copy, Debug)]
 pub struct Item {
@@ -346,7 +342,7 @@ pub fn plan(model: &FrameModel, order: &[u32]) -> MemoryPlan {
     };
     let pool_names: Vec<String> = (0..12)
         .map(|i| {
-            let heap = heap_name(HEAPS[i / 3]);
+            let heap = HEAPS[i / 3].name();
             if model.heap_tier == 1 {
                 format!("{heap}/{}", category_name(CATEGORIES[i % 3]))
             } else {
@@ -389,7 +385,7 @@ pub fn plan(model: &FrameModel, order: &[u32]) -> MemoryPlan {
     for (h, bytes) in unaliased.iter().enumerate() {
         if let Some(bytes) = bytes {
             per_heap_type.insert(
-                heap_name(HEAPS[h]).to_owned(),
+                HEAPS[h].name().to_owned(),
                 Totals {
                     unaliased_bytes: *bytes,
                     ..Totals::default()
@@ -405,7 +401,7 @@ pub fn plan(model: &FrameModel, order: &[u32]) -> MemoryPlan {
     {
         let (offsets, size) = place(items);
         let totals = per_heap_type
-            .entry(heap_name(HEAPS[pool / 3]).to_owned())
+            .entry(HEAPS[pool / 3].name().to_owned())
             .or_default();
         totals.aliased_bytes += size;
         totals.lower_bound_bytes += lower_bound(items);

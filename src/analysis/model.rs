@@ -7,15 +7,12 @@
 
 use std::collections::{BTreeSet, HashMap};
 use std::fmt;
-use std::path::PathBuf;
-
-use framelab_replay::{ValidatedShader, validate_wgsl};
 
 use serde::Serialize;
 
 use crate::capture::format::{Access, HeapType, PassKind, QueueType, ResourceKind};
 use crate::capture::model::{
-    AccessSource, Capture, InitialDesc, PassDesc, ResourceCategory, Subresources,
+    AccessSource, Capture, InitialDesc, PassDesc, PassId, ResourceCategory, Subresources,
 };
 
 /// A D3D12 resource state, as bit flags so read states can be combined. The values are
@@ -145,6 +142,8 @@ pub struct ModelAccess {
 
 #[derive(Clone, Debug)]
 pub struct ModelPass {
+    /// The capture pass this is (synthetic frames number their passes in order).
+    pub id: PassId,
     pub name: String,
     pub queue: u32,
     pub accesses: Vec<ModelAccess>,
@@ -268,29 +267,20 @@ pub fn state_for(access: Access, stages: Stages, texture: bool) -> State {
 type StageSets = (BTreeSet<String>, BTreeSet<String>);
 
 /// Globals used by the vertex entry points (the pass's and per-draw overrides) and by the
-/// fragment entry point of a raster pass; `None` when the shader does not parse.
-fn stage_usage(
-    p: &PassDesc,
-    cache: &mut HashMap<PathBuf, Option<ValidatedShader>>,
-) -> Option<StageSets> {
+/// fragment entry point of a raster pass, from the interface reflected at validation.
+fn stage_usage(capture: &Capture, p: &PassDesc) -> Option<StageSets> {
     let shader = p.shader.as_ref()?;
-    let parsed = cache
-        .entry(shader.path.clone())
-        .or_insert_with(|| {
-            let source = std::fs::read_to_string(&shader.path).ok()?;
-            validate_wgsl(&shader.file, &source).ok()
-        })
-        .as_ref()?;
+    let interface = &capture.shader(shader.id).interface;
     let mut vertex = BTreeSet::new();
     let entries = shader
         .vertex
         .iter()
         .chain(p.draws.iter().filter_map(|d| d.vertex.as_ref()));
     for entry in entries {
-        vertex.extend(parsed.globals_used_by(entry)?);
+        vertex.extend(interface.globals_used_by(entry)?.iter().cloned());
     }
     let fragment = match &shader.fragment {
-        Some(entry) => parsed.globals_used_by(entry)?,
+        Some(entry) => interface.globals_used_by(entry)?.clone(),
         None => BTreeSet::new(),
     };
     Some((vertex, fragment))
@@ -298,7 +288,6 @@ fn stage_usage(
 
 /// Builds the analysis model of a validated capture.
 pub fn from_capture(capture: &Capture) -> FrameModel {
-    let mut shaders: HashMap<PathBuf, Option<ValidatedShader>> = HashMap::new();
     let resources = capture
         .resources
         .iter()
@@ -336,7 +325,7 @@ pub fn from_capture(capture: &Capture) -> FrameModel {
         .iter()
         .map(|p| {
             let raster = p.kind == PassKind::Raster;
-            let usage = raster.then(|| stage_usage(p, &mut shaders));
+            let usage = raster.then(|| stage_usage(capture, p));
             let accesses = p
                 .accesses
                 .iter()
@@ -370,6 +359,7 @@ pub fn from_capture(capture: &Capture) -> FrameModel {
                 })
                 .collect();
             ModelPass {
+                id: p.id,
                 name: p.name.clone(),
                 queue: p.queue.0,
                 accesses,
@@ -797,6 +787,7 @@ mod tests {
             uav: false,
         };
         let pass = |name: &str, a: ModelAccess| ModelPass {
+            id: PassId(0),
             name: name.into(),
             queue: 0,
             accesses: vec![a],

@@ -10,28 +10,29 @@ use serde::Serialize;
 
 use super::barriers::{self, BarrierKind, BarrierPlan, Placement, VkScope};
 use super::graph::{self, CycleError, EdgeKind, PassGraph};
-use super::lints::{self, Lint, LintInput};
+use super::lints::{self, Lint, LintInput, LintSeverity};
 use super::memory::{self, MemoryPlan, Totals};
 use super::model::{self, FrameModel};
 use super::schedule::{self, Schedule};
-use crate::capture::model::{Capture, Subresources};
-use crate::capture::validate::human_bytes;
-use crate::info::table;
+use crate::capture::model::{Capture, PassId, Subresources};
+use crate::text::human_bytes;
+use crate::text::table;
 
 /// Everything the analyses found, with ids into `model`.
 #[derive(Debug)]
 pub struct Analysis {
     pub model: FrameModel,
     pub graph: PassGraph,
-    pub order: Vec<u32>,
-    /// Passes (indices into the capture) whose work never reaches an output.
-    pub culled: Vec<u32>,
+    /// Execution order, as capture passes.
+    pub order: Vec<PassId>,
+    /// Execution order as indices into `model.passes` (what graph, barriers and memory speak).
+    pub model_order: Vec<u32>,
+    /// Capture passes whose work never reaches an output.
+    pub culled: Vec<PassId>,
     pub plan: BarrierPlan,
     pub memory: MemoryPlan,
     pub schedule: Schedule,
     pub lints: Vec<Lint>,
-    /// Names of the culled passes (the model no longer has them with `--cull`).
-    pub culled_names: Vec<String>,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -52,10 +53,7 @@ pub fn analyze(capture: &Capture, options: AnalyzeOptions) -> Result<Analysis, C
         memory: full_memory,
     } = super::derive_frame(&full, !options.cull)?;
     let culled = graph::culled(&full, &full_units, &full_graph);
-    let culled_names = culled
-        .iter()
-        .map(|&p| full.passes[p as usize].name.clone())
-        .collect();
+    let full_ids: Vec<PassId> = full.passes.iter().map(|p| p.id).collect();
     let lints = lints::lints(&LintInput {
         capture,
         model: &full,
@@ -88,20 +86,49 @@ pub fn analyze(capture: &Capture, options: AnalyzeOptions) -> Result<Analysis, C
     };
     let schedule = schedule::schedule(&model, &graph, &order, &plan.fences, &times, source);
     Ok(Analysis {
+        order: order.iter().map(|&p| model.passes[p as usize].id).collect(),
+        culled: culled.iter().map(|&p| full_ids[p as usize]).collect(),
         model,
         graph,
-        order,
-        culled,
+        model_order: order,
         plan,
         memory,
         schedule,
         lints,
-        culled_names,
     })
 }
 
 // ---------------------------------------------------------------------------------------------
 // JSON report
+
+/// A lint as reports show it: codes and names instead of ids, sorted by them.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+pub struct LintReport {
+    pub code: &'static str,
+    pub name: &'static str,
+    pub severity: LintSeverity,
+    pub message: String,
+    pub pass: Option<String>,
+    pub resource: Option<String>,
+}
+
+/// The lints of `a` with names from `capture`, sorted and without repeats.
+pub fn lint_reports(capture: &Capture, lints: &[Lint]) -> Vec<LintReport> {
+    let mut out: Vec<LintReport> = lints
+        .iter()
+        .map(|l| LintReport {
+            code: l.kind.code(),
+            name: l.kind.name(),
+            severity: l.kind.severity(),
+            message: l.message.clone(),
+            pass: l.pass.map(|p| capture.pass(p).name.clone()),
+            resource: l.resource.map(|r| capture.resource(r).name.clone()),
+        })
+        .collect();
+    out.sort();
+    out.dedup();
+    out
+}
 
 #[derive(Debug, Serialize)]
 pub struct Report {
@@ -112,7 +139,7 @@ pub struct Report {
     pub fences: Vec<FenceReport>,
     pub queue_transfers: Vec<TransferReport>,
     pub memory: MemoryReport,
-    pub lints: Vec<Lint>,
+    pub lints: Vec<LintReport>,
     pub critical_path: schedule::CriticalPath,
     pub async_compute: Vec<schedule::Overlap>,
 }
@@ -238,7 +265,7 @@ pub fn report(capture: &Capture, a: &Analysis) -> Report {
         dst_access: dst.access.clone(),
     };
     let mut boundaries: Vec<Boundary> = a
-        .order
+        .model_order
         .iter()
         .enumerate()
         .map(|(position, &p)| Boundary {
@@ -249,7 +276,7 @@ pub fn report(capture: &Capture, a: &Analysis) -> Report {
         })
         .collect();
     let mut position = vec![0usize; m.passes.len()];
-    for (i, &p) in a.order.iter().enumerate() {
+    for (i, &p) in a.model_order.iter().enumerate() {
         position[p as usize] = i;
     }
     let mut sorted: Vec<&barriers::Barrier> = a.plan.barriers.iter().collect();
@@ -341,8 +368,8 @@ pub fn report(capture: &Capture, a: &Analysis) -> Report {
                 pool: mem.pools[r.pool as usize].clone(),
                 bytes: r.bytes,
                 offset: r.offset,
-                first_use: r.lifetime.map(|l| pass(a.order[l.first as usize])),
-                last_use: r.lifetime.map(|l| pass(a.order[l.last as usize])),
+                first_use: r.lifetime.map(|l| pass(a.model_order[l.first as usize])),
+                last_use: r.lifetime.map(|l| pass(a.model_order[l.last as usize])),
                 persistent: r.persistent,
             })
             .collect(),
@@ -358,13 +385,17 @@ pub fn report(capture: &Capture, a: &Analysis) -> Report {
     };
     Report {
         capture: capture.name.clone(),
-        order: a.order.iter().map(|&p| pass(p)).collect(),
-        culled: a.culled_names.clone(),
+        order: a.model_order.iter().map(|&p| pass(p)).collect(),
+        culled: a
+            .culled
+            .iter()
+            .map(|&p| capture.pass(p).name.clone())
+            .collect(),
         barriers: boundaries,
         fences,
         queue_transfers,
         memory,
-        lints: a.lints.clone(),
+        lints: lint_reports(capture, &a.lints),
         critical_path: a.schedule.critical_path.clone(),
         async_compute: a.schedule.async_compute.clone(),
     }
@@ -616,7 +647,7 @@ pub fn graph_report(a: &Analysis) -> GraphReport {
             name: p.name.clone(),
             queue: m.queues[p.queue as usize].name.clone(),
             markers: p.markers.clone(),
-            culled: a.culled_names.contains(&p.name),
+            culled: a.culled.contains(&p.id),
         })
         .collect();
     let mut edges: Vec<GraphEdge> = a
@@ -686,7 +717,7 @@ pub fn dot(a: &Analysis) -> String {
         children: BTreeMap<String, Cluster>,
     }
     let mut root = Cluster::default();
-    for &p in &a.order {
+    for &p in &a.model_order {
         let mut c = &mut root;
         for marker in &m.passes[p as usize].markers {
             c = c.children.entry(marker.clone()).or_default();
@@ -697,7 +728,7 @@ pub fn dot(a: &Analysis) -> String {
         out: &mut String,
         c: &Cluster,
         m: &FrameModel,
-        culled: &[String],
+        culled: &[PassId],
         depth: usize,
         counter: &mut usize,
     ) {
@@ -705,7 +736,7 @@ pub fn dot(a: &Analysis) -> String {
         for &p in &c.passes {
             let pass = &m.passes[p as usize];
             let colour = QUEUE_COLOURS[pass.queue as usize % QUEUE_COLOURS.len()];
-            let dead = if culled.contains(&pass.name) {
+            let dead = if culled.contains(&pass.id) {
                 ", style=\"rounded,filled,dashed\", fillcolor=\"#bbbbbb\""
             } else {
                 ""
@@ -729,7 +760,7 @@ pub fn dot(a: &Analysis) -> String {
         }
     }
     let mut counter = 0;
-    emit(&mut out, &root, m, &a.culled_names, 0, &mut counter);
+    emit(&mut out, &root, m, &a.culled, 0, &mut counter);
     let report = graph_report(a);
     for e in &report.edges {
         let style = match e.kind {

@@ -126,6 +126,7 @@ pub fn frame(passes: usize, resources: usize, seed: u64) -> FrameModel {
             }
         }
         model_passes.push(ModelPass {
+            id: crate::capture::model::PassId(p as u32),
             name: format!("p{p}"),
             queue,
             accesses,

@@ -2,10 +2,12 @@
 //! (`validate`, `model`), diagnostics, and the procedural generators a capture may name.
 
 pub mod diag;
+pub mod dxgi;
 pub mod format;
 pub mod generators;
 pub mod load;
 pub mod model;
+pub mod shaders;
 pub mod validate;
 
 pub use diag::{Diagnostic, Severity};

@@ -15,7 +15,7 @@ use super::format::{
     HeapType, IndexFormat, LoadOp, ParamValue, PassKind, QueueType, RenderState, ResourceFlag,
     ResourceKind, ResourceState, SplitFlag, StoreOp, VertexStream,
 };
-use crate::dxgi::FormatInfo;
+use crate::capture::dxgi::FormatInfo;
 
 macro_rules! id_type {
     ($($name:ident),*) => {$(
@@ -63,6 +63,8 @@ pub struct Capture {
     pub fences: Vec<String>,
     pub meshes: Vec<MeshDesc>,
     pub passes: Vec<PassDesc>,
+    /// Every shader file the passes name, read and reflected once.
+    pub shaders: Vec<super::shaders::Shader>,
 }
 
 impl Capture {
@@ -72,14 +74,11 @@ impl Capture {
     pub fn pass(&self, id: PassId) -> &PassDesc {
         &self.passes[id.index()]
     }
+    pub fn shader(&self, id: super::shaders::ShaderId) -> &super::shaders::Shader {
+        &self.shaders[id.index()]
+    }
     pub fn queue(&self, id: QueueId) -> &QueueDesc {
         &self.queues[id.index()]
-    }
-    pub fn resource_by_name(&self, name: &str) -> Option<&ResourceDesc> {
-        self.resources.iter().find(|r| r.name == name)
-    }
-    pub fn pass_by_name(&self, name: &str) -> Option<&PassDesc> {
-        self.passes.iter().find(|p| p.name == name)
     }
 }
 
@@ -197,14 +196,6 @@ impl ResourceDesc {
             1
         };
         (shrink(self.width), shrink(self.height), depth)
-    }
-    /// Number of subresources (mips x layers), D3D12's subresource count.
-    pub fn subresource_count(&self) -> u32 {
-        if self.is_texture() {
-            self.mip_levels * self.array_layers
-        } else {
-            1
-        }
     }
 }
 
@@ -389,9 +380,8 @@ pub struct ResourceAccess {
 
 #[derive(Clone, Debug)]
 pub struct ShaderDesc {
-    pub path: PathBuf,
-    /// As written in the capture, for messages.
-    pub file: String,
+    /// The file, read and reflected at validation (`Capture::shader`).
+    pub id: super::shaders::ShaderId,
     pub vertex: Option<String>,
     pub fragment: Option<String>,
     pub compute: Option<String>,

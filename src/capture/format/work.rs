@@ -1,0 +1,262 @@
+//! The work inside passes (draws, dispatches, copies, clears, resolves, mip generation) and
+//! the barriers and timings a capture recorded.
+
+use std::collections::BTreeMap;
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+#[allow(unused_imports)]
+use super::*;
+
+/// One draw call.
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Draw {
+    /// Label shown in event lists (e.g. "static meshes", "foliage").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub label: Option<String>,
+    /// Vertex entry point for this draw, if it differs from the shader's `vertex` (a pipeline
+    /// change within the pass).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertex: Option<String>,
+    /// Mesh name; absent for full-screen draws that generate vertices in the shader.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<String>,
+    /// Vertex count (non-indexed) or index count (indexed); the mesh's when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<u32>,
+    #[serde(default = "one_u32")]
+    pub instances: u32,
+    #[serde(default)]
+    pub first: u32,
+    #[serde(default)]
+    pub first_instance: u32,
+    #[serde(default)]
+    pub base_vertex: i32,
+    /// Arguments read from a buffer (DrawIndexedInstanced/DrawInstanced layout) instead.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub indirect: Option<IndirectArgs>,
+    /// Stencil reference for this draw (OMSetStencilRef).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stencil_reference: Option<u32>,
+    /// Per-draw parameters overriding the pass's.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub params: BTreeMap<String, ParamValue>,
+}
+
+pub(crate) fn one_u32() -> u32 {
+    1
+}
+
+/// Indirect arguments in a buffer.
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct IndirectArgs {
+    pub buffer: String,
+    #[serde(default)]
+    pub offset: u64,
+}
+
+/// One compute dispatch.
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Dispatch {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub label: Option<String>,
+    /// Entry point, if different from the shader's `compute` entry.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub entry: Option<String>,
+    /// Thread-group counts; absent when `indirect` is given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub groups: Option<[u32; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub indirect: Option<IndirectArgs>,
+    /// Per-dispatch parameters overriding the pass's.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub params: BTreeMap<String, ParamValue>,
+}
+
+/// A copy: buffer to buffer, buffer to texture, texture to buffer or texture to texture.
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Copy {
+    pub src: CopyLocation,
+    pub dst: CopyLocation,
+    /// Texel extent of the region; the whole source subresource when absent. For buffer to
+    /// buffer copies, `size` in the locations is used instead.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extent: Option<[u32; 3]>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CopyLocation {
+    pub resource: String,
+    /// Texture: mip level.
+    #[serde(default)]
+    pub mip: u32,
+    /// Texture: array layer.
+    #[serde(default)]
+    pub layer: u32,
+    /// Texture: texel origin.
+    #[serde(default)]
+    pub origin: [u32; 3],
+    /// Buffer: byte offset.
+    #[serde(default)]
+    pub offset: u64,
+    /// Buffer: bytes (buffer-to-buffer), or bytes per row of a texture footprint.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<u64>,
+    /// Buffer footprint of a texture copy: bytes per row (256-aligned in D3D12).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bytes_per_row: Option<u32>,
+}
+
+/// A clear of a whole resource range (ClearRenderTargetView / ClearUnorderedAccessView...).
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Clear {
+    pub resource: String,
+    /// Colour, depth (first value) or integer UAV clear value.
+    #[serde(default)]
+    pub value: [f64; 4],
+    #[serde(default)]
+    pub stencil: u32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mips: Option<Range>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layers: Option<Range>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Resolve {
+    pub src: String,
+    pub dst: String,
+    /// Resolve format for typeless resources.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub format: Option<String>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GenerateMips {
+    pub resource: String,
+    /// Layers to build; all when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layers: Option<Range>,
+}
+
+/// A barrier as the capturing tool recorded it (ResourceBarrier arguments).
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RecordedBarrier {
+    #[serde(rename = "type", default = "transition")]
+    pub barrier_type: BarrierType,
+    /// The resource (after-resource for aliasing barriers; absent for a global UAV barrier).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resource: Option<String>,
+    /// Aliasing barriers: the resource that stops using the memory.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resource_before: Option<String>,
+    /// Subresource range; all subresources when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mips: Option<Range>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layers: Option<Range>,
+    /// Transitions: states before (one state, or several read states combined).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub before: Option<States>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub after: Option<States>,
+    /// Split barriers: BEGIN_ONLY or END_ONLY half.
+    #[serde(default = "split_none")]
+    pub split: SplitFlag,
+}
+
+pub(crate) fn transition() -> BarrierType {
+    BarrierType::Transition
+}
+pub(crate) fn split_none() -> SplitFlag {
+    SplitFlag::None
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum BarrierType {
+    Transition,
+    Uav,
+    Aliasing,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "SCREAMING_SNAKE_CASE")]
+pub enum SplitFlag {
+    None,
+    BeginOnly,
+    EndOnly,
+}
+
+/// One resource state or a combination of read states.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
+#[serde(untagged)]
+pub enum States {
+    One(ResourceState),
+    Many(Vec<ResourceState>),
+}
+
+impl States {
+    pub fn as_slice(&self) -> &[ResourceState] {
+        match self {
+            States::One(s) => std::slice::from_ref(s),
+            States::Many(v) => v,
+        }
+    }
+}
+
+/// D3D12_RESOURCE_STATES members.
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema,
+)]
+#[serde(rename_all = "SCREAMING_SNAKE_CASE")]
+pub enum ResourceState {
+    Common,
+    VertexAndConstantBuffer,
+    IndexBuffer,
+    RenderTarget,
+    UnorderedAccess,
+    DepthWrite,
+    DepthRead,
+    NonPixelShaderResource,
+    PixelShaderResource,
+    IndirectArgument,
+    CopyDest,
+    CopySource,
+    ResolveDest,
+    ResolveSource,
+    GenericRead,
+    AllShaderResource,
+    Present,
+}
+
+impl ResourceState {
+    /// Write states may not be combined with any other state.
+    pub fn is_write(self) -> bool {
+        matches!(
+            self,
+            ResourceState::RenderTarget
+                | ResourceState::UnorderedAccess
+                | ResourceState::DepthWrite
+                | ResourceState::CopyDest
+                | ResourceState::ResolveDest
+        )
+    }
+}
+
+/// A GPU time measured when the frame was captured.
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RecordedTiming {
+    pub gpu_ns: u64,
+}

@@ -1,0 +1,812 @@
+//! Passes: kind, queue, shader entry points, attachments, draws, dispatches and accesses.
+
+#[allow(unused_imports)]
+use super::*;
+
+impl<'a> Validator<'a> {
+    pub(super) fn check_passes(
+        &mut self,
+        resources: &Option<Vec<ResourceDesc>>,
+        heaps: &[HeapDesc],
+        meshes: &Option<Vec<MeshDesc>>,
+    ) -> Option<Vec<PassDesc>> {
+        let mut out = Vec::new();
+        let mut ok = true;
+        for (i, p) in self.raw.passes.iter().enumerate() {
+            let path = self.root.field("passes").index(i);
+            match self.check_pass(i, p, &path, resources.as_deref(), heaps, meshes.as_deref()) {
+                Some(pass) => {
+                    if let Some(shader) = &pass.shader {
+                        self.check_shader_use(p, shader.id, &path);
+                    }
+                    out.push(pass);
+                }
+                None => ok = false,
+            }
+        }
+        (ok && resources.is_some()).then_some(out)
+    }
+
+    pub(super) fn check_pass(
+        &mut self,
+        index: usize,
+        p: &Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        heaps: &[HeapDesc],
+        meshes: Option<&[MeshDesc]>,
+    ) -> Option<PassDesc> {
+        let errors_before = self.diags.error_count();
+        let queue = self.lookup("queue", &p.queue, &path.field("queue"));
+        let queue_type = queue.map(|q| self.raw.queues[q as usize].queue_type);
+        let caps = queue_type.map(QueueCapabilities::of);
+        let name = &p.name;
+
+        // Which fields belong to which kind.
+        let present_fields: [(&str, bool); 10] = [
+            ("shader", p.shader.is_some()),
+            ("color_attachments", !p.color_attachments.is_empty()),
+            ("depth_stencil", p.depth_stencil.is_some()),
+            ("state", p.state.is_some()),
+            ("draws", !p.draws.is_empty()),
+            ("dispatches", !p.dispatches.is_empty()),
+            ("copies", !p.copies.is_empty()),
+            ("clears", !p.clears.is_empty()),
+            ("resolve", p.resolve.is_some()),
+            ("present", p.present.is_some()),
+        ];
+        let allowed: &[&str] = match p.kind {
+            PassKind::Raster => &[
+                "shader",
+                "color_attachments",
+                "depth_stencil",
+                "state",
+                "draws",
+            ],
+            PassKind::Compute => &["shader", "dispatches"],
+            PassKind::Copy => &["copies"],
+            PassKind::Clear => &["clears"],
+            PassKind::Resolve => &["resolve"],
+            PassKind::GenerateMips => &[],
+            PassKind::Present => &["present"],
+        };
+        for (field, present) in present_fields {
+            if present && !allowed.contains(&field) {
+                self.diags.error(
+                    "pass-kind",
+                    &path.field(field),
+                    format!("{} pass \"{name}\" cannot have `{field}`", p.kind.as_str()),
+                );
+            }
+        }
+        if p.generate_mips.is_some() && p.kind != PassKind::GenerateMips {
+            self.diags.error(
+                "pass-kind",
+                &path.field("generate_mips"),
+                format!(
+                    "{} pass \"{name}\" cannot have `generate_mips`",
+                    p.kind.as_str()
+                ),
+            );
+        }
+        if !p.bindings.is_empty() && !matches!(p.kind, PassKind::Raster | PassKind::Compute) {
+            self.diags.error(
+                "pass-kind",
+                &path.field("bindings"),
+                format!(
+                    "{} pass \"{name}\" has no shader to bind to",
+                    p.kind.as_str()
+                ),
+            );
+        }
+
+        // Queue capabilities (Vulkan's pipeline stage -> required queue capability table).
+        if let (Some(caps), Some(qt)) = (caps, queue_type) {
+            let need = |graphics: bool, compute: bool| {
+                (graphics && !caps.graphics) || (compute && !caps.compute)
+            };
+            let (bad, what) = match p.kind {
+                PassKind::Raster => (
+                    need(true, false),
+                    "draws (vertex/fragment stages need a graphics queue)",
+                ),
+                PassKind::Compute => (
+                    need(false, true),
+                    "dispatches (the compute stage needs a compute or graphics queue)",
+                ),
+                PassKind::Resolve => (
+                    need(true, false),
+                    "resolves (ResolveSubresource runs on a graphics queue)",
+                ),
+                PassKind::Present => (
+                    need(true, false),
+                    "presents (only a graphics queue presents)",
+                ),
+                PassKind::GenerateMips => (need(false, true), "mip generation (it runs shaders)"),
+                PassKind::Clear => (false, ""),
+                PassKind::Copy => (false, ""),
+            };
+            if bad {
+                self.diags.error(
+                    "queue-capability",
+                    &path.field("queue"),
+                    format!(
+                        "pass \"{name}\" {what}, but queue \"{}\" is a {} queue (can do: {})",
+                        p.queue,
+                        qt.name(),
+                        caps.names().join(", ")
+                    ),
+                );
+            }
+            let indirect = p.draws.iter().any(|d| d.indirect.is_some())
+                || p.dispatches.iter().any(|d| d.indirect.is_some());
+            if indirect && !caps.graphics && !caps.compute {
+                self.diags.error("queue-capability", &path.field("queue"), format!(
+                    "pass \"{name}\" reads indirect arguments (DRAW_INDIRECT stage), which a copy queue cannot"
+                ));
+            }
+        }
+
+        // Shader.
+        let shader = p.shader.as_ref().and_then(|s| {
+            let spath = path.field("shader");
+            match p.kind {
+                PassKind::Raster => {
+                    if s.vertex.is_none() {
+                        self.diags.error("shader", &spath, format!("raster pass \"{name}\" needs a `vertex` entry point"));
+                    }
+                    if s.fragment.is_none() && !p.color_attachments.is_empty() {
+                        self.diags.error("shader", &spath, format!("raster pass \"{name}\" writes colour but has no `fragment` entry point"));
+                    }
+                    if s.compute.is_some() {
+                        self.diags.error("shader", &spath.field("compute"), "a raster pass has no compute entry point");
+                    }
+                }
+                PassKind::Compute => {
+                    if s.vertex.is_some() || s.fragment.is_some() {
+                        self.diags.error("shader", &spath, "a compute pass has only a `compute` entry point");
+                    }
+                    if s.compute.is_none() && p.dispatches.iter().any(|d| d.entry.is_none()) {
+                        self.diags.error("shader", &spath, format!("compute pass \"{name}\" needs a `compute` entry point (or one per dispatch)"));
+                    }
+                }
+                _ => {}
+            }
+            let file = self.side_file(&s.file, &spath.field("file"))?;
+            let id = self.load_shader(&s.file, &file, &spath.field("file"))?;
+            Some(ShaderDesc { id, vertex: s.vertex.clone(), fragment: s.fragment.clone(), compute: s.compute.clone() })
+        });
+        if matches!(p.kind, PassKind::Raster | PassKind::Compute) && p.shader.is_none() {
+            self.diags.error(
+                "shader",
+                path,
+                format!("{} pass \"{name}\" needs a `shader`", p.kind.as_str()),
+            );
+        }
+
+        let mut accesses: Vec<ResourceAccess> = Vec::new();
+        let res = |id: u32| resources.map(|r| &r[id as usize]);
+
+        // Bindings.
+        let mut bindings = Vec::new();
+        for (var, b) in &p.bindings {
+            let bpath = path.field("bindings").field(var);
+            if let Some(desc) = self.check_binding(name, var, b, &bpath, resources, &mut accesses) {
+                bindings.push(desc);
+            }
+        }
+
+        // Colour attachments.
+        let mut colors = Vec::new();
+        for (i, a) in p.color_attachments.iter().enumerate() {
+            let apath = path.field("color_attachments").index(i);
+            let Some(id) = self.lookup("resource", &a.resource, &apath.field("resource")) else {
+                continue;
+            };
+            let Some(r) = res(id) else { continue };
+            let Some(format) = self.view_format(r, a.format.as_deref(), &apath.field("format"))
+            else {
+                continue;
+            };
+            if !r.has_flag(ResourceFlag::AllowRenderTarget) {
+                self.diags.error("binding-flags", &apath.field("resource"), format!(
+                    "\"{}\" is a colour attachment of pass \"{name}\" but lacks ALLOW_RENDER_TARGET", r.name
+                ));
+            }
+            if format.is_depth_stencil() || format.is_block_compressed() || format.is_typeless() {
+                self.diags.error(
+                    "format-usage",
+                    &apath,
+                    format!(
+                        "{} cannot be a colour attachment (\"{}\" in pass \"{name}\")",
+                        format.name, r.name
+                    ),
+                );
+            }
+            if a.blend
+                .as_ref()
+                .is_some_and(|b| !matches!(b, Blend::Preset(BlendPreset::Opaque)))
+                && format.is_integer()
+            {
+                self.diags.error(
+                    "format-usage",
+                    &apath.field("blend"),
+                    format!("integer format {} cannot blend", format.name),
+                );
+            }
+            if let Some(mask) = &a.write_mask
+                && (mask.is_empty() || !mask.chars().all(|c| "rgba".contains(c)))
+            {
+                self.diags.error(
+                    "attachment",
+                    &apath.field("write_mask"),
+                    format!("write_mask \"{mask}\" must be letters from \"rgba\""),
+                );
+            }
+            let range = self.single_subresource(r, a.mip, a.layer, &apath);
+            accesses.push(ResourceAccess {
+                resource: r.id,
+                access: Access::ColorAttachment,
+                range,
+                reads: a.load == LoadOp::Load,
+                writes: true,
+                source: AccessSource::ColorAttachment(i),
+            });
+            colors.push(ColorAttachmentDesc {
+                resource: r.id,
+                mip: a.mip,
+                layer: a.layer,
+                format,
+                load: a.load,
+                store: a.store,
+                clear: a.clear,
+                blend: a.blend.clone(),
+                write_mask: a.write_mask.clone(),
+            });
+        }
+        let mut attachment_size: Option<(u32, u32, &str)> = None;
+        for c in &colors {
+            if let Some(r) = res(c.resource.0) {
+                let (w, h, _) = r.mip_extent(c.mip);
+                match attachment_size {
+                    None => attachment_size = Some((w, h, &self.raw.resources[r.id.index()].name)),
+                    Some((aw, ah, first)) if (aw, ah) != (w, h) => self.diags.error("attachment", &path.field("color_attachments"), format!(
+                        "attachments of pass \"{name}\" differ in size: \"{first}\" is {aw}x{ah}, \"{}\" is {w}x{h}", r.name
+                    )),
+                    _ => {}
+                }
+            }
+        }
+
+        // Depth-stencil.
+        let state = p.state.clone().unwrap_or_default();
+        let depth_stencil = p.depth_stencil.as_ref().and_then(|d| {
+            let dpath = path.field("depth_stencil");
+            let id = self.lookup("resource", &d.resource, &dpath.field("resource"))?;
+            let r = res(id)?;
+            let format = self.view_format(r, d.format.as_deref(), &dpath.field("format"))?;
+            if !format.is_depth_format() {
+                self.diags.error("format-usage", &dpath, format!(
+                    "{} is not a depth format and cannot be the depth-stencil attachment (\"{}\" in pass \"{name}\")",
+                    format.name, r.name
+                ));
+            }
+            if !r.has_flag(ResourceFlag::AllowDepthStencil) {
+                self.diags.error("binding-flags", &dpath.field("resource"), format!(
+                    "\"{}\" is the depth-stencil attachment of pass \"{name}\" but lacks ALLOW_DEPTH_STENCIL", r.name
+                ));
+            }
+            if state.stencil.is_some() && format.stencil_bits == 0 {
+                self.diags.error("format-usage", &path.field("state").field("stencil"), format!(
+                    "pass \"{name}\" uses stencil but {} has no stencil aspect", format.name
+                ));
+            }
+            if let Some((aw, ah, first)) = attachment_size {
+                let (w, h, _) = r.mip_extent(d.mip);
+                if (aw, ah) != (w, h) {
+                    self.diags.error("attachment", &dpath, format!(
+                        "depth \"{}\" is {w}x{h} but colour attachment \"{first}\" is {aw}x{ah}", r.name
+                    ));
+                }
+            }
+            if d.read_only && state.depth_write {
+                self.diags.error("attachment", &dpath.field("read_only"), format!(
+                    "pass \"{name}\" binds depth read-only but its state has depth_write"
+                ));
+            }
+            let stencil_writes = state.stencil.as_ref().is_some_and(|s| {
+                s.write_mask != 0 && [&s.front, &s.back].iter().any(|f| {
+                    [f.pass, f.fail, f.depth_fail].iter().any(|op| *op != StencilOp::Keep)
+                })
+            });
+            let writes = !d.read_only && (state.depth_write || stencil_writes || d.depth_load == LoadOp::Clear || d.stencil_load == LoadOp::Clear);
+            let range = self.single_subresource(r, d.mip, d.layer, &dpath);
+            accesses.push(ResourceAccess {
+                resource: r.id,
+                access: if writes { Access::DepthWrite } else { Access::DepthRead },
+                range,
+                // A format without stencil has no stencil contents to load.
+                reads: d.depth_load == LoadOp::Load
+                    || (format.stencil_bits > 0 && d.stencil_load == LoadOp::Load),
+                writes,
+                source: AccessSource::DepthStencil,
+            });
+            Some(DepthStencilDesc {
+                resource: r.id,
+                mip: d.mip,
+                layer: d.layer,
+                format,
+                depth_load: d.depth_load,
+                depth_store: d.depth_store,
+                depth_clear: d.depth_clear,
+                stencil_load: d.stencil_load,
+                stencil_store: d.stencil_store,
+                stencil_clear: d.stencil_clear,
+                read_only: d.read_only,
+            })
+        });
+        if p.kind == PassKind::Raster {
+            if p.color_attachments.is_empty() && p.depth_stencil.is_none() {
+                self.diags.error(
+                    "attachment",
+                    path,
+                    format!("raster pass \"{name}\" has no colour or depth attachment"),
+                );
+            }
+            if (state.depth_compare.is_some() || state.depth_write || state.stencil.is_some())
+                && p.depth_stencil.is_none()
+            {
+                self.diags.error("attachment", &path.field("state"), format!(
+                    "pass \"{name}\" tests or writes depth/stencil but has no depth_stencil attachment"
+                ));
+            }
+            if p.color_attachments.len() > 8 {
+                self.diags.error(
+                    "attachment",
+                    &path.field("color_attachments"),
+                    "at most 8 colour attachments",
+                );
+            }
+            if p.draws.is_empty() {
+                self.diags.warning(
+                    "no-draws",
+                    &path.field("draws"),
+                    format!("raster pass \"{name}\" issues no draws"),
+                );
+            }
+        }
+
+        // Draws.
+        let mut draws = Vec::new();
+        for (i, d) in p.draws.iter().enumerate() {
+            let dpath = path.field("draws").index(i);
+            let mesh = d
+                .mesh
+                .as_ref()
+                .and_then(|m| self.lookup("mesh", m, &dpath.field("mesh")));
+            let mesh_desc = mesh.and_then(|m| meshes.map(|ms| &ms[m as usize]));
+            if d.mesh.is_none() && d.count.is_none() && d.indirect.is_none() {
+                self.diags.error(
+                    "draw",
+                    &dpath,
+                    "a draw without a mesh needs a `count` (vertices generated in the shader)",
+                );
+            }
+            if d.instances == 0 {
+                self.diags
+                    .warning("draw", &dpath.field("instances"), "draw of zero instances");
+            }
+            if let (Some(m), Some(count)) = (mesh_desc, d.count) {
+                let available = if m.index_format.is_some() {
+                    m.index_count
+                } else {
+                    m.vertex_count
+                };
+                if let Some(avail) = available
+                    && u64::from(d.first) + u64::from(count) > u64::from(avail)
+                {
+                    self.diags.error(
+                        "draw",
+                        &dpath.field("count"),
+                        format!(
+                            "draw reads elements {}..{} of mesh \"{}\", which has {avail}",
+                            d.first,
+                            u64::from(d.first) + u64::from(count),
+                            m.name
+                        ),
+                    );
+                }
+            }
+            if d.stencil_reference.is_some_and(|r| r > 255) {
+                self.diags.error(
+                    "draw",
+                    &dpath.field("stencil_reference"),
+                    "stencil reference is 8 bits (0..255)",
+                );
+            }
+            if d.stencil_reference.is_some() && state.stencil.is_none() {
+                self.diags.error(
+                    "draw",
+                    &dpath.field("stencil_reference"),
+                    format!("pass \"{name}\" sets a stencil reference but has no stencil state"),
+                );
+            }
+            let indexed = mesh_desc.is_some_and(|m| m.index_format.is_some());
+            let indirect = d.indirect.as_ref().and_then(|ind| {
+                let args = if indexed {
+                    DRAW_INDEXED_ARGS
+                } else {
+                    DRAW_ARGS
+                };
+                self.check_indirect(
+                    ind,
+                    args,
+                    &dpath.field("indirect"),
+                    resources,
+                    &mut accesses,
+                    AccessSource::Indirect(i),
+                )
+            });
+            draws.push(DrawDesc {
+                label: d.label.clone(),
+                vertex: d.vertex.clone(),
+                mesh: mesh.map(MeshId),
+                count: d.count,
+                instances: d.instances,
+                first: d.first,
+                first_instance: d.first_instance,
+                base_vertex: d.base_vertex,
+                indirect,
+                stencil_reference: d.stencil_reference,
+                params: d.params.clone(),
+            });
+        }
+
+        // Dispatches.
+        let mut dispatches = Vec::new();
+        if p.kind == PassKind::Compute && p.dispatches.is_empty() {
+            self.diags.error(
+                "dispatch",
+                path,
+                format!("compute pass \"{name}\" has no dispatches"),
+            );
+        }
+        for (i, d) in p.dispatches.iter().enumerate() {
+            let dpath = path.field("dispatches").index(i);
+            match (&d.groups, &d.indirect) {
+                (Some(_), Some(_)) => {
+                    self.diags
+                        .error("dispatch", &dpath, "give `groups` or `indirect`, not both")
+                }
+                (None, None) => self.diags.error(
+                    "dispatch",
+                    &dpath,
+                    "a dispatch needs `groups` or `indirect`",
+                ),
+                (Some(g), None) => {
+                    let max = self.options.limits.max_dispatch_groups;
+                    if g.contains(&0) || g.iter().any(|&x| x > max) {
+                        self.diags.error(
+                            "dispatch",
+                            &dpath.field("groups"),
+                            format!("group counts {g:?} must each be 1..{max}"),
+                        );
+                    }
+                }
+                (None, Some(_)) => {}
+            }
+            let indirect = d.indirect.as_ref().and_then(|ind| {
+                self.check_indirect(
+                    ind,
+                    DISPATCH_ARGS,
+                    &dpath.field("indirect"),
+                    resources,
+                    &mut accesses,
+                    AccessSource::Indirect(i),
+                )
+            });
+            dispatches.push(DispatchDesc {
+                label: d.label.clone(),
+                entry: d.entry.clone(),
+                groups: d.groups,
+                indirect,
+                params: d.params.clone(),
+            });
+        }
+
+        // Copies.
+        let mut copies = Vec::new();
+        if p.kind == PassKind::Copy && p.copies.is_empty() {
+            self.diags
+                .error("copy", path, format!("copy pass \"{name}\" has no copies"));
+        }
+        for (i, c) in p.copies.iter().enumerate() {
+            let cpath = path.field("copies").index(i);
+            if let Some(copy) = self.check_copy(c, &cpath, resources, &mut accesses, i) {
+                copies.push(copy);
+            }
+        }
+
+        // Clears.
+        let mut clears = Vec::new();
+        if p.kind == PassKind::Clear && p.clears.is_empty() {
+            self.diags.error(
+                "clear",
+                path,
+                format!("clear pass \"{name}\" has no clears"),
+            );
+        }
+        for (i, c) in p.clears.iter().enumerate() {
+            let cpath = path.field("clears").index(i);
+            let Some(id) = self.lookup("resource", &c.resource, &cpath.field("resource")) else {
+                continue;
+            };
+            let Some(r) = res(id) else { continue };
+            let range = self.view_range(r, c.mips.as_ref(), c.layers.as_ref(), &cpath);
+            let access = if r.has_flag(ResourceFlag::AllowDepthStencil) {
+                Access::DepthWrite
+            } else if r.has_flag(ResourceFlag::AllowRenderTarget) {
+                Access::ColorAttachment
+            } else if r.has_flag(ResourceFlag::AllowUnorderedAccess) {
+                Access::StorageWrite
+            } else {
+                self.diags.error("binding-flags", &cpath.field("resource"), format!(
+                    "\"{}\" cannot be cleared: it has none of ALLOW_RENDER_TARGET, ALLOW_DEPTH_STENCIL, ALLOW_UNORDERED_ACCESS", r.name
+                ));
+                continue;
+            };
+            if let (Some(caps), true) = (caps, access != Access::StorageWrite)
+                && !caps.graphics
+            {
+                self.diags.error("queue-capability", &path.field("queue"), format!(
+                        "clearing render target or depth \"{}\" needs a graphics queue; queue \"{}\" is not one", r.name, p.queue
+                    ));
+            }
+            if let (Some(caps), Access::StorageWrite) = (caps, access)
+                && !caps.compute
+            {
+                self.diags.error("queue-capability", &path.field("queue"), format!(
+                        "clearing unordered-access \"{}\" needs a compute or graphics queue; queue \"{}\" is a copy queue", r.name, p.queue
+                    ));
+            }
+            accesses.push(ResourceAccess {
+                resource: r.id,
+                access,
+                range,
+                reads: false,
+                writes: true,
+                source: AccessSource::Clear(i),
+            });
+            clears.push(ClearDesc {
+                resource: r.id,
+                value: c.value,
+                stencil: c.stencil,
+                range,
+            });
+        }
+
+        // Resolve.
+        let resolve = p.resolve.as_ref().and_then(|rs| {
+            let rpath = path.field("resolve");
+            let src = self.lookup("resource", &rs.src, &rpath.field("src"));
+            let dst = self.lookup("resource", &rs.dst, &rpath.field("dst"));
+            let (src, dst) = (res(src?)?, res(dst?)?);
+            if src.samples <= 1 {
+                self.diags.error(
+                    "resolve",
+                    &rpath.field("src"),
+                    format!("resolve source \"{}\" is not multisampled", src.name),
+                );
+            }
+            if dst.samples != 1 {
+                self.diags.error(
+                    "resolve",
+                    &rpath.field("dst"),
+                    format!("resolve destination \"{}\" must have one sample", dst.name),
+                );
+            }
+            if (src.width, src.height) != (dst.width, dst.height) {
+                self.diags.error(
+                    "resolve",
+                    &rpath,
+                    format!(
+                        "resolve from {}x{} to {}x{}: sizes must match",
+                        src.width, src.height, dst.width, dst.height
+                    ),
+                );
+            }
+            if let (Some(a), Some(b)) = (src.format, dst.format) {
+                let family = |f: &'static FormatInfo| f.typeless_family.unwrap_or(f.name);
+                if family(a) != family(b) {
+                    self.diags.error(
+                        "resolve",
+                        &rpath,
+                        format!("cannot resolve {} into {}", a.name, b.name),
+                    );
+                }
+            }
+            accesses.push(ResourceAccess {
+                resource: src.id,
+                access: Access::ResolveSrc,
+                range: Subresources::whole(src),
+                reads: true,
+                writes: false,
+                source: AccessSource::Resolve,
+            });
+            accesses.push(ResourceAccess {
+                resource: dst.id,
+                access: Access::ResolveDst,
+                range: Subresources::whole(dst),
+                reads: false,
+                writes: true,
+                source: AccessSource::Resolve,
+            });
+            Some((src.id, dst.id))
+        });
+        if p.kind == PassKind::Resolve && p.resolve.is_none() {
+            self.diags.error(
+                "resolve",
+                path,
+                format!("resolve pass \"{name}\" needs `resolve`"),
+            );
+        }
+
+        // Mip generation.
+        let generate_mips = p.generate_mips.as_ref().and_then(|g| {
+            let gpath = path.field("generate_mips");
+            let r = res(self.lookup("resource", &g.resource, &gpath.field("resource"))?)?;
+            if r.mip_levels < 2 {
+                self.diags.error(
+                    "generate-mips",
+                    &gpath.field("resource"),
+                    format!("\"{}\" has one mip: nothing to generate", r.name),
+                );
+                return None;
+            }
+            if !r.has_flag(ResourceFlag::AllowRenderTarget) {
+                self.diags.error(
+                    "binding-flags",
+                    &gpath.field("resource"),
+                    format!(
+                        "mip generation renders into \"{}\", which lacks ALLOW_RENDER_TARGET",
+                        r.name
+                    ),
+                );
+            }
+            let range = self.view_range(r, None, g.layers.as_ref(), &gpath);
+            let mut read = range;
+            read.mip_count = r.mip_levels - 1;
+            let mut write = range;
+            write.mip_base = 1;
+            write.mip_count = r.mip_levels - 1;
+            accesses.push(ResourceAccess {
+                resource: r.id,
+                access: Access::Sampled,
+                range: read,
+                reads: true,
+                writes: false,
+                source: AccessSource::GenerateMips,
+            });
+            accesses.push(ResourceAccess {
+                resource: r.id,
+                access: Access::ColorAttachment,
+                range: write,
+                reads: false,
+                writes: true,
+                source: AccessSource::GenerateMips,
+            });
+            Some((r.id, range))
+        });
+        if p.kind == PassKind::GenerateMips && p.generate_mips.is_none() {
+            self.diags.error(
+                "generate-mips",
+                path,
+                format!("mip generation pass \"{name}\" needs `generate_mips`"),
+            );
+        }
+
+        // Present.
+        let present = p.present.as_ref().and_then(|name_| {
+            let ppath = path.field("present");
+            let r = res(self.lookup("resource", name_, &ppath)?)?;
+            if !matches!(r.kind, ResourceKind::Texture2D) {
+                self.diags.error(
+                    "present",
+                    &ppath,
+                    format!(
+                        "only a 2D texture can be presented; \"{}\" is {}",
+                        r.name,
+                        r.kind.as_str()
+                    ),
+                );
+            }
+            accesses.push(ResourceAccess {
+                resource: r.id,
+                access: Access::Present,
+                range: Subresources::whole(r),
+                reads: true,
+                writes: false,
+                source: AccessSource::Present,
+            });
+            Some(r.id)
+        });
+        if p.kind == PassKind::Present && p.present.is_none() {
+            self.diags.error(
+                "present",
+                path,
+                format!("present pass \"{name}\" needs `present`"),
+            );
+        }
+
+        // Parameters.
+        for (key, value) in &p.params {
+            if let ParamValue::Vector(v) = value
+                && (v.is_empty() || v.len() > 16)
+            {
+                self.diags.error(
+                    "parameter",
+                    &path.field("params").field(key),
+                    "vector parameters have 1..16 components",
+                );
+            }
+        }
+
+        // Recorded barriers.
+        let mut barriers = Vec::new();
+        for (i, b) in p.barriers.iter().enumerate() {
+            let bpath = path.field("barriers").index(i);
+            if let Some(desc) = self.check_barrier(b, &bpath, resources, heaps) {
+                barriers.push(desc);
+            }
+        }
+
+        // Fences.
+        let signal: Vec<FenceId> = p
+            .signal
+            .iter()
+            .enumerate()
+            .filter_map(|(i, f)| {
+                self.lookup("fence", f, &path.field("signal").index(i))
+                    .map(FenceId)
+            })
+            .collect();
+        let wait: Vec<FenceId> = p
+            .wait
+            .iter()
+            .enumerate()
+            .filter_map(|(i, f)| {
+                self.lookup("fence", f, &path.field("wait").index(i))
+                    .map(FenceId)
+            })
+            .collect();
+
+        if self.diags.error_count() > errors_before || resources.is_none() {
+            return None;
+        }
+        Some(PassDesc {
+            id: PassId(index as u32),
+            name: p.name.clone(),
+            queue: QueueId(queue?),
+            kind: p.kind,
+            markers: p.markers.clone(),
+            shader,
+            bindings,
+            color_attachments: colors,
+            depth_stencil,
+            state,
+            draws,
+            dispatches,
+            copies,
+            clears,
+            resolve,
+            generate_mips,
+            present,
+            params: p.params.clone(),
+            barriers,
+            signal,
+            wait,
+            recorded_gpu_ns: p.timing.as_ref().map(|t| t.gpu_ns),
+            accesses,
+        })
+    }
+}

@@ -1,0 +1,19 @@
+//! `framelab info`: a capture's resources, passes, heaps and totals as resolved for one scale.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use super::{load, print_stdout};
+
+pub fn run(path: &Path, json: bool, scale: f64) -> anyhow::Result<ExitCode> {
+    let Some(capture) = load(path, scale) else {
+        return Ok(ExitCode::from(1));
+    };
+    let report = framelab::info::report(&capture);
+    if json {
+        print_stdout(&(serde_json::to_string_pretty(&report)? + "\n"))?;
+    } else {
+        print_stdout(&framelab::info::render_text(&report))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,245 @@
+//! The `framelab` command: parses arguments once into a validated form, runs one command (one
+//! file each), and maps the outcome to an exit code (0 ok, 1 bad input or failed work, 2 usage).
+//! `anyhow` lives here only.
+
+mod analysis;
+mod info;
+mod replay;
+mod validate;
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use framelab::analysis::report;
+use framelab::capture::{self, CaptureError, Diagnostic, Options};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "framelab",
+    version,
+    about = "Frame-capture analysis and pass reconstruction"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Check a capture against the format and D3D12/Vulkan rules; report every problem.
+    Validate {
+        capture: PathBuf,
+        /// Print diagnostics as JSON on stdout.
+        #[arg(long)]
+        json: bool,
+    },
+    /// List a capture's resources, passes, heaps and totals as resolved for one scale.
+    Info {
+        capture: PathBuf,
+        #[arg(long)]
+        json: bool,
+        /// Output-resolution multiplier; relative sizes follow it.
+        #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
+        scale: f64,
+    },
+    /// Build the pass DAG and print it as Graphviz DOT (default), JSON, or SVG.
+    Graph {
+        capture: PathBuf,
+        /// Write DOT to this file instead of stdout.
+        #[arg(long)]
+        dot: Option<PathBuf>,
+        /// Print the graph as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Render SVG with Graphviz's `dot` into this file.
+        #[arg(long)]
+        svg: Option<PathBuf>,
+    },
+    /// Order, culling, barriers per boundary, memory aliasing, lints, critical path.
+    Analyze {
+        capture: PathBuf,
+        #[arg(long)]
+        json: bool,
+        /// Drop passes whose work never reaches an output before deriving barriers and memory.
+        #[arg(long)]
+        cull: bool,
+        #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
+        scale: f64,
+    },
+    /// Replay the capture through wgpu: time every pass, export every texture.
+    Replay {
+        capture: PathBuf,
+        #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
+        scale: f64,
+        /// Frames to run (history resources ping-pong, the camera moves and jitters).
+        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=10000))]
+        frames: u32,
+        /// Use the adapter whose name contains this text.
+        #[arg(long)]
+        adapter: Option<String>,
+        /// Drop passes whose results never reach an output.
+        #[arg(long)]
+        cull: bool,
+        /// Export every texture (PNG/EXR) and a manifest into this folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Export the state right after this pass of the last frame.
+        #[arg(long, requires = "out")]
+        after: Option<String>,
+        /// Export only this resource.
+        #[arg(long, requires = "out")]
+        resource: Option<String>,
+        /// Write per-pass GPU and CPU times as JSON.
+        #[arg(long)]
+        timings: Option<PathBuf>,
+        /// Write a Chrome trace-event file (one track per queue; opens in Perfetto).
+        #[arg(long)]
+        trace: Option<PathBuf>,
+        /// No progress bar or summary.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Print the JSON Schema of the capture format.
+    Schema,
+    /// List the GPU adapters wgpu can use here, best first.
+    Adapters,
+}
+
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // clap exits 2 for usage errors and 0 for --help/--version.
+        Err(e) => e.exit(),
+    };
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            let _ = writeln!(std::io::stderr(), "error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<ExitCode> {
+    match cli.command {
+        Command::Validate { capture, json } => Ok(validate::run(&capture, json)),
+        Command::Info {
+            capture,
+            json,
+            scale,
+        } => info::run(&capture, json, scale),
+        Command::Graph {
+            capture,
+            dot,
+            json,
+            svg,
+        } => analysis::graph(&capture, dot, json, svg),
+        Command::Analyze {
+            capture,
+            json,
+            cull,
+            scale,
+        } => analysis::analyze(&capture, json, cull, scale),
+        Command::Replay {
+            capture,
+            scale,
+            frames,
+            adapter,
+            cull,
+            out,
+            after,
+            resource,
+            timings,
+            trace,
+            quiet,
+        } => {
+            let options = replay::ReplayOptions {
+                scale,
+                frames,
+                adapter,
+                cull,
+                out,
+                after,
+                resource,
+                timings,
+                trace,
+            };
+            replay::run(&capture, &options, quiet)
+        }
+        Command::Schema => {
+            print_stdout(&framelab::schema::schema_json())?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Adapters => {
+            let adapters = framelab_replay::list_adapters();
+            if adapters.is_empty() {
+                anyhow::bail!(
+                    "no GPU adapter found; install Mesa's software Vulkan (apt-get install mesa-vulkan-drivers libvulkan1)"
+                );
+            }
+            let text: String = adapters.iter().map(|a| format!("{a}\n")).collect();
+            print_stdout(&text)?;
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+/// Writes to stdout, treating a closed pipe (`| head`) as success rather than a panic.
+pub(crate) fn print_stdout(text: &str) -> anyhow::Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
+    }
+}
+
+pub(crate) fn print_diagnostics(diagnostics: &[Diagnostic], file: &std::path::Path) {
+    let mut err = std::io::stderr().lock();
+    for d in diagnostics {
+        let _ = writeln!(err, "{}: {d}", file.display());
+    }
+}
+
+/// Loads a capture for a command that needs a valid one; reports problems and returns `None`.
+pub(crate) fn load(path: &std::path::Path, scale: f64) -> Option<framelab::capture::Capture> {
+    let options = Options {
+        scale,
+        ..Options::default()
+    };
+    match capture::load_and_validate(path, &options) {
+        Ok(v) => Some(v.capture),
+        Err(e) => {
+            if let CaptureError::Invalid { diagnostics, .. } = &e {
+                print_diagnostics(diagnostics, path);
+            }
+            let _ = writeln!(std::io::stderr(), "{e}");
+            None
+        }
+    }
+}
+
+type Analysed = (framelab::capture::Capture, report::Analysis);
+
+pub(crate) fn analysis(path: &std::path::Path, cull: bool, scale: f64) -> Option<Analysed> {
+    let capture = load(path, scale)?;
+    match report::analyze(&capture, report::AnalyzeOptions { cull }) {
+        Ok(a) => Some((capture, a)),
+        Err(e) => {
+            let _ = writeln!(std::io::stderr(), "{}: {e}", path.display());
+            None
+        }
+    }
+}
+
+fn parse_scale(text: &str) -> Result<f64, String> {
+    let v: f64 = text
+        .parse()
+        .map_err(|_| format!("\"{text}\" is not a number"))?;
+    if v.is_finite() && v > 0.0 && v <= 16.0 {
+        Ok(v)
+    } else {
+        Err(format!("scale must be in (0, 16], not {v}"))
+    }
+}

@@ -1,0 +1,331 @@
+//! `framelab replay`: validate, order (and optionally cull) a capture, open a GPU device,
+//! lower the capture into a replay plan, run N frames, and write the timing report, a Chrome
+//! trace and every texture as PNG/EXR. wgpu exposes one queue, so passes from the capture's
+//! graphics, compute and copy queues run in DAG order on it; the reports keep each pass's
+//! capture queue. Names given on the command line are resolved to ids before the device opens.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, bail};
+use framelab::analysis::report::{AnalyzeOptions, analyze};
+use framelab::capture::model::{PassId, ResourceId};
+use framelab::capture::{self, Capture, Options};
+use framelab::lower;
+use framelab::timing::{self, PassTiming, Sample, TimingReport};
+use framelab_replay::wgpu::Features;
+use serde::Serialize;
+use sha2::Digest;
+
+use super::print_stdout;
+
+#[derive(Debug, Clone)]
+pub struct ReplayOptions {
+    pub scale: f64,
+    pub frames: u32,
+    pub adapter: Option<String>,
+    pub cull: bool,
+    pub out: Option<PathBuf>,
+    /// Export the state right after this pass of the last frame.
+    pub after: Option<String>,
+    /// Export only this resource.
+    pub resource: Option<String>,
+    pub timings: Option<PathBuf>,
+    pub trace: Option<PathBuf>,
+}
+
+/// What happened, for the command to print.
+#[derive(Debug)]
+pub enum Event<'a> {
+    Adapter(&'a str),
+    Note(&'a str),
+    Frame { index: u32 },
+    Exported { files: usize },
+}
+
+#[derive(Debug, Serialize)]
+struct Manifest<'a> {
+    capture: &'a str,
+    frames: u32,
+    after: Option<&'a str>,
+    files: &'a [framelab_replay::export::ExportedFile],
+    skipped: &'a [framelab_replay::export::Skipped],
+}
+
+/// Reads the capture file once: its bytes are hashed for the report and parsed from memory.
+fn load(path: &Path, scale: f64) -> anyhow::Result<(Capture, String)> {
+    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    let hash = format!("{:x}", sha2::Sha256::digest(&bytes));
+    let options = Options {
+        scale,
+        ..Options::default()
+    };
+    let validated = capture::load::parse(path, &bytes)
+        .and_then(|raw| capture::validate::validate(&raw, path, &options))
+        .map_err(|e| {
+            let details: Vec<String> = e.diagnostics().iter().map(|d| d.to_string()).collect();
+            anyhow::anyhow!("{e}\n{}", details.join("\n"))
+        })?;
+    Ok((validated.capture, hash))
+}
+
+/// `--after` and `--resource`, checked against the capture and the replayed order.
+fn resolve_targets(
+    capture: &Capture,
+    order: &[PassId],
+    options: &ReplayOptions,
+) -> anyhow::Result<(Option<PassId>, Option<ResourceId>)> {
+    let after = match &options.after {
+        Some(name) => Some(
+            order
+                .iter()
+                .copied()
+                .find(|&p| &capture.pass(p).name == name)
+                .with_context(|| format!("--after: no pass \"{name}\" in the replayed order"))?,
+        ),
+        None => None,
+    };
+    let resource = match &options.resource {
+        Some(name) => Some(
+            capture
+                .resources
+                .iter()
+                .find(|r| &r.name == name && r.is_texture())
+                .map(|r| r.id)
+                .with_context(|| format!("--resource: no texture \"{name}\" is replayed"))?,
+        ),
+        None => None,
+    };
+    Ok((after, resource))
+}
+
+pub fn replay(
+    path: &Path,
+    options: &ReplayOptions,
+    mut on: impl FnMut(Event<'_>),
+) -> anyhow::Result<TimingReport> {
+    let (capture, capture_sha256) = load(path, options.scale)?;
+    let analysis = analyze(&capture, AnalyzeOptions { cull: options.cull })
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let order = analysis.order.clone();
+    let (after, only) = resolve_targets(&capture, &order, options)?;
+    let ctx = framelab_replay::open_device(options.adapter.as_deref(), lower::wanted_features())?;
+    on(Event::Adapter(&ctx.summary.to_string()));
+    let available = ctx.device.features();
+    let lowered = lower::lower(&capture, &order, available, &ctx.summary.name)?;
+    for n in &lowered.notes {
+        on(Event::Note(n));
+    }
+    if !available.contains(Features::TIMESTAMP_QUERY) {
+        on(Event::Note(
+            "the adapter has no timestamp queries: GPU times are not measured",
+        ));
+    }
+    let stop_after = after.and_then(|p| lowered.pass_ids.iter().position(|&q| q == p));
+    let export_texture = match only {
+        Some(r) => Some(*lowered.texture_of.get(&r).with_context(|| {
+            format!(
+                "--resource: no texture \"{}\" is replayed",
+                capture.resource(r).name
+            )
+        })?),
+        None => None,
+    };
+    let pass_ids = lowered.pass_ids.clone();
+    let mut session = framelab_replay::Session::new(&ctx, lowered.plan)?;
+    let mut times: Vec<Vec<Sample>> = Vec::new();
+    let frames = options.frames.max(1);
+    for f in 0..frames {
+        on(Event::Frame { index: f });
+        let constants = lower::frame::constants(&capture, f);
+        let stop = if f + 1 == frames { stop_after } else { None };
+        let measured = session.run_frame(&constants, stop)?;
+        times.push(
+            measured
+                .iter()
+                .map(|t| Sample {
+                    gpu_start_ns: t.gpu_start_ns,
+                    gpu_ns: t.gpu_ns,
+                    cpu_ns: t.cpu_ns,
+                })
+                .collect(),
+        );
+    }
+    let report = TimingReport {
+        format_version: timing::FORMAT_VERSION,
+        adapter: ctx.summary.name.clone(),
+        backend: ctx.summary.backend.clone(),
+        capture: capture.name.clone(),
+        capture_sha256,
+        scale: options.scale,
+        frames,
+        passes: pass_ids
+            .iter()
+            .enumerate()
+            .map(|(i, &id)| {
+                let p = capture.pass(id);
+                PassTiming {
+                    name: p.name.clone(),
+                    queue: capture.queue(p.queue).name.clone(),
+                    marker_path: p.marker_path(),
+                    gpu_ns: times
+                        .iter()
+                        .map(|t| t.get(i).and_then(|x| x.gpu_ns))
+                        .collect(),
+                    cpu_ns: times
+                        .iter()
+                        .map(|t| t.get(i).map_or(0, |x| x.cpu_ns))
+                        .collect(),
+                }
+            })
+            .collect(),
+    };
+    if let Some(file) = &options.timings {
+        framelab::output::write_atomically(file, report.to_json().as_bytes())?;
+    }
+    if let Some(file) = &options.trace {
+        framelab::output::write_atomically(
+            file,
+            timing::trace::chrome_trace(&report, &times).as_bytes(),
+        )?;
+    }
+    if let Some(out) = &options.out {
+        let files = export(
+            &session,
+            out,
+            &capture.name,
+            frames,
+            options.after.as_deref(),
+            export_texture,
+        )?;
+        on(Event::Exported { files });
+    }
+    Ok(report)
+}
+
+pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<ExitCode> {
+    let bar = if quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(u64::from(options.frames))
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg:>10} [{bar:30}] {pos}/{len} frames")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message("replaying");
+    // indicatif draws nothing (and prints nothing) when stderr is not a terminal.
+    let say = |text: String| {
+        if quiet {
+        } else if bar.is_hidden() {
+            let _ = writeln!(std::io::stderr(), "{text}");
+        } else {
+            bar.println(text);
+        }
+    };
+    let report = replay(path, options, |event| match event {
+        Event::Adapter(a) => say(format!("adapter: {a}")),
+        Event::Note(n) => say(format!("note: {n}")),
+        Event::Frame { index, .. } => bar.set_position(u64::from(index)),
+        Event::Exported { files } => say(format!("exported {files} images")),
+    });
+    bar.finish_and_clear();
+    let report = report?;
+    if !quiet {
+        let rows: Vec<Vec<String>> = report
+            .passes
+            .iter()
+            .map(|p| {
+                vec![
+                    p.name.clone(),
+                    p.queue.clone(),
+                    timing::stats::mean_gpu_ms(p).map_or("-".to_owned(), |ms| format!("{ms:.3}")),
+                    format!("{:.3}", timing::stats::mean_cpu_ms(p)),
+                ]
+            })
+            .collect();
+        print_stdout(&format!(
+            "{} on {} ({}), {} frame(s) at scale {}\n{}",
+            report.capture,
+            report.adapter,
+            report.backend,
+            report.frames,
+            report.scale,
+            framelab::text::table(&["pass", "queue", "gpu ms (mean)", "cpu ms (mean)"], &rows)
+        ))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Writes every texture (or one) into a staging folder, then replaces `out` with it.
+fn export(
+    session: &framelab_replay::Session,
+    out: &Path,
+    capture: &str,
+    frames: u32,
+    after: Option<&str>,
+    only: Option<usize>,
+) -> anyhow::Result<usize> {
+    use framelab_replay::export;
+    if out.exists()
+        && !(out.join("manifest.json").is_file()
+            || out
+                .read_dir()
+                .map(|mut d| d.next().is_none())
+                .unwrap_or(false))
+    {
+        bail!(
+            "{} exists and is not an earlier framelab export (no manifest.json); choose another --out",
+            out.display()
+        );
+    }
+    let staging = export::staging_dir(out);
+    let _ = std::fs::remove_dir_all(&staging);
+    std::fs::create_dir_all(&staging).with_context(|| format!("creating {}", staging.display()))?;
+    let result = (|| -> anyhow::Result<usize> {
+        let mut files = Vec::new();
+        let mut skipped = Vec::new();
+        for (i, spec) in session.plan.textures.iter().enumerate() {
+            if only.is_some_and(|o| o != i) {
+                continue;
+            }
+            let (f, s) = export::export_texture(
+                &session.device,
+                &session.queue,
+                session.texture(i),
+                spec,
+                &staging,
+            )?;
+            files.extend(f);
+            skipped.extend(s);
+        }
+        let manifest = Manifest {
+            capture,
+            frames,
+            after,
+            files: &files,
+            skipped: &skipped,
+        };
+        std::fs::write(
+            staging.join("manifest.json"),
+            serde_json::to_string_pretty(&manifest)? + "\n",
+        )?;
+        Ok(files.len())
+    })();
+    match result {
+        Ok(n) => {
+            if out.exists() {
+                std::fs::remove_dir_all(out)
+                    .with_context(|| format!("replacing {}", out.display()))?;
+            }
+            std::fs::rename(&staging, out)
+                .with_context(|| format!("moving the export into {}", out.display()))?;
+            Ok(n)
+        }
+        Err(e) => {
+            let _ = std::fs::remove_dir_all(&staging);
+            Err(e)
+        }
+    }
+}

@@ -1,0 +1,53 @@
+//! `framelab validate`: every problem of a capture at once, as text on stderr or JSON on stdout.
+
+use std::io::Write;
+use std::path::Path;
+use std::process::ExitCode;
+
+use framelab::capture::{self, CaptureError, Options, Severity};
+
+use super::{print_diagnostics, print_stdout};
+
+pub fn run(path: &Path, json: bool) -> ExitCode {
+    let result = capture::load_and_validate(path, &Options::default());
+    let (valid, diagnostics, summary) = match &result {
+        Ok(v) => (true, v.warnings.clone(), None),
+        Err(e) => (false, e.diagnostics(), Some(e.to_string())),
+    };
+    if json {
+        let report = serde_json::json!({
+            "capture": path.display().to_string(),
+            "valid": valid,
+            "errors": diagnostics.iter().filter(|d| d.severity == Severity::Error).count(),
+            "warnings": diagnostics.iter().filter(|d| d.severity == Severity::Warning).count(),
+            "diagnostics": diagnostics,
+        });
+        let text = serde_json::to_string_pretty(&report).unwrap_or_default();
+        let _ = print_stdout(&(text + "\n"));
+    } else {
+        match &result {
+            Err(CaptureError::Invalid { .. }) | Ok(_) => print_diagnostics(&diagnostics, path),
+            Err(_) => {}
+        }
+        if let Some(summary) = summary {
+            let _ = writeln!(std::io::stderr(), "{summary}");
+        } else {
+            let c = result.as_ref().map(|v| &v.capture);
+            if let Ok(c) = c {
+                let _ = print_stdout(&format!(
+                    "{}: valid ({} resources, {} passes, {} queues, {} warnings)\n",
+                    path.display(),
+                    c.resources.len(),
+                    c.passes.len(),
+                    c.queues.len(),
+                    diagnostics.len()
+                ));
+            }
+        }
+    }
+    if valid {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}

@@ -1,0 +1,86 @@
+//! Timing reports: what `framelab replay --timings` writes and what the diff reads. A report is
+//! versioned and serialises both ways, names each pass with its queue and marker path (so two
+//! frames can be matched without the capture), and keeps every frame's sample. The Chrome trace
+//! and the summary statistics are derived from it here, not in the command that prints them.
+
+pub mod stats;
+pub mod trace;
+
+use serde::{Deserialize, Serialize};
+
+/// The version of the timing report's JSON shape; a reader rejects newer ones.
+pub const FORMAT_VERSION: u32 = 1;
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TimingReport {
+    pub format_version: u32,
+    pub adapter: String,
+    pub backend: String,
+    pub capture: String,
+    pub capture_sha256: String,
+    pub scale: f64,
+    pub frames: u32,
+    pub passes: Vec<PassTiming>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PassTiming {
+    pub name: String,
+    pub queue: String,
+    pub marker_path: String,
+    /// One per frame; `null` where the adapter could not time the pass.
+    pub gpu_ns: Vec<Option<u64>>,
+    pub cpu_ns: Vec<u64>,
+}
+
+/// One pass of one frame as measured: where its GPU work started (relative to the frame), how
+/// long it took on the GPU, and how long recording it took on the CPU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sample {
+    pub gpu_start_ns: Option<u64>,
+    pub gpu_ns: Option<u64>,
+    pub cpu_ns: u64,
+}
+
+/// Why a timing report could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    #[error("{path}: not a timing report: {source}")]
+    Parse {
+        path: String,
+        #[source]
+        source: serde_json::Error,
+    },
+    #[error(
+        "{path}: timing report format_version {found} is newer than this framelab reads ({supported})"
+    )]
+    Version {
+        path: String,
+        found: u32,
+        supported: u32,
+    },
+}
+
+impl TimingReport {
+    /// Parses a report written by `framelab replay --timings`; `path` names it in errors.
+    pub fn from_json(path: &str, text: &str) -> Result<TimingReport, ReadError> {
+        let report: TimingReport =
+            serde_json::from_str(text).map_err(|source| ReadError::Parse {
+                path: path.to_owned(),
+                source,
+            })?;
+        if report.format_version > FORMAT_VERSION {
+            return Err(ReadError::Version {
+                path: path.to_owned(),
+                found: report.format_version,
+                supported: FORMAT_VERSION,
+            });
+        }
+        Ok(report)
+    }
+
+    /// Pretty JSON with a trailing newline, as written to disk.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default() + "\n"
+    }
+}

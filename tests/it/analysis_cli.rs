@@ -1,0 +1,206 @@
+//! `framelab graph` and `framelab analyze` end to end: snapshots of the JSON reports on small
+//! captures, culling, cycles, DOT/SVG output, and the Night City capture.
+
+use crate::common::{framelab, json, stderr, stdout};
+
+#[test]
+fn analyze_json_snapshot_example() {
+    let out = framelab(&["analyze", "--json", "captures/example/frame.json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    insta::assert_snapshot!("analyze_example", stdout(&out));
+}
+
+#[test]
+fn graph_json_snapshot_example() {
+    let out = framelab(&["graph", "--json", "captures/example/frame.json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    insta::assert_snapshot!("graph_example", stdout(&out));
+}
+
+#[test]
+fn analyze_json_snapshot_culling() {
+    let out = framelab(&["analyze", "--json", "--cull", "tests/fixtures/culling.json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    insta::assert_snapshot!("analyze_culling", stdout(&out));
+}
+
+#[test]
+fn example_report_finds_what_was_planted() {
+    let r = json(&framelab(&[
+        "analyze",
+        "--json",
+        "captures/example/frame.json",
+    ]));
+    let codes: Vec<&str> = r["lints"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["code"].as_str().unwrap())
+        .collect();
+    for code in ["FL001", "FL020", "FL021", "FL023", "FL024"] {
+        assert!(codes.contains(&code), "{code} missing from {codes:?}");
+    }
+    // Every pass boundary is reported, in order.
+    let order = r["order"].as_array().unwrap();
+    let boundaries = r["barriers"].as_array().unwrap();
+    assert_eq!(order.len(), boundaries.len());
+    for (o, b) in order.iter().zip(boundaries) {
+        assert_eq!(&b["pass"], o);
+    }
+    let total = &r["memory"]["total"];
+    let (aliased, bound) = (
+        total["aliased_bytes"].as_u64().unwrap(),
+        total["lower_bound_bytes"].as_u64().unwrap(),
+    );
+    assert!(
+        aliased as f64 <= 1.10 * bound as f64,
+        "{aliased} vs {bound}"
+    );
+    assert!(r["critical_path"]["length_ns"].as_u64().unwrap() > 0);
+    for key in [
+        "order",
+        "culled",
+        "barriers",
+        "memory",
+        "lints",
+        "critical_path",
+    ] {
+        assert!(r.get(key).is_some(), "top-level key {key}");
+    }
+}
+
+#[test]
+fn culling_finds_the_dead_pass_and_cull_drops_it() {
+    let r = json(&framelab(&[
+        "analyze",
+        "--json",
+        "tests/fixtures/culling.json",
+    ]));
+    assert_eq!(r["culled"], serde_json::json!(["debug_overlay"]));
+    assert_eq!(r["order"].as_array().unwrap().len(), 4);
+    let culled = json(&framelab(&[
+        "analyze",
+        "--json",
+        "--cull",
+        "tests/fixtures/culling.json",
+    ]));
+    assert_eq!(culled["culled"], serde_json::json!(["debug_overlay"]));
+    assert_eq!(
+        culled["order"],
+        serde_json::json!(["draw_gbuffer", "compose", "present"])
+    );
+}
+
+#[test]
+fn cycles_are_errors_naming_passes_and_resources() {
+    let out = framelab(&["analyze", "tests/fixtures/cycle.json"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(
+        err.contains("cycle")
+            && err.contains("render_shadow")
+            && err.contains("copy_shadow")
+            && err.contains("shadow"),
+        "{err}"
+    );
+    assert_eq!(
+        framelab(&["graph", "tests/fixtures/cycle.json"])
+            .status
+            .code(),
+        Some(1)
+    );
+}
+
+#[test]
+fn graph_writes_dot_with_queue_colours_and_clusters() {
+    let dir = std::env::temp_dir().join(format!("framelab-dot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("frame.dot");
+    let out = framelab(&[
+        "graph",
+        "captures/example/frame.json",
+        "--dot",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let dot = std::fs::read_to_string(&file).unwrap();
+    assert!(dot.starts_with("digraph frame {"));
+    assert!(
+        dot.contains("subgraph cluster_") && dot.contains("label=\"Bloom\""),
+        "{dot}"
+    );
+    assert!(dot.contains("\"simulate\" -> \"scene\""));
+    // Three queues, three colours.
+    assert_eq!(
+        ["#4e79a7", "#f28e2b", "#59a14f"]
+            .iter()
+            .filter(|c| dot.contains(*c))
+            .count(),
+        3
+    );
+    // SVG through Graphviz when it is installed; a clear message when it is not.
+    let svg = dir.join("frame.svg");
+    let out = framelab(&[
+        "graph",
+        "captures/example/frame.json",
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    let has_dot = std::process::Command::new("dot").arg("-V").output().is_ok();
+    if has_dot {
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+    } else {
+        assert_eq!(out.status.code(), Some(1));
+        assert!(
+            stderr(&out).contains("install graphviz"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn night_city_analyzes() {
+    let out = framelab(&[
+        "analyze",
+        "--json",
+        "captures/night_city/main_street_day.json",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let r = json(&out);
+    // The seed's two dead passes, and nothing else.
+    assert_eq!(
+        r["culled"],
+        serde_json::json!(["unknown_color_01", "csm_proxy"])
+    );
+    let lints = r["lints"].as_array().unwrap();
+    let unused_uav: Vec<&str> = lints
+        .iter()
+        .filter(|l| l["code"] == "FL001")
+        .map(|l| l["resource"].as_str().unwrap())
+        .collect();
+    assert!(unused_uav.contains(&"gbuffer_material"), "{unused_uav:?}");
+    // A correct frame: no hazards, no missing fences, no reads of undefined contents.
+    let errors: Vec<&serde_json::Value> =
+        lints.iter().filter(|l| l["severity"] == "error").collect();
+    assert!(errors.is_empty(), "{errors:#?}");
+    // One barrier batch per pass boundary, in order.
+    let order = r["order"].as_array().unwrap();
+    let boundaries: Vec<&serde_json::Value> = r["barriers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|b| &b["pass"])
+        .collect();
+    assert_eq!(boundaries, order.iter().collect::<Vec<_>>());
+    let total = &r["memory"]["total"];
+    let ratio =
+        total["aliased_bytes"].as_f64().unwrap() / total["lower_bound_bytes"].as_f64().unwrap();
+    assert!(
+        ratio <= 1.10,
+        "aliasing plan is {ratio:.3}x the lower bound"
+    );
+    assert!(total["aliased_bytes"].as_u64() < total["unaliased_bytes"].as_u64());
+}

@@ -1,0 +1,326 @@
+//! End-to-end tests of the `framelab` command on the bundled captures: exit codes, the info
+//! report against the Night City manifest, scaling, the committed schema, and robustness.
+
+use crate::common::{framelab, json, repo, stderr, stdout};
+
+#[test]
+fn bundled_captures_are_valid() {
+    for capture in [
+        "captures/example/frame.json",
+        "captures/night_city/main_street_day.json",
+    ] {
+        let out = framelab(&["validate", capture]);
+        assert_eq!(out.status.code(), Some(0), "{capture}: {}", stderr(&out));
+        assert!(stdout(&out).contains("valid"), "{}", stdout(&out));
+    }
+}
+
+#[test]
+fn validate_json_reports_a_valid_capture() {
+    let report = json(&framelab(&[
+        "validate",
+        "--json",
+        "captures/example/frame.json",
+    ]));
+    assert_eq!(report["valid"], true);
+    assert_eq!(report["errors"], 0);
+}
+
+/// The machine-readable copy of NIGHT_CITY_PASSES.md, and `info --json` of the capture.
+fn night_city_manifest_and_info() -> (serde_json::Value, serde_json::Value) {
+    let manifest = serde_json::from_str(
+        &std::fs::read_to_string(repo().join("tests/fixtures/night_city_manifest.json")).unwrap(),
+    )
+    .unwrap();
+    let info = json(&framelab(&[
+        "info",
+        "--json",
+        "captures/night_city/main_street_day.json",
+    ]));
+    (manifest, info)
+}
+
+/// The expected resources, typed from NIGHT_CITY_PASSES.md at 1920x1080 (absolute sizes), are
+/// compared with what the loader resolves from the capture's relative sizes.
+#[test]
+fn night_city_info_lists_every_manifest_resource() {
+    let (manifest, info) = night_city_manifest_and_info();
+    let resources = info["resources"].as_array().unwrap();
+    let mut problems = Vec::new();
+    for row in manifest["resources"].as_array().unwrap() {
+        let row = row.as_array().unwrap();
+        let name = row[0].as_str().unwrap();
+        let Some(r) = resources.iter().find(|r| r["name"] == name) else {
+            problems.push(format!("{name}: missing"));
+            continue;
+        };
+        assert_eq!(r["kind"], row[2], "{name}");
+        if row[2] == "buffer" {
+            continue;
+        }
+        let got = [
+            &r["format"],
+            &r["width"],
+            &r["height"],
+            &r["depth"],
+            &r["array_layers"],
+            &r["mip_levels"],
+        ];
+        let want = [&row[1], &row[3], &row[4], &row[5], &row[6], &row[7]];
+        if got != want {
+            problems.push(format!("{name}: got {got:?}, manifest says {want:?}"));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    assert_eq!(info["width"], 1920);
+    assert_eq!(info["height"], 1080);
+    let queues: Vec<&str> = info["queues"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|q| q["type"].as_str().unwrap())
+        .collect();
+    assert_eq!(queues, ["graphics", "compute", "copy"]);
+    let cbv = info["descriptor_heaps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|d| d["type"] == "CBV_SRV_UAV")
+        .unwrap();
+    assert_eq!(cbv["capacity"], 500_000);
+}
+
+/// Every pass 1-36 of NIGHT_CITY_PASSES.md exists, by its name or as the marker grouping its
+/// steps, on the manifest's queues, writing and reading what the manifest says.
+#[test]
+fn night_city_info_lists_every_manifest_pass() {
+    let (manifest, info) = night_city_manifest_and_info();
+    let passes = info["passes"].as_array().unwrap();
+    let manifest_resources: std::collections::BTreeSet<String> = manifest["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r[0].as_str().unwrap().to_owned())
+        .collect();
+    let strings = |v: &serde_json::Value| -> std::collections::BTreeSet<String> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s.as_str().unwrap().to_owned())
+            .collect()
+    };
+    let mut problems = Vec::new();
+    for row in manifest["passes"].as_array().unwrap() {
+        let number = row[0].as_u64().unwrap();
+        let name = row[1].as_str().unwrap();
+        let steps: Vec<&serde_json::Value> = passes
+            .iter()
+            .filter(|p| {
+                p["name"] == name
+                    || p["marker_path"]
+                        .as_str()
+                        .unwrap()
+                        .split('/')
+                        .any(|m| m == name)
+            })
+            .collect();
+        if steps.is_empty() {
+            problems.push(format!("pass {number} {name}: missing"));
+            continue;
+        }
+        let mut queues = std::collections::BTreeSet::new();
+        let mut writes = std::collections::BTreeSet::new();
+        let mut reads = std::collections::BTreeSet::new();
+        for s in &steps {
+            queues.insert(s["queue_type"].as_str().unwrap().to_owned());
+            writes.extend(strings(&s["writes"]));
+            reads.extend(strings(&s["reads"]));
+        }
+        if queues != strings(&row[2]) {
+            problems.push(format!(
+                "pass {number} {name}: queues {queues:?}, manifest {}",
+                row[2]
+            ));
+        }
+        // Exactly the manifest's writes among the manifest's resources; helpers of our own (a
+        // depth buffer for the environment capture) may come on top.
+        let declared: std::collections::BTreeSet<String> = writes
+            .iter()
+            .filter(|w| manifest_resources.contains(*w))
+            .cloned()
+            .collect();
+        if declared != strings(&row[3]) {
+            problems.push(format!(
+                "pass {number} {name}: writes {declared:?}, manifest {}",
+                row[3]
+            ));
+        }
+        let missing: Vec<String> = strings(&row[4]).difference(&reads).cloned().collect();
+        if !missing.is_empty() {
+            problems.push(format!("pass {number} {name}: does not read {missing:?}"));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    assert_eq!(manifest["passes"].as_array().unwrap().len(), 36);
+}
+
+#[test]
+fn scale_resolves_relative_sizes_only() {
+    let info = json(&framelab(&[
+        "info",
+        "--json",
+        "--scale",
+        "0.25",
+        "captures/night_city/main_street_day.json",
+    ]));
+    let find = |n: &str| {
+        info["resources"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["name"] == n)
+            .unwrap()
+            .clone()
+    };
+    assert_eq!(
+        (info["width"].as_u64(), info["height"].as_u64()),
+        (Some(480), Some(270))
+    );
+    let depth = find("depth");
+    assert_eq!(
+        (depth["width"].as_u64(), depth["height"].as_u64()),
+        (Some(480), Some(270))
+    );
+    let ao = find("ao");
+    assert_eq!(
+        (ao["width"].as_u64(), ao["height"].as_u64()),
+        (Some(240), Some(135))
+    );
+    // Absolute sizes do not follow the output.
+    let csm = find("csm");
+    assert_eq!(csm["width"], 4096);
+    // Tile grids round up: 480/32 = 15, 270/32 = 8.4 -> 9.
+    let clusters = find("cluster_light_index");
+    assert_eq!(
+        (clusters["width"].as_u64(), clusters["height"].as_u64()),
+        (Some(15), Some(9))
+    );
+}
+
+#[test]
+fn info_reports_bytes_and_totals() {
+    let info = json(&framelab(&[
+        "info",
+        "--json",
+        "captures/example/frame.json",
+    ]));
+    let bloom = info["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["name"] == "bloom")
+        .unwrap();
+    // R11G11B10: 4 bytes per texel; 320x180 + 160x90 + 80x45.
+    assert_eq!(bloom["bytes"], (320 * 180 + 160 * 90 + 80 * 45) * 4);
+    assert_eq!(bloom["heap"], "render_targets");
+    let passes = info["passes"].as_array().unwrap();
+    let scene = passes.iter().find(|p| p["name"] == "scene").unwrap();
+    assert_eq!(scene["marker_path"], "Frame/Scene/scene");
+    assert_eq!(scene["queue_type"], "graphics");
+    let total: u64 = info["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["bytes"].as_u64().unwrap())
+        .sum();
+    let sum_of_totals: u64 = info["totals"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|t| t["bytes"].as_u64().unwrap())
+        .sum();
+    assert_eq!(total, sum_of_totals);
+    assert!(info["totals"]["UPLOAD"]["resources"] == 1);
+}
+
+#[test]
+fn info_text_is_a_table() {
+    let out = framelab(&["info", "captures/example/frame.json"]);
+    assert_eq!(out.status.code(), Some(0));
+    let text = stdout(&out);
+    assert!(text.contains("Passes (8)"), "{text}");
+    assert!(
+        text.lines().any(|l| l.starts_with("scene_color")
+            && l.contains("R16G16B16A16_FLOAT")
+            && l.contains("640x360")),
+        "{text}"
+    );
+}
+
+#[test]
+fn schema_matches_the_committed_copy() {
+    let out = framelab(&["schema"]);
+    assert_eq!(out.status.code(), Some(0));
+    let committed = std::fs::read_to_string(repo().join(framelab::schema::COMMITTED_PATH)).unwrap();
+    assert!(
+        stdout(&out) == committed,
+        "{} is stale: run `framelab schema > {}`",
+        framelab::schema::COMMITTED_PATH,
+        framelab::schema::COMMITTED_PATH
+    );
+    let schema: serde_json::Value = serde_json::from_str(&committed).unwrap();
+    assert!(schema["$defs"]["Heap"].is_object());
+}
+
+#[test]
+fn usage_errors_exit_2_and_input_errors_exit_1() {
+    assert_eq!(framelab(&["frobnicate"]).status.code(), Some(2));
+    assert_eq!(framelab(&["validate"]).status.code(), Some(2));
+    assert_eq!(
+        framelab(&["info", "--scale", "-1", "captures/example/frame.json"])
+            .status
+            .code(),
+        Some(2)
+    );
+    let missing = framelab(&["validate", "no/such/capture.json"]);
+    assert_eq!(missing.status.code(), Some(1));
+    assert!(
+        stderr(&missing).contains("no/such/capture.json"),
+        "{}",
+        stderr(&missing)
+    );
+    let invalid_info = framelab(&["info", "tests/invalid/unknown_format.json"]);
+    assert_eq!(invalid_info.status.code(), Some(1));
+    assert!(stdout(&invalid_info).is_empty());
+}
+
+#[test]
+fn garbage_input_never_panics() {
+    let dir = std::env::temp_dir().join(format!("framelab-garbage-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let inputs: [&[u8]; 8] = [
+        b"",
+        b"\xff\xfe\x00garbage",
+        b"[]",
+        b"null",
+        b"{\"format_version\": 1}",
+        b"{\"format_version\": -1}",
+        b"{\"format_version\": 1e400}",
+        b"{\"format_version\":1,\"name\":\"x\",\"resolution\":{\"width\":4294967295,\"height\":4294967295},\"camera\":{\"position\":[0,0,0],\"target\":[0,0,1],\"fov_y_degrees\":60},\"queues\":[{\"name\":\"q\",\"type\":\"graphics\"}],\"resources\":[{\"name\":\"r\",\"kind\":\"texture_3d\",\"format\":\"R32G32B32A32_FLOAT\",\"width\":\"full\",\"height\":\"full\",\"depth\":4294967295,\"mip_levels\":\"full\"}]}",
+    ];
+    for (i, input) in inputs.iter().enumerate() {
+        let file = dir.join(format!("garbage{i}.json"));
+        std::fs::write(&file, input).unwrap();
+        for cmd in ["validate", "info"] {
+            let out = framelab(&[cmd, file.to_str().unwrap()]);
+            assert_eq!(
+                out.status.code(),
+                Some(1),
+                "{cmd} on input {i}: {}",
+                stderr(&out)
+            );
+            assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
+        }
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -1,0 +1,17 @@
+//! The one integration-test binary of the `framelab` crate: each module tests one area end to
+//! end (the command line, the analyses, replay on the available adapter), sharing the helpers in
+//! `common` and the golden-image comparison in `golden`.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod common;
+mod golden;
+
+mod analysis_cli;
+mod barrier_properties;
+mod cli;
+mod dxgi_ddsfile;
+mod invalid_corpus;
+mod memory_quality;
+mod replay_gpu;
+mod synthetic_scale;

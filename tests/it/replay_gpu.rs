@@ -1,0 +1,447 @@
+//! Replay on the available Vulkan adapter (Mesa's lavapipe on CI): every pass kind with exact
+//! readback values for float, integer, depth and packed formats, the example frame against its
+//! golden image, timings and trace files, and errors (shader errors with file:line:col, unknown
+//! adapters). There is no skip: without an adapter these tests fail with the install hint.
+
+use std::path::{Path, PathBuf};
+
+use crate::common::{framelab, repo, stderr};
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("framelab-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn png(path: &Path) -> image::DynamicImage {
+    image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn exr_pixel(path: &Path, x: usize, y: usize) -> [f32; 4] {
+    let decoded = exr::prelude::read_first_rgba_layer_from_file(
+        path,
+        |resolution, _| {
+            (
+                resolution.width(),
+                vec![[0.0f32; 4]; resolution.width() * resolution.height()],
+            )
+        },
+        |(w, pixels): &mut (usize, Vec<[f32; 4]>), position, (r, g, b, a): (f32, f32, f32, f32)| {
+            pixels[position.y() * *w + position.x()] = [r, g, b, a];
+        },
+    )
+    .unwrap();
+    let (w, pixels) = &decoded.layer_data.channel_data.pixels;
+    pixels[y * w + x]
+}
+
+#[test]
+fn every_pass_kind_replays_with_exact_values() {
+    let dir = temp("kinds");
+    let out = dir.join("out");
+    let timings = dir.join("timings.json");
+    let trace = dir.join("trace.json");
+    let run = framelab(&[
+        "replay",
+        "tests/fixtures/replay_kinds/kinds.json",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+        "--timings",
+        timings.to_str().unwrap(),
+        "--trace",
+        trace.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+
+    // Clear, then a texture-to-texture copy: 8-bit colour.
+    for file in ["color.png", "color_copy.png"] {
+        let img = png(&out.join(file)).to_rgba8();
+        assert!(
+            img.pixels().all(|p| p.0 == [64, 128, 191, 255]),
+            "{file}: {:?}",
+            img.get_pixel(0, 0)
+        );
+    }
+    // Compute storage writes: integers (normalised to their range in the PNG) and half floats.
+    let ids = png(&out.join("ids.png")).to_rgba16();
+    let expected = |x: u32, y: u32| ((f64::from(x + 16 * y) / 255.0) * 65535.0).round() as u16;
+    assert_eq!(ids.get_pixel(3, 5)[0], expected(3, 5));
+    assert_eq!(ids.get_pixel(15, 15)[0], 65535);
+    assert_eq!(
+        exr_pixel(&out.join("hdr.exr"), 3, 5),
+        [3.0 / 16.0, 5.0 / 16.0, 2.5, -1.0]
+    );
+    // Buffer-to-texture copy on the copy queue.
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let entry = |name: &str| {
+        manifest["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|f| f["file"] == name)
+            .unwrap_or_else(|| panic!("{name} not exported"))
+            .clone()
+    };
+    assert_eq!(
+        (
+            entry("from_buffer.png")["min"].as_f64(),
+            entry("from_buffer.png")["max"].as_f64()
+        ),
+        (Some(7.0), Some(7.0))
+    );
+    assert_eq!(entry("ids.png")["encoding"], "png16-normalised");
+    // Raster pass: packed 10:10:10:2 colour and the depth it wrote.
+    let packed = png(&out.join("packed.png")).to_rgba16();
+    let p = packed.get_pixel(16, 16);
+    assert_eq!(p[0], 65535);
+    assert!((i32::from(p[1]) - 32800).abs() < 200, "{p:?}");
+    assert_eq!(p[2], 0);
+    assert_eq!(exr_pixel(&out.join("depth.exr"), 7, 9)[0], 0.25);
+    // Mip generation keeps an exact checker (8-pixel cells box-filtered down twice).
+    let mip2 = png(&out.join("checker_mip2.png")).to_rgba8();
+    assert_eq!(mip2.dimensions(), (16, 16));
+    assert!(
+        mip2.pixels().all(|p| p[0] == 0 || p[0] == 255),
+        "mip 2 is not a clean checker"
+    );
+    assert_ne!(mip2.get_pixel(0, 0)[0], mip2.get_pixel(2, 0)[0]);
+    // Resolve of a 4x MSAA clear.
+    assert!(
+        png(&out.join("resolved.png"))
+            .to_rgba8()
+            .pixels()
+            .all(|p| p.0 == [0, 255, 0, 255])
+    );
+    assert_eq!(manifest["skipped"][0]["resource"], "msaa");
+
+    // A timing entry for every pass, with GPU time where the adapter has timestamps.
+    let t: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&timings).unwrap()).unwrap();
+    let passes = t["passes"].as_array().unwrap();
+    assert_eq!(passes.len(), 9);
+    for p in passes {
+        assert_eq!(p["gpu_ns"].as_array().unwrap().len(), 2, "{p}");
+        assert!(
+            p["gpu_ns"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .all(|v| v.as_u64().is_some_and(|ns| ns > 0)),
+            "{p}"
+        );
+        assert!(p["cpu_ns"][0].as_u64().unwrap() > 0);
+    }
+    assert_eq!(t["frames"], 2);
+    assert_eq!(t["capture_sha256"].as_str().unwrap().len(), 64);
+    // The trace is Chrome trace-event JSON with one named track per queue.
+    let tr: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&trace).unwrap()).unwrap();
+    let events = tr["traceEvents"].as_array().unwrap();
+    let tracks: Vec<&str> = events
+        .iter()
+        .filter(|e| e["ph"] == "M")
+        .map(|e| e["args"]["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(tracks, ["async", "dma", "gfx"]);
+    assert_eq!(events.iter().filter(|e| e["ph"] == "X").count(), 18);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn example_frame_matches_its_golden() {
+    let dir = temp("example");
+    let out = dir.join("out");
+    let run = framelab(&[
+        "replay",
+        "captures/example/frame.json",
+        "--quiet",
+        "--scale",
+        "0.25",
+        "--out",
+        out.to_str().unwrap(),
+        "--resource",
+        "ldr",
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    crate::golden::assert_matches_golden(
+        &out.join("ldr.png"),
+        &repo().join("tests/goldens/example_ldr_scale0.25.png"),
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn after_exports_an_earlier_point_of_the_frame() {
+    let dir = temp("after");
+    let out = dir.join("out");
+    let run = framelab(&[
+        "replay",
+        "tests/fixtures/replay_kinds/kinds.json",
+        "--quiet",
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+        "--after",
+        "clear_target",
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    // The raster pass has not run yet: its target holds nothing drawn.
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let packed = manifest["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["file"] == "packed.png")
+        .unwrap()
+        .clone();
+    assert_eq!(packed["max"].as_f64(), Some(0.0));
+    assert_eq!(manifest["after"], "clear_target");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn shader_errors_name_file_line_and_column() {
+    let dir = temp("badshader");
+    let fixture = repo().join("tests/fixtures/replay_kinds");
+    std::fs::copy(fixture.join("kinds.json"), dir.join("kinds.json")).unwrap();
+    let source = std::fs::read_to_string(fixture.join("kinds.wgsl")).unwrap();
+    std::fs::write(
+        dir.join("kinds.wgsl"),
+        source.replace("return params.color;", "return params.colour;"),
+    )
+    .unwrap();
+    let run = framelab(&[
+        "replay",
+        dir.join("kinds.json").to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(run.status.code(), Some(1));
+    let err = stderr(&run);
+    let line = source
+        .lines()
+        .position(|l| l.contains("return params.color;"))
+        .unwrap()
+        + 1;
+    assert!(err.contains(&format!("kinds.wgsl:{line}:")), "{err}");
+    assert!(
+        err.contains("params.colour"),
+        "the source line is shown: {err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn unknown_adapters_are_named() {
+    let run = framelab(&[
+        "replay",
+        "tests/fixtures/replay_kinds/kinds.json",
+        "--quiet",
+        "--adapter",
+        "no such gpu",
+    ]);
+    assert_eq!(run.status.code(), Some(1));
+    assert!(
+        stderr(&run).contains("no adapter matches \"no such gpu\""),
+        "{}",
+        stderr(&run)
+    );
+}
+
+#[test]
+fn export_refuses_to_replace_a_foreign_folder() {
+    let dir = temp("foreign");
+    std::fs::write(dir.join("precious.txt"), "keep me").unwrap();
+    let run = framelab(&[
+        "replay",
+        "tests/fixtures/replay_kinds/kinds.json",
+        "--quiet",
+        "--frames",
+        "1",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(1));
+    assert!(dir.join("precious.txt").exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn golden_metric_detects_differences() {
+    let a = image::RgbaImage::from_fn(32, 32, |x, y| {
+        image::Rgba([(x * 8) as u8, (y * 8) as u8, 128, 255])
+    });
+    let same = crate::golden::compare(&a, &a);
+    assert_eq!((same.mean, same.p99), (0.0, 0.0));
+    let mut b = a.clone();
+    for p in b.pixels_mut() {
+        p[0] = p[0].saturating_add(80);
+    }
+    let c = crate::golden::compare(&a, &b);
+    assert!(c.mean > crate::golden::MEAN_TOLERANCE && c.p99 > crate::golden::P99_TOLERANCE);
+}
+
+#[test]
+fn a_missing_device_feature_names_the_pass() {
+    let dir = temp("feature");
+    let capture = r#"{"format_version": 1, "name": "needs16bit", "resolution": {"width": 8, "height": 8},
+        "camera": {"position": [0, 0, -5], "target": [0, 0, 0], "fov_y_degrees": 60},
+        "resources": [{"name": "height", "kind": "texture_2d", "format": "R16_UNORM", "width": 8, "height": 8, "flags": ["ALLOW_RENDER_TARGET"]}],
+        "queues": [{"name": "gfx", "type": "graphics"}],
+        "passes": [{"name": "clear_height", "queue": "gfx", "kind": "clear", "clears": [{"resource": "height"}]}]}"#;
+    std::fs::write(dir.join("c.json"), capture).unwrap();
+    let capture = framelab::capture::load_and_validate(&dir.join("c.json"), &Default::default())
+        .unwrap()
+        .capture;
+    let order: Vec<_> = capture.passes.iter().map(|p| p.id).collect();
+    let err = framelab::lower::lower(
+        &capture,
+        &order,
+        framelab_replay::wgpu::Features::empty(),
+        "test adapter",
+    )
+    .unwrap_err();
+    let message = err.to_string();
+    assert!(
+        message.contains("clear_height")
+            && message.contains("TEXTURE_FORMAT_16BIT_NORM")
+            && message.contains("test adapter"),
+        "{message}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A history resource read (previous frame) and written (this frame) in one pass: after N
+/// frames texel x holds N * (1 + x), which only holds if the two copies swap every frame.
+#[test]
+fn history_resources_ping_pong_between_frames() {
+    for frames in [1u32, 3] {
+        let dir = temp(&format!("history{frames}"));
+        let out = dir.join("out");
+        let run = framelab(&[
+            "replay",
+            "tests/fixtures/history/history.json",
+            "--quiet",
+            "--frames",
+            &frames.to_string(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+        let manifest: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap())
+                .unwrap();
+        let f = &manifest["files"][0];
+        assert_eq!(
+            (f["min"].as_f64(), f["max"].as_f64()),
+            (Some(f64::from(frames)), Some(f64::from(4 * frames))),
+            "{frames} frames"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}
+
+/// A texture no pass uses whose contents cannot be generated (BC1 has no generator) is skipped
+/// with a note instead of failing the replay.
+#[test]
+fn unused_textures_without_contents_are_noted_not_fatal() {
+    let dir = temp("ungenerated");
+    let capture = dir.join("frame.json");
+    std::fs::write(
+        &capture,
+        r#"{"format_version": 1, "name": "ungenerated",
+            "resolution": {"width": 16, "height": 16},
+            "camera": {"position": [0, 0, -5], "target": [0, 0, 0], "fov_y_degrees": 60},
+            "queues": [{"name": "gfx", "type": "graphics"}],
+            "resources": [
+              {"name": "atlas", "kind": "texture_2d", "format": "BC1_UNORM", "width": 64, "height": 64,
+               "initial": {"generator": {"name": "noise", "seed": 1}}},
+              {"name": "target", "kind": "texture_2d", "format": "R8G8B8A8_UNORM", "width": 16,
+               "height": 16, "flags": ["ALLOW_RENDER_TARGET"], "output": true}],
+            "passes": [{"name": "clear", "queue": "gfx", "kind": "clear",
+                        "clears": [{"resource": "target", "value": [1, 0, 0, 1]}]}]}"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let run = framelab(&[
+        "replay",
+        capture.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    assert!(
+        stderr(&run).contains("note: \"atlas\" is not replayed"),
+        "{}",
+        stderr(&run)
+    );
+    assert!(out.join("target.png").exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// Night City at quarter resolution: every texture a pass writes ends the frame with content
+/// (not one uniform value), except `lod_ids`, which its pass clips by design. Two frames, so
+/// history reads and the light-buffer update have run once before the exported frame.
+#[test]
+fn night_city_writes_content_into_every_target() {
+    let dir = temp("nightcity");
+    let out = dir.join("out");
+    let run = framelab(&[
+        "replay",
+        "captures/night_city/main_street_day.json",
+        "--scale",
+        "0.25",
+        "--frames",
+        "2",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let files = manifest["files"].as_array().unwrap();
+    let capture = framelab::capture::load_and_validate(
+        &repo().join("captures/night_city/main_street_day.json"),
+        &framelab::capture::Options {
+            scale: 0.25,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .capture;
+    let mut written = std::collections::BTreeSet::new();
+    for pass in &capture.passes {
+        for a in pass.accesses.iter().filter(|a| a.writes) {
+            let r = capture.resource(a.resource);
+            if r.is_texture() {
+                written.insert(r.name.clone());
+            }
+        }
+    }
+    assert!(written.len() >= 45, "{written:?}");
+    let mut flat = Vec::new();
+    for name in &written {
+        let mine: Vec<&serde_json::Value> =
+            files.iter().filter(|f| f["resource"] == **name).collect();
+        assert!(!mine.is_empty(), "{name} was not exported");
+        let has_content = mine.iter().any(|f| f["uniform"] == false);
+        if name == "lod_ids" {
+            assert!(
+                !has_content,
+                "lod_ids should stay cleared: its draws are clipped"
+            );
+        } else if !has_content {
+            flat.push(name.clone());
+        }
+    }
+    assert!(flat.is_empty(), "uniform targets: {flat:?}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
