@@ -3,6 +3,13 @@
 #[allow(unused_imports)]
 use super::*;
 
+/// What the sections of a pass's check share besides the pass itself.
+pub(super) struct PassContext<'c> {
+    caps: Option<QueueCapabilities>,
+    meshes: Option<&'c [MeshDesc]>,
+    state: RenderState,
+}
+
 impl<'a> Validator<'a> {
     pub(super) fn check_passes(
         &mut self,
@@ -30,7 +37,7 @@ impl<'a> Validator<'a> {
     pub(super) fn check_pass(
         &mut self,
         index: usize,
-        p: &Pass,
+        p: &'a Pass,
         path: &JsonPath,
         resources: Option<&[ResourceDesc]>,
         heaps: &[HeapDesc],
@@ -185,7 +192,11 @@ impl<'a> Validator<'a> {
         }
 
         let mut accesses: Vec<ResourceAccess> = Vec::new();
-        let res = |id: u32| resources.map(|r| &r[id as usize]);
+        let cx = PassContext {
+            caps,
+            meshes,
+            state: p.state.clone().unwrap_or_default(),
+        };
 
         // Bindings.
         let mut bindings = Vec::new();
@@ -196,6 +207,116 @@ impl<'a> Validator<'a> {
             }
         }
 
+        let (colors, attachment_size) = self.pass_colors(p, path, resources, &mut accesses);
+
+        let (state, depth_stencil) =
+            self.pass_depth_stencil(p, path, resources, &mut accesses, &cx, attachment_size);
+
+        let draws = self.pass_draws(p, path, resources, &mut accesses, &cx);
+
+        let dispatches = self.pass_dispatches(p, path, resources, &mut accesses);
+
+        // Copies.
+        let mut copies = Vec::new();
+        if p.kind == PassKind::Copy && p.copies.is_empty() {
+            self.diags
+                .error("copy", path, format!("copy pass \"{name}\" has no copies"));
+        }
+        for (i, c) in p.copies.iter().enumerate() {
+            let cpath = path.field("copies").index(i);
+            if let Some(copy) = self.check_copy(c, &cpath, resources, &mut accesses, i) {
+                copies.push(copy);
+            }
+        }
+
+        let clears = self.pass_clears(p, path, resources, &mut accesses, &cx);
+
+        let (resolve, generate_mips) =
+            self.pass_resolve_and_mips(p, path, resources, &mut accesses);
+
+        let present = self.pass_present(p, path, resources, &mut accesses);
+
+        // Parameters.
+        for (key, value) in &p.params {
+            if let ParamValue::Vector(v) = value
+                && (v.is_empty() || v.len() > 16)
+            {
+                self.diags.error(
+                    "parameter",
+                    &path.field("params").field(key),
+                    "vector parameters have 1..16 components",
+                );
+            }
+        }
+
+        // Recorded barriers.
+        let mut barriers = Vec::new();
+        for (i, b) in p.barriers.iter().enumerate() {
+            let bpath = path.field("barriers").index(i);
+            if let Some(desc) = self.check_barrier(b, &bpath, resources, heaps) {
+                barriers.push(desc);
+            }
+        }
+
+        // Fences.
+        let signal: Vec<FenceId> = p
+            .signal
+            .iter()
+            .enumerate()
+            .filter_map(|(i, f)| {
+                self.lookup("fence", f, &path.field("signal").index(i))
+                    .map(FenceId)
+            })
+            .collect();
+        let wait: Vec<FenceId> = p
+            .wait
+            .iter()
+            .enumerate()
+            .filter_map(|(i, f)| {
+                self.lookup("fence", f, &path.field("wait").index(i))
+                    .map(FenceId)
+            })
+            .collect();
+
+        if self.diags.error_count() > errors_before || resources.is_none() {
+            return None;
+        }
+        Some(PassDesc {
+            id: PassId(index as u32),
+            name: p.name.clone(),
+            queue: QueueId(queue?),
+            kind: p.kind,
+            markers: p.markers.clone(),
+            shader,
+            bindings,
+            color_attachments: colors,
+            depth_stencil,
+            state,
+            draws,
+            dispatches,
+            copies,
+            clears,
+            resolve,
+            generate_mips,
+            present,
+            params: p.params.clone(),
+            barriers,
+            signal,
+            wait,
+            recorded_gpu_ns: p.timing.as_ref().map(|t| t.gpu_ns),
+            accesses,
+        })
+    }
+
+    fn pass_colors(
+        &mut self,
+        p: &'a Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &mut Vec<ResourceAccess>,
+    ) -> (Vec<ColorAttachmentDesc>, Option<(u32, u32, &'a str)>) {
+        let name = &p.name;
+        let res = |id: u32| resources.map(|r| &r[id as usize]);
         // Colour attachments.
         let mut colors = Vec::new();
         for (i, a) in p.color_attachments.iter().enumerate() {
@@ -278,8 +399,22 @@ impl<'a> Validator<'a> {
             }
         }
 
+        (colors, attachment_size)
+    }
+
+    fn pass_depth_stencil(
+        &mut self,
+        p: &'a Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &mut Vec<ResourceAccess>,
+        cx: &PassContext<'_>,
+        attachment_size: Option<(u32, u32, &'a str)>,
+    ) -> (RenderState, Option<DepthStencilDesc>) {
+        let name = &p.name;
+        let res = |id: u32| resources.map(|r| &r[id as usize]);
         // Depth-stencil.
-        let state = p.state.clone().unwrap_or_default();
+        let state = cx.state.clone();
         let depth_stencil = p.depth_stencil.as_ref().and_then(|d| {
             let dpath = path.field("depth_stencil");
             let id = self.lookup("resource", &d.resource, &dpath.field("resource"))?;
@@ -376,6 +511,18 @@ impl<'a> Validator<'a> {
             }
         }
 
+        (state, depth_stencil)
+    }
+
+    fn pass_draws(
+        &mut self,
+        p: &'a Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &mut Vec<ResourceAccess>,
+        cx: &PassContext<'_>,
+    ) -> Vec<DrawDesc> {
+        let name = &p.name;
         // Draws.
         let mut draws = Vec::new();
         for (i, d) in p.draws.iter().enumerate() {
@@ -384,7 +531,7 @@ impl<'a> Validator<'a> {
                 .mesh
                 .as_ref()
                 .and_then(|m| self.lookup("mesh", m, &dpath.field("mesh")));
-            let mesh_desc = mesh.and_then(|m| meshes.map(|ms| &ms[m as usize]));
+            let mesh_desc = mesh.and_then(|m| cx.meshes.map(|ms| &ms[m as usize]));
             if d.mesh.is_none() && d.count.is_none() && d.indirect.is_none() {
                 self.diags.error(
                     "draw",
@@ -424,7 +571,7 @@ impl<'a> Validator<'a> {
                     "stencil reference is 8 bits (0..255)",
                 );
             }
-            if d.stencil_reference.is_some() && state.stencil.is_none() {
+            if d.stencil_reference.is_some() && cx.state.stencil.is_none() {
                 self.diags.error(
                     "draw",
                     &dpath.field("stencil_reference"),
@@ -443,7 +590,7 @@ impl<'a> Validator<'a> {
                     args,
                     &dpath.field("indirect"),
                     resources,
-                    &mut accesses,
+                    accesses,
                     AccessSource::Indirect(i),
                 )
             });
@@ -462,6 +609,17 @@ impl<'a> Validator<'a> {
             });
         }
 
+        draws
+    }
+
+    fn pass_dispatches(
+        &mut self,
+        p: &'a Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &mut Vec<ResourceAccess>,
+    ) -> Vec<DispatchDesc> {
+        let name = &p.name;
         // Dispatches.
         let mut dispatches = Vec::new();
         if p.kind == PassKind::Compute && p.dispatches.is_empty() {
@@ -501,7 +659,7 @@ impl<'a> Validator<'a> {
                     DISPATCH_ARGS,
                     &dpath.field("indirect"),
                     resources,
-                    &mut accesses,
+                    accesses,
                     AccessSource::Indirect(i),
                 )
             });
@@ -514,19 +672,19 @@ impl<'a> Validator<'a> {
             });
         }
 
-        // Copies.
-        let mut copies = Vec::new();
-        if p.kind == PassKind::Copy && p.copies.is_empty() {
-            self.diags
-                .error("copy", path, format!("copy pass \"{name}\" has no copies"));
-        }
-        for (i, c) in p.copies.iter().enumerate() {
-            let cpath = path.field("copies").index(i);
-            if let Some(copy) = self.check_copy(c, &cpath, resources, &mut accesses, i) {
-                copies.push(copy);
-            }
-        }
+        dispatches
+    }
 
+    fn pass_clears(
+        &mut self,
+        p: &'a Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &mut Vec<ResourceAccess>,
+        cx: &PassContext<'_>,
+    ) -> Vec<ClearDesc> {
+        let name = &p.name;
+        let res = |id: u32| resources.map(|r| &r[id as usize]);
         // Clears.
         let mut clears = Vec::new();
         if p.kind == PassKind::Clear && p.clears.is_empty() {
@@ -555,14 +713,14 @@ impl<'a> Validator<'a> {
                 ));
                 continue;
             };
-            if let (Some(caps), true) = (caps, access != Access::StorageWrite)
+            if let (Some(caps), true) = (cx.caps, access != Access::StorageWrite)
                 && !caps.graphics
             {
                 self.diags.error("queue-capability", &path.field("queue"), format!(
                         "clearing render target or depth \"{}\" needs a graphics queue; queue \"{}\" is not one", r.name, p.queue
                     ));
             }
-            if let (Some(caps), Access::StorageWrite) = (caps, access)
+            if let (Some(caps), Access::StorageWrite) = (cx.caps, access)
                 && !caps.compute
             {
                 self.diags.error("queue-capability", &path.field("queue"), format!(
@@ -585,6 +743,21 @@ impl<'a> Validator<'a> {
             });
         }
 
+        clears
+    }
+
+    fn pass_resolve_and_mips(
+        &mut self,
+        p: &'a Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &mut Vec<ResourceAccess>,
+    ) -> (
+        Option<(ResourceId, ResourceId)>,
+        Option<(ResourceId, Subresources)>,
+    ) {
+        let name = &p.name;
+        let res = |id: u32| resources.map(|r| &r[id as usize]);
         // Resolve.
         let resolve = p.resolve.as_ref().and_then(|rs| {
             let rpath = path.field("resolve");
@@ -705,6 +878,18 @@ impl<'a> Validator<'a> {
             );
         }
 
+        (resolve, generate_mips)
+    }
+
+    fn pass_present(
+        &mut self,
+        p: &'a Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &mut Vec<ResourceAccess>,
+    ) -> Option<ResourceId> {
+        let name = &p.name;
+        let res = |id: u32| resources.map(|r| &r[id as usize]);
         // Present.
         let present = p.present.as_ref().and_then(|name_| {
             let ppath = path.field("present");
@@ -738,75 +923,6 @@ impl<'a> Validator<'a> {
             );
         }
 
-        // Parameters.
-        for (key, value) in &p.params {
-            if let ParamValue::Vector(v) = value
-                && (v.is_empty() || v.len() > 16)
-            {
-                self.diags.error(
-                    "parameter",
-                    &path.field("params").field(key),
-                    "vector parameters have 1..16 components",
-                );
-            }
-        }
-
-        // Recorded barriers.
-        let mut barriers = Vec::new();
-        for (i, b) in p.barriers.iter().enumerate() {
-            let bpath = path.field("barriers").index(i);
-            if let Some(desc) = self.check_barrier(b, &bpath, resources, heaps) {
-                barriers.push(desc);
-            }
-        }
-
-        // Fences.
-        let signal: Vec<FenceId> = p
-            .signal
-            .iter()
-            .enumerate()
-            .filter_map(|(i, f)| {
-                self.lookup("fence", f, &path.field("signal").index(i))
-                    .map(FenceId)
-            })
-            .collect();
-        let wait: Vec<FenceId> = p
-            .wait
-            .iter()
-            .enumerate()
-            .filter_map(|(i, f)| {
-                self.lookup("fence", f, &path.field("wait").index(i))
-                    .map(FenceId)
-            })
-            .collect();
-
-        if self.diags.error_count() > errors_before || resources.is_none() {
-            return None;
-        }
-        Some(PassDesc {
-            id: PassId(index as u32),
-            name: p.name.clone(),
-            queue: QueueId(queue?),
-            kind: p.kind,
-            markers: p.markers.clone(),
-            shader,
-            bindings,
-            color_attachments: colors,
-            depth_stencil,
-            state,
-            draws,
-            dispatches,
-            copies,
-            clears,
-            resolve,
-            generate_mips,
-            present,
-            params: p.params.clone(),
-            barriers,
-            signal,
-            wait,
-            recorded_gpu_ns: p.timing.as_ref().map(|t| t.gpu_ns),
-            accesses,
-        })
+        present
     }
 }
