@@ -1,6 +1,6 @@
 //! Helpers shared by the integration tests: run the `framelab` binary and read its output.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Output;
 
 pub fn repo() -> PathBuf {
@@ -31,8 +31,4 @@ pub fn json(o: &Output) -> serde_json::Value {
             stderr(o)
         )
     })
-}
-
-pub fn path_str(p: &Path) -> &str {
-    p.to_str().expect("utf-8 path")
 }

@@ -231,8 +231,8 @@ impl<'a> Validator<'a> {
 
         let clears = self.pass_clears(p, path, resources, &mut accesses, &cx);
 
-        let (resolve, generate_mips) =
-            self.pass_resolve_and_mips(p, path, resources, &mut accesses);
+        let resolve = self.pass_resolve(p, path, resources, &mut accesses);
+        let generate_mips = self.pass_mips(p, path, resources, &mut accesses);
 
         let present = self.pass_present(p, path, resources, &mut accesses);
 
@@ -746,16 +746,13 @@ impl<'a> Validator<'a> {
         clears
     }
 
-    fn pass_resolve_and_mips(
+    fn pass_resolve(
         &mut self,
         p: &'a Pass,
         path: &JsonPath,
         resources: Option<&[ResourceDesc]>,
         accesses: &mut Vec<ResourceAccess>,
-    ) -> (
-        Option<(ResourceId, ResourceId)>,
-        Option<(ResourceId, Subresources)>,
-    ) {
+    ) -> Option<(ResourceId, ResourceId)> {
         let name = &p.name;
         let res = |id: u32| resources.map(|r| &r[id as usize]);
         // Resolve.
@@ -824,6 +821,18 @@ impl<'a> Validator<'a> {
             );
         }
 
+        resolve
+    }
+
+    fn pass_mips(
+        &mut self,
+        p: &'a Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &mut Vec<ResourceAccess>,
+    ) -> Option<(ResourceId, Subresources)> {
+        let name = &p.name;
+        let res = |id: u32| resources.map(|r| &r[id as usize]);
         // Mip generation.
         let generate_mips = p.generate_mips.as_ref().and_then(|g| {
             let gpath = path.field("generate_mips");
@@ -878,7 +887,7 @@ impl<'a> Validator<'a> {
             );
         }
 
-        (resolve, generate_mips)
+        generate_mips
     }
 
     fn pass_present(
