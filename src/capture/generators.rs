@@ -1,6 +1,12 @@
 //! The named procedural generators a capture may use for initial contents and meshes, with the
 //! parameters each accepts. Validation checks names and parameters against this table so a
-//! misspelt generator or parameter is reported with a suggestion before anything runs.
+//! misspelt generator or parameter is reported with a suggestion before anything runs, then
+//! turns name and parameters into a typed generator (`Content`, `Shape`) with every default
+//! applied, so lowering matches on variants and never looks a name up again.
+
+use std::collections::BTreeMap;
+
+use super::format::ParamValue;
 
 /// One generator: its name, what it makes, and its parameters with their defaults.
 #[derive(Debug)]
@@ -137,4 +143,259 @@ pub const CONTENT_GENERATORS: &[GeneratorSpec] = &[
 
 pub fn find<'a>(table: &'a [GeneratorSpec], name: &str) -> Option<&'a GeneratorSpec> {
     table.iter().find(|g| g.name == name)
+}
+
+/// A generator with its seed, as validation resolved it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Seeded<G> {
+    pub generator: G,
+    pub seed: u64,
+}
+
+/// The street grid of `city_blocks` and `city_lots`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct City {
+    pub blocks_x: f64,
+    pub blocks_z: f64,
+    pub block_size: f64,
+    pub street_width: f64,
+    pub min_height: f64,
+    pub max_height: f64,
+    pub buildings_per_block: f64,
+}
+
+impl City {
+    /// The same grid with every value rounded to `f32`, as mesh generators (which build in
+    /// `f32`) see it.
+    pub fn rounded_to_f32(self) -> City {
+        let r = |v: f64| f64::from(v as f32);
+        City {
+            blocks_x: r(self.blocks_x),
+            blocks_z: r(self.blocks_z),
+            block_size: r(self.block_size),
+            street_width: r(self.street_width),
+            min_height: r(self.min_height),
+            max_height: r(self.max_height),
+            buildings_per_block: r(self.buildings_per_block),
+        }
+    }
+}
+
+/// Texture and buffer contents, every parameter given or defaulted.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Content {
+    Noise {
+        frequency: f64,
+        octaves: f64,
+        amplitude: f64,
+    },
+    BlueNoise,
+    Checker {
+        cells: f64,
+    },
+    Constant {
+        value: f64,
+    },
+    Gradient,
+    Atlas {
+        cells: f64,
+    },
+    Coastline {
+        shore: f64,
+        frequency: f64,
+    },
+    Lights {
+        count: f64,
+        area: f64,
+        min_radius: f64,
+        max_radius: f64,
+        intensity: f64,
+    },
+    Instances {
+        count: f64,
+        area: f64,
+    },
+    CityLots(City),
+}
+
+/// Mesh generators, every parameter given or defaulted.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    Grid {
+        size: f64,
+        divisions: f64,
+    },
+    Box {
+        size: f64,
+    },
+    CityBlocks(City),
+    Terrain {
+        size: f64,
+        resolution: f64,
+        height: f64,
+        octaves: f64,
+    },
+    WaterPlate {
+        size: f64,
+        divisions: f64,
+        height: f64,
+    },
+    FoliageCards {
+        count: f64,
+        area: f64,
+        height: f64,
+        width: f64,
+    },
+    Sphere {
+        radius: f64,
+        segments: f64,
+        rings: f64,
+    },
+    Capsule {
+        radius: f64,
+        height: f64,
+        segments: f64,
+    },
+}
+
+/// A parameter's value: as given, else the generator's default.
+fn value(spec: &GeneratorSpec, params: &BTreeMap<String, ParamValue>, name: &str) -> f64 {
+    match params.get(name) {
+        Some(ParamValue::Scalar(v)) => *v,
+        _ => spec
+            .params
+            .iter()
+            .find(|(p, _)| *p == name)
+            .map_or(0.0, |(_, d)| *d),
+    }
+}
+
+fn city(v: &dyn Fn(&str) -> f64) -> City {
+    City {
+        blocks_x: v("blocks_x"),
+        blocks_z: v("blocks_z"),
+        block_size: v("block_size"),
+        street_width: v("street_width"),
+        min_height: v("min_height"),
+        max_height: v("max_height"),
+        buildings_per_block: v("buildings_per_block"),
+    }
+}
+
+impl Content {
+    /// The content generator `name` with `params` (defaults filled in); `None` if unknown.
+    pub fn new(name: &str, params: &BTreeMap<String, ParamValue>) -> Option<Content> {
+        let spec = find(CONTENT_GENERATORS, name)?;
+        let v = |n: &str| value(spec, params, n);
+        Some(match name {
+            "noise" => Content::Noise {
+                frequency: v("frequency"),
+                octaves: v("octaves"),
+                amplitude: v("amplitude"),
+            },
+            "blue_noise" => Content::BlueNoise,
+            "checker" => Content::Checker { cells: v("cells") },
+            "constant" => Content::Constant { value: v("value") },
+            "gradient" => Content::Gradient,
+            "atlas" => Content::Atlas { cells: v("cells") },
+            "coastline" => Content::Coastline {
+                shore: v("shore"),
+                frequency: v("frequency"),
+            },
+            "lights" => Content::Lights {
+                count: v("count"),
+                area: v("area"),
+                min_radius: v("min_radius"),
+                max_radius: v("max_radius"),
+                intensity: v("intensity"),
+            },
+            "instances" => Content::Instances {
+                count: v("count"),
+                area: v("area"),
+            },
+            "city_lots" => Content::CityLots(city(&v)),
+            _ => return None,
+        })
+    }
+
+    /// Whether it makes per-instance transform rows (what mesh `instances` accept).
+    pub fn makes_instance_rows(&self) -> bool {
+        matches!(self, Content::Instances { .. } | Content::CityLots(_))
+    }
+}
+
+impl Shape {
+    /// The mesh generator `name` with `params` (defaults filled in); `None` if unknown.
+    pub fn new(name: &str, params: &BTreeMap<String, ParamValue>) -> Option<Shape> {
+        let spec = find(MESH_GENERATORS, name)?;
+        let v = |n: &str| value(spec, params, n);
+        Some(match name {
+            "grid" => Shape::Grid {
+                size: v("size"),
+                divisions: v("divisions"),
+            },
+            "box" => Shape::Box { size: v("size") },
+            "city_blocks" => Shape::CityBlocks(city(&v)),
+            "terrain" => Shape::Terrain {
+                size: v("size"),
+                resolution: v("resolution"),
+                height: v("height"),
+                octaves: v("octaves"),
+            },
+            "water_plate" => Shape::WaterPlate {
+                size: v("size"),
+                divisions: v("divisions"),
+                height: v("height"),
+            },
+            "foliage_cards" => Shape::FoliageCards {
+                count: v("count"),
+                area: v("area"),
+                height: v("height"),
+                width: v("width"),
+            },
+            "sphere" => Shape::Sphere {
+                radius: v("radius"),
+                segments: v("segments"),
+                rings: v("rings"),
+            },
+            "capsule" => Shape::Capsule {
+                radius: v("radius"),
+                height: v("height"),
+                segments: v("segments"),
+            },
+            _ => return None,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_table_entry_has_a_typed_generator_with_its_defaults() {
+        let none = BTreeMap::new();
+        for spec in CONTENT_GENERATORS {
+            assert!(Content::new(spec.name, &none).is_some(), "{}", spec.name);
+        }
+        for spec in MESH_GENERATORS {
+            assert!(Shape::new(spec.name, &none).is_some(), "{}", spec.name);
+        }
+        assert_eq!(
+            Content::new("coastline", &none),
+            Some(Content::Coastline {
+                shore: 0.6,
+                frequency: 3.0
+            })
+        );
+        let given = BTreeMap::from([("frequency".to_owned(), ParamValue::Scalar(9.0))]);
+        assert_eq!(
+            Content::new("coastline", &given),
+            Some(Content::Coastline {
+                shore: 0.6,
+                frequency: 9.0
+            })
+        );
+        assert!(Shape::new("noise", &none).is_none());
+    }
 }

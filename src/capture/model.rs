@@ -5,6 +5,7 @@
 //! Only `validate` builds a `Capture`, so code downstream (graph, analyses, lowering) can rely on
 //! every id being in range and every rule of the format holding.
 
+use super::generators::{Content, Seeded, Shape};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
@@ -210,11 +211,7 @@ pub enum PlacementDesc {
 pub enum InitialDesc {
     Undefined,
     File(PathBuf),
-    Generator {
-        name: String,
-        seed: u64,
-        params: std::collections::BTreeMap<String, ParamValue>,
-    },
+    Generator(Seeded<Content>),
 }
 
 #[derive(Clone, Debug)]
@@ -289,17 +286,13 @@ pub struct MeshDesc {
     pub index_count: Option<u32>,
     pub instance_count: Option<u32>,
     /// Generator of the per-instance rows: name, seed, parameters.
-    pub instances: Option<(String, u64, std::collections::BTreeMap<String, ParamValue>)>,
+    pub instances: Option<Seeded<Content>>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum MeshSourceDesc {
     File(PathBuf),
-    Generator {
-        name: String,
-        seed: u64,
-        params: std::collections::BTreeMap<String, ParamValue>,
-    },
+    Generator(Seeded<Shape>),
 }
 
 /// A subresource range: mips `[mip_base, mip_base + mip_count)` of layers

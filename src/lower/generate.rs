@@ -12,20 +12,7 @@ use std::collections::BTreeMap;
 use framelab_replay::wgpu::TextureFormat;
 
 use crate::capture::format::{ParamValue, StepMode, VertexFormat, VertexStream};
-
-fn param(
-    params: &BTreeMap<String, ParamValue>,
-    table: &[crate::capture::generators::GeneratorSpec],
-    generator: &str,
-    name: &str,
-) -> f64 {
-    match params.get(name) {
-        Some(ParamValue::Scalar(v)) => *v,
-        _ => crate::capture::generators::find(table, generator)
-            .and_then(|g| g.params.iter().find(|(p, _)| *p == name))
-            .map_or(0.0, |(_, d)| *d),
-    }
-}
+use crate::capture::generators::{City, Content, Seeded, Shape};
 
 /// A seeded integer hash to [0, 1).
 fn hash(seed: u64, x: i64, y: i64, z: i64) -> f64 {
@@ -78,24 +65,18 @@ pub fn fbm(seed: u64, x: f64, y: f64, z: f64, frequency: f64, octaves: u32) -> f
 }
 
 /// The value of a texture generator at normalised coordinates (u, v, w) for `layer`.
-fn texel(
-    name: &str,
-    seed: u64,
-    params: &BTreeMap<String, ParamValue>,
-    u: f64,
-    v: f64,
-    w: f64,
-    layer: u32,
-) -> [f64; 4] {
-    let table = crate::capture::generators::CONTENT_GENERATORS;
-    let p = |n: &str| param(params, table, name, n);
+fn texel(generator: &Content, seed: u64, u: f64, v: f64, w: f64, layer: u32) -> [f64; 4] {
     let s = seed.wrapping_add(u64::from(layer) * 7919);
-    match name {
-        "noise" => {
-            let (f, o, a) = (p("frequency"), p("octaves") as u32, p("amplitude"));
+    match *generator {
+        Content::Noise {
+            frequency: f,
+            octaves,
+            amplitude: a,
+        } => {
+            let o = octaves as u32;
             [0.0, 1.0, 2.0, 3.0].map(|c| a * fbm(s.wrapping_add(c as u64 * 1013), u, v, w, f, o))
         }
-        "blue_noise" => {
+        Content::BlueNoise => {
             // R2 low-discrepancy sequence over a hashed index: well spread, high-frequency
             // values like blue noise, per channel decorrelated.
             let (x, y) = ((u * 4096.0) as u64, (v * 4096.0) as u64);
@@ -105,19 +86,16 @@ fn texel(
                 (0.5 + n * 0.754_877_666_246_692_7 + (y as f64) * 0.569_840_290_998_053_3).fract()
             })
         }
-        "checker" => {
-            let cells = p("cells").max(1.0);
+        Content::Checker { cells } => {
+            let cells = cells.max(1.0);
             let c = (((u * cells).floor() + (v * cells).floor()) as i64).rem_euclid(2) as f64;
             [c, c, c, 1.0]
         }
-        "constant" => {
-            let c = p("value");
-            [c, c, c, c]
-        }
-        "gradient" => [u, v, w, 1.0],
-        "atlas" => {
+        Content::Constant { value: c } => [c, c, c, c],
+        Content::Gradient => [u, v, w, 1.0],
+        Content::Atlas { cells } => {
             // Glyph-like panels: a grid of cells, each with a seeded bar pattern and frame.
-            let cells = p("cells").max(1.0);
+            let cells = cells.max(1.0);
             let (cu, cv) = ((u * cells).floor(), (v * cells).floor());
             let (fu, fv) = ((u * cells).fract(), (v * cells).fract());
             let frame = !(0.06..=0.94).contains(&fu) || !(0.06..=0.94).contains(&fv);
@@ -127,9 +105,9 @@ fn texel(
             let on = if frame || bars { 1.0 } else { 0.08 };
             [on * (0.4 + 0.6 * hue), on * (1.0 - hue), on, 1.0]
         }
-        "coastline" => {
-            let land = fbm(s, u, v, 0.0, p("frequency"), 5) + (v - 0.5) * 0.6;
-            let m = if land > p("shore") { 0.0 } else { 1.0 };
+        Content::Coastline { shore, frequency } => {
+            let land = fbm(s, u, v, 0.0, frequency, 5) + (v - 0.5) * 0.6;
+            let m = if land > shore { 0.0 } else { 1.0 };
             [m, m, m, 1.0]
         }
         _ => [0.0, 0.0, 0.0, 1.0],
@@ -234,13 +212,7 @@ fn bc7_solid_block(c: [u8; 4]) -> [u8; 16] {
     bits.to_le_bytes()
 }
 
-fn bc7_mip(
-    name: &str,
-    seed: u64,
-    params: &BTreeMap<String, ParamValue>,
-    (w, h): (u32, u32),
-    layers: u32,
-) -> Vec<u8> {
+fn bc7_mip(generator: &Content, seed: u64, (w, h): (u32, u32), layers: u32) -> Vec<u8> {
     let mut bytes = Vec::new();
     for layer in 0..layers {
         for by in 0..h.div_ceil(4) {
@@ -249,7 +221,7 @@ fn bc7_mip(
                 for (dx, dy) in (0..4).flat_map(|dy| (0..4).map(move |dx| (dx, dy))) {
                     let u = (f64::from((bx * 4 + dx).min(w - 1)) + 0.5) / f64::from(w);
                     let v = (f64::from((by * 4 + dy).min(h - 1)) + 0.5) / f64::from(h);
-                    let t = texel(name, seed, params, u, v, 0.0, layer);
+                    let t = texel(generator, seed, u, v, 0.0, layer);
                     for k in 0..4 {
                         sum[k] += t[k] / 16.0;
                     }
@@ -265,9 +237,7 @@ fn bc7_mip(
 /// Contents of every mip (all layers / slices of a mip together), for a texture generator.
 #[allow(clippy::too_many_arguments)]
 pub fn texture(
-    name: &str,
-    seed: u64,
-    params: &BTreeMap<String, ParamValue>,
+    contents: &Seeded<Content>,
     format: TextureFormat,
     width: u32,
     height: u32,
@@ -283,7 +253,12 @@ pub fn texture(
             TextureFormat::Bc7RgbaUnorm | TextureFormat::Bc7RgbaUnormSrgb
         ) && !volume
         {
-            out.push(bc7_mip(name, seed, params, (w, h), depth_or_layers));
+            out.push(bc7_mip(
+                &contents.generator,
+                contents.seed,
+                (w, h),
+                depth_or_layers,
+            ));
             continue;
         }
         let d = if volume {
@@ -306,7 +281,7 @@ pub fn texture(
                     };
                     bytes.extend(encode_texel(
                         format,
-                        texel(name, seed, params, u, v, wz, layer),
+                        texel(&contents.generator, contents.seed, u, v, wz, layer),
                     )?);
                 }
             }
@@ -317,16 +292,20 @@ pub fn texture(
 }
 
 /// Contents of a buffer generator.
-pub fn buffer(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>, size: u64) -> Vec<u8> {
-    let table = crate::capture::generators::CONTENT_GENERATORS;
-    let p = |n: &str| param(params, table, name, n);
+pub fn buffer(contents: &Seeded<Content>, size: u64) -> Vec<u8> {
+    let seed = contents.seed;
     let mut out: Vec<u8> = Vec::with_capacity(size as usize);
-    match name {
-        "lights" => {
+    match contents.generator {
+        Content::Lights {
+            count,
+            area,
+            min_radius,
+            max_radius,
+            intensity,
+        } => {
             // 64-byte records: position.xyz, radius, colour.rgb, intensity, direction.xyz,
             // spot cosine (-1: point light), then 16 bytes of zero padding.
-            let count = (p("count") as u64).min(size / 64);
-            let area = p("area");
+            let count = (count as u64).min(size / 64);
             for i in 0..count {
                 let r = |k: u64| hash(seed, i as i64, k as i64, 0);
                 let hue = r(4);
@@ -335,7 +314,7 @@ pub fn buffer(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>, size
                     0.5 + 0.5 * (std::f64::consts::TAU * (hue + 0.33)).cos(),
                     0.5 + 0.5 * (std::f64::consts::TAU * (hue + 0.67)).cos(),
                 ];
-                let radius = p("min_radius") + (p("max_radius") - p("min_radius")) * r(3);
+                let radius = min_radius + (max_radius - min_radius) * r(3);
                 let record = [
                     (r(0) - 0.5) * area,
                     1.0 + 12.0 * r(1),
@@ -344,7 +323,7 @@ pub fn buffer(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>, size
                     colour[0],
                     colour[1],
                     colour[2],
-                    p("intensity") * (0.5 + r(5)),
+                    intensity * (0.5 + r(5)),
                     0.0,
                     -1.0,
                     0.0,
@@ -359,10 +338,9 @@ pub fn buffer(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>, size
                 }
             }
         }
-        "instances" => {
+        Content::Instances { count, area } => {
             // Three float4 rows of an affine transform per instance (seed's VB7 layout).
-            let count = (p("count") as u64).min(size / 48);
-            let area = p("area");
+            let count = (count as u64).min(size / 48);
             for i in 0..count {
                 let r = |k: u64| hash(seed, i as i64, k as i64, 1);
                 let (angle, scale) = (std::f64::consts::TAU * r(3), 0.6 + 0.8 * r(4));
@@ -373,10 +351,10 @@ pub fn buffer(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>, size
                 }
             }
         }
-        "city_lots" => {
+        Content::CityLots(city) => {
             // The buildings of `city_blocks` with the same seed and parameters: a unit box
             // (centred, size 1) scaled to each building and moved onto its lot.
-            for b in buildings(seed, &p).take((size / 48) as usize) {
+            for b in buildings(seed, city).take((size / 48) as usize) {
                 let size3 = [0, 1, 2].map(|c| b.max[c] - b.min[c]);
                 let centre = [0, 1, 2].map(|c| (b.max[c] + b.min[c]) / 2.0);
                 #[rustfmt::skip]
@@ -390,8 +368,8 @@ pub fn buffer(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>, size
                 }
             }
         }
-        "constant" => {
-            let v = p("value") as u32;
+        Content::Constant { value } => {
+            let v = value as u32;
             while (out.len() as u64) + 4 <= size {
                 out.extend(v.to_le_bytes());
             }
@@ -530,14 +508,14 @@ struct Building {
 /// The buildings of a street grid of `blocks_x` x `blocks_z` blocks, `buildings_per_block` lots
 /// each, with seeded heights and insets: one layout for the `city_blocks` mesh and the
 /// `city_lots` instance rows, so the two agree building for building.
-fn buildings<'a>(seed: u64, p: &'a dyn Fn(&str) -> f64) -> impl Iterator<Item = Building> + 'a {
+fn buildings(seed: u64, city: City) -> impl Iterator<Item = Building> {
     let (bx, bz, block, street) = (
-        p("blocks_x") as i64,
-        p("blocks_z") as i64,
-        p("block_size"),
-        p("street_width"),
+        city.blocks_x as i64,
+        city.blocks_z as i64,
+        city.block_size,
+        city.street_width,
     );
-    let per = p("buildings_per_block").max(1.0) as i64;
+    let per = city.buildings_per_block.max(1.0) as i64;
     let pitch = block + street;
     let side = (per as f64).sqrt().ceil() as i64;
     let lot = block / side as f64;
@@ -549,7 +527,7 @@ fn buildings<'a>(seed: u64, p: &'a dyn Fn(&str) -> f64) -> impl Iterator<Item = 
             );
             (0..per).map(move |k| {
                 let r = |c: i64| hash(seed, i * 1000 + j, k, c);
-                let height = p("min_height") + (p("max_height") - p("min_height")) * r(0).powi(2);
+                let height = city.min_height + (city.max_height - city.min_height) * r(0).powi(2);
                 let (lx, lz) = (ox + (k % side) as f64 * lot, oz + (k / side) as f64 * lot);
                 let inset = lot * (0.05 + 0.1 * r(1));
                 Building {
@@ -568,22 +546,31 @@ fn normalize(v: [f32; 3]) -> [f32; 3] {
 }
 
 /// Builds a generator mesh.
-pub fn mesh(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>) -> MeshData {
-    let table = crate::capture::generators::MESH_GENERATORS;
-    let p = |n: &str| param(params, table, name, n) as f32;
+pub fn mesh(shape: &Seeded<Shape>) -> MeshData {
+    // Meshes are built in f32: every parameter is rounded to it first.
+    let f = |v: f64| v as f32;
+    let seed = shape.seed;
     let mut m = MeshData::default();
-    match name {
-        "grid" | "water_plate" => {
-            let h = if name == "water_plate" {
-                p("height")
-            } else {
-                0.0
-            };
-            m.grid(p("size"), p("divisions") as u32, |_, _| h);
+    match shape.generator {
+        Shape::Grid { size, divisions } => {
+            m.grid(f(size), f(divisions) as u32, |_, _| 0.0);
         }
-        "terrain" => {
-            let (size, height, octaves) = (p("size"), p("height"), p("octaves") as u32);
-            m.grid(size, p("resolution") as u32, |x, z| {
+        Shape::WaterPlate {
+            size,
+            divisions,
+            height,
+        } => {
+            let h = f(height);
+            m.grid(f(size), f(divisions) as u32, |_, _| h);
+        }
+        Shape::Terrain {
+            size,
+            resolution,
+            height,
+            octaves,
+        } => {
+            let (size, height, octaves) = (f(size), f(height), f(octaves) as u32);
+            m.grid(size, f(resolution) as u32, |x, z| {
                 height
                     * (fbm(
                         seed,
@@ -596,13 +583,12 @@ pub fn mesh(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>) -> Mes
                         - 0.5)
             });
         }
-        "box" => {
-            let s = p("size") * 0.5;
+        Shape::Box { size } => {
+            let s = f(size) * 0.5;
             m.cuboid([-s, -s, -s], [s, s, s], [1.0, 1.0, 1.0, 1.0]);
         }
-        "city_blocks" => {
-            let p = |n: &str| f64::from(p(n));
-            for b in buildings(seed, &p) {
+        Shape::CityBlocks(city) => {
+            for b in buildings(seed, city.rounded_to_f32()) {
                 // Window tint in the colour stream; shaders turn it into emissive windows.
                 let tint = b.tint.map(|c| c as f32);
                 m.cuboid(
@@ -612,9 +598,13 @@ pub fn mesh(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>) -> Mes
                 );
             }
         }
-        "foliage_cards" => {
-            let (count, area, height, width) =
-                (p("count") as i64, p("area"), p("height"), p("width"));
+        Shape::FoliageCards {
+            count,
+            area,
+            height,
+            width,
+        } => {
+            let (count, area, height, width) = (f(count) as i64, f(area), f(height), f(width));
             for i in 0..count {
                 let r = |c: i64| hash(seed, i, c, 7) as f32;
                 let (x, z, h) = (
@@ -646,14 +636,17 @@ pub fn mesh(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>) -> Mes
                 );
             }
         }
-        "sphere" => m.sphere(
-            [0.0; 3],
-            p("radius"),
-            p("segments") as u32,
-            p("rings") as u32,
-        ),
-        "capsule" => {
-            let (radius, height, segments) = (p("radius"), p("height"), p("segments") as u32);
+        Shape::Sphere {
+            radius,
+            segments,
+            rings,
+        } => m.sphere([0.0; 3], f(radius), f(segments) as u32, f(rings) as u32),
+        Shape::Capsule {
+            radius,
+            height,
+            segments,
+        } => {
+            let (radius, height, segments) = (f(radius), f(height), f(segments) as u32);
             let half = (height * 0.5 - radius).max(0.0);
             // Two end spheres (their inner halves hide inside the cylinder) and the cylinder.
             m.sphere([0.0, half, 0.0], radius, segments, segments / 2);
@@ -681,7 +674,6 @@ pub fn mesh(name: &str, seed: u64, params: &BTreeMap<String, ParamValue>) -> Mes
                 m.indices.extend([a, a + 1, a + 2, a + 1, a + 3, a + 2]);
             }
         }
-        _ => {}
     }
     m
 }
@@ -729,7 +721,7 @@ pub fn encode_streams(
     streams: &[VertexStream],
     instance_count: u32,
     seed: u64,
-    instances: Option<&(String, u64, BTreeMap<String, ParamValue>)>,
+    instances: Option<&Seeded<Content>>,
 ) -> Vec<Vec<u8>> {
     // Snorm positions are stored as xyz / s with w = s / 4096, s the power of two bounding the
     // mesh (exact in snorm16 to 1e-4), so a shader decodes xyz * exp2(round(log2(w * 4096))).
@@ -742,17 +734,17 @@ pub fn encode_streams(
         .log2()
         .ceil()
         .exp2();
-    let rows = match instances {
-        Some((name, seed, params)) => buffer(name, *seed, params, u64::from(instance_count) * 48),
-        None => buffer(
-            "instances",
-            seed,
-            &BTreeMap::from([(
-                "count".to_owned(),
-                ParamValue::Scalar(f64::from(instance_count)),
-            )]),
-            u64::from(instance_count) * 48,
-        ),
+    // Without an instance generator, the mesh's seed scatters `instances` rows.
+    let count = BTreeMap::from([(
+        "count".to_owned(),
+        ParamValue::Scalar(f64::from(instance_count)),
+    )]);
+    let default_rows =
+        Content::new("instances", &count).map(|generator| Seeded { generator, seed });
+    let size = u64::from(instance_count) * 48;
+    let rows = match instances.or(default_rows.as_ref()) {
+        Some(contents) => buffer(contents, size),
+        None => vec![0; size as usize],
     };
     let row = |i: usize, r: usize| -> [f32; 4] {
         let o = i * 48 + r * 16;
@@ -825,18 +817,11 @@ mod tests {
     #[test]
     fn generators_are_deterministic_and_vary() {
         let noise = |seed| {
-            texture(
-                "noise",
+            let noise = Seeded {
+                generator: Content::new("noise", &BTreeMap::new()).unwrap(),
                 seed,
-                &BTreeMap::new(),
-                TextureFormat::Rgba8Unorm,
-                16,
-                16,
-                1,
-                false,
-                1,
-            )
-            .unwrap()
+            };
+            texture(&noise, TextureFormat::Rgba8Unorm, 16, 16, 1, false, 1).unwrap()
         };
         let a = noise(7);
         assert_eq!(a, noise(7));
@@ -857,7 +842,10 @@ mod tests {
             "sphere",
             "capsule",
         ] {
-            let m = mesh(name, 3, &BTreeMap::new());
+            let m = mesh(&Seeded {
+                generator: Shape::new(name, &BTreeMap::new()).unwrap(),
+                seed: 3,
+            });
             assert!(!m.indices.is_empty(), "{name}");
             assert_eq!(m.indices.len() % 3, 0, "{name}");
             assert!(
@@ -879,9 +867,16 @@ mod tests {
             ("blocks_x".to_owned(), ParamValue::Scalar(2.0)),
             ("blocks_z".to_owned(), ParamValue::Scalar(3.0)),
         ]);
-        let city = mesh("city_blocks", 9, &params);
+        let city = mesh(&Seeded {
+            generator: Shape::new("city_blocks", &params).unwrap(),
+            seed: 9,
+        });
         let count = 2 * 3 * 4;
-        let rows = buffer("city_lots", 9, &params, count * 48);
+        let lots = Seeded {
+            generator: Content::new("city_lots", &params).unwrap(),
+            seed: 9,
+        };
+        let rows = buffer(&lots, count * 48);
         let f = |o: usize| f32::from_le_bytes(rows[o..o + 4].try_into().unwrap());
         for b in 0..count as usize {
             // city_blocks writes 24 vertices per building; the box spans +-0.5 of the lot row.

@@ -334,11 +334,9 @@ pub fn lower(
             let volume = r.kind == ResourceKind::Texture3D;
             let initial = match &r.initial {
                 InitialDesc::Undefined => None,
-                InitialDesc::Generator { name, seed, params } => {
+                InitialDesc::Generator(contents) => {
                     let generated = generate::texture(
-                        name,
-                        *seed,
-                        params,
+                        contents,
                         lowered.format,
                         r.width,
                         r.height,
@@ -408,9 +406,7 @@ pub fn lower(
             };
             let initial = match &r.initial {
                 InitialDesc::Undefined => None,
-                InitialDesc::Generator { name, seed, params } => {
-                    Some(generate::buffer(name, *seed, params, r.bytes))
-                }
+                InitialDesc::Generator(contents) => Some(generate::buffer(contents, r.bytes)),
                 InitialDesc::File(path) => Some(
                     std::fs::read(path)
                         .map_err(|e| contents_err(format!("reading {}: {e}", path.display())))?,
@@ -868,16 +864,16 @@ fn lower_mesh(m: &MeshDesc) -> Result<MeshSpec, LowerError> {
             .sum::<u64>()
     };
     let (stream_data, indices, vertex_count) = match &m.source {
-        MeshSourceDesc::Generator { name, seed, params } => {
-            let data = generate::mesh(name, *seed, params);
+        MeshSourceDesc::Generator(shape) => {
+            let data = generate::mesh(shape);
             if data.positions.is_empty() {
-                return Err(err(format!("generator \"{name}\" produced no vertices")));
+                return Err(err("its generator produced no vertices".to_owned()));
             }
             let streams = generate::encode_streams(
                 &data,
                 &m.streams,
                 instance_count,
-                *seed,
+                shape.seed,
                 m.instances.as_ref(),
             );
             let indices = m.index_format.map(|f| {

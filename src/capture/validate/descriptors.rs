@@ -179,16 +179,17 @@ impl<'a> Validator<'a> {
                     resolved.map(MeshSourceDesc::File)
                 }
                 MeshSource::Generator { name, seed, params } => {
-                    self.check_generator_params(
+                    let known = self.check_generator_params(
                         generators::MESH_GENERATORS,
                         name,
                         params,
                         &path.field("source").field("generator"),
                     );
-                    Some(MeshSourceDesc::Generator {
-                        name: name.clone(),
-                        seed: *seed,
-                        params: params.clone(),
+                    Shape::new(name, params).filter(|_| known).map(|generator| {
+                        MeshSourceDesc::Generator(Seeded {
+                            generator,
+                            seed: *seed,
+                        })
                     })
                 }
             };
@@ -203,7 +204,8 @@ impl<'a> Validator<'a> {
                             m.name
                         ),
                     );
-                } else if !matches!(g.name.as_str(), "instances" | "city_lots") {
+                } else if !Content::new(&g.name, &g.params).is_some_and(|c| c.makes_instance_rows())
+                {
                     self.diags.error(
                         "unknown-generator",
                         &ipath.field("name"),
@@ -231,10 +233,12 @@ impl<'a> Validator<'a> {
                     vertex_count: m.vertex_count,
                     index_count: m.index_count,
                     instance_count: m.instance_count,
-                    instances: m
-                        .instances
-                        .as_ref()
-                        .map(|g| (g.name.clone(), g.seed, g.params.clone())),
+                    instances: m.instances.as_ref().and_then(|g| {
+                        Some(Seeded {
+                            generator: Content::new(&g.name, &g.params)?,
+                            seed: g.seed,
+                        })
+                    }),
                 }),
                 _ => ok = false,
             }

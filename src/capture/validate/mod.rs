@@ -19,7 +19,7 @@ mod shaders;
 
 use super::diag::{Diagnostic, Diagnostics, JsonPath, suggest};
 use super::format::*;
-use super::generators::{self, GeneratorSpec};
+use super::generators::{self, Content, GeneratorSpec, Seeded, Shape};
 use super::load::{self, CaptureError};
 use super::model::*;
 use super::shaders::{Shader, ShaderId};
@@ -513,13 +513,15 @@ impl<'a> Validator<'a> {
         }
     }
 
+    /// Checks a generator's name and parameters against `table`; `true` when both are known.
     fn check_generator_params(
         &mut self,
         table: &[GeneratorSpec],
         name: &str,
         params: &BTreeMap<String, ParamValue>,
         path: &JsonPath,
-    ) {
+    ) -> bool {
+        let errors_before = self.diags.error_count();
         let Some(spec) = generators::find(table, name) else {
             let suggestion = suggest(name, table.iter().map(|g| g.name));
             let known: Vec<&str> = table.iter().map(|g| g.name).collect();
@@ -529,7 +531,7 @@ impl<'a> Validator<'a> {
                 format!("unknown generator \"{name}\" (known: {})", known.join(", ")),
                 suggestion,
             );
-            return;
+            return false;
         };
         for (key, value) in params {
             let ppath = path.field("params").field(key);
@@ -554,6 +556,7 @@ impl<'a> Validator<'a> {
                 );
             }
         }
+        self.diags.error_count() == errors_before
     }
 }
 

@@ -543,16 +543,18 @@ impl<'a> Validator<'a> {
                 }
             }
             Some(InitialContents::Generator { name, seed, params }) => {
-                self.check_generator_params(
+                let known = self.check_generator_params(
                     generators::CONTENT_GENERATORS,
                     name,
                     params,
                     &path.field("initial").field("generator"),
                 );
-                InitialDesc::Generator {
-                    name: name.clone(),
-                    seed: *seed,
-                    params: params.clone(),
+                match Content::new(name, params).filter(|_| known) {
+                    Some(generator) => InitialDesc::Generator(Seeded {
+                        generator,
+                        seed: *seed,
+                    }),
+                    None => InitialDesc::Undefined,
                 }
             }
         };
