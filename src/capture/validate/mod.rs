@@ -16,6 +16,7 @@ mod heaps;
 mod passes;
 mod resources;
 mod shaders;
+mod work;
 
 use super::diag::{Diagnostic, Diagnostics, JsonPath, suggest};
 use super::format::*;

@@ -1,0 +1,169 @@
+//! The work a pass records: draws (meshes, counts, instances, indirect arguments, stencil
+//! references) and dispatches (group counts against the limits, indirect arguments).
+
+use super::passes::PassContext;
+#[allow(unused_imports)]
+use super::*;
+
+impl<'a> Validator<'a> {
+    pub(super) fn pass_draws(
+        &mut self,
+        p: &'a Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &mut Vec<ResourceAccess>,
+        cx: &PassContext<'_>,
+    ) -> Vec<DrawDesc> {
+        let name = &p.name;
+        // Draws.
+        let mut draws = Vec::new();
+        for (i, d) in p.draws.iter().enumerate() {
+            let dpath = path.field("draws").index(i);
+            let mesh = d
+                .mesh
+                .as_ref()
+                .and_then(|m| self.lookup("mesh", m, &dpath.field("mesh")));
+            let mesh_desc = mesh.and_then(|m| cx.meshes.map(|ms| &ms[m as usize]));
+            if d.mesh.is_none() && d.count.is_none() && d.indirect.is_none() {
+                self.diags.error(
+                    "draw",
+                    &dpath,
+                    "a draw without a mesh needs a `count` (vertices generated in the shader)",
+                );
+            }
+            if d.instances == 0 {
+                self.diags
+                    .warning("draw", &dpath.field("instances"), "draw of zero instances");
+            }
+            if let (Some(m), Some(count)) = (mesh_desc, d.count) {
+                let available = if m.index_format.is_some() {
+                    m.index_count
+                } else {
+                    m.vertex_count
+                };
+                if let Some(avail) = available
+                    && u64::from(d.first) + u64::from(count) > u64::from(avail)
+                {
+                    self.diags.error(
+                        "draw",
+                        &dpath.field("count"),
+                        format!(
+                            "draw reads elements {}..{} of mesh \"{}\", which has {avail}",
+                            d.first,
+                            u64::from(d.first) + u64::from(count),
+                            m.name
+                        ),
+                    );
+                }
+            }
+            if d.stencil_reference.is_some_and(|r| r > 255) {
+                self.diags.error(
+                    "draw",
+                    &dpath.field("stencil_reference"),
+                    "stencil reference is 8 bits (0..255)",
+                );
+            }
+            if d.stencil_reference.is_some() && cx.state.stencil.is_none() {
+                self.diags.error(
+                    "draw",
+                    &dpath.field("stencil_reference"),
+                    format!("pass \"{name}\" sets a stencil reference but has no stencil state"),
+                );
+            }
+            let indexed = mesh_desc.is_some_and(|m| m.index_format.is_some());
+            let indirect = d.indirect.as_ref().and_then(|ind| {
+                let args = if indexed {
+                    DRAW_INDEXED_ARGS
+                } else {
+                    DRAW_ARGS
+                };
+                self.check_indirect(
+                    ind,
+                    args,
+                    &dpath.field("indirect"),
+                    resources,
+                    accesses,
+                    AccessSource::Indirect(i),
+                )
+            });
+            draws.push(DrawDesc {
+                label: d.label.clone(),
+                vertex: d.vertex.clone(),
+                mesh: mesh.map(MeshId),
+                count: d.count,
+                instances: d.instances,
+                first: d.first,
+                first_instance: d.first_instance,
+                base_vertex: d.base_vertex,
+                indirect,
+                stencil_reference: d.stencil_reference,
+                params: d.params.clone(),
+            });
+        }
+
+        draws
+    }
+
+    pub(super) fn pass_dispatches(
+        &mut self,
+        p: &'a Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &mut Vec<ResourceAccess>,
+    ) -> Vec<DispatchDesc> {
+        let name = &p.name;
+        // Dispatches.
+        let mut dispatches = Vec::new();
+        if p.kind == PassKind::Compute && p.dispatches.is_empty() {
+            self.diags.error(
+                "dispatch",
+                path,
+                format!("compute pass \"{name}\" has no dispatches"),
+            );
+        }
+        for (i, d) in p.dispatches.iter().enumerate() {
+            let dpath = path.field("dispatches").index(i);
+            match (&d.groups, &d.indirect) {
+                (Some(_), Some(_)) => {
+                    self.diags
+                        .error("dispatch", &dpath, "give `groups` or `indirect`, not both")
+                }
+                (None, None) => self.diags.error(
+                    "dispatch",
+                    &dpath,
+                    "a dispatch needs `groups` or `indirect`",
+                ),
+                (Some(g), None) => {
+                    let max = self.options.limits.max_dispatch_groups;
+                    if g.contains(&0) || g.iter().any(|&x| x > max) {
+                        self.diags.error(
+                            "dispatch",
+                            &dpath.field("groups"),
+                            format!("group counts {g:?} must each be 1..{max}"),
+                        );
+                    }
+                }
+                (None, Some(_)) => {}
+            }
+            let indirect = d.indirect.as_ref().and_then(|ind| {
+                self.check_indirect(
+                    ind,
+                    DISPATCH_ARGS,
+                    &dpath.field("indirect"),
+                    resources,
+                    accesses,
+                    AccessSource::Indirect(i),
+                )
+            });
+            dispatches.push(DispatchDesc {
+                label: d.label.clone(),
+                entry: d.entry.clone(),
+                groups: d.groups,
+                indirect,
+                params: d.params.clone(),
+            });
+        }
+
+        dispatches
+    }
+}
