@@ -1,0 +1,606 @@
+//! Encoding one pass into a command encoder: raster (targets, draws, indirect), compute
+//! (dispatches, indirect), copies, clears, resolves, mip generation. Passes without a pass
+//! object of their own get their timestamps written on the encoder where the adapter allows.
+
+#[allow(unused_imports)]
+use super::*;
+
+/// Where a pass's two timestamps go: the query set and the index of the first.
+type Stamps<'q> = Option<(&'q wgpu::QuerySet, u32)>;
+
+fn render_stamps(stamps: Stamps<'_>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    stamps.map(|(set, base)| wgpu::RenderPassTimestampWrites {
+        query_set: set,
+        beginning_of_pass_write_index: Some(base),
+        end_of_pass_write_index: Some(base + 1),
+    })
+}
+
+impl Session {
+    fn tex_at(&self, t: usize, parity: usize) -> &wgpu::Texture {
+        &self.textures[t][parity]
+    }
+
+    fn buf_at(&self, b: usize, parity: usize) -> &wgpu::Buffer {
+        &self.buffers[b][parity]
+    }
+
+    pub(super) fn encode(
+        &self,
+        i: usize,
+        parity: usize,
+        encoder: &mut wgpu::CommandEncoder,
+        stamps: Stamps<'_>,
+        inside_encoders: bool,
+    ) -> Result<(), ReplayError> {
+        let pass = &self.plan.passes[i];
+        let err = |message: String| ReplayError::Pass {
+            pass: pass.name.clone(),
+            message,
+        };
+        let stamp_encoder = |encoder: &mut wgpu::CommandEncoder, offset: u32| {
+            if let (Some((set, base)), true) = (stamps, inside_encoders) {
+                encoder.write_timestamp(set, base + offset);
+            }
+        };
+        match (&pass.op, &self.prepared[i]) {
+            (PassOp::Raster(r), prepared @ Prepared::Raster { .. }) => self
+                .encode_raster(&pass.name, r, prepared, parity, encoder, stamps)
+                .map_err(err)?,
+            (PassOp::Compute(c), prepared @ Prepared::Compute { .. }) => self
+                .encode_compute(&pass.name, c, prepared, parity, encoder, stamps)
+                .map_err(err)?,
+            (PassOp::Copy(copies), _) => {
+                stamp_encoder(encoder, 0);
+                for c in copies {
+                    self.encode_copy(c, parity, encoder);
+                }
+                stamp_encoder(encoder, 1);
+            }
+            (PassOp::Clear(clears), _) => {
+                stamp_encoder(encoder, 0);
+                for c in clears {
+                    self.encode_clear(encoder, c, parity).map_err(err)?;
+                }
+                stamp_encoder(encoder, 1);
+            }
+            (PassOp::Resolve { src, dst }, _) => {
+                self.encode_resolve(&pass.name, *src, *dst, parity, encoder, stamps);
+            }
+            (
+                PassOp::GenerateMips {
+                    texture,
+                    base_layer,
+                    layers,
+                },
+                _,
+            ) => {
+                stamp_encoder(encoder, 0);
+                self.encode_mips(
+                    *texture,
+                    *base_layer..*base_layer + *layers,
+                    parity,
+                    encoder,
+                )
+                .map_err(err)?;
+                stamp_encoder(encoder, 1);
+            }
+            (PassOp::Present { .. }, _) => {
+                stamp_encoder(encoder, 0);
+                stamp_encoder(encoder, 1);
+            }
+            _ => return Err(err("pass was not prepared".into())),
+        }
+        Ok(())
+    }
+
+    fn encode_raster(
+        &self,
+        name: &str,
+        r: &RasterOp,
+        prepared: &Prepared,
+        parity: usize,
+        encoder: &mut wgpu::CommandEncoder,
+        stamps: Stamps<'_>,
+    ) -> Result<(), String> {
+        let Prepared::Raster {
+            pipelines,
+            groups,
+            draw_groups,
+        } = prepared
+        else {
+            return Err("pass was not prepared".into());
+        };
+        let buf = |b: usize| self.buf_at(b, parity);
+        let color_views: Vec<wgpu::TextureView> = r
+            .color
+            .iter()
+            .map(|c| self.view(c.texture, parity, c.mip, c.layer, Some(c.format)))
+            .collect();
+        let depth_view = r
+            .depth
+            .as_ref()
+            .map(|d| self.view(d.texture, parity, d.mip, d.layer, None));
+        let attachments: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = r
+            .color
+            .iter()
+            .zip(&color_views)
+            .map(|(c, view)| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: (self.plan.textures[c.texture].dimension
+                        == wgpu::TextureDimension::D3)
+                        .then_some(c.layer),
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: match c.load {
+                            Some(color) => wgpu::LoadOp::Clear(color),
+                            None if c.discard_load => wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            None => wgpu::LoadOp::Load,
+                        },
+                        store: if c.store {
+                            wgpu::StoreOp::Store
+                        } else {
+                            wgpu::StoreOp::Discard
+                        },
+                    },
+                })
+            })
+            .collect();
+        let depth_attachment = r.depth.as_ref().zip(depth_view.as_ref()).map(|(d, view)| {
+            let stencil = has_stencil(d.format);
+            wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: if d.read_only {
+                    None
+                } else {
+                    Some(wgpu::Operations {
+                        load: d
+                            .depth_clear
+                            .map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+                        store: if d.depth_store {
+                            wgpu::StoreOp::Store
+                        } else {
+                            wgpu::StoreOp::Discard
+                        },
+                    })
+                },
+                stencil_ops: (stencil && !d.read_only).then(|| wgpu::Operations {
+                    load: d
+                        .stencil_clear
+                        .map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+                    store: if d.stencil_store {
+                        wgpu::StoreOp::Store
+                    } else {
+                        wgpu::StoreOp::Discard
+                    },
+                }),
+            }
+        });
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(name),
+            color_attachments: &attachments,
+            depth_stencil_attachment: depth_attachment,
+            timestamp_writes: render_stamps(stamps),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_stencil_reference(r.stencil_reference);
+        for (d, set) in r.draws.iter().zip(draw_groups) {
+            let vertex = d.vertex.as_ref().unwrap_or(&r.vertex);
+            let (Some(pipeline), Some(sets)) = (pipelines.get(vertex), groups.get(vertex)) else {
+                return Err(format!("no pipeline for `{vertex}`"));
+            };
+            rp.set_pipeline(pipeline);
+            for (g, bg) in &sets[*set][parity] {
+                rp.set_bind_group(*g, bg, &[]);
+            }
+            if let Some(reference) = d.stencil_reference {
+                rp.set_stencil_reference(reference);
+            }
+            let mesh = d.mesh.map(|m| &self.meshes[m]);
+            if let Some(mesh) = mesh {
+                for (slot, b) in &mesh.streams {
+                    rp.set_vertex_buffer(*slot, b.slice(..));
+                }
+            }
+            match (mesh.and_then(|m| m.index.as_ref()), d.indirect) {
+                (Some((ib, format, _)), Some((b, offset))) => {
+                    rp.set_index_buffer(ib.slice(..), *format);
+                    rp.draw_indexed_indirect(buf(b), offset);
+                }
+                (None, Some((b, offset))) => rp.draw_indirect(buf(b), offset),
+                (Some((ib, format, n)), None) => {
+                    rp.set_index_buffer(ib.slice(..), *format);
+                    let count = d.count.unwrap_or(*n);
+                    let instances = if d.instances == 1 {
+                        mesh.map_or(1, |m| m.instance_count.max(1))
+                    } else {
+                        d.instances
+                    };
+                    rp.draw_indexed(
+                        d.first..d.first + count,
+                        d.base_vertex,
+                        d.first_instance..d.first_instance + instances,
+                    );
+                }
+                (None, None) => {
+                    let count = d.count.or(mesh.map(|m| m.vertex_count)).unwrap_or(3);
+                    let instances = if d.instances == 1 {
+                        mesh.map_or(1, |m| m.instance_count.max(1))
+                    } else {
+                        d.instances
+                    };
+                    rp.draw(
+                        d.first..d.first + count,
+                        d.first_instance..d.first_instance + instances,
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn encode_compute(
+        &self,
+        name: &str,
+        c: &ComputeOp,
+        prepared: &Prepared,
+        parity: usize,
+        encoder: &mut wgpu::CommandEncoder,
+        stamps: Stamps<'_>,
+    ) -> Result<(), String> {
+        let Prepared::Compute {
+            pipelines,
+            groups,
+            dispatch_groups,
+        } = prepared
+        else {
+            return Err("pass was not prepared".into());
+        };
+        let buf = |b: usize| self.buf_at(b, parity);
+        let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(name),
+            timestamp_writes: stamps.map(|(set, base)| wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: Some(base),
+                end_of_pass_write_index: Some(base + 1),
+            }),
+        });
+        for (d, set) in c.dispatches.iter().zip(dispatch_groups) {
+            let entry = d.entry.as_ref().unwrap_or(&c.entry);
+            let (Some(pipeline), Some(sets)) = (pipelines.get(entry), groups.get(entry)) else {
+                return Err(format!("no pipeline for `{entry}`"));
+            };
+            cp.set_pipeline(pipeline);
+            for (g, bg) in &sets[*set][parity] {
+                cp.set_bind_group(*g, bg, &[]);
+            }
+            match (d.groups, d.indirect) {
+                (_, Some((b, offset))) => cp.dispatch_workgroups_indirect(buf(b), offset),
+                (Some([x, y, z]), None) => cp.dispatch_workgroups(x, y, z),
+                (None, None) => return Err("a dispatch without groups".into()),
+            }
+        }
+        Ok(())
+    }
+
+    fn encode_copy(&self, c: &CopyOp, parity: usize, encoder: &mut wgpu::CommandEncoder) {
+        let tex = |t: usize| self.tex_at(t, parity);
+        let buf = |b: usize| self.buf_at(b, parity);
+        match (&c.src, &c.dst) {
+            (
+                CopyEnd::Buffer {
+                    buffer: a,
+                    offset: oa,
+                    ..
+                },
+                CopyEnd::Buffer {
+                    buffer: b,
+                    offset: ob,
+                    ..
+                },
+            ) => {
+                encoder.copy_buffer_to_buffer(buf(*a), *oa, buf(*b), *ob, c.bytes);
+            }
+            (
+                CopyEnd::Texture {
+                    texture: a,
+                    mip: ma,
+                    layer: la,
+                    origin: oa,
+                },
+                CopyEnd::Texture {
+                    texture: b,
+                    mip: mb,
+                    layer: lb,
+                    origin: ob,
+                },
+            ) => {
+                encoder.copy_texture_to_texture(
+                    texel(tex(*a), &self.plan.textures[*a], *ma, *la, *oa),
+                    texel(tex(*b), &self.plan.textures[*b], *mb, *lb, *ob),
+                    extent(c.extent),
+                );
+            }
+            (
+                CopyEnd::Buffer {
+                    buffer,
+                    offset,
+                    bytes_per_row,
+                },
+                CopyEnd::Texture {
+                    texture,
+                    mip,
+                    layer,
+                    origin,
+                },
+            ) => {
+                encoder.copy_buffer_to_texture(
+                    buffer_layout(
+                        buf(*buffer),
+                        *offset,
+                        *bytes_per_row,
+                        &self.plan.textures[*texture],
+                        c.extent,
+                    ),
+                    texel(
+                        tex(*texture),
+                        &self.plan.textures[*texture],
+                        *mip,
+                        *layer,
+                        *origin,
+                    ),
+                    extent(c.extent),
+                );
+            }
+            (
+                CopyEnd::Texture {
+                    texture,
+                    mip,
+                    layer,
+                    origin,
+                },
+                CopyEnd::Buffer {
+                    buffer,
+                    offset,
+                    bytes_per_row,
+                },
+            ) => {
+                encoder.copy_texture_to_buffer(
+                    texel(
+                        tex(*texture),
+                        &self.plan.textures[*texture],
+                        *mip,
+                        *layer,
+                        *origin,
+                    ),
+                    buffer_layout(
+                        buf(*buffer),
+                        *offset,
+                        *bytes_per_row,
+                        &self.plan.textures[*texture],
+                        c.extent,
+                    ),
+                    extent(c.extent),
+                );
+            }
+        }
+    }
+
+    fn encode_resolve(
+        &self,
+        name: &str,
+        src: usize,
+        dst: usize,
+        parity: usize,
+        encoder: &mut wgpu::CommandEncoder,
+        stamps: Stamps<'_>,
+    ) {
+        let src_view = self.view(src, parity, 0, 0, None);
+        let dst_view = self.view(dst, parity, 0, 0, None);
+        let _rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(name),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &src_view,
+                depth_slice: None,
+                resolve_target: Some(&dst_view),
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: render_stamps(stamps),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+    }
+
+    fn encode_mips(
+        &self,
+        texture: usize,
+        layers: std::ops::Range<u32>,
+        parity: usize,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<(), String> {
+        let spec = &self.plan.textures[texture];
+        let (pipeline, sampler) = self
+            .mip_pipelines
+            .get(&format!("{:?}", spec.format))
+            .ok_or_else(|| "mip pipeline missing".to_owned())?;
+        let layout = pipeline.get_bind_group_layout(0);
+        for layer in layers.clone() {
+            for mip in 1..spec.mip_levels {
+                let dst = self.view(texture, parity, mip, layer, None);
+                let bg = self
+                    .mip_groups
+                    .borrow_mut()
+                    .entry((texture, parity, mip, layer, None))
+                    .or_insert_with(|| {
+                        let src = self.view(texture, parity, mip - 1, layer, None);
+                        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                            label: Some("mip source"),
+                            layout: &layout,
+                            entries: &[
+                                wgpu::BindGroupEntry {
+                                    binding: 0,
+                                    resource: wgpu::BindingResource::TextureView(&src),
+                                },
+                                wgpu::BindGroupEntry {
+                                    binding: 1,
+                                    resource: wgpu::BindingResource::Sampler(sampler),
+                                },
+                            ],
+                        })
+                    })
+                    .clone();
+                let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("mip"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &dst,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                rp.set_pipeline(pipeline);
+                rp.set_bind_group(0, &bg, &[]);
+                rp.draw(0..3, 0..1);
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn encode_clear(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        c: &ClearOp,
+        parity: usize,
+    ) -> Result<(), String> {
+        match c {
+            ClearOp::Attachment {
+                texture,
+                format,
+                base_mip,
+                mips,
+                base_layer,
+                layers,
+                value,
+                stencil,
+            } => {
+                let spec = &self.plan.textures[*texture];
+                for mip in *base_mip..base_mip + mips {
+                    for layer in *base_layer..base_layer + layers {
+                        let view = self.view(
+                            *texture,
+                            parity,
+                            mip,
+                            layer,
+                            if format.has_depth_aspect() {
+                                None
+                            } else {
+                                Some(*format)
+                            },
+                        );
+                        let depth = format.has_depth_aspect();
+                        let color = [Some(wgpu::RenderPassColorAttachment {
+                            view: &view,
+                            depth_slice: (spec.dimension == wgpu::TextureDimension::D3)
+                                .then_some(layer),
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color {
+                                    r: value[0],
+                                    g: value[1],
+                                    b: value[2],
+                                    a: value[3],
+                                }),
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })];
+                        let _rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                            label: Some("clear"),
+                            color_attachments: if depth { &[] } else { &color },
+                            depth_stencil_attachment: depth.then(|| {
+                                wgpu::RenderPassDepthStencilAttachment {
+                                    view: &view,
+                                    depth_ops: Some(wgpu::Operations {
+                                        load: wgpu::LoadOp::Clear(value[0] as f32),
+                                        store: wgpu::StoreOp::Store,
+                                    }),
+                                    stencil_ops: has_stencil(*format).then_some(wgpu::Operations {
+                                        load: wgpu::LoadOp::Clear(*stencil),
+                                        store: wgpu::StoreOp::Store,
+                                    }),
+                                }
+                            }),
+                            timestamp_writes: None,
+                            occlusion_query_set: None,
+                            multiview_mask: None,
+                        });
+                    }
+                }
+                Ok(())
+            }
+            ClearOp::Texture {
+                texture,
+                base_mip,
+                mips,
+                base_layer,
+                layers,
+                value,
+            } => {
+                if value.iter().any(|v| *v != 0.0) {
+                    return Err(format!(
+                        "clearing unordered-access texture \"{}\" to a non-zero value is not supported; clear it as a render target",
+                        self.plan.textures[*texture].name
+                    ));
+                }
+                let spec = &self.plan.textures[*texture];
+                encoder.clear_texture(
+                    &self.textures[*texture][parity],
+                    &wgpu::ImageSubresourceRange {
+                        aspect: wgpu::TextureAspect::All,
+                        base_mip_level: *base_mip,
+                        mip_level_count: Some(*mips),
+                        base_array_layer: *base_layer,
+                        array_layer_count: (spec.dimension != wgpu::TextureDimension::D3)
+                            .then_some(*layers),
+                    },
+                );
+                Ok(())
+            }
+            ClearOp::Buffer { buffer, value } => {
+                let b = &self.buffers[*buffer][parity];
+                if *value == 0 {
+                    encoder.clear_buffer(b, 0, None);
+                } else {
+                    let words = vec![*value; (b.size() / 4) as usize];
+                    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+                    let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("clear value"),
+                        size: b.size(),
+                        usage: wgpu::BufferUsages::COPY_SRC,
+                        mapped_at_creation: true,
+                    });
+                    staging
+                        .slice(..)
+                        .get_mapped_range_mut()
+                        .map_err(|e| e.to_string())?
+                        .copy_from_slice(&bytes);
+                    staging.unmap();
+                    encoder.copy_buffer_to_buffer(&staging, 0, b, 0, b.size());
+                }
+                Ok(())
+            }
+        }
+    }
+}
