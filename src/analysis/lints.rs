@@ -13,7 +13,9 @@ use super::model::{FrameModel, State};
 use crate::capture::format::{
     Access, BarrierType, DescriptorHeapType, ResourceFlag, ResourceState, SplitFlag,
 };
-use crate::capture::model::{BindingTarget, Capture, PassId, ResourceId, Subresources};
+use crate::capture::model::{
+    BindingTarget, Capture, PassDesc, PassId, ResourceAccess, ResourceId, Subresources,
+};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -267,360 +269,440 @@ pub struct LintInput<'a> {
     pub plan: &'a BarrierPlan,
 }
 
-pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
-    let LintInput {
-        capture,
-        model,
-        graph,
-        order,
-        culled,
-        plan,
-    } = *input;
-    let mut out = Vec::new();
-    let in_order: BTreeSet<u32> = order.iter().copied().collect();
-    let accesses = || {
-        capture
+/// The inputs every rule reads.
+#[derive(Clone, Copy)]
+struct Linter<'a> {
+    capture: &'a Capture,
+    model: &'a FrameModel,
+    graph: &'a PassGraph,
+    order: &'a [u32],
+    culled: &'a [u32],
+    plan: &'a BarrierPlan,
+    in_order: &'a BTreeSet<u32>,
+}
+
+impl<'a> Linter<'a> {
+    /// Every access of the passes that run, with its pass.
+    fn accesses(&self) -> impl Iterator<Item = (&'a PassDesc, &'a ResourceAccess)> + 'a {
+        let in_order = self.in_order;
+        self.capture
             .passes
             .iter()
-            .filter(|p| in_order.contains(&p.id.0))
+            .filter(move |p| in_order.contains(&p.id.0))
             .flat_map(|p| p.accesses.iter().map(move |a| (p, a)))
-    };
-
-    // Flags never used.
-    for r in &capture.resources {
-        let uses: Vec<Access> = accesses()
-            .filter(|(_, a)| a.resource == r.id)
-            .map(|(_, a)| a.access)
-            .collect();
-        if uses.is_empty() {
-            out.push(lint(
-                LintKind::UnusedResource,
-                format!("\"{}\" is declared but no pass uses it", r.name),
-                None,
-                Some(r.id),
-            ));
-            continue;
-        }
-        let checks = [
-            (
-                ResourceFlag::AllowUnorderedAccess,
-                LintKind::UnusedUavFlag,
-                uses.iter().any(|a| a.is_unordered(r.is_texture())),
-                "bound as an unordered-access view",
-            ),
-            (
-                ResourceFlag::AllowRenderTarget,
-                LintKind::UnusedRenderTargetFlag,
-                uses.contains(&Access::ColorAttachment),
-                "rendered to",
-            ),
-            (
-                ResourceFlag::AllowDepthStencil,
-                LintKind::UnusedDepthStencilFlag,
-                uses.iter()
-                    .any(|a| matches!(a, Access::DepthRead | Access::DepthWrite)),
-                "bound as depth-stencil",
-            ),
-        ];
-        for (flag, code, used, how) in checks {
-            if r.has_flag(flag) && !used {
-                let flag_name = flag.name();
-                out.push(lint(code, format!("\"{}\" has {flag_name} but is never {how}; removing the flag can enable compression", r.name), None, Some(r.id)));
-            }
-        }
     }
 
-    // Written, never read.
-    let read_by: BTreeSet<u32> = model
-        .passes
-        .iter()
-        .flat_map(|p| p.accesses.iter())
-        .filter(|a| a.reads)
-        .map(|a| {
-            model.resources[a.resource as usize]
-                .previous_of
-                .unwrap_or(a.resource)
-        })
-        .collect();
-    for r in &capture.resources {
-        let written = accesses().any(|(_, a)| a.resource == r.id && a.writes);
-        if written && !read_by.contains(&r.id.0) && !r.output && !r.history {
-            out.push(lint(
-                LintKind::WrittenNeverRead,
-                format!("\"{}\" is written but nothing reads it", r.name),
-                None,
-                Some(r.id),
-            ));
-        }
-    }
-
-    // Dead passes.
-    for &p in culled {
-        let pass = &model.passes[p as usize];
-        let message = if pass.accesses.iter().any(|a| a.writes) {
-            format!(
-                "the results of \"{}\" never reach a frame output (use --cull to drop it)",
-                pass.name
-            )
-        } else {
-            format!("\"{}\" writes nothing", pass.name)
-        };
-        out.push(lint(
-            LintKind::PassWithoutEffect,
-            message,
-            Some(pass.id),
-            None,
-        ));
-    }
-
-    // Read before anything wrote it, in order.
-    let mut written: BTreeSet<u32> = BTreeSet::new();
-    let mut reported: BTreeSet<u32> = BTreeSet::new();
-    for &p in order {
-        let pass = &model.passes[p as usize];
-        for a in &pass.accesses {
-            let r = &model.resources[a.resource as usize];
-            if a.reads
-                && !written.contains(&a.resource)
-                && !r.initialised
-                && r.previous_of.is_none()
-                && reported.insert(a.resource)
-            {
-                out.push(lint(LintKind::ReadBeforeWrite, format!("\"{}\" reads \"{}\" before any pass writes it and it has no initial contents", pass.name, r.name), Some(pass.id), Some(ResourceId(a.resource))));
-            }
-        }
-        for a in &pass.accesses {
-            if a.writes {
-                written.insert(a.resource);
-            }
-        }
-    }
-
-    // Copies whose result nobody reads, and repeated identical copies.
-    let mut seen_copies: BTreeMap<(u32, u32, String), u32> = BTreeMap::new();
-    for &p in order {
-        let pass = &capture.passes[p as usize];
-        for (i, c) in pass.copies.iter().enumerate() {
-            let dst = c.dst.resource;
-            let read_later = graph
-                .graph
-                .edges(graph.nodes[p as usize])
-                .any(|e| e.weight().kind == EdgeKind::Raw && e.weight().resource == Some(dst.0));
-            let dst_res = capture.resource(dst);
-            if !read_later && !dst_res.output && !dst_res.history {
+    /// Flags never used.
+    fn unused_flags(&self, out: &mut Vec<Lint>) {
+        let Linter { capture, .. } = *self;
+        let accesses = || self.accesses();
+        for r in &capture.resources {
+            let uses: Vec<Access> = accesses()
+                .filter(|(_, a)| a.resource == r.id)
+                .map(|(_, a)| a.access)
+                .collect();
+            if uses.is_empty() {
                 out.push(lint(
-                    LintKind::RedundantCopy,
-                    format!(
-                        "copy {i} of \"{}\" into \"{}\" is never read",
-                        pass.name, dst_res.name
-                    ),
-                    Some(pass.id),
-                    Some(dst),
+                    LintKind::UnusedResource,
+                    format!("\"{}\" is declared but no pass uses it", r.name),
+                    None,
+                    Some(r.id),
+                ));
+                continue;
+            }
+            let checks = [
+                (
+                    ResourceFlag::AllowUnorderedAccess,
+                    LintKind::UnusedUavFlag,
+                    uses.iter().any(|a| a.is_unordered(r.is_texture())),
+                    "bound as an unordered-access view",
+                ),
+                (
+                    ResourceFlag::AllowRenderTarget,
+                    LintKind::UnusedRenderTargetFlag,
+                    uses.contains(&Access::ColorAttachment),
+                    "rendered to",
+                ),
+                (
+                    ResourceFlag::AllowDepthStencil,
+                    LintKind::UnusedDepthStencilFlag,
+                    uses.iter()
+                        .any(|a| matches!(a, Access::DepthRead | Access::DepthWrite)),
+                    "bound as depth-stencil",
+                ),
+            ];
+            for (flag, code, used, how) in checks {
+                if r.has_flag(flag) && !used {
+                    let flag_name = flag.name();
+                    out.push(lint(code, format!("\"{}\" has {flag_name} but is never {how}; removing the flag can enable compression", r.name), None, Some(r.id)));
+                }
+            }
+        }
+    }
+
+    /// Written, never read.
+    fn written_never_read(&self, out: &mut Vec<Lint>) {
+        let Linter { capture, model, .. } = *self;
+        let accesses = || self.accesses();
+        let read_by: BTreeSet<u32> = model
+            .passes
+            .iter()
+            .flat_map(|p| p.accesses.iter())
+            .filter(|a| a.reads)
+            .map(|a| {
+                model.resources[a.resource as usize]
+                    .previous_of
+                    .unwrap_or(a.resource)
+            })
+            .collect();
+        for r in &capture.resources {
+            let written = accesses().any(|(_, a)| a.resource == r.id && a.writes);
+            if written && !read_by.contains(&r.id.0) && !r.output && !r.history {
+                out.push(lint(
+                    LintKind::WrittenNeverRead,
+                    format!("\"{}\" is written but nothing reads it", r.name),
+                    None,
+                    Some(r.id),
                 ));
             }
-            let key = (
-                c.src.resource.0,
-                dst.0,
-                format!("{:?}{:?}{:?}", c.src.origin, c.dst.origin, c.extent),
-            );
-            if let Some(&earlier) = seen_copies.get(&key) {
-                let touched_between = order
-                    .iter()
-                    .skip_while(|&&q| q != earlier)
-                    .skip(1)
-                    .take_while(|&&q| q != p)
-                    .any(|&q| {
-                        model.passes[q as usize].accesses.iter().any(|a| {
-                            a.writes && (a.resource == c.src.resource.0 || a.resource == dst.0)
-                        })
-                    });
-                if !touched_between {
+        }
+    }
+
+    /// Dead passes.
+    fn dead_passes(&self, out: &mut Vec<Lint>) {
+        let Linter { model, culled, .. } = *self;
+        for &p in culled {
+            let pass = &model.passes[p as usize];
+            let message = if pass.accesses.iter().any(|a| a.writes) {
+                format!(
+                    "the results of \"{}\" never reach a frame output (use --cull to drop it)",
+                    pass.name
+                )
+            } else {
+                format!("\"{}\" writes nothing", pass.name)
+            };
+            out.push(lint(
+                LintKind::PassWithoutEffect,
+                message,
+                Some(pass.id),
+                None,
+            ));
+        }
+    }
+
+    /// Read before anything wrote it, in order.
+    fn read_before_write(&self, out: &mut Vec<Lint>) {
+        let Linter { model, order, .. } = *self;
+        let mut written: BTreeSet<u32> = BTreeSet::new();
+        let mut reported: BTreeSet<u32> = BTreeSet::new();
+        for &p in order {
+            let pass = &model.passes[p as usize];
+            for a in &pass.accesses {
+                let r = &model.resources[a.resource as usize];
+                if a.reads
+                    && !written.contains(&a.resource)
+                    && !r.initialised
+                    && r.previous_of.is_none()
+                    && reported.insert(a.resource)
+                {
+                    out.push(lint(LintKind::ReadBeforeWrite, format!("\"{}\" reads \"{}\" before any pass writes it and it has no initial contents", pass.name, r.name), Some(pass.id), Some(ResourceId(a.resource))));
+                }
+            }
+            for a in &pass.accesses {
+                if a.writes {
+                    written.insert(a.resource);
+                }
+            }
+        }
+    }
+
+    /// Copies whose result nobody reads, and repeated identical copies.
+    fn redundant_copies(&self, out: &mut Vec<Lint>) {
+        let Linter {
+            capture,
+            model,
+            graph,
+            order,
+            ..
+        } = *self;
+        let mut seen_copies: BTreeMap<(u32, u32, String), u32> = BTreeMap::new();
+        for &p in order {
+            let pass = &capture.passes[p as usize];
+            for (i, c) in pass.copies.iter().enumerate() {
+                let dst = c.dst.resource;
+                let read_later = graph.graph.edges(graph.nodes[p as usize]).any(|e| {
+                    e.weight().kind == EdgeKind::Raw && e.weight().resource == Some(dst.0)
+                });
+                let dst_res = capture.resource(dst);
+                if !read_later && !dst_res.output && !dst_res.history {
                     out.push(lint(
                         LintKind::RedundantCopy,
                         format!(
-                            "\"{}\" repeats the copy \"{}\" made from \"{}\" to \"{}\"",
-                            pass.name,
-                            capture.passes[earlier as usize].name,
-                            capture.resource(c.src.resource).name,
-                            dst_res.name
+                            "copy {i} of \"{}\" into \"{}\" is never read",
+                            pass.name, dst_res.name
                         ),
                         Some(pass.id),
                         Some(dst),
                     ));
                 }
-            }
-            seen_copies.insert(key, p);
-        }
-    }
-
-    // Typeless resources without a typed view.
-    for r in &capture.resources {
-        let Some(f) = r.format.filter(|f| f.is_typeless()) else {
-            continue;
-        };
-        let typed_view = capture.passes.iter().any(|p| {
-            p.bindings.iter().any(|b| matches!(b.target, BindingTarget::Resource { resource, view_format: Some(vf), .. } if resource == r.id && !vf.is_typeless()))
-                || p.color_attachments.iter().any(|c| c.resource == r.id)
-                || p.depth_stencil.as_ref().is_some_and(|d| d.resource == r.id)
-        });
-        let used = accesses().any(|(_, a)| a.resource == r.id);
-        if used && !typed_view {
-            out.push(lint(
-                LintKind::TypelessWithoutTypedView,
-                format!(
-                    "\"{}\" is {} and no pass views it with a typed format; give it a typed format",
-                    r.name, f.name
-                ),
-                None,
-                Some(r.id),
-            ));
-        }
-    }
-
-    // Depth bound writable but only tested.
-    for &p in order {
-        let pass = &capture.passes[p as usize];
-        if let Some(d) = &pass.depth_stencil {
-            let access = pass.accesses.iter().find(|a| {
-                a.resource == d.resource
-                    && matches!(a.access, Access::DepthRead | Access::DepthWrite)
-            });
-            if !d.read_only && access.is_some_and(|a| a.access == Access::DepthRead) {
-                let name = &capture.resource(d.resource).name;
-                out.push(lint(LintKind::DepthCouldBeReadOnly, format!("\"{}\" binds \"{name}\" writable but never writes it: bind it read_only so it stays in DEPTH_READ", pass.name), Some(pass.id), Some(d.resource)));
+                let key = (
+                    c.src.resource.0,
+                    dst.0,
+                    format!("{:?}{:?}{:?}", c.src.origin, c.dst.origin, c.extent),
+                );
+                if let Some(&earlier) = seen_copies.get(&key) {
+                    let touched_between = order
+                        .iter()
+                        .skip_while(|&&q| q != earlier)
+                        .skip(1)
+                        .take_while(|&&q| q != p)
+                        .any(|&q| {
+                            model.passes[q as usize].accesses.iter().any(|a| {
+                                a.writes && (a.resource == c.src.resource.0 || a.resource == dst.0)
+                            })
+                        });
+                    if !touched_between {
+                        out.push(lint(
+                            LintKind::RedundantCopy,
+                            format!(
+                                "\"{}\" repeats the copy \"{}\" made from \"{}\" to \"{}\"",
+                                pass.name,
+                                capture.passes[earlier as usize].name,
+                                capture.resource(c.src.resource).name,
+                                dst_res.name
+                            ),
+                            Some(pass.id),
+                            Some(dst),
+                        ));
+                    }
+                }
+                seen_copies.insert(key, p);
             }
         }
     }
 
-    // Descriptor heaps.
-    let mut needed: BTreeMap<DescriptorHeapType, u64> = BTreeMap::new();
-    for &p in order {
-        let pass = &capture.passes[p as usize];
-        for b in &pass.bindings {
-            let ty = match b.target {
-                BindingTarget::Sampler(_) => DescriptorHeapType::Sampler,
-                BindingTarget::Resource { .. } => DescriptorHeapType::CbvSrvUav,
+    /// Typeless resources without a typed view.
+    fn typeless_without_view(&self, out: &mut Vec<Lint>) {
+        let Linter { capture, .. } = *self;
+        let accesses = || self.accesses();
+        for r in &capture.resources {
+            let Some(f) = r.format.filter(|f| f.is_typeless()) else {
+                continue;
             };
-            *needed.entry(ty).or_default() += 1;
-        }
-        if pass.shader.is_some() {
-            // The frame-constants and per-pass parameter buffers.
-            *needed.entry(DescriptorHeapType::CbvSrvUav).or_default() += 2;
-        }
-        *needed.entry(DescriptorHeapType::Rtv).or_default() += pass.color_attachments.len() as u64;
-        *needed.entry(DescriptorHeapType::Dsv).or_default() +=
-            u64::from(pass.depth_stencil.is_some());
-    }
-    for (ty, count) in needed.into_iter().filter(|(_, c)| *c > 0) {
-        let name = match ty {
-            DescriptorHeapType::CbvSrvUav => "CBV_SRV_UAV",
-            DescriptorHeapType::Sampler => "SAMPLER",
-            DescriptorHeapType::Rtv => "RTV",
-            DescriptorHeapType::Dsv => "DSV",
-        };
-        let capacity: u64 = capture
-            .descriptor_heaps
-            .iter()
-            .filter(|h| h.heap_type == ty)
-            .map(|h| u64::from(h.capacity))
-            .sum();
-        if capture.descriptor_heaps.is_empty() {
-            continue; // A capture without descriptor heaps does not model them.
-        }
-        if capacity == 0 {
-            out.push(lint(
-                LintKind::DescriptorHeapCapacity,
-                format!("the frame needs {count} {name} descriptors but declares no {name} heap"),
-                None,
-                None,
-            ));
-        } else if count > capacity {
-            out.push(lint(LintKind::DescriptorHeapCapacity, format!("the frame needs {count} {name} descriptors but its {name} heaps hold {capacity}"), None, None));
-        }
-    }
-
-    // Channels masked off in every write.
-    for r in &capture.resources {
-        let Some(f) = r.format else { continue };
-        let channels = f.channels.iter().filter(|c| c.name != 'X').count();
-        let masks: Vec<Option<&String>> = capture
-            .passes
-            .iter()
-            .flat_map(|p| p.color_attachments.iter())
-            .filter(|c| c.resource == r.id)
-            .map(|c| c.write_mask.as_ref())
-            .collect();
-        if masks.is_empty()
-            || masks.iter().any(Option::is_none)
-            || accesses()
-                .any(|(_, a)| a.resource == r.id && a.writes && a.access != Access::ColorAttachment)
-        {
-            continue;
-        }
-        let union: BTreeSet<char> = masks.iter().flatten().flat_map(|m| m.chars()).collect();
-        if union.len() < channels {
-            let used: String = union.iter().collect();
-            out.push(lint(LintKind::UnusedChannels, format!("\"{}\" ({}) is only ever written in channels \"{used}\"; a {}-channel format would do", r.name, f.name, union.len()), None, Some(r.id)));
-        }
-    }
-
-    // Mips no pass touches.
-    for r in capture
-        .resources
-        .iter()
-        .filter(|r| r.is_texture() && r.mip_levels > 1)
-    {
-        let max_mip = accesses()
-            .filter(|(_, a)| a.resource == r.id)
-            .map(|(_, a)| a.range.mip_base + a.range.mip_count)
-            .max();
-        if let Some(used) = max_mip.filter(|&m| m < r.mip_levels) {
-            out.push(lint(
-                LintKind::UnusedMips,
-                format!(
-                    "\"{}\" has {} mips but passes use only the first {used}",
-                    r.name, r.mip_levels
-                ),
-                None,
-                Some(r.id),
-            ));
-        }
-    }
-
-    // Fences the frame lacks.
-    for f in plan.fences.iter().filter(|f| !f.declared) {
-        let (a, b) = (
-            &model.passes[f.signal_after as usize],
-            &model.passes[f.wait_before as usize],
-        );
-        out.push(lint(
-            LintKind::MissingFence,
-            format!(
-                "\"{}\" (queue {}) must wait for \"{}\" (queue {}), but no fence orders them",
-                b.name,
-                model.queues[b.queue as usize].name,
-                a.name,
-                model.queues[a.queue as usize].name
-            ),
-            Some(b.id),
-            None,
-        ));
-    }
-
-    // Upload-heap resources read by several passes.
-    for r in &capture.resources {
-        if r.heap_type(&capture.heaps) == crate::capture::format::HeapType::Upload {
-            let readers: BTreeSet<u32> = accesses()
-                .filter(|(_, a)| a.resource == r.id && a.reads)
-                .map(|(p, _)| p.id.0)
-                .collect();
-            if readers.len() >= 2 {
-                out.push(lint(LintKind::UploadHeapReadOften, format!("\"{}\" lives in an UPLOAD heap and {} passes read it across the bus; copy it to a DEFAULT heap once", r.name, readers.len()), None, Some(r.id)));
+            let typed_view = capture.passes.iter().any(|p| {
+                p.bindings.iter().any(|b| matches!(b.target, BindingTarget::Resource { resource, view_format: Some(vf), .. } if resource == r.id && !vf.is_typeless()))
+                    || p.color_attachments.iter().any(|c| c.resource == r.id)
+                    || p.depth_stencil.as_ref().is_some_and(|d| d.resource == r.id)
+            });
+            let used = accesses().any(|(_, a)| a.resource == r.id);
+            if used && !typed_view {
+                out.push(lint(
+                    LintKind::TypelessWithoutTypedView,
+                    format!(
+                        "\"{}\" is {} and no pass views it with a typed format; give it a typed format",
+                        r.name, f.name
+                    ),
+                    None,
+                    Some(r.id),
+                ));
             }
         }
     }
 
-    out.extend(compare_recorded(capture, model, plan));
+    /// Depth bound writable but only tested.
+    fn depth_could_be_read_only(&self, out: &mut Vec<Lint>) {
+        let Linter { capture, order, .. } = *self;
+        for &p in order {
+            let pass = &capture.passes[p as usize];
+            if let Some(d) = &pass.depth_stencil {
+                let access = pass.accesses.iter().find(|a| {
+                    a.resource == d.resource
+                        && matches!(a.access, Access::DepthRead | Access::DepthWrite)
+                });
+                if !d.read_only && access.is_some_and(|a| a.access == Access::DepthRead) {
+                    let name = &capture.resource(d.resource).name;
+                    out.push(lint(LintKind::DepthCouldBeReadOnly, format!("\"{}\" binds \"{name}\" writable but never writes it: bind it read_only so it stays in DEPTH_READ", pass.name), Some(pass.id), Some(d.resource)));
+                }
+            }
+        }
+    }
+
+    /// Descriptor heaps.
+    fn descriptor_heaps(&self, out: &mut Vec<Lint>) {
+        let Linter { capture, order, .. } = *self;
+        let mut needed: BTreeMap<DescriptorHeapType, u64> = BTreeMap::new();
+        for &p in order {
+            let pass = &capture.passes[p as usize];
+            for b in &pass.bindings {
+                let ty = match b.target {
+                    BindingTarget::Sampler(_) => DescriptorHeapType::Sampler,
+                    BindingTarget::Resource { .. } => DescriptorHeapType::CbvSrvUav,
+                };
+                *needed.entry(ty).or_default() += 1;
+            }
+            if pass.shader.is_some() {
+                // The frame-constants and per-pass parameter buffers.
+                *needed.entry(DescriptorHeapType::CbvSrvUav).or_default() += 2;
+            }
+            *needed.entry(DescriptorHeapType::Rtv).or_default() +=
+                pass.color_attachments.len() as u64;
+            *needed.entry(DescriptorHeapType::Dsv).or_default() +=
+                u64::from(pass.depth_stencil.is_some());
+        }
+        for (ty, count) in needed.into_iter().filter(|(_, c)| *c > 0) {
+            let name = match ty {
+                DescriptorHeapType::CbvSrvUav => "CBV_SRV_UAV",
+                DescriptorHeapType::Sampler => "SAMPLER",
+                DescriptorHeapType::Rtv => "RTV",
+                DescriptorHeapType::Dsv => "DSV",
+            };
+            let capacity: u64 = capture
+                .descriptor_heaps
+                .iter()
+                .filter(|h| h.heap_type == ty)
+                .map(|h| u64::from(h.capacity))
+                .sum();
+            if capture.descriptor_heaps.is_empty() {
+                continue; // A capture without descriptor heaps does not model them.
+            }
+            if capacity == 0 {
+                out.push(lint(
+                    LintKind::DescriptorHeapCapacity,
+                    format!(
+                        "the frame needs {count} {name} descriptors but declares no {name} heap"
+                    ),
+                    None,
+                    None,
+                ));
+            } else if count > capacity {
+                out.push(lint(LintKind::DescriptorHeapCapacity, format!("the frame needs {count} {name} descriptors but its {name} heaps hold {capacity}"), None, None));
+            }
+        }
+    }
+
+    /// Channels masked off in every write.
+    fn unused_channels(&self, out: &mut Vec<Lint>) {
+        let Linter { capture, .. } = *self;
+        let accesses = || self.accesses();
+        for r in &capture.resources {
+            let Some(f) = r.format else { continue };
+            let channels = f.channels.iter().filter(|c| c.name != 'X').count();
+            let masks: Vec<Option<&String>> = capture
+                .passes
+                .iter()
+                .flat_map(|p| p.color_attachments.iter())
+                .filter(|c| c.resource == r.id)
+                .map(|c| c.write_mask.as_ref())
+                .collect();
+            if masks.is_empty()
+                || masks.iter().any(Option::is_none)
+                || accesses().any(|(_, a)| {
+                    a.resource == r.id && a.writes && a.access != Access::ColorAttachment
+                })
+            {
+                continue;
+            }
+            let union: BTreeSet<char> = masks.iter().flatten().flat_map(|m| m.chars()).collect();
+            if union.len() < channels {
+                let used: String = union.iter().collect();
+                out.push(lint(LintKind::UnusedChannels, format!("\"{}\" ({}) is only ever written in channels \"{used}\"; a {}-channel format would do", r.name, f.name, union.len()), None, Some(r.id)));
+            }
+        }
+    }
+
+    /// Mips no pass touches.
+    fn unused_mips(&self, out: &mut Vec<Lint>) {
+        let Linter { capture, .. } = *self;
+        let accesses = || self.accesses();
+        for r in capture
+            .resources
+            .iter()
+            .filter(|r| r.is_texture() && r.mip_levels > 1)
+        {
+            let max_mip = accesses()
+                .filter(|(_, a)| a.resource == r.id)
+                .map(|(_, a)| a.range.mip_base + a.range.mip_count)
+                .max();
+            if let Some(used) = max_mip.filter(|&m| m < r.mip_levels) {
+                out.push(lint(
+                    LintKind::UnusedMips,
+                    format!(
+                        "\"{}\" has {} mips but passes use only the first {used}",
+                        r.name, r.mip_levels
+                    ),
+                    None,
+                    Some(r.id),
+                ));
+            }
+        }
+    }
+
+    /// Fences the frame lacks.
+    fn missing_fences(&self, out: &mut Vec<Lint>) {
+        let Linter { model, plan, .. } = *self;
+        for f in plan.fences.iter().filter(|f| !f.declared) {
+            let (a, b) = (
+                &model.passes[f.signal_after as usize],
+                &model.passes[f.wait_before as usize],
+            );
+            out.push(lint(
+                LintKind::MissingFence,
+                format!(
+                    "\"{}\" (queue {}) must wait for \"{}\" (queue {}), but no fence orders them",
+                    b.name,
+                    model.queues[b.queue as usize].name,
+                    a.name,
+                    model.queues[a.queue as usize].name
+                ),
+                Some(b.id),
+                None,
+            ));
+        }
+    }
+
+    /// Upload-heap resources read by several passes.
+    fn upload_heap_reads(&self, out: &mut Vec<Lint>) {
+        let Linter { capture, .. } = *self;
+        let accesses = || self.accesses();
+        for r in &capture.resources {
+            if r.heap_type(&capture.heaps) == crate::capture::format::HeapType::Upload {
+                let readers: BTreeSet<u32> = accesses()
+                    .filter(|(_, a)| a.resource == r.id && a.reads)
+                    .map(|(p, _)| p.id.0)
+                    .collect();
+                if readers.len() >= 2 {
+                    out.push(lint(LintKind::UploadHeapReadOften, format!("\"{}\" lives in an UPLOAD heap and {} passes read it across the bus; copy it to a DEFAULT heap once", r.name, readers.len()), None, Some(r.id)));
+                }
+            }
+        }
+    }
+}
+
+pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
+    let in_order: BTreeSet<u32> = input.order.iter().copied().collect();
+    let linter = Linter {
+        capture: input.capture,
+        model: input.model,
+        graph: input.graph,
+        order: input.order,
+        culled: input.culled,
+        plan: input.plan,
+        in_order: &in_order,
+    };
+    let mut out = Vec::new();
+    linter.unused_flags(&mut out);
+    linter.written_never_read(&mut out);
+    linter.dead_passes(&mut out);
+    linter.read_before_write(&mut out);
+    linter.redundant_copies(&mut out);
+    linter.typeless_without_view(&mut out);
+    linter.depth_could_be_read_only(&mut out);
+    linter.descriptor_heaps(&mut out);
+    linter.unused_channels(&mut out);
+    linter.unused_mips(&mut out);
+    linter.missing_fences(&mut out);
+    linter.upload_heap_reads(&mut out);
+    out.extend(compare_recorded(input.capture, input.model, input.plan));
     out.sort();
     out.dedup();
     out
