@@ -49,147 +49,11 @@ impl<'a> Validator<'a> {
         let caps = queue_type.map(QueueCapabilities::of);
         let name = &p.name;
 
-        // Which fields belong to which kind.
-        let present_fields: [(&str, bool); 10] = [
-            ("shader", p.shader.is_some()),
-            ("color_attachments", !p.color_attachments.is_empty()),
-            ("depth_stencil", p.depth_stencil.is_some()),
-            ("state", p.state.is_some()),
-            ("draws", !p.draws.is_empty()),
-            ("dispatches", !p.dispatches.is_empty()),
-            ("copies", !p.copies.is_empty()),
-            ("clears", !p.clears.is_empty()),
-            ("resolve", p.resolve.is_some()),
-            ("present", p.present.is_some()),
-        ];
-        let allowed: &[&str] = match p.kind {
-            PassKind::Raster => &[
-                "shader",
-                "color_attachments",
-                "depth_stencil",
-                "state",
-                "draws",
-            ],
-            PassKind::Compute => &["shader", "dispatches"],
-            PassKind::Copy => &["copies"],
-            PassKind::Clear => &["clears"],
-            PassKind::Resolve => &["resolve"],
-            PassKind::GenerateMips => &[],
-            PassKind::Present => &["present"],
-        };
-        for (field, present) in present_fields {
-            if present && !allowed.contains(&field) {
-                self.diags.error(
-                    "pass-kind",
-                    &path.field(field),
-                    format!("{} pass \"{name}\" cannot have `{field}`", p.kind.as_str()),
-                );
-            }
-        }
-        if p.generate_mips.is_some() && p.kind != PassKind::GenerateMips {
-            self.diags.error(
-                "pass-kind",
-                &path.field("generate_mips"),
-                format!(
-                    "{} pass \"{name}\" cannot have `generate_mips`",
-                    p.kind.as_str()
-                ),
-            );
-        }
-        if !p.bindings.is_empty() && !matches!(p.kind, PassKind::Raster | PassKind::Compute) {
-            self.diags.error(
-                "pass-kind",
-                &path.field("bindings"),
-                format!(
-                    "{} pass \"{name}\" has no shader to bind to",
-                    p.kind.as_str()
-                ),
-            );
-        }
-
-        // Queue capabilities (Vulkan's pipeline stage -> required queue capability table).
+        self.check_pass_fields(p, path);
         if let (Some(caps), Some(qt)) = (caps, queue_type) {
-            let need = |graphics: bool, compute: bool| {
-                (graphics && !caps.graphics) || (compute && !caps.compute)
-            };
-            let (bad, what) = match p.kind {
-                PassKind::Raster => (
-                    need(true, false),
-                    "draws (vertex/fragment stages need a graphics queue)",
-                ),
-                PassKind::Compute => (
-                    need(false, true),
-                    "dispatches (the compute stage needs a compute or graphics queue)",
-                ),
-                PassKind::Resolve => (
-                    need(true, false),
-                    "resolves (ResolveSubresource runs on a graphics queue)",
-                ),
-                PassKind::Present => (
-                    need(true, false),
-                    "presents (only a graphics queue presents)",
-                ),
-                PassKind::GenerateMips => (need(false, true), "mip generation (it runs shaders)"),
-                PassKind::Clear => (false, ""),
-                PassKind::Copy => (false, ""),
-            };
-            if bad {
-                self.diags.error(
-                    "queue-capability",
-                    &path.field("queue"),
-                    format!(
-                        "pass \"{name}\" {what}, but queue \"{}\" is a {} queue (can do: {})",
-                        p.queue,
-                        qt.name(),
-                        caps.names().join(", ")
-                    ),
-                );
-            }
-            let indirect = p.draws.iter().any(|d| d.indirect.is_some())
-                || p.dispatches.iter().any(|d| d.indirect.is_some());
-            if indirect && !caps.graphics && !caps.compute {
-                self.diags.error("queue-capability", &path.field("queue"), format!(
-                    "pass \"{name}\" reads indirect arguments (DRAW_INDIRECT stage), which a copy queue cannot"
-                ));
-            }
+            self.check_pass_queue(p, path, caps, qt);
         }
-
-        // Shader.
-        let shader = p.shader.as_ref().and_then(|s| {
-            let spath = path.field("shader");
-            match p.kind {
-                PassKind::Raster => {
-                    if s.vertex.is_none() {
-                        self.diags.error("shader", &spath, format!("raster pass \"{name}\" needs a `vertex` entry point"));
-                    }
-                    if s.fragment.is_none() && !p.color_attachments.is_empty() {
-                        self.diags.error("shader", &spath, format!("raster pass \"{name}\" writes colour but has no `fragment` entry point"));
-                    }
-                    if s.compute.is_some() {
-                        self.diags.error("shader", &spath.field("compute"), "a raster pass has no compute entry point");
-                    }
-                }
-                PassKind::Compute => {
-                    if s.vertex.is_some() || s.fragment.is_some() {
-                        self.diags.error("shader", &spath, "a compute pass has only a `compute` entry point");
-                    }
-                    if s.compute.is_none() && p.dispatches.iter().any(|d| d.entry.is_none()) {
-                        self.diags.error("shader", &spath, format!("compute pass \"{name}\" needs a `compute` entry point (or one per dispatch)"));
-                    }
-                }
-                _ => {}
-            }
-            let file = self.side_file(&s.file, &spath.field("file"))?;
-            let id = self.load_shader(&s.file, &file, &spath.field("file"))?;
-            Some(ShaderDesc { id, vertex: s.vertex.clone(), fragment: s.fragment.clone(), compute: s.compute.clone() })
-        });
-        if matches!(p.kind, PassKind::Raster | PassKind::Compute) && p.shader.is_none() {
-            self.diags.error(
-                "shader",
-                path,
-                format!("{} pass \"{name}\" needs a `shader`", p.kind.as_str()),
-            );
-        }
+        let shader = self.pass_shader(p, path);
 
         let mut accesses: Vec<ResourceAccess> = Vec::new();
         let cx = PassContext {
@@ -306,6 +170,163 @@ impl<'a> Validator<'a> {
             recorded_gpu_ns: p.timing.as_ref().map(|t| t.gpu_ns),
             accesses,
         })
+    }
+
+    /// Fields that belong to another pass kind.
+    fn check_pass_fields(&mut self, p: &Pass, path: &JsonPath) {
+        let name = &p.name;
+        let present_fields: [(&str, bool); 10] = [
+            ("shader", p.shader.is_some()),
+            ("color_attachments", !p.color_attachments.is_empty()),
+            ("depth_stencil", p.depth_stencil.is_some()),
+            ("state", p.state.is_some()),
+            ("draws", !p.draws.is_empty()),
+            ("dispatches", !p.dispatches.is_empty()),
+            ("copies", !p.copies.is_empty()),
+            ("clears", !p.clears.is_empty()),
+            ("resolve", p.resolve.is_some()),
+            ("present", p.present.is_some()),
+        ];
+        let allowed: &[&str] = match p.kind {
+            PassKind::Raster => &[
+                "shader",
+                "color_attachments",
+                "depth_stencil",
+                "state",
+                "draws",
+            ],
+            PassKind::Compute => &["shader", "dispatches"],
+            PassKind::Copy => &["copies"],
+            PassKind::Clear => &["clears"],
+            PassKind::Resolve => &["resolve"],
+            PassKind::GenerateMips => &[],
+            PassKind::Present => &["present"],
+        };
+        for (field, present) in present_fields {
+            if present && !allowed.contains(&field) {
+                self.diags.error(
+                    "pass-kind",
+                    &path.field(field),
+                    format!("{} pass \"{name}\" cannot have `{field}`", p.kind.as_str()),
+                );
+            }
+        }
+        if p.generate_mips.is_some() && p.kind != PassKind::GenerateMips {
+            self.diags.error(
+                "pass-kind",
+                &path.field("generate_mips"),
+                format!(
+                    "{} pass \"{name}\" cannot have `generate_mips`",
+                    p.kind.as_str()
+                ),
+            );
+        }
+        if !p.bindings.is_empty() && !matches!(p.kind, PassKind::Raster | PassKind::Compute) {
+            self.diags.error(
+                "pass-kind",
+                &path.field("bindings"),
+                format!(
+                    "{} pass \"{name}\" has no shader to bind to",
+                    p.kind.as_str()
+                ),
+            );
+        }
+    }
+
+    /// What the pass kind needs from its queue (Vulkan's pipeline stage -> required queue
+    /// capability table).
+    fn check_pass_queue(
+        &mut self,
+        p: &Pass,
+        path: &JsonPath,
+        caps: QueueCapabilities,
+        qt: QueueType,
+    ) {
+        let name = &p.name;
+        let need = |graphics: bool, compute: bool| {
+            (graphics && !caps.graphics) || (compute && !caps.compute)
+        };
+        let (bad, what) = match p.kind {
+            PassKind::Raster => (
+                need(true, false),
+                "draws (vertex/fragment stages need a graphics queue)",
+            ),
+            PassKind::Compute => (
+                need(false, true),
+                "dispatches (the compute stage needs a compute or graphics queue)",
+            ),
+            PassKind::Resolve => (
+                need(true, false),
+                "resolves (ResolveSubresource runs on a graphics queue)",
+            ),
+            PassKind::Present => (
+                need(true, false),
+                "presents (only a graphics queue presents)",
+            ),
+            PassKind::GenerateMips => (need(false, true), "mip generation (it runs shaders)"),
+            PassKind::Clear => (false, ""),
+            PassKind::Copy => (false, ""),
+        };
+        if bad {
+            self.diags.error(
+                "queue-capability",
+                &path.field("queue"),
+                format!(
+                    "pass \"{name}\" {what}, but queue \"{}\" is a {} queue (can do: {})",
+                    p.queue,
+                    qt.name(),
+                    caps.names().join(", ")
+                ),
+            );
+        }
+        let indirect = p.draws.iter().any(|d| d.indirect.is_some())
+            || p.dispatches.iter().any(|d| d.indirect.is_some());
+        if indirect && !caps.graphics && !caps.compute {
+            self.diags.error("queue-capability", &path.field("queue"), format!(
+                "pass \"{name}\" reads indirect arguments (DRAW_INDIRECT stage), which a copy queue cannot"
+            ));
+        }
+    }
+
+    /// The pass's shader: entry points its kind needs, the file read and reflected once.
+    fn pass_shader(&mut self, p: &Pass, path: &JsonPath) -> Option<ShaderDesc> {
+        let name = &p.name;
+        let shader = p.shader.as_ref().and_then(|s| {
+            let spath = path.field("shader");
+            match p.kind {
+                PassKind::Raster => {
+                    if s.vertex.is_none() {
+                        self.diags.error("shader", &spath, format!("raster pass \"{name}\" needs a `vertex` entry point"));
+                    }
+                    if s.fragment.is_none() && !p.color_attachments.is_empty() {
+                        self.diags.error("shader", &spath, format!("raster pass \"{name}\" writes colour but has no `fragment` entry point"));
+                    }
+                    if s.compute.is_some() {
+                        self.diags.error("shader", &spath.field("compute"), "a raster pass has no compute entry point");
+                    }
+                }
+                PassKind::Compute => {
+                    if s.vertex.is_some() || s.fragment.is_some() {
+                        self.diags.error("shader", &spath, "a compute pass has only a `compute` entry point");
+                    }
+                    if s.compute.is_none() && p.dispatches.iter().any(|d| d.entry.is_none()) {
+                        self.diags.error("shader", &spath, format!("compute pass \"{name}\" needs a `compute` entry point (or one per dispatch)"));
+                    }
+                }
+                _ => {}
+            }
+            let file = self.side_file(&s.file, &spath.field("file"))?;
+            let id = self.load_shader(&s.file, &file, &spath.field("file"))?;
+            Some(ShaderDesc { id, vertex: s.vertex.clone(), fragment: s.fragment.clone(), compute: s.compute.clone() })
+        });
+        if matches!(p.kind, PassKind::Raster | PassKind::Compute) && p.shader.is_none() {
+            self.diags.error(
+                "shader",
+                path,
+                format!("{} pass \"{name}\" needs a `shader`", p.kind.as_str()),
+            );
+        }
+        shader
     }
 
     fn pass_colors(
