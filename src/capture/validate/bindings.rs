@@ -71,56 +71,8 @@ impl<'a> Validator<'a> {
                     ));
                     return None;
                 };
-                if !access.is_shader_binding() {
-                    let home = match access {
-                        Access::ColorAttachment => "`color_attachments`",
-                        Access::DepthRead | Access::DepthWrite => "`depth_stencil`",
-                        Access::IndirectArgs => "a draw's or dispatch's `indirect`",
-                        Access::CopySrc | Access::CopyDst => "`copies`",
-                        Access::ResolveSrc | Access::ResolveDst => "`resolve`",
-                        Access::VertexBuffer | Access::IndexBuffer => "`meshes`",
-                        _ => "`present`",
-                    };
-                    self.diags.error(
-                        "binding-access",
-                        &path.field("access"),
-                        format!(
-                            "{} is not a shader binding access; declare it in {home}",
-                            access.as_str()
-                        ),
-                    );
+                if !self.check_binding_access(pass, r, access, path) {
                     return None;
-                }
-                if access.is_unordered(r.is_texture())
-                    && !r.has_flag(ResourceFlag::AllowUnorderedAccess)
-                {
-                    self.diags.error("binding-flags", &path.field("access"), format!(
-                        "\"{}\" is bound for {} access in pass \"{pass}\" but lacks ALLOW_UNORDERED_ACCESS", r.name, access.as_str()
-                    ));
-                }
-                if access == Access::Sampled && r.has_flag(ResourceFlag::DenyShaderResource) {
-                    self.diags.error(
-                        "binding-flags",
-                        &path.field("access"),
-                        format!(
-                            "\"{}\" has DENY_SHADER_RESOURCE and cannot be sampled",
-                            r.name
-                        ),
-                    );
-                }
-                if access == Access::Uniform && r.is_texture() {
-                    self.diags.error(
-                        "binding-access",
-                        &path.field("access"),
-                        format!("texture \"{}\" cannot be a uniform buffer", r.name),
-                    );
-                }
-                if r.samples > 1 && access.is_unordered(r.is_texture()) {
-                    self.diags.error(
-                        "binding-access",
-                        &path.field("access"),
-                        "multisampled textures cannot be storage-bound",
-                    );
                 }
                 let view_kind = b.dimension.unwrap_or(r.kind);
                 if let Some(dim) = b.dimension
@@ -162,50 +114,7 @@ impl<'a> Validator<'a> {
                     }
                     None
                 };
-                let range = if r.is_texture() {
-                    if b.bytes.is_some() {
-                        self.diags.error(
-                            "binding",
-                            &path.field("bytes"),
-                            "`bytes` applies to buffers",
-                        );
-                    }
-                    if access.is_unordered(r.is_texture())
-                        && b.mips.is_none_or(|m| m.count != Some(1))
-                        && r.mip_levels > 1
-                    {
-                        self.diags.error("binding", &path.field("mips"), format!(
-                            "a storage view of \"{}\" selects exactly one mip (`mips: {{\"base\": M, \"count\": 1}}`)", r.name
-                        ));
-                    }
-                    self.view_range(r, b.mips.as_ref(), b.layers.as_ref(), path)
-                } else {
-                    if b.mips.is_some() || b.layers.is_some() {
-                        self.diags
-                            .error("binding", path, "mip and layer ranges apply to textures");
-                    }
-                    let mut range = Subresources::whole(r);
-                    if let Some(bytes) = &b.bytes {
-                        if bytes.size == 0
-                            || bytes
-                                .offset
-                                .checked_add(bytes.size)
-                                .is_none_or(|e| e > r.bytes)
-                        {
-                            self.diags.error(
-                                "binding",
-                                &path.field("bytes"),
-                                format!(
-                                    "byte range {}+{} is outside buffer \"{}\" of {} bytes",
-                                    bytes.offset, bytes.size, r.name, r.bytes
-                                ),
-                            );
-                        }
-                        range.byte_offset = bytes.offset;
-                        range.byte_size = bytes.size;
-                    }
-                    range
-                };
+                let range = self.binding_range(r, access, b, path);
                 accesses.push(ResourceAccess {
                     resource: r.id,
                     access,
@@ -225,6 +134,121 @@ impl<'a> Validator<'a> {
                     range: Some(range),
                 })
             }
+        }
+    }
+
+    /// The access against the resource's flags, kind and samples; `false` when it is not a
+    /// shader binding access at all.
+    fn check_binding_access(
+        &mut self,
+        pass: &str,
+        r: &ResourceDesc,
+        access: Access,
+        path: &JsonPath,
+    ) -> bool {
+        if !access.is_shader_binding() {
+            let home = match access {
+                Access::ColorAttachment => "`color_attachments`",
+                Access::DepthRead | Access::DepthWrite => "`depth_stencil`",
+                Access::IndirectArgs => "a draw's or dispatch's `indirect`",
+                Access::CopySrc | Access::CopyDst => "`copies`",
+                Access::ResolveSrc | Access::ResolveDst => "`resolve`",
+                Access::VertexBuffer | Access::IndexBuffer => "`meshes`",
+                _ => "`present`",
+            };
+            self.diags.error(
+                "binding-access",
+                &path.field("access"),
+                format!(
+                    "{} is not a shader binding access; declare it in {home}",
+                    access.as_str()
+                ),
+            );
+            return false;
+        }
+        if access.is_unordered(r.is_texture()) && !r.has_flag(ResourceFlag::AllowUnorderedAccess) {
+            self.diags.error("binding-flags", &path.field("access"), format!(
+                "\"{}\" is bound for {} access in pass \"{pass}\" but lacks ALLOW_UNORDERED_ACCESS", r.name, access.as_str()
+            ));
+        }
+        if access == Access::Sampled && r.has_flag(ResourceFlag::DenyShaderResource) {
+            self.diags.error(
+                "binding-flags",
+                &path.field("access"),
+                format!(
+                    "\"{}\" has DENY_SHADER_RESOURCE and cannot be sampled",
+                    r.name
+                ),
+            );
+        }
+        if access == Access::Uniform && r.is_texture() {
+            self.diags.error(
+                "binding-access",
+                &path.field("access"),
+                format!("texture \"{}\" cannot be a uniform buffer", r.name),
+            );
+        }
+        if r.samples > 1 && access.is_unordered(r.is_texture()) {
+            self.diags.error(
+                "binding-access",
+                &path.field("access"),
+                "multisampled textures cannot be storage-bound",
+            );
+        }
+        true
+    }
+
+    /// The subresources a binding views: mips and layers of a texture, bytes of a buffer.
+    fn binding_range(
+        &mut self,
+        r: &ResourceDesc,
+        access: Access,
+        b: &Binding,
+        path: &JsonPath,
+    ) -> Subresources {
+        if r.is_texture() {
+            if b.bytes.is_some() {
+                self.diags.error(
+                    "binding",
+                    &path.field("bytes"),
+                    "`bytes` applies to buffers",
+                );
+            }
+            if access.is_unordered(r.is_texture())
+                && b.mips.is_none_or(|m| m.count != Some(1))
+                && r.mip_levels > 1
+            {
+                self.diags.error("binding", &path.field("mips"), format!(
+                    "a storage view of \"{}\" selects exactly one mip (`mips: {{\"base\": M, \"count\": 1}}`)", r.name
+                ));
+            }
+            self.view_range(r, b.mips.as_ref(), b.layers.as_ref(), path)
+        } else {
+            if b.mips.is_some() || b.layers.is_some() {
+                self.diags
+                    .error("binding", path, "mip and layer ranges apply to textures");
+            }
+            let mut range = Subresources::whole(r);
+            if let Some(bytes) = &b.bytes {
+                if bytes.size == 0
+                    || bytes
+                        .offset
+                        .checked_add(bytes.size)
+                        .is_none_or(|e| e > r.bytes)
+                {
+                    self.diags.error(
+                        "binding",
+                        &path.field("bytes"),
+                        format!(
+                            "byte range {}+{} is outside buffer \"{}\" of {} bytes",
+                            bytes.offset, bytes.size, r.name, r.bytes
+                        ),
+                    );
+                }
+                range.byte_offset = bytes.offset;
+                range.byte_size = bytes.size;
+            }
+            range
         }
     }
 
