@@ -27,140 +27,9 @@ impl<'a> Validator<'a> {
         let before = self.diags.error_count();
         let mut ranges = [Subresources::whole(src), Subresources::whole(dst)];
         match (src.is_texture(), dst.is_texture()) {
-            (false, false) => {
-                let size = c
-                    .src
-                    .size
-                    .or(c.dst.size)
-                    .unwrap_or(src.bytes.saturating_sub(c.src.offset));
-                for (i, (r, loc, side)) in [(src, &c.src, "src"), (dst, &c.dst, "dst")]
-                    .into_iter()
-                    .enumerate()
-                {
-                    if loc.offset.checked_add(size).is_none_or(|e| e > r.bytes) {
-                        self.diags.error(
-                            "copy",
-                            &path.field(side),
-                            format!(
-                                "copying {size} bytes at offset {} overruns \"{}\" ({} bytes)",
-                                loc.offset, r.name, r.bytes
-                            ),
-                        );
-                    }
-                    ranges[i].byte_offset = loc.offset;
-                    ranges[i].byte_size = size;
-                }
-                if src.id == dst.id
-                    && c.src.offset < c.dst.offset + size
-                    && c.dst.offset < c.src.offset + size
-                {
-                    self.diags.error(
-                        "copy",
-                        path,
-                        format!("source and destination ranges of \"{}\" overlap", src.name),
-                    );
-                }
-            }
-            (true, true) => {
-                let (sf, df) = (src.format?, dst.format?);
-                if sf.bits_per_element != df.bits_per_element || sf.block_width != df.block_width {
-                    self.diags.error(
-                        "copy",
-                        path,
-                        format!(
-                            "cannot copy {} into {}: element sizes differ ({} and {} bits)",
-                            sf.name, df.name, sf.bits_per_element, df.bits_per_element
-                        ),
-                    );
-                }
-                if src.samples != dst.samples {
-                    self.diags.error(
-                        "copy",
-                        path,
-                        "copies need equal sample counts; use a resolve pass",
-                    );
-                }
-                let (sw, sh, sd) = src.mip_extent(c.src.mip);
-                let extent = c.extent.unwrap_or([
-                    sw.saturating_sub(c.src.origin[0]),
-                    sh.saturating_sub(c.src.origin[1]),
-                    sd.saturating_sub(c.src.origin[2]),
-                ]);
-                for (i, (r, loc, side)) in [(src, &c.src, "src"), (dst, &c.dst, "dst")]
-                    .into_iter()
-                    .enumerate()
-                {
-                    ranges[i] = self.single_subresource(r, loc.mip, loc.layer, &path.field(side));
-                    let (w, h, d) = r.mip_extent(loc.mip.min(r.mip_levels.saturating_sub(1)));
-                    let fits = (0..3).all(|k| {
-                        u64::from(loc.origin[k]) + u64::from(extent[k]) <= u64::from([w, h, d][k])
-                    });
-                    if !fits {
-                        self.diags.error(
-                            "copy",
-                            &path.field(side),
-                            format!(
-                                "region {:?}+{:?} is outside mip {} of \"{}\" ({w}x{h}x{d})",
-                                loc.origin, extent, loc.mip, r.name
-                            ),
-                        );
-                    }
-                }
-                if src.id == dst.id && ranges[0].overlaps(&ranges[1]) {
-                    self.diags.error(
-                        "copy",
-                        path,
-                        format!(
-                            "copy within \"{}\" reads and writes the same subresource",
-                            src.name
-                        ),
-                    );
-                }
-            }
-            (texture_src, _) => {
-                let (tex, buf, tloc, bloc, tside, bside) = if texture_src {
-                    (src, dst, &c.src, &c.dst, "src", "dst")
-                } else {
-                    (dst, src, &c.dst, &c.src, "dst", "src")
-                };
-                let f = tex.format?;
-                let ti = if texture_src { 0 } else { 1 };
-                ranges[ti] = self.single_subresource(tex, tloc.mip, tloc.layer, &path.field(tside));
-                let (w, h, d) = tex.mip_extent(tloc.mip.min(tex.mip_levels.saturating_sub(1)));
-                let extent = c.extent.unwrap_or([w, h, d]);
-                let blocks_w = u64::from(extent[0].div_ceil(f.block_width));
-                let rows = u64::from(extent[1].div_ceil(f.block_height));
-                let row_bytes = blocks_w * u64::from(f.bits_per_element) / 8;
-                let pitch = bloc
-                    .bytes_per_row
-                    .map(u64::from)
-                    .unwrap_or(row_bytes.div_ceil(256) * 256);
-                if pitch < row_bytes {
-                    self.diags.error("copy", &path.field(bside).field("bytes_per_row"), format!(
-                        "bytes_per_row {pitch} is less than a row of {} texels ({row_bytes} bytes)", extent[0]
-                    ));
-                }
-                if pitch % 256 != 0 {
-                    self.diags.error("copy", &path.field(bside).field("bytes_per_row"), format!(
-                        "bytes_per_row {pitch} must be a multiple of 256 (D3D12_TEXTURE_DATA_PITCH_ALIGNMENT)"
-                    ));
-                }
-                let needed = pitch * rows.saturating_sub(1) * u64::from(extent[2].max(1))
-                    + row_bytes
-                    + pitch * rows * u64::from(extent[2].max(1).saturating_sub(1));
-                if bloc
-                    .offset
-                    .checked_add(needed)
-                    .is_none_or(|e| e > buf.bytes)
-                {
-                    self.diags.error("copy", &path.field(bside), format!(
-                        "the footprint of {}x{}x{} texels needs {needed} bytes at offset {} but \"{}\" has {}",
-                        extent[0], extent[1], extent[2], bloc.offset, buf.name, buf.bytes
-                    ));
-                }
-                ranges[1 - ti].byte_offset = bloc.offset;
-                ranges[1 - ti].byte_size = needed.max(1);
-            }
+            (false, false) => self.copy_buffers(c, path, src, dst, &mut ranges),
+            (true, true) => self.copy_textures(c, path, src, dst, &mut ranges)?,
+            (texture_src, _) => self.copy_footprint(c, path, src, dst, texture_src, &mut ranges)?,
         }
         if self.diags.error_count() > before {
             return None;
@@ -195,6 +64,176 @@ impl<'a> Validator<'a> {
             dst: loc(&c.dst, dst),
             extent: c.extent,
         })
+    }
+
+    /// A buffer-to-buffer copy: both ranges inside their buffers, no overlap within one.
+    fn copy_buffers(
+        &mut self,
+        c: &Copy,
+        path: &JsonPath,
+        src: &ResourceDesc,
+        dst: &ResourceDesc,
+        ranges: &mut [Subresources; 2],
+    ) {
+        let size = c
+            .src
+            .size
+            .or(c.dst.size)
+            .unwrap_or(src.bytes.saturating_sub(c.src.offset));
+        for (i, (r, loc, side)) in [(src, &c.src, "src"), (dst, &c.dst, "dst")]
+            .into_iter()
+            .enumerate()
+        {
+            if loc.offset.checked_add(size).is_none_or(|e| e > r.bytes) {
+                self.diags.error(
+                    "copy",
+                    &path.field(side),
+                    format!(
+                        "copying {size} bytes at offset {} overruns \"{}\" ({} bytes)",
+                        loc.offset, r.name, r.bytes
+                    ),
+                );
+            }
+            ranges[i].byte_offset = loc.offset;
+            ranges[i].byte_size = size;
+        }
+        if src.id == dst.id
+            && c.src.offset < c.dst.offset + size
+            && c.dst.offset < c.src.offset + size
+        {
+            self.diags.error(
+                "copy",
+                path,
+                format!("source and destination ranges of \"{}\" overlap", src.name),
+            );
+        }
+    }
+
+    /// A texture-to-texture copy: compatible elements, equal samples, regions inside the mips.
+    fn copy_textures(
+        &mut self,
+        c: &Copy,
+        path: &JsonPath,
+        src: &ResourceDesc,
+        dst: &ResourceDesc,
+        ranges: &mut [Subresources; 2],
+    ) -> Option<()> {
+        let (sf, df) = (src.format?, dst.format?);
+        if sf.bits_per_element != df.bits_per_element || sf.block_width != df.block_width {
+            self.diags.error(
+                "copy",
+                path,
+                format!(
+                    "cannot copy {} into {}: element sizes differ ({} and {} bits)",
+                    sf.name, df.name, sf.bits_per_element, df.bits_per_element
+                ),
+            );
+        }
+        if src.samples != dst.samples {
+            self.diags.error(
+                "copy",
+                path,
+                "copies need equal sample counts; use a resolve pass",
+            );
+        }
+        let (sw, sh, sd) = src.mip_extent(c.src.mip);
+        let extent = c.extent.unwrap_or([
+            sw.saturating_sub(c.src.origin[0]),
+            sh.saturating_sub(c.src.origin[1]),
+            sd.saturating_sub(c.src.origin[2]),
+        ]);
+        for (i, (r, loc, side)) in [(src, &c.src, "src"), (dst, &c.dst, "dst")]
+            .into_iter()
+            .enumerate()
+        {
+            ranges[i] = self.single_subresource(r, loc.mip, loc.layer, &path.field(side));
+            let (w, h, d) = r.mip_extent(loc.mip.min(r.mip_levels.saturating_sub(1)));
+            let fits = (0..3).all(|k| {
+                u64::from(loc.origin[k]) + u64::from(extent[k]) <= u64::from([w, h, d][k])
+            });
+            if !fits {
+                self.diags.error(
+                    "copy",
+                    &path.field(side),
+                    format!(
+                        "region {:?}+{:?} is outside mip {} of \"{}\" ({w}x{h}x{d})",
+                        loc.origin, extent, loc.mip, r.name
+                    ),
+                );
+            }
+        }
+        if src.id == dst.id && ranges[0].overlaps(&ranges[1]) {
+            self.diags.error(
+                "copy",
+                path,
+                format!(
+                    "copy within \"{}\" reads and writes the same subresource",
+                    src.name
+                ),
+            );
+        }
+        Some(())
+    }
+
+    /// A copy between a texture and a buffer: the buffer holds the placed footprint with rows
+    /// aligned to D3D12_TEXTURE_DATA_PITCH_ALIGNMENT.
+    fn copy_footprint(
+        &mut self,
+        c: &Copy,
+        path: &JsonPath,
+        src: &ResourceDesc,
+        dst: &ResourceDesc,
+        texture_src: bool,
+        ranges: &mut [Subresources; 2],
+    ) -> Option<()> {
+        let (tex, buf, tloc, bloc, tside, bside) = if texture_src {
+            (src, dst, &c.src, &c.dst, "src", "dst")
+        } else {
+            (dst, src, &c.dst, &c.src, "dst", "src")
+        };
+        let f = tex.format?;
+        let ti = if texture_src { 0 } else { 1 };
+        ranges[ti] = self.single_subresource(tex, tloc.mip, tloc.layer, &path.field(tside));
+        let (w, h, d) = tex.mip_extent(tloc.mip.min(tex.mip_levels.saturating_sub(1)));
+        let extent = c.extent.unwrap_or([w, h, d]);
+        let blocks_w = u64::from(extent[0].div_ceil(f.block_width));
+        let rows = u64::from(extent[1].div_ceil(f.block_height));
+        let row_bytes = blocks_w * u64::from(f.bits_per_element) / 8;
+        let pitch = bloc
+            .bytes_per_row
+            .map(u64::from)
+            .unwrap_or(row_bytes.div_ceil(256) * 256);
+        if pitch < row_bytes {
+            self.diags.error(
+                "copy",
+                &path.field(bside).field("bytes_per_row"),
+                format!(
+                    "bytes_per_row {pitch} is less than a row of {} texels ({row_bytes} bytes)",
+                    extent[0]
+                ),
+            );
+        }
+        if pitch % 256 != 0 {
+            self.diags.error("copy", &path.field(bside).field("bytes_per_row"), format!(
+                "bytes_per_row {pitch} must be a multiple of 256 (D3D12_TEXTURE_DATA_PITCH_ALIGNMENT)"
+            ));
+        }
+        let needed = pitch * rows.saturating_sub(1) * u64::from(extent[2].max(1))
+            + row_bytes
+            + pitch * rows * u64::from(extent[2].max(1).saturating_sub(1));
+        if bloc
+            .offset
+            .checked_add(needed)
+            .is_none_or(|e| e > buf.bytes)
+        {
+            self.diags.error("copy", &path.field(bside), format!(
+                "the footprint of {}x{}x{} texels needs {needed} bytes at offset {} but \"{}\" has {}",
+                extent[0], extent[1], extent[2], bloc.offset, buf.name, buf.bytes
+            ));
+        }
+        ranges[1 - ti].byte_offset = bloc.offset;
+        ranges[1 - ti].byte_size = needed.max(1);
+        Some(())
     }
 
     pub(super) fn check_barrier(
