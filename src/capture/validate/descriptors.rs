@@ -95,134 +95,9 @@ impl<'a> Validator<'a> {
         for (i, m) in self.raw.meshes.iter().enumerate() {
             let path = self.root.field("meshes").index(i);
             let errors_before = self.diags.error_count();
-            if m.streams.is_empty() {
-                self.diags.error(
-                    "mesh",
-                    &path.field("streams"),
-                    format!("mesh \"{}\" has no vertex streams", m.name),
-                );
-            }
-            let mut slots = BTreeSet::new();
-            let mut locations = BTreeSet::new();
-            for (s, stream) in m.streams.iter().enumerate() {
-                let spath = path.field("streams").index(s);
-                if !slots.insert(stream.slot) {
-                    self.diags.error(
-                        "mesh",
-                        &spath.field("slot"),
-                        format!("slot {} is used twice", stream.slot),
-                    );
-                }
-                if stream.slot >= 16 {
-                    self.diags.error(
-                        "mesh",
-                        &spath.field("slot"),
-                        "vertex buffer slots are 0..15",
-                    );
-                }
-                if stream.attributes.is_empty() {
-                    self.diags.error(
-                        "mesh",
-                        &spath.field("attributes"),
-                        "a stream needs at least one attribute",
-                    );
-                }
-                for (a, attr) in stream.attributes.iter().enumerate() {
-                    if !locations.insert(attr.location) {
-                        self.diags.error(
-                            "mesh",
-                            &spath.field("attributes").index(a).field("location"),
-                            format!(
-                                "location {} is used twice in mesh \"{}\"",
-                                attr.location, m.name
-                            ),
-                        );
-                    }
-                }
-                if stream.step == StepMode::Instance && m.instance_count.is_none() {
-                    self.diags.error("mesh", &path, format!(
-                        "mesh \"{}\" has a per-instance stream (slot {}) but no `instance_count`", m.name, stream.slot
-                    ));
-                }
-            }
-            let source = match &m.source {
-                MeshSource::File { path: rel } => {
-                    let fpath = path.field("source").field("file").field("path");
-                    if m.vertex_count.is_none() {
-                        self.diags.error(
-                            "mesh",
-                            &path,
-                            format!("mesh \"{}\" from a file needs `vertex_count`", m.name),
-                        );
-                    }
-                    if m.index_format.is_some() && m.index_count.is_none() {
-                        self.diags.error(
-                            "mesh",
-                            &path,
-                            format!(
-                                "indexed mesh \"{}\" from a file needs `index_count`",
-                                m.name
-                            ),
-                        );
-                    }
-                    let resolved = self.side_file(rel, &fpath);
-                    if let Some(p) = &resolved {
-                        let expected = mesh_file_bytes(m);
-                        if let (Some(expected), Ok(meta)) = (expected, std::fs::metadata(p))
-                            && meta.len() != expected
-                        {
-                            self.diags.error("side-file", &fpath, format!(
-                                    "\"{rel}\" has {} bytes; the streams and indices of mesh \"{}\" need {expected}", meta.len(), m.name
-                                ));
-                        }
-                    }
-                    resolved.map(MeshSourceDesc::File)
-                }
-                MeshSource::Generator { name, seed, params } => {
-                    let known = self.check_generator_params(
-                        generators::MESH_GENERATORS,
-                        name,
-                        params,
-                        &path.field("source").field("generator"),
-                    );
-                    Shape::new(name, params).filter(|_| known).map(|generator| {
-                        MeshSourceDesc::Generator(Seeded {
-                            generator,
-                            seed: *seed,
-                        })
-                    })
-                }
-            };
-            if let Some(g) = &m.instances {
-                let ipath = path.field("instances");
-                if matches!(m.source, MeshSource::File { .. }) {
-                    self.diags.error(
-                        "mesh",
-                        &ipath,
-                        format!(
-                            "mesh \"{}\" reads its instance rows from its side file; `instances` applies to generator meshes",
-                            m.name
-                        ),
-                    );
-                } else if !Content::new(&g.name, &g.params).is_some_and(|c| c.makes_instance_rows())
-                {
-                    self.diags.error(
-                        "unknown-generator",
-                        &ipath.field("name"),
-                        format!(
-                            "\"{}\" does not make instance rows (use instances or city_lots)",
-                            g.name
-                        ),
-                    );
-                } else {
-                    self.check_generator_params(
-                        generators::CONTENT_GENERATORS,
-                        &g.name,
-                        &g.params,
-                        &ipath,
-                    );
-                }
-            }
+            self.check_mesh_streams(m, &path);
+            let source = self.mesh_source(m, &path);
+            self.check_mesh_instances(m, &path);
             match source {
                 Some(source) if self.diags.error_count() == errors_before => out.push(MeshDesc {
                     id: MeshId(i as u32),
@@ -244,5 +119,149 @@ impl<'a> Validator<'a> {
             }
         }
         ok.then_some(out)
+    }
+
+    /// Slots, attributes and locations of a mesh's vertex streams.
+    fn check_mesh_streams(&mut self, m: &Mesh, path: &JsonPath) {
+        if m.streams.is_empty() {
+            self.diags.error(
+                "mesh",
+                &path.field("streams"),
+                format!("mesh \"{}\" has no vertex streams", m.name),
+            );
+        }
+        let mut slots = BTreeSet::new();
+        let mut locations = BTreeSet::new();
+        for (s, stream) in m.streams.iter().enumerate() {
+            let spath = path.field("streams").index(s);
+            if !slots.insert(stream.slot) {
+                self.diags.error(
+                    "mesh",
+                    &spath.field("slot"),
+                    format!("slot {} is used twice", stream.slot),
+                );
+            }
+            if stream.slot >= 16 {
+                self.diags.error(
+                    "mesh",
+                    &spath.field("slot"),
+                    "vertex buffer slots are 0..15",
+                );
+            }
+            if stream.attributes.is_empty() {
+                self.diags.error(
+                    "mesh",
+                    &spath.field("attributes"),
+                    "a stream needs at least one attribute",
+                );
+            }
+            for (a, attr) in stream.attributes.iter().enumerate() {
+                if !locations.insert(attr.location) {
+                    self.diags.error(
+                        "mesh",
+                        &spath.field("attributes").index(a).field("location"),
+                        format!(
+                            "location {} is used twice in mesh \"{}\"",
+                            attr.location, m.name
+                        ),
+                    );
+                }
+            }
+            if stream.step == StepMode::Instance && m.instance_count.is_none() {
+                self.diags.error(
+                    "mesh",
+                    &path,
+                    format!(
+                        "mesh \"{}\" has a per-instance stream (slot {}) but no `instance_count`",
+                        m.name, stream.slot
+                    ),
+                );
+            }
+        }
+    }
+
+    /// A mesh's contents: a side file of the size its streams need, or a generator.
+    fn mesh_source(&mut self, m: &Mesh, path: &JsonPath) -> Option<MeshSourceDesc> {
+        match &m.source {
+            MeshSource::File { path: rel } => {
+                let fpath = path.field("source").field("file").field("path");
+                if m.vertex_count.is_none() {
+                    self.diags.error(
+                        "mesh",
+                        &path,
+                        format!("mesh \"{}\" from a file needs `vertex_count`", m.name),
+                    );
+                }
+                if m.index_format.is_some() && m.index_count.is_none() {
+                    self.diags.error(
+                        "mesh",
+                        &path,
+                        format!(
+                            "indexed mesh \"{}\" from a file needs `index_count`",
+                            m.name
+                        ),
+                    );
+                }
+                let resolved = self.side_file(rel, &fpath);
+                if let Some(p) = &resolved {
+                    let expected = mesh_file_bytes(m);
+                    if let (Some(expected), Ok(meta)) = (expected, std::fs::metadata(p))
+                        && meta.len() != expected
+                    {
+                        self.diags.error("side-file", &fpath, format!(
+                            "\"{rel}\" has {} bytes; the streams and indices of mesh \"{}\" need {expected}", meta.len(), m.name
+                        ));
+                    }
+                }
+                resolved.map(MeshSourceDesc::File)
+            }
+            MeshSource::Generator { name, seed, params } => {
+                let known = self.check_generator_params(
+                    generators::MESH_GENERATORS,
+                    name,
+                    params,
+                    &path.field("source").field("generator"),
+                );
+                Shape::new(name, params).filter(|_| known).map(|generator| {
+                    MeshSourceDesc::Generator(Seeded {
+                        generator,
+                        seed: *seed,
+                    })
+                })
+            }
+        }
+    }
+
+    /// `instances` applies to generator meshes and names a generator of instance rows.
+    fn check_mesh_instances(&mut self, m: &Mesh, path: &JsonPath) {
+        if let Some(g) = &m.instances {
+            let ipath = path.field("instances");
+            if matches!(m.source, MeshSource::File { .. }) {
+                self.diags.error(
+                "mesh",
+                &ipath,
+                format!(
+                    "mesh \"{}\" reads its instance rows from its side file; `instances` applies to generator meshes",
+                    m.name
+                ),
+            );
+            } else if !Content::new(&g.name, &g.params).is_some_and(|c| c.makes_instance_rows()) {
+                self.diags.error(
+                    "unknown-generator",
+                    &ipath.field("name"),
+                    format!(
+                        "\"{}\" does not make instance rows (use instances or city_lots)",
+                        g.name
+                    ),
+                );
+            } else {
+                self.check_generator_params(
+                    generators::CONTENT_GENERATORS,
+                    &g.name,
+                    &g.params,
+                    &ipath,
+                );
+            }
+        }
     }
 }
