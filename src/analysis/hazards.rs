@@ -216,13 +216,6 @@ pub fn check(
     fences: &[(u32, u32)],
     initial: &[State],
 ) -> CheckReport {
-    let hb = HappensBefore::new(model, order, fences);
-    let mut report = CheckReport::default();
-    let mut state: Vec<State> = initial.to_vec();
-    let mut last_write: Vec<Option<Use>> = vec![None; units.total];
-    let mut reads: Vec<Vec<Use>> = vec![Vec::new(); units.total];
-    let mut since_barrier: Vec<Vec<Use>> = vec![Vec::new(); units.total];
-    let mut applied: Vec<Vec<Applied>> = vec![Vec::new(); units.total];
     let mut before_pass: Vec<Vec<usize>> = vec![Vec::new(); model.passes.len()];
     let mut after_pass: Vec<Vec<usize>> = vec![Vec::new(); model.passes.len()];
     for (i, b) in barriers.iter().enumerate() {
@@ -232,14 +225,62 @@ pub fn check(
             before_pass[b.pass as usize].push(i)
         }
     }
-    let mut time = 0u32;
-    let apply = |i: usize,
-                 time: u32,
-                 report: &mut CheckReport,
-                 state: &mut Vec<State>,
-                 since: &mut Vec<Vec<Use>>,
-                 applied: &mut Vec<Vec<Applied>>| {
-        let b = &barriers[i];
+    let mut c = Checker {
+        model,
+        units,
+        barriers,
+        hb: HappensBefore::new(model, order, fences),
+        report: CheckReport::default(),
+        state: initial.to_vec(),
+        last_write: vec![None; units.total],
+        reads: vec![Vec::new(); units.total],
+        since_barrier: vec![Vec::new(); units.total],
+        applied: vec![Vec::new(); units.total],
+        time: 0,
+    };
+    for &p in order {
+        for &i in &before_pass[p as usize] {
+            c.apply(i);
+        }
+        c.time += 1;
+        let need = c.need(p);
+        c.check_pass(p, &need);
+        c.record(p, &need);
+        c.time += 1;
+        for &i in &after_pass[p as usize] {
+            c.apply(i);
+        }
+        c.time += 1;
+    }
+    c.frame_end(initial);
+    c.report
+}
+
+/// A pass's combined need of one unit: (unit, state, reads, writes).
+type Need = (usize, State, bool, bool);
+
+/// The walk's state: what each unit holds, who last used it, which barriers reached it.
+struct Checker<'a> {
+    model: &'a FrameModel,
+    units: &'a Units,
+    barriers: &'a [SyncBarrier],
+    hb: HappensBefore,
+    report: CheckReport,
+    state: Vec<State>,
+    last_write: Vec<Option<Use>>,
+    reads: Vec<Vec<Use>>,
+    since_barrier: Vec<Vec<Use>>,
+    applied: Vec<Vec<Applied>>,
+    time: u32,
+}
+
+impl Checker<'_> {
+    /// Applies barrier `i`: its states must be ones its queue can hold and its before-state
+    /// the unit's; every use since the last barrier must happen before it.
+    fn apply(&mut self, i: usize) {
+        let (model, units, hb, time) = (self.model, self.units, &self.hb, self.time);
+        let b = &self.barriers[i];
+        let report = &mut self.report;
         let qtype = model.queues[b.queue as usize].queue_type;
         if !b.uav {
             for s in [b.before, b.after_state] {
@@ -260,6 +301,7 @@ pub fn check(
             writes: false,
             uav: false,
         };
+        let (state, since, applied) = (&mut self.state, &mut self.since_barrier, &mut self.applied);
         units.for_each(model, &access, |u| {
             if !b.uav {
                 if state[u] != b.before {
@@ -291,25 +333,13 @@ pub fn check(
             }
             applied[u].push(Applied { barrier: i, time });
         });
-    };
-    for &p in order {
-        for &i in &before_pass[p as usize] {
-            apply(
-                i,
-                time,
-                &mut report,
-                &mut state,
-                &mut since_barrier,
-                &mut applied,
-            );
-        }
-        time += 1;
-        let queue = model.passes[p as usize].queue;
-        let qtype = model.queues[queue as usize].queue_type;
-        // The pass's combined need per unit: read states add up; a write state stands alone.
-        let mut need: Vec<(usize, State, bool, bool)> = Vec::new();
-        for a in &model.passes[p as usize].accesses {
-            units.for_each(model, a, |u| {
+    }
+
+    /// The pass's combined need per unit: read states add up; a write state stands alone.
+    fn need(&self, p: u32) -> Vec<Need> {
+        let mut need: Vec<Need> = Vec::new();
+        for a in &self.model.passes[p as usize].accesses {
+            self.units.for_each(self.model, a, |u| {
                 if let Some(e) = need.iter_mut().find(|e| e.0 == u) {
                     if a.state.is_write() {
                         e.1 = a.state;
@@ -323,9 +353,18 @@ pub fn check(
                 }
             });
         }
-        for &(u, s, r, w) in &need {
+        need
+    }
+
+    /// Each unit the pass uses must be in a state that serves it, set by a barrier ordered
+    /// before the pass, and every earlier conflicting use must be synchronised with it.
+    fn check_pass(&mut self, p: u32, need: &[Need]) {
+        let (model, units, hb, barriers) = (self.model, self.units, &self.hb, self.barriers);
+        let queue = model.passes[p as usize].queue;
+        let qtype = model.queues[queue as usize].queue_type;
+        for &(u, s, r, w) in need {
             let (resource, mip, layer) = units.locate(model, u);
-            let have = state[u];
+            let have = self.state[u];
             let ok = have == s
                 || (!s.is_write()
                     && s != State::COMMON
@@ -333,7 +372,7 @@ pub fn check(
                     && have != State::COMMON
                     && have.0 & s.0 == s.0);
             if !ok || !holds(qtype, have) {
-                report.state_errors.push(StateError::WrongState {
+                self.report.state_errors.push(StateError::WrongState {
                     pass: p,
                     resource,
                     mip,
@@ -342,16 +381,17 @@ pub fn check(
                     need: s,
                 });
             }
-            if let Some(last) = applied[u].last()
-                && !barrier_before(&hb, &barriers[last.barrier], p)
+            let applied = &self.applied[u];
+            if let Some(last) = applied.last()
+                && !barrier_before(hb, &barriers[last.barrier], p)
             {
-                report.state_errors.push(StateError::UnorderedState {
+                self.report.state_errors.push(StateError::UnorderedState {
                     pass: p,
                     resource,
                     barrier: last.barrier,
                 });
             }
-            let synced = |earlier: &Use, applied: &[Applied]| -> bool {
+            let synced = |earlier: &Use| -> bool {
                 if !hb.before(earlier.pass, p) {
                     return false;
                 }
@@ -361,11 +401,26 @@ pub fn check(
                 implicitly_ordered(earlier.state, s)
                     || applied.iter().any(|x| {
                         x.time > earlier.time
-                            && barrier_between(&hb, &barriers[x.barrier], earlier.pass, p)
+                            && barrier_between(hb, &barriers[x.barrier], earlier.pass, p)
                     })
             };
-            let mut found = |kind: HazardKind, earlier: u32| {
-                report.hazards.push(Hazard {
+            let mut found = Vec::new();
+            if let Some(wr) = self.last_write[u].filter(|wr| wr.pass != p) {
+                if r && !synced(&wr) {
+                    found.push((HazardKind::ReadAfterWrite, wr.pass));
+                } else if w && !r && !synced(&wr) {
+                    found.push((HazardKind::WriteAfterWrite, wr.pass));
+                }
+            }
+            if w {
+                for rd in self.reads[u].iter().filter(|rd| rd.pass != p) {
+                    if !synced(rd) {
+                        found.push((HazardKind::WriteAfterRead, rd.pass));
+                    }
+                }
+            }
+            for (kind, earlier) in found {
+                self.report.hazards.push(Hazard {
                     kind,
                     earlier,
                     later: p,
@@ -373,64 +428,45 @@ pub fn check(
                     mip,
                     layer,
                 });
-            };
-            if let Some(wr) = last_write[u].filter(|wr| wr.pass != p) {
-                if r && !synced(&wr, &applied[u]) {
-                    found(HazardKind::ReadAfterWrite, wr.pass);
-                } else if w && !r && !synced(&wr, &applied[u]) {
-                    found(HazardKind::WriteAfterWrite, wr.pass);
-                }
-            }
-            if w {
-                for rd in reads[u].iter().filter(|rd| rd.pass != p) {
-                    if !synced(rd, &applied[u]) {
-                        found(HazardKind::WriteAfterRead, rd.pass);
-                    }
-                }
             }
         }
-        for &(u, s, r, w) in &need {
+    }
+
+    /// Records the pass's uses for the passes after it.
+    fn record(&mut self, p: u32, need: &[Need]) {
+        let queue = self.model.passes[p as usize].queue;
+        for &(u, s, r, w) in need {
             let use_ = Use {
                 pass: p,
                 queue,
                 state: s,
-                time,
+                time: self.time,
             };
             if w {
-                last_write[u] = Some(use_);
-                reads[u].clear();
+                self.last_write[u] = Some(use_);
+                self.reads[u].clear();
             } else if r {
-                reads[u].push(use_);
+                self.reads[u].push(use_);
             }
-            since_barrier[u].push(use_);
-        }
-        time += 1;
-        for &i in &after_pass[p as usize] {
-            apply(
-                i,
-                time,
-                &mut report,
-                &mut state,
-                &mut since_barrier,
-                &mut applied,
-            );
-        }
-        time += 1;
-    }
-    // Frames repeat: the next one starts where this one ends.
-    for u in 0..units.total {
-        if state[u] != initial[u] {
-            let (resource, mip, layer) = units.locate(model, u);
-            report.state_errors.push(StateError::FrameEndMismatch {
-                resource,
-                mip,
-                layer,
-                end: state[u],
-                start: initial[u],
-            });
+            self.since_barrier[u].push(use_);
         }
     }
-    report
+
+    /// Frames repeat: the next one starts where this one ends.
+    fn frame_end(&mut self, initial: &[State]) {
+        for u in 0..self.units.total {
+            if self.state[u] != initial[u] {
+                let (resource, mip, layer) = self.units.locate(self.model, u);
+                self.report.state_errors.push(StateError::FrameEndMismatch {
+                    resource,
+                    mip,
+                    layer,
+                    end: self.state[u],
+                    start: initial[u],
+                });
+            }
+        }
+    }
 }
 
 /// Barriers that can be removed without introducing a hazard or a state error.

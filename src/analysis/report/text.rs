@@ -1,0 +1,216 @@
+//! `framelab analyze` as readable tables: order, barriers per boundary, fences, memory per heap
+//! type, lints, and the critical path with async-compute overlap.
+
+use std::fmt::Write as _;
+
+use super::{Report, SubresourceReport, ratio};
+use crate::analysis::barriers::BarrierKind;
+use crate::analysis::lints::LintSeverity;
+use crate::text::{human_bytes, table};
+
+pub fn render_text(r: &Report) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "capture {}: {} passes in order, {} culled\n",
+        r.capture,
+        r.order.len(),
+        r.culled.len()
+    );
+    let order: Vec<Vec<String>> = r
+        .barriers
+        .iter()
+        .map(|b| {
+            vec![
+                b.position.to_string(),
+                b.pass.clone(),
+                b.queue.clone(),
+                b.barriers.len().to_string(),
+            ]
+        })
+        .collect();
+    let _ = writeln!(
+        out,
+        "Order\n{}",
+        table(&["#", "pass", "queue", "barriers"], &order)
+    );
+    if !r.culled.is_empty() {
+        let _ = writeln!(
+            out,
+            "Culled (results never reach an output): {}\n",
+            r.culled.join(", ")
+        );
+    }
+    let rows = barrier_rows(r);
+    let _ = writeln!(
+        out,
+        "Barriers ({})\n{}",
+        rows.len(),
+        table(
+            &[
+                "boundary",
+                "kind",
+                "resource",
+                "subresource",
+                "states",
+                "queue",
+                "placement"
+            ],
+            &rows
+        )
+    );
+    if !r.fences.is_empty() {
+        let f: Vec<Vec<String>> = r
+            .fences
+            .iter()
+            .map(|f| {
+                vec![
+                    f.signal_after.clone(),
+                    f.wait_before.clone(),
+                    if f.declared { "declared" } else { "NEEDED" }.to_owned(),
+                ]
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "Fences\n{}",
+            table(&["signal after", "wait before", "source"], &f)
+        );
+    }
+    memory(&mut out, r);
+    lints(&mut out, r);
+    let cp = &r.critical_path;
+    let _ = writeln!(
+        out,
+        "Critical path ({} timings): {:.3} ms of {:.3} ms serial\n  {}",
+        cp.timing_source,
+        cp.length_ns as f64 / 1e6,
+        cp.serial_ns as f64 / 1e6,
+        cp.passes.join(" -> ")
+    );
+    for o in &r.async_compute {
+        let _ = writeln!(
+            out,
+            "  async compute: {} can overlap {}",
+            o.pass,
+            if o.overlaps.is_empty() {
+                "nothing".to_owned()
+            } else {
+                o.overlaps.join(", ")
+            }
+        );
+    }
+    out
+}
+
+/// One row per barrier: boundary, kind, resource, subresource, states, queue, placement.
+fn barrier_rows(r: &Report) -> Vec<Vec<String>> {
+    let mut rows = Vec::new();
+    for b in &r.barriers {
+        for x in &b.barriers {
+            let sub = match &x.subresource {
+                SubresourceReport::All(_) => "all".to_owned(),
+                SubresourceReport::Texture { mips, layers } => format!(
+                    "mips {}+{} layers {}+{}",
+                    mips[0], mips[1], layers[0], layers[1]
+                ),
+                SubresourceReport::Bytes { bytes } => format!("bytes {}+{}", bytes[0], bytes[1]),
+            };
+            let kind = match x.kind {
+                BarrierKind::Transition => "transition",
+                BarrierKind::Uav => "uav",
+                BarrierKind::Aliasing => "aliasing",
+            };
+            let states = match x.kind {
+                BarrierKind::Aliasing => format!(
+                    "{} -> {}",
+                    x.resource_before.as_deref().unwrap_or("?"),
+                    x.resource
+                ),
+                _ => format!("{} -> {}", x.before, x.after),
+            };
+            let mut note = x.placement.clone();
+            if let Some(s) = &x.split_begin_after {
+                let _ = write!(note, "; split from {s}");
+            }
+            if x.next_frame {
+                note.push_str("; for next frame");
+            }
+            rows.push(vec![
+                b.pass.clone(),
+                kind.to_owned(),
+                x.resource.clone(),
+                sub,
+                states,
+                x.queue.clone(),
+                note,
+            ]);
+        }
+    }
+    rows
+}
+
+fn memory(out: &mut String, r: &Report) {
+    let mut mem: Vec<Vec<String>> = r
+        .memory
+        .heap_types
+        .iter()
+        .map(|(k, t)| {
+            vec![
+                k.clone(),
+                human_bytes(t.unaliased_bytes),
+                human_bytes(t.aliased_bytes),
+                human_bytes(t.lower_bound_bytes),
+                format!("{:.3}", ratio(t)),
+            ]
+        })
+        .collect();
+    let t = &r.memory.total;
+    mem.push(vec![
+        "total".into(),
+        human_bytes(t.unaliased_bytes),
+        human_bytes(t.aliased_bytes),
+        human_bytes(t.lower_bound_bytes),
+        format!("{:.3}", ratio(t)),
+    ]);
+    let _ = writeln!(
+        out,
+        "Memory\n{}",
+        table(
+            &[
+                "heap type",
+                "unaliased",
+                "aliased plan",
+                "lower bound",
+                "plan / bound"
+            ],
+            &mem
+        )
+    );
+}
+
+fn lints(out: &mut String, r: &Report) {
+    let lints: Vec<Vec<String>> = r
+        .lints
+        .iter()
+        .map(|l| {
+            let sev = match l.severity {
+                LintSeverity::Error => "error",
+                LintSeverity::Warning => "warning",
+                LintSeverity::Info => "info",
+            };
+            vec![
+                l.code.to_owned(),
+                sev.to_owned(),
+                l.name.to_owned(),
+                l.message.clone(),
+            ]
+        })
+        .collect();
+    let _ = writeln!(
+        out,
+        "Lints ({})\n{}",
+        lints.len(),
+        table(&["code", "severity", "lint", "message"], &lints)
+    );
+}
