@@ -14,7 +14,7 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use super::graph::PassGraph;
-use super::model::{FrameModel, State, Units};
+use super::model::{FrameModel, State, UnitUse, Units};
 use crate::capture::format::QueueType;
 use crate::capture::model::Subresources;
 use petgraph::visit::EdgeRef;
@@ -140,6 +140,40 @@ struct UnitTrack {
     /// barrier: a UAV barrier orders accesses on one queue; other queues are ordered by fences.
     pending_uav_write: u32,
     pending_uav_read: u32,
+}
+
+impl UnitTrack {
+    /// Records an access to the unit by pass `p` at position `pos` on queue bit `qbit`, after
+    /// any barrier the walk placed for it.
+    #[inline]
+    fn record(
+        &mut self,
+        n: &UnitUse,
+        pos: u32,
+        p: u32,
+        qbit: u32,
+        barrier: bool,
+        transition: bool,
+    ) {
+        if barrier {
+            self.pending_uav_write = 0;
+            self.pending_uav_read = 0;
+        }
+        if transition {
+            self.state = n.state;
+        }
+        if n.uav {
+            if n.writes {
+                // The latest write supersedes earlier ones, which were ordered before it.
+                self.pending_uav_write = qbit;
+                self.pending_uav_read = 0;
+            } else {
+                self.pending_uav_read |= qbit;
+            }
+        }
+        self.last_pos = pos;
+        self.last_pass = p;
+    }
 }
 
 const NO_PASS: u32 = u32::MAX;
@@ -383,35 +417,55 @@ fn walk(
                 let (mip, layer) = units.cell(resource, unit);
                 transfers.push((resource, t.last_pass, p, lq, queue, mip, layer));
             }
-            let t = &mut track[unit];
-            if transition || uav_barrier {
-                t.pending_uav_write = 0;
-                t.pending_uav_read = 0;
-            }
-            if transition {
-                t.state = n.state;
-            }
-            if n.uav {
-                if n.writes {
-                    // The latest write supersedes earlier ones, which were ordered before it.
-                    t.pending_uav_write = qbit;
-                    t.pending_uav_read = 0;
-                } else {
-                    t.pending_uav_read |= qbit;
-                }
-            }
-            t.last_pos = pos;
-            t.last_pass = p;
+            track[unit].record(n, pos, p, qbit, transition || uav_barrier, transition);
             since_sync[unit * nq + queue as usize] = p;
         }
     }
+    end_of_frame_barriers(
+        model,
+        units,
+        &track,
+        &since_sync,
+        initial,
+        end_of_frame,
+        &mut batcher,
+        &mut requires,
+    );
+    let barriers = batcher.finish();
+    let transfers = batch_transfers(model, units, transfers);
+    (
+        BarrierPlan {
+            barriers,
+            fences: Vec::new(),
+            transfers,
+            initial_states: Vec::new(),
+        },
+        requires,
+    )
+}
+
+/// Transitions back to each unit's start-of-frame state after its last use (frames repeat),
+/// ordered after every other queue's accesses since the unit's last barrier.
+#[allow(clippy::too_many_arguments)]
+fn end_of_frame_barriers(
+    model: &FrameModel,
+    units: &Units,
+    track: &[UnitTrack],
+    since_sync: &[u32],
+    initial: &[State],
+    end_of_frame: &[u32],
+    batcher: &mut Batcher,
+    requires: &mut Requires,
+) {
+    let pass_queue = |p: u32| model.passes[p as usize].queue;
+    let nq = model.queues.len();
     for (u, &p0) in end_of_frame.iter().enumerate() {
         let t = track[u];
         if p0 == NO_PASS || t.last_pos == NO_PASS {
             continue;
         }
         let (resource, _, _) = units.locate(model, u);
-        let queue = pass_queue[t.last_pass as usize];
+        let queue = pass_queue(t.last_pass);
         for (q, &a) in since_sync[u * nq..(u + 1) * nq].iter().enumerate() {
             if a != NO_PASS && q as u32 != queue && a != t.last_pass {
                 requires.push((t.last_pass, a));
@@ -432,17 +486,6 @@ fn walk(
             u,
         );
     }
-    let barriers = batcher.finish();
-    let transfers = batch_transfers(model, units, transfers);
-    (
-        BarrierPlan {
-            barriers,
-            fences: Vec::new(),
-            transfers,
-            initial_states: Vec::new(),
-        },
-        requires,
-    )
 }
 
 /// A stable counting sort into `buckets` buckets: item `i` of bucket `b` is
