@@ -11,6 +11,7 @@ pub mod capture;
 pub mod info;
 pub mod lower;
 pub mod output;
+pub mod scenes;
 pub mod schema;
 pub mod text;
 pub mod timing;

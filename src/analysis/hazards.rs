@@ -454,15 +454,15 @@ impl Checker<'_> {
 
     /// Frames repeat: the next one starts where this one ends.
     fn frame_end(&mut self, initial: &[State]) {
-        for u in 0..self.units.total {
-            if self.state[u] != initial[u] {
+        for (u, (&end, &start)) in self.state.iter().zip(initial).enumerate() {
+            if end != start {
                 let (resource, mip, layer) = self.units.locate(self.model, u);
                 self.report.state_errors.push(StateError::FrameEndMismatch {
                     resource,
                     mip,
                     layer,
-                    end: self.state[u],
-                    start: initial[u],
+                    end,
+                    start,
                 });
             }
         }

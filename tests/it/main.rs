@@ -14,4 +14,5 @@ mod dxgi_ddsfile;
 mod invalid_corpus;
 mod memory_quality;
 mod replay_gpu;
+mod scenes;
 mod synthetic_scale;

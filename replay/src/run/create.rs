@@ -103,7 +103,7 @@ pub(super) fn textures(
 ) -> Result<Vec<[wgpu::Texture; 2]>, ReplayError> {
     let mut textures = Vec::new();
     for t in &plan.textures {
-        let g = scope(&device);
+        let g = scope(device);
         let make = |suffix: &str| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(&format!("{}{suffix}", t.name)),
@@ -124,7 +124,7 @@ pub(super) fn textures(
         };
         if let Some(data) = &t.initial {
             for tex in if t.history { vec![&a, &b] } else { vec![&a] } {
-                write_texture(&queue, tex, t, data);
+                write_texture(queue, tex, t, data);
             }
         }
         setup(&format!("texture \"{}\"", t.name), g)?;
@@ -141,7 +141,7 @@ pub(super) fn buffers(
 ) -> Result<Vec<[wgpu::Buffer; 2]>, ReplayError> {
     let mut buffers = Vec::new();
     for b in &plan.buffers {
-        let g = scope(&device);
+        let g = scope(device);
         let size = b.size.div_ceil(4) * 4;
         let make = |suffix: &str| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -245,7 +245,7 @@ pub(super) fn modules(device: &wgpu::Device, plan: &Plan) -> Result<Vec<Module>,
     let mut modules = Vec::new();
     for s in &plan.shaders {
         let reflection = s.validated.clone();
-        let g = scope(&device);
+        let g = scope(device);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(&s.name),
             source: wgpu::ShaderSource::Wgsl(s.source.as_str().into()),

@@ -170,7 +170,7 @@ impl<'a> Validator<'a> {
             if stream.step == StepMode::Instance && m.instance_count.is_none() {
                 self.diags.error(
                     "mesh",
-                    &path,
+                    path,
                     format!(
                         "mesh \"{}\" has a per-instance stream (slot {}) but no `instance_count`",
                         m.name, stream.slot
@@ -188,14 +188,14 @@ impl<'a> Validator<'a> {
                 if m.vertex_count.is_none() {
                     self.diags.error(
                         "mesh",
-                        &path,
+                        path,
                         format!("mesh \"{}\" from a file needs `vertex_count`", m.name),
                     );
                 }
                 if m.index_format.is_some() && m.index_count.is_none() {
                     self.diags.error(
                         "mesh",
-                        &path,
+                        path,
                         format!(
                             "indexed mesh \"{}\" from a file needs `index_count`",
                             m.name

@@ -423,7 +423,7 @@ impl<'a> Validator<'a> {
             return None;
         }
         if r.kind == ResourceKind::TextureCube {
-            if layers % 6 != 0 {
+            if !layers.is_multiple_of(6) {
                 self.diags.error("resource-size", &path.field("array_layers"), format!(
                     "cube texture \"{}\" has {layers} layers; a cube (array) needs a multiple of 6", r.name
                 ));

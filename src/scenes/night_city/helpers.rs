@@ -1,0 +1,110 @@
+//! Small builders for the passes of the Night City frame: bindings, attachments, draws and
+//! dispatches as the capture format spells them, so each pass below reads like its manifest
+//! entry. Values are untyped here and checked against the format's types when the capture is
+//! assembled.
+
+use serde_json::{Map, Value, json};
+
+/// `base` with every field of `extra` (an object) set on it.
+pub(super) fn with(mut base: Value, extra: Value) -> Value {
+    if let (Some(b), Value::Object(e)) = (base.as_object_mut(), extra) {
+        for (k, v) in e {
+            b.insert(k, v);
+        }
+    }
+    base
+}
+
+pub(super) fn sampled(resource: &str) -> Value {
+    json!({"resource": resource, "access": "sampled"})
+}
+
+pub(super) fn storage(resource: &str, access: &str) -> Value {
+    json!({"resource": resource, "access": access})
+}
+
+/// One mip of `resource` as a storage view.
+pub(super) fn storage_mip(resource: &str, mip: u32) -> Value {
+    with(
+        storage(resource, "storage_write"),
+        json!({"mips": {"base": mip, "count": 1}}),
+    )
+}
+
+pub(super) fn sampler(name: &str) -> Value {
+    json!({ "sampler": name })
+}
+
+/// A draw of three vertices the vertex shader places over the whole target.
+pub(super) fn fullscreen(label: &str) -> Value {
+    json!({"label": label, "count": 3})
+}
+
+/// A colour attachment cleared to zero.
+pub(super) fn color(resource: &str) -> Value {
+    json!({"resource": resource, "load": "clear", "clear": [0, 0, 0, 0]})
+}
+
+pub(super) fn groups(x: u32, y: u32, z: u32) -> Value {
+    json!({ "groups": [x, y, z] })
+}
+
+pub(super) fn markers(groups: &[&str]) -> Vec<String> {
+    std::iter::once("Frame")
+        .chain(groups.iter().copied())
+        .map(str::to_owned)
+        .collect()
+}
+
+/// A raster pass on the graphics queue; `rest` adds or overrides fields.
+pub(super) fn raster(
+    name: &str,
+    groups: &[&str],
+    shader: &str,
+    (vertex, fragment): (&str, Option<&str>),
+    colors: Vec<Value>,
+    rest: Value,
+) -> Value {
+    let mut shader = json!({"file": format!("shaders/{shader}"), "vertex": vertex});
+    if let Some(f) = fragment {
+        shader["fragment"] = json!(f);
+    }
+    with(
+        json!({
+            "name": name,
+            "queue": "graphics",
+            "kind": "raster",
+            "markers": markers(groups),
+            "shader": shader,
+            "color_attachments": colors,
+        }),
+        rest,
+    )
+}
+
+/// A compute pass on the async compute queue; `rest` adds or overrides fields.
+pub(super) fn compute(
+    name: &str,
+    groups: &[&str],
+    shader: &str,
+    entry: &str,
+    dispatches: Vec<Value>,
+    rest: Value,
+) -> Value {
+    with(
+        json!({
+            "name": name,
+            "queue": "compute",
+            "kind": "compute",
+            "markers": markers(groups),
+            "shader": {"file": format!("shaders/{shader}"), "compute": entry},
+            "dispatches": dispatches,
+        }),
+        rest,
+    )
+}
+
+/// An object from `(key, value)` pairs, for bindings built in loops.
+pub(super) fn object(entries: impl IntoIterator<Item = (String, Value)>) -> Value {
+    Value::Object(entries.into_iter().collect::<Map<String, Value>>())
+}

@@ -1,0 +1,103 @@
+//! Night City: the Cyberpunk 2077 frame of NIGHT_CITY_PASSES.md, generated from Rust. The
+//! capture JSON under `captures/night_city/` is this module's output (`examples/night_city.rs`
+//! writes it; a test checks that the committed file is byte for byte what it writes), so the
+//! day and night variants share every pass and resource instead of drifting apart as two
+//! hand-edited files would. The values are assembled untyped (`serde_json::Value`, reading like
+//! the JSON they become) and then deserialised into the format's own `RawCapture`, which rejects
+//! any field the format does not know; the file is that `RawCapture` serialised.
+
+mod helpers;
+mod passes;
+mod resources;
+mod scene;
+
+use serde_json::{Value, json};
+
+use crate::capture::format::RawCapture;
+
+/// Which capture of the frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    /// `main_street_day.json`: down the main street towards the water, by day.
+    MainStreetDay,
+}
+
+impl Variant {
+    pub const ALL: [Variant; 1] = [Variant::MainStreetDay];
+
+    /// The capture's file, relative to the repository root.
+    pub fn path(self) -> &'static str {
+        match self {
+            Variant::MainStreetDay => "captures/night_city/main_street_day.json",
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Variant::MainStreetDay => "main_street_day",
+        }
+    }
+
+    fn description(self) -> &'static str {
+        match self {
+            Variant::MainStreetDay => {
+                "Night City, main street by day: a reconstruction of the Cyberpunk 2077 frame analysed in the source article (1080p Ultra, D3D12, one graphics, one compute and one copy queue). Resources follow NIGHT_CITY_PASSES.md by name, format and size; sizes that follow the output are relative so --scale replays the same frame smaller."
+            }
+        }
+    }
+
+    fn day(self) -> bool {
+        matches!(self, Variant::MainStreetDay)
+    }
+}
+
+const FENCES: [&str; 13] = [
+    "billboard_sources",
+    "gui_drawn",
+    "voxels_ready",
+    "instances_ready",
+    "reflection_done",
+    "masks_done",
+    "noised_ready",
+    "ao_done",
+    "omni_done",
+    "cascades_done",
+    "sun_shadow_ready",
+    "env_captured",
+    "direct_lit",
+];
+
+/// The capture as JSON values, before the format's types check it.
+fn value(variant: Variant) -> Value {
+    let day = variant.day();
+    let mut capture = resources::header();
+    capture["name"] = json!(variant.name());
+    capture["description"] = json!(variant.description());
+    let mut resources = resources::resources();
+    for r in &mut resources {
+        if r["name"] == "lights" {
+            // Neon and shop lights over the district (the city spans about 200 x 300 m).
+            r["initial"]["generator"]["params"]["count"] =
+                json!(if day { scene::LIGHT_COUNT } else { 1024 });
+        }
+    }
+    capture["resources"] = Value::Array(resources);
+    capture["fences"] = FENCES
+        .iter()
+        .filter(|&&f| day || f != "billboard_sources")
+        .map(|f| json!({ "name": f }))
+        .collect();
+    capture["meshes"] = Value::Array(scene::meshes());
+    capture["passes"] = Value::Array(passes::passes(day));
+    capture
+}
+
+/// The capture, checked against the format's types.
+pub fn capture(variant: Variant) -> Result<RawCapture, serde_json::Error> {
+    serde_json::from_value(value(variant))
+}
+
+/// The capture file's contents: pretty JSON with a trailing newline.
+pub fn json(variant: Variant) -> Result<String, serde_json::Error> {
+    Ok(serde_json::to_string_pretty(&capture(variant)?)? + "\n")
+}
