@@ -1,17 +1,14 @@
-//! Writing results: files are written to a temporary name in the same folder and renamed, so
-//! an interrupted run never leaves a half-written file; SVG comes from Graphviz when present.
+//! Writing results: files go through `framelab_replay::atomic` (a temporary name in the same
+//! folder, then a rename), so an interrupted run never leaves a half-written file; SVG comes
+//! from Graphviz when present.
 
 use std::io::Write;
 use std::path::Path;
 
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
-    #[error("cannot write {path}: {source}")]
-    Write {
-        path: String,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Write(#[from] framelab_replay::atomic::WriteError),
     #[error(
         "Graphviz's `dot` was not found ({0}); install graphviz (apt-get install graphviz) or write DOT with --dot FILE"
     )]
@@ -20,28 +17,10 @@ pub enum OutputError {
     Graphviz(String),
 }
 
-/// Writes `bytes` to `path` via a temporary file and a rename.
+/// Writes `bytes` to `path` via a temporary file and a rename (`framelab_replay::atomic`, the
+/// one helper every written file goes through).
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
-    let err = |source| OutputError::Write {
-        path: path.display().to_string(),
-        source,
-    };
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = std::fs::File::create(&tmp)
-        .and_then(|mut f| f.write_all(bytes).and_then(|()| f.sync_all()))
-        .and_then(|()| std::fs::rename(&tmp, path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(err)
+    Ok(framelab_replay::atomic::write(path, bytes)?)
 }
 
 /// Runs `dot -Tsvg` on DOT text.

@@ -4,6 +4,8 @@
 //! names or D3D12 heaps. The root crate lowers a validated capture into the wgpu-level types
 //! here, so that the GPU side can be tested and reused without the capture model.
 
+pub mod atomic;
+pub mod decode;
 pub mod device;
 pub mod export;
 pub mod plan;

@@ -367,6 +367,7 @@ mod tests {
 
     pub(crate) fn texture(name: &str, mips: u32) -> ModelResource {
         ModelResource {
+            id: crate::capture::model::ResourceId(0),
             name: name.into(),
             is_buffer: false,
             mips,

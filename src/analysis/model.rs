@@ -12,7 +12,8 @@ use serde::Serialize;
 
 use crate::capture::format::{Access, HeapType, PassKind, QueueType, ResourceKind};
 use crate::capture::model::{
-    AccessSource, Capture, InitialDesc, PassDesc, PassId, ResourceCategory, Subresources,
+    AccessSource, Capture, InitialDesc, PassDesc, PassId, ResourceCategory, ResourceId,
+    Subresources,
 };
 
 /// A D3D12 resource state, as bit flags so read states can be combined. The values are
@@ -159,6 +160,8 @@ pub struct ModelPass {
 
 #[derive(Clone, Debug)]
 pub struct ModelResource {
+    /// The capture resource this is (a previous-frame copy names the resource it copies).
+    pub id: ResourceId,
     pub name: String,
     pub is_buffer: bool,
     pub mips: u32,
@@ -294,6 +297,7 @@ pub fn from_capture(capture: &Capture) -> FrameModel {
         .map(|r| {
             let heap_type = r.heap_type(&capture.heaps);
             ModelResource {
+                id: r.id,
                 name: r.name.clone(),
                 is_buffer: r.kind == ResourceKind::Buffer,
                 mips: if r.is_texture() { r.mip_levels } else { 1 },
@@ -755,6 +759,7 @@ mod tests {
     #[test]
     fn a_previous_frame_copy_shares_its_buffers_byte_intervals() {
         let buffer = ModelResource {
+            id: ResourceId(0),
             name: "history".into(),
             is_buffer: true,
             mips: 1,

@@ -49,6 +49,7 @@ pub fn frame(passes: usize, resources: usize, seed: u64) -> FrameModel {
             let size_class = 1 + rng.below(64);
             let bytes = 65536 * size_class * if buffer { 1 } else { 1 + rng.below(8) };
             ModelResource {
+                id: crate::capture::model::ResourceId(i as u32),
                 name: format!("r{i}"),
                 is_buffer: buffer,
                 mips: if buffer { 1 } else { 1 + rng.below(3) as u32 },

@@ -307,9 +307,9 @@ fn export(
             files: &files,
             skipped: &skipped,
         };
-        std::fs::write(
-            staging.join("manifest.json"),
-            serde_json::to_string_pretty(&manifest)? + "\n",
+        framelab::output::write_atomically(
+            &staging.join("manifest.json"),
+            (serde_json::to_string_pretty(&manifest)? + "\n").as_bytes(),
         )?;
         Ok(files.len())
     })();

@@ -93,6 +93,7 @@ fn random_frame(seed: u64) -> FrameModel {
         .map(|i| {
             let buffer = rng.below(3) == 0;
             ModelResource {
+                id: framelab::capture::model::ResourceId(i as u32),
                 name: format!("r{i}"),
                 is_buffer: buffer,
                 mips: if buffer { 1 } else { 1 + rng.below(3) as u32 },

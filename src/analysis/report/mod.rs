@@ -18,9 +18,11 @@ use super::lints::{self, Lint, LintInput, LintSeverity};
 use super::memory::{self, MemoryPlan, Totals};
 use super::model::{self, FrameModel};
 use super::schedule::{self, Schedule};
-use crate::capture::model::{Capture, PassId, Subresources};
+use crate::capture::model::{Capture, PassId, ResourceId, Subresources};
 
-/// Everything the analyses found, with ids into `model`.
+/// Everything the analyses found. Order, culled passes and lints are capture ids; barriers,
+/// fences, the memory plan and the schedule keep the model's dense indices (what their hot loops
+/// use), which `pass_id` and `resource_id` turn into capture ids.
 #[derive(Debug)]
 pub struct Analysis {
     pub model: FrameModel,
@@ -35,6 +37,18 @@ pub struct Analysis {
     pub memory: MemoryPlan,
     pub schedule: Schedule,
     pub lints: Vec<Lint>,
+}
+
+impl Analysis {
+    /// The capture pass of a model pass index (what barriers, fences and the schedule hold).
+    pub fn pass_id(&self, model_pass: u32) -> PassId {
+        self.model.passes[model_pass as usize].id
+    }
+    /// The capture resource of a model resource index (a previous-frame copy maps to the
+    /// resource it copies).
+    pub fn resource_id(&self, model_resource: u32) -> ResourceId {
+        self.model.resources[model_resource as usize].id
+    }
 }
 
 #[derive(Clone, Copy, Debug, Default)]

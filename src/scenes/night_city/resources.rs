@@ -67,6 +67,20 @@ pub(super) fn header() -> Value {
 
 /// Every resource of the frame, in the manifest's order.
 pub(super) fn resources() -> Vec<Value> {
+    [
+        pre_geometry(),
+        geometry(),
+        masks(),
+        shadows_and_sky(),
+        lighting(),
+        composition(),
+        post_chain(),
+    ]
+    .concat()
+}
+
+/// Passes 1-9: billboards, GUI, top view, voxels, instances, terrain, ocean.
+fn pre_geometry() -> Vec<Value> {
     vec![
         json!({
             "name": "mega_texture",
@@ -201,6 +215,12 @@ pub(super) fn resources() -> Vec<Value> {
             "history": true,
             "initial": {"generator": {"name": "constant", "seed": 0, "params": {"value": 0}}}
         }),
+    ]
+}
+
+/// Passes 10-13: depth, G-buffer, blue noise, depth/stencil conversions, motion stencil.
+fn geometry() -> Vec<Value> {
+    vec![
         json!({
             "name": "depth",
             "kind": "texture_2d",
@@ -286,6 +306,12 @@ pub(super) fn resources() -> Vec<Value> {
             "flags": ["ALLOW_RENDER_TARGET"],
             "output": true
         }),
+    ]
+}
+
+/// Passes 14-19: reflection mask, noised normal, sky masks, AO, grading LUT.
+fn masks() -> Vec<Value> {
+    vec![
         json!({
             "name": "reflection_mask",
             "kind": "texture_2d",
@@ -340,6 +366,12 @@ pub(super) fn resources() -> Vec<Value> {
             "flags": ["ALLOW_UNORDERED_ACCESS"],
             "output": true
         }),
+    ]
+}
+
+/// Passes 20-25: shadow maps, clouds, the sky cube, the coat mask.
+fn shadows_and_sky() -> Vec<Value> {
+    vec![
         json!({
             "name": "csm_proxy",
             "kind": "texture_2d",
@@ -408,6 +440,12 @@ pub(super) fn resources() -> Vec<Value> {
             "height": "full",
             "flags": ["ALLOW_RENDER_TARGET", "ALLOW_UNORDERED_ACCESS"]
         }),
+    ]
+}
+
+/// Passes 26-36: clustered lights, sun shadow, environment, GI, landscape, fog, lighting.
+fn lighting() -> Vec<Value> {
+    vec![
         json!({
             "name": "cluster_light_index",
             "kind": "texture_3d",
@@ -542,6 +580,13 @@ pub(super) fn resources() -> Vec<Value> {
             "flags": ["ALLOW_UNORDERED_ACCESS"],
             "output": true
         }),
+    ]
+}
+
+/// Passes 37-45, written by the post chain (frame outputs until it exists): SSR,
+/// indirect light, composition, transparency, skin, water, TAA.
+fn composition() -> Vec<Value> {
+    vec![
         json!({
             "name": "ssr_tiles",
             "kind": "texture_2d",
@@ -640,6 +685,13 @@ pub(super) fn resources() -> Vec<Value> {
             "height": "full",
             "flags": ["ALLOW_RENDER_TARGET"]
         }),
+    ]
+}
+
+/// Passes 46-57: downscales, HDR LUTs, bloom, lens flare, grading, GUI, grain,
+/// present; and the environment capture's depth.
+fn post_chain() -> Vec<Value> {
+    vec![
         json!({
             "name": "post_half",
             "kind": "texture_2d",
