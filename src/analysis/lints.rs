@@ -58,6 +58,8 @@ pub enum LintKind {
     MissingFence,
     /// a resource in an UPLOAD heap read by several passes: copy it to a DEFAULT heap
     UploadHeapReadOften,
+    /// a texture with one mip sampled through an anisotropic sampler
+    AnisotropicWithoutMips,
     /// a transition or UAV barrier the frame needs was not recorded
     BarrierMissing,
     /// a recorded barrier the frame does not need
@@ -72,7 +74,7 @@ pub enum LintKind {
 
 impl LintKind {
     /// Every lint, in code order (the catalogue reports list).
-    pub const ALL: [LintKind; 20] = [
+    pub const ALL: [LintKind; 21] = [
         LintKind::UnusedUavFlag,
         LintKind::UnusedRenderTargetFlag,
         LintKind::UnusedDepthStencilFlag,
@@ -88,6 +90,7 @@ impl LintKind {
         LintKind::UnusedResource,
         LintKind::MissingFence,
         LintKind::UploadHeapReadOften,
+        LintKind::AnisotropicWithoutMips,
         LintKind::BarrierMissing,
         LintKind::BarrierRedundant,
         LintKind::BarrierOverBroad,
@@ -186,6 +189,12 @@ impl LintKind {
                 "upload-heap-read-often",
                 LintSeverity::Info,
                 "a resource in an UPLOAD heap read by several passes: copy it to a DEFAULT heap",
+            ),
+            LintKind::AnisotropicWithoutMips => (
+                "FL016",
+                "anisotropic-without-mips",
+                LintSeverity::Warning,
+                "a texture with one mip sampled through an anisotropic sampler",
             ),
             LintKind::BarrierMissing => (
                 "FL020",
@@ -678,6 +687,55 @@ impl<'a> Linter<'a> {
     }
 }
 
+impl Linter<'_> {
+    /// Anisotropic filtering picks among mips along the footprint's long axis; a texture with
+    /// one mip leaves it only taps of the full-size level, as many as the footprint is long.
+    /// Small or thin primitives then cost seconds per draw on software rasterizers (llvmpipe
+    /// spent minutes on one frame of the example this way), and the result still aliases.
+    fn anisotropic_without_mips(&self, out: &mut Vec<Lint>) {
+        let Linter { capture, order, .. } = *self;
+        for &p in order {
+            let pass = &capture.passes[p as usize];
+            let Some(shader) = &pass.shader else { continue };
+            let interface = &capture.shader(shader.id).interface;
+            let entries = [&shader.vertex, &shader.fragment, &shader.compute]
+                .into_iter()
+                .flatten()
+                .chain(pass.draws.iter().filter_map(|d| d.vertex.as_ref()))
+                .chain(pass.dispatches.iter().filter_map(|d| d.entry.as_ref()));
+            let pairs: BTreeSet<&(String, String)> = entries
+                .filter_map(|e| interface.entry_points.get(e))
+                .flat_map(|e| e.sampling.iter())
+                .collect();
+            let bound = |variable: &str| pass.bindings.iter().find(|b| b.variable == variable);
+            for (texture, sampler) in pairs {
+                let (Some(t), Some(s)) = (bound(texture), bound(sampler)) else {
+                    continue;
+                };
+                let (BindingTarget::Resource { resource, .. }, BindingTarget::Sampler(s)) =
+                    (&t.target, &s.target)
+                else {
+                    continue;
+                };
+                let r = capture.resource(*resource);
+                let mips = t.range.map_or(r.mip_levels, |range| range.mip_count);
+                let s = &capture.samplers[s.index()];
+                if s.max_anisotropy > 1 && mips <= 1 {
+                    out.push(lint(
+                        LintKind::AnisotropicWithoutMips,
+                        format!(
+                            "\"{}\" samples \"{}\" (one mip) through \"{}\" with {}x anisotropic filtering: give the texture a mip chain or sample it without anisotropy",
+                            pass.name, r.name, s.name, s.max_anisotropy
+                        ),
+                        Some(pass.id),
+                        Some(r.id),
+                    ));
+                }
+            }
+        }
+    }
+}
+
 pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
     let in_order: BTreeSet<u32> = input.order.iter().copied().collect();
     let linter = Linter {
@@ -702,6 +760,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
     linter.unused_mips(&mut out);
     linter.missing_fences(&mut out);
     linter.upload_heap_reads(&mut out);
+    linter.anisotropic_without_mips(&mut out);
     out.extend(compare_recorded(input.capture, input.model, input.plan));
     out.sort();
     out.dedup();

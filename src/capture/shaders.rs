@@ -46,6 +46,8 @@ pub struct EntryPoint {
     pub globals: BTreeSet<String>,
     /// `@location`s of its vertex inputs (vertex entry points only).
     pub vertex_inputs: BTreeSet<u32>,
+    /// (texture, sampler) variable pairs it samples with, directly or in functions it calls.
+    pub sampling: BTreeSet<(String, String)>,
 }
 
 /// What framelab reads from a shader, as plain data.
@@ -117,6 +119,14 @@ pub fn reflect(shader: &ValidatedShader) -> ShaderInterface {
             .filter(|(handle, _)| !info[*handle].is_empty())
             .filter_map(|(_, var)| var.name.clone())
             .collect();
+        let name_of = |h: naga::Handle<naga::GlobalVariable>| {
+            module.global_variables[h].name.clone().unwrap_or_default()
+        };
+        let sampling = info
+            .sampling_set
+            .iter()
+            .map(|k| (name_of(k.image), name_of(k.sampler)))
+            .collect();
         let inputs = if st == Stage::Vertex {
             vertex_inputs(module, e)
         } else {
@@ -128,6 +138,7 @@ pub fn reflect(shader: &ValidatedShader) -> ShaderInterface {
                 stage: st,
                 globals,
                 vertex_inputs: inputs,
+                sampling,
             },
         );
     }
@@ -175,11 +186,28 @@ mod tests {
         let fs = &i.entry_points["fs"];
         assert_eq!(fs.stage, Stage::Fragment);
         assert_eq!(fs.globals.iter().collect::<Vec<_>>(), ["albedo", "params"]);
+        assert!(fs.sampling.is_empty(), "textureLoad takes no sampler");
         assert_eq!(i.bindings["albedo"], (0, 2));
         assert_eq!(
             i.params.as_deref(),
             Some(&["tint".to_owned(), "gain".to_owned()][..])
         );
         assert!(i.globals_used_by("missing").is_none());
+    }
+
+    #[test]
+    fn sampling_pairs_follow_calls() {
+        let src = "
+            @group(0) @binding(0) var noise: texture_2d<f32>;
+            @group(0) @binding(1) var aniso: sampler;
+            fn look(uv: vec2<f32>) -> vec4<f32> { return textureSample(noise, aniso, uv); }
+            @fragment fn fs(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32> { return look(uv); }
+        ";
+        let shader = framelab_replay::validate_wgsl("s.wgsl", src).unwrap();
+        let i = reflect(&shader);
+        assert_eq!(
+            i.entry_points["fs"].sampling.iter().collect::<Vec<_>>(),
+            [&("noise".to_owned(), "aniso".to_owned())]
+        );
     }
 }

@@ -204,3 +204,25 @@ fn night_city_analyzes() {
     );
     assert!(total["aliased_bytes"].as_u64() < total["unaliased_bytes"].as_u64());
 }
+
+#[test]
+fn anisotropic_sampling_of_a_single_mip_is_flagged() {
+    let fl016 = |capture: &str| -> Vec<String> {
+        let r = json(&framelab(&["analyze", "--json", capture]));
+        r["lints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|l| l["code"] == "FL016")
+            .map(|l| l["pass"].as_str().unwrap().to_owned())
+            .collect()
+    };
+    // Only the pass that samples the one-mip texture anisotropically: not the same sampler
+    // over a mip chain, nor the one-mip texture through a plain sampler.
+    assert_eq!(
+        fl016("tests/fixtures/aniso/single_mip.json"),
+        ["flat_aniso"]
+    );
+    // The example's ground is sampled anisotropically through its generated mip chain.
+    assert!(fl016("captures/example/frame.json").is_empty());
+}

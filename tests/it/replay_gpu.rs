@@ -445,3 +445,38 @@ fn night_city_writes_content_into_every_target() {
     assert!(flat.is_empty(), "uniform targets: {flat:?}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Several frames of the example replay without a pathological one. The example once spent
+/// over three minutes in one frame on lavapipe (8x anisotropic filtering of a texture with one
+/// mip, sampled by tiny primitives); this is a hang guard with a deadline far above the few
+/// seconds the frames take, not a timing.
+#[test]
+fn several_example_frames_replay_without_a_pathological_frame() {
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_framelab"))
+        .args([
+            "replay",
+            "captures/example/frame.json",
+            "--scale",
+            "0.5",
+            "--frames",
+            "4",
+            "--quiet",
+        ])
+        .current_dir(repo())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(90);
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            assert!(status.success(), "replay failed: {status}");
+            break;
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("four frames of the example at scale 0.5 took over 90 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+}
