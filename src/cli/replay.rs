@@ -9,16 +9,15 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
-use framelab::analysis::report::{AnalyzeOptions, analyze};
+use framelab::capture::Capture;
 use framelab::capture::model::{PassId, ResourceId};
-use framelab::capture::{self, Capture, Options};
 use framelab::lower;
-use framelab::timing::{self, PassTiming, Sample, TimingReport};
+use framelab::timing::{self, TimingReport};
 use framelab_replay::wgpu::Features;
 use serde::Serialize;
-use sha2::Digest;
 
 use super::print_stdout;
+use super::replayer::{Loaded, Replayer};
 
 #[derive(Debug, Clone)]
 pub struct ReplayOptions {
@@ -51,23 +50,6 @@ struct Manifest<'a> {
     after: Option<&'a str>,
     files: &'a [framelab_replay::export::ExportedFile],
     skipped: &'a [framelab_replay::export::Skipped],
-}
-
-/// Reads the capture file once: its bytes are hashed for the report and parsed from memory.
-fn load(path: &Path, scale: f64) -> anyhow::Result<(Capture, String)> {
-    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-    let hash = format!("{:x}", sha2::Sha256::digest(&bytes));
-    let options = Options {
-        scale,
-        ..Options::default()
-    };
-    let validated = capture::load::parse(path, &bytes)
-        .and_then(|raw| capture::validate::validate(&raw, path, &options))
-        .map_err(|e| {
-            let details: Vec<String> = e.diagnostics().iter().map(|d| d.to_string()).collect();
-            anyhow::anyhow!("{e}\n{}", details.join("\n"))
-        })?;
-    Ok((validated.capture, hash))
 }
 
 /// `--after` and `--resource`, checked against the capture and the replayed order.
@@ -105,19 +87,15 @@ pub fn replay(
     options: &ReplayOptions,
     mut on: impl FnMut(Event<'_>),
 ) -> anyhow::Result<TimingReport> {
-    let (capture, capture_sha256) = load(path, options.scale)?;
-    let analysis = analyze(&capture, AnalyzeOptions { cull: options.cull })
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
-    let order = analysis.order.clone();
-    let (after, only) = resolve_targets(&capture, &order, options)?;
+    let loaded = Loaded::new(path, options.scale, options.cull)?;
+    let (after, only) = resolve_targets(&loaded.capture, &loaded.order, options)?;
     let ctx = framelab_replay::open_device(options.adapter.as_deref(), lower::wanted_features())?;
     on(Event::Adapter(&ctx.summary.to_string()));
-    let available = ctx.device.features();
-    let lowered = lower::lower(&capture, &order, available, &ctx.summary.name)?;
+    let lowered = loaded.lower(&ctx)?;
     for n in &lowered.notes {
         on(Event::Note(n));
     }
-    if !available.contains(Features::TIMESTAMP_QUERY) {
+    if !ctx.device.features().contains(Features::TIMESTAMP_QUERY) {
         on(Event::Note(
             "the adapter has no timestamp queries: GPU times are not measured",
         ));
@@ -127,72 +105,32 @@ pub fn replay(
         Some(r) => Some(*lowered.texture_of.get(&r).with_context(|| {
             format!(
                 "--resource: no texture \"{}\" is replayed",
-                capture.resource(r).name
+                loaded.capture.resource(r).name
             )
         })?),
         None => None,
     };
-    let pass_ids = lowered.pass_ids.clone();
-    let mut session = framelab_replay::Session::new(&ctx, lowered.plan)?;
-    let mut times: Vec<Vec<Sample>> = Vec::new();
+    let mut replayer = Replayer::new(&ctx, loaded, lowered)?;
     let frames = options.frames.max(1);
     for f in 0..frames {
         on(Event::Frame { index: f });
-        let constants = lower::frame::constants(&capture, f);
         let stop = if f + 1 == frames { stop_after } else { None };
-        let measured = session.run_frame(&constants, stop)?;
-        times.push(
-            measured
-                .iter()
-                .map(|t| Sample {
-                    gpu_start_ns: t.gpu_start_ns,
-                    gpu_ns: t.gpu_ns,
-                    cpu_ns: t.cpu_ns,
-                })
-                .collect(),
-        );
+        replayer.frame(f, stop)?;
     }
-    let report = TimingReport {
-        format_version: timing::FORMAT_VERSION,
-        adapter: ctx.summary.name.clone(),
-        backend: ctx.summary.backend.clone(),
-        capture: capture.name.clone(),
-        capture_sha256,
-        scale: options.scale,
-        frames,
-        passes: pass_ids
-            .iter()
-            .enumerate()
-            .map(|(i, &id)| {
-                let p = capture.pass(id);
-                PassTiming {
-                    name: p.name.clone(),
-                    queue: capture.queue(p.queue).name.clone(),
-                    marker_path: p.marker_path(),
-                    gpu_ns: times
-                        .iter()
-                        .map(|t| t.get(i).and_then(|x| x.gpu_ns))
-                        .collect(),
-                    cpu_ns: times
-                        .iter()
-                        .map(|t| t.get(i).map_or(0, |x| x.cpu_ns))
-                        .collect(),
-                }
-            })
-            .collect(),
-    };
+    let report = replayer.report(&ctx, 0);
+    let (session, times, capture) = (&replayer.session, &replayer.times, &replayer.loaded.capture);
     if let Some(file) = &options.timings {
         framelab::output::write_atomically(file, report.to_json().as_bytes())?;
     }
     if let Some(file) = &options.trace {
         framelab::output::write_atomically(
             file,
-            timing::trace::chrome_trace(&report, &times).as_bytes(),
+            timing::trace::chrome_trace(&report, times).as_bytes(),
         )?;
     }
     if let Some(out) = &options.out {
         let files = export(
-            &session,
+            session,
             out,
             &capture.name,
             frames,

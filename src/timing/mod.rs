@@ -3,6 +3,8 @@
 //! frames can be matched without the capture), and keeps every frame's sample. The Chrome trace
 //! and the summary statistics are derived from it here, not in the command that prints them.
 
+pub mod diff;
+pub mod render;
 pub mod stats;
 pub mod trace;
 
@@ -20,14 +22,28 @@ pub struct TimingReport {
     pub capture_sha256: String,
     pub scale: f64,
     pub frames: u32,
+    /// The first frames, run to let clocks and caches settle: kept here, left out of
+    /// summaries and diffs.
+    #[serde(default)]
+    pub warmup: u32,
+    /// Nanoseconds per timestamp tick: differences of a few ticks are not measurable.
+    #[serde(default)]
+    pub timestamp_period_ns: f32,
     pub passes: Vec<PassTiming>,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct PassTiming {
     pub name: String,
     pub queue: String,
     pub marker_path: String,
+    /// raster, compute, copy, clear, resolve, generate_mips or present.
+    #[serde(default)]
+    pub kind: String,
+    /// Resources the pass writes (sorted): with the kind and queue, what identifies a pass
+    /// whose name changed between two reports.
+    #[serde(default)]
+    pub writes: Vec<String>,
     /// One per frame; `null` where the adapter could not time the pass.
     pub gpu_ns: Vec<Option<u64>>,
     pub cpu_ns: Vec<u64>,

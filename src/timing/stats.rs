@@ -1,4 +1,12 @@
-//! Summary statistics of a pass's samples across frames, for the replay summary table.
+//! The statistics the timing diff rests on: medians, the two-sided Mann-Whitney U test with
+//! tie correction (timestamps are quantised, so ties are common), Holm-Bonferroni adjustment
+//! across every row of a diff, and a seeded bootstrap interval for the ratio of medians. The
+//! normal distribution comes from `statrs`; what no crate provides for samples like these is
+//! written here and checked against published reference values.
+
+use rand::rngs::StdRng;
+use rand::{RngExt, SeedableRng};
+use statrs::distribution::{ContinuousCDF, Normal};
 
 use super::PassTiming;
 
@@ -17,6 +25,141 @@ pub fn mean_cpu_ms(p: &PassTiming) -> f64 {
     p.cpu_ns.iter().sum::<u64>() as f64 / p.cpu_ns.len().max(1) as f64 / 1e6
 }
 
+/// The median of `xs` (the mean of the middle two for an even count); NaN when empty.
+pub fn median(xs: &[f64]) -> f64 {
+    if xs.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = xs.to_vec();
+    median_in_place(&mut v)
+}
+
+/// The median, reordering `v` instead of copying it.
+fn median_in_place(v: &mut [f64]) -> f64 {
+    let n = v.len();
+    let (_, &mut hi, _) = v.select_nth_unstable_by(n / 2, f64::total_cmp);
+    if n % 2 == 1 {
+        hi
+    } else {
+        let lo = v[..n / 2].iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        (lo + hi) / 2.0
+    }
+}
+
+/// The result of a two-sided Mann-Whitney U test.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MannWhitney {
+    /// U of the first sample: how often one of its values exceeds one of the second's.
+    pub u: f64,
+    pub p: f64,
+}
+
+/// Two-sided Mann-Whitney U test by the normal approximation with tie and continuity
+/// corrections (what scipy's `mannwhitneyu(x, y, method="asymptotic")` computes). `None` when
+/// either sample is empty.
+pub fn mann_whitney(x: &[f64], y: &[f64]) -> Option<MannWhitney> {
+    let (n1, n2) = (x.len(), y.len());
+    if n1 == 0 || n2 == 0 {
+        return None;
+    }
+    let mut all: Vec<(f64, bool)> = x
+        .iter()
+        .map(|&v| (v, true))
+        .chain(y.iter().map(|&v| (v, false)))
+        .collect();
+    all.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Midranks, and the tie term sum(t^3 - t) over groups of equal values.
+    let n = all.len();
+    let (mut rank_sum_x, mut ties) = (0.0f64, 0.0f64);
+    let mut i = 0;
+    while i < n {
+        let mut j = i;
+        while j + 1 < n && all[j + 1].0 == all[i].0 {
+            j += 1;
+        }
+        let rank = (i + j) as f64 / 2.0 + 1.0;
+        let t = (j - i + 1) as f64;
+        ties += t * t * t - t;
+        rank_sum_x += all[i..=j].iter().filter(|e| e.1).count() as f64 * rank;
+        i = j + 1;
+    }
+    let (n1f, n2f, nf) = (n1 as f64, n2 as f64, n as f64);
+    let u = rank_sum_x - n1f * (n1f + 1.0) / 2.0;
+    let mu = n1f * n2f / 2.0;
+    let variance = n1f * n2f / 12.0 * ((nf + 1.0) - ties / (nf * (nf - 1.0)));
+    if variance <= 0.0 {
+        // Every value is the same: no evidence of a difference.
+        return Some(MannWhitney { u, p: 1.0 });
+    }
+    let z = ((u - mu).abs() - 0.5).max(0.0) / variance.sqrt();
+    let normal = Normal::standard();
+    let p = (2.0 * normal.sf(z)).min(1.0);
+    Some(MannWhitney { u, p })
+}
+
+/// Holm-Bonferroni adjusted p-values, in the order given: the family-wise error rate over all
+/// of them stays at the level a single test would have.
+pub fn holm(p: &[f64]) -> Vec<f64> {
+    let m = p.len();
+    let mut order: Vec<usize> = (0..m).collect();
+    order.sort_by(|&a, &b| p[a].total_cmp(&p[b]));
+    let mut adjusted = vec![1.0; m];
+    let mut running = 0.0f64;
+    for (k, &i) in order.iter().enumerate() {
+        let value = ((m - k) as f64 * p[i]).min(1.0);
+        running = running.max(value);
+        adjusted[i] = running;
+    }
+    adjusted
+}
+
+/// A 95% percentile-bootstrap interval for median(b) / median(a), from `resamples` seeded
+/// resamples of each sample. `None` when either sample is empty or a median is zero.
+pub fn ratio_interval(a: &[f64], b: &[f64], resamples: usize, seed: u64) -> Option<(f64, f64)> {
+    if a.is_empty() || b.is_empty() {
+        return None;
+    }
+    let mut rng = StdRng::seed_from_u64(seed);
+    let mut scratch_a = vec![0.0; a.len()];
+    let mut scratch_b = vec![0.0; b.len()];
+    let mut ratios = Vec::with_capacity(resamples);
+    for _ in 0..resamples {
+        for s in scratch_a.iter_mut() {
+            *s = a[rng.random_range(0..a.len())];
+        }
+        for s in scratch_b.iter_mut() {
+            *s = b[rng.random_range(0..b.len())];
+        }
+        let (ma, mb) = (
+            median_in_place(&mut scratch_a),
+            median_in_place(&mut scratch_b),
+        );
+        if ma > 0.0 {
+            ratios.push(mb / ma);
+        }
+    }
+    if ratios.is_empty() {
+        return None;
+    }
+    ratios.sort_by(f64::total_cmp);
+    let at = |q: f64| ratios[((ratios.len() - 1) as f64 * q).round() as usize];
+    Some((at(0.025), at(0.975)))
+}
+
+/// Samples per side a two-sided Mann-Whitney test needs to detect a shift of `effect` standard
+/// deviations with 80% power at `alpha` (the t-test size scaled by the rank test's asymptotic
+/// relative efficiency, 3/pi).
+pub fn samples_needed(effect: f64, alpha: f64) -> Option<usize> {
+    if !(effect.is_finite() && effect > 0.0) {
+        return None;
+    }
+    let normal = Normal::standard();
+    let z_alpha = normal.inverse_cdf(1.0 - alpha / 2.0);
+    let z_power = normal.inverse_cdf(0.8);
+    let t_test = 2.0 * ((z_alpha + z_power) / effect).powi(2);
+    Some((t_test / (3.0 / std::f64::consts::PI)).ceil() as usize)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -29,6 +172,7 @@ mod tests {
             marker_path: String::new(),
             gpu_ns: vec![Some(1_000_000), None, Some(3_000_000)],
             cpu_ns: vec![500_000, 1_500_000, 1_000_000],
+            ..PassTiming::default()
         };
         assert_eq!(mean_gpu_ms(&p), Some(2.0));
         assert_eq!(mean_cpu_ms(&p), 1.0);
@@ -37,5 +181,65 @@ mod tests {
             ..p
         };
         assert_eq!(mean_gpu_ms(&untimed), None);
+    }
+
+    #[test]
+    fn medians() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), 2.5);
+        assert!(median(&[]).is_nan());
+    }
+
+    #[test]
+    fn mann_whitney_matches_scipy() {
+        // scipy.stats.mannwhitneyu documentation: males vs females, method="asymptotic"
+        // gives U = 17 and p = 0.11134688653314041 (agreement to 1e-9: statrs's erfc and scipy's
+        // ndtr differ in the last digits).
+        let males = [19.0, 22.0, 16.0, 29.0, 24.0];
+        let females = [20.0, 11.0, 17.0, 12.0];
+        let r = mann_whitney(&males, &females).unwrap();
+        assert_eq!(r.u, 17.0);
+        assert!((r.p - 0.11134688653314041).abs() < 1e-9, "{}", r.p);
+    }
+
+    #[test]
+    fn mann_whitney_corrects_for_ties() {
+        // With ties: scipy.stats.mannwhitneyu([1, 2, 2, 3, 3, 3], [3, 4, 4, 5],
+        // method="asymptotic") gives U = 1.5 and p = 0.026826219079541514.
+        let r = mann_whitney(&[1.0, 2.0, 2.0, 3.0, 3.0, 3.0], &[3.0, 4.0, 4.0, 5.0]).unwrap();
+        assert_eq!(r.u, 1.5);
+        assert!((r.p - 0.026826219079541514).abs() < 1e-9, "{}", r.p);
+        // Identical samples: no evidence at all.
+        assert_eq!(mann_whitney(&[5.0; 4], &[5.0; 6]).unwrap().p, 1.0);
+    }
+
+    #[test]
+    fn holm_matches_its_definition() {
+        // Sorted 0.01, 0.02, 0.04 over m = 3: 0.03, max(0.03, 0.04), max(0.04, 0.04).
+        let adjusted = holm(&[0.04, 0.01, 0.02]);
+        let expected = [0.04, 0.03, 0.04];
+        for (a, e) in adjusted.iter().zip(expected) {
+            assert!((a - e).abs() < 1e-12, "{adjusted:?}");
+        }
+        assert_eq!(holm(&[0.9, 0.8]), vec![1.0, 1.0]);
+    }
+
+    #[test]
+    fn bootstrap_interval_covers_the_shift_and_is_seeded() {
+        let a: Vec<f64> = (0..40).map(|i| 100.0 + (i % 7) as f64).collect();
+        let b: Vec<f64> = a.iter().map(|x| x * 1.2).collect();
+        let (lo, hi) = ratio_interval(&a, &b, 2000, 7).unwrap();
+        assert!(lo <= 1.2 && 1.2 <= hi && lo > 1.1 && hi < 1.3, "{lo} {hi}");
+        assert_eq!(ratio_interval(&a, &b, 2000, 7), Some((lo, hi)));
+    }
+
+    #[test]
+    fn samples_needed_grows_as_effects_shrink() {
+        let big = samples_needed(1.0, 0.05).unwrap();
+        let small = samples_needed(0.25, 0.05).unwrap();
+        // The t test needs 16 per side for d = 1; the rank test about 3/pi as efficiently.
+        assert_eq!(big, 17);
+        assert!(small > 10 * big);
+        assert_eq!(samples_needed(0.0, 0.05), None);
     }
 }

@@ -10,6 +10,7 @@ mod golden;
 mod analysis_cli;
 mod barrier_properties;
 mod cli;
+mod diff_cli;
 mod dxgi_ddsfile;
 mod invalid_corpus;
 mod memory_quality;

@@ -197,6 +197,11 @@ impl Session {
         }
     }
 
+    /// Nanoseconds per timestamp tick on this device.
+    pub fn timestamp_period(&self) -> f32 {
+        self.timestamp_period
+    }
+
     pub fn texture(&self, index: usize) -> &wgpu::Texture {
         // The copy written by the last frame.
         &self.textures[index][self.parity(self.frames_run.saturating_sub(1))]

@@ -1,0 +1,118 @@
+//! `framelab diff`: compares two frames' per-pass GPU timings. Given two timing reports it
+//! compares them; given two captures it replays both on one device, interleaved frame by frame
+//! (A B, B A, ...) so clock and thermal drift and any cost of running second hit both alike,
+//! warm-up frames first and discarded. Exit codes:
+//! 0 no significant regression beyond the gate, 1 a regression, 2 bad usage or input.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use framelab::lower;
+use framelab::timing::diff::{DiffOptions, diff};
+use framelab::timing::{TimingReport, render};
+
+use super::print_stdout;
+use super::replayer::{Loaded, Replayer};
+
+#[derive(Debug, Clone)]
+pub struct DiffArgs {
+    pub a: PathBuf,
+    pub b: PathBuf,
+    pub frames: u32,
+    pub warmup: u32,
+    pub scale: f64,
+    pub threshold: f64,
+    pub fail_on_regression: Option<f64>,
+    pub json: bool,
+    pub markdown: bool,
+    pub adapter: Option<String>,
+}
+
+/// A file is a timing report when it parses as one; anything else is taken for a capture.
+fn as_report(path: &Path) -> anyhow::Result<Option<TimingReport>> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", path.display()))?;
+    let value: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| anyhow::anyhow!("{}: not JSON: {e}", path.display()))?;
+    if value.get("capture_sha256").is_some() && value.get("backend").is_some() {
+        Ok(Some(TimingReport::from_json(
+            &path.display().to_string(),
+            &text,
+        )?))
+    } else {
+        Ok(None)
+    }
+}
+
+/// Replays both captures on one device, alternating frames, and returns their reports.
+fn replay_both(args: &DiffArgs) -> anyhow::Result<(TimingReport, TimingReport)> {
+    let a = Loaded::new(&args.a, args.scale, false)?;
+    let b = Loaded::new(&args.b, args.scale, false)?;
+    let ctx = framelab_replay::open_device(args.adapter.as_deref(), lower::wanted_features())?;
+    let (la, lb) = (a.lower(&ctx)?, b.lower(&ctx)?);
+    let mut ra = Replayer::new(&ctx, a, la)?;
+    let mut rb = Replayer::new(&ctx, b, lb)?;
+    // A B, B A, A B, ...: whatever running second costs or saves falls on both alike.
+    for f in 0..args.warmup + args.frames {
+        if f % 2 == 0 {
+            ra.frame(f, None)?;
+            rb.frame(f, None)?;
+        } else {
+            rb.frame(f, None)?;
+            ra.frame(f, None)?;
+        }
+    }
+    Ok((ra.report(&ctx, args.warmup), rb.report(&ctx, args.warmup)))
+}
+
+fn inputs(args: &DiffArgs) -> anyhow::Result<(TimingReport, TimingReport)> {
+    match (as_report(&args.a)?, as_report(&args.b)?) {
+        (Some(a), Some(b)) => Ok((a, b)),
+        (None, None) => replay_both(args),
+        _ => anyhow::bail!(
+            "compare two timing reports or two captures, not one of each ({} and {})",
+            args.a.display(),
+            args.b.display()
+        ),
+    }
+}
+
+pub fn run(args: &DiffArgs) -> ExitCode {
+    let (a, b) = match inputs(args) {
+        Ok(reports) => reports,
+        Err(e) => {
+            let _ = writeln!(std::io::stderr(), "error: {e:#}");
+            return ExitCode::from(2);
+        }
+    };
+    let options = DiffOptions {
+        threshold_pct: args.threshold,
+        fail_on_regression_pct: args.fail_on_regression,
+        ..DiffOptions::default()
+    };
+    let report = match diff(&a, &b, &options) {
+        Ok(r) => r,
+        Err(e) => {
+            let _ = writeln!(std::io::stderr(), "error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let text = if args.json {
+        serde_json::to_string_pretty(&report).unwrap_or_default() + "\n"
+    } else if args.markdown {
+        render::markdown(&report)
+    } else {
+        let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+        render::text(&report, color)
+    };
+    if let Err(e) = print_stdout(&text) {
+        let _ = writeln!(std::io::stderr(), "error: {e:#}");
+        return ExitCode::from(2);
+    }
+    if report.fails(args.fail_on_regression.unwrap_or(args.threshold)) {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}

@@ -1,0 +1,165 @@
+//! `framelab diff` end to end: the text, JSON and Markdown outputs on fixed reports, the exit
+//! codes of the gate, refused inputs, and real comparisons replayed on the available adapter.
+
+use std::path::PathBuf;
+
+use crate::common::{framelab, json, repo, stderr, stdout};
+
+const A: &str = "tests/fixtures/timing/a.json";
+const B: &str = "tests/fixtures/timing/b.json";
+
+#[test]
+fn diff_outputs_are_stable() {
+    let text = framelab(&["diff", A, B]);
+    assert_eq!(text.status.code(), Some(1), "{}", stderr(&text));
+    insta::assert_snapshot!("diff_text", stdout(&text));
+    insta::assert_snapshot!("diff_json", stdout(&framelab(&["diff", A, B, "--json"])));
+    insta::assert_snapshot!(
+        "diff_markdown",
+        stdout(&framelab(&["diff", A, B, "--markdown"]))
+    );
+}
+
+#[test]
+fn the_gate_follows_fail_on_regression() {
+    let d = json(&framelab(&["diff", A, B, "--json"]));
+    let verdict = |name: &str| {
+        d["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["name"] == name && r["kind"] == "pass")
+            .unwrap()["verdict"]
+            .clone()
+    };
+    assert_eq!(verdict("lighting"), "regression");
+    assert_eq!(verdict("tonemap"), "improvement");
+    assert_eq!(verdict("gbuffer"), "unchanged");
+    assert_eq!(d["added"][0], "gfx/Frame/Post/bloom");
+    // lighting is +16% and the frame +10%: a 20% gate lets them through, a 12% one does not.
+    assert_eq!(
+        framelab(&["diff", A, B, "--fail-on-regression", "20"])
+            .status
+            .code(),
+        Some(0)
+    );
+    assert_eq!(
+        framelab(&["diff", A, B, "--fail-on-regression", "12"])
+            .status
+            .code(),
+        Some(1)
+    );
+    assert_eq!(framelab(&["diff", A, A]).status.code(), Some(0));
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("framelab-diff-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn bad_inputs_exit_2_and_say_why() {
+    let dir = temp("bad");
+    let half = dir.join("half.json");
+    let mut r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(repo().join(A)).unwrap()).unwrap();
+    r["scale"] = serde_json::json!(0.5);
+    std::fs::write(&half, r.to_string()).unwrap();
+    let out = framelab(&["diff", A, half.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("different scales (1 and 0.5)"),
+        "{}",
+        stderr(&out)
+    );
+    let out = framelab(&["diff", A, "captures/example/frame.json"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("not one of each"), "{}", stderr(&out));
+    let out = framelab(&["diff", A, "no/such/report.json"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("no/such/report.json"),
+        "{}",
+        stderr(&out)
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// The example replayed against itself passes the gate; with its bloom threshold pass drawn
+/// eight times over, that pass is named as a regression and the gate fails.
+#[test]
+fn replayed_captures_are_compared_interleaved() {
+    let args = ["--scale", "0.25", "--frames", "12", "--warmup", "2"];
+    let same = framelab(
+        &[
+            &[
+                "diff",
+                "captures/example/frame.json",
+                "captures/example/frame.json",
+            ][..],
+            &args,
+        ]
+        .concat(),
+    );
+    assert_eq!(
+        same.status.code(),
+        Some(0),
+        "{}{}",
+        stdout(&same),
+        stderr(&same)
+    );
+
+    let dir = temp("heavier");
+    let example = repo().join("captures/example");
+    std::fs::create_dir_all(dir.join("shaders")).unwrap();
+    for entry in std::fs::read_dir(example.join("shaders")).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, dir.join("shaders").join(path.file_name().unwrap())).unwrap();
+    }
+    let mut capture: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(example.join("frame.json")).unwrap())
+            .unwrap();
+    let bloom = capture["passes"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|p| p["name"] == "bloom_extract")
+        .unwrap();
+    let fullscreen = bloom["draws"][0].clone();
+    let draws = bloom["draws"].as_array_mut().unwrap();
+    for _ in 0..7 {
+        draws.push(fullscreen.clone());
+    }
+    let heavier = dir.join("frame.json");
+    std::fs::write(&heavier, capture.to_string()).unwrap();
+    let out = framelab(
+        &[
+            &[
+                "diff",
+                "captures/example/frame.json",
+                heavier.to_str().unwrap(),
+                "--json",
+            ][..],
+            &args,
+        ]
+        .concat(),
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}{}",
+        stdout(&out),
+        stderr(&out)
+    );
+    let d = json(&out);
+    let bloom = d["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["name"] == "bloom_extract" && r["kind"] == "pass")
+        .unwrap();
+    assert_eq!(bloom["verdict"], "regression", "{bloom}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
