@@ -1,0 +1,202 @@
+//! Lints that compare the barriers a capture recorded with the ones the frame needs, PIX
+//! style: missing, redundant, over-broad, could-be-split and wrong-before-state barriers.
+
+use std::collections::BTreeMap;
+
+use super::{Lint, LintKind, lint};
+use crate::analysis::barriers::{Barrier, BarrierKind, BarrierPlan};
+use crate::analysis::model::{FrameModel, State};
+use crate::capture::format::{BarrierType, ResourceState, SplitFlag};
+use crate::capture::model::{Capture, ResourceId, Subresources};
+
+fn state_of(s: ResourceState) -> State {
+    match s {
+        ResourceState::Common => State::COMMON,
+        ResourceState::VertexAndConstantBuffer => State::VERTEX_AND_CONSTANT_BUFFER,
+        ResourceState::IndexBuffer => State::INDEX_BUFFER,
+        ResourceState::RenderTarget => State::RENDER_TARGET,
+        ResourceState::UnorderedAccess => State::UNORDERED_ACCESS,
+        ResourceState::DepthWrite => State::DEPTH_WRITE,
+        ResourceState::DepthRead => State::DEPTH_READ,
+        ResourceState::NonPixelShaderResource => State::NON_PIXEL_SHADER_RESOURCE,
+        ResourceState::PixelShaderResource => State::PIXEL_SHADER_RESOURCE,
+        ResourceState::IndirectArgument => State::INDIRECT_ARGUMENT,
+        ResourceState::CopyDest => State::COPY_DEST,
+        ResourceState::CopySource => State::COPY_SOURCE,
+        ResourceState::ResolveDest => State::RESOLVE_DEST,
+        ResourceState::ResolveSource => State::RESOLVE_SOURCE,
+        ResourceState::GenericRead => State::VERTEX_AND_CONSTANT_BUFFER
+            .union(State::INDEX_BUFFER)
+            .union(State::NON_PIXEL_SHADER_RESOURCE)
+            .union(State::PIXEL_SHADER_RESOURCE)
+            .union(State::INDIRECT_ARGUMENT)
+            .union(State::COPY_SOURCE),
+        ResourceState::AllShaderResource => {
+            State::NON_PIXEL_SHADER_RESOURCE.union(State::PIXEL_SHADER_RESOURCE)
+        }
+        ResourceState::Present => State::PRESENT,
+    }
+}
+
+fn covers(outer: Option<&Subresources>, inner: &Subresources) -> bool {
+    outer.is_none_or(|o| {
+        o.mip_base <= inner.mip_base
+            && inner.mip_base + inner.mip_count <= o.mip_base + o.mip_count
+            && o.layer_base <= inner.layer_base
+            && inner.layer_base + inner.layer_count <= o.layer_base + o.layer_count
+    })
+}
+
+/// Compares the barriers a capture recorded with the derived ones, PIX style. Runs only when
+/// the capture recorded barriers at all.
+pub(super) fn compare_recorded(
+    capture: &Capture,
+    model: &FrameModel,
+    plan: &BarrierPlan,
+) -> Vec<Lint> {
+    let mut out = Vec::new();
+    if capture.passes.iter().all(|p| p.barriers.is_empty()) {
+        return out;
+    }
+    let mut by_pass: BTreeMap<u32, Vec<&Barrier>> = BTreeMap::new();
+    for b in plan.barriers.iter().filter(|b| !b.next_frame) {
+        by_pass.entry(b.for_pass).or_default().push(b);
+    }
+    let name = |r: u32| model.resources[r as usize].name.clone();
+    for pass in &capture.passes {
+        let derived = by_pass.get(&pass.id.0).cloned().unwrap_or_default();
+        let recorded: Vec<_> = pass
+            .barriers
+            .iter()
+            .filter(|b| b.split != SplitFlag::BeginOnly)
+            .collect();
+        let mut used = vec![false; recorded.len()];
+        for d in &derived {
+            let resource = model.resources[d.resource as usize]
+                .previous_of
+                .unwrap_or(d.resource);
+            let matching = recorded
+                .iter()
+                .enumerate()
+                .find(|(_, r)| {
+                    r.resource.map(|x| x.0) == Some(resource)
+                        && match d.kind {
+                            BarrierKind::Transition => {
+                                r.barrier_type == BarrierType::Transition
+                                    && covers(r.range.as_ref(), &d.range)
+                                    && {
+                                        let after = r
+                                            .after
+                                            .iter()
+                                            .fold(State::COMMON, |s, x| s.union(state_of(*x)));
+                                        after.contains(d.after)
+                                    }
+                            }
+                            BarrierKind::Uav => r.barrier_type == BarrierType::Uav,
+                            BarrierKind::Aliasing => false,
+                        }
+                })
+                .or_else(|| {
+                    // A global UAV barrier (no resource) covers every UAV barrier.
+                    recorded.iter().enumerate().find(|(_, r)| {
+                        d.kind == BarrierKind::Uav
+                            && r.barrier_type == BarrierType::Uav
+                            && r.resource.is_none()
+                    })
+                });
+            let Some((i, r)) = matching else {
+                let what = match d.kind {
+                    BarrierKind::Uav => "UAV barrier".to_owned(),
+                    _ => format!("transition {} -> {}", d.before.name(), d.after.name()),
+                };
+                out.push(lint(LintKind::BarrierMissing, format!("\"{}\" needs a {what} on \"{}\" that the capture did not record (a hazard)", pass.name, name(resource)), Some(pass.id), Some(ResourceId(resource))));
+                continue;
+            };
+            used[i] = true;
+            if d.kind != BarrierKind::Transition {
+                continue;
+            }
+            let before = r
+                .before
+                .iter()
+                .fold(State::COMMON, |s, x| s.union(state_of(*x)));
+            let after = r
+                .after
+                .iter()
+                .fold(State::COMMON, |s, x| s.union(state_of(*x)));
+            if before != d.before {
+                out.push(lint(
+                    LintKind::BarrierWrongBeforeState,
+                    format!(
+                        "\"{}\" records \"{}\" going from {} but it is in {}",
+                        pass.name,
+                        name(resource),
+                        before.name(),
+                        d.before.name()
+                    ),
+                    Some(pass.id),
+                    Some(ResourceId(resource)),
+                ));
+            }
+            let whole = model.resources[resource as usize].whole();
+            let wider_range = r
+                .range
+                .as_ref()
+                .map_or(d.range != whole, |rr| *rr != d.range);
+            if after != d.after || wider_range {
+                out.push(lint(
+                    LintKind::BarrierOverBroad,
+                    format!(
+                        "\"{}\" transitions \"{}\" to {} over {}; {} over {} is enough",
+                        pass.name,
+                        name(resource),
+                        after.name(),
+                        describe(r.range.as_ref()),
+                        d.after.name(),
+                        describe(Some(&d.range))
+                    ),
+                    Some(pass.id),
+                    Some(ResourceId(resource)),
+                ));
+            }
+            if let (Some(q), SplitFlag::None) = (d.split_begin_after, r.split) {
+                out.push(lint(LintKind::BarrierCouldSplit, format!("the transition of \"{}\" before \"{}\" could begin after \"{}\" (split barrier)", name(resource), pass.name, model.passes[q as usize].name), Some(pass.id), Some(ResourceId(resource))));
+            }
+        }
+        for (i, r) in recorded.iter().enumerate() {
+            if !used[i] && r.barrier_type != BarrierType::Aliasing {
+                let res = r.resource.map(|x| capture.resource(x).name.clone());
+                out.push(lint(
+                    LintKind::BarrierRedundant,
+                    format!(
+                        "\"{}\" records a {:?} barrier on {} that the frame does not need",
+                        pass.name,
+                        r.barrier_type,
+                        res.as_deref().unwrap_or("all resources")
+                    )
+                    .replace("Transition", "transition")
+                    .replace("Uav", "UAV"),
+                    Some(pass.id),
+                    r.resource,
+                ));
+            }
+        }
+    }
+    out
+}
+
+fn describe(r: Option<&Subresources>) -> String {
+    match r {
+        None => "all subresources".to_owned(),
+        Some(r) if r.byte_size > 0 => {
+            format!("bytes {}..{}", r.byte_offset, r.byte_offset + r.byte_size)
+        }
+        Some(r) => format!(
+            "mips {}..{} layers {}..{}",
+            r.mip_base,
+            r.mip_base + r.mip_count,
+            r.layer_base,
+            r.layer_base + r.layer_count
+        ),
+    }
+}
