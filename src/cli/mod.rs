@@ -78,6 +78,10 @@ enum Command {
         /// Frames to run (history resources ping-pong, the camera moves and jitters).
         #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=10000))]
         frames: u32,
+        /// Of those frames, how many come first to let clocks settle: kept in the timing
+        /// report, marked, and left out of diffs.
+        #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=9999))]
+        warmup: u32,
         /// Use the adapter whose name contains this text.
         #[arg(long)]
         adapter: Option<String>,
@@ -182,6 +186,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             capture,
             scale,
             frames,
+            warmup,
             adapter,
             cull,
             out,
@@ -194,6 +199,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let options = replay::ReplayOptions {
                 scale,
                 frames,
+                warmup,
                 adapter,
                 cull,
                 out,

@@ -23,6 +23,7 @@ use super::replayer::{Loaded, Replayer};
 pub struct ReplayOptions {
     pub scale: f64,
     pub frames: u32,
+    pub warmup: u32,
     pub adapter: Option<String>,
     pub cull: bool,
     pub out: Option<PathBuf>,
@@ -87,6 +88,13 @@ pub fn replay(
     options: &ReplayOptions,
     mut on: impl FnMut(Event<'_>),
 ) -> anyhow::Result<TimingReport> {
+    if options.warmup >= options.frames {
+        bail!(
+            "--warmup {} leaves no measured frame of --frames {}",
+            options.warmup,
+            options.frames
+        );
+    }
     let loaded = Loaded::new(path, options.scale, options.cull)?;
     let (after, only) = resolve_targets(&loaded.capture, &loaded.order, options)?;
     let ctx = framelab_replay::open_device(options.adapter.as_deref(), lower::wanted_features())?;
@@ -117,7 +125,7 @@ pub fn replay(
         let stop = if f + 1 == frames { stop_after } else { None };
         replayer.frame(f, stop)?;
     }
-    let report = replayer.report(&ctx, 0);
+    let report = replayer.report(&ctx, options.warmup);
     let (session, times, capture) = (&replayer.session, &replayer.times, &replayer.loaded.capture);
     if let Some(file) = &options.timings {
         framelab::output::write_atomically(file, report.to_json().as_bytes())?;
@@ -178,13 +186,19 @@ pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<
                 vec![
                     p.name.clone(),
                     p.queue.clone(),
-                    timing::stats::mean_gpu_ms(p).map_or("-".to_owned(), |ms| format!("{ms:.3}")),
-                    format!("{:.3}", timing::stats::mean_cpu_ms(p)),
+                    timing::stats::mean_gpu_ms(p, report.warmup)
+                        .map_or("-".to_owned(), |ms| format!("{ms:.3}")),
+                    format!("{:.3}", timing::stats::mean_cpu_ms(p, report.warmup)),
                 ]
             })
             .collect();
+        let warm = if report.warmup > 0 {
+            format!(" (means after {} warm-up)", report.warmup)
+        } else {
+            String::new()
+        };
         print_stdout(&format!(
-            "{} on {} ({}), {} frame(s) at scale {}\n{}",
+            "{} on {} ({}), {} frame(s){warm} at scale {}\n{}",
             report.capture,
             report.adapter,
             report.backend,

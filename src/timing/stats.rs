@@ -10,9 +10,16 @@ use statrs::distribution::{ContinuousCDF, Normal};
 
 use super::PassTiming;
 
-/// Mean GPU time in milliseconds over the frames the adapter timed, or `None` when none were.
-pub fn mean_gpu_ms(p: &PassTiming) -> Option<f64> {
-    let gpu: Vec<u64> = p.gpu_ns.iter().flatten().copied().collect();
+/// Mean GPU time in milliseconds over the frames after `warmup` the adapter timed, or `None`
+/// when none were.
+pub fn mean_gpu_ms(p: &PassTiming, warmup: u32) -> Option<f64> {
+    let gpu: Vec<u64> = p
+        .gpu_ns
+        .iter()
+        .skip(warmup as usize)
+        .flatten()
+        .copied()
+        .collect();
     if gpu.is_empty() {
         None
     } else {
@@ -20,9 +27,10 @@ pub fn mean_gpu_ms(p: &PassTiming) -> Option<f64> {
     }
 }
 
-/// Mean CPU recording time in milliseconds over all frames.
-pub fn mean_cpu_ms(p: &PassTiming) -> f64 {
-    p.cpu_ns.iter().sum::<u64>() as f64 / p.cpu_ns.len().max(1) as f64 / 1e6
+/// Mean CPU recording time in milliseconds over the frames after `warmup`.
+pub fn mean_cpu_ms(p: &PassTiming, warmup: u32) -> f64 {
+    let cpu = p.cpu_ns.get(warmup as usize..).unwrap_or_default();
+    cpu.iter().sum::<u64>() as f64 / cpu.len().max(1) as f64 / 1e6
 }
 
 /// The median of `xs` (the mean of the middle two for an even count); NaN when empty.
@@ -174,13 +182,15 @@ mod tests {
             cpu_ns: vec![500_000, 1_500_000, 1_000_000],
             ..PassTiming::default()
         };
-        assert_eq!(mean_gpu_ms(&p), Some(2.0));
-        assert_eq!(mean_cpu_ms(&p), 1.0);
+        assert_eq!(mean_gpu_ms(&p, 0), Some(2.0));
+        assert_eq!(mean_cpu_ms(&p, 0), 1.0);
+        assert_eq!(mean_gpu_ms(&p, 1), Some(3.0));
+        assert_eq!(mean_cpu_ms(&p, 1), 1.25);
         let untimed = PassTiming {
             gpu_ns: vec![None],
             ..p
         };
-        assert_eq!(mean_gpu_ms(&untimed), None);
+        assert_eq!(mean_gpu_ms(&untimed, 0), None);
     }
 
     #[test]
