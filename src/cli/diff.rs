@@ -12,20 +12,38 @@ use framelab::lower;
 use framelab::timing::diff::{DiffOptions, diff};
 use framelab::timing::{TimingReport, render};
 
-use super::print_stdout;
 use super::replayer::{Loaded, Replayer};
+use super::{parse_percent, parse_scale, print_stdout};
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, clap::Args)]
 pub struct DiffArgs {
+    /// Timing report (`replay --timings`) or capture: the baseline.
     pub a: PathBuf,
+    /// Timing report or capture: the candidate.
     pub b: PathBuf,
+    /// Measured frames per capture when replaying.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(2..=100000))]
     pub frames: u32,
+    /// Frames run first and discarded when replaying (clocks ramp up on real GPUs).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=10000))]
     pub warmup: u32,
+    /// Output-resolution multiplier when replaying.
+    #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
     pub scale: f64,
+    /// A change counts only when its whole 95% interval lies beyond this, in percent.
+    #[arg(long, default_value_t = 3.0, value_parser = parse_percent)]
     pub threshold: f64,
+    /// Exit 1 only for significant regressions larger than this, in percent.
+    #[arg(long, value_parser = parse_percent)]
     pub fail_on_regression: Option<f64>,
+    /// Print the diff as JSON.
+    #[arg(long, conflicts_with = "markdown")]
     pub json: bool,
+    /// Print the diff as a Markdown table (for a pull-request comment).
+    #[arg(long)]
     pub markdown: bool,
+    /// Use the adapter whose name contains this text when replaying.
+    #[arg(long)]
     pub adapter: Option<String>,
 }
 

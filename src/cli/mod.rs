@@ -111,36 +111,7 @@ enum Command {
     /// interleaved on one device) with statistics; exit 1 on a significant regression.
     ///
     /// Example: framelab diff before.json after.json --fail-on-regression 5 --markdown
-    Diff {
-        /// Timing report (`replay --timings`) or capture: the baseline.
-        a: PathBuf,
-        /// Timing report or capture: the candidate.
-        b: PathBuf,
-        /// Measured frames per capture when replaying.
-        #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(2..=100000))]
-        frames: u32,
-        /// Frames run first and discarded when replaying (clocks ramp up on real GPUs).
-        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=10000))]
-        warmup: u32,
-        /// Output-resolution multiplier when replaying.
-        #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
-        scale: f64,
-        /// A change counts only when its whole 95% interval lies beyond this, in percent.
-        #[arg(long, default_value_t = 3.0, value_parser = parse_percent)]
-        threshold: f64,
-        /// Exit 1 only for significant regressions larger than this, in percent.
-        #[arg(long, value_parser = parse_percent)]
-        fail_on_regression: Option<f64>,
-        /// Print the diff as JSON.
-        #[arg(long, conflicts_with = "markdown")]
-        json: bool,
-        /// Print the diff as a Markdown table (for a pull-request comment).
-        #[arg(long)]
-        markdown: bool,
-        /// Use the adapter whose name contains this text when replaying.
-        #[arg(long)]
-        adapter: Option<String>,
-    },
+    Diff(diff::DiffArgs),
     /// Print the JSON Schema of the capture format.
     Schema,
     /// List the GPU adapters wgpu can use here, best first.
@@ -210,29 +181,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             };
             replay::run(&capture, &options, quiet)
         }
-        Command::Diff {
-            a,
-            b,
-            frames,
-            warmup,
-            scale,
-            threshold,
-            fail_on_regression,
-            json,
-            markdown,
-            adapter,
-        } => Ok(diff::run(&diff::DiffArgs {
-            a,
-            b,
-            frames,
-            warmup,
-            scale,
-            threshold,
-            fail_on_regression,
-            json,
-            markdown,
-            adapter,
-        })),
+        Command::Diff(args) => Ok(diff::run(&args)),
         Command::Schema => {
             print_stdout(&framelab::schema::schema_json())?;
             Ok(ExitCode::SUCCESS)
@@ -298,7 +247,7 @@ pub(crate) fn analysis(path: &std::path::Path, cull: bool, scale: f64) -> Option
     }
 }
 
-fn parse_scale(text: &str) -> Result<f64, String> {
+pub(crate) fn parse_scale(text: &str) -> Result<f64, String> {
     let v: f64 = text
         .parse()
         .map_err(|_| format!("\"{text}\" is not a number"))?;
@@ -309,7 +258,7 @@ fn parse_scale(text: &str) -> Result<f64, String> {
     }
 }
 
-fn parse_percent(text: &str) -> Result<f64, String> {
+pub(crate) fn parse_percent(text: &str) -> Result<f64, String> {
     let v: f64 = text
         .parse()
         .map_err(|_| format!("\"{text}\" is not a number"))?;
