@@ -248,7 +248,7 @@ fn info_text_is_a_table() {
     let out = framelab(&["info", "captures/example/frame.json"]);
     assert_eq!(out.status.code(), Some(0));
     let text = stdout(&out);
-    assert!(text.contains("Passes (8)"), "{text}");
+    assert!(text.contains("Passes (9)"), "{text}");
     assert!(
         text.lines().any(|l| l.starts_with("scene_color")
             && l.contains("R16G16B16A16_FLOAT")
