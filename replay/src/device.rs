@@ -118,14 +118,32 @@ impl Faults {
     }
 }
 
-fn instance() -> wgpu::Instance {
-    wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env())
+fn instance(backends: wgpu::Backends) -> wgpu::Instance {
+    let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    // WGPU_BACKEND, when set, chooses; otherwise only the backends asked for are started.
+    if std::env::var_os("WGPU_BACKEND").is_none() {
+        descriptor.backends = backends;
+    }
+    wgpu::Instance::new(descriptor)
+}
+
+/// Adapters of the native backends (Vulkan, Metal, DX12), or of OpenGL only when there are
+/// none: starting the GL backend probes EGL, which on a headless machine prints errors of its
+/// own to stderr that users would take for framelab's.
+fn adapters() -> (wgpu::Instance, Vec<wgpu::Adapter>) {
+    let native = instance(wgpu::Backends::PRIMARY);
+    let found = pollster::block_on(native.enumerate_adapters(wgpu::Backends::all()));
+    if !found.is_empty() {
+        return (native, found);
+    }
+    let gl = instance(wgpu::Backends::all());
+    let found = pollster::block_on(gl.enumerate_adapters(wgpu::Backends::all()));
+    (gl, found)
 }
 
 /// Every adapter wgpu can see, best first; ties keep wgpu's order.
 pub fn list_adapters() -> Vec<AdapterSummary> {
-    let instance = instance();
-    let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+    let (_instance, mut adapters) = adapters();
     adapters.sort_by_key(|a| preference(a.get_info().device_type));
     adapters
         .iter()
@@ -140,8 +158,7 @@ pub fn open_device(
     name_filter: Option<&str>,
     wanted: wgpu::Features,
 ) -> Result<GpuContext, DeviceError> {
-    let instance = instance();
-    let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+    let (_instance, mut adapters) = adapters();
     if adapters.is_empty() {
         return Err(DeviceError::NoAdapter {
             backends: format!("{:?}", wgpu::Backends::all()),

@@ -324,3 +324,23 @@ fn garbage_input_never_panics() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Device-opening commands print nothing of their own on stderr when all is well; on a headless
+/// machine Mesa's device-select layer used to print an XDG_RUNTIME_DIR error twice.
+#[test]
+fn opening_the_device_prints_nothing_on_stderr() {
+    let out = framelab(&["adapters"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stderr(&out), "");
+    let out = framelab(&[
+        "replay",
+        "captures/example/frame.json",
+        "--scale",
+        "0.25",
+        "--frames",
+        "1",
+        "--quiet",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(stderr(&out), "");
+}
