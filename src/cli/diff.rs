@@ -42,6 +42,9 @@ pub struct DiffArgs {
     /// Print the diff as a Markdown table (for a pull-request comment).
     #[arg(long)]
     pub markdown: bool,
+    /// Also draw each pass's change and its interval into this SVG file.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
     /// Use the adapter whose name contains this text when replaying.
     #[arg(long)]
     pub adapter: Option<String>,
@@ -124,6 +127,15 @@ pub fn run(args: &DiffArgs) -> ExitCode {
         let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
         render::text(&report, color)
     };
+    if let Some(file) = &args.plot {
+        let written = framelab::timing::plot::svg(&report)
+            .map_err(anyhow::Error::from)
+            .and_then(|svg| Ok(framelab::output::write_atomically(file, svg.as_bytes())?));
+        if let Err(e) = written {
+            let _ = writeln!(std::io::stderr(), "error: {e:#}");
+            return ExitCode::from(2);
+        }
+    }
     if let Err(e) = print_stdout(&text) {
         let _ = writeln!(std::io::stderr(), "error: {e:#}");
         return ExitCode::from(2);

@@ -4,6 +4,7 @@
 //! and the summary statistics are derived from it here, not in the command that prints them.
 
 pub mod diff;
+pub mod plot;
 pub mod render;
 pub mod stats;
 pub mod trace;

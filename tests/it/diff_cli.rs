@@ -163,3 +163,22 @@ fn replayed_captures_are_compared_interleaved() {
     assert_eq!(bloom["verdict"], "regression", "{bloom}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn plot_draws_every_pass_into_an_svg() {
+    let dir = temp("plot");
+    let svg = dir.join("diff.svg");
+    let out = framelab(&["diff", A, B, "--plot", svg.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg"), "{}", &text[..80.min(text.len())]);
+    for name in ["frame total", "lighting", "tonemap", "hbao (was ssao)"] {
+        assert!(text.contains(name), "{name} missing from the plot");
+    }
+    // Regressions red, improvements green.
+    assert!(
+        text.contains("#C81E1E") && text.contains("#1E8C3C"),
+        "{text}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
