@@ -183,17 +183,18 @@ pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<
             .passes
             .iter()
             .map(|p| {
+                let gpu = timing::stats::gpu_ms_median_min(p, report.warmup);
                 vec![
                     p.name.clone(),
                     p.queue.clone(),
-                    timing::stats::mean_gpu_ms(p, report.warmup)
-                        .map_or("-".to_owned(), |ms| format!("{ms:.3}")),
+                    gpu.map_or("-".to_owned(), |(median, _)| format!("{median:.3}")),
+                    gpu.map_or("-".to_owned(), |(_, min)| format!("{min:.3}")),
                     format!("{:.3}", timing::stats::mean_cpu_ms(p, report.warmup)),
                 ]
             })
             .collect();
         let warm = if report.warmup > 0 {
-            format!(" (means after {} warm-up)", report.warmup)
+            format!(" (summary after {} warm-up)", report.warmup)
         } else {
             String::new()
         };
@@ -204,7 +205,16 @@ pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<
             report.backend,
             report.frames,
             report.scale,
-            framelab::text::table(&["pass", "queue", "gpu ms (mean)", "cpu ms (mean)"], &rows)
+            framelab::text::table(
+                &[
+                    "pass",
+                    "queue",
+                    "gpu ms (median)",
+                    "gpu ms (min)",
+                    "cpu ms (mean)",
+                ],
+                &rows
+            )
         ))?;
     }
     Ok(ExitCode::SUCCESS)

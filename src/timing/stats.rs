@@ -27,6 +27,20 @@ pub fn mean_gpu_ms(p: &PassTiming, warmup: u32) -> Option<f64> {
     }
 }
 
+/// Median and minimum GPU time in milliseconds over the frames after `warmup` the adapter
+/// timed (a summary a slow first frame cannot skew), or `None` when none were.
+pub fn gpu_ms_median_min(p: &PassTiming, warmup: u32) -> Option<(f64, f64)> {
+    let gpu: Vec<f64> = p
+        .gpu_ns
+        .iter()
+        .skip(warmup as usize)
+        .flatten()
+        .map(|&ns| ns as f64 / 1e6)
+        .collect();
+    let min = gpu.iter().copied().reduce(f64::min)?;
+    Some((median(&gpu), min))
+}
+
 /// Mean CPU recording time in milliseconds over the frames after `warmup`.
 pub fn mean_cpu_ms(p: &PassTiming, warmup: u32) -> f64 {
     let cpu = p.cpu_ns.get(warmup as usize..).unwrap_or_default();
@@ -249,6 +263,9 @@ mod tests {
             ..p
         };
         assert_eq!(mean_gpu_ms(&untimed, 0), None);
+        assert_eq!(gpu_ms_median_min(&p, 0), Some((2.0, 1.0)));
+        assert_eq!(gpu_ms_median_min(&p, 1), Some((3.0, 3.0)));
+        assert_eq!(gpu_ms_median_min(&untimed, 0), None);
     }
 
     #[test]
