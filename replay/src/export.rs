@@ -177,12 +177,12 @@ pub fn write_image(
     let name = file_name(resource, spec, mip, layer, z, ext);
     let path = dir.join(&name);
     let mut preview = None;
-    match encoding {
-        "exr" => {
+    match image.kind {
+        ValueKind::Float => {
             let preview_name = file_name(resource, spec, mip, layer, z, "preview.png");
             preview = Some(write_exr(dir, &path, image, preview_name)?);
         }
-        "png8" => atomically(&path, |tmp| {
+        ValueKind::Unorm8 => atomically(&path, |tmp| {
             let mut img = image::RgbaImage::new(width, height);
             for (i, p) in img.pixels_mut().enumerate() {
                 let v = image.rgba(i);
@@ -190,7 +190,7 @@ pub fn write_image(
             }
             save_png(&img, tmp)
         })?,
-        _ => atomically(&path, |tmp| {
+        ValueKind::Integer | ValueKind::UnormWide => atomically(&path, |tmp| {
             let (lo, span) = if integer {
                 (min, (max - min).max(1.0))
             } else {

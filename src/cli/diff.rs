@@ -57,9 +57,9 @@ fn as_report(path: &Path) -> anyhow::Result<Option<TimingReport>> {
     let value: serde_json::Value = serde_json::from_str(&text)
         .map_err(|e| anyhow::anyhow!("{}: not JSON: {e}", path.display()))?;
     if value.get("capture_sha256").is_some() && value.get("backend").is_some() {
-        Ok(Some(TimingReport::from_json(
+        Ok(Some(TimingReport::from_value(
             &path.display().to_string(),
-            &text,
+            value,
         )?))
     } else {
         Ok(None)

@@ -81,8 +81,18 @@ pub enum ReadError {
 impl TimingReport {
     /// Parses a report written by `framelab replay --timings`; `path` names it in errors.
     pub fn from_json(path: &str, text: &str) -> Result<TimingReport, ReadError> {
+        let value = serde_json::from_str(text).map_err(|source| ReadError::Parse {
+            path: path.to_owned(),
+            source,
+        })?;
+        TimingReport::from_value(path, value)
+    }
+
+    /// A report from JSON already parsed (a caller that looked at it first need not parse
+    /// it again).
+    pub fn from_value(path: &str, value: serde_json::Value) -> Result<TimingReport, ReadError> {
         let report: TimingReport =
-            serde_json::from_str(text).map_err(|source| ReadError::Parse {
+            serde_json::from_value(value).map_err(|source| ReadError::Parse {
                 path: path.to_owned(),
                 source,
             })?;

@@ -338,7 +338,6 @@ impl<'a> Validator<'a> {
     ) -> (Vec<ColorAttachmentDesc>, Option<(u32, u32, &'a str)>) {
         let name = &p.name;
         let res = |id: u32| resources.map(|r| &r[id as usize]);
-        // Colour attachments.
         let mut colors = Vec::new();
         for (i, a) in p.color_attachments.iter().enumerate() {
             let apath = path.field("color_attachments").index(i);
@@ -434,7 +433,6 @@ impl<'a> Validator<'a> {
     ) -> (RenderState, Option<DepthStencilDesc>) {
         let name = &p.name;
         let res = |id: u32| resources.map(|r| &r[id as usize]);
-        // Depth-stencil.
         let state = cx.state.clone();
         let depth_stencil = p.depth_stencil.as_ref().and_then(|d| {
             let dpath = path.field("depth_stencil");
@@ -545,7 +543,6 @@ impl<'a> Validator<'a> {
     ) -> Vec<ClearDesc> {
         let name = &p.name;
         let res = |id: u32| resources.map(|r| &r[id as usize]);
-        // Clears.
         let mut clears = Vec::new();
         if p.kind == PassKind::Clear && p.clears.is_empty() {
             self.diags.error(
@@ -615,7 +612,6 @@ impl<'a> Validator<'a> {
     ) -> Option<(ResourceId, ResourceId)> {
         let name = &p.name;
         let res = |id: u32| resources.map(|r| &r[id as usize]);
-        // Resolve.
         let resolve = p.resolve.as_ref().and_then(|rs| {
             let rpath = path.field("resolve");
             let src = self.lookup("resource", &rs.src, &rpath.field("src"));
@@ -693,7 +689,6 @@ impl<'a> Validator<'a> {
     ) -> Option<(ResourceId, Subresources)> {
         let name = &p.name;
         let res = |id: u32| resources.map(|r| &r[id as usize]);
-        // Mip generation.
         let generate_mips = p.generate_mips.as_ref().and_then(|g| {
             let gpath = path.field("generate_mips");
             let r = res(self.lookup("resource", &g.resource, &gpath.field("resource"))?)?;
@@ -759,7 +754,6 @@ impl<'a> Validator<'a> {
     ) -> Option<ResourceId> {
         let name = &p.name;
         let res = |id: u32| resources.map(|r| &r[id as usize]);
-        // Present.
         let present = p.present.as_ref().and_then(|name_| {
             let ppath = path.field("present");
             let r = res(self.lookup("resource", name_, &ppath)?)?;

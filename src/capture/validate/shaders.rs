@@ -190,7 +190,8 @@ impl<'a> Validator<'a> {
         path: &JsonPath,
     ) {
         let provided: BTreeSet<u32> = mesh
-            .and_then(|name| self.raw.meshes.iter().find(|m| m.name == name))
+            .and_then(|name| self.meshes.get(name))
+            .map(|i| &self.raw.meshes[i as usize])
             .map(|m| {
                 m.streams
                     .iter()

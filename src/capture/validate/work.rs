@@ -15,7 +15,6 @@ impl<'a> Validator<'a> {
         cx: &PassContext<'_>,
     ) -> Vec<DrawDesc> {
         let name = &p.name;
-        // Draws.
         let mut draws = Vec::new();
         for (i, d) in p.draws.iter().enumerate() {
             let dpath = path.field("draws").index(i);
@@ -112,7 +111,6 @@ impl<'a> Validator<'a> {
         accesses: &mut Vec<ResourceAccess>,
     ) -> Vec<DispatchDesc> {
         let name = &p.name;
-        // Dispatches.
         let mut dispatches = Vec::new();
         if p.kind == PassKind::Compute && p.dispatches.is_empty() {
             self.diags.error(

@@ -67,8 +67,17 @@ const FENCES: [&str; 13] = [
     "direct_lit",
 ];
 
+/// Why the scene could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum GenerateError {
+    #[error("the scene asks scene.wgsl for something it lacks: {0}")]
+    Shader(String),
+    #[error("the scene does not fit the capture format: {0}")]
+    Format(#[from] serde_json::Error),
+}
+
 /// The capture as JSON values, before the format's types check it.
-fn value(variant: Variant) -> Value {
+fn value(variant: Variant) -> Result<Value, GenerateError> {
     let day = variant.day();
     let mut capture = resources::header();
     capture["name"] = json!(variant.name());
@@ -88,16 +97,16 @@ fn value(variant: Variant) -> Value {
         .map(|f| json!({ "name": f }))
         .collect();
     capture["meshes"] = Value::Array(scene::meshes());
-    capture["passes"] = Value::Array(passes::passes(day));
-    capture
+    capture["passes"] = Value::Array(passes::passes(day).map_err(GenerateError::Shader)?);
+    Ok(capture)
 }
 
 /// The capture, checked against the format's types.
-pub fn capture(variant: Variant) -> Result<RawCapture, serde_json::Error> {
-    serde_json::from_value(value(variant))
+pub fn capture(variant: Variant) -> Result<RawCapture, GenerateError> {
+    Ok(serde_json::from_value(value(variant)?)?)
 }
 
 /// The capture file's contents: pretty JSON with a trailing newline.
-pub fn json(variant: Variant) -> Result<String, serde_json::Error> {
+pub fn json(variant: Variant) -> Result<String, GenerateError> {
     Ok(serde_json::to_string_pretty(&capture(variant)?)? + "\n")
 }

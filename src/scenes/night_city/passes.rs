@@ -38,18 +38,19 @@ fn light_count(day: bool) -> u32 {
     if day { LIGHT_COUNT } else { 1024 }
 }
 
-pub(super) fn passes(day: bool) -> Vec<Value> {
+/// Every pass, or what `scene.wgsl` lacks that a pass asks of it.
+pub(super) fn passes(day: bool) -> Result<Vec<Value>, String> {
     let mut out = Vec::new();
-    pre_geometry(&mut out, day);
-    geometry(&mut out);
+    pre_geometry(&mut out, day)?;
+    geometry(&mut out)?;
     masks(&mut out);
-    lights_and_shadows(&mut out, day);
-    environment_and_lighting(&mut out, day);
-    out
+    lights_and_shadows(&mut out, day)?;
+    environment_and_lighting(&mut out, day)?;
+    Ok(out)
 }
 
 /// Passes 1-9: billboards, GUI, top view, voxels, instances, terrain, ocean.
-fn pre_geometry(out: &mut Vec<Value>, day: bool) {
+fn pre_geometry(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
     if day {
         // 1: three glyph sheets copied out of the mega texture (byte-address atlas).
         out.push(json!({
@@ -137,7 +138,7 @@ fn pre_geometry(out: &mut Vec<Value>, day: bool) {
         with_view(top, json!({"view": 5})),
         json!({"view": 5}),
         json!({}),
-    ));
+    )?);
     // 5: voxel normals, two dispatches.
     out.push(compute(
         "voxel_normals",
@@ -184,6 +185,7 @@ fn pre_geometry(out: &mut Vec<Value>, day: bool) {
         }),
     ));
     terrain_and_ocean(out, day);
+    Ok(())
 }
 
 /// Passes 7-9: terrain layer maps, the dead pass (by day), the ocean height.
@@ -244,7 +246,7 @@ fn terrain_and_ocean(out: &mut Vec<Value>, day: bool) {
 }
 
 /// Passes 10-13: depth pre-pass, G-buffer, depth/stencil conversion, motion stencil.
-fn geometry(out: &mut Vec<Value>) {
+fn geometry(out: &mut Vec<Value>) -> Result<(), String> {
     // 10: depth pre-pass.
     let prepass_draws: Vec<Value> = world_draws(World::ALL)
         .into_iter()
@@ -273,7 +275,7 @@ fn geometry(out: &mut Vec<Value>) {
             "draws": prepass_draws,
             "wait": ["voxels_ready", "instances_ready"],
         }),
-    )));
+    ))?);
     // 11: base material into the G-buffer.
     let replace = json!({"compare": "always", "pass": "replace"});
     out.push(scene_bindings(raster(
@@ -294,7 +296,7 @@ fn geometry(out: &mut Vec<Value>) {
             "params": scene_defaults(),
             "draws": world_draws(World::ALL),
         }),
-    )));
+    ))?);
     // 12: depth/stencil conversion.
     let convert = &["Geometry", "ds_convert"];
     let post = |name: &str,
@@ -345,6 +347,7 @@ fn geometry(out: &mut Vec<Value>) {
         json!({"motion_vectors": sampled("motion_vectors"), "stencil": stencil_view()}),
         "dilated motion stencil",
     ));
+    Ok(())
 }
 
 /// Passes 14-19: reflection mask, noised normal, sky masks, HBAO, grading LUT, waves.
@@ -458,7 +461,7 @@ fn masks(out: &mut Vec<Value>) {
 }
 
 /// Passes 20-27: CSM proxy and cascades, omni shadows, clouds, sky, coat mask, clusters, sun.
-fn lights_and_shadows(out: &mut Vec<Value>, day: bool) {
+fn lights_and_shadows(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
     // 20: the never-read CSM proxy.
     let proxy = vec![d(
         "block proxies",
@@ -478,7 +481,7 @@ fn lights_and_shadows(out: &mut Vec<Value>, day: bool) {
         proxy,
         json!({"view": 7}),
         json!({}),
-    ));
+    )?);
     // 21: four cascades, one pass each.
     for c in 0..4u32 {
         let rest = if c == 3 {
@@ -498,9 +501,9 @@ fn lights_and_shadows(out: &mut Vec<Value>, day: bool) {
             with_view(world_draws(World::SHADOW), json!({"view": 1 + c})),
             json!({"view": 1 + c}),
             rest,
-        ));
+        )?);
     }
-    omni_shadows(out);
+    omni_shadows(out)?;
     // 23: cloud distribution.
     out.push(compute(
         "cloud_distribution",
@@ -590,10 +593,11 @@ fn lights_and_shadows(out: &mut Vec<Value>, day: bool) {
                          "shadow_compare": sampler("shadow_compare")},
             "draws": [fullscreen("cascaded PCF")], "wait": ["ao_done"], "signal": ["sun_shadow_ready"],
         })));
+    Ok(())
 }
 
 /// Pass 22: the paraboloid depth of each shadowed light, then its variance map.
-fn omni_shadows(out: &mut Vec<Value>) {
+fn omni_shadows(out: &mut Vec<Value>) -> Result<(), String> {
     let groups_ = &["Lights and shadows", "omni_shadows"];
     let omni_entry = |vertex: &str| match vertex {
         "vs_building" => Some("vs_omni_building"),
@@ -627,10 +631,10 @@ fn omni_shadows(out: &mut Vec<Value>) {
             draws,
             json!({"view": 6, "light": i}),
             json!({}),
-        );
+        )?;
         p["shader"]["vertex"] = json!("vs_omni_static");
         p["shader"]["fragment"] = json!("fs_omni_depth");
-        out.push(scene_bindings(p));
+        out.push(scene_bindings(p)?);
         let rest = if i == SHADOWED_LIGHTS - 1 {
             json!({"signal": ["omni_done"]})
         } else {
@@ -643,11 +647,12 @@ fn omni_shadows(out: &mut Vec<Value>) {
                 "draws": [fullscreen(&format!("moments of light {i}"))],
             }), rest)));
     }
+    Ok(())
 }
 
 /// Passes 28-36: light masks and buffer, environment capture, GI, landscape, fog, head mask,
 /// tiled direct lighting and the sky.
-fn environment_and_lighting(out: &mut Vec<Value>, day: bool) {
+fn environment_and_lighting(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
     // 28: local light masks, two resolutions.
     out.push(compute(
         "local_light_mask",
@@ -678,7 +683,7 @@ fn environment_and_lighting(out: &mut Vec<Value>, day: bool) {
         json!({"bindings": {"lights_rw": storage("lights", "storage_read_write")},
                "params": {"light_count": light_count(day), "shadowed_lights": SHADOWED_LIGHTS}}),
     ));
-    environment_capture(out);
+    environment_capture(out)?;
     // 31: GI probe indices.
     out.push(compute(
         "gi_probe_indices",
@@ -721,10 +726,11 @@ fn environment_and_lighting(out: &mut Vec<Value>, day: bool) {
         json!({"bindings": {"stencil": stencil_view()}, "draws": [fullscreen("faces")]}),
     ));
     direct_lighting(out, day);
+    Ok(())
 }
 
 /// Pass 30: six faces of the street probe, then the dual-paraboloid array.
-fn environment_capture(out: &mut Vec<Value>) {
+fn environment_capture(out: &mut Vec<Value>) -> Result<(), String> {
     let groups_ = &["Lights and shadows", "env_capture"];
     let probe = json!([-6, 6, 40, 0]);
     let world = World {
@@ -755,7 +761,7 @@ fn environment_capture(out: &mut Vec<Value>) {
                 }),
                 rest,
             ),
-        )));
+        ))?);
     }
     let mut dp: Vec<(String, Value)> = (0..6)
         .map(|m| (format!("dp_mip_{m}"), storage_mip("env_dual_paraboloid", m)))
@@ -775,6 +781,7 @@ fn environment_capture(out: &mut Vec<Value>) {
         .collect();
     out.push(compute("env_capture_paraboloid", groups_, "env.wgsl", "cs_dual_paraboloid", dispatches,
         json!({"bindings": object(dp), "params": {"mip": 0, "mip_count": 6}, "wait": ["env_captured"]})));
+    Ok(())
 }
 
 /// Passes 35-36: tiled direct lighting by indirect dispatch, then the sky where the mask says.

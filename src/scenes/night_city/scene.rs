@@ -4,7 +4,11 @@
 
 use serde_json::{Value, json};
 
+use std::collections::BTreeSet;
+use std::sync::OnceLock;
+
 use super::helpers::{object, raster, sampled, sampler, storage, with};
+use crate::capture::shaders::reflect;
 
 /// Cars, pedestrians, holographic signs.
 pub(super) const KIND_COUNTS: [u32; 3] = [768, 1024, 224];
@@ -272,57 +276,69 @@ pub(super) fn with_view(draws: Vec<Value>, params: Value) -> Vec<Value> {
         .collect()
 }
 
-/// What each `scene.wgsl` entry point reads, so a pass binds (and the analysis sees) exactly
-/// the resources its draws use.
-fn scene_globals(entry: &str) -> &'static [&'static str] {
-    match entry {
-        "vs_omni_building" | "vs_omni_static" | "vs_omni_terrain" | "fs_omni_depth" => &["lights"],
-        "vs_foliage" => &["voxel_normals", "linear_clamp"],
-        "vs_water" => &["ocean_height", "linear_clamp"],
-        "vs_instanced" | "vs_character_body" | "vs_character_head" | "vs_character_hair"
-        | "vs_character_fur" => &["instance_data"],
-        "vs_omni_instanced" | "vs_omni_character" => &["instance_data", "lights"],
-        "fs_gbuffer" => &[
-            "billboard_atlas",
-            "blue_noise",
-            "linear_clamp",
-            "terrain_layers",
-        ],
-        _ => &[],
-    }
+/// `scene.wgsl` as framelab's validation sees it: validated and reflected once, so a pass
+/// binds (and the analysis sees) exactly the resources its entry points read, as the shader
+/// says rather than as a table beside it would.
+fn scene_shader() -> Result<&'static framelab_replay::ValidatedShader, String> {
+    static SCENE: OnceLock<Result<framelab_replay::ValidatedShader, String>> = OnceLock::new();
+    SCENE
+        .get_or_init(|| {
+            let source = include_str!("../../../captures/night_city/shaders/scene.wgsl");
+            framelab_replay::validate_wgsl("scene.wgsl", source).map_err(|e| e.to_string())
+        })
+        .as_ref()
+        .map_err(Clone::clone)
 }
 
-fn scene_binding(name: &str) -> Value {
-    match name {
-        "linear_clamp" => sampler("linear_clamp"),
-        "instance_data" | "lights" => storage(name, "storage_read"),
-        _ => sampled(name),
-    }
-}
-
-/// Sets a `scene.wgsl` pass's bindings from the entry points it and its draws use.
-pub(super) fn scene_bindings(mut pass: Value) -> Value {
-    let mut entries: Vec<String> = Vec::new();
-    for key in ["vertex", "fragment"] {
-        if let Some(e) = pass["shader"][key].as_str() {
-            entries.push(e.to_owned());
-        }
-    }
-    if let Some(draws) = pass["draws"].as_array() {
-        entries.extend(
-            draws
-                .iter()
-                .filter_map(|d| d["vertex"].as_str().map(str::to_owned)),
-        );
-    }
-    let mut names: Vec<&str> = entries
+/// The capture binding of `scene.wgsl`'s global `name`: a storage buffer, a sampler or a
+/// sampled texture of the same name; `None` for the uniforms the replay fills itself.
+fn scene_binding(module: &naga::Module, name: &str) -> Option<Value> {
+    let (_, var) = module
+        .global_variables
         .iter()
-        .flat_map(|e| scene_globals(e).iter().copied())
+        .find(|(_, v)| v.name.as_deref() == Some(name))?;
+    Some(match (var.space, &module.types[var.ty].inner) {
+        (naga::AddressSpace::Storage { access }, _) => {
+            let writes = access.contains(naga::StorageAccess::STORE);
+            storage(
+                name,
+                if writes {
+                    "storage_read_write"
+                } else {
+                    "storage_read"
+                },
+            )
+        }
+        (_, naga::TypeInner::Sampler { .. }) => sampler(name),
+        (_, naga::TypeInner::Image { .. }) => sampled(name),
+        _ => return None,
+    })
+}
+
+/// Sets a `scene.wgsl` pass's bindings from the globals its entry points and its draws'
+/// entry points use.
+pub(super) fn scene_bindings(mut pass: Value) -> Result<Value, String> {
+    let shader = scene_shader()?;
+    let interface = reflect(shader);
+    let mut entries: Vec<&str> = ["vertex", "fragment"]
+        .into_iter()
+        .filter_map(|key| pass["shader"][key].as_str())
         .collect();
-    names.sort_unstable();
-    names.dedup();
-    pass["bindings"] = object(names.iter().map(|n| ((*n).to_owned(), scene_binding(n))));
-    pass
+    if let Some(draws) = pass["draws"].as_array() {
+        entries.extend(draws.iter().filter_map(|d| d["vertex"].as_str()));
+    }
+    let mut names: BTreeSet<&str> = BTreeSet::new();
+    for entry in entries {
+        let globals = interface
+            .globals_used_by(entry)
+            .ok_or_else(|| format!("scene.wgsl has no entry point \"{entry}\""))?;
+        names.extend(globals.iter().map(String::as_str));
+    }
+    let bindings = names
+        .into_iter()
+        .filter_map(|n| Some((n.to_owned(), scene_binding(&shader.module, n)?)));
+    pass["bindings"] = object(bindings);
+    Ok(pass)
 }
 
 /// The depth-stencil view of the main depth buffer.
@@ -343,7 +359,12 @@ pub(super) struct DepthOnly<'a> {
     pub bias: Option<(i32, f32)>,
 }
 
-pub(super) fn depth_only(p: DepthOnly<'_>, draws: Vec<Value>, params: Value, rest: Value) -> Value {
+pub(super) fn depth_only(
+    p: DepthOnly<'_>,
+    draws: Vec<Value>,
+    params: Value,
+    rest: Value,
+) -> Result<Value, String> {
     let mut state = json!({"depth_compare": "less_equal", "depth_write": true, "cull": "none"});
     if let Some((constant, slope)) = p.bias {
         state["depth_bias"] = json!(constant);
