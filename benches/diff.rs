@@ -30,6 +30,8 @@ fn report(seed: u64, shift: f64) -> TimingReport {
                     .map(|_| Some((m * (0.97 + 0.06 * next())) as u64))
                     .collect(),
                 cpu_ns: vec![10_000; 1000],
+                bytes_read: 8_000_000,
+                bytes_written: 4_000_000,
             }
         })
         .collect();

@@ -10,6 +10,7 @@ pub mod model;
 pub mod report;
 pub mod schedule;
 pub mod synthetic;
+pub mod traffic;
 
 use barriers::{Barrier, BarrierKind, Placement};
 use hazards::SyncBarrier;

@@ -190,6 +190,11 @@ pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<
                     gpu.map_or("-".to_owned(), |(median, _)| format!("{median:.3}")),
                     gpu.map_or("-".to_owned(), |(_, min)| format!("{min:.3}")),
                     format!("{:.3}", timing::stats::mean_cpu_ms(p, report.warmup)),
+                    format!("{:.1}", p.bytes_moved() as f64 / 1e6),
+                    gpu.and_then(|(median, _)| {
+                        timing::gigabytes_per_second(p.bytes_moved(), median * 1e6)
+                    })
+                    .map_or("-".to_owned(), |g| format!("{g:.1}")),
                 ]
             })
             .collect();
@@ -212,6 +217,8 @@ pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<
                     "gpu ms (median)",
                     "gpu ms (min)",
                     "cpu ms (mean)",
+                    "MB moved",
+                    "GB/s",
                 ],
                 &rows
             )

@@ -125,12 +125,15 @@ impl Replayer {
                         .collect();
                     writes.sort();
                     writes.dedup();
+                    let traffic = framelab::analysis::traffic::pass_traffic(capture, id);
                     PassTiming {
                         name: p.name.clone(),
                         queue: capture.queue(p.queue).name.clone(),
                         marker_path: p.marker_path(),
                         kind: p.kind.as_str().to_owned(),
                         writes,
+                        bytes_read: traffic.read,
+                        bytes_written: traffic.written,
                         gpu_ns: times
                             .iter()
                             .map(|t| t.get(i).and_then(|x| x.gpu_ns))

@@ -94,6 +94,10 @@ pub struct Row {
     pub p_adjusted: Option<f64>,
     #[serde(flatten)]
     pub verdict: Verdict,
+    /// Bytes the row's passes read and write per frame, in A and in B.
+    pub bytes_moved: [u64; 2],
+    /// Those bytes over the median GPU time, in GB/s, in A and in B.
+    pub bandwidth_gbps: [Option<f64>; 2],
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -241,6 +245,15 @@ struct Pending {
     renamed_from: Option<String>,
     a: Vec<f64>,
     b: Vec<f64>,
+    bytes: [u64; 2],
+}
+
+/// Bytes the given passes move per frame.
+fn bytes_of(report: &TimingReport, passes: &[usize]) -> u64 {
+    passes
+        .iter()
+        .map(|&i| report.passes[i].bytes_moved())
+        .fold(0, u64::saturating_add)
 }
 
 fn side(r: &TimingReport) -> Side {
@@ -299,6 +312,7 @@ fn pending_rows(a: &TimingReport, b: &TimingReport, m: &Matching) -> Vec<Pending
         renamed_from: None,
         a: frame_sums(a, &all(a)),
         b: frame_sums(b, &all(b)),
+        bytes: [bytes_of(a, &all(a)), bytes_of(b, &all(b))],
     }];
     let (ga, gb) = (groups(a), groups(b));
     let mut keys: Vec<&(RowKind, String)> = ga.keys().chain(gb.keys()).collect();
@@ -307,6 +321,7 @@ fn pending_rows(a: &TimingReport, b: &TimingReport, m: &Matching) -> Vec<Pending
     for key in keys {
         let (kind, name) = key.clone();
         let none = Vec::new();
+        let (pa, pb) = (ga.get(key).unwrap_or(&none), gb.get(key).unwrap_or(&none));
         rows.push(Pending {
             kind,
             queue: if kind == RowKind::Queue {
@@ -316,8 +331,9 @@ fn pending_rows(a: &TimingReport, b: &TimingReport, m: &Matching) -> Vec<Pending
             },
             name,
             renamed_from: None,
-            a: frame_sums(a, ga.get(key).unwrap_or(&none)),
-            b: frame_sums(b, gb.get(key).unwrap_or(&none)),
+            a: frame_sums(a, pa),
+            b: frame_sums(b, pb),
+            bytes: [bytes_of(a, pa), bytes_of(b, pb)],
         });
     }
     for &(i, j) in &m.pairs {
@@ -329,6 +345,7 @@ fn pending_rows(a: &TimingReport, b: &TimingReport, m: &Matching) -> Vec<Pending
             renamed_from: m.renamed.contains(&(i, j)).then(|| pa.name.clone()),
             a: samples(pa, a.warmup),
             b: samples(pb, b.warmup),
+            bytes: [pa.bytes_moved(), pb.bytes_moved()],
         });
     }
     rows
@@ -432,6 +449,11 @@ fn row(
         p,
         p_adjusted,
         verdict,
+        bytes_moved: r.bytes,
+        bandwidth_gbps: [
+            super::gigabytes_per_second(r.bytes[0], ma),
+            super::gigabytes_per_second(r.bytes[1], mb),
+        ],
     }
 }
 
@@ -462,6 +484,7 @@ mod tests {
             writes: writes.iter().map(|w| (*w).to_owned()).collect(),
             cpu_ns: vec![0; gpu.len()],
             gpu_ns: gpu.into_iter().map(Some).collect(),
+            ..PassTiming::default()
         }
     }
 

@@ -45,9 +45,27 @@ pub struct PassTiming {
     /// whose name changed between two reports.
     #[serde(default)]
     pub writes: Vec<String>,
+    /// Bytes of the subresources the pass reads and writes at the replayed scale (its declared
+    /// footprint; see `analysis::traffic`): with the GPU time, its achieved bandwidth.
+    #[serde(default)]
+    pub bytes_read: u64,
+    #[serde(default)]
+    pub bytes_written: u64,
     /// One per frame; `null` where the adapter could not time the pass.
     pub gpu_ns: Vec<Option<u64>>,
     pub cpu_ns: Vec<u64>,
+}
+
+impl PassTiming {
+    /// Bytes read and written.
+    pub fn bytes_moved(&self) -> u64 {
+        self.bytes_read.saturating_add(self.bytes_written)
+    }
+}
+
+/// Achieved bandwidth in GB/s (10^9 bytes per second) of `bytes` moved in `ns`.
+pub fn gigabytes_per_second(bytes: u64, ns: f64) -> Option<f64> {
+    (ns > 0.0 && bytes > 0).then(|| bytes as f64 / ns)
 }
 
 /// One pass of one frame as measured: where its GPU work started (relative to the frame), how

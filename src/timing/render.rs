@@ -12,6 +12,25 @@ fn ms(ns: f64) -> String {
     }
 }
 
+/// Megabytes (10^6) moved: B's, with A's first where they differ.
+fn megabytes(r: &Row) -> String {
+    let mb = |b: u64| format!("{:.1}", b as f64 / 1e6);
+    match r.bytes_moved {
+        [0, 0] => "-".to_owned(),
+        [a, b] if a == b => mb(b),
+        [a, b] => format!("{} -> {}", mb(a), mb(b)),
+    }
+}
+
+/// Achieved bandwidth, A -> B.
+fn bandwidth(r: &Row) -> String {
+    let gbs = |g: Option<f64>| g.map_or("-".to_owned(), |g| format!("{g:.1}"));
+    match r.bandwidth_gbps {
+        [None, None] => "-".to_owned(),
+        [a, b] => format!("{} -> {}", gbs(a), gbs(b)),
+    }
+}
+
 fn verdict(v: &Verdict) -> String {
     match v {
         Verdict::Regression => "REGRESSION".to_owned(),
@@ -47,10 +66,15 @@ fn cells(r: &Row) -> Vec<String> {
             .map_or("-".to_owned(), |[lo, hi]| format!("{lo:+.1}%..{hi:+.1}%")),
         r.p_adjusted.map_or("-".to_owned(), |p| format!("{p:.3}")),
         verdict(&r.verdict),
+        megabytes(r),
+        bandwidth(r),
     ]
 }
 
-const HEADERS: [&str; 8] = [
+/// Where the verdict is in a row's cells.
+const VERDICT: usize = 7;
+
+const HEADERS: [&str; 10] = [
     "pass",
     "queue",
     "A ms",
@@ -59,6 +83,8 @@ const HEADERS: [&str; 8] = [
     "95% interval",
     "adj. p",
     "verdict",
+    "MB moved",
+    "GB/s",
 ];
 
 fn summary(d: &DiffReport) -> String {
@@ -85,14 +111,17 @@ pub fn text(d: &DiffReport, color: bool) -> String {
     let rows: Vec<Vec<String>> = d.rows.iter().map(cells).collect();
     let mut body = table(&HEADERS, &rows);
     if color {
+        // The table's first two lines are the header and its rule; then one line per row.
         let mut coloured = String::new();
-        for line in body.lines() {
-            let code = if line.ends_with("REGRESSION") {
-                Some("31")
-            } else if line.ends_with("improvement") {
-                Some("32")
-            } else {
-                None
+        for (i, line) in body.lines().enumerate() {
+            let code = match i
+                .checked_sub(2)
+                .and_then(|r| d.rows.get(r))
+                .map(|r| &r.verdict)
+            {
+                Some(Verdict::Regression) => Some("31"),
+                Some(Verdict::Improvement) => Some("32"),
+                _ => None,
             };
             match code {
                 Some(c) => coloured.push_str(&format!("\x1b[{c}m{line}\x1b[0m\n")),
@@ -118,7 +147,7 @@ pub fn markdown(d: &DiffReport) -> String {
     for r in &d.rows {
         let mut c = cells(r);
         if r.verdict == Verdict::Regression {
-            c[7] = format!("**{}**", c[7]);
+            c[VERDICT] = format!("**{}**", c[VERDICT]);
         }
         out.push_str(&format!("| {} |\n", c.join(" | ").replace('\n', " ")));
     }

@@ -161,6 +161,17 @@ fn replayed_captures_are_compared_interleaved() {
         .find(|r| r["name"] == "bloom_extract" && r["kind"] == "pass")
         .unwrap();
     assert_eq!(bloom["verdict"], "regression", "{bloom}");
+    // At scale 0.25 the pass samples the 160x90 RGBA16F scene (115,200 bytes) and writes mip 0
+    // of the half-size R11G11B10 bloom (80x45x4 = 14,400 bytes); drawing it eight times moves
+    // no more declared bytes, so its bandwidth drops.
+    assert_eq!(bloom["bytes_moved"], serde_json::json!([129_600, 129_600]));
+    let gbps: Vec<f64> = bloom["bandwidth_gbps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|g| g.as_f64().unwrap())
+        .collect();
+    assert!(gbps[1] < gbps[0], "{bloom}");
     std::fs::remove_dir_all(dir).unwrap();
 }
 
