@@ -3,12 +3,15 @@
 //! (A B, B A, ...) so clock and thermal drift and any cost of running second hit both alike,
 //! warm-up frames first and discarded. Exit codes:
 //! 0 no significant regression beyond the gate, 1 a regression, 2 bad usage or input.
+//! `--structure` compares two captures' passes, resources and memory instead (exit 0 or 2).
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use framelab::analysis::report::{AnalyzeOptions, analyze};
 use framelab::lower;
+use framelab::structure::Frame;
 use framelab::timing::diff::{DiffOptions, diff};
 use framelab::timing::{TimingReport, render};
 
@@ -45,6 +48,10 @@ pub struct DiffArgs {
     /// Also draw each pass's change and its interval into this SVG file.
     #[arg(long)]
     pub plot: Option<PathBuf>,
+    /// Compare the two captures' structure instead of their timings (nothing is replayed):
+    /// passes, resources, queues, fences, counts and memory.
+    #[arg(long, conflicts_with_all = ["plot", "fail_on_regression"])]
+    pub structure: bool,
     /// Use the adapter whose name contains this text when replaying.
     #[arg(long)]
     pub adapter: Option<String>,
@@ -99,7 +106,53 @@ fn inputs(args: &DiffArgs) -> anyhow::Result<(TimingReport, TimingReport)> {
     }
 }
 
+/// The structural diff of two captures, printed; input errors exit 2.
+fn structure(args: &DiffArgs) -> anyhow::Result<()> {
+    for path in [&args.a, &args.b] {
+        if as_report(path)?.is_some() {
+            anyhow::bail!(
+                "{} is a timing report: --structure compares two captures",
+                path.display()
+            );
+        }
+    }
+    let a = Loaded::new(&args.a, args.scale, false)?;
+    let b = Loaded::new(&args.b, args.scale, false)?;
+    let analyse = |l: &Loaded| {
+        analyze(&l.capture, AnalyzeOptions::default())
+            .map_err(|e| anyhow::anyhow!("{}: {e}", l.capture.source.display()))
+    };
+    let (aa, ab) = (analyse(&a)?, analyse(&b)?);
+    let d = framelab::structure::diff(
+        Frame {
+            capture: &a.capture,
+            analysis: &aa,
+        },
+        Frame {
+            capture: &b.capture,
+            analysis: &ab,
+        },
+    );
+    let text = if args.json {
+        serde_json::to_string_pretty(&d)? + "\n"
+    } else if args.markdown {
+        framelab::structure::render::markdown(&d)
+    } else {
+        framelab::structure::render::text(&d)
+    };
+    print_stdout(&text)
+}
+
 pub fn run(args: &DiffArgs) -> ExitCode {
+    if args.structure {
+        return match structure(args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                let _ = writeln!(std::io::stderr(), "error: {e:#}");
+                ExitCode::from(2)
+            }
+        };
+    }
     let (a, b) = match inputs(args) {
         Ok(reports) => reports,
         Err(e) => {

@@ -9,6 +9,9 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
+pub use crate::matching::Matching;
+use crate::matching::match_items;
+
 use super::stats::{holm, mann_whitney, median, ratio_interval, samples_needed};
 use super::{PassTiming, TimingReport};
 
@@ -145,73 +148,19 @@ impl DiffReport {
     }
 }
 
-/// Pairs of (A index, B index) plus what only one side has.
-#[derive(Debug, Default, PartialEq)]
-pub struct Matching {
-    pub pairs: Vec<(usize, usize)>,
-    /// Pairs matched as renames (a subset of `pairs`).
-    pub renamed: Vec<(usize, usize)>,
-    pub added: Vec<usize>,
-    pub removed: Vec<usize>,
-}
-
-/// A pass's identity across reports: queue, marker path, name, and which occurrence of that
-/// triple it is.
-fn keys(passes: &[PassTiming]) -> Vec<(String, String, String, usize)> {
-    let mut seen: BTreeMap<(&str, &str, &str), usize> = BTreeMap::new();
-    passes
-        .iter()
-        .map(|p| {
-            let n = seen.entry((&p.queue, &p.marker_path, &p.name)).or_default();
-            *n += 1;
-            (p.queue.clone(), p.marker_path.clone(), p.name.clone(), *n)
-        })
-        .collect()
-}
-
-/// Matches passes by identity, then unmatched ones by (kind, queue, written resources) when
-/// that is unambiguous on both sides.
+/// Matches passes by queue, marker path, name and occurrence, then unmatched ones by (kind,
+/// queue, written resources) when that is unambiguous on both sides. A pass that moved to
+/// another queue is another pass here: its timing is not comparable.
 pub fn match_passes(a: &[PassTiming], b: &[PassTiming]) -> Matching {
-    let (ka, kb) = (keys(a), keys(b));
-    let index_b: BTreeMap<&(String, String, String, usize), usize> =
-        kb.iter().enumerate().map(|(i, k)| (k, i)).collect();
-    let mut m = Matching::default();
-    let mut used_b = vec![false; b.len()];
-    let mut unmatched_a = Vec::new();
-    for (i, k) in ka.iter().enumerate() {
-        match index_b.get(k) {
-            Some(&j) => {
-                m.pairs.push((i, j));
-                used_b[j] = true;
-            }
-            None => unmatched_a.push(i),
-        }
-    }
-    let signature = |p: &PassTiming| (p.kind.clone(), p.queue.clone(), p.writes.clone());
-    let mut by_signature_b: BTreeMap<_, Vec<usize>> = BTreeMap::new();
-    for (j, p) in b.iter().enumerate().filter(|(j, _)| !used_b[*j]) {
-        if !p.kind.is_empty() && !p.writes.is_empty() {
-            by_signature_b.entry(signature(p)).or_default().push(j);
-        }
-    }
-    let mut by_signature_a: BTreeMap<_, Vec<usize>> = BTreeMap::new();
-    for &i in &unmatched_a {
-        by_signature_a.entry(signature(&a[i])).or_default().push(i);
-    }
-    for i in unmatched_a {
-        let sig = signature(&a[i]);
-        match (by_signature_a.get(&sig), by_signature_b.get(&sig)) {
-            (Some(ia), Some(jb)) if ia.len() == 1 && jb.len() == 1 => {
-                m.pairs.push((i, jb[0]));
-                m.renamed.push((i, jb[0]));
-                used_b[jb[0]] = true;
-            }
-            _ => m.removed.push(i),
-        }
-    }
-    m.added = (0..b.len()).filter(|&j| !used_b[j]).collect();
-    m.pairs.sort_unstable();
-    m
+    match_items(
+        a,
+        b,
+        |p| (p.queue.clone(), p.marker_path.clone(), p.name.clone()),
+        |p| {
+            (!p.kind.is_empty() && !p.writes.is_empty())
+                .then(|| (p.kind.clone(), p.queue.clone(), p.writes.clone()))
+        },
+    )
 }
 
 /// GPU samples of measured (post-warm-up) frames.
@@ -301,8 +250,8 @@ fn groups(report: &TimingReport) -> BTreeMap<(RowKind, String), Vec<usize>> {
     groups
 }
 
-/// The rows to compare: the frame total and each queue and marker group (every pass of each
-/// side, added and removed ones included), then each matched pass.
+/// The rows to compare: the frame total and each queue and marker group found on both sides
+/// (every pass of each side, added and removed ones included), then each matched pass.
 fn pending_rows(a: &TimingReport, b: &TimingReport, m: &Matching) -> Vec<Pending> {
     let all = |r: &TimingReport| (0..r.passes.len()).collect::<Vec<_>>();
     let mut rows = vec![Pending {
@@ -320,8 +269,11 @@ fn pending_rows(a: &TimingReport, b: &TimingReport, m: &Matching) -> Vec<Pending
     keys.dedup();
     for key in keys {
         let (kind, name) = key.clone();
-        let none = Vec::new();
-        let (pa, pb) = (ga.get(key).unwrap_or(&none), gb.get(key).unwrap_or(&none));
+        // A queue or group on one side only has nothing to compare with: its passes are
+        // listed as added or removed.
+        let (Some(pa), Some(pb)) = (ga.get(key), gb.get(key)) else {
+            continue;
+        };
         rows.push(Pending {
             kind,
             queue: if kind == RowKind::Queue {
@@ -430,7 +382,7 @@ fn row(
                 Verdict::Unchanged
             } else {
                 Verdict::Inconclusive {
-                    needed: needed(&r.a, &r.b, ma, mb),
+                    needed: needed(&r.a, &r.b, ma, mb, o.threshold_pct),
                 }
             }
         }
@@ -457,14 +409,19 @@ fn row(
     }
 }
 
-/// Samples per side that would resolve the observed shift against the observed spread.
-fn needed(a: &[f64], b: &[f64], ma: f64, mb: f64) -> Option<usize> {
+/// Samples per side that would settle the row: the observed change must be told apart from the
+/// threshold (beyond it: a regression or an improvement; within it: unchanged), so the effect
+/// to resolve is the change's distance from the threshold, against the observed spread. `None`
+/// where that distance is nil or more samples would not help (the row already has them: the
+/// row is held back by the correction for many comparisons).
+fn needed(a: &[f64], b: &[f64], ma: f64, mb: f64, threshold_pct: f64) -> Option<usize> {
     let spread = |xs: &[f64], m: f64| {
         let dev: Vec<f64> = xs.iter().map(|x| (x - m).abs()).collect();
         1.4826 * median(&dev)
     };
     let sigma = (spread(a, ma) + spread(b, mb)) / 2.0;
-    samples_needed((mb - ma).abs() / sigma, ALPHA)
+    let distance = ((mb - ma).abs() - threshold_pct / 100.0 * ma).abs();
+    samples_needed(distance / sigma, ALPHA).filter(|&n| n > a.len().min(b.len()))
 }
 
 #[cfg(test)]
@@ -545,6 +502,24 @@ mod tests {
             resamples: 200,
             ..DiffOptions::default()
         }
+    }
+
+    #[test]
+    fn frames_needed_count_from_the_threshold() {
+        // Spread ~1.5 around 100; B is 3.5% slower, 0.5% beyond a 3% threshold.
+        let a: Vec<f64> = (0..12).map(|i| 100.0 + f64::from(i % 5) - 2.0).collect();
+        let b: Vec<f64> = a.iter().map(|x| x * 1.035).collect();
+        let (ma, mb) = (median(&a), median(&b));
+        let near = needed(&a, &b, ma, mb, 3.0).unwrap();
+        // Against the bare 3.5% shift far fewer frames would seem enough.
+        let naive = needed(&a, &b, ma, mb, 0.0);
+        assert!(
+            near > 12 && naive.is_none_or(|n| n < near),
+            "{near} {naive:?}"
+        );
+        // A change already resolved by the samples at hand asks for no more.
+        let far: Vec<f64> = a.iter().map(|x| x * 1.5).collect();
+        assert_eq!(needed(&a, &far, ma, median(&far), 3.0), None);
     }
 
     #[test]

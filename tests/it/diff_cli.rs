@@ -193,3 +193,80 @@ fn plot_draws_every_pass_into_an_svg() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+const EXAMPLE: &str = "captures/example/frame.json";
+const SYNC: &str = "captures/example/frame_sync.json";
+
+/// The example against its variant without async compute: the moved simulation, the renamed
+/// bloom pass, the wider bloom format and the dropped fence are each reported, and nothing is
+/// replayed (no adapter line on stderr).
+#[test]
+fn structure_diff_names_every_change() {
+    let text = framelab(&["diff", "--structure", EXAMPLE, SYNC]);
+    assert_eq!(text.status.code(), Some(0), "{}", stderr(&text));
+    assert!(stderr(&text).is_empty(), "{}", stderr(&text));
+    insta::assert_snapshot!("structure_text", stdout(&text));
+    insta::assert_snapshot!(
+        "structure_markdown",
+        stdout(&framelab(&[
+            "diff",
+            "--structure",
+            EXAMPLE,
+            SYNC,
+            "--markdown"
+        ]))
+    );
+    let d = json(&framelab(&["diff", "--structure", EXAMPLE, SYNC, "--json"]));
+    assert_eq!(d["format_version"], 1);
+    let moved: Vec<&str> = d["passes"]["moved"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["pass"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        moved,
+        ["Frame/Simulation/reset_args", "Frame/Simulation/simulate"]
+    );
+    assert_eq!(
+        d["passes"]["renamed"][0]["to"],
+        "gfx/Frame/Post/Bloom/bright_pass"
+    );
+    let bloom = &d["resources"]["changed"][0];
+    assert_eq!(bloom["name"], "bloom");
+    assert!(
+        bloom["changes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|c| c["field"] == "format" && c["b"] == "R16G16B16A16_FLOAT"),
+        "{bloom}"
+    );
+    assert_eq!(d["fences"]["removed"], serde_json::json!(["simulated"]));
+    let total = d["memory"].as_array().unwrap().last().unwrap();
+    assert_eq!(total["heap_type"], "total");
+    // RGBA16F is twice R11G11B10: the unaliased total grows by the old bloom's bytes.
+    let unaliased = total["unaliased_bytes"].as_array().unwrap();
+    assert!(unaliased[1].as_u64() > unaliased[0].as_u64(), "{total}");
+
+    let same = framelab(&["diff", "--structure", EXAMPLE, EXAMPLE]);
+    assert_eq!(same.status.code(), Some(0));
+    assert!(
+        stdout(&same).contains("no structural change"),
+        "{}",
+        stdout(&same)
+    );
+}
+
+#[test]
+fn structure_diff_refuses_timing_reports() {
+    let out = framelab(&["diff", "--structure", A, B]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("is a timing report: --structure compares two captures"),
+        "{}",
+        stderr(&out)
+    );
+    let both = framelab(&["diff", "--structure", EXAMPLE, SYNC, "--plot", "x.svg"]);
+    assert_eq!(both.status.code(), Some(2));
+}
