@@ -9,6 +9,7 @@
 pub mod analysis;
 pub mod capture;
 pub mod info;
+pub mod inspect;
 pub mod lower;
 pub mod matching;
 pub mod output;

@@ -86,6 +86,8 @@ pub enum DeviceError {
 /// An open device and the adapter it came from.
 #[derive(Debug)]
 pub struct GpuContext {
+    /// The instance the adapter came from: a window drawing with this device needs it.
+    pub instance: wgpu::Instance,
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
@@ -158,7 +160,7 @@ pub fn open_device(
     name_filter: Option<&str>,
     wanted: wgpu::Features,
 ) -> Result<GpuContext, DeviceError> {
-    let (_instance, mut adapters) = adapters();
+    let (instance, mut adapters) = adapters();
     if adapters.is_empty() {
         return Err(DeviceError::NoAdapter {
             backends: format!("{:?}", wgpu::Backends::all()),
@@ -217,6 +219,7 @@ pub fn open_device(
         }
     });
     Ok(GpuContext {
+        instance,
         adapter,
         device,
         queue,

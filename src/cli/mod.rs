@@ -5,6 +5,7 @@
 mod analysis;
 mod diff;
 mod info;
+mod inspect;
 mod replay;
 mod replayer;
 mod validate;
@@ -112,6 +113,11 @@ enum Command {
     ///
     /// Example: framelab diff before.json after.json --fail-on-regression 5 --markdown
     Diff(diff::DiffArgs),
+    /// Open the inspector: events, every texture as of any pass, resources, pass details with
+    /// derived and recorded barriers, and a timeline scaled by GPU time.
+    ///
+    /// Example: framelab inspect frame.json --screenshot view.png --select tonemap --view ldr
+    Inspect(Box<inspect::InspectArgs>),
     /// Print the JSON Schema of the capture format.
     Schema,
     /// List the GPU adapters wgpu can use here, best first.
@@ -182,6 +188,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             replay::run(&capture, &options, quiet)
         }
         Command::Diff(args) => Ok(diff::run(&args)),
+        Command::Inspect(args) => inspect::run(&args),
         Command::Schema => {
             print_stdout(&framelab::schema::schema_json())?;
             Ok(ExitCode::SUCCESS)

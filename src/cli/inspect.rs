@@ -1,0 +1,170 @@
+//! `framelab inspect`: opens the inspector over a capture replayed on the chosen device, in a
+//! window, or off-screen to write a screenshot (`--screenshot`, with the pass and resource to
+//! select), for documentation and tests.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Duration;
+
+use anyhow::{Context, bail};
+use framelab::analysis::report::{AnalyzeOptions, analyze};
+use framelab::inspect::{self, Reports};
+use framelab::lower;
+use framelab::timing::TimingReport;
+use framelab_ui::Inspector;
+use framelab_ui::headless;
+use framelab_ui::worker::Worker;
+
+use super::parse_scale;
+use super::replayer::Loaded;
+
+#[derive(Debug, Clone, clap::Args)]
+pub struct InspectArgs {
+    pub capture: PathBuf,
+    /// Output-resolution multiplier.
+    #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
+    pub scale: f64,
+    /// A timing report (`replay --timings`) for the timeline, instead of the inspector's own
+    /// timed frames.
+    #[arg(long)]
+    pub timings: Option<PathBuf>,
+    /// A second timing report: each pass shows its time there and the diff's verdict.
+    #[arg(long, requires = "timings")]
+    pub compare: Option<PathBuf>,
+    /// Use the adapter whose name contains this text.
+    #[arg(long)]
+    pub adapter: Option<String>,
+    /// Render the window off-screen into this PNG and exit.
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
+    /// The pass to make current (default: the last).
+    #[arg(long)]
+    pub select: Option<String>,
+    /// The resource to open in the texture viewer.
+    #[arg(long)]
+    pub view: Option<String>,
+    /// The texel to read out, X,Y (as a click on the texture would pick it).
+    #[arg(long, value_parser = parse_pixel)]
+    pub pixel: Option<(u32, u32)>,
+    /// Window size in points, WxH (screenshots).
+    #[arg(long, default_value = "1600x900", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Whole frames timed before the first view.
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub frames: u32,
+}
+
+fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once('x')
+        .ok_or_else(|| format!("\"{text}\" is not WxH"))?;
+    let parse = |s: &str| s.parse::<u32>().ok().filter(|v| (64..=8192).contains(v));
+    match (parse(w), parse(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(format!("\"{text}\": width and height must be 64..8192")),
+    }
+}
+
+fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
+    let (x, y) = text
+        .split_once(',')
+        .ok_or_else(|| format!("\"{text}\" is not X,Y"))?;
+    match (x.trim().parse(), y.trim().parse()) {
+        (Ok(x), Ok(y)) => Ok((x, y)),
+        _ => Err(format!("\"{text}\": X and Y must be whole numbers")),
+    }
+}
+
+fn report(path: &Path) -> anyhow::Result<TimingReport> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    Ok(TimingReport::from_json(&path.display().to_string(), &text)?)
+}
+
+pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
+    let loaded = Loaded::new(&args.capture, args.scale, false)?;
+    let analysis = analyze(&loaded.capture, AnalyzeOptions::default())
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.capture.display()))?;
+    let timings = args.timings.as_deref().map(report).transpose()?;
+    let compare = args.compare.as_deref().map(report).transpose()?;
+    let ctx = framelab_replay::open_device(args.adapter.as_deref(), lower::wanted_features())?;
+    let mut lowered = loaded.lower(&ctx)?;
+    inspect::make_viewable(&mut lowered);
+    let model = inspect::model(
+        &loaded.capture,
+        &analysis,
+        &lowered,
+        &Reports {
+            timings: timings
+                .as_ref()
+                .zip(args.timings.as_ref())
+                .map(|(t, p)| (t, p.display().to_string())),
+            compare: compare
+                .as_ref()
+                .zip(args.compare.as_ref())
+                .map(|(t, p)| (t, p.display().to_string())),
+        },
+    )?;
+    let select = match &args.select {
+        Some(name) => Some(model.pass_named(name).with_context(|| {
+            let names: Vec<&str> = model.passes.iter().map(|p| p.name.as_str()).collect();
+            format!(
+                "--select: no pass \"{name}\" (passes: {})",
+                names.join(", ")
+            )
+        })?),
+        None => None,
+    };
+    let view = match &args.view {
+        Some(name) => Some(
+            model
+                .resource_named(name)
+                .with_context(|| format!("--view: no resource \"{name}\" in {}", model.capture))?,
+        ),
+        None => None,
+    };
+    if let Some(v) = view
+        && model.resources[v].texture.is_none()
+    {
+        bail!("--view: \"{}\" is not a texture", model.resources[v].name);
+    }
+    let session = framelab_replay::Session::new(&ctx, lowered.plan)?;
+    let capture = loaded.capture.clone();
+    let worker = Worker::start(
+        session,
+        Box::new(move |f| lower::frame::constants(&capture, f)),
+        args.frames,
+    );
+    let pixel = args.pixel;
+    let prepare = move |app: &mut Inspector| {
+        if let Some(p) = select {
+            app.select_pass(p);
+        }
+        if let Some(r) = view {
+            app.open_resource(r);
+        }
+        if let Some((x, y)) = pixel {
+            app.pick(x, y);
+        }
+    };
+    match &args.screenshot {
+        Some(path) => {
+            let rs = headless::render_state(&ctx)?;
+            let mut app = Inspector::new(model, Some(worker), Some(rs.clone()));
+            prepare(&mut app);
+            let size = framelab_ui::egui::Vec2::new(args.size.0 as f32, args.size.1 as f32);
+            let image = headless::capture(app, rs, size, Duration::from_secs(600))?;
+            headless::save_png(&image, path)?;
+            Ok(ExitCode::SUCCESS)
+        }
+        None => {
+            let title = format!("framelab inspect {}", args.capture.display());
+            headless::window(&ctx, &title, move |rs| {
+                let mut app = Inspector::new(model, Some(worker), rs);
+                prepare(&mut app);
+                app
+            })?;
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}

@@ -1,0 +1,553 @@
+//! The inspector's model built from a capture: passes in execution order with their bindings,
+//! attachments, state, work, parameters, derived and recorded barriers and lints; resources
+//! with sizes, heaps, aliasing-plan offsets, first and last use and what they alias; queue
+//! waits; timings from a report and the diff against a second one. The UI crate receives only
+//! this plain data (names and preformatted text), never capture types.
+
+use std::collections::BTreeMap;
+
+use framelab_replay::wgpu;
+use framelab_ui::model::{
+    Barrier, BarrierSide, BarrierSource, Compare, CompareRow, Inspection, Pass, PassTime, Resource,
+    Sampling, TextureView, Timings,
+};
+use serde::Serialize;
+
+use crate::analysis::report::{self, Analysis, BarrierReport, SubresourceReport};
+use crate::capture::model::{BindingTarget, Capture, PassDesc, PassId, Subresources};
+use crate::lower::Lowered;
+use crate::timing::diff::{DiffOptions, RowKind, Verdict};
+use crate::timing::{TimingReport, stats};
+
+/// A serde enum's name as the capture spells it.
+fn spelled(x: &impl Serialize) -> String {
+    match serde_json::to_value(x) {
+        Ok(serde_json::Value::String(s)) => s,
+        Ok(v) => v.to_string(),
+        Err(_) => String::new(),
+    }
+}
+
+fn range_text(r: &Subresources, texture: bool) -> String {
+    if texture {
+        format!(
+            "mips {}..{} layers {}..{}",
+            r.mip_base,
+            r.mip_base + r.mip_count,
+            r.layer_base,
+            r.layer_base + r.layer_count
+        )
+    } else {
+        format!("bytes {}+{}", r.byte_offset, r.byte_size)
+    }
+}
+
+fn params(p: &BTreeMap<String, crate::capture::format::ParamValue>) -> Vec<(String, String)> {
+    p.iter()
+        .map(|(k, v)| (k.clone(), serde_json::to_string(v).unwrap_or_default()))
+        .collect()
+}
+
+fn work(c: &Capture, p: &PassDesc) -> Vec<String> {
+    let name = |r| c.resource(r).name.clone();
+    let mut out = Vec::new();
+    for (i, d) in p.draws.iter().enumerate() {
+        let what = d.label.clone().unwrap_or_else(|| format!("draw {i}"));
+        let args = match (&d.indirect, d.mesh) {
+            (Some((buf, offset)), _) => format!("indirect from {} @ {offset}", name(*buf)),
+            (None, Some(m)) => format!(
+                "mesh {} x{} instances",
+                c.meshes[m.index()].name,
+                d.instances
+            ),
+            (None, None) => format!(
+                "{} vertices x{} instances",
+                d.count.unwrap_or(0),
+                d.instances
+            ),
+        };
+        out.push(format!("{what}: {args}"));
+    }
+    for (i, d) in p.dispatches.iter().enumerate() {
+        let what = d.label.clone().unwrap_or_else(|| format!("dispatch {i}"));
+        let args = match (&d.indirect, d.groups) {
+            (Some((buf, offset)), _) => format!("indirect from {} @ {offset}", name(*buf)),
+            (None, Some([x, y, z])) => format!("{x}x{y}x{z} groups"),
+            (None, None) => "no groups".to_owned(),
+        };
+        out.push(format!("{what}: {args}"));
+    }
+    for cp in &p.copies {
+        out.push(format!(
+            "copy {} mip {} -> {} mip {}",
+            name(cp.src.resource),
+            cp.src.mip,
+            name(cp.dst.resource),
+            cp.dst.mip
+        ));
+    }
+    for cl in &p.clears {
+        out.push(format!("clear {} to {:?}", name(cl.resource), cl.value));
+    }
+    if let Some((src, dst)) = p.resolve {
+        out.push(format!("resolve {} -> {}", name(src), name(dst)));
+    }
+    if let Some((r, range)) = &p.generate_mips {
+        out.push(format!(
+            "generate mips of {} ({})",
+            name(*r),
+            range_text(range, true)
+        ));
+    }
+    if let Some(r) = p.present {
+        out.push(format!("present {}", name(r)));
+    }
+    out
+}
+
+fn bindings(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
+    p.bindings
+        .iter()
+        .map(|b| {
+            let target = match &b.target {
+                BindingTarget::Resource {
+                    resource,
+                    view_format,
+                    view_kind,
+                } => {
+                    let r = c.resource(*resource);
+                    let mut s = format!("{} as {}", r.name, view_kind.as_str());
+                    if let Some(f) = view_format {
+                        s.push_str(&format!(" {}", f.name));
+                    }
+                    if let Some(a) = b.access {
+                        s.push_str(&format!(", {}", a.as_str()));
+                    }
+                    if let Some(range) = &b.range {
+                        s.push_str(&format!(", {}", range_text(range, r.is_texture())));
+                    }
+                    s
+                }
+                BindingTarget::Sampler(s) => format!("sampler {}", c.samplers[s.index()].name),
+            };
+            (b.variable.clone(), target)
+        })
+        .collect()
+}
+
+fn attachments(c: &Capture, p: &PassDesc) -> Vec<String> {
+    let mut out: Vec<String> = p
+        .color_attachments
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            format!(
+                "color {i}: {} mip {} layer {} ({}), load {}{}, store {}",
+                c.resource(a.resource).name,
+                a.mip,
+                a.layer,
+                a.format.name,
+                spelled(&a.load),
+                if spelled(&a.load) == "clear" {
+                    format!(" {:?}", a.clear)
+                } else {
+                    String::new()
+                },
+                spelled(&a.store)
+            )
+        })
+        .collect();
+    if let Some(d) = &p.depth_stencil {
+        out.push(format!(
+            "depth: {} mip {} ({}), depth load {} ({}) store {}, stencil load {} ({}) store {}{}",
+            c.resource(d.resource).name,
+            d.mip,
+            d.format.name,
+            spelled(&d.depth_load),
+            d.depth_clear,
+            spelled(&d.depth_store),
+            spelled(&d.stencil_load),
+            d.stencil_clear,
+            spelled(&d.stencil_store),
+            if d.read_only { ", read-only" } else { "" }
+        ));
+    }
+    out
+}
+
+fn state(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    if let Some(s) = &p.shader {
+        out.push(("shader".to_owned(), c.shader(s.id).file.clone()));
+        for (stage, entry) in [
+            ("vertex", &s.vertex),
+            ("fragment", &s.fragment),
+            ("compute", &s.compute),
+        ] {
+            if let Some(e) = entry {
+                out.push((stage.to_owned(), e.clone()));
+            }
+        }
+    }
+    if p.kind.as_str() == "raster"
+        && let Ok(serde_json::Value::Object(m)) = serde_json::to_value(&p.state)
+    {
+        for (k, v) in m {
+            let text = match v {
+                serde_json::Value::String(s) => s,
+                other => other.to_string(),
+            };
+            out.push((k, text));
+        }
+    }
+    out
+}
+
+fn derived(b: &BarrierReport, side: BarrierSide) -> Barrier {
+    let v = &b.vulkan;
+    let layouts = match (v.old_layout, v.new_layout) {
+        (Some(o), Some(n)) => format!("{o} -> {n}; "),
+        _ => String::new(),
+    };
+    Barrier {
+        side,
+        source: BarrierSource::Derived,
+        kind: spelled(&b.kind),
+        resource: b.resource.clone(),
+        subresource: match &b.subresource {
+            SubresourceReport::All(_) => "all".to_owned(),
+            SubresourceReport::Texture { mips, layers } => {
+                format!(
+                    "mips {}+{} layers {}+{}",
+                    mips[0], mips[1], layers[0], layers[1]
+                )
+            }
+            SubresourceReport::Bytes { bytes } => format!("bytes {}+{}", bytes[0], bytes[1]),
+        },
+        states: match &b.resource_before {
+            Some(before) => format!("{before} -> {}", b.resource),
+            None => format!("{} -> {}", b.before, b.after),
+        },
+        vulkan: format!(
+            "{layouts}{} / {} -> {} / {}",
+            v.src_stages.join("|"),
+            v.src_access.join("|"),
+            v.dst_stages.join("|"),
+            v.dst_access.join("|")
+        ),
+    }
+}
+
+fn recorded(c: &Capture, p: &PassDesc) -> Vec<Barrier> {
+    p.barriers
+        .iter()
+        .map(|b| {
+            let resource = b.resource.map(|r| c.resource(r));
+            let states = |s: &[crate::capture::format::ResourceState]| {
+                s.iter().map(spelled).collect::<Vec<_>>().join("|")
+            };
+            Barrier {
+                side: BarrierSide::Before,
+                source: BarrierSource::Recorded,
+                kind: spelled(&b.barrier_type),
+                resource: resource.map_or("(all)".to_owned(), |r| r.name.clone()),
+                subresource: match (&b.range, resource) {
+                    (Some(range), Some(r)) => range_text(range, r.is_texture()),
+                    _ => "all".to_owned(),
+                },
+                states: match b.resource_before {
+                    Some(before) => format!("{} -> ...", c.resource(before).name),
+                    None if b.before.is_empty() && b.after.is_empty() => String::new(),
+                    None => format!("{} -> {}", states(&b.before), states(&b.after)),
+                },
+                vulkan: String::new(),
+            }
+        })
+        .collect()
+}
+
+/// How the viewer reads a plan texture, or why it cannot.
+fn texture_view(plan_index: usize, spec: &framelab_replay::plan::TextureSpec) -> TextureView {
+    use wgpu::TextureFormat as F;
+    let f = spec.format;
+    let sampling = if f.has_depth_aspect() {
+        Sampling::Depth
+    } else {
+        match f.sample_type(None, None) {
+            Some(wgpu::TextureSampleType::Uint) => Sampling::Uint,
+            Some(wgpu::TextureSampleType::Sint) => Sampling::Sint,
+            _ => Sampling::Float,
+        }
+    };
+    let hdr = matches!(
+        f,
+        F::Rgba16Float | F::Rgba32Float | F::Rg11b10Ufloat | F::Rgb9e5Ufloat
+    );
+    TextureView {
+        plan_index,
+        sampling,
+        volume: spec.dimension == wgpu::TextureDimension::D3,
+        encode_srgb: f.is_srgb() || hdr,
+        unviewable: (spec.samples > 1)
+            .then(|| "multisampled: view the resolved texture".to_owned()),
+    }
+}
+
+/// Every plan texture the viewer can show gets bound as a texture by the display pass.
+pub fn make_viewable(lowered: &mut Lowered) {
+    for t in &mut lowered.plan.textures {
+        if t.samples == 1 {
+            t.usage |= wgpu::TextureUsages::TEXTURE_BINDING;
+        }
+    }
+}
+
+fn resources(
+    c: &Capture,
+    r: &report::Report,
+    lowered: &Lowered,
+    pass_index: &BTreeMap<PassId, usize>,
+) -> Vec<Resource> {
+    let info = crate::info::report(c);
+    let memory: BTreeMap<&str, &report::ResourceMemory> = r
+        .memory
+        .resources
+        .iter()
+        .map(|m| (m.name.as_str(), m))
+        .collect();
+    let mut aliases: BTreeMap<&str, Vec<String>> = BTreeMap::new();
+    for x in &r.memory.aliasing_barriers {
+        aliases
+            .entry(x.resource_before.as_str())
+            .or_default()
+            .push(x.resource_after.clone());
+        aliases
+            .entry(x.resource_after.as_str())
+            .or_default()
+            .push(x.resource_before.clone());
+    }
+    // First and last pass using each resource, in execution order.
+    let mut uses: BTreeMap<usize, (usize, usize)> = BTreeMap::new();
+    for (&id, &i) in pass_index {
+        for access in &c.pass(id).accesses {
+            let e = uses.entry(access.resource.index()).or_insert((i, i));
+            e.0 = e.0.min(i);
+            e.1 = e.1.max(i);
+        }
+    }
+    info.resources
+        .iter()
+        .enumerate()
+        .map(|(i, ri)| {
+            let id = c.resources[i].id;
+            let m = memory.get(ri.name.as_str());
+            let mut al = aliases.get(ri.name.as_str()).cloned().unwrap_or_default();
+            al.sort();
+            al.dedup();
+            Resource {
+                name: ri.name.clone(),
+                kind: ri.kind.to_owned(),
+                format: ri.format.unwrap_or("").to_owned(),
+                width: ri.width,
+                height: ri.height,
+                depth: ri.depth,
+                mips: ri.mip_levels,
+                layers: ri.array_layers,
+                bytes: ri.bytes,
+                heap: format!("{} ({})", ri.heap, ri.heap_type),
+                offset: m.map(|m| m.offset),
+                first_pass: uses.get(&i).map(|u| u.0),
+                last_pass: uses.get(&i).map(|u| u.1),
+                aliases: al,
+                texture: lowered
+                    .texture_of
+                    .get(&id)
+                    .map(|&t| texture_view(t, &lowered.plan.textures[t])),
+            }
+        })
+        .collect()
+}
+
+/// Per model pass, its median GPU time in a report, laid out per queue in order (a report
+/// keeps durations, not start times): a pass starts when the previous one on its queue ends,
+/// and not before the passes it waits on.
+fn timings_from(model: &Inspection, t: &TimingReport, source: &str) -> Timings {
+    let by_name: BTreeMap<(&str, &str), &crate::timing::PassTiming> = t
+        .passes
+        .iter()
+        .map(|p| ((p.queue.as_str(), p.name.as_str()), p))
+        .collect();
+    let mut queue_end = vec![0.0f64; model.queues.len()];
+    let mut ends: Vec<f64> = Vec::with_capacity(model.passes.len());
+    let mut out = Vec::with_capacity(model.passes.len());
+    for (i, p) in model.passes.iter().enumerate() {
+        let ms = by_name
+            .get(&(model.queues[p.queue].as_str(), p.name.as_str()))
+            .and_then(|pt| stats::gpu_ms_median_min(pt, t.warmup))
+            .map(|(median, _)| median * 1e6);
+        let waits = model
+            .fences
+            .iter()
+            .filter(|(_, to)| *to == i)
+            .map(|(from, _)| ends.get(*from).copied().unwrap_or(0.0))
+            .fold(0.0f64, f64::max);
+        let start = queue_end[p.queue].max(waits);
+        let end = start + ms.unwrap_or(0.0);
+        queue_end[p.queue] = end;
+        ends.push(end);
+        out.push(ms.map(|gpu_ns| PassTime {
+            start_ns: start,
+            gpu_ns,
+        }));
+    }
+    Timings {
+        source: source.to_owned(),
+        passes: out,
+    }
+}
+
+fn compare_from(
+    model: &Inspection,
+    a: &TimingReport,
+    b: &TimingReport,
+    source: &str,
+) -> Result<Compare, crate::timing::diff::DiffError> {
+    let d = crate::timing::diff::diff(a, b, &DiffOptions::default())?;
+    let rows: BTreeMap<(&str, &str), &crate::timing::diff::Row> = d
+        .rows
+        .iter()
+        .filter(|r| r.kind == RowKind::Pass)
+        .map(|r| ((r.queue.as_str(), r.name.as_str()), r))
+        .collect();
+    let passes = model
+        .passes
+        .iter()
+        .map(|p| {
+            let r = rows.get(&(model.queues[p.queue].as_str(), p.name.as_str()))?;
+            Some(CompareRow {
+                other_ms: r.median_b_ns / 1e6,
+                change_pct: r.change_pct,
+                verdict: match r.verdict {
+                    Verdict::Regression => "regression",
+                    Verdict::Improvement => "improvement",
+                    Verdict::Unchanged => "unchanged",
+                    Verdict::Inconclusive { .. } => "inconclusive",
+                    Verdict::Untimed => "untimed",
+                }
+                .to_owned(),
+            })
+        })
+        .collect();
+    Ok(Compare {
+        source: source.to_owned(),
+        passes,
+    })
+}
+
+/// The timing reports the inspector was given.
+#[derive(Debug, Default)]
+pub struct Reports<'a> {
+    pub timings: Option<(&'a TimingReport, String)>,
+    pub compare: Option<(&'a TimingReport, String)>,
+}
+
+/// The inspection model of `capture` replayed in `lowered`'s plan order.
+pub fn model(
+    c: &Capture,
+    a: &Analysis,
+    lowered: &Lowered,
+    reports: &Reports<'_>,
+) -> Result<Inspection, crate::timing::diff::DiffError> {
+    let r = report::report(c, a);
+    let pass_index: BTreeMap<PassId, usize> = lowered
+        .pass_ids
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (id, i))
+        .collect();
+    let boundaries: BTreeMap<&str, &report::Boundary> =
+        r.barriers.iter().map(|b| (b.pass.as_str(), b)).collect();
+    let passes: Vec<Pass> = lowered
+        .pass_ids
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| {
+            let p = c.pass(id);
+            let mut barriers = Vec::new();
+            if let Some(b) = boundaries.get(p.name.as_str()) {
+                barriers.extend(b.barriers.iter().map(|x| derived(x, BarrierSide::Before)));
+            }
+            barriers.extend(recorded(c, p));
+            if let Some(next) = lowered.pass_ids.get(i + 1)
+                && let Some(b) = boundaries.get(c.pass(*next).name.as_str())
+            {
+                barriers.extend(b.barriers.iter().map(|x| derived(x, BarrierSide::After)));
+            }
+            let mut reads: Vec<usize> = p
+                .accesses
+                .iter()
+                .filter(|x| x.reads)
+                .map(|x| x.resource.index())
+                .collect();
+            let mut writes: Vec<usize> = p
+                .accesses
+                .iter()
+                .filter(|x| x.writes)
+                .map(|x| x.resource.index())
+                .collect();
+            reads.sort_unstable();
+            reads.dedup();
+            writes.sort_unstable();
+            writes.dedup();
+            Pass {
+                name: p.name.clone(),
+                queue: p.queue.index(),
+                kind: p.kind.as_str().to_owned(),
+                markers: p.markers.clone(),
+                culled: a.culled.contains(&id),
+                work: work(c, p),
+                bindings: bindings(c, p),
+                attachments: attachments(c, p),
+                state: state(c, p),
+                params: params(&p.params),
+                barriers,
+                lints: r
+                    .lints
+                    .iter()
+                    .filter(|l| l.pass.as_deref() == Some(p.name.as_str()))
+                    .map(|l| format!("{} {}: {}", l.code, spelled(&l.severity), l.message))
+                    .collect(),
+                reads,
+                writes,
+            }
+        })
+        .collect();
+    let mut fences = Vec::new();
+    for (&id, &i) in &pass_index {
+        for f in &c.pass(id).wait {
+            for (&other, &j) in &pass_index {
+                if c.pass(other).signal.contains(f) {
+                    fences.push((j, i));
+                }
+            }
+        }
+    }
+    fences.sort_unstable();
+    let mut m = Inspection {
+        capture: c.name.clone(),
+        scale: c.scale,
+        queues: c.queues.iter().map(|q| q.name.clone()).collect(),
+        passes,
+        resources: resources(c, &r, lowered, &pass_index),
+        fences,
+        timings: None,
+        compare: None,
+    };
+    if let Some((t, source)) = &reports.timings {
+        m.timings = Some(timings_from(&m, t, source));
+        if let Some((b, other)) = &reports.compare {
+            m.compare = Some(compare_from(&m, t, b, other)?);
+        }
+    }
+    Ok(m)
+}

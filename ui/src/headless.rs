@@ -1,0 +1,146 @@
+//! Running the inspector: in a window (eframe, drawing with the device that replays the frame)
+//! or off-screen (egui_kittest rendering with that same device) to write a screenshot of the
+//! whole window once the worker has shown what was asked.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use eframe::egui_wgpu::{self, RenderState, WgpuConfiguration, WgpuSetup, WgpuSetupExisting};
+use framelab_replay::GpuContext;
+
+use crate::app::Inspector;
+
+#[derive(Debug, thiserror::Error)]
+pub enum HeadlessError {
+    #[error("drawing with the replay device: {0}")]
+    RenderState(String),
+    #[error("the replay did not finish within {0:?}")]
+    Timeout(Duration),
+    #[error("the replay failed: {0}")]
+    Replay(String),
+    #[error("rendering the window: {0}")]
+    Render(String),
+    #[error("writing {path}: {message}")]
+    Write { path: String, message: String },
+    #[error("opening the window: {0}")]
+    Window(String),
+}
+
+fn setup(ctx: &GpuContext) -> WgpuSetup {
+    WgpuSetup::Existing(WgpuSetupExisting {
+        instance: ctx.instance.clone(),
+        adapter: ctx.adapter.clone(),
+        device: ctx.device.clone(),
+        queue: ctx.queue.clone(),
+    })
+}
+
+/// egui's renderer on the replay's device.
+pub fn render_state(ctx: &GpuContext) -> Result<RenderState, HeadlessError> {
+    let config = WgpuConfiguration {
+        wgpu_setup: setup(ctx),
+        ..Default::default()
+    };
+    pollster::block_on(RenderState::create(
+        &config,
+        &ctx.instance,
+        None,
+        egui_wgpu::RendererOptions::default(),
+    ))
+    .map_err(|e| HeadlessError::RenderState(e.to_string()))
+}
+
+/// Renders the inspector off-screen at `size` (points) once its worker is idle, waiting at
+/// most `timeout`, and returns the image.
+pub fn capture(
+    app: Inspector,
+    render_state: RenderState,
+    size: egui::Vec2,
+    timeout: Duration,
+) -> Result<image::RgbaImage, HeadlessError> {
+    let mut harness = harness(app, render_state, size);
+    settle(&mut harness, timeout)?;
+    harness.render().map_err(HeadlessError::Render)
+}
+
+/// A kittest harness over the inspector, drawing with `render_state`.
+pub fn harness(
+    app: Inspector,
+    render_state: RenderState,
+    size: egui::Vec2,
+) -> egui_kittest::Harness<'static, Inspector> {
+    egui_kittest::Harness::builder()
+        .with_size(size)
+        // A capture may name things in any script; missing glyphs draw as boxes.
+        .allow_missing_glyphs()
+        .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(
+            render_state,
+        ))
+        .build_ui_state(|ui, app: &mut Inspector| app.ui(ui), app)
+}
+
+/// Steps the harness until the worker has answered and the UI has drawn the answer.
+pub fn settle(
+    harness: &mut egui_kittest::Harness<'static, Inspector>,
+    timeout: Duration,
+) -> Result<(), HeadlessError> {
+    let start = Instant::now();
+    let mut quiet = 0;
+    while quiet < 3 {
+        harness.step();
+        if let Some(e) = &harness.state().error {
+            return Err(HeadlessError::Replay(e.clone()));
+        }
+        if harness.state().is_idle() {
+            quiet += 1;
+        } else {
+            quiet = 0;
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        if start.elapsed() > timeout {
+            return Err(HeadlessError::Timeout(timeout));
+        }
+    }
+    Ok(())
+}
+
+/// Writes `image` as PNG, through a temporary file so a failed write leaves nothing behind.
+pub fn save_png(image: &image::RgbaImage, path: &Path) -> Result<(), HeadlessError> {
+    let err = |message: String| HeadlessError::Write {
+        path: path.display().to_string(),
+        message,
+    };
+    let mut bytes = Vec::new();
+    image
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Png,
+        )
+        .map_err(|e| err(e.to_string()))?;
+    framelab_replay::atomic::write(path, &bytes).map_err(|e| err(e.to_string()))
+}
+
+/// Opens the inspector in a window; `make` builds it with egui's renderer on the replay device.
+pub fn window(
+    ctx: &GpuContext,
+    title: &str,
+    make: impl FnOnce(Option<RenderState>) -> Inspector + 'static,
+) -> Result<(), HeadlessError> {
+    let options = eframe::NativeOptions {
+        renderer: eframe::Renderer::Wgpu,
+        wgpu_options: WgpuConfiguration {
+            wgpu_setup: setup(ctx),
+            ..Default::default()
+        },
+        viewport: egui::ViewportBuilder::default()
+            .with_inner_size([1600.0, 900.0])
+            .with_title(title),
+        ..Default::default()
+    };
+    eframe::run_native(
+        title,
+        options,
+        Box::new(move |cc| Ok(Box::new(make(cc.wgpu_render_state.clone())))),
+    )
+    .map_err(|e| HeadlessError::Window(e.to_string()))
+}

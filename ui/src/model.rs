@@ -1,0 +1,165 @@
+//! The inspection model: a replayed frame as plain data (names, numbers, preformatted text),
+//! built by the root crate from a capture, its analysis and timings. The panels draw only
+//! this, so they can be tested on a fixed model, and no capture type leaks into the UI.
+
+/// A whole frame to inspect.
+#[derive(Clone, Debug, Default)]
+pub struct Inspection {
+    pub capture: String,
+    pub scale: f64,
+    pub queues: Vec<String>,
+    /// In execution order: the pass at index `i` is the replay plan's pass `i`.
+    pub passes: Vec<Pass>,
+    pub resources: Vec<Resource>,
+    /// Cross-queue waits: the signalling pass and the waiting pass.
+    pub fences: Vec<(usize, usize)>,
+    /// Timings from a report given on the command line (`--timings`); a replay's own timings
+    /// replace them when it finishes.
+    pub timings: Option<Timings>,
+    /// A second report to compare with (`--compare`).
+    pub compare: Option<Compare>,
+}
+
+/// Per pass, in the model's order: where its GPU work starts in the frame and how long it
+/// takes, in nanoseconds (`None` where it was not timed).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Timings {
+    pub source: String,
+    pub passes: Vec<Option<PassTime>>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PassTime {
+    pub start_ns: f64,
+    pub gpu_ns: f64,
+}
+
+/// The timing diff against another report: per pass, that side's median and the verdict.
+#[derive(Clone, Debug, Default)]
+pub struct Compare {
+    pub source: String,
+    pub passes: Vec<Option<CompareRow>>,
+}
+
+#[derive(Clone, Debug)]
+pub struct CompareRow {
+    pub other_ms: f64,
+    pub change_pct: f64,
+    /// regression, improvement, unchanged, inconclusive or untimed.
+    pub verdict: String,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Pass {
+    pub name: String,
+    pub queue: usize,
+    /// raster, compute, copy, clear, resolve, generate_mips or present.
+    pub kind: String,
+    /// Marker groups above the pass, outermost first.
+    pub markers: Vec<String>,
+    /// Its work reaches no output.
+    pub culled: bool,
+    /// One line per draw, dispatch, copy or clear, with its arguments.
+    pub work: Vec<String>,
+    /// WGSL variable -> resource view.
+    pub bindings: Vec<(String, String)>,
+    /// Colour and depth attachments with load/store and clear values.
+    pub attachments: Vec<String>,
+    /// Render state and shader entry points.
+    pub state: Vec<(String, String)>,
+    pub params: Vec<(String, String)>,
+    pub barriers: Vec<Barrier>,
+    /// Lints that name this pass: `code severity: message`.
+    pub lints: Vec<String>,
+    /// Resource indices it reads and writes.
+    pub reads: Vec<usize>,
+    pub writes: Vec<usize>,
+}
+
+/// Where a barrier sits relative to its pass, and who asked for it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BarrierSide {
+    Before,
+    After,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BarrierSource {
+    /// What the analysis derives the frame needs.
+    Derived,
+    /// What the capture records.
+    Recorded,
+}
+
+#[derive(Clone, Debug)]
+pub struct Barrier {
+    pub side: BarrierSide,
+    pub source: BarrierSource,
+    /// transition, uav or aliasing.
+    pub kind: String,
+    pub resource: String,
+    pub subresource: String,
+    /// D3D12 states, `BEFORE -> AFTER`.
+    pub states: String,
+    /// The Vulkan layouts, stages and accesses (derived barriers).
+    pub vulkan: String,
+}
+
+/// How the texture viewer shows a texture's values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sampling {
+    /// Float, normalised and packed formats.
+    Float,
+    /// The depth aspect of a depth(-stencil) texture.
+    Depth,
+    Uint,
+    Sint,
+}
+
+#[derive(Clone, Debug)]
+pub struct TextureView {
+    /// The replay plan's texture index.
+    pub plan_index: usize,
+    pub sampling: Sampling,
+    /// 3D: slices are chosen, not layers.
+    pub volume: bool,
+    /// Values are linear colour to be encoded for display (sRGB formats, HDR floats).
+    pub encode_srgb: bool,
+    /// A reason it cannot be shown (multisampled, block-compressed ...), if any.
+    pub unviewable: Option<String>,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Resource {
+    pub name: String,
+    pub kind: String,
+    /// The capture's (DXGI) format name; empty for untyped buffers.
+    pub format: String,
+    pub width: u32,
+    pub height: u32,
+    pub depth: u32,
+    pub mips: u32,
+    pub layers: u32,
+    pub bytes: u64,
+    /// The heap it is placed in, `committed` or `reserved`, with its heap type.
+    pub heap: String,
+    /// Offset in the aliasing plan's pool.
+    pub offset: Option<u64>,
+    /// First and last pass (model indices) that use it.
+    pub first_pass: Option<usize>,
+    pub last_pass: Option<usize>,
+    /// Resources that share its memory in the aliasing plan.
+    pub aliases: Vec<String>,
+    pub texture: Option<TextureView>,
+}
+
+impl Inspection {
+    /// Resource index by name.
+    pub fn resource_named(&self, name: &str) -> Option<usize> {
+        self.resources.iter().position(|r| r.name == name)
+    }
+    /// Pass index by name (the first with that name).
+    pub fn pass_named(&self, name: &str) -> Option<usize> {
+        self.passes.iter().position(|p| p.name == name)
+    }
+}

@@ -1,0 +1,56 @@
+//! The inspector's panels, one module each; they read the inspector's model and selection and
+//! change only the selection.
+
+pub mod details;
+pub mod events;
+pub mod resources;
+pub mod texture;
+pub mod timeline;
+
+use crate::app::Inspector;
+
+/// Queue colours shared by the event list, timeline and pass details.
+pub fn queue_color(queue: usize) -> egui::Color32 {
+    const COLORS: [egui::Color32; 4] = [
+        egui::Color32::from_rgb(86, 140, 220),
+        egui::Color32::from_rgb(220, 140, 60),
+        egui::Color32::from_rgb(90, 180, 110),
+        egui::Color32::from_rgb(170, 110, 200),
+    ];
+    COLORS[queue % COLORS.len()]
+}
+
+/// Milliseconds of a pass's GPU time, if timed.
+pub fn pass_ms(app: &Inspector, pass: usize) -> Option<f64> {
+    app.timings
+        .as_ref()
+        .and_then(|t| t.passes.get(pass).copied().flatten())
+        .map(|t| t.gpu_ns / 1e6)
+}
+
+pub fn status_bar(app: &Inspector, ui: &mut egui::Ui) {
+    ui.horizontal(|ui| {
+        let m = &app.model;
+        ui.label(format!("{}  scale {}", m.capture, m.scale));
+        ui.separator();
+        let timing = app
+            .timings
+            .as_ref()
+            .map_or("not timed yet".to_owned(), |t| {
+                format!("timings: {}", t.source)
+            });
+        ui.label(timing);
+        ui.separator();
+        match &app.error {
+            Some(e) => {
+                ui.colored_label(egui::Color32::LIGHT_RED, format!("error: {e}"));
+            }
+            None => {
+                if !app.is_idle() {
+                    ui.spinner();
+                }
+                ui.label(&app.status);
+            }
+        }
+    });
+}

@@ -1,0 +1,265 @@
+//! The texture viewer: the viewed texture as of the current pass, drawn on the GPU by the
+//! display pass; channel toggles, black and white points (auto-fit from the read-back values,
+//! reset), exposure, sRGB encoding, inversion, the NaN/Inf/negative overlay, mip and layer
+//! (or 3D slice), zoom (fit, 1:1, wheel) and pan, the exact value of the texel under the
+//! cursor in the texture's own format, and a histogram of the shown channels.
+
+use egui::{Color32, Pos2, Rect, Sense, Vec2};
+use framelab_replay::decode::{DecodedImage, ValueKind};
+
+use crate::app::{Inspector, Zoom};
+
+/// The exact value of a texel as the format stores it.
+pub fn texel_text(d: &DecodedImage, x: u32, y: u32) -> Option<String> {
+    if x >= d.width || y >= d.height {
+        return None;
+    }
+    let v = d.values[(y * d.width + x) as usize];
+    let names = ["R", "G", "B", "A"];
+    let parts: Vec<String> = (0..d.channels)
+        .map(|c| match d.kind {
+            ValueKind::Integer => format!("{} {}", names[c], v[c] as i64),
+            ValueKind::Unorm8 => format!(
+                "{} {:.4} ({})",
+                names[c],
+                v[c],
+                (v[c] * 255.0).round() as u32
+            ),
+            _ => format!("{} {}", names[c], v[c]),
+        })
+        .collect();
+    Some(format!("({x}, {y}) {}", parts.join("  ")))
+}
+
+fn controls(app: &mut Inspector, ui: &mut egui::Ui) {
+    let model = app.model.clone();
+    let textures: Vec<usize> = model
+        .resources
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.texture.is_some())
+        .map(|(i, _)| i)
+        .collect();
+    let current = app.selection.resource;
+    ui.horizontal_wrapped(|ui| {
+        let name = current.map_or("(none)", |r| model.resources[r].name.as_str());
+        let mut pick = None;
+        egui::ComboBox::from_id_salt("texture")
+            .selected_text(name)
+            .width(200.0)
+            .show_ui(ui, |ui| {
+                for &i in &textures {
+                    if ui
+                        .selectable_label(current == Some(i), &model.resources[i].name)
+                        .clicked()
+                    {
+                        pick = Some(i);
+                    }
+                }
+            });
+        if let Some(i) = pick {
+            app.open_resource(i);
+        }
+        let Some(r) = app.selection.resource.map(|r| &model.resources[r]) else {
+            return;
+        };
+        ui.label(format!("{} {}x{}", r.format, r.width, r.height));
+        let volume = r.texture.as_ref().is_some_and(|t| t.volume);
+        let sub = &mut app.selection.sub;
+        if r.mips > 1 {
+            ui.add(
+                egui::DragValue::new(&mut sub.mip)
+                    .range(0..=r.mips - 1)
+                    .prefix("mip "),
+            );
+        }
+        let layers = if volume {
+            (r.depth >> sub.mip).max(1)
+        } else {
+            r.layers
+        };
+        if layers > 1 {
+            let what = if volume { "slice " } else { "layer " };
+            ui.add(
+                egui::DragValue::new(&mut sub.layer)
+                    .range(0..=layers - 1)
+                    .prefix(what),
+            );
+        }
+        sub.layer = sub.layer.min(layers.saturating_sub(1));
+    });
+    let c = &mut app.selection.controls;
+    ui.horizontal_wrapped(|ui| {
+        for (k, name) in ["R", "G", "B", "A"].iter().enumerate() {
+            ui.toggle_value(&mut c.channels[k], *name);
+        }
+        ui.separator();
+        ui.add(
+            egui::DragValue::new(&mut c.black)
+                .speed(0.01)
+                .prefix("black "),
+        );
+        ui.add(
+            egui::DragValue::new(&mut c.white)
+                .speed(0.01)
+                .prefix("white "),
+        );
+        let range = app
+            .displayed
+            .as_ref()
+            .and_then(|d| d.decoded.as_ref())
+            .map(|d| d.range());
+        if ui
+            .add_enabled(range.is_some(), egui::Button::new("auto-fit"))
+            .clicked()
+            && let Some((lo, hi)) = range
+        {
+            c.black = lo;
+            c.white = if hi > lo { hi } else { lo + 1.0 };
+        }
+        if ui.button("reset").clicked() {
+            c.black = 0.0;
+            c.white = 1.0;
+            c.exposure = 0.0;
+        }
+        ui.add(egui::Slider::new(&mut c.exposure, -10.0..=10.0).text("EV"));
+        ui.checkbox(&mut c.encode_srgb, "sRGB");
+        ui.checkbox(&mut c.invert, "invert");
+        ui.checkbox(&mut c.overlay, "NaN/Inf/neg");
+        ui.separator();
+        if ui
+            .selectable_label(app.selection.zoom == Zoom::Fit, "fit")
+            .clicked()
+        {
+            app.selection.zoom = Zoom::Fit;
+            app.selection.pan = Vec2::ZERO;
+        }
+        if ui
+            .selectable_label(app.selection.zoom == Zoom::Scale(1.0), "1:1")
+            .clicked()
+        {
+            app.selection.zoom = Zoom::Scale(1.0);
+        }
+    });
+}
+
+/// Bins of the shown channels' values between the black and white points.
+fn histogram(d: &DecodedImage, channels: [bool; 4], black: f32, white: f32) -> Vec<u32> {
+    const BINS: usize = 64;
+    let mut bins = vec![0u32; BINS];
+    let span = (white - black).max(1e-20);
+    for v in &d.values {
+        for c in 0..d.channels.min(4) {
+            if channels[c] && v[c].is_finite() {
+                let t = ((v[c] - black) / span).clamp(0.0, 1.0);
+                bins[((t * (BINS - 1) as f32).round()) as usize] += 1;
+            }
+        }
+    }
+    bins
+}
+
+fn draw_histogram(ui: &mut egui::Ui, bins: &[u32]) {
+    let (rect, _) = ui.allocate_exact_size(Vec2::new(ui.available_width(), 40.0), Sense::hover());
+    ui.painter().rect_filled(rect, 0.0, Color32::from_gray(24));
+    let max = bins.iter().copied().max().unwrap_or(1).max(1) as f32;
+    let w = rect.width() / bins.len() as f32;
+    for (i, &n) in bins.iter().enumerate() {
+        // Square root so that rare values still show beside a dominant one.
+        let h = (n as f32 / max).sqrt() * rect.height();
+        let x = rect.left() + i as f32 * w;
+        ui.painter().rect_filled(
+            Rect::from_min_max(
+                Pos2::new(x, rect.bottom() - h),
+                Pos2::new(x + w, rect.bottom()),
+            ),
+            0.0,
+            Color32::from_gray(180),
+        );
+    }
+}
+
+pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
+    controls(app, ui);
+    let model = app.model.clone();
+    let Some(r) = app.selection.resource.map(|r| &model.resources[r]) else {
+        ui.label("no texture selected");
+        return;
+    };
+    if let Some(why) = r.texture.as_ref().and_then(|t| t.unviewable.as_ref()) {
+        ui.label(format!("{} cannot be shown: {why}", r.name));
+        return;
+    }
+    let pixel = app
+        .hovered
+        .or(app.picked)
+        .zip(app.displayed.as_ref().and_then(|d| d.decoded.as_ref()))
+        .and_then(|((x, y), d)| texel_text(d, x, y));
+    let note = app.displayed.as_ref().and_then(|d| d.note.clone());
+    ui.horizontal(|ui| {
+        ui.label(if app.hovered.is_some() {
+            "pixel"
+        } else {
+            "picked"
+        });
+        ui.label(egui::RichText::new(pixel.unwrap_or_else(|| "-".into())).monospace())
+            .on_hover_text("read back from the texture, in its own format");
+        if let Some(n) = note {
+            ui.weak(format!("(values: {n})"));
+        }
+    });
+    if let Some(d) = app.displayed.as_ref().and_then(|d| d.decoded.as_ref()) {
+        let c = &app.selection.controls;
+        draw_histogram(ui, &histogram(d, c.channels, c.black, c.white));
+    }
+    let Some(shown) = &app.displayed else {
+        ui.label("replaying...");
+        return;
+    };
+    let (size, id) = (shown.size, shown.texture_id);
+    let avail = ui.available_size();
+    let (rect, response) = ui.allocate_exact_size(avail, Sense::click_and_drag());
+    let texels = Vec2::new(size[0] as f32, size[1] as f32);
+    let scale = match app.selection.zoom {
+        Zoom::Fit => (rect.width() / texels.x)
+            .min(rect.height() / texels.y)
+            .max(1e-3),
+        Zoom::Scale(s) => s,
+    };
+    if response.hovered() {
+        let wheel = ui.input(|i| i.smooth_scroll_delta.y);
+        if wheel != 0.0 {
+            app.selection.zoom = Zoom::Scale((scale * (1.0 + wheel / 200.0)).clamp(0.05, 64.0));
+        }
+    }
+    if response.dragged() {
+        app.selection.pan += response.drag_delta();
+    }
+    let image_rect = Rect::from_center_size(rect.center() + app.selection.pan, texels * scale);
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 0.0, Color32::from_gray(16));
+    painter.image(
+        id,
+        image_rect,
+        Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
+        Color32::WHITE,
+    );
+    let texel = |p: Pos2| {
+        let t = (p - image_rect.min) / scale;
+        (t.x >= 0.0 && t.y >= 0.0 && t.x < texels.x && t.y < texels.y)
+            .then_some((t.x as u32, t.y as u32))
+    };
+    app.hovered = response.hover_pos().and_then(texel);
+    if response.clicked() {
+        app.picked = response.interact_pointer_pos().and_then(texel);
+    }
+    // The picked texel, marked.
+    if let Some((x, y)) = app.picked {
+        let at = image_rect.min + Vec2::new(x as f32 + 0.5, y as f32 + 0.5) * scale;
+        painter.circle_stroke(
+            at,
+            5.0,
+            egui::Stroke::new(1.5, Color32::from_rgb(255, 60, 200)),
+        );
+    }
+}

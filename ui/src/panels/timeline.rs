@@ -1,0 +1,144 @@
+//! The timeline: one lane per queue, each pass as wide as its GPU time and placed where its
+//! work started, fences as lines from the signalling pass to the waiting one; hover for the
+//! figures, click to make a pass current. With a compared report, bars take the colour of the
+//! diff's verdict.
+
+use egui::{Color32, Pos2, Rect, Sense, Stroke, Vec2};
+
+use crate::app::Inspector;
+
+const LANE: f32 = 26.0;
+const LABEL: f32 = 70.0;
+
+fn verdict_color(verdict: &str) -> Option<Color32> {
+    match verdict {
+        "regression" => Some(Color32::from_rgb(210, 70, 60)),
+        "improvement" => Some(Color32::from_rgb(70, 170, 90)),
+        _ => None,
+    }
+}
+
+pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
+    let model = app.model.clone();
+    let Some(timings) = app.timings.clone() else {
+        ui.label("waiting for the first timed frame...");
+        return;
+    };
+    let end = timings
+        .passes
+        .iter()
+        .flatten()
+        .map(|t| t.start_ns + t.gpu_ns)
+        .fold(0.0f64, f64::max);
+    if end <= 0.0 {
+        ui.label("the adapter gave no timestamps");
+        return;
+    }
+    ui.weak(format!(
+        "frame: {:.3} ms on the GPU (from {})",
+        end / 1e6,
+        timings.source
+    ));
+    let height = LANE * model.queues.len() as f32 + 20.0;
+    let (rect, response) =
+        ui.allocate_exact_size(Vec2::new(ui.available_width(), height), Sense::click());
+    let painter = ui.painter_at(rect);
+    let x_of = |ns: f64| rect.left() + LABEL + ((ns / end) as f32) * (rect.width() - LABEL - 4.0);
+    for (q, name) in model.queues.iter().enumerate() {
+        let y = rect.top() + q as f32 * LANE;
+        painter.text(
+            Pos2::new(rect.left() + 2.0, y + LANE / 2.0),
+            egui::Align2::LEFT_CENTER,
+            name,
+            egui::FontId::proportional(12.0),
+            ui.visuals().text_color(),
+        );
+        painter.line_segment(
+            [
+                Pos2::new(rect.left(), y + LANE),
+                Pos2::new(rect.right(), y + LANE),
+            ],
+            Stroke::new(1.0, Color32::from_gray(60)),
+        );
+    }
+    let bar = |i: usize| -> Option<Rect> {
+        let t = timings.passes.get(i).copied().flatten()?;
+        let p = model.passes.get(i)?;
+        let y = rect.top() + p.queue as f32 * LANE + 3.0;
+        let x0 = x_of(t.start_ns);
+        let x1 = x_of(t.start_ns + t.gpu_ns).max(x0 + 2.0);
+        Some(Rect::from_min_max(
+            Pos2::new(x0, y),
+            Pos2::new(x1, y + LANE - 6.0),
+        ))
+    };
+    let mut hovered = None;
+    for (i, p) in model.passes.iter().enumerate() {
+        let Some(r) = bar(i) else { continue };
+        let compare = model
+            .compare
+            .as_ref()
+            .and_then(|c| c.passes.get(i).cloned().flatten());
+        let color = compare
+            .as_ref()
+            .and_then(|c| verdict_color(&c.verdict))
+            .unwrap_or_else(|| super::queue_color(p.queue));
+        let color = if p.culled {
+            color.gamma_multiply(0.4)
+        } else {
+            color
+        };
+        painter.rect_filled(r, 2.0, color);
+        if i == app.selection.pass {
+            painter.rect_stroke(
+                r,
+                2.0,
+                Stroke::new(2.0, Color32::WHITE),
+                egui::StrokeKind::Outside,
+            );
+        }
+        if r.width() > 40.0 {
+            painter.text(
+                r.left_center() + Vec2::new(3.0, 0.0),
+                egui::Align2::LEFT_CENTER,
+                &p.name,
+                egui::FontId::proportional(11.0),
+                Color32::BLACK,
+            );
+        }
+        if response.hover_pos().is_some_and(|h| r.contains(h)) {
+            hovered = Some(i);
+        }
+    }
+    for &(from, to) in &model.fences {
+        if let (Some(a), Some(b)) = (bar(from), bar(to)) {
+            let (p0, p1) = (a.right_center(), b.left_center());
+            painter.line_segment([p0, p1], Stroke::new(1.5, Color32::YELLOW));
+            painter.circle_filled(p1, 3.0, Color32::YELLOW);
+        }
+    }
+    if let Some(i) = hovered {
+        let p = &model.passes[i];
+        let t = timings.passes[i];
+        let mut text = format!(
+            "{}\n{:.3} ms, starts at {:.3} ms",
+            p.name,
+            t.map_or(0.0, |t| t.gpu_ns / 1e6),
+            t.map_or(0.0, |t| t.start_ns / 1e6)
+        );
+        if let Some(c) = model
+            .compare
+            .as_ref()
+            .and_then(|c| c.passes.get(i).cloned().flatten())
+        {
+            text.push_str(&format!(
+                "\ncompared: {:.3} ms, {:+.1}% ({})",
+                c.other_ms, c.change_pct, c.verdict
+            ));
+        }
+        response.clone().on_hover_text(text);
+        if response.clicked() {
+            app.select_pass(i);
+        }
+    }
+}
