@@ -294,7 +294,7 @@ fn texture_view(plan_index: usize, spec: &framelab_replay::plan::TextureSpec) ->
 }
 
 /// Every plan texture the viewer can show gets bound as a texture by the display pass.
-pub fn make_viewable(lowered: &mut Lowered) {
+fn make_viewable(lowered: &mut Lowered) {
     for t in &mut lowered.plan.textures {
         if t.samples == 1 {
             t.usage |= wgpu::TextureUsages::TEXTURE_BINDING;
@@ -452,7 +452,7 @@ pub struct Reports<'a> {
 }
 
 /// The inspection model of `capture` replayed in `lowered`'s plan order.
-pub fn model(
+fn model(
     c: &Capture,
     a: &Analysis,
     lowered: &Lowered,
@@ -550,4 +550,43 @@ pub fn model(
         }
     }
     Ok(m)
+}
+
+/// Why the inspector could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum LaunchError {
+    #[error(transparent)]
+    Lower(#[from] crate::lower::LowerError),
+    #[error(transparent)]
+    Replay(#[from] framelab_replay::ReplayError),
+    #[error("comparing the timing reports: {0}")]
+    Compare(#[from] crate::timing::diff::DiffError),
+}
+
+/// The inspector's model and its replay worker, started on `ctx`: the capture lowered for the
+/// device (every texture viewable), its session on a worker thread that times `frames` whole
+/// frames before answering views.
+pub fn launch(
+    capture: &Capture,
+    analysis: &Analysis,
+    ctx: &framelab_replay::GpuContext,
+    reports: &Reports<'_>,
+    frames: u32,
+) -> Result<(Inspection, framelab_ui::worker::Worker), LaunchError> {
+    let mut lowered = crate::lower::lower(
+        capture,
+        &analysis.order,
+        ctx.device.features(),
+        &ctx.summary.name,
+    )?;
+    make_viewable(&mut lowered);
+    let inspection = model(capture, analysis, &lowered, reports)?;
+    let session = framelab_replay::Session::new(ctx, lowered.plan)?;
+    let owned = capture.clone();
+    let worker = framelab_ui::worker::Worker::start(
+        session,
+        Box::new(move |f| crate::lower::frame::constants(&owned, f)),
+        frames,
+    );
+    Ok((inspection, worker))
 }

@@ -13,7 +13,6 @@ use framelab::lower;
 use framelab::timing::TimingReport;
 use framelab_ui::Inspector;
 use framelab_ui::headless;
-use framelab_ui::worker::Worker;
 
 use super::parse_scale;
 use super::replayer::Loaded;
@@ -88,12 +87,10 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
     let timings = args.timings.as_deref().map(report).transpose()?;
     let compare = args.compare.as_deref().map(report).transpose()?;
     let ctx = framelab_replay::open_device(args.adapter.as_deref(), lower::wanted_features())?;
-    let mut lowered = loaded.lower(&ctx)?;
-    inspect::make_viewable(&mut lowered);
-    let model = inspect::model(
+    let (model, worker) = inspect::launch(
         &loaded.capture,
         &analysis,
-        &lowered,
+        &ctx,
         &Reports {
             timings: timings
                 .as_ref()
@@ -104,6 +101,7 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
                 .zip(args.compare.as_ref())
                 .map(|(t, p)| (t, p.display().to_string())),
         },
+        args.frames,
     )?;
     let select = match &args.select {
         Some(name) => Some(model.pass_named(name).with_context(|| {
@@ -128,13 +126,6 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
     {
         bail!("--view: \"{}\" is not a texture", model.resources[v].name);
     }
-    let session = framelab_replay::Session::new(&ctx, lowered.plan)?;
-    let capture = loaded.capture.clone();
-    let worker = Worker::start(
-        session,
-        Box::new(move |f| lower::frame::constants(&capture, f)),
-        args.frames,
-    );
     let pixel = args.pixel;
     let prepare = move |app: &mut Inspector| {
         if let Some(p) = select {

@@ -32,3 +32,21 @@ pub fn json(o: &Output) -> serde_json::Value {
         )
     })
 }
+
+/// An EXR file's first RGBA layer: its width and its pixels, row by row.
+pub fn exr_image(path: &std::path::Path) -> (usize, Vec<[f32; 4]>) {
+    let decoded = exr::prelude::read_first_rgba_layer_from_file(
+        path,
+        |resolution, _| {
+            (
+                resolution.width(),
+                vec![[0.0f32; 4]; resolution.width() * resolution.height()],
+            )
+        },
+        |(w, pixels): &mut (usize, Vec<[f32; 4]>), position, (r, g, b, a): (f32, f32, f32, f32)| {
+            pixels[position.y() * *w + position.x()] = [r, g, b, a];
+        },
+    )
+    .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    decoded.layer_data.channel_data.pixels
+}

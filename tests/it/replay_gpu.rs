@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::common::{framelab, repo, stderr};
+use crate::common::{exr_image, framelab, repo, stderr};
 
 fn temp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("framelab-{name}-{}", std::process::id()));
@@ -19,20 +19,7 @@ fn png(path: &Path) -> image::DynamicImage {
 }
 
 fn exr_pixel(path: &Path, x: usize, y: usize) -> [f32; 4] {
-    let decoded = exr::prelude::read_first_rgba_layer_from_file(
-        path,
-        |resolution, _| {
-            (
-                resolution.width(),
-                vec![[0.0f32; 4]; resolution.width() * resolution.height()],
-            )
-        },
-        |(w, pixels): &mut (usize, Vec<[f32; 4]>), position, (r, g, b, a): (f32, f32, f32, f32)| {
-            pixels[position.y() * *w + position.x()] = [r, g, b, a];
-        },
-    )
-    .unwrap();
-    let (w, pixels) = &decoded.layer_data.channel_data.pixels;
+    let (w, pixels) = exr_image(path);
     pixels[y * w + x]
 }
 

@@ -82,6 +82,8 @@ pub struct Inspector {
     /// The texel clicked last (or given on the command line), read out when none is hovered.
     pub picked: Option<(u32, u32)>,
     pub status: String,
+    /// Where the timeline drew each pass last frame (for clicks, and for tests to aim at).
+    pub timeline_bars: Vec<(usize, egui::Rect)>,
     pub error: Option<String>,
     worker: Option<Worker>,
     render_state: Option<egui_wgpu::RenderState>,
@@ -157,6 +159,7 @@ impl Inspector {
             hovered: None,
             picked: None,
             status: "starting".into(),
+            timeline_bars: Vec::new(),
             error: None,
             idle: worker.is_none(),
             worker,
@@ -366,16 +369,15 @@ impl egui_tiles::Behavior<Pane> for Behavior<'_> {
         _tile_id: egui_tiles::TileId,
         pane: &mut Pane,
     ) -> egui_tiles::UiResponse {
-        egui::Frame::new().inner_margin(4.0).show(ui, |ui| {
-            ui.heading(pane.title());
-            match pane {
+        egui::Frame::new()
+            .inner_margin(4.0)
+            .show(ui, |ui| match pane {
                 Pane::Events => panels::events::ui(self.app, ui),
                 Pane::Texture => panels::texture::ui(self.app, ui),
                 Pane::Resources => panels::resources::ui(self.app, ui),
                 Pane::Details => panels::details::ui(self.app, ui),
                 Pane::Timeline => panels::timeline::ui(self.app, ui),
-            }
-        });
+            });
         egui_tiles::UiResponse::None
     }
 

@@ -12,4 +12,5 @@ pub mod worker;
 pub use app::Inspector;
 pub use eframe::egui_wgpu;
 pub use egui;
+pub use egui_kittest;
 pub use framelab_replay as replay;

@@ -1,6 +1,7 @@
 //! The replay worker: a thread that owns the replay session, so the UI thread never waits on
-//! the GPU. It times a few whole frames first, then, for each view the UI asks for, replays a
-//! frame up to the current pass (only when the pass changed), reads the viewed texture back
+//! the GPU. It times a few whole frames first, then, for each view the UI asks for, replays
+//! frame 1 up to the current pass after a whole frame 0 (only when the pass changed), so a view
+//! never depends on the views before it; it reads the viewed texture back
 //! for exact pixel values (only when the pass or texture changed), and draws the display
 //! image. Requests that pile up while it works are skipped to the latest.
 
@@ -87,7 +88,6 @@ struct ReadBack {
 struct State {
     session: Session,
     constants: Constants,
-    frame: u32,
     replayed_pass: Option<usize>,
     read: Option<ReadBack>,
     visualiser: Visualiser,
@@ -103,7 +103,6 @@ fn run(
     let mut s = State {
         session,
         constants,
-        frame: 0,
         replayed_pass: None,
         read: None,
         visualiser: Visualiser::default(),
@@ -115,14 +114,13 @@ fn run(
             f + 1,
             timed_frames.max(1)
         )));
-        match s.session.run_frame(&(s.constants)(s.frame), None) {
+        match s.session.run_frame(&(s.constants)(f), None) {
             Ok(times) => last = times,
             Err(e) => {
                 let _ = tx.send(Reply::Failed(e.to_string()));
                 return;
             }
         }
-        s.frame += 1;
     }
     let _ = tx.send(Reply::Timings(
         last.iter()
@@ -166,10 +164,14 @@ fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Show
             .map_or("?", |p| p.name.as_str())
             .to_owned();
         let _ = tx.send(Reply::Progress(format!("replaying up to {name}")));
-        s.session
-            .run_frame(&(s.constants)(s.frame), Some(pass))
-            .map_err(|e| e.to_string())?;
-        s.frame += 1;
+        // Always the same frame: frame 1 up to the pass, after a whole frame 0 (what
+        // `replay --frames 2 --after PASS` exports), so a view does not depend on the views
+        // before it, and history resources hold a whole previous frame.
+        for (frame, stop) in [(0, None), (1, Some(pass))] {
+            s.session
+                .run_frame(&(s.constants)(frame), stop)
+                .map_err(|e| e.to_string())?;
+        }
         s.replayed_pass = Some(pass);
         s.read = None;
     }

@@ -73,8 +73,10 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
         ))
     };
     let mut hovered = None;
+    app.timeline_bars.clear();
     for (i, p) in model.passes.iter().enumerate() {
         let Some(r) = bar(i) else { continue };
+        app.timeline_bars.push((i, r));
         let compare = model
             .compare
             .as_ref()

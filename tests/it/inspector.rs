@@ -1,0 +1,219 @@
+//! The inspector on the available adapter, driven through egui_kittest by labels as a user
+//! would: select passes in the event browser and on the timeline, open textures from the
+//! resource table, change mip and channels, read texel values, and check what it reads back
+//! against `framelab replay --after PASS --resource TEXTURE`.
+
+use std::time::Duration;
+
+use framelab::analysis::report::{AnalyzeOptions, analyze};
+use framelab::capture::{self, Options};
+use framelab::inspect::{self, Reports};
+use framelab_ui::Inspector;
+use framelab_ui::egui;
+use framelab_ui::egui_kittest::{
+    self,
+    kittest::{NodeT, Queryable},
+};
+use framelab_ui::headless;
+
+use crate::common::{exr_image, framelab, repo};
+
+const SETTLE: Duration = Duration::from_secs(300);
+
+/// The example at scale 0.25 in a 1400x900 harness, one frame timed, settled.
+fn open(capture: &str) -> egui_kittest::Harness<'static, Inspector> {
+    let path = repo().join(capture);
+    let bytes = std::fs::read(&path).unwrap();
+    let options = Options {
+        scale: 0.25,
+        ..Options::default()
+    };
+    let raw = capture::load::parse(&path, &bytes).unwrap();
+    let validated = capture::validate::validate(&raw, &path, &options).unwrap();
+    let analysis = analyze(&validated.capture, AnalyzeOptions::default()).unwrap();
+    let ctx =
+        framelab_replay::open_device(None, framelab::lower::wanted_features()).expect("an adapter");
+    let (model, worker) =
+        inspect::launch(&validated.capture, &analysis, &ctx, &Reports::default(), 1).unwrap();
+    let rs = headless::render_state(&ctx).unwrap();
+    let app = Inspector::new(model, Some(worker), Some(rs.clone()));
+    let mut harness = headless::harness(app, rs, egui::Vec2::new(1400.0, 900.0));
+    headless::settle(&mut harness, SETTLE).unwrap();
+    harness
+}
+
+fn settle(h: &mut egui_kittest::Harness<'static, Inspector>) {
+    headless::settle(h, SETTLE).unwrap();
+}
+
+/// The channel values of the pixel readout (`(x, y) R v  G v ...`).
+fn readout(h: &egui_kittest::Harness<'static, Inspector>, at: &str) -> Vec<f32> {
+    let node = h.get_by_label_contains(at);
+    // egui labels carry their text as the node's value.
+    let label = node
+        .value()
+        .or_else(|| node.accesskit_node().label())
+        .unwrap_or_default();
+    label
+        .split_whitespace()
+        .filter_map(|w| w.parse::<f32>().ok())
+        .collect()
+}
+
+#[test]
+fn selecting_passes_and_textures_shows_the_frame_as_of_that_pass() {
+    let mut h = open("captures/example/frame.json");
+    let model = h.state().model.clone();
+    let scene = model.pass_named("scene").unwrap();
+
+    // The event browser: click a pass, it becomes current.
+    h.get_by_label("scene").click();
+    settle(&mut h);
+    assert_eq!(h.state().selection.pass, scene);
+
+    // The resource table (a tab beside the timeline): open scene_color.
+    h.get_by_label("Resources").click();
+    h.state_mut().selection.resource_filter = "scene_color".into();
+    h.run_steps(2);
+    h.get_all_by_label("scene_color")
+        .find(|n| n.accesskit_node().role() == egui::Role::Button)
+        .expect("a scene_color row")
+        .click();
+    settle(&mut h);
+    let scene_color = model.resource_named("scene_color").unwrap();
+    assert_eq!(h.state().selection.resource, Some(scene_color));
+
+    // Right after `scene`, the top-left texel is the sky: the pass's clear colour
+    // (0.02, 0.03, 0.05, 1) as RGBA16F stores it.
+    h.state_mut().pick(0, 0);
+    h.run_steps(2);
+    let v = readout(&h, "(0, 0)");
+    let expected = [0.02f32, 0.03, 0.05, 1.0];
+    assert_eq!(v.len(), 4, "{v:?}");
+    for (got, want) in v.iter().zip(expected) {
+        assert!((got - want).abs() < 1e-3, "{v:?}");
+    }
+
+    // Channel toggles and mip: show only green of bloom's mip 1.
+    let bloom = model.resource_named("bloom").unwrap();
+    h.state_mut().open_resource(bloom);
+    h.state_mut()
+        .select_pass(model.pass_named("bloom_mips").unwrap());
+    settle(&mut h);
+    h.get_by_label("R").click();
+    h.get_by_label("B").click();
+    h.state_mut().selection.sub.mip = 1;
+    settle(&mut h);
+    let s = h.state();
+    assert_eq!(s.selection.controls.channels, [false, true, false, false]);
+    let shown = s.displayed.as_ref().unwrap();
+    assert_eq!(shown.request.texture.as_ref().unwrap().sub.mip, 1);
+    let decoded = shown.decoded.as_ref().unwrap();
+    // Mip 1 of the half-size bloom at scale 0.25: 40x22.
+    assert_eq!((decoded.width, decoded.height), (40, 22));
+
+    // The timeline: click the tonemap bar.
+    h.get_by_label("Timeline").click();
+    h.run_steps(2);
+    let tonemap = model.pass_named("tonemap").unwrap();
+    let rect = h
+        .state()
+        .timeline_bars
+        .iter()
+        .find(|(p, _)| *p == tonemap)
+        .map(|(_, r)| *r)
+        .expect("a tonemap bar");
+    h.hover_at(rect.center());
+    h.event(egui::Event::PointerButton {
+        pos: rect.center(),
+        button: egui::PointerButton::Primary,
+        pressed: true,
+        modifiers: egui::Modifiers::NONE,
+    });
+    h.event(egui::Event::PointerButton {
+        pos: rect.center(),
+        button: egui::PointerButton::Primary,
+        pressed: false,
+        modifiers: egui::Modifiers::NONE,
+    });
+    h.run_steps(2);
+    assert_eq!(h.state().selection.pass, tonemap);
+
+    // Arrow keys step through the events.
+    h.key_press(egui::Key::ArrowUp);
+    h.run_steps(1);
+    assert_eq!(h.state().selection.pass, tonemap - 1);
+}
+
+#[test]
+fn a_pass_with_barrier_lints_lists_its_barriers_and_lints() {
+    let mut h = open("captures/example/frame.json");
+    // The example's `scene` records a transition from the wrong state (FL024) and misses one
+    // (FL020): both show in its details, beside its derived and recorded barriers.
+    h.get_by_label("scene").click();
+    settle(&mut h);
+    assert!(h.query_by_label_contains("FL024").is_some());
+    assert!(h.query_by_label_contains("FL020").is_some());
+    assert!(h.query_all_by_label("recorded").count() > 0);
+    assert!(h.query_all_by_label("derived").count() > 0);
+}
+
+/// What the inspector reads back for (pass, texture) is what `replay --after PASS --resource
+/// TEXTURE` exports: both run one whole frame, then the next up to the pass.
+#[test]
+fn read_back_values_match_the_export() {
+    let mut h = open("captures/example/frame.json");
+    let model = h.state().model.clone();
+    h.state_mut()
+        .select_pass(model.pass_named("bloom_extract").unwrap());
+    h.state_mut()
+        .open_resource(model.resource_named("bloom").unwrap());
+    settle(&mut h);
+    let decoded = h
+        .state()
+        .displayed
+        .as_ref()
+        .unwrap()
+        .decoded
+        .clone()
+        .unwrap();
+
+    let out = std::env::temp_dir().join(format!("framelab-inspect-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let run = framelab(&[
+        "replay",
+        "captures/example/frame.json",
+        "--scale",
+        "0.25",
+        "--frames",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+        "--after",
+        "bloom_extract",
+        "--resource",
+        "bloom",
+        "--quiet",
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let (w, pixels) = exr_image(&out.join("bloom_mip0.exr"));
+    assert_eq!(
+        (w, pixels.len()),
+        (decoded.width as usize, decoded.values.len())
+    );
+    let lit = pixels.iter().filter(|p| p[0] > 0.0).count();
+    assert!(lit > 0, "the bright pass wrote nothing");
+    for (i, (e, d)) in pixels.iter().zip(&decoded.values).enumerate() {
+        for c in 0..3 {
+            assert!(
+                (e[c] - d[c]).abs() <= 1e-6,
+                "texel {i}: export {e:?}, inspector {d:?}"
+            );
+        }
+    }
+    std::fs::remove_dir_all(out).unwrap();
+}
