@@ -60,6 +60,9 @@ pub struct Selection {
     pub pan: Vec2,
 }
 
+/// What a histogram was counted for: the shown channels, black and white points.
+pub type HistogramKey = ([bool; 4], f32, f32);
+
 /// The image the worker last drew, registered with egui.
 #[derive(Debug)]
 pub struct Displayed {
@@ -67,6 +70,10 @@ pub struct Displayed {
     pub texture_id: egui::TextureId,
     pub size: [u32; 2],
     pub decoded: Option<Arc<DecodedImage>>,
+    /// The decoded values' finite range (for auto-fit), found once.
+    pub range: Option<(f32, f32)>,
+    /// The histogram and the (channels, black, white) it was counted for.
+    pub histogram: Option<(HistogramKey, Vec<u32>)>,
     pub note: Option<String>,
     /// Kept alive while egui samples it.
     _texture: wgpu::Texture,
@@ -84,6 +91,8 @@ pub struct Inspector {
     pub status: String,
     /// Where the timeline drew each pass last frame (for clicks, and for tests to aim at).
     pub timeline_bars: Vec<(usize, egui::Rect)>,
+    /// The pass the event list last scrolled to.
+    pub events_scrolled_to: Option<usize>,
     pub error: Option<String>,
     worker: Option<Worker>,
     render_state: Option<egui_wgpu::RenderState>,
@@ -160,6 +169,7 @@ impl Inspector {
             picked: None,
             status: "starting".into(),
             timeline_bars: Vec::new(),
+            events_scrolled_to: None,
             error: None,
             idle: worker.is_none(),
             worker,
@@ -296,6 +306,8 @@ impl Inspector {
                 request: s.request.clone(),
                 texture_id,
                 size: [texture.width(), texture.height()],
+                range: s.decoded.as_ref().map(|d| d.range()),
+                histogram: None,
                 decoded: s.decoded,
                 note: s.note,
                 _texture: texture,

@@ -20,6 +20,45 @@ pub fn visible(model: &Inspection, filter: &str) -> Vec<usize> {
         .collect()
 }
 
+/// One line of the event list.
+enum Line<'a> {
+    Group { depth: usize, name: &'a str },
+    Pass(usize),
+    Work { depth: usize, text: &'a str },
+}
+
+/// The list as lines: marker groups open where a pass's path leaves the previous one's, the
+/// current pass's work below it.
+fn lines<'a>(model: &'a Inspection, visible: &[usize], current: usize) -> Vec<Line<'a>> {
+    let mut out = Vec::new();
+    let mut open: Vec<&str> = Vec::new();
+    for &i in visible {
+        let p = &model.passes[i];
+        let common = open
+            .iter()
+            .zip(&p.markers)
+            .take_while(|(a, b)| **a == b.as_str())
+            .count();
+        open.truncate(common);
+        for (depth, m) in p.markers.iter().enumerate().skip(common) {
+            out.push(Line::Group { depth, name: m });
+            open.push(m);
+        }
+        out.push(Line::Pass(i));
+        if i == current {
+            for w in &p.work {
+                out.push(Line::Work {
+                    depth: p.markers.len(),
+                    text: w,
+                });
+            }
+        }
+    }
+    out
+}
+
+const ROW: f32 = 20.0;
+
 pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         ui.label("filter");
@@ -30,64 +69,65 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
         );
     });
     let model = app.model.clone();
+    let current = app.selection.pass;
+    let rows = lines(&model, &visible(&model, &app.selection.filter), current);
     let mut clicked = None;
-    egui::ScrollArea::vertical()
+    let mut area = egui::ScrollArea::vertical()
         .id_salt("events")
-        .auto_shrink([false, false])
-        .show(ui, |ui| {
-            let mut open: Vec<&str> = Vec::new();
-            for i in visible(&model, &app.selection.filter) {
-                let p = &model.passes[i];
-                // Marker groups whose path differs from the previous pass's open here.
-                let common = open
-                    .iter()
-                    .zip(&p.markers)
-                    .take_while(|(a, b)| **a == b.as_str())
-                    .count();
-                open.truncate(common);
-                for (depth, m) in p.markers.iter().enumerate().skip(common) {
-                    ui.horizontal(|ui| {
-                        ui.add_space(depth as f32 * 12.0);
-                        ui.label(egui::RichText::new(format!("{m} /")).strong());
-                    });
-                    open.push(m);
-                }
-                let selected = app.selection.pass == i;
-                let ms = super::pass_ms(app, i).map_or("-".to_owned(), |ms| format!("{ms:.3} ms"));
-                let mut text = egui::RichText::new(&p.name);
-                if p.culled {
-                    text = text.weak().italics();
-                }
-                ui.horizontal(|ui| {
-                    ui.add_space(p.markers.len() as f32 * 12.0);
-                    let (rect, _) =
-                        ui.allocate_exact_size(egui::vec2(4.0, 14.0), egui::Sense::hover());
-                    ui.painter()
-                        .rect_filled(rect, 1.0, super::queue_color(p.queue));
-                    let r = ui
-                        .selectable_label(selected, text)
-                        .on_hover_text(format!("{} pass", p.kind));
-                    if r.clicked() {
-                        clicked = Some(i);
+        .auto_shrink([false, false]);
+    // Bring a newly current pass into view (only visible rows are laid out, so it cannot
+    // scroll itself there).
+    if app.events_scrolled_to != Some(current) {
+        app.events_scrolled_to = Some(current);
+        if let Some(row) = rows
+            .iter()
+            .position(|l| matches!(l, Line::Pass(i) if *i == current))
+        {
+            let view = ui.available_height();
+            area = area.vertical_scroll_offset((row as f32 * ROW - view / 2.0).max(0.0));
+        }
+    }
+    area.show_rows(ui, ROW, rows.len(), |ui, range| {
+        for line in &rows[range] {
+            ui.horizontal(|ui| {
+                ui.set_height(ROW - ui.spacing().item_spacing.y);
+                match line {
+                    Line::Group { depth, name } => {
+                        ui.add_space(*depth as f32 * 12.0);
+                        ui.label(egui::RichText::new(format!("{name} /")).strong());
                     }
-                    if selected {
-                        r.scroll_to_me(None);
+                    Line::Work { depth, text } => {
+                        ui.add_space(*depth as f32 * 12.0 + 24.0);
+                        ui.label(egui::RichText::new(*text).small());
                     }
-                    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                        ui.label(egui::RichText::new(ms).monospace());
-                        ui.label(egui::RichText::new(&model.queues[p.queue]).weak());
-                    });
-                });
-                if selected {
-                    for w in &p.work {
-                        ui.horizontal(|ui| {
-                            ui.add_space(p.markers.len() as f32 * 12.0 + 24.0);
-                            ui.label(egui::RichText::new(w).small());
+                    Line::Pass(i) => {
+                        let p = &model.passes[*i];
+                        ui.add_space(p.markers.len() as f32 * 12.0);
+                        let (rect, _) =
+                            ui.allocate_exact_size(egui::vec2(4.0, 14.0), egui::Sense::hover());
+                        ui.painter()
+                            .rect_filled(rect, 1.0, super::queue_color(p.queue));
+                        let mut text = egui::RichText::new(&p.name);
+                        if p.culled {
+                            text = text.weak().italics();
+                        }
+                        let r = ui
+                            .selectable_label(*i == current, text)
+                            .on_hover_text(format!("{} pass", p.kind));
+                        if r.clicked() {
+                            clicked = Some(*i);
+                        }
+                        let ms = super::pass_ms(app, *i)
+                            .map_or("-".to_owned(), |ms| format!("{ms:.3} ms"));
+                        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                            ui.label(egui::RichText::new(ms).monospace());
+                            ui.label(egui::RichText::new(&model.queues[p.queue]).weak());
                         });
                     }
                 }
-            }
-        });
+            });
+        }
+    });
     if let Some(i) = clicked {
         app.select_pass(i);
     }

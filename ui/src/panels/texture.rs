@@ -104,11 +104,7 @@ fn controls(app: &mut Inspector, ui: &mut egui::Ui) {
                 .speed(0.01)
                 .prefix("white "),
         );
-        let range = app
-            .displayed
-            .as_ref()
-            .and_then(|d| d.decoded.as_ref())
-            .map(|d| d.range());
+        let range = app.displayed.as_ref().and_then(|d| d.range);
         if ui
             .add_enabled(range.is_some(), egui::Button::new("auto-fit"))
             .clicked()
@@ -208,9 +204,18 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
             ui.weak(format!("(values: {n})"));
         }
     });
-    if let Some(d) = app.displayed.as_ref().and_then(|d| d.decoded.as_ref()) {
-        let c = &app.selection.controls;
-        draw_histogram(ui, &histogram(d, c.channels, c.black, c.white));
+    let c = app.selection.controls;
+    if let Some(shown) = app.displayed.as_mut()
+        && let Some(d) = &shown.decoded
+    {
+        // Counted again only when what it shows changes: a frame must not walk every texel.
+        let key = (c.channels, c.black, c.white);
+        if shown.histogram.as_ref().map(|h| h.0) != Some(key) {
+            shown.histogram = Some((key, histogram(d, c.channels, c.black, c.white)));
+        }
+        if let Some((_, bins)) = &shown.histogram {
+            draw_histogram(ui, bins);
+        }
     }
     let Some(shown) = &app.displayed else {
         ui.label("replaying...");
