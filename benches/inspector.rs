@@ -23,13 +23,11 @@ const SETTLE: Duration = Duration::from_secs(1200);
 fn main() {
     let start = Instant::now();
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(CAPTURE);
-    let bytes = std::fs::read(&path).expect("the Night City capture");
     let options = Options {
         scale: 0.5,
         ..Options::default()
     };
-    let raw = capture::load::parse(&path, &bytes).expect("parses");
-    let validated = capture::validate::validate(&raw, &path, &options).expect("valid");
+    let validated = capture::load_and_validate(&path, &options).expect("valid");
     let analysis = analyze(&validated.capture, AnalyzeOptions::default()).expect("acyclic");
     let ctx =
         framelab_replay::open_device(None, framelab::lower::wanted_features()).expect("an adapter");

@@ -1,7 +1,5 @@
 //! Plain-text helpers shared by every report: byte sizes for people and padded tables.
 
-use std::fmt::Write;
-
 /// Pads columns to their widest cell.
 pub fn table(headers: &[&str], rows: &[Vec<String>]) -> String {
     let mut widths: Vec<usize> = headers.iter().map(|h| h.len()).collect();
@@ -18,7 +16,11 @@ pub fn table(headers: &[&str], rows: &[Vec<String>]) -> String {
                 out.push_str("  ");
             }
             first = false;
-            let _ = write!(out, "{cell:<w$}");
+            // Padded by hand: a width argument above 65,535 (a pass named by a very long
+            // string) is out of range for `format!`.
+            out.push_str(cell);
+            let len = cell.chars().count();
+            out.extend(std::iter::repeat_n(' ', w.saturating_sub(len)));
         }
         let trimmed = out.trim_end().len();
         out.truncate(trimmed);
@@ -58,5 +60,17 @@ mod tests {
         assert_eq!(lines[0], "a          bb");
         assert_eq!(lines[1], "---------  --");
         assert_eq!(lines[2], "long cell  x");
+    }
+
+    #[test]
+    fn cells_longer_than_a_format_width_are_padded() {
+        let long = "n".repeat(70_000);
+        let t = table(
+            &["a", "b"],
+            &[vec![long.clone(), "x".into()], vec!["y".into(), "z".into()]],
+        );
+        let lines: Vec<&str> = t.lines().collect();
+        assert_eq!(lines[2], format!("{long}  x"));
+        assert_eq!(lines[3].len(), 70_000 + 3);
     }
 }

@@ -1,9 +1,11 @@
 //! `framelab graph` (the pass DAG as DOT, JSON or SVG) and `framelab analyze` (order, culling,
 //! barriers, memory, lints, critical path).
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use framelab::analysis::lints::{LintKind, LintSeverity};
 use framelab::analysis::report;
 
 use super::{analysis, print_stdout};
@@ -33,7 +35,50 @@ pub fn graph(
     }
     Ok(ExitCode::SUCCESS)
 }
-pub fn analyze(path: &Path, json: bool, cull: bool, scale: f64) -> anyhow::Result<ExitCode> {
+/// Which lints fail `analyze` (`--deny`), like clippy's `-D`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Deny {
+    /// Every error-severity lint.
+    Errors,
+    /// Every warning- or error-severity lint.
+    Warnings,
+    /// One lint, by code.
+    Code(&'static str),
+}
+
+impl Deny {
+    fn denies(&self, lint: &report::LintReport) -> bool {
+        match self {
+            Deny::Errors => lint.severity == LintSeverity::Error,
+            Deny::Warnings => lint.severity != LintSeverity::Info,
+            Deny::Code(code) => lint.code == *code,
+        }
+    }
+}
+
+/// `errors`, `warnings`, a lint code (`FL020`) or a lint name (`barrier-missing`).
+pub fn parse_deny(text: &str) -> Result<Deny, String> {
+    match text {
+        "errors" => return Ok(Deny::Errors),
+        "warnings" => return Ok(Deny::Warnings),
+        _ => {}
+    }
+    LintKind::ALL
+        .iter()
+        .find(|k| k.code().eq_ignore_ascii_case(text) || k.name() == text)
+        .map(|k| Deny::Code(k.code()))
+        .ok_or_else(|| {
+            format!("\"{text}\" is not `errors`, `warnings`, a lint code (FL001..) or a lint name")
+        })
+}
+
+pub fn analyze(
+    path: &Path,
+    json: bool,
+    cull: bool,
+    scale: f64,
+    deny: &[Deny],
+) -> anyhow::Result<ExitCode> {
     let Some((capture, a)) = analysis(path, cull, scale) else {
         return Ok(ExitCode::from(1));
     };
@@ -43,5 +88,27 @@ pub fn analyze(path: &Path, json: bool, cull: bool, scale: f64) -> anyhow::Resul
     } else {
         print_stdout(&report::render_text(&r))?;
     }
-    Ok(ExitCode::SUCCESS)
+    let denied: Vec<&report::LintReport> = r
+        .lints
+        .iter()
+        .filter(|l| deny.iter().any(|d| d.denies(l)))
+        .collect();
+    if denied.is_empty() {
+        return Ok(ExitCode::SUCCESS);
+    }
+    let mut err = std::io::stderr().lock();
+    for l in &denied {
+        let _ = writeln!(
+            err,
+            "error: denied lint {} {}: {}",
+            l.code, l.name, l.message
+        );
+    }
+    let _ = writeln!(
+        err,
+        "{}: {} denied lint(s) fired",
+        path.display(),
+        denied.len()
+    );
+    Ok(ExitCode::from(1))
 }

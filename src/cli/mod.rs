@@ -61,6 +61,8 @@ enum Command {
         svg: Option<PathBuf>,
     },
     /// Order, culling, barriers per boundary, memory aliasing, lints, critical path.
+    ///
+    /// Example (a CI step): framelab analyze frame.json --deny errors --deny FL021
     Analyze {
         capture: PathBuf,
         #[arg(long)]
@@ -70,6 +72,10 @@ enum Command {
         cull: bool,
         #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
         scale: f64,
+        /// Exit 1 when a denied lint fires: `errors`, `warnings` (and errors), a lint code
+        /// (`FL020`) or name (`barrier-missing`); repeatable.
+        #[arg(long, value_parser = analysis::parse_deny)]
+        deny: Vec<analysis::Deny>,
     },
     /// Replay the capture through wgpu: time every pass, export every texture.
     Replay {
@@ -158,7 +164,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             json,
             cull,
             scale,
-        } => analysis::analyze(&capture, json, cull, scale),
+            deny,
+        } => analysis::analyze(&capture, json, cull, scale, &deny),
         Command::Replay {
             capture,
             scale,

@@ -97,6 +97,10 @@ pub fn replay(
     }
     let loaded = Loaded::new(path, options.scale, options.cull)?;
     let (after, only) = resolve_targets(&loaded.capture, &loaded.order, options)?;
+    // Before the device and the replay: a refused --out should cost nothing.
+    if let Some(out) = &options.out {
+        check_out(out)?;
+    }
     let ctx = framelab_replay::open_device(options.adapter.as_deref(), lower::wanted_features())?;
     on(Event::Adapter(&ctx.summary.to_string()));
     let lowered = loaded.lower(&ctx)?;
@@ -227,6 +231,60 @@ pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<
     Ok(ExitCode::SUCCESS)
 }
 
+/// Refuses an `--out` that framelab must not replace: anything but a missing or empty folder,
+/// or an earlier export holding only the files its manifest lists (an export replaces the
+/// whole folder, so a file the user put there would be lost).
+fn check_out(out: &Path) -> anyhow::Result<()> {
+    if !out.exists() {
+        return Ok(());
+    }
+    if !out.is_dir() {
+        bail!("--out {} exists and is not a folder", out.display());
+    }
+    let entries: Vec<String> = std::fs::read_dir(out)
+        .with_context(|| format!("reading {}", out.display()))?
+        .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("reading {}", out.display()))?;
+    if entries.is_empty() {
+        return Ok(());
+    }
+    let manifest = out.join("manifest.json");
+    let listed: Option<std::collections::BTreeSet<String>> = std::fs::read_to_string(&manifest)
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .map(|m| {
+            let mut names: std::collections::BTreeSet<String> = m["files"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .flat_map(|f| [f["file"].as_str(), f["preview"].as_str()])
+                .flatten()
+                .map(str::to_owned)
+                .collect();
+            names.insert("manifest.json".to_owned());
+            names
+        });
+    let Some(listed) = listed else {
+        bail!(
+            "{} exists and is not an earlier framelab export (no readable manifest.json); choose another --out",
+            out.display()
+        );
+    };
+    let foreign: Vec<&String> = entries.iter().filter(|e| !listed.contains(*e)).collect();
+    if !foreign.is_empty() {
+        let shown: Vec<&str> = foreign.iter().take(5).map(|s| s.as_str()).collect();
+        bail!(
+            "{} holds {} file(s) the earlier export did not write ({}{}); framelab replaces the whole folder, so choose another --out or move them",
+            out.display(),
+            foreign.len(),
+            shown.join(", "),
+            if foreign.len() > 5 { ", ..." } else { "" }
+        );
+    }
+    Ok(())
+}
+
 /// Writes every texture (or one) into a staging folder, then replaces `out` with it.
 fn export(
     session: &framelab_replay::Session,
@@ -237,18 +295,7 @@ fn export(
     only: Option<usize>,
 ) -> anyhow::Result<usize> {
     use framelab_replay::export;
-    if out.exists()
-        && !(out.join("manifest.json").is_file()
-            || out
-                .read_dir()
-                .map(|mut d| d.next().is_none())
-                .unwrap_or(false))
-    {
-        bail!(
-            "{} exists and is not an earlier framelab export (no manifest.json); choose another --out",
-            out.display()
-        );
-    }
+    check_out(out)?;
     let staging = export::staging_dir(out);
     let _ = std::fs::remove_dir_all(&staging);
     std::fs::create_dir_all(&staging).with_context(|| format!("creating {}", staging.display()))?;

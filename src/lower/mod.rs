@@ -129,7 +129,12 @@ pub fn lower(
         if !missing.is_empty() {
             return Err(LowerError::MissingFeature {
                 pass: (*pass).to_owned(),
-                feature: format!("{missing:?}"),
+                // As wgpu documents them (`Features::TEXTURE_COMPRESSION_BC`), not a bit dump.
+                feature: missing
+                    .iter_names()
+                    .map(|(name, _)| format!("Features::{name}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
                 adapter: adapter.to_owned(),
             });
         }

@@ -226,3 +226,29 @@ fn anisotropic_sampling_of_a_single_mip_is_flagged() {
     // The example's ground is sampled anisotropically through its generated mip chain.
     assert!(fl016("captures/example/frame.json").is_empty());
 }
+
+/// `--deny` turns lints into a failing exit code, by severity, code or name; unknown lints are
+/// a usage error.
+#[test]
+fn denied_lints_fail_analyze() {
+    let example = "captures/example/frame.json";
+    let code = |args: &[&str]| {
+        framelab(&[&["analyze", example][..], args].concat())
+            .status
+            .code()
+    };
+    assert_eq!(code(&[]), Some(0));
+    // The example records a barrier from the wrong state (FL024, an error).
+    assert_eq!(code(&["--deny", "errors"]), Some(1));
+    assert_eq!(code(&["--deny", "FL024"]), Some(1));
+    assert_eq!(code(&["--deny", "barrier-wrong-before-state"]), Some(1));
+    // No anisotropic sampling of a one-mip texture in it.
+    assert_eq!(code(&["--deny", "FL016"]), Some(0));
+    assert_eq!(code(&["--deny", "FL999"]), Some(2));
+    let out = framelab(&["analyze", example, "--deny", "FL021"]);
+    assert!(
+        stderr(&out).contains("denied lint FL021 barrier-redundant"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -344,3 +344,37 @@ fn opening_the_device_prints_nothing_on_stderr() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     assert_eq!(stderr(&out), "");
 }
+
+/// Names longer than a format width (65,535) print in full instead of panicking the tables.
+#[test]
+fn very_long_names_print_in_tables() {
+    let mut capture: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(repo().join("tests/fixtures/minimal.json")).unwrap(),
+    )
+    .unwrap();
+    let long = format!("simulate_{}", "x".repeat(70_000));
+    capture["passes"][0]["name"] = serde_json::Value::String(long.clone());
+    capture["passes"][0]["markers"] = serde_json::json!([format!("group_{}", "y".repeat(70_000))]);
+    let dir = std::env::temp_dir().join(format!("framelab-long-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(
+        repo().join("tests/fixtures/compute.wgsl"),
+        dir.join("compute.wgsl"),
+    )
+    .unwrap();
+    let path = dir.join("long.json");
+    std::fs::write(&path, capture.to_string()).unwrap();
+    for command in ["info", "analyze"] {
+        let out = framelab(&[command, path.to_str().unwrap()]);
+        assert!(
+            out.status.success(),
+            "{command}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            String::from_utf8_lossy(&out.stdout).contains(&long),
+            "{command}"
+        );
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

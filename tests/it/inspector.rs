@@ -23,13 +23,11 @@ const SETTLE: Duration = Duration::from_secs(300);
 /// The example at scale 0.25 in a 1400x900 harness, one frame timed, settled.
 fn open(capture: &str) -> egui_kittest::Harness<'static, Inspector> {
     let path = repo().join(capture);
-    let bytes = std::fs::read(&path).unwrap();
     let options = Options {
         scale: 0.25,
         ..Options::default()
     };
-    let raw = capture::load::parse(&path, &bytes).unwrap();
-    let validated = capture::validate::validate(&raw, &path, &options).unwrap();
+    let validated = capture::load_and_validate(&path, &options).unwrap();
     let analysis = analyze(&validated.capture, AnalyzeOptions::default()).unwrap();
     let ctx =
         framelab_replay::open_device(None, framelab::lower::wanted_features()).expect("an adapter");

@@ -296,7 +296,8 @@ fn a_missing_device_feature_names_the_pass() {
     let message = err.to_string();
     assert!(
         message.contains("clear_height")
-            && message.contains("TEXTURE_FORMAT_16BIT_NORM")
+            && message.contains("needs Features::TEXTURE_FORMAT_16BIT_NORM,")
+            && !message.contains("features_wgpu")
             && message.contains("test adapter"),
         "{message}"
     );
@@ -466,4 +467,45 @@ fn several_example_frames_replay_without_a_pathological_frame() {
         }
         std::thread::sleep(std::time::Duration::from_millis(100));
     }
+}
+
+/// An export replaces its folder only when the folder holds nothing but what the earlier
+/// export listed; anything else is refused before the device opens, and nothing is deleted.
+#[test]
+fn export_never_replaces_files_it_did_not_write() {
+    let out = temp("foreign");
+    let export = |quiet: bool| {
+        let mut args = vec![
+            "replay",
+            "captures/example/frame.json",
+            "--scale",
+            "0.25",
+            "--frames",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if quiet {
+            args.push("--quiet");
+        }
+        framelab(&args)
+    };
+    assert!(export(true).status.success());
+    // Again over its own export: fine.
+    assert!(export(true).status.success());
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let refused = export(false);
+    assert_eq!(refused.status.code(), Some(1));
+    let message = stderr(&refused);
+    assert!(message.contains("notes.txt"), "{message}");
+    assert!(
+        !message.contains("adapter:"),
+        "refused only after opening a device: {message}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    assert!(out.join("manifest.json").is_file());
+    std::fs::remove_dir_all(out).unwrap();
 }
