@@ -444,6 +444,67 @@ fn compare_from(
     })
 }
 
+fn edges(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<framelab_ui::model::Edge> {
+    use crate::analysis::graph::EdgeKind as K;
+    use framelab_ui::model::EdgeKind;
+    use petgraph::visit::EdgeRef;
+    let mut out: Vec<framelab_ui::model::Edge> = a
+        .graph
+        .graph
+        .edge_references()
+        .filter_map(|e| {
+            let from = *pass_index.get(&a.pass_id(e.source().index() as u32))?;
+            let to = *pass_index.get(&a.pass_id(e.target().index() as u32))?;
+            Some(framelab_ui::model::Edge {
+                from,
+                to,
+                kind: match e.weight().kind {
+                    K::Raw => EdgeKind::Raw,
+                    K::War => EdgeKind::War,
+                    K::Waw => EdgeKind::Waw,
+                    K::Queue => EdgeKind::Queue,
+                    K::Fence => EdgeKind::Fence,
+                },
+                resource: e
+                    .weight()
+                    .resource
+                    .map(|r| a.model.resources[r as usize].name.clone()),
+            })
+        })
+        .collect();
+    out.sort_by_key(|e| (e.from, e.to));
+    out
+}
+
+fn memory(
+    c: &Capture,
+    r: &report::Report,
+    pass_named: &BTreeMap<&str, usize>,
+) -> Vec<framelab_ui::model::MemoryBlock> {
+    let last = pass_named.len().saturating_sub(1);
+    r.memory
+        .resources
+        .iter()
+        .filter_map(|m| {
+            let resource = c.resources.iter().position(|x| x.name == m.name)?;
+            let at = |p: &Option<String>| p.as_deref().and_then(|n| pass_named.get(n).copied());
+            let (first, last) = if m.persistent {
+                (0, last)
+            } else {
+                (at(&m.first_use)?, at(&m.last_use)?)
+            };
+            Some(framelab_ui::model::MemoryBlock {
+                resource,
+                pool: m.pool.clone(),
+                offset: m.offset,
+                bytes: m.bytes,
+                first,
+                last,
+            })
+        })
+        .collect()
+}
+
 /// The timing reports the inspector was given.
 #[derive(Debug, Default)]
 pub struct Reports<'a> {
@@ -533,6 +594,12 @@ fn model(
         }
     }
     fences.sort_unstable();
+    let pass_named: BTreeMap<&str, usize> = lowered
+        .pass_ids
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (c.pass(id).name.as_str(), i))
+        .collect();
     let mut m = Inspection {
         capture: c.name.clone(),
         scale: c.scale,
@@ -540,6 +607,8 @@ fn model(
         passes,
         resources: resources(c, &r, lowered, &pass_index),
         fences,
+        edges: edges(a, &pass_index),
+        memory: memory(c, &r, &pass_named),
         timings: None,
         compare: None,
     };

@@ -12,6 +12,7 @@ use framelab::inspect::{self, Reports};
 use framelab::lower;
 use framelab::timing::TimingReport;
 use framelab_ui::Inspector;
+use framelab_ui::app::Pane;
 use framelab_ui::headless;
 
 use super::parse_scale;
@@ -42,6 +43,9 @@ pub struct InspectArgs {
     /// The resource to open in the texture viewer.
     #[arg(long)]
     pub view: Option<String>,
+    /// The panel to bring to the front of its tab group: Timeline, Resources, DAG or Memory.
+    #[arg(long, value_parser = parse_pane)]
+    pub panel: Option<Pane>,
     /// The texel to read out, X,Y (as a click on the texture would pick it).
     #[arg(long, value_parser = parse_pixel)]
     pub pixel: Option<(u32, u32)>,
@@ -62,6 +66,16 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
         (Some(w), Some(h)) => Ok((w, h)),
         _ => Err(format!("\"{text}\": width and height must be 64..8192")),
     }
+}
+
+fn parse_pane(text: &str) -> Result<Pane, String> {
+    Pane::ALL
+        .into_iter()
+        .find(|p| p.title().eq_ignore_ascii_case(text))
+        .ok_or_else(|| {
+            let names: Vec<&str> = Pane::ALL.iter().map(|p| p.title()).collect();
+            format!("\"{text}\" is not a panel ({})", names.join(", "))
+        })
 }
 
 fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
@@ -127,6 +141,7 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         bail!("--view: \"{}\" is not a texture", model.resources[v].name);
     }
     let pixel = args.pixel;
+    let panel = args.panel;
     let prepare = move |app: &mut Inspector| {
         if let Some(p) = select {
             app.select_pass(p);
@@ -136,6 +151,9 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         }
         if let Some((x, y)) = pixel {
             app.pick(x, y);
+        }
+        if let Some(p) = panel {
+            app.show_pane(p);
         }
     };
     match &args.screenshot {

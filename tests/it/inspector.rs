@@ -58,6 +58,20 @@ fn readout(h: &egui_kittest::Harness<'static, Inspector>, at: &str) -> Vec<f32> 
         .collect()
 }
 
+/// A primary click at `pos` (painted widgets have no accessible label to click by).
+fn click_at(h: &mut egui_kittest::Harness<'static, Inspector>, pos: egui::Pos2) {
+    h.hover_at(pos);
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+    }
+    h.run_steps(2);
+}
+
 #[test]
 fn selecting_passes_and_textures_shows_the_frame_as_of_that_pass() {
     let mut h = open("captures/example/frame.json");
@@ -121,21 +135,37 @@ fn selecting_passes_and_textures_shows_the_frame_as_of_that_pass() {
         .find(|(p, _)| *p == tonemap)
         .map(|(_, r)| *r)
         .expect("a tonemap bar");
-    h.hover_at(rect.center());
-    h.event(egui::Event::PointerButton {
-        pos: rect.center(),
-        button: egui::PointerButton::Primary,
-        pressed: true,
-        modifiers: egui::Modifiers::NONE,
-    });
-    h.event(egui::Event::PointerButton {
-        pos: rect.center(),
-        button: egui::PointerButton::Primary,
-        pressed: false,
-        modifiers: egui::Modifiers::NONE,
-    });
-    h.run_steps(2);
+    click_at(&mut h, rect.center());
     assert_eq!(h.state().selection.pass, tonemap);
+
+    // The DAG: click the bloom_extract node.
+    h.get_by_label("DAG").click();
+    h.run_steps(2);
+    let bloom_extract = model.pass_named("bloom_extract").unwrap();
+    let node = h
+        .state()
+        .dag_nodes
+        .iter()
+        .find(|(p, _)| *p == bloom_extract)
+        .map(|(_, r)| *r)
+        .expect("a bloom_extract node");
+    click_at(&mut h, node.center());
+    assert_eq!(h.state().selection.pass, bloom_extract);
+    // Its node lies right of the scene it reads from.
+    let scene_node = h
+        .state()
+        .dag_nodes
+        .iter()
+        .find(|(p, _)| *p == scene)
+        .unwrap()
+        .1;
+    assert!(node.left() > scene_node.right(), "{node:?} {scene_node:?}");
+    // The memory view lists the aliasing plan's pools.
+    h.get_by_label("Memory").click();
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("lower bound").is_some());
+    h.state_mut().select_pass(tonemap);
+    h.run_steps(1);
 
     // Arrow keys step through the events.
     h.key_press(egui::Key::ArrowUp);

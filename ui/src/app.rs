@@ -22,9 +22,22 @@ pub enum Pane {
     Resources,
     Details,
     Timeline,
+    Dag,
+    Memory,
 }
 
 impl Pane {
+    /// Every pane, for choosing one by name.
+    pub const ALL: [Pane; 7] = [
+        Pane::Events,
+        Pane::Texture,
+        Pane::Resources,
+        Pane::Details,
+        Pane::Timeline,
+        Pane::Dag,
+        Pane::Memory,
+    ];
+
     pub fn title(self) -> &'static str {
         match self {
             Pane::Events => "Events",
@@ -32,6 +45,8 @@ impl Pane {
             Pane::Resources => "Resources",
             Pane::Details => "Pass",
             Pane::Timeline => "Timeline",
+            Pane::Dag => "DAG",
+            Pane::Memory => "Memory",
         }
     }
 }
@@ -91,6 +106,10 @@ pub struct Inspector {
     pub status: String,
     /// Where the timeline drew each pass last frame (for clicks, and for tests to aim at).
     pub timeline_bars: Vec<(usize, egui::Rect)>,
+    /// Where the DAG drew each pass last frame.
+    pub dag_nodes: Vec<(usize, egui::Rect)>,
+    /// The DAG's pan and zoom.
+    pub dag_view: (Vec2, f32),
     /// The pass the event list last scrolled to.
     pub events_scrolled_to: Option<usize>,
     pub error: Option<String>,
@@ -118,7 +137,9 @@ fn default_tree() -> egui_tiles::Tree<Pane> {
     let timeline = tiles.insert_pane(Pane::Timeline);
     let resources = tiles.insert_pane(Pane::Resources);
     let details = tiles.insert_pane(Pane::Details);
-    let bottom = tiles.insert_tab_tile(vec![timeline, resources]);
+    let dag = tiles.insert_pane(Pane::Dag);
+    let memory = tiles.insert_pane(Pane::Memory);
+    let bottom = tiles.insert_tab_tile(vec![timeline, resources, dag, memory]);
     let middle = tiles.insert_vertical_tile(vec![texture, bottom]);
     let root = tiles.insert_horizontal_tile(vec![events, middle, details]);
     if let Some(egui_tiles::Tile::Container(egui_tiles::Container::Linear(linear))) =
@@ -170,6 +191,8 @@ impl Inspector {
             status: "starting".into(),
             timeline_bars: Vec::new(),
             events_scrolled_to: None,
+            dag_nodes: Vec::new(),
+            dag_view: (Vec2::ZERO, 1.0),
             error: None,
             idle: worker.is_none(),
             worker,
@@ -192,6 +215,13 @@ impl Inspector {
     /// Picks texel (x, y) of the viewed subresource for the pixel readout.
     pub fn pick(&mut self, x: u32, y: u32) {
         self.picked = Some((x, y));
+    }
+
+    /// Brings `pane` to the front of its tab group.
+    pub fn show_pane(&mut self, pane: Pane) {
+        if let Some(tree) = &mut self.tree {
+            tree.make_active(|_, tile| matches!(tile, egui_tiles::Tile::Pane(p) if *p == pane));
+        }
     }
 
     /// Makes `pass` the current pass.
@@ -389,6 +419,8 @@ impl egui_tiles::Behavior<Pane> for Behavior<'_> {
                 Pane::Resources => panels::resources::ui(self.app, ui),
                 Pane::Details => panels::details::ui(self.app, ui),
                 Pane::Timeline => panels::timeline::ui(self.app, ui),
+                Pane::Dag => panels::dag::ui(self.app, ui),
+                Pane::Memory => panels::memory::ui(self.app, ui),
             });
         egui_tiles::UiResponse::None
     }

@@ -13,11 +13,51 @@ pub struct Inspection {
     pub resources: Vec<Resource>,
     /// Cross-queue waits: the signalling pass and the waiting pass.
     pub fences: Vec<(usize, usize)>,
+    /// The pass DAG's edges between model passes.
+    pub edges: Vec<Edge>,
+    /// The memory aliasing plan: where each placed resource lives and when.
+    pub memory: Vec<MemoryBlock>,
     /// Timings from a report given on the command line (`--timings`); a replay's own timings
     /// replace them when it finishes.
     pub timings: Option<Timings>,
     /// A second report to compare with (`--compare`).
     pub compare: Option<Compare>,
+}
+
+/// A dependency between two passes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Edge {
+    pub from: usize,
+    pub to: usize,
+    pub kind: EdgeKind,
+    /// The resource of a data hazard.
+    pub resource: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeKind {
+    /// Read after write.
+    Raw,
+    /// Write after read.
+    War,
+    /// Write after write.
+    Waw,
+    /// Submission order on a queue.
+    Queue,
+    Fence,
+}
+
+/// One resource in the aliasing plan: its pool (heap type, or heap type and category), its
+/// offset and size there, and the passes (model indices) from its first to its last use;
+/// persistent resources live the whole frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MemoryBlock {
+    pub resource: usize,
+    pub pool: String,
+    pub offset: u64,
+    pub bytes: u64,
+    pub first: usize,
+    pub last: usize,
 }
 
 /// Per pass, in the model's order: where its GPU work starts in the frame and how long it

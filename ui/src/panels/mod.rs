@@ -1,8 +1,10 @@
 //! The inspector's panels, one module each; they read the inspector's model and selection and
 //! change only the selection.
 
+pub mod dag;
 pub mod details;
 pub mod events;
+pub mod memory;
 pub mod resources;
 pub mod texture;
 pub mod timeline;
