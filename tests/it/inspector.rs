@@ -184,6 +184,14 @@ fn a_pass_with_barrier_lints_lists_its_barriers_and_lints() {
     assert!(h.query_by_label_contains("FL020").is_some());
     assert!(h.query_all_by_label("recorded").count() > 0);
     assert!(h.query_all_by_label("derived").count() > 0);
+
+    // Depth opens inverted and fitted to the values read back (perspective depth crowds
+    // near 1: the far plane, where the pass cleared it).
+    let depth = h.state().model.resource_named("depth").unwrap();
+    h.state_mut().open_resource(depth);
+    settle(&mut h);
+    let c = h.state().selection.controls;
+    assert!(c.invert && c.black > 0.9 && c.white == 1.0, "{c:?}");
 }
 
 /// What the inspector reads back for (pass, texture) is what `replay --after PASS --resource

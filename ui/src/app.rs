@@ -106,6 +106,8 @@ pub struct Inspector {
     pub status: String,
     /// Where the timeline drew each pass last frame (for clicks, and for tests to aim at).
     pub timeline_bars: Vec<(usize, egui::Rect)>,
+    /// Fit black and white points to the next image's range (set when a depth texture opens).
+    pub fit_pending: bool,
     /// Where the DAG drew each pass last frame.
     pub dag_nodes: Vec<(usize, egui::Rect)>,
     /// The DAG's pan and zoom.
@@ -191,6 +193,7 @@ impl Inspector {
             status: "starting".into(),
             timeline_bars: Vec::new(),
             events_scrolled_to: None,
+            fit_pending: false,
             dag_nodes: Vec::new(),
             dag_view: (Vec2::ZERO, 1.0),
             error: None,
@@ -240,6 +243,7 @@ impl Inspector {
         self.selection.sub = Subresource::default();
         self.selection.pan = Vec2::ZERO;
         self.picked = None;
+        self.fit_pending = false;
         if let Some(t) = &res.texture {
             let mut c = Controls {
                 encode_srgb: t.encode_srgb,
@@ -247,9 +251,12 @@ impl Inspector {
             };
             match t.sampling {
                 // Depth: near is 0 in a forward depth buffer; invert so near is bright.
+                // Perspective depth crowds near one value: fit black and white to the range
+                // read back once it arrives, and invert so near is bright.
                 Sampling::Depth => {
                     c.channels = [true, false, false, false];
                     c.invert = true;
+                    self.fit_pending = true;
                 }
                 Sampling::Uint | Sampling::Sint => {
                     c.white = 255.0;
@@ -332,6 +339,15 @@ impl Inspector {
                     renderer.register_native_texture(&rs.device, &view, wgpu::FilterMode::Nearest)
                 }
             };
+            if self.fit_pending
+                && self.wanted().texture.map(|t| t.plan_index)
+                    == s.request.texture.as_ref().map(|t| t.plan_index)
+                && let Some((lo, hi)) = s.decoded.as_ref().map(|d| d.range())
+            {
+                self.fit_pending = false;
+                self.selection.controls.black = lo;
+                self.selection.controls.white = if hi > lo { hi } else { lo + 1.0 };
+            }
             self.displayed = Some(Displayed {
                 request: s.request.clone(),
                 texture_id,
