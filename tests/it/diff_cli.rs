@@ -91,7 +91,7 @@ fn bad_inputs_exit_2_and_say_why() {
 /// eight times over, that pass is named as a regression and the gate fails.
 #[test]
 fn replayed_captures_are_compared_interleaved() {
-    let args = ["--scale", "0.25", "--frames", "12", "--warmup", "2"];
+    let args = ["--scale", "0.25", "--frames", "30", "--warmup", "3"];
     let same = framelab(
         &[
             &[
