@@ -482,11 +482,17 @@ fn memory(
     pass_named: &BTreeMap<&str, usize>,
 ) -> Vec<framelab_ui::model::MemoryBlock> {
     let last = pass_named.len().saturating_sub(1);
+    let resource_named: BTreeMap<&str, usize> = c
+        .resources
+        .iter()
+        .enumerate()
+        .map(|(i, x)| (x.name.as_str(), i))
+        .collect();
     r.memory
         .resources
         .iter()
         .filter_map(|m| {
-            let resource = c.resources.iter().position(|x| x.name == m.name)?;
+            let resource = *resource_named.get(m.name.as_str())?;
             let at = |p: &Option<String>| p.as_deref().and_then(|n| pass_named.get(n).copied());
             let (first, last) = if m.persistent {
                 (0, last)
@@ -544,22 +550,6 @@ fn model(
             {
                 barriers.extend(b.barriers.iter().map(|x| derived(x, BarrierSide::After)));
             }
-            let mut reads: Vec<usize> = p
-                .accesses
-                .iter()
-                .filter(|x| x.reads)
-                .map(|x| x.resource.index())
-                .collect();
-            let mut writes: Vec<usize> = p
-                .accesses
-                .iter()
-                .filter(|x| x.writes)
-                .map(|x| x.resource.index())
-                .collect();
-            reads.sort_unstable();
-            reads.dedup();
-            writes.sort_unstable();
-            writes.dedup();
             Pass {
                 name: p.name.clone(),
                 queue: p.queue.index(),
@@ -578,8 +568,6 @@ fn model(
                     .filter(|l| l.pass.as_deref() == Some(p.name.as_str()))
                     .map(|l| format!("{} {}: {}", l.code, spelled(&l.severity), l.message))
                     .collect(),
-                reads,
-                writes,
             }
         })
         .collect();

@@ -339,10 +339,11 @@ impl Inspector {
                     renderer.register_native_texture(&rs.device, &view, wgpu::FilterMode::Nearest)
                 }
             };
+            let range = s.decoded.as_ref().map(|d| d.range());
             if self.fit_pending
                 && self.wanted().texture.map(|t| t.plan_index)
                     == s.request.texture.as_ref().map(|t| t.plan_index)
-                && let Some((lo, hi)) = s.decoded.as_ref().map(|d| d.range())
+                && let Some((lo, hi)) = range
             {
                 self.fit_pending = false;
                 self.selection.controls.black = lo;
@@ -352,7 +353,7 @@ impl Inspector {
                 request: s.request.clone(),
                 texture_id,
                 size: [texture.width(), texture.height()],
-                range: s.decoded.as_ref().map(|d| d.range()),
+                range,
                 histogram: None,
                 decoded: s.decoded,
                 note: s.note,

@@ -111,9 +111,6 @@ pub struct Pass {
     pub barriers: Vec<Barrier>,
     /// Lints that name this pass: `code severity: message`.
     pub lints: Vec<String>,
-    /// Resource indices it reads and writes.
-    pub reads: Vec<usize>,
-    pub writes: Vec<usize>,
 }
 
 /// Where a barrier sits relative to its pass, and who asked for it.
