@@ -8,8 +8,8 @@ use std::collections::BTreeMap;
 
 use framelab_replay::wgpu;
 use framelab_ui::model::{
-    Barrier, BarrierSide, BarrierSource, Compare, CompareRow, Inspection, Pass, PassTime, Resource,
-    Sampling, TextureView, Timings,
+    Barrier, BarrierSide, BarrierSource, BufferView, Compare, CompareRow, Inspection, LayoutChoice,
+    Pass, PassTime, Resource, Sampling, TextureView, Timings,
 };
 use serde::Serialize;
 
@@ -272,6 +272,8 @@ fn texture_view(plan_index: usize, spec: &framelab_replay::plan::TextureSpec) ->
     let f = spec.format;
     let sampling = if f.has_depth_aspect() {
         Sampling::Depth
+    } else if f.has_stencil_aspect() {
+        Sampling::Stencil
     } else {
         match f.sample_type(None, None) {
             Some(wgpu::TextureSampleType::Uint) => Sampling::Uint,
@@ -290,6 +292,116 @@ fn texture_view(plan_index: usize, spec: &framelab_replay::plan::TextureSpec) ->
         encode_srgb: f.is_srgb() || hdr,
         unviewable: (spec.samples > 1)
             .then(|| "multisampled: view the resolved texture".to_owned()),
+        stencil: framelab_replay::decode::has_stencil(spec),
+    }
+}
+
+/// How the buffer viewer can read plan buffer `index`: as the indirect arguments it feeds,
+/// then as the WGSL type of each variable bound to it (first binding of each distinct type).
+fn buffer_view(index: usize, plan: &framelab_replay::plan::Plan) -> BufferView {
+    use framelab_replay::layout::BufferLayout;
+    use framelab_replay::plan::{BindTarget, PassOp};
+    let mut indirect_layouts: Vec<LayoutChoice> = Vec::new();
+    let mut typed: Vec<LayoutChoice> = Vec::new();
+    let mut indirect = Vec::new();
+    let add = |list: &mut Vec<LayoutChoice>, choice: LayoutChoice| {
+        if !list
+            .iter()
+            .any(|c| c.layout == choice.layout && c.base == choice.base)
+        {
+            list.push(choice);
+        }
+    };
+    for pass in &plan.passes {
+        let (shader, bindings) = match &pass.op {
+            PassOp::Raster(r) => {
+                for (i, d) in r.draws.iter().enumerate() {
+                    let Some((b, offset)) = d.indirect else {
+                        continue;
+                    };
+                    if b != index {
+                        continue;
+                    }
+                    let indexed = d
+                        .mesh
+                        .and_then(|m| plan.meshes.get(m))
+                        .is_some_and(|m| m.indices.is_some());
+                    let label = d.label.clone().unwrap_or_else(|| format!("#{i}"));
+                    indirect.push(format!(
+                        "{}: {} draw {label} at byte {offset}",
+                        pass.name,
+                        if indexed { "indexed" } else { "non-indexed" }
+                    ));
+                    let layout = if indexed {
+                        BufferLayout::draw_indexed_indirect()
+                    } else {
+                        BufferLayout::draw_indirect()
+                    };
+                    add(
+                        &mut indirect_layouts,
+                        LayoutChoice {
+                            source: "indirect draws".to_owned(),
+                            base: offset % layout.stride,
+                            layout,
+                        },
+                    );
+                }
+                (r.shader, &r.bindings)
+            }
+            PassOp::Compute(c) => {
+                for (i, d) in c.dispatches.iter().enumerate() {
+                    if let Some((b, offset)) = d.indirect
+                        && b == index
+                    {
+                        indirect.push(format!("{}: dispatch #{i} at byte {offset}", pass.name));
+                        let layout = BufferLayout::dispatch_indirect();
+                        add(
+                            &mut indirect_layouts,
+                            LayoutChoice {
+                                source: "indirect dispatches".to_owned(),
+                                base: offset % layout.stride,
+                                layout,
+                            },
+                        );
+                    }
+                }
+                (c.shader, &c.bindings)
+            }
+            _ => continue,
+        };
+        let Some(source) = plan.shaders.get(shader) else {
+            continue;
+        };
+        for b in bindings {
+            if let BindTarget::Buffer { buffer, offset, .. } = b.target
+                && buffer == index
+                && let Some(layout) = source.validated.buffer_layout(&b.variable)
+            {
+                add(
+                    &mut typed,
+                    LayoutChoice {
+                        source: format!(
+                            "var {} in {}",
+                            b.variable,
+                            std::path::Path::new(&source.name)
+                                .file_name()
+                                .map_or(source.name.as_str(), |f| f.to_str().unwrap_or("?"))
+                        ),
+                        base: offset,
+                        layout,
+                    },
+                );
+            }
+        }
+    }
+    // Named struct members say more than a bare scalar array of the same bytes.
+    typed.sort_by_key(|c| c.layout.is_plain());
+    indirect_layouts.extend(typed);
+    BufferView {
+        plan_index: index,
+        size: plan.buffers[index].size,
+        layouts: indirect_layouts,
+        indirect,
     }
 }
 
@@ -363,6 +475,10 @@ fn resources(
                     .texture_of
                     .get(&id)
                     .map(|&t| texture_view(t, &lowered.plan.textures[t])),
+                buffer: lowered
+                    .buffer_of
+                    .get(&id)
+                    .map(|&b| buffer_view(b, &lowered.plan)),
             }
         })
         .collect()

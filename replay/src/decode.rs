@@ -108,7 +108,7 @@ fn decoding(f: wgpu::TextureFormat) -> Option<(Decode, u32)> {
         F::R8Snorm => (Decode::Snorm8(1), 1),
         F::Rg8Snorm => (Decode::Snorm8(2), 2),
         F::Rgba8Snorm => (Decode::Snorm8(4), 4),
-        F::R8Uint => (Decode::Uint(1, 1), 1),
+        F::R8Uint | F::Stencil8 => (Decode::Uint(1, 1), 1),
         F::Rg8Uint => (Decode::Uint(2, 1), 2),
         F::Rgba8Uint => (Decode::Uint(4, 1), 4),
         F::R8Sint => (Decode::Sint(1, 1), 1),
@@ -346,6 +346,40 @@ pub fn read_texture(
     } else {
         wgpu::TextureAspect::All
     };
+    read_aspect(device, queue, texture, spec, format, aspect)
+}
+
+/// Whether a texture has a stencil aspect that [`read_stencil`] can read.
+pub fn has_stencil(spec: &TextureSpec) -> bool {
+    spec.samples == 1 && spec.format.has_stencil_aspect()
+}
+
+/// Reads back the stencil aspect of a depth-stencil (or stencil) texture as `Stencil8`
+/// integer images; the caller checks [`has_stencil`] first.
+pub fn read_stencil(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    spec: &TextureSpec,
+) -> Result<Vec<DecodedImage>, ReadError> {
+    read_aspect(
+        device,
+        queue,
+        texture,
+        spec,
+        wgpu::TextureFormat::Stencil8,
+        wgpu::TextureAspect::StencilOnly,
+    )
+}
+
+fn read_aspect(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    spec: &TextureSpec,
+    format: wgpu::TextureFormat,
+    aspect: wgpu::TextureAspect,
+) -> Result<Vec<DecodedImage>, ReadError> {
     let texel = format.block_copy_size(Some(aspect)).unwrap_or(4);
     let d3 = spec.dimension == wgpu::TextureDimension::D3;
     let layers = if d3 {

@@ -123,6 +123,23 @@ where
         .map_err(|e| e.to_string())
 }
 
+/// Writes `image`'s values as a float RGBA EXR at `path` (replacing it only once complete).
+pub fn save_exr(path: &Path, image: &DecodedImage) -> Result<(), ExportError> {
+    let width = image.width as usize;
+    atomically(path, |tmp| {
+        exr::prelude::write_rgba_file(tmp, width, image.height as usize, |x, y| {
+            let v = image.rgba(y * width + x);
+            (v[0], v[1], v[2], v[3])
+        })
+        .map_err(|e| e.to_string())
+    })
+}
+
+/// Writes an 8-bit RGBA image as PNG at `path` (replacing it only once complete).
+pub fn save_rgba8(path: &Path, image: &image::RgbaImage) -> Result<(), ExportError> {
+    atomically(path, |tmp| save_png(image, tmp))
+}
+
 /// Writes a float image as EXR and an 8-bit preview PNG; returns the preview's name.
 fn write_exr(
     dir: &Path,
@@ -131,13 +148,7 @@ fn write_exr(
     preview_name: String,
 ) -> Result<String, ExportError> {
     let (width, height) = (image.width, image.height);
-    atomically(path, |tmp| {
-        exr::prelude::write_rgba_file(tmp, width as usize, height as usize, |x, y| {
-            let v = image.rgba(y * width as usize + x);
-            (v[0], v[1], v[2], v[3])
-        })
-        .map_err(|e| e.to_string())
-    })?;
+    save_exr(path, image)?;
     let depth = image.format.has_depth_aspect();
     let (lo, hi) = preview_range(&image.values, image.channels, depth);
     atomically(&dir.join(&preview_name), |tmp| {

@@ -8,6 +8,7 @@ pub mod atomic;
 pub mod decode;
 pub mod device;
 pub mod export;
+pub mod layout;
 pub mod plan;
 pub mod readback;
 pub mod run;

@@ -40,12 +40,16 @@ pub struct InspectArgs {
     /// The pass to make current (default: the last).
     #[arg(long)]
     pub select: Option<String>,
-    /// The resource to open in the texture viewer.
+    /// The resource to open: a texture in the texture viewer, a buffer in the buffer viewer.
     #[arg(long)]
     pub view: Option<String>,
-    /// The panel to bring to the front of its tab group: Timeline, Resources, DAG or Memory.
+    /// The panel to bring to the front of its tab group: Timeline, Resources, Buffer, DAG or
+    /// Memory.
     #[arg(long, value_parser = parse_pane)]
     pub panel: Option<Pane>,
+    /// Show the stencil aspect of the `--view` depth-stencil texture.
+    #[arg(long, requires = "view")]
+    pub stencil: bool,
     /// The texel to read out, X,Y (as a click on the texture would pick it).
     #[arg(long, value_parser = parse_pixel)]
     pub pixel: Option<(u32, u32)>,
@@ -137,9 +141,26 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
     };
     if let Some(v) = view
         && model.resources[v].texture.is_none()
+        && model.resources[v].buffer.is_none()
     {
-        bail!("--view: \"{}\" is not a texture", model.resources[v].name);
+        bail!(
+            "--view: \"{}\" is neither a texture nor a buffer the replay creates",
+            model.resources[v].name
+        );
     }
+    if let Some(v) = view
+        && args.stencil
+        && !model.resources[v]
+            .texture
+            .as_ref()
+            .is_some_and(|t| t.stencil || t.sampling == framelab_ui::model::Sampling::Stencil)
+    {
+        bail!(
+            "--stencil: \"{}\" has no stencil aspect the viewer can read",
+            model.resources[v].name
+        );
+    }
+    let stencil = args.stencil;
     let pixel = args.pixel;
     let panel = args.panel;
     let prepare = move |app: &mut Inspector| {
@@ -148,6 +169,9 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         }
         if let Some(r) = view {
             app.open_resource(r);
+            if stencil {
+                app.show_aspect(true);
+            }
         }
         if let Some((x, y)) = pixel {
             app.pick(x, y);

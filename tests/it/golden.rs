@@ -84,3 +84,18 @@ pub fn assert_matches_golden(actual_path: &Path, golden: &Path) {
         );
     }
 }
+
+/// Inspector panel snapshots (egui_kittest): a pixel fails when its YIQ distance exceeds
+/// `UI_PIXEL_THRESHOLD` (kittest's default 0.6 absorbs backend anti-aliasing differences);
+/// up to `UI_FAILED_PIXELS` may fail, so a moved separator or a changed label still does.
+pub const UI_PIXEL_THRESHOLD: f32 = 0.6;
+pub const UI_FAILED_PIXELS: usize = 8;
+
+/// Where the inspector's blessed panel images live and how they are compared. A missing image
+/// fails; `UPDATE_SNAPSHOTS=1` writes it from the run.
+pub fn ui_snapshot_options() -> framelab_ui::egui_kittest::SnapshotOptions {
+    framelab_ui::egui_kittest::SnapshotOptions::new()
+        .threshold(UI_PIXEL_THRESHOLD)
+        .max_failed_pixels(UI_FAILED_PIXELS)
+        .output_path(crate::common::repo().join("tests/goldens/inspector"))
+}

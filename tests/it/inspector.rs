@@ -8,20 +8,33 @@ use std::time::Duration;
 use framelab::analysis::report::{AnalyzeOptions, analyze};
 use framelab::capture::{self, Options};
 use framelab::inspect::{self, Reports};
+use framelab::timing::TimingReport;
 use framelab_ui::Inspector;
+use framelab_ui::app::Pane;
 use framelab_ui::egui;
 use framelab_ui::egui_kittest::{
     self,
     kittest::{NodeT, Queryable},
 };
 use framelab_ui::headless;
+use framelab_ui::worker::SaveAs;
 
 use crate::common::{exr_image, framelab, repo};
+use crate::golden::ui_snapshot_options;
 
 const SETTLE: Duration = Duration::from_secs(300);
 
 /// The example at scale 0.25 in a 1400x900 harness, one frame timed, settled.
 fn open(capture: &str) -> egui_kittest::Harness<'static, Inspector> {
+    open_with(capture, &Reports::default())
+}
+
+fn report(path: &str) -> TimingReport {
+    let text = std::fs::read_to_string(repo().join(path)).unwrap();
+    TimingReport::from_json(path, &text).unwrap()
+}
+
+fn open_with(capture: &str, reports: &Reports<'_>) -> egui_kittest::Harness<'static, Inspector> {
     let path = repo().join(capture);
     let options = Options {
         scale: 0.25,
@@ -31,8 +44,7 @@ fn open(capture: &str) -> egui_kittest::Harness<'static, Inspector> {
     let analysis = analyze(&validated.capture, AnalyzeOptions::default()).unwrap();
     let ctx =
         framelab_replay::open_device(None, framelab::lower::wanted_features()).expect("an adapter");
-    let (model, worker) =
-        inspect::launch(&validated.capture, &analysis, &ctx, &Reports::default(), 1).unwrap();
+    let (model, worker) = inspect::launch(&validated.capture, &analysis, &ctx, reports, 1).unwrap();
     let rs = headless::render_state(&ctx).unwrap();
     let app = Inspector::new(model, Some(worker), Some(rs.clone()));
     let mut harness = headless::harness(app, rs, egui::Vec2::new(1400.0, 900.0));
@@ -252,4 +264,150 @@ fn read_back_values_match_the_export() {
         }
     }
     std::fs::remove_dir_all(out).unwrap();
+}
+
+/// The label of the first node whose label contains `text`.
+fn label_with(h: &egui_kittest::Harness<'static, Inspector>, text: &str) -> String {
+    let node = h.get_by_label_contains(text);
+    node.value()
+        .or_else(|| node.accesskit_node().label())
+        .unwrap_or_default()
+}
+
+#[test]
+fn buffers_stencil_and_saving_a_view() {
+    let mut h = open("captures/example/frame.json");
+    let model = h.state().model.clone();
+
+    // The buffer viewer: open draw_args from the resource table. After `simulate` it holds
+    // the indirect draw arguments the compute pass wrote: the orb mesh's 192 indices (the
+    // pass's `index_count` parameter) and one instance per live particle.
+    h.get_by_label("Resources").click();
+    h.state_mut().selection.resource_filter = "draw_args".into();
+    h.run_steps(2);
+    h.get_all_by_label("draw_args")
+        .find(|n| n.accesskit_node().role() == egui::Role::Button)
+        .expect("a draw_args row")
+        .click();
+    h.state_mut()
+        .select_pass(model.pass_named("simulate").unwrap());
+    settle(&mut h);
+    let draw_args = model.resource_named("draw_args").unwrap();
+    assert_eq!(h.state().selection.buffer, Some(draw_args));
+    assert!(h.query_by_label("base_vertex").is_some());
+    assert!(h.query_by_label("instance_count").is_some());
+    assert!(
+        h.query_by_label("192").is_some(),
+        "index_count after simulate"
+    );
+    // Right after `reset_args` cleared it, the arguments are zero.
+    h.state_mut()
+        .select_pass(model.pass_named("reset_args").unwrap());
+    settle(&mut h);
+    assert!(h.query_by_label("192").is_none());
+    assert!(h.query_all_by_label("0").count() >= 5);
+    // The particles read as rows of the shader's `Particle` struct.
+    h.state_mut()
+        .open_resource(model.resource_named("particles").unwrap());
+    settle(&mut h);
+    assert!(h.query_by_label("position_radius").is_some());
+
+    // The stencil aspect of the depth-stencil target, as `scene` cleared it (to 0).
+    h.state_mut()
+        .select_pass(model.pass_named("scene").unwrap());
+    h.state_mut()
+        .open_resource(model.resource_named("depth").unwrap());
+    h.state_mut().show_aspect(true);
+    h.state_mut().pick(3, 2);
+    settle(&mut h);
+    assert_eq!(label_with(&h, "(3, 2) S"), "(3, 2) S 0 (0b00000000)");
+
+    // Save scene_color as of `scene`: EXR holds the values, PNG the view as shown.
+    h.state_mut()
+        .open_resource(model.resource_named("scene_color").unwrap());
+    settle(&mut h);
+    let dir = std::env::temp_dir().join(format!("framelab-save-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    h.state_mut().save_path = dir.join("scene").display().to_string();
+    h.get_by_label("EXR").click();
+    settle(&mut h);
+    assert!(
+        matches!(h.state().saved, Some(Ok(_))),
+        "{:?}",
+        h.state().saved
+    );
+    let (w, pixels) = exr_image(&dir.join("scene.exr"));
+    let decoded = h
+        .state()
+        .displayed
+        .as_ref()
+        .unwrap()
+        .decoded
+        .clone()
+        .unwrap();
+    assert_eq!(w, decoded.width as usize);
+    for (c, want) in [0.02f32, 0.03, 0.05, 1.0].into_iter().enumerate() {
+        assert!((pixels[0][c] - want).abs() < 1e-3, "{:?}", pixels[0]);
+    }
+    h.state_mut().save_view(SaveAs::Png);
+    settle(&mut h);
+    let png = image::open(dir.join("scene.png")).unwrap().to_rgba8();
+    assert_eq!(png.dimensions(), (decoded.width, decoded.height));
+    // The sky's clear colour, sRGB-encoded for display as the viewer shows it.
+    let sky = png.get_pixel(0, 0);
+    assert!(sky[2] > sky[0] && sky[0] > 20, "{sky:?}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// Every docked panel against its blessed image, with timings from a report compared
+/// against a second one (`--timings A --compare B`), so the figures and verdict colours are
+/// fixed: B has tonemap 60% slower and bloom_mips 40% faster.
+#[test]
+fn panels_match_their_snapshots_with_compared_timings() {
+    let a = report("tests/fixtures/timing/example_a.json");
+    let b = report("tests/fixtures/timing/example_b.json");
+    let mut h = open_with(
+        "captures/example/frame.json",
+        &Reports {
+            timings: Some((&a, "example_a.json".into())),
+            compare: Some((&b, "example_b.json".into())),
+        },
+    );
+    let model = h.state().model.clone();
+    let compare = model.compare.as_ref().expect("a comparison");
+    let verdict = |pass: &str| {
+        compare.passes[model.pass_named(pass).unwrap()]
+            .as_ref()
+            .map(|r| r.verdict.clone())
+    };
+    assert_eq!(verdict("tonemap").as_deref(), Some("regression"));
+    assert_eq!(verdict("bloom_mips").as_deref(), Some("improvement"));
+    let tonemap = compare.passes[model.pass_named("tonemap").unwrap()]
+        .as_ref()
+        .unwrap();
+    assert!((tonemap.change_pct - 60.0).abs() < 1.0, "{tonemap:?}");
+
+    h.get_by_label("scene").click();
+    h.state_mut()
+        .open_resource(model.resource_named("scene_color").unwrap());
+    h.state_mut().pick(0, 0);
+    settle(&mut h);
+    let options = ui_snapshot_options();
+    let mut results = egui_kittest::SnapshotResults::new();
+    for (pane, name) in [
+        (Pane::Timeline, "timeline"),
+        (Pane::Resources, "resources"),
+        (Pane::Dag, "dag"),
+        (Pane::Memory, "memory"),
+    ] {
+        h.state_mut().show_pane(pane);
+        h.run_steps(3);
+        results.add(h.try_snapshot_options(name, &options));
+    }
+    h.state_mut()
+        .open_resource(model.resource_named("particles").unwrap());
+    settle(&mut h);
+    h.run_steps(3);
+    results.add(h.try_snapshot_options("buffer", &options));
+    results.unwrap();
 }

@@ -12,7 +12,7 @@ use framelab_replay::decode::DecodedImage;
 use crate::model::{Inspection, Sampling, Timings};
 use crate::panels;
 use crate::visualise::{Controls, Subresource};
-use crate::worker::{Reply, TextureRequest, ViewRequest, Worker};
+use crate::worker::{BufferBytes, Reply, SaveAs, TextureRequest, ViewRequest, Worker};
 
 /// The docked panels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -24,13 +24,15 @@ pub enum Pane {
     Timeline,
     Dag,
     Memory,
+    Buffer,
 }
 
 impl Pane {
     /// Every pane, for choosing one by name.
-    pub const ALL: [Pane; 7] = [
+    pub const ALL: [Pane; 8] = [
         Pane::Events,
         Pane::Texture,
+        Pane::Buffer,
         Pane::Resources,
         Pane::Details,
         Pane::Timeline,
@@ -47,6 +49,7 @@ impl Pane {
             Pane::Timeline => "Timeline",
             Pane::Dag => "DAG",
             Pane::Memory => "Memory",
+            Pane::Buffer => "Buffer",
         }
     }
 }
@@ -65,6 +68,12 @@ pub struct Selection {
     /// The current pass: every panel shows the frame as it is right after it.
     pub pass: usize,
     pub resource: Option<usize>,
+    /// The viewed texture's stencil aspect is shown instead of its depth.
+    pub stencil: bool,
+    /// The buffer in the buffer viewer (a resource index) and how its rows are read: a layout
+    /// index into its `layouts`, or `None` for raw bytes.
+    pub buffer: Option<usize>,
+    pub buffer_layout: Option<usize>,
     pub sub: Subresource,
     pub controls: Controls,
     pub filter: String,
@@ -114,13 +123,22 @@ pub struct Inspector {
     pub dag_view: (Vec2, f32),
     /// The pass the event list last scrolled to.
     pub events_scrolled_to: Option<usize>,
+    /// The viewed buffer's bytes as of a pass: (pass, plan buffer) and the bytes.
+    pub buffer_bytes: Option<BufferBytes>,
     pub error: Option<String>,
+    /// Where the texture viewer saves (edited in its panel).
+    pub save_path: String,
+    /// The last save's outcome: the file written, or why not.
+    pub saved: Option<Result<String, String>>,
     worker: Option<Worker>,
     render_state: Option<egui_wgpu::RenderState>,
     sent: Option<ViewRequest>,
     /// The worker answered the last request (and finished timing).
     idle: bool,
+    /// A save was asked for and not yet answered.
+    saving: bool,
     tree: Option<egui_tiles::Tree<Pane>>,
+    pane_pending: Option<Pane>,
 }
 
 impl std::fmt::Debug for Inspector {
@@ -138,10 +156,11 @@ fn default_tree() -> egui_tiles::Tree<Pane> {
     let texture = tiles.insert_pane(Pane::Texture);
     let timeline = tiles.insert_pane(Pane::Timeline);
     let resources = tiles.insert_pane(Pane::Resources);
+    let buffer = tiles.insert_pane(Pane::Buffer);
     let details = tiles.insert_pane(Pane::Details);
     let dag = tiles.insert_pane(Pane::Dag);
     let memory = tiles.insert_pane(Pane::Memory);
-    let bottom = tiles.insert_tab_tile(vec![timeline, resources, dag, memory]);
+    let bottom = tiles.insert_tab_tile(vec![timeline, resources, buffer, dag, memory]);
     let middle = tiles.insert_vertical_tile(vec![texture, bottom]);
     let root = tiles.insert_horizontal_tile(vec![events, middle, details]);
     if let Some(egui_tiles::Tile::Container(egui_tiles::Container::Linear(linear))) =
@@ -179,6 +198,9 @@ impl Inspector {
             selection: Selection {
                 pass: 0,
                 resource: None,
+                stencil: false,
+                buffer: None,
+                buffer_layout: None,
                 sub: Subresource::default(),
                 controls: Controls::default(),
                 filter: String::new(),
@@ -193,15 +215,20 @@ impl Inspector {
             status: "starting".into(),
             timeline_bars: Vec::new(),
             events_scrolled_to: None,
+            buffer_bytes: None,
+            save_path: String::new(),
+            saved: None,
             fit_pending: false,
             dag_nodes: Vec::new(),
             dag_view: (Vec2::ZERO, 1.0),
             error: None,
             idle: worker.is_none(),
+            saving: false,
             worker,
             render_state,
             sent: None,
             tree: Some(default_tree()),
+            pane_pending: None,
         };
         inspector.selection.pass = inspector.model.passes.len().saturating_sub(1);
         if let Some(r) = resource {
@@ -212,7 +239,7 @@ impl Inspector {
 
     /// Whether the worker has answered everything asked of it.
     pub fn is_idle(&self) -> bool {
-        self.idle
+        self.idle && !self.saving
     }
 
     /// Picks texel (x, y) of the viewed subresource for the pixel readout.
@@ -222,8 +249,12 @@ impl Inspector {
 
     /// Brings `pane` to the front of its tab group.
     pub fn show_pane(&mut self, pane: Pane) {
-        if let Some(tree) = &mut self.tree {
-            tree.make_active(|_, tile| matches!(tile, egui_tiles::Tile::Pane(p) if *p == pane));
+        match &mut self.tree {
+            Some(tree) => {
+                tree.make_active(|_, tile| matches!(tile, egui_tiles::Tile::Pane(p) if *p == pane));
+            }
+            // Asked from inside a panel, while the tree is being drawn: after it.
+            None => self.pane_pending = Some(pane),
         }
     }
 
@@ -239,31 +270,86 @@ impl Inspector {
         let Some(res) = self.model.resources.get(r) else {
             return;
         };
+        if let Some(b) = &res.buffer {
+            self.selection.buffer = Some(r);
+            self.selection.buffer_layout = (!b.layouts.is_empty()).then_some(0);
+            self.show_pane(Pane::Buffer);
+            return;
+        }
         self.selection.resource = Some(r);
         self.selection.sub = Subresource::default();
         self.selection.pan = Vec2::ZERO;
         self.picked = None;
         self.fit_pending = false;
         if let Some(t) = &res.texture {
-            let mut c = Controls {
-                encode_srgb: t.encode_srgb,
-                ..Controls::default()
-            };
-            match t.sampling {
-                // Depth: near is 0 in a forward depth buffer; invert so near is bright.
-                // Perspective depth crowds near one value: fit black and white to the range
-                // read back once it arrives, and invert so near is bright.
-                Sampling::Depth => {
-                    c.channels = [true, false, false, false];
-                    c.invert = true;
-                    self.fit_pending = true;
-                }
-                Sampling::Uint | Sampling::Sint => {
-                    c.white = 255.0;
-                }
-                Sampling::Float => {}
+            let stencil = t.sampling == Sampling::Stencil;
+            self.show_aspect(stencil);
+        }
+    }
+
+    /// Shows the stencil aspect (or the texture's own: colour or depth) of the viewed texture,
+    /// with controls suited to it.
+    pub fn show_aspect(&mut self, stencil: bool) {
+        let Some(t) = self
+            .selection
+            .resource
+            .and_then(|r| self.model.resources[r].texture.as_ref())
+        else {
+            return;
+        };
+        let stencil = stencil && (t.stencil || t.sampling == Sampling::Stencil);
+        self.selection.stencil = stencil;
+        self.fit_pending = false;
+        let mut c = Controls {
+            encode_srgb: t.encode_srgb && !stencil,
+            ..Controls::default()
+        };
+        match if stencil {
+            Sampling::Stencil
+        } else {
+            t.sampling
+        } {
+            // Depth: near is 0 in a forward depth buffer; invert so near is bright.
+            // Perspective depth crowds near one value: fit black and white to the range
+            // read back once it arrives, and invert so near is bright.
+            Sampling::Depth => {
+                c.channels = [true, false, false, false];
+                c.invert = true;
+                self.fit_pending = true;
             }
-            self.selection.controls = c;
+            Sampling::Stencil => {
+                c.channels = [true, false, false, false];
+                c.white = 255.0;
+            }
+            Sampling::Uint | Sampling::Sint => {
+                c.white = 255.0;
+            }
+            Sampling::Float => {}
+        }
+        self.selection.controls = c;
+    }
+
+    /// Saves the texture view as shown (PNG) or its values (EXR) to `save_path`, with the
+    /// extension set to match; the outcome arrives in `saved`.
+    pub fn save_view(&mut self, how: SaveAs) {
+        let wanted = self.wanted();
+        let ext = match how {
+            SaveAs::Png => "png",
+            SaveAs::Exr => "exr",
+        };
+        let path = std::path::Path::new(self.save_path.trim()).with_extension(ext);
+        self.save_path = path.display().to_string();
+        self.saved = None;
+        let sent = wanted.texture.is_some()
+            && !self.save_path.trim().is_empty()
+            && self
+                .worker
+                .as_ref()
+                .is_some_and(|w| w.save(wanted, how, path));
+        if sent {
+            self.saving = true;
+        } else {
+            self.saved = Some(Err("nothing to save: open a texture and name a file".into()));
         }
     }
 
@@ -276,15 +362,25 @@ impl Inspector {
             }
             Some(TextureRequest {
                 plan_index: t.plan_index,
-                sampling: t.sampling,
+                sampling: if self.selection.stencil {
+                    Sampling::Stencil
+                } else {
+                    t.sampling
+                },
                 volume: t.volume,
                 sub: self.selection.sub,
                 controls: self.selection.controls,
             })
         });
+        let buffer = self
+            .selection
+            .buffer
+            .and_then(|r| self.model.resources[r].buffer.as_ref())
+            .map(|b| b.plan_index);
         ViewRequest {
             pass: self.selection.pass,
             texture,
+            buffer,
         }
     }
 
@@ -305,6 +401,10 @@ impl Inspector {
                     }
                 }
                 Reply::Shown(s) => shown.push(s),
+                Reply::Saved(result) => {
+                    self.saved = Some(result);
+                    self.saving = false;
+                }
                 Reply::Failed(e) => {
                     self.error = Some(e);
                     self.idle = true;
@@ -315,6 +415,9 @@ impl Inspector {
             if Some(&s.request) == self.sent.as_ref() {
                 self.idle = true;
                 self.status = "ready".into();
+            }
+            if let (Some(bytes), Some(b)) = (s.buffer.clone(), s.request.buffer) {
+                self.buffer_bytes = Some(((s.request.pass, b), bytes));
             }
             let Some(texture) = s.display else {
                 self.displayed = None;
@@ -367,7 +470,7 @@ impl Inspector {
             }
             self.sent = Some(wanted);
         }
-        if !self.idle {
+        if !self.is_idle() {
             ctx.request_repaint_after(std::time::Duration::from_millis(30));
         }
     }
@@ -409,6 +512,10 @@ impl Inspector {
                 tree.ui(&mut Behavior { app: self }, ui);
                 self.tree = Some(tree);
             }
+            if let Some(pane) = self.pane_pending.take() {
+                self.show_pane(pane);
+                ui.ctx().request_repaint();
+            }
         });
     }
 }
@@ -438,6 +545,7 @@ impl egui_tiles::Behavior<Pane> for Behavior<'_> {
                 Pane::Timeline => panels::timeline::ui(self.app, ui),
                 Pane::Dag => panels::dag::ui(self.app, ui),
                 Pane::Memory => panels::memory::ui(self.app, ui),
+                Pane::Buffer => panels::buffer::ui(self.app, ui),
             });
         egui_tiles::UiResponse::None
     }

@@ -2,6 +2,8 @@
 //! built by the root crate from a capture, its analysis and timings. The panels draw only
 //! this, so they can be tested on a fixed model, and no capture type leaks into the UI.
 
+pub use framelab_replay::layout::{BufferLayout, Field, Scalar};
+
 /// A whole frame to inspect.
 #[derive(Clone, Debug, Default)]
 pub struct Inspection {
@@ -151,6 +153,8 @@ pub enum Sampling {
     Depth,
     Uint,
     Sint,
+    /// The stencil aspect of a depth-stencil texture.
+    Stencil,
 }
 
 #[derive(Clone, Debug)]
@@ -164,6 +168,31 @@ pub struct TextureView {
     pub encode_srgb: bool,
     /// A reason it cannot be shown (multisampled, block-compressed ...), if any.
     pub unviewable: Option<String>,
+    /// Has a stencil aspect the viewer can show instead of depth.
+    pub stencil: bool,
+}
+
+/// How the buffer viewer reads a plan buffer.
+#[derive(Clone, Debug)]
+pub struct BufferView {
+    /// The replay plan's buffer index.
+    pub plan_index: usize,
+    pub size: u64,
+    /// Ways to read it as rows, best first: the indirect-argument records it feeds, then the
+    /// WGSL types of the variables bound to it; none means raw bytes only.
+    pub layouts: Vec<LayoutChoice>,
+    /// Where it is consumed as indirect arguments: `pass: draw "label" at byte N`.
+    pub indirect: Vec<String>,
+}
+
+/// One way to read a buffer as rows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LayoutChoice {
+    /// Where the type comes from: `var lights in shaders/lighting.wgsl`, `indirect draws`.
+    pub source: String,
+    /// Byte offset of row 0 (a binding's offset).
+    pub base: u64,
+    pub layout: BufferLayout,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -188,6 +217,7 @@ pub struct Resource {
     /// Resources that share its memory in the aliasing plan.
     pub aliases: Vec<String>,
     pub texture: Option<TextureView>,
+    pub buffer: Option<BufferView>,
 }
 
 impl Inspection {

@@ -26,6 +26,8 @@ pub struct Controls {
     pub invert: bool,
     /// NaN magenta, infinity cyan, negative blue.
     pub overlay: bool,
+    /// Stencil: the bits shown (a value is masked with them before black and white apply).
+    pub stencil_bits: u32,
 }
 
 impl Default for Controls {
@@ -38,6 +40,7 @@ impl Default for Controls {
             encode_srgb: false,
             invert: false,
             overlay: false,
+            stencil_bits: 0xff,
         }
     }
 }
@@ -61,6 +64,7 @@ fn sampling_key(s: Sampling) -> u8 {
         Sampling::Depth => 1,
         Sampling::Uint => 2,
         Sampling::Sint => 3,
+        Sampling::Stencil => 4,
     }
 }
 
@@ -78,6 +82,11 @@ fn source(sampling: Sampling, volume: bool) -> String {
         (Sampling::Uint, _) => (
             "var src: texture_2d<u32>;",
             "vec4<f32>(textureLoad(src, p, 0))".to_owned(),
+        ),
+        (Sampling::Stencil, _) => (
+            "var src: texture_2d<u32>;",
+            "vec4<f32>(f32(textureLoad(src, p, 0).r & view.stencil_bits), 0.0, 0.0, 1.0)"
+                .to_owned(),
         ),
         (Sampling::Sint, _) => (
             "var src: texture_2d<i32>;",
@@ -107,7 +116,7 @@ fn pack(c: &Controls, slice: u32) -> [u8; 48] {
         c.exposure.to_bits(),
         flags,
         slice,
-        0,
+        c.stencil_bits,
         0,
         0,
     ];
@@ -135,7 +144,7 @@ impl Visualiser {
                 let sample_type = match sampling {
                     Sampling::Float => wgpu::TextureSampleType::Float { filterable: false },
                     Sampling::Depth => wgpu::TextureSampleType::Depth,
-                    Sampling::Uint => wgpu::TextureSampleType::Uint,
+                    Sampling::Uint | Sampling::Stencil => wgpu::TextureSampleType::Uint,
                     Sampling::Sint => wgpu::TextureSampleType::Sint,
                 };
                 let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -235,10 +244,10 @@ impl Visualiser {
                 | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
-        let aspect = if sampling == Sampling::Depth {
-            wgpu::TextureAspect::DepthOnly
-        } else {
-            wgpu::TextureAspect::All
+        let aspect = match sampling {
+            Sampling::Depth => wgpu::TextureAspect::DepthOnly,
+            Sampling::Stencil => wgpu::TextureAspect::StencilOnly,
+            _ => wgpu::TextureAspect::All,
         };
         let layers = texture.depth_or_array_layers();
         let source_view = texture.create_view(&wgpu::TextureViewDescriptor {

@@ -10,7 +10,7 @@ struct View {
     exposure: f32,
     flags: u32,
     slice: u32,
-    pad0: u32,
+    stencil_bits: u32,
     pad1: u32,
     pad2: u32,
 };

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, TryRecvError};
 
 use framelab_replay::Session;
-use framelab_replay::decode::{DecodedImage, read_texture, readable_format};
+use framelab_replay::decode::{DecodedImage, read_stencil, read_texture, readable_format};
 use framelab_replay::plan::Params;
 
 use crate::model::{PassTime, Sampling};
@@ -21,6 +21,8 @@ pub struct ViewRequest {
     /// The frame as it is right after this pass (plan index).
     pub pass: usize,
     pub texture: Option<TextureRequest>,
+    /// A buffer to read back (plan index).
+    pub buffer: Option<usize>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -32,6 +34,18 @@ pub struct TextureRequest {
     pub controls: Controls,
 }
 
+/// How a view is saved: the image as shown (PNG), or the subresource's values (EXR).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SaveAs {
+    Png,
+    Exr,
+}
+
+enum Command {
+    View(ViewRequest),
+    Save(ViewRequest, SaveAs, std::path::PathBuf),
+}
+
 /// What the worker sends back.
 #[derive(Debug)]
 pub enum Reply {
@@ -39,6 +53,8 @@ pub enum Reply {
     /// Per plan pass, from the timed frames.
     Timings(Vec<Option<PassTime>>),
     Shown(Box<Shown>),
+    /// A save finished: the file written, or why not.
+    Saved(Result<String, String>),
     Failed(String),
 }
 
@@ -51,7 +67,16 @@ pub struct Shown {
     /// format has no decoder (its reason in `note`).
     pub decoded: Option<Arc<DecodedImage>>,
     pub note: Option<String>,
+    /// The requested buffer's bytes as of the pass (at most [`MAX_BUFFER_READ`]).
+    pub buffer: Option<Arc<Vec<u8>>>,
 }
+
+/// A buffer's bytes as of a pass, keyed by (pass, plan buffer).
+pub type BufferBytes = ((usize, usize), Arc<Vec<u8>>);
+
+/// The buffer viewer reads at most this many bytes of a buffer, so a huge buffer costs a
+/// bounded copy; the viewer says when it shows a prefix.
+pub const MAX_BUFFER_READ: u64 = 64 << 20;
 
 /// The per-frame constants of frame `f`.
 pub type Constants = Box<dyn Fn(u32) -> Params + Send>;
@@ -59,7 +84,7 @@ pub type Constants = Box<dyn Fn(u32) -> Params + Send>;
 /// The UI's end of the worker.
 #[derive(Debug)]
 pub struct Worker {
-    requests: Sender<ViewRequest>,
+    requests: Sender<Command>,
     pub replies: Receiver<Reply>,
 }
 
@@ -74,13 +99,19 @@ impl Worker {
 
     /// Asks for a view; `false` when the worker has stopped.
     pub fn request(&self, view: ViewRequest) -> bool {
-        self.requests.send(view).is_ok()
+        self.requests.send(Command::View(view)).is_ok()
+    }
+
+    /// Asks for `view` to be written to `path`; answered with [`Reply::Saved`].
+    pub fn save(&self, view: ViewRequest, how: SaveAs, path: std::path::PathBuf) -> bool {
+        self.requests.send(Command::Save(view, how, path)).is_ok()
     }
 }
 
 /// A texture read back as of a pass: its decoded subresources, or why there are none.
 struct ReadBack {
-    key: (usize, usize),
+    /// Pass, plan texture, and whether the stencil aspect was read.
+    key: (usize, usize, bool),
     images: Vec<Arc<DecodedImage>>,
     note: Option<String>,
 }
@@ -90,6 +121,8 @@ struct State {
     constants: Constants,
     replayed_pass: Option<usize>,
     read: Option<ReadBack>,
+    /// The last buffer read back: (pass, plan buffer) and its bytes.
+    buffer: Option<BufferBytes>,
     visualiser: Visualiser,
 }
 
@@ -97,7 +130,7 @@ fn run(
     session: Session,
     constants: Constants,
     timed_frames: u32,
-    rx: &Receiver<ViewRequest>,
+    rx: &Receiver<Command>,
     tx: &Sender<Reply>,
 ) {
     let mut s = State {
@@ -105,6 +138,7 @@ fn run(
         constants,
         replayed_pass: None,
         read: None,
+        buffer: None,
         visualiser: Visualiser::default(),
     };
     let mut last = Vec::new();
@@ -133,23 +167,89 @@ fn run(
             .collect(),
     ));
     let _ = tx.send(Reply::Progress("ready".into()));
-    while let Ok(mut request) = rx.recv() {
-        // Only the latest view matters.
-        loop {
+    let mut pending = None;
+    loop {
+        let Some(mut command) = pending.take().or_else(|| rx.recv().ok()) else {
+            return;
+        };
+        // Only the latest view matters; a save is always carried out, in order.
+        while let Command::View(_) = command {
             match rx.try_recv() {
-                Ok(newer) => request = newer,
+                Ok(newer @ Command::View(_)) => command = newer,
+                Ok(save) => {
+                    pending = Some(save);
+                    break;
+                }
                 Err(TryRecvError::Empty) => break,
                 Err(TryRecvError::Disconnected) => return,
             }
         }
-        let reply = match show(&mut s, &request, tx) {
-            Ok(shown) => Reply::Shown(Box::new(shown)),
-            Err(e) => Reply::Failed(e),
+        let reply = match command {
+            Command::View(request) => match show(&mut s, &request, tx) {
+                Ok(shown) => Reply::Shown(Box::new(shown)),
+                Err(e) => Reply::Failed(e),
+            },
+            Command::Save(request, how, path) => Reply::Saved(save(&mut s, &request, how, &path)),
         };
         if tx.send(reply).is_err() {
             return;
         }
     }
+}
+
+/// Writes the view `request` asks for: the display image as shown (PNG), or the viewed
+/// subresource's decoded values (EXR).
+fn save(
+    s: &mut State,
+    request: &ViewRequest,
+    how: SaveAs,
+    path: &std::path::Path,
+) -> Result<String, String> {
+    let shown = show(s, request, &std::sync::mpsc::channel().0)?;
+    let written = match how {
+        SaveAs::Png => {
+            let display = shown.display.ok_or("no texture is shown")?;
+            let image = display_pixels(s, &display)?;
+            framelab_replay::export::save_rgba8(path, &image)
+        }
+        SaveAs::Exr => {
+            let decoded = shown
+                .decoded
+                .ok_or_else(|| shown.note.unwrap_or_else(|| "nothing read back".into()))?;
+            framelab_replay::export::save_exr(path, &decoded)
+        }
+    };
+    written.map_err(|e| e.to_string())?;
+    Ok(path.display().to_string())
+}
+
+/// The display image's pixels, read back.
+fn display_pixels(s: &State, display: &wgpu::Texture) -> Result<image::RgbaImage, String> {
+    let spec = framelab_replay::plan::TextureSpec {
+        name: "display".into(),
+        format: display.format(),
+        dimension: wgpu::TextureDimension::D2,
+        size: display.size(),
+        mip_levels: 1,
+        samples: 1,
+        usage: display.usage(),
+        initial: None,
+        history: false,
+        cube: false,
+    };
+    let decoded = read_texture(
+        &s.session.device,
+        &s.session.queue,
+        display,
+        &spec,
+        display.format(),
+    )
+    .map_err(|e| e.to_string())?;
+    let d = decoded.first().ok_or("the display image read back empty")?;
+    Ok(image::RgbaImage::from_fn(d.width, d.height, |x, y| {
+        let v = d.rgba((y * d.width + x) as usize);
+        image::Rgba(v.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8))
+    }))
 }
 
 fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Shown, String> {
@@ -174,29 +274,38 @@ fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Show
         }
         s.replayed_pass = Some(pass);
         s.read = None;
+        s.buffer = None;
     }
+    let buffer = match request.buffer {
+        Some(b) => Some(read_buffer(s, pass, b)?),
+        None => None,
+    };
     let Some(t) = &request.texture else {
         return Ok(Shown {
             request: request.clone(),
             display: None,
             decoded: None,
             note: None,
+            buffer,
         });
     };
     let texture = s.session.texture(t.plan_index).clone();
-    if s.read.as_ref().map(|r| r.key) != Some((pass, t.plan_index)) {
+    let stencil = t.sampling == Sampling::Stencil;
+    if s.read.as_ref().map(|r| r.key) != Some((pass, t.plan_index, stencil)) {
         let spec = &s.session.plan.textures[t.plan_index];
-        let (images, note) = match readable_format(spec) {
-            Ok(format) => {
-                match read_texture(&s.session.device, &s.session.queue, &texture, spec, format) {
-                    Ok(images) => (images.into_iter().map(Arc::new).collect(), None),
-                    Err(e) => (Vec::new(), Some(e.to_string())),
-                }
-            }
+        let (device, queue) = (&s.session.device, &s.session.queue);
+        let read = if stencil {
+            Ok(read_stencil(device, queue, &texture, spec))
+        } else {
+            readable_format(spec).map(|f| read_texture(device, queue, &texture, spec, f))
+        };
+        let (images, note) = match read {
+            Ok(Ok(images)) => (images.into_iter().map(Arc::new).collect(), None),
+            Ok(Err(e)) => (Vec::new(), Some(e.to_string())),
             Err(why) => (Vec::new(), Some(why.0.to_owned())),
         };
         s.read = Some(ReadBack {
-            key: (pass, t.plan_index),
+            key: (pass, t.plan_index, stencil),
             images,
             note,
         });
@@ -235,5 +344,34 @@ fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Show
         display: Some(display),
         decoded,
         note,
+        buffer,
     })
+}
+
+/// Plan buffer `index` as of `pass` (cached until either changes).
+fn read_buffer(s: &mut State, pass: usize, index: usize) -> Result<Arc<Vec<u8>>, String> {
+    if let Some((key, bytes)) = &s.buffer
+        && *key == (pass, index)
+    {
+        return Ok(bytes.clone());
+    }
+    let spec = s
+        .session
+        .plan
+        .buffers
+        .get(index)
+        .ok_or_else(|| format!("no buffer {index} in the replay plan"))?;
+    // Copies need a multiple of 4 bytes; plan buffers are sized so.
+    let size = spec.size.min(MAX_BUFFER_READ) & !3;
+    let bytes = framelab_replay::read_buffer(
+        &s.session.device,
+        &s.session.queue,
+        s.session.buffer(index),
+        size,
+        &spec.name,
+    )
+    .map_err(|e| e.to_string())?;
+    let bytes = Arc::new(bytes);
+    s.buffer = Some(((pass, index), bytes.clone()));
+    Ok(bytes)
 }

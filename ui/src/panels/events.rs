@@ -102,26 +102,41 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
                     }
                     Line::Pass(i) => {
                         let p = &model.passes[*i];
-                        ui.add_space(p.markers.len() as f32 * 12.0);
-                        let (rect, _) =
-                            ui.allocate_exact_size(egui::vec2(4.0, 14.0), egui::Sense::hover());
-                        ui.painter()
-                            .rect_filled(rect, 1.0, super::queue_color(p.queue));
-                        let mut text = egui::RichText::new(&p.name);
-                        if p.culled {
-                            text = text.weak().italics();
-                        }
-                        let r = ui
-                            .selectable_label(*i == current, text)
-                            .on_hover_text(format!("{} pass", p.kind));
-                        if r.clicked() {
-                            clicked = Some(*i);
-                        }
                         let ms = super::pass_ms(app, *i)
                             .map_or("-".to_owned(), |ms| format!("{ms:.3} ms"));
+                        // Figures first, from the right, so a long name is cut short instead
+                        // of running under them.
                         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                             ui.label(egui::RichText::new(ms).monospace());
                             ui.label(egui::RichText::new(&model.queues[p.queue]).weak());
+                            ui.with_layout(
+                                egui::Layout::left_to_right(egui::Align::Center),
+                                |ui| {
+                                    ui.add_space(p.markers.len() as f32 * 12.0);
+                                    let (rect, _) = ui.allocate_exact_size(
+                                        egui::vec2(4.0, 14.0),
+                                        egui::Sense::hover(),
+                                    );
+                                    ui.painter().rect_filled(
+                                        rect,
+                                        1.0,
+                                        super::queue_color(p.queue),
+                                    );
+                                    let mut text = egui::RichText::new(&p.name);
+                                    if p.culled {
+                                        text = text.weak().italics();
+                                    }
+                                    let r = ui
+                                        .add(
+                                            egui::Button::selectable(*i == current, text)
+                                                .truncate(),
+                                        )
+                                        .on_hover_text(format!("{} ({} pass)", p.name, p.kind));
+                                    if r.clicked() {
+                                        clicked = Some(*i);
+                                    }
+                                },
+                            );
                         });
                     }
                 }

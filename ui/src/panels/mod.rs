@@ -1,6 +1,7 @@
 //! The inspector's panels, one module each; they read the inspector's model and selection and
 //! change only the selection.
 
+pub mod buffer;
 pub mod dag;
 pub mod details;
 pub mod events;

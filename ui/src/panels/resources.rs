@@ -116,7 +116,8 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
                 for (c, text) in cells(&model, r).into_iter().enumerate() {
                     row.col(|ui| {
                         if c == 0 {
-                            let selected = app.selection.resource == Some(i);
+                            let selected = app.selection.resource == Some(i)
+                                || app.selection.buffer == Some(i);
                             if ui.selectable_label(selected, text).clicked() {
                                 open = Some(i);
                             }

@@ -8,6 +8,9 @@ use egui::{Color32, Pos2, Rect, Sense, Vec2};
 use framelab_replay::decode::{DecodedImage, ValueKind};
 
 use crate::app::{Inspector, Zoom};
+use crate::model::Sampling;
+use crate::visualise::Controls;
+use crate::worker::SaveAs;
 
 /// The exact value of a texel as the format stores it.
 pub fn texel_text(d: &DecodedImage, x: u32, y: u32) -> Option<String> {
@@ -15,6 +18,10 @@ pub fn texel_text(d: &DecodedImage, x: u32, y: u32) -> Option<String> {
         return None;
     }
     let v = d.values[(y * d.width + x) as usize];
+    if d.format == wgpu::TextureFormat::Stencil8 {
+        let s = v[0] as u32;
+        return Some(format!("({x}, {y}) S {s} (0b{s:08b})"));
+    }
     let names = ["R", "G", "B", "A"];
     let parts: Vec<String> = (0..d.channels)
         .map(|c| match d.kind {
@@ -25,10 +32,29 @@ pub fn texel_text(d: &DecodedImage, x: u32, y: u32) -> Option<String> {
                 v[c],
                 (v[c] * 255.0).round() as u32
             ),
+            ValueKind::UnormWide => match unorm_bits(d.format, c) {
+                Some(bits) => format!(
+                    "{} {:.5} ({})",
+                    names[c],
+                    v[c],
+                    (f64::from(v[c]) * f64::from((1u32 << bits) - 1)).round() as u32
+                ),
+                None => format!("{} {}", names[c], v[c]),
+            },
             _ => format!("{} {}", names[c], v[c]),
         })
         .collect();
     Some(format!("({x}, {y}) {}", parts.join("  ")))
+}
+
+/// Bits of channel `c` of a normalised format wider than 8 bits, for its integer code.
+fn unorm_bits(f: wgpu::TextureFormat, c: usize) -> Option<u32> {
+    use wgpu::TextureFormat as F;
+    match f {
+        F::Rgb10a2Unorm => Some(if c == 3 { 2 } else { 10 }),
+        F::R16Unorm | F::Rg16Unorm | F::Rgba16Unorm => Some(16),
+        _ => None,
+    }
 }
 
 fn controls(app: &mut Inspector, ui: &mut egui::Ui) {
@@ -88,10 +114,36 @@ fn controls(app: &mut Inspector, ui: &mut egui::Ui) {
         }
         sub.layer = sub.layer.min(layers.saturating_sub(1));
     });
+    let stencil_aspect = app
+        .selection
+        .resource
+        .and_then(|r| model.resources[r].texture.as_ref())
+        .filter(|t| t.stencil && t.sampling == Sampling::Depth)
+        .is_some();
+    if stencil_aspect {
+        ui.horizontal(|ui| {
+            let mut stencil = app.selection.stencil;
+            ui.selectable_value(&mut stencil, false, "depth");
+            ui.selectable_value(&mut stencil, true, "stencil");
+            if stencil != app.selection.stencil {
+                app.show_aspect(stencil);
+            }
+        });
+    }
+    let showing_stencil = app.selection.stencil
+        || app
+            .selection
+            .resource
+            .and_then(|r| model.resources[r].texture.as_ref())
+            .is_some_and(|t| t.sampling == Sampling::Stencil);
     let c = &mut app.selection.controls;
     ui.horizontal_wrapped(|ui| {
-        for (k, name) in ["R", "G", "B", "A"].iter().enumerate() {
-            ui.toggle_value(&mut c.channels[k], *name);
+        if showing_stencil {
+            stencil_bits(ui, c);
+        } else {
+            for (k, name) in ["R", "G", "B", "A"].iter().enumerate() {
+                ui.toggle_value(&mut c.channels[k], *name);
+            }
         }
         ui.separator();
         ui.add(
@@ -139,6 +191,77 @@ fn controls(app: &mut Inspector, ui: &mut egui::Ui) {
     });
 }
 
+/// The file field and the save buttons: PNG writes the view as shown, EXR the values.
+fn save_row(app: &mut Inspector, ui: &mut egui::Ui) {
+    let Some(r) = app.selection.resource else {
+        return;
+    };
+    // Named after what is shown unless the user typed a name.
+    let default = format!(
+        "{}_after_{}_mip{}",
+        app.model.resources[r].name,
+        app.model
+            .passes
+            .get(app.selection.pass)
+            .map_or("frame", |p| p.name.as_str()),
+        app.selection.sub.mip
+    );
+    ui.horizontal(|ui| {
+        ui.label("save");
+        ui.add(
+            egui::TextEdit::singleline(&mut app.save_path)
+                .id_salt("save path")
+                .hint_text(&default)
+                .desired_width(260.0),
+        );
+        for (how, label, hint) in [
+            (SaveAs::Png, "PNG", "the image as shown"),
+            (SaveAs::Exr, "EXR", "the subresource's values as float RGBA"),
+        ] {
+            if ui.button(label).on_hover_text(hint).clicked() {
+                if app.save_path.trim().is_empty() {
+                    app.save_path.clone_from(&default);
+                }
+                app.save_view(how);
+            }
+        }
+        match &app.saved {
+            Some(Ok(path)) => {
+                ui.weak(format!("wrote {path}"));
+            }
+            Some(Err(e)) => {
+                ui.colored_label(Color32::LIGHT_RED, e);
+            }
+            None => {}
+        }
+    });
+}
+
+/// Stencil: all eight bits as a grey level, or one bit white where it is set.
+fn stencil_bits(ui: &mut egui::Ui, c: &mut Controls) {
+    let label = |bits: u32| {
+        if bits == 0xff {
+            "all bits".to_owned()
+        } else {
+            format!("bit {}", bits.trailing_zeros())
+        }
+    };
+    let mut bits = c.stencil_bits;
+    egui::ComboBox::from_id_salt("stencil bits")
+        .selected_text(label(bits))
+        .show_ui(ui, |ui| {
+            ui.selectable_value(&mut bits, 0xff, label(0xff));
+            for b in 0..8 {
+                ui.selectable_value(&mut bits, 1 << b, label(1 << b));
+            }
+        });
+    if bits != c.stencil_bits {
+        c.stencil_bits = bits;
+        c.black = 0.0;
+        c.white = if bits == 0xff { 255.0 } else { bits as f32 };
+    }
+}
+
 /// Bins of the shown channels' values between the black and white points.
 fn histogram(d: &DecodedImage, channels: [bool; 4], black: f32, white: f32) -> Vec<u32> {
     const BINS: usize = 64;
@@ -177,6 +300,7 @@ fn draw_histogram(ui: &mut egui::Ui, bins: &[u32]) {
 
 pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
     controls(app, ui);
+    save_row(app, ui);
     let model = app.model.clone();
     let Some(r) = app.selection.resource.map(|r| &model.resources[r]) else {
         ui.label("no texture selected");
