@@ -65,6 +65,25 @@ fn locate(
     }
 }
 
+/// Where `fn name` is declared in `source`.
+fn entry_point_location(source: &str, name: &str) -> Option<naga::SourceLocation> {
+    let needle = format!("fn {name}");
+    source.lines().enumerate().find_map(|(i, line)| {
+        let column = line.find(&needle)?;
+        let rest = &line[column + needle.len()..];
+        // A whole name, not a prefix of a longer one.
+        if rest.starts_with(|c: char| c.is_alphanumeric() || c == '_') {
+            return None;
+        }
+        Some(naga::SourceLocation {
+            line_number: u32::try_from(i + 1).ok()?,
+            line_position: u32::try_from(column + 1).ok()?,
+            offset: 0,
+            length: 0,
+        })
+    })
+}
+
 /// Parses and validates WGSL; `file` names the shader in messages.
 pub fn validate_wgsl(file: &str, source: &str) -> Result<ValidatedShader, ShaderError> {
     let module = naga::front::wgsl::parse_str(source).map_err(|e| {
@@ -81,11 +100,25 @@ pub fn validate_wgsl(file: &str, source: &str) -> Result<ValidatedShader, Shader
         naga::valid::Capabilities::default(),
     );
     let info = validator.validate(&module).map_err(|e| {
-        let message = e.as_inner().to_string();
+        // The top error only names the entry point; the cause is further down the chain.
+        let mut message = e.as_inner().to_string();
+        let mut cause = std::error::Error::source(e.as_inner());
+        while let Some(c) = cause {
+            message.push_str(": ");
+            message.push_str(&c.to_string());
+            cause = c.source();
+        }
+        // Some validation errors carry no span: point at the entry point they name.
+        let location = e.location(source).or_else(|| match e.as_inner() {
+            naga::valid::ValidationError::EntryPoint { name, .. } => {
+                entry_point_location(source, name)
+            }
+            _ => None,
+        });
         locate(
             file,
             source,
-            e.location(source),
+            location,
             message,
             e.emit_to_string_with_path(source, file),
         )
@@ -104,6 +137,22 @@ mod tests {
         assert_eq!(err.line, 3);
         assert!(err.source_line.contains("let x"), "{err}");
         assert!(err.to_string().starts_with("bad.wgsl:3:"), "{err}");
+    }
+
+    #[test]
+    fn validation_errors_give_the_whole_chain_at_the_entry_point() {
+        let src = "@vertex fn vs() -> @builtin(position) vec4<f32> { return vec4<f32>(0.0); }\n\n@fragment\nfn fs() -> @location(0) vec4<f32> {\n    workgroupBarrier();\n    return vec4<f32>(1.0);\n}\n";
+        let err = validate_wgsl("fs.wgsl", src).unwrap_err();
+        assert!(
+            err.message
+                .starts_with("Entry point fs at Fragment is invalid: "),
+            "{err}"
+        );
+        assert!(
+            err.message.len() > "Entry point fs at Fragment is invalid: ".len() + 10,
+            "{err}"
+        );
+        assert_eq!((err.line, err.column), (4, 1), "{err}");
     }
 
     #[test]

@@ -20,6 +20,7 @@ use super::replayer::Loaded;
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct InspectArgs {
+    /// The capture (JSON).
     pub capture: PathBuf,
     /// Output-resolution multiplier.
     #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]

@@ -18,11 +18,23 @@ use clap::{Parser, Subcommand};
 use framelab::analysis::report;
 use framelab::capture::{self, CaptureError, Diagnostic, Options};
 
+/// `--version`: the build, and the GPU stack and file formats it speaks.
+const LONG_VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    "\nwgpu ",
+    env!("FRAMELAB_WGPU_VERSION"),
+    ", naga ",
+    env!("FRAMELAB_NAGA_VERSION"),
+    "\ncapture format 1, timing report format 1"
+);
+
 #[derive(Parser, Debug)]
 #[command(
     name = "framelab",
     version,
-    about = "Frame-capture analysis and pass reconstruction"
+    long_version = LONG_VERSION,
+    about = "Frame-capture analysis and pass reconstruction",
+    after_help = "Set NO_COLOR to turn colour off; it is off when output is not a terminal."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -32,15 +44,22 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Check a capture against the format and D3D12/Vulkan rules; report every problem.
+    ///
+    /// Example: framelab validate captures/example/frame.json --json
     Validate {
+        /// The capture (JSON).
         capture: PathBuf,
         /// Print diagnostics as JSON on stdout.
         #[arg(long)]
         json: bool,
     },
     /// List a capture's resources, passes, heaps and totals as resolved for one scale.
+    ///
+    /// Example: framelab info captures/example/frame.json --scale 0.5
     Info {
+        /// The capture (JSON).
         capture: PathBuf,
+        /// Print the report as JSON.
         #[arg(long)]
         json: bool,
         /// Output-resolution multiplier; relative sizes follow it.
@@ -48,7 +67,10 @@ enum Command {
         scale: f64,
     },
     /// Build the pass DAG and print it as Graphviz DOT (default), JSON, or SVG.
+    ///
+    /// Example: framelab graph captures/example/frame.json --svg dag.svg
     Graph {
+        /// The capture (JSON).
         capture: PathBuf,
         /// Write DOT to this file instead of stdout.
         #[arg(long)]
@@ -62,14 +84,17 @@ enum Command {
     },
     /// Order, culling, barriers per boundary, memory aliasing, lints, critical path.
     ///
-    /// Example (a CI step): framelab analyze frame.json --deny errors --deny FL021
+    /// Example: framelab analyze frame.json --deny errors --deny FL021 (a CI step)
     Analyze {
+        /// The capture (JSON).
         capture: PathBuf,
+        /// Print the analysis as JSON.
         #[arg(long)]
         json: bool,
         /// Drop passes whose work never reaches an output before deriving barriers and memory.
         #[arg(long)]
         cull: bool,
+        /// Output-resolution multiplier; relative sizes follow it.
         #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
         scale: f64,
         /// Exit 1 when a denied lint fires: `errors`, `warnings` (and errors), a lint code
@@ -78,8 +103,12 @@ enum Command {
         deny: Vec<analysis::Deny>,
     },
     /// Replay the capture through wgpu: time every pass, export every texture.
+    ///
+    /// Example: framelab replay captures/example/frame.json --scale 0.5 --out out --timings t.json
     Replay {
+        /// The capture (JSON).
         capture: PathBuf,
+        /// Output-resolution multiplier; relative sizes follow it.
         #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
         scale: f64,
         /// Frames to run (history resources ping-pong, the camera moves and jitters).
@@ -125,9 +154,20 @@ enum Command {
     /// Example: framelab inspect frame.json --screenshot view.png --select tonemap --view ldr
     Inspect(Box<inspect::InspectArgs>),
     /// Print the JSON Schema of the capture format.
+    ///
+    /// Example: framelab schema > capture.schema.json
     Schema,
     /// List the GPU adapters wgpu can use here, best first.
+    ///
+    /// Example: framelab adapters
     Adapters,
+    /// Print a shell completion script.
+    ///
+    /// Example: framelab completions bash > /etc/bash_completion.d/framelab
+    Completions {
+        /// bash, elvish, fish, powershell or zsh.
+        shell: clap_complete::Shell,
+    },
 }
 
 pub fn main() -> ExitCode {
@@ -139,9 +179,22 @@ pub fn main() -> ExitCode {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            let _ = writeln!(std::io::stderr(), "error: {e:#}");
+            let _ = writeln!(std::io::stderr(), "{}: {e:#}", error_label());
             ExitCode::from(1)
         }
+    }
+}
+
+/// `error` in bold red on a terminal; plain when stderr is piped or `NO_COLOR` is set (as
+/// anstream decides for clap's own messages).
+pub(crate) fn error_label() -> String {
+    let style = anstyle::Style::new()
+        .bold()
+        .fg_color(Some(anstyle::AnsiColor::Red.into()));
+    if anstream::AutoStream::choice(&std::io::stderr()) == anstream::ColorChoice::Never {
+        "error".to_owned()
+    } else {
+        format!("{style}error{style:#}")
     }
 }
 
@@ -198,6 +251,17 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Inspect(args) => inspect::run(&args),
         Command::Schema => {
             print_stdout(&framelab::schema::schema_json())?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Completions { shell } => {
+            let mut text = Vec::new();
+            clap_complete::generate(
+                shell,
+                &mut <Cli as clap::CommandFactory>::command(),
+                "framelab",
+                &mut text,
+            );
+            print_stdout(&String::from_utf8_lossy(&text))?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Adapters => {

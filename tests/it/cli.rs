@@ -378,3 +378,60 @@ fn very_long_names_print_in_tables() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Every command's help carries an example and a description for each argument; `--version`
+/// names the GPU stack; completions are generated; piped errors carry no colour codes.
+#[test]
+fn help_version_completions_and_plain_errors() {
+    let commands = [
+        "validate",
+        "info",
+        "graph",
+        "analyze",
+        "replay",
+        "diff",
+        "inspect",
+        "schema",
+        "adapters",
+        "completions",
+    ];
+    for c in commands {
+        let out = framelab(&["help", c]);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && text.contains("Example: framelab"),
+            "{c}: {text}"
+        );
+        // Long help puts each argument's description on the lines after it.
+        let lines: Vec<&str> = text.lines().collect();
+        for (i, line) in lines.iter().enumerate() {
+            let arg = line.starts_with("  <") || line.trim_start().starts_with("--");
+            if arg
+                && line.starts_with("  ")
+                && !line.contains("--help")
+                && !line.contains("--version")
+            {
+                let described = line.trim_start().contains("  ")
+                    || lines.get(i + 1).is_some_and(|n| n.trim().len() > 1);
+                assert!(described, "{c}: `{}` has no description", line.trim());
+            }
+        }
+    }
+    let version = framelab(&["--version"]);
+    let text = String::from_utf8_lossy(&version.stdout);
+    assert!(
+        text.contains("wgpu 30.") && text.contains("naga 30."),
+        "{text}"
+    );
+    let bash = framelab(&["completions", "bash"]);
+    assert!(bash.status.success());
+    assert!(String::from_utf8_lossy(&bash.stdout).contains("_framelab()"));
+    // Piped (as here): no escape codes, even without NO_COLOR.
+    let err = framelab(&["graph", "no/such/file.json"]);
+    assert_eq!(err.status.code(), Some(1));
+    assert!(
+        !err.stderr.contains(&0x1b),
+        "{}",
+        String::from_utf8_lossy(&err.stderr)
+    );
+}
