@@ -84,8 +84,143 @@ fn entry_point_location(source: &str, name: &str) -> Option<naga::SourceLocation
     })
 }
 
-/// Parses and validates WGSL; `file` names the shader in messages.
+/// Most operands one statement may have. naga's front end and validator recurse once per
+/// operator of an expression, so a chain of tens of thousands of `+` overflows any stack; no
+/// real shader statement comes near this.
+pub const MAX_STATEMENT_OPERANDS: usize = 4096;
+
+/// Stack for parsing and validating: expressions up to [`MAX_STATEMENT_OPERANDS`] deep fit
+/// with room to spare.
+const PARSER_STACK: usize = 64 << 20;
+
+/// Deepest nesting of parentheses and brackets accepted (naga gives up past its own limit
+/// with an unlocated "internal error").
+pub const MAX_NESTING: usize = 128;
+
+/// Where a shader exceeds a size limit: line and column.
+enum Oversized {
+    Operands(u32, u32),
+    Nesting(u32, u32),
+}
+
+/// The first statement (text between `;`, `{` and `}`, comments skipped) with more operands
+/// (identifier and number runs) than the limit, or the first bracket nested too deep.
+fn oversized_statement(source: &str) -> Option<Oversized> {
+    let bytes = source.as_bytes();
+    let (mut i, mut line, mut column) = (0usize, 1u32, 1u32);
+    let mut start = (1u32, 1u32);
+    let mut operands = 0usize;
+    let mut in_word = false;
+    let mut block_depth = 0u32;
+    let mut nesting = 0usize;
+    while i < bytes.len() {
+        let b = bytes[i];
+        let next = bytes.get(i + 1).copied();
+        if block_depth > 0 {
+            // Inside a block comment (they nest in WGSL).
+            if b == b'*' && next == Some(b'/') {
+                block_depth -= 1;
+                i += 1;
+            } else if b == b'/' && next == Some(b'*') {
+                block_depth += 1;
+                i += 1;
+            }
+        } else if b == b'/' && next == Some(b'/') {
+            while i < bytes.len() && bytes[i] != b'\n' {
+                i += 1;
+            }
+            continue;
+        } else if b == b'/' && next == Some(b'*') {
+            block_depth = 1;
+            i += 1;
+        } else if matches!(b, b';' | b'{' | b'}') {
+            operands = 0;
+        } else if matches!(b, b'(' | b'[') {
+            nesting += 1;
+            if nesting > MAX_NESTING {
+                return Some(Oversized::Nesting(line, column));
+            }
+        } else if matches!(b, b')' | b']') {
+            nesting = nesting.saturating_sub(1);
+        } else if b.is_ascii_alphanumeric() || b == b'_' || b >= 0x80 {
+            if !in_word {
+                operands += 1;
+                if operands == 1 {
+                    start = (line, column);
+                }
+                if operands > MAX_STATEMENT_OPERANDS {
+                    return Some(Oversized::Operands(start.0, start.1));
+                }
+            }
+            in_word = true;
+            i += 1;
+            column += 1;
+            continue;
+        }
+        in_word = false;
+        if b == b'\n' {
+            line += 1;
+            column = 1;
+        } else {
+            column += 1;
+        }
+        i += 1;
+    }
+    None
+}
+
+/// Parses and validates WGSL; `file` names the shader in messages. Runs on a thread with a
+/// stack sized for the deepest expression the statement limit lets through.
 pub fn validate_wgsl(file: &str, source: &str) -> Result<ValidatedShader, ShaderError> {
+    if let Some(o) = oversized_statement(source) {
+        let ((line, column), message) = match o {
+            Oversized::Operands(l, c) => (
+                (l, c),
+                format!(
+                    "this statement has more than {MAX_STATEMENT_OPERANDS} operands: expressions this long are refused before parsing"
+                ),
+            ),
+            Oversized::Nesting(l, c) => (
+                (l, c),
+                format!("brackets nested more than {MAX_NESTING} deep"),
+            ),
+        };
+        let location = naga::SourceLocation {
+            line_number: line,
+            line_position: column,
+            offset: 0,
+            length: 0,
+        };
+        return Err(locate(file, source, Some(location), message, String::new()));
+    }
+    std::thread::scope(|scope| {
+        std::thread::Builder::new()
+            .name("wgsl".into())
+            .stack_size(PARSER_STACK)
+            .spawn_scoped(scope, || parse_and_validate(file, source))
+            .map_err(|e| {
+                locate(
+                    file,
+                    source,
+                    None,
+                    format!("cannot start the shader parser thread: {e}"),
+                    String::new(),
+                )
+            })?
+            .join()
+            .unwrap_or_else(|_| {
+                Err(locate(
+                    file,
+                    source,
+                    None,
+                    "the WGSL front end failed on this shader".to_owned(),
+                    String::new(),
+                ))
+            })
+    })
+}
+
+fn parse_and_validate(file: &str, source: &str) -> Result<ValidatedShader, ShaderError> {
     let module = naga::front::wgsl::parse_str(source).map_err(|e| {
         locate(
             file,
@@ -153,6 +288,28 @@ mod tests {
             "{err}"
         );
         assert_eq!((err.line, err.column), (4, 1), "{err}");
+    }
+
+    #[test]
+    fn very_long_expressions_are_refused_before_parsing() {
+        let chain = vec!["1.0"; 20_000].join(" + ");
+        let src = format!(
+            "// a comment; with {{ braces }}\n@compute @workgroup_size(1)\nfn main() {{\n    let x = {chain};\n}}\n"
+        );
+        let err = validate_wgsl("deep.wgsl", &src).unwrap_err();
+        assert_eq!((err.line, err.column), (4, 5), "{err}");
+        assert!(err.message.contains("more than 4096 operands"), "{err}");
+        let nest = format!("{}1.0{}", "(".repeat(500), ")".repeat(500));
+        let src = format!("@compute @workgroup_size(1)\nfn main() {{\n    let x = {nest};\n}}\n");
+        let err = validate_wgsl("nest.wgsl", &src).unwrap_err();
+        assert_eq!(err.line, 3, "{err}");
+        assert!(err.message.contains("nested more than 128 deep"), "{err}");
+        // Just under the limit parses (on the parser's own stack).
+        let chain = vec!["a"; 4000].join(" + ");
+        let src = format!(
+            "@compute @workgroup_size(1)\nfn main() {{\n    let a = 1.0;\n    let x = {chain};\n}}\n"
+        );
+        assert!(validate_wgsl("ok.wgsl", &src).is_ok());
     }
 
     #[test]
