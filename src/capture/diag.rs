@@ -41,20 +41,59 @@ impl fmt::Display for Diagnostic {
     }
 }
 
-/// The closest candidate to a misspelled name, if one is close enough to be a likely typo.
+/// Edit-distance work (character pairs compared) one validation may spend on suggestions:
+/// a capture with thousands of misspelled names among thousands of candidates would otherwise
+/// cost minutes. Past it, diagnostics simply come without a suggestion.
+pub const SUGGESTION_BUDGET: u64 = 50_000_000;
+
+/// Names longer than this get no suggestion (and cost nothing).
+const MAX_SUGGESTED_LEN: usize = 128;
+
+thread_local! {
+    static BUDGET: std::cell::Cell<u64> = const { std::cell::Cell::new(SUGGESTION_BUDGET) };
+}
+
+/// Gives this thread's next validation the whole suggestion budget again.
+pub fn reset_suggestion_budget() {
+    BUDGET.with(|b| b.set(SUGGESTION_BUDGET));
+}
+
+/// The closest candidate to a misspelled name, if one is close enough to be a likely typo
+/// (normalised Damerau-Levenshtein similarity of at least 0.6, ignoring case).
 pub fn suggest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<String> {
+    let len = name.chars().count();
+    if len > MAX_SUGGESTED_LEN {
+        return None;
+    }
     let lowered = name.to_ascii_lowercase();
-    candidates
-        .into_iter()
-        .map(|c| {
-            (
-                strsim::normalized_damerau_levenshtein(&lowered, &c.to_ascii_lowercase()),
-                c,
-            )
-        })
-        .filter(|(score, _)| *score >= 0.6)
-        .max_by(|a, b| a.0.total_cmp(&b.0).then_with(|| b.1.cmp(a.1)))
-        .map(|(_, c)| c.to_owned())
+    let mut best: Option<(f64, &str)> = None;
+    for c in candidates {
+        let clen = c.chars().count();
+        // Similarity is at most 1 - |len difference| / longer length: skip candidates that
+        // cannot reach 0.6 without computing anything.
+        let longer = len.max(clen).max(1);
+        if clen > MAX_SUGGESTED_LEN || len.abs_diff(clen) * 5 > longer * 2 {
+            continue;
+        }
+        let cost = (len * clen) as u64;
+        let affordable = BUDGET.with(|b| {
+            let left = b.get();
+            b.set(left.saturating_sub(cost));
+            left >= cost
+        });
+        if !affordable {
+            return None;
+        }
+        let score = strsim::normalized_damerau_levenshtein(&lowered, &c.to_ascii_lowercase());
+        let better = match best {
+            None => true,
+            Some((s, b)) => score > s || (score == s && c < b),
+        };
+        if score >= 0.6 && better {
+            best = Some((score, c));
+        }
+    }
+    best.map(|(_, c)| c.to_owned())
 }
 
 /// A JSON path under construction: `$`, `.field`, `[index]`, `["odd key"]`.
@@ -144,6 +183,26 @@ impl Diagnostics {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn suggestions_stop_when_the_budget_is_spent() {
+        reset_suggestion_budget();
+        let many: Vec<String> = (0..2000).map(|i| format!("resource_{i:05}")).collect();
+        let names: Vec<&str> = many.iter().map(String::as_str).collect();
+        assert_eq!(
+            suggest("resource_0001x", names.iter().copied()).as_deref(),
+            Some("resource_00010")
+        );
+        // Each call compares ~2000 names of 14 characters: the budget lasts a few hundred.
+        let answered = (0..2000)
+            .filter(|_| suggest("resource_0001x", names.iter().copied()).is_some())
+            .count();
+        assert!((100..2000).contains(&answered), "{answered}");
+        assert_eq!(suggest("resource_0001x", names.iter().copied()), None);
+        reset_suggestion_budget();
+        assert!(suggest("resource_0001x", names.iter().copied()).is_some());
+        assert_eq!(suggest(&"x".repeat(200), ["x"; 3]), None);
+    }
 
     #[test]
     fn suggests_close_names_only() {

@@ -100,6 +100,7 @@ pub fn validate(
     } else {
         base_dir
     };
+    crate::capture::diag::reset_suggestion_budget();
     let mut v = Validator::new(raw, base_dir, options);
     let capture = v.run(path);
     let diagnostics = v.diags.into_vec();
