@@ -435,3 +435,35 @@ fn help_version_completions_and_plain_errors() {
         String::from_utf8_lossy(&err.stderr)
     );
 }
+
+/// A side file that is a FIFO or a directory is named as such and refused without being read
+/// (reading a FIFO would block forever).
+#[test]
+fn side_files_must_be_regular_files() {
+    let dir = std::env::temp_dir().join(format!("framelab-fifo-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("shaders")).unwrap();
+    let example = repo().join("captures/example");
+    std::fs::copy(example.join("frame.json"), dir.join("frame.json")).unwrap();
+    for f in ["scene.wgsl", "simulate.wgsl", "tonemap.wgsl"] {
+        std::fs::copy(example.join("shaders").join(f), dir.join("shaders").join(f)).unwrap();
+    }
+    let fifo = std::process::Command::new("mkfifo")
+        .arg(dir.join("shaders/bloom.wgsl"))
+        .status()
+        .unwrap();
+    assert!(fifo.success());
+    let out = framelab(&["validate", dir.join("frame.json").to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("\"shaders/bloom.wgsl\" is a named pipe (FIFO), not a regular file"),
+        "{err}"
+    );
+    std::fs::remove_file(dir.join("shaders/bloom.wgsl")).unwrap();
+    std::fs::create_dir(dir.join("shaders/bloom.wgsl")).unwrap();
+    let out = framelab(&["validate", dir.join("frame.json").to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("is a directory, not a regular file"), "{err}");
+    std::fs::remove_dir_all(dir).unwrap();
+}

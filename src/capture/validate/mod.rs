@@ -89,6 +89,28 @@ pub fn load(path: &Path, options: &Options) -> Result<Validated, CaptureError> {
 }
 
 /// Validates a parsed capture; `path` locates side files and names the file in messages.
+/// What a non-regular file is, in words.
+fn file_kind(t: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_fifo() {
+            return "a named pipe (FIFO)";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+        if t.is_char_device() || t.is_block_device() {
+            return "a device";
+        }
+    }
+    if t.is_dir() {
+        "a directory"
+    } else {
+        "not a regular file"
+    }
+}
+
 pub fn validate(
     raw: &RawCapture,
     path: &Path,
@@ -482,15 +504,25 @@ impl<'a> Validator<'a> {
             return Some(full.clone());
         }
         let full = self.base_dir.join(p);
-        if !full.is_file() {
-            self.diags.error(
-                "side-file",
-                path,
-                format!(
-                    "side file \"{rel}\" not found (looked at {})",
-                    full.display()
-                ),
-            );
+        // Only regular files are read: a FIFO would block, a device never end.
+        let problem = match std::fs::metadata(&full) {
+            Ok(meta) if meta.is_file() => None,
+            Ok(meta) => Some(format!(
+                "side file \"{rel}\" is {}, not a regular file ({})",
+                file_kind(&meta.file_type()),
+                full.display()
+            )),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Some(format!(
+                "side file \"{rel}\" not found (looked at {})",
+                full.display()
+            )),
+            Err(e) => Some(format!(
+                "side file \"{rel}\" cannot be read ({}): {e}",
+                full.display()
+            )),
+        };
+        if let Some(message) = problem {
+            self.diags.error("side-file", path, message);
             return None;
         }
         // A symlink inside the folder may still point outside it.
