@@ -21,8 +21,13 @@ pub struct ExportedFile {
     pub z: Option<u32>,
     pub width: u32,
     pub height: u32,
+    /// The texture's format as the capture names it (DXGI), given by the caller.
     pub format: String,
-    /// png8, png16, png16-normalised (integer formats: min..max of the data mapped to 0..65535), exr
+    /// The format the values were read back in (wgpu's name; depth-stencil formats read one
+    /// aspect).
+    pub read_as: String,
+    /// png8, png16, png16-normalised (integer formats: min..max of the data mapped to
+    /// 0..65535), png8-stencil (the stencil aspect, exact values), exr
     pub encoding: &'static str,
     /// Smallest and largest channel value found (in the format's own units).
     pub min: f64,
@@ -33,6 +38,24 @@ pub struct ExportedFile {
     pub preview: Option<String>,
     /// Every texel holds the same value (a cleared or never-written target).
     pub uniform: bool,
+    /// PNG colour is written opaque, as a texture viewer shows it (G-buffer alpha is often a
+    /// tag or unused and made images look empty). Where the alpha channel varies it is
+    /// written as its own grey image, named here; where it is constant, its value is here.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alpha_constant: Option<f64>,
+}
+
+/// How the caller names a texture's files and its format.
+#[derive(Clone, Copy, Debug)]
+pub struct Naming<'a> {
+    /// The resource's name (for the manifest).
+    pub resource: &'a str,
+    /// The file-name stem, from [`unique_stems`].
+    pub stem: &'a str,
+    /// The format as the capture names it.
+    pub format: &'a str,
 }
 
 /// The display range of float data: depth spans min..max; colour spans 0 (or a negative
@@ -72,19 +95,77 @@ pub enum ExportError {
     Readback { resource: String, message: String },
 }
 
-/// A file name for a subresource.
+/// A resource name as a file-name stem: characters other than ASCII letters, digits, `_`
+/// and `-` become `_` (so a stem never holds a `.`).
+fn sanitise(resource: &str) -> String {
+    resource.replace(
+        |c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'),
+        "_",
+    )
+}
+
+/// The `_mip<M>_layer<L>_z<Z>` part of each subresource's file name.
+fn suffixes(spec: &TextureSpec) -> Vec<String> {
+    let d3 = spec.dimension == wgpu::TextureDimension::D3;
+    let layers = if d3 {
+        1
+    } else {
+        spec.size.depth_or_array_layers
+    };
+    let mut out = Vec::new();
+    for mip in 0..spec.mip_levels {
+        let slices = if d3 {
+            (spec.size.depth_or_array_layers >> mip).max(1)
+        } else {
+            1
+        };
+        for layer in 0..layers {
+            for z in 0..slices {
+                out.push(file_name("", spec, mip, layer, d3.then_some(z), ""));
+            }
+        }
+    }
+    out
+}
+
+/// A file-name stem per texture, unique by construction: two names that sanitise alike
+/// (`a.b`, `a_b`), or a name that equals another texture's subresource file (`x_mip1` beside
+/// a mipped `x`), or that differ only in case, get `-2`, `-3` ... on the later one, so no
+/// export file overwrites another. The manifest lists each file's resource by its real name.
+pub fn unique_stems(specs: &[TextureSpec]) -> Vec<String> {
+    let mut claimed = std::collections::BTreeSet::new();
+    specs
+        .iter()
+        .map(|spec| {
+            let base = sanitise(&spec.name);
+            let suffixes = suffixes(spec);
+            let mut stem = base.clone();
+            for k in 2.. {
+                let names: Vec<String> = suffixes
+                    .iter()
+                    .map(|s| format!("{stem}{s}").to_ascii_lowercase())
+                    .collect();
+                if names.iter().all(|n| !claimed.contains(n)) {
+                    claimed.extend(names);
+                    break;
+                }
+                stem = format!("{base}-{k}");
+            }
+            stem
+        })
+        .collect()
+}
+
+/// A file name for a subresource of the texture whose files are named `stem`.
 pub fn file_name(
-    resource: &str,
+    stem: &str,
     spec: &TextureSpec,
     mip: u32,
     layer: u32,
     z: Option<u32>,
     ext: &str,
 ) -> String {
-    let mut name = resource.replace(
-        |c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'),
-        "_",
-    );
+    let mut name = stem.to_owned();
     if spec.mip_levels > 1 {
         name.push_str(&format!("_mip{mip}"));
     }
@@ -99,7 +180,11 @@ pub fn file_name(
     if let Some(z) = z {
         name.push_str(&format!("_z{z}"));
     }
-    format!("{name}.{ext}")
+    if ext.is_empty() {
+        name
+    } else {
+        format!("{name}.{ext}")
+    }
 }
 
 fn atomically(
@@ -171,33 +256,58 @@ fn write_exr(
 /// Writes a decoded subresource into `dir` and describes the file.
 pub fn write_image(
     dir: &Path,
-    resource: &str,
+    naming: Naming<'_>,
     spec: &TextureSpec,
     image: &DecodedImage,
 ) -> Result<ExportedFile, ExportError> {
     let (width, height, channels) = (image.width, image.height, image.channels);
     let (min, max) = image.range();
     let integer = image.kind == ValueKind::Integer;
+    let stencil = image.format == wgpu::TextureFormat::Stencil8;
     let (ext, encoding) = match image.kind {
+        _ if stencil => ("stencil.png", "png8-stencil"),
         ValueKind::Float => ("exr", "exr"),
         ValueKind::Integer => ("png", "png16-normalised"),
         ValueKind::Unorm8 => ("png", "png8"),
         ValueKind::UnormWide => ("png", "png16"),
     };
     let (mip, layer, z) = (image.mip, image.layer, image.z);
-    let name = file_name(resource, spec, mip, layer, z, ext);
+    let name = file_name(naming.stem, spec, mip, layer, z, ext);
     let path = dir.join(&name);
     let mut preview = None;
+    // Colour formats with a data-carrying alpha: a constant is recorded, a varying one gets
+    // its own image.
+    let has_alpha = channels == 4 && matches!(image.kind, ValueKind::Unorm8 | ValueKind::UnormWide);
+    let alpha_range = has_alpha.then(|| {
+        image
+            .values
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v[3]), hi.max(v[3]))
+            })
+    });
+    let alpha_constant = alpha_range
+        .filter(|(lo, hi)| lo == hi)
+        .map(|(lo, _)| f64::from(lo));
+    let mut alpha = None;
     match image.kind {
+        _ if stencil => atomically(&path, |tmp| {
+            let img = image::GrayImage::from_fn(width, height, |x, y| {
+                image::Luma([image.values[(y * width + x) as usize][0] as u8])
+            });
+            save_png(&img, tmp)
+        })?,
         ValueKind::Float => {
-            let preview_name = file_name(resource, spec, mip, layer, z, "preview.png");
+            let preview_name = file_name(naming.stem, spec, mip, layer, z, "preview.png");
             preview = Some(write_exr(dir, &path, image, preview_name)?);
         }
         ValueKind::Unorm8 => atomically(&path, |tmp| {
             let mut img = image::RgbaImage::new(width, height);
             for (i, p) in img.pixels_mut().enumerate() {
                 let v = image.rgba(i);
-                *p = image::Rgba(v.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8));
+                let mut rgba = v.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+                rgba[3] = 255;
+                *p = image::Rgba(rgba);
             }
             save_png(&img, tmp)
         })?,
@@ -212,40 +322,60 @@ pub fn write_image(
             for (i, p) in img.pixels_mut().enumerate() {
                 let v = image.rgba(i);
                 let n = |c: f32| (((c - lo) / span).clamp(0.0, 1.0) * 65535.0).round() as u16;
-                let alpha = if channels == 4 && !integer {
-                    n(v[3])
-                } else {
-                    65535
-                };
-                *p = image::Rgba([n(v[0]), n(v[1]), n(v[2]), alpha]);
+                *p = image::Rgba([n(v[0]), n(v[1]), n(v[2]), 65535]);
             }
             save_png(&img, tmp)
         })?,
     }
+    if alpha_range.is_some() && alpha_constant.is_none() {
+        let alpha_name = file_name(naming.stem, spec, mip, layer, z, "alpha.png");
+        let wide = image.kind == ValueKind::UnormWide;
+        atomically(&dir.join(&alpha_name), |tmp| {
+            let a = |x: u32, y: u32| image.values[(y * width + x) as usize][3].clamp(0.0, 1.0);
+            if wide {
+                let img: image::ImageBuffer<image::Luma<u16>, Vec<u16>> =
+                    image::ImageBuffer::from_fn(width, height, |x, y| {
+                        image::Luma([(a(x, y) * 65535.0).round() as u16])
+                    });
+                save_png(&img, tmp)
+            } else {
+                let img = image::GrayImage::from_fn(width, height, |x, y| {
+                    image::Luma([(a(x, y) * 255.0).round() as u8])
+                });
+                save_png(&img, tmp)
+            }
+        })?;
+        alpha = Some(alpha_name);
+    }
     Ok(ExportedFile {
         file: name,
-        resource: resource.to_owned(),
+        resource: naming.resource.to_owned(),
         mip,
         layer,
         z,
         width,
         height,
-        format: format!("{:?}", image.format),
+        format: naming.format.to_owned(),
+        read_as: format!("{:?}", image.format),
         encoding,
         min: f64::from(min),
         max: f64::from(max),
         preview,
         uniform: image.uniform(),
+        alpha,
+        alpha_constant,
     })
 }
 
-/// Reads back every subresource of `texture` and writes it into `dir`.
+/// Reads back every subresource of `texture` (and the stencil aspect of a depth-stencil
+/// texture) and writes it into `dir`.
 pub fn export_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,
     spec: &TextureSpec,
     dir: &Path,
+    naming: Naming<'_>,
 ) -> Result<(Vec<ExportedFile>, Option<Skipped>), ExportError> {
     let format = match decode::readable_format(spec) {
         Ok(f) => f,
@@ -253,21 +383,24 @@ pub fn export_texture(
             return Ok((
                 Vec::new(),
                 Some(Skipped {
-                    resource: spec.name.clone(),
+                    resource: naming.resource.to_owned(),
                     reason: reason.to_owned(),
                 }),
             ));
         }
     };
-    let images = decode::read_texture(device, queue, texture, spec, format).map_err(|e| {
-        ExportError::Readback {
-            resource: e.resource,
-            message: e.message,
-        }
-    })?;
+    let readback = |e: decode::ReadError| ExportError::Readback {
+        resource: e.resource,
+        message: e.message,
+    };
+    let mut images =
+        decode::read_texture(device, queue, texture, spec, format).map_err(readback)?;
+    if decode::has_stencil(spec) {
+        images.extend(decode::read_stencil(device, queue, texture, spec).map_err(readback)?);
+    }
     let files = images
         .iter()
-        .map(|image| write_image(dir, &spec.name, spec, image))
+        .map(|image| write_image(dir, naming, spec, image))
         .collect::<Result<Vec<_>, _>>()?;
     Ok((files, None))
 }
@@ -279,4 +412,96 @@ pub fn staging_dir(out: &Path) -> PathBuf {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "out".into());
     out.with_file_name(format!(".{name}.partial-{}", std::process::id()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(name: &str, mips: u32, layers: u32) -> TextureSpec {
+        TextureSpec {
+            name: name.to_owned(),
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            dimension: wgpu::TextureDimension::D2,
+            size: wgpu::Extent3d {
+                width: 2,
+                height: 1,
+                depth_or_array_layers: layers,
+            },
+            mip_levels: mips,
+            samples: 1,
+            usage: wgpu::TextureUsages::empty(),
+            initial: None,
+            history: false,
+            cube: false,
+        }
+    }
+
+    #[test]
+    fn stems_are_unique_by_construction() {
+        let specs = [
+            spec("a.b", 1, 1),
+            spec("a_b", 1, 1),
+            spec("x", 2, 1),
+            spec("x_mip1", 1, 1),
+            spec("X_MIP0", 1, 1),
+            spec("a-b-2", 1, 1),
+            spec("a_b", 1, 1),
+        ];
+        let stems = unique_stems(&specs);
+        assert_eq!(
+            stems,
+            [
+                "a_b", "a_b-2", "x", "x_mip1-2", "X_MIP0-2", "a-b-2", "a_b-3"
+            ]
+        );
+        let mut files: Vec<String> = specs
+            .iter()
+            .zip(&stems)
+            .flat_map(|(s, stem)| suffixes(s).into_iter().map(move |x| format!("{stem}{x}")))
+            .map(|f| f.to_ascii_lowercase())
+            .collect();
+        let n = files.len();
+        files.sort();
+        files.dedup();
+        assert_eq!(files.len(), n, "two subresources share a file name");
+    }
+
+    fn image(alpha: [f32; 2]) -> DecodedImage {
+        DecodedImage {
+            mip: 0,
+            layer: 0,
+            z: None,
+            width: 2,
+            height: 1,
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            channels: 4,
+            kind: ValueKind::Unorm8,
+            values: vec![[1.0, 0.5, 0.0, alpha[0]], [0.0, 0.5, 1.0, alpha[1]]],
+        }
+    }
+
+    #[test]
+    fn colour_is_opaque_and_a_varying_alpha_gets_its_own_image() {
+        let dir = std::env::temp_dir().join(format!("framelab-alpha-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let s = spec("t", 1, 1);
+        let naming = Naming {
+            resource: "t",
+            stem: "t",
+            format: "R8G8B8A8_UNORM",
+        };
+        // A tag alpha of 0 (a G-buffer's): the PNG is opaque, the constant recorded.
+        let f = write_image(&dir, naming, &s, &image([0.0, 0.0])).unwrap();
+        assert_eq!((f.alpha.as_deref(), f.alpha_constant), (None, Some(0.0)));
+        assert_eq!(f.format, "R8G8B8A8_UNORM");
+        let png = image::open(dir.join("t.png")).unwrap().to_rgba8();
+        assert_eq!(png.get_pixel(0, 0).0, [255, 128, 0, 255]);
+        // A varying alpha: written beside it as grey.
+        let f = write_image(&dir, naming, &s, &image([0.25, 1.0])).unwrap();
+        assert_eq!(f.alpha.as_deref(), Some("t.alpha.png"));
+        let a = image::open(dir.join("t.alpha.png")).unwrap().to_luma8();
+        assert_eq!((a.get_pixel(0, 0).0, a.get_pixel(1, 0).0), ([64], [255]));
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 }

@@ -122,6 +122,13 @@ pub fn replay(
         })?),
         None => None,
     };
+    // The capture's (DXGI) name of each plan texture's format, for the export manifest.
+    let mut formats = vec![String::new(); lowered.plan.textures.len()];
+    for (&r, &t) in &lowered.texture_of {
+        if let (Some(slot), Some(f)) = (formats.get_mut(t), loaded.capture.resource(r).format) {
+            *slot = f.name.to_owned();
+        }
+    }
     let mut replayer = Replayer::new(&ctx, loaded, lowered)?;
     let frames = options.frames.max(1);
     for f in 0..frames {
@@ -148,6 +155,7 @@ pub fn replay(
             frames,
             options.after.as_deref(),
             export_texture,
+            &formats,
         )?;
         on(Event::Exported { files });
     }
@@ -258,7 +266,13 @@ fn check_out(out: &Path) -> anyhow::Result<()> {
                 .as_array()
                 .into_iter()
                 .flatten()
-                .flat_map(|f| [f["file"].as_str(), f["preview"].as_str()])
+                .flat_map(|f| {
+                    [
+                        f["file"].as_str(),
+                        f["preview"].as_str(),
+                        f["alpha"].as_str(),
+                    ]
+                })
                 .flatten()
                 .map(str::to_owned)
                 .collect();
@@ -293,8 +307,10 @@ fn export(
     frames: u32,
     after: Option<&str>,
     only: Option<usize>,
+    formats: &[String],
 ) -> anyhow::Result<usize> {
     use framelab_replay::export;
+    let stems = export::unique_stems(&session.plan.textures);
     check_out(out)?;
     let staging = export::staging_dir(out);
     let _ = std::fs::remove_dir_all(&staging);
@@ -312,6 +328,11 @@ fn export(
                 session.texture(i),
                 spec,
                 &staging,
+                export::Naming {
+                    resource: &spec.name,
+                    stem: &stems[i],
+                    format: formats.get(i).map_or("", String::as_str),
+                },
             )?;
             files.extend(f);
             skipped.extend(s);
