@@ -27,6 +27,24 @@ const CITY_PARAMS: &[(&str, f64)] = &[
     ("buildings_per_block", 4.0),
 ];
 
+/// The largest magnitude a parameter that drives the amount of work may take: vertex counts
+/// grow with the square of divisions and resolutions, noise cost with octaves, records with
+/// counts. Generous for any real frame, and small enough that a capture cannot ask for
+/// unbounded memory or time.
+pub fn param_limit(param: &str) -> Option<f64> {
+    Some(match param {
+        "divisions" | "resolution" => 4096.0,
+        "segments" | "rings" => 1024.0,
+        "octaves" => 16.0,
+        "count" => 1_000_000.0,
+        "blocks_x" | "blocks_z" => 256.0,
+        "buildings_per_block" => 64.0,
+        "cells" => 65_536.0,
+        "frequency" => 65_536.0,
+        _ => return None,
+    })
+}
+
 /// Generators for mesh sources.
 pub const MESH_GENERATORS: &[GeneratorSpec] = &[
     GeneratorSpec {

@@ -534,7 +534,9 @@ fn bundled_captures_are_clean_under_the_validation_layer() {
     ] {
         let _ = std::fs::remove_file(&log);
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_framelab"))
-            .args(["replay", capture, "--scale", scale, "--frames", "2", "--quiet"])
+            .args([
+                "replay", capture, "--scale", scale, "--frames", "2", "--quiet",
+            ])
             .current_dir(repo())
             .env("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation")
             .env("VK_LAYER_SETTINGS_PATH", &dir)

@@ -581,6 +581,16 @@ impl<'a> Validator<'a> {
                 if !x.is_finite() {
                     self.diags
                         .error("parameter", &ppath, "parameter must be finite");
+                } else if let Some(max) = generators::param_limit(key)
+                    && x.abs() > max
+                {
+                    self.diags.error(
+                        "limit",
+                        &ppath,
+                        format!(
+                            "generator parameter \"{key}\" = {x} is over its limit of {max} (the work it drives grows with it)"
+                        ),
+                    );
                 }
             } else {
                 self.diags.error(

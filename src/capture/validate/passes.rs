@@ -10,6 +10,12 @@ pub(super) struct PassContext<'c> {
     pub(super) state: RenderState,
 }
 
+/// Deepest marker nesting accepted (reports and the DOT emitter walk it).
+pub const MAX_MARKER_DEPTH: usize = 64;
+/// Most (access, subresource) pairs the analysis tracks: a small capture whose accesses each
+/// span thousands of layers and mips would otherwise expand to gigabytes.
+pub const MAX_SUBRESOURCE_USES: u64 = 1 << 22;
+
 impl<'a> Validator<'a> {
     pub(super) fn check_passes(
         &mut self,
@@ -19,17 +25,48 @@ impl<'a> Validator<'a> {
     ) -> Option<Vec<PassDesc>> {
         let mut out = Vec::new();
         let mut ok = true;
+        let mut uses: u64 = 0;
         for (i, p) in self.raw.passes.iter().enumerate() {
             let path = self.root.field("passes").index(i);
+            if p.markers.len() > MAX_MARKER_DEPTH {
+                self.diags.error(
+                    "limit",
+                    &path.field("markers"),
+                    format!(
+                        "{} nested markers is over the limit of {MAX_MARKER_DEPTH}",
+                        p.markers.len()
+                    ),
+                );
+                ok = false;
+                continue;
+            }
             match self.check_pass(i, p, &path, resources.as_deref(), heaps, meshes.as_deref()) {
                 Some(pass) => {
                     if let Some(shader) = &pass.shader {
                         self.check_shader_use(p, shader.id, &path);
                     }
+                    // The analysis tracks every subresource each access touches.
+                    uses += pass
+                        .accesses
+                        .iter()
+                        .map(|a| {
+                            u64::from(a.range.mip_count) * u64::from(a.range.layer_count.max(1))
+                        })
+                        .sum::<u64>();
                     out.push(pass);
                 }
                 None => ok = false,
             }
+        }
+        if uses > MAX_SUBRESOURCE_USES {
+            self.diags.error(
+                "limit",
+                &self.root.field("passes"),
+                format!(
+                    "the passes touch {uses} subresources in total (each access counts every mip and layer of its range), over the limit of {MAX_SUBRESOURCE_USES} the analysis tracks"
+                ),
+            );
+            return None;
         }
         (ok && resources.is_some()).then_some(out)
     }

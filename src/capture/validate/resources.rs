@@ -14,6 +14,9 @@ pub(super) struct Dims {
     samples: u32,
 }
 
+/// Largest resource whose initial contents framelab generates in memory.
+pub const MAX_GENERATED_BYTES: u64 = 1 << 30;
+
 impl Dims {
     const ONE: Dims = Dims {
         width: 1,
@@ -698,6 +701,17 @@ impl<'a> Validator<'a> {
                 }
             }
             Some(InitialContents::Generator { name, seed, params }) => {
+                if bytes > MAX_GENERATED_BYTES {
+                    self.diags.error(
+                        "limit",
+                        &path.field("initial").field("generator"),
+                        format!(
+                            "\"{}\" is {bytes} bytes at this scale; contents generated on the CPU are limited to {MAX_GENERATED_BYTES} bytes (1 GiB): give it a file or a smaller size",
+                            r.name
+                        ),
+                    );
+                    return InitialDesc::Undefined;
+                }
                 let known = self.check_generator_params(
                     generators::CONTENT_GENERATORS,
                     name,

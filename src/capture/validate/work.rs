@@ -5,6 +5,11 @@ use super::passes::PassContext;
 #[allow(unused_imports)]
 use super::*;
 
+/// Most instances one draw may ask for, and most vertices times instances: a draw of 2^32
+/// instances would replay for hours on a software rasterizer.
+pub const MAX_DRAW_INSTANCES: u32 = 1 << 24;
+pub const MAX_DRAW_VERTICES: u64 = 1 << 32;
+
 impl<'a> Validator<'a> {
     pub(super) fn pass_draws(
         &mut self,
@@ -33,6 +38,27 @@ impl<'a> Validator<'a> {
             if d.instances == 0 {
                 self.diags
                     .warning("draw", &dpath.field("instances"), "draw of zero instances");
+            }
+            if d.instances > MAX_DRAW_INSTANCES {
+                self.diags.error(
+                    "limit",
+                    &dpath.field("instances"),
+                    format!(
+                        "{} instances is over the limit of {MAX_DRAW_INSTANCES} per draw",
+                        d.instances
+                    ),
+                );
+            } else if let Some(count) = d.count
+                && u64::from(count) * u64::from(d.instances) > MAX_DRAW_VERTICES
+            {
+                self.diags.error(
+                    "limit",
+                    &dpath.field("count"),
+                    format!(
+                        "{count} vertices x {} instances is over the limit of {MAX_DRAW_VERTICES} vertex invocations per draw",
+                        d.instances
+                    ),
+                );
             }
             if let (Some(m), Some(count)) = (mesh_desc, d.count) {
                 let available = if m.index_format.is_some() {
