@@ -341,6 +341,56 @@ impl ValidatedShader {
     }
 }
 
+impl ValidatedShader {
+    /// Why compute entry point `entry` cannot run within `limits` (workgroup size per
+    /// dimension, invocations per workgroup, workgroup storage), if it cannot. Drivers are not
+    /// required to reject such a pipeline cleanly: one crashed creating it.
+    pub fn compute_limits_exceeded(&self, entry: &str, limits: &wgpu::Limits) -> Option<String> {
+        let (index, ep) = self
+            .module
+            .entry_points
+            .iter()
+            .enumerate()
+            .find(|(_, e)| e.name == entry && e.stage == naga::ShaderStage::Compute)?;
+        let [x, y, z] = ep.workgroup_size;
+        let max = [
+            limits.max_compute_workgroup_size_x,
+            limits.max_compute_workgroup_size_y,
+            limits.max_compute_workgroup_size_z,
+        ];
+        for (axis, (size, max)) in ["x", "y", "z"].iter().zip([x, y, z].into_iter().zip(max)) {
+            if size > max {
+                return Some(format!(
+                    "`{entry}` has workgroup size {size} in {axis}; the device allows {max}"
+                ));
+            }
+        }
+        let invocations = u64::from(x) * u64::from(y) * u64::from(z);
+        if invocations > u64::from(limits.max_compute_invocations_per_workgroup) {
+            return Some(format!(
+                "`{entry}` has {invocations} invocations per workgroup; the device allows {}",
+                limits.max_compute_invocations_per_workgroup
+            ));
+        }
+        let info = self.info.get_entry_point(index);
+        let storage: u64 = self
+            .module
+            .global_variables
+            .iter()
+            .filter(|(h, v)| {
+                v.space == naga::AddressSpace::WorkGroup && !info[*h].is_empty()
+            })
+            .map(|(_, v)| u64::from(self.module.types[v.ty].inner.size(self.module.to_ctx())))
+            .sum();
+        (storage > u64::from(limits.max_compute_workgroup_storage_size)).then(|| {
+            format!(
+                "`{entry}` uses {storage} bytes of workgroup storage; the device allows {}",
+                limits.max_compute_workgroup_storage_size
+            )
+        })
+    }
+}
+
 #[cfg(test)]
 mod reflection_tests {
     use super::*;
@@ -372,5 +422,22 @@ mod reflection_tests {
             ["albedo"]
         );
         assert!(shader.globals_used_by("missing").is_none());
+    }
+
+    #[test]
+    fn compute_entry_points_are_checked_against_device_limits() {
+        let src = "
+            var<workgroup> tile: array<vec4<f32>, 4096>;
+            @compute @workgroup_size(512, 1, 1) fn wide() {}
+            @compute @workgroup_size(8, 8, 1) fn heavy() { tile[0] = vec4<f32>(1.0); }
+            @compute @workgroup_size(8, 8, 1) fn fine() {}
+        ";
+        let shader = validate_wgsl("l.wgsl", src).unwrap();
+        let limits = wgpu::Limits::default();
+        let wide = shader.compute_limits_exceeded("wide", &limits).unwrap();
+        assert!(wide.contains("workgroup size 512 in x"), "{wide}");
+        let heavy = shader.compute_limits_exceeded("heavy", &limits).unwrap();
+        assert!(heavy.contains("65536 bytes of workgroup storage"), "{heavy}");
+        assert_eq!(shader.compute_limits_exceeded("fine", &limits), None);
     }
 }

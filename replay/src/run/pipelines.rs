@@ -243,6 +243,12 @@ impl Session {
                 .reflection
                 .globals_used_by(entry)
                 .ok_or_else(|| err(format!("the shader has no compute entry point `{entry}`")))?;
+            if let Some(why) = m
+                .reflection
+                .compute_limits_exceeded(entry, &self.device.limits())
+            {
+                return Err(err(why));
+            }
             let pipeline = self
                 .device
                 .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
