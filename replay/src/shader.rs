@@ -377,9 +377,7 @@ impl ValidatedShader {
             .module
             .global_variables
             .iter()
-            .filter(|(h, v)| {
-                v.space == naga::AddressSpace::WorkGroup && !info[*h].is_empty()
-            })
+            .filter(|(h, v)| v.space == naga::AddressSpace::WorkGroup && !info[*h].is_empty())
             .map(|(_, v)| u64::from(self.module.types[v.ty].inner.size(self.module.to_ctx())))
             .sum();
         (storage > u64::from(limits.max_compute_workgroup_storage_size)).then(|| {
@@ -437,7 +435,10 @@ mod reflection_tests {
         let wide = shader.compute_limits_exceeded("wide", &limits).unwrap();
         assert!(wide.contains("workgroup size 512 in x"), "{wide}");
         let heavy = shader.compute_limits_exceeded("heavy", &limits).unwrap();
-        assert!(heavy.contains("65536 bytes of workgroup storage"), "{heavy}");
+        assert!(
+            heavy.contains("65536 bytes of workgroup storage"),
+            "{heavy}"
+        );
         assert_eq!(shader.compute_limits_exceeded("fine", &limits), None);
     }
 }

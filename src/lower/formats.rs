@@ -113,6 +113,18 @@ pub fn unsupported_reason(name: &str) -> &'static str {
     }
 }
 
+/// Why a colour format cannot be rendered to on any GPU, if it cannot: it has no wgpu
+/// equivalent, or it is shared-exponent (never a render target). Formats whose render support
+/// varies by adapter (16-bit normalised) pass here and are checked against the device at
+/// replay. Validation asks this so that it refuses what replay would.
+pub fn not_renderable(info: &FormatInfo) -> Option<&'static str> {
+    match direct(info.name) {
+        None => Some(unsupported_reason(info.name)),
+        Some(TextureFormat::Rgb9e5Ufloat) => Some("shared-exponent formats cannot be rendered to"),
+        Some(_) => None,
+    }
+}
+
 /// The features a wgpu format needs beyond WebGPU's baseline.
 pub fn features_of(format: TextureFormat) -> Features {
     use TextureFormat as F;

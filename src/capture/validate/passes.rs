@@ -71,6 +71,89 @@ impl<'a> Validator<'a> {
         (ok && resources.is_some()).then_some(out)
     }
 
+    /// Every attachment of a render pass has one sample count.
+    fn check_sample_counts(
+        &mut self,
+        p: &Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &[ResourceAccess],
+    ) {
+        let Some(resources) = resources else { return };
+        let mut seen: Vec<(String, u32)> = Vec::new();
+        for a in accesses {
+            if !matches!(
+                a.source,
+                AccessSource::ColorAttachment(_) | AccessSource::DepthStencil
+            ) {
+                continue;
+            }
+            if let Some(r) = resources.get(a.resource.index())
+                && !seen.iter().any(|(n, _)| *n == r.name)
+            {
+                seen.push((r.name.clone(), r.samples));
+            }
+        }
+        if seen.windows(2).any(|w| w[0].1 != w[1].1) {
+            let list: Vec<String> = seen.iter().map(|(n, s)| format!("\"{n}\" {s}x")).collect();
+            self.diags.error(
+                "attachment",
+                &path.field("color_attachments"),
+                format!(
+                    "the attachments of pass \"{}\" differ in sample count ({}): a render pass has one",
+                    p.name,
+                    list.join(", ")
+                ),
+            );
+        }
+    }
+
+    /// A raster pass may not read or write through a binding a subresource it renders to
+    /// (colour, or depth-stencil it writes): GPUs give undefined results and WebGPU refuses it.
+    fn check_feedback(
+        &mut self,
+        p: &Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &[ResourceAccess],
+    ) {
+        let overlaps = |a: &Subresources, b: &Subresources| {
+            a.mip_base < b.mip_base + b.mip_count
+                && b.mip_base < a.mip_base + a.mip_count
+                && a.layer_base < b.layer_base + b.layer_count.max(1)
+                && b.layer_base < a.layer_base + a.layer_count.max(1)
+        };
+        for target in accesses.iter().filter(|a| {
+            matches!(a.source, AccessSource::ColorAttachment(_))
+                || (a.source == AccessSource::DepthStencil && a.writes)
+        }) {
+            for bound in accesses.iter().filter(|a| {
+                a.resource == target.resource
+                    && matches!(a.source, AccessSource::Binding(_))
+                    && overlaps(&a.range, &target.range)
+            }) {
+                let AccessSource::Binding(variable) = &bound.source else {
+                    continue;
+                };
+                let name = resources
+                    .and_then(|r| r.get(target.resource.index()))
+                    .map_or("?", |r| r.name.as_str());
+                let what = match target.source {
+                    AccessSource::ColorAttachment(i) => format!("colour attachment {i}"),
+                    _ => "the depth-stencil attachment it writes".to_owned(),
+                };
+                self.diags.error(
+                    "feedback-loop",
+                    &path.field("bindings").field(variable),
+                    format!(
+                        "pass \"{}\" binds \"{name}\" as `{variable}` while it is {what}: a subresource cannot be read and rendered to in one pass (use a read-only depth attachment, or another mip or layer)",
+                        p.name
+                    ),
+                );
+            }
+        }
+    }
+
     pub(super) fn check_pass(
         &mut self,
         index: usize,
@@ -114,6 +197,8 @@ impl<'a> Validator<'a> {
             self.pass_depth_stencil(p, path, resources, &mut accesses, &cx, attachment_size);
 
         let draws = self.pass_draws(p, path, resources, &mut accesses, &cx);
+        self.check_feedback(p, path, resources, &accesses);
+        self.check_sample_counts(p, path, resources, &accesses);
 
         let dispatches = self.pass_dispatches(p, path, resources, &mut accesses);
 
@@ -397,6 +482,15 @@ impl<'a> Validator<'a> {
                     &apath,
                     format!(
                         "{} cannot be a colour attachment (\"{}\" in pass \"{name}\")",
+                        format.name, r.name
+                    ),
+                );
+            } else if let Some(why) = crate::lower::formats::not_renderable(format) {
+                self.diags.error(
+                    "format-usage",
+                    &apath,
+                    format!(
+                        "{} cannot be a colour attachment (\"{}\" in pass \"{name}\"): {why}",
                         format.name, r.name
                     ),
                 );
