@@ -106,7 +106,8 @@ pub fn schedule(
             .iter()
             .copied()
             .max_by_key(|&a| (dist[a as usize], std::cmp::Reverse(a)));
-        dist[p as usize] = weight(p as usize) + best.map_or(0, |a| dist[a as usize]);
+        // Recorded times come from the capture: saturate rather than overflow.
+        dist[p as usize] = weight(p as usize).saturating_add(best.map_or(0, |a| dist[a as usize]));
         via[p as usize] = best;
     }
     let end = (0..n).max_by_key(|&p| (dist[p], std::cmp::Reverse(p)));
@@ -121,7 +122,7 @@ pub fn schedule(
         critical_path: CriticalPath {
             timing_source: timing_source.to_owned(),
             length_ns: end.map_or(0, |p| dist[p]),
-            serial_ns: (0..n).map(weight).sum(),
+            serial_ns: (0..n).map(weight).fold(0, u64::saturating_add),
             passes,
         },
         async_compute,

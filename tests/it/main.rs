@@ -12,6 +12,7 @@ mod barrier_properties;
 mod cli;
 mod diff_cli;
 mod dxgi_ddsfile;
+mod fuzz;
 mod inspector;
 mod invalid_corpus;
 mod memory_quality;
