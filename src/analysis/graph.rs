@@ -74,10 +74,14 @@ pub struct PassGraph {
 
 /// A cycle in the pass graph: the passes on it, and the resources whose hazards close it.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("the pass graph has a cycle: {} (through {})", passes.join(" -> "), if resources.is_empty() { "queue order and fences".to_owned() } else { resources.join(", ") })]
+#[error("the pass graph has a cycle: {}: {}", passes.join(" -> "), steps.join("; "))]
 pub struct CycleError {
+    /// The passes around the cycle, the first repeated at the end.
     pub passes: Vec<String>,
     pub resources: Vec<String>,
+    /// Why each pass must follow the one before it (data hazard, queue order or fence, with
+    /// the JSON path of the wait).
+    pub steps: Vec<String>,
 }
 
 const NO_PASS: u32 = u32::MAX;
@@ -254,8 +258,9 @@ pub fn topological_order(model: &FrameModel, g: &PassGraph) -> Result<Vec<u32>, 
 /// Walks backwards from a pass left with unmet dependencies until a pass repeats.
 fn find_cycle(model: &FrameModel, g: &PassGraph, indegree: &[u32]) -> CycleError {
     let start = indegree.iter().position(|&d| d > 0).unwrap_or(0);
+    // Walk incoming edges backwards from a pass left with dependencies until a pass repeats.
     let mut path: Vec<usize> = vec![start];
-    let mut via: Vec<Option<u32>> = Vec::new();
+    let mut via: Vec<(EdgeKind, Option<u32>)> = Vec::new();
     let mut seen = vec![usize::MAX; model.passes.len()];
     seen[start] = 0;
     let mut current = start;
@@ -267,23 +272,18 @@ fn find_cycle(model: &FrameModel, g: &PassGraph, indegree: &[u32]) -> CycleError
             .min_by_key(|e| (e.source().index(), e.weight().kind, e.weight().resource));
         let Some(e) = incoming else { break };
         let prev = e.source().index();
-        via.push(e.weight().resource);
+        via.push((e.weight().kind, e.weight().resource));
         if seen[prev] != usize::MAX {
             let from = seen[prev];
-            let mut passes: Vec<String> = path[from..]
-                .iter()
-                .rev()
-                .map(|&p| model.passes[p].name.clone())
-                .collect();
-            passes.push(model.passes[prev].name.clone());
-            let mut resources: Vec<String> = via[from..]
-                .iter()
-                .flatten()
-                .map(|&r| model.resources[r as usize].name.clone())
-                .collect();
-            resources.sort();
-            resources.dedup();
-            return CycleError { passes, resources };
+            // Forward order: prev (= path[from]) -> path[last] -> ... -> path[from]; the edge
+            // into path[k] from path[k+1] is via[k], the edge into path[last] is the last one.
+            let mut nodes = vec![prev];
+            let mut edges = Vec::new();
+            for k in (from..path.len()).rev() {
+                nodes.push(path[k]);
+                edges.push(via[k]);
+            }
+            return describe_cycle(model, &nodes, &edges);
         }
         seen[prev] = path.len();
         path.push(prev);
@@ -292,6 +292,65 @@ fn find_cycle(model: &FrameModel, g: &PassGraph, indegree: &[u32]) -> CycleError
     CycleError {
         passes: vec![model.passes[start].name.clone()],
         resources: Vec::new(),
+        steps: Vec::new(),
+    }
+}
+
+/// A cycle `nodes[0] -> nodes[1] -> ... -> nodes[0]` with the edge into each `nodes[i + 1]`.
+fn describe_cycle(
+    model: &FrameModel,
+    nodes: &[usize],
+    edges: &[(EdgeKind, Option<u32>)],
+) -> CycleError {
+    let name = |p: usize| model.passes[p].name.as_str();
+    let resource = |r: Option<u32>| r.map_or("?", |r| model.resources[r as usize].name.as_str());
+    let steps = nodes
+        .windows(2)
+        .zip(edges)
+        .map(|(w, &(kind, r))| {
+            let (a, b) = (w[0], w[1]);
+            match kind {
+                EdgeKind::Raw => format!(
+                    "{} reads {}, which {} writes",
+                    name(b),
+                    resource(r),
+                    name(a)
+                ),
+                EdgeKind::War => format!(
+                    "{} writes {}, which {} reads",
+                    name(b),
+                    resource(r),
+                    name(a)
+                ),
+                EdgeKind::Waw => format!("{} writes {} after {}", name(b), resource(r), name(a)),
+                EdgeKind::Queue => format!(
+                    "{} follows {} on queue {}",
+                    name(b),
+                    name(a),
+                    model
+                        .queues
+                        .get(model.passes[b].queue as usize)
+                        .map_or("?", |q| q.name.as_str())
+                ),
+                EdgeKind::Fence => format!(
+                    "{} waits on a fence {} signals ($.passes[{}].wait)",
+                    name(b),
+                    name(a),
+                    model.passes[b].id.index()
+                ),
+            }
+        })
+        .collect();
+    let mut resources: Vec<String> = edges
+        .iter()
+        .filter_map(|&(_, r)| r.map(|r| model.resources[r as usize].name.clone()))
+        .collect();
+    resources.sort();
+    resources.dedup();
+    CycleError {
+        passes: nodes.iter().map(|&p| name(p).to_owned()).collect(),
+        resources,
+        steps,
     }
 }
 

@@ -109,8 +109,43 @@ struct VersionProbe {
     format_version: Option<serde_json::Value>,
 }
 
+/// The bytes without a UTF-8 byte-order mark (editors write one; JSON allows ignoring it),
+/// or why they are not UTF-8 at all: UTF-16 and UTF-32 files otherwise fail with "expected
+/// value" at 1:1, which does not say what is wrong.
+fn encoding_problem(bytes: &[u8]) -> Result<&[u8], String> {
+    let convert = |from: &str| {
+        format!(
+            "the file is {from}; captures are UTF-8 JSON (convert it: iconv -f {from} -t UTF-8)"
+        )
+    };
+    match bytes {
+        [0xEF, 0xBB, 0xBF, rest @ ..] => Ok(rest),
+        [0x00, 0x00, 0xFE, 0xFF, ..] => Err(convert("UTF-32BE")),
+        [0xFF, 0xFE, 0x00, 0x00, ..] => Err(convert("UTF-32LE")),
+        [0xFE, 0xFF, ..] => Err(convert("UTF-16BE")),
+        [0xFF, 0xFE, ..] => Err(convert("UTF-16LE")),
+        // No mark, but a NUL beside the first character: UTF-16 or UTF-32 all the same.
+        [0, _, ..] | [_, 0, ..] => Err(
+            "the file is not UTF-8 (it starts with NUL bytes: UTF-16 or UTF-32?); captures are UTF-8 JSON"
+                .to_owned(),
+        ),
+        _ => Ok(bytes),
+    }
+}
+
 /// Parses capture bytes. `path` is only used in messages.
 pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawCapture, CaptureError> {
+    let bytes = match encoding_problem(bytes) {
+        Ok(b) => b,
+        Err(message) => {
+            return Err(CaptureError::Syntax {
+                path: path.to_owned(),
+                line: 1,
+                column: 1,
+                message,
+            });
+        }
+    };
     // Tracking the path of every field costs as much as the parse; most files are well formed,
     // so the path is only tracked when a second parse has to locate an error.
     let mut de = serde_json::Deserializer::from_slice(bytes);
@@ -204,6 +239,31 @@ pub fn read(path: &Path) -> Result<RawCapture, CaptureError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn byte_order_marks_are_skipped_or_named() {
+        let text = std::fs::read("captures/example/frame.json").unwrap();
+        let mut bom = vec![0xEF, 0xBB, 0xBF];
+        bom.extend_from_slice(&text);
+        assert!(parse(Path::new("bom.json"), &bom).is_ok());
+        let utf16: Vec<u8> = [0xFF, 0xFE]
+            .into_iter()
+            .chain(
+                String::from_utf8(text)
+                    .unwrap()
+                    .encode_utf16()
+                    .flat_map(u16::to_le_bytes),
+            )
+            .collect();
+        let err = parse(Path::new("u16.json"), &utf16)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("the file is UTF-16LE"), "{err}");
+        let err = parse(Path::new("nul.json"), b"{\0\"")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("not UTF-8"), "{err}");
+    }
 
     #[test]
     fn syntax_errors_have_line_and_column() {
