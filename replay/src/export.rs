@@ -367,8 +367,102 @@ pub fn write_image(
     })
 }
 
+/// Decoded bytes (16 per texel) allowed to wait for the encoders before the reading thread
+/// pauses: bounds memory when readback outruns PNG/EXR encoding.
+pub const MAX_IN_FLIGHT_BYTES: u64 = 512 << 20;
+
+/// One texture to export.
+#[derive(Debug)]
+pub struct ExportItem<'a> {
+    pub texture: &'a wgpu::Texture,
+    pub spec: &'a TextureSpec,
+    pub naming: Naming<'a>,
+}
+
+/// Exports every item into `dir`: this thread reads textures back from the GPU one after
+/// another while rayon's pool encodes and writes the images already read (PNG and EXR
+/// encoding dominate an export), with at most [`MAX_IN_FLIGHT_BYTES`] waiting. Files and
+/// skipped textures come back in item order, so the manifest is deterministic.
+pub fn export_all(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    items: &[ExportItem<'_>],
+    dir: &Path,
+) -> Result<(Vec<ExportedFile>, Vec<Skipped>), ExportError> {
+    use std::sync::Mutex;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    let in_flight = AtomicU64::new(0);
+    type Written = (usize, usize, Result<ExportedFile, ExportError>);
+    let written: Mutex<Vec<Written>> = Mutex::new(Vec::new());
+    let mut skipped = Vec::new();
+    let read_result = rayon::in_place_scope(|scope| -> Result<(), ExportError> {
+        for (i, item) in items.iter().enumerate() {
+            let images = match read_for_export(device, queue, item)? {
+                Ok(images) => images,
+                Err(s) => {
+                    skipped.push(s);
+                    continue;
+                }
+            };
+            for (j, image) in images.into_iter().enumerate() {
+                let bytes = image.values.len() as u64 * 16;
+                while in_flight.load(Ordering::Acquire) > MAX_IN_FLIGHT_BYTES {
+                    std::thread::sleep(std::time::Duration::from_millis(1));
+                }
+                in_flight.fetch_add(bytes, Ordering::AcqRel);
+                let (in_flight, written) = (&in_flight, &written);
+                scope.spawn(move |_| {
+                    let result = write_image(dir, item.naming, item.spec, &image);
+                    drop(image);
+                    in_flight.fetch_sub(bytes, Ordering::AcqRel);
+                    if let Ok(mut w) = written.lock() {
+                        w.push((i, j, result));
+                    }
+                });
+            }
+        }
+        Ok(())
+    });
+    read_result?;
+    let mut written = written.into_inner().unwrap_or_default();
+    written.sort_by_key(|(i, j, _)| (*i, *j));
+    let files = written
+        .into_iter()
+        .map(|(_, _, r)| r)
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((files, skipped))
+}
+
+/// The decoded images of one export item (the stencil aspect too), or why it is skipped.
+fn read_for_export(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    item: &ExportItem<'_>,
+) -> Result<Result<Vec<DecodedImage>, Skipped>, ExportError> {
+    let spec = item.spec;
+    let format = match decode::readable_format(spec) {
+        Ok(f) => f,
+        Err(decode::Unreadable(reason)) => {
+            return Ok(Err(Skipped {
+                resource: item.naming.resource.to_owned(),
+                reason: reason.to_owned(),
+            }));
+        }
+    };
+    let readback = |e: decode::ReadError| ExportError::Readback {
+        resource: e.resource,
+        message: e.message,
+    };
+    let mut images =
+        decode::read_texture(device, queue, item.texture, spec, format).map_err(readback)?;
+    if decode::has_stencil(spec) {
+        images.extend(decode::read_stencil(device, queue, item.texture, spec).map_err(readback)?);
+    }
+    Ok(Ok(images))
+}
+
 /// Reads back every subresource of `texture` (and the stencil aspect of a depth-stencil
-/// texture) and writes it into `dir`.
+/// texture) and writes it into `dir`, on this thread.
 pub fn export_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -377,32 +471,21 @@ pub fn export_texture(
     dir: &Path,
     naming: Naming<'_>,
 ) -> Result<(Vec<ExportedFile>, Option<Skipped>), ExportError> {
-    let format = match decode::readable_format(spec) {
-        Ok(f) => f,
-        Err(decode::Unreadable(reason)) => {
-            return Ok((
-                Vec::new(),
-                Some(Skipped {
-                    resource: naming.resource.to_owned(),
-                    reason: reason.to_owned(),
-                }),
-            ));
+    let item = ExportItem {
+        texture,
+        spec,
+        naming,
+    };
+    match read_for_export(device, queue, &item)? {
+        Err(skipped) => Ok((Vec::new(), Some(skipped))),
+        Ok(images) => {
+            let files = images
+                .iter()
+                .map(|image| write_image(dir, naming, spec, image))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok((files, None))
         }
-    };
-    let readback = |e: decode::ReadError| ExportError::Readback {
-        resource: e.resource,
-        message: e.message,
-    };
-    let mut images =
-        decode::read_texture(device, queue, texture, spec, format).map_err(readback)?;
-    if decode::has_stencil(spec) {
-        images.extend(decode::read_stencil(device, queue, texture, spec).map_err(readback)?);
     }
-    let files = images
-        .iter()
-        .map(|image| write_image(dir, naming, spec, image))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok((files, None))
 }
 
 /// The folder for an export: results go to a temporary sibling that is renamed at the end.

@@ -316,27 +316,24 @@ fn export(
     let _ = std::fs::remove_dir_all(&staging);
     std::fs::create_dir_all(&staging).with_context(|| format!("creating {}", staging.display()))?;
     let result = (|| -> anyhow::Result<usize> {
-        let mut files = Vec::new();
-        let mut skipped = Vec::new();
-        for (i, spec) in session.plan.textures.iter().enumerate() {
-            if only.is_some_and(|o| o != i) {
-                continue;
-            }
-            let (f, s) = export::export_texture(
-                &session.device,
-                &session.queue,
-                session.texture(i),
+        let items: Vec<export::ExportItem<'_>> = session
+            .plan
+            .textures
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| only.is_none_or(|o| o == *i))
+            .map(|(i, spec)| export::ExportItem {
+                texture: session.texture(i),
                 spec,
-                &staging,
-                export::Naming {
+                naming: export::Naming {
                     resource: &spec.name,
                     stem: &stems[i],
                     format: formats.get(i).map_or("", String::as_str),
                 },
-            )?;
-            files.extend(f);
-            skipped.extend(s);
-        }
+            })
+            .collect();
+        let (files, skipped) =
+            export::export_all(&session.device, &session.queue, &items, &staging)?;
         let manifest = Manifest {
             capture,
             frames,
