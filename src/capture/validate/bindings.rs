@@ -4,6 +4,9 @@
 #[allow(unused_imports)]
 use super::*;
 
+/// Largest uniform (constant) buffer view.
+pub const MAX_UNIFORM_BINDING_BYTES: u64 = 65_536;
+
 impl<'a> Validator<'a> {
     pub(super) fn check_binding(
         &mut self,
@@ -247,6 +250,21 @@ impl<'a> Validator<'a> {
                 }
                 range.byte_offset = bytes.offset;
                 range.byte_size = bytes.size;
+            }
+            if access == Access::Uniform && range.byte_size > MAX_UNIFORM_BINDING_BYTES {
+                let at = if b.bytes.is_some() {
+                    path.field("bytes")
+                } else {
+                    path.clone()
+                };
+                self.diags.error(
+                    "binding",
+                    &at,
+                    format!(
+                        "a uniform binding views at most {MAX_UNIFORM_BINDING_BYTES} bytes (D3D12's 4096 constants, WebGPU's maxUniformBufferBindingSize); this one views {} of \"{}\": bind a `bytes` range or use a storage binding",
+                        range.byte_size, r.name
+                    ),
+                );
             }
             range
         }
