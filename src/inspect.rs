@@ -296,20 +296,51 @@ fn texture_view(plan_index: usize, spec: &framelab_replay::plan::TextureSpec) ->
     }
 }
 
-/// How the buffer viewer can read plan buffer `index`: as the indirect arguments it feeds,
-/// then as the WGSL type of each variable bound to it (first binding of each distinct type).
-fn buffer_view(index: usize, plan: &framelab_replay::plan::Plan) -> BufferView {
+/// Adds `choice` to `list` unless the same layout at the same base is there already.
+fn add_layout(list: &mut Vec<LayoutChoice>, choice: LayoutChoice) {
+    if !list
+        .iter()
+        .any(|c| c.layout == choice.layout && c.base == choice.base)
+    {
+        list.push(choice);
+    }
+}
+
+/// How the buffer viewer can read each plan buffer, found in one walk over the plan: as the
+/// indirect arguments it feeds, then as the WGSL type of each variable bound to it (first
+/// binding of each distinct type; named struct members before bare scalar arrays).
+fn buffer_views(plan: &framelab_replay::plan::Plan) -> Vec<BufferView> {
     use framelab_replay::layout::BufferLayout;
     use framelab_replay::plan::{BindTarget, PassOp};
-    let mut indirect_layouts: Vec<LayoutChoice> = Vec::new();
-    let mut typed: Vec<LayoutChoice> = Vec::new();
-    let mut indirect = Vec::new();
-    let add = |list: &mut Vec<LayoutChoice>, choice: LayoutChoice| {
-        if !list
-            .iter()
-            .any(|c| c.layout == choice.layout && c.base == choice.base)
-        {
-            list.push(choice);
+    let mut views: Vec<BufferView> = plan
+        .buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| BufferView {
+            plan_index: i,
+            size: b.size,
+            layouts: Vec::new(),
+            indirect: Vec::new(),
+        })
+        .collect();
+    let mut typed: Vec<Vec<LayoutChoice>> = vec![Vec::new(); views.len()];
+    // (buffer, byte offset, record layout, what reads it) for every indirect draw or dispatch.
+    let mut indirect_use = |buffer: usize, offset: u64, layout: BufferLayout, text: String| {
+        if let Some(v) = views.get_mut(buffer) {
+            v.indirect.push(text);
+            let source = if layout.type_name.starts_with("Dispatch") {
+                "indirect dispatches"
+            } else {
+                "indirect draws"
+            };
+            add_layout(
+                &mut v.layouts,
+                LayoutChoice {
+                    source: source.to_owned(),
+                    base: offset % layout.stride,
+                    layout,
+                },
+            );
         }
     };
     for pass in &plan.passes {
@@ -319,50 +350,26 @@ fn buffer_view(index: usize, plan: &framelab_replay::plan::Plan) -> BufferView {
                     let Some((b, offset)) = d.indirect else {
                         continue;
                     };
-                    if b != index {
-                        continue;
-                    }
                     let indexed = d
                         .mesh
                         .and_then(|m| plan.meshes.get(m))
                         .is_some_and(|m| m.indices.is_some());
                     let label = d.label.clone().unwrap_or_else(|| format!("#{i}"));
-                    indirect.push(format!(
-                        "{}: {} draw {label} at byte {offset}",
-                        pass.name,
-                        if indexed { "indexed" } else { "non-indexed" }
-                    ));
-                    let layout = if indexed {
-                        BufferLayout::draw_indexed_indirect()
+                    let (layout, kind) = if indexed {
+                        (BufferLayout::draw_indexed_indirect(), "indexed")
                     } else {
-                        BufferLayout::draw_indirect()
+                        (BufferLayout::draw_indirect(), "non-indexed")
                     };
-                    add(
-                        &mut indirect_layouts,
-                        LayoutChoice {
-                            source: "indirect draws".to_owned(),
-                            base: offset % layout.stride,
-                            layout,
-                        },
-                    );
+                    let text = format!("{}: {kind} draw {label} at byte {offset}", pass.name);
+                    indirect_use(b, offset, layout, text);
                 }
                 (r.shader, &r.bindings)
             }
             PassOp::Compute(c) => {
                 for (i, d) in c.dispatches.iter().enumerate() {
-                    if let Some((b, offset)) = d.indirect
-                        && b == index
-                    {
-                        indirect.push(format!("{}: dispatch #{i} at byte {offset}", pass.name));
-                        let layout = BufferLayout::dispatch_indirect();
-                        add(
-                            &mut indirect_layouts,
-                            LayoutChoice {
-                                source: "indirect dispatches".to_owned(),
-                                base: offset % layout.stride,
-                                layout,
-                            },
-                        );
+                    if let Some((b, offset)) = d.indirect {
+                        let text = format!("{}: dispatch #{i} at byte {offset}", pass.name);
+                        indirect_use(b, offset, BufferLayout::dispatch_indirect(), text);
                     }
                 }
                 (c.shader, &c.bindings)
@@ -372,21 +379,19 @@ fn buffer_view(index: usize, plan: &framelab_replay::plan::Plan) -> BufferView {
         let Some(source) = plan.shaders.get(shader) else {
             continue;
         };
+        let file = std::path::Path::new(&source.name)
+            .file_name()
+            .and_then(|f| f.to_str())
+            .unwrap_or(source.name.as_str());
         for b in bindings {
             if let BindTarget::Buffer { buffer, offset, .. } = b.target
-                && buffer == index
+                && let Some(list) = typed.get_mut(buffer)
                 && let Some(layout) = source.validated.buffer_layout(&b.variable)
             {
-                add(
-                    &mut typed,
+                add_layout(
+                    list,
                     LayoutChoice {
-                        source: format!(
-                            "var {} in {}",
-                            b.variable,
-                            std::path::Path::new(&source.name)
-                                .file_name()
-                                .map_or(source.name.as_str(), |f| f.to_str().unwrap_or("?"))
-                        ),
+                        source: format!("var {} in {file}", b.variable),
                         base: offset,
                         layout,
                     },
@@ -394,15 +399,11 @@ fn buffer_view(index: usize, plan: &framelab_replay::plan::Plan) -> BufferView {
             }
         }
     }
-    // Named struct members say more than a bare scalar array of the same bytes.
-    typed.sort_by_key(|c| c.layout.is_plain());
-    indirect_layouts.extend(typed);
-    BufferView {
-        plan_index: index,
-        size: plan.buffers[index].size,
-        layouts: indirect_layouts,
-        indirect,
+    for (view, mut typed) in views.iter_mut().zip(typed) {
+        typed.sort_by_key(|c| c.layout.is_plain());
+        view.layouts.extend(typed);
     }
+    views
 }
 
 /// Every plan texture the viewer can show gets bound as a texture by the display pass.
@@ -421,6 +422,7 @@ fn resources(
     pass_index: &BTreeMap<PassId, usize>,
 ) -> Vec<Resource> {
     let info = crate::info::report(c);
+    let buffers = buffer_views(&lowered.plan);
     let memory: BTreeMap<&str, &report::ResourceMemory> = r
         .memory
         .resources
@@ -478,7 +480,7 @@ fn resources(
                 buffer: lowered
                     .buffer_of
                     .get(&id)
-                    .map(|&b| buffer_view(b, &lowered.plan)),
+                    .and_then(|&b| buffers.get(b).cloned()),
             }
         })
         .collect()

@@ -58,16 +58,20 @@ fn settle(h: &mut egui_kittest::Harness<'static, Inspector>) {
 
 /// The channel values of the pixel readout (`(x, y) R v  G v ...`).
 fn readout(h: &egui_kittest::Harness<'static, Inspector>, at: &str) -> Vec<f32> {
-    let node = h.get_by_label_contains(at);
-    // egui labels carry their text as the node's value.
-    let label = node
-        .value()
-        .or_else(|| node.accesskit_node().label())
-        .unwrap_or_default();
-    label
+    label_with(h, at)
         .split_whitespace()
         .filter_map(|w| w.parse::<f32>().ok())
         .collect()
+}
+
+/// Filters the resource table to `name` and clicks its row, as a user opens a resource.
+fn click_resource_row(h: &mut egui_kittest::Harness<'static, Inspector>, name: &str) {
+    h.state_mut().selection.resource_filter = name.into();
+    h.run_steps(2);
+    h.get_all_by_label(name)
+        .find(|n| n.accesskit_node().role() == egui::Role::Button)
+        .unwrap_or_else(|| panic!("a {name} row in the resource table"))
+        .click();
 }
 
 /// A primary click at `pos` (painted widgets have no accessible label to click by).
@@ -97,12 +101,7 @@ fn selecting_passes_and_textures_shows_the_frame_as_of_that_pass() {
 
     // The resource table (a tab beside the timeline): open scene_color.
     h.get_by_label("Resources").click();
-    h.state_mut().selection.resource_filter = "scene_color".into();
-    h.run_steps(2);
-    h.get_all_by_label("scene_color")
-        .find(|n| n.accesskit_node().role() == egui::Role::Button)
-        .expect("a scene_color row")
-        .click();
+    click_resource_row(&mut h, "scene_color");
     settle(&mut h);
     let scene_color = model.resource_named("scene_color").unwrap();
     assert_eq!(h.state().selection.resource, Some(scene_color));
@@ -266,7 +265,7 @@ fn read_back_values_match_the_export() {
     std::fs::remove_dir_all(out).unwrap();
 }
 
-/// The label of the first node whose label contains `text`.
+/// The text of the node whose label contains `text` (egui labels carry it as the value).
 fn label_with(h: &egui_kittest::Harness<'static, Inspector>, text: &str) -> String {
     let node = h.get_by_label_contains(text);
     node.value()
@@ -283,12 +282,7 @@ fn buffers_stencil_and_saving_a_view() {
     // the indirect draw arguments the compute pass wrote: the orb mesh's 192 indices (the
     // pass's `index_count` parameter) and one instance per live particle.
     h.get_by_label("Resources").click();
-    h.state_mut().selection.resource_filter = "draw_args".into();
-    h.run_steps(2);
-    h.get_all_by_label("draw_args")
-        .find(|n| n.accesskit_node().role() == egui::Role::Button)
-        .expect("a draw_args row")
-        .click();
+    click_resource_row(&mut h, "draw_args");
     h.state_mut()
         .select_pass(model.pass_named("simulate").unwrap());
     settle(&mut h);

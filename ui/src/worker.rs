@@ -189,7 +189,9 @@ fn run(
                 Ok(shown) => Reply::Shown(Box::new(shown)),
                 Err(e) => Reply::Failed(e),
             },
-            Command::Save(request, how, path) => Reply::Saved(save(&mut s, &request, how, &path)),
+            Command::Save(request, how, path) => {
+                Reply::Saved(save(&mut s, &request, how, &path, tx))
+            }
         };
         if tx.send(reply).is_err() {
             return;
@@ -204,8 +206,11 @@ fn save(
     request: &ViewRequest,
     how: SaveAs,
     path: &std::path::Path,
+    tx: &Sender<Reply>,
 ) -> Result<String, String> {
-    let shown = show(s, request, &std::sync::mpsc::channel().0)?;
+    // The same view as on screen: replay and read-back are cached, only the small display
+    // draw runs again.
+    let shown = show(s, request, tx)?;
     let written = match how {
         SaveAs::Png => {
             let display = shown.display.ok_or("no texture is shown")?;
