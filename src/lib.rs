@@ -8,6 +8,7 @@
 
 pub mod analysis;
 pub mod capture;
+pub mod import;
 pub mod info;
 pub mod inspect;
 pub mod lower;

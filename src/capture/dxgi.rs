@@ -520,7 +520,133 @@ pub fn all() -> &'static [FormatInfo] {
 }
 
 /// Looks a format up by its name, with or without the `DXGI_FORMAT_` prefix, case-insensitively.
+/// VkFormats with no DXGI twin, kept under their Vulkan name so that imported resources keep
+/// their real format: (name, bits per element, block width, block height).
+const VULKAN_ONLY: &[(&str, u32, u32, u32)] = &[
+    ("VK_FORMAT_R4G4_UNORM_PACK8", 8, 1, 1),
+    ("VK_FORMAT_R4G4B4A4_UNORM_PACK16", 16, 1, 1),
+    ("VK_FORMAT_R5G6B5_UNORM_PACK16", 16, 1, 1),
+    ("VK_FORMAT_R5G5B5A1_UNORM_PACK16", 16, 1, 1),
+    ("VK_FORMAT_R8G8B8_UNORM", 24, 1, 1),
+    ("VK_FORMAT_R8G8B8_SNORM", 24, 1, 1),
+    ("VK_FORMAT_R8G8B8_UINT", 24, 1, 1),
+    ("VK_FORMAT_R8G8B8_SINT", 24, 1, 1),
+    ("VK_FORMAT_R8G8B8_SRGB", 24, 1, 1),
+    ("VK_FORMAT_B8G8R8_UNORM", 24, 1, 1),
+    ("VK_FORMAT_B8G8R8_SRGB", 24, 1, 1),
+    ("VK_FORMAT_R16G16B16_UNORM", 48, 1, 1),
+    ("VK_FORMAT_R16G16B16_SNORM", 48, 1, 1),
+    ("VK_FORMAT_R16G16B16_UINT", 48, 1, 1),
+    ("VK_FORMAT_R16G16B16_SINT", 48, 1, 1),
+    ("VK_FORMAT_R16G16B16_SFLOAT", 48, 1, 1),
+    ("VK_FORMAT_R64_UINT", 64, 1, 1),
+    ("VK_FORMAT_R64_SINT", 64, 1, 1),
+    ("VK_FORMAT_R64_SFLOAT", 64, 1, 1),
+    ("VK_FORMAT_R64G64_SFLOAT", 128, 1, 1),
+    ("VK_FORMAT_R64G64B64A64_SFLOAT", 256, 1, 1),
+    ("VK_FORMAT_D16_UNORM_S8_UINT", 32, 1, 1),
+    ("VK_FORMAT_X8_D24_UNORM_PACK32", 32, 1, 1),
+    ("VK_FORMAT_S8_UINT", 8, 1, 1),
+    ("VK_FORMAT_ETC2_R8G8B8_UNORM_BLOCK", 64, 4, 4),
+    ("VK_FORMAT_ETC2_R8G8B8_SRGB_BLOCK", 64, 4, 4),
+    ("VK_FORMAT_ETC2_R8G8B8A1_UNORM_BLOCK", 64, 4, 4),
+    ("VK_FORMAT_ETC2_R8G8B8A8_UNORM_BLOCK", 128, 4, 4),
+    ("VK_FORMAT_ETC2_R8G8B8A8_SRGB_BLOCK", 128, 4, 4),
+    ("VK_FORMAT_EAC_R11_UNORM_BLOCK", 64, 4, 4),
+    ("VK_FORMAT_EAC_R11G11_UNORM_BLOCK", 128, 4, 4),
+    ("VK_FORMAT_ASTC_4x4_UNORM_BLOCK", 128, 4, 4),
+    ("VK_FORMAT_ASTC_4x4_SRGB_BLOCK", 128, 4, 4),
+    ("VK_FORMAT_ASTC_6x6_UNORM_BLOCK", 128, 6, 6),
+    ("VK_FORMAT_ASTC_6x6_SRGB_BLOCK", 128, 6, 6),
+    ("VK_FORMAT_ASTC_8x8_UNORM_BLOCK", 128, 8, 8),
+    ("VK_FORMAT_ASTC_8x8_SRGB_BLOCK", 128, 8, 8),
+];
+
+fn build_vulkan_only() -> Vec<FormatInfo> {
+    VULKAN_ONLY
+        .iter()
+        .map(|&(name, bits, bw, bh)| {
+            let bare = name.trim_start_matches("VK_FORMAT_");
+            let compressed = bw > 1;
+            let numeric = if bare.contains("SNORM") {
+                Numeric::Snorm
+            } else if bare.contains("SINT") {
+                Numeric::Sint
+            } else if bare.contains("UINT") {
+                Numeric::Uint
+            } else if bare.contains("SFLOAT") {
+                Numeric::Float
+            } else {
+                Numeric::Unorm
+            };
+            let channels: Vec<Channel> = if compressed {
+                let letters = if bare.starts_with("EAC_R11G11") {
+                    "RG"
+                } else if bare.starts_with("EAC") {
+                    "R"
+                } else if bare.contains("R8G8B8_") {
+                    "RGB"
+                } else {
+                    "RGBA"
+                };
+                letters.chars().map(|c| ch(c, 0, numeric)).collect()
+            } else {
+                let mut spelled = bare
+                    .replace("SFLOAT", "FLOAT")
+                    .replace("_PACK8", "")
+                    .replace("_PACK16", "")
+                    .replace("_PACK32", "");
+                if let Some(head) = spelled.strip_suffix("_SRGB") {
+                    spelled = format!("{head}_UNORM");
+                }
+                channels_from_name(&spelled).unwrap_or_default()
+            };
+            let bits_of = |c: char| {
+                channels
+                    .iter()
+                    .filter(|x| x.name == c)
+                    .map(|x| x.bits)
+                    .sum()
+            };
+            FormatInfo {
+                name,
+                value: 0,
+                layout: if compressed {
+                    Layout::BlockCompressed
+                } else {
+                    Layout::Linear
+                },
+                bits_per_element: bits,
+                block_width: bw,
+                block_height: bh,
+                depth_bits: bits_of('D'),
+                stencil_bits: bits_of('S'),
+                channels,
+                typeless_family: None,
+                srgb: bare.contains("SRGB"),
+                vk_format: Some(name),
+            }
+        })
+        .collect()
+}
+
+static VULKAN_TABLE: LazyLock<Vec<FormatInfo>> = LazyLock::new(build_vulkan_only);
+
+/// The format a `VK_FORMAT_*` name stands for: its DXGI twin where one exists, else the
+/// Vulkan-only entry of that name.
+pub fn lookup_vk(name: &str) -> Option<&'static FormatInfo> {
+    let upper = name.trim().to_ascii_uppercase();
+    TABLE
+        .iter()
+        .find(|f| f.vk_format == Some(upper.as_str()))
+        .or_else(|| VULKAN_TABLE.iter().find(|f| f.name == upper))
+}
+
+/// A format by its DXGI name (with or without `DXGI_FORMAT_`) or by its `VK_FORMAT_*` name.
 pub fn lookup(name: &str) -> Option<&'static FormatInfo> {
+    if name.trim().to_ascii_uppercase().starts_with("VK_FORMAT_") {
+        return lookup_vk(name);
+    }
     let upper = name.trim().to_ascii_uppercase();
     let bare = upper.strip_prefix("DXGI_FORMAT_").unwrap_or(&upper);
     let bare = if bare == "420_OPAQUE" {
@@ -591,6 +717,20 @@ mod tests {
                 assert_eq!(sum, info.bits_per_element, "{}", info.name);
             }
         }
+    }
+
+    #[test]
+    fn vulkan_names_find_their_dxgi_twin_or_their_own_entry() {
+        assert_eq!(lookup("VK_FORMAT_B8G8R8A8_SRGB").map(|f| f.name), Some("B8G8R8A8_UNORM_SRGB"));
+        let rgb = lookup("vk_format_r8g8b8_unorm").unwrap();
+        assert_eq!((rgb.name, rgb.bits_per_element, rgb.channels.len()), ("VK_FORMAT_R8G8B8_UNORM", 24, 3));
+        assert_eq!(rgb.surface_bytes(3, 2), Some(18));
+        let ds = lookup("VK_FORMAT_D16_UNORM_S8_UINT").unwrap();
+        assert_eq!((ds.depth_bits, ds.stencil_bits), (16, 8));
+        let astc = lookup("VK_FORMAT_ASTC_6x6_SRGB_BLOCK").unwrap();
+        assert!(astc.is_block_compressed() && astc.srgb);
+        assert_eq!(astc.surface_bytes(12, 7), Some(2 * 2 * 16));
+        assert!(lookup("VK_FORMAT_NOT_A_FORMAT").is_none());
     }
 
     #[test]

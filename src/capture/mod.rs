@@ -9,6 +9,7 @@ pub mod load;
 pub mod model;
 pub mod shaders;
 pub mod validate;
+pub mod vulkan;
 
 pub use diag::{Diagnostic, Severity};
 pub use load::CaptureError;

@@ -66,9 +66,22 @@ pub struct Capture {
     pub passes: Vec<PassDesc>,
     /// Every shader file the passes name, read and reflected once.
     pub shaders: Vec<super::shaders::Shader>,
+    /// The tool and stream an imported capture came from.
+    pub origin: Option<super::format::CaptureSource>,
 }
 
 impl Capture {
+    /// Why this capture cannot be replayed, as a message naming its origin; `None` when it can.
+    pub fn not_replayable(&self) -> Option<String> {
+        let origin = self.origin.as_ref()?;
+        let reason = origin.not_replayable.as_ref()?;
+        Some(format!(
+            "\"{}\" was imported by {} from {}: {reason}. It can be validated, analysed, inspected as a graph and diffed, but not replayed",
+            self.source.display(),
+            origin.tool,
+            origin.file
+        ))
+    }
     pub fn resource(&self, id: ResourceId) -> &ResourceDesc {
         &self.resources[id.index()]
     }
@@ -210,6 +223,8 @@ pub enum PlacementDesc {
 #[derive(Clone, Debug, PartialEq)]
 pub enum InitialDesc {
     Undefined,
+    /// Written by the application through mapped memory; not in the capture.
+    Mapped,
     File(PathBuf),
     Generator(Seeded<Content>),
 }
@@ -478,6 +493,8 @@ pub struct ClearDesc {
 
 #[derive(Clone, Debug)]
 pub struct RecordedBarrierDesc {
+    /// Stage and access masks and layouts of a Vulkan barrier, validated.
+    pub vulkan: Option<VulkanBarrierDesc>,
     pub barrier_type: BarrierType,
     pub resource: Option<ResourceId>,
     pub resource_before: Option<ResourceId>,
@@ -485,6 +502,20 @@ pub struct RecordedBarrierDesc {
     pub before: Vec<ResourceState>,
     pub after: Vec<ResourceState>,
     pub split: SplitFlag,
+}
+
+/// A Vulkan barrier with its masks as bits (`VkPipelineStageFlagBits2`, `VkAccessFlagBits2`)
+/// and its layouts by name (see `capture::vulkan`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct VulkanBarrierDesc {
+    pub origin: String,
+    pub src_stages: u64,
+    pub src_access: u64,
+    pub dst_stages: u64,
+    pub dst_access: u64,
+    pub old_layout: Option<&'static str>,
+    pub new_layout: Option<&'static str>,
+    pub queue_transfer: Option<(u32, u32)>,
 }
 
 #[derive(Clone, Debug)]

@@ -4,6 +4,7 @@
 
 mod analysis;
 mod diff;
+mod import;
 mod info;
 mod inspect;
 mod replay;
@@ -153,6 +154,27 @@ enum Command {
     ///
     /// Example: framelab inspect frame.json --screenshot view.png --select tonemap --view ldr
     Inspect(Box<inspect::InspectArgs>),
+    /// Turn a GFXReconstruct JSON Lines stream (gfxrecon-convert) into a capture: passes,
+    /// resources, heaps and the barriers the application recorded, for validate, analyze,
+    /// graph and diff --structure (it holds no shader code, so it is not replayed).
+    ///
+    /// Example: framelab import app.jsonl -o app.json --frame 1
+    Import {
+        /// The stream (JSON Lines, from gfxrecon-convert).
+        stream: PathBuf,
+        /// Where to write the capture (JSON); written only if it validates.
+        #[arg(short, long)]
+        out: PathBuf,
+        /// Import only this frame (0-based; frames end at vkQueuePresentKHR).
+        #[arg(long, value_parser = import::parse_frames, conflicts_with = "frames")]
+        frame: Option<(u32, u32)>,
+        /// Import only frames A-B (0-based, inclusive).
+        #[arg(long, value_parser = import::parse_frames)]
+        frames: Option<(u32, u32)>,
+        /// Print the summary as JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Print the JSON Schema of the capture format.
     ///
     /// Example: framelab schema > capture.schema.json
@@ -249,6 +271,13 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         }
         Command::Diff(args) => Ok(diff::run(&args)),
         Command::Inspect(args) => inspect::run(&args),
+        Command::Import {
+            stream,
+            out,
+            frame,
+            frames,
+            json,
+        } => import::run(&stream, &out, frame.or(frames), json),
         Command::Schema => {
             print_stdout(&framelab::schema::schema_json())?;
             Ok(ExitCode::SUCCESS)

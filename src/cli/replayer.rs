@@ -41,6 +41,9 @@ pub struct Loaded {
 impl Loaded {
     pub fn new(path: &Path, scale: f64, cull: bool) -> anyhow::Result<Loaded> {
         let (capture, sha256) = load(path, scale)?;
+        if let Some(why) = capture.not_replayable() {
+            anyhow::bail!(why);
+        }
         let analysis = analyze(&capture, AnalyzeOptions { cull })
             .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
         Ok(Loaded {

@@ -52,6 +52,8 @@ pub enum LowerError {
     Mesh { mesh: String, message: String },
     #[error("pass \"{pass}\": {message}")]
     Pass { pass: String, message: String },
+    #[error("{0}")]
+    NotReplayable(String),
     #[error("pass \"{pass}\" needs {feature}, which adapter {adapter} does not support")]
     MissingFeature {
         pass: String,
@@ -94,6 +96,9 @@ pub fn lower(
     available: Features,
     adapter: &str,
 ) -> Result<Lowered, LowerError> {
+    if let Some(why) = capture.not_replayable() {
+        return Err(LowerError::NotReplayable(why));
+    }
     let passes: Vec<&PassDesc> = order.iter().map(|&p| capture.pass(p)).collect();
     let mut l = Lowering {
         capture,

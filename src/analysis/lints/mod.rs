@@ -8,6 +8,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use serde::Serialize;
 
 mod recorded;
+mod vulkan;
 
 use super::barriers::BarrierPlan;
 use super::graph::{EdgeKind, PassGraph};
@@ -761,6 +762,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
     linter.upload_heap_reads(&mut out);
     linter.anisotropic_without_mips(&mut out);
     out.extend(compare_recorded(input.capture, input.model, input.plan));
+    out.extend(vulkan::compare_vulkan(input.capture, input.model, input.plan));
     out.sort();
     out.dedup();
     out

@@ -55,7 +55,8 @@ pub(super) fn compare_recorded(
     plan: &BarrierPlan,
 ) -> Vec<Lint> {
     let mut out = Vec::new();
-    if capture.passes.iter().all(|p| p.barriers.is_empty()) {
+    let d3d12 = |b: &&crate::capture::model::RecordedBarrierDesc| b.barrier_type != BarrierType::Vulkan;
+    if capture.passes.iter().all(|p| !p.barriers.iter().any(|b| d3d12(&b))) {
         return out;
     }
     let mut by_pass: BTreeMap<u32, Vec<&Barrier>> = BTreeMap::new();
@@ -68,7 +69,7 @@ pub(super) fn compare_recorded(
         let recorded: Vec<_> = pass
             .barriers
             .iter()
-            .filter(|b| b.split != SplitFlag::BeginOnly)
+            .filter(|b| b.split != SplitFlag::BeginOnly && d3d12(b))
             .collect();
         let mut used = vec![false; recorded.len()];
         for d in &derived {

@@ -69,6 +69,35 @@ pub struct RawCapture {
     /// Passes in the order the application recorded them (per queue, this is submission order).
     #[serde(default)]
     pub passes: Vec<Pass>,
+    /// The tool and API stream the capture was imported from; absent for captures written by
+    /// hand or generated.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source: Option<CaptureSource>,
+}
+
+/// Where an imported capture came from, and what that means for what framelab can do with it.
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CaptureSource {
+    /// The capture tool and its version (e.g. `GFXReconstruct 0.9.18`).
+    pub tool: String,
+    /// The graphics API the frame was recorded from.
+    pub api: Api,
+    /// The stream the capture was imported from, as given to `framelab import`.
+    pub file: String,
+    /// Why the capture cannot be replayed (e.g. the stream holds no shader code). Raster and
+    /// compute passes of such a capture need no `shader`; `replay` and `inspect` refuse it
+    /// with this reason.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub not_replayable: Option<String>,
+}
+
+/// A graphics API a capture was recorded from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Api {
+    D3d12,
+    Vulkan,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, Serialize, JsonSchema)]

@@ -173,8 +173,15 @@ pub enum Placement {
         #[serde(default = "default_heap_type")]
         heap_type: HeapType,
     },
-    /// CreatePlacedResource: at `offset` bytes into a named heap.
-    Placed { heap: String, offset: u64 },
+    /// CreatePlacedResource (or vkBind*Memory): at `offset` bytes into a named heap.
+    Placed {
+        heap: String,
+        offset: u64,
+        /// Placement alignment the API reported for this resource (Vulkan's
+        /// `VkMemoryRequirements::alignment`); D3D12's 64 KiB (4 MiB for MSAA) when absent.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        alignment: Option<u64>,
+    },
     /// CreateReservedResource: virtual address range only; tiles are mapped later.
     Reserved,
 }
@@ -189,6 +196,9 @@ pub(crate) fn default_heap_type() -> HeapType {
 pub enum InitialContents {
     /// Raw bytes from a file next to the capture (tightly packed subresources, mip-major).
     File { path: String },
+    /// Written by the application through mapped memory before the GPU reads it (imported
+    /// captures: the stream records the writes, not what was written). Not replayable.
+    Mapped {},
     /// A named procedural generator with a seed and generator parameters.
     Generator {
         name: String,

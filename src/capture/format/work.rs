@@ -34,6 +34,12 @@ pub struct Draw {
     pub first_instance: u32,
     #[serde(default)]
     pub base_vertex: i32,
+    /// Vertex buffers bound for an imported draw (replayed draws take theirs from `mesh`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vertex_buffers: Vec<String>,
+    /// Index buffer bound for an imported indexed draw.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub index_buffer: Option<String>,
     /// Arguments read from a buffer (DrawIndexedInstanced/DrawInstanced layout) instead.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub indirect: Option<IndirectArgs>,
@@ -173,6 +179,38 @@ pub struct RecordedBarrier {
     /// Split barriers: BEGIN_ONLY or END_ONLY half.
     #[serde(default = "split_none")]
     pub split: SplitFlag,
+    /// The Vulkan barrier as recorded (type `vulkan` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vulkan: Option<VulkanBarrier>,
+}
+
+/// A Vulkan image, buffer or global memory barrier in the application's own terms: stage and
+/// access masks and image layouts, by their Vulkan names without the `VK_` prefix and `_BIT`
+/// suffix (`COLOR_ATTACHMENT_OUTPUT`, `SHADER_READ_ONLY_OPTIMAL`).
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VulkanBarrier {
+    /// The call that recorded it (`vkCmdPipelineBarrier2 #1234`), or the render pass whose
+    /// attachment layouts implied it.
+    pub origin: String,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub src_stages: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub src_access: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub dst_stages: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub dst_access: Vec<String>,
+    /// Image barriers: the layout before and after.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub old_layout: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub new_layout: Option<String>,
+    /// Queue family ownership transfer, when the families differ.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub src_queue_family: Option<u32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dst_queue_family: Option<u32>,
 }
 
 pub(crate) fn transition() -> BarrierType {
@@ -188,6 +226,8 @@ pub enum BarrierType {
     Transition,
     Uav,
     Aliasing,
+    /// A Vulkan pipeline barrier (image, buffer or global memory barrier; see `vulkan`).
+    Vulkan,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]

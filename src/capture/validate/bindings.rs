@@ -251,7 +251,10 @@ impl<'a> Validator<'a> {
                 range.byte_offset = bytes.offset;
                 range.byte_size = bytes.size;
             }
-            if access == Access::Uniform && range.byte_size > MAX_UNIFORM_BINDING_BYTES {
+            if access == Access::Uniform
+                && range.byte_size > MAX_UNIFORM_BINDING_BYTES
+                && !self.vulkan()
+            {
                 let at = if b.bytes.is_some() {
                     path.field("bytes")
                 } else {

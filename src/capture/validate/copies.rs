@@ -176,7 +176,7 @@ impl<'a> Validator<'a> {
     }
 
     /// A copy between a texture and a buffer: the buffer holds the placed footprint with rows
-    /// aligned to D3D12_TEXTURE_DATA_PITCH_ALIGNMENT.
+    /// aligned to D3D12_TEXTURE_DATA_PITCH_ALIGNMENT (Vulkan: any row length).
     fn copy_footprint(
         &mut self,
         c: &Copy,
@@ -202,7 +202,11 @@ impl<'a> Validator<'a> {
         let pitch = bloc
             .bytes_per_row
             .map(u64::from)
-            .unwrap_or(row_bytes.div_ceil(256) * 256);
+            .unwrap_or(if self.vulkan() {
+                row_bytes
+            } else {
+                row_bytes.div_ceil(256) * 256
+            });
         if pitch < row_bytes {
             self.diags.error(
                 "copy",
@@ -213,7 +217,7 @@ impl<'a> Validator<'a> {
                 ),
             );
         }
-        if pitch % 256 != 0 {
+        if pitch % 256 != 0 && !self.vulkan() {
             self.diags.error("copy", &path.field(bside).field("bytes_per_row"), format!(
                 "bytes_per_row {pitch} must be a multiple of 256 (D3D12_TEXTURE_DATA_PITCH_ALIGNMENT)"
             ));
@@ -311,6 +315,15 @@ impl<'a> Validator<'a> {
                         .error("barrier", path, "UAV barriers have no states");
                 }
             }
+            BarrierType::Vulkan => {
+                if !before.is_empty() || !after.is_empty() {
+                    self.diags.error(
+                        "barrier",
+                        path,
+                        "Vulkan barriers give layouts and masks in `vulkan`, not D3D12 states",
+                    );
+                }
+            }
             BarrierType::Aliasing => {
                 if !before.is_empty() || !after.is_empty() {
                     self.diags
@@ -338,6 +351,7 @@ impl<'a> Validator<'a> {
                 }
             }
         }
+        let vulkan = self.check_vulkan_barrier(b, path);
         if b.split != SplitFlag::None && b.barrier_type != BarrierType::Transition {
             self.diags.error(
                 "barrier",
@@ -360,6 +374,7 @@ impl<'a> Validator<'a> {
             before,
             after,
             split: b.split,
+            vulkan,
         })
     }
 
@@ -407,5 +422,90 @@ impl<'a> Validator<'a> {
                 );
             }
         }
+    }
+
+    /// The `vulkan` detail of a barrier: present exactly for type `vulkan`, known stage,
+    /// access and layout names.
+    fn check_vulkan_barrier(
+        &mut self,
+        b: &RecordedBarrier,
+        path: &JsonPath,
+    ) -> Option<VulkanBarrierDesc> {
+        use crate::capture::vulkan;
+        let vpath = path.field("vulkan");
+        let v = match (&b.vulkan, b.barrier_type) {
+            (Some(v), BarrierType::Vulkan) => v,
+            (None, BarrierType::Vulkan) => {
+                self.diags
+                    .error("barrier", path, "a `vulkan` barrier needs its `vulkan` detail");
+                return None;
+            }
+            (Some(_), _) => {
+                self.diags.error(
+                    "barrier",
+                    &vpath,
+                    "only barriers of type `vulkan` carry a `vulkan` detail",
+                );
+                return None;
+            }
+            (None, _) => return None,
+        };
+        let mut mask = |table: &[(&str, u64)], names: &Vec<String>, field: &str| {
+            match vulkan::parse_mask(table, names) {
+                Ok(m) => m,
+                Err(bad) => {
+                    let known: Vec<&str> = table.iter().map(|(n, _)| *n).collect();
+                    let suggestion = suggest(bad, known.into_iter());
+                    self.diags.error_with_suggestion(
+                        "barrier",
+                        &vpath.field(field),
+                        format!("unknown Vulkan {} \"{bad}\"", if field.ends_with("stages") { "pipeline stage" } else { "access flag" }),
+                        suggestion,
+                    );
+                    0
+                }
+            }
+        };
+        let src_stages = mask(vulkan::STAGES, &v.src_stages, "src_stages");
+        let dst_stages = mask(vulkan::STAGES, &v.dst_stages, "dst_stages");
+        let src_access = mask(vulkan::ACCESS, &v.src_access, "src_access");
+        let dst_access = mask(vulkan::ACCESS, &v.dst_access, "dst_access");
+        let mut layout = |name: &Option<String>, field: &str| {
+            let n = name.as_deref()?;
+            let found = vulkan::layout(n);
+            if found.is_none() {
+                let suggestion = suggest(n, vulkan::LAYOUTS.iter().map(|(l, _)| *l));
+                self.diags.error_with_suggestion(
+                    "barrier",
+                    &vpath.field(field),
+                    format!("unknown Vulkan image layout \"{n}\""),
+                    suggestion,
+                );
+            }
+            found
+        };
+        let old_layout = layout(&v.old_layout, "old_layout");
+        let new_layout = layout(&v.new_layout, "new_layout");
+        if old_layout.is_some() != new_layout.is_some() {
+            self.diags.error(
+                "barrier",
+                &vpath,
+                "an image barrier gives both `old_layout` and `new_layout`",
+            );
+        }
+        let queue_transfer = match (v.src_queue_family, v.dst_queue_family) {
+            (Some(a), Some(b)) if a != b => Some((a, b)),
+            _ => None,
+        };
+        Some(VulkanBarrierDesc {
+            origin: v.origin.clone(),
+            src_stages,
+            src_access,
+            dst_stages,
+            dst_access,
+            old_layout,
+            new_layout,
+            queue_transfer,
+        })
     }
 }

@@ -258,6 +258,7 @@ impl<'a> Validator<'a> {
             meshes: meshes?,
             passes,
             shaders: std::mem::take(&mut self.shaders),
+            origin: self.raw.source.clone(),
         })
     }
 
@@ -446,6 +447,23 @@ impl<'a> Validator<'a> {
             suggestion,
         );
         None
+    }
+
+    /// Whether the capture was imported from a Vulkan stream: clears are transfer writes,
+    /// placements follow the alignment the driver reported, uniform ranges follow the device.
+    fn vulkan(&self) -> bool {
+        self.raw
+            .source
+            .as_ref()
+            .is_some_and(|s| s.api == crate::capture::format::Api::Vulkan)
+    }
+
+    /// Whether the capture says it cannot be replayed (an import without shader code).
+    fn not_replayable(&self) -> bool {
+        self.raw
+            .source
+            .as_ref()
+            .is_some_and(|s| s.not_replayable.is_some())
     }
 
     fn lookup_format(&mut self, name: &str, path: &JsonPath) -> Option<&'static FormatInfo> {

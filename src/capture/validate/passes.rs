@@ -441,7 +441,10 @@ impl<'a> Validator<'a> {
             let id = self.load_shader(&s.file, &file, &spath.field("file"))?;
             Some(ShaderDesc { id, vertex: s.vertex.clone(), fragment: s.fragment.clone(), compute: s.compute.clone() })
         });
-        if matches!(p.kind, PassKind::Raster | PassKind::Compute) && p.shader.is_none() {
+        if matches!(p.kind, PassKind::Raster | PassKind::Compute)
+            && p.shader.is_none()
+            && !self.not_replayable()
+        {
             self.diags.error(
                 "shader",
                 path,
@@ -689,7 +692,10 @@ impl<'a> Validator<'a> {
             };
             let Some(r) = res(id) else { continue };
             let range = self.view_range(r, c.mips.as_ref(), c.layers.as_ref(), &cpath);
-            let access = if r.has_flag(ResourceFlag::AllowDepthStencil) {
+            let access = if self.vulkan() {
+                // vkCmdClear*Image and vkCmdFillBuffer are transfer writes on any queue.
+                Access::CopyDst
+            } else if r.has_flag(ResourceFlag::AllowDepthStencil) {
                 Access::DepthWrite
             } else if r.has_flag(ResourceFlag::AllowRenderTarget) {
                 Access::ColorAttachment
@@ -701,7 +707,10 @@ impl<'a> Validator<'a> {
                 ));
                 continue;
             };
-            if let (Some(caps), true) = (cx.caps, access != Access::StorageWrite)
+            if let (Some(caps), true) = (
+                cx.caps,
+                !matches!(access, Access::StorageWrite | Access::CopyDst),
+            )
                 && !caps.graphics
             {
                 self.diags.error("queue-capability", &path.field("queue"), format!(

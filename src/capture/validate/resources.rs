@@ -679,6 +679,16 @@ impl<'a> Validator<'a> {
     fn initial_contents(&mut self, r: &Resource, path: &JsonPath, bytes: u64) -> InitialDesc {
         match &r.initial {
             None => InitialDesc::Undefined,
+            Some(InitialContents::Mapped {}) => {
+                if !self.not_replayable() {
+                    self.diags.error(
+                        "initial",
+                        &path.field("initial"),
+                        "`mapped` contents describe an imported capture; a replayed resource takes a `file` or a `generator`",
+                    );
+                }
+                InitialDesc::Mapped
+            }
             Some(InitialContents::File { path: rel }) => {
                 match self.side_file(rel, &path.field("initial").field("file").field("path")) {
                     Some(p) => {
@@ -763,11 +773,27 @@ impl<'a> Validator<'a> {
                 }
                 PlacementDesc::Reserved
             }
-            Some(Placement::Placed { heap, offset }) => {
+            Some(Placement::Placed {
+                heap,
+                offset,
+                alignment: reported,
+            }) => {
                 let hpath = ppath.field("placed").field("heap");
                 let id = self.lookup("heap", heap, &hpath)?;
                 let h = &heaps[id as usize];
                 let opath = ppath.field("placed").field("offset");
+                let alignment = match *reported {
+                    Some(a) if a.is_power_of_two() => a,
+                    Some(a) => {
+                        self.diags.error(
+                            "placement-alignment",
+                            &ppath.field("placed").field("alignment"),
+                            format!("alignment {a} of \"{}\" is not a power of two", r.name),
+                        );
+                        alignment
+                    }
+                    None => alignment,
+                };
                 if offset % alignment != 0 {
                     self.diags.error("placement-alignment", &opath, format!(
                         "\"{}\" is placed at offset {offset}, which is not a multiple of its alignment {alignment}{}",

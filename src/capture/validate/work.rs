@@ -95,7 +95,9 @@ impl<'a> Validator<'a> {
                     format!("pass \"{name}\" sets a stencil reference but has no stencil state"),
                 );
             }
-            let indexed = mesh_desc.is_some_and(|m| m.index_format.is_some());
+            self.draw_buffers(d, &dpath, resources, accesses, i);
+            let indexed = mesh_desc.is_some_and(|m| m.index_format.is_some())
+                || d.index_buffer.is_some();
             let indirect = d.indirect.as_ref().and_then(|ind| {
                 let args = if indexed {
                     DRAW_INDEXED_ARGS
@@ -189,5 +191,59 @@ impl<'a> Validator<'a> {
         }
 
         dispatches
+    }
+
+    /// Vertex and index buffers an imported draw names: buffers, read as such. Replayed
+    /// draws take theirs from their mesh, so only a capture that cannot be replayed has them.
+    fn draw_buffers(
+        &mut self,
+        d: &Draw,
+        dpath: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &mut Vec<ResourceAccess>,
+        i: usize,
+    ) {
+        if (d.index_buffer.is_some() || !d.vertex_buffers.is_empty()) && !self.not_replayable() {
+            self.diags.error(
+                "draw",
+                dpath,
+                "`vertex_buffers` and `index_buffer` describe draws of an imported capture; a replayed draw takes its buffers from its `mesh`",
+            );
+            return;
+        }
+        let named = d
+            .vertex_buffers
+            .iter()
+            .enumerate()
+            .map(|(k, b)| (b, Access::VertexBuffer, dpath.field("vertex_buffers").index(k)))
+            .chain(
+                d.index_buffer
+                    .iter()
+                    .map(|b| (b, Access::IndexBuffer, dpath.field("index_buffer"))),
+            );
+        for (name, access, path) in named {
+            let Some(id) = self.lookup("resource", name, &path) else {
+                continue;
+            };
+            let Some(r) = resources.map(|rs| &rs[id as usize]) else {
+                continue;
+            };
+            if r.is_texture() {
+                self.diags.error(
+                    "draw",
+                    &path,
+                    format!("\"{}\" is a texture, not a {} buffer", r.name, if access == Access::IndexBuffer { "index" } else { "vertex" }),
+                );
+                continue;
+            }
+            accesses.push(ResourceAccess {
+                resource: r.id,
+                access,
+                range: Subresources::whole(r),
+                reads: true,
+                writes: false,
+                source: AccessSource::DrawMesh(i),
+            });
+        }
     }
 }

@@ -1,0 +1,686 @@
+//! Submissions become passes: each queue's command buffers are walked in the order they were
+//! submitted, render pass instances (per subpass) become raster passes, runs of dispatches
+//! between barriers compute passes, every transfer its own pass; barriers recorded before a
+//! pass are attached to it, debug labels become marker groups, semaphores between submissions
+//! become fences, presents end frames.
+
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+
+use super::record::{BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, Recording, RenderInstance, TransferCmd, Use};
+use super::state::{Descriptor, Objects};
+use super::value::QUEUE_FLAGS;
+use crate::capture::dxgi;
+use crate::capture::format::{
+    Access, Binding, BarrierType, ByteRange, Clear, ColorAttachment, Copy, CopyLocation, DepthStencilAttachment,
+    Dispatch, Draw, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range, RecordedBarrier, Resolve, SplitFlag,
+    StoreOp, VulkanBarrier,
+};
+use crate::capture::vulkan::{self, ACCESS, STAGES};
+
+/// Deepest nesting of secondary command buffers followed.
+const MAX_EXECUTE_DEPTH: u32 = 4;
+
+/// Most passes one import produces.
+pub const MAX_PASSES: usize = 1 << 20;
+
+#[derive(Debug, Default)]
+pub struct Builder {
+    pub passes: Vec<Pass>,
+    /// Current frame (0-based) and the selected range.
+    pub frame: u32,
+    pub selection: Option<(u32, u32)>,
+    /// Frames that ended (presented or marked) so far.
+    pub frames_seen: u32,
+    /// Resource handles referenced by emitted passes, with their frozen names.
+    pub names: BTreeMap<u64, String>,
+    taken: BTreeSet<String>,
+    pass_names: BTreeSet<String>,
+    pub queue_names: BTreeMap<u64, (String, QueueType)>,
+    pending_barriers: HashMap<u64, Vec<RecordedBarrier>>,
+    pending_waits: HashMap<u64, Vec<String>>,
+    labels: HashMap<u64, Vec<String>>,
+    last_pass_on: HashMap<u64, usize>,
+    /// Semaphore -> the fence of its latest queue signal and the queue that signalled it.
+    semaphore_fence: HashMap<u64, (String, u64)>,
+    fence_count: BTreeMap<u64, u32>,
+    pub fences: BTreeSet<String>,
+    pub waited: BTreeSet<String>,
+    /// Why things were skipped, with how often.
+    pub notes: BTreeMap<String, u64>,
+    pub recorded_barriers: u64,
+    pub draws: u64,
+    pub dispatches: u64,
+}
+
+fn load_op(op: &str) -> LoadOp {
+    if op.ends_with("CLEAR") || op == "1" {
+        LoadOp::Clear
+    } else if op.ends_with("DONT_CARE") || op == "2" {
+        LoadOp::Discard
+    } else {
+        LoadOp::Load
+    }
+}
+
+fn store_op(op: &str) -> StoreOp {
+    if op.ends_with("DONT_CARE") || op == "1" {
+        StoreOp::Discard
+    } else {
+        StoreOp::Store
+    }
+}
+
+fn names(table: &[(&str, u64)], mask: u64) -> Vec<String> {
+    vulkan::mask_names(table, mask)
+}
+
+impl Builder {
+    pub fn new(selection: Option<(u32, u32)>) -> Self {
+        Builder {
+            selection,
+            ..Builder::default()
+        }
+    }
+
+    pub fn emitting(&self) -> bool {
+        self.selection.is_none_or(|(a, b)| (a..=b).contains(&self.frame))
+    }
+
+    /// Whether every selected frame has ended, so reading can stop.
+    pub fn done(&self) -> bool {
+        self.selection.is_some_and(|(_, b)| self.frame > b)
+    }
+
+    pub fn note(&mut self, why: impl Into<String>) {
+        *self.notes.entry(why.into()).or_default() += 1;
+    }
+
+    /// The frame ends (a present, or a converter's frame marker after work).
+    pub fn end_frame(&mut self) {
+        self.frame = self.frame.saturating_add(1);
+        self.frames_seen = self.frames_seen.max(self.frame);
+        self.labels.clear();
+    }
+
+    /// The name a resource is known by from its first use on; `None` (and a note) for one
+    /// framelab cannot represent.
+    fn resource(&mut self, objects: &Objects, handle: u64) -> Option<String> {
+        if let Some(n) = self.names.get(&handle) {
+            return Some(n.clone());
+        }
+        let base = if let Some(img) = objects.images.get(&handle) {
+            if dxgi::lookup_vk(&img.format).is_none() {
+                self.note(format!("images of format {} (no DXGI or Vulkan-only entry): not represented", img.format));
+                return None;
+            }
+            match (objects.names.get(&handle), img.swapchain) {
+                (Some(n), _) => n.clone(),
+                (None, Some((chain, i))) if objects.swapchains.len() > 1 => format!("swapchain_{chain}_{i}"),
+                (None, Some((_, i))) => format!("swapchain_{i}"),
+                (None, None) => format!("image_{handle}"),
+            }
+        } else if objects.buffers.contains_key(&handle) {
+            objects.names.get(&handle).cloned().unwrap_or_else(|| format!("buffer_{handle}"))
+        } else {
+            self.note("uses of images or buffers the stream never created: skipped");
+            return None;
+        };
+        let name = if self.taken.contains(&base) { format!("{base}#{handle}") } else { base };
+        self.taken.insert(name.clone());
+        self.names.insert(handle, name.clone());
+        Some(name)
+    }
+
+    fn queue(&mut self, objects: &Objects, queue: u64) -> String {
+        if let Some((n, _)) = self.queue_names.get(&queue) {
+            return n.clone();
+        }
+        let family = objects.queues.get(&queue).map(|(f, _)| *f);
+        let flags = family.and_then(|f| objects.queue_family_flags.get(f as usize).copied());
+        let qt = match flags {
+            Some(f) if f & 0x1 != 0 => QueueType::Graphics,
+            Some(f) if f & 0x2 != 0 => QueueType::Compute,
+            Some(f) if f & 0x4 != 0 => QueueType::Copy,
+            _ => {
+                self.note("queues whose family's capabilities the stream does not give: taken as graphics");
+                QueueType::Graphics
+            }
+        };
+        let _ = QUEUE_FLAGS;
+        let base = qt.name().to_owned();
+        let taken = self.queue_names.values().filter(|(_, t)| *t == qt).count();
+        let name = if taken == 0 { base } else { format!("{base}_{taken}") };
+        self.queue_names.insert(queue, (name.clone(), qt));
+        name
+    }
+
+    /// Starts a pass on `queue`: barriers and waits pending there are its own.
+    fn new_pass(&mut self, objects: &Objects, queue: u64, kind: PassKind, base: &str) -> Option<usize> {
+        if !self.emitting() {
+            self.pending_barriers.remove(&queue);
+            return None;
+        }
+        if self.passes.len() >= MAX_PASSES {
+            self.note(format!("passes beyond the limit of {MAX_PASSES}: not imported"));
+            return None;
+        }
+        let labels = self.labels.get(&queue).cloned().unwrap_or_default();
+        let stem = labels.last().map_or(base, String::as_str).to_owned();
+        let stem = if self.frame > 0 { format!("{stem} (frame {})", self.frame) } else { stem };
+        let mut name = stem.clone();
+        let mut k = 2;
+        while self.pass_names.contains(&name) {
+            name = format!("{stem} {k}");
+            k += 1;
+        }
+        self.pass_names.insert(name.clone());
+        let mut markers = vec![format!("frame {}", self.frame)];
+        markers.extend(labels);
+        let queue_name = self.queue(objects, queue);
+        let pass = Pass {
+            name,
+            queue: queue_name,
+            kind,
+            markers,
+            shader: None,
+            bindings: BTreeMap::new(),
+            color_attachments: Vec::new(),
+            depth_stencil: None,
+            state: None,
+            draws: Vec::new(),
+            dispatches: Vec::new(),
+            copies: Vec::new(),
+            clears: Vec::new(),
+            resolve: None,
+            generate_mips: None,
+            present: None,
+            params: BTreeMap::new(),
+            barriers: self.pending_barriers.remove(&queue).unwrap_or_default(),
+            signal: Vec::new(),
+            wait: self.pending_waits.remove(&queue).unwrap_or_default(),
+            timing: None,
+        };
+        self.recorded_barriers += pass.barriers.len() as u64;
+        self.passes.push(pass);
+        let index = self.passes.len() - 1;
+        self.last_pass_on.insert(queue, index);
+        Some(index)
+    }
+
+    /// One queue submission: waits, command buffers in order, signals.
+    pub fn submit(
+        &mut self,
+        objects: &Objects,
+        recordings: &HashMap<u64, Recording>,
+        queue: u64,
+        waits: &[u64],
+        command_buffers: &[u64],
+        signals: &[u64],
+    ) {
+        self.wait(queue, waits);
+        for cb in command_buffers {
+            match recordings.get(cb) {
+                Some(r) => self.walk(objects, recordings, queue, &r.cmds, 0),
+                None => self.note("submitted command buffers the stream never recorded: skipped"),
+            }
+        }
+        for sem in signals {
+            let Some(&pass) = self.last_pass_on.get(&queue) else {
+                continue;
+            };
+            if !self.emitting() {
+                continue;
+            }
+            let k = self.fence_count.entry(*sem).or_default();
+            *k += 1;
+            let base = objects.names.get(sem).cloned().unwrap_or_else(|| format!("semaphore_{sem}"));
+            let fence = format!("{base}#{k}");
+            self.passes[pass].signal.push(fence.clone());
+            self.fences.insert(fence.clone());
+            self.semaphore_fence.insert(*sem, (fence, queue));
+        }
+    }
+
+    /// Semaphore waits become fence waits of the next pass on `queue`, when another queue
+    /// signalled them (on the same queue, submission order already orders the work).
+    fn wait(&mut self, queue: u64, waits: &[u64]) {
+        for sem in waits {
+            match self.semaphore_fence.remove(sem) {
+                Some((f, from)) if from != queue => {
+                    self.waited.insert(f.clone());
+                    self.pending_waits.entry(queue).or_default().push(f);
+                }
+                Some(_) => self.note("semaphore waits on work of the same queue (queue order covers them): no fence"),
+                None => self.note("semaphore waits with no queue signal in the imported frames (image acquire, or earlier frames): no fence"),
+            }
+        }
+    }
+
+    pub fn present(&mut self, objects: &Objects, queue: u64, waits: &[u64], images: &[(u64, u32)]) {
+        self.wait(queue, waits);
+        for &(chain, index) in images {
+            let Some(&image) = objects.swapchain_images.get(&chain).and_then(|v| v.get(index as usize)) else {
+                self.note("presents of swapchain images the stream never listed: skipped");
+                continue;
+            };
+            let Some(name) = (if self.emitting() { self.resource(objects, image) } else { None }) else {
+                continue;
+            };
+            if let Some(p) = self.new_pass(objects, queue, PassKind::Present, "present") {
+                self.passes[p].present = Some(name);
+            }
+        }
+        self.end_frame();
+    }
+
+    fn walk(&mut self, objects: &Objects, recordings: &HashMap<u64, Recording>, queue: u64, cmds: &[Cmd], depth: u32) {
+        let mut compute: Option<usize> = None;
+        let mut render: Option<(&RenderInstance, usize, Option<usize>)> = None;
+        for cmd in cmds {
+            if !matches!(cmd, Cmd::Dispatch(_)) {
+                compute = None;
+            }
+            match cmd {
+                Cmd::BeginLabel(l) => self.labels.entry(queue).or_default().push(l.clone()),
+                Cmd::EndLabel => {
+                    if self.labels.entry(queue).or_default().pop().is_none() {
+                        self.note("debug label ends without a begin: ignored");
+                    }
+                }
+                Cmd::Barrier(bs) => {
+                    let converted = self.barriers(objects, bs);
+                    self.pending_barriers.entry(queue).or_default().extend(converted);
+                }
+                Cmd::BeginRender(ri) => {
+                    let converted = self.barriers(objects, &ri.begin_barriers);
+                    self.pending_barriers.entry(queue).or_default().extend(converted);
+                    let pass = self.raster(objects, queue, ri, 0);
+                    render = Some((ri, 0, pass));
+                }
+                Cmd::NextSubpass => {
+                    if let Some((ri, sub, pass)) = render.take() {
+                        self.resolves(objects, queue, ri, sub, pass);
+                        let next = self.raster(objects, queue, ri, sub + 1);
+                        render = Some((ri, sub + 1, next));
+                    }
+                }
+                Cmd::EndRender => {
+                    if let Some((ri, sub, pass)) = render.take() {
+                        self.resolves(objects, queue, ri, sub, pass);
+                        let converted = self.barriers(objects, &ri.end_barriers);
+                        self.pending_barriers.entry(queue).or_default().extend(converted);
+                    }
+                }
+                Cmd::Draw(d) => match render {
+                    Some((_, _, Some(pass))) => self.draw(objects, pass, d),
+                    Some((_, _, None)) => {}
+                    None => self.note("draws outside a render pass instance: skipped"),
+                },
+                Cmd::Dispatch(d) => {
+                    let pass = match compute {
+                        Some(p) => Some(p),
+                        None => self.new_pass(objects, queue, PassKind::Compute, "dispatch"),
+                    };
+                    compute = pass;
+                    if let Some(p) = pass {
+                        self.dispatch(objects, p, d);
+                    }
+                }
+                Cmd::Transfer(t) => self.transfer(objects, queue, t),
+                Cmd::Execute(list) => {
+                    if depth >= MAX_EXECUTE_DEPTH {
+                        self.note("secondary command buffers nested too deep: skipped");
+                        continue;
+                    }
+                    for cb in list {
+                        match recordings.get(cb) {
+                            Some(r) => self.walk(objects, recordings, queue, &r.cmds, depth + 1),
+                            None => self.note("executed command buffers the stream never recorded: skipped"),
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn barriers(&mut self, objects: &Objects, bs: &[BarrierCmd]) -> Vec<RecordedBarrier> {
+        let mut out = Vec::new();
+        if !self.emitting() {
+            return out;
+        }
+        for b in bs {
+            let (resource, mips, layers) = match &b.target {
+                BarrierTarget::Global => (None, None, None),
+                BarrierTarget::Buffer { buffer } => match self.resource(objects, *buffer) {
+                    Some(n) => (Some(n), None, None),
+                    None => continue,
+                },
+                BarrierTarget::Image { image, mips, layers } => match self.resource(objects, *image) {
+                    Some(n) => {
+                        let whole = |r: (u32, Option<u32>), total: u32| {
+                            (r.0 != 0 || r.1.is_some_and(|c| c != total)).then_some(Range { base: r.0, count: r.1 })
+                        };
+                        let img = &objects.images[image];
+                        (Some(n), whole(*mips, img.mips), whole(*layers, img.layers))
+                    }
+                    None => continue,
+                },
+            };
+            out.push(RecordedBarrier {
+                barrier_type: BarrierType::Vulkan,
+                resource,
+                resource_before: None,
+                mips,
+                layers,
+                before: None,
+                after: None,
+                split: SplitFlag::None,
+                vulkan: Some(VulkanBarrier {
+                    origin: b.origin.clone(),
+                    src_stages: names(STAGES, b.src_stages),
+                    src_access: names(ACCESS, b.src_access),
+                    dst_stages: names(STAGES, b.dst_stages),
+                    dst_access: names(ACCESS, b.dst_access),
+                    old_layout: b.layouts.map(|l| l.0.to_owned()),
+                    new_layout: b.layouts.map(|l| l.1.to_owned()),
+                    src_queue_family: b.families.map(|f| f.0),
+                    dst_queue_family: b.families.map(|f| f.1),
+                }),
+            });
+        }
+        out
+    }
+
+    fn view(&mut self, objects: &Objects, view: u64) -> Option<(String, u32, u32, Option<u32>, Option<u32>)> {
+        let Some(v) = objects.views.get(&view) else {
+            self.note("image views the stream never created: skipped");
+            return None;
+        };
+        let name = self.resource(objects, v.image)?;
+        Some((name, v.base_mip, v.base_layer, v.mip_count, v.layer_count))
+    }
+
+    fn raster(&mut self, objects: &Objects, queue: u64, ri: &RenderInstance, sub: usize) -> Option<usize> {
+        let s = ri.subpasses.get(sub)?;
+        let pass = self.new_pass(objects, queue, PassKind::Raster, "render_pass")?;
+        for c in &s.colors {
+            let Some((name, mip, layer, ..)) = self.view(objects, c.view) else { continue };
+            self.passes[pass].color_attachments.push(ColorAttachment {
+                resource: name,
+                mip,
+                layer,
+                format: None,
+                load: load_op(&c.load),
+                store: store_op(&c.store),
+                clear: c.clear,
+                blend: None,
+                write_mask: None,
+            });
+        }
+        if let Some(d) = &s.depth
+            && let Some((name, mip, layer, ..)) = self.view(objects, d.view)
+        {
+            self.passes[pass].depth_stencil = Some(DepthStencilAttachment {
+                resource: name,
+                mip,
+                layer,
+                format: None,
+                depth_load: load_op(&d.load),
+                depth_store: store_op(&d.store),
+                depth_clear: d.depth_clear,
+                stencil_load: load_op(&d.stencil_load),
+                stencil_store: store_op(&d.stencil_store),
+                stencil_clear: d.stencil_clear,
+                read_only: d.read_only,
+            });
+        }
+        Some(pass)
+    }
+
+    fn resolves(&mut self, objects: &Objects, queue: u64, ri: &RenderInstance, sub: usize, pass: Option<usize>) {
+        if pass.is_none() {
+            return;
+        }
+        let Some(s) = ri.subpasses.get(sub) else { return };
+        for &(src, dst) in &s.resolves {
+            let (Some(src), Some(dst)) = (self.view(objects, src), self.view(objects, dst)) else { continue };
+            if let Some(p) = self.new_pass(objects, queue, PassKind::Resolve, "resolve") {
+                self.passes[p].resolve = Some(Resolve { src: src.0, dst: dst.0, format: None });
+            }
+        }
+    }
+
+    /// Bindings from the descriptors a draw or dispatch can reach. Without shader code,
+    /// storage descriptors count as read-write.
+    fn bind(&mut self, objects: &Objects, pass: usize, uses: &[Use]) {
+        for u in uses {
+            let (handle, access, bytes, mips, layers) = match &u.descriptor {
+                Descriptor::Image { view, ty } => {
+                    let Some(v) = objects.views.get(view) else {
+                        self.note("descriptors naming image views the stream never created: skipped");
+                        continue;
+                    };
+                    let access = if ty.contains("STORAGE") || ty == "3" { Access::StorageReadWrite } else { Access::Sampled };
+                    let img = objects.images.get(&v.image);
+                    let total = img.map_or((1, 1), |i| (i.mips, i.layers));
+                    let range = |base: u32, count: Option<u32>, all: u32| {
+                        (base != 0 || count.is_some_and(|c| c != all)).then_some(Range { base, count })
+                    };
+                    (v.image, access, None, range(v.base_mip, v.mip_count, total.0), range(v.base_layer, v.layer_count, total.1))
+                }
+                Descriptor::Buffer { buffer, offset, range, ty } => {
+                    let access = if ty.starts_with("UNIFORM") || ty == "6" || ty == "8" {
+                        Access::Uniform
+                    } else {
+                        Access::StorageReadWrite
+                    };
+                    let Some(b) = objects.buffers.get(buffer) else {
+                        self.note("descriptors naming buffers the stream never created: skipped");
+                        continue;
+                    };
+                    if *offset >= b.size {
+                        self.note("buffer descriptors starting past the end of their buffer: skipped");
+                        continue;
+                    }
+                    let size = (*range).min(b.size - offset);
+                    let bytes = (*offset != 0 || size != b.size).then_some(ByteRange { offset: *offset, size });
+                    (*buffer, access, bytes, None, None)
+                }
+                Descriptor::TexelBuffer { view, ty } => {
+                    let Some(&(buffer, offset, range)) = objects.buffer_views.get(view) else {
+                        self.note("descriptors naming buffer views the stream never created: skipped");
+                        continue;
+                    };
+                    let access = if ty.starts_with("STORAGE") || ty == "5" { Access::StorageReadWrite } else { Access::StorageRead };
+                    let size = objects.buffers.get(&buffer).map_or(0, |b| b.size);
+                    if offset >= size {
+                        continue;
+                    }
+                    let len = range.min(size - offset);
+                    let bytes = (offset != 0 || len != size).then_some(ByteRange { offset, size: len });
+                    (buffer, access, bytes, None, None)
+                }
+            };
+            let Some(name) = self.resource(objects, handle) else { continue };
+            if access == Access::StorageReadWrite {
+                self.note("storage descriptors counted as read-write (the stream holds no shader code to tell)");
+            }
+            let binding = Binding {
+                resource: Some(name),
+                sampler: None,
+                access: Some(access),
+                mips,
+                layers,
+                format: None,
+                dimension: None,
+                bytes,
+            };
+            let stem = if u.element > 0 {
+                format!("set{}_binding{}_{}", u.set, u.binding, u.element)
+            } else {
+                format!("set{}_binding{}", u.set, u.binding)
+            };
+            let bindings = &mut self.passes[pass].bindings;
+            let same = |b: &Binding, c: &Binding| {
+                b.resource == c.resource && b.access == c.access && b.mips == c.mips && b.layers == c.layers && b.bytes == c.bytes
+            };
+            if bindings.values().any(|b| same(b, &binding)) {
+                continue;
+            }
+            let mut key = stem.clone();
+            let mut k = 2;
+            while bindings.contains_key(&key) {
+                key = format!("{stem}_v{k}");
+                k += 1;
+            }
+            bindings.insert(key, binding);
+        }
+    }
+
+    fn draw(&mut self, objects: &Objects, pass: usize, d: &DrawCmd) {
+        self.draws += 1;
+        self.bind(objects, pass, &d.uses);
+        let vertex_buffers: Vec<String> = d.vertex_buffers.iter().filter_map(|b| self.resource(objects, *b)).collect();
+        let index_buffer = d.index_buffer.and_then(|b| self.resource(objects, b));
+        let indirect = match d.indirect {
+            Some((b, offset)) => match self.resource(objects, b) {
+                Some(buffer) => Some(IndirectArgs { buffer, offset }),
+                None => return,
+            },
+            None => None,
+        };
+        self.passes[pass].draws.push(Draw {
+            label: None,
+            vertex: None,
+            mesh: None,
+            count: indirect.is_none().then_some(d.count),
+            vertex_buffers,
+            index_buffer,
+            instances: if indirect.is_some() { 1 } else { d.instances },
+            first: d.first,
+            first_instance: d.first_instance,
+            base_vertex: d.base_vertex,
+            indirect,
+            stencil_reference: None,
+            params: BTreeMap::new(),
+        });
+    }
+
+    fn dispatch(&mut self, objects: &Objects, pass: usize, d: &DispatchCmd) {
+        self.dispatches += 1;
+        self.bind(objects, pass, &d.uses);
+        let indirect = match d.indirect {
+            Some((b, offset)) => match self.resource(objects, b) {
+                Some(buffer) => Some(IndirectArgs { buffer, offset }),
+                None => return,
+            },
+            None => None,
+        };
+        self.passes[pass].dispatches.push(Dispatch {
+            label: None,
+            entry: None,
+            groups: d.groups,
+            indirect,
+            params: BTreeMap::new(),
+        });
+    }
+
+    fn transfer(&mut self, objects: &Objects, queue: u64, t: &TransferCmd) {
+        match t {
+            TransferCmd::Copy { call, src, dst, regions } => {
+                let (Some(sn), Some(dn)) = (self.resource(objects, *src), self.resource(objects, *dst)) else {
+                    return;
+                };
+                let base = call.trim_start_matches("vkCmd").trim_end_matches("KHR").trim_end_matches('2');
+                let Some(pass) = self.new_pass(objects, queue, PassKind::Copy, &snake(base)) else { return };
+                let texel_bytes = |h: u64| {
+                    objects.images.get(&h).and_then(|i| dxgi::lookup_vk(&i.format)).map(|f| {
+                        (u64::from(f.bits_per_element) / 8, f.block_width.max(1))
+                    })
+                };
+                let footprint = texel_bytes(*src).or_else(|| texel_bytes(*dst));
+                for r in regions {
+                    let row = |r: &super::record::Region| {
+                        let (bytes, bw) = footprint?;
+                        let texels = if r.row_texels == 0 { r.extent?[0] } else { r.row_texels };
+                        u32::try_from(u64::from(texels.div_ceil(bw)) * bytes).ok()
+                    };
+                    let src_is_buffer = objects.buffers.contains_key(src);
+                    let dst_is_buffer = objects.buffers.contains_key(dst);
+                    let both_buffers = src_is_buffer && dst_is_buffer;
+                    self.passes[pass].copies.push(Copy {
+                        src: CopyLocation {
+                            resource: sn.clone(),
+                            mip: r.src_mip,
+                            layer: r.src_layer,
+                            origin: r.src_origin,
+                            offset: r.src_offset,
+                            size: if both_buffers { r.size } else { None },
+                            bytes_per_row: (src_is_buffer && !both_buffers).then(|| row(r)).flatten(),
+                        },
+                        dst: CopyLocation {
+                            resource: dn.clone(),
+                            mip: r.dst_mip,
+                            layer: r.dst_layer,
+                            origin: r.dst_origin,
+                            offset: r.dst_offset,
+                            size: if both_buffers { r.size } else { None },
+                            bytes_per_row: (dst_is_buffer && !both_buffers).then(|| row(r)).flatten(),
+                        },
+                        extent: r.extent,
+                    });
+                }
+            }
+            TransferCmd::Clear { call, target, value, stencil, ranges } => {
+                let Some(name) = self.resource(objects, *target) else { return };
+                let base = if call.contains("Depth") { "clear_depth_stencil" } else { "clear_color" };
+                let Some(pass) = self.new_pass(objects, queue, PassKind::Clear, base) else { return };
+                let img = objects.images.get(target);
+                let total = img.map_or((1, 1), |i| (i.mips, i.layers));
+                for &((mb, mc), (lb, lc)) in ranges {
+                    let range = |base: u32, count: Option<u32>, all: u32| {
+                        (base != 0 || count.is_some_and(|c| c != all)).then_some(Range { base, count })
+                    };
+                    self.passes[pass].clears.push(Clear {
+                        resource: name.clone(),
+                        value: *value,
+                        stencil: *stencil,
+                        mips: range(mb, mc, total.0),
+                        layers: range(lb, lc, total.1),
+                    });
+                }
+            }
+            TransferCmd::Fill { call, buffer } => {
+                let Some(name) = self.resource(objects, *buffer) else { return };
+                let base = if call.contains("Update") { "update_buffer" } else { "fill_buffer" };
+                if let Some(pass) = self.new_pass(objects, queue, PassKind::Clear, base) {
+                    self.passes[pass].clears.push(Clear {
+                        resource: name,
+                        value: [0.0; 4],
+                        stencil: 0,
+                        mips: None,
+                        layers: None,
+                    });
+                }
+            }
+            TransferCmd::Resolve { src, dst } => {
+                let (Some(s), Some(d)) = (self.resource(objects, *src), self.resource(objects, *dst)) else { return };
+                if let Some(p) = self.new_pass(objects, queue, PassKind::Resolve, "resolve_image") {
+                    self.passes[p].resolve = Some(Resolve { src: s, dst: d, format: None });
+                }
+            }
+        }
+    }
+}
+
+/// `CopyBufferToImage` -> `copy_buffer_to_image`.
+fn snake(camel: &str) -> String {
+    let mut out = String::new();
+    for (i, c) in camel.chars().enumerate() {
+        if c.is_ascii_uppercase() && i > 0 {
+            out.push('_');
+        }
+        out.push(c.to_ascii_lowercase());
+    }
+    out
+}

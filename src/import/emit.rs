@@ -1,0 +1,260 @@
+//! The imported frame as a capture: the resources passes reference (formats through the DXGI
+//! table's Vulkan column, usage as resource flags, memory bindings as placements), the memory
+//! they are placed in as heaps, the queues, and the fences some pass waits on.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use super::build::Builder;
+use super::state::Objects;
+use crate::capture::dxgi;
+use crate::capture::format::{
+    AdapterModel, Api, InitialContents, Camera, CaptureSource, CpuPageProperty, Extent, Fence, FrameConstants, Heap, HeapType,
+    MemoryArchitecture, MemoryPool, MipLevels, Placement, Queue, RawCapture, Resolution, Resource, ResourceFlag,
+    ResourceKind, FORMAT_VERSION,
+};
+
+const DEVICE_LOCAL: u64 = 0x1;
+const HOST_VISIBLE: u64 = 0x2;
+const HOST_CACHED: u64 = 0x8;
+
+/// UMA when every device-local memory type is also host-visible (integrated GPUs, lavapipe).
+fn architecture(objects: &Objects) -> MemoryArchitecture {
+    let local: Vec<u64> = objects
+        .memory_type_flags
+        .iter()
+        .copied()
+        .filter(|f| f & DEVICE_LOCAL != 0)
+        .collect();
+    if !local.is_empty() && local.iter().all(|f| f & HOST_VISIBLE != 0) {
+        MemoryArchitecture::Uma
+    } else {
+        MemoryArchitecture::Numa
+    }
+}
+
+/// The D3D12 heap a Vulkan memory type behaves as.
+fn heap_kind(flags: Option<u64>, arch: MemoryArchitecture) -> (HeapType, CpuPageProperty, MemoryPool) {
+    let Some(f) = flags else {
+        return (HeapType::Default, CpuPageProperty::Unknown, MemoryPool::Unknown);
+    };
+    if f & HOST_VISIBLE == 0 {
+        return (HeapType::Default, CpuPageProperty::Unknown, MemoryPool::Unknown);
+    }
+    let page = if f & HOST_CACHED != 0 {
+        CpuPageProperty::WriteBack
+    } else {
+        CpuPageProperty::WriteCombine
+    };
+    if arch == MemoryArchitecture::Uma || f & DEVICE_LOCAL != 0 {
+        // CPU-visible memory the GPU also uses at full speed: D3D12's custom L0 heap.
+        return (HeapType::Custom, page, MemoryPool::L0);
+    }
+    if f & HOST_CACHED != 0 {
+        (HeapType::Readback, CpuPageProperty::Unknown, MemoryPool::Unknown)
+    } else {
+        (HeapType::Upload, CpuPageProperty::Unknown, MemoryPool::Unknown)
+    }
+}
+
+pub struct Emitted {
+    pub capture: RawCapture,
+    pub images: usize,
+    pub buffers: usize,
+    pub notes: Vec<String>,
+}
+
+pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &str) -> Emitted {
+    let arch = architecture(objects);
+    let mut notes = Vec::new();
+    let mut heaps: BTreeMap<u64, Heap> = BTreeMap::new();
+    let mut resources = Vec::new();
+    let (mut images, mut buffers) = (0, 0);
+    let written: BTreeSet<&str> = b
+        .passes
+        .iter()
+        .flat_map(|p| p.copies.iter().map(|c| c.dst.resource.as_str()))
+        .collect();
+    let mut guessed_alignment = false;
+    let mut largest = (0u32, 0u32);
+    let mut swapchain_extent = None;
+    for (&handle, rname) in &b.names {
+        let (bound, alignment) = if let Some(img) = objects.images.get(&handle) {
+            images += 1;
+            let format = dxgi::lookup_vk(&img.format).map(|f| f.name.to_owned());
+            let kind = match img.image_type.as_str() {
+                "VK_IMAGE_TYPE_1D" | "0" => ResourceKind::Texture1D,
+                "VK_IMAGE_TYPE_3D" | "2" => ResourceKind::Texture3D,
+                _ if img.create_flags & 0x10 != 0 && img.layers % 6 == 0 && img.layers > 0 => ResourceKind::TextureCube,
+                _ if img.layers > 1 => ResourceKind::Texture2DArray,
+                _ => ResourceKind::Texture2D,
+            };
+            if img.swapchain.is_some() {
+                swapchain_extent.get_or_insert((img.extent[0], img.extent[1]));
+            }
+            if u64::from(img.extent[0]) * u64::from(img.extent[1]) > u64::from(largest.0) * u64::from(largest.1) {
+                largest = (img.extent[0], img.extent[1]);
+            }
+            let mut flags = Vec::new();
+            if img.usage & 0x10 != 0 {
+                flags.push(ResourceFlag::AllowRenderTarget);
+            }
+            if img.usage & 0x20 != 0 {
+                flags.push(ResourceFlag::AllowDepthStencil);
+                if img.usage & (0x4 | 0x80) == 0 {
+                    flags.push(ResourceFlag::DenyShaderResource);
+                }
+            }
+            if img.usage & 0x8 != 0 {
+                flags.push(ResourceFlag::AllowUnorderedAccess);
+            }
+            resources.push(Resource {
+                name: rname.clone(),
+                kind,
+                format,
+                width: Some(Extent::Texels(u64::from(img.extent[0]))),
+                height: (kind != ResourceKind::Texture1D).then_some(Extent::Texels(u64::from(img.extent[1]))),
+                depth: (kind == ResourceKind::Texture3D).then_some(img.extent[2]),
+                array_layers: (img.layers > 1 && kind != ResourceKind::Texture3D).then_some(img.layers),
+                mip_levels: (img.mips > 1).then_some(MipLevels::Count(img.mips)),
+                samples: (img.samples > 1).then_some(img.samples),
+                size: None,
+                stride: None,
+                buffer_kind: None,
+                flags,
+                placement: None,
+                initial: None,
+                history: false,
+                output: false,
+            });
+            (img.bound, img.alignment)
+        } else if let Some(buf) = objects.buffers.get(&handle) {
+            buffers += 1;
+            let mut flags = Vec::new();
+            if buf.usage & (0x20 | 0x8) != 0 {
+                flags.push(ResourceFlag::AllowUnorderedAccess);
+            }
+            let mapped = buf.bound.is_some_and(|(m, _)| objects.mapped.contains(&m));
+            let host = buf
+                .bound
+                .and_then(|(m, _)| objects.memories.get(&m))
+                .and_then(|m| objects.memory_type_flags.get(m.type_index as usize))
+                .is_some_and(|f| f & HOST_VISIBLE != 0);
+            resources.push(Resource {
+                name: rname.clone(),
+                kind: ResourceKind::Buffer,
+                format: None,
+                width: None,
+                height: None,
+                depth: None,
+                array_layers: None,
+                mip_levels: None,
+                samples: None,
+                size: Some(buf.size),
+                stride: None,
+                buffer_kind: None,
+                flags,
+                placement: None,
+                initial: mapped.then_some(InitialContents::Mapped {}),
+                history: false,
+                // The CPU reads what the frame copies into host-visible memory.
+                output: host && written.contains(rname.as_str()),
+            });
+            (buf.bound, buf.alignment)
+        } else {
+            continue;
+        };
+        let Some((memory, offset)) = bound else { continue };
+        let Some(mem) = objects.memories.get(&memory) else {
+            notes.push(format!("\"{rname}\" is bound to memory {memory} the stream never allocated: treated as committed"));
+            continue;
+        };
+        let flags = objects.memory_type_flags.get(mem.type_index as usize).copied();
+        let (heap_type, page, pool) = heap_kind(flags, arch);
+        let alignment = alignment.or_else(|| {
+            (offset % 65536 != 0).then(|| {
+                guessed_alignment = true;
+                1u64 << offset.trailing_zeros()
+            })
+        });
+        let heap_name = objects.names.get(&memory).cloned().unwrap_or_else(|| format!("memory_{memory}"));
+        let heap = heaps.entry(memory).or_insert_with(|| Heap {
+            name: heap_name.clone(),
+            heap_type,
+            cpu_page_property: page,
+            memory_pool: pool,
+            size: mem.size,
+            alignment: 65536,
+            flags: Vec::new(),
+        });
+        if alignment.is_some_and(|a| a > 65536) {
+            heap.alignment = 4 << 20;
+        }
+        if let Some(r) = resources.last_mut() {
+            r.placement = Some(Placement::Placed {
+                heap: heap.name.clone(),
+                offset,
+                alignment,
+            });
+        }
+    }
+    if guessed_alignment {
+        notes.push("placements whose memory requirements the stream does not give: aligned to the largest power of two dividing their offset".to_owned());
+    }
+    // Fences nobody waits on order nothing.
+    let waited = std::mem::take(&mut b.waited);
+    for p in &mut b.passes {
+        p.signal.retain(|f| waited.contains(f));
+    }
+    let fences: Vec<Fence> = b
+        .fences
+        .iter()
+        .filter(|f| waited.contains(*f))
+        .map(|f| Fence { name: f.clone() })
+        .collect();
+    let mut queues: Vec<Queue> = b
+        .queue_names
+        .values()
+        .map(|(n, t)| Queue { name: n.clone(), queue_type: *t })
+        .collect();
+    queues.sort_by(|a, c| a.name.cmp(&c.name));
+    let (width, height) = swapchain_extent.unwrap_or(largest);
+    let capture = RawCapture {
+        format_version: FORMAT_VERSION,
+        name: name.to_owned(),
+        description: Some(format!(
+            "Imported by framelab import from {file} ({tool}); {} frame(s), {} passes",
+            b.frames_seen.max(1),
+            b.passes.len()
+        )),
+        resolution: Resolution { width: width.max(1), height: height.max(1) },
+        adapter: AdapterModel { architecture: arch, resource_heap_tier: 2 },
+        camera: Camera {
+            position: [0.0, 0.0, 1.0],
+            target: [0.0, 0.0, 0.0],
+            up: [0.0, 1.0, 0.0],
+            fov_y_degrees: 60.0,
+            near: 0.1,
+            far: 1000.0,
+            velocity: [0.0; 3],
+            jitter_phases: 0,
+        },
+        frame: FrameConstants::default(),
+        heaps: heaps.into_values().collect(),
+        resources,
+        descriptor_heaps: Vec::new(),
+        samplers: Vec::new(),
+        queues,
+        fences,
+        meshes: Vec::new(),
+        passes: b.passes,
+        source: Some(CaptureSource {
+            tool: tool.to_owned(),
+            api: Api::Vulkan,
+            file: file.to_owned(),
+            not_replayable: Some(
+                "GFXReconstruct's JSON holds no shader code (only each module's size and a pointer), so the passes have nothing to run".to_owned(),
+            ),
+        }),
+    };
+    Emitted { capture, images, buffers, notes }
+}

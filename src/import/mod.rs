@@ -1,0 +1,311 @@
+//! `framelab import`: a GFXReconstruct capture converted to JSON Lines (`gfxrecon-convert`)
+//! becomes a framelab capture. The stream is read line by line; the objects it creates are
+//! tracked by handle, command buffers recorded as they are, and each queue submission turned
+//! into passes in submission order with the barriers, labels and semaphores the application
+//! really used. Shader code is not in the stream, so the capture is analysed, not replayed.
+
+mod build;
+mod emit;
+mod record;
+mod state;
+mod stream;
+mod value;
+
+use std::collections::{BTreeMap, HashMap};
+use std::io::BufRead;
+
+use serde::Serialize;
+
+use crate::capture::format::RawCapture;
+use build::Builder;
+use record::Recording;
+use state::Objects;
+use stream::{Call, Entry, Lines};
+use value::{Arg, Got};
+
+pub use stream::MAX_LINE_BYTES;
+
+/// Which frames to import (0-based, inclusive); all when absent.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ImportOptions {
+    pub frames: Option<(u32, u32)>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ImportError {
+    #[error("{file}:{line}: {message}")]
+    Line {
+        file: String,
+        line: u64,
+        message: String,
+    },
+    #[error("{file}: {message}")]
+    Stream { file: String, message: String },
+}
+
+/// Something the import left out, how often, and the first line it happened on.
+#[derive(Clone, Debug, Serialize, PartialEq, Eq)]
+pub struct Skipped {
+    pub what: String,
+    pub count: u64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub first_line: Option<u64>,
+}
+
+/// What an import found and made.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    pub file: String,
+    pub tool: String,
+    /// `0.9.x` (`vkFunc` lines) or `1.x` (`function` lines).
+    pub dialect: String,
+    pub lines: u64,
+    pub calls: u64,
+    /// Frames the stream holds (up to the last one read when a selection ended reading).
+    pub frames_in_stream: u32,
+    pub frames_imported: (u32, u32),
+    pub passes: usize,
+    pub passes_by_kind: BTreeMap<String, usize>,
+    pub draws: u64,
+    pub dispatches: u64,
+    pub images: usize,
+    pub buffers: usize,
+    pub heaps: usize,
+    pub queues: usize,
+    pub recorded_barriers: u64,
+    pub fences: usize,
+    pub skipped: Vec<Skipped>,
+    /// Calls of functions that create or record nothing framelab models, by name.
+    pub not_modelled: BTreeMap<String, u64>,
+}
+
+#[derive(Debug)]
+pub struct Imported {
+    pub capture: RawCapture,
+    pub summary: Summary,
+}
+
+/// Calls whose failure at capture time means they created or did nothing.
+fn failed(call: &Call) -> bool {
+    call.result
+        .as_deref()
+        .is_some_and(|r| r.starts_with("VK_ERROR") || (r.starts_with('-') && r.len() > 1))
+}
+
+struct Importer {
+    objects: Objects,
+    recordings: HashMap<u64, Recording>,
+    /// Command buffer -> its pool, for vkResetCommandPool.
+    pool_of: HashMap<u64, u64>,
+    builder: Builder,
+    submitted_in_frame: bool,
+    skipped: BTreeMap<String, (u64, u64)>,
+    not_modelled: BTreeMap<String, u64>,
+    calls: u64,
+    dialect: Option<&'static str>,
+}
+
+impl Importer {
+    fn skip(&mut self, what: String, line: u64) {
+        let e = self.skipped.entry(what).or_insert((0, line));
+        e.0 += 1;
+    }
+
+    fn call(&mut self, call: &Call) {
+        self.calls += 1;
+        if failed(call) {
+            self.skip(format!("{} calls that failed at capture ({})", call.name, call.result.as_deref().unwrap_or("")), call.line);
+            return;
+        }
+        let args = Arg::root(&call.args);
+        match self.dispatch(call, &args) {
+            Ok(true) => {}
+            Ok(false) => *self.not_modelled.entry(call.name.clone()).or_default() += 1,
+            Err(value::Skip(why)) => self.skip(format!("{}: {why}", call.name), call.line),
+        }
+    }
+
+    fn dispatch(&mut self, call: &Call, args: &Arg<'_>) -> Got<bool> {
+        let name = call.name.as_str();
+        if name.starts_with("vkCmd") {
+            let cb = args.get("commandBuffer")?.handle()?;
+            let recording = self.recordings.entry(cb).or_default();
+            return recording.record(name, call.index, args, &self.objects);
+        }
+        match name {
+            "vkAllocateCommandBuffers" => {
+                let pool = args.get("pAllocateInfo")?.get("commandPool")?.handle()?;
+                for cb in args.list("pCommandBuffers")? {
+                    self.pool_of.insert(cb.handle()?, pool);
+                }
+            }
+            "vkBeginCommandBuffer" | "vkResetCommandBuffer" => {
+                let cb = args.get("commandBuffer")?.handle()?;
+                self.recordings.insert(cb, Recording::default());
+            }
+            "vkFreeCommandBuffers" => {
+                for cb in args.list("pCommandBuffers")? {
+                    self.recordings.remove(&cb.handle()?);
+                }
+            }
+            "vkResetCommandPool" => {
+                let pool = args.get("commandPool")?.handle()?;
+                let cbs: Vec<u64> = self.pool_of.iter().filter(|(_, p)| **p == pool).map(|(c, _)| *c).collect();
+                for cb in cbs {
+                    self.recordings.insert(cb, Recording::default());
+                }
+            }
+            "vkQueueSubmit" => {
+                let queue = args.get("queue")?.handle()?;
+                for s in args.list("pSubmits")? {
+                    let handles = |key: &str| -> Got<Vec<u64>> { s.list(key)?.iter().map(Arg::handle).collect() };
+                    let waits = handles("pWaitSemaphores")?;
+                    let cbs = handles("pCommandBuffers")?;
+                    let signals = handles("pSignalSemaphores")?;
+                    self.builder.submit(&self.objects, &self.recordings, queue, &waits, &cbs, &signals);
+                }
+                self.submitted_in_frame = true;
+            }
+            "vkQueueSubmit2" | "vkQueueSubmit2KHR" => {
+                let queue = args.get("queue")?.handle()?;
+                for s in args.list("pSubmits")? {
+                    let infos = |key: &str, field: &str| -> Got<Vec<u64>> {
+                        s.list(key)?.iter().map(|i| i.get(field)?.handle()).collect()
+                    };
+                    let waits = infos("pWaitSemaphoreInfos", "semaphore")?;
+                    let cbs = infos("pCommandBufferInfos", "commandBuffer")?;
+                    let signals = infos("pSignalSemaphoreInfos", "semaphore")?;
+                    self.builder.submit(&self.objects, &self.recordings, queue, &waits, &cbs, &signals);
+                }
+                self.submitted_in_frame = true;
+            }
+            "vkQueuePresentKHR" => {
+                let queue = args.get("queue")?.handle()?;
+                let info = args.get("pPresentInfo")?;
+                let waits: Vec<u64> = info.list("pWaitSemaphores")?.iter().map(Arg::handle).collect::<Got<_>>()?;
+                let chains = info.list("pSwapchains")?;
+                let indices = info.list("pImageIndices")?;
+                let images = chains
+                    .iter()
+                    .zip(&indices)
+                    .map(|(c, i)| Ok((c.handle()?, i.u32()?)))
+                    .collect::<Got<Vec<_>>>()?;
+                self.builder.present(&self.objects, queue, &waits, &images);
+                self.submitted_in_frame = false;
+            }
+            _ => return self.objects.apply(name, args),
+        }
+        Ok(true)
+    }
+}
+
+/// Imports the frames `options` selects from a JSON Lines stream; `file` names it in messages.
+pub fn import(reader: impl BufRead, file: &str, options: &ImportOptions) -> Result<Imported, ImportError> {
+    let mut lines = Lines::new(reader);
+    let mut imp = Importer {
+        objects: Objects::default(),
+        recordings: HashMap::new(),
+        pool_of: HashMap::new(),
+        builder: Builder::new(options.frames),
+        submitted_in_frame: false,
+        skipped: BTreeMap::new(),
+        not_modelled: BTreeMap::new(),
+        calls: 0,
+        dialect: None,
+    };
+    let mut tool = "GFXReconstruct (version not in the stream)".to_owned();
+    let mut line_count = 0;
+    let mut other: BTreeMap<String, u64> = BTreeMap::new();
+    while let Some(entry) = lines.next_entry() {
+        let entry = entry.map_err(|e| ImportError::Line {
+            file: file.to_owned(),
+            line: e.line,
+            message: e.message,
+        })?;
+        line_count += 1;
+        match entry {
+            Entry::Header { gfxr_version, json_version } => {
+                tool = format!("GFXReconstruct {gfxr_version} (JSON {json_version})");
+            }
+            Entry::Call(call) => {
+                if imp.dialect.is_none() {
+                    imp.dialect = Some(call.dialect);
+                }
+                imp.call(&call);
+            }
+            Entry::FrameEnd => {
+                if imp.submitted_in_frame {
+                    imp.builder.end_frame();
+                    imp.submitted_in_frame = false;
+                }
+            }
+            Entry::Other(kind) => *other.entry(kind).or_default() += 1,
+        }
+        if imp.builder.done() {
+            break;
+        }
+    }
+    if imp.calls == 0 {
+        return Err(ImportError::Stream {
+            file: file.to_owned(),
+            message: "no API calls: not a GFXReconstruct JSON Lines stream (gfxrecon-convert --format jsonl)".to_owned(),
+        });
+    }
+    if imp.submitted_in_frame {
+        imp.builder.end_frame();
+    }
+    let frames = imp.builder.frames_seen.max(1);
+    if let Some((a, _)) = options.frames
+        && a >= frames
+    {
+        return Err(ImportError::Stream {
+            file: file.to_owned(),
+            message: format!("frame {a} was asked for, but the stream holds {frames} frame(s) (0..{})", frames - 1),
+        });
+    }
+    let selected = options.frames.unwrap_or((0, frames - 1));
+    let selected = (selected.0, selected.1.min(frames - 1));
+    let mut skipped: Vec<Skipped> = imp
+        .skipped
+        .iter()
+        .map(|(what, (count, line))| Skipped { what: what.clone(), count: *count, first_line: Some(*line) })
+        .collect();
+    skipped.extend(imp.builder.notes.iter().map(|(what, count)| Skipped { what: what.clone(), count: *count, first_line: None }));
+    let (draws, dispatches, recorded_barriers) = (imp.builder.draws, imp.builder.dispatches, imp.builder.recorded_barriers);
+    let stem = std::path::Path::new(file)
+        .file_stem()
+        .map_or_else(|| "imported".to_owned(), |s| s.to_string_lossy().into_owned());
+    let emitted = emit::emit(imp.builder, &imp.objects, &stem, file, &tool);
+    skipped.extend(emitted.notes.iter().map(|n| Skipped { what: n.clone(), count: 1, first_line: None }));
+    let mut not_modelled = imp.not_modelled;
+    for (kind, n) in other {
+        *not_modelled.entry(format!("({kind} lines)")).or_default() += n;
+    }
+    let capture = emitted.capture;
+    let mut passes_by_kind = BTreeMap::new();
+    for p in &capture.passes {
+        *passes_by_kind.entry(p.kind.as_str().to_owned()).or_default() += 1;
+    }
+    let summary = Summary {
+        file: file.to_owned(),
+        tool,
+        dialect: imp.dialect.unwrap_or("0.9.x").to_owned(),
+        lines: line_count,
+        calls: imp.calls,
+        frames_in_stream: frames,
+        frames_imported: selected,
+        passes: capture.passes.len(),
+        passes_by_kind,
+        draws,
+        dispatches,
+        images: emitted.images,
+        buffers: emitted.buffers,
+        heaps: capture.heaps.len(),
+        queues: capture.queues.len(),
+        recorded_barriers,
+        fences: capture.fences.len(),
+        skipped,
+        not_modelled,
+    };
+    Ok(Imported { capture, summary })
+}

@@ -1,0 +1,783 @@
+//! Recording: the commands of each command buffer as the stream records them, with the
+//! descriptor sets, vertex and index buffers bound at each draw and dispatch resolved on the
+//! spot (what the GPU will read), and render pass instances resolved to the views they use
+//! and the layout transitions their attachment descriptions imply.
+
+use std::collections::BTreeMap;
+
+use super::state::{Dependency, Descriptor, Objects};
+use super::value::{ASPECTS, Arg, Got, Skip};
+use crate::capture::vulkan::{self, ACCESS, STAGES, access, stage};
+
+/// Most draws one indirect call is expanded into.
+pub const MAX_INDIRECT_DRAWS: u32 = 4096;
+
+/// A descriptor a draw or dispatch can reach, with dynamic offsets applied.
+#[derive(Clone, Debug)]
+pub struct Use {
+    pub set: u32,
+    pub binding: u32,
+    pub element: u32,
+    pub descriptor: Descriptor,
+}
+
+#[derive(Clone, Debug)]
+pub struct DrawCmd {
+    pub count: u32,
+    pub instances: u32,
+    pub first: u32,
+    pub base_vertex: i32,
+    pub first_instance: u32,
+    pub indirect: Option<(u64, u64)>,
+    pub uses: Vec<Use>,
+    pub vertex_buffers: Vec<u64>,
+    pub index_buffer: Option<u64>,
+}
+
+#[derive(Clone, Debug)]
+pub struct DispatchCmd {
+    pub groups: Option<[u32; 3]>,
+    pub indirect: Option<(u64, u64)>,
+    pub uses: Vec<Use>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum BarrierTarget {
+    Global,
+    Buffer { buffer: u64 },
+    Image { image: u64, mips: (u32, Option<u32>), layers: (u32, Option<u32>) },
+}
+
+#[derive(Clone, Debug)]
+pub struct BarrierCmd {
+    pub origin: String,
+    pub target: BarrierTarget,
+    pub src_stages: u64,
+    pub dst_stages: u64,
+    pub src_access: u64,
+    pub dst_access: u64,
+    pub layouts: Option<(&'static str, &'static str)>,
+    pub families: Option<(u32, u32)>,
+}
+
+#[derive(Clone, Debug)]
+pub struct AttUse {
+    pub view: u64,
+    pub load: String,
+    pub store: String,
+    pub clear: [f64; 4],
+}
+
+#[derive(Clone, Debug)]
+pub struct DepthUse {
+    pub view: u64,
+    pub load: String,
+    pub store: String,
+    pub stencil_load: String,
+    pub stencil_store: String,
+    pub depth_clear: f64,
+    pub stencil_clear: u32,
+    pub read_only: bool,
+}
+
+/// The attachments of one subpass (or of one dynamic rendering instance).
+#[derive(Clone, Debug, Default)]
+pub struct SubpassUse {
+    pub colors: Vec<AttUse>,
+    pub depth: Option<DepthUse>,
+    pub resolves: Vec<(u64, u64)>,
+}
+
+#[derive(Clone, Debug)]
+pub struct RenderInstance {
+    pub subpasses: Vec<SubpassUse>,
+    /// Layout transitions the render pass performs at its start and its end.
+    pub begin_barriers: Vec<BarrierCmd>,
+    pub end_barriers: Vec<BarrierCmd>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Region {
+    pub src_mip: u32,
+    pub src_layer: u32,
+    pub src_origin: [u32; 3],
+    pub src_offset: u64,
+    pub dst_mip: u32,
+    pub dst_layer: u32,
+    pub dst_origin: [u32; 3],
+    pub dst_offset: u64,
+    /// Buffer to buffer: bytes.
+    pub size: Option<u64>,
+    /// With a texture: texels.
+    pub extent: Option<[u32; 3]>,
+    /// Buffer footprint: texels per row (0: tightly packed).
+    pub row_texels: u32,
+}
+
+#[derive(Clone, Debug)]
+pub enum TransferCmd {
+    Copy { call: String, src: u64, dst: u64, regions: Vec<Region> },
+    Clear { call: String, target: u64, value: [f64; 4], stencil: u32, ranges: Vec<((u32, Option<u32>), (u32, Option<u32>))> },
+    Fill { call: String, buffer: u64 },
+    Resolve { src: u64, dst: u64 },
+}
+
+#[derive(Clone, Debug)]
+pub enum Cmd {
+    BeginRender(Box<RenderInstance>),
+    NextSubpass,
+    EndRender,
+    Draw(Box<DrawCmd>),
+    Dispatch(Box<DispatchCmd>),
+    Barrier(Vec<BarrierCmd>),
+    Transfer(Box<TransferCmd>),
+    BeginLabel(String),
+    EndLabel,
+    Execute(Vec<u64>),
+}
+
+/// Bindings in effect while recording one command buffer.
+#[derive(Default, Debug)]
+struct Bound {
+    /// (bind point is compute, set index) -> descriptors with dynamic offsets applied.
+    sets: BTreeMap<(bool, u32), Vec<Use>>,
+    vertex: BTreeMap<u32, u64>,
+    index: Option<u64>,
+}
+
+#[derive(Default, Debug)]
+pub struct Recording {
+    pub cmds: Vec<Cmd>,
+    bound: Bound,
+}
+
+fn compute_point(a: &Arg<'_>) -> Got<bool> {
+    let n = a.name()?;
+    Ok(n.contains("COMPUTE") || n == "1")
+}
+
+fn clear_color(v: &Arg<'_>) -> [f64; 4] {
+    let mut out = [0.0; 4];
+    let color = v.opt("color").unwrap_or_else(|| v.clone());
+    for key in ["float32", "uint32", "int32"] {
+        if let Some(list) = color.opt(key).and_then(|l| l.items().ok()) {
+            for (o, x) in out.iter_mut().zip(&list) {
+                *o = x.f64().unwrap_or(0.0);
+            }
+            break;
+        }
+    }
+    out
+}
+
+fn range(r: &Arg<'_>) -> Got<((u32, Option<u32>), (u32, Option<u32>))> {
+    let count = |a: Arg<'_>| -> Got<Option<u32>> {
+        let v = a.u64()?;
+        Ok((v < u64::from(u32::MAX)).then_some(v as u32))
+    };
+    let _ = r.get("aspectMask")?.flags(ASPECTS)?;
+    Ok((
+        (r.get("baseMipLevel")?.u32()?, count(r.get("levelCount")?)?),
+        (r.get("baseArrayLayer")?.u32()?, count(r.get("layerCount")?)?),
+    ))
+}
+
+fn layout_of(a: &Arg<'_>) -> Got<&'static str> {
+    let n = a.name()?;
+    n.parse::<u64>()
+        .ok()
+        .and_then(vulkan::layout_by_value)
+        .or_else(|| vulkan::layout(&n))
+        .ok_or_else(|| Skip(format!("`{}`: unknown image layout {n}", a.path())))
+}
+
+fn offset3(a: &Arg<'_>) -> Got<[u32; 3]> {
+    Ok([a.get("x")?.u32()?, a.get("y")?.u32()?, a.get("z")?.u32()?])
+}
+
+fn extent3(a: &Arg<'_>) -> Got<[u32; 3]> {
+    Ok([a.get("width")?.u32()?, a.get("height")?.u32()?, a.get("depth")?.u32()?])
+}
+
+fn subresource(a: &Arg<'_>) -> Got<(u32, u32)> {
+    Ok((a.get("mipLevel")?.u32()?, a.get("baseArrayLayer")?.u32()?))
+}
+
+impl Recording {
+    /// Records one `vkCmd*` call; `Ok(false)` for commands that touch no resource framelab
+    /// models (state setting, queries, ...).
+    pub fn record(&mut self, name: &str, call_index: u64, args: &Arg<'_>, objects: &Objects) -> Got<bool> {
+        let origin = || format!("{name} #{call_index}");
+        let cmd = match name {
+            "vkCmdBindDescriptorSets" => {
+                let compute = compute_point(&args.get("pipelineBindPoint")?)?;
+                let first = args.get("firstSet")?.u32()?;
+                let mut dynamic: Vec<u64> = args
+                    .list("pDynamicOffsets")?
+                    .iter()
+                    .map(Arg::u64)
+                    .collect::<Got<_>>()?;
+                dynamic.reverse();
+                for (k, s) in args.list("pDescriptorSets")?.iter().enumerate() {
+                    let set = s.handle()?;
+                    let index = first.saturating_add(k as u32);
+                    let contents = objects.sets.get(&set).ok_or_else(|| {
+                        Skip(format!("descriptor set {set} was never allocated"))
+                    })?;
+                    let uses = contents
+                        .iter()
+                        .map(|(&(binding, element), d)| {
+                            let mut descriptor = d.clone();
+                            if let Descriptor::Buffer { offset, ty, .. } = &mut descriptor
+                                && ty.ends_with("DYNAMIC")
+                            {
+                                *offset = offset.saturating_add(dynamic.pop().unwrap_or(0));
+                            }
+                            Use { set: index, binding, element, descriptor }
+                        })
+                        .collect();
+                    self.bound.sets.insert((compute, index), uses);
+                }
+                return Ok(true);
+            }
+            "vkCmdPushDescriptorSetKHR" | "vkCmdPushDescriptorSet" => {
+                let compute = compute_point(&args.get("pipelineBindPoint")?)?;
+                let set = args.get("set")?.u32()?;
+                let mut uses = self.bound.sets.remove(&(compute, set)).unwrap_or_default();
+                for w in args.list("pDescriptorWrites")? {
+                    for ((binding, element), descriptor) in super::state::descriptor_writes(&w)? {
+                        uses.retain(|u| (u.binding, u.element) != (binding, element));
+                        uses.push(Use { set, binding, element, descriptor });
+                    }
+                }
+                self.bound.sets.insert((compute, set), uses);
+                return Ok(true);
+            }
+            "vkCmdBindVertexBuffers" | "vkCmdBindVertexBuffers2" | "vkCmdBindVertexBuffers2EXT" => {
+                let first = args.get("firstBinding")?.u32()?;
+                for (k, b) in args.list("pBuffers")?.iter().enumerate() {
+                    let buffer = b.handle()?;
+                    let slot = first.saturating_add(k as u32);
+                    if buffer == 0 {
+                        self.bound.vertex.remove(&slot);
+                    } else {
+                        self.bound.vertex.insert(slot, buffer);
+                    }
+                }
+                return Ok(true);
+            }
+            "vkCmdBindIndexBuffer" | "vkCmdBindIndexBuffer2KHR" | "vkCmdBindIndexBuffer2" => {
+                let b = args.get("buffer")?.handle()?;
+                self.bound.index = (b != 0).then_some(b);
+                return Ok(true);
+            }
+            "vkCmdDraw" | "vkCmdDrawIndexed" => {
+                let indexed = name == "vkCmdDrawIndexed";
+                let (count, first) = if indexed {
+                    (args.get("indexCount")?.u32()?, args.get("firstIndex")?.u32()?)
+                } else {
+                    (args.get("vertexCount")?.u32()?, args.get("firstVertex")?.u32()?)
+                };
+                let base_vertex = if indexed {
+                    i32::try_from(args.get("vertexOffset")?.i64()?)
+                        .map_err(|_| Skip("`vertexOffset` out of range".to_owned()))?
+                } else {
+                    0
+                };
+                let draw = self.draw(indexed, None);
+                Cmd::Draw(Box::new(DrawCmd {
+                    count,
+                    instances: args.get("instanceCount")?.u32()?,
+                    first,
+                    base_vertex,
+                    first_instance: args.get("firstInstance")?.u32()?,
+                    ..draw
+                }))
+            }
+            "vkCmdDrawIndirect" | "vkCmdDrawIndexedIndirect" => {
+                let indexed = name == "vkCmdDrawIndexedIndirect";
+                let buffer = args.get("buffer")?.handle()?;
+                let offset = args.get("offset")?.u64()?;
+                let draws = args.get("drawCount")?.u32()?;
+                let stride = args.get("stride")?.u64()?;
+                if draws > MAX_INDIRECT_DRAWS {
+                    return Err(Skip(format!(
+                        "`drawCount` {draws} is over the {MAX_INDIRECT_DRAWS} draws one indirect call is expanded into"
+                    )));
+                }
+                for k in 0..u64::from(draws) {
+                    let at = offset.saturating_add(k.saturating_mul(stride));
+                    self.cmds.push(Cmd::Draw(Box::new(self.draw(indexed, Some((buffer, at))))));
+                }
+                return Ok(true);
+            }
+            "vkCmdDispatch" | "vkCmdDispatchBase" | "vkCmdDispatchBaseKHR" => Cmd::Dispatch(Box::new(DispatchCmd {
+                groups: Some([
+                    args.get("groupCountX")?.u32()?,
+                    args.get("groupCountY")?.u32()?,
+                    args.get("groupCountZ")?.u32()?,
+                ]),
+                indirect: None,
+                uses: self.uses(true),
+            })),
+            "vkCmdDispatchIndirect" => Cmd::Dispatch(Box::new(DispatchCmd {
+                groups: None,
+                indirect: Some((args.get("buffer")?.handle()?, args.get("offset")?.u64()?)),
+                uses: self.uses(true),
+            })),
+            "vkCmdPipelineBarrier" | "vkCmdWaitEvents" => {
+                let src_stages = args.get("srcStageMask")?.flags(STAGES)?;
+                let dst_stages = args.get("dstStageMask")?.flags(STAGES)?;
+                Cmd::Barrier(barriers(args, &origin(), Some((src_stages, dst_stages)))?)
+            }
+            "vkCmdPipelineBarrier2" | "vkCmdPipelineBarrier2KHR" => {
+                Cmd::Barrier(barriers(&args.get("pDependencyInfo")?, &origin(), None)?)
+            }
+            "vkCmdWaitEvents2" | "vkCmdWaitEvents2KHR" => {
+                let mut all = Vec::new();
+                for info in args.list("pDependencyInfos")? {
+                    all.extend(barriers(&info, &origin(), None)?);
+                }
+                Cmd::Barrier(all)
+            }
+            "vkCmdBeginRenderPass" | "vkCmdBeginRenderPass2" | "vkCmdBeginRenderPass2KHR" => {
+                Cmd::BeginRender(Box::new(begin_render_pass(args, objects, origin())?))
+            }
+            "vkCmdNextSubpass" | "vkCmdNextSubpass2" | "vkCmdNextSubpass2KHR" => Cmd::NextSubpass,
+            "vkCmdEndRenderPass" | "vkCmdEndRenderPass2" | "vkCmdEndRenderPass2KHR"
+            | "vkCmdEndRendering" | "vkCmdEndRenderingKHR" => Cmd::EndRender,
+            "vkCmdBeginRendering" | "vkCmdBeginRenderingKHR" => {
+                Cmd::BeginRender(Box::new(begin_rendering(&args.get("pRenderingInfo")?)?))
+            }
+            "vkCmdCopyBuffer" | "vkCmdCopyBufferToImage" | "vkCmdCopyImageToBuffer" | "vkCmdCopyImage" => {
+                copy(name, args, None)?
+            }
+            "vkCmdCopyBuffer2" | "vkCmdCopyBuffer2KHR" => copy(name, &args.get("pCopyBufferInfo")?, Some(()))?,
+            "vkCmdCopyBufferToImage2" | "vkCmdCopyBufferToImage2KHR" => {
+                copy(name, &args.get("pCopyBufferToImageInfo")?, Some(()))?
+            }
+            "vkCmdCopyImageToBuffer2" | "vkCmdCopyImageToBuffer2KHR" => {
+                copy(name, &args.get("pCopyImageToBufferInfo")?, Some(()))?
+            }
+            "vkCmdCopyImage2" | "vkCmdCopyImage2KHR" => copy(name, &args.get("pCopyImageInfo")?, Some(()))?,
+            "vkCmdClearColorImage" | "vkCmdClearDepthStencilImage" => {
+                let (value, stencil) = match args.opt("pColor") {
+                    Some(c) => (clear_color(&c), 0),
+                    None => {
+                        let ds = args.get("pDepthStencil")?;
+                        ([ds.get("depth")?.f64()?, 0.0, 0.0, 0.0], ds.get("stencil")?.u32()?)
+                    }
+                };
+                Cmd::Transfer(Box::new(TransferCmd::Clear {
+                    call: name.to_owned(),
+                    target: args.get("image")?.handle()?,
+                    value,
+                    stencil,
+                    ranges: args.list("pRanges")?.iter().map(range).collect::<Got<_>>()?,
+                }))
+            }
+            "vkCmdFillBuffer" | "vkCmdUpdateBuffer" => Cmd::Transfer(Box::new(TransferCmd::Fill {
+                call: name.to_owned(),
+                buffer: args.get("dstBuffer")?.handle()?,
+            })),
+            "vkCmdResolveImage" => Cmd::Transfer(Box::new(TransferCmd::Resolve {
+                src: args.get("srcImage")?.handle()?,
+                dst: args.get("dstImage")?.handle()?,
+            })),
+            "vkCmdBeginDebugUtilsLabelEXT" => {
+                Cmd::BeginLabel(args.get("pLabelInfo")?.get("pLabelName")?.str()?.to_owned())
+            }
+            "vkCmdDebugMarkerBeginEXT" => {
+                Cmd::BeginLabel(args.get("pMarkerInfo")?.get("pMarkerName")?.str()?.to_owned())
+            }
+            "vkCmdEndDebugUtilsLabelEXT" | "vkCmdDebugMarkerEndEXT" => Cmd::EndLabel,
+            "vkCmdExecuteCommands" => Cmd::Execute(
+                args.list("pCommandBuffers")?.iter().map(Arg::handle).collect::<Got<_>>()?,
+            ),
+            _ => return Ok(false),
+        };
+        self.cmds.push(cmd);
+        Ok(true)
+    }
+
+    fn uses(&self, compute: bool) -> Vec<Use> {
+        self.bound
+            .sets
+            .iter()
+            .filter(|((c, _), _)| *c == compute)
+            .flat_map(|(_, u)| u.iter().cloned())
+            .collect()
+    }
+
+    fn draw(&self, indexed: bool, indirect: Option<(u64, u64)>) -> DrawCmd {
+        DrawCmd {
+            count: 0,
+            instances: 1,
+            first: 0,
+            base_vertex: 0,
+            first_instance: 0,
+            indirect,
+            uses: self.uses(false),
+            vertex_buffers: self.bound.vertex.values().copied().collect(),
+            index_buffer: if indexed { self.bound.index } else { None },
+        }
+    }
+}
+
+fn barriers(args: &Arg<'_>, origin: &str, stages: Option<(u64, u64)>) -> Got<Vec<BarrierCmd>> {
+    let masks = |b: &Arg<'_>| -> Got<(u64, u64, u64, u64)> {
+        let (ss, ds) = match stages {
+            Some(s) => s,
+            None => (b.get("srcStageMask")?.flags(STAGES)?, b.get("dstStageMask")?.flags(STAGES)?),
+        };
+        Ok((ss, ds, b.get("srcAccessMask")?.flags(ACCESS)?, b.get("dstAccessMask")?.flags(ACCESS)?))
+    };
+    let families = |b: &Arg<'_>| -> Got<Option<(u32, u32)>> {
+        let s = b.get("srcQueueFamilyIndex")?.u64()?;
+        let d = b.get("dstQueueFamilyIndex")?.u64()?;
+        // VK_QUEUE_FAMILY_IGNORED on either side: no ownership transfer.
+        Ok((s != d && s < u64::from(u32::MAX) && d < u64::from(u32::MAX)).then_some((s as u32, d as u32)))
+    };
+    let mut out = Vec::new();
+    for b in args.list("pMemoryBarriers")? {
+        let (ss, ds, sa, da) = masks(&b)?;
+        out.push(BarrierCmd {
+            origin: origin.to_owned(),
+            target: BarrierTarget::Global,
+            src_stages: ss,
+            dst_stages: ds,
+            src_access: sa,
+            dst_access: da,
+            layouts: None,
+            families: None,
+        });
+    }
+    for b in args.list("pBufferMemoryBarriers")? {
+        let (ss, ds, sa, da) = masks(&b)?;
+        out.push(BarrierCmd {
+            origin: origin.to_owned(),
+            target: BarrierTarget::Buffer { buffer: b.get("buffer")?.handle()? },
+            src_stages: ss,
+            dst_stages: ds,
+            src_access: sa,
+            dst_access: da,
+            layouts: None,
+            families: families(&b)?,
+        });
+    }
+    for b in args.list("pImageMemoryBarriers")? {
+        let (ss, ds, sa, da) = masks(&b)?;
+        let (mips, layers) = range(&b.get("subresourceRange")?)?;
+        out.push(BarrierCmd {
+            origin: origin.to_owned(),
+            target: BarrierTarget::Image { image: b.get("image")?.handle()?, mips, layers },
+            src_stages: ss,
+            dst_stages: ds,
+            src_access: sa,
+            dst_access: da,
+            layouts: Some((layout_of(&b.get("oldLayout")?)?, layout_of(&b.get("newLayout")?)?)),
+            families: families(&b)?,
+        });
+    }
+    Ok(out)
+}
+
+fn copy(name: &str, args: &Arg<'_>, _v2: Option<()>) -> Got<Cmd> {
+    let base = name.trim_end_matches("KHR").trim_end_matches('2');
+    let (src_key, dst_key) = match base {
+        "vkCmdCopyBuffer" => ("srcBuffer", "dstBuffer"),
+        "vkCmdCopyBufferToImage" => ("srcBuffer", "dstImage"),
+        "vkCmdCopyImageToBuffer" => ("srcImage", "dstBuffer"),
+        _ => ("srcImage", "dstImage"),
+    };
+    let src = args.get(src_key)?.handle()?;
+    let dst = args.get(dst_key)?.handle()?;
+    let mut regions = Vec::new();
+    for r in args.list("pRegions")? {
+        let region = match base {
+            "vkCmdCopyBuffer" => Region {
+                src_mip: 0,
+                src_layer: 0,
+                src_origin: [0; 3],
+                src_offset: r.get("srcOffset")?.u64()?,
+                dst_mip: 0,
+                dst_layer: 0,
+                dst_origin: [0; 3],
+                dst_offset: r.get("dstOffset")?.u64()?,
+                size: Some(r.get("size")?.u64()?),
+                extent: None,
+                row_texels: 0,
+            },
+            "vkCmdCopyImage" => {
+                let (sm, sl) = subresource(&r.get("srcSubresource")?)?;
+                let (dm, dl) = subresource(&r.get("dstSubresource")?)?;
+                Region {
+                    src_mip: sm,
+                    src_layer: sl,
+                    src_origin: offset3(&r.get("srcOffset")?)?,
+                    src_offset: 0,
+                    dst_mip: dm,
+                    dst_layer: dl,
+                    dst_origin: offset3(&r.get("dstOffset")?)?,
+                    dst_offset: 0,
+                    size: None,
+                    extent: Some(extent3(&r.get("extent")?)?),
+                    row_texels: 0,
+                }
+            }
+            _ => {
+                let (m, l) = subresource(&r.get("imageSubresource")?)?;
+                let origin = offset3(&r.get("imageOffset")?)?;
+                let offset = r.get("bufferOffset")?.u64()?;
+                let to_image = base == "vkCmdCopyBufferToImage";
+                Region {
+                    src_mip: if to_image { 0 } else { m },
+                    src_layer: if to_image { 0 } else { l },
+                    src_origin: if to_image { [0; 3] } else { origin },
+                    src_offset: if to_image { offset } else { 0 },
+                    dst_mip: if to_image { m } else { 0 },
+                    dst_layer: if to_image { l } else { 0 },
+                    dst_origin: if to_image { origin } else { [0; 3] },
+                    dst_offset: if to_image { 0 } else { offset },
+                    size: None,
+                    extent: Some(extent3(&r.get("imageExtent")?)?),
+                    row_texels: r.get("bufferRowLength")?.u32()?,
+                }
+            }
+        };
+        regions.push(region);
+    }
+    Ok(Cmd::Transfer(Box::new(TransferCmd::Copy { call: name.to_owned(), src, dst, regions })))
+}
+
+const EXTERNAL: u32 = u32::MAX;
+
+/// The implicit external dependencies Vulkan adds when a render pass declares none.
+fn implicit(begin: bool) -> Dependency {
+    let attachment_access = access::COLOR_ATTACHMENT_READ
+        | access::COLOR_ATTACHMENT_WRITE
+        | access::DEPTH_STENCIL_ATTACHMENT_READ
+        | access::DEPTH_STENCIL_ATTACHMENT_WRITE
+        | 0x10;
+    if begin {
+        Dependency {
+            src_subpass: EXTERNAL,
+            dst_subpass: 0,
+            src_stages: stage::TOP_OF_PIPE,
+            dst_stages: stage::ALL_COMMANDS,
+            src_access: 0,
+            dst_access: attachment_access,
+        }
+    } else {
+        Dependency {
+            src_subpass: 0,
+            dst_subpass: EXTERNAL,
+            src_stages: stage::ALL_COMMANDS,
+            dst_stages: stage::BOTTOM_OF_PIPE,
+            src_access: access::COLOR_ATTACHMENT_WRITE | access::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            dst_access: 0,
+        }
+    }
+}
+
+fn begin_render_pass(args: &Arg<'_>, objects: &Objects, origin: String) -> Got<RenderInstance> {
+    let info = args.get("pRenderPassBegin")?;
+    let rp_handle = info.get("renderPass")?.handle()?;
+    let fb_handle = info.get("framebuffer")?.handle()?;
+    let rp = objects
+        .render_passes
+        .get(&rp_handle)
+        .ok_or_else(|| Skip(format!("render pass {rp_handle} was never created")))?;
+    let mut views = objects
+        .framebuffers
+        .get(&fb_handle)
+        .ok_or_else(|| Skip(format!("framebuffer {fb_handle} was never created")))?
+        .attachments
+        .clone();
+    // Imageless framebuffers take their views from VkRenderPassAttachmentBeginInfo.
+    let mut next = info.opt("pNext");
+    while let Some(n) = next {
+        if let Some(list) = n.opt("pAttachments") {
+            views = list.items()?.iter().map(Arg::handle).collect::<Got<_>>()?;
+        }
+        next = n.opt("pNext");
+    }
+    let clears: Vec<Arg<'_>> = info.list("pClearValues")?;
+    let view = |a: u32| -> Got<u64> {
+        views
+            .get(a as usize)
+            .copied()
+            .ok_or_else(|| Skip(format!("attachment {a} is not in framebuffer {fb_handle}")))
+    };
+    let first_use = |a: u32| {
+        rp.subpasses.iter().position(|s| {
+            s.colors.iter().chain(&s.resolves).chain(&s.inputs).any(|(x, _)| *x == a)
+                || s.depth.as_ref().is_some_and(|(x, _)| *x == a)
+        })
+    };
+    let last_use = |a: u32| {
+        rp.subpasses.iter().rposition(|s| {
+            s.colors.iter().chain(&s.resolves).chain(&s.inputs).any(|(x, _)| *x == a)
+                || s.depth.as_ref().is_some_and(|(x, _)| *x == a)
+        })
+    };
+    let mut subpasses = Vec::new();
+    for (si, s) in rp.subpasses.iter().enumerate() {
+        let ops = |a: u32| -> (String, String, String, String) {
+            let d = &rp.attachments[a as usize];
+            let first = first_use(a) == Some(si);
+            let last = last_use(a) == Some(si);
+            let load = |op: &str| if first { op.to_owned() } else { "LOAD".to_owned() };
+            let store = |op: &str| if last { op.to_owned() } else { "STORE".to_owned() };
+            (load(&d.load), store(&d.store), load(&d.stencil_load), store(&d.stencil_store))
+        };
+        let mut sub = SubpassUse::default();
+        for &(a, _) in &s.colors {
+            if a as usize >= rp.attachments.len() {
+                return Err(Skip(format!("subpass {si} names attachment {a} the render pass lacks")));
+            }
+            let (load, store, ..) = ops(a);
+            let clear = clears.get(a as usize).map(clear_color).unwrap_or_default();
+            sub.colors.push(AttUse { view: view(a)?, load, store, clear });
+        }
+        if let Some((a, layout)) = &s.depth {
+            if *a as usize >= rp.attachments.len() {
+                return Err(Skip(format!("subpass {si} names attachment {a} the render pass lacks")));
+            }
+            let (load, store, stencil_load, stencil_store) = ops(*a);
+            let ds = clears.get(*a as usize).and_then(|c| c.opt("depthStencil"));
+            sub.depth = Some(DepthUse {
+                view: view(*a)?,
+                load,
+                store,
+                stencil_load,
+                stencil_store,
+                depth_clear: ds.as_ref().and_then(|d| d.get("depth").ok()?.f64().ok()).unwrap_or(1.0),
+                stencil_clear: ds.as_ref().and_then(|d| d.get("stencil").ok()?.u32().ok()).unwrap_or(0),
+                read_only: layout.contains("READ_ONLY"),
+            });
+        }
+        for (k, &(a, _)) in s.resolves.iter().enumerate() {
+            if let Some(&(src, _)) = s.colors.get(k) {
+                sub.resolves.push((view(src)?, view(a)?));
+            }
+        }
+        subpasses.push(sub);
+    }
+    let mut begin_barriers = Vec::new();
+    let mut end_barriers = Vec::new();
+    for (a, d) in rp.attachments.iter().enumerate() {
+        let a = a as u32;
+        let layout_in = |si: usize| {
+            let s = &rp.subpasses[si];
+            s.colors
+                .iter()
+                .chain(&s.resolves)
+                .chain(&s.inputs)
+                .chain(s.depth.iter())
+                .find(|(x, _)| *x == a)
+                .map(|(_, l)| l.clone())
+        };
+        let (Some(first), Some(last)) = (first_use(a), last_use(a)) else {
+            continue;
+        };
+        let Ok(v) = view(a) else { continue };
+        let Some(image) = objects.views.get(&v) else { continue };
+        let target = BarrierTarget::Image {
+            image: image.image,
+            mips: (image.base_mip, image.mip_count),
+            layers: (image.base_layer, image.layer_count),
+        };
+        let transition = |from: &str, to: &str, dep: &Dependency, what: &str| -> Option<BarrierCmd> {
+            let (from, to) = (vulkan::layout(from)?, vulkan::layout(to)?);
+            (from != to).then(|| BarrierCmd {
+                origin: format!("{origin}: attachment {a} {what}"),
+                target: target.clone(),
+                src_stages: dep.src_stages,
+                dst_stages: dep.dst_stages,
+                src_access: dep.src_access,
+                dst_access: dep.dst_access,
+                layouts: Some((from, to)),
+                families: None,
+            })
+        };
+        let external_in = rp
+            .dependencies
+            .iter()
+            .find(|x| x.src_subpass == EXTERNAL && x.dst_subpass as usize == first)
+            .cloned()
+            .unwrap_or_else(|| implicit(true));
+        let external_out = rp
+            .dependencies
+            .iter()
+            .find(|x| x.dst_subpass == EXTERNAL && x.src_subpass as usize == last)
+            .cloned()
+            .unwrap_or_else(|| implicit(false));
+        if let Some(l) = layout_in(first)
+            && let Some(b) = transition(&d.initial, &l, &external_in, "initialLayout")
+        {
+            begin_barriers.push(b);
+        }
+        if let Some(l) = layout_in(last)
+            && let Some(b) = transition(&l, &d.final_layout, &external_out, "finalLayout")
+        {
+            end_barriers.push(b);
+        }
+    }
+    Ok(RenderInstance {
+        subpasses,
+        begin_barriers,
+        end_barriers,
+    })
+}
+
+fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
+    let mut sub = SubpassUse::default();
+    for c in info.list("pColorAttachments")? {
+        let view = c.get("imageView")?.handle()?;
+        if view == 0 {
+            continue;
+        }
+        sub.colors.push(AttUse {
+            view,
+            load: c.get("loadOp")?.name()?,
+            store: c.get("storeOp")?.name()?,
+            clear: c.opt("clearValue").map(|v| clear_color(&v)).unwrap_or_default(),
+        });
+        if let Some(r) = c.opt("resolveImageView") {
+            let r = r.handle()?;
+            if r != 0 {
+                sub.resolves.push((view, r));
+            }
+        }
+    }
+    let depth = info.opt("pDepthAttachment").filter(|d| d.get("imageView").and_then(|v| v.handle()).unwrap_or(0) != 0);
+    let stencil = info.opt("pStencilAttachment").filter(|d| d.get("imageView").and_then(|v| v.handle()).unwrap_or(0) != 0);
+    if let Some(d) = depth.as_ref().or(stencil.as_ref()) {
+        let ops = |a: &Option<Arg<'_>>| -> Got<(String, String)> {
+            match a {
+                Some(a) => Ok((a.get("loadOp")?.name()?, a.get("storeOp")?.name()?)),
+                None => Ok(("DONT_CARE".to_owned(), "DONT_CARE".to_owned())),
+            }
+        };
+        let (load, store) = ops(&depth)?;
+        let (stencil_load, stencil_store) = ops(&stencil)?;
+        let clear = d.opt("clearValue").and_then(|c| c.opt("depthStencil"));
+        sub.depth = Some(DepthUse {
+            view: d.get("imageView")?.handle()?,
+            load,
+            store,
+            stencil_load,
+            stencil_store,
+            depth_clear: clear.as_ref().and_then(|c| c.get("depth").ok()?.f64().ok()).unwrap_or(1.0),
+            stencil_clear: clear.as_ref().and_then(|c| c.get("stencil").ok()?.u32().ok()).unwrap_or(0),
+            read_only: d.get("imageLayout")?.name()?.contains("READ_ONLY"),
+        });
+    }
+
+    Ok(RenderInstance {
+        subpasses: vec![sub],
+        begin_barriers: Vec::new(),
+        end_barriers: Vec::new(),
+    })
+}

@@ -1,0 +1,557 @@
+//! The Vulkan objects a stream creates, by handle: queues and their families, memory, images,
+//! buffers, views, render passes, framebuffers, descriptor sets, swapchains and debug names.
+//! Objects are kept after they are destroyed, since passes recorded before may still name them;
+//! everything kept is a few words per object the stream created.
+
+use std::collections::{BTreeMap, HashMap};
+
+use super::value::{
+    ASPECTS, Arg, BUFFER_USAGE, Got, IMAGE_CREATE, IMAGE_USAGE, MEMORY_PROPERTIES, QUEUE_FLAGS,
+    Skip,
+};
+
+#[derive(Clone, Debug)]
+pub struct ImageInfo {
+    pub format: String,
+    pub image_type: String,
+    pub extent: [u32; 3],
+    pub mips: u32,
+    pub layers: u32,
+    pub samples: u32,
+    pub usage: u64,
+    pub create_flags: u64,
+    pub bound: Option<(u64, u64)>,
+    pub alignment: Option<u64>,
+    /// The swapchain (and image index) it belongs to.
+    pub swapchain: Option<(u64, u32)>,
+}
+
+#[derive(Clone, Debug)]
+pub struct BufferInfo {
+    pub size: u64,
+    pub usage: u64,
+    pub bound: Option<(u64, u64)>,
+    pub alignment: Option<u64>,
+}
+
+#[derive(Clone, Debug)]
+pub struct MemoryInfo {
+    pub size: u64,
+    pub type_index: u32,
+}
+
+/// An image view: the image and the subresources it sees.
+#[derive(Clone, Copy, Debug)]
+pub struct ViewInfo {
+    pub image: u64,
+    pub base_mip: u32,
+    pub mip_count: Option<u32>,
+    pub base_layer: u32,
+    pub layer_count: Option<u32>,
+}
+
+#[derive(Clone, Debug)]
+pub struct AttachmentDesc {
+    pub load: String,
+    pub store: String,
+    pub stencil_load: String,
+    pub stencil_store: String,
+    pub initial: String,
+    pub final_layout: String,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct SubpassDesc {
+    pub colors: Vec<(u32, String)>,
+    pub resolves: Vec<(u32, String)>,
+    pub depth: Option<(u32, String)>,
+    pub inputs: Vec<(u32, String)>,
+}
+
+/// A subpass dependency that involves VK_SUBPASS_EXTERNAL.
+#[derive(Clone, Debug)]
+pub struct Dependency {
+    pub src_subpass: u32,
+    pub dst_subpass: u32,
+    pub src_stages: u64,
+    pub dst_stages: u64,
+    pub src_access: u64,
+    pub dst_access: u64,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct RenderPassInfo {
+    pub attachments: Vec<AttachmentDesc>,
+    pub subpasses: Vec<SubpassDesc>,
+    pub dependencies: Vec<Dependency>,
+}
+
+#[derive(Clone, Debug)]
+pub struct FramebufferInfo {
+    pub attachments: Vec<u64>,
+}
+
+/// One descriptor written to a set.
+#[derive(Clone, Debug)]
+pub enum Descriptor {
+    Image { view: u64, ty: String },
+    Buffer { buffer: u64, offset: u64, range: u64, ty: String },
+    TexelBuffer { view: u64, ty: String },
+}
+
+#[derive(Clone, Debug)]
+pub struct SwapchainInfo {
+    pub format: String,
+    pub extent: [u32; 2],
+    pub layers: u32,
+    pub usage: u64,
+}
+
+#[derive(Default, Debug)]
+pub struct Objects {
+    pub queue_family_flags: Vec<u64>,
+    pub memory_type_flags: Vec<u64>,
+    /// Queue handle -> (family, index).
+    pub queues: BTreeMap<u64, (u32, u32)>,
+    pub memories: HashMap<u64, MemoryInfo>,
+    pub images: HashMap<u64, ImageInfo>,
+    pub buffers: HashMap<u64, BufferInfo>,
+    pub views: HashMap<u64, ViewInfo>,
+    /// Texel buffer views -> (buffer, offset, range).
+    pub buffer_views: HashMap<u64, (u64, u64, u64)>,
+    pub render_passes: HashMap<u64, RenderPassInfo>,
+    pub framebuffers: HashMap<u64, FramebufferInfo>,
+    pub sets: HashMap<u64, BTreeMap<(u32, u32), Descriptor>>,
+    pub swapchains: HashMap<u64, SwapchainInfo>,
+    pub swapchain_images: HashMap<u64, Vec<u64>>,
+    pub names: HashMap<u64, String>,
+    /// Command buffers by handle -> the pool's queue family.
+    pub pools: HashMap<u64, u32>,
+    /// Memory the application mapped (its buffers hold what the CPU wrote).
+    pub mapped: std::collections::HashSet<u64>,
+}
+
+fn samples(a: &Arg<'_>) -> Got<u32> {
+    if let Ok(v) = a.u32() {
+        return Ok(v.max(1));
+    }
+    let name = a.str()?;
+    name.trim_start_matches("VK_SAMPLE_COUNT_")
+        .trim_end_matches("_BIT")
+        .parse()
+        .map_err(|_| Skip(format!("`{}`: unknown sample count {name}", a.path())))
+}
+
+/// A `levelCount`/`layerCount` where VK_REMAINING_* (all ones) means "to the end".
+fn count(a: &Arg<'_>) -> Got<Option<u32>> {
+    let v = a.u64()?;
+    Ok((v < u64::from(u32::MAX)).then_some(v as u32))
+}
+
+impl Objects {
+    /// Updates the objects from one call; `Ok(false)` when the call creates or describes
+    /// nothing this tracks.
+    pub fn apply(&mut self, name: &str, args: &Arg<'_>) -> Got<bool> {
+        match name {
+            "vkGetPhysicalDeviceQueueFamilyProperties"
+            | "vkGetPhysicalDeviceQueueFamilyProperties2"
+            | "vkGetPhysicalDeviceQueueFamilyProperties2KHR" => {
+                let list = args.list("pQueueFamilyProperties")?;
+                if !list.is_empty() {
+                    self.queue_family_flags = list
+                        .iter()
+                        .map(|p| {
+                            let inner = p.opt("queueFamilyProperties").unwrap_or_else(|| p.clone());
+                            inner.get("queueFlags")?.flags(QUEUE_FLAGS)
+                        })
+                        .collect::<Got<_>>()?;
+                }
+            }
+            "vkGetPhysicalDeviceMemoryProperties"
+            | "vkGetPhysicalDeviceMemoryProperties2"
+            | "vkGetPhysicalDeviceMemoryProperties2KHR" => {
+                let p = args.get("pMemoryProperties")?;
+                let p = p.opt("memoryProperties").unwrap_or(p);
+                let n = p.get("memoryTypeCount")?.u64()? as usize;
+                let types = p.get("memoryTypes")?.items()?;
+                self.memory_type_flags = types
+                    .iter()
+                    .take(n)
+                    .map(|t| t.get("propertyFlags")?.flags(MEMORY_PROPERTIES))
+                    .collect::<Got<_>>()?;
+            }
+            "vkGetDeviceQueue" => {
+                let q = args.get("pQueue")?.handle()?;
+                let family = args.get("queueFamilyIndex")?.u32()?;
+                let index = args.get("queueIndex")?.u32()?;
+                self.queues.insert(q, (family, index));
+            }
+            "vkGetDeviceQueue2" => {
+                let info = args.get("pQueueInfo")?;
+                let q = args.get("pQueue")?.handle()?;
+                let family = info.get("queueFamilyIndex")?.u32()?;
+                let index = info.get("queueIndex")?.u32()?;
+                self.queues.insert(q, (family, index));
+            }
+            "vkAllocateMemory" => {
+                let info = args.get("pAllocateInfo")?;
+                let mem = args.get("pMemory")?.handle()?;
+                self.memories.insert(
+                    mem,
+                    MemoryInfo {
+                        size: info.get("allocationSize")?.u64()?,
+                        type_index: info.get("memoryTypeIndex")?.u32()?,
+                    },
+                );
+            }
+            "vkCreateImage" => {
+                let ci = args.get("pCreateInfo")?;
+                let extent = ci.get("extent")?;
+                let image = args.get("pImage")?.handle()?;
+                let info = ImageInfo {
+                    format: ci.get("format")?.name()?,
+                    image_type: ci.get("imageType")?.name()?,
+                    extent: [
+                        extent.get("width")?.u32()?,
+                        extent.get("height")?.u32()?,
+                        extent.get("depth")?.u32()?,
+                    ],
+                    mips: ci.get("mipLevels")?.u32()?,
+                    layers: ci.get("arrayLayers")?.u32()?,
+                    samples: samples(&ci.get("samples")?)?,
+                    usage: ci.get("usage")?.flags(IMAGE_USAGE)?,
+                    create_flags: ci.opt("flags").map_or(Ok(0), |f| f.flags(IMAGE_CREATE))?,
+                    bound: None,
+                    alignment: None,
+                    swapchain: None,
+                };
+                self.images.insert(image, info);
+            }
+            "vkCreateBuffer" => {
+                let ci = args.get("pCreateInfo")?;
+                let buffer = args.get("pBuffer")?.handle()?;
+                self.buffers.insert(
+                    buffer,
+                    BufferInfo {
+                        size: ci.get("size")?.u64()?,
+                        usage: ci.get("usage")?.flags(BUFFER_USAGE)?,
+                        bound: None,
+                        alignment: None,
+                    },
+                );
+            }
+            "vkGetImageMemoryRequirements"
+            | "vkGetImageMemoryRequirements2"
+            | "vkGetImageMemoryRequirements2KHR"
+            | "vkGetBufferMemoryRequirements"
+            | "vkGetBufferMemoryRequirements2"
+            | "vkGetBufferMemoryRequirements2KHR" => {
+                let (handle, req) = match args.opt("pInfo") {
+                    Some(info) => {
+                        let key = if name.contains("Image") { "image" } else { "buffer" };
+                        let req = args.get("pMemoryRequirements")?;
+                        let req = req.opt("memoryRequirements").unwrap_or(req);
+                        (info.get(key)?.handle()?, req)
+                    }
+                    None => {
+                        let key = if name.contains("Image") { "image" } else { "buffer" };
+                        (args.get(key)?.handle()?, args.get("pMemoryRequirements")?)
+                    }
+                };
+                let alignment = req.get("alignment")?.u64()?;
+                if let Some(i) = self.images.get_mut(&handle) {
+                    i.alignment = Some(alignment);
+                } else if let Some(b) = self.buffers.get_mut(&handle) {
+                    b.alignment = Some(alignment);
+                }
+            }
+            "vkBindImageMemory" | "vkBindBufferMemory" => {
+                let key = if name == "vkBindImageMemory" { "image" } else { "buffer" };
+                let handle = args.get(key)?.handle()?;
+                let memory = args.get("memory")?.handle()?;
+                let offset = args.get("memoryOffset")?.u64()?;
+                self.bind(handle, memory, offset);
+            }
+            "vkBindImageMemory2" | "vkBindImageMemory2KHR" | "vkBindBufferMemory2"
+            | "vkBindBufferMemory2KHR" => {
+                let key = if name.contains("Image") { "image" } else { "buffer" };
+                for info in args.list("pBindInfos")? {
+                    let handle = info.get(key)?.handle()?;
+                    let memory = info.get("memory")?.handle()?;
+                    let offset = info.get("memoryOffset")?.u64()?;
+                    self.bind(handle, memory, offset);
+                }
+            }
+            "vkCreateImageView" => {
+                let ci = args.get("pCreateInfo")?;
+                let range = ci.get("subresourceRange")?;
+                let _aspect = range.get("aspectMask")?.flags(ASPECTS)?;
+                self.views.insert(
+                    args.get("pView")?.handle()?,
+                    ViewInfo {
+                        image: ci.get("image")?.handle()?,
+                        base_mip: range.get("baseMipLevel")?.u32()?,
+                        mip_count: count(&range.get("levelCount")?)?,
+                        base_layer: range.get("baseArrayLayer")?.u32()?,
+                        layer_count: count(&range.get("layerCount")?)?,
+                    },
+                );
+            }
+            "vkCreateBufferView" => {
+                let ci = args.get("pCreateInfo")?;
+                self.buffer_views.insert(
+                    args.get("pView")?.handle()?,
+                    (
+                        ci.get("buffer")?.handle()?,
+                        ci.get("offset")?.u64()?,
+                        ci.get("range")?.u64()?,
+                    ),
+                );
+            }
+            "vkCreateRenderPass" | "vkCreateRenderPass2" | "vkCreateRenderPass2KHR" => {
+                let ci = args.get("pCreateInfo")?;
+                let rp = render_pass(&ci)?;
+                self.render_passes.insert(args.get("pRenderPass")?.handle()?, rp);
+            }
+            "vkCreateFramebuffer" => {
+                let ci = args.get("pCreateInfo")?;
+                let attachments = ci
+                    .list("pAttachments")?
+                    .iter()
+                    .map(Arg::handle)
+                    .collect::<Got<_>>()?;
+                self.framebuffers.insert(
+                    args.get("pFramebuffer")?.handle()?,
+                    FramebufferInfo { attachments },
+                );
+            }
+            "vkAllocateDescriptorSets" => {
+                for s in args.list("pDescriptorSets")? {
+                    self.sets.insert(s.handle()?, BTreeMap::new());
+                }
+            }
+            "vkUpdateDescriptorSets" => {
+                for w in args.list("pDescriptorWrites")? {
+                    let set = w.get("dstSet")?.handle()?;
+                    let written = descriptor_writes(&w)?;
+                    let entry = self.sets.entry(set).or_default();
+                    for (key, d) in written {
+                        entry.insert(key, d);
+                    }
+                }
+                for c in args.list("pDescriptorCopies")? {
+                    let (src, dst) = (c.get("srcSet")?.handle()?, c.get("dstSet")?.handle()?);
+                    let (sb, se) = (c.get("srcBinding")?.u32()?, c.get("srcArrayElement")?.u32()?);
+                    let (db, de) = (c.get("dstBinding")?.u32()?, c.get("dstArrayElement")?.u32()?);
+                    let n = c.get("descriptorCount")?.u32()?;
+                    let copied: Vec<_> = (0..n.min(4096))
+                        .filter_map(|k| {
+                            let d = self.sets.get(&src)?.get(&(sb, se + k))?.clone();
+                            Some(((db, de + k), d))
+                        })
+                        .collect();
+                    let entry = self.sets.entry(dst).or_default();
+                    entry.extend(copied);
+                }
+            }
+            "vkCreateSwapchainKHR" => {
+                let ci = args.get("pCreateInfo")?;
+                let extent = ci.get("imageExtent")?;
+                self.swapchains.insert(
+                    args.get("pSwapchain")?.handle()?,
+                    SwapchainInfo {
+                        format: ci.get("imageFormat")?.name()?,
+                        extent: [extent.get("width")?.u32()?, extent.get("height")?.u32()?],
+                        layers: ci.get("imageArrayLayers")?.u32()?,
+                        usage: ci.get("imageUsage")?.flags(IMAGE_USAGE)?,
+                    },
+                );
+            }
+            "vkGetSwapchainImagesKHR" => {
+                let chain = args.get("swapchain")?.handle()?;
+                let images: Vec<u64> = args
+                    .list("pSwapchainImages")?
+                    .iter()
+                    .map(Arg::handle)
+                    .collect::<Got<_>>()?;
+                if images.is_empty() {
+                    return Ok(true);
+                }
+                let sc = self.swapchains.get(&chain).cloned().ok_or_else(|| {
+                    Skip(format!("swapchain {chain} was never created"))
+                })?;
+                for (i, &img) in images.iter().enumerate() {
+                    self.images.insert(
+                        img,
+                        ImageInfo {
+                            format: sc.format.clone(),
+                            image_type: "VK_IMAGE_TYPE_2D".to_owned(),
+                            extent: [sc.extent[0], sc.extent[1], 1],
+                            mips: 1,
+                            layers: sc.layers.max(1),
+                            samples: 1,
+                            usage: sc.usage,
+                            create_flags: 0,
+                            bound: None,
+                            alignment: None,
+                            swapchain: Some((chain, i as u32)),
+                        },
+                    );
+                }
+                self.swapchain_images.insert(chain, images);
+            }
+            "vkSetDebugUtilsObjectNameEXT" => {
+                let info = args.get("pNameInfo")?;
+                let handle = info.get("objectHandle")?.handle()?;
+                if let Some(n) = info.opt("pObjectName") {
+                    self.names.insert(handle, n.str()?.to_owned());
+                }
+            }
+            "vkDebugMarkerSetObjectNameEXT" => {
+                let info = args.get("pNameInfo")?;
+                let handle = info.get("object")?.handle()?;
+                self.names
+                    .insert(handle, info.get("pObjectName")?.str()?.to_owned());
+            }
+            "vkMapMemory" | "vkMapMemory2KHR" | "vkMapMemory2" => {
+                let memory = match args.opt("pMemoryMapInfo") {
+                    Some(info) => info.get("memory")?.handle()?,
+                    None => args.get("memory")?.handle()?,
+                };
+                self.mapped.insert(memory);
+            }
+            "vkCreateCommandPool" => {
+                let ci = args.get("pCreateInfo")?;
+                self.pools.insert(
+                    args.get("pCommandPool")?.handle()?,
+                    ci.get("queueFamilyIndex")?.u32()?,
+                );
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    fn bind(&mut self, handle: u64, memory: u64, offset: u64) {
+        if let Some(i) = self.images.get_mut(&handle) {
+            i.bound = Some((memory, offset));
+        } else if let Some(b) = self.buffers.get_mut(&handle) {
+            b.bound = Some((memory, offset));
+        }
+    }
+}
+
+/// The descriptors one VkWriteDescriptorSet writes, by (binding, array element); a write
+/// running past its binding continues in the next one, as Vulkan specifies.
+pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
+    let binding = w.get("dstBinding")?.u32()?;
+    let first = w.get("dstArrayElement")?.u32()?;
+    let ty = w.get("descriptorType")?.name()?;
+    let mut out = Vec::new();
+    let images = w.list("pImageInfo")?;
+    let buffers = w.list("pBufferInfo")?;
+    let texels = w.list("pTexelBufferView")?;
+    let kind = ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
+    let is_image = matches!(
+        kind,
+        "COMBINED_IMAGE_SAMPLER" | "SAMPLED_IMAGE" | "STORAGE_IMAGE" | "INPUT_ATTACHMENT" | "1" | "2" | "3" | "10"
+    );
+    let is_buffer = matches!(
+        kind,
+        "UNIFORM_BUFFER" | "STORAGE_BUFFER" | "UNIFORM_BUFFER_DYNAMIC" | "STORAGE_BUFFER_DYNAMIC" | "6" | "7" | "8" | "9"
+    );
+    let is_texel = matches!(kind, "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" | "4" | "5");
+    if is_image {
+        for (k, i) in images.iter().enumerate() {
+            let view = i.get("imageView")?.handle()?;
+            if view != 0 {
+                out.push(((binding, first + k as u32), Descriptor::Image { view, ty: kind.to_owned() }));
+            }
+        }
+    } else if is_buffer {
+        for (k, b) in buffers.iter().enumerate() {
+            let buffer = b.get("buffer")?.handle()?;
+            if buffer != 0 {
+                out.push((
+                    (binding, first + k as u32),
+                    Descriptor::Buffer {
+                        buffer,
+                        offset: b.get("offset")?.u64()?,
+                        range: b.get("range")?.u64()?,
+                        ty: kind.to_owned(),
+                    },
+                ));
+            }
+        }
+    } else if is_texel {
+        for (k, t) in texels.iter().enumerate() {
+            let view = t.handle()?;
+            if view != 0 {
+                out.push(((binding, first + k as u32), Descriptor::TexelBuffer { view, ty: kind.to_owned() }));
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
+    let attachments = ci
+        .list("pAttachments")?
+        .iter()
+        .map(|a| {
+            Ok(AttachmentDesc {
+                load: a.get("loadOp")?.name()?,
+                store: a.get("storeOp")?.name()?,
+                stencil_load: a.get("stencilLoadOp")?.name()?,
+                stencil_store: a.get("stencilStoreOp")?.name()?,
+                initial: a.get("initialLayout")?.name()?,
+                final_layout: a.get("finalLayout")?.name()?,
+            })
+        })
+        .collect::<Got<Vec<_>>>()?;
+    let refs = |sp: &Arg<'_>, key: &str| -> Got<Vec<(u32, String)>> {
+        sp.list(key)?
+            .iter()
+            .map(|r| Ok((r.get("attachment")?.u32()?, r.get("layout")?.name()?)))
+            .filter(|r: &Got<(u32, String)>| !matches!(r, Ok((u32::MAX, _))))
+            .collect()
+    };
+    let subpasses = ci
+        .list("pSubpasses")?
+        .iter()
+        .map(|sp| {
+            Ok(SubpassDesc {
+                colors: refs(sp, "pColorAttachments")?,
+                resolves: refs(sp, "pResolveAttachments")?,
+                depth: match sp.opt("pDepthStencilAttachment") {
+                    Some(d) => {
+                        let a = d.get("attachment")?.u32()?;
+                        (a != u32::MAX).then(|| Ok((a, d.get("layout")?.name()?))).transpose()?
+                    }
+                    None => None,
+                },
+                inputs: refs(sp, "pInputAttachments")?,
+            })
+        })
+        .collect::<Got<Vec<_>>>()?;
+    let dependencies = ci
+        .list("pDependencies")?
+        .iter()
+        .map(|d| {
+            use crate::capture::vulkan::{ACCESS, STAGES};
+            Ok(Dependency {
+                src_subpass: d.get("srcSubpass")?.u32()?,
+                dst_subpass: d.get("dstSubpass")?.u32()?,
+                src_stages: d.get("srcStageMask")?.flags(STAGES)?,
+                dst_stages: d.get("dstStageMask")?.flags(STAGES)?,
+                src_access: d.get("srcAccessMask")?.flags(ACCESS)?,
+                dst_access: d.get("dstAccessMask")?.flags(ACCESS)?,
+            })
+        })
+        .collect::<Got<Vec<_>>>()?;
+    Ok(RenderPassInfo {
+        attachments,
+        subpasses,
+        dependencies,
+    })
+}

@@ -1,0 +1,273 @@
+//! Typed reads of a call's JSON arguments in both converter dialects: handles and 64-bit
+//! values as numbers or strings, flags as integers, hex strings or `A|B` symbols, enums as
+//! names. A value of the wrong shape is a `Skip` naming the argument, never a panic.
+
+use serde_json::Value;
+
+/// Why a call could not be used: the argument path and what is wrong with it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Skip(pub String);
+
+pub type Got<T> = Result<T, Skip>;
+
+/// One argument (or part of one) with its path for messages.
+#[derive(Clone, Debug)]
+pub struct Arg<'a> {
+    pub value: &'a Value,
+    path: String,
+}
+
+impl<'a> Arg<'a> {
+    pub fn root(value: &'a Value) -> Self {
+        Arg {
+            value,
+            path: String::new(),
+        }
+    }
+
+    /// The argument's path, e.g. `pCreateInfo.extent.width` or `pRegions[2].size`.
+    pub fn path(&self) -> &str {
+        &self.path
+    }
+
+    fn skip<T>(&self, what: &str) -> Got<T> {
+        let shown = match self.value {
+            Value::String(s) if s.len() > 40 => format!("\"{}...\"", &s[..s.floor_char_boundary(40)]),
+            Value::Object(_) => "an object".to_owned(),
+            Value::Array(_) => "an array".to_owned(),
+            v => v.to_string(),
+        };
+        Err(Skip(format!("`{}` is {shown}, expected {what}", self.path())))
+    }
+
+    fn child(&self, value: &'a Value, key: &str) -> Arg<'a> {
+        Arg {
+            value,
+            path: if self.path.is_empty() {
+                key.to_owned()
+            } else {
+                format!("{}.{key}", self.path)
+            },
+        }
+    }
+
+    /// A member; missing members are an error naming them.
+    pub fn get(&self, key: &str) -> Got<Arg<'a>> {
+        match self.value.get(key) {
+            Some(v) => Ok(self.child(v, key)),
+            None => Err(Skip(format!("`{}` is missing", self.child(self.value, key).path))),
+        }
+    }
+
+    /// A member that may be absent or null.
+    pub fn opt(&self, key: &str) -> Option<Arg<'a>> {
+        self.get(key).ok().filter(|a| !a.value.is_null())
+    }
+
+    /// The elements of an array; null or absent arrays are empty.
+    pub fn items(&self) -> Got<Vec<Arg<'a>>> {
+        match self.value {
+            Value::Null => Ok(Vec::new()),
+            Value::Array(items) => Ok(items
+                .iter()
+                .enumerate()
+                .map(|(i, v)| Arg {
+                    value: v,
+                    path: format!("{}[{i}]", self.path),
+                })
+                .collect()),
+            _ => self.skip("an array"),
+        }
+    }
+
+    /// The elements of an optional array member (absent and null are empty).
+    pub fn list(&self, key: &str) -> Got<Vec<Arg<'a>>> {
+        match self.opt(key) {
+            Some(a) => a.items(),
+            None => Ok(Vec::new()),
+        }
+    }
+
+    /// An unsigned integer: a JSON number, or a decimal or `0x` hex string.
+    pub fn u64(&self) -> Got<u64> {
+        match self.value {
+            Value::Number(n) => match n.as_u64() {
+                Some(v) => Ok(v),
+                None => self.skip("an unsigned integer"),
+            },
+            Value::String(s) => parse_uint(s).map_or_else(|| self.skip("an unsigned integer"), Ok),
+            _ => self.skip("an unsigned integer"),
+        }
+    }
+
+    pub fn u32(&self) -> Got<u32> {
+        let v = self.u64()?;
+        u32::try_from(v).or_else(|_| self.skip("a 32-bit unsigned integer"))
+    }
+
+    pub fn i64(&self) -> Got<i64> {
+        match self.value {
+            Value::Number(n) => n.as_i64().map_or_else(|| self.skip("an integer"), Ok),
+            Value::String(s) => s.trim().parse().or_else(|_| self.skip("an integer")),
+            _ => self.skip("an integer"),
+        }
+    }
+
+    pub fn f64(&self) -> Got<f64> {
+        match self.value {
+            Value::Number(n) => n.as_f64().map_or_else(|| self.skip("a number"), Ok),
+            _ => self.skip("a number"),
+        }
+    }
+
+    pub fn str(&self) -> Got<&'a str> {
+        match self.value {
+            Value::String(s) => Ok(s),
+            _ => self.skip("a string"),
+        }
+    }
+
+    /// A handle id: a number, a hex string, or null / `VK_NULL_HANDLE` (0).
+    pub fn handle(&self) -> Got<u64> {
+        match self.value {
+            Value::Null => Ok(0),
+            Value::String(s) if s == "VK_NULL_HANDLE" => Ok(0),
+            _ => self.u64().or_else(|_| self.skip("a handle")),
+        }
+    }
+
+    /// A flags value: an integer, a hex string, or `|`-separated symbols from `table`
+    /// (matched by their last words, so `VK_IMAGE_USAGE_SAMPLED_BIT` finds `SAMPLED`).
+    pub fn flags(&self, table: &[(&str, u64)]) -> Got<u64> {
+        if let Ok(v) = self.u64() {
+            return Ok(v);
+        }
+        let Value::String(s) = self.value else {
+            return self.skip("flags");
+        };
+        let mut mask = 0;
+        for symbol in s.split('|').map(str::trim).filter(|x| !x.is_empty()) {
+            match symbol_value(symbol, table) {
+                Some(v) => mask |= v,
+                None => return Err(Skip(format!("`{}`: unknown flag {symbol}", self.path()))),
+            }
+        }
+        Ok(mask)
+    }
+
+    /// An enumerant's name (`VK_FORMAT_R8G8B8A8_UNORM`); numbers are given back as text.
+    pub fn name(&self) -> Got<String> {
+        match self.value {
+            Value::String(s) => Ok(s.clone()),
+            Value::Number(n) => Ok(n.to_string()),
+            _ => self.skip("an enumerant"),
+        }
+    }
+}
+
+fn parse_uint(s: &str) -> Option<u64> {
+    let t = s.trim();
+    match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        Some(hex) => u64::from_str_radix(hex, 16).ok(),
+        None => t.parse().ok(),
+    }
+}
+
+/// The bit a symbol names: its words after stripping `_BIT`/`_KHR`, matched against the
+/// longest table name it ends with.
+pub fn symbol_value(symbol: &str, table: &[(&str, u64)]) -> Option<u64> {
+    let mut s = symbol.trim();
+    for suffix in ["_BIT_KHR", "_BIT_EXT", "_BIT", "_KHR"] {
+        if let Some(rest) = s.strip_suffix(suffix) {
+            s = rest;
+            break;
+        }
+    }
+    if s.ends_with("_NONE") || s == "0" {
+        return Some(0);
+    }
+    table
+        .iter()
+        .filter(|(n, _)| s == *n || s.ends_with(&format!("_{n}")))
+        .max_by_key(|(n, _)| n.len())
+        .map(|(_, v)| *v)
+}
+
+pub const IMAGE_USAGE: &[(&str, u64)] = &[
+    ("TRANSFER_SRC", 0x1),
+    ("TRANSFER_DST", 0x2),
+    ("SAMPLED", 0x4),
+    ("STORAGE", 0x8),
+    ("COLOR_ATTACHMENT", 0x10),
+    ("DEPTH_STENCIL_ATTACHMENT", 0x20),
+    ("TRANSIENT_ATTACHMENT", 0x40),
+    ("INPUT_ATTACHMENT", 0x80),
+];
+
+pub const BUFFER_USAGE: &[(&str, u64)] = &[
+    ("TRANSFER_SRC", 0x1),
+    ("TRANSFER_DST", 0x2),
+    ("UNIFORM_TEXEL_BUFFER", 0x4),
+    ("STORAGE_TEXEL_BUFFER", 0x8),
+    ("UNIFORM_BUFFER", 0x10),
+    ("STORAGE_BUFFER", 0x20),
+    ("INDEX_BUFFER", 0x40),
+    ("VERTEX_BUFFER", 0x80),
+    ("INDIRECT_BUFFER", 0x100),
+    ("SHADER_DEVICE_ADDRESS", 0x20000),
+];
+
+pub const QUEUE_FLAGS: &[(&str, u64)] = &[
+    ("GRAPHICS", 0x1),
+    ("COMPUTE", 0x2),
+    ("TRANSFER", 0x4),
+    ("SPARSE_BINDING", 0x8),
+    ("PROTECTED", 0x10),
+];
+
+pub const MEMORY_PROPERTIES: &[(&str, u64)] = &[
+    ("DEVICE_LOCAL", 0x1),
+    ("HOST_VISIBLE", 0x2),
+    ("HOST_COHERENT", 0x4),
+    ("HOST_CACHED", 0x8),
+    ("LAZILY_ALLOCATED", 0x10),
+    ("PROTECTED", 0x20),
+];
+
+pub const IMAGE_CREATE: &[(&str, u64)] = &[
+    ("SPARSE_BINDING", 0x1),
+    ("SPARSE_RESIDENCY", 0x2),
+    ("SPARSE_ALIASED", 0x4),
+    ("MUTABLE_FORMAT", 0x8),
+    ("CUBE_COMPATIBLE", 0x10),
+    ("2D_ARRAY_COMPATIBLE", 0x20),
+];
+
+pub const ASPECTS: &[(&str, u64)] = &[("COLOR", 0x1), ("DEPTH", 0x2), ("STENCIL", 0x4)];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn numbers_strings_and_symbols() {
+        let v = json!({"a": 18446744073709551615u64, "b": "0x00000006", "c": "VK_IMAGE_USAGE_SAMPLED_BIT|VK_IMAGE_USAGE_STORAGE_BIT", "d": [1, "x"], "h": "VK_NULL_HANDLE"});
+        let root = Arg::root(&v);
+        assert_eq!(root.get("a").unwrap().u64(), Ok(u64::MAX));
+        assert!(root.get("a").unwrap().u32().is_err());
+        assert_eq!(root.get("b").unwrap().flags(IMAGE_USAGE), Ok(6));
+        assert_eq!(root.get("c").unwrap().flags(IMAGE_USAGE), Ok(12));
+        assert_eq!(root.get("h").unwrap().handle(), Ok(0));
+        let d = root.get("d").unwrap();
+        let items = d.items().unwrap();
+        let err = items[1].u64().unwrap_err();
+        assert_eq!(err.0, "`d[1]` is \"x\", expected an unsigned integer");
+        assert_eq!(root.get("zz").unwrap_err().0, "`zz` is missing");
+        assert_eq!(
+            symbol_value("VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT", crate::capture::vulkan::STAGES),
+            Some(0x400)
+        );
+        assert_eq!(symbol_value("VK_ACCESS_SHADER_READ_BIT", crate::capture::vulkan::ACCESS), Some(0x20));
+    }
+}
