@@ -688,9 +688,11 @@ fn begin_render_pass(args: &Arg<'_>, objects: &Objects, origin: String) -> Got<R
             mips: (image.base_mip, image.mip_count),
             layers: (image.base_layer, image.layer_count),
         };
-        let transition = |from: &str, to: &str, dep: &Dependency, what: &str| -> Option<BarrierCmd> {
+        // The external dependency orders the attachment against earlier work even where the
+        // layout stays; at the end only a layout change or a declared dependency does anything.
+        let transition = |from: &str, to: &str, dep: &Dependency, what: &str, always: bool| -> Option<BarrierCmd> {
             let (from, to) = (vulkan::layout(from)?, vulkan::layout(to)?);
-            (from != to).then(|| BarrierCmd {
+            (from != to || always).then(|| BarrierCmd {
                 origin: format!("{origin}: attachment {a} {what}"),
                 target: target.clone(),
                 src_stages: dep.src_stages,
@@ -701,25 +703,27 @@ fn begin_render_pass(args: &Arg<'_>, objects: &Objects, origin: String) -> Got<R
                 families: None,
             })
         };
-        let external_in = rp
+        let declared_in = rp
             .dependencies
             .iter()
             .find(|x| x.src_subpass == EXTERNAL && x.dst_subpass as usize == first)
-            .cloned()
-            .unwrap_or_else(|| implicit(true));
-        let external_out = rp
+            .cloned();
+        let declared_out = rp
             .dependencies
             .iter()
             .find(|x| x.dst_subpass == EXTERNAL && x.src_subpass as usize == last)
-            .cloned()
-            .unwrap_or_else(|| implicit(false));
+            .cloned();
+        let (in_what, out_what) = (
+            if declared_in.is_some() { "initialLayout, external dependency" } else { "initialLayout, implicit external dependency" },
+            if declared_out.is_some() { "finalLayout, external dependency" } else { "finalLayout, implicit external dependency" },
+        );
         if let Some(l) = layout_in(first)
-            && let Some(b) = transition(&d.initial, &l, &external_in, "initialLayout")
+            && let Some(b) = transition(&d.initial, &l, &declared_in.clone().unwrap_or_else(|| implicit(true)), in_what, true)
         {
             begin_barriers.push(b);
         }
         if let Some(l) = layout_in(last)
-            && let Some(b) = transition(&l, &d.final_layout, &external_out, "finalLayout")
+            && let Some(b) = transition(&l, &d.final_layout, &declared_out.clone().unwrap_or_else(|| implicit(false)), out_what, declared_out.is_some())
         {
             end_barriers.push(b);
         }

@@ -1,25 +1,23 @@
 //! Lints that compare the barriers a Vulkan application recorded (imported captures) with the
 //! ones the frame needs, in Vulkan's terms: stage and access masks and image layouts.
 //!
-//! A derived barrier is satisfied by a recorded one on the same resource (or a global memory
-//! barrier) recorded after the previous use on that queue and before the pass, whose source
-//! scope reaches the previous use, whose destination scope reaches the pass's use, and which
-//! leaves an image in a layout the pass can use. Vulkan needs no barrier where D3D12 changes
-//! between read states of a buffer, nor for a buffer's first use in the frame.
+//! The needs are Vulkan's own, derived from each resource's uses in submission order (not from
+//! D3D12's state transitions): a write before any later use, a read before a later write, and
+//! a change of image layout each need a barrier; reads after reads in one layout need none,
+//! and nothing is known of what came before the capture, so a first use needs only its layout.
+//! A need is met by a recorded barrier on the resource (or a global memory barrier) recorded
+//! on the pass's queue after the previous use and before the pass, whose source scope reaches
+//! the previous use, whose destination scope reaches this one, and which leaves an image in a
+//! layout this use can take.
 
 use std::collections::BTreeSet;
 
 use super::{Lint, LintKind, lint};
-use crate::analysis::barriers::{Barrier, BarrierKind, BarrierPlan, VkScope};
-use crate::analysis::model::{FrameModel, State};
-use crate::capture::format::BarrierType;
-use crate::capture::model::{Capture, ResourceId, Subresources, VulkanBarrierDesc};
+use crate::analysis::barriers::BarrierPlan;
+use crate::analysis::model::FrameModel;
+use crate::capture::format::{Access, BarrierType, PassKind};
+use crate::capture::model::{Capture, PassId, ResourceAccess, ResourceId, Subresources, VulkanBarrierDesc};
 use crate::capture::vulkan::{self, ACCESS, STAGES, access, expand_access, expand_stages, stage};
-
-fn mask(table: &[(&str, u64)], names: &[&'static str]) -> u64 {
-    let owned: Vec<String> = names.iter().map(|s| (*s).to_owned()).collect();
-    vulkan::parse_mask(table, &owned).unwrap_or(0)
-}
 
 fn covers(outer: Option<&Subresources>, inner: &Subresources) -> bool {
     outer.is_none_or(|o| {
@@ -46,7 +44,75 @@ fn names(table: &[(&str, u64)], m: u64) -> String {
     if n.is_empty() { "NONE".to_owned() } else { n.join("|") }
 }
 
-/// What a derived barrier asks of a recorded one.
+/// Vulkan's scope of one access: stages, access bits and the image layouts that serve it.
+fn scope(a: Access, raster: bool) -> (u64, u64, Option<&'static str>) {
+    let shader = if raster { stage::VERTEX_SHADER | stage::FRAGMENT_SHADER } else { stage::COMPUTE_SHADER };
+    let tests = stage::EARLY_FRAGMENT_TESTS | stage::LATE_FRAGMENT_TESTS;
+    match a {
+        Access::Sampled => (shader, access::SHADER_READ, Some("SHADER_READ_ONLY_OPTIMAL")),
+        Access::StorageRead => (shader, access::SHADER_READ, Some("GENERAL")),
+        Access::StorageWrite | Access::StorageReadWrite => {
+            (shader, access::SHADER_READ | access::SHADER_WRITE, Some("GENERAL"))
+        }
+        Access::Uniform => (shader, access::UNIFORM_READ, None),
+        Access::IndirectArgs => (stage::DRAW_INDIRECT, access::INDIRECT_COMMAND_READ, None),
+        Access::VertexBuffer => (stage::VERTEX_INPUT, access::VERTEX_ATTRIBUTE_READ, None),
+        Access::IndexBuffer => (stage::VERTEX_INPUT, access::INDEX_READ, None),
+        Access::CopySrc | Access::ResolveSrc => (stage::TRANSFER, access::TRANSFER_READ, Some("TRANSFER_SRC_OPTIMAL")),
+        Access::CopyDst | Access::ResolveDst => (stage::TRANSFER, access::TRANSFER_WRITE, Some("TRANSFER_DST_OPTIMAL")),
+        Access::ColorAttachment => (
+            stage::COLOR_ATTACHMENT_OUTPUT,
+            access::COLOR_ATTACHMENT_READ | access::COLOR_ATTACHMENT_WRITE,
+            Some("COLOR_ATTACHMENT_OPTIMAL"),
+        ),
+        Access::DepthRead => (tests, access::DEPTH_STENCIL_ATTACHMENT_READ, Some("DEPTH_STENCIL_READ_ONLY_OPTIMAL")),
+        Access::DepthWrite => (
+            tests,
+            access::DEPTH_STENCIL_ATTACHMENT_READ | access::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            Some("DEPTH_STENCIL_ATTACHMENT_OPTIMAL"),
+        ),
+        Access::Present => (0, 0, Some("PRESENT_SRC_KHR")),
+    }
+}
+
+/// How one pass uses one resource, all its accesses together.
+#[derive(Clone, Copy)]
+struct Use {
+    pass: u32,
+    stages: u64,
+    access: u64,
+    writes: bool,
+    layout: Option<&'static str>,
+}
+
+fn use_of(accesses: &[&ResourceAccess], pass: u32, raster: bool, image: bool) -> Use {
+    let mut u = Use { pass, stages: 0, access: 0, writes: false, layout: None };
+    for a in accesses {
+        let (st, ac, layout) = scope(a.access, raster);
+        u.stages |= st;
+        u.access |= ac;
+        u.writes |= a.writes;
+        if image {
+            u.layout = match (u.layout, layout) {
+                (None, l) => l,
+                (Some(prev), Some(l)) if prev != l => {
+                    // Reading depth as an attachment and sampling it: the read-only layout.
+                    let depth_ro = "DEPTH_STENCIL_READ_ONLY_OPTIMAL";
+                    if (prev == depth_ro && l == "SHADER_READ_ONLY_OPTIMAL") || (l == depth_ro && prev == "SHADER_READ_ONLY_OPTIMAL") {
+                        Some(depth_ro)
+                    } else {
+                        Some("GENERAL")
+                    }
+                }
+                (prev, _) => prev,
+            };
+        }
+    }
+    u.access &= if u.writes { u64::MAX } else { !access::WRITES };
+    u
+}
+
+/// What the frame asks of the barriers between two uses of a resource.
 struct Need {
     src_stages: u64,
     src_writes: u64,
@@ -57,34 +123,33 @@ struct Need {
 }
 
 impl Need {
-    fn of(d: &Barrier, model: &FrameModel) -> Option<Need> {
-        let buffer = model.resources[d.resource as usize].is_buffer;
-        if d.kind == BarrierKind::Aliasing {
-            return None;
-        }
-        let from_initial = d.before == State::COMMON;
-        let read_to_read = d.before.is_read_only() && d.after.is_read_only();
-        if buffer && (from_initial || read_to_read) {
-            return None;
-        }
-        let (src, dst): (VkScope, VkScope) = d.vulkan(model);
-        if !buffer && read_to_read && src.layout == dst.layout {
-            return None;
-        }
-        let src_stages = if from_initial { 0 } else { mask(STAGES, &src.stages) };
-        let src_writes = if from_initial { 0 } else { mask(ACCESS, &src.access) & access::WRITES };
-        let (dst_stages, dst_access) = if d.after == State::PRESENT {
-            (0, 0)
-        } else {
-            (mask(STAGES, &dst.stages), mask(ACCESS, &dst.access))
+    /// The barrier `next` needs after `prev` (`None`: the first use in the capture); `None`
+    /// when no barrier is needed (reads after reads in one layout, a buffer's first use).
+    fn between(prev: Option<&Use>, next: &Use, image: bool) -> Option<Need> {
+        let layout = next.layout.filter(|_| image);
+        let Some(prev) = prev else {
+            // What came before the capture is unknown: only a layout transition is certain.
+            return layout.map(|l| Need {
+                src_stages: 0,
+                src_writes: 0,
+                dst_stages: 0,
+                dst_access: 0,
+                old_layout: None,
+                layout: Some(l),
+            });
         };
+        let relayout = image && prev.layout != layout;
+        if !prev.writes && !next.writes && !relayout {
+            return None;
+        }
         Some(Need {
-            src_stages,
-            src_writes,
-            dst_stages,
-            dst_access,
-            old_layout: if from_initial { None } else { src.layout },
-            layout: dst.layout,
+            src_stages: prev.stages,
+            src_writes: prev.access & access::WRITES,
+            dst_stages: next.stages,
+            // After reads only an execution dependency is needed (unless the layout changes).
+            dst_access: if prev.writes || relayout { next.access } else { 0 },
+            old_layout: prev.layout.filter(|_| image),
+            layout,
         })
     }
 
@@ -133,10 +198,10 @@ impl Need {
     }
 }
 
-/// Compares the Vulkan barriers of an imported capture with the derived ones.
-pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -> Vec<Lint> {
+/// Compares the Vulkan barriers of an imported capture with the ones its accesses need.
+pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, _plan: &BarrierPlan) -> Vec<Lint> {
     let mut out = Vec::new();
-    let recorded: Vec<(u32, usize, ResourceIdOpt, &VulkanBarrierDesc, Option<&Subresources>)> = capture
+    let recorded: Vec<Recorded<'_>> = capture
         .passes
         .iter()
         .flat_map(|p| {
@@ -149,63 +214,48 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, plan: &Barri
     if recorded.is_empty() {
         return out;
     }
+    let raster: Vec<bool> = model.passes.iter().map(|p| p.raster).collect();
     let mut used: BTreeSet<(u32, usize)> = BTreeSet::new();
     let queue_of = |pass: u32| capture.passes[pass as usize].queue;
-    for d in plan.barriers.iter().filter(|b| !b.next_frame) {
-        let Some(need) = Need::of(d, model) else { continue };
-        let pass = model.passes[d.for_pass as usize].id.0;
-        let resource = model.resources[d.resource as usize].id;
-        let after = d.split_begin_after.map(|p| model.passes[p as usize].id.0);
-        let in_window = |p: u32| queue_of(p) == queue_of(pass) && p <= pass && after.is_none_or(|a| p > a);
-        let candidates: Vec<_> = recorded
-            .iter()
-            .filter(|(p, _, r, _, range)| {
-                in_window(*p) && (r.is_none() || (*r == Some(resource) && covers(*range, &d.range)))
-            })
-            .collect();
-        let name = &capture.resource(resource).name;
-        let pname = &capture.passes[pass as usize].name;
-        match candidates.iter().find(|c| need.lacks(c.3).is_empty()) {
-            Some(&&(p, i, _, v, _)) => {
-                used.insert((p, i));
-                if let (Some(old), Some(current)) = (v.old_layout, need.old_layout)
-                    && old != "UNDEFINED"
-                    && !layout_serves(old, current)
-                {
-                    out.push(lint(LintKind::BarrierWrongBeforeState, format!(
-                        "\"{pname}\": {} takes \"{name}\" from {old}, but it is in {current}", v.origin
-                    ), Some(capture.passes[pass as usize].id), Some(resource)));
-                }
-                let broad_src = v.src_stages & stage::ALL_COMMANDS != 0 && need.src_stages != 0;
-                let broad_dst = v.dst_stages & stage::ALL_COMMANDS != 0 && need.dst_stages != 0;
-                let broad_access = (v.src_access | v.dst_access) & (access::MEMORY_READ | access::MEMORY_WRITE) != 0;
-                if broad_src || broad_dst || broad_access {
-                    out.push(lint(LintKind::BarrierOverBroad, format!(
-                        "\"{pname}\": {} on \"{name}\" waits on {}/{} -> {}/{}; {} is enough",
-                        v.origin,
-                        names(STAGES, v.src_stages), names(ACCESS, v.src_access),
-                        names(STAGES, v.dst_stages), names(ACCESS, v.dst_access),
-                        need.describe()
-                    ), Some(capture.passes[pass as usize].id), Some(resource)));
-                }
+    for r in &capture.resources {
+        let image = r.is_texture();
+        let mut prev: Option<Use> = None;
+        for p in &capture.passes {
+            let accesses: Vec<&ResourceAccess> = p.accesses.iter().filter(|a| a.resource == r.id).collect();
+            if accesses.is_empty() {
+                continue;
             }
-            None => match candidates.iter().find(|c| c.2 == Some(resource)) {
-                Some(&&(p, i, _, v, _)) => {
-                    used.insert((p, i));
-                    out.push(lint(LintKind::BarrierMissing, format!(
-                        "\"{pname}\" needs {} on \"{name}\"; {} records one but its {} (a hazard)",
-                        need.describe(), v.origin, need.lacks(v).join("; ")
-                    ), Some(capture.passes[pass as usize].id), Some(resource)));
-                }
-                None => out.push(lint(LintKind::BarrierMissing, format!(
-                    "\"{pname}\" needs a barrier on \"{name}\" ({}) that the capture did not record (a hazard)",
-                    need.describe()
-                ), Some(capture.passes[pass as usize].id), Some(resource))),
-            },
+            let pass = p.id.0;
+            let raster = raster.get(pass as usize).copied().unwrap_or(p.kind == PassKind::Raster);
+            let next = use_of(&accesses, pass, raster, image);
+            let need = Need::between(prev.as_ref(), &next, image);
+            let after = prev.map(|u| u.pass);
+            // A run of reads keeps the writer's scope and gathers the readers' stages.
+            prev = Some(match prev {
+                Some(pr) if !pr.writes && !next.writes && pr.layout == next.layout => Use {
+                    stages: pr.stages | next.stages,
+                    access: pr.access | next.access,
+                    ..next
+                },
+                _ => next,
+            });
+            let Some(need) = need else { continue };
+            let range = accesses.iter().map(|a| a.range).reduce(|a, b| union(&a, &b));
+            let candidates: Vec<&Recorded<'_>> = recorded
+                .iter()
+                .filter(|(bp, _, res, _, rr)| {
+                    queue_of(*bp) == queue_of(pass)
+                        && *bp <= pass
+                        && after.is_none_or(|a| *bp > a)
+                        && (res.is_none() || (*res == Some(r.id) && range.as_ref().is_none_or(|x| covers(*rr, x))))
+                })
+                .collect();
+            judge(capture, &mut out, &mut used, &need, &candidates, p.id, r.id);
         }
     }
     for &(p, i, r, v, _) in &recorded {
-        if used.contains(&(p, i)) {
+        // Render pass dependencies are not the application's to drop.
+        if used.contains(&(p, i)) || r.is_none() || v.origin.starts_with("vkCmdBeginRenderPass") {
             continue;
         }
         let what = match (v.old_layout, v.new_layout) {
@@ -221,4 +271,78 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, plan: &Barri
     out
 }
 
-type ResourceIdOpt = Option<ResourceId>;
+type Recorded<'a> = (u32, usize, Option<ResourceId>, &'a VulkanBarrierDesc, Option<&'a Subresources>);
+
+fn union(a: &Subresources, b: &Subresources) -> Subresources {
+    let mip_end = (a.mip_base + a.mip_count).max(b.mip_base + b.mip_count);
+    let layer_end = (a.layer_base + a.layer_count).max(b.layer_base + b.layer_count);
+    let mip_base = a.mip_base.min(b.mip_base);
+    let layer_base = a.layer_base.min(b.layer_base);
+    Subresources {
+        mip_base,
+        mip_count: mip_end - mip_base,
+        layer_base,
+        layer_count: layer_end - layer_base,
+        ..*a
+    }
+}
+
+/// The verdict on one need: satisfied (maybe over-broadly or from a wrong layout), partly
+/// covered, or missing.
+fn judge(
+    capture: &Capture,
+    out: &mut Vec<Lint>,
+    used: &mut BTreeSet<(u32, usize)>,
+    need: &Need,
+    candidates: &[&Recorded<'_>],
+    pass: PassId,
+    resource: ResourceId,
+) {
+    let name = &capture.resource(resource).name;
+    let pname = &capture.pass(pass).name;
+    match candidates.iter().find(|c| need.lacks(c.3).is_empty()) {
+        Some(&&(p, i, _, v, _)) => {
+            used.insert((p, i));
+            if let (Some(old), Some(current)) = (v.old_layout, need.old_layout)
+                && old != "UNDEFINED"
+                && !layout_serves(old, current)
+            {
+                out.push(lint(LintKind::BarrierWrongBeforeState, format!(
+                    "\"{pname}\": {} takes \"{name}\" from {old}, but it is in {current}", v.origin
+                ), Some(pass), Some(resource)));
+            }
+            if v.old_layout == Some("UNDEFINED") && need.old_layout.is_some() && need.src_writes != 0 {
+                out.push(lint(LintKind::BarrierWrongBeforeState, format!(
+                    "\"{pname}\": {} takes \"{name}\" from UNDEFINED, discarding what an earlier pass wrote", v.origin
+                ), Some(pass), Some(resource)));
+            }
+            let every = access::MEMORY_READ | access::MEMORY_WRITE;
+            let broad_src = v.src_stages & stage::ALL_COMMANDS != 0 && need.src_stages != 0;
+            let broad_dst = v.dst_stages & stage::ALL_COMMANDS != 0 && need.dst_stages != 0;
+            let broad_access = (v.src_access & access::MEMORY_WRITE != 0 && need.src_writes != 0)
+                || (v.dst_access & every != 0 && need.dst_access != 0);
+            if broad_src || broad_dst || broad_access {
+                out.push(lint(LintKind::BarrierOverBroad, format!(
+                    "\"{pname}\": {} on \"{name}\" waits on {}/{} -> {}/{}; {} is enough",
+                    v.origin,
+                    names(STAGES, v.src_stages), names(ACCESS, v.src_access),
+                    names(STAGES, v.dst_stages), names(ACCESS, v.dst_access),
+                    need.describe()
+                ), Some(pass), Some(resource)));
+            }
+        }
+        None => match candidates.iter().find(|c| c.2 == Some(resource)) {
+            Some(&&(p, i, _, v, _)) => {
+                used.insert((p, i));
+                out.push(lint(LintKind::BarrierMissing, format!(
+                    "\"{pname}\" needs {} on \"{name}\"; {} records one but its {} (a hazard)",
+                    need.describe(), v.origin, need.lacks(v).join("; ")
+                ), Some(pass), Some(resource)));
+            }
+            None => out.push(lint(LintKind::BarrierMissing, format!(
+                "\"{pname}\" needs a barrier on \"{name}\" ({}) that the capture did not record (a hazard)",
+                need.describe()
+            ), Some(pass), Some(resource))),
+        },
+    }
+}
