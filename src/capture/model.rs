@@ -223,8 +223,8 @@ pub enum PlacementDesc {
 #[derive(Clone, Debug, PartialEq)]
 pub enum InitialDesc {
     Undefined,
-    /// Written by the application through mapped memory; not in the capture.
-    Mapped,
+    /// Contents from before the captured frames (imported captures); not in the capture.
+    BeforeCapture,
     File(PathBuf),
     Generator(Seeded<Content>),
 }

@@ -48,6 +48,8 @@ pub struct Builder {
     /// Why things were skipped, with how often.
     pub notes: BTreeMap<String, u64>,
     pub recorded_barriers: u64,
+    /// Block index of the first submission whose passes are imported.
+    pub first_submit: Option<u64>,
     pub draws: u64,
     pub dispatches: u64,
 }
@@ -218,6 +220,9 @@ impl Builder {
         signals: &[u64],
     ) {
         self.wait(queue, waits);
+        if self.emitting() && self.first_submit.is_none() {
+            self.first_submit = Some(objects.at);
+        }
         for cb in command_buffers {
             match recordings.get(cb) {
                 Some(r) => self.walk(objects, recordings, queue, &r.cmds, 0),

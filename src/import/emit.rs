@@ -63,7 +63,13 @@ pub struct Emitted {
     pub notes: Vec<String>,
 }
 
-pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &str) -> Emitted {
+/// `hidden_blocks`: the stream left blocks out before the first imported submission (state
+/// snapshot, memory fills), so what existed then may hold data the JSON does not show.
+pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &str, hidden_blocks: bool) -> Emitted {
+    let first_submit = b.first_submit.unwrap_or(u64::MAX);
+    let selected_later = b.selection.is_some_and(|(a, _)| a > 0);
+    // Contents from before the imported frames: earlier frames, or a snapshot not in the JSON.
+    let before = |created_at: u64| created_at < first_submit && (hidden_blocks || selected_later);
     let arch = architecture(objects);
     let mut notes = Vec::new();
     let mut heaps: BTreeMap<u64, Heap> = BTreeMap::new();
@@ -122,7 +128,7 @@ pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &st
                 buffer_kind: None,
                 flags,
                 placement: None,
-                initial: None,
+                initial: before(img.created_at).then_some(InitialContents::BeforeCapture {}),
                 history: false,
                 output: false,
             });
@@ -154,7 +160,7 @@ pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &st
                 buffer_kind: None,
                 flags,
                 placement: None,
-                initial: mapped.then_some(InitialContents::Mapped {}),
+                initial: (mapped || before(buf.created_at)).then_some(InitialContents::BeforeCapture {}),
                 history: false,
                 // The CPU reads what the frame copies into host-visible memory.
                 output: host && written.contains(rname.as_str()),

@@ -103,6 +103,10 @@ struct Importer {
     not_modelled: BTreeMap<String, u64>,
     calls: u64,
     dialect: Option<&'static str>,
+    /// The last block index seen, and whether blocks were left out of the JSON before the
+    /// first imported submission (a trimmed capture's state snapshot, memory fills).
+    last_index: u64,
+    hidden_blocks: bool,
 }
 
 impl Importer {
@@ -113,6 +117,11 @@ impl Importer {
 
     fn call(&mut self, call: &Call) {
         self.calls += 1;
+        if call.index > self.last_index.saturating_add(1) && self.builder.first_submit.is_none() {
+            self.hidden_blocks = true;
+        }
+        self.last_index = self.last_index.max(call.index);
+        self.objects.at = call.index;
         if failed(call) {
             self.skip(format!("{} calls that failed at capture ({})", call.name, call.result.as_deref().unwrap_or("")), call.line);
             return;
@@ -212,6 +221,8 @@ pub fn import(reader: impl BufRead, file: &str, options: &ImportOptions) -> Resu
         not_modelled: BTreeMap::new(),
         calls: 0,
         dialect: None,
+        last_index: 0,
+        hidden_blocks: false,
     };
     let mut tool = "GFXReconstruct (version not in the stream)".to_owned();
     let mut line_count = 0;
@@ -275,7 +286,7 @@ pub fn import(reader: impl BufRead, file: &str, options: &ImportOptions) -> Resu
     let stem = std::path::Path::new(file)
         .file_stem()
         .map_or_else(|| "imported".to_owned(), |s| s.to_string_lossy().into_owned());
-    let emitted = emit::emit(imp.builder, &imp.objects, &stem, file, &tool);
+    let emitted = emit::emit(imp.builder, &imp.objects, &stem, file, &tool, imp.hidden_blocks);
     skipped.extend(emitted.notes.iter().map(|n| Skipped { what: n.clone(), count: 1, first_line: None }));
     let mut not_modelled = imp.not_modelled;
     for (kind, n) in other {

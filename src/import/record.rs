@@ -703,16 +703,29 @@ fn begin_render_pass(args: &Arg<'_>, objects: &Objects, origin: String) -> Got<R
                 families: None,
             })
         };
-        let declared_in = rp
-            .dependencies
-            .iter()
-            .find(|x| x.src_subpass == EXTERNAL && x.dst_subpass as usize == first)
-            .cloned();
-        let declared_out = rp
-            .dependencies
-            .iter()
-            .find(|x| x.dst_subpass == EXTERNAL && x.src_subpass as usize == last)
-            .cloned();
+        // Every declared external dependency into the first subpass using the attachment (and
+        // out of the last) applies to it together.
+        let fold = |deps: Vec<&Dependency>| {
+            deps.into_iter().cloned().reduce(|a, b| Dependency {
+                src_stages: a.src_stages | b.src_stages,
+                dst_stages: a.dst_stages | b.dst_stages,
+                src_access: a.src_access | b.src_access,
+                dst_access: a.dst_access | b.dst_access,
+                ..a
+            })
+        };
+        let declared_in = fold(
+            rp.dependencies
+                .iter()
+                .filter(|x| x.src_subpass == EXTERNAL && x.dst_subpass as usize == first)
+                .collect(),
+        );
+        let declared_out = fold(
+            rp.dependencies
+                .iter()
+                .filter(|x| x.dst_subpass == EXTERNAL && x.src_subpass as usize == last)
+                .collect(),
+        );
         let (in_what, out_what) = (
             if declared_in.is_some() { "initialLayout, external dependency" } else { "initialLayout, implicit external dependency" },
             if declared_out.is_some() { "finalLayout, external dependency" } else { "finalLayout, implicit external dependency" },

@@ -24,10 +24,14 @@ pub struct ImageInfo {
     pub alignment: Option<u64>,
     /// The swapchain (and image index) it belongs to.
     pub swapchain: Option<(u64, u32)>,
+    /// Block index of the call that created it.
+    pub created_at: u64,
 }
 
 #[derive(Clone, Debug)]
 pub struct BufferInfo {
+    /// Block index of the call that created it.
+    pub created_at: u64,
     pub size: u64,
     pub usage: u64,
     pub bound: Option<(u64, u64)>,
@@ -109,6 +113,8 @@ pub struct SwapchainInfo {
 
 #[derive(Default, Debug)]
 pub struct Objects {
+    /// Block index of the call being applied.
+    pub at: u64,
     pub queue_family_flags: Vec<u64>,
     pub memory_type_flags: Vec<u64>,
     /// Queue handle -> (family, index).
@@ -224,6 +230,7 @@ impl Objects {
                     bound: None,
                     alignment: None,
                     swapchain: None,
+                    created_at: self.at,
                 };
                 self.images.insert(image, info);
             }
@@ -233,6 +240,7 @@ impl Objects {
                 self.buffers.insert(
                     buffer,
                     BufferInfo {
+                        created_at: self.at,
                         size: ci.get("size")?.u64()?,
                         usage: ci.get("usage")?.flags(BUFFER_USAGE)?,
                         bound: None,
@@ -395,6 +403,7 @@ impl Objects {
                             bound: None,
                             alignment: None,
                             swapchain: Some((chain, i as u32)),
+                            created_at: self.at,
                         },
                     );
                 }

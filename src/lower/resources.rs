@@ -62,7 +62,7 @@ impl<'c> Lowering<'c> {
         }
         let volume = r.kind == ResourceKind::Texture3D;
         let initial = match &r.initial {
-            InitialDesc::Undefined | InitialDesc::Mapped => None,
+            InitialDesc::Undefined | InitialDesc::BeforeCapture => None,
             InitialDesc::Generator(contents) => {
                 let generated = generate::texture(
                     contents,
@@ -116,7 +116,7 @@ impl<'c> Lowering<'c> {
             return Ok(());
         };
         let initial = match &r.initial {
-            InitialDesc::Undefined | InitialDesc::Mapped => None,
+            InitialDesc::Undefined | InitialDesc::BeforeCapture => None,
             InitialDesc::Generator(contents) => Some(generate::buffer(contents, r.bytes)),
             InitialDesc::File(path) => {
                 Some(std::fs::read(path).map_err(|e| LowerError::Contents {

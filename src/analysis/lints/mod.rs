@@ -401,7 +401,14 @@ impl<'a> Linter<'a> {
 
     /// Read before anything wrote it, in order.
     fn read_before_write(&self, out: &mut Vec<Lint>) {
-        let Linter { model, order, .. } = *self;
+        let Linter {
+            model,
+            order,
+            capture,
+            ..
+        } = *self;
+        // An imported storage binding reads only by assumption (no shader code says).
+        let assumed_reads = capture.not_replayable().is_some();
         let mut written: BTreeSet<u32> = BTreeSet::new();
         let mut reported: BTreeSet<u32> = BTreeSet::new();
         for &p in order {
@@ -409,6 +416,7 @@ impl<'a> Linter<'a> {
             for a in &pass.accesses {
                 let r = &model.resources[a.resource as usize];
                 if a.reads
+                    && !(assumed_reads && a.uav && a.writes)
                     && !written.contains(&a.resource)
                     && !r.initialised
                     && r.previous_of.is_none()

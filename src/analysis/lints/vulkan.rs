@@ -82,16 +82,19 @@ struct Use {
     stages: u64,
     access: u64,
     writes: bool,
+    /// Sees the previous contents (a load, a read-modify-write).
+    reads: bool,
     layout: Option<&'static str>,
 }
 
 fn use_of(accesses: &[&ResourceAccess], pass: u32, raster: bool, image: bool) -> Use {
-    let mut u = Use { pass, stages: 0, access: 0, writes: false, layout: None };
+    let mut u = Use { pass, stages: 0, access: 0, writes: false, reads: false, layout: None };
     for a in accesses {
         let (st, ac, layout) = scope(a.access, raster);
         u.stages |= st;
         u.access |= ac;
         u.writes |= a.writes;
+        u.reads |= a.reads;
         if image {
             u.layout = match (u.layout, layout) {
                 (None, l) => l,
@@ -114,6 +117,11 @@ fn use_of(accesses: &[&ResourceAccess], pass: u32, raster: bool, image: bool) ->
 
 /// What the frame asks of the barriers between two uses of a resource.
 struct Need {
+    /// A first use: what came before the capture is unknown, so a matching barrier is used
+    /// but none is required.
+    optional: bool,
+    /// The use sees the previous contents.
+    reads: bool,
     src_stages: u64,
     src_writes: u64,
     dst_stages: u64,
@@ -130,6 +138,8 @@ impl Need {
         let Some(prev) = prev else {
             // What came before the capture is unknown: only a layout transition is certain.
             return layout.map(|l| Need {
+                optional: true,
+                reads: next.reads,
                 src_stages: 0,
                 src_writes: 0,
                 dst_stages: 0,
@@ -143,6 +153,8 @@ impl Need {
             return None;
         }
         Some(Need {
+            optional: false,
+            reads: next.reads,
             src_stages: prev.stages,
             src_writes: prev.access & access::WRITES,
             dst_stages: next.stages,
@@ -158,16 +170,20 @@ impl Need {
         let mut out = Vec::new();
         let (ss, ds) = (expand_stages(r.src_stages), expand_stages(r.dst_stages));
         let (sa, da) = (expand_access(r.src_access), expand_access(r.dst_access));
-        if self.src_stages != 0 && ss & self.src_stages == 0 {
+        // Both sides spelt out, so that SHADER_WRITE meets SHADER_STORAGE_WRITE and TRANSFER
+        // meets COPY.
+        let (need_ss, need_ds) = (expand_stages(self.src_stages), expand_stages(self.dst_stages));
+        let (need_sa, need_da) = (expand_access(self.src_writes), expand_access(self.dst_access));
+        if self.src_stages != 0 && ss & need_ss == 0 {
             out.push(format!("srcStageMask {} does not reach {}", names(STAGES, r.src_stages), names(STAGES, self.src_stages)));
         }
-        if self.src_writes != 0 && sa & self.src_writes == 0 {
+        if self.src_writes != 0 && sa & need_sa == 0 {
             out.push(format!("srcAccessMask {} does not make {} available", names(ACCESS, r.src_access), names(ACCESS, self.src_writes)));
         }
-        if self.dst_stages != 0 && ds & self.dst_stages == 0 {
+        if self.dst_stages != 0 && ds & need_ds == 0 {
             out.push(format!("dstStageMask {} does not reach {}", names(STAGES, r.dst_stages), names(STAGES, self.dst_stages)));
         }
-        if self.dst_access != 0 && da & self.dst_access == 0 {
+        if self.dst_access != 0 && da & need_da == 0 {
             out.push(format!("dstAccessMask {} does not make it visible to {}", names(ACCESS, r.dst_access), names(ACCESS, self.dst_access)));
         }
         if let Some(needed) = self.layout {
@@ -311,7 +327,7 @@ fn judge(
                     "\"{pname}\": {} takes \"{name}\" from {old}, but it is in {current}", v.origin
                 ), Some(pass), Some(resource)));
             }
-            if v.old_layout == Some("UNDEFINED") && need.old_layout.is_some() && need.src_writes != 0 {
+            if v.old_layout == Some("UNDEFINED") && need.old_layout.is_some() && need.src_writes != 0 && need.reads {
                 out.push(lint(LintKind::BarrierWrongBeforeState, format!(
                     "\"{pname}\": {} takes \"{name}\" from UNDEFINED, discarding what an earlier pass wrote", v.origin
                 ), Some(pass), Some(resource)));
@@ -321,7 +337,7 @@ fn judge(
             let broad_dst = v.dst_stages & stage::ALL_COMMANDS != 0 && need.dst_stages != 0;
             let broad_access = (v.src_access & access::MEMORY_WRITE != 0 && need.src_writes != 0)
                 || (v.dst_access & every != 0 && need.dst_access != 0);
-            if broad_src || broad_dst || broad_access {
+            if (broad_src || broad_dst || broad_access) && !v.origin.contains("implicit") {
                 out.push(lint(LintKind::BarrierOverBroad, format!(
                     "\"{pname}\": {} on \"{name}\" waits on {}/{} -> {}/{}; {} is enough",
                     v.origin,
@@ -331,6 +347,7 @@ fn judge(
                 ), Some(pass), Some(resource)));
             }
         }
+        None if need.optional => {}
         None => match candidates.iter().find(|c| c.2 == Some(resource)) {
             Some(&&(p, i, _, v, _)) => {
                 used.insert((p, i));

@@ -196,9 +196,10 @@ pub(crate) fn default_heap_type() -> HeapType {
 pub enum InitialContents {
     /// Raw bytes from a file next to the capture (tightly packed subresources, mip-major).
     File { path: String },
-    /// Written by the application through mapped memory before the GPU reads it (imported
-    /// captures: the stream records the writes, not what was written). Not replayable.
-    Mapped {},
+    /// Contents from before the captured frames that the capture does not hold: written
+    /// through mapped memory, by earlier frames, or restored from a trimmed capture's state
+    /// snapshot. Imported captures only; nothing to replay from.
+    BeforeCapture {},
     /// A named procedural generator with a seed and generator parameters.
     Generator {
         name: String,

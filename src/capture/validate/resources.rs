@@ -679,15 +679,15 @@ impl<'a> Validator<'a> {
     fn initial_contents(&mut self, r: &Resource, path: &JsonPath, bytes: u64) -> InitialDesc {
         match &r.initial {
             None => InitialDesc::Undefined,
-            Some(InitialContents::Mapped {}) => {
+            Some(InitialContents::BeforeCapture {}) => {
                 if !self.not_replayable() {
                     self.diags.error(
                         "initial",
                         &path.field("initial"),
-                        "`mapped` contents describe an imported capture; a replayed resource takes a `file` or a `generator`",
+                        "`before_capture` contents describe an imported capture; a replayed resource takes a `file` or a `generator`",
                     );
                 }
-                InitialDesc::Mapped
+                InitialDesc::BeforeCapture
             }
             Some(InitialContents::File { path: rel }) => {
                 match self.side_file(rel, &path.field("initial").field("file").field("path")) {
