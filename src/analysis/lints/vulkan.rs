@@ -10,7 +10,7 @@
 //! the previous use, whose destination scope reaches this one, and which leaves an image in a
 //! layout this use can take.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use super::{Lint, LintKind, lint};
 use crate::analysis::barriers::BarrierPlan;
@@ -84,17 +84,23 @@ struct Use {
     writes: bool,
     /// Sees the previous contents (a load, a read-modify-write).
     reads: bool,
+    /// Every write is a storage binding's assumed one.
+    assumed: bool,
     layout: Option<&'static str>,
 }
 
-fn use_of(accesses: &[&ResourceAccess], pass: u32, raster: bool, image: bool) -> Use {
-    let mut u = Use { pass, stages: 0, access: 0, writes: false, reads: false, layout: None };
+/// `assumed`: storage bindings read and write by assumption (an import without shader code).
+fn use_of(accesses: &[&ResourceAccess], pass: u32, raster: bool, image: bool, assumed: bool) -> Use {
+    let mut u = Use { pass, stages: 0, access: 0, writes: false, reads: false, assumed: true, layout: None };
     for a in accesses {
         let (st, ac, layout) = scope(a.access, raster);
         u.stages |= st;
         u.access |= ac;
         u.writes |= a.writes;
         u.reads |= a.reads;
+        if a.writes && !(assumed && a.access == Access::StorageReadWrite) {
+            u.assumed = false;
+        }
         if image {
             u.layout = match (u.layout, layout) {
                 (None, l) => l,
@@ -116,6 +122,7 @@ fn use_of(accesses: &[&ResourceAccess], pass: u32, raster: bool, image: bool) ->
 }
 
 /// What the frame asks of the barriers between two uses of a resource.
+#[derive(PartialEq, Eq)]
 struct Need {
     /// A first use: what came before the capture is unknown, so a matching barrier is used
     /// but none is required.
@@ -152,8 +159,11 @@ impl Need {
         if !prev.writes && !next.writes && !relayout {
             return None;
         }
+        // A hazard that rests on an assumed storage write is unproven; a layout change is not.
+        let unproven = !relayout
+            && ((prev.writes && prev.assumed) || (!prev.writes && next.writes && next.assumed));
         Some(Need {
-            optional: false,
+            optional: unproven,
             reads: next.reads,
             src_stages: prev.stages,
             src_writes: prev.access & access::WRITES,
@@ -233,9 +243,14 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, _plan: &Barr
     let raster: Vec<bool> = model.passes.iter().map(|p| p.raster).collect();
     let mut used: BTreeSet<(u32, usize)> = BTreeSet::new();
     let queue_of = |pass: u32| capture.passes[pass as usize].queue;
+    let assumed = capture.not_replayable().is_some();
     for r in &capture.resources {
         let image = r.is_texture();
-        let mut prev: Option<Use> = None;
+        // Images are followed per subresource (mip chains render mip n from mip n-1), buffers
+        // as a whole.
+        let (mips, layers) = if image { (r.mip_levels.max(1), r.array_layers.max(1)) } else { (1, 1) };
+        let units = (mips as usize).saturating_mul(layers as usize);
+        let mut prev: Vec<Option<Use>> = vec![None; units];
         for p in &capture.passes {
             let accesses: Vec<&ResourceAccess> = p.accesses.iter().filter(|a| a.resource == r.id).collect();
             if accesses.is_empty() {
@@ -243,30 +258,55 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, _plan: &Barr
             }
             let pass = p.id.0;
             let raster = raster.get(pass as usize).copied().unwrap_or(p.kind == PassKind::Raster);
-            let next = use_of(&accesses, pass, raster, image);
-            let need = Need::between(prev.as_ref(), &next, image);
-            let after = prev.map(|u| u.pass);
-            // A run of reads keeps the writer's scope and gathers the readers' stages.
-            prev = Some(match prev {
-                Some(pr) if !pr.writes && !next.writes && pr.layout == next.layout => Use {
-                    stages: pr.stages | next.stages,
-                    access: pr.access | next.access,
-                    ..next
-                },
-                _ => next,
-            });
-            let Some(need) = need else { continue };
-            let range = accesses.iter().map(|a| a.range).reduce(|a, b| union(&a, &b));
-            let candidates: Vec<&Recorded<'_>> = recorded
-                .iter()
-                .filter(|(bp, _, res, _, rr)| {
-                    queue_of(*bp) == queue_of(pass)
-                        && *bp <= pass
-                        && after.is_none_or(|a| *bp > a)
-                        && (res.is_none() || (*res == Some(r.id) && range.as_ref().is_none_or(|x| covers(*rr, x))))
-                })
-                .collect();
-            judge(capture, &mut out, &mut used, &need, &candidates, p.id, r.id);
+            let mut per_unit: BTreeMap<usize, Vec<&ResourceAccess>> = BTreeMap::new();
+            for a in &accesses {
+                if !image {
+                    per_unit.entry(0).or_default().push(a);
+                    continue;
+                }
+                let mip_end = (a.range.mip_base + a.range.mip_count).min(mips);
+                let layer_end = (a.range.layer_base + a.range.layer_count).min(layers);
+                for l in a.range.layer_base..layer_end {
+                    for m in a.range.mip_base..mip_end {
+                        per_unit.entry(l as usize * mips as usize + m as usize).or_default().push(a);
+                    }
+                }
+            }
+            // Units with the same need are judged together, over the range they span.
+            let mut groups: Vec<(Need, Option<u32>, Vec<usize>)> = Vec::new();
+            for (unit, accs) in per_unit {
+                let next = use_of(&accs, pass, raster, image, assumed);
+                let before = prev[unit];
+                let need = Need::between(before.as_ref(), &next, image);
+                // A run of reads keeps the writer's scope and gathers the readers' stages.
+                prev[unit] = Some(match before {
+                    Some(pr) if !pr.writes && !next.writes && pr.layout == next.layout => Use {
+                        stages: pr.stages | next.stages,
+                        access: pr.access | next.access,
+                        ..next
+                    },
+                    _ => next,
+                });
+                let Some(need) = need else { continue };
+                let after = before.map(|u| u.pass);
+                match groups.iter_mut().find(|(n, a, _)| *n == need && *a == after) {
+                    Some(g) => g.2.push(unit),
+                    None => groups.push((need, after, vec![unit])),
+                }
+            }
+            for (need, after, group) in groups {
+                let range = span(&group, mips, r);
+                let candidates: Vec<&Recorded<'_>> = recorded
+                    .iter()
+                    .filter(|(bp, _, res, _, rr)| {
+                        queue_of(*bp) == queue_of(pass)
+                            && *bp <= pass
+                            && after.is_none_or(|a| *bp > a)
+                            && (res.is_none() || (*res == Some(r.id) && covers(*rr, &range)))
+                    })
+                    .collect();
+                judge(capture, &mut out, &mut used, &need, &candidates, p.id, r.id);
+            }
         }
     }
     for &(p, i, r, v, _) in &recorded {
@@ -289,18 +329,26 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, _plan: &Barr
 
 type Recorded<'a> = (u32, usize, Option<ResourceId>, &'a VulkanBarrierDesc, Option<&'a Subresources>);
 
-fn union(a: &Subresources, b: &Subresources) -> Subresources {
-    let mip_end = (a.mip_base + a.mip_count).max(b.mip_base + b.mip_count);
-    let layer_end = (a.layer_base + a.layer_count).max(b.layer_base + b.layer_count);
-    let mip_base = a.mip_base.min(b.mip_base);
-    let layer_base = a.layer_base.min(b.layer_base);
-    Subresources {
-        mip_base,
-        mip_count: mip_end - mip_base,
-        layer_base,
-        layer_count: layer_end - layer_base,
-        ..*a
+/// The mips and layers a group of (layer * mips + mip) units spans.
+fn span(units: &[usize], mips: u32, r: &crate::capture::model::ResourceDesc) -> Subresources {
+    let mut s = Subresources::whole(r);
+    if !r.is_texture() {
+        return s;
     }
+    let m = mips.max(1) as usize;
+    let (mut m0, mut m1, mut l0, mut l1) = (usize::MAX, 0, usize::MAX, 0);
+    for &u in units {
+        let (l, mip) = (u / m, u % m);
+        m0 = m0.min(mip);
+        m1 = m1.max(mip + 1);
+        l0 = l0.min(l);
+        l1 = l1.max(l + 1);
+    }
+    s.mip_base = m0 as u32;
+    s.mip_count = (m1 - m0) as u32;
+    s.layer_base = l0 as u32;
+    s.layer_count = (l1 - l0) as u32;
+    s
 }
 
 /// The verdict on one need: satisfied (maybe over-broadly or from a wrong layout), partly
