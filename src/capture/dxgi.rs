@@ -635,11 +635,15 @@ static VULKAN_TABLE: LazyLock<Vec<FormatInfo>> = LazyLock::new(build_vulkan_only
 /// The format a `VK_FORMAT_*` name stands for: its DXGI twin where one exists, else the
 /// Vulkan-only entry of that name.
 pub fn lookup_vk(name: &str) -> Option<&'static FormatInfo> {
-    let upper = name.trim().to_ascii_uppercase();
+    let name = name.trim();
     TABLE
         .iter()
-        .find(|f| f.vk_format == Some(upper.as_str()))
-        .or_else(|| VULKAN_TABLE.iter().find(|f| f.name == upper))
+        .find(|f| f.vk_format.is_some_and(|v| v.eq_ignore_ascii_case(name)))
+        .or_else(|| {
+            VULKAN_TABLE
+                .iter()
+                .find(|f| f.name.eq_ignore_ascii_case(name))
+        })
 }
 
 /// A format by its DXGI name (with or without `DXGI_FORMAT_`) or by its `VK_FORMAT_*` name.
@@ -721,9 +725,15 @@ mod tests {
 
     #[test]
     fn vulkan_names_find_their_dxgi_twin_or_their_own_entry() {
-        assert_eq!(lookup("VK_FORMAT_B8G8R8A8_SRGB").map(|f| f.name), Some("B8G8R8A8_UNORM_SRGB"));
+        assert_eq!(
+            lookup("VK_FORMAT_B8G8R8A8_SRGB").map(|f| f.name),
+            Some("B8G8R8A8_UNORM_SRGB")
+        );
         let rgb = lookup("vk_format_r8g8b8_unorm").unwrap();
-        assert_eq!((rgb.name, rgb.bits_per_element, rgb.channels.len()), ("VK_FORMAT_R8G8B8_UNORM", 24, 3));
+        assert_eq!(
+            (rgb.name, rgb.bits_per_element, rgb.channels.len()),
+            ("VK_FORMAT_R8G8B8_UNORM", 24, 3)
+        );
         assert_eq!(rgb.surface_bytes(3, 2), Some(18));
         let ds = lookup("VK_FORMAT_D16_UNORM_S8_UINT").unwrap();
         assert_eq!((ds.depth_bits, ds.stencil_bits), (16, 8));

@@ -209,10 +209,7 @@ pub fn parse_mask<'a>(
             continue;
         }
         let bare = bare_name(n);
-        let (_, v) = table
-            .iter()
-            .find(|(t, _)| *t == bare)
-            .ok_or(n.as_str())?;
+        let (_, v) = table.iter().find(|(t, _)| *t == bare).ok_or(n.as_str())?;
         mask |= v;
     }
     Ok(mask)
@@ -281,7 +278,10 @@ mod tests {
         assert!(expand_stages(stage::TRANSFER) & 0x1_0000_0000 != 0);
         assert!(expand_access(access::MEMORY_READ) & access::TRANSFER_READ != 0);
         assert!(expand_access(access::MEMORY_READ) & access::TRANSFER_WRITE == 0);
-        assert_eq!(layout("VK_IMAGE_LAYOUT_PRESENT_SRC_KHR"), Some("PRESENT_SRC_KHR"));
+        assert_eq!(
+            layout("VK_IMAGE_LAYOUT_PRESENT_SRC_KHR"),
+            Some("PRESENT_SRC_KHR")
+        );
         assert_eq!(layout_by_value(7), Some("TRANSFER_DST_OPTIMAL"));
     }
 }

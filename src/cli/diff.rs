@@ -75,8 +75,8 @@ fn as_report(path: &Path) -> anyhow::Result<Option<TimingReport>> {
 
 /// Replays both captures on one device, alternating frames, and returns their reports.
 fn replay_both(args: &DiffArgs) -> anyhow::Result<(TimingReport, TimingReport)> {
-    let a = Loaded::new(&args.a, args.scale, false)?;
-    let b = Loaded::new(&args.b, args.scale, false)?;
+    let a = Loaded::for_replay(&args.a, args.scale, false)?;
+    let b = Loaded::for_replay(&args.b, args.scale, false)?;
     let ctx = framelab_replay::open_device(args.adapter.as_deref(), lower::wanted_features())?;
     let (la, lb) = (a.lower(&ctx)?, b.lower(&ctx)?);
     let mut ra = Replayer::new(&ctx, a, la)?;

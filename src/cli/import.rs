@@ -15,7 +15,11 @@ use super::{print_diagnostics, print_stdout};
 
 /// `N` or `A-B` (0-based, inclusive).
 pub(crate) fn parse_frames(text: &str) -> Result<(u32, u32), String> {
-    let num = |s: &str| s.trim().parse::<u32>().map_err(|_| format!("\"{s}\" is not a frame number"));
+    let num = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("\"{s}\" is not a frame number"))
+    };
     match text.split_once('-') {
         Some((a, b)) => {
             let (a, b) = (num(a)?, num(b)?);
@@ -28,12 +32,19 @@ pub(crate) fn parse_frames(text: &str) -> Result<(u32, u32), String> {
     }
 }
 
-pub fn run(input: &Path, out: &Path, frames: Option<(u32, u32)>, json: bool) -> anyhow::Result<ExitCode> {
-    let meta = std::fs::metadata(input).with_context(|| format!("cannot read {}", input.display()))?;
+pub fn run(
+    input: &Path,
+    out: &Path,
+    frames: Option<(u32, u32)>,
+    json: bool,
+) -> anyhow::Result<ExitCode> {
+    let meta =
+        std::fs::metadata(input).with_context(|| format!("cannot read {}", input.display()))?;
     if !meta.is_file() {
         anyhow::bail!("{} is not a regular file", input.display());
     }
-    let file = std::fs::File::open(input).with_context(|| format!("cannot open {}", input.display()))?;
+    let file =
+        std::fs::File::open(input).with_context(|| format!("cannot open {}", input.display()))?;
     let name = input.display().to_string();
     let imported = import(BufReader::new(file), &name, &ImportOptions { frames })?;
     let text = serde_json::to_string_pretty(&imported.capture)? + "\n";
@@ -70,7 +81,11 @@ fn render(s: &Summary, out: &Path) -> String {
         "{}: {} ({} dialect), {} lines, {} calls, {} frame(s)\n",
         s.file, s.tool, s.dialect, s.lines, s.calls, s.frames_in_stream
     );
-    let kinds: Vec<String> = s.passes_by_kind.iter().map(|(k, n)| format!("{n} {k}")).collect();
+    let kinds: Vec<String> = s
+        .passes_by_kind
+        .iter()
+        .map(|(k, n)| format!("{n} {k}"))
+        .collect();
     t += &format!(
         "imported {frames} to {}: {} passes ({}), {} draws, {} dispatches\n",
         out.display(),
@@ -86,7 +101,10 @@ fn render(s: &Summary, out: &Path) -> String {
     if !s.skipped.is_empty() {
         t += "left out or approximated:\n";
         for k in &s.skipped {
-            let at = k.first_line.map(|l| format!(" (first at line {l})")).unwrap_or_default();
+            let at = k
+                .first_line
+                .map(|l| format!(" (first at line {l})"))
+                .unwrap_or_default();
             t += &format!("  {}x {}{at}\n", k.count, k.what);
         }
     }
@@ -94,7 +112,11 @@ fn render(s: &Summary, out: &Path) -> String {
         let total: u64 = s.not_modelled.values().sum();
         let mut top: Vec<(&String, &u64)> = s.not_modelled.iter().collect();
         top.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
-        let shown: Vec<String> = top.iter().take(6).map(|(n, c)| format!("{n} {c}")).collect();
+        let shown: Vec<String> = top
+            .iter()
+            .take(6)
+            .map(|(n, c)| format!("{n} {c}"))
+            .collect();
         t += &format!(
             "  {total} calls of {} functions create or record nothing framelab models ({}{})\n",
             s.not_modelled.len(),

@@ -100,7 +100,7 @@ fn report(path: &Path) -> anyhow::Result<TimingReport> {
 }
 
 pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
-    let loaded = Loaded::new(&args.capture, args.scale, false)?;
+    let loaded = Loaded::for_replay(&args.capture, args.scale, false)?;
     let analysis = analyze(&loaded.capture, AnalyzeOptions::default())
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.capture.display()))?;
     let timings = args.timings.as_deref().map(report).transpose()?;

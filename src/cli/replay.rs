@@ -95,7 +95,7 @@ pub fn replay(
             options.frames
         );
     }
-    let loaded = Loaded::new(path, options.scale, options.cull)?;
+    let loaded = Loaded::for_replay(path, options.scale, options.cull)?;
     let (after, only) = resolve_targets(&loaded.capture, &loaded.order, options)?;
     // Before the device and the replay: a refused --out should cost nothing.
     if let Some(out) = &options.out {

@@ -41,9 +41,6 @@ pub struct Loaded {
 impl Loaded {
     pub fn new(path: &Path, scale: f64, cull: bool) -> anyhow::Result<Loaded> {
         let (capture, sha256) = load(path, scale)?;
-        if let Some(why) = capture.not_replayable() {
-            anyhow::bail!(why);
-        }
         let analysis = analyze(&capture, AnalyzeOptions { cull })
             .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
         Ok(Loaded {
@@ -52,6 +49,16 @@ impl Loaded {
             sha256,
             scale,
         })
+    }
+
+    /// Loads a capture to replay: one that cannot be (an import) is refused before any
+    /// device opens.
+    pub fn for_replay(path: &Path, scale: f64, cull: bool) -> anyhow::Result<Loaded> {
+        let loaded = Self::new(path, scale, cull)?;
+        if let Some(why) = loaded.capture.not_replayable() {
+            anyhow::bail!(why);
+        }
+        Ok(loaded)
     }
 
     /// The capture's plan for this device.

@@ -6,14 +6,17 @@
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
-use super::record::{BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, Recording, RenderInstance, TransferCmd, Use};
+use super::record::{
+    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, Recording, RenderInstance, TransferCmd,
+    Use,
+};
 use super::state::{Descriptor, Objects};
 use super::value::QUEUE_FLAGS;
 use crate::capture::dxgi;
 use crate::capture::format::{
-    Access, Binding, BarrierType, ByteRange, Clear, ColorAttachment, Copy, CopyLocation, DepthStencilAttachment,
-    Dispatch, Draw, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range, RecordedBarrier, Resolve, SplitFlag,
-    StoreOp, VulkanBarrier,
+    Access, BarrierType, Binding, ByteRange, Clear, ColorAttachment, Copy, CopyLocation,
+    DepthStencilAttachment, Dispatch, Draw, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range,
+    RecordedBarrier, Resolve, SplitFlag, StoreOp, VulkanBarrier,
 };
 use crate::capture::vulkan::{self, ACCESS, STAGES};
 
@@ -35,6 +38,11 @@ pub struct Builder {
     pub names: BTreeMap<u64, String>,
     taken: BTreeSet<String>,
     pass_names: BTreeSet<String>,
+    /// Next number to try per pass-name stem, and per (pass, binding stem); bindings already
+    /// on each pass. These keep naming linear in the number of passes and descriptors.
+    stem_next: HashMap<String, u32>,
+    binding_next: HashMap<(usize, String), u32>,
+    binding_seen: HashMap<usize, std::collections::HashSet<String>>,
     pub queue_names: BTreeMap<u64, (String, QueueType)>,
     pending_barriers: HashMap<u64, Vec<RecordedBarrier>>,
     pending_waits: HashMap<u64, Vec<String>>,
@@ -85,7 +93,8 @@ impl Builder {
     }
 
     pub fn emitting(&self) -> bool {
-        self.selection.is_none_or(|(a, b)| (a..=b).contains(&self.frame))
+        self.selection
+            .is_none_or(|(a, b)| (a..=b).contains(&self.frame))
     }
 
     /// Whether every selected frame has ended, so reading can stop.
@@ -112,22 +121,35 @@ impl Builder {
         }
         let base = if let Some(img) = objects.images.get(&handle) {
             if dxgi::lookup_vk(&img.format).is_none() {
-                self.note(format!("images of format {} (no DXGI or Vulkan-only entry): not represented", img.format));
+                self.note(format!(
+                    "images of format {} (no DXGI or Vulkan-only entry): not represented",
+                    img.format
+                ));
                 return None;
             }
             match (objects.names.get(&handle), img.swapchain) {
                 (Some(n), _) => n.clone(),
-                (None, Some((chain, i))) if objects.swapchains.len() > 1 => format!("swapchain_{chain}_{i}"),
+                (None, Some((chain, i))) if objects.swapchains.len() > 1 => {
+                    format!("swapchain_{chain}_{i}")
+                }
                 (None, Some((_, i))) => format!("swapchain_{i}"),
                 (None, None) => format!("image_{handle}"),
             }
         } else if objects.buffers.contains_key(&handle) {
-            objects.names.get(&handle).cloned().unwrap_or_else(|| format!("buffer_{handle}"))
+            objects
+                .names
+                .get(&handle)
+                .cloned()
+                .unwrap_or_else(|| format!("buffer_{handle}"))
         } else {
             self.note("uses of images or buffers the stream never created: skipped");
             return None;
         };
-        let name = if self.taken.contains(&base) { format!("{base}#{handle}") } else { base };
+        let name = if self.taken.contains(&base) {
+            format!("{base}#{handle}")
+        } else {
+            base
+        };
         self.taken.insert(name.clone());
         self.names.insert(handle, name.clone());
         Some(name)
@@ -151,29 +173,45 @@ impl Builder {
         let _ = QUEUE_FLAGS;
         let base = qt.name().to_owned();
         let taken = self.queue_names.values().filter(|(_, t)| *t == qt).count();
-        let name = if taken == 0 { base } else { format!("{base}_{taken}") };
+        let name = if taken == 0 {
+            base
+        } else {
+            format!("{base}_{taken}")
+        };
         self.queue_names.insert(queue, (name.clone(), qt));
         name
     }
 
     /// Starts a pass on `queue`: barriers and waits pending there are its own.
-    fn new_pass(&mut self, objects: &Objects, queue: u64, kind: PassKind, base: &str) -> Option<usize> {
+    fn new_pass(
+        &mut self,
+        objects: &Objects,
+        queue: u64,
+        kind: PassKind,
+        base: &str,
+    ) -> Option<usize> {
         if !self.emitting() {
             self.pending_barriers.remove(&queue);
             return None;
         }
         if self.passes.len() >= MAX_PASSES {
-            self.note(format!("passes beyond the limit of {MAX_PASSES}: not imported"));
+            self.note(format!(
+                "passes beyond the limit of {MAX_PASSES}: not imported"
+            ));
             return None;
         }
         let labels = self.labels.get(&queue).cloned().unwrap_or_default();
         let stem = labels.last().map_or(base, String::as_str).to_owned();
-        let stem = if self.frame > 0 { format!("{stem} (frame {})", self.frame) } else { stem };
+        let stem = if self.frame > 0 {
+            format!("{stem} (frame {})", self.frame)
+        } else {
+            stem
+        };
         let mut name = stem.clone();
-        let mut k = 2;
         while self.pass_names.contains(&name) {
+            let k = self.stem_next.entry(stem.clone()).or_insert(2);
             name = format!("{stem} {k}");
-            k += 1;
+            *k += 1;
         }
         self.pass_names.insert(name.clone());
         let mut markers = vec![format!("frame {}", self.frame)];
@@ -238,7 +276,11 @@ impl Builder {
             }
             let k = self.fence_count.entry(*sem).or_default();
             *k += 1;
-            let base = objects.names.get(sem).cloned().unwrap_or_else(|| format!("semaphore_{sem}"));
+            let base = objects
+                .names
+                .get(sem)
+                .cloned()
+                .unwrap_or_else(|| format!("semaphore_{sem}"));
             let fence = format!("{base}#{k}");
             self.passes[pass].signal.push(fence.clone());
             self.fences.insert(fence.clone());
@@ -264,11 +306,19 @@ impl Builder {
     pub fn present(&mut self, objects: &Objects, queue: u64, waits: &[u64], images: &[(u64, u32)]) {
         self.wait(queue, waits);
         for &(chain, index) in images {
-            let Some(&image) = objects.swapchain_images.get(&chain).and_then(|v| v.get(index as usize)) else {
+            let Some(&image) = objects
+                .swapchain_images
+                .get(&chain)
+                .and_then(|v| v.get(index as usize))
+            else {
                 self.note("presents of swapchain images the stream never listed: skipped");
                 continue;
             };
-            let Some(name) = (if self.emitting() { self.resource(objects, image) } else { None }) else {
+            let Some(name) = (if self.emitting() {
+                self.resource(objects, image)
+            } else {
+                None
+            }) else {
                 continue;
             };
             if let Some(p) = self.new_pass(objects, queue, PassKind::Present, "present") {
@@ -278,7 +328,14 @@ impl Builder {
         self.end_frame();
     }
 
-    fn walk(&mut self, objects: &Objects, recordings: &HashMap<u64, Recording>, queue: u64, cmds: &[Cmd], depth: u32) {
+    fn walk(
+        &mut self,
+        objects: &Objects,
+        recordings: &HashMap<u64, Recording>,
+        queue: u64,
+        cmds: &[Cmd],
+        depth: u32,
+    ) {
         let mut compute: Option<usize> = None;
         let mut render: Option<(&RenderInstance, usize, Option<usize>)> = None;
         for cmd in cmds {
@@ -294,11 +351,17 @@ impl Builder {
                 }
                 Cmd::Barrier(bs) => {
                     let converted = self.barriers(objects, bs);
-                    self.pending_barriers.entry(queue).or_default().extend(converted);
+                    self.pending_barriers
+                        .entry(queue)
+                        .or_default()
+                        .extend(converted);
                 }
                 Cmd::BeginRender(ri) => {
                     let converted = self.barriers(objects, &ri.begin_barriers);
-                    self.pending_barriers.entry(queue).or_default().extend(converted);
+                    self.pending_barriers
+                        .entry(queue)
+                        .or_default()
+                        .extend(converted);
                     let pass = self.raster(objects, queue, ri, 0);
                     render = Some((ri, 0, pass));
                 }
@@ -313,7 +376,10 @@ impl Builder {
                     if let Some((ri, sub, pass)) = render.take() {
                         self.resolves(objects, queue, ri, sub, pass);
                         let converted = self.barriers(objects, &ri.end_barriers);
-                        self.pending_barriers.entry(queue).or_default().extend(converted);
+                        self.pending_barriers
+                            .entry(queue)
+                            .or_default()
+                            .extend(converted);
                     }
                 }
                 Cmd::Draw(d) => match render {
@@ -340,7 +406,9 @@ impl Builder {
                     for cb in list {
                         match recordings.get(cb) {
                             Some(r) => self.walk(objects, recordings, queue, &r.cmds, depth + 1),
-                            None => self.note("executed command buffers the stream never recorded: skipped"),
+                            None => self.note(
+                                "executed command buffers the stream never recorded: skipped",
+                            ),
                         }
                     }
                 }
@@ -360,12 +428,22 @@ impl Builder {
                     Some(n) => (Some(n), None, None),
                     None => continue,
                 },
-                BarrierTarget::Image { image, mips, layers } => match self.resource(objects, *image) {
+                BarrierTarget::Image {
+                    image,
+                    mips,
+                    layers,
+                } => match self.resource(objects, *image) {
                     Some(n) => {
                         let whole = |r: (u32, Option<u32>), total: u32| {
-                            (r.0 != 0 || r.1.is_some_and(|c| c != total)).then_some(Range { base: r.0, count: r.1 })
+                            (r.0 != 0 || r.1.is_some_and(|c| c != total)).then_some(Range {
+                                base: r.0,
+                                count: r.1,
+                            })
                         };
-                        let img = &objects.images[image];
+                        let Some(img) = objects.images.get(image) else {
+                            self.note("image barriers naming a buffer: skipped");
+                            continue;
+                        };
                         (Some(n), whole(*mips, img.mips), whole(*layers, img.layers))
                     }
                     None => continue,
@@ -396,7 +474,11 @@ impl Builder {
         out
     }
 
-    fn view(&mut self, objects: &Objects, view: u64) -> Option<(String, u32, u32, Option<u32>, Option<u32>)> {
+    fn view(
+        &mut self,
+        objects: &Objects,
+        view: u64,
+    ) -> Option<(String, u32, u32, Option<u32>, Option<u32>)> {
         let Some(v) = objects.views.get(&view) else {
             self.note("image views the stream never created: skipped");
             return None;
@@ -405,11 +487,19 @@ impl Builder {
         Some((name, v.base_mip, v.base_layer, v.mip_count, v.layer_count))
     }
 
-    fn raster(&mut self, objects: &Objects, queue: u64, ri: &RenderInstance, sub: usize) -> Option<usize> {
+    fn raster(
+        &mut self,
+        objects: &Objects,
+        queue: u64,
+        ri: &RenderInstance,
+        sub: usize,
+    ) -> Option<usize> {
         let s = ri.subpasses.get(sub)?;
         let pass = self.new_pass(objects, queue, PassKind::Raster, "render_pass")?;
         for c in &s.colors {
-            let Some((name, mip, layer, ..)) = self.view(objects, c.view) else { continue };
+            let Some((name, mip, layer, ..)) = self.view(objects, c.view) else {
+                continue;
+            };
             self.passes[pass].color_attachments.push(ColorAttachment {
                 resource: name,
                 mip,
@@ -442,15 +532,30 @@ impl Builder {
         Some(pass)
     }
 
-    fn resolves(&mut self, objects: &Objects, queue: u64, ri: &RenderInstance, sub: usize, pass: Option<usize>) {
+    fn resolves(
+        &mut self,
+        objects: &Objects,
+        queue: u64,
+        ri: &RenderInstance,
+        sub: usize,
+        pass: Option<usize>,
+    ) {
         if pass.is_none() {
             return;
         }
-        let Some(s) = ri.subpasses.get(sub) else { return };
+        let Some(s) = ri.subpasses.get(sub) else {
+            return;
+        };
         for &(src, dst) in &s.resolves {
-            let (Some(src), Some(dst)) = (self.view(objects, src), self.view(objects, dst)) else { continue };
+            let (Some(src), Some(dst)) = (self.view(objects, src), self.view(objects, dst)) else {
+                continue;
+            };
             if let Some(p) = self.new_pass(objects, queue, PassKind::Resolve, "resolve") {
-                self.passes[p].resolve = Some(Resolve { src: src.0, dst: dst.0, format: None });
+                self.passes[p].resolve = Some(Resolve {
+                    src: src.0,
+                    dst: dst.0,
+                    format: None,
+                });
             }
         }
     }
@@ -462,18 +567,36 @@ impl Builder {
             let (handle, access, bytes, mips, layers) = match &u.descriptor {
                 Descriptor::Image { view, ty } => {
                     let Some(v) = objects.views.get(view) else {
-                        self.note("descriptors naming image views the stream never created: skipped");
+                        self.note(
+                            "descriptors naming image views the stream never created: skipped",
+                        );
                         continue;
                     };
-                    let access = if ty.contains("STORAGE") || ty == "3" { Access::StorageReadWrite } else { Access::Sampled };
+                    let access = if ty.contains("STORAGE") || ty == "3" {
+                        Access::StorageReadWrite
+                    } else {
+                        Access::Sampled
+                    };
                     let img = objects.images.get(&v.image);
                     let total = img.map_or((1, 1), |i| (i.mips, i.layers));
                     let range = |base: u32, count: Option<u32>, all: u32| {
-                        (base != 0 || count.is_some_and(|c| c != all)).then_some(Range { base, count })
+                        (base != 0 || count.is_some_and(|c| c != all))
+                            .then_some(Range { base, count })
                     };
-                    (v.image, access, None, range(v.base_mip, v.mip_count, total.0), range(v.base_layer, v.layer_count, total.1))
+                    (
+                        v.image,
+                        access,
+                        None,
+                        range(v.base_mip, v.mip_count, total.0),
+                        range(v.base_layer, v.layer_count, total.1),
+                    )
                 }
-                Descriptor::Buffer { buffer, offset, range, ty } => {
+                Descriptor::Buffer {
+                    buffer,
+                    offset,
+                    range,
+                    ty,
+                } => {
                     let access = if ty.starts_with("UNIFORM") || ty == "6" || ty == "8" {
                         Access::Uniform
                     } else {
@@ -484,29 +607,43 @@ impl Builder {
                         continue;
                     };
                     if *offset >= b.size {
-                        self.note("buffer descriptors starting past the end of their buffer: skipped");
+                        self.note(
+                            "buffer descriptors starting past the end of their buffer: skipped",
+                        );
                         continue;
                     }
                     let size = (*range).min(b.size - offset);
-                    let bytes = (*offset != 0 || size != b.size).then_some(ByteRange { offset: *offset, size });
+                    let bytes = (*offset != 0 || size != b.size).then_some(ByteRange {
+                        offset: *offset,
+                        size,
+                    });
                     (*buffer, access, bytes, None, None)
                 }
                 Descriptor::TexelBuffer { view, ty } => {
                     let Some(&(buffer, offset, range)) = objects.buffer_views.get(view) else {
-                        self.note("descriptors naming buffer views the stream never created: skipped");
+                        self.note(
+                            "descriptors naming buffer views the stream never created: skipped",
+                        );
                         continue;
                     };
-                    let access = if ty.starts_with("STORAGE") || ty == "5" { Access::StorageReadWrite } else { Access::StorageRead };
+                    let access = if ty.starts_with("STORAGE") || ty == "5" {
+                        Access::StorageReadWrite
+                    } else {
+                        Access::StorageRead
+                    };
                     let size = objects.buffers.get(&buffer).map_or(0, |b| b.size);
                     if offset >= size {
                         continue;
                     }
                     let len = range.min(size - offset);
-                    let bytes = (offset != 0 || len != size).then_some(ByteRange { offset, size: len });
+                    let bytes =
+                        (offset != 0 || len != size).then_some(ByteRange { offset, size: len });
                     (buffer, access, bytes, None, None)
                 }
             };
-            let Some(name) = self.resource(objects, handle) else { continue };
+            let Some(name) = self.resource(objects, handle) else {
+                continue;
+            };
             if access == Access::StorageReadWrite {
                 self.note("storage descriptors counted as read-write (the stream holds no shader code to tell)");
             }
@@ -525,18 +662,19 @@ impl Builder {
             } else {
                 format!("set{}_binding{}", u.set, u.binding)
             };
-            let bindings = &mut self.passes[pass].bindings;
-            let same = |b: &Binding, c: &Binding| {
-                b.resource == c.resource && b.access == c.access && b.mips == c.mips && b.layers == c.layers && b.bytes == c.bytes
-            };
-            if bindings.values().any(|b| same(b, &binding)) {
+            let identity = format!(
+                "{:?}|{:?}|{:?}|{:?}|{:?}",
+                binding.resource, binding.access, binding.mips, binding.layers, binding.bytes
+            );
+            if !self.binding_seen.entry(pass).or_default().insert(identity) {
                 continue;
             }
+            let bindings = &mut self.passes[pass].bindings;
             let mut key = stem.clone();
-            let mut k = 2;
             while bindings.contains_key(&key) {
+                let k = self.binding_next.entry((pass, stem.clone())).or_insert(2);
                 key = format!("{stem}_v{k}");
-                k += 1;
+                *k += 1;
             }
             bindings.insert(key, binding);
         }
@@ -545,7 +683,11 @@ impl Builder {
     fn draw(&mut self, objects: &Objects, pass: usize, d: &DrawCmd) {
         self.draws += 1;
         self.bind(objects, pass, &d.uses);
-        let vertex_buffers: Vec<String> = d.vertex_buffers.iter().filter_map(|b| self.resource(objects, *b)).collect();
+        let vertex_buffers: Vec<String> = d
+            .vertex_buffers
+            .iter()
+            .filter_map(|b| self.resource(objects, *b))
+            .collect();
         let index_buffer = d.index_buffer.and_then(|b| self.resource(objects, b));
         let indirect = match d.indirect {
             Some((b, offset)) => match self.resource(objects, b) {
@@ -592,22 +734,40 @@ impl Builder {
 
     fn transfer(&mut self, objects: &Objects, queue: u64, t: &TransferCmd) {
         match t {
-            TransferCmd::Copy { call, src, dst, regions } => {
-                let (Some(sn), Some(dn)) = (self.resource(objects, *src), self.resource(objects, *dst)) else {
+            TransferCmd::Copy {
+                call,
+                src,
+                dst,
+                regions,
+            } => {
+                let (Some(sn), Some(dn)) =
+                    (self.resource(objects, *src), self.resource(objects, *dst))
+                else {
                     return;
                 };
-                let base = call.trim_start_matches("vkCmd").trim_end_matches("KHR").trim_end_matches('2');
-                let Some(pass) = self.new_pass(objects, queue, PassKind::Copy, &snake(base)) else { return };
+                let base = call
+                    .trim_start_matches("vkCmd")
+                    .trim_end_matches("KHR")
+                    .trim_end_matches('2');
+                let Some(pass) = self.new_pass(objects, queue, PassKind::Copy, &snake(base)) else {
+                    return;
+                };
                 let texel_bytes = |h: u64| {
-                    objects.images.get(&h).and_then(|i| dxgi::lookup_vk(&i.format)).map(|f| {
-                        (u64::from(f.bits_per_element) / 8, f.block_width.max(1))
-                    })
+                    objects
+                        .images
+                        .get(&h)
+                        .and_then(|i| dxgi::lookup_vk(&i.format))
+                        .map(|f| (u64::from(f.bits_per_element) / 8, f.block_width.max(1)))
                 };
                 let footprint = texel_bytes(*src).or_else(|| texel_bytes(*dst));
                 for r in regions {
                     let row = |r: &super::record::Region| {
                         let (bytes, bw) = footprint?;
-                        let texels = if r.row_texels == 0 { r.extent?[0] } else { r.row_texels };
+                        let texels = if r.row_texels == 0 {
+                            r.extent?[0]
+                        } else {
+                            r.row_texels
+                        };
                         u32::try_from(u64::from(texels.div_ceil(bw)) * bytes).ok()
                     };
                     let src_is_buffer = objects.buffers.contains_key(src);
@@ -621,7 +781,9 @@ impl Builder {
                             origin: r.src_origin,
                             offset: r.src_offset,
                             size: if both_buffers { r.size } else { None },
-                            bytes_per_row: (src_is_buffer && !both_buffers).then(|| row(r)).flatten(),
+                            bytes_per_row: (src_is_buffer && !both_buffers)
+                                .then(|| row(r))
+                                .flatten(),
                         },
                         dst: CopyLocation {
                             resource: dn.clone(),
@@ -630,21 +792,38 @@ impl Builder {
                             origin: r.dst_origin,
                             offset: r.dst_offset,
                             size: if both_buffers { r.size } else { None },
-                            bytes_per_row: (dst_is_buffer && !both_buffers).then(|| row(r)).flatten(),
+                            bytes_per_row: (dst_is_buffer && !both_buffers)
+                                .then(|| row(r))
+                                .flatten(),
                         },
                         extent: r.extent,
                     });
                 }
             }
-            TransferCmd::Clear { call, target, value, stencil, ranges } => {
-                let Some(name) = self.resource(objects, *target) else { return };
-                let base = if call.contains("Depth") { "clear_depth_stencil" } else { "clear_color" };
-                let Some(pass) = self.new_pass(objects, queue, PassKind::Clear, base) else { return };
+            TransferCmd::Clear {
+                call,
+                target,
+                value,
+                stencil,
+                ranges,
+            } => {
+                let Some(name) = self.resource(objects, *target) else {
+                    return;
+                };
+                let base = if call.contains("Depth") {
+                    "clear_depth_stencil"
+                } else {
+                    "clear_color"
+                };
+                let Some(pass) = self.new_pass(objects, queue, PassKind::Clear, base) else {
+                    return;
+                };
                 let img = objects.images.get(target);
                 let total = img.map_or((1, 1), |i| (i.mips, i.layers));
                 for &((mb, mc), (lb, lc)) in ranges {
                     let range = |base: u32, count: Option<u32>, all: u32| {
-                        (base != 0 || count.is_some_and(|c| c != all)).then_some(Range { base, count })
+                        (base != 0 || count.is_some_and(|c| c != all))
+                            .then_some(Range { base, count })
                     };
                     self.passes[pass].clears.push(Clear {
                         resource: name.clone(),
@@ -656,8 +835,14 @@ impl Builder {
                 }
             }
             TransferCmd::Fill { call, buffer } => {
-                let Some(name) = self.resource(objects, *buffer) else { return };
-                let base = if call.contains("Update") { "update_buffer" } else { "fill_buffer" };
+                let Some(name) = self.resource(objects, *buffer) else {
+                    return;
+                };
+                let base = if call.contains("Update") {
+                    "update_buffer"
+                } else {
+                    "fill_buffer"
+                };
                 if let Some(pass) = self.new_pass(objects, queue, PassKind::Clear, base) {
                     self.passes[pass].clears.push(Clear {
                         resource: name,
@@ -669,9 +854,17 @@ impl Builder {
                 }
             }
             TransferCmd::Resolve { src, dst } => {
-                let (Some(s), Some(d)) = (self.resource(objects, *src), self.resource(objects, *dst)) else { return };
+                let (Some(s), Some(d)) =
+                    (self.resource(objects, *src), self.resource(objects, *dst))
+                else {
+                    return;
+                };
                 if let Some(p) = self.new_pass(objects, queue, PassKind::Resolve, "resolve_image") {
-                    self.passes[p].resolve = Some(Resolve { src: s, dst: d, format: None });
+                    self.passes[p].resolve = Some(Resolve {
+                        src: s,
+                        dst: d,
+                        format: None,
+                    });
                 }
             }
         }

@@ -8,9 +8,9 @@ use super::build::Builder;
 use super::state::Objects;
 use crate::capture::dxgi;
 use crate::capture::format::{
-    AdapterModel, Api, InitialContents, Camera, CaptureSource, CpuPageProperty, Extent, Fence, FrameConstants, Heap, HeapType,
-    MemoryArchitecture, MemoryPool, MipLevels, Placement, Queue, RawCapture, Resolution, Resource, ResourceFlag,
-    ResourceKind, FORMAT_VERSION,
+    AdapterModel, Api, Camera, CaptureSource, CpuPageProperty, Extent, FORMAT_VERSION, Fence,
+    FrameConstants, Heap, HeapType, InitialContents, MemoryArchitecture, MemoryPool, MipLevels,
+    Placement, Queue, RawCapture, Resolution, Resource, ResourceFlag, ResourceKind,
 };
 
 const DEVICE_LOCAL: u64 = 0x1;
@@ -33,12 +33,23 @@ fn architecture(objects: &Objects) -> MemoryArchitecture {
 }
 
 /// The D3D12 heap a Vulkan memory type behaves as.
-fn heap_kind(flags: Option<u64>, arch: MemoryArchitecture) -> (HeapType, CpuPageProperty, MemoryPool) {
+fn heap_kind(
+    flags: Option<u64>,
+    arch: MemoryArchitecture,
+) -> (HeapType, CpuPageProperty, MemoryPool) {
     let Some(f) = flags else {
-        return (HeapType::Default, CpuPageProperty::Unknown, MemoryPool::Unknown);
+        return (
+            HeapType::Default,
+            CpuPageProperty::Unknown,
+            MemoryPool::Unknown,
+        );
     };
     if f & HOST_VISIBLE == 0 {
-        return (HeapType::Default, CpuPageProperty::Unknown, MemoryPool::Unknown);
+        return (
+            HeapType::Default,
+            CpuPageProperty::Unknown,
+            MemoryPool::Unknown,
+        );
     }
     let page = if f & HOST_CACHED != 0 {
         CpuPageProperty::WriteBack
@@ -50,9 +61,17 @@ fn heap_kind(flags: Option<u64>, arch: MemoryArchitecture) -> (HeapType, CpuPage
         return (HeapType::Custom, page, MemoryPool::L0);
     }
     if f & HOST_CACHED != 0 {
-        (HeapType::Readback, CpuPageProperty::Unknown, MemoryPool::Unknown)
+        (
+            HeapType::Readback,
+            CpuPageProperty::Unknown,
+            MemoryPool::Unknown,
+        )
     } else {
-        (HeapType::Upload, CpuPageProperty::Unknown, MemoryPool::Unknown)
+        (
+            HeapType::Upload,
+            CpuPageProperty::Unknown,
+            MemoryPool::Unknown,
+        )
     }
 }
 
@@ -65,7 +84,14 @@ pub struct Emitted {
 
 /// `hidden_blocks`: the stream left blocks out before the first imported submission (state
 /// snapshot, memory fills), so what existed then may hold data the JSON does not show.
-pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &str, hidden_blocks: bool) -> Emitted {
+pub fn emit(
+    mut b: Builder,
+    objects: &Objects,
+    name: &str,
+    file: &str,
+    tool: &str,
+    hidden_blocks: bool,
+) -> Emitted {
     let first_submit = b.first_submit.unwrap_or(u64::MAX);
     let selected_later = b.selection.is_some_and(|(a, _)| a > 0);
     // Contents from before the imported frames: earlier frames, or a snapshot not in the JSON.
@@ -90,14 +116,18 @@ pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &st
             let kind = match img.image_type.as_str() {
                 "VK_IMAGE_TYPE_1D" | "0" => ResourceKind::Texture1D,
                 "VK_IMAGE_TYPE_3D" | "2" => ResourceKind::Texture3D,
-                _ if img.create_flags & 0x10 != 0 && img.layers % 6 == 0 && img.layers > 0 => ResourceKind::TextureCube,
+                _ if img.create_flags & 0x10 != 0 && img.layers % 6 == 0 && img.layers > 0 => {
+                    ResourceKind::TextureCube
+                }
                 _ if img.layers > 1 => ResourceKind::Texture2DArray,
                 _ => ResourceKind::Texture2D,
             };
             if img.swapchain.is_some() {
                 swapchain_extent.get_or_insert((img.extent[0], img.extent[1]));
             }
-            if u64::from(img.extent[0]) * u64::from(img.extent[1]) > u64::from(largest.0) * u64::from(largest.1) {
+            if u64::from(img.extent[0]) * u64::from(img.extent[1])
+                > u64::from(largest.0) * u64::from(largest.1)
+            {
                 largest = (img.extent[0], img.extent[1]);
             }
             let mut flags = Vec::new();
@@ -118,9 +148,11 @@ pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &st
                 kind,
                 format,
                 width: Some(Extent::Texels(u64::from(img.extent[0]))),
-                height: (kind != ResourceKind::Texture1D).then_some(Extent::Texels(u64::from(img.extent[1]))),
+                height: (kind != ResourceKind::Texture1D)
+                    .then_some(Extent::Texels(u64::from(img.extent[1]))),
                 depth: (kind == ResourceKind::Texture3D).then_some(img.extent[2]),
-                array_layers: (img.layers > 1 && kind != ResourceKind::Texture3D).then_some(img.layers),
+                array_layers: (img.layers > 1 && kind != ResourceKind::Texture3D)
+                    .then_some(img.layers),
                 mip_levels: (img.mips > 1).then_some(MipLevels::Count(img.mips)),
                 samples: (img.samples > 1).then_some(img.samples),
                 size: None,
@@ -160,7 +192,8 @@ pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &st
                 buffer_kind: None,
                 flags,
                 placement: None,
-                initial: (mapped || before(buf.created_at)).then_some(InitialContents::BeforeCapture {}),
+                initial: (mapped || before(buf.created_at))
+                    .then_some(InitialContents::BeforeCapture {}),
                 history: false,
                 // The CPU reads what the frame copies into host-visible memory.
                 output: host && written.contains(rname.as_str()),
@@ -169,12 +202,17 @@ pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &st
         } else {
             continue;
         };
-        let Some((memory, offset)) = bound else { continue };
+        let Some((memory, offset)) = bound else {
+            continue;
+        };
         let Some(mem) = objects.memories.get(&memory) else {
             notes.push(format!("\"{rname}\" is bound to memory {memory} the stream never allocated: treated as committed"));
             continue;
         };
-        let flags = objects.memory_type_flags.get(mem.type_index as usize).copied();
+        let flags = objects
+            .memory_type_flags
+            .get(mem.type_index as usize)
+            .copied();
         let (heap_type, page, pool) = heap_kind(flags, arch);
         let alignment = alignment.or_else(|| {
             (offset % 65536 != 0).then(|| {
@@ -182,7 +220,11 @@ pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &st
                 1u64 << offset.trailing_zeros()
             })
         });
-        let heap_name = objects.names.get(&memory).cloned().unwrap_or_else(|| format!("memory_{memory}"));
+        let heap_name = objects
+            .names
+            .get(&memory)
+            .cloned()
+            .unwrap_or_else(|| format!("memory_{memory}"));
         let heap = heaps.entry(memory).or_insert_with(|| Heap {
             name: heap_name.clone(),
             heap_type,
@@ -220,7 +262,10 @@ pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &st
     let mut queues: Vec<Queue> = b
         .queue_names
         .values()
-        .map(|(n, t)| Queue { name: n.clone(), queue_type: *t })
+        .map(|(n, t)| Queue {
+            name: n.clone(),
+            queue_type: *t,
+        })
         .collect();
     queues.sort_by(|a, c| a.name.cmp(&c.name));
     let (width, height) = swapchain_extent.unwrap_or(largest);
@@ -262,5 +307,10 @@ pub fn emit(mut b: Builder, objects: &Objects, name: &str, file: &str, tool: &st
             ),
         }),
     };
-    Emitted { capture, images, buffers, notes }
+    Emitted {
+        capture,
+        images,
+        buffers,
+        notes,
+    }
 }

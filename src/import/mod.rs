@@ -123,7 +123,14 @@ impl Importer {
         self.last_index = self.last_index.max(call.index);
         self.objects.at = call.index;
         if failed(call) {
-            self.skip(format!("{} calls that failed at capture ({})", call.name, call.result.as_deref().unwrap_or("")), call.line);
+            self.skip(
+                format!(
+                    "{} calls that failed at capture ({})",
+                    call.name,
+                    call.result.as_deref().unwrap_or("")
+                ),
+                call.line,
+            );
             return;
         }
         let args = Arg::root(&call.args);
@@ -159,7 +166,12 @@ impl Importer {
             }
             "vkResetCommandPool" => {
                 let pool = args.get("commandPool")?.handle()?;
-                let cbs: Vec<u64> = self.pool_of.iter().filter(|(_, p)| **p == pool).map(|(c, _)| *c).collect();
+                let cbs: Vec<u64> = self
+                    .pool_of
+                    .iter()
+                    .filter(|(_, p)| **p == pool)
+                    .map(|(c, _)| *c)
+                    .collect();
                 for cb in cbs {
                     self.recordings.insert(cb, Recording::default());
                 }
@@ -167,11 +179,20 @@ impl Importer {
             "vkQueueSubmit" => {
                 let queue = args.get("queue")?.handle()?;
                 for s in args.list("pSubmits")? {
-                    let handles = |key: &str| -> Got<Vec<u64>> { s.list(key)?.iter().map(Arg::handle).collect() };
+                    let handles = |key: &str| -> Got<Vec<u64>> {
+                        s.list(key)?.iter().map(Arg::handle).collect()
+                    };
                     let waits = handles("pWaitSemaphores")?;
                     let cbs = handles("pCommandBuffers")?;
                     let signals = handles("pSignalSemaphores")?;
-                    self.builder.submit(&self.objects, &self.recordings, queue, &waits, &cbs, &signals);
+                    self.builder.submit(
+                        &self.objects,
+                        &self.recordings,
+                        queue,
+                        &waits,
+                        &cbs,
+                        &signals,
+                    );
                 }
                 self.submitted_in_frame = true;
             }
@@ -179,19 +200,33 @@ impl Importer {
                 let queue = args.get("queue")?.handle()?;
                 for s in args.list("pSubmits")? {
                     let infos = |key: &str, field: &str| -> Got<Vec<u64>> {
-                        s.list(key)?.iter().map(|i| i.get(field)?.handle()).collect()
+                        s.list(key)?
+                            .iter()
+                            .map(|i| i.get(field)?.handle())
+                            .collect()
                     };
                     let waits = infos("pWaitSemaphoreInfos", "semaphore")?;
                     let cbs = infos("pCommandBufferInfos", "commandBuffer")?;
                     let signals = infos("pSignalSemaphoreInfos", "semaphore")?;
-                    self.builder.submit(&self.objects, &self.recordings, queue, &waits, &cbs, &signals);
+                    self.builder.submit(
+                        &self.objects,
+                        &self.recordings,
+                        queue,
+                        &waits,
+                        &cbs,
+                        &signals,
+                    );
                 }
                 self.submitted_in_frame = true;
             }
             "vkQueuePresentKHR" => {
                 let queue = args.get("queue")?.handle()?;
                 let info = args.get("pPresentInfo")?;
-                let waits: Vec<u64> = info.list("pWaitSemaphores")?.iter().map(Arg::handle).collect::<Got<_>>()?;
+                let waits: Vec<u64> = info
+                    .list("pWaitSemaphores")?
+                    .iter()
+                    .map(Arg::handle)
+                    .collect::<Got<_>>()?;
                 let chains = info.list("pSwapchains")?;
                 let indices = info.list("pImageIndices")?;
                 let images = chains
@@ -209,7 +244,11 @@ impl Importer {
 }
 
 /// Imports the frames `options` selects from a JSON Lines stream; `file` names it in messages.
-pub fn import(reader: impl BufRead, file: &str, options: &ImportOptions) -> Result<Imported, ImportError> {
+pub fn import(
+    reader: impl BufRead,
+    file: &str,
+    options: &ImportOptions,
+) -> Result<Imported, ImportError> {
     let mut lines = Lines::new(reader);
     let mut imp = Importer {
         objects: Objects::default(),
@@ -235,7 +274,10 @@ pub fn import(reader: impl BufRead, file: &str, options: &ImportOptions) -> Resu
         })?;
         line_count += 1;
         match entry {
-            Entry::Header { gfxr_version, json_version } => {
+            Entry::Header {
+                gfxr_version,
+                json_version,
+            } => {
                 tool = format!("GFXReconstruct {gfxr_version} (JSON {json_version})");
             }
             Entry::Call(call) => {
@@ -271,7 +313,10 @@ pub fn import(reader: impl BufRead, file: &str, options: &ImportOptions) -> Resu
     {
         return Err(ImportError::Stream {
             file: file.to_owned(),
-            message: format!("frame {a} was asked for, but the stream holds {frames} frame(s) (0..{})", frames - 1),
+            message: format!(
+                "frame {a} was asked for, but the stream holds {frames} frame(s) (0..{})",
+                frames - 1
+            ),
         });
     }
     let selected = options.frames.unwrap_or((0, frames - 1));
@@ -279,23 +324,75 @@ pub fn import(reader: impl BufRead, file: &str, options: &ImportOptions) -> Resu
     let mut skipped: Vec<Skipped> = imp
         .skipped
         .iter()
-        .map(|(what, (count, line))| Skipped { what: what.clone(), count: *count, first_line: Some(*line) })
+        .map(|(what, (count, line))| Skipped {
+            what: what.clone(),
+            count: *count,
+            first_line: Some(*line),
+        })
         .collect();
-    skipped.extend(imp.builder.notes.iter().map(|(what, count)| Skipped { what: what.clone(), count: *count, first_line: None }));
-    let (draws, dispatches, recorded_barriers) = (imp.builder.draws, imp.builder.dispatches, imp.builder.recorded_barriers);
-    let stem = std::path::Path::new(file)
-        .file_stem()
-        .map_or_else(|| "imported".to_owned(), |s| s.to_string_lossy().into_owned());
-    let emitted = emit::emit(imp.builder, &imp.objects, &stem, file, &tool, imp.hidden_blocks);
-    skipped.extend(emitted.notes.iter().map(|n| Skipped { what: n.clone(), count: 1, first_line: None }));
+    skipped.extend(imp.builder.notes.iter().map(|(what, count)| Skipped {
+        what: what.clone(),
+        count: *count,
+        first_line: None,
+    }));
+    let summary_calls = imp.calls;
+    let (draws, dispatches, recorded_barriers) = (
+        imp.builder.draws,
+        imp.builder.dispatches,
+        imp.builder.recorded_barriers,
+    );
+    let stem = std::path::Path::new(file).file_stem().map_or_else(
+        || "imported".to_owned(),
+        |s| s.to_string_lossy().into_owned(),
+    );
+    let emitted = emit::emit(
+        imp.builder,
+        &imp.objects,
+        &stem,
+        file,
+        &tool,
+        imp.hidden_blocks,
+    );
+    skipped.extend(emitted.notes.iter().map(|n| Skipped {
+        what: n.clone(),
+        count: 1,
+        first_line: None,
+    }));
     let mut not_modelled = imp.not_modelled;
     for (kind, n) in other {
         *not_modelled.entry(format!("({kind} lines)")).or_default() += n;
     }
     let capture = emitted.capture;
+    if capture.passes.is_empty() {
+        return Err(ImportError::Stream {
+            file: file.to_owned(),
+            message: format!(
+                "no submitted work to import in frame(s) {}-{} of {} ({} calls read){}",
+                selected.0,
+                selected.1,
+                frames,
+                summary_calls,
+                if skipped.is_empty() {
+                    String::new()
+                } else {
+                    let first: Vec<String> = skipped
+                        .iter()
+                        .take(4)
+                        .map(|k| match k.first_line {
+                            Some(l) => format!("line {l}: {}", k.what),
+                            None => k.what.clone(),
+                        })
+                        .collect();
+                    format!("; left out: {}", first.join("; "))
+                }
+            ),
+        });
+    }
     let mut passes_by_kind = BTreeMap::new();
     for p in &capture.passes {
-        *passes_by_kind.entry(p.kind.as_str().to_owned()).or_default() += 1;
+        *passes_by_kind
+            .entry(p.kind.as_str().to_owned())
+            .or_default() += 1;
     }
     let summary = Summary {
         file: file.to_owned(),

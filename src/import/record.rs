@@ -44,8 +44,14 @@ pub struct DispatchCmd {
 #[derive(Clone, Debug, PartialEq)]
 pub enum BarrierTarget {
     Global,
-    Buffer { buffer: u64 },
-    Image { image: u64, mips: (u32, Option<u32>), layers: (u32, Option<u32>) },
+    Buffer {
+        buffer: u64,
+    },
+    Image {
+        image: u64,
+        mips: (u32, Option<u32>),
+        layers: (u32, Option<u32>),
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -116,10 +122,27 @@ pub struct Region {
 
 #[derive(Clone, Debug)]
 pub enum TransferCmd {
-    Copy { call: String, src: u64, dst: u64, regions: Vec<Region> },
-    Clear { call: String, target: u64, value: [f64; 4], stencil: u32, ranges: Vec<((u32, Option<u32>), (u32, Option<u32>))> },
-    Fill { call: String, buffer: u64 },
-    Resolve { src: u64, dst: u64 },
+    Copy {
+        call: String,
+        src: u64,
+        dst: u64,
+        regions: Vec<Region>,
+    },
+    Clear {
+        call: String,
+        target: u64,
+        value: [f64; 4],
+        stencil: u32,
+        ranges: Vec<((u32, Option<u32>), (u32, Option<u32>))>,
+    },
+    Fill {
+        call: String,
+        buffer: u64,
+    },
+    Resolve {
+        src: u64,
+        dst: u64,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -178,7 +201,10 @@ fn range(r: &Arg<'_>) -> Got<((u32, Option<u32>), (u32, Option<u32>))> {
     let _ = r.get("aspectMask")?.flags(ASPECTS)?;
     Ok((
         (r.get("baseMipLevel")?.u32()?, count(r.get("levelCount")?)?),
-        (r.get("baseArrayLayer")?.u32()?, count(r.get("layerCount")?)?),
+        (
+            r.get("baseArrayLayer")?.u32()?,
+            count(r.get("layerCount")?)?,
+        ),
     ))
 }
 
@@ -196,7 +222,11 @@ fn offset3(a: &Arg<'_>) -> Got<[u32; 3]> {
 }
 
 fn extent3(a: &Arg<'_>) -> Got<[u32; 3]> {
-    Ok([a.get("width")?.u32()?, a.get("height")?.u32()?, a.get("depth")?.u32()?])
+    Ok([
+        a.get("width")?.u32()?,
+        a.get("height")?.u32()?,
+        a.get("depth")?.u32()?,
+    ])
 }
 
 fn subresource(a: &Arg<'_>) -> Got<(u32, u32)> {
@@ -206,7 +236,13 @@ fn subresource(a: &Arg<'_>) -> Got<(u32, u32)> {
 impl Recording {
     /// Records one `vkCmd*` call; `Ok(false)` for commands that touch no resource framelab
     /// models (state setting, queries, ...).
-    pub fn record(&mut self, name: &str, call_index: u64, args: &Arg<'_>, objects: &Objects) -> Got<bool> {
+    pub fn record(
+        &mut self,
+        name: &str,
+        call_index: u64,
+        args: &Arg<'_>,
+        objects: &Objects,
+    ) -> Got<bool> {
         let origin = || format!("{name} #{call_index}");
         let cmd = match name {
             "vkCmdBindDescriptorSets" => {
@@ -221,9 +257,10 @@ impl Recording {
                 for (k, s) in args.list("pDescriptorSets")?.iter().enumerate() {
                     let set = s.handle()?;
                     let index = first.saturating_add(k as u32);
-                    let contents = objects.sets.get(&set).ok_or_else(|| {
-                        Skip(format!("descriptor set {set} was never allocated"))
-                    })?;
+                    let contents = objects
+                        .sets
+                        .get(&set)
+                        .ok_or_else(|| Skip(format!("descriptor set {set} was never allocated")))?;
                     let uses = contents
                         .iter()
                         .map(|(&(binding, element), d)| {
@@ -233,7 +270,12 @@ impl Recording {
                             {
                                 *offset = offset.saturating_add(dynamic.pop().unwrap_or(0));
                             }
-                            Use { set: index, binding, element, descriptor }
+                            Use {
+                                set: index,
+                                binding,
+                                element,
+                                descriptor,
+                            }
                         })
                         .collect();
                     self.bound.sets.insert((compute, index), uses);
@@ -247,7 +289,12 @@ impl Recording {
                 for w in args.list("pDescriptorWrites")? {
                     for ((binding, element), descriptor) in super::state::descriptor_writes(&w)? {
                         uses.retain(|u| (u.binding, u.element) != (binding, element));
-                        uses.push(Use { set, binding, element, descriptor });
+                        uses.push(Use {
+                            set,
+                            binding,
+                            element,
+                            descriptor,
+                        });
                     }
                 }
                 self.bound.sets.insert((compute, set), uses);
@@ -274,9 +321,15 @@ impl Recording {
             "vkCmdDraw" | "vkCmdDrawIndexed" => {
                 let indexed = name == "vkCmdDrawIndexed";
                 let (count, first) = if indexed {
-                    (args.get("indexCount")?.u32()?, args.get("firstIndex")?.u32()?)
+                    (
+                        args.get("indexCount")?.u32()?,
+                        args.get("firstIndex")?.u32()?,
+                    )
                 } else {
-                    (args.get("vertexCount")?.u32()?, args.get("firstVertex")?.u32()?)
+                    (
+                        args.get("vertexCount")?.u32()?,
+                        args.get("firstVertex")?.u32()?,
+                    )
                 };
                 let base_vertex = if indexed {
                     i32::try_from(args.get("vertexOffset")?.i64()?)
@@ -307,19 +360,22 @@ impl Recording {
                 }
                 for k in 0..u64::from(draws) {
                     let at = offset.saturating_add(k.saturating_mul(stride));
-                    self.cmds.push(Cmd::Draw(Box::new(self.draw(indexed, Some((buffer, at))))));
+                    self.cmds
+                        .push(Cmd::Draw(Box::new(self.draw(indexed, Some((buffer, at))))));
                 }
                 return Ok(true);
             }
-            "vkCmdDispatch" | "vkCmdDispatchBase" | "vkCmdDispatchBaseKHR" => Cmd::Dispatch(Box::new(DispatchCmd {
-                groups: Some([
-                    args.get("groupCountX")?.u32()?,
-                    args.get("groupCountY")?.u32()?,
-                    args.get("groupCountZ")?.u32()?,
-                ]),
-                indirect: None,
-                uses: self.uses(true),
-            })),
+            "vkCmdDispatch" | "vkCmdDispatchBase" | "vkCmdDispatchBaseKHR" => {
+                Cmd::Dispatch(Box::new(DispatchCmd {
+                    groups: Some([
+                        args.get("groupCountX")?.u32()?,
+                        args.get("groupCountY")?.u32()?,
+                        args.get("groupCountZ")?.u32()?,
+                    ]),
+                    indirect: None,
+                    uses: self.uses(true),
+                }))
+            }
             "vkCmdDispatchIndirect" => Cmd::Dispatch(Box::new(DispatchCmd {
                 groups: None,
                 indirect: Some((args.get("buffer")?.handle()?, args.get("offset")?.u64()?)),
@@ -344,28 +400,39 @@ impl Recording {
                 Cmd::BeginRender(Box::new(begin_render_pass(args, objects, origin())?))
             }
             "vkCmdNextSubpass" | "vkCmdNextSubpass2" | "vkCmdNextSubpass2KHR" => Cmd::NextSubpass,
-            "vkCmdEndRenderPass" | "vkCmdEndRenderPass2" | "vkCmdEndRenderPass2KHR"
-            | "vkCmdEndRendering" | "vkCmdEndRenderingKHR" => Cmd::EndRender,
+            "vkCmdEndRenderPass"
+            | "vkCmdEndRenderPass2"
+            | "vkCmdEndRenderPass2KHR"
+            | "vkCmdEndRendering"
+            | "vkCmdEndRenderingKHR" => Cmd::EndRender,
             "vkCmdBeginRendering" | "vkCmdBeginRenderingKHR" => {
                 Cmd::BeginRender(Box::new(begin_rendering(&args.get("pRenderingInfo")?)?))
             }
-            "vkCmdCopyBuffer" | "vkCmdCopyBufferToImage" | "vkCmdCopyImageToBuffer" | "vkCmdCopyImage" => {
-                copy(name, args, None)?
+            "vkCmdCopyBuffer"
+            | "vkCmdCopyBufferToImage"
+            | "vkCmdCopyImageToBuffer"
+            | "vkCmdCopyImage" => copy(name, args, None)?,
+            "vkCmdCopyBuffer2" | "vkCmdCopyBuffer2KHR" => {
+                copy(name, &args.get("pCopyBufferInfo")?, Some(()))?
             }
-            "vkCmdCopyBuffer2" | "vkCmdCopyBuffer2KHR" => copy(name, &args.get("pCopyBufferInfo")?, Some(()))?,
             "vkCmdCopyBufferToImage2" | "vkCmdCopyBufferToImage2KHR" => {
                 copy(name, &args.get("pCopyBufferToImageInfo")?, Some(()))?
             }
             "vkCmdCopyImageToBuffer2" | "vkCmdCopyImageToBuffer2KHR" => {
                 copy(name, &args.get("pCopyImageToBufferInfo")?, Some(()))?
             }
-            "vkCmdCopyImage2" | "vkCmdCopyImage2KHR" => copy(name, &args.get("pCopyImageInfo")?, Some(()))?,
+            "vkCmdCopyImage2" | "vkCmdCopyImage2KHR" => {
+                copy(name, &args.get("pCopyImageInfo")?, Some(()))?
+            }
             "vkCmdClearColorImage" | "vkCmdClearDepthStencilImage" => {
                 let (value, stencil) = match args.opt("pColor") {
                     Some(c) => (clear_color(&c), 0),
                     None => {
                         let ds = args.get("pDepthStencil")?;
-                        ([ds.get("depth")?.f64()?, 0.0, 0.0, 0.0], ds.get("stencil")?.u32()?)
+                        (
+                            [ds.get("depth")?.f64()?, 0.0, 0.0, 0.0],
+                            ds.get("stencil")?.u32()?,
+                        )
                     }
                 };
                 Cmd::Transfer(Box::new(TransferCmd::Clear {
@@ -373,7 +440,11 @@ impl Recording {
                     target: args.get("image")?.handle()?,
                     value,
                     stencil,
-                    ranges: args.list("pRanges")?.iter().map(range).collect::<Got<_>>()?,
+                    ranges: args
+                        .list("pRanges")?
+                        .iter()
+                        .map(range)
+                        .collect::<Got<_>>()?,
                 }))
             }
             "vkCmdFillBuffer" | "vkCmdUpdateBuffer" => Cmd::Transfer(Box::new(TransferCmd::Fill {
@@ -387,12 +458,18 @@ impl Recording {
             "vkCmdBeginDebugUtilsLabelEXT" => {
                 Cmd::BeginLabel(args.get("pLabelInfo")?.get("pLabelName")?.str()?.to_owned())
             }
-            "vkCmdDebugMarkerBeginEXT" => {
-                Cmd::BeginLabel(args.get("pMarkerInfo")?.get("pMarkerName")?.str()?.to_owned())
-            }
+            "vkCmdDebugMarkerBeginEXT" => Cmd::BeginLabel(
+                args.get("pMarkerInfo")?
+                    .get("pMarkerName")?
+                    .str()?
+                    .to_owned(),
+            ),
             "vkCmdEndDebugUtilsLabelEXT" | "vkCmdDebugMarkerEndEXT" => Cmd::EndLabel,
             "vkCmdExecuteCommands" => Cmd::Execute(
-                args.list("pCommandBuffers")?.iter().map(Arg::handle).collect::<Got<_>>()?,
+                args.list("pCommandBuffers")?
+                    .iter()
+                    .map(Arg::handle)
+                    .collect::<Got<_>>()?,
             ),
             _ => return Ok(false),
         };
@@ -428,15 +505,26 @@ fn barriers(args: &Arg<'_>, origin: &str, stages: Option<(u64, u64)>) -> Got<Vec
     let masks = |b: &Arg<'_>| -> Got<(u64, u64, u64, u64)> {
         let (ss, ds) = match stages {
             Some(s) => s,
-            None => (b.get("srcStageMask")?.flags(STAGES)?, b.get("dstStageMask")?.flags(STAGES)?),
+            None => (
+                b.get("srcStageMask")?.flags(STAGES)?,
+                b.get("dstStageMask")?.flags(STAGES)?,
+            ),
         };
-        Ok((ss, ds, b.get("srcAccessMask")?.flags(ACCESS)?, b.get("dstAccessMask")?.flags(ACCESS)?))
+        Ok((
+            ss,
+            ds,
+            b.get("srcAccessMask")?.flags(ACCESS)?,
+            b.get("dstAccessMask")?.flags(ACCESS)?,
+        ))
     };
     let families = |b: &Arg<'_>| -> Got<Option<(u32, u32)>> {
         let s = b.get("srcQueueFamilyIndex")?.u64()?;
         let d = b.get("dstQueueFamilyIndex")?.u64()?;
         // VK_QUEUE_FAMILY_IGNORED on either side: no ownership transfer.
-        Ok((s != d && s < u64::from(u32::MAX) && d < u64::from(u32::MAX)).then_some((s as u32, d as u32)))
+        Ok(
+            (s != d && s < u64::from(u32::MAX) && d < u64::from(u32::MAX))
+                .then_some((s as u32, d as u32)),
+        )
     };
     let mut out = Vec::new();
     for b in args.list("pMemoryBarriers")? {
@@ -456,7 +544,9 @@ fn barriers(args: &Arg<'_>, origin: &str, stages: Option<(u64, u64)>) -> Got<Vec
         let (ss, ds, sa, da) = masks(&b)?;
         out.push(BarrierCmd {
             origin: origin.to_owned(),
-            target: BarrierTarget::Buffer { buffer: b.get("buffer")?.handle()? },
+            target: BarrierTarget::Buffer {
+                buffer: b.get("buffer")?.handle()?,
+            },
             src_stages: ss,
             dst_stages: ds,
             src_access: sa,
@@ -470,12 +560,19 @@ fn barriers(args: &Arg<'_>, origin: &str, stages: Option<(u64, u64)>) -> Got<Vec
         let (mips, layers) = range(&b.get("subresourceRange")?)?;
         out.push(BarrierCmd {
             origin: origin.to_owned(),
-            target: BarrierTarget::Image { image: b.get("image")?.handle()?, mips, layers },
+            target: BarrierTarget::Image {
+                image: b.get("image")?.handle()?,
+                mips,
+                layers,
+            },
             src_stages: ss,
             dst_stages: ds,
             src_access: sa,
             dst_access: da,
-            layouts: Some((layout_of(&b.get("oldLayout")?)?, layout_of(&b.get("newLayout")?)?)),
+            layouts: Some((
+                layout_of(&b.get("oldLayout")?)?,
+                layout_of(&b.get("newLayout")?)?,
+            )),
             families: families(&b)?,
         });
     }
@@ -547,7 +644,12 @@ fn copy(name: &str, args: &Arg<'_>, _v2: Option<()>) -> Got<Cmd> {
         };
         regions.push(region);
     }
-    Ok(Cmd::Transfer(Box::new(TransferCmd::Copy { call: name.to_owned(), src, dst, regions })))
+    Ok(Cmd::Transfer(Box::new(TransferCmd::Copy {
+        call: name.to_owned(),
+        src,
+        dst,
+        regions,
+    })))
 }
 
 const EXTERNAL: u32 = u32::MAX;
@@ -611,13 +713,21 @@ fn begin_render_pass(args: &Arg<'_>, objects: &Objects, origin: String) -> Got<R
     };
     let first_use = |a: u32| {
         rp.subpasses.iter().position(|s| {
-            s.colors.iter().chain(&s.resolves).chain(&s.inputs).any(|(x, _)| *x == a)
+            s.colors
+                .iter()
+                .chain(&s.resolves)
+                .chain(&s.inputs)
+                .any(|(x, _)| *x == a)
                 || s.depth.as_ref().is_some_and(|(x, _)| *x == a)
         })
     };
     let last_use = |a: u32| {
         rp.subpasses.iter().rposition(|s| {
-            s.colors.iter().chain(&s.resolves).chain(&s.inputs).any(|(x, _)| *x == a)
+            s.colors
+                .iter()
+                .chain(&s.resolves)
+                .chain(&s.inputs)
+                .any(|(x, _)| *x == a)
                 || s.depth.as_ref().is_some_and(|(x, _)| *x == a)
         })
     };
@@ -627,22 +737,48 @@ fn begin_render_pass(args: &Arg<'_>, objects: &Objects, origin: String) -> Got<R
             let d = &rp.attachments[a as usize];
             let first = first_use(a) == Some(si);
             let last = last_use(a) == Some(si);
-            let load = |op: &str| if first { op.to_owned() } else { "LOAD".to_owned() };
-            let store = |op: &str| if last { op.to_owned() } else { "STORE".to_owned() };
-            (load(&d.load), store(&d.store), load(&d.stencil_load), store(&d.stencil_store))
+            let load = |op: &str| {
+                if first {
+                    op.to_owned()
+                } else {
+                    "LOAD".to_owned()
+                }
+            };
+            let store = |op: &str| {
+                if last {
+                    op.to_owned()
+                } else {
+                    "STORE".to_owned()
+                }
+            };
+            (
+                load(&d.load),
+                store(&d.store),
+                load(&d.stencil_load),
+                store(&d.stencil_store),
+            )
         };
         let mut sub = SubpassUse::default();
         for &(a, _) in &s.colors {
             if a as usize >= rp.attachments.len() {
-                return Err(Skip(format!("subpass {si} names attachment {a} the render pass lacks")));
+                return Err(Skip(format!(
+                    "subpass {si} names attachment {a} the render pass lacks"
+                )));
             }
             let (load, store, ..) = ops(a);
             let clear = clears.get(a as usize).map(clear_color).unwrap_or_default();
-            sub.colors.push(AttUse { view: view(a)?, load, store, clear });
+            sub.colors.push(AttUse {
+                view: view(a)?,
+                load,
+                store,
+                clear,
+            });
         }
         if let Some((a, layout)) = &s.depth {
             if *a as usize >= rp.attachments.len() {
-                return Err(Skip(format!("subpass {si} names attachment {a} the render pass lacks")));
+                return Err(Skip(format!(
+                    "subpass {si} names attachment {a} the render pass lacks"
+                )));
             }
             let (load, store, stencil_load, stencil_store) = ops(*a);
             let ds = clears.get(*a as usize).and_then(|c| c.opt("depthStencil"));
@@ -652,8 +788,14 @@ fn begin_render_pass(args: &Arg<'_>, objects: &Objects, origin: String) -> Got<R
                 store,
                 stencil_load,
                 stencil_store,
-                depth_clear: ds.as_ref().and_then(|d| d.get("depth").ok()?.f64().ok()).unwrap_or(1.0),
-                stencil_clear: ds.as_ref().and_then(|d| d.get("stencil").ok()?.u32().ok()).unwrap_or(0),
+                depth_clear: ds
+                    .as_ref()
+                    .and_then(|d| d.get("depth").ok()?.f64().ok())
+                    .unwrap_or(1.0),
+                stencil_clear: ds
+                    .as_ref()
+                    .and_then(|d| d.get("stencil").ok()?.u32().ok())
+                    .unwrap_or(0),
                 read_only: layout.contains("READ_ONLY"),
             });
         }
@@ -682,7 +824,9 @@ fn begin_render_pass(args: &Arg<'_>, objects: &Objects, origin: String) -> Got<R
             continue;
         };
         let Ok(v) = view(a) else { continue };
-        let Some(image) = objects.views.get(&v) else { continue };
+        let Some(image) = objects.views.get(&v) else {
+            continue;
+        };
         let target = BarrierTarget::Image {
             image: image.image,
             mips: (image.base_mip, image.mip_count),
@@ -690,7 +834,12 @@ fn begin_render_pass(args: &Arg<'_>, objects: &Objects, origin: String) -> Got<R
         };
         // The external dependency orders the attachment against earlier work even where the
         // layout stays; at the end only a layout change or a declared dependency does anything.
-        let transition = |from: &str, to: &str, dep: &Dependency, what: &str, always: bool| -> Option<BarrierCmd> {
+        let transition = |from: &str,
+                          to: &str,
+                          dep: &Dependency,
+                          what: &str,
+                          always: bool|
+         -> Option<BarrierCmd> {
             let (from, to) = (vulkan::layout(from)?, vulkan::layout(to)?);
             (from != to || always).then(|| BarrierCmd {
                 origin: format!("{origin}: attachment {a} {what}"),
@@ -727,16 +876,36 @@ fn begin_render_pass(args: &Arg<'_>, objects: &Objects, origin: String) -> Got<R
                 .collect(),
         );
         let (in_what, out_what) = (
-            if declared_in.is_some() { "initialLayout, external dependency" } else { "initialLayout, implicit external dependency" },
-            if declared_out.is_some() { "finalLayout, external dependency" } else { "finalLayout, implicit external dependency" },
+            if declared_in.is_some() {
+                "initialLayout, external dependency"
+            } else {
+                "initialLayout, implicit external dependency"
+            },
+            if declared_out.is_some() {
+                "finalLayout, external dependency"
+            } else {
+                "finalLayout, implicit external dependency"
+            },
         );
         if let Some(l) = layout_in(first)
-            && let Some(b) = transition(&d.initial, &l, &declared_in.clone().unwrap_or_else(|| implicit(true)), in_what, true)
+            && let Some(b) = transition(
+                &d.initial,
+                &l,
+                &declared_in.clone().unwrap_or_else(|| implicit(true)),
+                in_what,
+                true,
+            )
         {
             begin_barriers.push(b);
         }
         if let Some(l) = layout_in(last)
-            && let Some(b) = transition(&l, &d.final_layout, &declared_out.clone().unwrap_or_else(|| implicit(false)), out_what, declared_out.is_some())
+            && let Some(b) = transition(
+                &l,
+                &d.final_layout,
+                &declared_out.clone().unwrap_or_else(|| implicit(false)),
+                out_what,
+                declared_out.is_some(),
+            )
         {
             end_barriers.push(b);
         }
@@ -759,7 +928,10 @@ fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
             view,
             load: c.get("loadOp")?.name()?,
             store: c.get("storeOp")?.name()?,
-            clear: c.opt("clearValue").map(|v| clear_color(&v)).unwrap_or_default(),
+            clear: c
+                .opt("clearValue")
+                .map(|v| clear_color(&v))
+                .unwrap_or_default(),
         });
         if let Some(r) = c.opt("resolveImageView") {
             let r = r.handle()?;
@@ -768,8 +940,12 @@ fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
             }
         }
     }
-    let depth = info.opt("pDepthAttachment").filter(|d| d.get("imageView").and_then(|v| v.handle()).unwrap_or(0) != 0);
-    let stencil = info.opt("pStencilAttachment").filter(|d| d.get("imageView").and_then(|v| v.handle()).unwrap_or(0) != 0);
+    let depth = info
+        .opt("pDepthAttachment")
+        .filter(|d| d.get("imageView").and_then(|v| v.handle()).unwrap_or(0) != 0);
+    let stencil = info
+        .opt("pStencilAttachment")
+        .filter(|d| d.get("imageView").and_then(|v| v.handle()).unwrap_or(0) != 0);
     if let Some(d) = depth.as_ref().or(stencil.as_ref()) {
         let ops = |a: &Option<Arg<'_>>| -> Got<(String, String)> {
             match a {
@@ -786,8 +962,14 @@ fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
             store,
             stencil_load,
             stencil_store,
-            depth_clear: clear.as_ref().and_then(|c| c.get("depth").ok()?.f64().ok()).unwrap_or(1.0),
-            stencil_clear: clear.as_ref().and_then(|c| c.get("stencil").ok()?.u32().ok()).unwrap_or(0),
+            depth_clear: clear
+                .as_ref()
+                .and_then(|c| c.get("depth").ok()?.f64().ok())
+                .unwrap_or(1.0),
+            stencil_clear: clear
+                .as_ref()
+                .and_then(|c| c.get("stencil").ok()?.u32().ok())
+                .unwrap_or(0),
             read_only: d.get("imageLayout")?.name()?.contains("READ_ONLY"),
         });
     }

@@ -98,9 +98,20 @@ pub struct FramebufferInfo {
 /// One descriptor written to a set.
 #[derive(Clone, Debug)]
 pub enum Descriptor {
-    Image { view: u64, ty: String },
-    Buffer { buffer: u64, offset: u64, range: u64, ty: String },
-    TexelBuffer { view: u64, ty: String },
+    Image {
+        view: u64,
+        ty: String,
+    },
+    Buffer {
+        buffer: u64,
+        offset: u64,
+        range: u64,
+        ty: String,
+    },
+    TexelBuffer {
+        view: u64,
+        ty: String,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -256,13 +267,21 @@ impl Objects {
             | "vkGetBufferMemoryRequirements2KHR" => {
                 let (handle, req) = match args.opt("pInfo") {
                     Some(info) => {
-                        let key = if name.contains("Image") { "image" } else { "buffer" };
+                        let key = if name.contains("Image") {
+                            "image"
+                        } else {
+                            "buffer"
+                        };
                         let req = args.get("pMemoryRequirements")?;
                         let req = req.opt("memoryRequirements").unwrap_or(req);
                         (info.get(key)?.handle()?, req)
                     }
                     None => {
-                        let key = if name.contains("Image") { "image" } else { "buffer" };
+                        let key = if name.contains("Image") {
+                            "image"
+                        } else {
+                            "buffer"
+                        };
                         (args.get(key)?.handle()?, args.get("pMemoryRequirements")?)
                     }
                 };
@@ -274,15 +293,25 @@ impl Objects {
                 }
             }
             "vkBindImageMemory" | "vkBindBufferMemory" => {
-                let key = if name == "vkBindImageMemory" { "image" } else { "buffer" };
+                let key = if name == "vkBindImageMemory" {
+                    "image"
+                } else {
+                    "buffer"
+                };
                 let handle = args.get(key)?.handle()?;
                 let memory = args.get("memory")?.handle()?;
                 let offset = args.get("memoryOffset")?.u64()?;
                 self.bind(handle, memory, offset);
             }
-            "vkBindImageMemory2" | "vkBindImageMemory2KHR" | "vkBindBufferMemory2"
+            "vkBindImageMemory2"
+            | "vkBindImageMemory2KHR"
+            | "vkBindBufferMemory2"
             | "vkBindBufferMemory2KHR" => {
-                let key = if name.contains("Image") { "image" } else { "buffer" };
+                let key = if name.contains("Image") {
+                    "image"
+                } else {
+                    "buffer"
+                };
                 for info in args.list("pBindInfos")? {
                     let handle = info.get(key)?.handle()?;
                     let memory = info.get("memory")?.handle()?;
@@ -319,7 +348,8 @@ impl Objects {
             "vkCreateRenderPass" | "vkCreateRenderPass2" | "vkCreateRenderPass2KHR" => {
                 let ci = args.get("pCreateInfo")?;
                 let rp = render_pass(&ci)?;
-                self.render_passes.insert(args.get("pRenderPass")?.handle()?, rp);
+                self.render_passes
+                    .insert(args.get("pRenderPass")?.handle()?, rp);
             }
             "vkCreateFramebuffer" => {
                 let ci = args.get("pCreateInfo")?;
@@ -349,13 +379,23 @@ impl Objects {
                 }
                 for c in args.list("pDescriptorCopies")? {
                     let (src, dst) = (c.get("srcSet")?.handle()?, c.get("dstSet")?.handle()?);
-                    let (sb, se) = (c.get("srcBinding")?.u32()?, c.get("srcArrayElement")?.u32()?);
-                    let (db, de) = (c.get("dstBinding")?.u32()?, c.get("dstArrayElement")?.u32()?);
+                    let (sb, se) = (
+                        c.get("srcBinding")?.u32()?,
+                        c.get("srcArrayElement")?.u32()?,
+                    );
+                    let (db, de) = (
+                        c.get("dstBinding")?.u32()?,
+                        c.get("dstArrayElement")?.u32()?,
+                    );
                     let n = c.get("descriptorCount")?.u32()?;
                     let copied: Vec<_> = (0..n.min(4096))
                         .filter_map(|k| {
-                            let d = self.sets.get(&src)?.get(&(sb, se + k))?.clone();
-                            Some(((db, de + k), d))
+                            let d = self
+                                .sets
+                                .get(&src)?
+                                .get(&(sb, se.saturating_add(k)))?
+                                .clone();
+                            Some(((db, de.saturating_add(k)), d))
                         })
                         .collect();
                     let entry = self.sets.entry(dst).or_default();
@@ -385,9 +425,11 @@ impl Objects {
                 if images.is_empty() {
                     return Ok(true);
                 }
-                let sc = self.swapchains.get(&chain).cloned().ok_or_else(|| {
-                    Skip(format!("swapchain {chain} was never created"))
-                })?;
+                let sc = self
+                    .swapchains
+                    .get(&chain)
+                    .cloned()
+                    .ok_or_else(|| Skip(format!("swapchain {chain} was never created")))?;
                 for (i, &img) in images.iter().enumerate() {
                     self.images.insert(
                         img,
@@ -463,18 +505,41 @@ pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
     let kind = ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
     let is_image = matches!(
         kind,
-        "COMBINED_IMAGE_SAMPLER" | "SAMPLED_IMAGE" | "STORAGE_IMAGE" | "INPUT_ATTACHMENT" | "1" | "2" | "3" | "10"
+        "COMBINED_IMAGE_SAMPLER"
+            | "SAMPLED_IMAGE"
+            | "STORAGE_IMAGE"
+            | "INPUT_ATTACHMENT"
+            | "1"
+            | "2"
+            | "3"
+            | "10"
     );
     let is_buffer = matches!(
         kind,
-        "UNIFORM_BUFFER" | "STORAGE_BUFFER" | "UNIFORM_BUFFER_DYNAMIC" | "STORAGE_BUFFER_DYNAMIC" | "6" | "7" | "8" | "9"
+        "UNIFORM_BUFFER"
+            | "STORAGE_BUFFER"
+            | "UNIFORM_BUFFER_DYNAMIC"
+            | "STORAGE_BUFFER_DYNAMIC"
+            | "6"
+            | "7"
+            | "8"
+            | "9"
     );
-    let is_texel = matches!(kind, "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" | "4" | "5");
+    let is_texel = matches!(
+        kind,
+        "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" | "4" | "5"
+    );
     if is_image {
         for (k, i) in images.iter().enumerate() {
             let view = i.get("imageView")?.handle()?;
             if view != 0 {
-                out.push(((binding, first + k as u32), Descriptor::Image { view, ty: kind.to_owned() }));
+                out.push((
+                    (binding, first.saturating_add(k as u32)),
+                    Descriptor::Image {
+                        view,
+                        ty: kind.to_owned(),
+                    },
+                ));
             }
         }
     } else if is_buffer {
@@ -482,7 +547,7 @@ pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
             let buffer = b.get("buffer")?.handle()?;
             if buffer != 0 {
                 out.push((
-                    (binding, first + k as u32),
+                    (binding, first.saturating_add(k as u32)),
                     Descriptor::Buffer {
                         buffer,
                         offset: b.get("offset")?.u64()?,
@@ -496,7 +561,13 @@ pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
         for (k, t) in texels.iter().enumerate() {
             let view = t.handle()?;
             if view != 0 {
-                out.push(((binding, first + k as u32), Descriptor::TexelBuffer { view, ty: kind.to_owned() }));
+                out.push((
+                    (binding, first.saturating_add(k as u32)),
+                    Descriptor::TexelBuffer {
+                        view,
+                        ty: kind.to_owned(),
+                    },
+                ));
             }
         }
     }
@@ -535,7 +606,9 @@ fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
                 depth: match sp.opt("pDepthStencilAttachment") {
                     Some(d) => {
                         let a = d.get("attachment")?.u32()?;
-                        (a != u32::MAX).then(|| Ok((a, d.get("layout")?.name()?))).transpose()?
+                        (a != u32::MAX)
+                            .then(|| Ok((a, d.get("layout")?.name()?)))
+                            .transpose()?
                     }
                     None => None,
                 },

@@ -7,7 +7,7 @@ use std::io::{BufRead, Read};
 use serde_json::Value;
 
 /// Longest line read; a longer one is refused rather than buffered.
-pub const MAX_LINE_BYTES: u64 = 256 << 20;
+pub const MAX_LINE_BYTES: u64 = 64 << 20;
 
 /// One API call of the stream.
 #[derive(Debug)]
@@ -27,7 +27,10 @@ pub struct Call {
 /// What one line holds.
 #[derive(Debug)]
 pub enum Entry {
-    Header { gfxr_version: String, json_version: String },
+    Header {
+        gfxr_version: String,
+        json_version: String,
+    },
     Call(Call),
     /// A 1.x `frame` end marker.
     FrameEnd,
@@ -100,7 +103,10 @@ impl<R: BufRead> Lines<R> {
 }
 
 fn trim_ascii(b: &[u8]) -> &[u8] {
-    let start = b.iter().position(|c| !c.is_ascii_whitespace()).unwrap_or(b.len());
+    let start = b
+        .iter()
+        .position(|c| !c.is_ascii_whitespace())
+        .unwrap_or(b.len());
     let end = b
         .iter()
         .rposition(|c| !c.is_ascii_whitespace())
@@ -121,7 +127,12 @@ fn parse_entry(text: &[u8], line: u64) -> Result<Entry, LineError> {
         return Err(err("expected a JSON object per line".to_owned()));
     };
     if let Some(h) = obj.get("header") {
-        let field = |k: &str| h.get(k).and_then(Value::as_str).unwrap_or("unknown").to_owned();
+        let field = |k: &str| {
+            h.get(k)
+                .and_then(Value::as_str)
+                .unwrap_or("unknown")
+                .to_owned()
+        };
         return Ok(Entry::Header {
             gfxr_version: field("gfxrecon-version"),
             json_version: field("json-version"),
@@ -189,11 +200,19 @@ mod tests {
             "{\"index\":5,\"vkFunc\":{\"name\":\"vkCmdDraw\",\"args\":{\"vert\n",
             "[1,2]\n",
         ));
-        assert!(matches!(&got[0], Ok(Entry::Header { json_version, .. }) if json_version == "0.8.0"));
-        assert!(matches!(&got[1], Ok(Entry::Call(c)) if c.name == "vkCmdDraw" && c.line == 2 && c.index == 3));
-        assert!(matches!(&got[2], Ok(Entry::Call(c)) if c.result.as_deref() == Some("VK_SUCCESS") && c.line == 4));
+        assert!(
+            matches!(&got[0], Ok(Entry::Header { json_version, .. }) if json_version == "0.8.0")
+        );
+        assert!(
+            matches!(&got[1], Ok(Entry::Call(c)) if c.name == "vkCmdDraw" && c.line == 2 && c.index == 3)
+        );
+        assert!(
+            matches!(&got[2], Ok(Entry::Call(c)) if c.result.as_deref() == Some("VK_SUCCESS") && c.line == 4)
+        );
         assert!(matches!(&got[3], Ok(Entry::FrameEnd)));
-        assert!(matches!(&got[4], Err(e) if e.line == 6 && e.message.starts_with("truncated JSON")));
+        assert!(
+            matches!(&got[4], Err(e) if e.line == 6 && e.message.starts_with("truncated JSON"))
+        );
         assert!(matches!(&got[5], Err(e) if e.line == 7 && e.message.contains("object")));
     }
 

@@ -32,12 +32,17 @@ impl<'a> Arg<'a> {
 
     fn skip<T>(&self, what: &str) -> Got<T> {
         let shown = match self.value {
-            Value::String(s) if s.len() > 40 => format!("\"{}...\"", &s[..s.floor_char_boundary(40)]),
+            Value::String(s) if s.len() > 40 => {
+                format!("\"{}...\"", &s[..s.floor_char_boundary(40)])
+            }
             Value::Object(_) => "an object".to_owned(),
             Value::Array(_) => "an array".to_owned(),
             v => v.to_string(),
         };
-        Err(Skip(format!("`{}` is {shown}, expected {what}", self.path())))
+        Err(Skip(format!(
+            "`{}` is {shown}, expected {what}",
+            self.path()
+        )))
     }
 
     fn child(&self, value: &'a Value, key: &str) -> Arg<'a> {
@@ -55,7 +60,10 @@ impl<'a> Arg<'a> {
     pub fn get(&self, key: &str) -> Got<Arg<'a>> {
         match self.value.get(key) {
             Some(v) => Ok(self.child(v, key)),
-            None => Err(Skip(format!("`{}` is missing", self.child(self.value, key).path))),
+            None => Err(Skip(format!(
+                "`{}` is missing",
+                self.child(self.value, key).path
+            ))),
         }
     }
 
@@ -265,9 +273,15 @@ mod tests {
         assert_eq!(err.0, "`d[1]` is \"x\", expected an unsigned integer");
         assert_eq!(root.get("zz").unwrap_err().0, "`zz` is missing");
         assert_eq!(
-            symbol_value("VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT", crate::capture::vulkan::STAGES),
+            symbol_value(
+                "VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT",
+                crate::capture::vulkan::STAGES
+            ),
             Some(0x400)
         );
-        assert_eq!(symbol_value("VK_ACCESS_SHADER_READ_BIT", crate::capture::vulkan::ACCESS), Some(0x20));
+        assert_eq!(
+            symbol_value("VK_ACCESS_SHADER_READ_BIT", crate::capture::vulkan::ACCESS),
+            Some(0x20)
+        );
     }
 }

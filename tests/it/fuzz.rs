@@ -189,3 +189,95 @@ proptest! {
         let _ = std::fs::remove_file(&file);
     }
 }
+
+/// Imports a stream and, when it gives a capture, validates and analyses it as `framelab
+/// import` and `analyze` would; panics only if framelab does.
+fn run_import(bytes: &[u8], name: &str) {
+    use framelab::import::{ImportOptions, import};
+    let Ok(imported) = import(bytes, name, &ImportOptions::default()) else {
+        return;
+    };
+    let dir = std::env::temp_dir().join(format!("framelab-fuzz-import-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("imported.json");
+    if let Ok(v) = capture::validate::validate(&imported.capture, &path, &Options::default()) {
+        let _ = analyze(&v.capture, AnalyzeOptions { cull: true });
+        let _ = analyze(&v.capture, AnalyzeOptions { cull: false });
+    }
+}
+
+#[test]
+fn every_stream_that_ever_failed_now_imports_or_is_refused() {
+    let mut seen = 0;
+    for e in std::fs::read_dir(repo().join("tests/fuzz_corpus/gfxr")).unwrap() {
+        let path = e.unwrap().path();
+        if path.extension().is_some_and(|x| x == "jsonl") {
+            run_import(&std::fs::read(&path).unwrap(), &path.display().to_string());
+            seen += 1;
+        }
+    }
+    assert!(seen >= 5, "the stream corpus has only {seen} inputs");
+}
+
+/// What a hostile stream does to one line.
+#[derive(Clone, Debug)]
+enum LineMutation {
+    /// A structural mutation of the line's JSON.
+    Json(Vec<usize>, Mutation),
+    /// The line cut after this many bytes.
+    Truncate(usize),
+    /// The line repeated.
+    Repeat(usize),
+    /// The call renamed to one no Vulkan version has.
+    Rename,
+}
+
+fn line_mutation() -> impl Strategy<Value = LineMutation> {
+    prop_oneof![
+        6 => (proptest::collection::vec(any::<usize>(), 1..8), mutation()).prop_map(|(p, m)| LineMutation::Json(p, m)),
+        1 => any::<usize>().prop_map(LineMutation::Truncate),
+        1 => (2usize..200).prop_map(LineMutation::Repeat),
+        1 => Just(LineMutation::Rename),
+    ]
+}
+
+proptest! {
+    // Bounded for CI like the capture harness; every case is a whole import of a real stream.
+    #![proptest_config(ProptestConfig {
+        cases: std::env::var("FRAMELAB_FUZZ_CASES").ok().and_then(|c| c.parse::<u32>().ok()).map_or(600, |c| c / 5),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    #[test]
+    fn mutated_streams_never_panic(
+        which in 0usize..4,
+        line in any::<usize>(),
+        mutations in proptest::collection::vec(line_mutation(), 1..4),
+    ) {
+        let name = ["vkd3d_triangle.jsonl", "wgpu30_compute.jsonl", "v1_dynamic_rendering.jsonl", "vkcube_lavapipe.jsonl"][which];
+        let text = std::fs::read_to_string(repo().join("tests/fixtures/gfxr").join(name)).unwrap();
+        let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+        for m in &mutations {
+            let i = line % lines.len();
+            match m {
+                LineMutation::Json(picks, m) => {
+                    if let Ok(mut v) = serde_json::from_str::<Value>(&lines[i]) {
+                        mutate(&mut v, picks, m);
+                        lines[i] = serde_json::to_string(&v).unwrap();
+                    }
+                }
+                LineMutation::Truncate(at) => {
+                    let cut = lines[i].floor_char_boundary(at % (lines[i].len() + 1));
+                    lines[i].truncate(cut);
+                }
+                LineMutation::Repeat(n) => {
+                    let copy = lines[i].clone();
+                    lines.splice(i..i, std::iter::repeat_n(copy, *n));
+                }
+                LineMutation::Rename => lines[i] = lines[i].replacen("\"vk", "\"vkNoSuch", 1),
+            }
+        }
+        run_import(lines.join("\n").as_bytes(), name);
+    }
+}

@@ -13,6 +13,7 @@ mod cli;
 mod diff_cli;
 mod dxgi_ddsfile;
 mod fuzz;
+mod import;
 mod inspector;
 mod invalid_corpus;
 mod memory_quality;

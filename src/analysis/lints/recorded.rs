@@ -55,8 +55,13 @@ pub(super) fn compare_recorded(
     plan: &BarrierPlan,
 ) -> Vec<Lint> {
     let mut out = Vec::new();
-    let d3d12 = |b: &&crate::capture::model::RecordedBarrierDesc| b.barrier_type != BarrierType::Vulkan;
-    if capture.passes.iter().all(|p| !p.barriers.iter().any(|b| d3d12(&b))) {
+    let d3d12 =
+        |b: &&crate::capture::model::RecordedBarrierDesc| b.barrier_type != BarrierType::Vulkan;
+    if capture
+        .passes
+        .iter()
+        .all(|p| !p.barriers.iter().any(|b| d3d12(&b)))
+    {
         return out;
     }
     let mut by_pass: BTreeMap<u32, Vec<&Barrier>> = BTreeMap::new();

@@ -16,7 +16,9 @@ use super::{Lint, LintKind, lint};
 use crate::analysis::barriers::BarrierPlan;
 use crate::analysis::model::FrameModel;
 use crate::capture::format::{Access, BarrierType, PassKind};
-use crate::capture::model::{Capture, PassId, ResourceAccess, ResourceId, Subresources, VulkanBarrierDesc};
+use crate::capture::model::{
+    Capture, PassId, ResourceAccess, ResourceId, Subresources, VulkanBarrierDesc,
+};
 use crate::capture::vulkan::{self, ACCESS, STAGES, access, expand_access, expand_stages, stage};
 
 fn covers(outer: Option<&Subresources>, inner: &Subresources) -> bool {
@@ -33,39 +35,71 @@ fn layout_serves(recorded: &str, needed: &str) -> bool {
     recorded == needed
         || (recorded == "GENERAL" && needed != "PRESENT_SRC_KHR")
         || (recorded == "ATTACHMENT_OPTIMAL"
-            && matches!(needed, "COLOR_ATTACHMENT_OPTIMAL" | "DEPTH_STENCIL_ATTACHMENT_OPTIMAL"))
+            && matches!(
+                needed,
+                "COLOR_ATTACHMENT_OPTIMAL" | "DEPTH_STENCIL_ATTACHMENT_OPTIMAL"
+            ))
         || (recorded == "READ_ONLY_OPTIMAL"
-            && matches!(needed, "SHADER_READ_ONLY_OPTIMAL" | "DEPTH_STENCIL_READ_ONLY_OPTIMAL"))
+            && matches!(
+                needed,
+                "SHADER_READ_ONLY_OPTIMAL" | "DEPTH_STENCIL_READ_ONLY_OPTIMAL"
+            ))
         || (needed == "GENERAL" && recorded != "UNDEFINED" && recorded != "PRESENT_SRC_KHR")
 }
 
 fn names(table: &[(&str, u64)], m: u64) -> String {
     let n = vulkan::mask_names(table, m);
-    if n.is_empty() { "NONE".to_owned() } else { n.join("|") }
+    if n.is_empty() {
+        "NONE".to_owned()
+    } else {
+        n.join("|")
+    }
 }
 
 /// Vulkan's scope of one access: stages, access bits and the image layouts that serve it.
 fn scope(a: Access, raster: bool) -> (u64, u64, Option<&'static str>) {
-    let shader = if raster { stage::VERTEX_SHADER | stage::FRAGMENT_SHADER } else { stage::COMPUTE_SHADER };
+    let shader = if raster {
+        stage::VERTEX_SHADER | stage::FRAGMENT_SHADER
+    } else {
+        stage::COMPUTE_SHADER
+    };
     let tests = stage::EARLY_FRAGMENT_TESTS | stage::LATE_FRAGMENT_TESTS;
     match a {
-        Access::Sampled => (shader, access::SHADER_READ, Some("SHADER_READ_ONLY_OPTIMAL")),
+        Access::Sampled => (
+            shader,
+            access::SHADER_READ,
+            Some("SHADER_READ_ONLY_OPTIMAL"),
+        ),
         Access::StorageRead => (shader, access::SHADER_READ, Some("GENERAL")),
-        Access::StorageWrite | Access::StorageReadWrite => {
-            (shader, access::SHADER_READ | access::SHADER_WRITE, Some("GENERAL"))
-        }
+        Access::StorageWrite | Access::StorageReadWrite => (
+            shader,
+            access::SHADER_READ | access::SHADER_WRITE,
+            Some("GENERAL"),
+        ),
         Access::Uniform => (shader, access::UNIFORM_READ, None),
         Access::IndirectArgs => (stage::DRAW_INDIRECT, access::INDIRECT_COMMAND_READ, None),
         Access::VertexBuffer => (stage::VERTEX_INPUT, access::VERTEX_ATTRIBUTE_READ, None),
         Access::IndexBuffer => (stage::VERTEX_INPUT, access::INDEX_READ, None),
-        Access::CopySrc | Access::ResolveSrc => (stage::TRANSFER, access::TRANSFER_READ, Some("TRANSFER_SRC_OPTIMAL")),
-        Access::CopyDst | Access::ResolveDst => (stage::TRANSFER, access::TRANSFER_WRITE, Some("TRANSFER_DST_OPTIMAL")),
+        Access::CopySrc | Access::ResolveSrc => (
+            stage::TRANSFER,
+            access::TRANSFER_READ,
+            Some("TRANSFER_SRC_OPTIMAL"),
+        ),
+        Access::CopyDst | Access::ResolveDst => (
+            stage::TRANSFER,
+            access::TRANSFER_WRITE,
+            Some("TRANSFER_DST_OPTIMAL"),
+        ),
         Access::ColorAttachment => (
             stage::COLOR_ATTACHMENT_OUTPUT,
             access::COLOR_ATTACHMENT_READ | access::COLOR_ATTACHMENT_WRITE,
             Some("COLOR_ATTACHMENT_OPTIMAL"),
         ),
-        Access::DepthRead => (tests, access::DEPTH_STENCIL_ATTACHMENT_READ, Some("DEPTH_STENCIL_READ_ONLY_OPTIMAL")),
+        Access::DepthRead => (
+            tests,
+            access::DEPTH_STENCIL_ATTACHMENT_READ,
+            Some("DEPTH_STENCIL_READ_ONLY_OPTIMAL"),
+        ),
         Access::DepthWrite => (
             tests,
             access::DEPTH_STENCIL_ATTACHMENT_READ | access::DEPTH_STENCIL_ATTACHMENT_WRITE,
@@ -90,8 +124,22 @@ struct Use {
 }
 
 /// `assumed`: storage bindings read and write by assumption (an import without shader code).
-fn use_of(accesses: &[&ResourceAccess], pass: u32, raster: bool, image: bool, assumed: bool) -> Use {
-    let mut u = Use { pass, stages: 0, access: 0, writes: false, reads: false, assumed: true, layout: None };
+fn use_of(
+    accesses: &[&ResourceAccess],
+    pass: u32,
+    raster: bool,
+    image: bool,
+    assumed: bool,
+) -> Use {
+    let mut u = Use {
+        pass,
+        stages: 0,
+        access: 0,
+        writes: false,
+        reads: false,
+        assumed: true,
+        layout: None,
+    };
     for a in accesses {
         let (st, ac, layout) = scope(a.access, raster);
         u.stages |= st;
@@ -107,7 +155,9 @@ fn use_of(accesses: &[&ResourceAccess], pass: u32, raster: bool, image: bool, as
                 (Some(prev), Some(l)) if prev != l => {
                     // Reading depth as an attachment and sampling it: the read-only layout.
                     let depth_ro = "DEPTH_STENCIL_READ_ONLY_OPTIMAL";
-                    if (prev == depth_ro && l == "SHADER_READ_ONLY_OPTIMAL") || (l == depth_ro && prev == "SHADER_READ_ONLY_OPTIMAL") {
+                    if (prev == depth_ro && l == "SHADER_READ_ONLY_OPTIMAL")
+                        || (l == depth_ro && prev == "SHADER_READ_ONLY_OPTIMAL")
+                    {
                         Some(depth_ro)
                     } else {
                         Some("GENERAL")
@@ -169,7 +219,11 @@ impl Need {
             src_writes: prev.access & access::WRITES,
             dst_stages: next.stages,
             // After reads only an execution dependency is needed (unless the layout changes).
-            dst_access: if prev.writes || relayout { next.access } else { 0 },
+            dst_access: if prev.writes || relayout {
+                next.access
+            } else {
+                0
+            },
             old_layout: prev.layout.filter(|_| image),
             layout,
         })
@@ -182,19 +236,41 @@ impl Need {
         let (sa, da) = (expand_access(r.src_access), expand_access(r.dst_access));
         // Both sides spelt out, so that SHADER_WRITE meets SHADER_STORAGE_WRITE and TRANSFER
         // meets COPY.
-        let (need_ss, need_ds) = (expand_stages(self.src_stages), expand_stages(self.dst_stages));
-        let (need_sa, need_da) = (expand_access(self.src_writes), expand_access(self.dst_access));
+        let (need_ss, need_ds) = (
+            expand_stages(self.src_stages),
+            expand_stages(self.dst_stages),
+        );
+        let (need_sa, need_da) = (
+            expand_access(self.src_writes),
+            expand_access(self.dst_access),
+        );
         if self.src_stages != 0 && ss & need_ss == 0 {
-            out.push(format!("srcStageMask {} does not reach {}", names(STAGES, r.src_stages), names(STAGES, self.src_stages)));
+            out.push(format!(
+                "srcStageMask {} does not reach {}",
+                names(STAGES, r.src_stages),
+                names(STAGES, self.src_stages)
+            ));
         }
         if self.src_writes != 0 && sa & need_sa == 0 {
-            out.push(format!("srcAccessMask {} does not make {} available", names(ACCESS, r.src_access), names(ACCESS, self.src_writes)));
+            out.push(format!(
+                "srcAccessMask {} does not make {} available",
+                names(ACCESS, r.src_access),
+                names(ACCESS, self.src_writes)
+            ));
         }
         if self.dst_stages != 0 && ds & need_ds == 0 {
-            out.push(format!("dstStageMask {} does not reach {}", names(STAGES, r.dst_stages), names(STAGES, self.dst_stages)));
+            out.push(format!(
+                "dstStageMask {} does not reach {}",
+                names(STAGES, r.dst_stages),
+                names(STAGES, self.dst_stages)
+            ));
         }
         if self.dst_access != 0 && da & need_da == 0 {
-            out.push(format!("dstAccessMask {} does not make it visible to {}", names(ACCESS, r.dst_access), names(ACCESS, self.dst_access)));
+            out.push(format!(
+                "dstAccessMask {} does not make it visible to {}",
+                names(ACCESS, r.dst_access),
+                names(ACCESS, self.dst_access)
+            ));
         }
         if let Some(needed) = self.layout {
             match r.new_layout {
@@ -225,14 +301,21 @@ impl Need {
 }
 
 /// Compares the Vulkan barriers of an imported capture with the ones its accesses need.
-pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, _plan: &BarrierPlan) -> Vec<Lint> {
+pub(super) fn compare_vulkan(
+    capture: &Capture,
+    model: &FrameModel,
+    _plan: &BarrierPlan,
+) -> Vec<Lint> {
     let mut out = Vec::new();
     let recorded: Vec<Recorded<'_>> = capture
         .passes
         .iter()
         .flat_map(|p| {
             p.barriers.iter().enumerate().filter_map(move |(i, b)| {
-                let v = b.vulkan.as_ref().filter(|_| b.barrier_type == BarrierType::Vulkan)?;
+                let v = b
+                    .vulkan
+                    .as_ref()
+                    .filter(|_| b.barrier_type == BarrierType::Vulkan)?;
                 Some((p.id.0, i, b.resource, v, b.range.as_ref()))
             })
         })
@@ -248,16 +331,24 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, _plan: &Barr
         let image = r.is_texture();
         // Images are followed per subresource (mip chains render mip n from mip n-1), buffers
         // as a whole.
-        let (mips, layers) = if image { (r.mip_levels.max(1), r.array_layers.max(1)) } else { (1, 1) };
+        let (mips, layers) = if image {
+            (r.mip_levels.max(1), r.array_layers.max(1))
+        } else {
+            (1, 1)
+        };
         let units = (mips as usize).saturating_mul(layers as usize);
         let mut prev: Vec<Option<Use>> = vec![None; units];
         for p in &capture.passes {
-            let accesses: Vec<&ResourceAccess> = p.accesses.iter().filter(|a| a.resource == r.id).collect();
+            let accesses: Vec<&ResourceAccess> =
+                p.accesses.iter().filter(|a| a.resource == r.id).collect();
             if accesses.is_empty() {
                 continue;
             }
             let pass = p.id.0;
-            let raster = raster.get(pass as usize).copied().unwrap_or(p.kind == PassKind::Raster);
+            let raster = raster
+                .get(pass as usize)
+                .copied()
+                .unwrap_or(p.kind == PassKind::Raster);
             let mut per_unit: BTreeMap<usize, Vec<&ResourceAccess>> = BTreeMap::new();
             for a in &accesses {
                 if !image {
@@ -268,7 +359,10 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, _plan: &Barr
                 let layer_end = (a.range.layer_base + a.range.layer_count).min(layers);
                 for l in a.range.layer_base..layer_end {
                     for m in a.range.mip_base..mip_end {
-                        per_unit.entry(l as usize * mips as usize + m as usize).or_default().push(a);
+                        per_unit
+                            .entry(l as usize * mips as usize + m as usize)
+                            .or_default()
+                            .push(a);
                     }
                 }
             }
@@ -289,7 +383,10 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, _plan: &Barr
                 });
                 let Some(need) = need else { continue };
                 let after = before.map(|u| u.pass);
-                match groups.iter_mut().find(|(n, a, _)| *n == need && *a == after) {
+                match groups
+                    .iter_mut()
+                    .find(|(n, a, _)| *n == need && *a == after)
+                {
                     Some(g) => g.2.push(unit),
                     None => groups.push((need, after, vec![unit])),
                 }
@@ -316,18 +413,38 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel, _plan: &Barr
         }
         let what = match (v.old_layout, v.new_layout) {
             (Some(a), Some(b)) if a != b => format!("layout transition {a} -> {b}"),
-            _ => format!("{}/{} -> {}/{} dependency", names(STAGES, v.src_stages), names(ACCESS, v.src_access), names(STAGES, v.dst_stages), names(ACCESS, v.dst_access)),
+            _ => format!(
+                "{}/{} -> {}/{} dependency",
+                names(STAGES, v.src_stages),
+                names(ACCESS, v.src_access),
+                names(STAGES, v.dst_stages),
+                names(ACCESS, v.dst_access)
+            ),
         };
-        let on = r.map_or_else(|| "all memory".to_owned(), |r| format!("\"{}\"", capture.resource(r).name));
-        out.push(lint(LintKind::BarrierRedundant, format!(
-            "\"{}\": {} ({what} on {on}) orders nothing the frame needs",
-            capture.passes[p as usize].name, v.origin
-        ), Some(capture.passes[p as usize].id), r));
+        let on = r.map_or_else(
+            || "all memory".to_owned(),
+            |r| format!("\"{}\"", capture.resource(r).name),
+        );
+        out.push(lint(
+            LintKind::BarrierRedundant,
+            format!(
+                "\"{}\": {} ({what} on {on}) orders nothing the frame needs",
+                capture.passes[p as usize].name, v.origin
+            ),
+            Some(capture.passes[p as usize].id),
+            r,
+        ));
     }
     out
 }
 
-type Recorded<'a> = (u32, usize, Option<ResourceId>, &'a VulkanBarrierDesc, Option<&'a Subresources>);
+type Recorded<'a> = (
+    u32,
+    usize,
+    Option<ResourceId>,
+    &'a VulkanBarrierDesc,
+    Option<&'a Subresources>,
+);
 
 /// The mips and layers a group of (layer * mips + mip) units spans.
 fn span(units: &[usize], mips: u32, r: &crate::capture::model::ResourceDesc) -> Subresources {

@@ -436,8 +436,11 @@ impl<'a> Validator<'a> {
         let v = match (&b.vulkan, b.barrier_type) {
             (Some(v), BarrierType::Vulkan) => v,
             (None, BarrierType::Vulkan) => {
-                self.diags
-                    .error("barrier", path, "a `vulkan` barrier needs its `vulkan` detail");
+                self.diags.error(
+                    "barrier",
+                    path,
+                    "a `vulkan` barrier needs its `vulkan` detail",
+                );
                 return None;
             }
             (Some(_), _) => {
@@ -450,8 +453,10 @@ impl<'a> Validator<'a> {
             }
             (None, _) => return None,
         };
-        let mut mask = |table: &[(&str, u64)], names: &Vec<String>, field: &str| {
-            match vulkan::parse_mask(table, names) {
+        let mut mask =
+            |table: &[(&str, u64)], names: &Vec<String>, field: &str| match vulkan::parse_mask(
+                table, names,
+            ) {
                 Ok(m) => m,
                 Err(bad) => {
                     let known: Vec<&str> = table.iter().map(|(n, _)| *n).collect();
@@ -459,13 +464,19 @@ impl<'a> Validator<'a> {
                     self.diags.error_with_suggestion(
                         "barrier",
                         &vpath.field(field),
-                        format!("unknown Vulkan {} \"{bad}\"", if field.ends_with("stages") { "pipeline stage" } else { "access flag" }),
+                        format!(
+                            "unknown Vulkan {} \"{bad}\"",
+                            if field.ends_with("stages") {
+                                "pipeline stage"
+                            } else {
+                                "access flag"
+                            }
+                        ),
                         suggestion,
                     );
                     0
                 }
-            }
-        };
+            };
         let src_stages = mask(vulkan::STAGES, &v.src_stages, "src_stages");
         let dst_stages = mask(vulkan::STAGES, &v.dst_stages, "dst_stages");
         let src_access = mask(vulkan::ACCESS, &v.src_access, "src_access");

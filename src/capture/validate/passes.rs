@@ -710,8 +710,7 @@ impl<'a> Validator<'a> {
             if let (Some(caps), true) = (
                 cx.caps,
                 !matches!(access, Access::StorageWrite | Access::CopyDst),
-            )
-                && !caps.graphics
+            ) && !caps.graphics
             {
                 self.diags.error("queue-capability", &path.field("queue"), format!(
                         "clearing render target or depth \"{}\" needs a graphics queue; queue \"{}\" is not one", r.name, p.queue

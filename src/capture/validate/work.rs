@@ -96,8 +96,8 @@ impl<'a> Validator<'a> {
                 );
             }
             self.draw_buffers(d, &dpath, resources, accesses, i);
-            let indexed = mesh_desc.is_some_and(|m| m.index_format.is_some())
-                || d.index_buffer.is_some();
+            let indexed =
+                mesh_desc.is_some_and(|m| m.index_format.is_some()) || d.index_buffer.is_some();
             let indirect = d.indirect.as_ref().and_then(|ind| {
                 let args = if indexed {
                     DRAW_INDEXED_ARGS
@@ -215,7 +215,13 @@ impl<'a> Validator<'a> {
             .vertex_buffers
             .iter()
             .enumerate()
-            .map(|(k, b)| (b, Access::VertexBuffer, dpath.field("vertex_buffers").index(k)))
+            .map(|(k, b)| {
+                (
+                    b,
+                    Access::VertexBuffer,
+                    dpath.field("vertex_buffers").index(k),
+                )
+            })
             .chain(
                 d.index_buffer
                     .iter()
@@ -232,7 +238,15 @@ impl<'a> Validator<'a> {
                 self.diags.error(
                     "draw",
                     &path,
-                    format!("\"{}\" is a texture, not a {} buffer", r.name, if access == Access::IndexBuffer { "index" } else { "vertex" }),
+                    format!(
+                        "\"{}\" is a texture, not a {} buffer",
+                        r.name,
+                        if access == Access::IndexBuffer {
+                            "index"
+                        } else {
+                            "vertex"
+                        }
+                    ),
                 );
                 continue;
             }
