@@ -474,17 +474,14 @@ impl Builder {
         out
     }
 
-    fn view(
-        &mut self,
-        objects: &Objects,
-        view: u64,
-    ) -> Option<(String, u32, u32, Option<u32>, Option<u32>)> {
+    /// The resource a view shows, with its first mip and layer.
+    fn view(&mut self, objects: &Objects, view: u64) -> Option<(String, u32, u32)> {
         let Some(v) = objects.views.get(&view) else {
             self.note("image views the stream never created: skipped");
             return None;
         };
         let name = self.resource(objects, v.image)?;
-        Some((name, v.base_mip, v.base_layer, v.mip_count, v.layer_count))
+        Some((name, v.base_mip, v.base_layer))
     }
 
     fn raster(
@@ -513,7 +510,7 @@ impl Builder {
             });
         }
         if let Some(d) = &s.depth
-            && let Some((name, mip, layer, ..)) = self.view(objects, d.view)
+            && let Some((name, mip, layer)) = self.view(objects, d.view)
         {
             self.passes[pass].depth_stencil = Some(DepthStencilAttachment {
                 resource: name,

@@ -12,6 +12,9 @@ use crate::capture::vulkan::{self, ACCESS, STAGES, access, stage};
 /// Most draws one indirect call is expanded into.
 pub const MAX_INDIRECT_DRAWS: u32 = 4096;
 
+/// A mip or layer range: base, and count (`None`: VK_REMAINING_*, to the end).
+pub type LevelRange = (u32, Option<u32>);
+
 /// A descriptor a draw or dispatch can reach, with dynamic offsets applied.
 #[derive(Clone, Debug)]
 pub struct Use {
@@ -133,7 +136,7 @@ pub enum TransferCmd {
         target: u64,
         value: [f64; 4],
         stencil: u32,
-        ranges: Vec<((u32, Option<u32>), (u32, Option<u32>))>,
+        ranges: Vec<(LevelRange, LevelRange)>,
     },
     Fill {
         call: String,
@@ -193,7 +196,7 @@ fn clear_color(v: &Arg<'_>) -> [f64; 4] {
     out
 }
 
-fn range(r: &Arg<'_>) -> Got<((u32, Option<u32>), (u32, Option<u32>))> {
+fn range(r: &Arg<'_>) -> Got<(LevelRange, LevelRange)> {
     let count = |a: Arg<'_>| -> Got<Option<u32>> {
         let v = a.u64()?;
         Ok((v < u64::from(u32::MAX)).then_some(v as u32))

@@ -416,7 +416,7 @@ impl<'a> Linter<'a> {
             for a in &pass.accesses {
                 let r = &model.resources[a.resource as usize];
                 if a.reads
-                    && !(assumed_reads && a.uav && a.writes)
+                    && (!assumed_reads || !a.uav || !a.writes)
                     && !written.contains(&a.resource)
                     && !r.initialised
                     && r.previous_of.is_none()

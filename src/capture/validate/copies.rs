@@ -460,7 +460,7 @@ impl<'a> Validator<'a> {
                 Ok(m) => m,
                 Err(bad) => {
                     let known: Vec<&str> = table.iter().map(|(n, _)| *n).collect();
-                    let suggestion = suggest(bad, known.into_iter());
+                    let suggestion = suggest(bad, known);
                     self.diags.error_with_suggestion(
                         "barrier",
                         &vpath.field(field),
