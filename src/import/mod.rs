@@ -185,6 +185,7 @@ impl Importer {
                     let waits = handles("pWaitSemaphores")?;
                     let cbs = handles("pCommandBuffers")?;
                     let signals = handles("pSignalSemaphores")?;
+                    self.submitted_in_frame |= !cbs.is_empty();
                     self.builder.submit(
                         &self.objects,
                         &self.recordings,
@@ -194,7 +195,6 @@ impl Importer {
                         &signals,
                     );
                 }
-                self.submitted_in_frame = true;
             }
             "vkQueueSubmit2" | "vkQueueSubmit2KHR" => {
                 let queue = args.get("queue")?.handle()?;
@@ -208,6 +208,7 @@ impl Importer {
                     let waits = infos("pWaitSemaphoreInfos", "semaphore")?;
                     let cbs = infos("pCommandBufferInfos", "commandBuffer")?;
                     let signals = infos("pSignalSemaphoreInfos", "semaphore")?;
+                    self.submitted_in_frame |= !cbs.is_empty();
                     self.builder.submit(
                         &self.objects,
                         &self.recordings,
@@ -217,7 +218,6 @@ impl Importer {
                         &signals,
                     );
                 }
-                self.submitted_in_frame = true;
             }
             "vkQueuePresentKHR" => {
                 let queue = args.get("queue")?.handle()?;
