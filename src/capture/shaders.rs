@@ -58,6 +58,55 @@ pub struct ShaderInterface {
     pub bindings: BTreeMap<String, (u32, u32)>,
     /// Members of the `params` uniform struct, when the shader declares one.
     pub params: Option<Vec<String>>,
+    /// What each resource variable is, which decides the accesses a binding may declare.
+    pub kinds: BTreeMap<String, VarKind>,
+}
+
+/// A WGSL resource variable's address space and type, as far as binding accesses depend on it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VarKind {
+    Uniform,
+    StorageBuffer { writable: bool },
+    StorageTexture { readable: bool, writable: bool },
+    /// `texture_*` (sampled, depth or multisampled).
+    Texture,
+    Sampler,
+}
+
+impl VarKind {
+    /// The binding accesses this variable accepts, and how WGSL spells the variable.
+    pub fn accepts(self, access: crate::capture::format::Access) -> bool {
+        use crate::capture::format::Access::*;
+        match self {
+            VarKind::Uniform => access == Uniform,
+            VarKind::StorageBuffer { writable: false } => access == StorageRead,
+            VarKind::StorageBuffer { writable: true } => matches!(access, StorageWrite | StorageReadWrite),
+            VarKind::StorageTexture { readable: true, writable: true } => access == StorageReadWrite,
+            VarKind::StorageTexture { readable: true, writable: false } => access == StorageRead,
+            VarKind::StorageTexture { .. } => access == StorageWrite,
+            VarKind::Texture => access == Sampled,
+            VarKind::Sampler => false,
+        }
+    }
+
+    pub fn describe(self) -> &'static str {
+        match self {
+            VarKind::Uniform => "var<uniform> (access `uniform`)",
+            VarKind::StorageBuffer { writable: false } => "var<storage, read> (access `storage_read`)",
+            VarKind::StorageBuffer { writable: true } => {
+                "var<storage, read_write> (access `storage_read_write` or `storage_write`)"
+            }
+            VarKind::StorageTexture { readable: true, writable: true } => {
+                "a read_write storage texture (access `storage_read_write`)"
+            }
+            VarKind::StorageTexture { readable: true, writable: false } => {
+                "a read-only storage texture (access `storage_read`)"
+            }
+            VarKind::StorageTexture { .. } => "a write-only storage texture (access `storage_write`)",
+            VarKind::Texture => "a sampled texture (access `sampled`)",
+            VarKind::Sampler => "a sampler (bind a `sampler`, not a resource)",
+        }
+    }
 }
 
 impl ShaderInterface {
@@ -150,11 +199,38 @@ pub fn reflect(shader: &ValidatedShader) -> ShaderInterface {
             Some((var.name.clone()?, (b.group, b.binding)))
         })
         .collect();
+    let kinds = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, var)| {
+            var.binding.as_ref()?;
+            let kind = match var.space {
+                naga::AddressSpace::Uniform => VarKind::Uniform,
+                naga::AddressSpace::Storage { access } => VarKind::StorageBuffer {
+                    writable: access.contains(naga::StorageAccess::STORE),
+                },
+                _ => match &module.types[var.ty].inner {
+                    naga::TypeInner::Image {
+                        class: naga::ImageClass::Storage { access, .. },
+                        ..
+                    } => VarKind::StorageTexture {
+                        readable: access.contains(naga::StorageAccess::LOAD),
+                        writable: access.contains(naga::StorageAccess::STORE),
+                    },
+                    naga::TypeInner::Image { .. } => VarKind::Texture,
+                    naga::TypeInner::Sampler { .. } => VarKind::Sampler,
+                    _ => return None,
+                },
+            };
+            Some((var.name.clone()?, kind))
+        })
+        .collect();
     let params = framelab_replay::uniforms::uniform_struct(module, "params").map(|(_, m)| m);
     ShaderInterface {
         entry_points,
         bindings,
         params,
+        kinds,
     }
 }
 

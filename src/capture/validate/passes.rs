@@ -692,6 +692,20 @@ impl<'a> Validator<'a> {
             };
             let Some(r) = res(id) else { continue };
             let range = self.view_range(r, c.mips.as_ref(), c.layers.as_ref(), &cpath);
+            // A clear goes through a typed view (RTV, DSV or UAV), and a clear names none.
+            if let Some(f) = r.format
+                && f.is_typeless()
+                && !self.vulkan()
+            {
+                self.diags.error(
+                    "clear",
+                    &cpath.field("resource"),
+                    format!(
+                        "\"{}\" is {}: a clear needs a typed view, which a clear pass cannot name; clear it through a raster pass's attachment with a `format`",
+                        r.name, f.name
+                    ),
+                );
+            }
             let access = if self.vulkan() {
                 // vkCmdClear*Image and vkCmdFillBuffer are transfer writes on any queue.
                 Access::CopyDst

@@ -324,6 +324,24 @@ impl<'a> Validator<'a> {
         }
         let (width, height, depth, layers) = self.texture_extent(r, path)?;
         self.texture_limits(r, path, width, height, depth, layers);
+        // D3D12 sizes block-compressed textures in whole blocks from the top mip down.
+        if format.is_block_compressed()
+            && (width % format.block_width != 0 || height % format.block_height != 0)
+        {
+            let at = if width % format.block_width != 0 { "width" } else { "height" };
+            self.diags.error(
+                "format-usage",
+                &path.field(at),
+                format!(
+                    "\"{}\" is {}, a {}x{} block format, so its top mip must be a multiple of the block; it is {width}x{height}{}",
+                    r.name,
+                    format.name,
+                    format.block_width,
+                    format.block_height,
+                    if matches!(r.width, Some(Extent::Texels(_))) { "" } else { " at this scale" }
+                ),
+            );
+        }
         if self.diags.error_count() > errors_before {
             return None;
         }

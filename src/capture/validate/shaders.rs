@@ -113,6 +113,35 @@ impl<'a> Validator<'a> {
                 );
             }
         }
+        // The access each binding declares against what the variable is: wgpu builds the
+        // layout from the access, and a mismatch only shows as a GPU validation error.
+        for (variable, b) in &p.bindings {
+            let Some(kind) = interface.kinds.get(variable) else { continue };
+            let bpath = path.field("bindings").field(variable);
+            match (b.access, &b.resource, &b.sampler) {
+                (Some(access), Some(_), _) if !kind.accepts(access) => self.diags.error(
+                    "binding-access",
+                    &bpath.field("access"),
+                    format!(
+                        "\"{variable}\" is {} in {file}, but pass \"{}\" binds it for {} access",
+                        kind.describe(),
+                        p.name,
+                        access.as_str()
+                    ),
+                ),
+                (_, Some(_), _) if *kind == crate::capture::shaders::VarKind::Sampler => self.diags.error(
+                    "binding-access",
+                    &bpath,
+                    format!("\"{variable}\" is a sampler in {file}: bind a `sampler`, not a resource"),
+                ),
+                (_, None, Some(_)) if *kind != crate::capture::shaders::VarKind::Sampler => self.diags.error(
+                    "binding-access",
+                    &bpath.field("sampler"),
+                    format!("\"{variable}\" is {} in {file}, not a sampler", kind.describe()),
+                ),
+                _ => {}
+            }
+        }
         self.check_params(&interface, file, &p.params, &path.field("params"));
     }
 
