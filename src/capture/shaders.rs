@@ -66,8 +66,13 @@ pub struct ShaderInterface {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VarKind {
     Uniform,
-    StorageBuffer { writable: bool },
-    StorageTexture { readable: bool, writable: bool },
+    StorageBuffer {
+        writable: bool,
+    },
+    StorageTexture {
+        readable: bool,
+        writable: bool,
+    },
     /// `texture_*` (sampled, depth or multisampled).
     Texture,
     Sampler,
@@ -80,9 +85,17 @@ impl VarKind {
         match self {
             VarKind::Uniform => access == Uniform,
             VarKind::StorageBuffer { writable: false } => access == StorageRead,
-            VarKind::StorageBuffer { writable: true } => matches!(access, StorageWrite | StorageReadWrite),
-            VarKind::StorageTexture { readable: true, writable: true } => access == StorageReadWrite,
-            VarKind::StorageTexture { readable: true, writable: false } => access == StorageRead,
+            VarKind::StorageBuffer { writable: true } => {
+                matches!(access, StorageWrite | StorageReadWrite)
+            }
+            VarKind::StorageTexture {
+                readable: true,
+                writable: true,
+            } => access == StorageReadWrite,
+            VarKind::StorageTexture {
+                readable: true,
+                writable: false,
+            } => access == StorageRead,
             VarKind::StorageTexture { .. } => access == StorageWrite,
             VarKind::Texture => access == Sampled,
             VarKind::Sampler => false,
@@ -92,17 +105,23 @@ impl VarKind {
     pub fn describe(self) -> &'static str {
         match self {
             VarKind::Uniform => "var<uniform> (access `uniform`)",
-            VarKind::StorageBuffer { writable: false } => "var<storage, read> (access `storage_read`)",
+            VarKind::StorageBuffer { writable: false } => {
+                "var<storage, read> (access `storage_read`)"
+            }
             VarKind::StorageBuffer { writable: true } => {
                 "var<storage, read_write> (access `storage_read_write` or `storage_write`)"
             }
-            VarKind::StorageTexture { readable: true, writable: true } => {
-                "a read_write storage texture (access `storage_read_write`)"
+            VarKind::StorageTexture {
+                readable: true,
+                writable: true,
+            } => "a read_write storage texture (access `storage_read_write`)",
+            VarKind::StorageTexture {
+                readable: true,
+                writable: false,
+            } => "a read-only storage texture (access `storage_read`)",
+            VarKind::StorageTexture { .. } => {
+                "a write-only storage texture (access `storage_write`)"
             }
-            VarKind::StorageTexture { readable: true, writable: false } => {
-                "a read-only storage texture (access `storage_read`)"
-            }
-            VarKind::StorageTexture { .. } => "a write-only storage texture (access `storage_write`)",
             VarKind::Texture => "a sampled texture (access `sampled`)",
             VarKind::Sampler => "a sampler (bind a `sampler`, not a resource)",
         }

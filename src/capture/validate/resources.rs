@@ -328,7 +328,11 @@ impl<'a> Validator<'a> {
         if format.is_block_compressed()
             && (width % format.block_width != 0 || height % format.block_height != 0)
         {
-            let at = if width % format.block_width != 0 { "width" } else { "height" };
+            let at = if width % format.block_width != 0 {
+                "width"
+            } else {
+                "height"
+            };
             self.diags.error(
                 "format-usage",
                 &path.field(at),

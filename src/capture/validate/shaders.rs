@@ -116,7 +116,9 @@ impl<'a> Validator<'a> {
         // The access each binding declares against what the variable is: wgpu builds the
         // layout from the access, and a mismatch only shows as a GPU validation error.
         for (variable, b) in &p.bindings {
-            let Some(kind) = interface.kinds.get(variable) else { continue };
+            let Some(kind) = interface.kinds.get(variable) else {
+                continue;
+            };
             let bpath = path.field("bindings").field(variable);
             match (b.access, &b.resource, &b.sampler) {
                 (Some(access), Some(_), _) if !kind.accepts(access) => self.diags.error(
