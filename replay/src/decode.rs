@@ -315,9 +315,16 @@ pub fn readable_format(spec: &TextureSpec) -> Result<wgpu::TextureFormat, Unread
         return Err(Unreadable("multisampled: resolve it to export"));
     }
     if spec.format.is_compressed() {
-        return Err(Unreadable(
-            "block-compressed: exported images are decoded formats only",
-        ));
+        // Read through the GPU's decoder into an uncompressed copy (see `decompress`).
+        return match crate::decompress::decompressed_format(spec.format) {
+            Some(_) if !spec.usage.contains(wgpu::TextureUsages::TEXTURE_BINDING) => Err(
+                Unreadable("block-compressed and never sampled: the GPU cannot decode it"),
+            ),
+            Some(f) => Ok(f),
+            None => Err(Unreadable(
+                "block-compressed in a format framelab cannot decode",
+            )),
+        };
     }
     let format = match spec.format {
         wgpu::TextureFormat::Depth32FloatStencil8 => wgpu::TextureFormat::Depth32Float,
@@ -341,6 +348,18 @@ pub fn read_texture(
     spec: &TextureSpec,
     format: wgpu::TextureFormat,
 ) -> Result<Vec<DecodedImage>, ReadError> {
+    if spec.format.is_compressed() {
+        let (decoded, decoded_spec) =
+            crate::decompress::decompress(device, queue, texture, spec, format)?;
+        return read_aspect(
+            device,
+            queue,
+            &decoded,
+            &decoded_spec,
+            format,
+            wgpu::TextureAspect::All,
+        );
+    }
     let aspect = if spec.format.has_depth_aspect() {
         wgpu::TextureAspect::DepthOnly
     } else {

@@ -6,6 +6,7 @@
 
 pub mod atomic;
 pub mod decode;
+pub mod decompress;
 pub mod device;
 pub mod export;
 pub mod layout;

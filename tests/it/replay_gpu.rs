@@ -556,3 +556,45 @@ fn bundled_captures_are_clean_under_the_validation_layer() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn block_compressed_textures_export_decoded_by_the_gpu() {
+    // Four hand-made BC1 blocks: all colour0 (red), all colour1 (blue), all colour0 (green),
+    // all index 2 (two thirds of white over black).
+    let dir = temp("bc");
+    let out = dir.join("out");
+    let run = framelab(&[
+        "replay",
+        "tests/fixtures/bc/bc.json",
+        "--quiet",
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["skipped"], serde_json::json!([]));
+    let file = manifest["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["resource"] == "blocks")
+        .unwrap();
+    assert_eq!(
+        (file["format"].as_str(), file["read_as"].as_str()),
+        (Some("BC1_UNORM"), Some("Rgba8Unorm"))
+    );
+    let image = png(&out.join("blocks.png")).to_rgba8();
+    let at = |x, y| image.get_pixel(x, y).0;
+    assert_eq!(at(1, 1), [255, 0, 0, 255]);
+    assert_eq!(at(6, 2), [0, 0, 255, 255]);
+    assert_eq!(at(2, 6), [0, 255, 0, 255]);
+    let grey = at(5, 5);
+    assert!(
+        (169..=171).contains(&grey[0]) && grey[0] == grey[1] && grey[1] == grey[2],
+        "{grey:?}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
