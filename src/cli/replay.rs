@@ -196,11 +196,16 @@ pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<
             .iter()
             .map(|p| {
                 let gpu = timing::stats::gpu_ms_median_min(p, report.warmup);
+                let none = if p.gpu_untrusted.is_some() {
+                    "untrusted"
+                } else {
+                    "-"
+                };
                 vec![
                     p.name.clone(),
                     p.queue.clone(),
-                    gpu.map_or("-".to_owned(), |(median, _)| format!("{median:.3}")),
-                    gpu.map_or("-".to_owned(), |(_, min)| format!("{min:.3}")),
+                    gpu.map_or(none.to_owned(), |(median, _)| format!("{median:.3}")),
+                    gpu.map_or(none.to_owned(), |(_, min)| format!("{min:.3}")),
                     format!("{:.3}", timing::stats::mean_cpu_ms(p, report.warmup)),
                     format!("{:.1}", p.bytes_moved() as f64 / 1e6),
                     gpu.and_then(|(median, _)| {

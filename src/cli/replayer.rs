@@ -152,6 +152,11 @@ impl Replayer {
                             .iter()
                             .map(|t| t.get(i).map_or(0, |x| x.cpu_ns))
                             .collect(),
+                        gpu_untrusted: framelab::timing::untrusted_timestamps(
+                            &ctx.summary.name,
+                            &ctx.summary.device_type,
+                            p.kind.as_str(),
+                        ),
                     }
                 })
                 .collect(),

@@ -165,7 +165,7 @@ pub fn match_passes(a: &[PassTiming], b: &[PassTiming]) -> Matching {
 
 /// GPU samples of measured (post-warm-up) frames.
 fn samples(p: &PassTiming, warmup: u32) -> Vec<f64> {
-    p.gpu_ns
+    p.trusted_gpu_ns()
         .iter()
         .skip(warmup as usize)
         .flatten()
@@ -180,7 +180,7 @@ fn frame_sums(report: &TimingReport, passes: &[usize]) -> Vec<f64> {
         .filter_map(|f| {
             passes
                 .iter()
-                .map(|&i| report.passes[i].gpu_ns.get(f).copied().flatten())
+                .map(|&i| report.passes[i].trusted_gpu_ns().get(f).copied().flatten())
                 .sum::<Option<u64>>()
                 .map(|ns| ns as f64)
         })

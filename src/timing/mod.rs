@@ -54,9 +54,22 @@ pub struct PassTiming {
     /// One per frame; `null` where the adapter could not time the pass.
     pub gpu_ns: Vec<Option<u64>>,
     pub cpu_ns: Vec<u64>,
+    /// Why the adapter's timestamps do not measure this pass, when they do not: its samples
+    /// are kept but no summary, verdict or frame sum uses them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_untrusted: Option<String>,
 }
 
 impl PassTiming {
+    /// The GPU samples summaries may use: none when the timestamps are untrusted.
+    pub fn trusted_gpu_ns(&self) -> &[Option<u64>] {
+        if self.gpu_untrusted.is_some() {
+            &[]
+        } else {
+            &self.gpu_ns
+        }
+    }
+
     /// Bytes read and written.
     pub fn bytes_moved(&self) -> u64 {
         self.bytes_read.saturating_add(self.bytes_written)
@@ -64,6 +77,19 @@ impl PassTiming {
 }
 
 /// Achieved bandwidth in GB/s (10^9 bytes per second) of `bytes` moved in `ns`.
+/// Why an adapter's timestamps do not measure passes of `kind`, if they do not.
+///
+/// Mesa's lavapipe (llvmpipe) writes a compute pass's timestamps while the dispatch is still
+/// running on its thread pool: a 256-group dispatch that made every frame 0.43 s longer was
+/// timed at 0.09 ms (raster passes and copies are timed as they run).
+pub fn untrusted_timestamps(adapter_name: &str, device_type: &str, kind: &str) -> Option<String> {
+    let software = device_type.to_ascii_lowercase().contains("cpu")
+        || device_type.to_ascii_lowercase().contains("software");
+    (software && adapter_name.contains("llvmpipe") && kind == "compute").then(|| {
+        "lavapipe timestamps a compute pass before its dispatch has run; time it on a hardware GPU".to_owned()
+    })
+}
+
 pub fn gigabytes_per_second(bytes: u64, ns: f64) -> Option<f64> {
     (ns > 0.0 && bytes > 0).then(|| bytes as f64 / ns)
 }

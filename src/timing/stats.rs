@@ -14,7 +14,7 @@ use super::PassTiming;
 /// when none were.
 pub fn mean_gpu_ms(p: &PassTiming, warmup: u32) -> Option<f64> {
     let gpu: Vec<u64> = p
-        .gpu_ns
+        .trusted_gpu_ns()
         .iter()
         .skip(warmup as usize)
         .flatten()
@@ -31,7 +31,7 @@ pub fn mean_gpu_ms(p: &PassTiming, warmup: u32) -> Option<f64> {
 /// timed (a summary a slow first frame cannot skew), or `None` when none were.
 pub fn gpu_ms_median_min(p: &PassTiming, warmup: u32) -> Option<(f64, f64)> {
     let gpu: Vec<f64> = p
-        .gpu_ns
+        .trusted_gpu_ns()
         .iter()
         .skip(warmup as usize)
         .flatten()
@@ -242,6 +242,32 @@ pub fn samples_needed(effect: f64, alpha: f64) -> Option<usize> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn untrusted_timestamps_give_no_summary() {
+        let mut p = PassTiming {
+            gpu_ns: vec![Some(90_000), Some(88_000)],
+            cpu_ns: vec![1, 1],
+            kind: "compute".to_owned(),
+            ..PassTiming::default()
+        };
+        assert!(gpu_ms_median_min(&p, 0).is_some());
+        p.gpu_untrusted = crate::timing::untrusted_timestamps(
+            "llvmpipe (LLVM 15.0.6, 256 bits)",
+            "software (CPU)",
+            &p.kind,
+        );
+        assert!(p.gpu_untrusted.is_some());
+        assert_eq!(gpu_ms_median_min(&p, 0), None);
+        assert_eq!(mean_gpu_ms(&p, 0), None);
+        // Raster passes on lavapipe, and compute on hardware, stay trusted.
+        assert!(
+            crate::timing::untrusted_timestamps("llvmpipe", "software (CPU)", "raster").is_none()
+        );
+        assert!(
+            crate::timing::untrusted_timestamps("NVIDIA H100", "discrete GPU", "compute").is_none()
+        );
+    }
+
     use super::*;
 
     #[test]
