@@ -189,7 +189,9 @@ fn state(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
             }
         }
     }
+    // An import records no pipeline state: the defaults would be made up.
     if p.kind.as_str() == "raster"
+        && c.not_replayable().is_none()
         && let Ok(serde_json::Value::Object(m)) = serde_json::to_value(&p.state)
     {
         for (k, v) in m {
@@ -260,10 +262,35 @@ fn recorded(c: &Capture, p: &PassDesc) -> Vec<Barrier> {
                     None if b.before.is_empty() && b.after.is_empty() => String::new(),
                     None => format!("{} -> {}", states(&b.before), states(&b.after)),
                 },
-                vulkan: String::new(),
+                vulkan: b.vulkan.as_ref().map(vulkan_text).unwrap_or_default(),
             }
         })
         .collect()
+}
+
+/// A recorded Vulkan barrier as the details pane lists it: layouts, then scopes, then origin.
+fn vulkan_text(v: &crate::capture::model::VulkanBarrierDesc) -> String {
+    use crate::capture::vulkan::{ACCESS, STAGES, mask_names};
+    let names = |t: &[(&str, u64)], m: u64| {
+        let n = mask_names(t, m);
+        if n.is_empty() {
+            "NONE".to_owned()
+        } else {
+            n.join("|")
+        }
+    };
+    let layouts = match (v.old_layout, v.new_layout) {
+        (Some(a), Some(b)) => format!("{a} -> {b}; "),
+        _ => String::new(),
+    };
+    format!(
+        "{layouts}{}/{} -> {}/{} ({})",
+        names(STAGES, v.src_stages),
+        names(ACCESS, v.src_access),
+        names(STAGES, v.dst_stages),
+        names(ACCESS, v.dst_access),
+        v.origin
+    )
 }
 
 /// How the viewer reads a plan texture, or why it cannot.
@@ -418,11 +445,11 @@ fn make_viewable(lowered: &mut Lowered) {
 fn resources(
     c: &Capture,
     r: &report::Report,
-    lowered: &Lowered,
+    lowered: Option<&Lowered>,
     pass_index: &BTreeMap<PassId, usize>,
 ) -> Vec<Resource> {
     let info = crate::info::report(c);
-    let buffers = buffer_views(&lowered.plan);
+    let buffers = lowered.map(|l| buffer_views(&l.plan)).unwrap_or_default();
     let memory: BTreeMap<&str, &report::ResourceMemory> = r
         .memory
         .resources
@@ -473,13 +500,13 @@ fn resources(
                 first_pass: uses.get(&i).map(|u| u.0),
                 last_pass: uses.get(&i).map(|u| u.1),
                 aliases: al,
-                texture: lowered
-                    .texture_of
-                    .get(&id)
-                    .map(|&t| texture_view(t, &lowered.plan.textures[t])),
+                texture: lowered.and_then(|l| {
+                    l.texture_of
+                        .get(&id)
+                        .map(|&t| texture_view(t, &l.plan.textures[t]))
+                }),
                 buffer: lowered
-                    .buffer_of
-                    .get(&id)
+                    .and_then(|l| l.buffer_of.get(&id))
                     .and_then(|&b| buffers.get(b).cloned()),
             }
         })
@@ -637,23 +664,30 @@ pub struct Reports<'a> {
 }
 
 /// The inspection model of `capture` replayed in `lowered`'s plan order.
+/// The inspector's model of a capture that is not replayed (an import): passes, barriers,
+/// resources, the DAG and memory, with no texture or buffer contents to view.
+pub fn model_without_replay(
+    c: &Capture,
+    a: &Analysis,
+    reports: &Reports<'_>,
+) -> Result<Inspection, crate::timing::diff::DiffError> {
+    model(c, a, &a.order, None, reports)
+}
+
+/// `order`: the passes shown, in execution order (the replayed ones when `lowered` is given).
 fn model(
     c: &Capture,
     a: &Analysis,
-    lowered: &Lowered,
+    order: &[PassId],
+    lowered: Option<&Lowered>,
     reports: &Reports<'_>,
 ) -> Result<Inspection, crate::timing::diff::DiffError> {
     let r = report::report(c, a);
-    let pass_index: BTreeMap<PassId, usize> = lowered
-        .pass_ids
-        .iter()
-        .enumerate()
-        .map(|(i, &id)| (id, i))
-        .collect();
+    let pass_index: BTreeMap<PassId, usize> =
+        order.iter().enumerate().map(|(i, &id)| (id, i)).collect();
     let boundaries: BTreeMap<&str, &report::Boundary> =
         r.barriers.iter().map(|b| (b.pass.as_str(), b)).collect();
-    let passes: Vec<Pass> = lowered
-        .pass_ids
+    let passes: Vec<Pass> = order
         .iter()
         .enumerate()
         .map(|(i, &id)| {
@@ -663,7 +697,7 @@ fn model(
                 barriers.extend(b.barriers.iter().map(|x| derived(x, BarrierSide::Before)));
             }
             barriers.extend(recorded(c, p));
-            if let Some(next) = lowered.pass_ids.get(i + 1)
+            if let Some(next) = order.get(i + 1)
                 && let Some(b) = boundaries.get(c.pass(*next).name.as_str())
             {
                 barriers.extend(b.barriers.iter().map(|x| derived(x, BarrierSide::After)));
@@ -700,8 +734,7 @@ fn model(
         }
     }
     fences.sort_unstable();
-    let pass_named: BTreeMap<&str, usize> = lowered
-        .pass_ids
+    let pass_named: BTreeMap<&str, usize> = order
         .iter()
         .enumerate()
         .map(|(i, &id)| (c.pass(id).name.as_str(), i))
@@ -755,7 +788,13 @@ pub fn launch(
         &ctx.summary.name,
     )?;
     make_viewable(&mut lowered);
-    let inspection = model(capture, analysis, &lowered, reports)?;
+    let inspection = model(
+        capture,
+        analysis,
+        &lowered.pass_ids,
+        Some(&lowered),
+        reports,
+    )?;
     let session = framelab_replay::Session::new(ctx, lowered.plan)?;
     let owned = capture.clone();
     let worker = framelab_ui::worker::Worker::start(

@@ -100,28 +100,32 @@ fn report(path: &Path) -> anyhow::Result<TimingReport> {
 }
 
 pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
-    let loaded = Loaded::for_replay(&args.capture, args.scale, false)?;
+    let loaded = Loaded::new(&args.capture, args.scale, false)?;
     let analysis = analyze(&loaded.capture, AnalyzeOptions::default())
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.capture.display()))?;
     let timings = args.timings.as_deref().map(report).transpose()?;
     let compare = args.compare.as_deref().map(report).transpose()?;
+    let reports = Reports {
+        timings: timings
+            .as_ref()
+            .zip(args.timings.as_ref())
+            .map(|(t, p)| (t, p.display().to_string())),
+        compare: compare
+            .as_ref()
+            .zip(args.compare.as_ref())
+            .map(|(t, p)| (t, p.display().to_string())),
+    };
+    // The device draws the window even when nothing is replayed.
     let ctx = framelab_replay::open_device(args.adapter.as_deref(), lower::wanted_features())?;
-    let (model, worker) = inspect::launch(
-        &loaded.capture,
-        &analysis,
-        &ctx,
-        &Reports {
-            timings: timings
-                .as_ref()
-                .zip(args.timings.as_ref())
-                .map(|(t, p)| (t, p.display().to_string())),
-            compare: compare
-                .as_ref()
-                .zip(args.compare.as_ref())
-                .map(|(t, p)| (t, p.display().to_string())),
-        },
-        args.frames,
-    )?;
+    // An imported capture is inspected without a replay: passes, barriers, DAG and memory.
+    let (model, worker) = if loaded.capture.not_replayable().is_some() {
+        let model = inspect::model_without_replay(&loaded.capture, &analysis, &reports)?;
+        (model, None)
+    } else {
+        let (model, worker) =
+            inspect::launch(&loaded.capture, &analysis, &ctx, &reports, args.frames)?;
+        (model, Some(worker))
+    };
     let select = match &args.select {
         Some(name) => Some(model.pass_named(name).with_context(|| {
             let names: Vec<&str> = model.passes.iter().map(|p| p.name.as_str()).collect();
@@ -145,8 +149,13 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         && model.resources[v].buffer.is_none()
     {
         bail!(
-            "--view: \"{}\" is neither a texture nor a buffer the replay creates",
-            model.resources[v].name
+            "--view: \"{}\" is neither a texture nor a buffer the replay creates{}",
+            model.resources[v].name,
+            if worker.is_none() {
+                " (an imported capture is not replayed)"
+            } else {
+                ""
+            }
         );
     }
     if let Some(v) = view
@@ -184,7 +193,7 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
     match &args.screenshot {
         Some(path) => {
             let rs = headless::render_state(&ctx)?;
-            let mut app = Inspector::new(model, Some(worker), Some(rs.clone()));
+            let mut app = Inspector::new(model, worker, Some(rs.clone()));
             prepare(&mut app);
             let size = framelab_ui::egui::Vec2::new(args.size.0 as f32, args.size.1 as f32);
             let image = headless::capture(app, rs, size, Duration::from_secs(600))?;
@@ -194,7 +203,7 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         None => {
             let title = format!("framelab inspect {}", args.capture.display());
             headless::window(&ctx, &title, move |rs| {
-                let mut app = Inspector::new(model, Some(worker), rs);
+                let mut app = Inspector::new(model, worker, rs);
                 prepare(&mut app);
                 app
             })?;

@@ -182,6 +182,11 @@ fn default_tree() -> egui_tiles::Tree<Pane> {
 impl Inspector {
     /// An inspector over `model`; `worker` replays it on the device `render_state` draws
     /// with (both absent: the panels show the model alone).
+    /// Whether a replay runs behind the views (an imported capture has none).
+    pub fn replays(&self) -> bool {
+        self.worker.is_some()
+    }
+
     pub fn new(
         model: Inspection,
         worker: Option<Worker>,
@@ -212,7 +217,11 @@ impl Inspector {
             displayed: None,
             hovered: None,
             picked: None,
-            status: "starting".into(),
+            status: if worker.is_some() {
+                "starting".into()
+            } else {
+                "imported capture: no replay, no texture contents".into()
+            },
             timeline_bars: Vec::new(),
             events_scrolled_to: None,
             buffer_bytes: None,

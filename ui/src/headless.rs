@@ -58,7 +58,11 @@ pub fn capture(
     size: egui::Vec2,
     timeout: Duration,
 ) -> Result<image::RgbaImage, HeadlessError> {
-    let mut harness = harness(app, render_state, size);
+    // A screenshot is for the user: a widget's missing accessible name (which the tests'
+    // harness checks) must not stop it.
+    let mut harness = builder(size, render_state)
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, app: &mut Inspector| app.ui(ui), app);
     settle(&mut harness, timeout)?;
     harness.render().map_err(HeadlessError::Render)
 }
@@ -69,6 +73,10 @@ pub fn harness(
     render_state: RenderState,
     size: egui::Vec2,
 ) -> egui_kittest::Harness<'static, Inspector> {
+    builder(size, render_state).build_ui_state(|ui, app: &mut Inspector| app.ui(ui), app)
+}
+
+fn builder(size: egui::Vec2, render_state: RenderState) -> egui_kittest::HarnessBuilder<Inspector> {
     egui_kittest::Harness::builder()
         .with_size(size)
         // A capture may name things in any script; missing glyphs draw as boxes.
@@ -76,7 +84,6 @@ pub fn harness(
         .renderer(egui_kittest::wgpu::WgpuTestRenderer::from_render_state(
             render_state,
         ))
-        .build_ui_state(|ui, app: &mut Inspector| app.ui(ui), app)
 }
 
 /// Steps the harness until the worker has answered and the UI has drawn the answer.

@@ -61,12 +61,13 @@ const ROW: f32 = 20.0;
 
 pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
-        ui.label("filter");
+        let label = ui.label("filter");
         ui.add(
             egui::TextEdit::singleline(&mut app.selection.filter)
                 .id_salt("event filter")
                 .desired_width(f32::INFINITY),
-        );
+        )
+        .labelled_by(label.id);
     });
     let model = app.model.clone();
     let current = app.selection.pass;

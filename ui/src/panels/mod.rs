@@ -36,12 +36,15 @@ pub fn status_bar(app: &Inspector, ui: &mut egui::Ui) {
         let m = &app.model;
         ui.label(format!("{}  scale {}", m.capture, m.scale));
         ui.separator();
-        let timing = app
-            .timings
-            .as_ref()
-            .map_or("not timed yet".to_owned(), |t| {
-                format!("timings: {}", t.source)
-            });
+        let timing = app.timings.as_ref().map_or(
+            if app.replays() {
+                "not timed yet"
+            } else {
+                "not replayed"
+            }
+            .to_owned(),
+            |t| format!("timings: {}", t.source),
+        );
         ui.label(timing);
         ui.separator();
         match &app.error {

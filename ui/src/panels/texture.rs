@@ -70,7 +70,7 @@ fn controls(app: &mut Inspector, ui: &mut egui::Ui) {
     ui.horizontal_wrapped(|ui| {
         let name = current.map_or("(none)", |r| model.resources[r].name.as_str());
         let mut pick = None;
-        egui::ComboBox::from_id_salt("texture")
+        egui::ComboBox::from_label("texture")
             .selected_text(name)
             .width(200.0)
             .show_ui(ui, |ui| {

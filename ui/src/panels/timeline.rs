@@ -21,7 +21,11 @@ fn verdict_color(verdict: &str) -> Option<Color32> {
 pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
     let model = app.model.clone();
     let Some(timings) = app.timings.clone() else {
-        ui.label("waiting for the first timed frame...");
+        ui.label(if app.replays() {
+            "waiting for the first timed frame..."
+        } else {
+            "not replayed, so not timed: give --timings a report"
+        });
         return;
     };
     let end = timings
