@@ -32,6 +32,7 @@ fn report(seed: u64, shift: f64) -> TimingReport {
                 cpu_ns: vec![10_000; 1000],
                 bytes_read: 8_000_000,
                 bytes_written: 4_000_000,
+                gpu_untrusted: None,
             }
         })
         .collect();

@@ -177,7 +177,7 @@ pub fn capture_json(passes: usize, resources: usize, seed: u64) -> String {
             };
             out.push_str(&format!(r#"{{"name":"copy{p}","queue":"dma","kind":"copy","markers":["frame","copies"],"copies":[{{"src":{{"resource":"buf{a}","size":256}},"dst":{{"resource":"buf{b}","size":256}}}}]}}"#));
         } else {
-            out.push_str(&format!(r#"{{"name":"pass{p}","queue":"async","kind":"compute","markers":["frame","compute"],"shader":{{"file":"compute.wgsl","compute":"cs_main"}},"bindings":{{"particles":{{"resource":"buf{a}","access":"storage_read_write"}},"draw_args":{{"resource":"buf{b}","access":"storage_read"}}}},"dispatches":[{{"groups":[{},1,1]}}]}}"#, 1 + rng.below(64)));
+            out.push_str(&format!(r#"{{"name":"pass{p}","queue":"async","kind":"compute","markers":["frame","compute"],"shader":{{"file":"compute.wgsl","compute":"cs_main"}},"bindings":{{"particles":{{"resource":"buf{a}","access":"storage_read_write"}},"draw_args":{{"resource":"buf{b}","access":"storage_read_write"}}}},"dispatches":[{{"groups":[{},1,1]}}]}}"#, 1 + rng.below(64)));
         }
     }
     out.push_str("]}\n");

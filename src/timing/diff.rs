@@ -174,13 +174,21 @@ fn samples(p: &PassTiming, warmup: u32) -> Vec<f64> {
 }
 
 /// Per measured frame, the sum of the given passes' GPU times (frames where one is untimed are
-/// left out).
+/// left out; passes whose timestamps the adapter cannot be trusted for are not summed).
 fn frame_sums(report: &TimingReport, passes: &[usize]) -> Vec<f64> {
+    let trusted: Vec<usize> = passes
+        .iter()
+        .copied()
+        .filter(|&i| report.passes[i].gpu_untrusted.is_none())
+        .collect();
+    if trusted.is_empty() {
+        return Vec::new();
+    }
     (report.warmup as usize..report.frames as usize)
         .filter_map(|f| {
-            passes
+            trusted
                 .iter()
-                .map(|&i| report.passes[i].trusted_gpu_ns().get(f).copied().flatten())
+                .map(|&i| report.passes[i].gpu_ns.get(f).copied().flatten())
                 .sum::<Option<u64>>()
                 .map(|ns| ns as f64)
         })
