@@ -38,7 +38,8 @@ fn state_of(s: ResourceState) -> State {
     }
 }
 
-fn covers(outer: Option<&Subresources>, inner: &Subresources) -> bool {
+/// Whether a recorded barrier's range (all subresources when absent) covers `inner`.
+pub(super) fn covers(outer: Option<&Subresources>, inner: &Subresources) -> bool {
     outer.is_none_or(|o| {
         o.mip_base <= inner.mip_base
             && inner.mip_base + inner.mip_count <= o.mip_base + o.mip_count

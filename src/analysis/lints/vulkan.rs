@@ -12,6 +12,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use super::recorded::covers;
 use super::{Lint, LintKind, lint};
 use crate::analysis::barriers::BarrierPlan;
 use crate::analysis::model::FrameModel;
@@ -20,15 +21,6 @@ use crate::capture::model::{
     Capture, PassId, ResourceAccess, ResourceId, Subresources, VulkanBarrierDesc,
 };
 use crate::capture::vulkan::{self, ACCESS, STAGES, access, expand_access, expand_stages, stage};
-
-fn covers(outer: Option<&Subresources>, inner: &Subresources) -> bool {
-    outer.is_none_or(|o| {
-        o.mip_base <= inner.mip_base
-            && inner.mip_base + inner.mip_count <= o.mip_base + o.mip_count
-            && o.layer_base <= inner.layer_base
-            && inner.layer_base + inner.layer_count <= o.layer_base + o.layer_count
-    })
-}
 
 /// Layouts that serve a use needing `needed`.
 fn layout_serves(recorded: &str, needed: &str) -> bool {
