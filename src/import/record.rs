@@ -303,6 +303,28 @@ impl Recording {
                 self.bound.sets.insert((compute, set), uses);
                 return Ok(true);
             }
+            // Work framelab's passes cannot hold yet: named as left out, not silently dropped.
+            "vkCmdBlitImage" | "vkCmdBlitImage2" | "vkCmdBlitImage2KHR" => {
+                return Err(Skip(
+                    "scaled blits are not imported (no pass kind for them)".to_owned(),
+                ));
+            }
+            "vkCmdClearAttachments" => {
+                return Err(Skip(
+                    "clears of attachments inside a render pass are not imported".to_owned(),
+                ));
+            }
+            "vkCmdDrawIndirectCount"
+            | "vkCmdDrawIndirectCountKHR"
+            | "vkCmdDrawIndexedIndirectCount"
+            | "vkCmdDrawIndexedIndirectCountKHR"
+            | "vkCmdDrawMeshTasksEXT"
+            | "vkCmdDrawMeshTasksIndirectEXT"
+            | "vkCmdTraceRaysKHR"
+            | "vkCmdBuildAccelerationStructuresKHR"
+            | "vkCmdCopyQueryPoolResults" => {
+                return Err(Skip("this command's work is not imported".to_owned()));
+            }
             "vkCmdPushDescriptorSetWithTemplateKHR" | "vkCmdPushDescriptorSetWithTemplate" => {
                 return Err(Skip(
                     "descriptor writes through an update template are not imported; accesses through those bindings are missing".to_owned(),
