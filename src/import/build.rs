@@ -11,7 +11,6 @@ use super::record::{
     Use,
 };
 use super::state::{Descriptor, Objects};
-use super::value::QUEUE_FLAGS;
 use crate::capture::dxgi;
 use crate::capture::format::{
     Access, BarrierType, Binding, ByteRange, Clear, ColorAttachment, Copy, CopyLocation,
@@ -170,7 +169,6 @@ impl Builder {
                 QueueType::Graphics
             }
         };
-        let _ = QUEUE_FLAGS;
         let base = qt.name().to_owned();
         let taken = self.queue_names.values().filter(|(_, t)| *t == qt).count();
         let name = if taken == 0 {

@@ -7,6 +7,7 @@
 mod build;
 mod emit;
 mod record;
+mod render_pass;
 mod state;
 mod stream;
 mod value;
@@ -176,38 +177,33 @@ impl Importer {
                     self.recordings.insert(cb, Recording::default());
                 }
             }
-            "vkQueueSubmit" => {
+            "vkQueueSubmit" | "vkQueueSubmit2" | "vkQueueSubmit2KHR" => {
+                // The two submit structures differ only in where the handles sit.
+                let (waits, cbs, signals) = if name == "vkQueueSubmit" {
+                    (
+                        ("pWaitSemaphores", None),
+                        ("pCommandBuffers", None),
+                        ("pSignalSemaphores", None),
+                    )
+                } else {
+                    (
+                        ("pWaitSemaphoreInfos", Some("semaphore")),
+                        ("pCommandBufferInfos", Some("commandBuffer")),
+                        ("pSignalSemaphoreInfos", Some("semaphore")),
+                    )
+                };
                 let queue = args.get("queue")?.handle()?;
                 for s in args.list("pSubmits")? {
-                    let handles = |key: &str| -> Got<Vec<u64>> {
-                        s.list(key)?.iter().map(Arg::handle).collect()
-                    };
-                    let waits = handles("pWaitSemaphores")?;
-                    let cbs = handles("pCommandBuffers")?;
-                    let signals = handles("pSignalSemaphores")?;
-                    self.submitted_in_frame |= !cbs.is_empty();
-                    self.builder.submit(
-                        &self.objects,
-                        &self.recordings,
-                        queue,
-                        &waits,
-                        &cbs,
-                        &signals,
-                    );
-                }
-            }
-            "vkQueueSubmit2" | "vkQueueSubmit2KHR" => {
-                let queue = args.get("queue")?.handle()?;
-                for s in args.list("pSubmits")? {
-                    let infos = |key: &str, field: &str| -> Got<Vec<u64>> {
+                    let handles = |(key, field): (&str, Option<&str>)| -> Got<Vec<u64>> {
                         s.list(key)?
                             .iter()
-                            .map(|i| i.get(field)?.handle())
+                            .map(|i| match field {
+                                Some(f) => i.get(f)?.handle(),
+                                None => i.handle(),
+                            })
                             .collect()
                     };
-                    let waits = infos("pWaitSemaphoreInfos", "semaphore")?;
-                    let cbs = infos("pCommandBufferInfos", "commandBuffer")?;
-                    let signals = infos("pSignalSemaphoreInfos", "semaphore")?;
+                    let (waits, cbs, signals) = (handles(waits)?, handles(cbs)?, handles(signals)?);
                     self.submitted_in_frame |= !cbs.is_empty();
                     self.builder.submit(
                         &self.objects,

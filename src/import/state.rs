@@ -142,8 +142,6 @@ pub struct Objects {
     pub swapchains: HashMap<u64, SwapchainInfo>,
     pub swapchain_images: HashMap<u64, Vec<u64>>,
     pub names: HashMap<u64, String>,
-    /// Command buffers by handle -> the pool's queue family.
-    pub pools: HashMap<u64, u32>,
     /// Memory the application mapped (its buffers hold what the CPU wrote).
     pub mapped: std::collections::HashSet<u64>,
 }
@@ -477,13 +475,6 @@ impl Objects {
                     None => args.get("memory")?.handle()?,
                 };
                 self.mapped.insert(memory);
-            }
-            "vkCreateCommandPool" => {
-                let ci = args.get("pCreateInfo")?;
-                self.pools.insert(
-                    args.get("pCommandPool")?.handle()?,
-                    ci.get("queueFamilyIndex")?.u32()?,
-                );
             }
             _ => return Ok(false),
         }

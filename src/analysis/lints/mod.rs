@@ -770,11 +770,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
     linter.upload_heap_reads(&mut out);
     linter.anisotropic_without_mips(&mut out);
     out.extend(compare_recorded(input.capture, input.model, input.plan));
-    out.extend(vulkan::compare_vulkan(
-        input.capture,
-        input.model,
-        input.plan,
-    ));
+    out.extend(vulkan::compare_vulkan(input.capture, input.model));
     out.sort();
     out.dedup();
     out

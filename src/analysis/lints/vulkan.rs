@@ -14,7 +14,6 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use super::recorded::covers;
 use super::{Lint, LintKind, lint};
-use crate::analysis::barriers::BarrierPlan;
 use crate::analysis::model::FrameModel;
 use crate::capture::format::{Access, BarrierType, PassKind};
 use crate::capture::model::{
@@ -293,11 +292,7 @@ impl Need {
 }
 
 /// Compares the Vulkan barriers of an imported capture with the ones its accesses need.
-pub(super) fn compare_vulkan(
-    capture: &Capture,
-    model: &FrameModel,
-    _plan: &BarrierPlan,
-) -> Vec<Lint> {
+pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel) -> Vec<Lint> {
     let mut out = Vec::new();
     let recorded: Vec<Recorded<'_>> = capture
         .passes
