@@ -162,48 +162,53 @@ fn graph_writes_dot_with_queue_colours_and_clusters() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// Both Night City captures: the seed's dead passes culled by day (the night has only the
+/// never-read CSM proxy), no hazard, no missing fence, no read of undefined contents, and an
+/// aliasing plan within 10% of the lower bound.
 #[test]
 fn night_city_analyzes() {
-    let out = framelab(&[
-        "analyze",
-        "--json",
-        "captures/night_city/main_street_day.json",
-    ]);
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let r = json(&out);
-    // The seed's two dead passes, and nothing else.
-    assert_eq!(
-        r["culled"],
-        serde_json::json!(["unknown_color_01", "csm_proxy"])
-    );
-    let lints = r["lints"].as_array().unwrap();
-    let unused_uav: Vec<&str> = lints
-        .iter()
-        .filter(|l| l["code"] == "FL001")
-        .map(|l| l["resource"].as_str().unwrap())
-        .collect();
-    assert!(unused_uav.contains(&"gbuffer_material"), "{unused_uav:?}");
-    // A correct frame: no hazards, no missing fences, no reads of undefined contents.
-    let errors: Vec<&serde_json::Value> =
-        lints.iter().filter(|l| l["severity"] == "error").collect();
-    assert!(errors.is_empty(), "{errors:#?}");
-    // One barrier batch per pass boundary, in order.
-    let order = r["order"].as_array().unwrap();
-    let boundaries: Vec<&serde_json::Value> = r["barriers"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|b| &b["pass"])
-        .collect();
-    assert_eq!(boundaries, order.iter().collect::<Vec<_>>());
-    let total = &r["memory"]["total"];
-    let ratio =
-        total["aliased_bytes"].as_f64().unwrap() / total["lower_bound_bytes"].as_f64().unwrap();
-    assert!(
-        ratio <= 1.10,
-        "aliasing plan is {ratio:.3}x the lower bound"
-    );
-    assert!(total["aliased_bytes"].as_u64() < total["unaliased_bytes"].as_u64());
+    for (capture, dead) in [
+        (
+            "captures/night_city/main_street_day.json",
+            serde_json::json!(["unknown_color_01", "csm_proxy"]),
+        ),
+        (
+            "captures/night_city/river_bank_night.json",
+            serde_json::json!(["csm_proxy"]),
+        ),
+    ] {
+        let out = framelab(&["analyze", "--json", capture]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        let r = json(&out);
+        assert_eq!(r["culled"], dead, "{capture}");
+        let lints = r["lints"].as_array().unwrap();
+        let unused_uav: Vec<&str> = lints
+            .iter()
+            .filter(|l| l["code"] == "FL001")
+            .map(|l| l["resource"].as_str().unwrap())
+            .collect();
+        assert!(unused_uav.contains(&"gbuffer_material"), "{unused_uav:?}");
+        let errors: Vec<&serde_json::Value> =
+            lints.iter().filter(|l| l["severity"] == "error").collect();
+        assert!(errors.is_empty(), "{capture}: {errors:#?}");
+        // One barrier batch per pass boundary, in order.
+        let order = r["order"].as_array().unwrap();
+        let boundaries: Vec<&serde_json::Value> = r["barriers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|b| &b["pass"])
+            .collect();
+        assert_eq!(boundaries, order.iter().collect::<Vec<_>>());
+        let total = &r["memory"]["total"];
+        let ratio =
+            total["aliased_bytes"].as_f64().unwrap() / total["lower_bound_bytes"].as_f64().unwrap();
+        assert!(
+            ratio <= 1.10,
+            "{capture}: aliasing plan is {ratio:.3}x the lower bound"
+        );
+        assert!(total["aliased_bytes"].as_u64() < total["unaliased_bytes"].as_u64());
+    }
 }
 
 #[test]

@@ -1,38 +1,44 @@
-//! Golden-image comparison: one metric and one tolerance for every image test. A missing golden
-//! fails (set FRAMELAB_BLESS=1 to write it, which still fails so it gets reviewed); a mismatch
-//! writes `<golden>-actual.png` and `<golden>-diff.png` next to the golden.
+//! Golden-image comparison: one metric and one tolerance for every image test. The metric is
+//! NVIDIA's FLIP (`nv-flip`), which scores each pixel by how visible the difference is to a
+//! viewer (colour and edges, at a standard viewing distance), so a tolerance means "looks the
+//! same" rather than "same bytes". A missing golden fails (set FRAMELAB_BLESS=1 to write it,
+//! which still fails so it gets reviewed); a mismatch writes `<golden>-actual.png` and
+//! `<golden>-diff.png` (the FLIP error map) next to the golden.
 
 use std::path::Path;
 
-/// Mean absolute per-channel error allowed (0..1 scale).
-pub const MEAN_TOLERANCE: f64 = 2.0 / 255.0;
-/// The 99th percentile of per-pixel maximum channel error allowed: rasterisation on other
-/// drivers may differ along edges, not across the image.
-pub const P99_TOLERANCE: f64 = 48.0 / 255.0;
+/// Mean FLIP error allowed over the image (0 identical, 1 as different as can be).
+pub const MEAN_TOLERANCE: f64 = 0.01;
+/// The 99th percentile of per-pixel FLIP error allowed: rasterisation on other drivers may
+/// differ along edges, not across the image.
+pub const P99_TOLERANCE: f64 = 0.2;
 
 pub struct Comparison {
     pub mean: f64,
     pub p99: f64,
+    /// The per-pixel error, as a colour-mapped picture.
+    pub map: image::RgbImage,
+}
+
+fn flip_image(i: &image::RgbaImage) -> nv_flip::FlipImageRgb8 {
+    let rgb = image::DynamicImage::ImageRgba8(i.clone()).to_rgb8();
+    nv_flip::FlipImageRgb8::with_data(i.width(), i.height(), rgb.as_raw())
 }
 
 pub fn compare(a: &image::RgbaImage, b: &image::RgbaImage) -> Comparison {
     assert_eq!(a.dimensions(), b.dimensions(), "image sizes differ");
-    let mut per_pixel: Vec<f64> = Vec::with_capacity((a.width() * a.height()) as usize);
-    let mut sum = 0.0;
-    for (pa, pb) in a.pixels().zip(b.pixels()) {
-        let mut worst = 0.0f64;
-        for c in 0..4 {
-            let d = (f64::from(pa[c]) - f64::from(pb[c])).abs() / 255.0;
-            sum += d;
-            worst = worst.max(d);
-        }
-        per_pixel.push(worst);
-    }
-    per_pixel.sort_by(f64::total_cmp);
-    let p99 = per_pixel[((per_pixel.len() as f64 * 0.99) as usize).min(per_pixel.len() - 1)];
+    let error = nv_flip::flip(
+        flip_image(b),
+        flip_image(a),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    let mut pool = nv_flip::FlipPool::from_image(&error);
+    let map = error.apply_color_lut(&nv_flip::magma_lut());
     Comparison {
-        mean: sum / (per_pixel.len() * 4) as f64,
-        p99,
+        mean: f64::from(pool.mean()),
+        p99: f64::from(pool.get_percentile(0.99, false)),
+        map: image::RgbImage::from_raw(a.width(), a.height(), map.to_vec())
+            .expect("FLIP map is width x height RGB"),
     }
 }
 
@@ -64,15 +70,9 @@ pub fn assert_matches_golden(actual_path: &Path, golden: &Path) {
             stem.file_name().unwrap().to_string_lossy()
         ));
         actual.save(&actual_out).unwrap();
-        let diff = image::RgbaImage::from_fn(actual.width(), actual.height(), |x, y| {
-            let (p, q) = (actual.get_pixel(x, y), expected.get_pixel(x, y));
-            let d =
-                |c: usize| ((i32::from(p[c]) - i32::from(q[c])).unsigned_abs() * 4).min(255) as u8;
-            image::Rgba([d(0), d(1), d(2), 255])
-        });
-        diff.save(&diff_out).unwrap();
+        c.map.save(&diff_out).unwrap();
         panic!(
-            "{} differs from {}: mean error {:.4} (max {:.4}), 99th percentile {:.4} (max {:.4}); wrote {} and {}",
+            "{} differs from {}: mean FLIP error {:.4} (max {:.4}), 99th percentile {:.4} (max {:.4}); wrote {} and {}",
             actual_path.display(),
             golden.display(),
             c.mean,

@@ -374,30 +374,52 @@ fn unused_textures_without_contents_are_noted_not_fatal() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// Night City at quarter resolution: every texture a pass writes ends the frame with content
-/// (not one uniform value), except `lod_ids`, which its pass clips by design. Two frames, so
-/// history reads and the light-buffer update have run once before the exported frame.
-#[test]
-fn night_city_writes_content_into_every_target() {
-    let dir = temp("nightcity");
-    let out = dir.join("out");
+/// Replays a Night City capture at quarter resolution for `frames` frames into `out` and
+/// returns the export manifest's file list.
+fn replay_night_city(capture: &str, frames: &str, out: &Path) -> Vec<serde_json::Value> {
     let run = framelab(&[
         "replay",
-        "captures/night_city/main_street_day.json",
+        capture,
         "--scale",
         "0.25",
         "--frames",
-        "2",
+        frames,
         "--quiet",
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(run.status.code(), Some(0), "{}", stderr(&run));
+    assert_eq!(run.status.code(), Some(0), "{capture}: {}", stderr(&run));
     let manifest: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
-    let files = manifest["files"].as_array().unwrap();
-    let capture = framelab::capture::load_and_validate(
-        &repo().join("captures/night_city/main_street_day.json"),
+    manifest["files"].as_array().unwrap().clone()
+}
+
+/// The pixels of `resource`'s top mip (an EXR export) in a replay's export folder.
+fn exported_exr(files: &[serde_json::Value], folder: &Path, resource: &str) -> Vec<[f32; 4]> {
+    let file = files
+        .iter()
+        .find(|f| f["resource"] == resource && f["mip"] == 0 && f["layer"] == 0)
+        .unwrap_or_else(|| panic!("{resource} was not exported"));
+    exr_image(&folder.join(file["file"].as_str().unwrap())).1
+}
+
+/// Pixels where TAA's output is not the composite it was given.
+fn taa_changed(files: &[serde_json::Value], folder: &Path) -> (usize, usize) {
+    let taa = exported_exr(files, folder, "taa_output");
+    let composite = exported_exr(files, folder, "composite");
+    let changed = taa
+        .iter()
+        .zip(&composite)
+        // Half-float rounding aside (about 0.1%), relative to the pixel: the night is dark.
+        .filter(|(a, b)| (0..3).any(|c| (a[c] - b[c]).abs() > 0.02 * b[c].abs() + 1e-4))
+        .count();
+    (changed, taa.len())
+}
+
+/// Every texture some pass of `capture` writes, by name.
+fn written_textures(capture: &str) -> std::collections::BTreeSet<String> {
+    let model = framelab::capture::load_and_validate(
+        &repo().join(capture),
         &framelab::capture::Options {
             scale: 0.25,
             ..Default::default()
@@ -406,32 +428,103 @@ fn night_city_writes_content_into_every_target() {
     .unwrap()
     .capture;
     let mut written = std::collections::BTreeSet::new();
-    for pass in &capture.passes {
+    for pass in &model.passes {
         for a in pass.accesses.iter().filter(|a| a.writes) {
-            let r = capture.resource(a.resource);
+            let r = model.resource(a.resource);
             if r.is_texture() {
                 written.insert(r.name.clone());
             }
         }
     }
-    assert!(written.len() >= 45, "{written:?}");
-    let mut flat = Vec::new();
-    for name in &written {
-        let mine: Vec<&serde_json::Value> =
-            files.iter().filter(|f| f["resource"] == **name).collect();
-        assert!(!mine.is_empty(), "{name} was not exported");
-        let has_content = mine.iter().any(|f| f["uniform"] == false);
-        if name == "lod_ids" {
-            assert!(
-                !has_content,
-                "lod_ids should stay cleared: its draws are clipped"
-            );
-        } else if !has_content {
-            flat.push(name.clone());
+    written
+}
+
+/// Both Night City captures at quarter resolution, one frame and then two:
+/// - every texture a pass writes ends the frame with content (not one uniform value), except
+///   `lod_ids`, which its pass clips by design;
+/// - the presented image matches its golden (FLIP, the one golden helper);
+/// - temporal passes use real history: on the first frame TAA passes the composite through and
+///   SSR reflects nothing (there is no previous frame), on the second TAA blends history in,
+///   SSR finds the previous frame's image, and the presented image differs as the camera moved.
+#[test]
+fn night_city_frames_have_content_history_and_match_their_goldens() {
+    for (capture, golden) in [
+        (
+            "captures/night_city/main_street_day.json",
+            "tests/goldens/main_street_day_scale0.25.png",
+        ),
+        (
+            "captures/night_city/river_bank_night.json",
+            "tests/goldens/river_bank_night_scale0.25.png",
+        ),
+    ] {
+        let stem = Path::new(capture).file_stem().unwrap().to_string_lossy();
+        let dir = temp(&format!("nightcity-{stem}"));
+        let (first_dir, second_dir) = (dir.join("first"), dir.join("second"));
+        let first = replay_night_city(capture, "1", &first_dir);
+        let files = replay_night_city(capture, "2", &second_dir);
+
+        let written = written_textures(capture);
+        assert!(written.len() >= 70, "{capture}: {written:?}");
+        let mut flat = Vec::new();
+        for name in &written {
+            let mine: Vec<&serde_json::Value> =
+                files.iter().filter(|f| f["resource"] == **name).collect();
+            assert!(!mine.is_empty(), "{capture}: {name} was not exported");
+            let has_content = mine.iter().any(|f| f["uniform"] == false);
+            if name == "lod_ids" {
+                assert!(
+                    !has_content,
+                    "lod_ids should stay cleared: its draws are clipped"
+                );
+            } else if !has_content {
+                flat.push(name.clone());
+            }
         }
+        assert!(flat.is_empty(), "{capture}: uniform targets: {flat:?}");
+
+        crate::golden::assert_matches_golden(
+            &second_dir.join("swapchain.png"),
+            &repo().join(golden),
+        );
+
+        let ssr = |files: &[serde_json::Value]| {
+            files
+                .iter()
+                .find(|f| f["resource"] == "ssr_reflectivity")
+                .unwrap()["max"]
+                .as_f64()
+                .unwrap()
+        };
+        let (changed, _) = taa_changed(&first, &first_dir);
+        assert_eq!(
+            changed, 0,
+            "{capture}: TAA changed {changed} pixels without history"
+        );
+        assert_eq!(
+            ssr(&first),
+            0.0,
+            "{capture}: SSR reflected with no previous frame"
+        );
+        let (changed, total) = taa_changed(&files, &second_dir);
+        assert!(
+            changed * 10 > total,
+            "{capture}: TAA changed only {changed} of {total} pixels with history"
+        );
+        assert!(
+            ssr(&files) > 0.1,
+            "{capture}: SSR found nothing in the previous frame"
+        );
+        let one = png(&first_dir.join("swapchain.png")).to_rgba8();
+        let two = png(&second_dir.join("swapchain.png")).to_rgba8();
+        let moved = crate::golden::compare(&one, &two);
+        assert!(
+            moved.mean > crate::golden::MEAN_TOLERANCE,
+            "{capture}: the second frame looks like the first (FLIP mean {:.4})",
+            moved.mean
+        );
+        std::fs::remove_dir_all(dir).unwrap();
     }
-    assert!(flat.is_empty(), "uniform targets: {flat:?}");
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Several frames of the example replay without a pathological one. The example once spent
@@ -531,6 +624,7 @@ fn bundled_captures_are_clean_under_the_validation_layer() {
         ("captures/example/frame.json", "0.25"),
         ("captures/example/frame_sync.json", "0.25"),
         ("captures/night_city/main_street_day.json", "0.125"),
+        ("captures/night_city/river_bank_night.json", "0.125"),
     ] {
         let _ = std::fs::remove_file(&log);
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_framelab"))

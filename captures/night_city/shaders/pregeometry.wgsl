@@ -38,22 +38,8 @@ fn palette(t: f32) -> vec3<f32> {
 
 // The atlas is a 4x4 grid of screens; each screen scrolls one of the three glyph sheets with
 // its own palette, scanlines and a frame.
-@fragment
-fn fs_billboards(in: FullscreenOut) -> @location(0) vec4<f32> {
-    let cell = floor(in.uv * 4.0);
-    let local = fract(in.uv * 4.0);
-    let id = cell.x + cell.y * 4.0;
+fn screen(cell: vec2<f32>, local: vec2<f32>, glyph: f32) -> vec4<f32> {
     let t = frame.time.x;
-    let scroll = vec2<f32>(t * 0.05 * (1.0 + hash21(cell)), 0.0);
-    let sheet = u32(id) % 3u;
-    var glyph = 0.0;
-    if (sheet == 0u) {
-        glyph = textureSample(billboard_src_0, linear_wrap, local * vec2<f32>(1.0, 0.6) + scroll).r;
-    } else if (sheet == 1u) {
-        glyph = textureSample(billboard_src_1, linear_wrap, local + scroll).r;
-    } else {
-        glyph = textureSample(billboard_src_2, linear_wrap, local * 1.5 + scroll).r;
-    }
     let base = palette(hash21(cell + 3.0) + t * 0.02);
     let accent = palette(hash21(cell + 7.0) + 0.5);
     let scan = 0.8 + 0.2 * sin(local.y * 180.0);
@@ -62,6 +48,40 @@ fn fs_billboards(in: FullscreenOut) -> @location(0) vec4<f32> {
     var c = mix(gradient, accent, glyph) * scan;
     c = mix(c, vec3<f32>(1.0), min(border, 1.0) * 0.8);
     return vec4<f32>(c, 1.0);
+}
+
+fn scroll(cell: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(frame.time.x * 0.05 * (1.0 + hash21(cell)), 0.0);
+}
+
+@fragment
+fn fs_billboards(in: FullscreenOut) -> @location(0) vec4<f32> {
+    let cell = floor(in.uv * 4.0);
+    let local = fract(in.uv * 4.0);
+    let id = cell.x + cell.y * 4.0;
+    let s = scroll(cell);
+    let sheet = u32(id) % 3u;
+    var glyph = 0.0;
+    if (sheet == 0u) {
+        glyph = textureSample(billboard_src_0, linear_wrap, local * vec2<f32>(1.0, 0.6) + s).r;
+    } else if (sheet == 1u) {
+        glyph = textureSample(billboard_src_1, linear_wrap, local + s).r;
+    } else {
+        glyph = textureSample(billboard_src_2, linear_wrap, local * 1.5 + s).r;
+    }
+    return screen(cell, local, glyph);
+}
+
+// Without the glyph sheets (the night frame copies none out of the mega texture) the screens
+// run their idle loop: blocks of pseudo-text generated in place.
+@fragment
+fn fs_billboards_idle(in: FullscreenOut) -> @location(0) vec4<f32> {
+    let cell = floor(in.uv * 4.0);
+    let local = fract(in.uv * 4.0);
+    let p = (local + scroll(cell)) * vec2<f32>(24.0, 12.0);
+    let row_on = step(0.35, fract(p.y)) * step(fract(p.y), 0.85);
+    let glyph = step(0.55, hash21(floor(p) + cell * 17.0)) * row_on;
+    return screen(cell, local, glyph);
 }
 
 // GUI elements: health bar, radar rings, hexagon grid and glyph rows in cyan and red.

@@ -1,6 +1,7 @@
 // The district's geometry, shared by every pass that rasterises the scene: the top-view sky
 // visibility depth, the depth pre-pass, the base material (G-buffer) pass, the four shadow
-// cascades, the CSM proxy and the omni-light shadow maps. Each pass picks its camera with
+// cascades, the CSM proxy, the omni-light shadow maps, the environment probe and the
+// transparent pass (holograms and the water surface). Each pass picks its camera with
 // `params.view`; the vertex functions are the same in every pass so the pre-pass depth and
 // the base pass depth agree exactly (the base pass tests with less_equal).
 //
@@ -21,6 +22,8 @@ struct FrameConstants {
     sun_color: vec4<f32>,
     jitter: vec4<f32>,
     time: vec4<f32>,
+    camera_position: vec4<f32>,
+    resolution: vec4<f32>,
 }
 
 struct Params {
@@ -67,6 +70,8 @@ struct Light {
 @group(0) @binding(7) var blue_noise: texture_2d<f32>;
 @group(0) @binding(9) var linear_clamp: sampler;
 @group(0) @binding(10) var<storage, read> lights: array<Light>;
+@group(0) @binding(11) var transparent_lut: texture_2d<f32>;
+@group(0) @binding(12) var water_reflection: texture_2d<f32>;
 
 // World extents shared with the terrain-map, voxel and lighting passes.
 const CITY_MIN: vec2<f32> = vec2<f32>(-104.0, -156.0);
@@ -128,15 +133,15 @@ fn fbm2(p: vec2<f32>) -> f32 {
     return s;
 }
 
-// Terrain height: rolling hills outside the city, flat streets inside, dropping under the water
+// Terrain height: rolling hills outside the city, flat streets inside, dropping under the river
 // past the riverside park.
 fn terrain_height(xz: vec2<f32>) -> f32 {
     let outside = max(max(CITY_MIN - xz, xz - CITY_MAX), vec2<f32>(0.0));
     let d = length(outside);
     let hills = max(fbm2(xz * 0.006) * 70.0 - 22.0, 0.0) + fbm2(xz * 0.05) * 1.5;
-    var h = hills * smoothstep(10.0, 90.0, d);
-    h -= smoothstep(165.0, 200.0, xz.y) * 9.0;
-    return h;
+    // The river: a band past the riverside park where the hills give way to the riverbed.
+    let river = smoothstep(165.0, 200.0, xz.y) * (1.0 - smoothstep(430.0, 480.0, xz.y));
+    return hills * smoothstep(10.0, 90.0, d) * (1.0 - river) - river * 9.0;
 }
 
 fn decode_position(p: vec4<f32>) -> vec3<f32> {
@@ -636,4 +641,41 @@ fn fs_env(in: VertexOut) -> @location(0) vec4<f32> {
     let sky = vec3<f32>(0.12, 0.2, 0.35) * frame.sun_color.rgb * 0.15 * (0.6 + 0.4 * n.y);
     let c = albedo * (frame.sun_color.rgb * max(dot(n, l), 0.0) / 3.14159 + sky) + emissive;
     return vec4<f32>(c, 1.0);
+}
+
+// The transparent pass: each draw's material picks holograms (2) or the water surface (3).
+@fragment
+fn fs_transparent(in: VertexOut) -> @location(0) vec4<f32> {
+    if (params.material == 3u) {
+        return water_surface(in);
+    }
+    return holo(in);
+}
+
+// Holographic signs, drawn again over their opaque panels in the transparent pass and blended
+// additively (premultiplied with zero alpha): the transparent LUT's row for the sign's
+// variant, looked up by how grazing the view is, with scanlines rolling upwards and a flicker.
+fn holo(in: VertexOut) -> vec4<f32> {
+    let n = normalize(in.normal);
+    let v = normalize(frame.camera_position.xyz - in.world);
+    let edge = 1.0 - abs(dot(n, v));
+    let rows = f32(textureDimensions(transparent_lut).y);
+    let row = (f32(in.variant % u32(rows)) + 0.5) / rows;
+    let lut = textureSampleLevel(transparent_lut, linear_clamp, vec2<f32>(edge, row), 0.0);
+    let scan = 0.55 + 0.45 * step(0.5, fract(in.world.y * 5.0 - frame.time.x * 1.5));
+    let flicker = 0.85 + 0.15 * sin(frame.time.x * 23.0 + f32(in.variant) * 1.7);
+    return vec4<f32>(lut.rgb * lut.a * scan * flicker, 0.0);
+}
+
+// The water surface: the half-resolution water reflection over the lit water by Schlick's
+// Fresnel (water's F0 is 0.02, raised a little for the wind-roughened surface), blended
+// premultiplied so it replaces that share of the water's colour.
+fn water_surface(in: VertexOut) -> vec4<f32> {
+    let n = normalize(in.normal);
+    let v = normalize(frame.camera_position.xyz - in.world);
+    let fresnel = 0.02 + 0.98 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
+    let uv = in.clip.xy / frame.resolution.xy;
+    let reflected = textureSampleLevel(water_reflection, linear_clamp, uv, 0.0).rgb;
+    let f = clamp(fresnel * 1.5, 0.0, 1.0);
+    return vec4<f32>(reflected * f, f);
 }

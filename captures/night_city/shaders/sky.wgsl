@@ -8,6 +8,8 @@ struct FrameConstants {
     camera_position: vec4<f32>,
     sun_direction: vec4<f32>,
     sun_color: vec4<f32>,
+    moon_direction: vec4<f32>,
+    moon_color: vec4<f32>,
 }
 
 struct Params {
@@ -209,5 +211,10 @@ fn fs_sky(in: FullscreenOut) -> @location(0) vec4<f32> {
     let sun = normalize(frame.sun_direction.xyz);
     let d = dot(dir, sun);
     c += frame.sun_color.rgb * 40.0 * smoothstep(0.99995, 0.99998, d);
+    // The moon: a disc of about a degree with a faint halo, where the sun is below the horizon.
+    if (sun.y < 0.0) {
+        let m = dot(dir, normalize(frame.moon_direction.xyz));
+        c += frame.moon_color.rgb * (600.0 * smoothstep(0.99984, 0.99988, m) + 4.0 * pow(max(m, 0.0), 400.0));
+    }
     return vec4<f32>(c, 1.0);
 }

@@ -57,9 +57,9 @@ fn terrain_height(xz: vec2<f32>) -> f32 {
     let outside = max(max(CITY_MIN - xz, xz - CITY_MAX), vec2<f32>(0.0));
     let d = length(outside);
     let hills = max(fbm2(xz * 0.006) * 70.0 - 22.0, 0.0) + fbm2(xz * 0.05) * 1.5;
-    var h = hills * smoothstep(10.0, 90.0, d);
-    h -= smoothstep(165.0, 200.0, xz.y) * 9.0;
-    return h;
+    // The river: a band past the riverside park where the hills give way to the riverbed.
+    let river = smoothstep(165.0, 200.0, xz.y) * (1.0 - smoothstep(430.0, 480.0, xz.y));
+    return hills * smoothstep(10.0, 90.0, d) * (1.0 - river) - river * 9.0;
 }
 
 struct MapOut {

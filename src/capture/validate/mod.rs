@@ -178,6 +178,9 @@ struct Validator<'a> {
     /// Shaders read so far, and the id (or failure) of each file by resolved path.
     shaders: Vec<Shader>,
     shader_ids: HashMap<PathBuf, Option<ShaderId>>,
+    /// Resources some pass so far has written: a read of a `history` resource that none has
+    /// sees the previous frame's copy, a different texture from the one rendered to.
+    written: std::collections::HashSet<ResourceId>,
 }
 
 /// Bytes of indirect argument records (D3D12_DRAW_INDEXED_ARGUMENTS, D3D12_DRAW_ARGUMENTS,
@@ -207,6 +210,7 @@ impl<'a> Validator<'a> {
             side_files: HashMap::new(),
             shaders: Vec::new(),
             shader_ids: HashMap::new(),
+            written: std::collections::HashSet::new(),
         }
     }
 

@@ -53,6 +53,12 @@ impl<'a> Validator<'a> {
                             u64::from(a.range.mip_count) * u64::from(a.range.layer_count.max(1))
                         })
                         .sum::<u64>();
+                    self.written.extend(
+                        pass.accesses
+                            .iter()
+                            .filter(|a| a.writes)
+                            .map(|a| a.resource),
+                    );
                     out.push(pass);
                 }
                 None => ok = false,
@@ -110,6 +116,8 @@ impl<'a> Validator<'a> {
 
     /// A raster pass may not read or write through a binding a subresource it renders to
     /// (colour, or depth-stencil it writes): GPUs give undefined results and WebGPU refuses it.
+    /// A read-only binding of a `history` resource no earlier pass wrote reads last frame's
+    /// copy (TAA's history), which is another texture, so it is no loop.
     fn check_feedback(
         &mut self,
         p: &Pass,
@@ -127,10 +135,15 @@ impl<'a> Validator<'a> {
             matches!(a.source, AccessSource::ColorAttachment(_))
                 || (a.source == AccessSource::DepthStencil && a.writes)
         }) {
+            let previous_copy = resources
+                .and_then(|r| r.get(target.resource.index()))
+                .is_some_and(|r| r.history)
+                && !self.written.contains(&target.resource);
             for bound in accesses.iter().filter(|a| {
                 a.resource == target.resource
                     && matches!(a.source, AccessSource::Binding(_))
                     && overlaps(&a.range, &target.range)
+                    && (a.writes || !previous_copy)
             }) {
                 let AccessSource::Binding(variable) = &bound.source else {
                     continue;

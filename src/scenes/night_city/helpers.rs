@@ -31,6 +31,20 @@ pub(super) fn storage_mip(resource: &str, mip: u32) -> Value {
     )
 }
 
+/// The depth buffer viewed as its depth (R32) or its stencil (R8 UINT).
+pub(super) fn depth_view() -> Value {
+    with(
+        sampled("depth"),
+        json!({"format": "R32_FLOAT_X8X24_TYPELESS"}),
+    )
+}
+pub(super) fn stencil_view() -> Value {
+    with(
+        sampled("depth"),
+        json!({"format": "X32_TYPELESS_G8X24_UINT"}),
+    )
+}
+
 pub(super) fn sampler(name: &str) -> Value {
     json!({ "sampler": name })
 }
@@ -79,6 +93,29 @@ pub(super) fn raster(
             "color_attachments": colors,
         }),
         rest,
+    )
+}
+
+/// A raster pass of one full-screen triangle into `colors`, reading `bindings`; `rest` adds
+/// or overrides fields.
+pub(super) fn fullscreen_pass(
+    name: &str,
+    groups: &[&str],
+    (shader, fragment): (&str, &str),
+    colors: Vec<Value>,
+    bindings: Value,
+    rest: Value,
+) -> Value {
+    raster(
+        name,
+        groups,
+        shader,
+        ("vs_fullscreen", Some(fragment)),
+        colors,
+        with(
+            json!({"bindings": bindings, "draws": [fullscreen(name)]}),
+            rest,
+        ),
     )
 }
 

@@ -6,8 +6,10 @@
 //! the JSON they become) and then deserialised into the format's own `RawCapture`, which rejects
 //! any field the format does not know; the file is that `RawCapture` serialised.
 
+mod composition;
 mod helpers;
 mod passes;
+mod post;
 mod resources;
 mod scene;
 
@@ -20,21 +22,25 @@ use crate::capture::format::RawCapture;
 pub enum Variant {
     /// `main_street_day.json`: down the main street towards the water, by day.
     MainStreetDay,
+    /// `river_bank_night.json`: from the river back across the water to the city, at night.
+    RiverBankNight,
 }
 
 impl Variant {
-    pub const ALL: [Variant; 1] = [Variant::MainStreetDay];
+    pub const ALL: [Variant; 2] = [Variant::MainStreetDay, Variant::RiverBankNight];
 
     /// The capture's file, relative to the repository root.
     pub fn path(self) -> &'static str {
         match self {
             Variant::MainStreetDay => "captures/night_city/main_street_day.json",
+            Variant::RiverBankNight => "captures/night_city/river_bank_night.json",
         }
     }
 
     fn name(self) -> &'static str {
         match self {
             Variant::MainStreetDay => "main_street_day",
+            Variant::RiverBankNight => "river_bank_night",
         }
     }
 
@@ -42,6 +48,9 @@ impl Variant {
         match self {
             Variant::MainStreetDay => {
                 "Night City, main street by day: a reconstruction of the Cyberpunk 2077 frame analysed in the source article (1080p Ultra, D3D12, one graphics, one compute and one copy queue). Resources follow NIGHT_CITY_PASSES.md by name, format and size; sizes that follow the output are relative so --scale replays the same frame smaller."
+            }
+            Variant::RiverBankNight => {
+                "Night City, river bank at night: the same frame and shaders as main_street_day, seen from over the river towards the city under the moon, with 1024 neon lights, denser fog and the water's reflection in view; no billboard copies and no dead LOD pass. Resources follow NIGHT_CITY_PASSES.md by name, format and size; sizes that follow the output are relative so --scale replays the same frame smaller."
             }
         }
     }
@@ -51,7 +60,7 @@ impl Variant {
     }
 }
 
-const FENCES: [&str; 13] = [
+const FENCES: [&str; 23] = [
     "billboard_sources",
     "gui_drawn",
     "voxels_ready",
@@ -65,6 +74,16 @@ const FENCES: [&str; 13] = [
     "sun_shadow_ready",
     "env_captured",
     "direct_lit",
+    "ssr_done",
+    "indirect_ready",
+    "transparent_lut_ready",
+    "taa_done",
+    "taa_read",
+    "scene_done",
+    "bloom_done",
+    "gui_copied",
+    "gui_ready",
+    "final_ready",
 ];
 
 /// Why the scene could not be written.
@@ -80,6 +99,26 @@ pub enum GenerateError {
 fn value(variant: Variant) -> Result<Value, GenerateError> {
     let day = variant.day();
     let mut capture = resources::header();
+    if !day {
+        capture["camera"] = json!({
+            "position": [-3.0, 2.5, 206.0],
+            "target": [-8.0, 9.0, 100.0],
+            "fov_y_degrees": 60.0,
+            "near": 0.1,
+            "far": 2000.0,
+            "velocity": [0.1, 0.0, -0.35],
+            "jitter_phases": 8
+        });
+        capture["frame"] = json!({
+            "time_seconds": 84600.0,
+            "sun_direction": [0.3, -0.45, 0.5],
+            "sun_color": [0.0, 0.0, 0.0],
+            "moon_direction": [0.25, 0.3, -0.9],
+            "moon_color": [0.06, 0.07, 0.11],
+            "exposure": 0.9,
+            "shadow_cascades": {"resolution": 4096, "split_lambda": 0.8, "max_distance": 220}
+        });
+    }
     capture["name"] = json!(variant.name());
     capture["description"] = json!(variant.description());
     let mut resources = resources::resources();

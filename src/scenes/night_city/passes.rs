@@ -1,4 +1,4 @@
-//! Passes 1-36 of the frame, in the order NIGHT_CITY_PASSES.md numbers them, with the names,
+//! Passes 1-36 of the frame (37-57 in `composition` and `post`), in the order NIGHT_CITY_PASSES.md numbers them, with the names,
 //! queues, markers, fences and per-pass parameters the shaders read. `day` selects the main
 //! street by day; the night variant drops the billboard copies and the dead pass and lights
 //! the district with more lights and denser fog.
@@ -6,8 +6,8 @@
 use serde_json::{Value, json};
 
 use super::helpers::{
-    color, compute, fullscreen, groups, markers, object, raster, sampled, sampler, storage,
-    storage_mip, with,
+    color, compute, depth_view, fullscreen, groups, markers, object, raster, sampled, sampler,
+    stencil_view, storage, storage_mip, with,
 };
 use super::scene::{
     BOX_INDICES, BUILDINGS, BUILDINGS_PER_BLOCK, CAPSULE_INDICES, DepthOnly, KIND_COUNTS,
@@ -18,21 +18,7 @@ use super::scene::{
 const PRE: &[&str] = &["Pre-geometry"];
 const GEO: &[&str] = &["Geometry"];
 const MASKS: &[&str] = &["Masks and LUTs"];
-const LIGHTS: &[&str] = &["Lights and shadows"];
-
-/// The depth buffer viewed as its depth (R32) or its stencil (R8 UINT).
-fn depth_view() -> Value {
-    with(
-        sampled("depth"),
-        json!({"format": "R32_FLOAT_X8X24_TYPELESS"}),
-    )
-}
-fn stencil_view() -> Value {
-    with(
-        sampled("depth"),
-        json!({"format": "X32_TYPELESS_G8X24_UINT"}),
-    )
-}
+pub(super) const LIGHTS: &[&str] = &["Lights and shadows"];
 
 fn light_count(day: bool) -> u32 {
     if day { LIGHT_COUNT } else { 1024 }
@@ -46,6 +32,8 @@ pub(super) fn passes(day: bool) -> Result<Vec<Value>, String> {
     masks(&mut out);
     lights_and_shadows(&mut out, day)?;
     environment_and_lighting(&mut out, day)?;
+    super::composition::passes(&mut out, day);
+    super::post::passes(&mut out, day)?;
     Ok(out)
 }
 
@@ -84,7 +72,14 @@ fn pre_geometry(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
         "billboards",
         PRE,
         "pregeometry.wgsl",
-        ("vs_fullscreen", Some("fs_billboards")),
+        (
+            "vs_fullscreen",
+            Some(if day {
+                "fs_billboards"
+            } else {
+                "fs_billboards_idle"
+            }),
+        ),
         vec![color("billboard_atlas")],
         with(json!({"draws": [fullscreen("screens")]}), sources),
     ));
@@ -106,6 +101,7 @@ fn pre_geometry(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
         "name": "gui_to_mega_copy", "queue": "copy", "kind": "copy",
         "markers": markers(&["Pre-geometry", "gui_to_mega"]),
         "wait": ["gui_drawn"],
+        "signal": ["gui_copied"],
         "copies": [{"src": {"resource": "gui_elements"},
                     "dst": {"resource": "mega_texture", "offset": 8 * 1024 * 1024, "bytes_per_row": 4096}}],
     }));
@@ -709,7 +705,7 @@ fn environment_and_lighting(out: &mut Vec<Value>, day: bool) -> Result<(), Strin
                          "cluster_light_index": sampled("cluster_light_index"),
                          "light_list": storage("light_list", "storage_read"),
                          "lights": storage("lights", "storage_read")},
-            "params": {"density": if day { 0.012 } else { 0.03 }, "height_falloff": 0.08, "anisotropy": 0.6},
+            "params": {"density": if day { 0.025 } else { 0.06 }, "height_falloff": 0.08, "anisotropy": 0.6},
             "wait": ["cascades_done"],
         })));
     out.push(compute("volumetric_fog_local_mip1", &["Lights and shadows", "volumetric_fog_local"], "fog.wgsl",

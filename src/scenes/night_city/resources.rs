@@ -11,8 +11,8 @@ pub(super) fn header() -> Value {
         "resolution": {"width": 1920, "height": 1080},
         "adapter": {"architecture": "numa", "resource_heap_tier": 2},
         "camera": {
-            "position": [-6.0, 1.8, -40.0],
-            "target": [-6.0, 6.0, 160.0],
+            "position": [-6.0, 9.0, -40.0],
+            "target": [-6.0, 3.0, 160.0],
             "fov_y_degrees": 60.0,
             "near": 0.1,
             "far": 2000.0,
@@ -126,8 +126,7 @@ fn pre_geometry() -> Vec<Value> {
             "format": "R8G8B8A8_UNORM",
             "width": 1024,
             "height": 512,
-            "flags": ["ALLOW_RENDER_TARGET"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET"]
         }),
         json!({
             "name": "top_view_depth",
@@ -194,8 +193,7 @@ fn pre_geometry() -> Vec<Value> {
             "format": "R16_UNORM",
             "width": 1024,
             "height": 1024,
-            "flags": ["ALLOW_RENDER_TARGET"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET"]
         }),
         json!({
             "name": "ocean_mask",
@@ -259,8 +257,7 @@ fn geometry() -> Vec<Value> {
             "format": "R16G16_FLOAT",
             "width": "full",
             "height": "full",
-            "flags": ["ALLOW_RENDER_TARGET"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET"]
         }),
         json!({
             "name": "blue_noise",
@@ -276,8 +273,7 @@ fn geometry() -> Vec<Value> {
             "format": "R32_FLOAT",
             "width": "full",
             "height": "full",
-            "flags": ["ALLOW_RENDER_TARGET"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET"]
         }),
         json!({
             "name": "depth_half",
@@ -285,8 +281,7 @@ fn geometry() -> Vec<Value> {
             "format": "R16_FLOAT",
             "width": "half",
             "height": "half",
-            "flags": ["ALLOW_RENDER_TARGET"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET"]
         }),
         json!({
             "name": "stencil_half",
@@ -294,8 +289,7 @@ fn geometry() -> Vec<Value> {
             "format": "R8_UINT",
             "width": "half",
             "height": "half",
-            "flags": ["ALLOW_RENDER_TARGET"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET"]
         }),
         json!({
             "name": "motion_stencil",
@@ -303,8 +297,7 @@ fn geometry() -> Vec<Value> {
             "format": "R8_UINT",
             "width": "full",
             "height": "full",
-            "flags": ["ALLOW_RENDER_TARGET"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET"]
         }),
     ]
 }
@@ -318,8 +311,7 @@ fn masks() -> Vec<Value> {
             "format": "R8_UNORM",
             "width": "full",
             "height": "full",
-            "flags": ["ALLOW_RENDER_TARGET", "ALLOW_UNORDERED_ACCESS"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET", "ALLOW_UNORDERED_ACCESS"]
         }),
         json!({
             "name": "noised_normal",
@@ -327,8 +319,7 @@ fn masks() -> Vec<Value> {
             "format": "R10G10B10A2_UNORM",
             "width": "full",
             "height": "full",
-            "flags": ["ALLOW_UNORDERED_ACCESS"],
-            "output": true
+            "flags": ["ALLOW_UNORDERED_ACCESS"]
         }),
         json!({
             "name": "sky_mask_coarse",
@@ -353,8 +344,7 @@ fn masks() -> Vec<Value> {
             "format": "R8_UNORM",
             "width": "half",
             "height": "half",
-            "flags": ["ALLOW_UNORDERED_ACCESS"],
-            "output": true
+            "flags": ["ALLOW_UNORDERED_ACCESS"]
         }),
         json!({
             "name": "grading_lut",
@@ -363,8 +353,7 @@ fn masks() -> Vec<Value> {
             "width": 32,
             "height": 32,
             "depth": 32,
-            "flags": ["ALLOW_UNORDERED_ACCESS"],
-            "output": true
+            "flags": ["ALLOW_UNORDERED_ACCESS"]
         }),
     ]
 }
@@ -412,8 +401,7 @@ fn shadows_and_sky() -> Vec<Value> {
             "format": "R8G8B8A8_UNORM",
             "width": 512,
             "height": 512,
-            "flags": ["ALLOW_UNORDERED_ACCESS"],
-            "output": true
+            "flags": ["ALLOW_UNORDERED_ACCESS"]
         }),
         json!({
             "name": "sky_cube",
@@ -511,8 +499,7 @@ fn lighting() -> Vec<Value> {
             "height": 256,
             "array_layers": 32,
             "mip_levels": 6,
-            "flags": ["ALLOW_UNORDERED_ACCESS"],
-            "output": true
+            "flags": ["ALLOW_UNORDERED_ACCESS"]
         }),
         json!({
             "name": "gi_probe_indices",
@@ -521,8 +508,7 @@ fn lighting() -> Vec<Value> {
             "width": 64,
             "height": 64,
             "depth": 64,
-            "flags": ["ALLOW_UNORDERED_ACCESS"],
-            "output": true
+            "flags": ["ALLOW_UNORDERED_ACCESS"]
         }),
         json!({
             "name": "landscape_normal",
@@ -530,8 +516,7 @@ fn lighting() -> Vec<Value> {
             "format": "R8G8B8A8_UNORM",
             "width": 1024,
             "height": 1024,
-            "flags": ["ALLOW_RENDER_TARGET"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET"]
         }),
         json!({
             "name": "landscape_heat",
@@ -539,8 +524,7 @@ fn lighting() -> Vec<Value> {
             "format": "R8G8B8A8_UNORM",
             "width": 1024,
             "height": 1024,
-            "flags": ["ALLOW_RENDER_TARGET"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET"]
         }),
         json!({
             "name": "fog_volume",
@@ -550,8 +534,7 @@ fn lighting() -> Vec<Value> {
             "height": {"scale": 0.125, "multiple_of": 8},
             "depth": 128,
             "mip_levels": 2,
-            "flags": ["ALLOW_UNORDERED_ACCESS"],
-            "output": true
+            "flags": ["ALLOW_UNORDERED_ACCESS"]
         }),
         json!({
             "name": "head_mask",
@@ -559,8 +542,7 @@ fn lighting() -> Vec<Value> {
             "format": "R8_UNORM",
             "width": "full",
             "height": "full",
-            "flags": ["ALLOW_RENDER_TARGET", "ALLOW_UNORDERED_ACCESS"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET", "ALLOW_UNORDERED_ACCESS"]
         }),
         json!({
             "name": "lit_diffuse",
@@ -568,8 +550,7 @@ fn lighting() -> Vec<Value> {
             "format": "R16G16B16A16_FLOAT",
             "width": "full",
             "height": "full",
-            "flags": ["ALLOW_RENDER_TARGET", "ALLOW_UNORDERED_ACCESS"],
-            "output": true
+            "flags": ["ALLOW_RENDER_TARGET", "ALLOW_UNORDERED_ACCESS"]
         }),
         json!({
             "name": "lit_specular",
@@ -577,13 +558,12 @@ fn lighting() -> Vec<Value> {
             "format": "R16G16B16A16_FLOAT",
             "width": "full",
             "height": "full",
-            "flags": ["ALLOW_UNORDERED_ACCESS"],
-            "output": true
+            "flags": ["ALLOW_UNORDERED_ACCESS"]
         }),
     ]
 }
 
-/// Passes 37-45, written by the post chain (frame outputs until it exists): SSR,
+/// Passes 37-45: SSR,
 /// indirect light, composition, transparency, skin, water, TAA.
 fn composition() -> Vec<Value> {
     vec![
@@ -670,6 +650,16 @@ fn composition() -> Vec<Value> {
         }),
         json!({
             "name": "taa_downscaled",
+            "kind": "texture_2d",
+            "format": "R16G16B16A16_FLOAT",
+            "width": "half",
+            "height": "half",
+            "mip_levels": 3,
+            "flags": ["ALLOW_UNORDERED_ACCESS"],
+            "history": true
+        }),
+        json!({
+            "name": "taa_blur_temp",
             "kind": "texture_2d",
             "format": "R16G16B16A16_FLOAT",
             "width": "half",
@@ -789,6 +779,14 @@ fn post_chain() -> Vec<Value> {
             "height": "full",
             "mip_levels": "full",
             "flags": ["ALLOW_RENDER_TARGET", "ALLOW_UNORDERED_ACCESS"]
+        }),
+        json!({
+            "name": "gui_glow",
+            "kind": "texture_2d",
+            "format": "R8G8B8A8_UNORM",
+            "width": "quarter",
+            "height": "quarter",
+            "flags": ["ALLOW_UNORDERED_ACCESS"]
         }),
         json!({
             "name": "grain_lut",
