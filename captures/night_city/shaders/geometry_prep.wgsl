@@ -14,6 +14,9 @@ struct Params {
     index_counts: vec4<u32>,
     // Candidate slots per kind: cars, pedestrians, signs.
     kind_counts: vec4<u32>,
+    // Where each kind's compacted instances start after the candidates: a fixed layout (the
+    // day's capacities) so the draws' instance bases hold whatever this frame's counts are.
+    kind_bases: vec4<u32>,
 }
 
 struct Instance {
@@ -294,9 +297,5 @@ fn cs_compact(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let kind = u32(inst.prev.w) / 16u;
     let slot = atomicAdd(&draw_args[kind * 5u + 1u], 1u);
-    var first = 0u;
-    for (var k = 0u; k < kind; k++) {
-        first += params.kind_counts[k];
-    }
-    instance_data[CANDIDATES + first + slot] = inst;
+    instance_data[CANDIDATES + params.kind_bases[kind] + slot] = inst;
 }

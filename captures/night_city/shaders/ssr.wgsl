@@ -30,8 +30,8 @@ struct FrameConstants {
 @group(0) @binding(10) var linear_clamp: sampler;
 
 const TILE: i32 = 8;
-const STEPS: i32 = 40;
-const REFINE: i32 = 5;
+const MARCH_STEPS: i32 = 40;
+const REFINE_STEPS: i32 = 5;
 
 struct FullscreenOut {
     @builtin(position) clip: vec4<f32>,
@@ -118,7 +118,7 @@ fn fs_ssr(in: FullscreenOut) -> SsrOut {
     var hit = -1.0;
     var hit_uv = vec2<f32>(0.0);
     var steps_taken = 0;
-    for (var i = 0; i < STEPS; i++) {
+    for (var i = 0; i < MARCH_STEPS; i++) {
         let q = project(p + r * t);
         if (any(q.xy < vec2<f32>(0.0)) || any(q.xy > vec2<f32>(1.0)) || q.z <= 0.0) {
             break;
@@ -141,7 +141,7 @@ fn fs_ssr(in: FullscreenOut) -> SsrOut {
     // Binary refinement between the last miss and the hit.
     var lo = prev_t;
     var hi = hit;
-    for (var k = 0; k < REFINE; k++) {
+    for (var k = 0; k < REFINE_STEPS; k++) {
         let mid = 0.5 * (lo + hi);
         let q = project(p + r * mid);
         if (q.z > scene_depth(q.xy)) {
@@ -160,7 +160,7 @@ fn fs_ssr(in: FullscreenOut) -> SsrOut {
     let color = textureSampleLevel(taa_downscaled, linear_clamp, prev_uv, roughness * mips * 2.0).rgb;
     let border = min(min(prev_uv.x, 1.0 - prev_uv.x), min(prev_uv.y, 1.0 - prev_uv.y));
     var confidence = smoothstep(0.0, 0.08, border);
-    confidence *= 1.0 - f32(steps_taken) / f32(STEPS);
+    confidence *= 1.0 - f32(steps_taken) / f32(MARCH_STEPS);
     confidence *= smoothstep(-0.2, 0.1, towards_camera);
     let motion = textureLoad(motion_stencil, pixel, 0).r;
     if ((motion & 1u) != 0u) {

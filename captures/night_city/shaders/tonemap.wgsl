@@ -2,7 +2,8 @@
 // grading pass that uses them, and the gamma LUT.
 //
 // - hdr_lut_a (256x256): local tonemapping gain by (pixel log luminance, neighbourhood log
-//   luminance): large-scale contrast is compressed towards mid grey, detail is kept.
+//   luminance): large-scale contrast is compressed towards mid grey, detail is kept but for
+//   the largest steps, which are rolled off against halos.
 // - hdr_lut_b (256x64): the Purkinje shift of night vision by (pixel log luminance, adapted log
 //   luminance): dim pixels under dark adaptation lose saturation and shift towards blue.
 // - hdr_lut_c (256x1): the filmic tone curve (ACES fit) over exposed log2 values.
@@ -78,8 +79,11 @@ fn cs_hdr_lut_a(@builtin(global_invocation_id) id: vec3<u32>) {
     let pixel = to_log(uv.x);
     let local = to_log(uv.y);
     let mid = log2(MID_GREY);
-    // Base layer compressed to 60% of its range around mid grey, detail layer kept.
-    let target_log = mid + (local - mid) * 0.6 + (pixel - local);
+    // Base layer compressed to 60% of its range around mid grey; the detail layer kept, with
+    // large differences (a bright light against a dark neighbourhood, where halos would
+    // appear) rolled off softly.
+    let detail = pixel - local;
+    let target_log = mid + (local - mid) * 0.6 + detail / (1.0 + abs(detail) * 0.15);
     let gain = clamp(exp2(target_log - pixel), 1.0 / 64.0, 64.0);
     textureStore(hdr_lut_a_out, id.xy, vec4<f32>(gain, 0.0, 0.0, 1.0));
 }

@@ -5,7 +5,8 @@
 use serde_json::{Value, json};
 
 use super::helpers::{
-    color, compute, fullscreen_pass, groups, raster, sampled, sampler, stencil_view, storage, with,
+    GBUFFER, color, compute, fullscreen_pass, groups, raster, sampled, sampled_each, sampler,
+    stencil_view, storage, with,
 };
 use super::passes::LIGHTS;
 use super::scene::{World, depth_attach, scene_bindings, scene_defaults, world_draws};
@@ -24,18 +25,11 @@ pub(super) fn passes(out: &mut Vec<Value>, day: bool) {
         "cs_indirect",
         vec![groups(240, 135, 1)],
         json!({
-            "bindings": {
-                "gbuffer_albedo": sampled("gbuffer_albedo"),
-                "gbuffer_normal": sampled("gbuffer_normal"),
-                "gbuffer_material": sampled("gbuffer_material"),
-                "depth_r32": sampled("depth_r32"),
-                "env_dual_paraboloid": sampled("env_dual_paraboloid"),
-                "sky_cube": sampled("sky_cube"),
-                "gi_probe_indices": sampled("gi_probe_indices"),
-                "ao": sampled("ao"),
-                "linear_clamp": sampler("linear_clamp"),
-                "indirect_out": storage("indirect", "storage_write"),
-            },
+            "bindings": with(
+                sampled_each(&[&GBUFFER[..], &["env_dual_paraboloid", "sky_cube", "gi_probe_indices", "ao"]].concat()),
+                json!({"linear_clamp": sampler("linear_clamp"),
+                       "indirect_out": storage("indirect", "storage_write")}),
+            ),
             "params": {"street_probe": STREET_PROBE, "indirect_scale": if day { 1.0 } else { 1.6 }},
             "wait": ["ssr_done"],
             "signal": ["indirect_ready"],

@@ -23,6 +23,19 @@ pub(super) fn storage(resource: &str, access: &str) -> Value {
     json!({"resource": resource, "access": access})
 }
 
+/// Sampled bindings of whole resources, each under its own name.
+pub(super) fn sampled_each(names: &[&str]) -> Value {
+    object(names.iter().map(|n| ((*n).to_owned(), sampled(n))))
+}
+
+/// The G-buffer and the full-resolution depth, as every deferred lighting pass reads them.
+pub(super) const GBUFFER: [&str; 4] = [
+    "gbuffer_albedo",
+    "gbuffer_normal",
+    "gbuffer_material",
+    "depth_r32",
+];
+
 /// One mip of `resource` as a storage view.
 pub(super) fn storage_mip(resource: &str, mip: u32) -> Value {
     with(

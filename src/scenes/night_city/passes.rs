@@ -6,8 +6,8 @@
 use serde_json::{Value, json};
 
 use super::helpers::{
-    color, compute, depth_view, fullscreen, groups, markers, object, raster, sampled, sampler,
-    stencil_view, storage, storage_mip, with,
+    GBUFFER, color, compute, depth_view, fullscreen, groups, markers, object, raster, sampled,
+    sampled_each, sampler, stencil_view, storage, storage_mip, with,
 };
 use super::scene::{
     BOX_INDICES, BUILDINGS, BUILDINGS_PER_BLOCK, CAPSULE_INDICES, DepthOnly, KIND_COUNTS,
@@ -152,7 +152,8 @@ fn pre_geometry(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
               "signal": ["voxels_ready"]}),
     ));
     // 6: instance preparation: animate and cull, write args, compact.
-    let kinds = if day { KIND_COUNTS } else { [512, 680, 0] };
+    // At night fewer cars and people, every sign lit; 38 groups of 32 cover the candidates.
+    let kinds = if day { KIND_COUNTS } else { [480, 512, 224] };
     let n = if day { 63 } else { 38 };
     out.push(compute(
         "instance_prep",
@@ -176,7 +177,8 @@ fn pre_geometry(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
                 "draw_args": storage("draw_args", "storage_read_write"),
             },
             "params": {"index_counts": [BOX_INDICES, CAPSULE_INDICES, BOX_INDICES, 0],
-                       "kind_counts": [kinds[0], kinds[1], kinds[2], 0]},
+                       "kind_counts": [kinds[0], kinds[1], kinds[2], 0],
+                       "kind_bases": [0, KIND_COUNTS[0], KIND_COUNTS[0] + KIND_COUNTS[1], 0]},
             "signal": ["instances_ready"],
         }),
     ));
@@ -789,11 +791,7 @@ fn direct_lighting(out: &mut Vec<Value>, day: bool) {
         "cs_tiled_lighting",
         vec![json!({"label": "16x16 tiles", "indirect": {"buffer": "draw_args", "offset": 64}})],
         json!({
-            "bindings": {
-                "gbuffer_albedo": sampled("gbuffer_albedo"),
-                "gbuffer_normal": sampled("gbuffer_normal"),
-                "gbuffer_material": sampled("gbuffer_material"),
-                "depth_r32": sampled("depth_r32"),
+            "bindings": with(sampled_each(&GBUFFER), json!({
                 "sun_shadow": sampled("sun_shadow"),
                 "ao": sampled("ao"),
                 "cluster_light_index": sampled("cluster_light_index"),
@@ -807,7 +805,7 @@ fn direct_lighting(out: &mut Vec<Value>, day: bool) {
                 "linear_clamp": sampler("linear_clamp"),
                 "lit_diffuse": storage("lit_diffuse", "storage_write"),
                 "lit_specular": storage("lit_specular", "storage_write"),
-            },
+            })),
             "params": {"shadowed_lights": SHADOWED_LIGHTS,
                        "emissive_scale": if day { 6.0 } else { 12.0 }, "ambient_scale": 1.0},
             "wait": ["sun_shadow_ready"], "signal": ["direct_lit"],
