@@ -14,7 +14,7 @@ use framelab_ui::model::{
 use serde::Serialize;
 
 use crate::analysis::report::{self, Analysis, BarrierReport, SubresourceReport};
-use crate::capture::model::{BindingTarget, Capture, PassDesc, PassId, Subresources};
+use crate::capture::model::{BindingTarget, Capture, PassDesc, PassId, ResourceId, Subresources};
 use crate::lower::Lowered;
 use crate::timing::diff::{DiffOptions, RowKind, Verdict};
 use crate::timing::{TimingReport, stats};
@@ -105,7 +105,14 @@ fn work(c: &Capture, p: &PassDesc) -> Vec<String> {
     out
 }
 
-fn bindings(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
+/// `first_write`: the position in the replay order of each resource's first writer; a
+/// read-only binding of a `history` resource before it reads the previous frame's copy.
+fn bindings(
+    c: &Capture,
+    p: &PassDesc,
+    position: usize,
+    first_write: &std::collections::HashMap<ResourceId, usize>,
+) -> Vec<(String, String)> {
     p.bindings
         .iter()
         .map(|b| {
@@ -116,7 +123,15 @@ fn bindings(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
                     view_kind,
                 } => {
                     let r = c.resource(*resource);
-                    let mut s = format!("{} as {}", r.name, view_kind.as_str());
+                    let previous = r.history
+                        && b.access.is_some_and(|a| !a.writes())
+                        && first_write.get(resource).is_none_or(|&w| w >= position);
+                    let mut s = format!(
+                        "{}{} as {}",
+                        r.name,
+                        if previous { " (previous frame)" } else { "" },
+                        view_kind.as_str()
+                    );
                     if let Some(f) = view_format {
                         s.push_str(&format!(" {}", f.name));
                     }
@@ -687,6 +702,12 @@ fn model(
         order.iter().enumerate().map(|(i, &id)| (id, i)).collect();
     let boundaries: BTreeMap<&str, &report::Boundary> =
         r.barriers.iter().map(|b| (b.pass.as_str(), b)).collect();
+    let mut first_write = std::collections::HashMap::new();
+    for (i, &id) in order.iter().enumerate() {
+        for a in c.pass(id).accesses.iter().filter(|a| a.writes) {
+            first_write.entry(a.resource).or_insert(i);
+        }
+    }
     let passes: Vec<Pass> = order
         .iter()
         .enumerate()
@@ -709,7 +730,7 @@ fn model(
                 markers: p.markers.clone(),
                 culled: a.culled.contains(&id),
                 work: work(c, p),
-                bindings: bindings(c, p),
+                bindings: bindings(c, p, i, &first_write),
                 attachments: attachments(c, p),
                 state: state(c, p),
                 params: params(&p.params),

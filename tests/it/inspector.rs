@@ -405,3 +405,23 @@ fn panels_match_their_snapshots_with_compared_timings() {
     results.add(h.try_snapshot_options("buffer", &options));
     results.unwrap();
 }
+
+/// The pass panel says which reads see last frame: TAA's `history` is the previous frame's
+/// `taa_output` (nothing has written it yet this frame), while the blur chain that follows
+/// reads this frame's.
+#[test]
+fn history_reads_are_labelled_previous_frame() {
+    let path = repo().join("captures/night_city/main_street_day.json");
+    let validated = capture::load_and_validate(&path, &Options::default()).unwrap();
+    let analysis = analyze(&validated.capture, AnalyzeOptions::default()).unwrap();
+    let model = inspect::model_without_replay(&validated.capture, &analysis, &Reports::default())
+        .unwrap();
+    let binding = |pass: &str, variable: &str| {
+        let p = model.passes.iter().find(|p| p.name == pass).unwrap();
+        p.bindings.iter().find(|(v, _)| v == variable).unwrap().1.clone()
+    };
+    assert!(binding("taa", "history").starts_with("taa_output (previous frame) as"));
+    assert!(binding("taa", "composite").starts_with("composite as"));
+    assert!(binding("taa_blur_downscale", "taa_output").starts_with("taa_output as"));
+    assert!(binding("ssr_trace", "taa_downscaled").contains("(previous frame)"));
+}
