@@ -414,11 +414,16 @@ fn history_reads_are_labelled_previous_frame() {
     let path = repo().join("captures/night_city/main_street_day.json");
     let validated = capture::load_and_validate(&path, &Options::default()).unwrap();
     let analysis = analyze(&validated.capture, AnalyzeOptions::default()).unwrap();
-    let model = inspect::model_without_replay(&validated.capture, &analysis, &Reports::default())
-        .unwrap();
+    let model =
+        inspect::model_without_replay(&validated.capture, &analysis, &Reports::default()).unwrap();
     let binding = |pass: &str, variable: &str| {
         let p = model.passes.iter().find(|p| p.name == pass).unwrap();
-        p.bindings.iter().find(|(v, _)| v == variable).unwrap().1.clone()
+        p.bindings
+            .iter()
+            .find(|(v, _)| v == variable)
+            .unwrap()
+            .1
+            .clone()
     };
     assert!(binding("taa", "history").starts_with("taa_output (previous frame) as"));
     assert!(binding("taa", "composite").starts_with("composite as"));

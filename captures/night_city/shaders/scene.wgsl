@@ -24,6 +24,7 @@ struct FrameConstants {
     time: vec4<f32>,
     camera_position: vec4<f32>,
     resolution: vec4<f32>,
+    view: mat4x4<f32>,
 }
 
 struct Params {
@@ -643,13 +644,43 @@ fn fs_env(in: VertexOut) -> @location(0) vec4<f32> {
     return vec4<f32>(c, 1.0);
 }
 
-// The transparent pass: each draw's material picks holograms (2) or the water surface (3).
+// The transparent pass: each draw's material picks holograms (2), the water surface (3) or
+// the lights' glow (9).
 @fragment
 fn fs_transparent(in: VertexOut) -> @location(0) vec4<f32> {
     if (params.material == 3u) {
         return water_surface(in);
     }
+    if (params.material == 9u) {
+        return light_glow(in);
+    }
     return holo(in);
+}
+
+// Local scattering around every light: a camera-facing quad per light (one instance each,
+// read from the light buffer after this frame's update), sized by the light's radius, so
+// neon and lamps show as glowing sources in the haze rather than only by what they light.
+@vertex
+fn vs_light_glow(v: VertexIn) -> VertexOut {
+    var out = base_out(v);
+    let light = lights[v.instance];
+    let corner = decode_position(v.position).xz * 2.0;
+    let right = vec3<f32>(frame.view[0][0], frame.view[1][0], frame.view[2][0]);
+    let up = vec3<f32>(frame.view[0][1], frame.view[1][1], frame.view[2][1]);
+    let size = 1.0 + light.position_radius.w * 0.15;
+    let world = light.position_radius.xyz + (right * corner.x + up * corner.y) * size;
+    out.uv = corner;
+    out.color = light.color_intensity;
+    out.normal = normalize(frame.camera_position.xyz - world);
+    return finish(out, world, world);
+}
+
+// A bright core and a wide halo, additive; the halo is the light scattered by the air near it.
+fn light_glow(in: VertexOut) -> vec4<f32> {
+    let r2 = dot(in.uv, in.uv);
+    let shape = exp(-r2 * 40.0) * 4.0 + exp(-r2 * 5.0) * 0.35;
+    let fade = 1.0 - smoothstep(0.6, 1.0, r2);
+    return vec4<f32>(in.color.rgb * in.color.w * 0.0015 * shape * fade, 0.0);
 }
 
 // Holographic signs, drawn again over their opaque panels in the transparent pass and blended

@@ -9,7 +9,7 @@ use super::helpers::{
     stencil_view, storage, with,
 };
 use super::passes::LIGHTS;
-use super::scene::{World, depth_attach, scene_bindings, scene_defaults, world_draws};
+use super::scene::{World, d, depth_attach, scene_bindings, scene_defaults, world_draws};
 
 /// Where the street probe of pass 30 sits, and the radius it is trusted within.
 const STREET_PROBE: [f64; 4] = [-6.0, 6.0, 40.0, 90.0];
@@ -161,9 +161,10 @@ fn ssr(out: &mut Vec<Value>) {
     ));
 }
 
-/// Pass 48: the holographic signs again, additive, and the water surface with its
-/// reflection, tested against the scene's depth without writing it.
-pub(super) fn transparent_holo(groups_: &[&str]) -> Result<Value, String> {
+/// Pass 48: the holographic signs again, additive, the water surface with its reflection, and
+/// a glow around each of the `lights` lights, tested against the scene's depth without writing
+/// it.
+pub(super) fn transparent_holo(groups_: &[&str], lights: u32) -> Result<Value, String> {
     let world = world_draws(World::ALL);
     let find = |label: &str| {
         world
@@ -174,7 +175,16 @@ pub(super) fn transparent_holo(groups_: &[&str]) -> Result<Value, String> {
     };
     let signs = with(find("holographic signs")?, json!({"label": "holograms"}));
     let water = find("water")?;
-    let draws = vec![signs, water];
+    let glow = with(
+        d(
+            "light glow",
+            "decal_quad",
+            "vs_light_glow",
+            json!({"material": 9}),
+        ),
+        json!({ "instances": lights }),
+    );
+    let draws = vec![signs, water, glow];
     scene_bindings(raster(
         "transparent_holo",
         groups_,

@@ -20,7 +20,7 @@ const GEO: &[&str] = &["Geometry"];
 const MASKS: &[&str] = &["Masks and LUTs"];
 pub(super) const LIGHTS: &[&str] = &["Lights and shadows"];
 
-fn light_count(day: bool) -> u32 {
+pub(super) fn light_count(day: bool) -> u32 {
     if day { LIGHT_COUNT } else { 1024 }
 }
 
