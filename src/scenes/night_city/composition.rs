@@ -1,6 +1,7 @@
 //! Passes 37-44 of the frame: screen-space reflections, indirect light, the light composition,
 //! the transparent LUT, skin and eyes, GI/AO shadowing, the volumetric fog composition and the
-//! water reflection. Same passes in both variants; the night leans more on indirect light.
+//! water reflection; and the scene-drawn transparent pass (48), which `post` places in the
+//! chain. Same passes in both variants; the night leans more on indirect light.
 
 use serde_json::{Value, json};
 
