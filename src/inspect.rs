@@ -14,7 +14,7 @@ use framelab_ui::model::{
 use serde::Serialize;
 
 use crate::analysis::report::{self, Analysis, BarrierReport, SubresourceReport};
-use crate::capture::model::{BindingTarget, Capture, PassDesc, PassId, ResourceId, Subresources};
+use crate::capture::model::{BindingTarget, Capture, PassDesc, PassId, Subresources};
 use crate::lower::Lowered;
 use crate::timing::diff::{DiffOptions, RowKind, Verdict};
 use crate::timing::{TimingReport, stats};
@@ -105,14 +105,7 @@ fn work(c: &Capture, p: &PassDesc) -> Vec<String> {
     out
 }
 
-/// `first_write`: the position in the replay order of each resource's first writer; a
-/// read-only binding of a `history` resource before it reads the previous frame's copy.
-fn bindings(
-    c: &Capture,
-    p: &PassDesc,
-    position: usize,
-    first_write: &std::collections::HashMap<ResourceId, usize>,
-) -> Vec<(String, String)> {
+fn bindings(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
     p.bindings
         .iter()
         .map(|b| {
@@ -123,13 +116,14 @@ fn bindings(
                     view_kind,
                 } => {
                     let r = c.resource(*resource);
-                    let previous = r.history
-                        && b.access.is_some_and(|a| !a.writes())
-                        && first_write.get(resource).is_none_or(|&w| w >= position);
                     let mut s = format!(
                         "{}{} as {}",
                         r.name,
-                        if previous { " (previous frame)" } else { "" },
+                        if b.previous_frame {
+                            " (previous frame)"
+                        } else {
+                            ""
+                        },
                         view_kind.as_str()
                     );
                     if let Some(f) = view_format {
@@ -702,12 +696,6 @@ fn model(
         order.iter().enumerate().map(|(i, &id)| (id, i)).collect();
     let boundaries: BTreeMap<&str, &report::Boundary> =
         r.barriers.iter().map(|b| (b.pass.as_str(), b)).collect();
-    let mut first_write = std::collections::HashMap::new();
-    for (i, &id) in order.iter().enumerate() {
-        for a in c.pass(id).accesses.iter().filter(|a| a.writes) {
-            first_write.entry(a.resource).or_insert(i);
-        }
-    }
     let passes: Vec<Pass> = order
         .iter()
         .enumerate()
@@ -730,7 +718,7 @@ fn model(
                 markers: p.markers.clone(),
                 culled: a.culled.contains(&id),
                 work: work(c, p),
-                bindings: bindings(c, p, i, &first_write),
+                bindings: bindings(c, p),
                 attachments: attachments(c, p),
                 state: state(c, p),
                 params: params(&p.params),

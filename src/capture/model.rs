@@ -411,6 +411,10 @@ pub struct BindingDesc {
     pub target: BindingTarget,
     pub access: Option<Access>,
     pub range: Option<Subresources>,
+    /// Reads the previous frame's copy of a `history` resource: a read-only binding of one
+    /// that no earlier pass in the capture has written (the pass's own writes come after).
+    /// Replay binds the other half of the ping-pong pair; it is no feedback loop.
+    pub previous_frame: bool,
 }
 
 #[derive(Clone, Debug)]

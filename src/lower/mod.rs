@@ -14,7 +14,7 @@ mod resources;
 mod states;
 mod usage;
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 
 use framelab_replay::plan::*;
 use framelab_replay::wgpu::Features;
@@ -85,8 +85,6 @@ struct Lowering<'c> {
     /// Optional device features each pass needs (by pass name, so errors name it).
     pass_features: BTreeMap<&'c str, Features>,
     shader_index: BTreeMap<ShaderId, usize>,
-    /// Resources some earlier pass of this frame wrote.
-    written: BTreeSet<ResourceId>,
 }
 
 /// Lowers `capture`'s passes in `order` for an adapter with the `available` features.
@@ -117,7 +115,6 @@ pub fn lower(
         notes: Vec::new(),
         pass_features: BTreeMap::new(),
         shader_index: BTreeMap::new(),
-        written: BTreeSet::new(),
     };
     for r in &capture.resources {
         l.resource(r)?;

@@ -83,8 +83,6 @@ impl<'c> Lowering<'c> {
                 )?,
             },
         };
-        self.written
-            .extend(p.accesses.iter().filter(|a| a.writes).map(|a| a.resource));
         self.plan.passes.push(PassSpec {
             name: p.name.clone(),
             queue: self.capture.queue(p.queue).name.clone(),
@@ -127,8 +125,8 @@ impl<'c> Lowering<'c> {
         Some(i)
     }
 
-    /// Read-only bindings of history resources the frame has not written yet see the previous
-    /// frame's copy; written bindings always address this frame's.
+    /// Bindings validation found reading a history resource's previous-frame copy address the
+    /// other half of its ping-pong pair.
     fn bindings(&self, p: &PassDesc) -> Result<Vec<Binding>, LowerError> {
         let mut bindings = Vec::new();
         for b in &p.bindings {
@@ -141,8 +139,7 @@ impl<'c> Lowering<'c> {
                 } => {
                     let r = self.capture.resource(*resource);
                     let range = b.range.unwrap_or_else(|| Subresources::whole(r));
-                    let read_only = b.access.is_some_and(|a| !a.writes());
-                    let previous_frame = r.history && read_only && !self.written.contains(resource);
+                    let previous_frame = b.previous_frame;
                     if r.is_texture() {
                         let t = self.tex(p, *resource)?;
                         let format =

@@ -75,7 +75,9 @@ fn world_position(uv: vec2<f32>, d: f32) -> vec3<f32> {
 }
 
 fn linear_depth(d: f32) -> f32 {
-    return frame.proj[3][2] / (d + frame.proj[2][2]);
+    let a = frame.proj[2][2];
+    let b = frame.proj[3][2];
+    return b / (d + a);
 }
 
 fn luminance(c: vec3<f32>) -> f32 {

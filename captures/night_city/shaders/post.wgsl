@@ -17,9 +17,10 @@ struct Params {
     // Low cloud deck height (m) and how much the city lights it from below at night.
     cloud_height: f32,
     city_glow: f32,
-    // Sharpen strength of the post-TAA pass.
-    sharpen: f32,
 }
+
+// Sharpen strength of the post-TAA pass, before the adaptive fall-off.
+const SHARPEN: f32 = 0.6;
 
 // hdr_params as tonemap.wgsl writes it: [0] exposure, log2 average luminance, log2
 // adaptation luminance; [1] bloom threshold, bloom intensity, flare intensity.
@@ -129,7 +130,7 @@ fn cs_post_sharpen(@builtin(global_invocation_id) id: vec3<u32>) {
     let blurred = textureSampleLevel(post_half, linear_clamp, uv, 0.0).rgb;
     let detail = c - blurred;
     let contrast = abs(luminance(detail)) / (luminance(blurred) + 0.05);
-    let amount = params.sharpen * (1.0 - smoothstep(0.0, 1.0, contrast));
+    let amount = SHARPEN * (1.0 - smoothstep(0.0, 1.0, contrast));
     textureStore(post_sharpened_out, id.xy, vec4<f32>(max(c + detail * amount, vec3<f32>(0.0)), 1.0));
 }
 

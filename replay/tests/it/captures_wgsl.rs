@@ -38,8 +38,9 @@ fn every_capture_shader_validates() {
 
 /// WGSL has no includes, so the Night City shaders repeat the few functions and constants that
 /// define the world (the terrain height, its noise, the position decoding, the cluster grid,
-/// the city layout). Every copy must be the same text, or passes would disagree about where the
-/// ground is or which cluster a pixel falls in.
+/// the city layout, depth reconstruction, luminance, the environment BRDF). Every copy must be
+/// the same text, or passes would disagree about where the ground is or which cluster a pixel
+/// falls in.
 #[test]
 fn shared_world_functions_agree_across_night_city_shaders() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../captures/night_city/shaders");
@@ -58,6 +59,10 @@ fn shared_world_functions_agree_across_night_city_shaders() {
         "fn cascade_matrix(",
         "fn radical_inverse(",
         "fn ggx_sample(",
+        "fn world_position(",
+        "fn linear_depth(",
+        "fn luminance(",
+        "fn env_brdf(",
     ];
     for head in shared {
         let mut copies: Vec<(String, String)> = Vec::new();

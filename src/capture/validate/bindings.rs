@@ -63,6 +63,7 @@ impl<'a> Validator<'a> {
                     target: BindingTarget::Sampler(SamplerId(id)),
                     access: None,
                     range: None,
+                    previous_frame: false,
                 })
             }
             (Some(rname), None) => {
@@ -135,6 +136,7 @@ impl<'a> Validator<'a> {
                     },
                     access: Some(access),
                     range: Some(range),
+                    previous_frame: r.history && !access.writes() && !self.written.contains(&r.id),
                 })
             }
         }

@@ -116,15 +116,21 @@ impl<'a> Validator<'a> {
 
     /// A raster pass may not read or write through a binding a subresource it renders to
     /// (colour, or depth-stencil it writes): GPUs give undefined results and WebGPU refuses it.
-    /// A read-only binding of a `history` resource no earlier pass wrote reads last frame's
-    /// copy (TAA's history), which is another texture, so it is no loop.
+    /// A binding of a history resource's previous-frame copy (TAA's history) reads another
+    /// texture than the one rendered to, so it is no loop.
     fn check_feedback(
         &mut self,
         p: &Pass,
         path: &JsonPath,
         resources: Option<&[ResourceDesc]>,
         accesses: &[ResourceAccess],
+        bindings: &[BindingDesc],
     ) {
+        let previous_frame = |variable: &str| {
+            bindings
+                .iter()
+                .any(|b| b.variable == variable && b.previous_frame)
+        };
         let overlaps = |a: &Subresources, b: &Subresources| {
             a.mip_base < b.mip_base + b.mip_count
                 && b.mip_base < a.mip_base + a.mip_count
@@ -135,19 +141,16 @@ impl<'a> Validator<'a> {
             matches!(a.source, AccessSource::ColorAttachment(_))
                 || (a.source == AccessSource::DepthStencil && a.writes)
         }) {
-            let previous_copy = resources
-                .and_then(|r| r.get(target.resource.index()))
-                .is_some_and(|r| r.history)
-                && !self.written.contains(&target.resource);
-            for bound in accesses.iter().filter(|a| {
-                a.resource == target.resource
-                    && matches!(a.source, AccessSource::Binding(_))
-                    && overlaps(&a.range, &target.range)
-                    && (a.writes || !previous_copy)
-            }) {
+            for bound in accesses
+                .iter()
+                .filter(|a| a.resource == target.resource && overlaps(&a.range, &target.range))
+            {
                 let AccessSource::Binding(variable) = &bound.source else {
                     continue;
                 };
+                if previous_frame(variable) {
+                    continue;
+                }
                 let name = resources
                     .and_then(|r| r.get(target.resource.index()))
                     .map_or("?", |r| r.name.as_str());
@@ -210,7 +213,7 @@ impl<'a> Validator<'a> {
             self.pass_depth_stencil(p, path, resources, &mut accesses, &cx, attachment_size);
 
         let draws = self.pass_draws(p, path, resources, &mut accesses, &cx);
-        self.check_feedback(p, path, resources, &accesses);
+        self.check_feedback(p, path, resources, &accesses, &bindings);
         self.check_sample_counts(p, path, resources, &accesses);
 
         let dispatches = self.pass_dispatches(p, path, resources, &mut accesses);

@@ -44,7 +44,7 @@ pub(super) fn passes(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
             "cloud_distribution": sampled("cloud_distribution"),
             "linear_wrap": sampler("linear_wrap"),
         }),
-        json!({"params": {"cloud_height": 900.0, "city_glow": if day { 0.0 } else { 0.05 }, "sharpen": 0.0},
+        json!({"params": {"cloud_height": 900.0, "city_glow": if day { 0.0 } else { 0.05 }},
                "wait": ["taa_read"]}),
     ));
     // 48: holograms and the water surface.
@@ -160,7 +160,6 @@ fn post_taa(out: &mut Vec<Value>) {
                 "linear_clamp": sampler("linear_clamp"),
                 "post_sharpened_out": storage("post_sharpened", "storage_write"),
             },
-            "params": {"cloud_height": 0.0, "city_glow": 0.0, "sharpen": 0.6},
         }),
     ));
 }
