@@ -2,8 +2,8 @@
 //! - CPU cost of one frame (encode + submit, pipelines created beforehand) of the pass-kinds
 //!   capture through framelab's `Session`, against a hand-written minimal wgpu loop doing the
 //!   same nine passes with resources, views and bind groups made once;
-//! - the cost of timestamp instrumentation: whole frames (submit and wait) with and without
-//!   the timestamp pairs.
+//! - the cost of timestamp instrumentation: whole frames without timestamps (submit, wait)
+//!   and with them (submit, wait, read back), chained and as a pair per pass.
 
 use std::time::{Duration, Instant};
 
@@ -496,6 +496,18 @@ fn replay(c: &mut Criterion) {
             total
         })
     });
+    group.bench_function("framelab encode+submit, with timestamps", |b| {
+        b.iter_custom(|iters| {
+            let mut total = Duration::ZERO;
+            for _ in 0..iters {
+                let t = Instant::now();
+                let _ = session.submit_frame(&constants, None, true);
+                total += t.elapsed();
+                wait(&ctx.device);
+            }
+            total
+        })
+    });
     group.bench_function("hand-written wgpu encode+submit", |b| {
         b.iter_custom(|iters| {
             let mut total = Duration::ZERO;
@@ -509,16 +521,28 @@ fn replay(c: &mut Criterion) {
         })
     });
     group.finish();
+    // Whole frames as `replay` runs them: without timestamps (submit, wait), and with them
+    // (submit, wait, read the stamps back), chained (n+1 stamps) and as a pair per pass (2n).
     let mut group = c.benchmark_group("replay_frame");
     group.sample_size(30);
-    for (name, stamps) in [("without timestamps", false), ("with timestamps", true)] {
+    group.bench_function("without timestamps", |b| {
+        b.iter(|| {
+            let _ = session.submit_frame(&constants, None, false);
+            wait(&ctx.device);
+        })
+    });
+    for (name, pairs) in [
+        ("with timestamps (chained)", false),
+        ("with timestamps (a pair per pass)", true),
+    ] {
+        session.set_timestamp_pairs(pairs);
         group.bench_function(name, |b| {
             b.iter(|| {
-                let _ = session.submit_frame(&constants, None, stamps);
-                wait(&ctx.device);
+                let _ = session.run_frame(&constants, None);
             })
         });
     }
+    session.set_timestamp_pairs(false);
     group.finish();
 }
 

@@ -29,9 +29,20 @@ pub fn read_buffer(
     });
     encoder.copy_buffer_to_buffer(source, 0, &staging, 0, size);
     queue.submit([encoder.finish()]);
+    map_read(device, &staging, size, label)
+}
+
+/// Maps the first `size` bytes of `staging` (MAP_READ usage, written by work already
+/// submitted), copies them out and unmaps it, so the buffer can be written again.
+pub fn map_read(
+    device: &wgpu::Device,
+    staging: &wgpu::Buffer,
+    size: u64,
+    label: &str,
+) -> Result<Vec<u8>, ReadbackError> {
     let (sender, receiver) = std::sync::mpsc::channel();
     staging
-        .slice(..)
+        .slice(..size)
         .map_async(wgpu::MapMode::Read, move |result| {
             let _ = sender.send(result);
         });
@@ -50,7 +61,7 @@ pub fn read_buffer(
         message: e.to_string(),
     })?;
     let bytes = staging
-        .slice(..)
+        .slice(..size)
         .get_mapped_range()
         .map_err(|e| ReadbackError::Map {
             label: label.to_owned(),

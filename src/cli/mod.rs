@@ -140,6 +140,10 @@ enum Command {
         /// Write a Chrome trace-event file (one track per queue; opens in Perfetto).
         #[arg(long)]
         trace: Option<PathBuf>,
+        /// Give every pass a start timestamp of its own instead of starting it at the previous
+        /// pass's end: its time then leaves out the barriers before it, at twice the stamps.
+        #[arg(long)]
+        timestamp_pairs: bool,
         /// No progress bar or summary.
         #[arg(long)]
         quiet: bool,
@@ -253,6 +257,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             resource,
             timings,
             trace,
+            timestamp_pairs,
             quiet,
         } => {
             let options = replay::ReplayOptions {
@@ -266,6 +271,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 resource,
                 timings,
                 trace,
+                timestamp_pairs,
             };
             replay::run(&capture, &options, quiet)
         }

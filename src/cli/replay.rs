@@ -33,6 +33,8 @@ pub struct ReplayOptions {
     pub resource: Option<String>,
     pub timings: Option<PathBuf>,
     pub trace: Option<PathBuf>,
+    /// A start and an end timestamp for every pass (see `Session::set_timestamp_pairs`).
+    pub timestamp_pairs: bool,
 }
 
 /// What happened, for the command to print.
@@ -130,6 +132,9 @@ pub fn replay(
         }
     }
     let mut replayer = Replayer::new(&ctx, loaded, lowered)?;
+    replayer
+        .session
+        .set_timestamp_pairs(options.timestamp_pairs);
     let frames = options.frames.max(1);
     for f in 0..frames {
         on(Event::Frame { index: f });

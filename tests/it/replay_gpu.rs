@@ -134,6 +134,21 @@ fn every_pass_kind_replays_with_exact_values() {
         .collect();
     assert_eq!(tracks, ["async", "dma", "gfx"]);
     assert_eq!(events.iter().filter(|e| e["ph"] == "X").count(), 18);
+    // Each pass's start is the previous pass's end stamp (n+1 stamps per frame), so a frame's
+    // passes lie end to end on the GPU timeline, in submission order.
+    let frame0: Vec<(f64, f64)> = events
+        .iter()
+        .filter(|e| e["ph"] == "X" && e["args"]["frame"] == 0)
+        .map(|e| (e["ts"].as_f64().unwrap(), e["dur"].as_f64().unwrap()))
+        .collect();
+    assert_eq!(frame0[0].0, 0.0);
+    for pair in frame0.windows(2) {
+        let ((ts, dur), (next, _)) = (pair[0], pair[1]);
+        assert!(
+            (ts + dur - next).abs() < 0.002,
+            "gap or overlap: {frame0:?}"
+        );
+    }
     std::fs::remove_dir_all(dir).unwrap();
 }
 

@@ -272,31 +272,3 @@ pub(super) fn modules(device: &wgpu::Device, plan: &Plan) -> Result<Vec<Module>,
     }
     Ok(modules)
 }
-
-/// The timestamp query set (two per pass) and its resolve buffer, when the adapter has them;
-/// the flag says whether timestamps can be written between passes.
-pub(super) fn timestamps(
-    device: &wgpu::Device,
-    plan: &Plan,
-) -> Option<(wgpu::QuerySet, wgpu::Buffer, bool)> {
-    let features = device.features();
-    features.contains(wgpu::Features::TIMESTAMP_QUERY).then(|| {
-        let count = (plan.passes.len() as u32 * 2).max(2);
-        let set = device.create_query_set(&wgpu::QuerySetDescriptor {
-            label: Some("pass timestamps"),
-            ty: wgpu::QueryType::Timestamp,
-            count,
-        });
-        let resolve = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamp resolve"),
-            size: u64::from(count) * 8,
-            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        (
-            set,
-            resolve,
-            features.contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS),
-        )
-    })
-}

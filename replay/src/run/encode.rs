@@ -5,14 +5,13 @@
 #[allow(unused_imports)]
 use super::*;
 
-/// Where a pass's two timestamps go: the query set and the index of the first.
-type Stamps<'q> = Option<(&'q wgpu::QuerySet, u32)>;
+use super::stamps::Stamps;
 
 fn render_stamps(stamps: Stamps<'_>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-    stamps.map(|(set, base)| wgpu::RenderPassTimestampWrites {
+    stamps.map(|(set, start, end)| wgpu::RenderPassTimestampWrites {
         query_set: set,
-        beginning_of_pass_write_index: Some(base),
-        end_of_pass_write_index: Some(base + 1),
+        beginning_of_pass_write_index: start,
+        end_of_pass_write_index: Some(end),
     })
 }
 
@@ -38,9 +37,12 @@ impl Session {
             pass: pass.name.clone(),
             message,
         };
-        let stamp_encoder = |encoder: &mut wgpu::CommandEncoder, offset: u32| {
-            if let (Some((set, base)), true) = (stamps, inside_encoders) {
-                encoder.write_timestamp(set, base + offset);
+        let stamp_encoder = |encoder: &mut wgpu::CommandEncoder, at_end: bool| {
+            if let (Some((set, start, end)), true) = (stamps, inside_encoders) {
+                let index = if at_end { Some(end) } else { start };
+                if let Some(index) = index {
+                    encoder.write_timestamp(set, index);
+                }
             }
         };
         match (&pass.op, &self.prepared[i]) {
@@ -51,18 +53,18 @@ impl Session {
                 .encode_compute(&pass.name, c, prepared, parity, encoder, stamps)
                 .map_err(err)?,
             (PassOp::Copy(copies), _) => {
-                stamp_encoder(encoder, 0);
+                stamp_encoder(encoder, false);
                 for c in copies {
                     self.encode_copy(c, parity, encoder);
                 }
-                stamp_encoder(encoder, 1);
+                stamp_encoder(encoder, true);
             }
             (PassOp::Clear(clears), _) => {
-                stamp_encoder(encoder, 0);
+                stamp_encoder(encoder, false);
                 for c in clears {
                     self.encode_clear(encoder, c, parity).map_err(err)?;
                 }
-                stamp_encoder(encoder, 1);
+                stamp_encoder(encoder, true);
             }
             (PassOp::Resolve { src, dst }, _) => {
                 self.encode_resolve(&pass.name, *src, *dst, parity, encoder, stamps);
@@ -75,7 +77,7 @@ impl Session {
                 },
                 _,
             ) => {
-                stamp_encoder(encoder, 0);
+                stamp_encoder(encoder, false);
                 self.encode_mips(
                     *texture,
                     *base_layer..*base_layer + *layers,
@@ -83,11 +85,11 @@ impl Session {
                     encoder,
                 )
                 .map_err(err)?;
-                stamp_encoder(encoder, 1);
+                stamp_encoder(encoder, true);
             }
             (PassOp::Present { .. }, _) => {
-                stamp_encoder(encoder, 0);
-                stamp_encoder(encoder, 1);
+                stamp_encoder(encoder, false);
+                stamp_encoder(encoder, true);
             }
             _ => return Err(err("pass was not prepared".into())),
         }
@@ -261,10 +263,10 @@ impl Session {
         let buf = |b: usize| self.buf_at(b, parity);
         let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(name),
-            timestamp_writes: stamps.map(|(set, base)| wgpu::ComputePassTimestampWrites {
+            timestamp_writes: stamps.map(|(set, start, end)| wgpu::ComputePassTimestampWrites {
                 query_set: set,
-                beginning_of_pass_write_index: Some(base),
-                end_of_pass_write_index: Some(base + 1),
+                beginning_of_pass_write_index: start,
+                end_of_pass_write_index: Some(end),
             }),
         });
         for (d, set) in c.dispatches.iter().zip(dispatch_groups) {

@@ -36,7 +36,10 @@ impl Session {
         // is encoded again in its own scope to name the one at fault.
         let frame_scope = scope(&self.device);
         let timestamps = self.timestamps.as_ref().filter(|_| with_timestamps);
-        let inside_encoders = timestamps.is_some_and(|t| t.2);
+        let inside_encoders = timestamps.is_some_and(|t| t.inside_encoders);
+        self.stamp_plan = timestamps
+            .map(|t| t.plan(&self.plan.passes, last))
+            .unwrap_or_default();
         for i in 0..=last.min(self.plan.passes.len().saturating_sub(1)) {
             if self.plan.passes.is_empty() {
                 break;
@@ -47,7 +50,7 @@ impl Session {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some(&self.plan.passes[i].name),
                 });
-            let stamps = timestamps.map(|(set, _, _)| (set, 2 * i as u32));
+            let stamps = timestamps.and_then(|t| self.stamp_plan.stamps(&t.set, i));
             self.encode(i, parity, &mut encoder, stamps, inside_encoders)?;
             command_buffers.push(encoder.finish());
             let cpu_ns = start.elapsed().as_nanos() as u64;
@@ -57,15 +60,14 @@ impl Session {
                 gpu_start_ns: None,
             });
         }
-        if let Some((set, buffer, _)) = timestamps {
-            let mut resolve_encoder =
-                self.device
-                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("timestamps"),
-                    });
-            let count = (2 * times.len() as u32).max(2);
-            resolve_encoder.resolve_query_set(set, 0..count, buffer, 0);
-            command_buffers.push(resolve_encoder.finish());
+        if let Some(t) = timestamps.filter(|_| self.stamp_plan.count > 0) {
+            let mut encoder = self
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("timestamps"),
+                });
+            t.resolve(&mut encoder, &self.stamp_plan);
+            command_buffers.push(encoder.finish());
         }
         self.queue.submit(command_buffers);
         if let Some(message) = close(frame_scope) {
@@ -89,40 +91,13 @@ impl Session {
         stop_after: Option<usize>,
     ) -> Result<Vec<PassTime>, ReplayError> {
         let mut times = self.submit_frame(frame_constants, stop_after, true)?;
-        let inside_encoders = self.timestamps.as_ref().is_some_and(|t| t.2);
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| ReplayError::DeviceLost(e.to_string()))?;
-        if let Some((_, buffer, _)) = &self.timestamps {
-            let bytes = crate::readback::read_buffer(
-                &self.device,
-                &self.queue,
-                buffer,
-                (2 * times.len() as u64).max(2) * 8,
-                "timestamps",
-            )?;
-            let ticks: Vec<u64> = bytes
-                .chunks_exact(8)
-                .map(|c| u64::from_le_bytes(c.try_into().unwrap_or_default()))
-                .collect();
+        if let Some(t) = &self.timestamps {
+            let ticks = t.read(&self.device, &self.stamp_plan)?;
             let period = f64::from(self.timestamp_period);
-            let origin = ticks
-                .iter()
-                .step_by(2)
-                .copied()
-                .filter(|&t| t != 0)
-                .min()
-                .unwrap_or(0);
-            for (i, t) in times.iter_mut().enumerate() {
-                let (a, b) = (ticks[2 * i], ticks[2 * i + 1]);
-                let kind = &self.plan.passes[i].op;
-                let stamped =
-                    matches!(kind, PassOp::Raster(_) | PassOp::Compute(_)) || inside_encoders;
-                if stamped && b >= a && a != 0 {
-                    t.gpu_ns = Some(((b - a) as f64 * period) as u64);
-                    t.gpu_start_ns = Some(((a - origin) as f64 * period) as u64);
-                }
-            }
+            stamps::times_from_ticks(&self.stamp_plan, &ticks, period, &mut times);
         }
         self.check_faults(&format!("frame {}", self.frames_run))?;
         Ok(times)
@@ -137,7 +112,7 @@ impl Session {
         with_timestamps: bool,
     ) -> Option<ReplayError> {
         let timestamps = self.timestamps.as_ref().filter(|_| with_timestamps);
-        let inside_encoders = timestamps.is_some_and(|t| t.2);
+        let inside_encoders = timestamps.is_some_and(|t| t.inside_encoders);
         for i in 0..=last.min(self.plan.passes.len().saturating_sub(1)) {
             let guards = scope(&self.device);
             let mut encoder = self
@@ -145,7 +120,7 @@ impl Session {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some(&self.plan.passes[i].name),
                 });
-            let stamps = timestamps.map(|(set, _, _)| (set, 2 * i as u32));
+            let stamps = timestamps.and_then(|t| self.stamp_plan.stamps(&t.set, i));
             let encoded = self.encode(i, parity, &mut encoder, stamps, inside_encoders);
             drop(encoder.finish());
             let scoped = close(guards);

@@ -1,7 +1,7 @@
 //! Running a plan: a `Session` owns the GPU resources, shader modules, pipelines and bind
 //! groups of a plan, and `run_frame` encodes every pass (each in its own command encoder and
-//! error scope, so a validation error names its pass) with a timestamp pair around it where the
-//! adapter can, submits, and returns per-pass GPU and CPU times.
+//! error scope, so a validation error names its pass) with timestamps where the adapter can
+//! (see `stamps`), submits, and returns per-pass GPU and CPU times.
 //!
 //! Pipelines use automatic layouts (wgpu derives them from naga's reflection of the entry
 //! points), and bind groups are filled by WGSL variable name: `frame` gets the frame constants,
@@ -13,6 +13,7 @@ mod create;
 mod encode;
 mod frame;
 mod pipelines;
+mod stamps;
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -109,7 +110,9 @@ pub struct Session {
     modules: Vec<Module>,
     prepared: Vec<Prepared>,
     mip_pipelines: BTreeMap<String, (wgpu::RenderPipeline, wgpu::Sampler)>,
-    timestamps: Option<(wgpu::QuerySet, wgpu::Buffer, bool)>,
+    timestamps: Option<stamps::Timestamps>,
+    /// The queries the last submitted frame writes.
+    stamp_plan: stamps::StampPlan,
     timestamp_period: f32,
     frames_run: u64,
 }
@@ -153,7 +156,7 @@ impl Session {
         let samplers = create::samplers(&device, &plan);
         let meshes = create::meshes(&device, &queue, &plan);
         let modules = create::modules(&device, &plan)?;
-        let timestamps = create::timestamps(&device, &plan);
+        let timestamps = stamps::Timestamps::create(&device, plan.passes.len());
         let timestamp_period = queue.get_timestamp_period();
         let mut session = Session {
             faults: ctx.faults.clone(),
@@ -170,6 +173,7 @@ impl Session {
             prepared: Vec::new(),
             mip_pipelines: BTreeMap::new(),
             timestamps,
+            stamp_plan: Default::default(),
             timestamp_period,
             frames_run: 0,
         };
@@ -194,6 +198,14 @@ impl Session {
                 what: during.to_owned(),
                 message: errors.join("; "),
             })
+        }
+    }
+
+    /// Writes a start and an end stamp for every pass instead of chaining each pass's start to
+    /// the previous pass's end (see `stamps`): twice the queries, for comparing the two.
+    pub fn set_timestamp_pairs(&mut self, pairs: bool) {
+        if let Some(t) = &mut self.timestamps {
+            t.pairs = pairs;
         }
     }
 
