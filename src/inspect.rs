@@ -552,11 +552,13 @@ fn timings_from(model: &Inspection, t: &TimingReport, source: &str) -> Timings {
         out.push(ms.map(|gpu_ns| PassTime {
             start_ns: start,
             gpu_ns,
+            measured: true,
         }));
     }
     Timings {
         source: source.to_owned(),
         passes: out,
+        note: t.passes.iter().find_map(|p| p.gpu_untrusted.clone()),
     }
 }
 
@@ -804,12 +806,24 @@ pub fn launch(
         Some(&lowered),
         reports,
     )?;
+    let untrusted = lowered
+        .pass_ids
+        .iter()
+        .map(|&id| {
+            crate::timing::untrusted_timestamps(
+                &ctx.summary.name,
+                &ctx.summary.device_type,
+                capture.pass(id).kind.as_str(),
+            )
+        })
+        .collect();
     let session = framelab_replay::Session::new(ctx, lowered.plan)?;
     let owned = capture.clone();
     let worker = framelab_ui::worker::Worker::start(
         session,
         Box::new(move |f| crate::lower::frame::constants(&owned, f)),
         frames,
+        untrusted,
     );
     Ok((inspection, worker))
 }

@@ -148,6 +148,24 @@ fn selecting_passes_and_textures_shows_the_frame_as_of_that_pass() {
         .expect("a tonemap bar");
     click_at(&mut h, rect.center());
     assert_eq!(h.state().selection.pass, tonemap);
+    // Where the adapter's timestamps do not measure compute passes (lavapipe), tonemap keeps
+    // its place but shows no time, and the timeline says why; elsewhere it is measured.
+    let ctx =
+        framelab_replay::open_device(None, framelab::lower::wanted_features()).expect("an adapter");
+    let why = framelab::timing::untrusted_timestamps(
+        &ctx.summary.name,
+        &ctx.summary.device_type,
+        "compute",
+    );
+    let timings = h.state().timings.clone().expect("live timings");
+    let tonemap_time = timings.passes[tonemap].expect("tonemap ran");
+    assert_eq!(tonemap_time.measured, why.is_none());
+    assert_eq!(timings.note, why);
+    assert_eq!(
+        h.query_by_label_contains("grey: not measured").is_some(),
+        why.is_some()
+    );
+    assert!(timings.passes[model.pass_named("scene").unwrap()].is_some_and(|t| t.measured));
 
     // The DAG: click the bloom_extract node.
     h.get_by_label("DAG").click();

@@ -403,10 +403,7 @@ impl Inspector {
                 Reply::Progress(p) => self.status = p,
                 Reply::Timings(t) => {
                     if self.timings.is_none() {
-                        self.timings = Some(Timings {
-                            source: "replay".into(),
-                            passes: t,
-                        });
+                        self.timings = Some(t);
                     }
                 }
                 Reply::Shown(s) => shown.push(s),

@@ -68,12 +68,18 @@ pub struct MemoryBlock {
 pub struct Timings {
     pub source: String,
     pub passes: Vec<Option<PassTime>>,
+    /// Why some passes have no time although they ran (the adapter's timestamps do not
+    /// measure them), shown with the timeline.
+    pub note: Option<String>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PassTime {
     pub start_ns: f64,
     pub gpu_ns: f64,
+    /// False where the adapter's timestamps do not measure this kind of pass (the timings'
+    /// `note` says why): the pass keeps its place on the timeline but shows no time.
+    pub measured: bool,
 }
 
 /// The timing diff against another report: per pass, that side's median and the verdict.

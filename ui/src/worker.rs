@@ -12,7 +12,7 @@ use framelab_replay::Session;
 use framelab_replay::decode::{DecodedImage, read_stencil, read_texture, readable_format};
 use framelab_replay::plan::Params;
 
-use crate::model::{PassTime, Sampling};
+use crate::model::{PassTime, Sampling, Timings};
 use crate::visualise::{Controls, Subresource, Visualiser};
 
 /// What the UI wants on screen.
@@ -50,8 +50,8 @@ enum Command {
 #[derive(Debug)]
 pub enum Reply {
     Progress(String),
-    /// Per plan pass, from the timed frames.
-    Timings(Vec<Option<PassTime>>),
+    /// Per plan pass, from the last timed frame.
+    Timings(Timings),
     Shown(Box<Shown>),
     /// A save finished: the file written, or why not.
     Saved(Result<String, String>),
@@ -89,11 +89,18 @@ pub struct Worker {
 }
 
 impl Worker {
-    /// Starts the worker on `session`, timing `timed_frames` whole frames first.
-    pub fn start(session: Session, constants: Constants, timed_frames: u32) -> Worker {
+    /// Starts the worker on `session`, timing `timed_frames` whole frames first. `untrusted`
+    /// gives, per plan pass, why the adapter's timestamps do not measure it, if they do not:
+    /// those passes get no time.
+    pub fn start(
+        session: Session,
+        constants: Constants,
+        timed_frames: u32,
+        untrusted: Vec<Option<String>>,
+    ) -> Worker {
         let (requests, rx) = std::sync::mpsc::channel();
         let (tx, replies) = std::sync::mpsc::channel();
-        std::thread::spawn(move || run(session, constants, timed_frames, &rx, &tx));
+        std::thread::spawn(move || run(session, constants, timed_frames, &untrusted, &rx, &tx));
         Worker { requests, replies }
     }
 
@@ -130,6 +137,7 @@ fn run(
     session: Session,
     constants: Constants,
     timed_frames: u32,
+    untrusted: &[Option<String>],
     rx: &Receiver<Command>,
     tx: &Sender<Reply>,
 ) {
@@ -156,16 +164,22 @@ fn run(
             }
         }
     }
-    let _ = tx.send(Reply::Timings(
-        last.iter()
-            .map(|t| {
+    let trusted = |i: usize| untrusted.get(i).is_none_or(Option::is_none);
+    let _ = tx.send(Reply::Timings(Timings {
+        source: "replay".into(),
+        passes: last
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
                 Some(PassTime {
                     start_ns: t.gpu_start_ns? as f64,
                     gpu_ns: t.gpu_ns? as f64,
+                    measured: trusted(i),
                 })
             })
             .collect(),
-    ));
+        note: untrusted.iter().flatten().next().cloned(),
+    }));
     let _ = tx.send(Reply::Progress("ready".into()));
     let mut pending = None;
     loop {

@@ -28,6 +28,7 @@ pub fn pass_ms(app: &Inspector, pass: usize) -> Option<f64> {
     app.timings
         .as_ref()
         .and_then(|t| t.passes.get(pass).copied().flatten())
+        .filter(|t| t.measured)
         .map(|t| t.gpu_ns / 1e6)
 }
 

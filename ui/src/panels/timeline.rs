@@ -9,6 +9,7 @@ use crate::app::Inspector;
 
 const LANE: f32 = 26.0;
 const LABEL: f32 = 70.0;
+const UNMEASURED_WIDTH: f32 = 6.0;
 
 fn verdict_color(verdict: &str) -> Option<Color32> {
     match verdict {
@@ -32,6 +33,7 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
         .passes
         .iter()
         .flatten()
+        .filter(|t| t.measured)
         .map(|t| t.start_ns + t.gpu_ns)
         .fold(0.0f64, f64::max);
     if end <= 0.0 {
@@ -43,6 +45,9 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
         end / 1e6,
         timings.source
     ));
+    if let Some(note) = &timings.note {
+        ui.weak(format!("grey: not measured ({note})"));
+    }
     let height = LANE * model.queues.len() as f32 + 20.0;
     let (rect, response) =
         ui.allocate_exact_size(Vec2::new(ui.available_width(), height), Sense::click());
@@ -70,7 +75,12 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
         let p = model.passes.get(i)?;
         let y = rect.top() + p.queue as f32 * LANE + 3.0;
         let x0 = x_of(t.start_ns);
-        let x1 = x_of(t.start_ns + t.gpu_ns).max(x0 + 2.0);
+        // An unmeasured pass keeps its place, narrow, so it can still be found and clicked.
+        let x1 = if t.measured {
+            x_of(t.start_ns + t.gpu_ns).max(x0 + 2.0)
+        } else {
+            x0 + UNMEASURED_WIDTH
+        };
         Some(Rect::from_min_max(
             Pos2::new(x0, y),
             Pos2::new(x1, y + LANE - 6.0),
@@ -89,7 +99,10 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
             .as_ref()
             .and_then(|c| verdict_color(&c.verdict))
             .unwrap_or_else(|| super::queue_color(p.queue));
-        let color = if p.culled {
+        let measured = timings.passes[i].is_some_and(|t| t.measured);
+        let color = if !measured {
+            Color32::from_gray(110)
+        } else if p.culled {
             color.gamma_multiply(0.4)
         } else {
             color
@@ -126,12 +139,23 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
     if let Some(i) = hovered {
         let p = &model.passes[i];
         let t = timings.passes[i];
-        let mut text = format!(
-            "{}\n{:.3} ms, starts at {:.3} ms",
-            p.name,
-            t.map_or(0.0, |t| t.gpu_ns / 1e6),
-            t.map_or(0.0, |t| t.start_ns / 1e6)
-        );
+        let mut text = match t {
+            Some(t) if !t.measured => format!(
+                "{}\nnot measured: {}\nstarts at {:.3} ms",
+                p.name,
+                timings
+                    .note
+                    .as_deref()
+                    .unwrap_or("the adapter cannot time it"),
+                t.start_ns / 1e6
+            ),
+            _ => format!(
+                "{}\n{:.3} ms, starts at {:.3} ms",
+                p.name,
+                t.map_or(0.0, |t| t.gpu_ns / 1e6),
+                t.map_or(0.0, |t| t.start_ns / 1e6)
+            ),
+        };
         if let Some(c) = model
             .compare
             .as_ref()
