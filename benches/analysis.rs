@@ -1,6 +1,7 @@
 //! Analysis benchmarks: build + order + barriers + aliasing on synthetic frames of 1k and 10k
-//! passes over 50k resources, and load + validate of a large capture against serde_json's
-//! untyped parse of the same bytes.
+//! passes over 50k resources, load + validate of a large capture against serde_json's untyped
+//! parse of the same bytes, and the whole analysis (lints, Vulkan barrier comparison, hazards,
+//! schedule) of long imported captures at two sizes, to show it grows with the input.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use framelab::analysis::synthetic;
@@ -64,5 +65,69 @@ fn loading(c: &mut Criterion) {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-criterion_group!(benches, analysis, loading);
+/// An imported Vulkan capture of `passes` clear passes over `passes / 10` images, each pass
+/// with its recorded layout transition: what the Vulkan barrier comparison, the per-resource
+/// lints, the hazard checker and the schedule see from a long GFXReconstruct stream.
+fn imported_capture(passes: usize) -> String {
+    let images = (passes / 10).max(1);
+    let mut out = String::from(
+        r#"{"format_version":1,"name":"imported","resolution":{"width":640,"height":480},"camera":{"position":[0,0,1],"target":[0,0,0],"fov_y_degrees":60},"source":{"tool":"bench","api":"vulkan","file":"generated","not_replayable":"no shader code"},"queues":[{"name":"graphics","type":"graphics"}],"resources":["#,
+    );
+    for i in 0..images {
+        if i > 0 {
+            out.push(',');
+        }
+        out.push_str(&format!(
+            r#"{{"name":"img_{i}","kind":"texture_2d","format":"R8G8B8A8_UNORM","width":1,"height":1,"initial":{{"before_capture":{{}}}}}}"#
+        ));
+    }
+    out.push_str(r#"],"passes":["#);
+    for p in 0..passes {
+        if p > 0 {
+            out.push(',');
+        }
+        let r = p % images;
+        out.push_str(&format!(
+            r#"{{"name":"clear_{p}","queue":"graphics","kind":"clear","clears":[{{"resource":"img_{r}","value":[0,0,0,0]}}],"barriers":[{{"type":"vulkan","resource":"img_{r}","vulkan":{{"origin":"vkCmdPipelineBarrier #{p}","src_stages":["TOP_OF_PIPE"],"dst_stages":["TRANSFER"],"dst_access":["TRANSFER_WRITE"],"old_layout":"UNDEFINED","new_layout":"GENERAL"}}}}]}}"#
+        ));
+    }
+    out.push_str("]}");
+    out
+}
+
+fn report(c: &mut Criterion) {
+    let dir = std::env::temp_dir().join(format!("framelab-bench-report-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&dir);
+    let mut group = c.benchmark_group("analyze_imported");
+    group.sample_size(10);
+    for passes in [10_000usize, 40_000] {
+        let path = dir.join(format!("imported_{passes}.json"));
+        let _ = std::fs::write(&path, imported_capture(passes));
+        let options = framelab::capture::Options::default();
+        let Ok(validated) = framelab::capture::load_and_validate(&path, &options) else {
+            eprintln!("the generated imported capture does not validate");
+            return;
+        };
+        group.throughput(Throughput::Elements(passes as u64));
+        group.bench_with_input(
+            BenchmarkId::new("lints+hazards+schedule", passes),
+            &validated.capture,
+            |b, capture| {
+                b.iter(|| {
+                    black_box(
+                        framelab::analysis::report::analyze(
+                            capture,
+                            framelab::analysis::report::AnalyzeOptions::default(),
+                        )
+                        .map(|a| a.lints.len()),
+                    )
+                })
+            },
+        );
+    }
+    group.finish();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+criterion_group!(benches, analysis, loading, report);
 criterion_main!(benches);

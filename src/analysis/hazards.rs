@@ -17,6 +17,7 @@
 
 use serde::Serialize;
 
+use super::clocks::Clocks;
 use super::model::{FrameModel, State, Units};
 use crate::capture::format::QueueType;
 use crate::capture::model::Subresources;
@@ -104,48 +105,21 @@ impl CheckReport {
     }
 }
 
-/// Happens-before as a transitive closure over queue order and fences, one bitset per pass.
-struct HappensBefore {
-    words: usize,
-    bits: Vec<u64>,
-}
+/// Happens-before over queue order and fences.
+type HappensBefore = Clocks;
 
-impl HappensBefore {
-    fn new(model: &FrameModel, order: &[u32], fences: &[(u32, u32)]) -> Self {
-        let n = model.passes.len();
-        let words = n.div_ceil(64).max(1);
-        let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
-        let mut last: Vec<Option<u32>> = vec![None; model.queues.len()];
-        for &p in order {
-            let q = model.passes[p as usize].queue as usize;
-            if let Some(prev) = last[q] {
-                preds[p as usize].push(prev);
-            }
-            last[q] = Some(p);
+fn happens_before(model: &FrameModel, order: &[u32], fences: &[(u32, u32)]) -> HappensBefore {
+    let n = model.passes.len();
+    let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for &(a, b) in fences {
+        if let Some(list) = preds.get_mut(b as usize) {
+            list.push(a);
         }
-        for &(a, b) in fences {
-            preds[b as usize].push(a);
-        }
-        let mut bits = vec![0u64; n * words];
-        // `order` is topological for queue order and fences, so predecessors are complete.
-        for &p in order {
-            for &a in &preds[p as usize] {
-                let (pa, pp) = (a as usize * words, p as usize * words);
-                for w in 0..words {
-                    bits[pp + w] |= bits[pa + w];
-                }
-                bits[pp + a as usize / 64] |= 1 << (a % 64);
-            }
-        }
-        Self { words, bits }
     }
-    /// Whether `a` strictly happens before `b`.
-    fn before(&self, a: u32, b: u32) -> bool {
-        self.bits[b as usize * self.words + a as usize / 64] & (1 << (a % 64)) != 0
-    }
-    fn before_or_same(&self, a: u32, b: u32) -> bool {
-        a == b || self.before(a, b)
-    }
+    let queue_of = model.passes.iter().map(|p| p.queue as usize).collect();
+    Clocks::new(model.queues.len(), queue_of, order, |p| {
+        preds[p as usize].clone()
+    })
 }
 
 #[derive(Clone, Copy)]
@@ -229,7 +203,7 @@ pub fn check(
         model,
         units,
         barriers,
-        hb: HappensBefore::new(model, order, fences),
+        hb: happens_before(model, order, fences),
         report: CheckReport::default(),
         state: initial.to_vec(),
         last_write: vec![None; units.total],

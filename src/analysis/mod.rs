@@ -2,6 +2,7 @@
 //! aliasing, lints, async compute and the critical path). Nothing here uses wgpu or egui.
 
 pub mod barriers;
+pub mod clocks;
 pub mod graph;
 pub mod hazards;
 pub mod lints;

@@ -7,6 +7,7 @@ use petgraph::visit::EdgeRef;
 use serde::Serialize;
 
 use super::barriers::FenceNeed;
+use super::clocks::Clocks;
 use super::graph::PassGraph;
 use super::model::FrameModel;
 use crate::capture::format::QueueType;
@@ -24,8 +25,16 @@ pub struct CriticalPath {
 pub struct Overlap {
     /// A pass on a compute queue.
     pub pass: String,
-    /// Graphics-queue passes it is not ordered against, in order.
+    /// Graphics-queue passes it is not ordered against, in order (the first
+    /// `MAX_LISTED_OVERLAPS`).
     pub overlaps: Vec<String>,
+    /// How many more graphics passes it is not ordered against.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub more: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -34,15 +43,12 @@ pub struct Schedule {
     pub async_compute: Vec<Overlap>,
 }
 
-/// Ancestor sets (bit per pass) over every edge and fence.
-fn ancestors(
-    model: &FrameModel,
-    graph: &PassGraph,
-    order: &[u32],
-    fences: &[FenceNeed],
-) -> (usize, Vec<u64>) {
+/// Graphics passes listed per compute pass at most; the rest are counted.
+pub const MAX_LISTED_OVERLAPS: usize = 64;
+
+/// Happens-before over every edge (queue order included) and fence.
+fn ancestors(model: &FrameModel, graph: &PassGraph, order: &[u32], fences: &[FenceNeed]) -> Clocks {
     let n = model.passes.len();
-    let words = n.div_ceil(64).max(1);
     let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
     for e in graph.graph.edge_references() {
         preds[e.target().index()].push(e.source().index() as u32);
@@ -50,17 +56,10 @@ fn ancestors(
     for f in fences {
         preds[f.wait_before as usize].push(f.signal_after);
     }
-    let mut bits = vec![0u64; n * words];
-    for &p in order {
-        for &a in &preds[p as usize] {
-            let (pa, pp) = (a as usize * words, p as usize * words);
-            for w in 0..words {
-                bits[pp + w] |= bits[pa + w];
-            }
-            bits[pp + a as usize / 64] |= 1 << (a % 64);
-        }
-    }
-    (words, bits)
+    let queue_of = model.passes.iter().map(|p| p.queue as usize).collect();
+    Clocks::new(model.queues.len(), queue_of, order, |p| {
+        preds[p as usize].clone()
+    })
 }
 
 pub fn schedule(
@@ -71,22 +70,33 @@ pub fn schedule(
     times: &[Option<u64>],
     timing_source: &str,
 ) -> Schedule {
-    let (words, bits) = ancestors(model, graph, order, fences);
-    let before = |a: usize, b: usize| bits[b * words + a / 64] & (1 << (a % 64)) != 0;
+    let clocks = ancestors(model, graph, order, fences);
+    let graphics: Vec<u32> = order
+        .iter()
+        .copied()
+        .filter(|&g| model.queue_type(g as usize) == QueueType::Graphics)
+        .collect();
     let mut async_compute = Vec::new();
     for &c in order {
         if model.queue_type(c as usize) != QueueType::Compute {
             continue;
         }
-        let overlaps: Vec<String> = order
-            .iter()
-            .filter(|&&g| model.queue_type(g as usize) == QueueType::Graphics)
-            .filter(|&&g| !before(c as usize, g as usize) && !before(g as usize, c as usize))
-            .map(|&g| model.passes[g as usize].name.clone())
-            .collect();
+        let mut overlaps = Vec::new();
+        let mut more = 0usize;
+        for &g in &graphics {
+            if clocks.before(c, g) || clocks.before(g, c) {
+                continue;
+            }
+            if overlaps.len() < MAX_LISTED_OVERLAPS {
+                overlaps.push(model.passes[g as usize].name.clone());
+            } else {
+                more += 1;
+            }
+        }
         async_compute.push(Overlap {
             pass: model.passes[c as usize].name.clone(),
             overlaps,
+            more,
         });
     }
     // Longest path, node-weighted, over all ordering constraints.

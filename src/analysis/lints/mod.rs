@@ -287,29 +287,26 @@ struct Linter<'a> {
     order: &'a [u32],
     culled: &'a [u32],
     plan: &'a BarrierPlan,
-    in_order: &'a BTreeSet<u32>,
+    /// Per resource (by index), the accesses of the passes that run, with their pass, in
+    /// capture order: built once so that per-resource rules cost the accesses' number, not
+    /// resources x passes.
+    uses: &'a [Vec<(&'a PassDesc, &'a ResourceAccess)>],
 }
 
 impl<'a> Linter<'a> {
-    /// Every access of the passes that run, with its pass.
-    fn accesses(&self) -> impl Iterator<Item = (&'a PassDesc, &'a ResourceAccess)> + 'a {
-        let in_order = self.in_order;
-        self.capture
-            .passes
-            .iter()
-            .filter(move |p| in_order.contains(&p.id.0))
-            .flat_map(|p| p.accesses.iter().map(move |a| (p, a)))
+    /// The accesses of resource `r` by the passes that run, with their pass.
+    fn uses_of(
+        &self,
+        r: ResourceId,
+    ) -> impl Iterator<Item = (&'a PassDesc, &'a ResourceAccess)> + 'a {
+        self.uses.get(r.index()).into_iter().flatten().copied()
     }
 
     /// Flags never used.
     fn unused_flags(&self, out: &mut Vec<Lint>) {
         let Linter { capture, .. } = *self;
-        let accesses = || self.accesses();
         for r in &capture.resources {
-            let uses: Vec<Access> = accesses()
-                .filter(|(_, a)| a.resource == r.id)
-                .map(|(_, a)| a.access)
-                .collect();
+            let uses: Vec<Access> = self.uses_of(r.id).map(|(_, a)| a.access).collect();
             if uses.is_empty() {
                 out.push(lint(
                     LintKind::UnusedResource,
@@ -352,7 +349,6 @@ impl<'a> Linter<'a> {
     /// Written, never read.
     fn written_never_read(&self, out: &mut Vec<Lint>) {
         let Linter { capture, model, .. } = *self;
-        let accesses = || self.accesses();
         let read_by: BTreeSet<u32> = model
             .passes
             .iter()
@@ -365,7 +361,7 @@ impl<'a> Linter<'a> {
             })
             .collect();
         for r in &capture.resources {
-            let written = accesses().any(|(_, a)| a.resource == r.id && a.writes);
+            let written = self.uses_of(r.id).any(|(_, a)| a.writes);
             if written && !read_by.contains(&r.id.0) && !r.output && !r.history {
                 out.push(lint(
                     LintKind::WrittenNeverRead,
@@ -501,17 +497,29 @@ impl<'a> Linter<'a> {
     /// Typeless resources without a typed view.
     fn typeless_without_view(&self, out: &mut Vec<Lint>) {
         let Linter { capture, .. } = *self;
-        let accesses = || self.accesses();
+        // Resources some pass views with a type: a typed binding view or an attachment.
+        let mut typed_views: BTreeSet<ResourceId> = BTreeSet::new();
+        for p in &capture.passes {
+            for b in &p.bindings {
+                if let BindingTarget::Resource {
+                    resource,
+                    view_format: Some(vf),
+                    ..
+                } = b.target
+                    && !vf.is_typeless()
+                {
+                    typed_views.insert(resource);
+                }
+            }
+            typed_views.extend(p.color_attachments.iter().map(|c| c.resource));
+            typed_views.extend(p.depth_stencil.as_ref().map(|d| d.resource));
+        }
         for r in &capture.resources {
             let Some(f) = r.format.filter(|f| f.is_typeless()) else {
                 continue;
             };
-            let typed_view = capture.passes.iter().any(|p| {
-                p.bindings.iter().any(|b| matches!(b.target, BindingTarget::Resource { resource, view_format: Some(vf), .. } if resource == r.id && !vf.is_typeless()))
-                    || p.color_attachments.iter().any(|c| c.resource == r.id)
-                    || p.depth_stencil.as_ref().is_some_and(|d| d.resource == r.id)
-            });
-            let used = accesses().any(|(_, a)| a.resource == r.id);
+            let typed_view = typed_views.contains(&r.id);
+            let used = self.uses_of(r.id).next().is_some();
             if used && !typed_view {
                 out.push(lint(
                     LintKind::TypelessWithoutTypedView,
@@ -600,22 +608,27 @@ impl<'a> Linter<'a> {
     /// Channels masked off in every write.
     fn unused_channels(&self, out: &mut Vec<Lint>) {
         let Linter { capture, .. } = *self;
-        let accesses = || self.accesses();
+        // Every colour attachment's write mask, by resource.
+        let mut all_masks: BTreeMap<ResourceId, Vec<Option<&String>>> = BTreeMap::new();
+        for c in capture
+            .passes
+            .iter()
+            .flat_map(|p| p.color_attachments.iter())
+        {
+            all_masks
+                .entry(c.resource)
+                .or_default()
+                .push(c.write_mask.as_ref());
+        }
         for r in &capture.resources {
             let Some(f) = r.format else { continue };
             let channels = f.channels.iter().filter(|c| c.name != 'X').count();
-            let masks: Vec<Option<&String>> = capture
-                .passes
-                .iter()
-                .flat_map(|p| p.color_attachments.iter())
-                .filter(|c| c.resource == r.id)
-                .map(|c| c.write_mask.as_ref())
-                .collect();
+            let masks: &[Option<&String>] = all_masks.get(&r.id).map_or(&[], Vec::as_slice);
             if masks.is_empty()
                 || masks.iter().any(Option::is_none)
-                || accesses().any(|(_, a)| {
-                    a.resource == r.id && a.writes && a.access != Access::ColorAttachment
-                })
+                || self
+                    .uses_of(r.id)
+                    .any(|(_, a)| a.writes && a.access != Access::ColorAttachment)
             {
                 continue;
             }
@@ -630,14 +643,13 @@ impl<'a> Linter<'a> {
     /// Mips no pass touches.
     fn unused_mips(&self, out: &mut Vec<Lint>) {
         let Linter { capture, .. } = *self;
-        let accesses = || self.accesses();
         for r in capture
             .resources
             .iter()
             .filter(|r| r.is_texture() && r.mip_levels > 1)
         {
-            let max_mip = accesses()
-                .filter(|(_, a)| a.resource == r.id)
+            let max_mip = self
+                .uses_of(r.id)
                 .map(|(_, a)| a.range.mip_base + a.range.mip_count)
                 .max();
             if let Some(used) = max_mip.filter(|&m| m < r.mip_levels) {
@@ -680,11 +692,11 @@ impl<'a> Linter<'a> {
     /// Upload-heap resources read by several passes.
     fn upload_heap_reads(&self, out: &mut Vec<Lint>) {
         let Linter { capture, .. } = *self;
-        let accesses = || self.accesses();
         for r in &capture.resources {
             if r.heap_type(&capture.heaps) == crate::capture::format::HeapType::Upload {
-                let readers: BTreeSet<u32> = accesses()
-                    .filter(|(_, a)| a.resource == r.id && a.reads)
+                let readers: BTreeSet<u32> = self
+                    .uses_of(r.id)
+                    .filter(|(_, a)| a.reads)
                     .map(|(p, _)| p.id.0)
                     .collect();
                 if readers.len() >= 2 {
@@ -746,6 +758,20 @@ impl Linter<'_> {
 
 pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
     let in_order: BTreeSet<u32> = input.order.iter().copied().collect();
+    let mut uses: Vec<Vec<(&PassDesc, &ResourceAccess)>> =
+        vec![Vec::new(); input.capture.resources.len()];
+    for p in input
+        .capture
+        .passes
+        .iter()
+        .filter(|p| in_order.contains(&p.id.0))
+    {
+        for a in &p.accesses {
+            if let Some(list) = uses.get_mut(a.resource.index()) {
+                list.push((p, a));
+            }
+        }
+    }
     let linter = Linter {
         capture: input.capture,
         model: input.model,
@@ -753,7 +779,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
         order: input.order,
         culled: input.culled,
         plan: input.plan,
-        in_order: &in_order,
+        uses: &uses,
     };
     let mut out = Vec::new();
     linter.unused_flags(&mut out);

@@ -17,7 +17,7 @@ use super::{Lint, LintKind, lint};
 use crate::analysis::model::FrameModel;
 use crate::capture::format::{Access, BarrierType, PassKind};
 use crate::capture::model::{
-    Capture, PassId, ResourceAccess, ResourceId, Subresources, VulkanBarrierDesc,
+    Capture, PassDesc, PassId, QueueId, ResourceAccess, ResourceId, Subresources, VulkanBarrierDesc,
 };
 use crate::capture::vulkan::{self, ACCESS, STAGES, access, expand_access, expand_stages, stage};
 
@@ -314,10 +314,39 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel) -> Vec<Lint>
     let mut used: BTreeSet<(u32, usize)> = BTreeSet::new();
     let queue_of = |pass: u32| capture.passes[pass as usize].queue;
     let assumed = capture.not_replayable().is_some();
+    // Each resource's uses in submission order, and the recorded barriers by queue and
+    // resource (`None`: global) in recording order, so the work stays proportional to the
+    // capture's size rather than resources x passes or needs x barriers.
+    let mut uses: BTreeMap<ResourceId, Vec<(&PassDesc, Vec<&ResourceAccess>)>> = BTreeMap::new();
+    for p in &capture.passes {
+        let mut mine: BTreeMap<ResourceId, Vec<&ResourceAccess>> = BTreeMap::new();
+        for a in &p.accesses {
+            mine.entry(a.resource).or_default().push(a);
+        }
+        for (r, accesses) in mine {
+            uses.entry(r).or_default().push((p, accesses));
+        }
+    }
+    let mut by_key: BTreeMap<(QueueId, Option<ResourceId>), Vec<usize>> = BTreeMap::new();
+    for (k, &(bp, _, res, _, _)) in recorded.iter().enumerate() {
+        by_key.entry((queue_of(bp), res)).or_default().push(k);
+    }
+    // The recorded barriers under `key` after pass `after` (exclusive) up to `pass`.
+    let window = |key: (QueueId, Option<ResourceId>), after: Option<u32>, pass: u32| -> &[usize] {
+        let Some(list) = by_key.get(&key) else {
+            return &[];
+        };
+        let lo = after.map_or(0, |a| list.partition_point(|&k| recorded[k].0 <= a));
+        let hi = list.partition_point(|&k| recorded[k].0 <= pass);
+        &list[lo..hi.max(lo)]
+    };
     for r in &capture.resources {
-        let image = r.is_texture();
+        let Some(resource_uses) = uses.get(&r.id) else {
+            continue;
+        };
         // Images are followed per subresource (mip chains render mip n from mip n-1), buffers
         // as a whole.
+        let image = r.is_texture();
         let (mips, layers) = if image {
             (r.mip_levels.max(1), r.array_layers.max(1))
         } else {
@@ -325,19 +354,14 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel) -> Vec<Lint>
         };
         let units = (mips as usize).saturating_mul(layers as usize);
         let mut prev: Vec<Option<Use>> = vec![None; units];
-        for p in &capture.passes {
-            let accesses: Vec<&ResourceAccess> =
-                p.accesses.iter().filter(|a| a.resource == r.id).collect();
-            if accesses.is_empty() {
-                continue;
-            }
+        for (p, accesses) in resource_uses {
             let pass = p.id.0;
             let raster = raster
                 .get(pass as usize)
                 .copied()
                 .unwrap_or(p.kind == PassKind::Raster);
             let mut per_unit: BTreeMap<usize, Vec<&ResourceAccess>> = BTreeMap::new();
-            for a in &accesses {
+            for a in accesses {
                 if !image {
                     per_unit.entry(0).or_default().push(a);
                     continue;
@@ -380,15 +404,15 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel) -> Vec<Lint>
             }
             for (need, after, group) in groups {
                 let range = span(&group, mips, r);
-                let candidates: Vec<&Recorded<'_>> = recorded
+                let queue = queue_of(pass);
+                let mut found: Vec<usize> = window((queue, Some(r.id)), after, pass)
                     .iter()
-                    .filter(|(bp, _, res, _, rr)| {
-                        queue_of(*bp) == queue_of(pass)
-                            && *bp <= pass
-                            && after.is_none_or(|a| *bp > a)
-                            && (res.is_none() || (*res == Some(r.id) && covers(*rr, &range)))
-                    })
+                    .copied()
+                    .filter(|&k| covers(recorded[k].4, &range))
+                    .chain(window((queue, None), after, pass).iter().copied())
                     .collect();
+                found.sort_unstable();
+                let candidates: Vec<&Recorded<'_>> = found.iter().map(|&k| &recorded[k]).collect();
                 judge(capture, &mut out, &mut used, &need, &candidates, p.id, r.id);
             }
         }

@@ -93,10 +93,10 @@ pub fn render_text(r: &Report) -> String {
             out,
             "  async compute: {} can overlap {}",
             o.pass,
-            if o.overlaps.is_empty() {
-                "nothing".to_owned()
-            } else {
-                o.overlaps.join(", ")
+            match (o.overlaps.is_empty(), o.more) {
+                (true, _) => "nothing".to_owned(),
+                (false, 0) => o.overlaps.join(", "),
+                (false, more) => format!("{} and {more} more", o.overlaps.join(", ")),
             }
         );
     }
