@@ -3,6 +3,8 @@
 //! DAG weighted by GPU time (recorded in the capture, or measured by a replay) against the
 //! serial sum, which is what perfect overlap could save.
 
+use std::collections::BTreeMap;
+
 use petgraph::visit::EdgeRef;
 use serde::Serialize;
 
@@ -71,32 +73,53 @@ pub fn schedule(
     timing_source: &str,
 ) -> Schedule {
     let clocks = ancestors(model, graph, order, fences);
-    let graphics: Vec<u32> = order
-        .iter()
-        .copied()
-        .filter(|&g| model.queue_type(g as usize) == QueueType::Graphics)
-        .collect();
+    // Each graphics queue's passes in order, with their place in `order`. On one queue, the
+    // passes before a compute pass are a prefix and the passes after it a suffix (a pass after
+    // one that follows it follows it too), so the passes it may overlap are one range per
+    // queue, found by binary search.
+    let place: Vec<usize> = {
+        let mut place = vec![usize::MAX; model.passes.len()];
+        for (i, &p) in order.iter().enumerate() {
+            place[p as usize] = i;
+        }
+        place
+    };
+    let mut graphics: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    for &g in order {
+        if model.queue_type(g as usize) == QueueType::Graphics {
+            graphics
+                .entry(model.passes[g as usize].queue)
+                .or_default()
+                .push(g);
+        }
+    }
     let mut async_compute = Vec::new();
     for &c in order {
         if model.queue_type(c as usize) != QueueType::Compute {
             continue;
         }
-        let mut overlaps = Vec::new();
-        let mut more = 0usize;
-        for &g in &graphics {
-            if clocks.before(c, g) || clocks.before(g, c) {
-                continue;
-            }
-            if overlaps.len() < MAX_LISTED_OVERLAPS {
-                overlaps.push(model.passes[g as usize].name.clone());
-            } else {
-                more += 1;
+        let mut ranges: Vec<&[u32]> = Vec::new();
+        for passes in graphics.values() {
+            let lo = passes.partition_point(|&g| clocks.before(g, c));
+            let hi = passes.partition_point(|&g| !clocks.before(c, g));
+            if hi > lo {
+                ranges.push(&passes[lo..hi]);
             }
         }
+        let total: usize = ranges.iter().map(|r| r.len()).sum();
+        let mut listed: Vec<u32> = Vec::new();
+        for r in &ranges {
+            listed.extend(r.iter().take(MAX_LISTED_OVERLAPS));
+        }
+        listed.sort_unstable_by_key(|&g| place[g as usize]);
+        listed.truncate(MAX_LISTED_OVERLAPS);
         async_compute.push(Overlap {
             pass: model.passes[c as usize].name.clone(),
-            overlaps,
-            more,
+            more: total - listed.len(),
+            overlaps: listed
+                .iter()
+                .map(|&g| model.passes[g as usize].name.clone())
+                .collect(),
         });
     }
     // Longest path, node-weighted, over all ordering constraints.

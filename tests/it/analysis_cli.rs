@@ -258,3 +258,62 @@ fn denied_lints_fail_analyze() {
         stderr(&out)
     );
 }
+
+/// A compute pass ordered after graphics pass g9 and before g80 (fences) may overlap exactly
+/// g10..=g79: the first 64 are listed in order, the other 6 counted.
+#[test]
+fn async_overlaps_are_the_unordered_range_and_long_lists_are_counted() {
+    let dir = std::env::temp_dir().join(format!("framelab-overlaps-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(
+        crate::common::repo().join("tests/fixtures/compute.wgsl"),
+        dir.join("compute.wgsl"),
+    )
+    .unwrap();
+    let mut resources = vec![
+        serde_json::json!({"name": "particles", "kind": "buffer", "size": 4096, "flags": ["ALLOW_UNORDERED_ACCESS"]}),
+        serde_json::json!({"name": "args", "kind": "buffer", "size": 64, "flags": ["ALLOW_UNORDERED_ACCESS"]}),
+    ];
+    let mut passes = Vec::new();
+    for i in 0..100 {
+        resources.push(serde_json::json!({"name": format!("t{i}"), "kind": "texture_2d", "format": "R8G8B8A8_UNORM", "width": 4, "height": 4, "flags": ["ALLOW_RENDER_TARGET"]}));
+        let mut pass = serde_json::json!({"name": format!("g{i}"), "queue": "gfx", "kind": "clear", "clears": [{"resource": format!("t{i}"), "value": [0, 0, 0, 0]}]});
+        match i {
+            9 => pass["signal"] = serde_json::json!(["ready"]),
+            80 => pass["wait"] = serde_json::json!(["done"]),
+            _ => {}
+        }
+        passes.push(pass);
+        if i == 9 {
+            passes.push(serde_json::json!({"name": "sim", "queue": "async", "kind": "compute", "wait": ["ready"], "signal": ["done"],
+                "shader": {"file": "compute.wgsl", "compute": "cs_main"},
+                "bindings": {"particles": {"resource": "particles", "access": "storage_read_write"}, "draw_args": {"resource": "args", "access": "storage_read_write"}},
+                "dispatches": [{"groups": [1, 1, 1]}]}));
+        }
+    }
+    let capture = serde_json::json!({"format_version": 1, "name": "overlaps", "resolution": {"width": 64, "height": 64},
+        "camera": {"position": [0, 0, -5], "target": [0, 0, 0], "fov_y_degrees": 60},
+        "queues": [{"name": "gfx", "type": "graphics"}, {"name": "async", "type": "compute"}],
+        "fences": [{"name": "ready"}, {"name": "done"}],
+        "resources": resources, "passes": passes});
+    let path = dir.join("overlaps.json");
+    std::fs::write(&path, capture.to_string()).unwrap();
+    let out = framelab(&["analyze", "--json", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let r = json(&out);
+    let sim = &r["async_compute"][0];
+    assert_eq!(sim["pass"], "sim");
+    let listed: Vec<&str> = sim["overlaps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    let expected: Vec<String> = (10..74).map(|i| format!("g{i}")).collect();
+    assert_eq!(listed, expected);
+    assert_eq!(sim["more"], 6);
+    let text = stdout(&framelab(&["analyze", path.to_str().unwrap()]));
+    assert!(text.contains("g73 and 6 more"), "{text}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
