@@ -84,7 +84,7 @@ impl Session {
 
     /// Runs one frame with the given frame constants (by member name), stopping after pass
     /// `stop_after` when given: encodes and submits, waits for the GPU, and returns per-pass
-    /// times (GPU times from the timestamp pairs where the adapter has them).
+    /// times (GPU times from the timestamps where the adapter has them; see `stamps`).
     pub fn run_frame(
         &mut self,
         frame_constants: &Params,

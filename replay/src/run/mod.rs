@@ -52,7 +52,7 @@ pub enum ReplayError {
 /// Times of one pass in one frame.
 #[derive(Clone, Debug, Default)]
 pub struct PassTime {
-    /// GPU time from the timestamp pair, when the adapter supports timestamps for this pass.
+    /// GPU time from the pass's timestamps (see `stamps`), when the adapter can time this pass.
     pub gpu_ns: Option<u64>,
     /// Time spent encoding the pass on the CPU.
     pub cpu_ns: u64,
