@@ -121,6 +121,12 @@ impl Replayer {
             frames: times.len() as u32,
             warmup,
             timestamp_period_ns: self.session.timestamp_period(),
+            timestamps: if self.session.timestamp_pairs() {
+                "pairs"
+            } else {
+                "chained"
+            }
+            .to_owned(),
             passes: self
                 .pass_ids
                 .iter()

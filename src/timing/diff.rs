@@ -50,6 +50,10 @@ impl Default for DiffOptions {
 pub enum DiffError {
     #[error("the reports were replayed at different scales ({a} and {b}): compare like with like")]
     Scale { a: f64, b: f64 },
+    #[error(
+        "the reports time passes differently ({a} and {b} timestamps): replay both with or both without --timestamp-pairs"
+    )]
+    Timestamps { a: String, b: String },
     #[error("the reports come from different adapters (\"{a}\" and \"{b}\")")]
     Adapter { a: String, b: String },
 }
@@ -325,6 +329,12 @@ pub fn diff(a: &TimingReport, b: &TimingReport, o: &DiffOptions) -> Result<DiffR
             b: b.adapter.clone(),
         });
     }
+    if a.timestamps != b.timestamps {
+        return Err(DiffError::Timestamps {
+            a: a.timestamps.clone(),
+            b: b.timestamps.clone(),
+        });
+    }
     let m = match_passes(&a.passes, &b.passes);
     let pending = pending_rows(a, b, &m);
     let tests: Vec<Option<f64>> = pending
@@ -464,6 +474,7 @@ mod tests {
             frames: passes.first().map_or(0, |p| p.gpu_ns.len() as u32),
             warmup: 0,
             timestamp_period_ns: 1.0,
+            timestamps: "chained".into(),
             passes,
         }
     }
@@ -598,7 +609,7 @@ mod tests {
     }
 
     #[test]
-    fn reports_at_other_scales_or_on_other_adapters_are_refused() {
+    fn reports_at_other_scales_on_other_adapters_or_timed_otherwise_are_refused() {
         let a = report(vec![pass("p", "gfx", "raster", &[], vec![1, 2])]);
         let mut b = a.clone();
         b.scale = 0.5;
@@ -611,6 +622,13 @@ mod tests {
         assert!(matches!(
             diff(&a, &c, &light()),
             Err(DiffError::Adapter { .. })
+        ));
+        // Chained pass times include the barriers before each pass; pairs do not.
+        let mut d = a.clone();
+        d.timestamps = "pairs".into();
+        assert!(matches!(
+            diff(&a, &d, &light()),
+            Err(DiffError::Timestamps { .. })
         ));
     }
 

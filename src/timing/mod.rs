@@ -30,7 +30,16 @@ pub struct TimingReport {
     /// Nanoseconds per timestamp tick: differences of a few ticks are not measurable.
     #[serde(default)]
     pub timestamp_period_ns: f32,
+    /// How pass times were taken: `chained` (a pass starts at the previous pass's end stamp,
+    /// so its time includes the barriers before it) or `pairs` (a start stamp of its own).
+    /// Reports without the field predate chaining and used pairs.
+    #[serde(default = "timestamps_before_chaining")]
+    pub timestamps: String,
     pub passes: Vec<PassTiming>,
+}
+
+fn timestamps_before_chaining() -> String {
+    "pairs".to_owned()
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

@@ -122,6 +122,7 @@ fn every_pass_kind_replays_with_exact_values() {
         assert!(p["cpu_ns"][0].as_u64().unwrap() > 0);
     }
     assert_eq!(t["frames"], 2);
+    assert_eq!(t["timestamps"], "chained");
     assert_eq!(t["capture_sha256"].as_str().unwrap().len(), 64);
     // The trace is Chrome trace-event JSON with one named track per queue.
     let tr: serde_json::Value =

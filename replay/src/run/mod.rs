@@ -209,6 +209,11 @@ impl Session {
         }
     }
 
+    /// Whether every pass writes its own start stamp (`set_timestamp_pairs`).
+    pub fn timestamp_pairs(&self) -> bool {
+        self.timestamps.as_ref().is_some_and(|t| t.pairs)
+    }
+
     /// Nanoseconds per timestamp tick on this device.
     pub fn timestamp_period(&self) -> f32 {
         self.timestamp_period
