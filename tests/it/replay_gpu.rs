@@ -708,3 +708,51 @@ fn block_compressed_textures_export_decoded_by_the_gpu() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A capture of `passes` clears over a few small textures, written to `dir`.
+fn many_clears(dir: &Path, passes: usize) -> PathBuf {
+    let resources: Vec<serde_json::Value> = (0..8)
+        .map(|i| serde_json::json!({"name": format!("t{i}"), "kind": "texture_2d", "format": "R8G8B8A8_UNORM", "width": 4, "height": 4, "flags": ["ALLOW_RENDER_TARGET"], "output": i == 0}))
+        .collect();
+    let list: Vec<serde_json::Value> = (0..passes)
+        .map(|i| serde_json::json!({"name": format!("clear_{i}"), "queue": "gfx", "kind": "clear", "clears": [{"resource": format!("t{}", i % 8), "value": [0, 0, 0, 0]}]}))
+        .collect();
+    let capture = serde_json::json!({"format_version": 1, "name": "many_clears", "resolution": {"width": 64, "height": 64},
+        "camera": {"position": [0, 0, -5], "target": [0, 0, 0], "fov_y_degrees": 60},
+        "queues": [{"name": "gfx", "type": "graphics"}], "resources": resources, "passes": list});
+    let path = dir.join("many_clears.json");
+    std::fs::write(&path, capture.to_string()).unwrap();
+    path
+}
+
+/// More timestamps than one query set holds (4,096): 4,200 passes chained (4,201 stamps) and
+/// 2,100 as pairs (4,200 stamps, a pair kept in one set) replay with every pass timed.
+#[test]
+fn frames_with_more_stamps_than_a_query_set_holds_are_timed_whole() {
+    let dir = temp("many-clears");
+    for (passes, pairs) in [(4200, false), (2100, true)] {
+        let capture = many_clears(&dir, passes);
+        let timings = dir.join("t.json");
+        let capture_arg = capture.to_str().unwrap();
+        let timings_arg = timings.to_str().unwrap();
+        let mut args = vec!["replay", capture_arg, "--frames", "1", "--quiet"];
+        args.extend(["--timings", timings_arg]);
+        if pairs {
+            args.push("--timestamp-pairs");
+        }
+        let out = framelab(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        let t: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&timings).unwrap()).unwrap();
+        assert_eq!(t["timestamps"], if pairs { "pairs" } else { "chained" });
+        let passes_json = t["passes"].as_array().unwrap();
+        assert_eq!(passes_json.len(), passes);
+        let untimed: Vec<&str> = passes_json
+            .iter()
+            .filter(|p| p["gpu_ns"][0].as_u64().is_none())
+            .map(|p| p["name"].as_str().unwrap())
+            .collect();
+        assert!(untimed.is_empty(), "untimed: {untimed:?}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

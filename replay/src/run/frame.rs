@@ -50,7 +50,7 @@ impl Session {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some(&self.plan.passes[i].name),
                 });
-            let stamps = timestamps.and_then(|t| self.stamp_plan.stamps(&t.set, i));
+            let stamps = timestamps.and_then(|t| self.stamp_plan.stamps(t, i));
             self.encode(i, parity, &mut encoder, stamps, inside_encoders)?;
             command_buffers.push(encoder.finish());
             let cpu_ns = start.elapsed().as_nanos() as u64;
@@ -120,7 +120,7 @@ impl Session {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some(&self.plan.passes[i].name),
                 });
-            let stamps = timestamps.and_then(|t| self.stamp_plan.stamps(&t.set, i));
+            let stamps = timestamps.and_then(|t| self.stamp_plan.stamps(t, i));
             let encoded = self.encode(i, parity, &mut encoder, stamps, inside_encoders);
             drop(encoder.finish());
             let scoped = close(guards);

@@ -8,12 +8,15 @@
 //! end stamp as their start: n+1 stamps for n passes instead of 2n, and every pass still gets
 //! its own time (it includes the barriers that lead into it). The resolved values are copied
 //! to a mappable buffer in the frame's own submission, so reading them costs no second submit.
+//! A query set holds at most `wgpu::QUERY_SET_MAX_QUERIES`, so long frames use several; a
+//! pass's own start and its end always share a set (a query is skipped to keep them together).
 
 use super::*;
 
 /// The timestamp queries of a session, when the adapter has them.
 pub(super) struct Timestamps {
-    pub set: wgpu::QuerySet,
+    /// Query `q` of a frame is query `q % PER_SET` of set `q / PER_SET`.
+    sets: Vec<wgpu::QuerySet>,
     resolve: wgpu::Buffer,
     staging: wgpu::Buffer,
     /// Whether timestamps can be written on an encoder between passes (copies, clears...).
@@ -23,8 +26,11 @@ pub(super) struct Timestamps {
     pub pairs: bool,
 }
 
-/// The stamps one pass writes: the query set, the start index when the pass writes its own
-/// start (`None` when it reuses the previous pass's end), and the end index.
+/// Queries per query set.
+const PER_SET: u32 = wgpu::QUERY_SET_MAX_QUERIES;
+
+/// The stamps one pass writes: the query set, the start index in it when the pass writes its
+/// own start (`None` when it reuses the previous pass's end), and the end index in it.
 pub(super) type Stamps<'q> = Option<(&'q wgpu::QuerySet, Option<u32>, u32)>;
 
 /// One stamped pass's queries: its start (its own, or the previous pass's end) and its end.
@@ -44,36 +50,45 @@ pub(super) struct StampPlan {
 }
 
 impl StampPlan {
-    /// The stamps pass `i` writes.
-    pub fn stamps<'q>(&self, set: &'q wgpu::QuerySet, i: usize) -> Stamps<'q> {
+    /// The stamps pass `i` writes, in `t`'s query sets.
+    pub fn stamps<'q>(&self, t: &'q Timestamps, i: usize) -> Stamps<'q> {
         let slot = self.slots.get(i).copied().flatten()?;
-        Some((set, slot.own_start.then_some(slot.start), slot.end))
+        let set = t.sets.get((slot.end / PER_SET) as usize)?;
+        let start = slot.own_start.then_some(slot.start % PER_SET);
+        Some((set, start, slot.end % PER_SET))
     }
 }
 
 impl Timestamps {
-    /// The query set (room for a pair per pass), its resolve buffer and a mappable copy.
+    /// The query sets (room for a pair per pass), their resolve buffer and a mappable copy.
     pub fn create(device: &wgpu::Device, passes: usize) -> Option<Self> {
         let features = device.features();
         if !features.contains(wgpu::Features::TIMESTAMP_QUERY) {
             return None;
         }
-        let count = (passes as u32).saturating_mul(2).max(2);
-        let set = device.create_query_set(&wgpu::QuerySetDescriptor {
-            label: Some("pass timestamps"),
-            ty: wgpu::QueryType::Timestamp,
-            count,
-        });
+        // A pair per pass, and a skipped query per set at most.
+        let pairs = (passes as u32).saturating_mul(2).max(2);
+        let set_count = pairs.div_ceil(PER_SET - 1);
+        let sets = (0..set_count)
+            .map(|_| {
+                device.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some("pass timestamps"),
+                    ty: wgpu::QueryType::Timestamp,
+                    count: PER_SET.min(pairs + set_count),
+                })
+            })
+            .collect();
+        let size = u64::from(set_count) * u64::from(PER_SET) * 8;
         let buffer = |label, usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                size: u64::from(count) * 8,
+                size,
                 usage,
                 mapped_at_creation: false,
             })
         };
         Some(Timestamps {
-            set,
+            sets,
             resolve: buffer(
                 "timestamp resolve",
                 wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
@@ -99,17 +114,19 @@ impl Timestamps {
 
     /// Resolves the frame's queries and copies them to the mappable buffer.
     pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, plan: &StampPlan) {
-        if plan.count == 0 {
-            return;
+        for (k, set) in self.sets.iter().enumerate() {
+            let first = k as u32 * PER_SET;
+            if first >= plan.count {
+                break;
+            }
+            let count = (plan.count - first).min(PER_SET);
+            // Each set's slice starts at a multiple of 32 KiB: aligned as resolves require.
+            encoder.resolve_query_set(set, 0..count, &self.resolve, u64::from(first) * 8);
         }
-        encoder.resolve_query_set(&self.set, 0..plan.count, &self.resolve, 0);
-        encoder.copy_buffer_to_buffer(
-            &self.resolve,
-            0,
-            &self.staging,
-            0,
-            u64::from(plan.count) * 8,
-        );
+        if plan.count > 0 {
+            let bytes = u64::from(plan.count) * 8;
+            encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.staging, 0, bytes);
+        }
     }
 
     /// Reads the resolved ticks of a finished frame (the caller has waited for it).
@@ -151,6 +168,10 @@ fn plan(has_pass_object: &[bool], inside_encoders: bool, pairs: bool) -> StampPl
         let (start, own_start) = match previous_end.filter(|_| !pairs) {
             Some(end) => (end, false),
             None => {
+                // An own start and its end go to one pass descriptor, so one query set.
+                if plan.count % PER_SET == PER_SET - 1 {
+                    plan.count += 1;
+                }
                 plan.count += 1;
                 (plan.count - 1, true)
             }
@@ -231,6 +252,32 @@ mod tests {
         let pairs = plan(&kinds, true, true);
         assert_eq!(pairs.count, 10);
         assert!(pairs.slots.iter().flatten().all(|s| s.own_start));
+    }
+
+    #[test]
+    fn an_own_start_and_its_end_share_a_query_set() {
+        // Two chained passes, then passes each after an untimed one (own starts at odd
+        // queries): the own start that would be the last query of a set moves to the next.
+        let mut kinds = vec![true, true];
+        for _ in 0..3000 {
+            kinds.extend([false, true]);
+        }
+        let p = plan(&kinds, false, false);
+        let own: Vec<Slot> = p
+            .slots
+            .iter()
+            .flatten()
+            .filter(|s| s.own_start)
+            .copied()
+            .collect();
+        assert_eq!(own.len(), 3001);
+        for slot in &own {
+            assert_eq!(slot.end, slot.start + 1);
+            assert_eq!(slot.start / PER_SET, slot.end / PER_SET, "{slot:?}");
+        }
+        // 3 + 2 * 3000 queries, and query 4095 skipped.
+        assert_eq!(p.count, 6004);
+        assert!(own.iter().all(|s| s.start != PER_SET - 1));
     }
 
     #[test]
