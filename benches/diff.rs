@@ -46,7 +46,7 @@ fn report(seed: u64, shift: f64) -> TimingReport {
         frames: 1000,
         warmup: 0,
         timestamp_period_ns: 1.0,
-        timestamps: "chained".into(),
+        timestamps: framelab::timing::StampLayout::Chained,
         passes,
     }
 }

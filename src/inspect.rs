@@ -534,26 +534,41 @@ fn timings_from(model: &Inspection, t: &TimingReport, source: &str) -> Timings {
     let mut queue_end = vec![0.0f64; model.queues.len()];
     let mut ends: Vec<f64> = Vec::with_capacity(model.passes.len());
     let mut out = Vec::with_capacity(model.passes.len());
+    // The passes each pass waits on, gathered once.
+    let mut waits_on: Vec<Vec<usize>> = vec![Vec::new(); model.passes.len()];
+    for &(from, to) in &model.fences {
+        if let Some(list) = waits_on.get_mut(to) {
+            list.push(from);
+        }
+    }
     for (i, p) in model.passes.iter().enumerate() {
-        let ms = by_name
-            .get(&(model.queues[p.queue].as_str(), p.name.as_str()))
+        let timing = by_name.get(&(model.queues[p.queue].as_str(), p.name.as_str()));
+        // A pass the adapter could not time keeps its place, unmeasured.
+        let measured = timing.is_none_or(|pt| pt.gpu_untrusted.is_none());
+        let ms = timing
             .and_then(|pt| stats::gpu_ms_median_min(pt, t.warmup))
             .map(|(median, _)| median * 1e6);
-        let waits = model
-            .fences
+        let waits = waits_on[i]
             .iter()
-            .filter(|(_, to)| *to == i)
-            .map(|(from, _)| ends.get(*from).copied().unwrap_or(0.0))
+            .map(|&from| ends.get(from).copied().unwrap_or(0.0))
             .fold(0.0f64, f64::max);
         let start = queue_end[p.queue].max(waits);
         let end = start + ms.unwrap_or(0.0);
         queue_end[p.queue] = end;
         ends.push(end);
-        out.push(ms.map(|gpu_ns| PassTime {
-            start_ns: start,
-            gpu_ns,
-            measured: true,
-        }));
+        out.push(match (ms, measured) {
+            (Some(gpu_ns), _) => Some(PassTime {
+                start_ns: start,
+                gpu_ns,
+                measured: true,
+            }),
+            (None, false) => Some(PassTime {
+                start_ns: start,
+                gpu_ns: 0.0,
+                measured: false,
+            }),
+            (None, true) => None,
+        });
     }
     Timings {
         source: source.to_owned(),
@@ -674,7 +689,6 @@ pub struct Reports<'a> {
     pub compare: Option<(&'a TimingReport, String)>,
 }
 
-/// The inspection model of `capture` replayed in `lowered`'s plan order.
 /// The inspector's model of a capture that is not replayed (an import): passes, barriers,
 /// resources, the DAG and memory, with no texture or buffer contents to view.
 pub fn model_without_replay(

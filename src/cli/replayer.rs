@@ -122,11 +122,10 @@ impl Replayer {
             warmup,
             timestamp_period_ns: self.session.timestamp_period(),
             timestamps: if self.session.timestamp_pairs() {
-                "pairs"
+                timing::StampLayout::Pairs
             } else {
-                "chained"
-            }
-            .to_owned(),
+                timing::StampLayout::Chained
+            },
             passes: self
                 .pass_ids
                 .iter()

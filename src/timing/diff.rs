@@ -53,7 +53,7 @@ pub enum DiffError {
     #[error(
         "the reports time passes differently ({a} and {b} timestamps): replay both with or both without --timestamp-pairs"
     )]
-    Timestamps { a: String, b: String },
+    Timestamps { a: &'static str, b: &'static str },
     #[error("the reports come from different adapters (\"{a}\" and \"{b}\")")]
     Adapter { a: String, b: String },
 }
@@ -331,8 +331,8 @@ pub fn diff(a: &TimingReport, b: &TimingReport, o: &DiffOptions) -> Result<DiffR
     }
     if a.timestamps != b.timestamps {
         return Err(DiffError::Timestamps {
-            a: a.timestamps.clone(),
-            b: b.timestamps.clone(),
+            a: a.timestamps.name(),
+            b: b.timestamps.name(),
         });
     }
     let m = match_passes(&a.passes, &b.passes);
@@ -474,7 +474,7 @@ mod tests {
             frames: passes.first().map_or(0, |p| p.gpu_ns.len() as u32),
             warmup: 0,
             timestamp_period_ns: 1.0,
-            timestamps: "chained".into(),
+            timestamps: crate::timing::StampLayout::Chained,
             passes,
         }
     }
@@ -625,7 +625,7 @@ mod tests {
         ));
         // Chained pass times include the barriers before each pass; pairs do not.
         let mut d = a.clone();
-        d.timestamps = "pairs".into();
+        d.timestamps = crate::timing::StampLayout::Pairs;
         assert!(matches!(
             diff(&a, &d, &light()),
             Err(DiffError::Timestamps { .. })

@@ -30,16 +30,33 @@ pub struct TimingReport {
     /// Nanoseconds per timestamp tick: differences of a few ticks are not measurable.
     #[serde(default)]
     pub timestamp_period_ns: f32,
-    /// How pass times were taken: `chained` (a pass starts at the previous pass's end stamp,
-    /// so its time includes the barriers before it) or `pairs` (a start stamp of its own).
-    /// Reports without the field predate chaining and used pairs.
-    #[serde(default = "timestamps_before_chaining")]
-    pub timestamps: String,
+    /// How pass times were taken. Reports without the field predate chaining: pairs.
+    #[serde(default = "StampLayout::before_chaining")]
+    pub timestamps: StampLayout,
     pub passes: Vec<PassTiming>,
 }
 
-fn timestamps_before_chaining() -> String {
-    "pairs".to_owned()
+/// How a report's pass times were taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StampLayout {
+    /// A pass starts at the previous pass's end stamp: its time includes the barriers before it.
+    Chained,
+    /// A pass has a start stamp of its own (`--timestamp-pairs`).
+    Pairs,
+}
+
+impl StampLayout {
+    fn before_chaining() -> Self {
+        StampLayout::Pairs
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            StampLayout::Chained => "chained",
+            StampLayout::Pairs => "pairs",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

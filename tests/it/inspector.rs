@@ -448,3 +448,31 @@ fn history_reads_are_labelled_previous_frame() {
     assert!(binding("taa_blur_downscale", "taa_output").starts_with("taa_output as"));
     assert!(binding("ssr_trace", "taa_downscaled").contains("(previous frame)"));
 }
+
+/// A report whose tonemap times the adapter could not be trusted for: tonemap keeps a place
+/// on the timeline, unmeasured and after the pass before it, and the timeline says why.
+#[test]
+fn untrusted_report_times_stay_on_the_timeline_unmeasured() {
+    let path = repo().join("captures/example/frame.json");
+    let validated = capture::load_and_validate(&path, &Options::default()).unwrap();
+    let analysis = analyze(&validated.capture, AnalyzeOptions::default()).unwrap();
+    let mut report = report("tests/fixtures/timing/example_a.json");
+    let tonemap = report
+        .passes
+        .iter_mut()
+        .find(|p| p.name == "tonemap")
+        .unwrap();
+    tonemap.gpu_untrusted = Some("not measured here".into());
+    let reports = Reports {
+        timings: Some((&report, "a.json".into())),
+        compare: None,
+    };
+    let model = inspect::model_without_replay(&validated.capture, &analysis, &reports).unwrap();
+    let timings = model.timings.as_ref().unwrap();
+    assert_eq!(timings.note.as_deref(), Some("not measured here"));
+    let at = |name: &str| timings.passes[model.pass_named(name).unwrap()].unwrap();
+    let (tonemap, bloom_mips) = (at("tonemap"), at("bloom_mips"));
+    assert!(!tonemap.measured);
+    assert!(bloom_mips.measured);
+    assert!(tonemap.start_ns >= bloom_mips.start_ns + bloom_mips.gpu_ns);
+}

@@ -287,9 +287,10 @@ struct Linter<'a> {
     order: &'a [u32],
     culled: &'a [u32],
     plan: &'a BarrierPlan,
-    /// Per resource (by index), the accesses of the passes that run, with their pass, in
-    /// capture order: built once so that per-resource rules cost the accesses' number, not
-    /// resources x passes.
+    in_order: &'a BTreeSet<u32>,
+    /// Per resource (by index), every pass's accesses of it with the pass, in capture order:
+    /// built once so that per-resource rules cost the accesses' number, not resources x
+    /// passes.
     uses: &'a [Vec<(&'a PassDesc, &'a ResourceAccess)>],
 }
 
@@ -299,7 +300,13 @@ impl<'a> Linter<'a> {
         &self,
         r: ResourceId,
     ) -> impl Iterator<Item = (&'a PassDesc, &'a ResourceAccess)> + 'a {
-        self.uses.get(r.index()).into_iter().flatten().copied()
+        let in_order = self.in_order;
+        self.uses
+            .get(r.index())
+            .into_iter()
+            .flatten()
+            .copied()
+            .filter(move |(p, _)| in_order.contains(&p.id.0))
     }
 
     /// Flags never used.
@@ -760,12 +767,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
     let in_order: BTreeSet<u32> = input.order.iter().copied().collect();
     let mut uses: Vec<Vec<(&PassDesc, &ResourceAccess)>> =
         vec![Vec::new(); input.capture.resources.len()];
-    for p in input
-        .capture
-        .passes
-        .iter()
-        .filter(|p| in_order.contains(&p.id.0))
-    {
+    for p in &input.capture.passes {
         for a in &p.accesses {
             if let Some(list) = uses.get_mut(a.resource.index()) {
                 list.push((p, a));
@@ -779,6 +781,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
         order: input.order,
         culled: input.culled,
         plan: input.plan,
+        in_order: &in_order,
         uses: &uses,
     };
     let mut out = Vec::new();
@@ -796,7 +799,7 @@ pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
     linter.upload_heap_reads(&mut out);
     linter.anisotropic_without_mips(&mut out);
     out.extend(compare_recorded(input.capture, input.model, input.plan));
-    out.extend(vulkan::compare_vulkan(input.capture, input.model));
+    out.extend(vulkan::compare_vulkan(input.capture, input.model, &uses));
     out.sort();
     out.dedup();
     out

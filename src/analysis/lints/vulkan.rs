@@ -292,7 +292,12 @@ impl Need {
 }
 
 /// Compares the Vulkan barriers of an imported capture with the ones its accesses need.
-pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel) -> Vec<Lint> {
+/// `uses` holds, per resource index, every pass's accesses of it in capture order.
+pub(super) fn compare_vulkan(
+    capture: &Capture,
+    model: &FrameModel,
+    uses: &[Vec<(&PassDesc, &ResourceAccess)>],
+) -> Vec<Lint> {
     let mut out = Vec::new();
     let recorded: Vec<Recorded<'_>> = capture
         .passes
@@ -314,19 +319,8 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel) -> Vec<Lint>
     let mut used: BTreeSet<(u32, usize)> = BTreeSet::new();
     let queue_of = |pass: u32| capture.passes[pass as usize].queue;
     let assumed = capture.not_replayable().is_some();
-    // Each resource's uses in submission order, and the recorded barriers by queue and
-    // resource (`None`: global) in recording order, so the work stays proportional to the
-    // capture's size rather than resources x passes or needs x barriers.
-    let mut uses: BTreeMap<ResourceId, Vec<(&PassDesc, Vec<&ResourceAccess>)>> = BTreeMap::new();
-    for p in &capture.passes {
-        let mut mine: BTreeMap<ResourceId, Vec<&ResourceAccess>> = BTreeMap::new();
-        for a in &p.accesses {
-            mine.entry(a.resource).or_default().push(a);
-        }
-        for (r, accesses) in mine {
-            uses.entry(r).or_default().push((p, accesses));
-        }
-    }
+    // The recorded barriers by queue and resource (`None`: global) in recording order, so
+    // the work stays proportional to the capture's size rather than needs x barriers.
     let mut by_key: BTreeMap<(QueueId, Option<ResourceId>), Vec<usize>> = BTreeMap::new();
     for (k, &(bp, _, res, _, _)) in recorded.iter().enumerate() {
         by_key.entry((queue_of(bp), res)).or_default().push(k);
@@ -341,7 +335,7 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel) -> Vec<Lint>
         &list[lo..hi.max(lo)]
     };
     for r in &capture.resources {
-        let Some(resource_uses) = uses.get(&r.id) else {
+        let Some(resource_uses) = uses.get(r.id.index()) else {
             continue;
         };
         // Images are followed per subresource (mip chains render mip n from mip n-1), buffers
@@ -354,14 +348,17 @@ pub(super) fn compare_vulkan(capture: &Capture, model: &FrameModel) -> Vec<Lint>
         };
         let units = (mips as usize).saturating_mul(layers as usize);
         let mut prev: Vec<Option<Use>> = vec![None; units];
-        for (p, accesses) in resource_uses {
+        // The resource's uses grouped by pass, in submission order.
+        for group in resource_uses.chunk_by(|a, b| a.0.id == b.0.id) {
+            let p = group[0].0;
+            let accesses: Vec<&ResourceAccess> = group.iter().map(|&(_, a)| a).collect();
             let pass = p.id.0;
             let raster = raster
                 .get(pass as usize)
                 .copied()
                 .unwrap_or(p.kind == PassKind::Raster);
             let mut per_unit: BTreeMap<usize, Vec<&ResourceAccess>> = BTreeMap::new();
-            for a in accesses {
+            for a in &accesses {
                 if !image {
                     per_unit.entry(0).or_default().push(a);
                     continue;
