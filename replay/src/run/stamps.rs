@@ -129,7 +129,7 @@ impl Timestamps {
         }
     }
 
-    /// Reads the resolved ticks of a finished frame (the caller has waited for it).
+    /// Waits for the submitted frame and reads its resolved ticks.
     pub fn read(&self, device: &wgpu::Device, plan: &StampPlan) -> Result<Vec<u64>, ReplayError> {
         if plan.count == 0 {
             return Ok(Vec::new());
