@@ -4,7 +4,7 @@
 //! schedule) of long imported captures at two sizes, to show it grows with the input.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use framelab::analysis::synthetic;
+use framelab_testkit::synthetic;
 
 /// The allocator the `framelab` binary uses, so the figures are the binary's
 /// (`--features system-alloc` measures with the system allocator instead).
@@ -14,8 +14,8 @@ static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 use std::hint::black_box;
 
-fn pipeline(model: &framelab::analysis::model::FrameModel) -> usize {
-    framelab::analysis::derive_frame(model, true).map_or(0, |d| {
+fn pipeline(model: &framelab_core::analysis::model::FrameModel) -> usize {
+    framelab_core::analysis::derive_frame(model, true).map_or(0, |d| {
         d.plan.barriers.len() + d.memory.map_or(0, |m| m.aliasing_barriers.len())
     })
 }
@@ -52,12 +52,13 @@ fn loading(c: &mut Criterion) {
             black_box(serde_json::from_slice::<serde_json::Value>(&bytes).map(|v| v.is_object()))
         })
     });
-    let options = framelab::capture::Options::default();
+    let options = framelab_core::capture::Options::default();
     group.bench_function("framelab load+validate", |b| {
         b.iter(|| {
-            let raw = framelab::capture::load::parse(&path, &bytes);
             black_box(
-                raw.map(|r| framelab::capture::validate::validate(&r, &path, &options).is_ok()),
+                framelab_core::pipeline::Loaded::from_bytes(&path, &bytes)
+                    .and_then(|l| l.validate(&options))
+                    .is_ok(),
             )
         })
     });
@@ -103,23 +104,21 @@ fn report(c: &mut Criterion) {
     for passes in [10_000usize, 40_000] {
         let path = dir.join(format!("imported_{passes}.json"));
         let _ = std::fs::write(&path, imported_capture(passes));
-        let options = framelab::capture::Options::default();
-        let Ok(validated) = framelab::capture::load_and_validate(&path, &options) else {
+        let options = framelab_core::capture::Options::default();
+        let Ok(validated) = framelab_core::pipeline::Validated::load(&path, &options) else {
             eprintln!("the generated imported capture does not validate");
             return;
         };
         group.throughput(Throughput::Elements(passes as u64));
         group.bench_with_input(
             BenchmarkId::new("lints+hazards+schedule", passes),
-            &validated.capture,
-            |b, capture| {
+            &validated,
+            |b, validated| {
                 b.iter(|| {
                     black_box(
-                        framelab::analysis::report::analyze(
-                            capture,
-                            framelab::analysis::report::AnalyzeOptions::default(),
-                        )
-                        .map(|a| a.lints.len()),
+                        validated
+                            .analysis(framelab_core::analysis::report::AnalyzeOptions::default())
+                            .map(|a| a.lints.len()),
                     )
                 })
             },

@@ -4,8 +4,8 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use framelab::timing::diff::{DiffOptions, diff};
-use framelab::timing::{FORMAT_VERSION, PassTiming, TimingReport};
+use framelab_core::timing::diff::{DiffOptions, diff};
+use framelab_core::timing::{FORMAT_VERSION, PassTiming, TimingReport};
 
 fn report(seed: u64, shift: f64) -> TimingReport {
     // A small xorshift keeps the inputs fixed without another dependency.
@@ -46,7 +46,7 @@ fn report(seed: u64, shift: f64) -> TimingReport {
         frames: 1000,
         warmup: 0,
         timestamp_period_ns: 1.0,
-        timestamps: framelab::timing::StampLayout::Chained,
+        timestamps: framelab_core::timing::StampLayout::Chained,
         passes,
     }
 }

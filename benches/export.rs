@@ -6,9 +6,9 @@
 #![allow(clippy::expect_used)]
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use framelab_core::plan::TextureSpec;
 use framelab_replay::decode::{DecodedImage, ValueKind};
 use framelab_replay::export::{Naming, write_image};
-use framelab_replay::plan::TextureSpec;
 use framelab_replay::wgpu;
 
 const SIDE: u32 = 1024;

@@ -12,9 +12,10 @@
 use std::time::{Duration, Instant};
 
 use criterion::Criterion;
-use framelab::analysis::report::{AnalyzeOptions, analyze};
-use framelab::capture::{self, Options};
-use framelab::inspect::{self, Reports};
+use framelab_core::analysis::report::AnalyzeOptions;
+use framelab_core::capture::Options;
+use framelab_core::pipeline::Analysed;
+use framelab_ui::project::{self as inspect, Reports};
 use framelab_ui::{Inspector, egui, headless};
 
 const CAPTURE: &str = "captures/night_city/main_street_day.json";
@@ -27,13 +28,12 @@ fn main() {
         scale: 0.5,
         ..Options::default()
     };
-    let validated = capture::load_and_validate(&path, &options).expect("valid");
-    let analysis = analyze(&validated.capture, AnalyzeOptions::default()).expect("acyclic");
-    let ctx =
-        framelab_replay::open_device(None, framelab::lower::wanted_features()).expect("an adapter");
+    let analysed =
+        Analysed::load(&path, &options, AnalyzeOptions::default()).expect("valid and acyclic");
+    let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
+        .expect("an adapter");
     let (model, worker) =
-        inspect::launch(&validated.capture, &analysis, &ctx, &Reports::default(), 1)
-            .expect("launches");
+        inspect::launch(analysed, &ctx, &Reports::default(), 1).expect("launches");
     let rs = headless::render_state(&ctx).expect("egui on the replay device");
     let mut app = Inspector::new(model, Some(worker), Some(rs.clone()));
     let model = app.model.clone();

@@ -446,38 +446,30 @@ fn replay(c: &mut Criterion) {
         env!("CARGO_MANIFEST_DIR"),
         "/tests/fixtures/replay_kinds/kinds.json"
     );
-    let Ok(ctx) = framelab_replay::open_device(None, framelab::lower::wanted_features()) else {
+    let Ok(ctx) = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
+    else {
         eprintln!("no GPU adapter: replay benchmarks need one (install mesa-vulkan-drivers)");
         return;
     };
     eprintln!("adapter: {}", ctx.summary);
-    let capture = match framelab::capture::load_and_validate(
+    // The same stages `framelab replay` walks: load, validate, analyse, lower, start.
+    let replaying = framelab_core::pipeline::Analysed::load(
         std::path::Path::new(capture_path),
         &Default::default(),
-    ) {
-        Ok(v) => v.capture,
+        Default::default(),
+    )
+    .and_then(|a| a.lower(ctx.device.features(), &ctx.summary.name))
+    .map_err(|e| e.to_string())
+    .and_then(|l| framelab_replay::Replaying::start(&ctx, l).map_err(|e| e.to_string()));
+    let mut replaying = match replaying {
+        Ok(r) => r,
         Err(e) => {
             eprintln!("{e}");
             return;
         }
     };
-    let order: Vec<_> = capture.passes.iter().map(|p| p.id).collect();
-    let lowered =
-        match framelab::lower::lower(&capture, &order, ctx.device.features(), &ctx.summary.name) {
-            Ok(l) => l,
-            Err(e) => {
-                eprintln!("{e}");
-                return;
-            }
-        };
-    let mut session = match framelab_replay::Session::new(&ctx, lowered.plan) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("{e}");
-            return;
-        }
-    };
-    let constants = framelab::lower::frame::constants(&capture, 0);
+    let constants = replaying.constants(0);
+    let session = &mut replaying.session;
     let hand = HandWritten::new(&ctx.device, &ctx.queue);
     let wait = |device: &wgpu::Device| {
         let _ = device.poll(wgpu::PollType::wait_indefinitely());

@@ -1,4 +1,4 @@
-//! Writes the Night City captures from their Rust description (`framelab::scenes::night_city`):
+//! Writes the Night City captures from their Rust description (`framelab_testkit::scenes::night_city`):
 //!
 //!     cargo run --example night_city
 //!
@@ -6,7 +6,7 @@
 
 use std::process::ExitCode;
 
-use framelab::scenes::night_city::{self, Variant};
+use framelab_testkit::scenes::night_city::{self, Variant};
 
 fn main() -> ExitCode {
     for variant in Variant::ALL {
@@ -21,7 +21,7 @@ fn main() -> ExitCode {
             }
         };
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(variant.path());
-        if let Err(e) = framelab::output::write_atomically(&path, text.as_bytes()) {
+        if let Err(e) = framelab_core::output::write_atomically(&path, text.as_bytes()) {
             eprintln!("{e}");
             return ExitCode::FAILURE;
         }

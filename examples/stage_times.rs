@@ -7,8 +7,9 @@
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-use framelab::analysis::model::{FrameModel, Units};
-use framelab::analysis::{barriers, derive_frame, graph, memory, synthetic};
+use framelab_core::analysis::model::{FrameModel, Units};
+use framelab_core::analysis::{barriers, derive_frame, graph, memory};
+use framelab_testkit::synthetic;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 

@@ -3,7 +3,7 @@
 //! statistics a viewer needs (channel count, finite min and max, whether every texel is the
 //! same). Export writes these images to files; an inspector can show them without any file.
 
-use crate::plan::TextureSpec;
+use framelab_core::plan::TextureSpec;
 
 /// One subresource decoded into channel values.
 #[derive(Debug, Clone)]

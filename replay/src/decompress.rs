@@ -5,7 +5,7 @@
 //! cases), and no decoder is linked into framelab for it.
 
 use crate::decode::ReadError;
-use crate::plan::TextureSpec;
+use framelab_core::plan::TextureSpec;
 
 /// The uncompressed format a BC format is read back in: 8-bit UNORM for the unsigned LDR
 /// formats (sRGB ones re-encoded, so the bytes are the texture's own), 32-bit float for HDR

@@ -12,7 +12,7 @@ use std::fmt;
 pub struct AdapterSummary {
     pub name: String,
     pub backend: String,
-    pub device_type: String,
+    pub device_type: wgpu::DeviceType,
     pub driver: String,
     pub driver_info: String,
 }
@@ -22,7 +22,7 @@ impl AdapterSummary {
         Self {
             name: info.name.clone(),
             backend: format!("{:?}", info.backend).to_lowercase(),
-            device_type: device_type_name(info.device_type).to_owned(),
+            device_type: info.device_type,
             driver: info.driver.clone(),
             driver_info: info.driver_info.clone(),
         }
@@ -31,7 +31,13 @@ impl AdapterSummary {
 
 impl fmt::Display for AdapterSummary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{} ({}, {}", self.name, self.backend, self.device_type)?;
+        write!(
+            f,
+            "{} ({}, {}",
+            self.name,
+            self.backend,
+            device_type_name(self.device_type)
+        )?;
         if !self.driver.is_empty() {
             write!(f, ", {}", self.driver)?;
             if !self.driver_info.is_empty() {
@@ -244,7 +250,7 @@ mod tests {
         let s = AdapterSummary {
             name: "llvmpipe (LLVM 15.0.6, 256 bits)".into(),
             backend: "vulkan".into(),
-            device_type: "software (CPU)".into(),
+            device_type: wgpu::DeviceType::Cpu,
             driver: "llvmpipe".into(),
             driver_info: "Mesa 22.3.6".into(),
         };

@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use crate::atomic;
 use crate::decode::{self, DecodedImage, ValueKind};
-use crate::plan::TextureSpec;
+use framelab_core::atomic;
+use framelab_core::plan::TextureSpec;
 
 #[derive(Debug, Clone, Serialize)]
 pub struct ExportedFile {

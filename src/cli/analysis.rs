@@ -5,10 +5,11 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use framelab::analysis::lints::{LintKind, LintSeverity};
-use framelab::analysis::report;
+use framelab_core::analysis::lints::{LintKind, LintSeverity};
+use framelab_core::analysis::report;
 
-use super::{analysis, print_stdout};
+use super::print_stdout;
+use super::stages::analysed;
 
 pub fn graph(
     path: &Path,
@@ -16,19 +17,20 @@ pub fn graph(
     json: bool,
     svg: Option<PathBuf>,
 ) -> anyhow::Result<ExitCode> {
-    let Some((_, a)) = analysis(path, false, 1.0) else {
+    let Some(analysed) = analysed(path, false, 1.0) else {
         return Ok(ExitCode::from(1));
     };
-    let text = report::dot(&a);
+    let a = &analysed.analysis;
+    let text = report::dot(a);
     if json {
-        print_stdout(&(serde_json::to_string_pretty(&report::graph_report(&a))? + "\n"))?;
+        print_stdout(&(serde_json::to_string_pretty(&report::graph_report(a))? + "\n"))?;
     }
     if let Some(file) = &dot {
-        framelab::output::write_atomically(file, text.as_bytes())?;
+        framelab_core::output::write_atomically(file, text.as_bytes())?;
     }
     if let Some(file) = &svg {
-        let rendered = framelab::output::render_svg(&text)?;
-        framelab::output::write_atomically(file, &rendered)?;
+        let rendered = framelab_core::output::render_svg(&text)?;
+        framelab_core::output::write_atomically(file, &rendered)?;
     }
     if !json && dot.is_none() && svg.is_none() {
         print_stdout(&text)?;
@@ -79,10 +81,10 @@ pub fn analyze(
     scale: f64,
     deny: &[Deny],
 ) -> anyhow::Result<ExitCode> {
-    let Some((capture, a)) = analysis(path, cull, scale) else {
+    let Some(analysed) = analysed(path, cull, scale) else {
         return Ok(ExitCode::from(1));
     };
-    let r = report::report(&capture, &a);
+    let r = report::report(&analysed.capture, &analysed.analysis);
     if json {
         print_stdout(&(serde_json::to_string_pretty(&r)? + "\n"))?;
     } else {

@@ -9,14 +9,14 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use framelab::analysis::report::{AnalyzeOptions, analyze};
-use framelab::lower;
-use framelab::structure::Frame;
-use framelab::timing::diff::{DiffOptions, diff};
-use framelab::timing::{TimingReport, render};
+use framelab_core::lower;
+use framelab_core::structure::Frame;
+use framelab_core::timing::diff::{DiffOptions, diff};
+use framelab_core::timing::{TimingReport, render};
 
-use super::replayer::{Loaded, Replayer};
+use super::stages;
 use super::{parse_percent, parse_scale, print_stdout};
+use framelab_replay::Replaying;
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct DiffArgs {
@@ -75,12 +75,12 @@ fn as_report(path: &Path) -> anyhow::Result<Option<TimingReport>> {
 
 /// Replays both captures on one device, alternating frames, and returns their reports.
 fn replay_both(args: &DiffArgs) -> anyhow::Result<(TimingReport, TimingReport)> {
-    let a = Loaded::for_replay(&args.a, args.scale, false)?;
-    let b = Loaded::for_replay(&args.b, args.scale, false)?;
+    let a = stages::for_replay(&args.a, args.scale, false)?;
+    let b = stages::for_replay(&args.b, args.scale, false)?;
     let ctx = framelab_replay::open_device(args.adapter.as_deref(), lower::wanted_features())?;
-    let (la, lb) = (a.lower(&ctx)?, b.lower(&ctx)?);
-    let mut ra = Replayer::new(&ctx, a, la)?;
-    let mut rb = Replayer::new(&ctx, b, lb)?;
+    let (la, lb) = (stages::lower(a, &ctx)?, stages::lower(b, &ctx)?);
+    let mut ra = Replaying::start(&ctx, la)?;
+    let mut rb = Replaying::start(&ctx, lb)?;
     // A B, B A, A B, ...: whatever running second costs or saves falls on both alike.
     for f in 0..args.warmup + args.frames {
         if f % 2 == 0 {
@@ -91,7 +91,7 @@ fn replay_both(args: &DiffArgs) -> anyhow::Result<(TimingReport, TimingReport)> 
             ra.frame(f, None)?;
         }
     }
-    Ok((ra.report(&ctx, args.warmup), rb.report(&ctx, args.warmup)))
+    Ok((ra.report(args.warmup), rb.report(args.warmup)))
 }
 
 fn inputs(args: &DiffArgs) -> anyhow::Result<(TimingReport, TimingReport)> {
@@ -116,29 +116,24 @@ fn structure(args: &DiffArgs) -> anyhow::Result<()> {
             );
         }
     }
-    let a = Loaded::new(&args.a, args.scale, false)?;
-    let b = Loaded::new(&args.b, args.scale, false)?;
-    let analyse = |l: &Loaded| {
-        analyze(&l.capture, AnalyzeOptions::default())
-            .map_err(|e| anyhow::anyhow!("{}: {e}", l.capture.source.display()))
-    };
-    let (aa, ab) = (analyse(&a)?, analyse(&b)?);
-    let d = framelab::structure::diff(
+    let a = stages::analysed_for_device(&args.a, args.scale, false)?;
+    let b = stages::analysed_for_device(&args.b, args.scale, false)?;
+    let d = framelab_core::structure::diff(
         Frame {
             capture: &a.capture,
-            analysis: &aa,
+            analysis: &a.analysis,
         },
         Frame {
             capture: &b.capture,
-            analysis: &ab,
+            analysis: &b.analysis,
         },
     );
     let text = if args.json {
         serde_json::to_string_pretty(&d)? + "\n"
     } else if args.markdown {
-        framelab::structure::render::markdown(&d)
+        framelab_core::structure::render::markdown(&d)
     } else {
-        framelab::structure::render::text(&d)
+        framelab_core::structure::render::text(&d)
     };
     print_stdout(&text)
 }
@@ -181,9 +176,14 @@ pub fn run(args: &DiffArgs) -> ExitCode {
         render::text(&report, color)
     };
     if let Some(file) = &args.plot {
-        let written = framelab::timing::plot::svg(&report)
+        let written = framelab_core::timing::plot::svg(&report)
             .map_err(anyhow::Error::from)
-            .and_then(|svg| Ok(framelab::output::write_atomically(file, svg.as_bytes())?));
+            .and_then(|svg| {
+                Ok(framelab_core::output::write_atomically(
+                    file,
+                    svg.as_bytes(),
+                )?)
+            });
         if let Err(e) = written {
             let _ = writeln!(std::io::stderr(), "error: {e:#}");
             return ExitCode::from(2);

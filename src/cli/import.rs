@@ -7,9 +7,9 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::Context;
-use framelab::capture::validate::validate;
-use framelab::capture::{CaptureError, Options};
-use framelab::import::{ImportOptions, Summary, import};
+use framelab_core::capture::validate::validate;
+use framelab_core::capture::{CaptureError, Options};
+use framelab_core::import::{ImportOptions, Summary, import};
 
 use super::{print_diagnostics, print_stdout};
 
@@ -60,7 +60,7 @@ pub fn run(
         }
         Err(e) => return Err(e.into()),
     }
-    framelab::output::write_atomically(out, text.as_bytes())?;
+    framelab_core::output::write_atomically(out, text.as_bytes())?;
     if json {
         print_stdout(&(serde_json::to_string_pretty(&imported.summary)? + "\n"))?;
     } else {

@@ -3,17 +3,17 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use super::{load, print_stdout};
+use super::print_stdout;
 
 pub fn run(path: &Path, json: bool, scale: f64) -> anyhow::Result<ExitCode> {
-    let Some(capture) = load(path, scale) else {
+    let Some(validated) = super::stages::validated(path, scale) else {
         return Ok(ExitCode::from(1));
     };
-    let report = framelab::info::report(&capture);
+    let report = framelab_core::info::report(&validated.capture);
     if json {
         print_stdout(&(serde_json::to_string_pretty(&report)? + "\n"))?;
     } else {
-        print_stdout(&framelab::info::render_text(&report))?;
+        print_stdout(&framelab_core::info::render_text(&report))?;
     }
     Ok(ExitCode::SUCCESS)
 }

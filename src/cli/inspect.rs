@@ -7,16 +7,15 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use anyhow::{Context, bail};
-use framelab::analysis::report::{AnalyzeOptions, analyze};
-use framelab::inspect::{self, Reports};
-use framelab::lower;
-use framelab::timing::TimingReport;
+use framelab_core::lower;
+use framelab_core::timing::TimingReport;
 use framelab_ui::Inspector;
 use framelab_ui::app::Pane;
 use framelab_ui::headless;
+use framelab_ui::project::{self, Reports};
 
 use super::parse_scale;
-use super::replayer::Loaded;
+use super::stages;
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct InspectArgs {
@@ -100,9 +99,7 @@ fn report(path: &Path) -> anyhow::Result<TimingReport> {
 }
 
 pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
-    let loaded = Loaded::new(&args.capture, args.scale, false)?;
-    let analysis = analyze(&loaded.capture, AnalyzeOptions::default())
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.capture.display()))?;
+    let analysed = stages::analysed_for_device(&args.capture, args.scale, false)?;
     let timings = args.timings.as_deref().map(report).transpose()?;
     let compare = args.compare.as_deref().map(report).transpose()?;
     let reports = Reports {
@@ -118,12 +115,11 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
     // The device draws the window even when nothing is replayed.
     let ctx = framelab_replay::open_device(args.adapter.as_deref(), lower::wanted_features())?;
     // An imported capture is inspected without a replay: passes, barriers, DAG and memory.
-    let (model, worker) = if loaded.capture.not_replayable().is_some() {
-        let model = inspect::model_without_replay(&loaded.capture, &analysis, &reports)?;
+    let (model, worker) = if analysed.capture.not_replayable().is_some() {
+        let model = project::model_without_replay(&analysed, &reports)?;
         (model, None)
     } else {
-        let (model, worker) =
-            inspect::launch(&loaded.capture, &analysis, &ctx, &reports, args.frames)?;
+        let (model, worker) = project::launch(analysed, &ctx, &reports, args.frames)?;
         (model, Some(worker))
     };
     let select = match &args.select {

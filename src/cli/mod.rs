@@ -8,7 +8,7 @@ mod import;
 mod info;
 mod inspect;
 mod replay;
-mod replayer;
+mod stages;
 mod validate;
 
 use std::io::Write;
@@ -16,8 +16,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use framelab::analysis::report;
-use framelab::capture::{self, CaptureError, Diagnostic, Options};
+use framelab_core::capture::Diagnostic;
 
 /// `--version`: the build, and the GPU stack and file formats it speaks.
 const LONG_VERSION: &str = concat!(
@@ -285,7 +284,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             json,
         } => import::run(&stream, &out, frame.or(frames), json),
         Command::Schema => {
-            print_stdout(&framelab::schema::schema_json())?;
+            print_stdout(&framelab_core::schema::schema_json())?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Completions { shell } => {
@@ -326,37 +325,6 @@ pub(crate) fn print_diagnostics(diagnostics: &[Diagnostic], file: &std::path::Pa
     let mut err = std::io::stderr().lock();
     for d in diagnostics {
         let _ = writeln!(err, "{}: {d}", file.display());
-    }
-}
-
-/// Loads a capture for a command that needs a valid one; reports problems and returns `None`.
-pub(crate) fn load(path: &std::path::Path, scale: f64) -> Option<framelab::capture::Capture> {
-    let options = Options {
-        scale,
-        ..Options::default()
-    };
-    match capture::load_and_validate(path, &options) {
-        Ok(v) => Some(v.capture),
-        Err(e) => {
-            if let CaptureError::Invalid { diagnostics, .. } = &e {
-                print_diagnostics(diagnostics, path);
-            }
-            let _ = writeln!(std::io::stderr(), "{e}");
-            None
-        }
-    }
-}
-
-type Analysed = (framelab::capture::Capture, report::Analysis);
-
-pub(crate) fn analysis(path: &std::path::Path, cull: bool, scale: f64) -> Option<Analysed> {
-    let capture = load(path, scale)?;
-    match report::analyze(&capture, report::AnalyzeOptions { cull }) {
-        Ok(a) => Some((capture, a)),
-        Err(e) => {
-            let _ = writeln!(std::io::stderr(), "{}: {e}", path.display());
-            None
-        }
     }
 }
 

@@ -9,15 +9,16 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
-use framelab::capture::Capture;
-use framelab::capture::model::{PassId, ResourceId};
-use framelab::lower;
-use framelab::timing::{self, TimingReport};
-use framelab_replay::wgpu::Features;
+use framelab_core::capture::Capture;
+use framelab_core::capture::model::{PassId, ResourceId};
+use framelab_core::lower;
+use framelab_core::timing::{self, TimingReport};
+use framelab_core::wgpu_types::Features;
 use serde::Serialize;
 
 use super::print_stdout;
-use super::replayer::{Loaded, Replayer};
+use super::stages;
+use framelab_replay::Replaying;
 
 #[derive(Debug, Clone)]
 pub struct ReplayOptions {
@@ -97,15 +98,15 @@ pub fn replay(
             options.frames
         );
     }
-    let loaded = Loaded::for_replay(path, options.scale, options.cull)?;
-    let (after, only) = resolve_targets(&loaded.capture, &loaded.order, options)?;
+    let analysed = stages::for_replay(path, options.scale, options.cull)?;
+    let (after, only) = resolve_targets(&analysed.capture, &analysed.analysis.order, options)?;
     // Before the device and the replay: a refused --out should cost nothing.
     if let Some(out) = &options.out {
         check_out(out)?;
     }
     let ctx = framelab_replay::open_device(options.adapter.as_deref(), lower::wanted_features())?;
     on(Event::Adapter(&ctx.summary.to_string()));
-    let lowered = loaded.lower(&ctx)?;
+    let lowered = stages::lower(analysed, &ctx)?;
     for n in &lowered.notes {
         on(Event::Note(n));
     }
@@ -119,7 +120,7 @@ pub fn replay(
         Some(r) => Some(*lowered.texture_of.get(&r).with_context(|| {
             format!(
                 "--resource: no texture \"{}\" is replayed",
-                loaded.capture.resource(r).name
+                lowered.capture().resource(r).name
             )
         })?),
         None => None,
@@ -127,11 +128,11 @@ pub fn replay(
     // The capture's (DXGI) name of each plan texture's format, for the export manifest.
     let mut formats = vec![String::new(); lowered.plan.textures.len()];
     for (&r, &t) in &lowered.texture_of {
-        if let (Some(slot), Some(f)) = (formats.get_mut(t), loaded.capture.resource(r).format) {
+        if let (Some(slot), Some(f)) = (formats.get_mut(t), lowered.capture().resource(r).format) {
             *slot = f.name.to_owned();
         }
     }
-    let mut replayer = Replayer::new(&ctx, loaded, lowered)?;
+    let mut replayer = Replaying::start(&ctx, lowered)?;
     replayer
         .session
         .set_timestamp_pairs(options.timestamp_pairs);
@@ -141,13 +142,13 @@ pub fn replay(
         let stop = if f + 1 == frames { stop_after } else { None };
         replayer.frame(f, stop)?;
     }
-    let report = replayer.report(&ctx, options.warmup);
-    let (session, times, capture) = (&replayer.session, &replayer.times, &replayer.loaded.capture);
+    let report = replayer.report(options.warmup);
+    let (session, times, capture) = (&replayer.session, &replayer.times, replayer.capture());
     if let Some(file) = &options.timings {
-        framelab::output::write_atomically(file, report.to_json().as_bytes())?;
+        framelab_core::output::write_atomically(file, report.to_json().as_bytes())?;
     }
     if let Some(file) = &options.trace {
-        framelab::output::write_atomically(
+        framelab_core::output::write_atomically(
             file,
             timing::trace::chrome_trace(&report, times).as_bytes(),
         )?;
@@ -232,7 +233,7 @@ pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<
             report.backend,
             report.frames,
             report.scale,
-            framelab::text::table(
+            framelab_core::text::table(
                 &[
                     "pass",
                     "queue",
@@ -351,7 +352,7 @@ fn export(
             files: &files,
             skipped: &skipped,
         };
-        framelab::output::write_atomically(
+        framelab_core::output::write_atomically(
             &staging.join("manifest.json"),
             (serde_json::to_string_pretty(&manifest)? + "\n").as_bytes(),
         )?;

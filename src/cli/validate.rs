@@ -4,12 +4,13 @@ use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
 
-use framelab::capture::{self, CaptureError, Options, Severity};
+use framelab_core::capture::{CaptureError, Options, Severity};
+use framelab_core::pipeline::{StageError, Validated};
 
 use super::{print_diagnostics, print_stdout};
 
 pub fn run(path: &Path, json: bool) -> ExitCode {
-    let result = capture::load_and_validate(path, &Options::default());
+    let result = Validated::load(path, &Options::default());
     let (valid, diagnostics, summary) = match &result {
         Ok(v) => (true, v.warnings.clone(), None),
         Err(e) => (false, e.diagnostics(), Some(e.to_string())),
@@ -26,7 +27,9 @@ pub fn run(path: &Path, json: bool) -> ExitCode {
         let _ = print_stdout(&(text + "\n"));
     } else {
         match &result {
-            Err(CaptureError::Invalid { .. }) | Ok(_) => print_diagnostics(&diagnostics, path),
+            Err(StageError::Capture(CaptureError::Invalid { .. })) | Ok(_) => {
+                print_diagnostics(&diagnostics, path)
+            }
             Err(_) => {}
         }
         if let Some(summary) = summary {

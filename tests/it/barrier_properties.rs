@@ -2,12 +2,12 @@
 //! mips, layers and byte ranges, random declared fences), the derived barriers and fences leave
 //! the independent hazard checker nothing to report, and none of them can be removed.
 
-use framelab::analysis::model::{
+use framelab_core::analysis::model::{
     FrameModel, ModelAccess, ModelPass, ModelResource, QueueInfo, State, Units,
 };
-use framelab::analysis::{barriers, graph, hazards, to_sync};
-use framelab::capture::format::{HeapType, QueueType};
-use framelab::capture::model::{ResourceCategory, Subresources};
+use framelab_core::analysis::{barriers, graph, hazards, to_sync};
+use framelab_core::capture::format::{HeapType, QueueType};
+use framelab_core::capture::model::{ResourceCategory, Subresources};
 use proptest::prelude::*;
 
 struct Rng(u64);
@@ -93,7 +93,7 @@ fn random_frame(seed: u64) -> FrameModel {
         .map(|i| {
             let buffer = rng.below(3) == 0;
             ModelResource {
-                id: framelab::capture::model::ResourceId(i as u32),
+                id: framelab_core::capture::model::ResourceId(i as u32),
                 name: format!("r{i}"),
                 is_buffer: buffer,
                 mips: if buffer { 1 } else { 1 + rng.below(3) as u32 },
@@ -177,7 +177,7 @@ fn random_frame(seed: u64) -> FrameModel {
             });
         }
         passes.push(ModelPass {
-            id: framelab::capture::model::PassId(i as u32),
+            id: framelab_core::capture::model::PassId(i as u32),
             name: format!("p{i}"),
             queue,
             accesses,

@@ -299,12 +299,13 @@ fn info_text_is_a_table() {
 fn schema_matches_the_committed_copy() {
     let out = framelab(&["schema"]);
     assert_eq!(out.status.code(), Some(0));
-    let committed = std::fs::read_to_string(repo().join(framelab::schema::COMMITTED_PATH)).unwrap();
+    let committed =
+        std::fs::read_to_string(repo().join(framelab_core::schema::COMMITTED_PATH)).unwrap();
     assert!(
         stdout(&out) == committed,
         "{} is stale: run `framelab schema > {}`",
-        framelab::schema::COMMITTED_PATH,
-        framelab::schema::COMMITTED_PATH
+        framelab_core::schema::COMMITTED_PATH,
+        framelab_core::schema::COMMITTED_PATH
     );
     let schema: serde_json::Value = serde_json::from_str(&committed).unwrap();
     assert!(schema["$defs"]["Heap"].is_object());

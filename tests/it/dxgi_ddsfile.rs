@@ -2,7 +2,7 @@
 //! enumeration, so sizes are not only compared with values typed in this repository.
 
 use ddsfile::{DataFormat, DxgiFormat};
-use framelab::capture::dxgi::{self, Layout};
+use framelab_core::capture::dxgi::{self, Layout};
 use num_traits::FromPrimitive;
 
 fn normalise(name: &str) -> String {

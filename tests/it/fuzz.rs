@@ -8,8 +8,9 @@
 
 use std::path::{Path, PathBuf};
 
-use framelab::analysis::report::{AnalyzeOptions, analyze};
-use framelab::capture::{self, Options};
+use framelab_core::analysis::report::AnalyzeOptions;
+use framelab_core::capture::Options;
+use framelab_core::pipeline::{Loaded, Validated};
 use proptest::prelude::*;
 use serde_json::Value;
 
@@ -21,9 +22,9 @@ fn run_entry_point(file: &Path) {
         scale: 0.25,
         ..Options::default()
     };
-    if let Ok(v) = capture::load_and_validate(file, &options) {
-        let _ = analyze(&v.capture, AnalyzeOptions { cull: true });
-        let _ = analyze(&v.capture, AnalyzeOptions { cull: false });
+    if let Ok(v) = Validated::load(file, &options) {
+        let _ = v.clone().analyse(AnalyzeOptions { cull: true });
+        let _ = v.analyse(AnalyzeOptions { cull: false });
     }
 }
 
@@ -193,16 +194,16 @@ proptest! {
 /// Imports a stream and, when it gives a capture, validates and analyses it as `framelab
 /// import` and `analyze` would; panics only if framelab does.
 fn run_import(bytes: &[u8], name: &str) {
-    use framelab::import::{ImportOptions, import};
+    use framelab_core::import::{ImportOptions, import};
     let Ok(imported) = import(bytes, name, &ImportOptions::default()) else {
         return;
     };
     let dir = std::env::temp_dir().join(format!("framelab-fuzz-import-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("imported.json");
-    if let Ok(v) = capture::validate::validate(&imported.capture, &path, &Options::default()) {
-        let _ = analyze(&v.capture, AnalyzeOptions { cull: true });
-        let _ = analyze(&v.capture, AnalyzeOptions { cull: false });
+    if let Ok(v) = Loaded::from_raw(&path, imported.capture).validate(&Options::default()) {
+        let _ = v.clone().analyse(AnalyzeOptions { cull: true });
+        let _ = v.analyse(AnalyzeOptions { cull: false });
     }
 }
 

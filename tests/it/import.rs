@@ -7,7 +7,7 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 
-use framelab::capture::dxgi;
+use framelab_core::capture::dxgi;
 use serde_json::Value;
 
 use crate::common::{framelab, json, repo, stderr, stdout};

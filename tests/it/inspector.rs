@@ -5,10 +5,10 @@
 
 use std::time::Duration;
 
-use framelab::analysis::report::{AnalyzeOptions, analyze};
-use framelab::capture::{self, Options};
-use framelab::inspect::{self, Reports};
-use framelab::timing::TimingReport;
+use framelab_core::analysis::report::AnalyzeOptions;
+use framelab_core::capture::Options;
+use framelab_core::pipeline::Analysed;
+use framelab_core::timing::TimingReport;
 use framelab_ui::Inspector;
 use framelab_ui::app::Pane;
 use framelab_ui::egui;
@@ -17,6 +17,7 @@ use framelab_ui::egui_kittest::{
     kittest::{NodeT, Queryable},
 };
 use framelab_ui::headless;
+use framelab_ui::project::{self as inspect, Reports};
 use framelab_ui::worker::SaveAs;
 
 use crate::common::{exr_image, framelab, repo};
@@ -40,11 +41,10 @@ fn open_with(capture: &str, reports: &Reports<'_>) -> egui_kittest::Harness<'sta
         scale: 0.25,
         ..Options::default()
     };
-    let validated = capture::load_and_validate(&path, &options).unwrap();
-    let analysis = analyze(&validated.capture, AnalyzeOptions::default()).unwrap();
-    let ctx =
-        framelab_replay::open_device(None, framelab::lower::wanted_features()).expect("an adapter");
-    let (model, worker) = inspect::launch(&validated.capture, &analysis, &ctx, reports, 1).unwrap();
+    let analysed = Analysed::load(&path, &options, AnalyzeOptions::default()).unwrap();
+    let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
+        .expect("an adapter");
+    let (model, worker) = inspect::launch(analysed, &ctx, reports, 1).unwrap();
     let rs = headless::render_state(&ctx).unwrap();
     let app = Inspector::new(model, Some(worker), Some(rs.clone()));
     let mut harness = headless::harness(app, rs, egui::Vec2::new(1400.0, 900.0));
@@ -150,12 +150,12 @@ fn selecting_passes_and_textures_shows_the_frame_as_of_that_pass() {
     assert_eq!(h.state().selection.pass, tonemap);
     // Where the adapter's timestamps do not measure compute passes (lavapipe), tonemap keeps
     // its place but shows no time, and the timeline says why; elsewhere it is measured.
-    let ctx =
-        framelab_replay::open_device(None, framelab::lower::wanted_features()).expect("an adapter");
-    let why = framelab::timing::untrusted_timestamps(
+    let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
+        .expect("an adapter");
+    let why = framelab_core::timing::untrusted_timestamps(
         &ctx.summary.name,
-        &ctx.summary.device_type,
-        "compute",
+        ctx.summary.device_type,
+        framelab_core::capture::format::PassKind::Compute,
     );
     let timings = h.state().timings.clone().expect("live timings");
     let tonemap_time = timings.passes[tonemap].expect("tonemap ran");
@@ -430,10 +430,8 @@ fn panels_match_their_snapshots_with_compared_timings() {
 #[test]
 fn history_reads_are_labelled_previous_frame() {
     let path = repo().join("captures/night_city/main_street_day.json");
-    let validated = capture::load_and_validate(&path, &Options::default()).unwrap();
-    let analysis = analyze(&validated.capture, AnalyzeOptions::default()).unwrap();
-    let model =
-        inspect::model_without_replay(&validated.capture, &analysis, &Reports::default()).unwrap();
+    let analysed = Analysed::load(&path, &Options::default(), AnalyzeOptions::default()).unwrap();
+    let model = inspect::model_without_replay(&analysed, &Reports::default()).unwrap();
     let binding = |pass: &str, variable: &str| {
         let p = model.passes.iter().find(|p| p.name == pass).unwrap();
         p.bindings
@@ -454,8 +452,7 @@ fn history_reads_are_labelled_previous_frame() {
 #[test]
 fn untrusted_report_times_stay_on_the_timeline_unmeasured() {
     let path = repo().join("captures/example/frame.json");
-    let validated = capture::load_and_validate(&path, &Options::default()).unwrap();
-    let analysis = analyze(&validated.capture, AnalyzeOptions::default()).unwrap();
+    let analysed = Analysed::load(&path, &Options::default(), AnalyzeOptions::default()).unwrap();
     let mut report = report("tests/fixtures/timing/example_a.json");
     let tonemap = report
         .passes
@@ -467,7 +464,7 @@ fn untrusted_report_times_stay_on_the_timeline_unmeasured() {
         timings: Some((&report, "a.json".into())),
         compare: None,
     };
-    let model = inspect::model_without_replay(&validated.capture, &analysis, &reports).unwrap();
+    let model = inspect::model_without_replay(&analysed, &reports).unwrap();
     let timings = model.timings.as_ref().unwrap();
     assert_eq!(timings.note.as_deref(), Some("not measured here"));
     let at = |name: &str| timings.passes[model.pass_named(name).unwrap()].unwrap();

@@ -8,6 +8,7 @@ mod common;
 mod golden;
 
 mod analysis_cli;
+mod analysis_stages;
 mod barrier_properties;
 mod cli;
 mod diff_cli;

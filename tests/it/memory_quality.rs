@@ -2,8 +2,9 @@
 //! bound (the largest sum of simultaneously live bytes). The worst case is printed for the
 //! README. This is a property of the placement, not a timing.
 
-use framelab::analysis::model::Units;
-use framelab::analysis::{graph, memory, synthetic};
+use framelab_core::analysis::model::Units;
+use framelab_core::analysis::{graph, memory};
+use framelab_testkit::synthetic;
 
 #[test]
 fn median_plan_is_within_ten_percent_of_the_lower_bound() {

@@ -298,17 +298,15 @@ fn a_missing_device_feature_names_the_pass() {
         "queues": [{"name": "gfx", "type": "graphics"}],
         "passes": [{"name": "clear_height", "queue": "gfx", "kind": "clear", "clears": [{"resource": "height"}]}]}"#;
     std::fs::write(dir.join("c.json"), capture).unwrap();
-    let capture = framelab::capture::load_and_validate(&dir.join("c.json"), &Default::default())
-        .unwrap()
-        .capture;
-    let order: Vec<_> = capture.passes.iter().map(|p| p.id).collect();
-    let err = framelab::lower::lower(
-        &capture,
-        &order,
-        framelab_replay::wgpu::Features::empty(),
-        "test adapter",
+    let analysed = framelab_core::pipeline::Analysed::load(
+        &dir.join("c.json"),
+        &Default::default(),
+        Default::default(),
     )
-    .unwrap_err();
+    .unwrap();
+    let err = analysed
+        .lower(framelab_replay::wgpu::Features::empty(), "test adapter")
+        .unwrap_err();
     let message = err.to_string();
     assert!(
         message.contains("clear_height")
@@ -434,9 +432,9 @@ fn taa_changed(files: &[serde_json::Value], folder: &Path) -> (usize, usize) {
 
 /// Every texture some pass of `capture` writes, by name.
 fn written_textures(capture: &str) -> std::collections::BTreeSet<String> {
-    let model = framelab::capture::load_and_validate(
+    let model = framelab_core::pipeline::Validated::load(
         &repo().join(capture),
-        &framelab::capture::Options {
+        &framelab_core::capture::Options {
             scale: 0.25,
             ..Default::default()
         },

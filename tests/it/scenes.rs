@@ -1,7 +1,7 @@
 //! Generated captures stay what their generator writes: the committed Night City JSON is byte
-//! for byte the output of `framelab::scenes::night_city`, so editing one without the other fails.
+//! for byte the output of `framelab_testkit::scenes::night_city`, so editing one without the other fails.
 
-use framelab::scenes::night_city::{self, Variant};
+use framelab_testkit::scenes::night_city::{self, Variant};
 
 use crate::common::repo;
 
@@ -24,7 +24,8 @@ fn the_generator_is_checked_by_the_format_types() {
     let mut value =
         serde_json::to_value(night_city::capture(Variant::MainStreetDay).unwrap()).unwrap();
     value["passes"][0]["signals"] = serde_json::json!(["typo"]);
-    let err = serde_json::from_value::<framelab::capture::format::RawCapture>(value).unwrap_err();
+    let err =
+        serde_json::from_value::<framelab_core::capture::format::RawCapture>(value).unwrap_err();
     assert!(err.to_string().contains("signals"), "{err}");
 }
 

@@ -1,8 +1,9 @@
 //! The analyses handle frames of benchmark size, and the loader accepts the synthetic capture
 //! the load benchmark uses (so the benchmark measures a successful validation).
 
-use framelab::analysis::model::Units;
-use framelab::analysis::{barriers, graph, memory, synthetic};
+use framelab_core::analysis::model::Units;
+use framelab_core::analysis::{barriers, graph, memory};
+use framelab_testkit::synthetic;
 
 #[test]
 fn large_synthetic_frame_analyses() {
@@ -29,7 +30,7 @@ fn synthetic_capture_is_valid() {
     .unwrap();
     let path = dir.join("large.json");
     std::fs::write(&path, synthetic::capture_json(2_000, 2_000, 3)).unwrap();
-    let result = framelab::capture::load_and_validate(&path, &Default::default());
+    let result = framelab_core::pipeline::Validated::load(&path, &Default::default());
     std::fs::remove_dir_all(&dir).unwrap();
     let v = result.unwrap_or_else(|e| {
         panic!(

@@ -124,7 +124,7 @@ pub fn save_png(image: &image::RgbaImage, path: &Path) -> Result<(), HeadlessErr
             image::ImageFormat::Png,
         )
         .map_err(|e| err(e.to_string()))?;
-    framelab_replay::atomic::write(path, &bytes).map_err(|e| err(e.to_string()))
+    framelab_core::atomic::write(path, &bytes).map_err(|e| err(e.to_string()))
 }
 
 /// Opens the inspector in a window; `make` builds it with egui's renderer on the replay device.

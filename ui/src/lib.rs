@@ -6,6 +6,7 @@ pub mod app;
 pub mod headless;
 pub mod model;
 pub mod panels;
+pub mod project;
 pub mod visualise;
 pub mod worker;
 

@@ -2,7 +2,7 @@
 //! built by the root crate from a capture, its analysis and timings. The panels draw only
 //! this, so they can be tested on a fixed model, and no capture type leaks into the UI.
 
-pub use framelab_replay::layout::{BufferLayout, Field, Scalar};
+pub use framelab_core::layout::{BufferLayout, Field, Scalar};
 
 /// A whole frame to inspect.
 #[derive(Clone, Debug, Default)]

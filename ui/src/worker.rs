@@ -8,9 +8,8 @@
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, TryRecvError};
 
-use framelab_replay::Session;
+use framelab_replay::Replaying;
 use framelab_replay::decode::{DecodedImage, read_stencil, read_texture, readable_format};
-use framelab_replay::plan::Params;
 
 use crate::model::{PassTime, Sampling, Timings};
 use crate::visualise::{Controls, Subresource, Visualiser};
@@ -78,9 +77,6 @@ pub type BufferBytes = ((usize, usize), Arc<Vec<u8>>);
 /// bounded copy; the viewer says when it shows a prefix.
 pub const MAX_BUFFER_READ: u64 = 64 << 20;
 
-/// The per-frame constants of frame `f`.
-pub type Constants = Box<dyn Fn(u32) -> Params + Send>;
-
 /// The UI's end of the worker.
 #[derive(Debug)]
 pub struct Worker {
@@ -89,18 +85,12 @@ pub struct Worker {
 }
 
 impl Worker {
-    /// Starts the worker on `session`, timing `timed_frames` whole frames first. `untrusted`
-    /// gives, per plan pass, why the adapter's timestamps do not measure it, if they do not:
-    /// those passes get no time.
-    pub fn start(
-        session: Session,
-        constants: Constants,
-        timed_frames: u32,
-        untrusted: Vec<Option<String>>,
-    ) -> Worker {
+    /// Starts the worker on a replay, timing `timed_frames` whole frames first. Passes the
+    /// adapter's timestamps do not measure get no time.
+    pub fn start(replaying: Replaying, timed_frames: u32) -> Worker {
         let (requests, rx) = std::sync::mpsc::channel();
         let (tx, replies) = std::sync::mpsc::channel();
-        std::thread::spawn(move || run(session, constants, timed_frames, &untrusted, &rx, &tx));
+        std::thread::spawn(move || run(replaying, timed_frames, &rx, &tx));
         Worker { requests, replies }
     }
 
@@ -124,8 +114,7 @@ struct ReadBack {
 }
 
 struct State {
-    session: Session,
-    constants: Constants,
+    replaying: Replaying,
     replayed_pass: Option<usize>,
     read: Option<ReadBack>,
     /// The last buffer read back: (pass, plan buffer) and its bytes.
@@ -133,17 +122,10 @@ struct State {
     visualiser: Visualiser,
 }
 
-fn run(
-    session: Session,
-    constants: Constants,
-    timed_frames: u32,
-    untrusted: &[Option<String>],
-    rx: &Receiver<Command>,
-    tx: &Sender<Reply>,
-) {
+fn run(replaying: Replaying, timed_frames: u32, rx: &Receiver<Command>, tx: &Sender<Reply>) {
+    let untrusted = replaying.untrusted();
     let mut s = State {
-        session,
-        constants,
+        replaying,
         replayed_pass: None,
         read: None,
         buffer: None,
@@ -156,7 +138,11 @@ fn run(
             f + 1,
             timed_frames.max(1)
         )));
-        match s.session.run_frame(&(s.constants)(f), None) {
+        match s
+            .replaying
+            .session
+            .run_frame(&s.replaying.constants(f), None)
+        {
             Ok(times) => last = times,
             Err(e) => {
                 let _ = tx.send(Reply::Failed(e.to_string()));
@@ -244,7 +230,7 @@ fn save(
 
 /// The display image's pixels, read back.
 fn display_pixels(s: &State, display: &wgpu::Texture) -> Result<image::RgbaImage, String> {
-    let spec = framelab_replay::plan::TextureSpec {
+    let spec = framelab_core::plan::TextureSpec {
         name: "display".into(),
         format: display.format(),
         dimension: wgpu::TextureDimension::D2,
@@ -257,8 +243,8 @@ fn display_pixels(s: &State, display: &wgpu::Texture) -> Result<image::RgbaImage
         cube: false,
     };
     let decoded = read_texture(
-        &s.session.device,
-        &s.session.queue,
+        &s.replaying.session.device,
+        &s.replaying.session.queue,
         display,
         &spec,
         display.format(),
@@ -272,10 +258,11 @@ fn display_pixels(s: &State, display: &wgpu::Texture) -> Result<image::RgbaImage
 }
 
 fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Shown, String> {
-    let passes = s.session.plan.passes.len();
+    let passes = s.replaying.session.plan.passes.len();
     let pass = request.pass.min(passes.saturating_sub(1));
     if s.replayed_pass != Some(pass) {
         let name = s
+            .replaying
             .session
             .plan
             .passes
@@ -287,8 +274,9 @@ fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Show
         // `replay --frames 2 --after PASS` exports), so a view does not depend on the views
         // before it, and history resources hold a whole previous frame.
         for (frame, stop) in [(0, None), (1, Some(pass))] {
-            s.session
-                .run_frame(&(s.constants)(frame), stop)
+            s.replaying
+                .session
+                .run_frame(&s.replaying.constants(frame), stop)
                 .map_err(|e| e.to_string())?;
         }
         s.replayed_pass = Some(pass);
@@ -308,11 +296,11 @@ fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Show
             buffer,
         });
     };
-    let texture = s.session.texture(t.plan_index).clone();
+    let texture = s.replaying.session.texture(t.plan_index).clone();
     let stencil = t.sampling == Sampling::Stencil;
     if s.read.as_ref().map(|r| r.key) != Some((pass, t.plan_index, stencil)) {
-        let spec = &s.session.plan.textures[t.plan_index];
-        let (device, queue) = (&s.session.device, &s.session.queue);
+        let spec = &s.replaying.session.plan.textures[t.plan_index];
+        let (device, queue) = (&s.replaying.session.device, &s.replaying.session.queue);
         let read = if stencil {
             Ok(read_stencil(device, queue, &texture, spec))
         } else {
@@ -347,15 +335,16 @@ fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Show
         None => (None, None),
     };
     let display = s.visualiser.draw(
-        &s.session.device,
-        &s.session.queue,
+        &s.replaying.session.device,
+        &s.replaying.session.queue,
         &texture,
         t.sampling,
         t.volume,
         t.sub,
         &t.controls,
     );
-    s.session
+    s.replaying
+        .session
         .check_faults("drawing the texture view")
         .map_err(|e| e.to_string())?;
     Ok(Shown {
@@ -375,6 +364,7 @@ fn read_buffer(s: &mut State, pass: usize, index: usize) -> Result<Arc<Vec<u8>>,
         return Ok(bytes.clone());
     }
     let spec = s
+        .replaying
         .session
         .plan
         .buffers
@@ -383,9 +373,9 @@ fn read_buffer(s: &mut State, pass: usize, index: usize) -> Result<Arc<Vec<u8>>,
     // Copies need a multiple of 4 bytes; plan buffers are sized so.
     let size = spec.size.min(MAX_BUFFER_READ) & !3;
     let bytes = framelab_replay::read_buffer(
-        &s.session.device,
-        &s.session.queue,
-        s.session.buffer(index),
+        &s.replaying.session.device,
+        &s.replaying.session.queue,
+        s.replaying.session.buffer(index),
         size,
         &spec.name,
     )

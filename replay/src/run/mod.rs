@@ -23,9 +23,9 @@ use pipelines::*;
 use std::time::Instant;
 
 use crate::device::GpuContext;
-use crate::plan::*;
-use crate::shader::{ShaderError, ValidatedShader};
-use crate::uniforms::{self, UniformError};
+use framelab_core::plan::*;
+use framelab_core::shader::{ShaderError, ValidatedShader};
+use framelab_core::uniforms::{self, UniformError};
 
 #[derive(Debug, thiserror::Error)]
 pub enum ReplayError {

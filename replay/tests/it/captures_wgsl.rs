@@ -28,7 +28,7 @@ fn every_capture_shader_validates() {
         .iter()
         .filter_map(|f| {
             let source = std::fs::read_to_string(f).unwrap();
-            framelab_replay::validate_wgsl(&f.display().to_string(), &source)
+            framelab_core::shader::validate_wgsl(&f.display().to_string(), &source)
                 .err()
                 .map(|e| e.report)
         })

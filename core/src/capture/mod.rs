@@ -1,0 +1,17 @@
+//! The capture: its file format (`format`), loading (`load`), validation into the typed model
+//! (`validate`, `model`), diagnostics, and the procedural generators a capture may name.
+
+pub mod diag;
+pub mod dxgi;
+pub mod format;
+pub mod generators;
+pub mod load;
+pub mod model;
+pub mod shaders;
+pub mod validate;
+pub mod vulkan;
+
+pub use diag::{Diagnostic, Severity};
+pub use load::CaptureError;
+pub use model::Capture;
+pub use validate::{Limits, Options, Validated};

@@ -1,0 +1,274 @@
+//! DXGI to wgpu format lowering. The only place framelab maps formats to wgpu.
+//!
+//! Rules, in order:
+//! - **Direct**: formats with a wgpu twin map to it (R8G8B8A8_UNORM -> Rgba8Unorm, R11G11B10_FLOAT
+//!   -> Rg11b10Ufloat, BC7_UNORM_SRGB -> Bc7RgbaUnormSrgb, ...).
+//! - **By usage**: typeless families become their depth format when the resource is a depth
+//!   target (R16_TYPELESS -> Depth16Unorm, R32_TYPELESS -> Depth32Float, R24G8_TYPELESS ->
+//!   Depth24PlusStencil8, R32G8X24_TYPELESS -> Depth32FloatStencil8, falling back to
+//!   Depth24PlusStencil8 without that feature), otherwise the format of their first typed view.
+//!   Views of a depth format read its depth aspect (R16_UNORM on a D16 target samples the depth).
+//! - **Unsupported**, with the reason: 96-bit RGB, packed 16-bit BGR formats, A8, R1, shared-
+//!   exponent and XR-bias variants wgpu lacks, video and palette formats.
+
+use wgpu_types::{Features, TextureFormat};
+
+use crate::capture::dxgi::FormatInfo;
+
+/// What a DXGI format becomes on the GPU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Lowered {
+    pub format: TextureFormat,
+    /// Optional device features the format needs.
+    pub features: Features,
+    /// A stated approximation (e.g. the depth fallback), for the replay log.
+    pub note: Option<&'static str>,
+}
+
+fn direct(name: &str) -> Option<TextureFormat> {
+    use TextureFormat as F;
+    Some(match name {
+        "R8_UNORM" => F::R8Unorm,
+        "R8_SNORM" => F::R8Snorm,
+        "R8_UINT" => F::R8Uint,
+        "R8_SINT" => F::R8Sint,
+        "R8G8_UNORM" => F::Rg8Unorm,
+        "R8G8_SNORM" => F::Rg8Snorm,
+        "R8G8_UINT" => F::Rg8Uint,
+        "R8G8_SINT" => F::Rg8Sint,
+        "R16_UNORM" => F::R16Unorm,
+        "R16_SNORM" => F::R16Snorm,
+        "R16_UINT" => F::R16Uint,
+        "R16_SINT" => F::R16Sint,
+        "R16_FLOAT" => F::R16Float,
+        "D16_UNORM" => F::Depth16Unorm,
+        "R8G8B8A8_UNORM" => F::Rgba8Unorm,
+        "R8G8B8A8_UNORM_SRGB" => F::Rgba8UnormSrgb,
+        "R8G8B8A8_SNORM" => F::Rgba8Snorm,
+        "R8G8B8A8_UINT" => F::Rgba8Uint,
+        "R8G8B8A8_SINT" => F::Rgba8Sint,
+        "B8G8R8A8_UNORM" => F::Bgra8Unorm,
+        "B8G8R8A8_UNORM_SRGB" => F::Bgra8UnormSrgb,
+        "R10G10B10A2_UNORM" => F::Rgb10a2Unorm,
+        "R10G10B10A2_UINT" => F::Rgb10a2Uint,
+        "R11G11B10_FLOAT" => F::Rg11b10Ufloat,
+        "R9G9B9E5_SHAREDEXP" => F::Rgb9e5Ufloat,
+        "R16G16_UNORM" => F::Rg16Unorm,
+        "R16G16_SNORM" => F::Rg16Snorm,
+        "R16G16_UINT" => F::Rg16Uint,
+        "R16G16_SINT" => F::Rg16Sint,
+        "R16G16_FLOAT" => F::Rg16Float,
+        "R32_UINT" => F::R32Uint,
+        "R32_SINT" => F::R32Sint,
+        "R32_FLOAT" => F::R32Float,
+        "D32_FLOAT" => F::Depth32Float,
+        "D24_UNORM_S8_UINT" => F::Depth24PlusStencil8,
+        "D32_FLOAT_S8X24_UINT" => F::Depth32FloatStencil8,
+        "R16G16B16A16_UNORM" => F::Rgba16Unorm,
+        "R16G16B16A16_SNORM" => F::Rgba16Snorm,
+        "R16G16B16A16_UINT" => F::Rgba16Uint,
+        "R16G16B16A16_SINT" => F::Rgba16Sint,
+        "R16G16B16A16_FLOAT" => F::Rgba16Float,
+        "R32G32_UINT" => F::Rg32Uint,
+        "R32G32_SINT" => F::Rg32Sint,
+        "R32G32_FLOAT" => F::Rg32Float,
+        "R32G32B32A32_UINT" => F::Rgba32Uint,
+        "R32G32B32A32_SINT" => F::Rgba32Sint,
+        "R32G32B32A32_FLOAT" => F::Rgba32Float,
+        "BC1_UNORM" => F::Bc1RgbaUnorm,
+        "BC1_UNORM_SRGB" => F::Bc1RgbaUnormSrgb,
+        "BC2_UNORM" => F::Bc2RgbaUnorm,
+        "BC2_UNORM_SRGB" => F::Bc2RgbaUnormSrgb,
+        "BC3_UNORM" => F::Bc3RgbaUnorm,
+        "BC3_UNORM_SRGB" => F::Bc3RgbaUnormSrgb,
+        "BC4_UNORM" => F::Bc4RUnorm,
+        "BC4_SNORM" => F::Bc4RSnorm,
+        "BC5_UNORM" => F::Bc5RgUnorm,
+        "BC5_SNORM" => F::Bc5RgSnorm,
+        "BC6H_UF16" => F::Bc6hRgbUfloat,
+        "BC6H_SF16" => F::Bc6hRgbFloat,
+        "BC7_UNORM" => F::Bc7RgbaUnorm,
+        "BC7_UNORM_SRGB" => F::Bc7RgbaUnormSrgb,
+        _ => return None,
+    })
+}
+
+/// Why a format has no GPU equivalent.
+pub fn unsupported_reason(name: &str) -> &'static str {
+    match name {
+        n if n.starts_with("R32G32B32_") => "96-bit RGB textures do not exist in WebGPU",
+        "B5G6R5_UNORM" | "B5G5R5A1_UNORM" | "B4G4R4A4_UNORM" | "A4B4G4R4_UNORM" => {
+            "16-bit packed BGR formats do not exist in WebGPU"
+        }
+        "A8_UNORM" => "alpha-only A8 does not exist in WebGPU",
+        "R1_UNORM" => "1-bit formats do not exist in WebGPU",
+        "B8G8R8X8_UNORM" | "B8G8R8X8_UNORM_SRGB" | "B8G8R8X8_TYPELESS" => {
+            "X-channel formats do not exist in WebGPU (use B8G8R8A8)"
+        }
+        "R10G10B10_XR_BIAS_A2_UNORM" => "the XR-bias format does not exist in WebGPU",
+        "R8G8_B8G8_UNORM" | "G8R8_G8B8_UNORM" => {
+            "packed 4:2:2 formats are not renderable in WebGPU"
+        }
+        _ => "video, palette and opaque formats are not textures framelab can replay",
+    }
+}
+
+/// Why a colour format cannot be rendered to on any GPU, if it cannot: it has no wgpu
+/// equivalent, or it is shared-exponent (never a render target). Formats whose render support
+/// varies by adapter (16-bit normalised) pass here and are checked against the device at
+/// replay. Validation asks this so that it refuses what replay would.
+pub fn not_renderable(info: &FormatInfo) -> Option<&'static str> {
+    match direct(info.name) {
+        None => Some(unsupported_reason(info.name)),
+        Some(TextureFormat::Rgb9e5Ufloat) => Some("shared-exponent formats cannot be rendered to"),
+        Some(_) => None,
+    }
+}
+
+/// The features a wgpu format needs beyond WebGPU's baseline.
+pub fn features_of(format: TextureFormat) -> Features {
+    use TextureFormat as F;
+    match format {
+        F::R16Unorm
+        | F::R16Snorm
+        | F::Rg16Unorm
+        | F::Rg16Snorm
+        | F::Rgba16Unorm
+        | F::Rgba16Snorm => Features::TEXTURE_FORMAT_16BIT_NORM,
+        F::Depth32FloatStencil8 => Features::DEPTH32FLOAT_STENCIL8,
+        f if f.is_compressed() => Features::TEXTURE_COMPRESSION_BC,
+        _ => Features::empty(),
+    }
+}
+
+/// Lowers a resource's format. `depth_target`: the resource is bound as depth-stencil.
+/// `first_view`: the first typed view format a pass uses, for typeless colour resources.
+/// `available`: the adapter's features, for stated fallbacks.
+pub fn lower(
+    info: &FormatInfo,
+    depth_target: bool,
+    first_view: Option<&FormatInfo>,
+    available: Features,
+) -> Result<Lowered, &'static str> {
+    let name = match (info.name, depth_target) {
+        ("R16_TYPELESS", true) => "D16_UNORM",
+        ("R32_TYPELESS", true) => "D32_FLOAT",
+        ("R24G8_TYPELESS", true) => "D24_UNORM_S8_UINT",
+        ("R32G8X24_TYPELESS", true) => "D32_FLOAT_S8X24_UINT",
+        (n, _) if n.ends_with("_TYPELESS") => match first_view {
+            Some(v) => v.name,
+            None => {
+                return Err(
+                    "a typeless resource needs a typed view or a depth binding to choose its format",
+                );
+            }
+        },
+        (n, _) => n,
+    };
+    let format = direct(name).ok_or_else(|| unsupported_reason(name))?;
+    if format == TextureFormat::Depth32FloatStencil8
+        && !available.contains(Features::DEPTH32FLOAT_STENCIL8)
+    {
+        return Ok(Lowered {
+            format: TextureFormat::Depth24PlusStencil8,
+            features: Features::empty(),
+            note: Some(
+                "Depth32FloatStencil8 unavailable: using Depth24PlusStencil8 (less depth precision)",
+            ),
+        });
+    }
+    Ok(Lowered {
+        format,
+        features: features_of(format),
+        note: None,
+    })
+}
+
+/// The format a view uses: depth formats are viewed through their depth aspect, whatever
+/// typed name the capture gave the view (R16_UNORM on D16 reads the depth).
+pub fn view_format(
+    resource: TextureFormat,
+    view: Option<&FormatInfo>,
+) -> Result<TextureFormat, &'static str> {
+    if resource.has_depth_aspect() {
+        return Ok(resource);
+    }
+    match view {
+        None => Ok(resource),
+        Some(v) => {
+            let f = direct(v.name).ok_or_else(|| unsupported_reason(v.name))?;
+            // wgpu reinterprets only between sRGB and linear twins; anything else would need a
+            // copy, so the resource's own format is used when the bits agree.
+            if f == resource || f.remove_srgb_suffix() == resource.remove_srgb_suffix() {
+                Ok(f)
+            } else {
+                Ok(resource)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::capture::dxgi::lookup;
+
+    #[test]
+    fn usage_decides_typeless_formats() {
+        let all = Features::all();
+        let r16 = lookup("R16_TYPELESS").unwrap();
+        assert_eq!(
+            lower(r16, true, None, all).unwrap().format,
+            TextureFormat::Depth16Unorm
+        );
+        assert_eq!(
+            lower(r16, false, lookup("R16_UNORM"), all).unwrap().format,
+            TextureFormat::R16Unorm
+        );
+        let d32s8 = lookup("R32G8X24_TYPELESS").unwrap();
+        assert_eq!(
+            lower(d32s8, true, None, all).unwrap().format,
+            TextureFormat::Depth32FloatStencil8
+        );
+        let fallback = lower(d32s8, true, None, Features::empty()).unwrap();
+        assert_eq!(fallback.format, TextureFormat::Depth24PlusStencil8);
+        assert!(fallback.note.is_some());
+    }
+
+    #[test]
+    fn every_dxgi_format_lowers_or_says_why() {
+        for f in crate::capture::dxgi::all()
+            .iter()
+            .filter(|f| f.name != "UNKNOWN")
+        {
+            match lower(f, f.is_depth_format(), None, Features::all()) {
+                Ok(l) => assert!(
+                    l.format.block_copy_size(None).is_some() || l.format.has_depth_aspect(),
+                    "{}",
+                    f.name
+                ),
+                Err(reason) => assert!(!reason.is_empty()),
+            }
+        }
+        assert_eq!(
+            lower(
+                lookup("R11G11B10_FLOAT").unwrap(),
+                false,
+                None,
+                Features::all()
+            )
+            .unwrap()
+            .format,
+            TextureFormat::Rg11b10Ufloat
+        );
+        assert!(
+            lower(
+                lookup("R32G32B32_FLOAT").unwrap(),
+                false,
+                None,
+                Features::all()
+            )
+            .is_err()
+        );
+    }
+}

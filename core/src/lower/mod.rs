@@ -1,0 +1,152 @@
+//! Lowering: a validated capture, in DAG order, becomes a `crate::plan::Plan`, the
+//! only place capture types meet wgpu. Usage flags come from every access (`usage`), formats
+//! from `formats`, resources and their initial contents from side files or generators
+//! (`resources`, `generate`, `meshes`), fixed-function state from `states`, and each pass
+//! becomes the wgpu-level operation it describes (`passes`). Reads of a `history` resource
+//! before the frame writes it are marked as previous-frame reads.
+
+pub mod formats;
+pub mod frame;
+pub mod generate;
+mod meshes;
+mod passes;
+mod resources;
+mod states;
+mod usage;
+
+use std::collections::BTreeMap;
+
+use crate::plan::*;
+use wgpu_types::Features;
+
+use crate::capture::model::*;
+use crate::capture::shaders::ShaderId;
+
+/// Device features requested when the adapter has them.
+pub fn wanted_features() -> Features {
+    Features::TIMESTAMP_QUERY
+        | Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+        | Features::TIMESTAMP_QUERY_INSIDE_PASSES
+        | Features::TEXTURE_COMPRESSION_BC
+        | Features::DEPTH32FLOAT_STENCIL8
+        | Features::TEXTURE_FORMAT_16BIT_NORM
+        | Features::RG11B10UFLOAT_RENDERABLE
+        | Features::FLOAT32_FILTERABLE
+        | Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum LowerError {
+    #[error(
+        "resource \"{resource}\" ({format}) cannot be replayed: {reason} (used by pass \"{pass}\")"
+    )]
+    Format {
+        resource: String,
+        format: String,
+        reason: String,
+        pass: String,
+    },
+    #[error("resource \"{resource}\": {message}")]
+    Contents { resource: String, message: String },
+    #[error("mesh \"{mesh}\": {message}")]
+    Mesh { mesh: String, message: String },
+    #[error("pass \"{pass}\": {message}")]
+    Pass { pass: String, message: String },
+    #[error("{0}")]
+    NotReplayable(String),
+    #[error("pass \"{pass}\" needs {feature}, which adapter {adapter} does not support")]
+    MissingFeature {
+        pass: String,
+        feature: String,
+        adapter: String,
+    },
+}
+
+/// A lowered frame: the plan, the plan index of each capture resource and the capture pass of
+/// each plan pass.
+#[derive(Debug)]
+pub struct LoweredFrame {
+    pub plan: Plan,
+    pub texture_of: BTreeMap<ResourceId, usize>,
+    pub buffer_of: BTreeMap<ResourceId, usize>,
+    /// The capture pass of each plan pass.
+    pub pass_ids: Vec<PassId>,
+    pub notes: Vec<String>,
+}
+
+/// The lowering in progress: the plan so far and what later steps need from earlier ones.
+struct Lowering<'c> {
+    capture: &'c Capture,
+    available: Features,
+    usage: usage::Usage<'c>,
+    plan: Plan,
+    texture_of: BTreeMap<ResourceId, usize>,
+    buffer_of: BTreeMap<ResourceId, usize>,
+    notes: Vec<String>,
+    /// Optional device features each pass needs (by pass name, so errors name it).
+    pass_features: BTreeMap<&'c str, Features>,
+    shader_index: BTreeMap<ShaderId, usize>,
+}
+
+/// Lowers `capture`'s passes in `order` for an adapter with the `available` features.
+pub fn lower(
+    capture: &Capture,
+    order: &[PassId],
+    available: Features,
+    adapter: &str,
+) -> Result<LoweredFrame, LowerError> {
+    if let Some(why) = capture.not_replayable() {
+        return Err(LowerError::NotReplayable(why));
+    }
+    let passes: Vec<&PassDesc> = order.iter().map(|&p| capture.pass(p)).collect();
+    let mut l = Lowering {
+        capture,
+        available,
+        usage: usage::Usage::of(capture, &passes),
+        plan: Plan {
+            textures: Vec::new(),
+            buffers: Vec::new(),
+            samplers: Vec::new(),
+            meshes: Vec::new(),
+            shaders: Vec::new(),
+            passes: Vec::new(),
+        },
+        texture_of: BTreeMap::new(),
+        buffer_of: BTreeMap::new(),
+        notes: Vec::new(),
+        pass_features: BTreeMap::new(),
+        shader_index: BTreeMap::new(),
+    };
+    for r in &capture.resources {
+        l.resource(r)?;
+    }
+    l.plan.samplers = capture.samplers.iter().map(states::sampler).collect();
+    for m in &capture.meshes {
+        l.plan.meshes.push(meshes::lower_mesh(m)?);
+    }
+    for p in &passes {
+        l.pass(p)?;
+    }
+    for (pass, needed) in &l.pass_features {
+        let missing = *needed - available;
+        if !missing.is_empty() {
+            return Err(LowerError::MissingFeature {
+                pass: (*pass).to_owned(),
+                // As wgpu documents them (`Features::TEXTURE_COMPRESSION_BC`), not a bit dump.
+                feature: missing
+                    .iter_names()
+                    .map(|(name, _)| format!("Features::{name}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                adapter: adapter.to_owned(),
+            });
+        }
+    }
+    Ok(LoweredFrame {
+        plan: l.plan,
+        texture_of: l.texture_of,
+        buffer_of: l.buffer_of,
+        pass_ids: order.to_vec(),
+        notes: l.notes,
+    })
+}

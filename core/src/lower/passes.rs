@@ -1,0 +1,392 @@
+//! Passes at wgpu level, one function per pass kind: bindings resolved to plan indices (with
+//! previous-frame reads of history resources), raster passes with their targets, state and
+//! draws, compute passes with their dispatches, copies, clears, resolves, mip generation and
+//! present.
+
+use std::collections::BTreeMap;
+
+use crate::plan::*;
+use wgpu_types::{self as wgpu, Features};
+
+use super::{LowerError, Lowering, formats, states};
+use crate::capture::format::{self as cf, LoadOp, PassKind, ResourceKind, StoreOp};
+use crate::capture::model::*;
+
+/// (base mip, mips, base layer, layers) of a range; a volume has one layer.
+fn range_of(r: &ResourceDesc, s: &Subresources) -> (u32, u32, u32, u32) {
+    (
+        s.mip_base,
+        s.mip_count.max(1),
+        s.layer_base,
+        if r.kind == ResourceKind::Texture3D {
+            1
+        } else {
+            s.layer_count.max(1)
+        },
+    )
+}
+
+fn params(p: &BTreeMap<String, cf::ParamValue>) -> Params {
+    p.iter()
+        .map(|(k, v)| {
+            (
+                k.clone(),
+                match v {
+                    cf::ParamValue::Scalar(x) => vec![*x],
+                    cf::ParamValue::Vector(xs) => xs.clone(),
+                },
+            )
+        })
+        .collect()
+}
+
+fn pass_error(p: &PassDesc, message: String) -> LowerError {
+    LowerError::Pass {
+        pass: p.name.clone(),
+        message,
+    }
+}
+
+impl<'c> Lowering<'c> {
+    pub(super) fn pass(&mut self, p: &'c PassDesc) -> Result<(), LowerError> {
+        let shader = self.shader(p);
+        let bindings = self.bindings(p)?;
+        let op = match p.kind {
+            PassKind::Raster => self.raster(p, shader.unwrap_or(0), bindings)?,
+            PassKind::Compute => self.compute(p, shader.unwrap_or(0), bindings)?,
+            PassKind::Copy => self.copies(p)?,
+            PassKind::Clear => self.clears(p)?,
+            PassKind::Resolve => {
+                let (s, d) = p
+                    .resolve
+                    .ok_or_else(|| pass_error(p, "no resolve".into()))?;
+                PassOp::Resolve {
+                    src: self.tex(p, s)?,
+                    dst: self.tex(p, d)?,
+                }
+            }
+            PassKind::GenerateMips => {
+                let (r, range) = p
+                    .generate_mips
+                    .ok_or_else(|| pass_error(p, "no generate_mips".into()))?;
+                PassOp::GenerateMips {
+                    texture: self.tex(p, r)?,
+                    base_layer: range.layer_base,
+                    layers: range.layer_count.max(1),
+                }
+            }
+            PassKind::Present => PassOp::Present {
+                texture: self.tex(
+                    p,
+                    p.present
+                        .ok_or_else(|| pass_error(p, "nothing to present".into()))?,
+                )?,
+            },
+        };
+        self.plan.passes.push(PassSpec {
+            name: p.name.clone(),
+            queue: self.capture.queue(p.queue).name.clone(),
+            op,
+        });
+        Ok(())
+    }
+
+    fn tex(&self, p: &PassDesc, r: ResourceId) -> Result<usize, LowerError> {
+        self.texture_of.get(&r).copied().ok_or_else(|| {
+            pass_error(
+                p,
+                format!("\"{}\" was not created", self.capture.resource(r).name),
+            )
+        })
+    }
+
+    fn buf(&self, p: &PassDesc, r: ResourceId) -> Result<usize, LowerError> {
+        self.buffer_of.get(&r).copied().ok_or_else(|| {
+            pass_error(
+                p,
+                format!("\"{}\" was not created", self.capture.resource(r).name),
+            )
+        })
+    }
+
+    /// The plan index of the pass's shader, adding it on first use.
+    fn shader(&mut self, p: &PassDesc) -> Option<usize> {
+        let s = p.shader.as_ref()?;
+        let next = self.plan.shaders.len();
+        let i = *self.shader_index.entry(s.id).or_insert(next);
+        if i == next {
+            let shader = self.capture.shader(s.id);
+            self.plan.shaders.push(ShaderSource {
+                name: shader.path.display().to_string(),
+                source: shader.source.to_string(),
+                validated: shader.validated.clone(),
+            });
+        }
+        Some(i)
+    }
+
+    /// Bindings validation found reading a history resource's previous-frame copy address the
+    /// other half of its ping-pong pair.
+    fn bindings(&self, p: &PassDesc) -> Result<Vec<Binding>, LowerError> {
+        let mut bindings = Vec::new();
+        for b in &p.bindings {
+            let target = match &b.target {
+                BindingTarget::Sampler(s) => BindTarget::Sampler(s.index()),
+                BindingTarget::Resource {
+                    resource,
+                    view_format,
+                    ..
+                } => {
+                    let r = self.capture.resource(*resource);
+                    let range = b.range.unwrap_or_else(|| Subresources::whole(r));
+                    let previous_frame = b.previous_frame;
+                    if r.is_texture() {
+                        let t = self.tex(p, *resource)?;
+                        let format =
+                            formats::view_format(self.plan.textures[t].format, *view_format)
+                                .map_err(|e| pass_error(p, e.to_owned()))?;
+                        let (base_mip, mips, base_layer, layers) = range_of(r, &range);
+                        BindTarget::Texture {
+                            texture: t,
+                            format,
+                            base_mip,
+                            mips,
+                            base_layer,
+                            layers,
+                            previous_frame,
+                        }
+                    } else {
+                        let whole = range.byte_offset == 0 && range.byte_size == r.bytes;
+                        BindTarget::Buffer {
+                            buffer: self.buf(p, *resource)?,
+                            offset: range.byte_offset,
+                            size: (!whole).then_some(range.byte_size),
+                            previous_frame,
+                        }
+                    }
+                }
+            };
+            bindings.push(Binding {
+                variable: b.variable.clone(),
+                target,
+            });
+        }
+        Ok(bindings)
+    }
+
+    fn raster(
+        &mut self,
+        p: &'c PassDesc,
+        shader: usize,
+        bindings: Vec<Binding>,
+    ) -> Result<PassOp, LowerError> {
+        let s = p
+            .shader
+            .as_ref()
+            .ok_or_else(|| pass_error(p, "no shader".into()))?;
+        let color = self.color_targets(p)?;
+        let depth = match &p.depth_stencil {
+            Some(d) => {
+                let t = self.tex(p, d.resource)?;
+                Some(DepthTarget {
+                    texture: t,
+                    format: self.plan.textures[t].format,
+                    mip: d.mip,
+                    layer: d.layer,
+                    depth_clear: (d.depth_load == LoadOp::Clear).then_some(d.depth_clear as f32),
+                    depth_store: d.depth_store == StoreOp::Store,
+                    stencil_clear: (d.stencil_load == LoadOp::Clear).then_some(d.stencil_clear),
+                    stencil_store: d.stencil_store == StoreOp::Store,
+                    read_only: d.read_only,
+                })
+            }
+            None => None,
+        };
+        let st = &p.state;
+        let draws = p
+            .draws
+            .iter()
+            .map(|d| {
+                Ok(DrawOp {
+                    label: d.label.clone(),
+                    vertex: d.vertex.clone(),
+                    mesh: d.mesh.map(|m| m.index()),
+                    count: d.count,
+                    instances: d.instances,
+                    first: d.first,
+                    first_instance: d.first_instance,
+                    base_vertex: d.base_vertex,
+                    indirect: d
+                        .indirect
+                        .map(|(b, o)| self.buf(p, b).map(|i| (i, o)))
+                        .transpose()?,
+                    stencil_reference: d.stencil_reference,
+                    params: params(&d.params),
+                })
+            })
+            .collect::<Result<Vec<_>, LowerError>>()?;
+        Ok(PassOp::Raster(RasterOp {
+            shader,
+            vertex: s.vertex.clone().unwrap_or_default(),
+            fragment: s.fragment.clone(),
+            bindings,
+            params: params(&p.params),
+            color,
+            depth_stencil: depth.as_ref().map(|d| states::depth_stencil(st, d)),
+            depth,
+            primitive: states::primitive(st),
+            stencil_reference: st.stencil.as_ref().map_or(0, |s| s.reference),
+            draws,
+        }))
+    }
+
+    fn color_targets(&mut self, p: &'c PassDesc) -> Result<Vec<ColorTarget>, LowerError> {
+        let mut out = Vec::new();
+        for c in &p.color_attachments {
+            let t = self.tex(p, c.resource)?;
+            if self.plan.textures[t].format == wgpu::TextureFormat::Rg11b10Ufloat {
+                *self.pass_features.entry(&p.name).or_default() |=
+                    Features::RG11B10UFLOAT_RENDERABLE;
+            }
+            out.push(ColorTarget {
+                texture: t,
+                format: formats::view_format(self.plan.textures[t].format, Some(c.format))
+                    .map_err(|e| pass_error(p, e.to_owned()))?,
+                mip: c.mip,
+                layer: c.layer,
+                load: (c.load == LoadOp::Clear).then_some(wgpu::Color {
+                    r: c.clear[0],
+                    g: c.clear[1],
+                    b: c.clear[2],
+                    a: c.clear[3],
+                }),
+                discard_load: c.load == LoadOp::Discard,
+                store: c.store == StoreOp::Store,
+                blend: c.blend.as_ref().and_then(states::blend),
+                write_mask: states::write_mask(c.write_mask.as_ref()),
+            });
+        }
+        Ok(out)
+    }
+
+    fn compute(
+        &self,
+        p: &PassDesc,
+        shader: usize,
+        bindings: Vec<Binding>,
+    ) -> Result<PassOp, LowerError> {
+        let entry = p
+            .shader
+            .as_ref()
+            .and_then(|s| s.compute.clone())
+            .unwrap_or_default();
+        let dispatches = p
+            .dispatches
+            .iter()
+            .map(|d| {
+                Ok(DispatchOp {
+                    entry: d.entry.clone(),
+                    groups: d.groups,
+                    indirect: d
+                        .indirect
+                        .map(|(b, o)| self.buf(p, b).map(|i| (i, o)))
+                        .transpose()?,
+                    params: params(&d.params),
+                })
+            })
+            .collect::<Result<Vec<_>, LowerError>>()?;
+        Ok(PassOp::Compute(ComputeOp {
+            shader,
+            entry,
+            bindings,
+            params: params(&p.params),
+            dispatches,
+        }))
+    }
+
+    fn copy_end(&self, p: &PassDesc, l: &CopyLocationDesc) -> Result<CopyEnd, LowerError> {
+        Ok(if self.capture.resource(l.resource).is_texture() {
+            CopyEnd::Texture {
+                texture: self.tex(p, l.resource)?,
+                mip: l.mip,
+                layer: l.layer,
+                origin: l.origin,
+            }
+        } else {
+            CopyEnd::Buffer {
+                buffer: self.buf(p, l.resource)?,
+                offset: l.offset,
+                bytes_per_row: l.bytes_per_row,
+            }
+        })
+    }
+
+    fn copies(&self, p: &PassDesc) -> Result<PassOp, LowerError> {
+        let mut copies = Vec::new();
+        for c in &p.copies {
+            let src_r = self.capture.resource(c.src.resource);
+            let extent = c.extent.unwrap_or_else(|| {
+                let tex_end = if src_r.is_texture() { &c.src } else { &c.dst };
+                let r = self.capture.resource(tex_end.resource);
+                let (w, h, d) = r.mip_extent(tex_end.mip);
+                [
+                    w.saturating_sub(tex_end.origin[0]),
+                    h.saturating_sub(tex_end.origin[1]),
+                    d.saturating_sub(tex_end.origin[2]).max(1),
+                ]
+            });
+            let bytes = c
+                .src
+                .size
+                .or(c.dst.size)
+                .unwrap_or(src_r.bytes.saturating_sub(c.src.offset));
+            copies.push(CopyOp {
+                src: self.copy_end(p, &c.src)?,
+                dst: self.copy_end(p, &c.dst)?,
+                extent,
+                bytes,
+            });
+        }
+        Ok(PassOp::Copy(copies))
+    }
+
+    fn clears(&self, p: &PassDesc) -> Result<PassOp, LowerError> {
+        let mut clears = Vec::new();
+        for c in &p.clears {
+            let r = self.capture.resource(c.resource);
+            if !r.is_texture() {
+                clears.push(ClearOp::Buffer {
+                    buffer: self.buf(p, c.resource)?,
+                    value: c.value[0] as u32,
+                });
+                continue;
+            }
+            let t = self.tex(p, c.resource)?;
+            let (base_mip, mips, base_layer, layers) = range_of(r, &c.range);
+            let attachment = r.has_flag(cf::ResourceFlag::AllowRenderTarget)
+                || r.has_flag(cf::ResourceFlag::AllowDepthStencil);
+            clears.push(if attachment {
+                ClearOp::Attachment {
+                    texture: t,
+                    format: self.plan.textures[t].format,
+                    base_mip,
+                    mips,
+                    base_layer,
+                    layers,
+                    value: c.value,
+                    stencil: c.stencil,
+                }
+            } else {
+                ClearOp::Texture {
+                    texture: t,
+                    base_mip,
+                    mips,
+                    base_layer,
+                    layers,
+                    value: c.value,
+                }
+            });
+        }
+        Ok(PassOp::Clear(clears))
+    }
+}

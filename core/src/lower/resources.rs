@@ -1,0 +1,164 @@
+//! Textures and buffers at wgpu level: formats lowered by usage, and initial contents from
+//! generators or side files. A texture no replayed pass uses is still created when it has
+//! contents to look at; one whose format cannot be replayed is a note unless a pass needs it.
+
+use crate::plan::*;
+use wgpu_types as wgpu;
+
+use super::{LowerError, Lowering, formats, generate};
+use crate::capture::dxgi::FormatInfo;
+use crate::capture::format::ResourceKind;
+use crate::capture::model::*;
+
+impl<'c> Lowering<'c> {
+    pub(super) fn resource(&mut self, r: &'c ResourceDesc) -> Result<(), LowerError> {
+        if r.is_texture() {
+            self.texture(r)
+        } else {
+            self.buffer(r)
+        }
+    }
+
+    fn texture(&mut self, r: &'c ResourceDesc) -> Result<(), LowerError> {
+        let contents_err = |message: String| LowerError::Contents {
+            resource: r.name.clone(),
+            message,
+        };
+        let usage = self.usage.textures.get(&r.id).copied().or_else(|| {
+            (r.initial != InitialDesc::Undefined)
+                .then_some(wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST)
+        });
+        let Some(usage) = usage else { return Ok(()) };
+        let Some(info) = r.format else { return Ok(()) };
+        let first_user = self.usage.first_user.get(&r.id).copied();
+        let lowered = match formats::lower(
+            info,
+            self.usage.depth_bound.contains(&r.id),
+            self.usage.first_view.get(&r.id).copied(),
+            self.available,
+        ) {
+            Ok(l) => l,
+            Err(reason) => {
+                if let Some(pass) = first_user {
+                    return Err(LowerError::Format {
+                        resource: r.name.clone(),
+                        format: info.name.to_owned(),
+                        reason: reason.to_owned(),
+                        pass: pass.to_owned(),
+                    });
+                }
+                self.notes.push(format!(
+                    "\"{}\" ({}) is not replayed: {reason}",
+                    r.name, info.name
+                ));
+                return Ok(());
+            }
+        };
+        if let Some(n) = lowered.note {
+            self.notes.push(format!("\"{}\": {n}", r.name));
+        }
+        if let Some(pass) = first_user {
+            *self.pass_features.entry(pass).or_default() |= lowered.features;
+        }
+        let volume = r.kind == ResourceKind::Texture3D;
+        let initial = match &r.initial {
+            InitialDesc::Undefined | InitialDesc::BeforeCapture => None,
+            InitialDesc::Generator(contents) => {
+                let generated = generate::texture(
+                    contents,
+                    lowered.format,
+                    r.width,
+                    r.height,
+                    if volume { r.depth } else { r.array_layers },
+                    volume,
+                    r.mip_levels,
+                );
+                match generated {
+                    Ok(mips) => Some(mips),
+                    // A texture no replayed pass uses is only there to be looked at: say why
+                    // it is missing instead of failing the replay.
+                    Err(message) if first_user.is_none() => {
+                        self.notes
+                            .push(format!("\"{}\" is not replayed: {message}", r.name));
+                        return Ok(());
+                    }
+                    Err(message) => return Err(contents_err(message)),
+                }
+            }
+            InitialDesc::File(path) => Some(texture_file(r, info, path).map_err(contents_err)?),
+        };
+        self.texture_of.insert(r.id, self.plan.textures.len());
+        self.plan.textures.push(TextureSpec {
+            name: r.name.clone(),
+            format: lowered.format,
+            dimension: match r.kind {
+                ResourceKind::Texture1D => wgpu::TextureDimension::D1,
+                ResourceKind::Texture3D => wgpu::TextureDimension::D3,
+                _ => wgpu::TextureDimension::D2,
+            },
+            size: wgpu::Extent3d {
+                width: r.width,
+                height: r.height,
+                depth_or_array_layers: if volume { r.depth } else { r.array_layers },
+            },
+            mip_levels: r.mip_levels,
+            samples: r.samples,
+            usage,
+            initial,
+            history: r.history,
+            cube: r.kind == ResourceKind::TextureCube,
+        });
+        Ok(())
+    }
+
+    fn buffer(&mut self, r: &'c ResourceDesc) -> Result<(), LowerError> {
+        let Some(&usage) = self.usage.buffers.get(&r.id) else {
+            return Ok(());
+        };
+        let initial = match &r.initial {
+            InitialDesc::Undefined | InitialDesc::BeforeCapture => None,
+            InitialDesc::Generator(contents) => Some(generate::buffer(contents, r.bytes)),
+            InitialDesc::File(path) => {
+                Some(std::fs::read(path).map_err(|e| LowerError::Contents {
+                    resource: r.name.clone(),
+                    message: format!("reading {}: {e}", path.display()),
+                })?)
+            }
+        };
+        self.buffer_of.insert(r.id, self.plan.buffers.len());
+        self.plan.buffers.push(BufferSpec {
+            name: r.name.clone(),
+            size: r.bytes,
+            usage,
+            initial,
+            history: r.history,
+        });
+        Ok(())
+    }
+}
+
+/// A texture's mips cut from its side file (every layer, or the volume, of a mip together).
+fn texture_file(
+    r: &ResourceDesc,
+    info: &FormatInfo,
+    path: &std::path::Path,
+) -> Result<Vec<Vec<u8>>, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("reading {}: {e}", path.display()))?;
+    let volume = r.kind == ResourceKind::Texture3D;
+    let mut mips = Vec::new();
+    let mut offset = 0usize;
+    for m in 0..r.mip_levels {
+        let (w, h, d) = r.mip_extent(m);
+        let size = info.surface_bytes(u64::from(w), u64::from(h)).unwrap_or(0) as usize
+            * d as usize
+            * if volume { 1 } else { r.array_layers as usize };
+        mips.push(
+            bytes
+                .get(offset..offset + size)
+                .ok_or_else(|| "side file is shorter than the texture".to_owned())?
+                .to_vec(),
+        );
+        offset += size;
+    }
+    Ok(mips)
+}

@@ -1,0 +1,216 @@
+//! The one journey from a capture file to a frame ready for a device, as typed stages each built
+//! by value from the one before and holding what it derived:
+//!
+//! `Loaded` (the file read once, hashed, parsed) -> `Validated` (typed ids, sizes resolved for
+//! one scale, shaders reflected) -> `Analysed` (the pass DAG, order, culling, barriers, memory,
+//! lints, schedule) -> `Lowered` (the replay plan for one device's features).
+//!
+//! Every command, the inspector, the benchmarks and the tests walk these; none writes its own
+//! copy of the sequence. The replay crate adds the one stage that needs a device (`Replaying`).
+//! A stage that fails returns a `StageError` that says which stage and carries the error it
+//! met; the command line turns it into the messages users read.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use sha2::Digest;
+use wgpu_types::Features;
+
+use crate::analysis::graph::CycleError;
+use crate::analysis::report::{Analysis, AnalyzeOptions};
+use crate::capture::format::RawCapture;
+use crate::capture::model::{Capture, PassId, ResourceId};
+use crate::capture::{CaptureError, Diagnostic, Options};
+use crate::lower::{self, LowerError};
+use crate::plan::Plan;
+
+/// Why a stage could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum StageError {
+    /// Reading, parsing or validating the capture (`Loaded::read`, `Loaded::validate`).
+    #[error(transparent)]
+    Capture(#[from] CaptureError),
+    /// The pass graph has a cycle (`Validated::analyse`).
+    #[error("{}: {source}", path.display())]
+    Cycle {
+        path: PathBuf,
+        #[source]
+        source: CycleError,
+    },
+    /// The capture cannot be replayed at all (an import without shaders or contents).
+    #[error("{why}")]
+    NotReplayable { path: PathBuf, why: String },
+    /// The capture does not lower for this device (`Analysed::lower`).
+    #[error(transparent)]
+    Lower(#[from] LowerError),
+}
+
+impl StageError {
+    /// The problems as diagnostics: every validation error, or the one thing that stopped it.
+    pub fn diagnostics(&self) -> Vec<Diagnostic> {
+        match self {
+            StageError::Capture(e) => e.diagnostics(),
+            e => vec![Diagnostic {
+                severity: crate::capture::Severity::Error,
+                code: "stage",
+                path: "$".into(),
+                message: e.to_string(),
+                suggestion: None,
+            }],
+        }
+    }
+}
+
+/// The capture file read once: its bytes hashed (timing reports name the capture they timed by
+/// this hash) and parsed into the serde form.
+#[derive(Debug)]
+pub struct Loaded {
+    pub path: PathBuf,
+    pub sha256: String,
+    pub raw: RawCapture,
+}
+
+impl Loaded {
+    /// Reads and parses a capture file.
+    pub fn read(path: &Path) -> Result<Loaded, StageError> {
+        let bytes = std::fs::read(path).map_err(|source| CaptureError::Read {
+            path: path.to_owned(),
+            source,
+        })?;
+        Self::from_bytes(path, &bytes)
+    }
+
+    /// Parses a capture already in memory; `path` names it and locates its side files.
+    pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<Loaded, StageError> {
+        Ok(Loaded {
+            path: path.to_owned(),
+            sha256: format!("{:x}", sha2::Sha256::digest(bytes)),
+            raw: crate::capture::load::parse(path, bytes)?,
+        })
+    }
+
+    /// A capture built in memory (an import), named by `path`.
+    pub fn from_raw(path: &Path, raw: RawCapture) -> Loaded {
+        Loaded {
+            path: path.to_owned(),
+            sha256: String::new(),
+            raw,
+        }
+    }
+
+    /// Validates it for `options` (output scale, limits): every error, not the first.
+    pub fn validate(self, options: &Options) -> Result<Validated, StageError> {
+        let v = crate::capture::validate::validate(&self.raw, &self.path, options)?;
+        Ok(Validated {
+            path: self.path,
+            sha256: self.sha256,
+            capture: v.capture,
+            warnings: v.warnings,
+        })
+    }
+}
+
+/// A capture with typed ids, sizes resolved for one output scale and every shader reflected.
+#[derive(Debug, Clone)]
+pub struct Validated {
+    pub path: PathBuf,
+    pub sha256: String,
+    pub capture: Capture,
+    pub warnings: Vec<Diagnostic>,
+}
+
+impl Validated {
+    /// Reads, parses and validates a capture file: the first two stages in one call.
+    pub fn load(path: &Path, options: &Options) -> Result<Validated, StageError> {
+        Loaded::read(path)?.validate(options)
+    }
+
+    /// Builds the pass DAG and everything derived from it.
+    pub fn analyse(self, options: AnalyzeOptions) -> Result<Analysed, StageError> {
+        let analysis = self.analysis(options)?;
+        Ok(Analysed {
+            path: self.path,
+            sha256: self.sha256,
+            capture: self.capture,
+            analysis,
+        })
+    }
+
+    /// The analysis `analyse` derives, leaving this stage as it is (to analyse it again, with
+    /// other options or in a benchmark).
+    pub fn analysis(&self, options: AnalyzeOptions) -> Result<Analysis, StageError> {
+        crate::analysis::report::analyze(&self.capture, options).map_err(|source| {
+            StageError::Cycle {
+                path: self.path.clone(),
+                source,
+            }
+        })
+    }
+}
+
+/// A validated capture and its analysis.
+#[derive(Debug)]
+pub struct Analysed {
+    pub path: PathBuf,
+    pub sha256: String,
+    pub capture: Capture,
+    pub analysis: Analysis,
+}
+
+impl Analysed {
+    /// Loads, validates and analyses a capture file.
+    pub fn load(
+        path: &Path,
+        options: &Options,
+        analyse: AnalyzeOptions,
+    ) -> Result<Analysed, StageError> {
+        Validated::load(path, options)?.analyse(analyse)
+    }
+
+    /// Why this capture cannot be replayed (an import without shaders or contents), if so:
+    /// asked before any device opens.
+    pub fn replayable(self) -> Result<Analysed, StageError> {
+        match self.capture.not_replayable() {
+            Some(why) => Err(StageError::NotReplayable {
+                path: self.path,
+                why,
+            }),
+            None => Ok(self),
+        }
+    }
+
+    /// The replay plan for a device with the `available` features (`adapter` names it in
+    /// errors), passes in the analysis's order.
+    pub fn lower(self, available: Features, adapter: &str) -> Result<Lowered, StageError> {
+        let frame = lower::lower(&self.capture, &self.analysis.order, available, adapter)?;
+        Ok(Lowered {
+            analysed: self,
+            plan: frame.plan,
+            texture_of: frame.texture_of,
+            buffer_of: frame.buffer_of,
+            pass_ids: frame.pass_ids,
+            notes: frame.notes,
+        })
+    }
+}
+
+/// An analysed capture lowered to a replay plan for one device.
+#[derive(Debug)]
+pub struct Lowered {
+    pub analysed: Analysed,
+    pub plan: Plan,
+    /// The plan texture of each capture texture.
+    pub texture_of: BTreeMap<ResourceId, usize>,
+    /// The plan buffer of each capture buffer.
+    pub buffer_of: BTreeMap<ResourceId, usize>,
+    /// The capture pass of each plan pass.
+    pub pass_ids: Vec<PassId>,
+    /// What the lowering chose on its own (formats substituted and the like).
+    pub notes: Vec<String>,
+}
+
+impl Lowered {
+    pub fn capture(&self) -> &Capture {
+        &self.analysed.capture
+    }
+}

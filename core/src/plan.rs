@@ -1,0 +1,268 @@
+//! The replay plan: a frame at wgpu level (textures and buffers with their contents, samplers,
+//! meshes as vertex streams, WGSL sources, and passes in execution order). The root crate
+//! lowers a validated capture into this; nothing here knows the capture format or DXGI.
+
+use std::collections::BTreeMap;
+
+#[derive(Debug, Clone)]
+pub struct Plan {
+    pub textures: Vec<TextureSpec>,
+    pub buffers: Vec<BufferSpec>,
+    pub samplers: Vec<SamplerSpec>,
+    pub meshes: Vec<MeshSpec>,
+    pub shaders: Vec<ShaderSource>,
+    /// Passes in execution order.
+    pub passes: Vec<PassSpec>,
+}
+
+#[derive(Debug, Clone)]
+pub struct TextureSpec {
+    pub name: String,
+    pub format: wgpu_types::TextureFormat,
+    pub dimension: wgpu_types::TextureDimension,
+    /// Width, height, and depth or array layers.
+    pub size: wgpu_types::Extent3d,
+    pub mip_levels: u32,
+    pub samples: u32,
+    pub usage: wgpu_types::TextureUsages,
+    /// Contents per mip (every layer, or the 3D volume, of that mip), tightly packed.
+    pub initial: Option<Vec<Vec<u8>>>,
+    /// Two copies swapped between frames; reads marked `previous_frame` see the other one.
+    pub history: bool,
+    /// Is a cube (or cube array) for view purposes.
+    pub cube: bool,
+}
+
+#[derive(Debug, Clone)]
+pub struct BufferSpec {
+    pub name: String,
+    pub size: u64,
+    pub usage: wgpu_types::BufferUsages,
+    pub initial: Option<Vec<u8>>,
+    pub history: bool,
+}
+
+#[derive(Debug, Clone)]
+pub struct SamplerSpec {
+    pub name: String,
+    pub address: [wgpu_types::AddressMode; 3],
+    pub mag: wgpu_types::FilterMode,
+    pub min: wgpu_types::FilterMode,
+    pub mip: wgpu_types::MipmapFilterMode,
+    pub lod: (f32, f32),
+    pub compare: Option<wgpu_types::CompareFunction>,
+    pub anisotropy: u16,
+}
+
+#[derive(Debug, Clone)]
+pub struct MeshSpec {
+    pub name: String,
+    pub streams: Vec<StreamSpec>,
+    pub indices: Option<(Vec<u8>, wgpu_types::IndexFormat, u32)>,
+    pub vertex_count: u32,
+    pub instance_count: u32,
+}
+
+#[derive(Debug, Clone)]
+pub struct StreamSpec {
+    pub slot: u32,
+    pub data: Vec<u8>,
+    pub stride: u64,
+    pub step: wgpu_types::VertexStepMode,
+    /// (format, byte offset within the element, shader location)
+    pub attributes: Vec<(wgpu_types::VertexFormat, u64, u32)>,
+}
+
+#[derive(Debug, Clone)]
+pub struct ShaderSource {
+    /// As named in messages (the capture's relative path).
+    pub name: String,
+    pub source: String,
+    /// The module parsed and validated once, by whoever built the plan; the session reflects
+    /// bindings and uniforms from it instead of parsing the source again.
+    pub validated: std::sync::Arc<crate::shader::ValidatedShader>,
+}
+
+/// Per-pass (or per-draw) parameters by uniform struct member name.
+pub type Params = BTreeMap<String, Vec<f64>>;
+
+#[derive(Debug, Clone)]
+pub struct PassSpec {
+    pub name: String,
+    /// The capture queue it came from, for reports (wgpu replays on one queue).
+    pub queue: String,
+    pub op: PassOp,
+}
+
+#[derive(Debug, Clone)]
+pub enum PassOp {
+    Raster(RasterOp),
+    Compute(ComputeOp),
+    Copy(Vec<CopyOp>),
+    Clear(Vec<ClearOp>),
+    Resolve {
+        src: usize,
+        dst: usize,
+    },
+    GenerateMips {
+        texture: usize,
+        base_layer: u32,
+        layers: u32,
+    },
+    /// The presented image; replay leaves it for export.
+    Present {
+        texture: usize,
+    },
+}
+
+#[derive(Debug, Clone)]
+pub enum BindTarget {
+    Texture {
+        texture: usize,
+        format: wgpu_types::TextureFormat,
+        base_mip: u32,
+        mips: u32,
+        base_layer: u32,
+        layers: u32,
+        previous_frame: bool,
+    },
+    Buffer {
+        buffer: usize,
+        offset: u64,
+        size: Option<u64>,
+        previous_frame: bool,
+    },
+    Sampler(usize),
+}
+
+#[derive(Debug, Clone)]
+pub struct Binding {
+    pub variable: String,
+    pub target: BindTarget,
+}
+
+#[derive(Debug, Clone)]
+pub struct ColorTarget {
+    pub texture: usize,
+    pub format: wgpu_types::TextureFormat,
+    pub mip: u32,
+    pub layer: u32,
+    pub load: Option<wgpu_types::Color>,
+    pub discard_load: bool,
+    pub store: bool,
+    pub blend: Option<wgpu_types::BlendState>,
+    pub write_mask: wgpu_types::ColorWrites,
+}
+
+#[derive(Debug, Clone)]
+pub struct DepthTarget {
+    pub texture: usize,
+    pub format: wgpu_types::TextureFormat,
+    pub mip: u32,
+    pub layer: u32,
+    pub depth_clear: Option<f32>,
+    pub depth_store: bool,
+    pub stencil_clear: Option<u32>,
+    pub stencil_store: bool,
+    pub read_only: bool,
+}
+
+#[derive(Debug, Clone)]
+pub struct RasterOp {
+    pub shader: usize,
+    pub vertex: String,
+    pub fragment: Option<String>,
+    pub bindings: Vec<Binding>,
+    pub params: Params,
+    pub color: Vec<ColorTarget>,
+    pub depth: Option<DepthTarget>,
+    pub primitive: wgpu_types::PrimitiveState,
+    pub depth_stencil: Option<wgpu_types::DepthStencilState>,
+    pub stencil_reference: u32,
+    pub draws: Vec<DrawOp>,
+}
+
+#[derive(Debug, Clone)]
+pub struct DrawOp {
+    pub label: Option<String>,
+    pub vertex: Option<String>,
+    pub mesh: Option<usize>,
+    pub count: Option<u32>,
+    pub instances: u32,
+    pub first: u32,
+    pub first_instance: u32,
+    pub base_vertex: i32,
+    pub indirect: Option<(usize, u64)>,
+    pub stencil_reference: Option<u32>,
+    pub params: Params,
+}
+
+#[derive(Debug, Clone)]
+pub struct ComputeOp {
+    pub shader: usize,
+    pub entry: String,
+    pub bindings: Vec<Binding>,
+    pub params: Params,
+    pub dispatches: Vec<DispatchOp>,
+}
+
+#[derive(Debug, Clone)]
+pub struct DispatchOp {
+    pub entry: Option<String>,
+    pub groups: Option<[u32; 3]>,
+    pub indirect: Option<(usize, u64)>,
+    pub params: Params,
+}
+
+#[derive(Debug, Clone)]
+pub enum CopyEnd {
+    Texture {
+        texture: usize,
+        mip: u32,
+        layer: u32,
+        origin: [u32; 3],
+    },
+    Buffer {
+        buffer: usize,
+        offset: u64,
+        bytes_per_row: Option<u32>,
+    },
+}
+
+#[derive(Debug, Clone)]
+pub struct CopyOp {
+    pub src: CopyEnd,
+    pub dst: CopyEnd,
+    /// Texel extent for texture copies; byte count for buffer-to-buffer copies in `[0]`.
+    pub extent: [u32; 3],
+    pub bytes: u64,
+}
+
+#[derive(Debug, Clone)]
+pub enum ClearOp {
+    /// Through a render pass clear (render targets and depth).
+    Attachment {
+        texture: usize,
+        format: wgpu_types::TextureFormat,
+        base_mip: u32,
+        mips: u32,
+        base_layer: u32,
+        layers: u32,
+        value: [f64; 4],
+        stencil: u32,
+    },
+    /// `clear_texture` / `clear_buffer` (zero) for unordered-access resources; non-zero values
+    /// are written from the CPU.
+    Texture {
+        texture: usize,
+        base_mip: u32,
+        mips: u32,
+        base_layer: u32,
+        layers: u32,
+        value: [f64; 4],
+    },
+    Buffer {
+        buffer: usize,
+        value: u32,
+    },
+}

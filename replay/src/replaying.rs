@@ -1,0 +1,140 @@
+//! The last stage of the journey `framelab_core::pipeline` starts: a lowered capture running
+//! in a session on a device, with every frame's per-pass samples kept so the timing report can
+//! be built at the end. `replay` drives one, `diff` two on one device frame by frame in turn,
+//! and the inspector's worker one on its own thread.
+
+use framelab_core::capture::model::{Capture, PassId};
+use framelab_core::pipeline::{Analysed, Lowered};
+use framelab_core::plan::Params;
+use framelab_core::timing::{self, PassTiming, Sample, TimingReport};
+
+use crate::device::GpuContext;
+use crate::run::{ReplayError, Session};
+
+/// A capture running on the device, with the samples of every frame so far.
+#[derive(Debug)]
+pub struct Replaying {
+    pub analysed: Analysed,
+    /// The capture pass of each plan pass.
+    pub pass_ids: Vec<PassId>,
+    pub session: Session,
+    /// Per frame run, per plan pass.
+    pub times: Vec<Vec<Sample>>,
+    adapter: String,
+    device_type: wgpu::DeviceType,
+    backend: String,
+}
+
+impl Replaying {
+    /// Creates the plan's resources and pipelines on `ctx`.
+    pub fn start(ctx: &GpuContext, lowered: Lowered) -> Result<Replaying, ReplayError> {
+        Ok(Replaying {
+            session: Session::new(ctx, lowered.plan)?,
+            analysed: lowered.analysed,
+            pass_ids: lowered.pass_ids,
+            times: Vec::new(),
+            adapter: ctx.summary.name.clone(),
+            device_type: ctx.summary.device_type,
+            backend: ctx.summary.backend.clone(),
+        })
+    }
+
+    pub fn capture(&self) -> &Capture {
+        &self.analysed.capture
+    }
+
+    /// The frame constants of frame `f` (camera, time, jitter).
+    pub fn constants(&self, f: u32) -> Params {
+        framelab_core::lower::frame::constants(self.capture(), f)
+    }
+
+    /// Why this adapter's timestamps do not measure each plan pass, if they do not.
+    pub fn untrusted(&self) -> Vec<Option<String>> {
+        self.pass_ids
+            .iter()
+            .map(|&id| {
+                timing::untrusted_timestamps(
+                    &self.adapter,
+                    self.device_type,
+                    self.capture().pass(id).kind,
+                )
+            })
+            .collect()
+    }
+
+    /// Runs frame `f` (stopping after plan pass `stop`, if given) and keeps its samples.
+    pub fn frame(&mut self, f: u32, stop: Option<usize>) -> Result<(), ReplayError> {
+        let constants = self.constants(f);
+        let measured = self.session.run_frame(&constants, stop)?;
+        self.times.push(
+            measured
+                .iter()
+                .map(|t| Sample {
+                    gpu_start_ns: t.gpu_start_ns,
+                    gpu_ns: t.gpu_ns,
+                    cpu_ns: t.cpu_ns,
+                })
+                .collect(),
+        );
+        Ok(())
+    }
+
+    /// The timing report of the frames run, the first `warmup` of them marked as warm-up.
+    pub fn report(&self, warmup: u32) -> TimingReport {
+        let capture = self.capture();
+        let times = &self.times;
+        let untrusted = self.untrusted();
+        TimingReport {
+            format_version: timing::FORMAT_VERSION,
+            adapter: self.adapter.clone(),
+            backend: self.backend.clone(),
+            capture: capture.name.clone(),
+            capture_sha256: self.analysed.sha256.clone(),
+            scale: capture.scale,
+            frames: times.len() as u32,
+            warmup,
+            timestamp_period_ns: self.session.timestamp_period(),
+            timestamps: if self.session.timestamp_pairs() {
+                timing::StampLayout::Pairs
+            } else {
+                timing::StampLayout::Chained
+            },
+            passes: self
+                .pass_ids
+                .iter()
+                .zip(untrusted)
+                .enumerate()
+                .map(|(i, (&id, gpu_untrusted))| {
+                    let p = capture.pass(id);
+                    let mut writes: Vec<String> = p
+                        .accesses
+                        .iter()
+                        .filter(|a| a.writes)
+                        .map(|a| capture.resource(a.resource).name.clone())
+                        .collect();
+                    writes.sort();
+                    writes.dedup();
+                    let traffic = framelab_core::analysis::traffic::pass_traffic(capture, id);
+                    PassTiming {
+                        name: p.name.clone(),
+                        queue: capture.queue(p.queue).name.clone(),
+                        marker_path: p.marker_path(),
+                        kind: p.kind.as_str().to_owned(),
+                        writes,
+                        bytes_read: traffic.read,
+                        bytes_written: traffic.written,
+                        gpu_ns: times
+                            .iter()
+                            .map(|t| t.get(i).and_then(|x| x.gpu_ns))
+                            .collect(),
+                        cpu_ns: times
+                            .iter()
+                            .map(|t| t.get(i).map_or(0, |x| x.cpu_ns))
+                            .collect(),
+                        gpu_untrusted,
+                    }
+                })
+                .collect(),
+        }
+    }
+}

@@ -1,0 +1,77 @@
+//! The command line's entry to the staged journey (`framelab_core::pipeline`): each command
+//! asks for the stage it needs, and a stage's error becomes the message users read. Two
+//! dialects exist, both kept as users know them: the analysis commands (`info`, `analyze`,
+//! `graph`) print each diagnostic on its own line and exit 1; the commands that go on to a
+//! device (`replay`, `diff`, `inspect`) report one error.
+
+use std::io::Write;
+use std::path::Path;
+
+use framelab_core::analysis::report::AnalyzeOptions;
+use framelab_core::capture::{CaptureError, Options};
+use framelab_core::pipeline::{Analysed, Lowered, StageError, Validated};
+use framelab_replay::GpuContext;
+
+fn options(scale: f64) -> Options {
+    Options {
+        scale,
+        ..Options::default()
+    }
+}
+
+/// A stage's error as the device commands report it.
+fn device_error(e: StageError) -> anyhow::Error {
+    match e {
+        StageError::Capture(CaptureError::Read { path, source }) => {
+            anyhow::Error::new(source).context(format!("reading {}", path.display()))
+        }
+        StageError::Capture(e) => {
+            let details: Vec<String> = e.diagnostics().iter().map(|d| d.to_string()).collect();
+            anyhow::anyhow!("{e}\n{}", details.join("\n"))
+        }
+        e => e.into(),
+    }
+}
+
+/// A stage's error as the analysis commands report it: diagnostics first, then the error.
+fn print_stage_error(e: &StageError, path: &Path) {
+    if let StageError::Capture(CaptureError::Invalid { diagnostics, .. }) = e {
+        super::print_diagnostics(diagnostics, path);
+    }
+    let _ = writeln!(std::io::stderr(), "{e}");
+}
+
+/// A valid capture for an analysis command, or `None` once its problems are printed.
+pub fn validated(path: &Path, scale: f64) -> Option<Validated> {
+    Validated::load(path, &options(scale))
+        .map_err(|e| print_stage_error(&e, path))
+        .ok()
+}
+
+/// An analysed capture for an analysis command, or `None` once its problems are printed.
+pub fn analysed(path: &Path, cull: bool, scale: f64) -> Option<Analysed> {
+    validated(path, scale)?
+        .analyse(AnalyzeOptions { cull })
+        .map_err(|e| print_stage_error(&e, path))
+        .ok()
+}
+
+/// An analysed capture for a device command.
+pub fn analysed_for_device(path: &Path, scale: f64, cull: bool) -> anyhow::Result<Analysed> {
+    Analysed::load(path, &options(scale), AnalyzeOptions { cull }).map_err(device_error)
+}
+
+/// An analysed capture to replay: one that cannot be (an import) is refused before any device
+/// opens.
+pub fn for_replay(path: &Path, scale: f64, cull: bool) -> anyhow::Result<Analysed> {
+    analysed_for_device(path, scale, cull)?
+        .replayable()
+        .map_err(device_error)
+}
+
+/// The capture's plan for this device.
+pub fn lower(analysed: Analysed, ctx: &GpuContext) -> anyhow::Result<Lowered> {
+    analysed
+        .lower(ctx.device.features(), &ctx.summary.name)
+        .map_err(device_error)
+}

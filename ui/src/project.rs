@@ -1,0 +1,822 @@
+//! The inspector's model built from a capture: passes in execution order with their bindings,
+//! attachments, state, work, parameters, derived and recorded barriers and lints; resources
+//! with sizes, heaps, aliasing-plan offsets, first and last use and what they alias; queue
+//! waits; timings from a report and the diff against a second one. The UI crate receives only
+//! this plain data (names and preformatted text), never capture types.
+
+use std::collections::BTreeMap;
+
+use crate::model::{
+    Barrier, BarrierSide, BarrierSource, BufferView, Compare, CompareRow, Inspection, LayoutChoice,
+    Pass, PassTime, Resource, Sampling, TextureView, Timings,
+};
+use framelab_replay::wgpu;
+use serde::Serialize;
+
+use framelab_core::analysis::report::{self, Analysis, BarrierReport, SubresourceReport};
+use framelab_core::capture::model::{BindingTarget, Capture, PassDesc, PassId, Subresources};
+use framelab_core::pipeline::{Analysed, Lowered};
+use framelab_core::timing::diff::{DiffOptions, RowKind, Verdict};
+use framelab_core::timing::{TimingReport, stats};
+
+/// A serde enum's name as the capture spells it.
+fn spelled(x: &impl Serialize) -> String {
+    match serde_json::to_value(x) {
+        Ok(serde_json::Value::String(s)) => s,
+        Ok(v) => v.to_string(),
+        Err(_) => String::new(),
+    }
+}
+
+fn range_text(r: &Subresources, texture: bool) -> String {
+    if texture {
+        format!(
+            "mips {}..{} layers {}..{}",
+            r.mip_base,
+            r.mip_base + r.mip_count,
+            r.layer_base,
+            r.layer_base + r.layer_count
+        )
+    } else {
+        format!("bytes {}+{}", r.byte_offset, r.byte_size)
+    }
+}
+
+fn params(
+    p: &BTreeMap<String, framelab_core::capture::format::ParamValue>,
+) -> Vec<(String, String)> {
+    p.iter()
+        .map(|(k, v)| (k.clone(), serde_json::to_string(v).unwrap_or_default()))
+        .collect()
+}
+
+fn work(c: &Capture, p: &PassDesc) -> Vec<String> {
+    let name = |r| c.resource(r).name.clone();
+    let mut out = Vec::new();
+    for (i, d) in p.draws.iter().enumerate() {
+        let what = d.label.clone().unwrap_or_else(|| format!("draw {i}"));
+        let args = match (&d.indirect, d.mesh) {
+            (Some((buf, offset)), _) => format!("indirect from {} @ {offset}", name(*buf)),
+            (None, Some(m)) => format!(
+                "mesh {} x{} instances",
+                c.meshes[m.index()].name,
+                d.instances
+            ),
+            (None, None) => format!(
+                "{} vertices x{} instances",
+                d.count.unwrap_or(0),
+                d.instances
+            ),
+        };
+        out.push(format!("{what}: {args}"));
+    }
+    for (i, d) in p.dispatches.iter().enumerate() {
+        let what = d.label.clone().unwrap_or_else(|| format!("dispatch {i}"));
+        let args = match (&d.indirect, d.groups) {
+            (Some((buf, offset)), _) => format!("indirect from {} @ {offset}", name(*buf)),
+            (None, Some([x, y, z])) => format!("{x}x{y}x{z} groups"),
+            (None, None) => "no groups".to_owned(),
+        };
+        out.push(format!("{what}: {args}"));
+    }
+    for cp in &p.copies {
+        out.push(format!(
+            "copy {} mip {} -> {} mip {}",
+            name(cp.src.resource),
+            cp.src.mip,
+            name(cp.dst.resource),
+            cp.dst.mip
+        ));
+    }
+    for cl in &p.clears {
+        out.push(format!("clear {} to {:?}", name(cl.resource), cl.value));
+    }
+    if let Some((src, dst)) = p.resolve {
+        out.push(format!("resolve {} -> {}", name(src), name(dst)));
+    }
+    if let Some((r, range)) = &p.generate_mips {
+        out.push(format!(
+            "generate mips of {} ({})",
+            name(*r),
+            range_text(range, true)
+        ));
+    }
+    if let Some(r) = p.present {
+        out.push(format!("present {}", name(r)));
+    }
+    out
+}
+
+fn bindings(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
+    p.bindings
+        .iter()
+        .map(|b| {
+            let target = match &b.target {
+                BindingTarget::Resource {
+                    resource,
+                    view_format,
+                    view_kind,
+                } => {
+                    let r = c.resource(*resource);
+                    let mut s = format!(
+                        "{}{} as {}",
+                        r.name,
+                        if b.previous_frame {
+                            " (previous frame)"
+                        } else {
+                            ""
+                        },
+                        view_kind.as_str()
+                    );
+                    if let Some(f) = view_format {
+                        s.push_str(&format!(" {}", f.name));
+                    }
+                    if let Some(a) = b.access {
+                        s.push_str(&format!(", {}", a.as_str()));
+                    }
+                    if let Some(range) = &b.range {
+                        s.push_str(&format!(", {}", range_text(range, r.is_texture())));
+                    }
+                    s
+                }
+                BindingTarget::Sampler(s) => format!("sampler {}", c.samplers[s.index()].name),
+            };
+            (b.variable.clone(), target)
+        })
+        .collect()
+}
+
+fn attachments(c: &Capture, p: &PassDesc) -> Vec<String> {
+    let mut out: Vec<String> = p
+        .color_attachments
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            format!(
+                "color {i}: {} mip {} layer {} ({}), load {}{}, store {}",
+                c.resource(a.resource).name,
+                a.mip,
+                a.layer,
+                a.format.name,
+                spelled(&a.load),
+                if spelled(&a.load) == "clear" {
+                    format!(" {:?}", a.clear)
+                } else {
+                    String::new()
+                },
+                spelled(&a.store)
+            )
+        })
+        .collect();
+    if let Some(d) = &p.depth_stencil {
+        out.push(format!(
+            "depth: {} mip {} ({}), depth load {} ({}) store {}, stencil load {} ({}) store {}{}",
+            c.resource(d.resource).name,
+            d.mip,
+            d.format.name,
+            spelled(&d.depth_load),
+            d.depth_clear,
+            spelled(&d.depth_store),
+            spelled(&d.stencil_load),
+            d.stencil_clear,
+            spelled(&d.stencil_store),
+            if d.read_only { ", read-only" } else { "" }
+        ));
+    }
+    out
+}
+
+fn state(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    if let Some(s) = &p.shader {
+        out.push(("shader".to_owned(), c.shader(s.id).file.clone()));
+        for (stage, entry) in [
+            ("vertex", &s.vertex),
+            ("fragment", &s.fragment),
+            ("compute", &s.compute),
+        ] {
+            if let Some(e) = entry {
+                out.push((stage.to_owned(), e.clone()));
+            }
+        }
+    }
+    // An import records no pipeline state: the defaults would be made up.
+    if p.kind.as_str() == "raster"
+        && c.not_replayable().is_none()
+        && let Ok(serde_json::Value::Object(m)) = serde_json::to_value(&p.state)
+    {
+        for (k, v) in m {
+            let text = match v {
+                serde_json::Value::String(s) => s,
+                other => other.to_string(),
+            };
+            out.push((k, text));
+        }
+    }
+    out
+}
+
+fn derived(b: &BarrierReport, side: BarrierSide) -> Barrier {
+    let v = &b.vulkan;
+    let layouts = match (v.old_layout, v.new_layout) {
+        (Some(o), Some(n)) => format!("{o} -> {n}; "),
+        _ => String::new(),
+    };
+    Barrier {
+        side,
+        source: BarrierSource::Derived,
+        kind: spelled(&b.kind),
+        resource: b.resource.clone(),
+        subresource: match &b.subresource {
+            SubresourceReport::All(_) => "all".to_owned(),
+            SubresourceReport::Texture { mips, layers } => {
+                format!(
+                    "mips {}+{} layers {}+{}",
+                    mips[0], mips[1], layers[0], layers[1]
+                )
+            }
+            SubresourceReport::Bytes { bytes } => format!("bytes {}+{}", bytes[0], bytes[1]),
+        },
+        states: match &b.resource_before {
+            Some(before) => format!("{before} -> {}", b.resource),
+            None => format!("{} -> {}", b.before, b.after),
+        },
+        vulkan: format!(
+            "{layouts}{} / {} -> {} / {}",
+            v.src_stages.join("|"),
+            v.src_access.join("|"),
+            v.dst_stages.join("|"),
+            v.dst_access.join("|")
+        ),
+    }
+}
+
+fn recorded(c: &Capture, p: &PassDesc) -> Vec<Barrier> {
+    p.barriers
+        .iter()
+        .map(|b| {
+            let resource = b.resource.map(|r| c.resource(r));
+            let states = |s: &[framelab_core::capture::format::ResourceState]| {
+                s.iter().map(spelled).collect::<Vec<_>>().join("|")
+            };
+            Barrier {
+                side: BarrierSide::Before,
+                source: BarrierSource::Recorded,
+                kind: spelled(&b.barrier_type),
+                resource: resource.map_or("(all)".to_owned(), |r| r.name.clone()),
+                subresource: match (&b.range, resource) {
+                    (Some(range), Some(r)) => range_text(range, r.is_texture()),
+                    _ => "all".to_owned(),
+                },
+                states: match b.resource_before {
+                    Some(before) => format!("{} -> ...", c.resource(before).name),
+                    None if b.before.is_empty() && b.after.is_empty() => String::new(),
+                    None => format!("{} -> {}", states(&b.before), states(&b.after)),
+                },
+                vulkan: b.vulkan.as_ref().map(vulkan_text).unwrap_or_default(),
+            }
+        })
+        .collect()
+}
+
+/// A recorded Vulkan barrier as the details pane lists it: layouts, then scopes, then origin.
+fn vulkan_text(v: &framelab_core::capture::model::VulkanBarrierDesc) -> String {
+    use framelab_core::capture::vulkan::{ACCESS, STAGES, mask_names};
+    let names = |t: &[(&str, u64)], m: u64| {
+        let n = mask_names(t, m);
+        if n.is_empty() {
+            "NONE".to_owned()
+        } else {
+            n.join("|")
+        }
+    };
+    let layouts = match (v.old_layout, v.new_layout) {
+        (Some(a), Some(b)) => format!("{a} -> {b}; "),
+        _ => String::new(),
+    };
+    format!(
+        "{layouts}{}/{} -> {}/{} ({})",
+        names(STAGES, v.src_stages),
+        names(ACCESS, v.src_access),
+        names(STAGES, v.dst_stages),
+        names(ACCESS, v.dst_access),
+        v.origin
+    )
+}
+
+/// How the viewer reads a plan texture, or why it cannot.
+fn texture_view(plan_index: usize, spec: &framelab_core::plan::TextureSpec) -> TextureView {
+    use wgpu::TextureFormat as F;
+    let f = spec.format;
+    let sampling = if f.has_depth_aspect() {
+        Sampling::Depth
+    } else if f.has_stencil_aspect() {
+        Sampling::Stencil
+    } else {
+        match f.sample_type(None, None) {
+            Some(wgpu::TextureSampleType::Uint) => Sampling::Uint,
+            Some(wgpu::TextureSampleType::Sint) => Sampling::Sint,
+            _ => Sampling::Float,
+        }
+    };
+    let hdr = matches!(
+        f,
+        F::Rgba16Float | F::Rgba32Float | F::Rg11b10Ufloat | F::Rgb9e5Ufloat
+    );
+    TextureView {
+        plan_index,
+        sampling,
+        volume: spec.dimension == wgpu::TextureDimension::D3,
+        encode_srgb: f.is_srgb() || hdr,
+        unviewable: (spec.samples > 1)
+            .then(|| "multisampled: view the resolved texture".to_owned()),
+        stencil: framelab_replay::decode::has_stencil(spec),
+    }
+}
+
+/// Adds `choice` to `list` unless the same layout at the same base is there already.
+fn add_layout(list: &mut Vec<LayoutChoice>, choice: LayoutChoice) {
+    if !list
+        .iter()
+        .any(|c| c.layout == choice.layout && c.base == choice.base)
+    {
+        list.push(choice);
+    }
+}
+
+/// How the buffer viewer can read each plan buffer, found in one walk over the plan: as the
+/// indirect arguments it feeds, then as the WGSL type of each variable bound to it (first
+/// binding of each distinct type; named struct members before bare scalar arrays).
+fn buffer_views(plan: &framelab_core::plan::Plan) -> Vec<BufferView> {
+    use framelab_core::layout::BufferLayout;
+    use framelab_core::plan::{BindTarget, PassOp};
+    let mut views: Vec<BufferView> = plan
+        .buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| BufferView {
+            plan_index: i,
+            size: b.size,
+            layouts: Vec::new(),
+            indirect: Vec::new(),
+        })
+        .collect();
+    let mut typed: Vec<Vec<LayoutChoice>> = vec![Vec::new(); views.len()];
+    // (buffer, byte offset, record layout, what reads it) for every indirect draw or dispatch.
+    let mut indirect_use = |buffer: usize, offset: u64, layout: BufferLayout, text: String| {
+        if let Some(v) = views.get_mut(buffer) {
+            v.indirect.push(text);
+            let source = if layout.type_name.starts_with("Dispatch") {
+                "indirect dispatches"
+            } else {
+                "indirect draws"
+            };
+            add_layout(
+                &mut v.layouts,
+                LayoutChoice {
+                    source: source.to_owned(),
+                    base: offset % layout.stride,
+                    layout,
+                },
+            );
+        }
+    };
+    for pass in &plan.passes {
+        let (shader, bindings) = match &pass.op {
+            PassOp::Raster(r) => {
+                for (i, d) in r.draws.iter().enumerate() {
+                    let Some((b, offset)) = d.indirect else {
+                        continue;
+                    };
+                    let indexed = d
+                        .mesh
+                        .and_then(|m| plan.meshes.get(m))
+                        .is_some_and(|m| m.indices.is_some());
+                    let label = d.label.clone().unwrap_or_else(|| format!("#{i}"));
+                    let (layout, kind) = if indexed {
+                        (BufferLayout::draw_indexed_indirect(), "indexed")
+                    } else {
+                        (BufferLayout::draw_indirect(), "non-indexed")
+                    };
+                    let text = format!("{}: {kind} draw {label} at byte {offset}", pass.name);
+                    indirect_use(b, offset, layout, text);
+                }
+                (r.shader, &r.bindings)
+            }
+            PassOp::Compute(c) => {
+                for (i, d) in c.dispatches.iter().enumerate() {
+                    if let Some((b, offset)) = d.indirect {
+                        let text = format!("{}: dispatch #{i} at byte {offset}", pass.name);
+                        indirect_use(b, offset, BufferLayout::dispatch_indirect(), text);
+                    }
+                }
+                (c.shader, &c.bindings)
+            }
+            _ => continue,
+        };
+        let Some(source) = plan.shaders.get(shader) else {
+            continue;
+        };
+        let file = std::path::Path::new(&source.name)
+            .file_name()
+            .and_then(|f| f.to_str())
+            .unwrap_or(source.name.as_str());
+        for b in bindings {
+            if let BindTarget::Buffer { buffer, offset, .. } = b.target
+                && let Some(list) = typed.get_mut(buffer)
+                && let Some(layout) = source.validated.buffer_layout(&b.variable)
+            {
+                add_layout(
+                    list,
+                    LayoutChoice {
+                        source: format!("var {} in {file}", b.variable),
+                        base: offset,
+                        layout,
+                    },
+                );
+            }
+        }
+    }
+    for (view, mut typed) in views.iter_mut().zip(typed) {
+        typed.sort_by_key(|c| c.layout.is_plain());
+        view.layouts.extend(typed);
+    }
+    views
+}
+
+/// Every plan texture the viewer can show gets bound as a texture by the display pass.
+fn make_viewable(lowered: &mut Lowered) {
+    for t in &mut lowered.plan.textures {
+        if t.samples == 1 {
+            t.usage |= wgpu::TextureUsages::TEXTURE_BINDING;
+        }
+    }
+}
+
+fn resources(
+    c: &Capture,
+    r: &report::Report,
+    lowered: Option<&Lowered>,
+    pass_index: &BTreeMap<PassId, usize>,
+) -> Vec<Resource> {
+    let info = framelab_core::info::report(c);
+    let buffers = lowered.map(|l| buffer_views(&l.plan)).unwrap_or_default();
+    let memory: BTreeMap<&str, &report::ResourceMemory> = r
+        .memory
+        .resources
+        .iter()
+        .map(|m| (m.name.as_str(), m))
+        .collect();
+    let mut aliases: BTreeMap<&str, Vec<String>> = BTreeMap::new();
+    for x in &r.memory.aliasing_barriers {
+        aliases
+            .entry(x.resource_before.as_str())
+            .or_default()
+            .push(x.resource_after.clone());
+        aliases
+            .entry(x.resource_after.as_str())
+            .or_default()
+            .push(x.resource_before.clone());
+    }
+    // First and last pass using each resource, in execution order.
+    let mut uses: BTreeMap<usize, (usize, usize)> = BTreeMap::new();
+    for (&id, &i) in pass_index {
+        for access in &c.pass(id).accesses {
+            let e = uses.entry(access.resource.index()).or_insert((i, i));
+            e.0 = e.0.min(i);
+            e.1 = e.1.max(i);
+        }
+    }
+    info.resources
+        .iter()
+        .enumerate()
+        .map(|(i, ri)| {
+            let id = c.resources[i].id;
+            let m = memory.get(ri.name.as_str());
+            let mut al = aliases.get(ri.name.as_str()).cloned().unwrap_or_default();
+            al.sort();
+            al.dedup();
+            Resource {
+                name: ri.name.clone(),
+                kind: ri.kind.to_owned(),
+                format: ri.format.unwrap_or("").to_owned(),
+                width: ri.width,
+                height: ri.height,
+                depth: ri.depth,
+                mips: ri.mip_levels,
+                layers: ri.array_layers,
+                bytes: ri.bytes,
+                heap: format!("{} ({})", ri.heap, ri.heap_type),
+                offset: m.map(|m| m.offset),
+                first_pass: uses.get(&i).map(|u| u.0),
+                last_pass: uses.get(&i).map(|u| u.1),
+                aliases: al,
+                texture: lowered.and_then(|l| {
+                    l.texture_of
+                        .get(&id)
+                        .map(|&t| texture_view(t, &l.plan.textures[t]))
+                }),
+                buffer: lowered
+                    .and_then(|l| l.buffer_of.get(&id))
+                    .and_then(|&b| buffers.get(b).cloned()),
+            }
+        })
+        .collect()
+}
+
+/// Per model pass, its median GPU time in a report, laid out per queue in order (a report
+/// keeps durations, not start times): a pass starts when the previous one on its queue ends,
+/// and not before the passes it waits on.
+fn timings_from(model: &Inspection, t: &TimingReport, source: &str) -> Timings {
+    let by_name: BTreeMap<(&str, &str), &framelab_core::timing::PassTiming> = t
+        .passes
+        .iter()
+        .map(|p| ((p.queue.as_str(), p.name.as_str()), p))
+        .collect();
+    let mut queue_end = vec![0.0f64; model.queues.len()];
+    let mut ends: Vec<f64> = Vec::with_capacity(model.passes.len());
+    let mut out = Vec::with_capacity(model.passes.len());
+    // The passes each pass waits on, gathered once.
+    let mut waits_on: Vec<Vec<usize>> = vec![Vec::new(); model.passes.len()];
+    for &(from, to) in &model.fences {
+        if let Some(list) = waits_on.get_mut(to) {
+            list.push(from);
+        }
+    }
+    for (i, p) in model.passes.iter().enumerate() {
+        let timing = by_name.get(&(model.queues[p.queue].as_str(), p.name.as_str()));
+        // A pass the adapter could not time keeps its place, unmeasured.
+        let measured = timing.is_none_or(|pt| pt.gpu_untrusted.is_none());
+        let ms = timing
+            .and_then(|pt| stats::gpu_ms_median_min(pt, t.warmup))
+            .map(|(median, _)| median * 1e6);
+        let waits = waits_on[i]
+            .iter()
+            .map(|&from| ends.get(from).copied().unwrap_or(0.0))
+            .fold(0.0f64, f64::max);
+        let start = queue_end[p.queue].max(waits);
+        let end = start + ms.unwrap_or(0.0);
+        queue_end[p.queue] = end;
+        ends.push(end);
+        out.push(match (ms, measured) {
+            (Some(gpu_ns), _) => Some(PassTime {
+                start_ns: start,
+                gpu_ns,
+                measured: true,
+            }),
+            (None, false) => Some(PassTime {
+                start_ns: start,
+                gpu_ns: 0.0,
+                measured: false,
+            }),
+            (None, true) => None,
+        });
+    }
+    Timings {
+        source: source.to_owned(),
+        passes: out,
+        note: t.passes.iter().find_map(|p| p.gpu_untrusted.clone()),
+    }
+}
+
+fn compare_from(
+    model: &Inspection,
+    a: &TimingReport,
+    b: &TimingReport,
+    source: &str,
+) -> Result<Compare, framelab_core::timing::diff::DiffError> {
+    let d = framelab_core::timing::diff::diff(a, b, &DiffOptions::default())?;
+    let rows: BTreeMap<(&str, &str), &framelab_core::timing::diff::Row> = d
+        .rows
+        .iter()
+        .filter(|r| r.kind == RowKind::Pass)
+        .map(|r| ((r.queue.as_str(), r.name.as_str()), r))
+        .collect();
+    let passes = model
+        .passes
+        .iter()
+        .map(|p| {
+            let r = rows.get(&(model.queues[p.queue].as_str(), p.name.as_str()))?;
+            Some(CompareRow {
+                other_ms: r.median_b_ns / 1e6,
+                change_pct: r.change_pct,
+                verdict: match r.verdict {
+                    Verdict::Regression => "regression",
+                    Verdict::Improvement => "improvement",
+                    Verdict::Unchanged => "unchanged",
+                    Verdict::Inconclusive { .. } => "inconclusive",
+                    Verdict::Untimed => "untimed",
+                }
+                .to_owned(),
+            })
+        })
+        .collect();
+    Ok(Compare {
+        source: source.to_owned(),
+        passes,
+    })
+}
+
+fn edges(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<crate::model::Edge> {
+    use crate::model::EdgeKind;
+    use framelab_core::analysis::graph::EdgeKind as K;
+    use petgraph::visit::EdgeRef;
+    let mut out: Vec<crate::model::Edge> = a
+        .graph
+        .graph
+        .edge_references()
+        .filter_map(|e| {
+            let from = *pass_index.get(&a.pass_id(e.source().index() as u32))?;
+            let to = *pass_index.get(&a.pass_id(e.target().index() as u32))?;
+            Some(crate::model::Edge {
+                from,
+                to,
+                kind: match e.weight().kind {
+                    K::Raw => EdgeKind::Raw,
+                    K::War => EdgeKind::War,
+                    K::Waw => EdgeKind::Waw,
+                    K::Queue => EdgeKind::Queue,
+                    K::Fence => EdgeKind::Fence,
+                },
+                resource: e
+                    .weight()
+                    .resource
+                    .map(|r| a.model.resources[r as usize].name.clone()),
+            })
+        })
+        .collect();
+    out.sort_by_key(|e| (e.from, e.to));
+    out
+}
+
+fn memory(
+    c: &Capture,
+    r: &report::Report,
+    pass_named: &BTreeMap<&str, usize>,
+) -> Vec<crate::model::MemoryBlock> {
+    let last = pass_named.len().saturating_sub(1);
+    let resource_named: BTreeMap<&str, usize> = c
+        .resources
+        .iter()
+        .enumerate()
+        .map(|(i, x)| (x.name.as_str(), i))
+        .collect();
+    r.memory
+        .resources
+        .iter()
+        .filter_map(|m| {
+            let resource = *resource_named.get(m.name.as_str())?;
+            let at = |p: &Option<String>| p.as_deref().and_then(|n| pass_named.get(n).copied());
+            let (first, last) = if m.persistent {
+                (0, last)
+            } else {
+                (at(&m.first_use)?, at(&m.last_use)?)
+            };
+            Some(crate::model::MemoryBlock {
+                resource,
+                pool: m.pool.clone(),
+                offset: m.offset,
+                bytes: m.bytes,
+                first,
+                last,
+            })
+        })
+        .collect()
+}
+
+/// The timing reports the inspector was given.
+#[derive(Debug, Default)]
+pub struct Reports<'a> {
+    pub timings: Option<(&'a TimingReport, String)>,
+    pub compare: Option<(&'a TimingReport, String)>,
+}
+
+/// The inspector's model of a capture that is not replayed (an import): passes, barriers,
+/// resources, the DAG and memory, with no texture or buffer contents to view.
+pub fn model_without_replay(
+    analysed: &Analysed,
+    reports: &Reports<'_>,
+) -> Result<Inspection, framelab_core::timing::diff::DiffError> {
+    let (c, a) = (&analysed.capture, &analysed.analysis);
+    model(c, a, &a.order, None, reports)
+}
+
+/// `order`: the passes shown, in execution order (the replayed ones when `lowered` is given).
+fn model(
+    c: &Capture,
+    a: &Analysis,
+    order: &[PassId],
+    lowered: Option<&Lowered>,
+    reports: &Reports<'_>,
+) -> Result<Inspection, framelab_core::timing::diff::DiffError> {
+    let r = report::report(c, a);
+    let pass_index: BTreeMap<PassId, usize> =
+        order.iter().enumerate().map(|(i, &id)| (id, i)).collect();
+    let boundaries: BTreeMap<&str, &report::Boundary> =
+        r.barriers.iter().map(|b| (b.pass.as_str(), b)).collect();
+    let passes: Vec<Pass> = order
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| {
+            let p = c.pass(id);
+            let mut barriers = Vec::new();
+            if let Some(b) = boundaries.get(p.name.as_str()) {
+                barriers.extend(b.barriers.iter().map(|x| derived(x, BarrierSide::Before)));
+            }
+            barriers.extend(recorded(c, p));
+            if let Some(next) = order.get(i + 1)
+                && let Some(b) = boundaries.get(c.pass(*next).name.as_str())
+            {
+                barriers.extend(b.barriers.iter().map(|x| derived(x, BarrierSide::After)));
+            }
+            Pass {
+                name: p.name.clone(),
+                queue: p.queue.index(),
+                kind: p.kind.as_str().to_owned(),
+                markers: p.markers.clone(),
+                culled: a.culled.contains(&id),
+                work: work(c, p),
+                bindings: bindings(c, p),
+                attachments: attachments(c, p),
+                state: state(c, p),
+                params: params(&p.params),
+                barriers,
+                lints: r
+                    .lints
+                    .iter()
+                    .filter(|l| l.pass.as_deref() == Some(p.name.as_str()))
+                    .map(|l| format!("{} {}: {}", l.code, spelled(&l.severity), l.message))
+                    .collect(),
+            }
+        })
+        .collect();
+    let mut fences = Vec::new();
+    for (&id, &i) in &pass_index {
+        for f in &c.pass(id).wait {
+            for (&other, &j) in &pass_index {
+                if c.pass(other).signal.contains(f) {
+                    fences.push((j, i));
+                }
+            }
+        }
+    }
+    fences.sort_unstable();
+    let pass_named: BTreeMap<&str, usize> = order
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (c.pass(id).name.as_str(), i))
+        .collect();
+    let mut m = Inspection {
+        capture: c.name.clone(),
+        scale: c.scale,
+        queues: c.queues.iter().map(|q| q.name.clone()).collect(),
+        passes,
+        resources: resources(c, &r, lowered, &pass_index),
+        fences,
+        edges: edges(a, &pass_index),
+        memory: memory(c, &r, &pass_named),
+        timings: None,
+        compare: None,
+    };
+    if let Some((t, source)) = &reports.timings {
+        m.timings = Some(timings_from(&m, t, source));
+        if let Some((b, other)) = &reports.compare {
+            m.compare = Some(compare_from(&m, t, b, other)?);
+        }
+    }
+    Ok(m)
+}
+
+/// Why the inspector could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum LaunchError {
+    #[error(transparent)]
+    Lower(#[from] framelab_core::pipeline::StageError),
+    #[error(transparent)]
+    Replay(#[from] framelab_replay::ReplayError),
+    #[error("comparing the timing reports: {0}")]
+    Compare(#[from] framelab_core::timing::diff::DiffError),
+}
+
+/// The inspector's model and its replay worker, started on `ctx`: the capture lowered for the
+/// device (every texture viewable), its replay on a worker thread that times `frames` whole
+/// frames before answering views.
+pub fn launch(
+    analysed: Analysed,
+    ctx: &framelab_replay::GpuContext,
+    reports: &Reports<'_>,
+    frames: u32,
+) -> Result<(Inspection, crate::worker::Worker), LaunchError> {
+    let mut lowered = analysed.lower(ctx.device.features(), &ctx.summary.name)?;
+    make_viewable(&mut lowered);
+    let a = &lowered.analysed;
+    let inspection = model(
+        &a.capture,
+        &a.analysis,
+        &lowered.pass_ids,
+        Some(&lowered),
+        reports,
+    )?;
+    let replaying = framelab_replay::Replaying::start(ctx, lowered)?;
+    Ok((inspection, crate::worker::Worker::start(replaying, frames)))
+}
