@@ -18,6 +18,21 @@ use framelab_core::pipeline::Analysed;
 use framelab_ui::project::{self as inspect, Reports};
 use framelab_ui::{Inspector, egui, headless};
 
+/// Tests name passes and resources as a user would; the model itself is keyed by id.
+trait ByName {
+    fn pass_named(&self, name: &str) -> Option<usize>;
+    fn resource_named(&self, name: &str) -> Option<usize>;
+}
+
+impl ByName for framelab_ui::model::Inspection {
+    fn pass_named(&self, name: &str) -> Option<usize> {
+        self.passes.iter().position(|p| p.name == name)
+    }
+    fn resource_named(&self, name: &str) -> Option<usize> {
+        self.resources.iter().position(|r| r.name == name)
+    }
+}
+
 const CAPTURE: &str = "captures/night_city/main_street_day.json";
 const SETTLE: Duration = Duration::from_secs(1200);
 

@@ -112,6 +112,16 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
             .zip(args.compare.as_ref())
             .map(|(t, p)| (t, p.display().to_string())),
     };
+    // Names from the command line become capture ids once, before the device opens.
+    let c = &analysed.capture;
+    let select_id = args.select.as_ref().map(|name| {
+        let id = c.passes.iter().find(|p| &p.name == name).map(|p| p.id);
+        (name, id)
+    });
+    let view_id = args.view.as_ref().map(|name| {
+        let id = c.resources.iter().find(|r| &r.name == name).map(|r| r.id);
+        (name, id)
+    });
     // The device draws the window even when nothing is replayed.
     let ctx = framelab_replay::open_device(args.adapter.as_deref(), lower::wanted_features())?;
     // An imported capture is inspected without a replay: passes, barriers, DAG and memory.
@@ -122,8 +132,8 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         let (model, worker) = project::launch(analysed, &ctx, &reports, args.frames)?;
         (model, Some(worker))
     };
-    let select = match &args.select {
-        Some(name) => Some(model.pass_named(name).with_context(|| {
+    let select = match select_id {
+        Some((name, id)) => Some(id.and_then(|id| model.pass_position(id)).with_context(|| {
             let names: Vec<&str> = model.passes.iter().map(|p| p.name.as_str()).collect();
             format!(
                 "--select: no pass \"{name}\" (passes: {})",
@@ -132,10 +142,9 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         })?),
         None => None,
     };
-    let view = match &args.view {
-        Some(name) => Some(
-            model
-                .resource_named(name)
+    let view = match view_id {
+        Some((name, id)) => Some(
+            id.and_then(|id| model.resource_position(id))
                 .with_context(|| format!("--view: no resource \"{name}\" in {}", model.capture))?,
         ),
         None => None,

@@ -23,6 +23,21 @@ use framelab_ui::worker::SaveAs;
 use crate::common::{exr_image, framelab, repo};
 use crate::golden::ui_snapshot_options;
 
+/// Tests name passes and resources as a user would; the model itself is keyed by id.
+trait ByName {
+    fn pass_named(&self, name: &str) -> Option<usize>;
+    fn resource_named(&self, name: &str) -> Option<usize>;
+}
+
+impl ByName for framelab_ui::model::Inspection {
+    fn pass_named(&self, name: &str) -> Option<usize> {
+        self.passes.iter().position(|p| p.name == name)
+    }
+    fn resource_named(&self, name: &str) -> Option<usize> {
+        self.resources.iter().position(|r| r.name == name)
+    }
+}
+
 const SETTLE: Duration = Duration::from_secs(300);
 
 /// The example at scale 0.25 in a 1400x900 harness, one frame timed, settled.

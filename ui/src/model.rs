@@ -1,7 +1,9 @@
-//! The inspection model: a replayed frame as plain data (names, numbers, preformatted text),
-//! built by the root crate from a capture, its analysis and timings. The panels draw only
-//! this, so they can be tested on a fixed model, and no capture type leaks into the UI.
+//! The inspection model: a replayed frame as plain data (ids, names, numbers, preformatted
+//! text), projected by `project` from the pipeline's stages by id. The panels draw only this,
+//! so they can be tested on a fixed model; passes and resources keep their capture ids so
+//! that anything naming one (the command line, a test) finds it without matching names.
 
+pub use framelab_core::capture::model::{PassId, ResourceId};
 pub use framelab_core::layout::{BufferLayout, Field, Scalar};
 
 /// A whole frame to inspect.
@@ -54,7 +56,7 @@ pub enum EdgeKind {
 /// persistent resources live the whole frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MemoryBlock {
-    pub resource: usize,
+    pub resource: ResourceId,
     pub pool: String,
     pub offset: u64,
     pub bytes: u64,
@@ -97,8 +99,9 @@ pub struct CompareRow {
     pub verdict: String,
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Pass {
+    pub id: PassId,
     pub name: String,
     pub queue: usize,
     /// raster, compute, copy, clear, resolve, generate_mips or present.
@@ -201,8 +204,9 @@ pub struct LayoutChoice {
     pub layout: BufferLayout,
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Resource {
+    pub id: ResourceId,
     pub name: String,
     pub kind: String,
     /// The capture's (DXGI) format name; empty for untyped buffers.
@@ -227,12 +231,16 @@ pub struct Resource {
 }
 
 impl Inspection {
-    /// Resource index by name.
-    pub fn resource_named(&self, name: &str) -> Option<usize> {
-        self.resources.iter().position(|r| r.name == name)
+    /// Where a capture pass is among the passes shown, if it is shown.
+    pub fn pass_position(&self, id: PassId) -> Option<usize> {
+        self.passes.iter().position(|p| p.id == id)
     }
-    /// Pass index by name (the first with that name).
-    pub fn pass_named(&self, name: &str) -> Option<usize> {
-        self.passes.iter().position(|p| p.name == name)
+    /// Where a capture resource is among the resources (capture order, so its index, when the
+    /// model has it).
+    pub fn resource_position(&self, id: ResourceId) -> Option<usize> {
+        self.resources
+            .get(id.index())
+            .filter(|r| r.id == id)
+            .map(|_| id.index())
     }
 }

@@ -14,7 +14,9 @@ use framelab_replay::wgpu;
 use serde::Serialize;
 
 use framelab_core::analysis::report::{self, Analysis, BarrierReport, SubresourceReport};
-use framelab_core::capture::model::{BindingTarget, Capture, PassDesc, PassId, Subresources};
+use framelab_core::capture::model::{
+    BindingTarget, Capture, PassDesc, PassId, ResourceId, Subresources,
+};
 use framelab_core::pipeline::{Analysed, Lowered};
 use framelab_core::timing::diff::{DiffOptions, RowKind, Verdict};
 use framelab_core::timing::{TimingReport, stats};
@@ -455,48 +457,56 @@ fn make_viewable(lowered: &mut Lowered) {
 
 fn resources(
     c: &Capture,
-    r: &report::Report,
+    a: &Analysis,
     lowered: Option<&Lowered>,
     pass_index: &BTreeMap<PassId, usize>,
 ) -> Vec<Resource> {
     let info = framelab_core::info::report(c);
     let buffers = lowered.map(|l| buffer_views(&l.plan)).unwrap_or_default();
-    let memory: BTreeMap<&str, &report::ResourceMemory> = r
+    // A history resource's previous-frame copy is a resource of its own in the memory plan;
+    // its placement is not the resource's.
+    let own = |r: u32| a.model.resources[r as usize].previous_of.is_none();
+    let offset: BTreeMap<ResourceId, u64> = a
         .memory
         .resources
         .iter()
-        .map(|m| (m.name.as_str(), m))
+        .filter(|m| own(m.resource))
+        .map(|m| (a.resource_id(m.resource), m.offset))
         .collect();
-    let mut aliases: BTreeMap<&str, Vec<String>> = BTreeMap::new();
-    for x in &r.memory.aliasing_barriers {
-        aliases
-            .entry(x.resource_before.as_str())
-            .or_default()
-            .push(x.resource_after.clone());
-        aliases
-            .entry(x.resource_after.as_str())
-            .or_default()
-            .push(x.resource_before.clone());
+    let mut aliases: BTreeMap<ResourceId, Vec<String>> = BTreeMap::new();
+    for x in &a.memory.aliasing_barriers {
+        let name = |r: u32| a.model.resources[r as usize].name.clone();
+        for (this, other) in [
+            (x.resource_before, x.resource_after),
+            (x.resource_after, x.resource_before),
+        ] {
+            if own(this) {
+                aliases
+                    .entry(a.resource_id(this))
+                    .or_default()
+                    .push(name(other));
+            }
+        }
     }
     // First and last pass using each resource, in execution order.
-    let mut uses: BTreeMap<usize, (usize, usize)> = BTreeMap::new();
+    let mut uses: BTreeMap<ResourceId, (usize, usize)> = BTreeMap::new();
     for (&id, &i) in pass_index {
         for access in &c.pass(id).accesses {
-            let e = uses.entry(access.resource.index()).or_insert((i, i));
+            let e = uses.entry(access.resource).or_insert((i, i));
             e.0 = e.0.min(i);
             e.1 = e.1.max(i);
         }
     }
     info.resources
         .iter()
-        .enumerate()
-        .map(|(i, ri)| {
-            let id = c.resources[i].id;
-            let m = memory.get(ri.name.as_str());
-            let mut al = aliases.get(ri.name.as_str()).cloned().unwrap_or_default();
+        .zip(&c.resources)
+        .map(|(ri, r)| {
+            let id = r.id;
+            let mut al = aliases.remove(&id).unwrap_or_default();
             al.sort();
             al.dedup();
             Resource {
+                id,
                 name: ri.name.clone(),
                 kind: ri.kind.to_owned(),
                 format: ri.format.unwrap_or("").to_owned(),
@@ -507,9 +517,9 @@ fn resources(
                 layers: ri.array_layers,
                 bytes: ri.bytes,
                 heap: format!("{} ({})", ri.heap, ri.heap_type),
-                offset: m.map(|m| m.offset),
-                first_pass: uses.get(&i).map(|u| u.0),
-                last_pass: uses.get(&i).map(|u| u.1),
+                offset: offset.get(&id).copied(),
+                first_pass: uses.get(&id).map(|u| u.0),
+                last_pass: uses.get(&id).map(|u| u.1),
                 aliases: al,
                 texture: lowered.and_then(|l| {
                     l.texture_of
@@ -649,32 +659,28 @@ fn edges(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<crate::model
     out
 }
 
-fn memory(
-    c: &Capture,
-    r: &report::Report,
-    pass_named: &BTreeMap<&str, usize>,
-) -> Vec<crate::model::MemoryBlock> {
-    let last = pass_named.len().saturating_sub(1);
-    let resource_named: BTreeMap<&str, usize> = c
+/// The aliasing plan's blocks, by resource id, with their lifetimes as positions among the
+/// passes shown (persistent resources live the whole frame).
+fn memory(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<crate::model::MemoryBlock> {
+    let last = pass_index.len().saturating_sub(1);
+    let at = |order_position: u32| {
+        let model_pass = *a.model_order.get(order_position as usize)?;
+        pass_index.get(&a.pass_id(model_pass)).copied()
+    };
+    a.memory
         .resources
         .iter()
-        .enumerate()
-        .map(|(i, x)| (x.name.as_str(), i))
-        .collect();
-    r.memory
-        .resources
-        .iter()
+        // A previous-frame copy's block is not the resource's own.
+        .filter(|m| a.model.resources[m.resource as usize].previous_of.is_none())
         .filter_map(|m| {
-            let resource = *resource_named.get(m.name.as_str())?;
-            let at = |p: &Option<String>| p.as_deref().and_then(|n| pass_named.get(n).copied());
-            let (first, last) = if m.persistent {
-                (0, last)
-            } else {
-                (at(&m.first_use)?, at(&m.last_use)?)
+            let (first, last) = match (m.persistent, m.lifetime) {
+                (true, _) => (0, last),
+                (false, Some(l)) => (at(l.first)?, at(l.last)?),
+                (false, None) => return None,
             };
             Some(crate::model::MemoryBlock {
-                resource,
-                pool: m.pool.clone(),
+                resource: a.resource_id(m.resource),
+                pool: a.memory.pools[m.pool as usize].clone(),
                 offset: m.offset,
                 bytes: m.bytes,
                 first,
@@ -702,6 +708,8 @@ pub fn model_without_replay(
 }
 
 /// `order`: the passes shown, in execution order (the replayed ones when `lowered` is given).
+/// Everything is joined by id: the analysis's barriers, lints and memory plan land on the pass
+/// and resource they name, without going through names.
 fn model(
     c: &Capture,
     a: &Analysis,
@@ -709,27 +717,37 @@ fn model(
     lowered: Option<&Lowered>,
     reports: &Reports<'_>,
 ) -> Result<Inspection, framelab_core::timing::diff::DiffError> {
-    let r = report::report(c, a);
     let pass_index: BTreeMap<PassId, usize> =
         order.iter().enumerate().map(|(i, &id)| (id, i)).collect();
-    let boundaries: BTreeMap<&str, &report::Boundary> =
-        r.barriers.iter().map(|b| (b.pass.as_str(), b)).collect();
+    let mut boundary: BTreeMap<PassId, Vec<BarrierReport>> = report::barriers_by_pass(a)
+        .into_iter()
+        .enumerate()
+        .map(|(p, barriers)| (a.pass_id(p as u32), barriers))
+        .collect();
+    let derived_at = |id: Option<&PassId>, side| -> Vec<Barrier> {
+        id.and_then(|id| boundary.get(id))
+            .map(|list| list.iter().map(|x| derived(x, side)).collect())
+            .unwrap_or_default()
+    };
+    let mut lints: BTreeMap<PassId, Vec<report::LintReport>> = BTreeMap::new();
+    for l in &a.lints {
+        if let Some(p) = l.pass {
+            lints.entry(p).or_default().push(report::lint_report(c, l));
+        }
+    }
     let passes: Vec<Pass> = order
         .iter()
         .enumerate()
         .map(|(i, &id)| {
             let p = c.pass(id);
-            let mut barriers = Vec::new();
-            if let Some(b) = boundaries.get(p.name.as_str()) {
-                barriers.extend(b.barriers.iter().map(|x| derived(x, BarrierSide::Before)));
-            }
+            let mut barriers = derived_at(Some(&id), BarrierSide::Before);
             barriers.extend(recorded(c, p));
-            if let Some(next) = order.get(i + 1)
-                && let Some(b) = boundaries.get(c.pass(*next).name.as_str())
-            {
-                barriers.extend(b.barriers.iter().map(|x| derived(x, BarrierSide::After)));
-            }
+            barriers.extend(derived_at(order.get(i + 1), BarrierSide::After));
+            let mut pass_lints = lints.remove(&id).unwrap_or_default();
+            pass_lints.sort();
+            pass_lints.dedup();
             Pass {
+                id,
                 name: p.name.clone(),
                 queue: p.queue.index(),
                 kind: p.kind.as_str().to_owned(),
@@ -741,40 +759,23 @@ fn model(
                 state: state(c, p),
                 params: params(&p.params),
                 barriers,
-                lints: r
-                    .lints
+                lints: pass_lints
                     .iter()
-                    .filter(|l| l.pass.as_deref() == Some(p.name.as_str()))
                     .map(|l| format!("{} {}: {}", l.code, spelled(&l.severity), l.message))
                     .collect(),
             }
         })
         .collect();
-    let mut fences = Vec::new();
-    for (&id, &i) in &pass_index {
-        for f in &c.pass(id).wait {
-            for (&other, &j) in &pass_index {
-                if c.pass(other).signal.contains(f) {
-                    fences.push((j, i));
-                }
-            }
-        }
-    }
-    fences.sort_unstable();
-    let pass_named: BTreeMap<&str, usize> = order
-        .iter()
-        .enumerate()
-        .map(|(i, &id)| (c.pass(id).name.as_str(), i))
-        .collect();
+    boundary.clear();
     let mut m = Inspection {
         capture: c.name.clone(),
         scale: c.scale,
         queues: c.queues.iter().map(|q| q.name.clone()).collect(),
         passes,
-        resources: resources(c, &r, lowered, &pass_index),
-        fences,
+        resources: resources(c, a, lowered, &pass_index),
+        fences: fences(c, order),
         edges: edges(a, &pass_index),
-        memory: memory(c, &r, &pass_named),
+        memory: memory(a, &pass_index),
         timings: None,
         compare: None,
     };
@@ -785,6 +786,27 @@ fn model(
         }
     }
     Ok(m)
+}
+
+/// Cross-queue waits between the passes shown (positions in `order`): each fence's
+/// signalling passes found once, then every pass that waits on it.
+fn fences(c: &Capture, order: &[PassId]) -> Vec<(usize, usize)> {
+    let mut signalled_by: BTreeMap<_, Vec<usize>> = BTreeMap::new();
+    for (j, &id) in order.iter().enumerate() {
+        for &f in &c.pass(id).signal {
+            signalled_by.entry(f).or_default().push(j);
+        }
+    }
+    let mut out = Vec::new();
+    for (i, &id) in order.iter().enumerate() {
+        for f in &c.pass(id).wait {
+            for &j in signalled_by.get(f).map(Vec::as_slice).unwrap_or_default() {
+                out.push((j, i));
+            }
+        }
+    }
+    out.sort_unstable();
+    out
 }
 
 /// Why the inspector could not start.

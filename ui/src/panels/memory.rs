@@ -61,7 +61,7 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
                         Pos2::new(x(b.first), y(b.offset)),
                         Pos2::new(x(b.last + 1), y(b.offset + b.bytes).max(y(b.offset) + 1.0)),
                     );
-                    let hue = (b.resource as f32 * 0.618_034).fract();
+                    let hue = (b.resource.index() as f32 * 0.618_034).fract();
                     let fill: Color32 = egui::ecolor::Hsva::new(hue, 0.55, 0.75, 1.0).into();
                     painter.rect_filled(r, 1.0, fill);
                     painter.rect_stroke(
@@ -80,7 +80,7 @@ pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
                     Stroke::new(1.5, Color32::WHITE),
                 );
                 if let Some(b) = hovered {
-                    let name = &model.resources[b.resource].name;
+                    let name = &model.resources[b.resource.index()].name;
                     let pass = |i: usize| model.passes.get(i).map_or("?", |p| p.name.as_str());
                     response.on_hover_text(format!(
                         "{name}\n{} at offset {:#x}\n{} .. {}",

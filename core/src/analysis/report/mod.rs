@@ -130,17 +130,7 @@ pub struct LintReport {
 
 /// The lints of `a` with names from `capture`, sorted and without repeats.
 pub fn lint_reports(capture: &Capture, lints: &[Lint]) -> Vec<LintReport> {
-    let mut out: Vec<LintReport> = lints
-        .iter()
-        .map(|l| LintReport {
-            code: l.kind.code(),
-            name: l.kind.name(),
-            severity: l.kind.severity(),
-            message: l.message.clone(),
-            pass: l.pass.map(|p| capture.pass(p).name.clone()),
-            resource: l.resource.map(|r| capture.resource(r).name.clone()),
-        })
-        .collect();
+    let mut out: Vec<LintReport> = lints.iter().map(|l| lint_report(capture, l)).collect();
     out.sort();
     out.dedup();
     out
@@ -267,7 +257,10 @@ fn subresource(model: &FrameModel, resource: u32, r: &Subresources) -> Subresour
     }
 }
 
-pub fn report(capture: &Capture, a: &Analysis) -> Report {
+/// The derived barriers (transitions, UAV barriers, aliasing barriers) at the boundary before
+/// each pass, indexed by model pass, in the order reports list them. `report` names them; the
+/// inspector projects them onto its passes by id.
+pub fn barriers_by_pass(a: &Analysis) -> Vec<Vec<BarrierReport>> {
     let m = &a.model;
     let pass = |p: u32| m.passes[p as usize].name.clone();
     let queue = |q: u32| m.queues[q as usize].name.clone();
@@ -280,7 +273,78 @@ pub fn report(capture: &Capture, a: &Analysis) -> Report {
         dst_stages: dst.stages.clone(),
         dst_access: dst.access.clone(),
     };
-    let mut boundaries: Vec<Boundary> = a
+    let mut by_pass: Vec<Vec<BarrierReport>> = (0..m.passes.len()).map(|_| Vec::new()).collect();
+    let mut sorted: Vec<&barriers::Barrier> = a.plan.barriers.iter().collect();
+    sorted.sort_by_key(|b| (b.for_pass, b.kind, b.resource, b.range, b.placement));
+    for b in sorted {
+        let (vk_src, vk_dst) = b.vulkan(m);
+        by_pass[b.for_pass as usize].push(BarrierReport {
+            kind: b.kind,
+            resource: resource(b.resource),
+            resource_before: None,
+            subresource: subresource(m, b.resource, &b.range),
+            before: b.before.name(),
+            after: b.after.name(),
+            placement: match b.placement {
+                Placement::Before(p) => format!("before {}", pass(p)),
+                Placement::After(p) => format!("after {}", pass(p)),
+            },
+            queue: queue(b.queue),
+            split_begin_after: b.split_begin_after.map(pass),
+            next_frame: b.next_frame,
+            vulkan: vk(&vk_src, &vk_dst),
+        });
+    }
+    for ab in &a.memory.aliasing_barriers {
+        let q = m.passes[ab.before_pass as usize].queue;
+        by_pass[ab.before_pass as usize].push(BarrierReport {
+            kind: BarrierKind::Aliasing,
+            resource: resource(ab.resource_after),
+            resource_before: Some(resource(ab.resource_before)),
+            subresource: SubresourceReport::All("all"),
+            before: "-".into(),
+            after: "-".into(),
+            placement: format!("before {}", pass(ab.before_pass)),
+            queue: queue(q),
+            split_begin_after: None,
+            next_frame: false,
+            vulkan: VulkanReport {
+                old_layout: Some("UNDEFINED"),
+                new_layout: None,
+                src_stages: vec!["ALL_COMMANDS"],
+                src_access: vec!["MEMORY_WRITE"],
+                dst_stages: vec!["ALL_COMMANDS"],
+                dst_access: vec!["MEMORY_READ", "MEMORY_WRITE"],
+            },
+        });
+    }
+    for barriers in &mut by_pass {
+        barriers.sort_by(|x, y| {
+            (x.kind, &x.resource, &x.placement).cmp(&(y.kind, &y.resource, &y.placement))
+        });
+    }
+    by_pass
+}
+
+/// A lint as reports show it.
+pub fn lint_report(capture: &Capture, l: &Lint) -> LintReport {
+    LintReport {
+        code: l.kind.code(),
+        name: l.kind.name(),
+        severity: l.kind.severity(),
+        message: l.message.clone(),
+        pass: l.pass.map(|p| capture.pass(p).name.clone()),
+        resource: l.resource.map(|r| capture.resource(r).name.clone()),
+    }
+}
+
+pub fn report(capture: &Capture, a: &Analysis) -> Report {
+    let m = &a.model;
+    let pass = |p: u32| m.passes[p as usize].name.clone();
+    let queue = |q: u32| m.queues[q as usize].name.clone();
+    let resource = |r: u32| m.resources[r as usize].name.clone();
+    let mut by_pass = barriers_by_pass(a);
+    let boundaries: Vec<Boundary> = a
         .model_order
         .iter()
         .enumerate()
@@ -288,66 +352,9 @@ pub fn report(capture: &Capture, a: &Analysis) -> Report {
             position,
             pass: pass(p),
             queue: queue(m.passes[p as usize].queue),
-            barriers: Vec::new(),
+            barriers: std::mem::take(&mut by_pass[p as usize]),
         })
         .collect();
-    let mut position = vec![0usize; m.passes.len()];
-    for (i, &p) in a.model_order.iter().enumerate() {
-        position[p as usize] = i;
-    }
-    let mut sorted: Vec<&barriers::Barrier> = a.plan.barriers.iter().collect();
-    sorted.sort_by_key(|b| (b.for_pass, b.kind, b.resource, b.range, b.placement));
-    for b in sorted {
-        let (vk_src, vk_dst) = b.vulkan(m);
-        boundaries[position[b.for_pass as usize]]
-            .barriers
-            .push(BarrierReport {
-                kind: b.kind,
-                resource: resource(b.resource),
-                resource_before: None,
-                subresource: subresource(m, b.resource, &b.range),
-                before: b.before.name(),
-                after: b.after.name(),
-                placement: match b.placement {
-                    Placement::Before(p) => format!("before {}", pass(p)),
-                    Placement::After(p) => format!("after {}", pass(p)),
-                },
-                queue: queue(b.queue),
-                split_begin_after: b.split_begin_after.map(pass),
-                next_frame: b.next_frame,
-                vulkan: vk(&vk_src, &vk_dst),
-            });
-    }
-    for ab in &a.memory.aliasing_barriers {
-        let q = m.passes[ab.before_pass as usize].queue;
-        boundaries[position[ab.before_pass as usize]]
-            .barriers
-            .push(BarrierReport {
-                kind: BarrierKind::Aliasing,
-                resource: resource(ab.resource_after),
-                resource_before: Some(resource(ab.resource_before)),
-                subresource: SubresourceReport::All("all"),
-                before: "-".into(),
-                after: "-".into(),
-                placement: format!("before {}", pass(ab.before_pass)),
-                queue: queue(q),
-                split_begin_after: None,
-                next_frame: false,
-                vulkan: VulkanReport {
-                    old_layout: Some("UNDEFINED"),
-                    new_layout: None,
-                    src_stages: vec!["ALL_COMMANDS"],
-                    src_access: vec!["MEMORY_WRITE"],
-                    dst_stages: vec!["ALL_COMMANDS"],
-                    dst_access: vec!["MEMORY_READ", "MEMORY_WRITE"],
-                },
-            });
-    }
-    for b in &mut boundaries {
-        b.barriers.sort_by(|x, y| {
-            (x.kind, &x.resource, &x.placement).cmp(&(y.kind, &y.resource, &y.placement))
-        });
-    }
     let fences = a
         .plan
         .fences
