@@ -1,6 +1,8 @@
 //! The replay plan: a frame at wgpu level (textures and buffers with their contents, samplers,
-//! meshes as vertex streams, WGSL sources, and passes in execution order). The root crate
-//! lowers a validated capture into this; nothing here knows the capture format or DXGI.
+//! meshes as vertex streams, WGSL sources, and passes in execution order). `lower` builds it
+//! from a validated capture and framelab-replay runs it; nothing here knows the capture format
+//! or DXGI, and its vocabulary is wgpu's own plain data (`wgpu-types`), handed to the device as
+//! it is.
 
 use std::collections::BTreeMap;
 

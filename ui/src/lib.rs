@@ -1,6 +1,7 @@
-//! framelab-ui: the egui inspector. It shows what it is given (an inspection model built by the
-//! root crate, and a replay session it drives on a worker thread) and never reads captures
-//! itself, so that the panels can be tested headless with egui_kittest on fixed models.
+//! framelab-ui: the egui inspector. `project` projects the pipeline's stages into a plain
+//! inspection model by id, and the panels show only that model and the replay the worker
+//! drives on its own thread; they never read captures themselves, so they can be tested
+//! headless with egui_kittest on fixed models.
 
 pub mod app;
 pub mod headless;

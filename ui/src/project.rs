@@ -1,8 +1,9 @@
-//! The inspector's model built from a capture: passes in execution order with their bindings,
-//! attachments, state, work, parameters, derived and recorded barriers and lints; resources
-//! with sizes, heaps, aliasing-plan offsets, first and last use and what they alias; queue
-//! waits; timings from a report and the diff against a second one. The UI crate receives only
-//! this plain data (names and preformatted text), never capture types.
+//! The inspector's model projected from the pipeline's stages by id: passes in execution order
+//! with their bindings, attachments, state, work, parameters, derived and recorded barriers and
+//! lints; resources with sizes, heaps, aliasing-plan offsets, first and last use and what they
+//! alias; queue waits; timings from a report and the diff against a second one. The panels
+//! receive only this plain data (ids, names and preformatted text), never capture types, and
+//! `launch` starts the replay they drive.
 
 use std::collections::BTreeMap;
 
