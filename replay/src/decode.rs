@@ -350,7 +350,12 @@ pub fn read_texture(
 ) -> Result<Vec<DecodedImage>, ReadError> {
     if spec.format.is_compressed() {
         let (decoded, decoded_spec) =
-            crate::decompress::decompress(device, queue, texture, spec, format)?;
+            crate::decompress::decompress(device, queue, texture, spec, format).map_err(|e| {
+                ReadError {
+                    resource: spec.name.clone(),
+                    message: e.to_string(),
+                }
+            })?;
         return read_aspect(
             device,
             queue,

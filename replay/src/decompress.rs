@@ -4,7 +4,6 @@
 //! replay's shaders sampled (a CPU decoder could differ from the driver's in BC6H/BC7 corner
 //! cases), and no decoder is linked into framelab for it.
 
-use crate::decode::ReadError;
 use framelab_core::plan::TextureSpec;
 
 /// The uncompressed format a BC format is read back in: 8-bit UNORM for the unsigned LDR
@@ -50,6 +49,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
     )
 }
 
+/// Why a block-compressed texture cannot be decoded on the GPU.
+#[derive(Debug, thiserror::Error)]
+pub enum DecompressError {
+    #[error("block-compressed textures are 2D")]
+    NotTwoDimensional,
+    #[error("the replay never samples it, so it cannot be decoded on the GPU")]
+    NeverSampled,
+}
+
 /// Decodes every mip and layer of the 2D (array or cube) BC texture into a new texture of
 /// `target` format (from [`decompressed_format`]) and returns it with its spec.
 pub fn decompress(
@@ -58,18 +66,12 @@ pub fn decompress(
     texture: &wgpu::Texture,
     spec: &TextureSpec,
     target: wgpu::TextureFormat,
-) -> Result<(wgpu::Texture, TextureSpec), ReadError> {
-    let fail = |message: String| ReadError {
-        resource: spec.name.clone(),
-        message,
-    };
+) -> Result<(wgpu::Texture, TextureSpec), DecompressError> {
     if spec.dimension != wgpu::TextureDimension::D2 {
-        return Err(fail("block-compressed textures are 2D".to_owned()));
+        return Err(DecompressError::NotTwoDimensional);
     }
     if !spec.usage.contains(wgpu::TextureUsages::TEXTURE_BINDING) {
-        return Err(fail(
-            "the replay never samples it, so it cannot be decoded on the GPU".to_owned(),
-        ));
+        return Err(DecompressError::NeverSampled);
     }
     let store = if target == wgpu::TextureFormat::Rgba32Float {
         "rgba32float"

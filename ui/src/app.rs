@@ -1,144 +1,36 @@
-//! The inspector's state and frame loop: the current pass and viewed texture, the docked
-//! panels (egui_tiles), and the exchange with the replay worker. Everything shown is derived
-//! from the inspection model, the timings and the worker's latest image; a frame never waits
-//! on the GPU.
-
-use std::sync::Arc;
+//! The inspector's frame loop: the docked panels (egui_tiles) drawn over the shared `View`,
+//! and the exchange with the replay worker. Everything shown is derived from the inspection
+//! model, the timings and the worker's latest image; a frame never waits on the GPU.
 
 use eframe::egui_wgpu;
-use egui::Vec2;
-use framelab_replay::decode::DecodedImage;
 
-use crate::model::{Inspection, Sampling, Timings};
+use crate::model::Inspection;
 use crate::panels;
-use crate::visualise::{Controls, Subresource};
-use crate::worker::{BufferBytes, Reply, SaveAs, TextureRequest, ViewRequest, Worker};
+pub use crate::state::{Displayed, HistogramKey, Pane, Selection, View, Zoom};
+use crate::worker::{Reply, SaveAs, ViewRequest, Worker};
 
-/// The docked panels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Pane {
-    Events,
-    Texture,
-    Resources,
-    Details,
-    Timeline,
-    Dag,
-    Memory,
-    Buffer,
-}
-
-impl Pane {
-    /// Every pane, for choosing one by name.
-    pub const ALL: [Pane; 8] = [
-        Pane::Events,
-        Pane::Texture,
-        Pane::Buffer,
-        Pane::Resources,
-        Pane::Details,
-        Pane::Timeline,
-        Pane::Dag,
-        Pane::Memory,
-    ];
-
-    pub fn title(self) -> &'static str {
-        match self {
-            Pane::Events => "Events",
-            Pane::Texture => "Texture",
-            Pane::Resources => "Resources",
-            Pane::Details => "Pass",
-            Pane::Timeline => "Timeline",
-            Pane::Dag => "DAG",
-            Pane::Memory => "Memory",
-            Pane::Buffer => "Buffer",
-        }
-    }
-}
-
-/// How the texture is scaled in its panel.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Zoom {
-    Fit,
-    /// Screen points per texel.
-    Scale(f32),
-}
-
-/// What the user has chosen.
-#[derive(Clone, Debug)]
-pub struct Selection {
-    /// The current pass: every panel shows the frame as it is right after it.
-    pub pass: usize,
-    pub resource: Option<usize>,
-    /// The viewed texture's stencil aspect is shown instead of its depth.
-    pub stencil: bool,
-    /// The buffer in the buffer viewer (a resource index) and how its rows are read: a layout
-    /// index into its `layouts`, or `None` for raw bytes.
-    pub buffer: Option<usize>,
-    pub buffer_layout: Option<usize>,
-    pub sub: Subresource,
-    pub controls: Controls,
-    pub filter: String,
-    pub resource_filter: String,
-    /// Resource table sort: column and ascending.
-    pub sort: (usize, bool),
-    pub zoom: Zoom,
-    pub pan: Vec2,
-}
-
-/// What a histogram was counted for: the shown channels, black and white points.
-pub type HistogramKey = ([bool; 4], f32, f32);
-
-/// The image the worker last drew, registered with egui.
-#[derive(Debug)]
-pub struct Displayed {
-    pub request: ViewRequest,
-    pub texture_id: egui::TextureId,
-    pub size: [u32; 2],
-    pub decoded: Option<Arc<DecodedImage>>,
-    /// The decoded values' finite range (for auto-fit), found once.
-    pub range: Option<(f32, f32)>,
-    /// The histogram and the (channels, black, white) it was counted for.
-    pub histogram: Option<(HistogramKey, Vec<u32>)>,
-    pub note: Option<String>,
-    /// Kept alive while egui samples it.
-    _texture: wgpu::Texture,
-}
-
+/// The inspector: the view state the panels share, the worker that replays behind it, and the
+/// docked layout. It dereferences to its `View`, so callers select passes and open resources
+/// on it as the panels do.
 pub struct Inspector {
-    pub model: Arc<Inspection>,
-    pub timings: Option<Timings>,
-    pub selection: Selection,
-    pub displayed: Option<Displayed>,
-    /// The pixel under the cursor: texel coordinates in the viewed subresource.
-    pub hovered: Option<(u32, u32)>,
-    /// The texel clicked last (or given on the command line), read out when none is hovered.
-    pub picked: Option<(u32, u32)>,
-    pub status: String,
-    /// Where the timeline drew each pass last frame (for clicks, and for tests to aim at).
-    pub timeline_bars: Vec<(usize, egui::Rect)>,
-    /// Fit black and white points to the next image's range (set when a depth texture opens).
-    pub fit_pending: bool,
-    /// Where the DAG drew each pass last frame.
-    pub dag_nodes: Vec<(usize, egui::Rect)>,
-    /// The DAG's pan and zoom.
-    pub dag_view: (Vec2, f32),
-    /// The pass the event list last scrolled to.
-    pub events_scrolled_to: Option<usize>,
-    /// The viewed buffer's bytes as of a pass: (pass, plan buffer) and the bytes.
-    pub buffer_bytes: Option<BufferBytes>,
-    pub error: Option<String>,
-    /// Where the texture viewer saves (edited in its panel).
-    pub save_path: String,
-    /// The last save's outcome: the file written, or why not.
-    pub saved: Option<Result<String, String>>,
+    pub view: View,
     worker: Option<Worker>,
     render_state: Option<egui_wgpu::RenderState>,
     sent: Option<ViewRequest>,
-    /// The worker answered the last request (and finished timing).
-    idle: bool,
-    /// A save was asked for and not yet answered.
-    saving: bool,
     tree: Option<egui_tiles::Tree<Pane>>,
-    pane_pending: Option<Pane>,
+}
+
+impl std::ops::Deref for Inspector {
+    type Target = View;
+    fn deref(&self) -> &View {
+        &self.view
+    }
+}
+
+impl std::ops::DerefMut for Inspector {
+    fn deref_mut(&mut self) -> &mut View {
+        &mut self.view
+    }
 }
 
 impl std::fmt::Debug for Inspector {
@@ -182,78 +74,18 @@ fn default_tree() -> egui_tiles::Tree<Pane> {
 impl Inspector {
     /// An inspector over `model`; `worker` replays it on the device `render_state` draws
     /// with (both absent: the panels show the model alone).
-    /// Whether a replay runs behind the views (an imported capture has none).
-    pub fn replays(&self) -> bool {
-        self.worker.is_some()
-    }
-
     pub fn new(
         model: Inspection,
         worker: Option<Worker>,
         render_state: Option<egui_wgpu::RenderState>,
     ) -> Inspector {
-        let resource = model
-            .resources
-            .iter()
-            .position(|r| r.texture.as_ref().is_some_and(|t| t.unviewable.is_none()));
-        let timings = model.timings.clone();
-        let mut inspector = Inspector {
-            model: Arc::new(model),
-            timings,
-            selection: Selection {
-                pass: 0,
-                resource: None,
-                stencil: false,
-                buffer: None,
-                buffer_layout: None,
-                sub: Subresource::default(),
-                controls: Controls::default(),
-                filter: String::new(),
-                resource_filter: String::new(),
-                sort: (0, true),
-                zoom: Zoom::Fit,
-                pan: Vec2::ZERO,
-            },
-            displayed: None,
-            hovered: None,
-            picked: None,
-            status: if worker.is_some() {
-                "starting".into()
-            } else {
-                "imported capture: no replay, no texture contents".into()
-            },
-            timeline_bars: Vec::new(),
-            events_scrolled_to: None,
-            buffer_bytes: None,
-            save_path: String::new(),
-            saved: None,
-            fit_pending: false,
-            dag_nodes: Vec::new(),
-            dag_view: (Vec2::ZERO, 1.0),
-            error: None,
-            idle: worker.is_none(),
-            saving: false,
+        Inspector {
+            view: View::new(model, worker.is_some()),
             worker,
             render_state,
             sent: None,
             tree: Some(default_tree()),
-            pane_pending: None,
-        };
-        inspector.selection.pass = inspector.model.passes.len().saturating_sub(1);
-        if let Some(r) = resource {
-            inspector.open_resource(r);
         }
-        inspector
-    }
-
-    /// Whether the worker has answered everything asked of it.
-    pub fn is_idle(&self) -> bool {
-        self.idle && !self.saving
-    }
-
-    /// Picks texel (x, y) of the viewed subresource for the pixel readout.
-    pub fn pick(&mut self, x: u32, y: u32) {
-        self.picked = Some((x, y));
     }
 
     /// Brings `pane` to the front of its tab group.
@@ -262,134 +94,33 @@ impl Inspector {
             Some(tree) => {
                 tree.make_active(|_, tile| matches!(tile, egui_tiles::Tile::Pane(p) if *p == pane));
             }
-            // Asked from inside a panel, while the tree is being drawn: after it.
-            None => self.pane_pending = Some(pane),
+            // Asked while the tree is being drawn: after it.
+            None => self.view.pane_pending = Some(pane),
         }
-    }
-
-    /// Makes `pass` the current pass.
-    pub fn select_pass(&mut self, pass: usize) {
-        if pass < self.model.passes.len() {
-            self.selection.pass = pass;
-        }
-    }
-
-    /// Opens resource `r` in the texture viewer, with controls suited to its format.
-    pub fn open_resource(&mut self, r: usize) {
-        let Some(res) = self.model.resources.get(r) else {
-            return;
-        };
-        if let Some(b) = &res.buffer {
-            self.selection.buffer = Some(r);
-            self.selection.buffer_layout = (!b.layouts.is_empty()).then_some(0);
-            self.show_pane(Pane::Buffer);
-            return;
-        }
-        self.selection.resource = Some(r);
-        self.selection.sub = Subresource::default();
-        self.selection.pan = Vec2::ZERO;
-        self.picked = None;
-        self.fit_pending = false;
-        if let Some(t) = &res.texture {
-            let stencil = t.sampling == Sampling::Stencil;
-            self.show_aspect(stencil);
-        }
-    }
-
-    /// Shows the stencil aspect (or the texture's own: colour or depth) of the viewed texture,
-    /// with controls suited to it.
-    pub fn show_aspect(&mut self, stencil: bool) {
-        let Some(t) = self
-            .selection
-            .resource
-            .and_then(|r| self.model.resources[r].texture.as_ref())
-        else {
-            return;
-        };
-        let stencil = stencil && (t.stencil || t.sampling == Sampling::Stencil);
-        self.selection.stencil = stencil;
-        self.fit_pending = false;
-        let mut c = Controls {
-            encode_srgb: t.encode_srgb && !stencil,
-            ..Controls::default()
-        };
-        match if stencil {
-            Sampling::Stencil
-        } else {
-            t.sampling
-        } {
-            // Depth: near is 0 in a forward depth buffer; invert so near is bright.
-            // Perspective depth crowds near one value: fit black and white to the range
-            // read back once it arrives, and invert so near is bright.
-            Sampling::Depth => {
-                c.channels = [true, false, false, false];
-                c.invert = true;
-                self.fit_pending = true;
-            }
-            Sampling::Stencil => {
-                c.channels = [true, false, false, false];
-                c.white = 255.0;
-            }
-            Sampling::Uint | Sampling::Sint => {
-                c.white = 255.0;
-            }
-            Sampling::Float => {}
-        }
-        self.selection.controls = c;
     }
 
     /// Saves the texture view as shown (PNG) or its values (EXR) to `save_path`, with the
     /// extension set to match; the outcome arrives in `saved`.
     pub fn save_view(&mut self, how: SaveAs) {
-        let wanted = self.wanted();
+        let wanted = self.view.wanted();
         let ext = match how {
             SaveAs::Png => "png",
             SaveAs::Exr => "exr",
         };
-        let path = std::path::Path::new(self.save_path.trim()).with_extension(ext);
-        self.save_path = path.display().to_string();
-        self.saved = None;
+        let view = &mut self.view;
+        let path = std::path::Path::new(view.save_path.trim()).with_extension(ext);
+        view.save_path = path.display().to_string();
+        view.saved = None;
         let sent = wanted.texture.is_some()
-            && !self.save_path.trim().is_empty()
+            && !view.save_path.trim().is_empty()
             && self
                 .worker
                 .as_ref()
                 .is_some_and(|w| w.save(wanted, how, path));
         if sent {
-            self.saving = true;
+            view.saving = true;
         } else {
-            self.saved = Some(Err("nothing to save: open a texture and name a file".into()));
-        }
-    }
-
-    /// The view the panels want now.
-    fn wanted(&self) -> ViewRequest {
-        let texture = self.selection.resource.and_then(|r| {
-            let t = self.model.resources[r].texture.as_ref()?;
-            if t.unviewable.is_some() {
-                return None;
-            }
-            Some(TextureRequest {
-                plan_index: t.plan_index,
-                sampling: if self.selection.stencil {
-                    Sampling::Stencil
-                } else {
-                    t.sampling
-                },
-                volume: t.volume,
-                sub: self.selection.sub,
-                controls: self.selection.controls,
-            })
-        });
-        let buffer = self
-            .selection
-            .buffer
-            .and_then(|r| self.model.resources[r].buffer.as_ref())
-            .map(|b| b.plan_index);
-        ViewRequest {
-            pass: self.selection.pass,
-            texture,
-            buffer,
+            view.saved = Some(Err("nothing to save: open a texture and name a file".into()));
         }
     }
 
@@ -400,33 +131,33 @@ impl Inspector {
         let mut shown = Vec::new();
         while let Ok(reply) = worker.replies.try_recv() {
             match reply {
-                Reply::Progress(p) => self.status = p,
+                Reply::Progress(p) => self.view.status = p,
                 Reply::Timings(t) => {
-                    if self.timings.is_none() {
-                        self.timings = Some(t);
+                    if self.view.timings.is_none() {
+                        self.view.timings = Some(t);
                     }
                 }
                 Reply::Shown(s) => shown.push(s),
                 Reply::Saved(result) => {
-                    self.saved = Some(result);
-                    self.saving = false;
+                    self.view.saved = Some(result);
+                    self.view.saving = false;
                 }
                 Reply::Failed(e) => {
-                    self.error = Some(e);
-                    self.idle = true;
+                    self.view.error = Some(e);
+                    self.view.idle = true;
                 }
             }
         }
         for s in shown {
             if Some(&s.request) == self.sent.as_ref() {
-                self.idle = true;
-                self.status = "ready".into();
+                self.view.idle = true;
+                self.view.status = "ready".into();
             }
             if let (Some(bytes), Some(b)) = (s.buffer.clone(), s.request.buffer) {
-                self.buffer_bytes = Some(((s.request.pass, b), bytes));
+                self.view.buffer_bytes = Some(((s.request.pass, b), bytes));
             }
             let Some(texture) = s.display else {
-                self.displayed = None;
+                self.view.displayed = None;
                 continue;
             };
             let Some(rs) = &self.render_state else {
@@ -434,7 +165,7 @@ impl Inspector {
             };
             let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
             let mut renderer = rs.renderer.write();
-            let texture_id = match &self.displayed {
+            let texture_id = match &self.view.displayed {
                 Some(d) => {
                     renderer.update_egui_texture_from_wgpu_texture(
                         &rs.device,
@@ -449,16 +180,16 @@ impl Inspector {
                 }
             };
             let range = s.decoded.as_ref().map(|d| d.range());
-            if self.fit_pending
-                && self.wanted().texture.map(|t| t.plan_index)
+            if self.view.fit_pending
+                && self.view.wanted().texture.map(|t| t.plan_index)
                     == s.request.texture.as_ref().map(|t| t.plan_index)
                 && let Some((lo, hi)) = range
             {
-                self.fit_pending = false;
-                self.selection.controls.black = lo;
-                self.selection.controls.white = if hi > lo { hi } else { lo + 1.0 };
+                self.view.fit_pending = false;
+                self.view.selection.controls.black = lo;
+                self.view.selection.controls.white = if hi > lo { hi } else { lo + 1.0 };
             }
-            self.displayed = Some(Displayed {
+            self.view.displayed = Some(Displayed {
                 request: s.request.clone(),
                 texture_id,
                 size: [texture.width(), texture.height()],
@@ -469,14 +200,14 @@ impl Inspector {
                 _texture: texture,
             });
         }
-        let wanted = self.wanted();
-        if self.sent.as_ref() != Some(&wanted) && self.error.is_none() {
+        let wanted = self.view.wanted();
+        if self.sent.as_ref() != Some(&wanted) && self.view.error.is_none() {
             if worker.request(wanted.clone()) {
-                self.idle = false;
+                self.view.idle = false;
             }
             self.sent = Some(wanted);
         }
-        if !self.is_idle() {
+        if !self.view.is_idle() {
             ctx.request_repaint_after(std::time::Duration::from_millis(30));
         }
     }
@@ -486,8 +217,8 @@ impl Inspector {
         if ctx.egui_wants_keyboard_input() {
             return;
         }
-        let visible = panels::events::visible(&self.model, &self.selection.filter);
-        let here = visible.iter().position(|&p| p == self.selection.pass);
+        let visible = panels::events::visible(&self.view.model, &self.view.selection.filter);
+        let here = visible.iter().position(|&p| p == self.view.selection.pass);
         let (up, down) = ctx.input(|i| {
             (
                 i.key_pressed(egui::Key::ArrowUp),
@@ -501,7 +232,7 @@ impl Inspector {
             _ => None,
         };
         if let Some(p) = next {
-            self.select_pass(p);
+            self.view.select_pass(p);
         }
     }
 
@@ -511,23 +242,31 @@ impl Inspector {
         self.poll(&ctx);
         self.keys(&ctx);
         egui::Panel::bottom("status").show(ui, |ui| {
-            panels::status_bar(self, ui);
+            panels::status_bar(&self.view, ui);
         });
         egui::CentralPanel::default().show(ui, |ui| {
             if let Some(mut tree) = self.tree.take() {
-                tree.ui(&mut Behavior { app: self }, ui);
+                tree.ui(
+                    &mut Behavior {
+                        view: &mut self.view,
+                    },
+                    ui,
+                );
                 self.tree = Some(tree);
             }
-            if let Some(pane) = self.pane_pending.take() {
+            if let Some(pane) = self.view.pane_pending.take() {
                 self.show_pane(pane);
                 ui.ctx().request_repaint();
+            }
+            if let Some(how) = self.view.save_request.take() {
+                self.save_view(how);
             }
         });
     }
 }
 
 struct Behavior<'a> {
-    app: &'a mut Inspector,
+    view: &'a mut View,
 }
 
 impl egui_tiles::Behavior<Pane> for Behavior<'_> {
@@ -544,14 +283,14 @@ impl egui_tiles::Behavior<Pane> for Behavior<'_> {
         egui::Frame::new()
             .inner_margin(4.0)
             .show(ui, |ui| match pane {
-                Pane::Events => panels::events::ui(self.app, ui),
-                Pane::Texture => panels::texture::ui(self.app, ui),
-                Pane::Resources => panels::resources::ui(self.app, ui),
-                Pane::Details => panels::details::ui(self.app, ui),
-                Pane::Timeline => panels::timeline::ui(self.app, ui),
-                Pane::Dag => panels::dag::ui(self.app, ui),
-                Pane::Memory => panels::memory::ui(self.app, ui),
-                Pane::Buffer => panels::buffer::ui(self.app, ui),
+                Pane::Events => panels::events::ui(self.view, ui),
+                Pane::Texture => panels::texture::ui(self.view, ui),
+                Pane::Resources => panels::resources::ui(self.view, ui),
+                Pane::Details => panels::details::ui(self.view, ui),
+                Pane::Timeline => panels::timeline::ui(self.view, ui),
+                Pane::Dag => panels::dag::ui(self.view, ui),
+                Pane::Memory => panels::memory::ui(self.view, ui),
+                Pane::Buffer => panels::buffer::ui(self.view, ui),
             });
         egui_tiles::UiResponse::None
     }

@@ -8,6 +8,7 @@ pub mod headless;
 pub mod model;
 pub mod panels;
 pub mod project;
+pub mod state;
 pub mod visualise;
 pub mod worker;
 

@@ -5,8 +5,8 @@
 
 use egui_extras::{Column, TableBuilder};
 
-use crate::app::Inspector;
 use crate::model::{BufferView, LayoutChoice};
+use crate::state::View;
 use crate::worker::MAX_BUFFER_READ;
 
 const ROW_HEIGHT: f32 = 18.0;
@@ -58,7 +58,7 @@ pub fn hex_row(bytes: &[u8], row: usize) -> [String; 3] {
     [format!("0x{start:08x}"), hex.join(" "), ascii]
 }
 
-fn header(app: &mut Inspector, ui: &mut egui::Ui, view: &BufferView) {
+fn header(app: &mut View, ui: &mut egui::Ui, view: &BufferView) {
     let model = app.model.clone();
     ui.horizontal_wrapped(|ui| {
         let current = app.selection.buffer;
@@ -171,7 +171,7 @@ fn hex_table(ui: &mut egui::Ui, bytes: &[u8]) {
         });
 }
 
-pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
+pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     let model = app.model.clone();
     let Some(view) = app
         .selection

@@ -5,8 +5,8 @@
 
 use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Vec2};
 
-use crate::app::Inspector;
 use crate::model::{EdgeKind, Inspection};
+use crate::state::View;
 
 const NODE: Vec2 = Vec2::new(150.0, 22.0);
 const GAP: Vec2 = Vec2::new(40.0, 10.0);
@@ -44,7 +44,7 @@ fn dashed(points: [Pos2; 2], stroke: Stroke, dash: f32, gap: f32) -> Vec<Shape> 
     Shape::dashed_line(&points, stroke, dash, gap)
 }
 
-pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
+pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     let model = app.model.clone();
     let cells = layout(&model);
     let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());

@@ -5,8 +5,8 @@
 
 use egui_extras::{Column, TableBuilder};
 
-use crate::app::Inspector;
 use crate::model::{BarrierSide, BarrierSource, Pass};
+use crate::state::View;
 
 fn pairs(ui: &mut egui::Ui, id: &str, rows: &[(String, String)]) {
     egui::Grid::new(id).striped(true).show(ui, |ui| {
@@ -60,7 +60,7 @@ fn barriers(ui: &mut egui::Ui, p: &Pass, side: BarrierSide) {
         });
 }
 
-pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
+pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     let model = app.model.clone();
     let Some(p) = model.passes.get(app.selection.pass) else {
         return;

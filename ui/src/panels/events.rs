@@ -1,8 +1,8 @@
 //! The event browser: marker groups, passes in execution order with queue and GPU time, the
 //! current pass's draws, dispatches, copies and clears; a filter; culled passes greyed.
 
-use crate::app::Inspector;
 use crate::model::Inspection;
+use crate::state::View;
 
 /// Passes matching the filter (name or marker, case-insensitive), in order.
 pub fn visible(model: &Inspection, filter: &str) -> Vec<usize> {
@@ -59,7 +59,7 @@ fn lines<'a>(model: &'a Inspection, visible: &[usize], current: usize) -> Vec<Li
 
 const ROW: f32 = 20.0;
 
-pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
+pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         let label = ui.label("filter");
         ui.add(

@@ -7,8 +7,8 @@ use std::collections::BTreeMap;
 
 use egui::{Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
-use crate::app::Inspector;
 use crate::model::MemoryBlock;
+use crate::state::View;
 
 fn mib(b: u64) -> String {
     format!("{:.1} MiB", b as f64 / (1024.0 * 1024.0))
@@ -25,7 +25,7 @@ pub fn lower_bound(blocks: &[&MemoryBlock], passes: usize) -> u64 {
     live.into_iter().max().unwrap_or(0)
 }
 
-pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
+pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     let model = app.model.clone();
     let passes = model.passes.len().max(1);
     let mut pools: BTreeMap<&str, Vec<&MemoryBlock>> = BTreeMap::new();

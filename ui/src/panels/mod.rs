@@ -10,7 +10,7 @@ pub mod resources;
 pub mod texture;
 pub mod timeline;
 
-use crate::app::Inspector;
+use crate::state::View;
 
 /// Queue colours shared by the event list, timeline and pass details.
 pub fn queue_color(queue: usize) -> egui::Color32 {
@@ -24,7 +24,7 @@ pub fn queue_color(queue: usize) -> egui::Color32 {
 }
 
 /// Milliseconds of a pass's GPU time, if timed.
-pub fn pass_ms(app: &Inspector, pass: usize) -> Option<f64> {
+pub fn pass_ms(app: &View, pass: usize) -> Option<f64> {
     app.timings
         .as_ref()
         .and_then(|t| t.passes.get(pass).copied().flatten())
@@ -32,7 +32,7 @@ pub fn pass_ms(app: &Inspector, pass: usize) -> Option<f64> {
         .map(|t| t.gpu_ns / 1e6)
 }
 
-pub fn status_bar(app: &Inspector, ui: &mut egui::Ui) {
+pub fn status_bar(app: &View, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         let m = &app.model;
         ui.label(format!("{}  scale {}", m.capture, m.scale));

@@ -4,8 +4,8 @@
 
 use egui_extras::{Column, TableBuilder};
 
-use crate::app::Inspector;
 use crate::model::{Inspection, Resource};
+use crate::state::View;
 
 const HEADERS: [&str; 10] = [
     "name", "kind", "format", "size", "mips", "layers", "bytes", "heap", "passes", "aliases",
@@ -77,7 +77,7 @@ pub fn rows(m: &Inspection, filter: &str, (column, ascending): (usize, bool)) ->
     rows
 }
 
-pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
+pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         ui.label("filter");
         ui.add(

@@ -7,8 +7,8 @@
 use egui::{Color32, Pos2, Rect, Sense, Vec2};
 use framelab_replay::decode::{DecodedImage, ValueKind};
 
-use crate::app::{Inspector, Zoom};
 use crate::model::Sampling;
+use crate::state::{View, Zoom};
 use crate::visualise::Controls;
 use crate::worker::SaveAs;
 
@@ -57,7 +57,7 @@ fn unorm_bits(f: wgpu::TextureFormat, c: usize) -> Option<u32> {
     }
 }
 
-fn controls(app: &mut Inspector, ui: &mut egui::Ui) {
+fn controls(app: &mut View, ui: &mut egui::Ui) {
     let model = app.model.clone();
     let textures: Vec<usize> = model
         .resources
@@ -192,7 +192,7 @@ fn controls(app: &mut Inspector, ui: &mut egui::Ui) {
 }
 
 /// The file field and the save buttons: PNG writes the view as shown, EXR the values.
-fn save_row(app: &mut Inspector, ui: &mut egui::Ui) {
+fn save_row(app: &mut View, ui: &mut egui::Ui) {
     let Some(r) = app.selection.resource else {
         return;
     };
@@ -222,7 +222,7 @@ fn save_row(app: &mut Inspector, ui: &mut egui::Ui) {
                 if app.save_path.trim().is_empty() {
                     app.save_path.clone_from(&default);
                 }
-                app.save_view(how);
+                app.request_save(how);
             }
         }
         match &app.saved {
@@ -298,7 +298,7 @@ fn draw_histogram(ui: &mut egui::Ui, bins: &[u32]) {
     }
 }
 
-pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
+pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     controls(app, ui);
     save_row(app, ui);
     let model = app.model.clone();

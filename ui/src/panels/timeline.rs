@@ -5,7 +5,7 @@
 
 use egui::{Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
-use crate::app::Inspector;
+use crate::state::View;
 
 const LANE: f32 = 26.0;
 const LABEL: f32 = 70.0;
@@ -19,7 +19,7 @@ fn verdict_color(verdict: &str) -> Option<Color32> {
     }
 }
 
-pub fn ui(app: &mut Inspector, ui: &mut egui::Ui) {
+pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     let model = app.model.clone();
     let Some(timings) = app.timings.clone() else {
         ui.label(if app.replays() {
