@@ -3,10 +3,13 @@
 //! checked against the reflected interface (`check_shader_use`), so a name the shader does not
 //! declare is reported with its JSON path and a suggestion instead of failing the replay.
 
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
 use std::sync::Arc;
 
-#[allow(unused_imports)]
-use super::*;
+use super::Validator;
+use crate::capture::diag::{JsonPath, suggest};
+use crate::capture::format::{ParamValue, Pass};
 use crate::capture::shaders::{self, Shader, ShaderId, ShaderInterface, Stage};
 
 impl<'a> Validator<'a> {
