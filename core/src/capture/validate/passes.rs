@@ -7,6 +7,7 @@ use crate::capture::format::{
     Access, Blend, BlendPreset, LoadOp, ParamValue, Pass, PassKind, QueueType, RenderState,
     ResourceFlag, ResourceKind, StencilOp,
 };
+use crate::capture::formats;
 use crate::capture::model::{
     AccessSource, BindingDesc, ClearDesc, ColorAttachmentDesc, DepthStencilDesc, FenceId, HeapDesc,
     MeshDesc, PassDesc, PassId, QueueCapabilities, QueueId, ResourceAccess, ResourceDesc,
@@ -514,7 +515,7 @@ impl<'a> Validator<'a> {
                         format.name, r.name
                     ),
                 );
-            } else if let Some(why) = crate::lower::formats::not_renderable(format) {
+            } else if let Some(why) = formats::not_renderable(format) {
                 self.diags.error(
                     "format-usage",
                     &apath,
