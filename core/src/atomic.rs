@@ -25,28 +25,34 @@ fn temporary(path: &Path) -> PathBuf {
     dir.join(format!(".{name}.{}.tmp", std::process::id()))
 }
 
-/// Lets `write` create the file at a temporary path, then renames it to `path`.
-pub fn write_with(
+/// Lets `write` create the file at a temporary path, then renames it to `path`. Whatever
+/// `write` fails with is kept as the message: callers write through encoders with error
+/// types of their own.
+pub fn write_with<E: std::fmt::Display>(
     path: &Path,
-    write: impl FnOnce(&Path) -> Result<(), String>,
+    write: impl FnOnce(&Path) -> Result<(), E>,
 ) -> Result<(), WriteError> {
     let tmp = temporary(path);
-    let result = write(&tmp).and_then(|()| std::fs::rename(&tmp, path).map_err(|e| e.to_string()));
-    result.map_err(|message| {
-        let _ = std::fs::remove_file(&tmp);
-        WriteError {
-            path: path.display().to_string(),
-            message,
+    let failure = match write(&tmp) {
+        Ok(()) => std::fs::rename(&tmp, path).err().map(|e| e.to_string()),
+        Err(e) => Some(e.to_string()),
+    };
+    match failure {
+        None => Ok(()),
+        Some(message) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(WriteError {
+                path: path.display().to_string(),
+                message,
+            })
         }
-    })
+    }
 }
 
 /// Writes `bytes` to `path`, synced to disk before the rename.
 pub fn write(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
     write_with(path, |tmp| {
-        std::fs::File::create(tmp)
-            .and_then(|mut f| f.write_all(bytes).and_then(|()| f.sync_all()))
-            .map_err(|e| e.to_string())
+        std::fs::File::create(tmp).and_then(|mut f| f.write_all(bytes).and_then(|()| f.sync_all()))
     })
 }
 
@@ -62,7 +68,7 @@ mod tests {
         std::fs::write(&path, b"old").unwrap();
         let err = write_with(&path, |tmp| {
             std::fs::write(tmp, b"half").unwrap();
-            Err("disk full".into())
+            Err("disk full")
         })
         .unwrap_err();
         assert!(err.to_string().contains("disk full"), "{err}");

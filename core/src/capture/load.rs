@@ -25,6 +25,12 @@ pub enum CaptureError {
         column: usize,
         message: String,
     },
+    /// Reported where a syntax error would be (1:1), as one: the file is not JSON text.
+    #[error("{}:1:1: JSON syntax error: {problem}", path.display())]
+    Encoding {
+        path: PathBuf,
+        problem: EncodingError,
+    },
     #[error("{}:{line}:{column}: {json_path}: {message}", path.display())]
     Structure {
         path: PathBuf,
@@ -81,6 +87,9 @@ impl CaptureError {
                 "$".into(),
                 format!("line {line}, column {column}: {message}"),
             ),
+            CaptureError::Encoding { problem, .. } => {
+                one("syntax", "$".into(), format!("line 1, column 1: {problem}"))
+            }
             CaptureError::Structure {
                 json_path,
                 line,
@@ -109,43 +118,43 @@ struct VersionProbe {
     format_version: Option<serde_json::Value>,
 }
 
+/// Why a capture's bytes are not UTF-8 text: UTF-16 and UTF-32 files otherwise fail with
+/// "expected value" at 1:1, which does not say what is wrong.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum EncodingError {
+    /// A byte-order mark names the encoding, so the fix can be spelled out.
+    #[error(
+        "the file is {encoding}; captures are UTF-8 JSON (convert it: iconv -f {encoding} -t UTF-8)"
+    )]
+    Marked { encoding: &'static str },
+    #[error(
+        "the file is not UTF-8 (it starts with NUL bytes: UTF-16 or UTF-32?); captures are UTF-8 JSON"
+    )]
+    NulBytes,
+}
+
 /// The bytes without a UTF-8 byte-order mark (editors write one; JSON allows ignoring it),
-/// or why they are not UTF-8 at all: UTF-16 and UTF-32 files otherwise fail with "expected
-/// value" at 1:1, which does not say what is wrong.
-fn encoding_problem(bytes: &[u8]) -> Result<&[u8], String> {
-    let convert = |from: &str| {
-        format!(
-            "the file is {from}; captures are UTF-8 JSON (convert it: iconv -f {from} -t UTF-8)"
-        )
-    };
+/// or why they are not UTF-8 at all.
+fn without_bom(bytes: &[u8]) -> Result<&[u8], EncodingError> {
+    let marked = |encoding| Err(EncodingError::Marked { encoding });
     match bytes {
         [0xEF, 0xBB, 0xBF, rest @ ..] => Ok(rest),
-        [0x00, 0x00, 0xFE, 0xFF, ..] => Err(convert("UTF-32BE")),
-        [0xFF, 0xFE, 0x00, 0x00, ..] => Err(convert("UTF-32LE")),
-        [0xFE, 0xFF, ..] => Err(convert("UTF-16BE")),
-        [0xFF, 0xFE, ..] => Err(convert("UTF-16LE")),
+        [0x00, 0x00, 0xFE, 0xFF, ..] => marked("UTF-32BE"),
+        [0xFF, 0xFE, 0x00, 0x00, ..] => marked("UTF-32LE"),
+        [0xFE, 0xFF, ..] => marked("UTF-16BE"),
+        [0xFF, 0xFE, ..] => marked("UTF-16LE"),
         // No mark, but a NUL beside the first character: UTF-16 or UTF-32 all the same.
-        [0, _, ..] | [_, 0, ..] => Err(
-            "the file is not UTF-8 (it starts with NUL bytes: UTF-16 or UTF-32?); captures are UTF-8 JSON"
-                .to_owned(),
-        ),
+        [0, _, ..] | [_, 0, ..] => Err(EncodingError::NulBytes),
         _ => Ok(bytes),
     }
 }
 
 /// Parses capture bytes. `path` is only used in messages.
 pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawCapture, CaptureError> {
-    let bytes = match encoding_problem(bytes) {
-        Ok(b) => b,
-        Err(message) => {
-            return Err(CaptureError::Syntax {
-                path: path.to_owned(),
-                line: 1,
-                column: 1,
-                message,
-            });
-        }
-    };
+    let bytes = without_bom(bytes).map_err(|problem| CaptureError::Encoding {
+        path: path.to_owned(),
+        problem,
+    })?;
     // Tracking the path of every field costs as much as the parse; most files are well formed,
     // so the path is only tracked when a second parse has to locate an error.
     let mut de = serde_json::Deserializer::from_slice(bytes);

@@ -4,6 +4,7 @@
 pub mod diag;
 pub mod dxgi;
 pub mod format;
+pub mod formats;
 pub mod generators;
 pub mod load;
 pub mod model;

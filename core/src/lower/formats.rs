@@ -8,12 +8,13 @@
 //!   Depth24PlusStencil8, R32G8X24_TYPELESS -> Depth32FloatStencil8, falling back to
 //!   Depth24PlusStencil8 without that feature), otherwise the format of their first typed view.
 //!   Views of a depth format read its depth aspect (R16_UNORM on a D16 target samples the depth).
-//! - **Unsupported**, with the reason: 96-bit RGB, packed 16-bit BGR formats, A8, R1, shared-
+//! - **Unsupported**, with the reason `capture::formats` gives (validation gives the same): 96-bit RGB, packed 16-bit BGR formats, A8, R1, shared-
 //!   exponent and XR-bias variants wgpu lacks, video and palette formats.
 
 use wgpu_types::{Features, TextureFormat};
 
 use crate::capture::dxgi::FormatInfo;
+use crate::capture::formats::NoWebGpuFormat;
 
 /// What a DXGI format becomes on the GPU.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -93,36 +94,24 @@ fn direct(name: &str) -> Option<TextureFormat> {
     })
 }
 
-/// Why a format has no GPU equivalent.
-pub fn unsupported_reason(name: &str) -> &'static str {
-    match name {
-        n if n.starts_with("R32G32B32_") => "96-bit RGB textures do not exist in WebGPU",
-        "B5G6R5_UNORM" | "B5G5R5A1_UNORM" | "B4G4R4A4_UNORM" | "A4B4G4R4_UNORM" => {
-            "16-bit packed BGR formats do not exist in WebGPU"
-        }
-        "A8_UNORM" => "alpha-only A8 does not exist in WebGPU",
-        "R1_UNORM" => "1-bit formats do not exist in WebGPU",
-        "B8G8R8X8_UNORM" | "B8G8R8X8_UNORM_SRGB" | "B8G8R8X8_TYPELESS" => {
-            "X-channel formats do not exist in WebGPU (use B8G8R8A8)"
-        }
-        "R10G10B10_XR_BIAS_A2_UNORM" => "the XR-bias format does not exist in WebGPU",
-        "R8G8_B8G8_UNORM" | "G8R8_G8B8_UNORM" => {
-            "packed 4:2:2 formats are not renderable in WebGPU"
-        }
-        _ => "video, palette and opaque formats are not textures framelab can replay",
-    }
+/// Why a resource's format cannot be lowered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum FormatError {
+    #[error("a typeless resource needs a typed view or a depth binding to choose its format")]
+    NoTypedView { format: &'static str },
+    #[error("{reason}")]
+    NoWebGpuFormat {
+        format: &'static str,
+        reason: NoWebGpuFormat,
+    },
 }
 
-/// Why a colour format cannot be rendered to on any GPU, if it cannot: it has no wgpu
-/// equivalent, or it is shared-exponent (never a render target). Formats whose render support
-/// varies by adapter (16-bit normalised) pass here and are checked against the device at
-/// replay. Validation asks this so that it refuses what replay would.
-pub fn not_renderable(info: &FormatInfo) -> Option<&'static str> {
-    match direct(info.name) {
-        None => Some(unsupported_reason(info.name)),
-        Some(TextureFormat::Rgb9e5Ufloat) => Some("shared-exponent formats cannot be rendered to"),
-        Some(_) => None,
-    }
+/// The wgpu twin of the DXGI format `name`, or why WebGPU has none.
+fn twin(name: &'static str) -> Result<TextureFormat, FormatError> {
+    direct(name).ok_or_else(|| FormatError::NoWebGpuFormat {
+        format: name,
+        reason: NoWebGpuFormat::of(name),
+    })
 }
 
 /// The features a wgpu format needs beyond WebGPU's baseline.
@@ -149,7 +138,7 @@ pub fn lower(
     depth_target: bool,
     first_view: Option<&FormatInfo>,
     available: Features,
-) -> Result<Lowered, &'static str> {
+) -> Result<Lowered, FormatError> {
     let name = match (info.name, depth_target) {
         ("R16_TYPELESS", true) => "D16_UNORM",
         ("R32_TYPELESS", true) => "D32_FLOAT",
@@ -157,15 +146,11 @@ pub fn lower(
         ("R32G8X24_TYPELESS", true) => "D32_FLOAT_S8X24_UINT",
         (n, _) if n.ends_with("_TYPELESS") => match first_view {
             Some(v) => v.name,
-            None => {
-                return Err(
-                    "a typeless resource needs a typed view or a depth binding to choose its format",
-                );
-            }
+            None => return Err(FormatError::NoTypedView { format: info.name }),
         },
         (n, _) => n,
     };
-    let format = direct(name).ok_or_else(|| unsupported_reason(name))?;
+    let format = twin(name)?;
     if format == TextureFormat::Depth32FloatStencil8
         && !available.contains(Features::DEPTH32FLOAT_STENCIL8)
     {
@@ -189,14 +174,14 @@ pub fn lower(
 pub fn view_format(
     resource: TextureFormat,
     view: Option<&FormatInfo>,
-) -> Result<TextureFormat, &'static str> {
+) -> Result<TextureFormat, FormatError> {
     if resource.has_depth_aspect() {
         return Ok(resource);
     }
     match view {
         None => Ok(resource),
         Some(v) => {
-            let f = direct(v.name).ok_or_else(|| unsupported_reason(v.name))?;
+            let f = twin(v.name)?;
             // wgpu reinterprets only between sRGB and linear twins; anything else would need a
             // copy, so the resource's own format is used when the bits agree.
             if f == resource || f.remove_srgb_suffix() == resource.remove_srgb_suffix() {
@@ -247,7 +232,7 @@ mod tests {
                     "{}",
                     f.name
                 ),
-                Err(reason) => assert!(!reason.is_empty()),
+                Err(reason) => assert!(!reason.to_string().is_empty()),
             }
         }
         assert_eq!(
@@ -270,5 +255,17 @@ mod tests {
             )
             .is_err()
         );
+    }
+
+    #[test]
+    fn the_capture_side_knows_which_formats_have_a_twin() {
+        for f in crate::capture::dxgi::all() {
+            assert_eq!(
+                direct(f.name).is_some(),
+                crate::capture::formats::webgpu_gap(f.name).is_none(),
+                "{}",
+                f.name
+            );
+        }
     }
 }

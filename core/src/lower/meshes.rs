@@ -4,14 +4,14 @@
 use crate::plan::*;
 use wgpu_types as wgpu;
 
-use super::{LowerError, generate};
+use super::{LowerError, MeshError, generate};
 use crate::capture::format as cf;
 use crate::capture::model::*;
 
 pub(super) fn lower_mesh(m: &MeshDesc) -> Result<MeshSpec, LowerError> {
-    let err = |message: String| LowerError::Mesh {
+    let err = |problem: MeshError| LowerError::Mesh {
         mesh: m.name.clone(),
-        message,
+        problem,
     };
     let instance_count = m.instance_count.unwrap_or(1);
     let stride = |s: &cf::VertexStream| {
@@ -24,7 +24,7 @@ pub(super) fn lower_mesh(m: &MeshDesc) -> Result<MeshSpec, LowerError> {
         MeshSourceDesc::Generator(shape) => {
             let data = generate::mesh(shape);
             if data.positions.is_empty() {
-                return Err(err("its generator produced no vertices".to_owned()));
+                return Err(err(MeshError::NoVertices));
             }
             let streams = generate::encode_streams(
                 &data,
@@ -47,16 +47,19 @@ pub(super) fn lower_mesh(m: &MeshDesc) -> Result<MeshSpec, LowerError> {
                 (bytes, f, data.indices.len() as u32)
             });
             if m.index_format == Some(cf::IndexFormat::Uint16) && data.positions.len() > 65536 {
-                return Err(err(format!(
-                    "{} vertices do not fit 16-bit indices",
-                    data.positions.len()
-                )));
+                return Err(err(MeshError::TooManyFor16BitIndices {
+                    vertices: data.positions.len(),
+                }));
             }
             (streams, indices, data.positions.len() as u32)
         }
         MeshSourceDesc::File(path) => {
-            let bytes =
-                std::fs::read(path).map_err(|e| err(format!("reading {}: {e}", path.display())))?;
+            let bytes = std::fs::read(path).map_err(|error| {
+                err(MeshError::Read {
+                    path: path.clone(),
+                    error,
+                })
+            })?;
             let vertex_count = m.vertex_count.unwrap_or(0);
             let mut offset = 0usize;
             let mut streams = Vec::new();
@@ -70,7 +73,13 @@ pub(super) fn lower_mesh(m: &MeshDesc) -> Result<MeshSpec, LowerError> {
                 streams.push(
                     bytes
                         .get(offset..offset + size)
-                        .ok_or_else(|| err("side file too short".into()))?
+                        .ok_or_else(|| {
+                            err(MeshError::ShortFile {
+                                path: path.clone(),
+                                needed: offset + size,
+                                len: bytes.len(),
+                            })
+                        })?
                         .to_vec(),
                 );
                 offset += size;

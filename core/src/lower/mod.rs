@@ -15,6 +15,7 @@ mod states;
 mod usage;
 
 use std::collections::BTreeMap;
+use std::path::PathBuf;
 
 use crate::plan::*;
 use wgpu_types::Features;
@@ -43,15 +44,18 @@ pub enum LowerError {
     Format {
         resource: String,
         format: String,
-        reason: String,
+        reason: formats::FormatError,
         pass: String,
     },
-    #[error("resource \"{resource}\": {message}")]
-    Contents { resource: String, message: String },
-    #[error("mesh \"{mesh}\": {message}")]
-    Mesh { mesh: String, message: String },
-    #[error("pass \"{pass}\": {message}")]
-    Pass { pass: String, message: String },
+    #[error("resource \"{resource}\": {problem}")]
+    Contents {
+        resource: String,
+        problem: ContentsError,
+    },
+    #[error("mesh \"{mesh}\": {problem}")]
+    Mesh { mesh: String, problem: MeshError },
+    #[error("pass \"{pass}\": {problem}")]
+    Pass { pass: String, problem: PassError },
     #[error("{0}")]
     NotReplayable(String),
     #[error("pass \"{pass}\" needs {feature}, which adapter {adapter} does not support")]
@@ -60,6 +64,65 @@ pub enum LowerError {
         feature: String,
         adapter: String,
     },
+}
+
+/// Why a texture's or buffer's initial contents cannot be made. The reasons are part of the
+/// message rather than error sources: the commands print the message alone.
+#[derive(Debug, thiserror::Error)]
+pub enum ContentsError {
+    #[error(
+        "a generator cannot write {format:?} (block-compressed or depth): give the texture a side file"
+    )]
+    Unwritable { format: wgpu_types::TextureFormat },
+    #[error("reading {}: {error}", path.display())]
+    Read {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    #[error("side file is shorter than the texture")]
+    ShortFile {
+        path: PathBuf,
+        needed: usize,
+        len: usize,
+    },
+}
+
+/// Why a mesh cannot be built.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    #[error("its generator produced no vertices")]
+    NoVertices,
+    #[error("{vertices} vertices do not fit 16-bit indices")]
+    TooManyFor16BitIndices { vertices: usize },
+    #[error("reading {}: {error}", path.display())]
+    Read {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    #[error("side file too short")]
+    ShortFile {
+        path: PathBuf,
+        needed: usize,
+        len: usize,
+    },
+}
+
+/// Why a pass cannot become a wgpu-level operation. Validation rules most of these out; they
+/// remain for captures that reach the lowering by another way.
+#[derive(Debug, thiserror::Error)]
+pub enum PassError {
+    #[error("no resolve")]
+    NoResolve,
+    #[error("no generate_mips")]
+    NoGenerateMips,
+    #[error("nothing to present")]
+    NothingToPresent,
+    #[error("no shader")]
+    NoShader,
+    #[error("\"{resource}\" was not created")]
+    NotCreated { resource: String },
+    #[error("{0}")]
+    ViewFormat(formats::FormatError),
 }
 
 /// A lowered frame: the plan, the plan index of each capture resource and the capture pass of

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use crate::plan::*;
 use wgpu_types::{self as wgpu, Features};
 
-use super::{LowerError, Lowering, formats, states};
+use super::{LowerError, Lowering, PassError, formats, states};
 use crate::capture::format::{self as cf, LoadOp, PassKind, ResourceKind, StoreOp};
 use crate::capture::model::*;
 
@@ -40,10 +40,10 @@ fn params(p: &BTreeMap<String, cf::ParamValue>) -> Params {
         .collect()
 }
 
-fn pass_error(p: &PassDesc, message: String) -> LowerError {
+fn pass_error(p: &PassDesc, problem: PassError) -> LowerError {
     LowerError::Pass {
         pass: p.name.clone(),
-        message,
+        problem,
     }
 }
 
@@ -59,7 +59,7 @@ impl<'c> Lowering<'c> {
             PassKind::Resolve => {
                 let (s, d) = p
                     .resolve
-                    .ok_or_else(|| pass_error(p, "no resolve".into()))?;
+                    .ok_or_else(|| pass_error(p, PassError::NoResolve))?;
                 PassOp::Resolve {
                     src: self.tex(p, s)?,
                     dst: self.tex(p, d)?,
@@ -68,7 +68,7 @@ impl<'c> Lowering<'c> {
             PassKind::GenerateMips => {
                 let (r, range) = p
                     .generate_mips
-                    .ok_or_else(|| pass_error(p, "no generate_mips".into()))?;
+                    .ok_or_else(|| pass_error(p, PassError::NoGenerateMips))?;
                 PassOp::GenerateMips {
                     texture: self.tex(p, r)?,
                     base_layer: range.layer_base,
@@ -79,7 +79,7 @@ impl<'c> Lowering<'c> {
                 texture: self.tex(
                     p,
                     p.present
-                        .ok_or_else(|| pass_error(p, "nothing to present".into()))?,
+                        .ok_or_else(|| pass_error(p, PassError::NothingToPresent))?,
                 )?,
             },
         };
@@ -95,7 +95,9 @@ impl<'c> Lowering<'c> {
         self.texture_of.get(&r).copied().ok_or_else(|| {
             pass_error(
                 p,
-                format!("\"{}\" was not created", self.capture.resource(r).name),
+                PassError::NotCreated {
+                    resource: self.capture.resource(r).name.clone(),
+                },
             )
         })
     }
@@ -104,7 +106,9 @@ impl<'c> Lowering<'c> {
         self.buffer_of.get(&r).copied().ok_or_else(|| {
             pass_error(
                 p,
-                format!("\"{}\" was not created", self.capture.resource(r).name),
+                PassError::NotCreated {
+                    resource: self.capture.resource(r).name.clone(),
+                },
             )
         })
     }
@@ -144,7 +148,7 @@ impl<'c> Lowering<'c> {
                         let t = self.tex(p, *resource)?;
                         let format =
                             formats::view_format(self.plan.textures[t].format, *view_format)
-                                .map_err(|e| pass_error(p, e.to_owned()))?;
+                                .map_err(|e| pass_error(p, PassError::ViewFormat(e)))?;
                         let (base_mip, mips, base_layer, layers) = range_of(r, &range);
                         BindTarget::Texture {
                             texture: t,
@@ -183,7 +187,7 @@ impl<'c> Lowering<'c> {
         let s = p
             .shader
             .as_ref()
-            .ok_or_else(|| pass_error(p, "no shader".into()))?;
+            .ok_or_else(|| pass_error(p, PassError::NoShader))?;
         let color = self.color_targets(p)?;
         let depth = match &p.depth_stencil {
             Some(d) => {
@@ -251,7 +255,7 @@ impl<'c> Lowering<'c> {
             out.push(ColorTarget {
                 texture: t,
                 format: formats::view_format(self.plan.textures[t].format, Some(c.format))
-                    .map_err(|e| pass_error(p, e.to_owned()))?,
+                    .map_err(|e| pass_error(p, PassError::ViewFormat(e)))?,
                 mip: c.mip,
                 layer: c.layer,
                 load: (c.load == LoadOp::Clear).then_some(wgpu::Color {

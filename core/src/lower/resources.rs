@@ -5,7 +5,7 @@
 use crate::plan::*;
 use wgpu_types as wgpu;
 
-use super::{LowerError, Lowering, formats, generate};
+use super::{ContentsError, LowerError, Lowering, formats, generate};
 use crate::capture::dxgi::FormatInfo;
 use crate::capture::format::ResourceKind;
 use crate::capture::model::*;
@@ -20,9 +20,9 @@ impl<'c> Lowering<'c> {
     }
 
     fn texture(&mut self, r: &'c ResourceDesc) -> Result<(), LowerError> {
-        let contents_err = |message: String| LowerError::Contents {
+        let contents_err = |problem: ContentsError| LowerError::Contents {
             resource: r.name.clone(),
-            message,
+            problem,
         };
         let usage = self.usage.textures.get(&r.id).copied().or_else(|| {
             (r.initial != InitialDesc::Undefined)
@@ -43,7 +43,7 @@ impl<'c> Lowering<'c> {
                     return Err(LowerError::Format {
                         resource: r.name.clone(),
                         format: info.name.to_owned(),
-                        reason: reason.to_owned(),
+                        reason,
                         pass: pass.to_owned(),
                     });
                 }
@@ -77,12 +77,12 @@ impl<'c> Lowering<'c> {
                     Ok(mips) => Some(mips),
                     // A texture no replayed pass uses is only there to be looked at: say why
                     // it is missing instead of failing the replay.
-                    Err(message) if first_user.is_none() => {
+                    Err(problem) if first_user.is_none() => {
                         self.notes
-                            .push(format!("\"{}\" is not replayed: {message}", r.name));
+                            .push(format!("\"{}\" is not replayed: {problem}", r.name));
                         return Ok(());
                     }
-                    Err(message) => return Err(contents_err(message)),
+                    Err(problem) => return Err(contents_err(problem)),
                 }
             }
             InitialDesc::File(path) => Some(texture_file(r, info, path).map_err(contents_err)?),
@@ -119,9 +119,12 @@ impl<'c> Lowering<'c> {
             InitialDesc::Undefined | InitialDesc::BeforeCapture => None,
             InitialDesc::Generator(contents) => Some(generate::buffer(contents, r.bytes)),
             InitialDesc::File(path) => {
-                Some(std::fs::read(path).map_err(|e| LowerError::Contents {
+                Some(std::fs::read(path).map_err(|error| LowerError::Contents {
                     resource: r.name.clone(),
-                    message: format!("reading {}: {e}", path.display()),
+                    problem: ContentsError::Read {
+                        path: path.clone(),
+                        error,
+                    },
                 })?)
             }
         };
@@ -142,8 +145,11 @@ fn texture_file(
     r: &ResourceDesc,
     info: &FormatInfo,
     path: &std::path::Path,
-) -> Result<Vec<Vec<u8>>, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("reading {}: {e}", path.display()))?;
+) -> Result<Vec<Vec<u8>>, ContentsError> {
+    let bytes = std::fs::read(path).map_err(|error| ContentsError::Read {
+        path: path.to_owned(),
+        error,
+    })?;
     let volume = r.kind == ResourceKind::Texture3D;
     let mut mips = Vec::new();
     let mut offset = 0usize;
@@ -155,7 +161,11 @@ fn texture_file(
         mips.push(
             bytes
                 .get(offset..offset + size)
-                .ok_or_else(|| "side file is shorter than the texture".to_owned())?
+                .ok_or_else(|| ContentsError::ShortFile {
+                    path: path.to_owned(),
+                    needed: offset + size,
+                    len: bytes.len(),
+                })?
                 .to_vec(),
         );
         offset += size;

@@ -5,8 +5,7 @@ use std::collections::BTreeMap;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-#[allow(unused_imports)]
-use super::*;
+use super::ParamValue;
 
 /// Geometry: structure-of-arrays vertex streams and an optional index buffer.
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]

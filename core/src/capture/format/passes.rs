@@ -5,8 +5,10 @@ use std::collections::BTreeMap;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-#[allow(unused_imports)]
-use super::*;
+use super::{
+    Blend, Clear, Copy, DepthStencilAttachment, Dispatch, Draw, GenerateMips, ParamValue,
+    RecordedBarrier, RecordedTiming, RenderState, Resolve, ResourceKind,
+};
 
 /// One pass: a unit of GPU work on one queue with its declared resource accesses.
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]

@@ -3,9 +3,6 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-#[allow(unused_imports)]
-use super::*;
-
 /// A command queue (`D3D12_COMMAND_LIST_TYPE`): graphics queues can do everything, compute
 /// queues compute and copies, copy queues only copies.
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]

@@ -3,8 +3,7 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-#[allow(unused_imports)]
-use super::*;
+use super::{CompareFunction, LoadOp, StoreOp, load_op_load, store_op_store};
 
 /// The depth-stencil view of a raster pass.
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]

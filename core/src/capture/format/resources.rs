@@ -6,8 +6,7 @@ use std::collections::BTreeMap;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-#[allow(unused_imports)]
-use super::*;
+use super::HeapType;
 
 /// A buffer or texture (`D3D12_RESOURCE_DESC` plus how it is placed and filled).
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]

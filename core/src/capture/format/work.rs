@@ -6,8 +6,7 @@ use std::collections::BTreeMap;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-#[allow(unused_imports)]
-use super::*;
+use super::{ParamValue, Range};
 
 /// One draw call.
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]

@@ -1,8 +1,17 @@
 //! Shader bindings: the view each one names (format, dimension, mips, layers, bytes) and
 //! indirect arguments.
 
-#[allow(unused_imports)]
-use super::*;
+use super::{Validator, view_dimension_ok};
+use crate::capture::diag::{Diagnostics, JsonPath};
+use crate::capture::dxgi;
+use crate::capture::dxgi::FormatInfo;
+use crate::capture::format::{
+    Access, Binding, BufferKind, IndirectArgs, Range, ResourceFlag, ResourceKind,
+};
+use crate::capture::model::{
+    AccessSource, BindingDesc, BindingTarget, ResourceAccess, ResourceDesc, ResourceId, SamplerId,
+    Subresources,
+};
 
 /// Largest uniform (constant) buffer view.
 pub const MAX_UNIFORM_BINDING_BYTES: u64 = 65_536;

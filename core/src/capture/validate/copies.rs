@@ -1,7 +1,17 @@
 //! Copies, recorded barriers, and fences between queues.
 
-#[allow(unused_imports)]
-use super::*;
+use std::collections::BTreeMap;
+
+use super::Validator;
+use crate::capture::diag::{JsonPath, suggest};
+use crate::capture::format::{
+    Access, BarrierType, Copy, CopyLocation, RecordedBarrier, ResourceFlag, ResourceState,
+    SplitFlag,
+};
+use crate::capture::model::{
+    AccessSource, CopyDesc, CopyLocationDesc, FenceId, HeapDesc, PassDesc, PlacementDesc,
+    RecordedBarrierDesc, ResourceAccess, ResourceDesc, ResourceId, Subresources, VulkanBarrierDesc,
+};
 
 impl<'a> Validator<'a> {
     pub(super) fn check_copy(

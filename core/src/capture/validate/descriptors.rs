@@ -1,7 +1,15 @@
 //! Descriptor heaps, samplers and meshes.
 
-#[allow(unused_imports)]
-use super::*;
+use std::collections::{BTreeMap, BTreeSet};
+
+use super::{Validator, mesh_file_bytes};
+use crate::capture::diag::JsonPath;
+use crate::capture::format::{DescriptorHeapType, Filter, Mesh, MeshSource, StepMode};
+use crate::capture::generators;
+use crate::capture::generators::{Content, Seeded, Shape};
+use crate::capture::model::{
+    DescriptorHeapDesc, DescriptorHeapId, MeshDesc, MeshId, MeshSourceDesc,
+};
 
 impl<'a> Validator<'a> {
     pub(super) fn check_descriptor_heaps(&mut self) -> Vec<DescriptorHeapDesc> {

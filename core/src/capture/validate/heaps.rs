@@ -1,7 +1,10 @@
 //! Heaps: types, CPU page properties, memory pools, flags and the resource-heap tier rules.
 
-#[allow(unused_imports)]
-use super::*;
+use std::collections::BTreeSet;
+
+use super::{MSAA_PLACEMENT_ALIGNMENT, PLACEMENT_ALIGNMENT, Validator, describe_allows};
+use crate::capture::format::{CpuPageProperty, HeapFlag, HeapType, MemoryArchitecture, MemoryPool};
+use crate::capture::model::{HeapAllows, HeapDesc, HeapId};
 
 impl<'a> Validator<'a> {
     pub(super) fn check_heaps(&mut self) -> Vec<HeapDesc> {

@@ -6,7 +6,7 @@
 //! Limits are checked before anything is sized or allocated, with arithmetic that cannot
 //! overflow. Unknown names get a did-you-mean suggestion.
 
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Component, Path, PathBuf};
 
 mod bindings;
@@ -20,12 +20,11 @@ mod work;
 
 use super::diag::{Diagnostic, Diagnostics, JsonPath, suggest};
 use super::format::*;
-use super::generators::{self, Content, GeneratorSpec, Seeded, Shape};
+use super::generators::{self, GeneratorSpec};
 use super::load::CaptureError;
 use super::model::*;
 use super::shaders::{Shader, ShaderId};
 use crate::capture::dxgi::{self, FormatInfo};
-use crate::text::human_bytes;
 
 /// Hardware limits checked before anything is allocated (D3D12 feature level 12 values).
 #[derive(Clone, Copy, Debug)]

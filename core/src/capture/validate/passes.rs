@@ -1,7 +1,18 @@
 //! Passes: kind, queue, shader entry points, attachments, draws, dispatches and accesses.
 
-#[allow(unused_imports)]
-use super::*;
+use super::Validator;
+use crate::capture::diag::JsonPath;
+use crate::capture::dxgi::FormatInfo;
+use crate::capture::format::{
+    Access, Blend, BlendPreset, LoadOp, ParamValue, Pass, PassKind, QueueType, RenderState,
+    ResourceFlag, ResourceKind, StencilOp,
+};
+use crate::capture::formats;
+use crate::capture::model::{
+    AccessSource, BindingDesc, ClearDesc, ColorAttachmentDesc, DepthStencilDesc, FenceId, HeapDesc,
+    MeshDesc, PassDesc, PassId, QueueCapabilities, QueueId, ResourceAccess, ResourceDesc,
+    ResourceId, ShaderDesc, Subresources,
+};
 
 /// What the sections of a pass's check share besides the pass itself.
 pub(super) struct PassContext<'c> {
@@ -504,7 +515,7 @@ impl<'a> Validator<'a> {
                         format.name, r.name
                     ),
                 );
-            } else if let Some(why) = crate::lower::formats::not_renderable(format) {
+            } else if let Some(why) = formats::not_renderable(format) {
                 self.diags.error(
                     "format-usage",
                     &apath,

@@ -1,7 +1,22 @@
 //! Resources: resolved extents, formats, mips, flags, initial contents and placement in heaps.
 
-#[allow(unused_imports)]
-use super::*;
+use std::collections::BTreeSet;
+
+use super::{
+    MSAA_PLACEMENT_ALIGNMENT, PLACEMENT_ALIGNMENT, Validator, describe_allows, is_depth_family,
+};
+use crate::capture::diag::JsonPath;
+use crate::capture::dxgi::FormatInfo;
+use crate::capture::format::{
+    BufferKind, Extent, HeapType, InitialContents, MipLevels, Placement, RelativeSize, Resource,
+    ResourceFlag, ResourceKind,
+};
+use crate::capture::generators;
+use crate::capture::generators::{Content, Seeded};
+use crate::capture::model::{
+    HeapDesc, HeapId, InitialDesc, PlacementDesc, ResourceCategory, ResourceDesc, ResourceId,
+};
+use crate::text::human_bytes;
 
 /// Resolved dimensions of a resource (all 1 for buffers).
 #[derive(Clone, Copy, Debug)]

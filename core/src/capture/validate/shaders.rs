@@ -3,11 +3,23 @@
 //! checked against the reflected interface (`check_shader_use`), so a name the shader does not
 //! declare is reported with its JSON path and a suggestion instead of failing the replay.
 
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
 use std::sync::Arc;
 
-#[allow(unused_imports)]
-use super::*;
+use super::Validator;
+use crate::capture::diag::{JsonPath, suggest};
+use crate::capture::format::{ParamValue, Pass};
 use crate::capture::shaders::{self, Shader, ShaderId, ShaderInterface, Stage};
+
+/// Why a shader file a pass names cannot be used.
+#[derive(Debug, thiserror::Error)]
+enum ShaderFileError {
+    #[error("cannot read {file}: {error}")]
+    Read { file: String, error: std::io::Error },
+    #[error("{0}")]
+    Invalid(crate::shader::ShaderError),
+}
 
 impl<'a> Validator<'a> {
     /// Reads and validates the shader at `resolved` the first time a pass names it.
@@ -22,11 +34,14 @@ impl<'a> Validator<'a> {
         }
         let name = resolved.display().to_string();
         let loaded = std::fs::read_to_string(resolved)
-            .map_err(|e| format!("cannot read {name}: {e}"))
+            .map_err(|error| ShaderFileError::Read {
+                file: name.clone(),
+                error,
+            })
             .and_then(|source| {
                 crate::shader::validate_wgsl(&name, &source)
                     .map(|v| (source, v))
-                    .map_err(|e| e.to_string())
+                    .map_err(ShaderFileError::Invalid)
             });
         let id = match loaded {
             Ok((source, validated)) => {
@@ -41,8 +56,8 @@ impl<'a> Validator<'a> {
                 });
                 Some(id)
             }
-            Err(message) => {
-                self.diags.error("shader", path, message);
+            Err(problem) => {
+                self.diags.error("shader", path, problem.to_string());
                 None
             }
         };

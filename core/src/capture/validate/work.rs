@@ -2,8 +2,12 @@
 //! references) and dispatches (group counts against the limits, indirect arguments).
 
 use super::passes::PassContext;
-#[allow(unused_imports)]
-use super::*;
+use super::{DISPATCH_ARGS, DRAW_ARGS, DRAW_INDEXED_ARGS, Validator};
+use crate::capture::diag::JsonPath;
+use crate::capture::format::{Access, Draw, Pass, PassKind};
+use crate::capture::model::{
+    AccessSource, DispatchDesc, DrawDesc, MeshId, ResourceAccess, ResourceDesc, Subresources,
+};
 
 /// Most instances one draw may ask for, and most vertices times instances: a draw of 2^32
 /// instances would replay for hours on a software rasterizer.

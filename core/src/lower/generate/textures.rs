@@ -5,6 +5,7 @@ use wgpu_types::TextureFormat;
 
 use super::{f16, fbm, hash, small_float};
 use crate::capture::generators::{Content, Seeded};
+use crate::lower::ContentsError;
 
 /// The value of a texture generator at normalised coordinates (u, v, w) for `layer`.
 fn texel(generator: &Content, seed: u64, u: f64, v: f64, w: f64, layer: u32) -> [f64; 4] {
@@ -57,7 +58,7 @@ fn texel(generator: &Content, seed: u64, u: f64, v: f64, w: f64, layer: u32) -> 
 }
 
 /// Encodes one texel of RGBA values in `format`, or says the format cannot be generated.
-pub fn encode_texel(format: TextureFormat, c: [f64; 4]) -> Result<Vec<u8>, String> {
+pub fn encode_texel(format: TextureFormat, c: [f64; 4]) -> Result<Vec<u8>, ContentsError> {
     use TextureFormat as F;
     let un8 = |x: f64| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
     let sn8 = |x: f64| (x.clamp(-1.0, 1.0) * 127.0).round() as i8 as u8;
@@ -101,11 +102,7 @@ pub fn encode_texel(format: TextureFormat, c: [f64; 4]) -> Result<Vec<u8>, Strin
             | (small_float(c[2] as f32, 5) << 22))
             .to_le_bytes()
             .to_vec(),
-        other => {
-            return Err(format!(
-                "a generator cannot write {other:?} (block-compressed or depth): give the texture a side file"
-            ));
-        }
+        other => return Err(ContentsError::Unwritable { format: other }),
     })
 }
 
@@ -159,7 +156,7 @@ pub fn texture(
     depth_or_layers: u32,
     volume: bool,
     mips: u32,
-) -> Result<Vec<Vec<u8>>, String> {
+) -> Result<Vec<Vec<u8>>, ContentsError> {
     let mut out = Vec::new();
     for mip in 0..mips {
         let (w, h) = ((width >> mip).max(1), (height >> mip).max(1));

@@ -10,7 +10,9 @@ use super::helpers::{
     stencil_view, storage, with,
 };
 use super::passes::LIGHTS;
-use super::scene::{World, d, depth_attach, scene_bindings, scene_defaults, world_draws};
+use super::scene::{
+    SceneError, World, d, depth_attach, scene_bindings, scene_defaults, world_draws,
+};
 
 /// Where the street probe of pass 30 sits, and the radius it is trusted within.
 const STREET_PROBE: [f64; 4] = [-6.0, 6.0, 40.0, 90.0];
@@ -165,14 +167,16 @@ fn ssr(out: &mut Vec<Value>) {
 /// Pass 48: the holographic signs again, additive, the water surface with its reflection, and
 /// a glow around each of the `lights` lights, tested against the scene's depth without writing
 /// it.
-pub(super) fn transparent_holo(groups_: &[&str], lights: u32) -> Result<Value, String> {
+pub(super) fn transparent_holo(groups_: &[&str], lights: u32) -> Result<Value, SceneError> {
     let world = world_draws(World::ALL);
     let find = |label: &str| {
         world
             .iter()
             .find(|dr| dr["label"] == label)
             .cloned()
-            .ok_or_else(|| format!("the world has no draw \"{label}\""))
+            .ok_or_else(|| SceneError::NoDraw {
+                label: label.to_owned(),
+            })
     };
     let signs = with(find("holographic signs")?, json!({"label": "holograms"}));
     let water = find("water")?;

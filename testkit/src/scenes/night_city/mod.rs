@@ -13,6 +13,8 @@ mod post;
 mod resources;
 mod scene;
 
+pub use scene::SceneError;
+
 use serde_json::{Value, json};
 
 use framelab_core::capture::format::RawCapture;
@@ -90,7 +92,7 @@ const FENCES: [&str; 23] = [
 #[derive(Debug, thiserror::Error)]
 pub enum GenerateError {
     #[error("the scene asks scene.wgsl for something it lacks: {0}")]
-    Shader(String),
+    Shader(SceneError),
     #[error("the scene does not fit the capture format: {0}")]
     Format(#[from] serde_json::Error),
 }

@@ -11,7 +11,7 @@ use super::helpers::{
 };
 use super::scene::{
     BOX_INDICES, BUILDINGS, BUILDINGS_PER_BLOCK, CAPSULE_INDICES, DepthOnly, KIND_COUNTS,
-    LIGHT_COUNT, SHADOWED_LIGHTS, World, d, depth_attach, depth_only, scene_bindings,
+    LIGHT_COUNT, SHADOWED_LIGHTS, SceneError, World, d, depth_attach, depth_only, scene_bindings,
     scene_defaults, with_view, world_draws,
 };
 
@@ -25,7 +25,7 @@ pub(super) fn light_count(day: bool) -> u32 {
 }
 
 /// Every pass, or what `scene.wgsl` lacks that a pass asks of it.
-pub(super) fn passes(day: bool) -> Result<Vec<Value>, String> {
+pub(super) fn passes(day: bool) -> Result<Vec<Value>, SceneError> {
     let mut out = Vec::new();
     pre_geometry(&mut out, day)?;
     geometry(&mut out)?;
@@ -38,7 +38,7 @@ pub(super) fn passes(day: bool) -> Result<Vec<Value>, String> {
 }
 
 /// Passes 1-9: billboards, GUI, top view, voxels, instances, terrain, ocean.
-fn pre_geometry(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
+fn pre_geometry(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError> {
     if day {
         // 1: three glyph sheets copied out of the mega texture (byte-address atlas).
         out.push(json!({
@@ -244,7 +244,7 @@ fn terrain_and_ocean(out: &mut Vec<Value>, day: bool) {
 }
 
 /// Passes 10-13: depth pre-pass, G-buffer, depth/stencil conversion, motion stencil.
-fn geometry(out: &mut Vec<Value>) -> Result<(), String> {
+fn geometry(out: &mut Vec<Value>) -> Result<(), SceneError> {
     // 10: depth pre-pass.
     let prepass_draws: Vec<Value> = world_draws(World::ALL)
         .into_iter()
@@ -459,7 +459,7 @@ fn masks(out: &mut Vec<Value>) {
 }
 
 /// Passes 20-27: CSM proxy and cascades, omni shadows, clouds, sky, coat mask, clusters, sun.
-fn lights_and_shadows(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
+fn lights_and_shadows(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError> {
     // 20: the never-read CSM proxy.
     let proxy = vec![d(
         "block proxies",
@@ -595,7 +595,7 @@ fn lights_and_shadows(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
 }
 
 /// Pass 22: the paraboloid depth of each shadowed light, then its variance map.
-fn omni_shadows(out: &mut Vec<Value>) -> Result<(), String> {
+fn omni_shadows(out: &mut Vec<Value>) -> Result<(), SceneError> {
     let groups_ = &["Lights and shadows", "omni_shadows"];
     let omni_entry = |vertex: &str| match vertex {
         "vs_building" => Some("vs_omni_building"),
@@ -650,7 +650,7 @@ fn omni_shadows(out: &mut Vec<Value>) -> Result<(), String> {
 
 /// Passes 28-36: light masks and buffer, environment capture, GI, landscape, fog, head mask,
 /// tiled direct lighting and the sky.
-fn environment_and_lighting(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
+fn environment_and_lighting(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError> {
     // 28: local light masks, two resolutions.
     out.push(compute(
         "local_light_mask",
@@ -728,7 +728,7 @@ fn environment_and_lighting(out: &mut Vec<Value>, day: bool) -> Result<(), Strin
 }
 
 /// Pass 30: six faces of the street probe, then the dual-paraboloid array.
-fn environment_capture(out: &mut Vec<Value>) -> Result<(), String> {
+fn environment_capture(out: &mut Vec<Value>) -> Result<(), SceneError> {
     let groups_ = &["Lights and shadows", "env_capture"];
     let probe = json!([-6, 6, 40, 0]);
     let world = World {

@@ -10,6 +10,7 @@ use super::helpers::{
     color, compute, fullscreen_pass, groups, markers, object, sampled, sampler, storage,
     storage_mip, with,
 };
+use super::scene::SceneError;
 
 const POST: &[&str] = &["Post-processing"];
 
@@ -30,7 +31,7 @@ fn mip_view(resource: &str, mip: u32) -> Value {
 }
 
 /// Passes 45-57.
-pub(super) fn passes(out: &mut Vec<Value>, day: bool) -> Result<(), String> {
+pub(super) fn passes(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError> {
     taa(out);
     // 47: low clouds over the sky, into the post-TAA image.
     out.push(fullscreen_pass(

@@ -9,6 +9,7 @@ use std::sync::OnceLock;
 
 use super::helpers::{object, raster, sampled, sampler, storage, with};
 use framelab_core::capture::shaders::reflect;
+use framelab_core::shader::{ShaderError, ValidatedShader};
 
 /// Cars, pedestrians, holographic signs.
 pub(super) const KIND_COUNTS: [u32; 3] = [768, 1024, 224];
@@ -276,19 +277,29 @@ pub(super) fn with_view(draws: Vec<Value>, params: Value) -> Vec<Value> {
         .collect()
 }
 
+/// What a pass asks of `scene.wgsl`, or of the world's draws, that is not there.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("{0}")]
+    Shader(&'static ShaderError),
+    #[error("scene.wgsl has no entry point \"{entry}\"")]
+    NoEntryPoint { entry: String },
+    #[error("the world has no draw \"{label}\"")]
+    NoDraw { label: String },
+}
+
 /// `scene.wgsl` as framelab's validation sees it: validated and reflected once, so a pass
 /// binds (and the analysis sees) exactly the resources its entry points read, as the shader
 /// says rather than as a table beside it would.
-fn scene_shader() -> Result<&'static framelab_core::shader::ValidatedShader, String> {
-    static SCENE: OnceLock<Result<framelab_core::shader::ValidatedShader, String>> =
-        OnceLock::new();
+fn scene_shader() -> Result<&'static ValidatedShader, SceneError> {
+    static SCENE: OnceLock<Result<ValidatedShader, ShaderError>> = OnceLock::new();
     SCENE
         .get_or_init(|| {
             let source = include_str!("../../../../captures/night_city/shaders/scene.wgsl");
-            framelab_core::shader::validate_wgsl("scene.wgsl", source).map_err(|e| e.to_string())
+            framelab_core::shader::validate_wgsl("scene.wgsl", source)
         })
         .as_ref()
-        .map_err(Clone::clone)
+        .map_err(SceneError::Shader)
 }
 
 /// The capture binding of `scene.wgsl`'s global `name`: a storage buffer, a sampler or a
@@ -318,7 +329,7 @@ fn scene_binding(module: &naga::Module, name: &str) -> Option<Value> {
 
 /// Sets a `scene.wgsl` pass's bindings from the globals its entry points and its draws'
 /// entry points use.
-pub(super) fn scene_bindings(mut pass: Value) -> Result<Value, String> {
+pub(super) fn scene_bindings(mut pass: Value) -> Result<Value, SceneError> {
     let shader = scene_shader()?;
     let interface = reflect(shader);
     let mut entries: Vec<&str> = ["vertex", "fragment"]
@@ -332,7 +343,9 @@ pub(super) fn scene_bindings(mut pass: Value) -> Result<Value, String> {
     for entry in entries {
         let globals = interface
             .globals_used_by(entry)
-            .ok_or_else(|| format!("scene.wgsl has no entry point \"{entry}\""))?;
+            .ok_or_else(|| SceneError::NoEntryPoint {
+                entry: entry.to_owned(),
+            })?;
         names.extend(globals.iter().map(String::as_str));
     }
     let bindings = names
@@ -365,7 +378,7 @@ pub(super) fn depth_only(
     draws: Vec<Value>,
     params: Value,
     rest: Value,
-) -> Result<Value, String> {
+) -> Result<Value, SceneError> {
     let mut state = json!({"depth_compare": "less_equal", "depth_write": true, "cull": "none"});
     if let Some((constant, slope)) = p.bias {
         state["depth_bias"] = json!(constant);
