@@ -5,6 +5,8 @@
 //! really used. Shader code is not in the stream, so the capture is analysed, not replayed.
 
 mod build;
+mod calls;
+mod commands;
 mod emit;
 mod record;
 mod render_pass;

@@ -3,39 +3,39 @@
 //! last use, and the layout transitions and external dependencies the render pass implies at
 //! its start and end, as barriers.
 
-use super::record::{
+use super::commands::{
     AttUse, BarrierCmd, BarrierTarget, DepthUse, RenderInstance, SubpassUse, clear_color,
 };
 use super::state::{Dependency, Objects};
 use super::value::{Arg, Got, Skip};
-use crate::capture::vulkan::{self, access, stage};
+use crate::capture::vulkan::{AccessFlags as A, ImageLayout, PipelineStages as S};
 
 const EXTERNAL: u32 = u32::MAX;
 
 /// The implicit external dependencies Vulkan adds when a render pass declares none.
 fn implicit(begin: bool) -> Dependency {
-    let attachment_access = access::COLOR_ATTACHMENT_READ
-        | access::COLOR_ATTACHMENT_WRITE
-        | access::DEPTH_STENCIL_ATTACHMENT_READ
-        | access::DEPTH_STENCIL_ATTACHMENT_WRITE
-        | 0x10;
+    let attachment_access = A::COLOR_ATTACHMENT_READ
+        | A::COLOR_ATTACHMENT_WRITE
+        | A::DEPTH_STENCIL_ATTACHMENT_READ
+        | A::DEPTH_STENCIL_ATTACHMENT_WRITE
+        | A::INPUT_ATTACHMENT_READ;
     if begin {
         Dependency {
             src_subpass: EXTERNAL,
             dst_subpass: 0,
-            src_stages: stage::TOP_OF_PIPE,
-            dst_stages: stage::ALL_COMMANDS,
-            src_access: 0,
+            src_stages: S::TOP_OF_PIPE,
+            dst_stages: S::ALL_COMMANDS,
+            src_access: A::EMPTY,
             dst_access: attachment_access,
         }
     } else {
         Dependency {
             src_subpass: 0,
             dst_subpass: EXTERNAL,
-            src_stages: stage::ALL_COMMANDS,
-            dst_stages: stage::BOTTOM_OF_PIPE,
-            src_access: access::COLOR_ATTACHMENT_WRITE | access::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            dst_access: 0,
+            src_stages: S::ALL_COMMANDS,
+            dst_stages: S::BOTTOM_OF_PIPE,
+            src_access: A::COLOR_ATTACHMENT_WRITE | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            dst_access: A::EMPTY,
         }
     }
 }
@@ -202,7 +202,7 @@ pub(super) fn begin_render_pass(
                           what: &str,
                           always: bool|
          -> Option<BarrierCmd> {
-            let (from, to) = (vulkan::layout(from)?, vulkan::layout(to)?);
+            let (from, to) = (ImageLayout::from_name(from)?, ImageLayout::from_name(to)?);
             (from != to || always).then(|| BarrierCmd {
                 origin: format!("{origin}: attachment {a} {what}"),
                 target: target.clone(),

@@ -9,6 +9,7 @@ use super::value::{
     ASPECTS, Arg, BUFFER_USAGE, Got, IMAGE_CREATE, IMAGE_USAGE, MEMORY_PROPERTIES, QUEUE_FLAGS,
     Skip,
 };
+use crate::capture::vulkan::{AccessFlags, PipelineStages};
 
 #[derive(Clone, Debug)]
 pub struct ImageInfo {
@@ -77,10 +78,10 @@ pub struct SubpassDesc {
 pub struct Dependency {
     pub src_subpass: u32,
     pub dst_subpass: u32,
-    pub src_stages: u64,
-    pub dst_stages: u64,
-    pub src_access: u64,
-    pub dst_access: u64,
+    pub src_stages: PipelineStages,
+    pub dst_stages: PipelineStages,
+    pub src_access: AccessFlags,
+    pub dst_access: AccessFlags,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -618,14 +619,13 @@ fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
         .list("pDependencies")?
         .iter()
         .map(|d| {
-            use crate::capture::vulkan::{ACCESS, STAGES};
             Ok(Dependency {
                 src_subpass: d.get("srcSubpass")?.u32()?,
                 dst_subpass: d.get("dstSubpass")?.u32()?,
-                src_stages: d.get("srcStageMask")?.flags(STAGES)?,
-                dst_stages: d.get("dstStageMask")?.flags(STAGES)?,
-                src_access: d.get("srcAccessMask")?.flags(ACCESS)?,
-                dst_access: d.get("dstAccessMask")?.flags(ACCESS)?,
+                src_stages: d.get("srcStageMask")?.stages()?,
+                dst_stages: d.get("dstStageMask")?.stages()?,
+                src_access: d.get("srcAccessMask")?.access()?,
+                dst_access: d.get("dstAccessMask")?.access()?,
             })
         })
         .collect::<Got<Vec<_>>>()?;
