@@ -177,7 +177,10 @@ impl PipelineStages {
             (Self::ALL_GRAPHICS, Self::GRAPHICS),
             (Self::TRANSFER, Self::TRANSFER_PARTS),
             (Self::VERTEX_INPUT, Self::VERTEX_INPUT_PARTS),
-            (Self::PRE_RASTERIZATION_SHADERS, Self::PRE_RASTERIZATION_PARTS),
+            (
+                Self::PRE_RASTERIZATION_SHADERS,
+                Self::PRE_RASTERIZATION_PARTS,
+            ),
         ] {
             if m.intersects(group) {
                 m |= parts;

@@ -103,8 +103,12 @@ pub enum CmdFunc {
     PushDescriptorSetWithTemplate,
     BindVertexBuffers,
     BindIndexBuffer,
-    Draw { indexed: bool },
-    DrawIndirect { indexed: bool },
+    Draw {
+        indexed: bool,
+    },
+    DrawIndirect {
+        indexed: bool,
+    },
     Dispatch,
     DispatchIndirect,
     /// `vkCmdPipelineBarrier` or `vkCmdWaitEvents`: stage masks on the call.
@@ -117,7 +121,10 @@ pub enum CmdFunc {
     EndRender,
     BeginRendering,
     /// A copy; `v2`: the arguments sit in a `*Info` structure.
-    Copy { kind: CopyKind, v2: bool },
+    Copy {
+        kind: CopyKind,
+        v2: bool,
+    },
     ClearImage,
     FillBuffer,
     ResolveImage,

@@ -174,4 +174,3 @@ pub fn clear_color(v: &Arg<'_>) -> [f64; 4] {
     }
     out
 }
-

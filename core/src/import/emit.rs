@@ -89,7 +89,7 @@ fn image_resource(img: &ImageInfo, name: &str, before_capture: bool) -> Resource
     let kind = match img.image_type.as_str() {
         "VK_IMAGE_TYPE_1D" | "0" => ResourceKind::Texture1D,
         "VK_IMAGE_TYPE_3D" | "2" => ResourceKind::Texture3D,
-        _ if img.create_flags & 0x10 != 0 && img.layers % 6 == 0 && img.layers > 0 => {
+        _ if img.create_flags & 0x10 != 0 && img.layers.is_multiple_of(6) && img.layers > 0 => {
             ResourceKind::TextureCube
         }
         _ if img.layers > 1 => ResourceKind::Texture2DArray,

@@ -259,11 +259,7 @@ struct Read {
 }
 
 /// Feeds every entry of the stream to the importer until the selected frames are done.
-fn read_stream(
-    reader: impl BufRead,
-    file: &str,
-    imp: &mut Importer,
-) -> Result<Read, ImportError> {
+fn read_stream(reader: impl BufRead, file: &str, imp: &mut Importer) -> Result<Read, ImportError> {
     let mut lines = Lines::new(reader);
     let mut read = Read {
         tool: "GFXReconstruct (version not in the stream)".to_owned(),

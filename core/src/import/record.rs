@@ -7,8 +7,8 @@ use std::collections::BTreeMap;
 
 use super::calls::{CmdFunc, CopyKind};
 use super::commands::{
-    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, MAX_INDIRECT_DRAWS,
-    Region, TransferCmd, Use, clear_color,
+    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, MAX_INDIRECT_DRAWS, Region,
+    TransferCmd, Use, clear_color,
 };
 use super::render_pass;
 use super::state::{Descriptor, Objects};
@@ -132,14 +132,16 @@ impl Recording {
                 }
                 Cmd::Barrier(all)
             }
-            CmdFunc::BeginRenderPass => Cmd::BeginRender(Box::new(
-                render_pass::begin_render_pass(args, objects, origin())?,
-            )),
+            CmdFunc::BeginRenderPass => Cmd::BeginRender(Box::new(render_pass::begin_render_pass(
+                args,
+                objects,
+                origin(),
+            )?)),
             CmdFunc::NextSubpass => Cmd::NextSubpass,
             CmdFunc::EndRender => Cmd::EndRender,
-            CmdFunc::BeginRendering => Cmd::BeginRender(Box::new(
-                render_pass::begin_rendering(&args.get("pRenderingInfo")?)?,
-            )),
+            CmdFunc::BeginRendering => Cmd::BeginRender(Box::new(render_pass::begin_rendering(
+                &args.get("pRenderingInfo")?,
+            )?)),
             CmdFunc::Copy { kind, v2: false } => copy(kind, name, args)?,
             CmdFunc::Copy { kind, v2: true } => copy(kind, name, &args.get(kind.info_key())?)?,
             CmdFunc::ClearImage => clear_image(name, args)?,
@@ -397,10 +399,7 @@ fn barriers(
             dst_stages: ds,
             src_access: sa,
             dst_access: da,
-            layouts: Some((
-                b.get("oldLayout")?.layout()?,
-                b.get("newLayout")?.layout()?,
-            )),
+            layouts: Some((b.get("oldLayout")?.layout()?, b.get("newLayout")?.layout()?)),
             families: families(&b)?,
         });
     }

@@ -10,7 +10,7 @@ use super::value::{
     ASPECTS, Arg, BUFFER_USAGE, Got, IMAGE_CREATE, IMAGE_USAGE, MEMORY_PROPERTIES, QUEUE_FLAGS,
     Skip,
 };
-use crate::capture::vulkan::{AccessFlags, PipelineStages};
+use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
 
 #[derive(Clone, Debug)]
 pub struct ImageInfo {
@@ -62,16 +62,17 @@ pub struct AttachmentDesc {
     pub store: String,
     pub stencil_load: String,
     pub stencil_store: String,
-    pub initial: String,
-    pub final_layout: String,
+    /// `None`: a layout framelab does not know; no transition is derived for it.
+    pub initial: Option<ImageLayout>,
+    pub final_layout: Option<ImageLayout>,
 }
 
 #[derive(Clone, Debug, Default)]
 pub struct SubpassDesc {
-    pub colors: Vec<(u32, String)>,
-    pub resolves: Vec<(u32, String)>,
-    pub depth: Option<(u32, String)>,
-    pub inputs: Vec<(u32, String)>,
+    pub colors: Vec<(u32, Option<ImageLayout>)>,
+    pub resolves: Vec<(u32, Option<ImageLayout>)>,
+    pub depth: Option<(u32, Option<ImageLayout>)>,
+    pub inputs: Vec<(u32, Option<ImageLayout>)>,
 }
 
 /// A subpass dependency that involves VK_SUBPASS_EXTERNAL.
@@ -569,6 +570,11 @@ pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
     Ok(out)
 }
 
+/// A render pass's layout, by name only: a number or an unknown name derives no transition.
+fn layout_name(a: &Arg<'_>) -> Got<Option<ImageLayout>> {
+    Ok(ImageLayout::from_name(&a.name()?))
+}
+
 fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
     let attachments = ci
         .list("pAttachments")?
@@ -579,16 +585,17 @@ fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
                 store: a.get("storeOp")?.name()?,
                 stencil_load: a.get("stencilLoadOp")?.name()?,
                 stencil_store: a.get("stencilStoreOp")?.name()?,
-                initial: a.get("initialLayout")?.name()?,
-                final_layout: a.get("finalLayout")?.name()?,
+                initial: layout_name(&a.get("initialLayout")?)?,
+                final_layout: layout_name(&a.get("finalLayout")?)?,
             })
         })
         .collect::<Got<Vec<_>>>()?;
-    let refs = |sp: &Arg<'_>, key: &str| -> Got<Vec<(u32, String)>> {
+    type Ref = (u32, Option<ImageLayout>);
+    let refs = |sp: &Arg<'_>, key: &str| -> Got<Vec<Ref>> {
         sp.list(key)?
             .iter()
-            .map(|r| Ok((r.get("attachment")?.u32()?, r.get("layout")?.name()?)))
-            .filter(|r: &Got<(u32, String)>| !matches!(r, Ok((u32::MAX, _))))
+            .map(|r| Ok((r.get("attachment")?.u32()?, layout_name(&r.get("layout")?)?)))
+            .filter(|r: &Got<Ref>| !matches!(r, Ok((u32::MAX, _))))
             .collect()
     };
     let subpasses = ci
@@ -602,7 +609,7 @@ fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
                     Some(d) => {
                         let a = d.get("attachment")?.u32()?;
                         (a != u32::MAX)
-                            .then(|| Ok((a, d.get("layout")?.name()?)))
+                            .then(|| Ok((a, layout_name(&d.get("layout")?)?)))
                             .transpose()?
                     }
                     None => None,

@@ -32,25 +32,19 @@ fn scope(a: Access, raster: bool) -> (S, A, Option<L>) {
     match a {
         Access::Sampled => (shader, A::SHADER_READ, Some(L::ShaderReadOnlyOptimal)),
         Access::StorageRead => (shader, A::SHADER_READ, Some(L::General)),
-        Access::StorageWrite | Access::StorageReadWrite => (
-            shader,
-            A::SHADER_READ | A::SHADER_WRITE,
-            Some(L::General),
-        ),
+        Access::StorageWrite | Access::StorageReadWrite => {
+            (shader, A::SHADER_READ | A::SHADER_WRITE, Some(L::General))
+        }
         Access::Uniform => (shader, A::UNIFORM_READ, None),
         Access::IndirectArgs => (S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ, None),
         Access::VertexBuffer => (S::VERTEX_INPUT, A::VERTEX_ATTRIBUTE_READ, None),
         Access::IndexBuffer => (S::VERTEX_INPUT, A::INDEX_READ, None),
-        Access::CopySrc | Access::ResolveSrc => (
-            S::TRANSFER,
-            A::TRANSFER_READ,
-            Some(L::TransferSrcOptimal),
-        ),
-        Access::CopyDst | Access::ResolveDst => (
-            S::TRANSFER,
-            A::TRANSFER_WRITE,
-            Some(L::TransferDstOptimal),
-        ),
+        Access::CopySrc | Access::ResolveSrc => {
+            (S::TRANSFER, A::TRANSFER_READ, Some(L::TransferSrcOptimal))
+        }
+        Access::CopyDst | Access::ResolveDst => {
+            (S::TRANSFER, A::TRANSFER_WRITE, Some(L::TransferDstOptimal))
+        }
         Access::ColorAttachment => (
             S::COLOR_ATTACHMENT_OUTPUT,
             A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
