@@ -81,19 +81,7 @@ impl Recording {
         let cmd = match func {
             CmdFunc::BindDescriptorSets => return self.bind_sets(args, objects).map(|()| true),
             CmdFunc::PushDescriptorSet => return self.push_set(args).map(|()| true),
-            CmdFunc::BindVertexBuffers => {
-                let first = args.get("firstBinding")?.u32()?;
-                for (k, b) in args.list("pBuffers")?.iter().enumerate() {
-                    let buffer = b.handle()?;
-                    let slot = first.saturating_add(k as u32);
-                    if buffer == 0 {
-                        self.bound.vertex.remove(&slot);
-                    } else {
-                        self.bound.vertex.insert(slot, buffer);
-                    }
-                }
-                return Ok(true);
-            }
+            CmdFunc::BindVertexBuffers => return self.bind_vertex_buffers(args).map(|()| true),
             CmdFunc::BindIndexBuffer => {
                 let b = args.get("buffer")?.handle()?;
                 self.bound.index = (b != 0).then_some(b);
@@ -192,6 +180,20 @@ impl Recording {
         };
         self.cmds.push(cmd);
         Ok(true)
+    }
+
+    fn bind_vertex_buffers(&mut self, args: &Arg<'_>) -> Got<()> {
+        let first = args.get("firstBinding")?.u32()?;
+        for (k, b) in args.list("pBuffers")?.iter().enumerate() {
+            let buffer = b.handle()?;
+            let slot = first.saturating_add(k as u32);
+            if buffer == 0 {
+                self.bound.vertex.remove(&slot);
+            } else {
+                self.bound.vertex.insert(slot, buffer);
+            }
+        }
+        Ok(())
     }
 
     /// Binds descriptor sets as their contents are now, dynamic offsets applied in order.

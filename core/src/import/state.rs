@@ -198,20 +198,7 @@ impl Objects {
                 );
             }
             Func::CreateImage => self.create_image(args)?,
-            Func::CreateBuffer => {
-                let ci = args.get("pCreateInfo")?;
-                let buffer = args.get("pBuffer")?.handle()?;
-                self.buffers.insert(
-                    buffer,
-                    BufferInfo {
-                        created_at: self.at,
-                        size: ci.get("size")?.u64()?,
-                        usage: ci.get("usage")?.flags(BUFFER_USAGE)?,
-                        bound: None,
-                        alignment: None,
-                    },
-                );
-            }
+            Func::CreateBuffer => self.create_buffer(args)?,
             Func::MemoryRequirements(object) => self.memory_requirements(object, args)?,
             Func::BindMemory(object) => {
                 let handle = args.get(object.key())?.handle()?;
@@ -321,6 +308,22 @@ impl Objects {
             .take(n)
             .map(|t| t.get("propertyFlags")?.flags(MEMORY_PROPERTIES))
             .collect::<Got<_>>()?;
+        Ok(())
+    }
+
+    fn create_buffer(&mut self, args: &Arg<'_>) -> Got<()> {
+        let ci = args.get("pCreateInfo")?;
+        let buffer = args.get("pBuffer")?.handle()?;
+        self.buffers.insert(
+            buffer,
+            BufferInfo {
+                created_at: self.at,
+                size: ci.get("size")?.u64()?,
+                usage: ci.get("usage")?.flags(BUFFER_USAGE)?,
+                bound: None,
+                alignment: None,
+            },
+        );
         Ok(())
     }
 
