@@ -284,26 +284,13 @@ fn recorded(c: &Capture, p: &PassDesc) -> Vec<Barrier> {
 
 /// A recorded Vulkan barrier as the details pane lists it: layouts, then scopes, then origin.
 fn vulkan_text(v: &framelab_core::capture::model::VulkanBarrierDesc) -> String {
-    use framelab_core::capture::vulkan::{ACCESS, STAGES, mask_names};
-    let names = |t: &[(&str, u64)], m: u64| {
-        let n = mask_names(t, m);
-        if n.is_empty() {
-            "NONE".to_owned()
-        } else {
-            n.join("|")
-        }
-    };
     let layouts = match (v.old_layout, v.new_layout) {
         (Some(a), Some(b)) => format!("{a} -> {b}; "),
         _ => String::new(),
     };
     format!(
         "{layouts}{}/{} -> {}/{} ({})",
-        names(STAGES, v.src_stages),
-        names(ACCESS, v.src_access),
-        names(STAGES, v.dst_stages),
-        names(ACCESS, v.dst_access),
-        v.origin
+        v.src_stages, v.src_access, v.dst_stages, v.dst_access, v.origin
     )
 }
 

@@ -17,6 +17,7 @@ use super::format::{
     ResourceKind, ResourceState, SplitFlag, StoreOp, VertexStream,
 };
 use crate::capture::dxgi::FormatInfo;
+use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
 
 macro_rules! id_type {
     ($($name:ident),*) => {$(
@@ -508,17 +509,16 @@ pub struct RecordedBarrierDesc {
     pub split: SplitFlag,
 }
 
-/// A Vulkan barrier with its masks as bits (`VkPipelineStageFlagBits2`, `VkAccessFlagBits2`)
-/// and its layouts by name (see `capture::vulkan`).
+/// A Vulkan barrier in Vulkan's terms, its names parsed (see `capture::vulkan`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct VulkanBarrierDesc {
     pub origin: String,
-    pub src_stages: u64,
-    pub src_access: u64,
-    pub dst_stages: u64,
-    pub dst_access: u64,
-    pub old_layout: Option<&'static str>,
-    pub new_layout: Option<&'static str>,
+    pub src_stages: PipelineStages,
+    pub src_access: AccessFlags,
+    pub dst_stages: PipelineStages,
+    pub dst_access: AccessFlags,
+    pub old_layout: Option<ImageLayout>,
+    pub new_layout: Option<ImageLayout>,
     pub queue_transfer: Option<(u32, u32)>,
 }
 

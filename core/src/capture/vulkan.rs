@@ -1,187 +1,326 @@
-//! Vulkan's synchronisation vocabulary: pipeline stage and access bits, image layouts, and the
-//! VkFormats without a DXGI twin.
+//! Vulkan's synchronisation vocabulary as types: pipeline stages and access flags as bit sets
+//! over the `*2` enums' values, image layouts as an enum.
 //!
-//! Imported captures keep their barriers in Vulkan's own terms (names without `VK_` and `_BIT`,
-//! values of the `*2` enums, which extend the original ones bit for bit), so that validation can
-//! check the names and the analysis can speak the application's language.
+//! Imported captures keep their barriers in Vulkan's own terms, so that validation can check
+//! them and the analysis can speak the application's language. Names (without `VK_` and
+//! `_BIT`) are parsed once, when a capture is validated or imported, and spelled only when
+//! text or JSON is written; everything in between compares values.
 
-/// `VkPipelineStageFlagBits2`.
-pub const STAGES: &[(&str, u64)] = &[
-    ("TOP_OF_PIPE", 0x1),
-    ("DRAW_INDIRECT", 0x2),
-    ("VERTEX_INPUT", 0x4),
-    ("VERTEX_SHADER", 0x8),
-    ("TESSELLATION_CONTROL_SHADER", 0x10),
-    ("TESSELLATION_EVALUATION_SHADER", 0x20),
-    ("GEOMETRY_SHADER", 0x40),
-    ("FRAGMENT_SHADER", 0x80),
-    ("EARLY_FRAGMENT_TESTS", 0x100),
-    ("LATE_FRAGMENT_TESTS", 0x200),
-    ("COLOR_ATTACHMENT_OUTPUT", 0x400),
-    ("COMPUTE_SHADER", 0x800),
-    ("TRANSFER", 0x1000),
-    ("BOTTOM_OF_PIPE", 0x2000),
-    ("HOST", 0x4000),
-    ("ALL_GRAPHICS", 0x8000),
-    ("ALL_COMMANDS", 0x10000),
-    ("COPY", 0x1_0000_0000),
-    ("RESOLVE", 0x2_0000_0000),
-    ("BLIT", 0x4_0000_0000),
-    ("CLEAR", 0x8_0000_0000),
-    ("INDEX_INPUT", 0x10_0000_0000),
-    ("VERTEX_ATTRIBUTE_INPUT", 0x20_0000_0000),
-    ("PRE_RASTERIZATION_SHADERS", 0x40_0000_0000),
-];
+use std::fmt;
+use std::ops::{BitAnd, BitOr, BitOrAssign, Not};
 
-/// `VkAccessFlagBits2`.
-pub const ACCESS: &[(&str, u64)] = &[
-    ("INDIRECT_COMMAND_READ", 0x1),
-    ("INDEX_READ", 0x2),
-    ("VERTEX_ATTRIBUTE_READ", 0x4),
-    ("UNIFORM_READ", 0x8),
-    ("INPUT_ATTACHMENT_READ", 0x10),
-    ("SHADER_READ", 0x20),
-    ("SHADER_WRITE", 0x40),
-    ("COLOR_ATTACHMENT_READ", 0x80),
-    ("COLOR_ATTACHMENT_WRITE", 0x100),
-    ("DEPTH_STENCIL_ATTACHMENT_READ", 0x200),
-    ("DEPTH_STENCIL_ATTACHMENT_WRITE", 0x400),
-    ("TRANSFER_READ", 0x800),
-    ("TRANSFER_WRITE", 0x1000),
-    ("HOST_READ", 0x2000),
-    ("HOST_WRITE", 0x4000),
-    ("MEMORY_READ", 0x8000),
-    ("MEMORY_WRITE", 0x10000),
-    ("SHADER_SAMPLED_READ", 0x1_0000_0000),
-    ("SHADER_STORAGE_READ", 0x2_0000_0000),
-    ("SHADER_STORAGE_WRITE", 0x4_0000_0000),
-];
+/// A bit set over one of Vulkan's `*FlagBits2` enums, with the named bits in the enum's order
+/// (which is the order names are written in).
+macro_rules! vk_flags {
+    ($(#[$doc:meta])* $ty:ident { $($bit:ident = $value:expr,)* }) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+        pub struct $ty(u64);
 
-/// `VkImageLayout` values framelab understands.
-pub const LAYOUTS: &[(&str, u32)] = &[
-    ("UNDEFINED", 0),
-    ("GENERAL", 1),
-    ("COLOR_ATTACHMENT_OPTIMAL", 2),
-    ("DEPTH_STENCIL_ATTACHMENT_OPTIMAL", 3),
-    ("DEPTH_STENCIL_READ_ONLY_OPTIMAL", 4),
-    ("SHADER_READ_ONLY_OPTIMAL", 5),
-    ("TRANSFER_SRC_OPTIMAL", 6),
-    ("TRANSFER_DST_OPTIMAL", 7),
-    ("PREINITIALIZED", 8),
-    ("PRESENT_SRC_KHR", 1_000_001_002),
-    ("SHARED_PRESENT_KHR", 1_000_111_000),
-    ("DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL", 1_000_117_000),
-    ("DEPTH_ATTACHMENT_STENCIL_READ_ONLY_OPTIMAL", 1_000_117_001),
-    ("DEPTH_ATTACHMENT_OPTIMAL", 1_000_241_000),
-    ("DEPTH_READ_ONLY_OPTIMAL", 1_000_241_001),
-    ("STENCIL_ATTACHMENT_OPTIMAL", 1_000_241_002),
-    ("STENCIL_READ_ONLY_OPTIMAL", 1_000_241_003),
-    ("READ_ONLY_OPTIMAL", 1_000_314_000),
-    ("ATTACHMENT_OPTIMAL", 1_000_314_001),
-];
+        #[allow(dead_code)]
+        impl $ty {
+            $(pub const $bit: Self = Self($value);)*
+            pub const EMPTY: Self = Self(0);
+            /// Every named bit with its name, in the enum's order.
+            pub const NAMES: &'static [(&'static str, u64)] = &[$((stringify!($bit), $value),)*];
 
-pub mod stage {
-    pub const TOP_OF_PIPE: u64 = 0x1;
-    pub const DRAW_INDIRECT: u64 = 0x2;
-    pub const VERTEX_INPUT: u64 = 0x4;
-    pub const VERTEX_SHADER: u64 = 0x8;
-    pub const FRAGMENT_SHADER: u64 = 0x80;
-    pub const EARLY_FRAGMENT_TESTS: u64 = 0x100;
-    pub const LATE_FRAGMENT_TESTS: u64 = 0x200;
-    pub const COLOR_ATTACHMENT_OUTPUT: u64 = 0x400;
-    pub const COMPUTE_SHADER: u64 = 0x800;
-    pub const TRANSFER: u64 = 0x1000;
-    pub const BOTTOM_OF_PIPE: u64 = 0x2000;
-    pub const ALL_GRAPHICS: u64 = 0x8000;
-    pub const ALL_COMMANDS: u64 = 0x10000;
+            pub const fn from_bits(bits: u64) -> Self {
+                Self(bits)
+            }
+
+            pub const fn bits(self) -> u64 {
+                self.0
+            }
+
+            pub const fn is_empty(self) -> bool {
+                self.0 == 0
+            }
+
+            /// Whether any bit of `other` is set here.
+            pub const fn intersects(self, other: Self) -> bool {
+                self.0 & other.0 != 0
+            }
+
+            /// The names of the bits set (in the enum's order); bits without a name as hex.
+            pub fn names(self) -> Vec<String> {
+                mask_names(Self::NAMES, self.0)
+            }
+
+            /// The set the names stand for (with or without `VK_..._` and `_BIT`, or `0x` hex);
+            /// the first unknown name as the error.
+            pub fn parse<'a>(names: impl IntoIterator<Item = &'a String>) -> Result<Self, &'a str> {
+                parse_mask(Self::NAMES, names).map(Self)
+            }
+        }
+
+        /// `NONE` for the empty set, else the names joined by `|`.
+        impl fmt::Display for $ty {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                if self.is_empty() {
+                    f.write_str("NONE")
+                } else {
+                    f.write_str(&self.names().join("|"))
+                }
+            }
+        }
+
+        impl BitOr for $ty {
+            type Output = Self;
+            fn bitor(self, rhs: Self) -> Self {
+                Self(self.0 | rhs.0)
+            }
+        }
+
+        impl BitOrAssign for $ty {
+            fn bitor_assign(&mut self, rhs: Self) {
+                self.0 |= rhs.0;
+            }
+        }
+
+        impl BitAnd for $ty {
+            type Output = Self;
+            fn bitand(self, rhs: Self) -> Self {
+                Self(self.0 & rhs.0)
+            }
+        }
+
+        impl Not for $ty {
+            type Output = Self;
+            fn not(self) -> Self {
+                Self(!self.0)
+            }
+        }
+    };
+}
+
+vk_flags! {
+    /// `VkPipelineStageFlagBits2`.
+    PipelineStages {
+        TOP_OF_PIPE = 0x1,
+        DRAW_INDIRECT = 0x2,
+        VERTEX_INPUT = 0x4,
+        VERTEX_SHADER = 0x8,
+        TESSELLATION_CONTROL_SHADER = 0x10,
+        TESSELLATION_EVALUATION_SHADER = 0x20,
+        GEOMETRY_SHADER = 0x40,
+        FRAGMENT_SHADER = 0x80,
+        EARLY_FRAGMENT_TESTS = 0x100,
+        LATE_FRAGMENT_TESTS = 0x200,
+        COLOR_ATTACHMENT_OUTPUT = 0x400,
+        COMPUTE_SHADER = 0x800,
+        TRANSFER = 0x1000,
+        BOTTOM_OF_PIPE = 0x2000,
+        HOST = 0x4000,
+        ALL_GRAPHICS = 0x8000,
+        ALL_COMMANDS = 0x10000,
+        COPY = 0x1_0000_0000,
+        RESOLVE = 0x2_0000_0000,
+        BLIT = 0x4_0000_0000,
+        CLEAR = 0x8_0000_0000,
+        INDEX_INPUT = 0x10_0000_0000,
+        VERTEX_ATTRIBUTE_INPUT = 0x20_0000_0000,
+        PRE_RASTERIZATION_SHADERS = 0x40_0000_0000,
+    }
+}
+
+vk_flags! {
+    /// `VkAccessFlagBits2`.
+    AccessFlags {
+        INDIRECT_COMMAND_READ = 0x1,
+        INDEX_READ = 0x2,
+        VERTEX_ATTRIBUTE_READ = 0x4,
+        UNIFORM_READ = 0x8,
+        INPUT_ATTACHMENT_READ = 0x10,
+        SHADER_READ = 0x20,
+        SHADER_WRITE = 0x40,
+        COLOR_ATTACHMENT_READ = 0x80,
+        COLOR_ATTACHMENT_WRITE = 0x100,
+        DEPTH_STENCIL_ATTACHMENT_READ = 0x200,
+        DEPTH_STENCIL_ATTACHMENT_WRITE = 0x400,
+        TRANSFER_READ = 0x800,
+        TRANSFER_WRITE = 0x1000,
+        HOST_READ = 0x2000,
+        HOST_WRITE = 0x4000,
+        MEMORY_READ = 0x8000,
+        MEMORY_WRITE = 0x10000,
+        SHADER_SAMPLED_READ = 0x1_0000_0000,
+        SHADER_STORAGE_READ = 0x2_0000_0000,
+        SHADER_STORAGE_WRITE = 0x4_0000_0000,
+    }
+}
+
+impl PipelineStages {
     /// COPY, RESOLVE, BLIT and CLEAR: the parts of TRANSFER.
-    pub const TRANSFER_PARTS: u64 = 0xF_0000_0000;
+    pub const TRANSFER_PARTS: Self = Self(0xF_0000_0000);
     /// INDEX_INPUT and VERTEX_ATTRIBUTE_INPUT: the parts of VERTEX_INPUT.
-    pub const VERTEX_INPUT_PARTS: u64 = 0x30_0000_0000;
-    pub const PRE_RASTERIZATION_SHADERS: u64 = 0x40_0000_0000;
+    pub const VERTEX_INPUT_PARTS: Self = Self(0x30_0000_0000);
     /// Vertex, tessellation and geometry shaders.
-    pub const PRE_RASTERIZATION_PARTS: u64 = 0x78;
+    pub const PRE_RASTERIZATION_PARTS: Self = Self(0x78);
     /// Every stage ALL_GRAPHICS stands for.
-    pub const GRAPHICS: u64 = 0x7FF & !COMPUTE_SHADER
-        | VERTEX_INPUT_PARTS
-        | PRE_RASTERIZATION_SHADERS
-        | TOP_OF_PIPE
-        | BOTTOM_OF_PIPE;
+    pub const GRAPHICS: Self = Self(
+        0x7FF & !Self::COMPUTE_SHADER.0
+            | Self::VERTEX_INPUT_PARTS.0
+            | Self::PRE_RASTERIZATION_SHADERS.0
+            | Self::TOP_OF_PIPE.0
+            | Self::BOTTOM_OF_PIPE.0,
+    );
+
+    /// The stages this set stands for, with ALL_COMMANDS, ALL_GRAPHICS and the stages the
+    /// original enum grouped (TRANSFER, VERTEX_INPUT, PRE_RASTERIZATION_SHADERS) spelt out both
+    /// ways, so that sets written in either enum's terms compare.
+    pub fn expand(self) -> Self {
+        if self.intersects(Self::ALL_COMMANDS) {
+            return Self(u64::MAX);
+        }
+        let mut m = self;
+        for (group, parts) in [
+            (Self::ALL_GRAPHICS, Self::GRAPHICS),
+            (Self::TRANSFER, Self::TRANSFER_PARTS),
+            (Self::VERTEX_INPUT, Self::VERTEX_INPUT_PARTS),
+            (
+                Self::PRE_RASTERIZATION_SHADERS,
+                Self::PRE_RASTERIZATION_PARTS,
+            ),
+        ] {
+            if m.intersects(group) {
+                m |= parts;
+            }
+        }
+        m
+    }
 }
 
-pub mod access {
-    pub const INDIRECT_COMMAND_READ: u64 = 0x1;
-    pub const INDEX_READ: u64 = 0x2;
-    pub const VERTEX_ATTRIBUTE_READ: u64 = 0x4;
-    pub const UNIFORM_READ: u64 = 0x8;
-    pub const SHADER_READ: u64 = 0x20;
-    pub const SHADER_WRITE: u64 = 0x40;
-    pub const COLOR_ATTACHMENT_READ: u64 = 0x80;
-    pub const COLOR_ATTACHMENT_WRITE: u64 = 0x100;
-    pub const DEPTH_STENCIL_ATTACHMENT_READ: u64 = 0x200;
-    pub const DEPTH_STENCIL_ATTACHMENT_WRITE: u64 = 0x400;
-    pub const TRANSFER_READ: u64 = 0x800;
-    pub const TRANSFER_WRITE: u64 = 0x1000;
-    pub const MEMORY_READ: u64 = 0x8000;
-    pub const MEMORY_WRITE: u64 = 0x10000;
-    pub const SHADER_SAMPLED_READ: u64 = 0x1_0000_0000;
-    pub const SHADER_STORAGE_READ: u64 = 0x2_0000_0000;
-    pub const SHADER_STORAGE_WRITE: u64 = 0x4_0000_0000;
+impl AccessFlags {
     /// Every write bit.
-    pub const WRITES: u64 = SHADER_WRITE
-        | COLOR_ATTACHMENT_WRITE
-        | DEPTH_STENCIL_ATTACHMENT_WRITE
-        | TRANSFER_WRITE
-        | 0x4000
-        | MEMORY_WRITE
-        | SHADER_STORAGE_WRITE;
+    pub const WRITES: Self = Self(
+        Self::SHADER_WRITE.0
+            | Self::COLOR_ATTACHMENT_WRITE.0
+            | Self::DEPTH_STENCIL_ATTACHMENT_WRITE.0
+            | Self::TRANSFER_WRITE.0
+            | Self::HOST_WRITE.0
+            | Self::MEMORY_WRITE.0
+            | Self::SHADER_STORAGE_WRITE.0,
+    );
+
+    /// The accesses this set stands for: MEMORY_READ/WRITE cover every read/write,
+    /// SHADER_READ/WRITE the sampled and storage accesses of the `*2` enum.
+    pub fn expand(self) -> Self {
+        let mut m = self;
+        if m.intersects(Self::MEMORY_READ) {
+            m |= !Self::WRITES;
+        }
+        if m.intersects(Self::MEMORY_WRITE) {
+            m |= Self::WRITES;
+        }
+        if m.intersects(Self::SHADER_READ) {
+            m |= Self::SHADER_SAMPLED_READ | Self::SHADER_STORAGE_READ;
+        }
+        if m.intersects(Self::SHADER_WRITE) {
+            m |= Self::SHADER_STORAGE_WRITE;
+        }
+        m
+    }
 }
 
-/// Stages a mask stands for, with ALL_COMMANDS, ALL_GRAPHICS and the stages the original
-/// enum grouped (TRANSFER, VERTEX_INPUT, PRE_RASTERIZATION_SHADERS) spelt out both ways.
-pub fn expand_stages(mask: u64) -> u64 {
-    use stage::*;
-    let mut m = mask;
-    if m & ALL_COMMANDS != 0 {
-        return u64::MAX;
-    }
-    if m & ALL_GRAPHICS != 0 {
-        m |= GRAPHICS;
-    }
-    if m & TRANSFER != 0 {
-        m |= TRANSFER_PARTS;
-    }
-    if m & VERTEX_INPUT != 0 {
-        m |= VERTEX_INPUT_PARTS;
-    }
-    if m & PRE_RASTERIZATION_SHADERS != 0 {
-        m |= PRE_RASTERIZATION_PARTS;
-    }
-    m
+/// `VkImageLayout`s framelab understands, each with its value and its name.
+macro_rules! vk_layouts {
+    ($($variant:ident = $name:literal $value:literal,)*) => {
+        /// `VkImageLayout`.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum ImageLayout {
+            $($variant,)*
+        }
+
+        impl ImageLayout {
+            pub const ALL: &'static [ImageLayout] = &[$(ImageLayout::$variant,)*];
+
+            /// The name without `VK_IMAGE_LAYOUT_`, as captures and reports spell it.
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $(ImageLayout::$variant => $name,)*
+                }
+            }
+
+            /// The `VkImageLayout` value.
+            pub const fn value(self) -> u32 {
+                match self {
+                    $(ImageLayout::$variant => $value,)*
+                }
+            }
+        }
+    };
 }
 
-/// Accesses a mask stands for: MEMORY_READ/WRITE cover every read/write, SHADER_READ/WRITE the
-/// sampled and storage accesses of the `*2` enum.
-pub fn expand_access(mask: u64) -> u64 {
-    use access::*;
-    let mut m = mask;
-    if m & MEMORY_READ != 0 {
-        m |= !WRITES;
+vk_layouts! {
+    Undefined = "UNDEFINED" 0,
+    General = "GENERAL" 1,
+    ColorAttachmentOptimal = "COLOR_ATTACHMENT_OPTIMAL" 2,
+    DepthStencilAttachmentOptimal = "DEPTH_STENCIL_ATTACHMENT_OPTIMAL" 3,
+    DepthStencilReadOnlyOptimal = "DEPTH_STENCIL_READ_ONLY_OPTIMAL" 4,
+    ShaderReadOnlyOptimal = "SHADER_READ_ONLY_OPTIMAL" 5,
+    TransferSrcOptimal = "TRANSFER_SRC_OPTIMAL" 6,
+    TransferDstOptimal = "TRANSFER_DST_OPTIMAL" 7,
+    Preinitialized = "PREINITIALIZED" 8,
+    PresentSrc = "PRESENT_SRC_KHR" 1_000_001_002,
+    SharedPresent = "SHARED_PRESENT_KHR" 1_000_111_000,
+    DepthReadOnlyStencilAttachmentOptimal = "DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL" 1_000_117_000,
+    DepthAttachmentStencilReadOnlyOptimal = "DEPTH_ATTACHMENT_STENCIL_READ_ONLY_OPTIMAL" 1_000_117_001,
+    DepthAttachmentOptimal = "DEPTH_ATTACHMENT_OPTIMAL" 1_000_241_000,
+    DepthReadOnlyOptimal = "DEPTH_READ_ONLY_OPTIMAL" 1_000_241_001,
+    StencilAttachmentOptimal = "STENCIL_ATTACHMENT_OPTIMAL" 1_000_241_002,
+    StencilReadOnlyOptimal = "STENCIL_READ_ONLY_OPTIMAL" 1_000_241_003,
+    ReadOnlyOptimal = "READ_ONLY_OPTIMAL" 1_000_314_000,
+    AttachmentOptimal = "ATTACHMENT_OPTIMAL" 1_000_314_001,
+}
+
+impl ImageLayout {
+    /// The layout a name (with or without `VK_IMAGE_LAYOUT_`) stands for.
+    pub fn from_name(name: &str) -> Option<Self> {
+        let bare = bare_name(name);
+        Self::ALL.iter().copied().find(|l| l.name() == bare)
     }
-    if m & MEMORY_WRITE != 0 {
-        m |= WRITES;
+
+    /// The layout with this numeric value.
+    pub fn from_value(value: u64) -> Option<Self> {
+        Self::ALL
+            .iter()
+            .copied()
+            .find(|l| u64::from(l.value()) == value)
     }
-    if m & SHADER_READ != 0 {
-        m |= SHADER_SAMPLED_READ | SHADER_STORAGE_READ;
+
+    /// A layout only reads may use (an attachment in it is read-only).
+    pub fn is_read_only(self) -> bool {
+        self.name().contains("READ_ONLY")
     }
-    if m & SHADER_WRITE != 0 {
-        m |= SHADER_STORAGE_WRITE;
+
+    /// Whether an image in this layout serves a use that needs `needed`: the same layout,
+    /// GENERAL (for anything but presenting), or one of the `*2` catch-all layouts.
+    pub fn serves(self, needed: Self) -> bool {
+        use ImageLayout as L;
+        self == needed
+            || (self == L::General && needed != L::PresentSrc)
+            || (self == L::AttachmentOptimal
+                && matches!(
+                    needed,
+                    L::ColorAttachmentOptimal | L::DepthStencilAttachmentOptimal
+                ))
+            || (self == L::ReadOnlyOptimal
+                && matches!(
+                    needed,
+                    L::ShaderReadOnlyOptimal | L::DepthStencilReadOnlyOptimal
+                ))
+            || (needed == L::General && self != L::Undefined && self != L::PresentSrc)
     }
-    m
+}
+
+impl fmt::Display for ImageLayout {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// The names of the bits set in `mask` (in table order); bits the table lacks as hex.
-pub fn mask_names(table: &[(&str, u64)], mask: u64) -> Vec<String> {
+fn mask_names(table: &[(&str, u64)], mask: u64) -> Vec<String> {
     let mut rest = mask;
     let mut out: Vec<String> = table
         .iter()
@@ -198,7 +337,7 @@ pub fn mask_names(table: &[(&str, u64)], mask: u64) -> Vec<String> {
 }
 
 /// The mask the names stand for; the first unknown name as the error.
-pub fn parse_mask<'a>(
+fn parse_mask<'a>(
     table: &[(&str, u64)],
     names: impl IntoIterator<Item = &'a String>,
 ) -> Result<u64, &'a str> {
@@ -240,48 +379,53 @@ pub fn bare_name(name: &str) -> &str {
         .unwrap_or(s)
 }
 
-/// The layout a name (with or without `VK_IMAGE_LAYOUT_`) stands for.
-pub fn layout(name: &str) -> Option<&'static str> {
-    let bare = bare_name(name);
-    LAYOUTS.iter().find(|(n, _)| *n == bare).map(|(n, _)| *n)
-}
-
-/// The layout with this numeric value.
-pub fn layout_by_value(value: u64) -> Option<&'static str> {
-    LAYOUTS
-        .iter()
-        .find(|(_, v)| u64::from(*v) == value)
-        .map(|(n, _)| *n)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn masks_round_trip_through_names() {
-        let m = 0x400 | 0x1_0000_0000;
-        let names = mask_names(STAGES, m);
+        let m = PipelineStages::COLOR_ATTACHMENT_OUTPUT | PipelineStages::COPY;
+        let names = m.names();
         assert_eq!(names, ["COLOR_ATTACHMENT_OUTPUT", "COPY"]);
-        assert_eq!(parse_mask(STAGES, &names), Ok(m));
+        assert_eq!(PipelineStages::parse(&names), Ok(m));
         let full = vec!["VK_PIPELINE_STAGE_2_TRANSFER_BIT".to_owned()];
-        assert_eq!(parse_mask(STAGES, &full), Ok(0x1000));
+        assert_eq!(PipelineStages::parse(&full), Ok(PipelineStages::TRANSFER));
         let bad = vec!["SHADING".to_owned()];
-        assert_eq!(parse_mask(STAGES, &bad), Err("SHADING"));
-        assert_eq!(mask_names(ACCESS, 0x8_0000_0000_0000), ["0x8000000000000"]);
+        assert_eq!(PipelineStages::parse(&bad), Err("SHADING"));
+        assert_eq!(
+            AccessFlags::from_bits(0x8_0000_0000_0000).names(),
+            ["0x8000000000000"]
+        );
+        assert_eq!(AccessFlags::EMPTY.to_string(), "NONE");
     }
 
     #[test]
     fn groups_expand_to_their_parts() {
-        assert!(expand_stages(stage::ALL_GRAPHICS) & stage::FRAGMENT_SHADER != 0);
-        assert!(expand_stages(stage::ALL_GRAPHICS) & stage::COMPUTE_SHADER == 0);
-        assert!(expand_stages(stage::TRANSFER) & 0x1_0000_0000 != 0);
-        assert!(expand_access(access::MEMORY_READ) & access::TRANSFER_READ != 0);
-        assert!(expand_access(access::MEMORY_READ) & access::TRANSFER_WRITE == 0);
+        type S = PipelineStages;
+        type A = AccessFlags;
+        assert!(S::ALL_GRAPHICS.expand().intersects(S::FRAGMENT_SHADER));
+        assert!(!S::ALL_GRAPHICS.expand().intersects(S::COMPUTE_SHADER));
+        assert!(S::TRANSFER.expand().intersects(S::COPY));
+        assert!(A::MEMORY_READ.expand().intersects(A::TRANSFER_READ));
+        assert!(!A::MEMORY_READ.expand().intersects(A::TRANSFER_WRITE));
         assert_eq!(
-            layout("VK_IMAGE_LAYOUT_PRESENT_SRC_KHR"),
-            Some("PRESENT_SRC_KHR")
+            ImageLayout::from_name("VK_IMAGE_LAYOUT_PRESENT_SRC_KHR"),
+            Some(ImageLayout::PresentSrc)
         );
-        assert_eq!(layout_by_value(7), Some("TRANSFER_DST_OPTIMAL"));
+        assert_eq!(
+            ImageLayout::from_value(7),
+            Some(ImageLayout::TransferDstOptimal)
+        );
+        assert_eq!(ImageLayout::PresentSrc.to_string(), "PRESENT_SRC_KHR");
+    }
+
+    #[test]
+    fn general_serves_all_but_presenting() {
+        use ImageLayout as L;
+        assert!(L::General.serves(L::ShaderReadOnlyOptimal));
+        assert!(!L::General.serves(L::PresentSrc));
+        assert!(L::ReadOnlyOptimal.serves(L::DepthStencilReadOnlyOptimal));
+        assert!(!L::Undefined.serves(L::General));
     }
 }

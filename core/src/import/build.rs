@@ -6,10 +6,10 @@
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
-use super::record::{
-    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, Recording, RenderInstance, TransferCmd,
-    Use,
+use super::commands::{
+    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, Region, RenderInstance, TransferCmd, Use,
 };
+use super::record::Recording;
 use super::state::{Descriptor, Objects};
 use crate::capture::dxgi;
 use crate::capture::format::{
@@ -17,7 +17,6 @@ use crate::capture::format::{
     DepthStencilAttachment, Dispatch, Draw, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range,
     RecordedBarrier, Resolve, SplitFlag, StoreOp, VulkanBarrier,
 };
-use crate::capture::vulkan::{self, ACCESS, STAGES};
 
 /// Deepest nesting of secondary command buffers followed.
 const MAX_EXECUTE_DEPTH: u32 = 4;
@@ -77,10 +76,6 @@ fn store_op(op: &str) -> StoreOp {
     } else {
         StoreOp::Store
     }
-}
-
-fn names(table: &[(&str, u64)], mask: u64) -> Vec<String> {
-    vulkan::mask_names(table, mask)
 }
 
 impl Builder {
@@ -458,12 +453,12 @@ impl Builder {
                 split: SplitFlag::None,
                 vulkan: Some(VulkanBarrier {
                     origin: b.origin.clone(),
-                    src_stages: names(STAGES, b.src_stages),
-                    src_access: names(ACCESS, b.src_access),
-                    dst_stages: names(STAGES, b.dst_stages),
-                    dst_access: names(ACCESS, b.dst_access),
-                    old_layout: b.layouts.map(|l| l.0.to_owned()),
-                    new_layout: b.layouts.map(|l| l.1.to_owned()),
+                    src_stages: b.src_stages.names(),
+                    src_access: b.src_access.names(),
+                    dst_stages: b.dst_stages.names(),
+                    dst_access: b.dst_access.names(),
+                    old_layout: b.layouts.map(|l| l.0.name().to_owned()),
+                    new_layout: b.layouts.map(|l| l.1.name().to_owned()),
                     src_queue_family: b.families.map(|f| f.0),
                     dst_queue_family: b.families.map(|f| f.1),
                 }),
@@ -756,7 +751,7 @@ impl Builder {
                 };
                 let footprint = texel_bytes(*src).or_else(|| texel_bytes(*dst));
                 for r in regions {
-                    let row = |r: &super::record::Region| {
+                    let row = |r: &Region| {
                         let (bytes, bw) = footprint?;
                         let texels = if r.row_texels == 0 {
                             r.extent?[0]

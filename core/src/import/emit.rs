@@ -5,7 +5,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::build::Builder;
-use super::state::Objects;
+use super::state::{BufferInfo, ImageInfo, Objects};
 use crate::capture::dxgi;
 use crate::capture::format::{
     AdapterModel, Api, Camera, CaptureSource, CpuPageProperty, Extent, FORMAT_VERSION, Fence,
@@ -82,141 +82,127 @@ pub struct Emitted {
     pub notes: Vec<String>,
 }
 
-/// `hidden_blocks`: the stream left blocks out before the first imported submission (state
-/// snapshot, memory fills), so what existed then may hold data the JSON does not show.
-pub fn emit(
-    mut b: Builder,
-    objects: &Objects,
+/// An image as a texture resource: its kind from type, cube flag and layers, its usage as
+/// flags.
+fn image_resource(img: &ImageInfo, name: &str, before_capture: bool) -> Resource {
+    let format = dxgi::lookup_vk(&img.format).map(|f| f.name.to_owned());
+    let kind = match img.image_type.as_str() {
+        "VK_IMAGE_TYPE_1D" | "0" => ResourceKind::Texture1D,
+        "VK_IMAGE_TYPE_3D" | "2" => ResourceKind::Texture3D,
+        _ if img.create_flags & 0x10 != 0 && img.layers.is_multiple_of(6) && img.layers > 0 => {
+            ResourceKind::TextureCube
+        }
+        _ if img.layers > 1 => ResourceKind::Texture2DArray,
+        _ => ResourceKind::Texture2D,
+    };
+    let mut flags = Vec::new();
+    if img.usage & 0x10 != 0 {
+        flags.push(ResourceFlag::AllowRenderTarget);
+    }
+    if img.usage & 0x20 != 0 {
+        flags.push(ResourceFlag::AllowDepthStencil);
+        if img.usage & (0x4 | 0x80) == 0 {
+            flags.push(ResourceFlag::DenyShaderResource);
+        }
+    }
+    if img.usage & 0x8 != 0 {
+        flags.push(ResourceFlag::AllowUnorderedAccess);
+    }
+    Resource {
+        name: name.to_owned(),
+        kind,
+        format,
+        width: Some(Extent::Texels(u64::from(img.extent[0]))),
+        height: (kind != ResourceKind::Texture1D)
+            .then_some(Extent::Texels(u64::from(img.extent[1]))),
+        depth: (kind == ResourceKind::Texture3D).then_some(img.extent[2]),
+        array_layers: (img.layers > 1 && kind != ResourceKind::Texture3D).then_some(img.layers),
+        mip_levels: (img.mips > 1).then_some(MipLevels::Count(img.mips)),
+        samples: (img.samples > 1).then_some(img.samples),
+        size: None,
+        stride: None,
+        buffer_kind: None,
+        flags,
+        placement: None,
+        initial: before_capture.then_some(InitialContents::BeforeCapture {}),
+        history: false,
+        output: false,
+    }
+}
+
+/// A buffer as a buffer resource; `written`: the frame copies into it.
+fn buffer_resource(
+    buf: &BufferInfo,
     name: &str,
-    file: &str,
-    tool: &str,
-    hidden_blocks: bool,
-) -> Emitted {
-    let first_submit = b.first_submit.unwrap_or(u64::MAX);
-    let selected_later = b.selection.is_some_and(|(a, _)| a > 0);
-    // Contents from before the imported frames: earlier frames, or a snapshot not in the JSON.
-    let before = |created_at: u64| created_at < first_submit && (hidden_blocks || selected_later);
-    let arch = architecture(objects);
-    let mut notes = Vec::new();
-    let mut heaps: BTreeMap<u64, Heap> = BTreeMap::new();
-    let mut resources = Vec::new();
-    let (mut images, mut buffers) = (0, 0);
-    let written: BTreeSet<&str> = b
-        .passes
-        .iter()
-        .flat_map(|p| p.copies.iter().map(|c| c.dst.resource.as_str()))
-        .collect();
-    let mut guessed_alignment = false;
-    let mut largest = (0u32, 0u32);
-    let mut swapchain_extent = None;
-    for (&handle, rname) in &b.names {
-        let (bound, alignment) = if let Some(img) = objects.images.get(&handle) {
-            images += 1;
-            let format = dxgi::lookup_vk(&img.format).map(|f| f.name.to_owned());
-            let kind = match img.image_type.as_str() {
-                "VK_IMAGE_TYPE_1D" | "0" => ResourceKind::Texture1D,
-                "VK_IMAGE_TYPE_3D" | "2" => ResourceKind::Texture3D,
-                _ if img.create_flags & 0x10 != 0 && img.layers % 6 == 0 && img.layers > 0 => {
-                    ResourceKind::TextureCube
-                }
-                _ if img.layers > 1 => ResourceKind::Texture2DArray,
-                _ => ResourceKind::Texture2D,
-            };
-            if img.swapchain.is_some() {
-                swapchain_extent.get_or_insert((img.extent[0], img.extent[1]));
-            }
-            if u64::from(img.extent[0]) * u64::from(img.extent[1])
-                > u64::from(largest.0) * u64::from(largest.1)
-            {
-                largest = (img.extent[0], img.extent[1]);
-            }
-            let mut flags = Vec::new();
-            if img.usage & 0x10 != 0 {
-                flags.push(ResourceFlag::AllowRenderTarget);
-            }
-            if img.usage & 0x20 != 0 {
-                flags.push(ResourceFlag::AllowDepthStencil);
-                if img.usage & (0x4 | 0x80) == 0 {
-                    flags.push(ResourceFlag::DenyShaderResource);
-                }
-            }
-            if img.usage & 0x8 != 0 {
-                flags.push(ResourceFlag::AllowUnorderedAccess);
-            }
-            resources.push(Resource {
-                name: rname.clone(),
-                kind,
-                format,
-                width: Some(Extent::Texels(u64::from(img.extent[0]))),
-                height: (kind != ResourceKind::Texture1D)
-                    .then_some(Extent::Texels(u64::from(img.extent[1]))),
-                depth: (kind == ResourceKind::Texture3D).then_some(img.extent[2]),
-                array_layers: (img.layers > 1 && kind != ResourceKind::Texture3D)
-                    .then_some(img.layers),
-                mip_levels: (img.mips > 1).then_some(MipLevels::Count(img.mips)),
-                samples: (img.samples > 1).then_some(img.samples),
-                size: None,
-                stride: None,
-                buffer_kind: None,
-                flags,
-                placement: None,
-                initial: before(img.created_at).then_some(InitialContents::BeforeCapture {}),
-                history: false,
-                output: false,
-            });
-            (img.bound, img.alignment)
-        } else if let Some(buf) = objects.buffers.get(&handle) {
-            buffers += 1;
-            let mut flags = Vec::new();
-            if buf.usage & (0x20 | 0x8) != 0 {
-                flags.push(ResourceFlag::AllowUnorderedAccess);
-            }
-            let mapped = buf.bound.is_some_and(|(m, _)| objects.mapped.contains(&m));
-            let host = buf
-                .bound
-                .and_then(|(m, _)| objects.memories.get(&m))
-                .and_then(|m| objects.memory_type_flags.get(m.type_index as usize))
-                .is_some_and(|f| f & HOST_VISIBLE != 0);
-            resources.push(Resource {
-                name: rname.clone(),
-                kind: ResourceKind::Buffer,
-                format: None,
-                width: None,
-                height: None,
-                depth: None,
-                array_layers: None,
-                mip_levels: None,
-                samples: None,
-                size: Some(buf.size),
-                stride: None,
-                buffer_kind: None,
-                flags,
-                placement: None,
-                initial: (mapped || before(buf.created_at))
-                    .then_some(InitialContents::BeforeCapture {}),
-                history: false,
-                // The CPU reads what the frame copies into host-visible memory.
-                output: host && written.contains(rname.as_str()),
-            });
-            (buf.bound, buf.alignment)
-        } else {
-            continue;
-        };
+    objects: &Objects,
+    before_capture: bool,
+    written: bool,
+) -> Resource {
+    let mut flags = Vec::new();
+    if buf.usage & (0x20 | 0x8) != 0 {
+        flags.push(ResourceFlag::AllowUnorderedAccess);
+    }
+    let mapped = buf.bound.is_some_and(|(m, _)| objects.mapped.contains(&m));
+    let host = buf
+        .bound
+        .and_then(|(m, _)| objects.memories.get(&m))
+        .and_then(|m| objects.memory_type_flags.get(m.type_index as usize))
+        .is_some_and(|f| f & HOST_VISIBLE != 0);
+    Resource {
+        name: name.to_owned(),
+        kind: ResourceKind::Buffer,
+        format: None,
+        width: None,
+        height: None,
+        depth: None,
+        array_layers: None,
+        mip_levels: None,
+        samples: None,
+        size: Some(buf.size),
+        stride: None,
+        buffer_kind: None,
+        flags,
+        placement: None,
+        initial: (mapped || before_capture).then_some(InitialContents::BeforeCapture {}),
+        history: false,
+        // The CPU reads what the frame copies into host-visible memory.
+        output: host && written,
+    }
+}
+
+/// Memory objects as heaps, gathered as resources are placed in them.
+struct Heaps<'a> {
+    objects: &'a Objects,
+    arch: MemoryArchitecture,
+    by_memory: BTreeMap<u64, Heap>,
+    guessed_alignment: bool,
+    notes: Vec<String>,
+}
+
+impl Heaps<'_> {
+    /// Places `r` where its memory binding puts it (committed when unbound).
+    fn place(&mut self, r: &mut Resource, bound: Option<(u64, u64)>, alignment: Option<u64>) {
         let Some((memory, offset)) = bound else {
-            continue;
+            return;
         };
+        let objects = self.objects;
         let Some(mem) = objects.memories.get(&memory) else {
-            notes.push(format!("\"{rname}\" is bound to memory {memory} the stream never allocated: treated as committed"));
-            continue;
+            self.notes.push(format!(
+                "\"{}\" is bound to memory {memory} the stream never allocated: treated as committed",
+                r.name
+            ));
+            return;
         };
         let flags = objects
             .memory_type_flags
             .get(mem.type_index as usize)
             .copied();
-        let (heap_type, page, pool) = heap_kind(flags, arch);
+        let (heap_type, page, pool) = heap_kind(flags, self.arch);
+        // Vulkan gives each placement's alignment in its memory requirements; without them
+        // the offset itself is the best evidence.
         let alignment = alignment.or_else(|| {
             (offset % 65536 != 0).then(|| {
-                guessed_alignment = true;
+                self.guessed_alignment = true;
                 1u64 << offset.trailing_zeros()
             })
         });
@@ -225,8 +211,8 @@ pub fn emit(
             .get(&memory)
             .cloned()
             .unwrap_or_else(|| format!("memory_{memory}"));
-        let heap = heaps.entry(memory).or_insert_with(|| Heap {
-            name: heap_name.clone(),
+        let heap = self.by_memory.entry(memory).or_insert_with(|| Heap {
+            name: heap_name,
             heap_type,
             cpu_page_property: page,
             memory_pool: pool,
@@ -237,17 +223,94 @@ pub fn emit(
         if alignment.is_some_and(|a| a > 65536) {
             heap.alignment = 4 << 20;
         }
-        if let Some(r) = resources.last_mut() {
-            r.placement = Some(Placement::Placed {
-                heap: heap.name.clone(),
-                offset,
-                alignment,
-            });
-        }
+        r.placement = Some(Placement::Placed {
+            heap: heap.name.clone(),
+            offset,
+            alignment,
+        });
     }
-    if guessed_alignment {
-        notes.push("placements whose memory requirements the stream does not give: aligned to the largest power of two dividing their offset".to_owned());
+}
+
+/// The resources passes reference, in name order, with their heaps.
+struct Made {
+    resources: Vec<Resource>,
+    heaps: Vec<Heap>,
+    images: usize,
+    buffers: usize,
+    /// The swapchain's extent, else the largest image's: the capture's resolution.
+    resolution: (u32, u32),
+    notes: Vec<String>,
+}
+
+fn resources(b: &Builder, objects: &Objects, hidden_blocks: bool) -> Made {
+    let first_submit = b.first_submit.unwrap_or(u64::MAX);
+    let selected_later = b.selection.is_some_and(|(a, _)| a > 0);
+    // Contents from before the imported frames: earlier frames, or a snapshot not in the JSON.
+    let before = |created_at: u64| created_at < first_submit && (hidden_blocks || selected_later);
+    let mut heaps = Heaps {
+        objects,
+        arch: architecture(objects),
+        by_memory: BTreeMap::new(),
+        guessed_alignment: false,
+        notes: Vec::new(),
+    };
+    let mut resources = Vec::new();
+    let (mut images, mut buffers) = (0, 0);
+    let written: BTreeSet<&str> = b
+        .passes
+        .iter()
+        .flat_map(|p| p.copies.iter().map(|c| c.dst.resource.as_str()))
+        .collect();
+    let mut largest = (0u32, 0u32);
+    let mut swapchain_extent = None;
+    for (&handle, rname) in &b.names {
+        let (mut r, bound, alignment) = if let Some(img) = objects.images.get(&handle) {
+            images += 1;
+            if img.swapchain.is_some() {
+                swapchain_extent.get_or_insert((img.extent[0], img.extent[1]));
+            }
+            if u64::from(img.extent[0]) * u64::from(img.extent[1])
+                > u64::from(largest.0) * u64::from(largest.1)
+            {
+                largest = (img.extent[0], img.extent[1]);
+            }
+            let r = image_resource(img, rname, before(img.created_at));
+            (r, img.bound, img.alignment)
+        } else if let Some(buf) = objects.buffers.get(&handle) {
+            buffers += 1;
+            let written = written.contains(rname.as_str());
+            let r = buffer_resource(buf, rname, objects, before(buf.created_at), written);
+            (r, buf.bound, buf.alignment)
+        } else {
+            continue;
+        };
+        heaps.place(&mut r, bound, alignment);
+        resources.push(r);
     }
+    if heaps.guessed_alignment {
+        heaps.notes.push("placements whose memory requirements the stream does not give: aligned to the largest power of two dividing their offset".to_owned());
+    }
+    Made {
+        resources,
+        heaps: heaps.by_memory.into_values().collect(),
+        images,
+        buffers,
+        resolution: swapchain_extent.unwrap_or(largest),
+        notes: heaps.notes,
+    }
+}
+
+/// `hidden_blocks`: the stream left blocks out before the first imported submission (state
+/// snapshot, memory fills), so what existed then may hold data the JSON does not show.
+pub fn emit(
+    mut b: Builder,
+    objects: &Objects,
+    name: &str,
+    file: &str,
+    tool: &str,
+    hidden_blocks: bool,
+) -> Emitted {
+    let made = resources(&b, objects, hidden_blocks);
     // Fences nobody waits on order nothing.
     let waited = std::mem::take(&mut b.waited);
     for p in &mut b.passes {
@@ -268,7 +331,7 @@ pub fn emit(
         })
         .collect();
     queues.sort_by(|a, c| a.name.cmp(&c.name));
-    let (width, height) = swapchain_extent.unwrap_or(largest);
+    let (width, height) = made.resolution;
     let capture = RawCapture {
         format_version: FORMAT_VERSION,
         name: name.to_owned(),
@@ -278,7 +341,7 @@ pub fn emit(
             b.passes.len()
         )),
         resolution: Resolution { width: width.max(1), height: height.max(1) },
-        adapter: AdapterModel { architecture: arch, resource_heap_tier: 2 },
+        adapter: AdapterModel { architecture: architecture(objects), resource_heap_tier: 2 },
         camera: Camera {
             position: [0.0, 0.0, 1.0],
             target: [0.0, 0.0, 0.0],
@@ -290,8 +353,8 @@ pub fn emit(
             jitter_phases: 0,
         },
         frame: FrameConstants::default(),
-        heaps: heaps.into_values().collect(),
-        resources,
+        heaps: made.heaps,
+        resources: made.resources,
         descriptor_heaps: Vec::new(),
         samplers: Vec::new(),
         queues,
@@ -309,8 +372,8 @@ pub fn emit(
     };
     Emitted {
         capture,
-        images,
-        buffers,
-        notes,
+        images: made.images,
+        buffers: made.buffers,
+        notes: made.notes,
     }
 }

@@ -5,6 +5,8 @@
 //! really used. Shader code is not in the stream, so the capture is analysed, not replayed.
 
 mod build;
+mod calls;
+mod commands;
 mod emit;
 mod record;
 mod render_pass;
@@ -19,6 +21,7 @@ use serde::Serialize;
 
 use crate::capture::format::RawCapture;
 use build::Builder;
+use calls::Func;
 use record::Recording;
 use state::Objects;
 use stream::{Call, Entry, Lines};
@@ -143,138 +146,139 @@ impl Importer {
     }
 
     fn dispatch(&mut self, call: &Call, args: &Arg<'_>) -> Got<bool> {
-        let name = call.name.as_str();
-        if name.starts_with("vkCmd") {
-            let cb = args.get("commandBuffer")?.handle()?;
-            let recording = self.recordings.entry(cb).or_default();
-            return recording.record(name, call.index, args, &self.objects);
-        }
-        match name {
-            "vkAllocateCommandBuffers" => {
+        match call.func {
+            Func::Cmd(cmd) => {
+                let cb = args.get("commandBuffer")?.handle()?;
+                let recording = self.recordings.entry(cb).or_default();
+                return recording.record(cmd, &call.name, call.index, args, &self.objects);
+            }
+            Func::AllocateCommandBuffers => {
                 let pool = args.get("pAllocateInfo")?.get("commandPool")?.handle()?;
                 for cb in args.list("pCommandBuffers")? {
                     self.pool_of.insert(cb.handle()?, pool);
                 }
             }
-            "vkBeginCommandBuffer" | "vkResetCommandBuffer" => {
+            Func::ResetCommandBuffer => {
                 let cb = args.get("commandBuffer")?.handle()?;
                 self.recordings.insert(cb, Recording::default());
             }
-            "vkFreeCommandBuffers" => {
+            Func::FreeCommandBuffers => {
                 for cb in args.list("pCommandBuffers")? {
                     self.recordings.remove(&cb.handle()?);
                 }
             }
-            "vkResetCommandPool" => {
-                let pool = args.get("commandPool")?.handle()?;
-                let cbs: Vec<u64> = self
-                    .pool_of
-                    .iter()
-                    .filter(|(_, p)| **p == pool)
-                    .map(|(c, _)| *c)
-                    .collect();
-                for cb in cbs {
-                    self.recordings.insert(cb, Recording::default());
-                }
-            }
-            "vkQueueSubmit" | "vkQueueSubmit2" | "vkQueueSubmit2KHR" => {
-                // The two submit structures differ only in where the handles sit.
-                let (waits, cbs, signals) = if name == "vkQueueSubmit" {
-                    (
-                        ("pWaitSemaphores", None),
-                        ("pCommandBuffers", None),
-                        ("pSignalSemaphores", None),
-                    )
-                } else {
-                    (
-                        ("pWaitSemaphoreInfos", Some("semaphore")),
-                        ("pCommandBufferInfos", Some("commandBuffer")),
-                        ("pSignalSemaphoreInfos", Some("semaphore")),
-                    )
-                };
-                let queue = args.get("queue")?.handle()?;
-                for s in args.list("pSubmits")? {
-                    let handles = |(key, field): (&str, Option<&str>)| -> Got<Vec<u64>> {
-                        s.list(key)?
-                            .iter()
-                            .map(|i| match field {
-                                Some(f) => i.get(f)?.handle(),
-                                None => i.handle(),
-                            })
-                            .collect()
-                    };
-                    let (waits, cbs, signals) = (handles(waits)?, handles(cbs)?, handles(signals)?);
-                    self.submitted_in_frame |= !cbs.is_empty();
-                    self.builder.submit(
-                        &self.objects,
-                        &self.recordings,
-                        queue,
-                        &waits,
-                        &cbs,
-                        &signals,
-                    );
-                }
-            }
-            "vkQueuePresentKHR" => {
-                let queue = args.get("queue")?.handle()?;
-                let info = args.get("pPresentInfo")?;
-                let waits: Vec<u64> = info
-                    .list("pWaitSemaphores")?
-                    .iter()
-                    .map(Arg::handle)
-                    .collect::<Got<_>>()?;
-                let chains = info.list("pSwapchains")?;
-                let indices = info.list("pImageIndices")?;
-                let images = chains
-                    .iter()
-                    .zip(&indices)
-                    .map(|(c, i)| Ok((c.handle()?, i.u32()?)))
-                    .collect::<Got<Vec<_>>>()?;
-                self.builder.present(&self.objects, queue, &waits, &images);
-                self.submitted_in_frame = false;
-            }
-            _ => return self.objects.apply(name, args),
+            Func::ResetCommandPool => self.reset_pool(args)?,
+            Func::QueueSubmit { v2 } => self.submit(args, v2)?,
+            Func::QueuePresent => self.present(args)?,
+            other => return self.objects.apply(other, args),
         }
         Ok(true)
     }
+
+    fn reset_pool(&mut self, args: &Arg<'_>) -> Got<()> {
+        let pool = args.get("commandPool")?.handle()?;
+        let cbs: Vec<u64> = self
+            .pool_of
+            .iter()
+            .filter(|(_, p)| **p == pool)
+            .map(|(c, _)| *c)
+            .collect();
+        for cb in cbs {
+            self.recordings.insert(cb, Recording::default());
+        }
+        Ok(())
+    }
+
+    fn submit(&mut self, args: &Arg<'_>, v2: bool) -> Got<()> {
+        // The two submit structures differ only in where the handles sit.
+        let (waits, cbs, signals) = if v2 {
+            (
+                ("pWaitSemaphoreInfos", Some("semaphore")),
+                ("pCommandBufferInfos", Some("commandBuffer")),
+                ("pSignalSemaphoreInfos", Some("semaphore")),
+            )
+        } else {
+            (
+                ("pWaitSemaphores", None),
+                ("pCommandBuffers", None),
+                ("pSignalSemaphores", None),
+            )
+        };
+        let queue = args.get("queue")?.handle()?;
+        for s in args.list("pSubmits")? {
+            let handles = |(key, field): (&str, Option<&str>)| -> Got<Vec<u64>> {
+                s.list(key)?
+                    .iter()
+                    .map(|i| match field {
+                        Some(f) => i.get(f)?.handle(),
+                        None => i.handle(),
+                    })
+                    .collect()
+            };
+            let (waits, cbs, signals) = (handles(waits)?, handles(cbs)?, handles(signals)?);
+            self.submitted_in_frame |= !cbs.is_empty();
+            self.builder.submit(
+                &self.objects,
+                &self.recordings,
+                queue,
+                &waits,
+                &cbs,
+                &signals,
+            );
+        }
+        Ok(())
+    }
+
+    fn present(&mut self, args: &Arg<'_>) -> Got<()> {
+        let queue = args.get("queue")?.handle()?;
+        let info = args.get("pPresentInfo")?;
+        let waits: Vec<u64> = info
+            .list("pWaitSemaphores")?
+            .iter()
+            .map(Arg::handle)
+            .collect::<Got<_>>()?;
+        let chains = info.list("pSwapchains")?;
+        let indices = info.list("pImageIndices")?;
+        let images = chains
+            .iter()
+            .zip(&indices)
+            .map(|(c, i)| Ok((c.handle()?, i.u32()?)))
+            .collect::<Got<Vec<_>>>()?;
+        self.builder.present(&self.objects, queue, &waits, &images);
+        self.submitted_in_frame = false;
+        Ok(())
+    }
 }
 
-/// Imports the frames `options` selects from a JSON Lines stream; `file` names it in messages.
-pub fn import(
-    reader: impl BufRead,
-    file: &str,
-    options: &ImportOptions,
-) -> Result<Imported, ImportError> {
+/// What reading the stream gathered besides the importer's own state.
+struct Read {
+    tool: String,
+    lines: u64,
+    /// Lines other than calls, by kind.
+    other: BTreeMap<String, u64>,
+}
+
+/// Feeds every entry of the stream to the importer until the selected frames are done.
+fn read_stream(reader: impl BufRead, file: &str, imp: &mut Importer) -> Result<Read, ImportError> {
     let mut lines = Lines::new(reader);
-    let mut imp = Importer {
-        objects: Objects::default(),
-        recordings: HashMap::new(),
-        pool_of: HashMap::new(),
-        builder: Builder::new(options.frames),
-        submitted_in_frame: false,
-        skipped: BTreeMap::new(),
-        not_modelled: BTreeMap::new(),
-        calls: 0,
-        dialect: None,
-        last_index: 0,
-        hidden_blocks: false,
+    let mut read = Read {
+        tool: "GFXReconstruct (version not in the stream)".to_owned(),
+        lines: 0,
+        other: BTreeMap::new(),
     };
-    let mut tool = "GFXReconstruct (version not in the stream)".to_owned();
-    let mut line_count = 0;
-    let mut other: BTreeMap<String, u64> = BTreeMap::new();
     while let Some(entry) = lines.next_entry() {
         let entry = entry.map_err(|e| ImportError::Line {
             file: file.to_owned(),
             line: e.line,
             message: e.message,
         })?;
-        line_count += 1;
+        read.lines += 1;
         match entry {
             Entry::Header {
                 gfxr_version,
                 json_version,
             } => {
-                tool = format!("GFXReconstruct {gfxr_version} (JSON {json_version})");
+                read.tool = format!("GFXReconstruct {gfxr_version} (JSON {json_version})");
             }
             Entry::Call(call) => {
                 if imp.dialect.is_none() {
@@ -288,22 +292,21 @@ pub fn import(
                     imp.submitted_in_frame = false;
                 }
             }
-            Entry::Other(kind) => *other.entry(kind).or_default() += 1,
+            Entry::Other(kind) => *read.other.entry(kind).or_default() += 1,
         }
         if imp.builder.done() {
             break;
         }
     }
-    if imp.calls == 0 {
-        return Err(ImportError::Stream {
-            file: file.to_owned(),
-            message: "no API calls: not a GFXReconstruct JSON Lines stream (gfxrecon-convert --format jsonl)".to_owned(),
-        });
-    }
-    if imp.submitted_in_frame {
-        imp.builder.end_frame();
-    }
-    let frames = imp.builder.frames_seen.max(1);
+    Ok(read)
+}
+
+/// The frames imported: the selection, clipped to the frames the stream holds.
+fn selected_frames(
+    file: &str,
+    options: &ImportOptions,
+    frames: u32,
+) -> Result<(u32, u32), ImportError> {
     if let Some((a, _)) = options.frames
         && a >= frames
     {
@@ -316,7 +319,11 @@ pub fn import(
         });
     }
     let selected = options.frames.unwrap_or((0, frames - 1));
-    let selected = (selected.0, selected.1.min(frames - 1));
+    Ok((selected.0, selected.1.min(frames - 1)))
+}
+
+/// What was left out while reading (with the line it first happened on), then while building.
+fn skipped_while_reading(imp: &Importer) -> Vec<Skipped> {
     let mut skipped: Vec<Skipped> = imp
         .skipped
         .iter()
@@ -331,7 +338,72 @@ pub fn import(
         count: *count,
         first_line: None,
     }));
-    let summary_calls = imp.calls;
+    skipped
+}
+
+/// The error for a stream that submitted nothing in the selected frames, with the first
+/// things left out, which are usually why.
+fn nothing_submitted(
+    file: &str,
+    selected: (u32, u32),
+    frames: u32,
+    calls: u64,
+    skipped: &[Skipped],
+) -> ImportError {
+    let left_out = if skipped.is_empty() {
+        String::new()
+    } else {
+        let first: Vec<String> = skipped
+            .iter()
+            .take(4)
+            .map(|k| match k.first_line {
+                Some(l) => format!("line {l}: {}", k.what),
+                None => k.what.clone(),
+            })
+            .collect();
+        format!("; left out: {}", first.join("; "))
+    };
+    ImportError::Stream {
+        file: file.to_owned(),
+        message: format!(
+            "no submitted work to import in frame(s) {}-{} of {} ({} calls read){left_out}",
+            selected.0, selected.1, frames, calls
+        ),
+    }
+}
+
+/// Imports the frames `options` selects from a JSON Lines stream; `file` names it in messages.
+pub fn import(
+    reader: impl BufRead,
+    file: &str,
+    options: &ImportOptions,
+) -> Result<Imported, ImportError> {
+    let mut imp = Importer {
+        objects: Objects::default(),
+        recordings: HashMap::new(),
+        pool_of: HashMap::new(),
+        builder: Builder::new(options.frames),
+        submitted_in_frame: false,
+        skipped: BTreeMap::new(),
+        not_modelled: BTreeMap::new(),
+        calls: 0,
+        dialect: None,
+        last_index: 0,
+        hidden_blocks: false,
+    };
+    let read = read_stream(reader, file, &mut imp)?;
+    if imp.calls == 0 {
+        return Err(ImportError::Stream {
+            file: file.to_owned(),
+            message: "no API calls: not a GFXReconstruct JSON Lines stream (gfxrecon-convert --format jsonl)".to_owned(),
+        });
+    }
+    if imp.submitted_in_frame {
+        imp.builder.end_frame();
+    }
+    let frames = imp.builder.frames_seen.max(1);
+    let selected = selected_frames(file, options, frames)?;
+    let mut skipped = skipped_while_reading(&imp);
     let (draws, dispatches, recorded_barriers) = (
         imp.builder.draws,
         imp.builder.dispatches,
@@ -346,7 +418,7 @@ pub fn import(
         &imp.objects,
         &stem,
         file,
-        &tool,
+        &read.tool,
         imp.hidden_blocks,
     );
     skipped.extend(emitted.notes.iter().map(|n| Skipped {
@@ -355,34 +427,14 @@ pub fn import(
         first_line: None,
     }));
     let mut not_modelled = imp.not_modelled;
-    for (kind, n) in other {
+    for (kind, n) in read.other {
         *not_modelled.entry(format!("({kind} lines)")).or_default() += n;
     }
     let capture = emitted.capture;
     if capture.passes.is_empty() {
-        return Err(ImportError::Stream {
-            file: file.to_owned(),
-            message: format!(
-                "no submitted work to import in frame(s) {}-{} of {} ({} calls read){}",
-                selected.0,
-                selected.1,
-                frames,
-                summary_calls,
-                if skipped.is_empty() {
-                    String::new()
-                } else {
-                    let first: Vec<String> = skipped
-                        .iter()
-                        .take(4)
-                        .map(|k| match k.first_line {
-                            Some(l) => format!("line {l}: {}", k.what),
-                            None => k.what.clone(),
-                        })
-                        .collect();
-                    format!("; left out: {}", first.join("; "))
-                }
-            ),
-        });
+        return Err(nothing_submitted(
+            file, selected, frames, imp.calls, &skipped,
+        ));
     }
     let mut passes_by_kind = BTreeMap::new();
     for p in &capture.passes {
@@ -392,9 +444,9 @@ pub fn import(
     }
     let summary = Summary {
         file: file.to_owned(),
-        tool,
+        tool: read.tool,
         dialect: imp.dialect.unwrap_or("0.9.x").to_owned(),
-        lines: line_count,
+        lines: read.lines,
         calls: imp.calls,
         frames_in_stream: frames,
         frames_imported: selected,

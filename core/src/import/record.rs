@@ -5,162 +5,15 @@
 
 use std::collections::BTreeMap;
 
+use super::calls::{CmdFunc, CopyKind};
+use super::commands::{
+    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, MAX_INDIRECT_DRAWS, Region,
+    TransferCmd, Use, clear_color,
+};
+use super::render_pass;
 use super::state::{Descriptor, Objects};
 use super::value::{ASPECTS, Arg, Got, Skip};
-use crate::capture::vulkan::{self, ACCESS, STAGES};
-
-/// Most draws one indirect call is expanded into.
-pub const MAX_INDIRECT_DRAWS: u32 = 4096;
-
-/// A mip or layer range: base, and count (`None`: VK_REMAINING_*, to the end).
-pub type LevelRange = (u32, Option<u32>);
-
-/// A descriptor a draw or dispatch can reach, with dynamic offsets applied.
-#[derive(Clone, Debug)]
-pub struct Use {
-    pub set: u32,
-    pub binding: u32,
-    pub element: u32,
-    pub descriptor: Descriptor,
-}
-
-#[derive(Clone, Debug)]
-pub struct DrawCmd {
-    pub count: u32,
-    pub instances: u32,
-    pub first: u32,
-    pub base_vertex: i32,
-    pub first_instance: u32,
-    pub indirect: Option<(u64, u64)>,
-    pub uses: Vec<Use>,
-    pub vertex_buffers: Vec<u64>,
-    pub index_buffer: Option<u64>,
-}
-
-#[derive(Clone, Debug)]
-pub struct DispatchCmd {
-    pub groups: Option<[u32; 3]>,
-    pub indirect: Option<(u64, u64)>,
-    pub uses: Vec<Use>,
-}
-
-#[derive(Clone, Debug, PartialEq)]
-pub enum BarrierTarget {
-    Global,
-    Buffer {
-        buffer: u64,
-    },
-    Image {
-        image: u64,
-        mips: (u32, Option<u32>),
-        layers: (u32, Option<u32>),
-    },
-}
-
-#[derive(Clone, Debug)]
-pub struct BarrierCmd {
-    pub origin: String,
-    pub target: BarrierTarget,
-    pub src_stages: u64,
-    pub dst_stages: u64,
-    pub src_access: u64,
-    pub dst_access: u64,
-    pub layouts: Option<(&'static str, &'static str)>,
-    pub families: Option<(u32, u32)>,
-}
-
-#[derive(Clone, Debug)]
-pub struct AttUse {
-    pub view: u64,
-    pub load: String,
-    pub store: String,
-    pub clear: [f64; 4],
-}
-
-#[derive(Clone, Debug)]
-pub struct DepthUse {
-    pub view: u64,
-    pub load: String,
-    pub store: String,
-    pub stencil_load: String,
-    pub stencil_store: String,
-    pub depth_clear: f64,
-    pub stencil_clear: u32,
-    pub read_only: bool,
-}
-
-/// The attachments of one subpass (or of one dynamic rendering instance).
-#[derive(Clone, Debug, Default)]
-pub struct SubpassUse {
-    pub colors: Vec<AttUse>,
-    pub depth: Option<DepthUse>,
-    pub resolves: Vec<(u64, u64)>,
-}
-
-#[derive(Clone, Debug)]
-pub struct RenderInstance {
-    pub subpasses: Vec<SubpassUse>,
-    /// Layout transitions the render pass performs at its start and its end.
-    pub begin_barriers: Vec<BarrierCmd>,
-    pub end_barriers: Vec<BarrierCmd>,
-}
-
-#[derive(Clone, Debug)]
-pub struct Region {
-    pub src_mip: u32,
-    pub src_layer: u32,
-    pub src_origin: [u32; 3],
-    pub src_offset: u64,
-    pub dst_mip: u32,
-    pub dst_layer: u32,
-    pub dst_origin: [u32; 3],
-    pub dst_offset: u64,
-    /// Buffer to buffer: bytes.
-    pub size: Option<u64>,
-    /// With a texture: texels.
-    pub extent: Option<[u32; 3]>,
-    /// Buffer footprint: texels per row (0: tightly packed).
-    pub row_texels: u32,
-}
-
-#[derive(Clone, Debug)]
-pub enum TransferCmd {
-    Copy {
-        call: String,
-        src: u64,
-        dst: u64,
-        regions: Vec<Region>,
-    },
-    Clear {
-        call: String,
-        target: u64,
-        value: [f64; 4],
-        stencil: u32,
-        ranges: Vec<(LevelRange, LevelRange)>,
-    },
-    Fill {
-        call: String,
-        buffer: u64,
-    },
-    Resolve {
-        src: u64,
-        dst: u64,
-    },
-}
-
-#[derive(Clone, Debug)]
-pub enum Cmd {
-    BeginRender(Box<RenderInstance>),
-    NextSubpass,
-    EndRender,
-    Draw(Box<DrawCmd>),
-    Dispatch(Box<DispatchCmd>),
-    Barrier(Vec<BarrierCmd>),
-    Transfer(Box<TransferCmd>),
-    BeginLabel(String),
-    EndLabel,
-    Execute(Vec<u64>),
-}
+use crate::capture::vulkan::{AccessFlags, PipelineStages};
 
 /// Bindings in effect while recording one command buffer.
 #[derive(Default, Debug)]
@@ -182,20 +35,6 @@ fn compute_point(a: &Arg<'_>) -> Got<bool> {
     Ok(n.contains("COMPUTE") || n == "1")
 }
 
-pub(super) fn clear_color(v: &Arg<'_>) -> [f64; 4] {
-    let mut out = [0.0; 4];
-    let color = v.opt("color").unwrap_or_else(|| v.clone());
-    for key in ["float32", "uint32", "int32"] {
-        if let Some(list) = color.opt(key).and_then(|l| l.items().ok()) {
-            for (o, x) in out.iter_mut().zip(&list) {
-                *o = x.f64().unwrap_or(0.0);
-            }
-            break;
-        }
-    }
-    out
-}
-
 fn range(r: &Arg<'_>) -> Got<(LevelRange, LevelRange)> {
     let count = |a: Arg<'_>| -> Got<Option<u32>> {
         let v = a.u64()?;
@@ -209,15 +48,6 @@ fn range(r: &Arg<'_>) -> Got<(LevelRange, LevelRange)> {
             count(r.get("layerCount")?)?,
         ),
     ))
-}
-
-fn layout_of(a: &Arg<'_>) -> Got<&'static str> {
-    let n = a.name()?;
-    n.parse::<u64>()
-        .ok()
-        .and_then(vulkan::layout_by_value)
-        .or_else(|| vulkan::layout(&n))
-        .ok_or_else(|| Skip(format!("`{}`: unknown image layout {n}", a.path())))
 }
 
 fn offset3(a: &Arg<'_>) -> Got<[u32; 3]> {
@@ -241,274 +71,236 @@ impl Recording {
     /// models (state setting, queries, ...).
     pub fn record(
         &mut self,
+        func: CmdFunc,
         name: &str,
         call_index: u64,
         args: &Arg<'_>,
         objects: &Objects,
     ) -> Got<bool> {
         let origin = || format!("{name} #{call_index}");
-        let cmd = match name {
-            "vkCmdBindDescriptorSets" => {
-                let compute = compute_point(&args.get("pipelineBindPoint")?)?;
-                let first = args.get("firstSet")?.u32()?;
-                let mut dynamic: Vec<u64> = args
-                    .list("pDynamicOffsets")?
-                    .iter()
-                    .map(Arg::u64)
-                    .collect::<Got<_>>()?;
-                dynamic.reverse();
-                for (k, s) in args.list("pDescriptorSets")?.iter().enumerate() {
-                    let set = s.handle()?;
-                    let index = first.saturating_add(k as u32);
-                    let contents = objects
-                        .sets
-                        .get(&set)
-                        .ok_or_else(|| Skip(format!("descriptor set {set} was never allocated")))?;
-                    let uses = contents
-                        .iter()
-                        .map(|(&(binding, element), d)| {
-                            let mut descriptor = d.clone();
-                            if let Descriptor::Buffer { offset, ty, .. } = &mut descriptor
-                                && ty.ends_with("DYNAMIC")
-                            {
-                                *offset = offset.saturating_add(dynamic.pop().unwrap_or(0));
-                            }
-                            Use {
-                                set: index,
-                                binding,
-                                element,
-                                descriptor,
-                            }
-                        })
-                        .collect();
-                    self.bound.sets.insert((compute, index), uses);
-                }
-                return Ok(true);
-            }
-            "vkCmdPushDescriptorSetKHR" | "vkCmdPushDescriptorSet" => {
-                let compute = compute_point(&args.get("pipelineBindPoint")?)?;
-                let set = args.get("set")?.u32()?;
-                let mut uses = self.bound.sets.remove(&(compute, set)).unwrap_or_default();
-                for w in args.list("pDescriptorWrites")? {
-                    for ((binding, element), descriptor) in super::state::descriptor_writes(&w)? {
-                        uses.retain(|u| (u.binding, u.element) != (binding, element));
-                        uses.push(Use {
-                            set,
-                            binding,
-                            element,
-                            descriptor,
-                        });
-                    }
-                }
-                self.bound.sets.insert((compute, set), uses);
-                return Ok(true);
-            }
-            // Work framelab's passes cannot hold yet: named as left out, not silently dropped.
-            "vkCmdBlitImage" | "vkCmdBlitImage2" | "vkCmdBlitImage2KHR" => {
-                return Err(Skip(
-                    "scaled blits are not imported (no pass kind for them)".to_owned(),
-                ));
-            }
-            "vkCmdClearAttachments" => {
-                return Err(Skip(
-                    "clears of attachments inside a render pass are not imported".to_owned(),
-                ));
-            }
-            "vkCmdDrawIndirectCount"
-            | "vkCmdDrawIndirectCountKHR"
-            | "vkCmdDrawIndexedIndirectCount"
-            | "vkCmdDrawIndexedIndirectCountKHR"
-            | "vkCmdDrawMeshTasksEXT"
-            | "vkCmdDrawMeshTasksIndirectEXT"
-            | "vkCmdTraceRaysKHR"
-            | "vkCmdBuildAccelerationStructuresKHR"
-            | "vkCmdCopyQueryPoolResults" => {
-                return Err(Skip("this command's work is not imported".to_owned()));
-            }
-            "vkCmdPushDescriptorSetWithTemplateKHR" | "vkCmdPushDescriptorSetWithTemplate" => {
-                return Err(Skip(
-                    "descriptor writes through an update template are not imported; accesses through those bindings are missing".to_owned(),
-                ));
-            }
-            "vkCmdBindVertexBuffers" | "vkCmdBindVertexBuffers2" | "vkCmdBindVertexBuffers2EXT" => {
-                let first = args.get("firstBinding")?.u32()?;
-                for (k, b) in args.list("pBuffers")?.iter().enumerate() {
-                    let buffer = b.handle()?;
-                    let slot = first.saturating_add(k as u32);
-                    if buffer == 0 {
-                        self.bound.vertex.remove(&slot);
-                    } else {
-                        self.bound.vertex.insert(slot, buffer);
-                    }
-                }
-                return Ok(true);
-            }
-            "vkCmdBindIndexBuffer" | "vkCmdBindIndexBuffer2KHR" | "vkCmdBindIndexBuffer2" => {
+        let cmd = match func {
+            CmdFunc::BindDescriptorSets => return self.bind_sets(args, objects).map(|()| true),
+            CmdFunc::PushDescriptorSet => return self.push_set(args).map(|()| true),
+            CmdFunc::BindVertexBuffers => return self.bind_vertex_buffers(args).map(|()| true),
+            CmdFunc::BindIndexBuffer => {
                 let b = args.get("buffer")?.handle()?;
                 self.bound.index = (b != 0).then_some(b);
                 return Ok(true);
             }
-            "vkCmdDraw" | "vkCmdDrawIndexed" => {
-                let indexed = name == "vkCmdDrawIndexed";
-                let (count, first) = if indexed {
-                    (
-                        args.get("indexCount")?.u32()?,
-                        args.get("firstIndex")?.u32()?,
-                    )
-                } else {
-                    (
-                        args.get("vertexCount")?.u32()?,
-                        args.get("firstVertex")?.u32()?,
-                    )
-                };
-                let base_vertex = if indexed {
-                    i32::try_from(args.get("vertexOffset")?.i64()?)
-                        .map_err(|_| Skip("`vertexOffset` out of range".to_owned()))?
-                } else {
-                    0
-                };
-                let draw = self.draw(indexed, None);
-                Cmd::Draw(Box::new(DrawCmd {
-                    count,
-                    instances: args.get("instanceCount")?.u32()?,
-                    first,
-                    base_vertex,
-                    first_instance: args.get("firstInstance")?.u32()?,
-                    ..draw
-                }))
+            CmdFunc::Draw { indexed } => self.draw_call(indexed, args)?,
+            CmdFunc::DrawIndirect { indexed } => {
+                return self.draw_indirect(indexed, args).map(|()| true);
             }
-            "vkCmdDrawIndirect" | "vkCmdDrawIndexedIndirect" => {
-                let indexed = name == "vkCmdDrawIndexedIndirect";
-                let buffer = args.get("buffer")?.handle()?;
-                let offset = args.get("offset")?.u64()?;
-                let draws = args.get("drawCount")?.u32()?;
-                let stride = args.get("stride")?.u64()?;
-                if draws > MAX_INDIRECT_DRAWS {
-                    return Err(Skip(format!(
-                        "`drawCount` {draws} is over the {MAX_INDIRECT_DRAWS} draws one indirect call is expanded into"
-                    )));
-                }
-                for k in 0..u64::from(draws) {
-                    let at = offset.saturating_add(k.saturating_mul(stride));
-                    self.cmds
-                        .push(Cmd::Draw(Box::new(self.draw(indexed, Some((buffer, at))))));
-                }
-                return Ok(true);
-            }
-            "vkCmdDispatch" | "vkCmdDispatchBase" | "vkCmdDispatchBaseKHR" => {
-                Cmd::Dispatch(Box::new(DispatchCmd {
-                    groups: Some([
-                        args.get("groupCountX")?.u32()?,
-                        args.get("groupCountY")?.u32()?,
-                        args.get("groupCountZ")?.u32()?,
-                    ]),
-                    indirect: None,
-                    uses: self.uses(true),
-                }))
-            }
-            "vkCmdDispatchIndirect" => Cmd::Dispatch(Box::new(DispatchCmd {
+            CmdFunc::Dispatch => Cmd::Dispatch(Box::new(DispatchCmd {
+                groups: Some([
+                    args.get("groupCountX")?.u32()?,
+                    args.get("groupCountY")?.u32()?,
+                    args.get("groupCountZ")?.u32()?,
+                ]),
+                indirect: None,
+                uses: self.uses(true),
+            })),
+            CmdFunc::DispatchIndirect => Cmd::Dispatch(Box::new(DispatchCmd {
                 groups: None,
                 indirect: Some((args.get("buffer")?.handle()?, args.get("offset")?.u64()?)),
                 uses: self.uses(true),
             })),
-            "vkCmdPipelineBarrier" | "vkCmdWaitEvents" => {
-                let src_stages = args.get("srcStageMask")?.flags(STAGES)?;
-                let dst_stages = args.get("dstStageMask")?.flags(STAGES)?;
+            CmdFunc::PipelineBarrier => {
+                let src_stages = args.get("srcStageMask")?.stages()?;
+                let dst_stages = args.get("dstStageMask")?.stages()?;
                 Cmd::Barrier(barriers(args, &origin(), Some((src_stages, dst_stages)))?)
             }
-            "vkCmdPipelineBarrier2" | "vkCmdPipelineBarrier2KHR" => {
+            CmdFunc::PipelineBarrier2 => {
                 Cmd::Barrier(barriers(&args.get("pDependencyInfo")?, &origin(), None)?)
             }
-            "vkCmdWaitEvents2" | "vkCmdWaitEvents2KHR" => {
+            CmdFunc::WaitEvents2 => {
                 let mut all = Vec::new();
                 for info in args.list("pDependencyInfos")? {
                     all.extend(barriers(&info, &origin(), None)?);
                 }
                 Cmd::Barrier(all)
             }
-            "vkCmdBeginRenderPass" | "vkCmdBeginRenderPass2" | "vkCmdBeginRenderPass2KHR" => {
-                Cmd::BeginRender(Box::new(super::render_pass::begin_render_pass(
-                    args,
-                    objects,
-                    origin(),
-                )?))
-            }
-            "vkCmdNextSubpass" | "vkCmdNextSubpass2" | "vkCmdNextSubpass2KHR" => Cmd::NextSubpass,
-            "vkCmdEndRenderPass"
-            | "vkCmdEndRenderPass2"
-            | "vkCmdEndRenderPass2KHR"
-            | "vkCmdEndRendering"
-            | "vkCmdEndRenderingKHR" => Cmd::EndRender,
-            "vkCmdBeginRendering" | "vkCmdBeginRenderingKHR" => Cmd::BeginRender(Box::new(
-                super::render_pass::begin_rendering(&args.get("pRenderingInfo")?)?,
-            )),
-            "vkCmdCopyBuffer"
-            | "vkCmdCopyBufferToImage"
-            | "vkCmdCopyImageToBuffer"
-            | "vkCmdCopyImage" => copy(name, args, None)?,
-            "vkCmdCopyBuffer2" | "vkCmdCopyBuffer2KHR" => {
-                copy(name, &args.get("pCopyBufferInfo")?, Some(()))?
-            }
-            "vkCmdCopyBufferToImage2" | "vkCmdCopyBufferToImage2KHR" => {
-                copy(name, &args.get("pCopyBufferToImageInfo")?, Some(()))?
-            }
-            "vkCmdCopyImageToBuffer2" | "vkCmdCopyImageToBuffer2KHR" => {
-                copy(name, &args.get("pCopyImageToBufferInfo")?, Some(()))?
-            }
-            "vkCmdCopyImage2" | "vkCmdCopyImage2KHR" => {
-                copy(name, &args.get("pCopyImageInfo")?, Some(()))?
-            }
-            "vkCmdClearColorImage" | "vkCmdClearDepthStencilImage" => {
-                let (value, stencil) = match args.opt("pColor") {
-                    Some(c) => (clear_color(&c), 0),
-                    None => {
-                        let ds = args.get("pDepthStencil")?;
-                        (
-                            [ds.get("depth")?.f64()?, 0.0, 0.0, 0.0],
-                            ds.get("stencil")?.u32()?,
-                        )
-                    }
-                };
-                Cmd::Transfer(Box::new(TransferCmd::Clear {
-                    call: name.to_owned(),
-                    target: args.get("image")?.handle()?,
-                    value,
-                    stencil,
-                    ranges: args
-                        .list("pRanges")?
-                        .iter()
-                        .map(range)
-                        .collect::<Got<_>>()?,
-                }))
-            }
-            "vkCmdFillBuffer" | "vkCmdUpdateBuffer" => Cmd::Transfer(Box::new(TransferCmd::Fill {
+            CmdFunc::BeginRenderPass => Cmd::BeginRender(Box::new(render_pass::begin_render_pass(
+                args,
+                objects,
+                origin(),
+            )?)),
+            CmdFunc::NextSubpass => Cmd::NextSubpass,
+            CmdFunc::EndRender => Cmd::EndRender,
+            CmdFunc::BeginRendering => Cmd::BeginRender(Box::new(render_pass::begin_rendering(
+                &args.get("pRenderingInfo")?,
+            )?)),
+            CmdFunc::Copy { kind, v2: false } => copy(kind, name, args)?,
+            CmdFunc::Copy { kind, v2: true } => copy(kind, name, &args.get(kind.info_key())?)?,
+            CmdFunc::ClearImage => clear_image(name, args)?,
+            CmdFunc::FillBuffer => Cmd::Transfer(Box::new(TransferCmd::Fill {
                 call: name.to_owned(),
                 buffer: args.get("dstBuffer")?.handle()?,
             })),
-            "vkCmdResolveImage" => Cmd::Transfer(Box::new(TransferCmd::Resolve {
+            CmdFunc::ResolveImage => Cmd::Transfer(Box::new(TransferCmd::Resolve {
                 src: args.get("srcImage")?.handle()?,
                 dst: args.get("dstImage")?.handle()?,
             })),
-            "vkCmdBeginDebugUtilsLabelEXT" => {
+            CmdFunc::BeginDebugLabel => {
                 Cmd::BeginLabel(args.get("pLabelInfo")?.get("pLabelName")?.str()?.to_owned())
             }
-            "vkCmdDebugMarkerBeginEXT" => Cmd::BeginLabel(
+            CmdFunc::BeginDebugMarker => Cmd::BeginLabel(
                 args.get("pMarkerInfo")?
                     .get("pMarkerName")?
                     .str()?
                     .to_owned(),
             ),
-            "vkCmdEndDebugUtilsLabelEXT" | "vkCmdDebugMarkerEndEXT" => Cmd::EndLabel,
-            "vkCmdExecuteCommands" => Cmd::Execute(
+            CmdFunc::EndLabel => Cmd::EndLabel,
+            CmdFunc::ExecuteCommands => Cmd::Execute(
                 args.list("pCommandBuffers")?
                     .iter()
                     .map(Arg::handle)
                     .collect::<Got<_>>()?,
             ),
-            _ => return Ok(false),
+            // Work framelab's passes cannot hold yet: named as left out, not silently dropped.
+            CmdFunc::Blit => {
+                return Err(Skip(
+                    "scaled blits are not imported (no pass kind for them)".to_owned(),
+                ));
+            }
+            CmdFunc::ClearAttachments => {
+                return Err(Skip(
+                    "clears of attachments inside a render pass are not imported".to_owned(),
+                ));
+            }
+            CmdFunc::NotImported => {
+                return Err(Skip("this command's work is not imported".to_owned()));
+            }
+            CmdFunc::PushDescriptorSetWithTemplate => {
+                return Err(Skip(
+                    "descriptor writes through an update template are not imported; accesses through those bindings are missing".to_owned(),
+                ));
+            }
+            CmdFunc::Other => return Ok(false),
         };
         self.cmds.push(cmd);
         Ok(true)
+    }
+
+    fn bind_vertex_buffers(&mut self, args: &Arg<'_>) -> Got<()> {
+        let first = args.get("firstBinding")?.u32()?;
+        for (k, b) in args.list("pBuffers")?.iter().enumerate() {
+            let buffer = b.handle()?;
+            let slot = first.saturating_add(k as u32);
+            if buffer == 0 {
+                self.bound.vertex.remove(&slot);
+            } else {
+                self.bound.vertex.insert(slot, buffer);
+            }
+        }
+        Ok(())
+    }
+
+    /// Binds descriptor sets as their contents are now, dynamic offsets applied in order.
+    fn bind_sets(&mut self, args: &Arg<'_>, objects: &Objects) -> Got<()> {
+        let compute = compute_point(&args.get("pipelineBindPoint")?)?;
+        let first = args.get("firstSet")?.u32()?;
+        let mut dynamic: Vec<u64> = args
+            .list("pDynamicOffsets")?
+            .iter()
+            .map(Arg::u64)
+            .collect::<Got<_>>()?;
+        dynamic.reverse();
+        for (k, s) in args.list("pDescriptorSets")?.iter().enumerate() {
+            let set = s.handle()?;
+            let index = first.saturating_add(k as u32);
+            let contents = objects
+                .sets
+                .get(&set)
+                .ok_or_else(|| Skip(format!("descriptor set {set} was never allocated")))?;
+            let uses = contents
+                .iter()
+                .map(|(&(binding, element), d)| {
+                    let mut descriptor = d.clone();
+                    if let Descriptor::Buffer { offset, ty, .. } = &mut descriptor
+                        && ty.ends_with("DYNAMIC")
+                    {
+                        *offset = offset.saturating_add(dynamic.pop().unwrap_or(0));
+                    }
+                    Use {
+                        set: index,
+                        binding,
+                        element,
+                        descriptor,
+                    }
+                })
+                .collect();
+            self.bound.sets.insert((compute, index), uses);
+        }
+        Ok(())
+    }
+
+    /// Pushed descriptors replace the ones bound at the same binding and element.
+    fn push_set(&mut self, args: &Arg<'_>) -> Got<()> {
+        let compute = compute_point(&args.get("pipelineBindPoint")?)?;
+        let set = args.get("set")?.u32()?;
+        let mut uses = self.bound.sets.remove(&(compute, set)).unwrap_or_default();
+        for w in args.list("pDescriptorWrites")? {
+            for ((binding, element), descriptor) in super::state::descriptor_writes(&w)? {
+                uses.retain(|u| (u.binding, u.element) != (binding, element));
+                uses.push(Use {
+                    set,
+                    binding,
+                    element,
+                    descriptor,
+                });
+            }
+        }
+        self.bound.sets.insert((compute, set), uses);
+        Ok(())
+    }
+
+    fn draw_call(&self, indexed: bool, args: &Arg<'_>) -> Got<Cmd> {
+        let (count, first) = if indexed {
+            (
+                args.get("indexCount")?.u32()?,
+                args.get("firstIndex")?.u32()?,
+            )
+        } else {
+            (
+                args.get("vertexCount")?.u32()?,
+                args.get("firstVertex")?.u32()?,
+            )
+        };
+        let base_vertex = if indexed {
+            i32::try_from(args.get("vertexOffset")?.i64()?)
+                .map_err(|_| Skip("`vertexOffset` out of range".to_owned()))?
+        } else {
+            0
+        };
+        let draw = self.draw(indexed, None);
+        Ok(Cmd::Draw(Box::new(DrawCmd {
+            count,
+            instances: args.get("instanceCount")?.u32()?,
+            first,
+            base_vertex,
+            first_instance: args.get("firstInstance")?.u32()?,
+            ..draw
+        })))
+    }
+
+    /// An indirect draw becomes one draw per record, each reading its own arguments.
+    fn draw_indirect(&mut self, indexed: bool, args: &Arg<'_>) -> Got<()> {
+        let buffer = args.get("buffer")?.handle()?;
+        let offset = args.get("offset")?.u64()?;
+        let draws = args.get("drawCount")?.u32()?;
+        let stride = args.get("stride")?.u64()?;
+        if draws > MAX_INDIRECT_DRAWS {
+            return Err(Skip(format!(
+                "`drawCount` {draws} is over the {MAX_INDIRECT_DRAWS} draws one indirect call is expanded into"
+            )));
+        }
+        for k in 0..u64::from(draws) {
+            let at = offset.saturating_add(k.saturating_mul(stride));
+            self.cmds
+                .push(Cmd::Draw(Box::new(self.draw(indexed, Some((buffer, at))))));
+        }
+        Ok(())
     }
 
     fn uses(&self, compute: bool) -> Vec<Use> {
@@ -535,20 +327,26 @@ impl Recording {
     }
 }
 
-fn barriers(args: &Arg<'_>, origin: &str, stages: Option<(u64, u64)>) -> Got<Vec<BarrierCmd>> {
-    let masks = |b: &Arg<'_>| -> Got<(u64, u64, u64, u64)> {
+type Masks = (PipelineStages, PipelineStages, AccessFlags, AccessFlags);
+
+fn barriers(
+    args: &Arg<'_>,
+    origin: &str,
+    stages: Option<(PipelineStages, PipelineStages)>,
+) -> Got<Vec<BarrierCmd>> {
+    let masks = |b: &Arg<'_>| -> Got<Masks> {
         let (ss, ds) = match stages {
             Some(s) => s,
             None => (
-                b.get("srcStageMask")?.flags(STAGES)?,
-                b.get("dstStageMask")?.flags(STAGES)?,
+                b.get("srcStageMask")?.stages()?,
+                b.get("dstStageMask")?.stages()?,
             ),
         };
         Ok((
             ss,
             ds,
-            b.get("srcAccessMask")?.flags(ACCESS)?,
-            b.get("dstAccessMask")?.flags(ACCESS)?,
+            b.get("srcAccessMask")?.access()?,
+            b.get("dstAccessMask")?.access()?,
         ))
     };
     let families = |b: &Arg<'_>| -> Got<Option<(u32, u32)>> {
@@ -603,30 +401,45 @@ fn barriers(args: &Arg<'_>, origin: &str, stages: Option<(u64, u64)>) -> Got<Vec
             dst_stages: ds,
             src_access: sa,
             dst_access: da,
-            layouts: Some((
-                layout_of(&b.get("oldLayout")?)?,
-                layout_of(&b.get("newLayout")?)?,
-            )),
+            layouts: Some((b.get("oldLayout")?.layout()?, b.get("newLayout")?.layout()?)),
             families: families(&b)?,
         });
     }
     Ok(out)
 }
 
-fn copy(name: &str, args: &Arg<'_>, _v2: Option<()>) -> Got<Cmd> {
-    let base = name.trim_end_matches("KHR").trim_end_matches('2');
-    let (src_key, dst_key) = match base {
-        "vkCmdCopyBuffer" => ("srcBuffer", "dstBuffer"),
-        "vkCmdCopyBufferToImage" => ("srcBuffer", "dstImage"),
-        "vkCmdCopyImageToBuffer" => ("srcImage", "dstBuffer"),
-        _ => ("srcImage", "dstImage"),
+fn clear_image(name: &str, args: &Arg<'_>) -> Got<Cmd> {
+    let (value, stencil) = match args.opt("pColor") {
+        Some(c) => (clear_color(&c), 0),
+        None => {
+            let ds = args.get("pDepthStencil")?;
+            (
+                [ds.get("depth")?.f64()?, 0.0, 0.0, 0.0],
+                ds.get("stencil")?.u32()?,
+            )
+        }
     };
+    Ok(Cmd::Transfer(Box::new(TransferCmd::Clear {
+        call: name.to_owned(),
+        target: args.get("image")?.handle()?,
+        value,
+        stencil,
+        ranges: args
+            .list("pRanges")?
+            .iter()
+            .map(range)
+            .collect::<Got<_>>()?,
+    })))
+}
+
+fn copy(kind: CopyKind, name: &str, args: &Arg<'_>) -> Got<Cmd> {
+    let (src_key, dst_key) = kind.keys();
     let src = args.get(src_key)?.handle()?;
     let dst = args.get(dst_key)?.handle()?;
     let mut regions = Vec::new();
     for r in args.list("pRegions")? {
-        let region = match base {
-            "vkCmdCopyBuffer" => Region {
+        let region = match kind {
+            CopyKind::BufferToBuffer => Region {
                 src_mip: 0,
                 src_layer: 0,
                 src_origin: [0; 3],
@@ -639,7 +452,7 @@ fn copy(name: &str, args: &Arg<'_>, _v2: Option<()>) -> Got<Cmd> {
                 extent: None,
                 row_texels: 0,
             },
-            "vkCmdCopyImage" => {
+            CopyKind::ImageToImage => {
                 let (sm, sl) = subresource(&r.get("srcSubresource")?)?;
                 let (dm, dl) = subresource(&r.get("dstSubresource")?)?;
                 Region {
@@ -656,11 +469,11 @@ fn copy(name: &str, args: &Arg<'_>, _v2: Option<()>) -> Got<Cmd> {
                     row_texels: 0,
                 }
             }
-            _ => {
+            CopyKind::BufferToImage | CopyKind::ImageToBuffer => {
                 let (m, l) = subresource(&r.get("imageSubresource")?)?;
                 let origin = offset3(&r.get("imageOffset")?)?;
                 let offset = r.get("bufferOffset")?.u64()?;
-                let to_image = base == "vkCmdCopyBufferToImage";
+                let to_image = kind == CopyKind::BufferToImage;
                 Region {
                     src_mip: if to_image { 0 } else { m },
                     src_layer: if to_image { 0 } else { l },

@@ -3,41 +3,76 @@
 //! last use, and the layout transitions and external dependencies the render pass implies at
 //! its start and end, as barriers.
 
-use super::record::{
+use super::commands::{
     AttUse, BarrierCmd, BarrierTarget, DepthUse, RenderInstance, SubpassUse, clear_color,
 };
-use super::state::{Dependency, Objects};
+use super::state::{AttachmentDesc, Dependency, Objects, RenderPassInfo, SubpassDesc};
 use super::value::{Arg, Got, Skip};
-use crate::capture::vulkan::{self, access, stage};
+use crate::capture::vulkan::{AccessFlags as A, ImageLayout, PipelineStages as S};
 
 const EXTERNAL: u32 = u32::MAX;
 
 /// The implicit external dependencies Vulkan adds when a render pass declares none.
 fn implicit(begin: bool) -> Dependency {
-    let attachment_access = access::COLOR_ATTACHMENT_READ
-        | access::COLOR_ATTACHMENT_WRITE
-        | access::DEPTH_STENCIL_ATTACHMENT_READ
-        | access::DEPTH_STENCIL_ATTACHMENT_WRITE
-        | 0x10;
+    let attachment_access = A::COLOR_ATTACHMENT_READ
+        | A::COLOR_ATTACHMENT_WRITE
+        | A::DEPTH_STENCIL_ATTACHMENT_READ
+        | A::DEPTH_STENCIL_ATTACHMENT_WRITE
+        | A::INPUT_ATTACHMENT_READ;
     if begin {
         Dependency {
             src_subpass: EXTERNAL,
             dst_subpass: 0,
-            src_stages: stage::TOP_OF_PIPE,
-            dst_stages: stage::ALL_COMMANDS,
-            src_access: 0,
+            src_stages: S::TOP_OF_PIPE,
+            dst_stages: S::ALL_COMMANDS,
+            src_access: A::EMPTY,
             dst_access: attachment_access,
         }
     } else {
         Dependency {
             src_subpass: 0,
             dst_subpass: EXTERNAL,
-            src_stages: stage::ALL_COMMANDS,
-            dst_stages: stage::BOTTOM_OF_PIPE,
-            src_access: access::COLOR_ATTACHMENT_WRITE | access::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            dst_access: 0,
+            src_stages: S::ALL_COMMANDS,
+            dst_stages: S::BOTTOM_OF_PIPE,
+            src_access: A::COLOR_ATTACHMENT_WRITE | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            dst_access: A::EMPTY,
         }
     }
+}
+
+/// The views a render pass instance renders to, by attachment index.
+struct Views {
+    framebuffer: u64,
+    views: Vec<u64>,
+}
+
+impl Views {
+    fn get(&self, a: u32) -> Got<u64> {
+        self.views.get(a as usize).copied().ok_or_else(|| {
+            Skip(format!(
+                "attachment {a} is not in framebuffer {}",
+                self.framebuffer
+            ))
+        })
+    }
+}
+
+/// Whether subpass `s` uses attachment `a` in any role.
+fn uses_attachment(s: &SubpassDesc, a: u32) -> bool {
+    s.colors
+        .iter()
+        .chain(&s.resolves)
+        .chain(&s.inputs)
+        .any(|(x, _)| *x == a)
+        || s.depth.as_ref().is_some_and(|(x, _)| *x == a)
+}
+
+fn first_use(rp: &RenderPassInfo, a: u32) -> Option<usize> {
+    rp.subpasses.iter().position(|s| uses_attachment(s, a))
+}
+
+fn last_use(rp: &RenderPassInfo, a: u32) -> Option<usize> {
+    rp.subpasses.iter().rposition(|s| uses_attachment(s, a))
 }
 
 pub(super) fn begin_render_pass(
@@ -66,217 +101,198 @@ pub(super) fn begin_render_pass(
         }
         next = n.opt("pNext");
     }
+    let views = Views {
+        framebuffer: fb_handle,
+        views,
+    };
     let clears: Vec<Arg<'_>> = info.list("pClearValues")?;
-    let view = |a: u32| -> Got<u64> {
-        views
-            .get(a as usize)
-            .copied()
-            .ok_or_else(|| Skip(format!("attachment {a} is not in framebuffer {fb_handle}")))
-    };
-    let first_use = |a: u32| {
-        rp.subpasses.iter().position(|s| {
-            s.colors
-                .iter()
-                .chain(&s.resolves)
-                .chain(&s.inputs)
-                .any(|(x, _)| *x == a)
-                || s.depth.as_ref().is_some_and(|(x, _)| *x == a)
-        })
-    };
-    let last_use = |a: u32| {
-        rp.subpasses.iter().rposition(|s| {
-            s.colors
-                .iter()
-                .chain(&s.resolves)
-                .chain(&s.inputs)
-                .any(|(x, _)| *x == a)
-                || s.depth.as_ref().is_some_and(|(x, _)| *x == a)
-        })
-    };
-    let mut subpasses = Vec::new();
-    for (si, s) in rp.subpasses.iter().enumerate() {
-        let ops = |a: u32| -> (String, String, String, String) {
-            let d = &rp.attachments[a as usize];
-            let first = first_use(a) == Some(si);
-            let last = last_use(a) == Some(si);
-            let load = |op: &str| {
-                if first {
-                    op.to_owned()
-                } else {
-                    "LOAD".to_owned()
-                }
-            };
-            let store = |op: &str| {
-                if last {
-                    op.to_owned()
-                } else {
-                    "STORE".to_owned()
-                }
-            };
-            (
-                load(&d.load),
-                store(&d.store),
-                load(&d.stencil_load),
-                store(&d.stencil_store),
-            )
-        };
-        let mut sub = SubpassUse::default();
-        for &(a, _) in &s.colors {
-            if a as usize >= rp.attachments.len() {
-                return Err(Skip(format!(
-                    "subpass {si} names attachment {a} the render pass lacks"
-                )));
-            }
-            let (load, store, ..) = ops(a);
-            let clear = clears.get(a as usize).map(clear_color).unwrap_or_default();
-            sub.colors.push(AttUse {
-                view: view(a)?,
-                load,
-                store,
-                clear,
-            });
-        }
-        if let Some((a, layout)) = &s.depth {
-            if *a as usize >= rp.attachments.len() {
-                return Err(Skip(format!(
-                    "subpass {si} names attachment {a} the render pass lacks"
-                )));
-            }
-            let (load, store, stencil_load, stencil_store) = ops(*a);
-            let ds = clears.get(*a as usize).and_then(|c| c.opt("depthStencil"));
-            sub.depth = Some(DepthUse {
-                view: view(*a)?,
-                load,
-                store,
-                stencil_load,
-                stencil_store,
-                depth_clear: ds
-                    .as_ref()
-                    .and_then(|d| d.get("depth").ok()?.f64().ok())
-                    .unwrap_or(1.0),
-                stencil_clear: ds
-                    .as_ref()
-                    .and_then(|d| d.get("stencil").ok()?.u32().ok())
-                    .unwrap_or(0),
-                read_only: layout.contains("READ_ONLY"),
-            });
-        }
-        for (k, &(a, _)) in s.resolves.iter().enumerate() {
-            if let Some(&(src, _)) = s.colors.get(k) {
-                sub.resolves.push((view(src)?, view(a)?));
-            }
-        }
-        subpasses.push(sub);
-    }
+    let subpasses = rp
+        .subpasses
+        .iter()
+        .enumerate()
+        .map(|(si, s)| subpass_use(rp, si, s, &views, &clears))
+        .collect::<Got<Vec<_>>>()?;
     let mut begin_barriers = Vec::new();
     let mut end_barriers = Vec::new();
     for (a, d) in rp.attachments.iter().enumerate() {
-        let a = a as u32;
-        let layout_in = |si: usize| {
-            let s = &rp.subpasses[si];
-            s.colors
-                .iter()
-                .chain(&s.resolves)
-                .chain(&s.inputs)
-                .chain(s.depth.iter())
-                .find(|(x, _)| *x == a)
-                .map(|(_, l)| l.clone())
-        };
-        let (Some(first), Some(last)) = (first_use(a), last_use(a)) else {
-            continue;
-        };
-        let Ok(v) = view(a) else { continue };
-        let Some(image) = objects.views.get(&v) else {
-            continue;
-        };
-        let target = BarrierTarget::Image {
-            image: image.image,
-            mips: (image.base_mip, image.mip_count),
-            layers: (image.base_layer, image.layer_count),
-        };
-        // The external dependency orders the attachment against earlier work even where the
-        // layout stays; at the end only a layout change or a declared dependency does anything.
-        let transition = |from: &str,
-                          to: &str,
-                          dep: &Dependency,
-                          what: &str,
-                          always: bool|
-         -> Option<BarrierCmd> {
-            let (from, to) = (vulkan::layout(from)?, vulkan::layout(to)?);
-            (from != to || always).then(|| BarrierCmd {
-                origin: format!("{origin}: attachment {a} {what}"),
-                target: target.clone(),
-                src_stages: dep.src_stages,
-                dst_stages: dep.dst_stages,
-                src_access: dep.src_access,
-                dst_access: dep.dst_access,
-                layouts: Some((from, to)),
-                families: None,
-            })
-        };
-        // Every declared external dependency into the first subpass using the attachment (and
-        // out of the last) applies to it together.
-        let fold = |deps: Vec<&Dependency>| {
-            deps.into_iter().cloned().reduce(|a, b| Dependency {
-                src_stages: a.src_stages | b.src_stages,
-                dst_stages: a.dst_stages | b.dst_stages,
-                src_access: a.src_access | b.src_access,
-                dst_access: a.dst_access | b.dst_access,
-                ..a
-            })
-        };
-        let declared_in = fold(
-            rp.dependencies
-                .iter()
-                .filter(|x| x.src_subpass == EXTERNAL && x.dst_subpass as usize == first)
-                .collect(),
-        );
-        let declared_out = fold(
-            rp.dependencies
-                .iter()
-                .filter(|x| x.dst_subpass == EXTERNAL && x.src_subpass as usize == last)
-                .collect(),
-        );
-        let (in_what, out_what) = (
-            if declared_in.is_some() {
-                "initialLayout, external dependency"
-            } else {
-                "initialLayout, implicit external dependency"
-            },
-            if declared_out.is_some() {
-                "finalLayout, external dependency"
-            } else {
-                "finalLayout, implicit external dependency"
-            },
-        );
-        if let Some(l) = layout_in(first)
-            && let Some(b) = transition(
-                &d.initial,
-                &l,
-                &declared_in.clone().unwrap_or_else(|| implicit(true)),
-                in_what,
-                true,
-            )
-        {
-            begin_barriers.push(b);
-        }
-        if let Some(l) = layout_in(last)
-            && let Some(b) = transition(
-                &l,
-                &d.final_layout,
-                &declared_out.clone().unwrap_or_else(|| implicit(false)),
-                out_what,
-                declared_out.is_some(),
-            )
-        {
-            end_barriers.push(b);
-        }
+        let (begin, end) = attachment_barriers(rp, a as u32, d, &views, objects, &origin);
+        begin_barriers.extend(begin);
+        end_barriers.extend(end);
     }
     Ok(RenderInstance {
         subpasses,
         begin_barriers,
         end_barriers,
     })
+}
+
+/// Load and store ops of attachment `a` in subpass `si`: its own at its first and last use,
+/// LOAD and STORE in between (the contents carry over between subpasses).
+fn ops(rp: &RenderPassInfo, si: usize, a: u32) -> (String, String, String, String) {
+    let d = &rp.attachments[a as usize];
+    let first = first_use(rp, a) == Some(si);
+    let last = last_use(rp, a) == Some(si);
+    let load = |op: &str| if first { op } else { "LOAD" }.to_owned();
+    let store = |op: &str| if last { op } else { "STORE" }.to_owned();
+    (
+        load(&d.load),
+        store(&d.store),
+        load(&d.stencil_load),
+        store(&d.stencil_store),
+    )
+}
+
+/// The attachments subpass `si` renders to.
+fn subpass_use(
+    rp: &RenderPassInfo,
+    si: usize,
+    s: &SubpassDesc,
+    views: &Views,
+    clears: &[Arg<'_>],
+) -> Got<SubpassUse> {
+    let lacks = |a: u32| {
+        Skip(format!(
+            "subpass {si} names attachment {a} the render pass lacks"
+        ))
+    };
+    let mut sub = SubpassUse::default();
+    for &(a, _) in &s.colors {
+        if a as usize >= rp.attachments.len() {
+            return Err(lacks(a));
+        }
+        let (load, store, ..) = ops(rp, si, a);
+        let clear = clears.get(a as usize).map(clear_color).unwrap_or_default();
+        sub.colors.push(AttUse {
+            view: views.get(a)?,
+            load,
+            store,
+            clear,
+        });
+    }
+    if let Some((a, layout)) = &s.depth {
+        if *a as usize >= rp.attachments.len() {
+            return Err(lacks(*a));
+        }
+        let (load, store, stencil_load, stencil_store) = ops(rp, si, *a);
+        let ds = clears.get(*a as usize).and_then(|c| c.opt("depthStencil"));
+        sub.depth = Some(DepthUse {
+            view: views.get(*a)?,
+            load,
+            store,
+            stencil_load,
+            stencil_store,
+            depth_clear: ds
+                .as_ref()
+                .and_then(|d| d.get("depth").ok()?.f64().ok())
+                .unwrap_or(1.0),
+            stencil_clear: ds
+                .as_ref()
+                .and_then(|d| d.get("stencil").ok()?.u32().ok())
+                .unwrap_or(0),
+            read_only: layout.is_some_and(ImageLayout::is_read_only),
+        });
+    }
+    for (k, &(a, _)) in s.resolves.iter().enumerate() {
+        if let Some(&(src, _)) = s.colors.get(k) {
+            sub.resolves.push((views.get(src)?, views.get(a)?));
+        }
+    }
+    Ok(sub)
+}
+
+/// Every declared external dependency into (or out of) a subpass applies to an attachment
+/// together.
+fn fold(deps: impl Iterator<Item = Dependency>) -> Option<Dependency> {
+    deps.reduce(|a, b| Dependency {
+        src_stages: a.src_stages | b.src_stages,
+        dst_stages: a.dst_stages | b.dst_stages,
+        src_access: a.src_access | b.src_access,
+        dst_access: a.dst_access | b.dst_access,
+        ..a
+    })
+}
+
+/// The barriers attachment `a` gets at the start and the end of the render pass: its
+/// transition from initialLayout and to finalLayout, each with the external dependency that
+/// orders it.
+fn attachment_barriers(
+    rp: &RenderPassInfo,
+    a: u32,
+    d: &AttachmentDesc,
+    views: &Views,
+    objects: &Objects,
+    origin: &str,
+) -> (Option<BarrierCmd>, Option<BarrierCmd>) {
+    let (Some(first), Some(last)) = (first_use(rp, a), last_use(rp, a)) else {
+        return (None, None);
+    };
+    let Ok(v) = views.get(a) else {
+        return (None, None);
+    };
+    let Some(image) = objects.views.get(&v) else {
+        return (None, None);
+    };
+    let layout_in = |si: usize| {
+        let s = &rp.subpasses[si];
+        s.colors
+            .iter()
+            .chain(&s.resolves)
+            .chain(&s.inputs)
+            .chain(s.depth.iter())
+            .find(|(x, _)| *x == a)
+            .map(|(_, l)| *l)
+    };
+    let target = BarrierTarget::Image {
+        image: image.image,
+        mips: (image.base_mip, image.mip_count),
+        layers: (image.base_layer, image.layer_count),
+    };
+    // The external dependency orders the attachment against earlier work even where the
+    // layout stays; at the end only a layout change or a declared dependency does anything.
+    let transition = |from: Option<ImageLayout>,
+                      to: Option<ImageLayout>,
+                      dep: &Dependency,
+                      what: &str,
+                      always: bool|
+     -> Option<BarrierCmd> {
+        let (from, to) = (from?, to?);
+        (from != to || always).then(|| BarrierCmd {
+            origin: format!("{origin}: attachment {a} {what}"),
+            target: target.clone(),
+            src_stages: dep.src_stages,
+            dst_stages: dep.dst_stages,
+            src_access: dep.src_access,
+            dst_access: dep.dst_access,
+            layouts: Some((from, to)),
+            families: None,
+        })
+    };
+    let deps = rp.dependencies.iter().cloned();
+    let declared_in = fold(
+        deps.clone()
+            .filter(|x| x.src_subpass == EXTERNAL && x.dst_subpass as usize == first),
+    );
+    let declared_out =
+        fold(deps.filter(|x| x.dst_subpass == EXTERNAL && x.src_subpass as usize == last));
+    let in_what = if declared_in.is_some() {
+        "initialLayout, external dependency"
+    } else {
+        "initialLayout, implicit external dependency"
+    };
+    let out_what = if declared_out.is_some() {
+        "finalLayout, external dependency"
+    } else {
+        "finalLayout, implicit external dependency"
+    };
+    let begin = layout_in(first).and_then(|l| {
+        let dep = declared_in.clone().unwrap_or_else(|| implicit(true));
+        transition(d.initial, l, &dep, in_what, true)
+    });
+    let end = layout_in(last).and_then(|l| {
+        let dep = declared_out.clone().unwrap_or_else(|| implicit(false));
+        transition(l, d.final_layout, &dep, out_what, declared_out.is_some())
+    });
+    (begin, end)
 }
 
 pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
@@ -332,7 +348,8 @@ pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
                 .as_ref()
                 .and_then(|c| c.get("stencil").ok()?.u32().ok())
                 .unwrap_or(0),
-            read_only: d.get("imageLayout")?.name()?.contains("READ_ONLY"),
+            read_only: ImageLayout::from_name(&d.get("imageLayout")?.name()?)
+                .is_some_and(ImageLayout::is_read_only),
         });
     }
 

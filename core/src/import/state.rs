@@ -5,10 +5,12 @@
 
 use std::collections::{BTreeMap, HashMap};
 
+use super::calls::{Func, Object};
 use super::value::{
     ASPECTS, Arg, BUFFER_USAGE, Got, IMAGE_CREATE, IMAGE_USAGE, MEMORY_PROPERTIES, QUEUE_FLAGS,
     Skip,
 };
+use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
 
 #[derive(Clone, Debug)]
 pub struct ImageInfo {
@@ -60,16 +62,17 @@ pub struct AttachmentDesc {
     pub store: String,
     pub stencil_load: String,
     pub stencil_store: String,
-    pub initial: String,
-    pub final_layout: String,
+    /// `None`: a layout framelab does not know; no transition is derived for it.
+    pub initial: Option<ImageLayout>,
+    pub final_layout: Option<ImageLayout>,
 }
 
 #[derive(Clone, Debug, Default)]
 pub struct SubpassDesc {
-    pub colors: Vec<(u32, String)>,
-    pub resolves: Vec<(u32, String)>,
-    pub depth: Option<(u32, String)>,
-    pub inputs: Vec<(u32, String)>,
+    pub colors: Vec<(u32, Option<ImageLayout>)>,
+    pub resolves: Vec<(u32, Option<ImageLayout>)>,
+    pub depth: Option<(u32, Option<ImageLayout>)>,
+    pub inputs: Vec<(u32, Option<ImageLayout>)>,
 }
 
 /// A subpass dependency that involves VK_SUBPASS_EXTERNAL.
@@ -77,10 +80,10 @@ pub struct SubpassDesc {
 pub struct Dependency {
     pub src_subpass: u32,
     pub dst_subpass: u32,
-    pub src_stages: u64,
-    pub dst_stages: u64,
-    pub src_access: u64,
-    pub dst_access: u64,
+    pub src_stages: PipelineStages,
+    pub dst_stages: PipelineStages,
+    pub src_access: AccessFlags,
+    pub dst_access: AccessFlags,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -166,49 +169,24 @@ fn count(a: &Arg<'_>) -> Got<Option<u32>> {
 impl Objects {
     /// Updates the objects from one call; `Ok(false)` when the call creates or describes
     /// nothing this tracks.
-    pub fn apply(&mut self, name: &str, args: &Arg<'_>) -> Got<bool> {
-        match name {
-            "vkGetPhysicalDeviceQueueFamilyProperties"
-            | "vkGetPhysicalDeviceQueueFamilyProperties2"
-            | "vkGetPhysicalDeviceQueueFamilyProperties2KHR" => {
-                let list = args.list("pQueueFamilyProperties")?;
-                if !list.is_empty() {
-                    self.queue_family_flags = list
-                        .iter()
-                        .map(|p| {
-                            let inner = p.opt("queueFamilyProperties").unwrap_or_else(|| p.clone());
-                            inner.get("queueFlags")?.flags(QUEUE_FLAGS)
-                        })
-                        .collect::<Got<_>>()?;
-                }
-            }
-            "vkGetPhysicalDeviceMemoryProperties"
-            | "vkGetPhysicalDeviceMemoryProperties2"
-            | "vkGetPhysicalDeviceMemoryProperties2KHR" => {
-                let p = args.get("pMemoryProperties")?;
-                let p = p.opt("memoryProperties").unwrap_or(p);
-                let n = p.get("memoryTypeCount")?.u64()? as usize;
-                let types = p.get("memoryTypes")?.items()?;
-                self.memory_type_flags = types
-                    .iter()
-                    .take(n)
-                    .map(|t| t.get("propertyFlags")?.flags(MEMORY_PROPERTIES))
-                    .collect::<Got<_>>()?;
-            }
-            "vkGetDeviceQueue" => {
+    pub fn apply(&mut self, func: Func, args: &Arg<'_>) -> Got<bool> {
+        match func {
+            Func::QueueFamilyProperties => self.queue_families(args)?,
+            Func::MemoryProperties => self.memory_types(args)?,
+            Func::GetDeviceQueue => {
                 let q = args.get("pQueue")?.handle()?;
                 let family = args.get("queueFamilyIndex")?.u32()?;
                 let index = args.get("queueIndex")?.u32()?;
                 self.queues.insert(q, (family, index));
             }
-            "vkGetDeviceQueue2" => {
+            Func::GetDeviceQueue2 => {
                 let info = args.get("pQueueInfo")?;
                 let q = args.get("pQueue")?.handle()?;
                 let family = info.get("queueFamilyIndex")?.u32()?;
                 let index = info.get("queueIndex")?.u32()?;
                 self.queues.insert(q, (family, index));
             }
-            "vkAllocateMemory" => {
+            Func::AllocateMemory => {
                 let info = args.get("pAllocateInfo")?;
                 let mem = args.get("pMemory")?.handle()?;
                 self.memories.insert(
@@ -219,120 +197,25 @@ impl Objects {
                     },
                 );
             }
-            "vkCreateImage" => {
-                let ci = args.get("pCreateInfo")?;
-                let extent = ci.get("extent")?;
-                let image = args.get("pImage")?.handle()?;
-                let info = ImageInfo {
-                    format: ci.get("format")?.name()?,
-                    image_type: ci.get("imageType")?.name()?,
-                    extent: [
-                        extent.get("width")?.u32()?,
-                        extent.get("height")?.u32()?,
-                        extent.get("depth")?.u32()?,
-                    ],
-                    mips: ci.get("mipLevels")?.u32()?,
-                    layers: ci.get("arrayLayers")?.u32()?,
-                    samples: samples(&ci.get("samples")?)?,
-                    usage: ci.get("usage")?.flags(IMAGE_USAGE)?,
-                    create_flags: ci.opt("flags").map_or(Ok(0), |f| f.flags(IMAGE_CREATE))?,
-                    bound: None,
-                    alignment: None,
-                    swapchain: None,
-                    created_at: self.at,
-                };
-                self.images.insert(image, info);
-            }
-            "vkCreateBuffer" => {
-                let ci = args.get("pCreateInfo")?;
-                let buffer = args.get("pBuffer")?.handle()?;
-                self.buffers.insert(
-                    buffer,
-                    BufferInfo {
-                        created_at: self.at,
-                        size: ci.get("size")?.u64()?,
-                        usage: ci.get("usage")?.flags(BUFFER_USAGE)?,
-                        bound: None,
-                        alignment: None,
-                    },
-                );
-            }
-            "vkGetImageMemoryRequirements"
-            | "vkGetImageMemoryRequirements2"
-            | "vkGetImageMemoryRequirements2KHR"
-            | "vkGetBufferMemoryRequirements"
-            | "vkGetBufferMemoryRequirements2"
-            | "vkGetBufferMemoryRequirements2KHR" => {
-                let (handle, req) = match args.opt("pInfo") {
-                    Some(info) => {
-                        let key = if name.contains("Image") {
-                            "image"
-                        } else {
-                            "buffer"
-                        };
-                        let req = args.get("pMemoryRequirements")?;
-                        let req = req.opt("memoryRequirements").unwrap_or(req);
-                        (info.get(key)?.handle()?, req)
-                    }
-                    None => {
-                        let key = if name.contains("Image") {
-                            "image"
-                        } else {
-                            "buffer"
-                        };
-                        (args.get(key)?.handle()?, args.get("pMemoryRequirements")?)
-                    }
-                };
-                let alignment = req.get("alignment")?.u64()?;
-                if let Some(i) = self.images.get_mut(&handle) {
-                    i.alignment = Some(alignment);
-                } else if let Some(b) = self.buffers.get_mut(&handle) {
-                    b.alignment = Some(alignment);
-                }
-            }
-            "vkBindImageMemory" | "vkBindBufferMemory" => {
-                let key = if name == "vkBindImageMemory" {
-                    "image"
-                } else {
-                    "buffer"
-                };
-                let handle = args.get(key)?.handle()?;
+            Func::CreateImage => self.create_image(args)?,
+            Func::CreateBuffer => self.create_buffer(args)?,
+            Func::MemoryRequirements(object) => self.memory_requirements(object, args)?,
+            Func::BindMemory(object) => {
+                let handle = args.get(object.key())?.handle()?;
                 let memory = args.get("memory")?.handle()?;
                 let offset = args.get("memoryOffset")?.u64()?;
                 self.bind(handle, memory, offset);
             }
-            "vkBindImageMemory2"
-            | "vkBindImageMemory2KHR"
-            | "vkBindBufferMemory2"
-            | "vkBindBufferMemory2KHR" => {
-                let key = if name.contains("Image") {
-                    "image"
-                } else {
-                    "buffer"
-                };
+            Func::BindMemory2(object) => {
                 for info in args.list("pBindInfos")? {
-                    let handle = info.get(key)?.handle()?;
+                    let handle = info.get(object.key())?.handle()?;
                     let memory = info.get("memory")?.handle()?;
                     let offset = info.get("memoryOffset")?.u64()?;
                     self.bind(handle, memory, offset);
                 }
             }
-            "vkCreateImageView" => {
-                let ci = args.get("pCreateInfo")?;
-                let range = ci.get("subresourceRange")?;
-                let _aspect = range.get("aspectMask")?.flags(ASPECTS)?;
-                self.views.insert(
-                    args.get("pView")?.handle()?,
-                    ViewInfo {
-                        image: ci.get("image")?.handle()?,
-                        base_mip: range.get("baseMipLevel")?.u32()?,
-                        mip_count: count(&range.get("levelCount")?)?,
-                        base_layer: range.get("baseArrayLayer")?.u32()?,
-                        layer_count: count(&range.get("layerCount")?)?,
-                    },
-                );
-            }
-            "vkCreateBufferView" => {
+            Func::CreateImageView => self.create_image_view(args)?,
+            Func::CreateBufferView => {
                 let ci = args.get("pCreateInfo")?;
                 self.buffer_views.insert(
                     args.get("pView")?.handle()?,
@@ -343,13 +226,13 @@ impl Objects {
                     ),
                 );
             }
-            "vkCreateRenderPass" | "vkCreateRenderPass2" | "vkCreateRenderPass2KHR" => {
+            Func::CreateRenderPass => {
                 let ci = args.get("pCreateInfo")?;
                 let rp = render_pass(&ci)?;
                 self.render_passes
                     .insert(args.get("pRenderPass")?.handle()?, rp);
             }
-            "vkCreateFramebuffer" => {
+            Func::CreateFramebuffer => {
                 let ci = args.get("pCreateInfo")?;
                 let attachments = ci
                     .list("pAttachments")?
@@ -361,115 +244,35 @@ impl Objects {
                     FramebufferInfo { attachments },
                 );
             }
-            "vkAllocateDescriptorSets" => {
+            Func::AllocateDescriptorSets => {
                 for s in args.list("pDescriptorSets")? {
                     self.sets.insert(s.handle()?, BTreeMap::new());
                 }
             }
-            "vkUpdateDescriptorSets" => {
-                for w in args.list("pDescriptorWrites")? {
-                    let set = w.get("dstSet")?.handle()?;
-                    let written = descriptor_writes(&w)?;
-                    let entry = self.sets.entry(set).or_default();
-                    for (key, d) in written {
-                        entry.insert(key, d);
-                    }
-                }
-                for c in args.list("pDescriptorCopies")? {
-                    let (src, dst) = (c.get("srcSet")?.handle()?, c.get("dstSet")?.handle()?);
-                    let (sb, se) = (
-                        c.get("srcBinding")?.u32()?,
-                        c.get("srcArrayElement")?.u32()?,
-                    );
-                    let (db, de) = (
-                        c.get("dstBinding")?.u32()?,
-                        c.get("dstArrayElement")?.u32()?,
-                    );
-                    let n = c.get("descriptorCount")?.u32()?;
-                    let copied: Vec<_> = (0..n.min(4096))
-                        .filter_map(|k| {
-                            let d = self
-                                .sets
-                                .get(&src)?
-                                .get(&(sb, se.saturating_add(k)))?
-                                .clone();
-                            Some(((db, de.saturating_add(k)), d))
-                        })
-                        .collect();
-                    let entry = self.sets.entry(dst).or_default();
-                    entry.extend(copied);
-                }
-            }
-            "vkUpdateDescriptorSetWithTemplate" | "vkUpdateDescriptorSetWithTemplateKHR" => {
+            Func::UpdateDescriptorSets => self.update_descriptor_sets(args)?,
+            Func::UpdateDescriptorSetWithTemplate => {
                 // The JSON carries the template's decoded data but pairing it with the
                 // template's entries is not done: the set's bindings stay as they were.
                 return Err(Skip(
                     "descriptor writes through an update template are not imported; accesses through those bindings are missing".to_owned(),
                 ));
             }
-            "vkCreateSwapchainKHR" => {
-                let ci = args.get("pCreateInfo")?;
-                let extent = ci.get("imageExtent")?;
-                self.swapchains.insert(
-                    args.get("pSwapchain")?.handle()?,
-                    SwapchainInfo {
-                        format: ci.get("imageFormat")?.name()?,
-                        extent: [extent.get("width")?.u32()?, extent.get("height")?.u32()?],
-                        layers: ci.get("imageArrayLayers")?.u32()?,
-                        usage: ci.get("imageUsage")?.flags(IMAGE_USAGE)?,
-                    },
-                );
-            }
-            "vkGetSwapchainImagesKHR" => {
-                let chain = args.get("swapchain")?.handle()?;
-                let images: Vec<u64> = args
-                    .list("pSwapchainImages")?
-                    .iter()
-                    .map(Arg::handle)
-                    .collect::<Got<_>>()?;
-                if images.is_empty() {
-                    return Ok(true);
-                }
-                let sc = self
-                    .swapchains
-                    .get(&chain)
-                    .cloned()
-                    .ok_or_else(|| Skip(format!("swapchain {chain} was never created")))?;
-                for (i, &img) in images.iter().enumerate() {
-                    self.images.insert(
-                        img,
-                        ImageInfo {
-                            format: sc.format.clone(),
-                            image_type: "VK_IMAGE_TYPE_2D".to_owned(),
-                            extent: [sc.extent[0], sc.extent[1], 1],
-                            mips: 1,
-                            layers: sc.layers.max(1),
-                            samples: 1,
-                            usage: sc.usage,
-                            create_flags: 0,
-                            bound: None,
-                            alignment: None,
-                            swapchain: Some((chain, i as u32)),
-                            created_at: self.at,
-                        },
-                    );
-                }
-                self.swapchain_images.insert(chain, images);
-            }
-            "vkSetDebugUtilsObjectNameEXT" => {
+            Func::CreateSwapchain => self.create_swapchain(args)?,
+            Func::GetSwapchainImages => self.swapchain_images(args)?,
+            Func::SetDebugUtilsObjectName => {
                 let info = args.get("pNameInfo")?;
                 let handle = info.get("objectHandle")?.handle()?;
                 if let Some(n) = info.opt("pObjectName") {
                     self.names.insert(handle, n.str()?.to_owned());
                 }
             }
-            "vkDebugMarkerSetObjectNameEXT" => {
+            Func::DebugMarkerSetObjectName => {
                 let info = args.get("pNameInfo")?;
                 let handle = info.get("object")?.handle()?;
                 self.names
                     .insert(handle, info.get("pObjectName")?.str()?.to_owned());
             }
-            "vkMapMemory" | "vkMapMemory2KHR" | "vkMapMemory2" => {
+            Func::MapMemory => {
                 let memory = match args.opt("pMemoryMapInfo") {
                     Some(info) => info.get("memory")?.handle()?,
                     None => args.get("memory")?.handle()?,
@@ -479,6 +282,204 @@ impl Objects {
             _ => return Ok(false),
         }
         Ok(true)
+    }
+
+    fn queue_families(&mut self, args: &Arg<'_>) -> Got<()> {
+        let list = args.list("pQueueFamilyProperties")?;
+        if !list.is_empty() {
+            self.queue_family_flags = list
+                .iter()
+                .map(|p| {
+                    let inner = p.opt("queueFamilyProperties").unwrap_or_else(|| p.clone());
+                    inner.get("queueFlags")?.flags(QUEUE_FLAGS)
+                })
+                .collect::<Got<_>>()?;
+        }
+        Ok(())
+    }
+
+    fn memory_types(&mut self, args: &Arg<'_>) -> Got<()> {
+        let p = args.get("pMemoryProperties")?;
+        let p = p.opt("memoryProperties").unwrap_or(p);
+        let n = p.get("memoryTypeCount")?.u64()? as usize;
+        let types = p.get("memoryTypes")?.items()?;
+        self.memory_type_flags = types
+            .iter()
+            .take(n)
+            .map(|t| t.get("propertyFlags")?.flags(MEMORY_PROPERTIES))
+            .collect::<Got<_>>()?;
+        Ok(())
+    }
+
+    fn create_buffer(&mut self, args: &Arg<'_>) -> Got<()> {
+        let ci = args.get("pCreateInfo")?;
+        let buffer = args.get("pBuffer")?.handle()?;
+        self.buffers.insert(
+            buffer,
+            BufferInfo {
+                created_at: self.at,
+                size: ci.get("size")?.u64()?,
+                usage: ci.get("usage")?.flags(BUFFER_USAGE)?,
+                bound: None,
+                alignment: None,
+            },
+        );
+        Ok(())
+    }
+
+    fn create_image(&mut self, args: &Arg<'_>) -> Got<()> {
+        let ci = args.get("pCreateInfo")?;
+        let extent = ci.get("extent")?;
+        let image = args.get("pImage")?.handle()?;
+        let info = ImageInfo {
+            format: ci.get("format")?.name()?,
+            image_type: ci.get("imageType")?.name()?,
+            extent: [
+                extent.get("width")?.u32()?,
+                extent.get("height")?.u32()?,
+                extent.get("depth")?.u32()?,
+            ],
+            mips: ci.get("mipLevels")?.u32()?,
+            layers: ci.get("arrayLayers")?.u32()?,
+            samples: samples(&ci.get("samples")?)?,
+            usage: ci.get("usage")?.flags(IMAGE_USAGE)?,
+            create_flags: ci.opt("flags").map_or(Ok(0), |f| f.flags(IMAGE_CREATE))?,
+            bound: None,
+            alignment: None,
+            swapchain: None,
+            created_at: self.at,
+        };
+        self.images.insert(image, info);
+        Ok(())
+    }
+
+    fn memory_requirements(&mut self, object: Object, args: &Arg<'_>) -> Got<()> {
+        let (handle, req) = match args.opt("pInfo") {
+            Some(info) => {
+                let req = args.get("pMemoryRequirements")?;
+                let req = req.opt("memoryRequirements").unwrap_or(req);
+                (info.get(object.key())?.handle()?, req)
+            }
+            None => (
+                args.get(object.key())?.handle()?,
+                args.get("pMemoryRequirements")?,
+            ),
+        };
+        let alignment = req.get("alignment")?.u64()?;
+        if let Some(i) = self.images.get_mut(&handle) {
+            i.alignment = Some(alignment);
+        } else if let Some(b) = self.buffers.get_mut(&handle) {
+            b.alignment = Some(alignment);
+        }
+        Ok(())
+    }
+
+    fn create_image_view(&mut self, args: &Arg<'_>) -> Got<()> {
+        let ci = args.get("pCreateInfo")?;
+        let range = ci.get("subresourceRange")?;
+        let _aspect = range.get("aspectMask")?.flags(ASPECTS)?;
+        self.views.insert(
+            args.get("pView")?.handle()?,
+            ViewInfo {
+                image: ci.get("image")?.handle()?,
+                base_mip: range.get("baseMipLevel")?.u32()?,
+                mip_count: count(&range.get("levelCount")?)?,
+                base_layer: range.get("baseArrayLayer")?.u32()?,
+                layer_count: count(&range.get("layerCount")?)?,
+            },
+        );
+        Ok(())
+    }
+
+    fn update_descriptor_sets(&mut self, args: &Arg<'_>) -> Got<()> {
+        for w in args.list("pDescriptorWrites")? {
+            let set = w.get("dstSet")?.handle()?;
+            let written = descriptor_writes(&w)?;
+            let entry = self.sets.entry(set).or_default();
+            for (key, d) in written {
+                entry.insert(key, d);
+            }
+        }
+        for c in args.list("pDescriptorCopies")? {
+            let (src, dst) = (c.get("srcSet")?.handle()?, c.get("dstSet")?.handle()?);
+            let (sb, se) = (
+                c.get("srcBinding")?.u32()?,
+                c.get("srcArrayElement")?.u32()?,
+            );
+            let (db, de) = (
+                c.get("dstBinding")?.u32()?,
+                c.get("dstArrayElement")?.u32()?,
+            );
+            let n = c.get("descriptorCount")?.u32()?;
+            let copied: Vec<_> = (0..n.min(4096))
+                .filter_map(|k| {
+                    let d = self
+                        .sets
+                        .get(&src)?
+                        .get(&(sb, se.saturating_add(k)))?
+                        .clone();
+                    Some(((db, de.saturating_add(k)), d))
+                })
+                .collect();
+            let entry = self.sets.entry(dst).or_default();
+            entry.extend(copied);
+        }
+        Ok(())
+    }
+
+    fn create_swapchain(&mut self, args: &Arg<'_>) -> Got<()> {
+        let ci = args.get("pCreateInfo")?;
+        let extent = ci.get("imageExtent")?;
+        self.swapchains.insert(
+            args.get("pSwapchain")?.handle()?,
+            SwapchainInfo {
+                format: ci.get("imageFormat")?.name()?,
+                extent: [extent.get("width")?.u32()?, extent.get("height")?.u32()?],
+                layers: ci.get("imageArrayLayers")?.u32()?,
+                usage: ci.get("imageUsage")?.flags(IMAGE_USAGE)?,
+            },
+        );
+        Ok(())
+    }
+
+    /// Swapchain images become images of their own, described by their swapchain.
+    fn swapchain_images(&mut self, args: &Arg<'_>) -> Got<()> {
+        let chain = args.get("swapchain")?.handle()?;
+        let images: Vec<u64> = args
+            .list("pSwapchainImages")?
+            .iter()
+            .map(Arg::handle)
+            .collect::<Got<_>>()?;
+        // The count query (no images yet) describes nothing.
+        if images.is_empty() {
+            return Ok(());
+        }
+        let sc = self
+            .swapchains
+            .get(&chain)
+            .cloned()
+            .ok_or_else(|| Skip(format!("swapchain {chain} was never created")))?;
+        for (i, &img) in images.iter().enumerate() {
+            self.images.insert(
+                img,
+                ImageInfo {
+                    format: sc.format.clone(),
+                    image_type: "VK_IMAGE_TYPE_2D".to_owned(),
+                    extent: [sc.extent[0], sc.extent[1], 1],
+                    mips: 1,
+                    layers: sc.layers.max(1),
+                    samples: 1,
+                    usage: sc.usage,
+                    create_flags: 0,
+                    bound: None,
+                    alignment: None,
+                    swapchain: Some((chain, i as u32)),
+                    created_at: self.at,
+                },
+            );
+        }
+        self.swapchain_images.insert(chain, images);
+        Ok(())
     }
 
     fn bind(&mut self, handle: u64, memory: u64, offset: u64) {
@@ -572,6 +573,11 @@ pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
     Ok(out)
 }
 
+/// A render pass's layout, by name only: a number or an unknown name derives no transition.
+fn layout_name(a: &Arg<'_>) -> Got<Option<ImageLayout>> {
+    Ok(ImageLayout::from_name(&a.name()?))
+}
+
 fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
     let attachments = ci
         .list("pAttachments")?
@@ -582,16 +588,17 @@ fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
                 store: a.get("storeOp")?.name()?,
                 stencil_load: a.get("stencilLoadOp")?.name()?,
                 stencil_store: a.get("stencilStoreOp")?.name()?,
-                initial: a.get("initialLayout")?.name()?,
-                final_layout: a.get("finalLayout")?.name()?,
+                initial: layout_name(&a.get("initialLayout")?)?,
+                final_layout: layout_name(&a.get("finalLayout")?)?,
             })
         })
         .collect::<Got<Vec<_>>>()?;
-    let refs = |sp: &Arg<'_>, key: &str| -> Got<Vec<(u32, String)>> {
+    type Ref = (u32, Option<ImageLayout>);
+    let refs = |sp: &Arg<'_>, key: &str| -> Got<Vec<Ref>> {
         sp.list(key)?
             .iter()
-            .map(|r| Ok((r.get("attachment")?.u32()?, r.get("layout")?.name()?)))
-            .filter(|r: &Got<(u32, String)>| !matches!(r, Ok((u32::MAX, _))))
+            .map(|r| Ok((r.get("attachment")?.u32()?, layout_name(&r.get("layout")?)?)))
+            .filter(|r: &Got<Ref>| !matches!(r, Ok((u32::MAX, _))))
             .collect()
     };
     let subpasses = ci
@@ -605,7 +612,7 @@ fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
                     Some(d) => {
                         let a = d.get("attachment")?.u32()?;
                         (a != u32::MAX)
-                            .then(|| Ok((a, d.get("layout")?.name()?)))
+                            .then(|| Ok((a, layout_name(&d.get("layout")?)?)))
                             .transpose()?
                     }
                     None => None,
@@ -618,14 +625,13 @@ fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
         .list("pDependencies")?
         .iter()
         .map(|d| {
-            use crate::capture::vulkan::{ACCESS, STAGES};
             Ok(Dependency {
                 src_subpass: d.get("srcSubpass")?.u32()?,
                 dst_subpass: d.get("dstSubpass")?.u32()?,
-                src_stages: d.get("srcStageMask")?.flags(STAGES)?,
-                dst_stages: d.get("dstStageMask")?.flags(STAGES)?,
-                src_access: d.get("srcAccessMask")?.flags(ACCESS)?,
-                dst_access: d.get("dstAccessMask")?.flags(ACCESS)?,
+                src_stages: d.get("srcStageMask")?.stages()?,
+                dst_stages: d.get("dstStageMask")?.stages()?,
+                src_access: d.get("srcAccessMask")?.access()?,
+                dst_access: d.get("dstAccessMask")?.access()?,
             })
         })
         .collect::<Got<Vec<_>>>()?;

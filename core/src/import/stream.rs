@@ -6,6 +6,8 @@ use std::io::{BufRead, Read};
 
 use serde_json::Value;
 
+use super::calls::Func;
+
 /// Longest line read; a longer one is refused rather than buffered.
 pub const MAX_LINE_BYTES: u64 = 64 << 20;
 
@@ -17,6 +19,8 @@ pub struct Call {
     /// The converter's block index.
     pub index: u64,
     pub name: String,
+    /// The function `name` names, decoded once here for every later pass.
+    pub func: Func,
     pub args: Value,
     /// `VK_SUCCESS` or an error code; absent for void functions.
     pub result: Option<String>,
@@ -157,6 +161,7 @@ fn parse_entry(text: &[u8], line: u64) -> Result<Entry, LineError> {
             return Ok(Entry::Call(Call {
                 line,
                 index,
+                func: Func::of(&name),
                 name,
                 args,
                 result,

@@ -4,6 +4,8 @@
 
 use serde_json::Value;
 
+use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
+
 /// Why a call could not be used: the argument path and what is wrong with it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Skip(pub String);
@@ -163,6 +165,27 @@ impl<'a> Arg<'a> {
         Ok(mask)
     }
 
+    /// A `VkPipelineStageFlags(2)` value.
+    pub fn stages(&self) -> Got<PipelineStages> {
+        self.flags(PipelineStages::NAMES)
+            .map(PipelineStages::from_bits)
+    }
+
+    /// A `VkAccessFlags(2)` value.
+    pub fn access(&self) -> Got<AccessFlags> {
+        self.flags(AccessFlags::NAMES).map(AccessFlags::from_bits)
+    }
+
+    /// An image layout by name or value.
+    pub fn layout(&self) -> Got<ImageLayout> {
+        let n = self.name()?;
+        n.parse::<u64>()
+            .ok()
+            .and_then(ImageLayout::from_value)
+            .or_else(|| ImageLayout::from_name(&n))
+            .ok_or_else(|| Skip(format!("`{}`: unknown image layout {n}", self.path())))
+    }
+
     /// An enumerant's name (`VK_FORMAT_R8G8B8A8_UNORM`); numbers are given back as text.
     pub fn name(&self) -> Got<String> {
         match self.value {
@@ -275,12 +298,12 @@ mod tests {
         assert_eq!(
             symbol_value(
                 "VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT",
-                crate::capture::vulkan::STAGES
+                PipelineStages::NAMES
             ),
             Some(0x400)
         );
         assert_eq!(
-            symbol_value("VK_ACCESS_SHADER_READ_BIT", crate::capture::vulkan::ACCESS),
+            symbol_value("VK_ACCESS_SHADER_READ_BIT", AccessFlags::NAMES),
             Some(0x20)
         );
     }

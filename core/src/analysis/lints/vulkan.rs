@@ -19,84 +19,48 @@ use crate::capture::format::{Access, BarrierType, PassKind};
 use crate::capture::model::{
     Capture, PassDesc, PassId, QueueId, ResourceAccess, ResourceId, Subresources, VulkanBarrierDesc,
 };
-use crate::capture::vulkan::{self, ACCESS, STAGES, access, expand_access, expand_stages, stage};
+use crate::capture::vulkan::{AccessFlags as A, ImageLayout as L, PipelineStages as S};
 
-/// Layouts that serve a use needing `needed`.
-fn layout_serves(recorded: &str, needed: &str) -> bool {
-    recorded == needed
-        || (recorded == "GENERAL" && needed != "PRESENT_SRC_KHR")
-        || (recorded == "ATTACHMENT_OPTIMAL"
-            && matches!(
-                needed,
-                "COLOR_ATTACHMENT_OPTIMAL" | "DEPTH_STENCIL_ATTACHMENT_OPTIMAL"
-            ))
-        || (recorded == "READ_ONLY_OPTIMAL"
-            && matches!(
-                needed,
-                "SHADER_READ_ONLY_OPTIMAL" | "DEPTH_STENCIL_READ_ONLY_OPTIMAL"
-            ))
-        || (needed == "GENERAL" && recorded != "UNDEFINED" && recorded != "PRESENT_SRC_KHR")
-}
-
-fn names(table: &[(&str, u64)], m: u64) -> String {
-    let n = vulkan::mask_names(table, m);
-    if n.is_empty() {
-        "NONE".to_owned()
-    } else {
-        n.join("|")
-    }
-}
-
-/// Vulkan's scope of one access: stages, access bits and the image layouts that serve it.
-fn scope(a: Access, raster: bool) -> (u64, u64, Option<&'static str>) {
+/// Vulkan's scope of one access: stages, access bits and the image layout that serves it.
+fn scope(a: Access, raster: bool) -> (S, A, Option<L>) {
     let shader = if raster {
-        stage::VERTEX_SHADER | stage::FRAGMENT_SHADER
+        S::VERTEX_SHADER | S::FRAGMENT_SHADER
     } else {
-        stage::COMPUTE_SHADER
+        S::COMPUTE_SHADER
     };
-    let tests = stage::EARLY_FRAGMENT_TESTS | stage::LATE_FRAGMENT_TESTS;
+    let tests = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
     match a {
-        Access::Sampled => (
-            shader,
-            access::SHADER_READ,
-            Some("SHADER_READ_ONLY_OPTIMAL"),
-        ),
-        Access::StorageRead => (shader, access::SHADER_READ, Some("GENERAL")),
-        Access::StorageWrite | Access::StorageReadWrite => (
-            shader,
-            access::SHADER_READ | access::SHADER_WRITE,
-            Some("GENERAL"),
-        ),
-        Access::Uniform => (shader, access::UNIFORM_READ, None),
-        Access::IndirectArgs => (stage::DRAW_INDIRECT, access::INDIRECT_COMMAND_READ, None),
-        Access::VertexBuffer => (stage::VERTEX_INPUT, access::VERTEX_ATTRIBUTE_READ, None),
-        Access::IndexBuffer => (stage::VERTEX_INPUT, access::INDEX_READ, None),
-        Access::CopySrc | Access::ResolveSrc => (
-            stage::TRANSFER,
-            access::TRANSFER_READ,
-            Some("TRANSFER_SRC_OPTIMAL"),
-        ),
-        Access::CopyDst | Access::ResolveDst => (
-            stage::TRANSFER,
-            access::TRANSFER_WRITE,
-            Some("TRANSFER_DST_OPTIMAL"),
-        ),
+        Access::Sampled => (shader, A::SHADER_READ, Some(L::ShaderReadOnlyOptimal)),
+        Access::StorageRead => (shader, A::SHADER_READ, Some(L::General)),
+        Access::StorageWrite | Access::StorageReadWrite => {
+            (shader, A::SHADER_READ | A::SHADER_WRITE, Some(L::General))
+        }
+        Access::Uniform => (shader, A::UNIFORM_READ, None),
+        Access::IndirectArgs => (S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ, None),
+        Access::VertexBuffer => (S::VERTEX_INPUT, A::VERTEX_ATTRIBUTE_READ, None),
+        Access::IndexBuffer => (S::VERTEX_INPUT, A::INDEX_READ, None),
+        Access::CopySrc | Access::ResolveSrc => {
+            (S::TRANSFER, A::TRANSFER_READ, Some(L::TransferSrcOptimal))
+        }
+        Access::CopyDst | Access::ResolveDst => {
+            (S::TRANSFER, A::TRANSFER_WRITE, Some(L::TransferDstOptimal))
+        }
         Access::ColorAttachment => (
-            stage::COLOR_ATTACHMENT_OUTPUT,
-            access::COLOR_ATTACHMENT_READ | access::COLOR_ATTACHMENT_WRITE,
-            Some("COLOR_ATTACHMENT_OPTIMAL"),
+            S::COLOR_ATTACHMENT_OUTPUT,
+            A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
+            Some(L::ColorAttachmentOptimal),
         ),
         Access::DepthRead => (
             tests,
-            access::DEPTH_STENCIL_ATTACHMENT_READ,
-            Some("DEPTH_STENCIL_READ_ONLY_OPTIMAL"),
+            A::DEPTH_STENCIL_ATTACHMENT_READ,
+            Some(L::DepthStencilReadOnlyOptimal),
         ),
         Access::DepthWrite => (
             tests,
-            access::DEPTH_STENCIL_ATTACHMENT_READ | access::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            Some("DEPTH_STENCIL_ATTACHMENT_OPTIMAL"),
+            A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            Some(L::DepthStencilAttachmentOptimal),
         ),
-        Access::Present => (0, 0, Some("PRESENT_SRC_KHR")),
+        Access::Present => (S::EMPTY, A::EMPTY, Some(L::PresentSrc)),
     }
 }
 
@@ -104,14 +68,14 @@ fn scope(a: Access, raster: bool) -> (u64, u64, Option<&'static str>) {
 #[derive(Clone, Copy)]
 struct Use {
     pass: u32,
-    stages: u64,
-    access: u64,
+    stages: S,
+    access: A,
     writes: bool,
     /// Sees the previous contents (a load, a read-modify-write).
     reads: bool,
     /// Every write is a storage binding's assumed one.
     assumed: bool,
-    layout: Option<&'static str>,
+    layout: Option<L>,
 }
 
 /// `assumed`: storage bindings read and write by assumption (an import without shader code).
@@ -124,8 +88,8 @@ fn use_of(
 ) -> Use {
     let mut u = Use {
         pass,
-        stages: 0,
-        access: 0,
+        stages: S::EMPTY,
+        access: A::EMPTY,
         writes: false,
         reads: false,
         assumed: true,
@@ -145,20 +109,22 @@ fn use_of(
                 (None, l) => l,
                 (Some(prev), Some(l)) if prev != l => {
                     // Reading depth as an attachment and sampling it: the read-only layout.
-                    let depth_ro = "DEPTH_STENCIL_READ_ONLY_OPTIMAL";
-                    if (prev == depth_ro && l == "SHADER_READ_ONLY_OPTIMAL")
-                        || (l == depth_ro && prev == "SHADER_READ_ONLY_OPTIMAL")
+                    let depth_ro = L::DepthStencilReadOnlyOptimal;
+                    if (prev == depth_ro && l == L::ShaderReadOnlyOptimal)
+                        || (l == depth_ro && prev == L::ShaderReadOnlyOptimal)
                     {
                         Some(depth_ro)
                     } else {
-                        Some("GENERAL")
+                        Some(L::General)
                     }
                 }
                 (prev, _) => prev,
             };
         }
     }
-    u.access &= if u.writes { u64::MAX } else { !access::WRITES };
+    if !u.writes {
+        u.access = u.access & !A::WRITES;
+    }
     u
 }
 
@@ -170,12 +136,12 @@ struct Need {
     optional: bool,
     /// The use sees the previous contents.
     reads: bool,
-    src_stages: u64,
-    src_writes: u64,
-    dst_stages: u64,
-    dst_access: u64,
-    old_layout: Option<&'static str>,
-    layout: Option<&'static str>,
+    src_stages: S,
+    src_writes: A,
+    dst_stages: S,
+    dst_access: A,
+    old_layout: Option<L>,
+    layout: Option<L>,
 }
 
 impl Need {
@@ -188,10 +154,10 @@ impl Need {
             return layout.map(|l| Need {
                 optional: true,
                 reads: next.reads,
-                src_stages: 0,
-                src_writes: 0,
-                dst_stages: 0,
-                dst_access: 0,
+                src_stages: S::EMPTY,
+                src_writes: A::EMPTY,
+                dst_stages: S::EMPTY,
+                dst_access: A::EMPTY,
                 old_layout: None,
                 layout: Some(l),
             });
@@ -207,13 +173,13 @@ impl Need {
             optional: unproven,
             reads: next.reads,
             src_stages: prev.stages,
-            src_writes: prev.access & access::WRITES,
+            src_writes: prev.access & A::WRITES,
             dst_stages: next.stages,
             // After reads only an execution dependency is needed (unless the layout changes).
             dst_access: if prev.writes || relayout {
                 next.access
             } else {
-                0
+                A::EMPTY
             },
             old_layout: prev.layout.filter(|_| image),
             layout,
@@ -223,49 +189,37 @@ impl Need {
     /// What `r` lacks to satisfy this need; empty when it does.
     fn lacks(&self, r: &VulkanBarrierDesc) -> Vec<String> {
         let mut out = Vec::new();
-        let (ss, ds) = (expand_stages(r.src_stages), expand_stages(r.dst_stages));
-        let (sa, da) = (expand_access(r.src_access), expand_access(r.dst_access));
         // Both sides spelt out, so that SHADER_WRITE meets SHADER_STORAGE_WRITE and TRANSFER
         // meets COPY.
-        let (need_ss, need_ds) = (
-            expand_stages(self.src_stages),
-            expand_stages(self.dst_stages),
-        );
-        let (need_sa, need_da) = (
-            expand_access(self.src_writes),
-            expand_access(self.dst_access),
-        );
-        if self.src_stages != 0 && ss & need_ss == 0 {
+        let reaches = |have: S, need: S| have.expand().intersects(need.expand());
+        let covers = |have: A, need: A| have.expand().intersects(need.expand());
+        if !self.src_stages.is_empty() && !reaches(r.src_stages, self.src_stages) {
             out.push(format!(
                 "srcStageMask {} does not reach {}",
-                names(STAGES, r.src_stages),
-                names(STAGES, self.src_stages)
+                r.src_stages, self.src_stages
             ));
         }
-        if self.src_writes != 0 && sa & need_sa == 0 {
+        if !self.src_writes.is_empty() && !covers(r.src_access, self.src_writes) {
             out.push(format!(
                 "srcAccessMask {} does not make {} available",
-                names(ACCESS, r.src_access),
-                names(ACCESS, self.src_writes)
+                r.src_access, self.src_writes
             ));
         }
-        if self.dst_stages != 0 && ds & need_ds == 0 {
+        if !self.dst_stages.is_empty() && !reaches(r.dst_stages, self.dst_stages) {
             out.push(format!(
                 "dstStageMask {} does not reach {}",
-                names(STAGES, r.dst_stages),
-                names(STAGES, self.dst_stages)
+                r.dst_stages, self.dst_stages
             ));
         }
-        if self.dst_access != 0 && da & need_da == 0 {
+        if !self.dst_access.is_empty() && !covers(r.dst_access, self.dst_access) {
             out.push(format!(
                 "dstAccessMask {} does not make it visible to {}",
-                names(ACCESS, r.dst_access),
-                names(ACCESS, self.dst_access)
+                r.dst_access, self.dst_access
             ));
         }
         if let Some(needed) = self.layout {
             match r.new_layout {
-                Some(l) if layout_serves(l, needed) => {}
+                Some(l) if l.serves(needed) => {}
                 Some(l) => out.push(format!("newLayout {l} where the pass needs {needed}")),
                 None if self.old_layout.is_some_and(|o| o != needed) => {
                     out.push(format!("no layout transition to {needed}"));
@@ -279,13 +233,13 @@ impl Need {
     fn describe(&self) -> String {
         let mut t = format!(
             "{}/{} -> {}/{}",
-            names(STAGES, self.src_stages),
-            names(ACCESS, self.src_writes),
-            names(STAGES, self.dst_stages),
-            names(ACCESS, self.dst_access)
+            self.src_stages, self.src_writes, self.dst_stages, self.dst_access
         );
         if let Some(l) = self.layout {
-            t += &format!(", layout {} -> {l}", self.old_layout.unwrap_or("UNDEFINED"));
+            t += &format!(
+                ", layout {} -> {l}",
+                self.old_layout.unwrap_or(L::Undefined)
+            );
         }
         t
     }
@@ -423,10 +377,7 @@ pub(super) fn compare_vulkan(
             (Some(a), Some(b)) if a != b => format!("layout transition {a} -> {b}"),
             _ => format!(
                 "{}/{} -> {}/{} dependency",
-                names(STAGES, v.src_stages),
-                names(ACCESS, v.src_access),
-                names(STAGES, v.dst_stages),
-                names(ACCESS, v.dst_access)
+                v.src_stages, v.src_access, v.dst_stages, v.dst_access
             ),
         };
         let on = r.map_or_else(
@@ -493,29 +444,28 @@ fn judge(
         Some(&&(p, i, _, v, _)) => {
             used.insert((p, i));
             if let (Some(old), Some(current)) = (v.old_layout, need.old_layout)
-                && old != "UNDEFINED"
-                && !layout_serves(old, current)
+                && old != L::Undefined
+                && !old.serves(current)
             {
                 out.push(lint(LintKind::BarrierWrongBeforeState, format!(
                     "\"{pname}\": {} takes \"{name}\" from {old}, but it is in {current}", v.origin
                 ), Some(pass), Some(resource)));
             }
-            if v.old_layout == Some("UNDEFINED") && need.old_layout.is_some() && need.src_writes != 0 && need.reads {
+            if v.old_layout == Some(L::Undefined) && need.old_layout.is_some() && !need.src_writes.is_empty() && need.reads {
                 out.push(lint(LintKind::BarrierWrongBeforeState, format!(
                     "\"{pname}\": {} takes \"{name}\" from UNDEFINED, discarding what an earlier pass wrote", v.origin
                 ), Some(pass), Some(resource)));
             }
-            let every = access::MEMORY_READ | access::MEMORY_WRITE;
-            let broad_src = v.src_stages & stage::ALL_COMMANDS != 0 && need.src_stages != 0;
-            let broad_dst = v.dst_stages & stage::ALL_COMMANDS != 0 && need.dst_stages != 0;
-            let broad_access = (v.src_access & access::MEMORY_WRITE != 0 && need.src_writes != 0)
-                || (v.dst_access & every != 0 && need.dst_access != 0);
+            let every = A::MEMORY_READ | A::MEMORY_WRITE;
+            let broad_src = v.src_stages.intersects(S::ALL_COMMANDS) && !need.src_stages.is_empty();
+            let broad_dst = v.dst_stages.intersects(S::ALL_COMMANDS) && !need.dst_stages.is_empty();
+            let broad_access = (v.src_access.intersects(A::MEMORY_WRITE) && !need.src_writes.is_empty())
+                || (v.dst_access.intersects(every) && !need.dst_access.is_empty());
             if (broad_src || broad_dst || broad_access) && !v.origin.contains("implicit") {
                 out.push(lint(LintKind::BarrierOverBroad, format!(
                     "\"{pname}\": {} on \"{name}\" waits on {}/{} -> {}/{}; {} is enough",
                     v.origin,
-                    names(STAGES, v.src_stages), names(ACCESS, v.src_access),
-                    names(STAGES, v.dst_stages), names(ACCESS, v.dst_access),
+                    v.src_stages, v.src_access, v.dst_stages, v.dst_access,
                     need.describe()
                 ), Some(pass), Some(resource)));
             }

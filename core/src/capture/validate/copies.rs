@@ -441,7 +441,7 @@ impl<'a> Validator<'a> {
         b: &RecordedBarrier,
         path: &JsonPath,
     ) -> Option<VulkanBarrierDesc> {
-        use crate::capture::vulkan;
+        use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
         let vpath = path.field("vulkan");
         let v = match (&b.vulkan, b.barrier_type) {
             (Some(v), BarrierType::Vulkan) => v,
@@ -463,39 +463,41 @@ impl<'a> Validator<'a> {
             }
             (None, _) => return None,
         };
-        let mut mask =
-            |table: &[(&str, u64)], names: &Vec<String>, field: &str| match vulkan::parse_mask(
-                table, names,
-            ) {
-                Ok(m) => m,
-                Err(bad) => {
-                    let known: Vec<&str> = table.iter().map(|(n, _)| *n).collect();
-                    let suggestion = suggest(bad, known);
-                    self.diags.error_with_suggestion(
-                        "barrier",
-                        &vpath.field(field),
-                        format!(
-                            "unknown Vulkan {} \"{bad}\"",
-                            if field.ends_with("stages") {
-                                "pipeline stage"
-                            } else {
-                                "access flag"
-                            }
-                        ),
-                        suggestion,
-                    );
-                    0
-                }
+        let mut unknown = |bad: &str, known: &[(&str, u64)], field: &str| {
+            let suggestion = suggest(bad, known.iter().map(|(n, _)| *n));
+            let what = if field.ends_with("stages") {
+                "pipeline stage"
+            } else {
+                "access flag"
             };
-        let src_stages = mask(vulkan::STAGES, &v.src_stages, "src_stages");
-        let dst_stages = mask(vulkan::STAGES, &v.dst_stages, "dst_stages");
-        let src_access = mask(vulkan::ACCESS, &v.src_access, "src_access");
-        let dst_access = mask(vulkan::ACCESS, &v.dst_access, "dst_access");
+            self.diags.error_with_suggestion(
+                "barrier",
+                &vpath.field(field),
+                format!("unknown Vulkan {what} \"{bad}\""),
+                suggestion,
+            );
+        };
+        let mut stages = |names: &Vec<String>, field: &str| {
+            PipelineStages::parse(names).unwrap_or_else(|bad| {
+                unknown(bad, PipelineStages::NAMES, field);
+                PipelineStages::EMPTY
+            })
+        };
+        let src_stages = stages(&v.src_stages, "src_stages");
+        let dst_stages = stages(&v.dst_stages, "dst_stages");
+        let mut access = |names: &Vec<String>, field: &str| {
+            AccessFlags::parse(names).unwrap_or_else(|bad| {
+                unknown(bad, AccessFlags::NAMES, field);
+                AccessFlags::EMPTY
+            })
+        };
+        let src_access = access(&v.src_access, "src_access");
+        let dst_access = access(&v.dst_access, "dst_access");
         let mut layout = |name: &Option<String>, field: &str| {
             let n = name.as_deref()?;
-            let found = vulkan::layout(n);
+            let found = ImageLayout::from_name(n);
             if found.is_none() {
-                let suggestion = suggest(n, vulkan::LAYOUTS.iter().map(|(l, _)| *l));
+                let suggestion = suggest(n, ImageLayout::ALL.iter().map(|l| l.name()));
                 self.diags.error_with_suggestion(
                     "barrier",
                     &vpath.field(field),

@@ -1,0 +1,300 @@
+//! Which Vulkan function a stream line calls, decoded once from its name as the line is read.
+//!
+//! The importer's passes match on these variants rather than on names, so aliases (the `KHR`
+//! and `2` spellings of one function) are folded in one place, and a function the importer
+//! handles cannot be missed by a pass for a misspelt name. Arguments stay JSON until the pass
+//! that needs them reads them, so that a malformed argument is reported (and the call left
+//! out) exactly where it matters.
+
+/// An image or a buffer: the calls that come in both flavours.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Object {
+    Image,
+    Buffer,
+}
+
+impl Object {
+    /// The member naming the handle.
+    pub fn key(self) -> &'static str {
+        match self {
+            Object::Image => "image",
+            Object::Buffer => "buffer",
+        }
+    }
+}
+
+/// A Vulkan function outside command buffers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Func {
+    /// A `vkCmd*` function: recorded into its command buffer.
+    Cmd(CmdFunc),
+    AllocateCommandBuffers,
+    /// `vkBeginCommandBuffer` or `vkResetCommandBuffer`: the buffer starts empty.
+    ResetCommandBuffer,
+    FreeCommandBuffers,
+    ResetCommandPool,
+    /// `vkQueueSubmit`, or (`v2`) `vkQueueSubmit2`.
+    QueueSubmit {
+        v2: bool,
+    },
+    QueuePresent,
+    QueueFamilyProperties,
+    MemoryProperties,
+    GetDeviceQueue,
+    GetDeviceQueue2,
+    AllocateMemory,
+    CreateImage,
+    CreateBuffer,
+    MemoryRequirements(Object),
+    BindMemory(Object),
+    BindMemory2(Object),
+    CreateImageView,
+    CreateBufferView,
+    CreateRenderPass,
+    CreateFramebuffer,
+    AllocateDescriptorSets,
+    UpdateDescriptorSets,
+    UpdateDescriptorSetWithTemplate,
+    CreateSwapchain,
+    GetSwapchainImages,
+    SetDebugUtilsObjectName,
+    DebugMarkerSetObjectName,
+    MapMemory,
+    /// Creates or records nothing framelab models.
+    Other,
+}
+
+/// The source and destination kinds of a copy command.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CopyKind {
+    BufferToBuffer,
+    BufferToImage,
+    ImageToBuffer,
+    ImageToImage,
+}
+
+impl CopyKind {
+    /// The members naming the source and the destination.
+    pub fn keys(self) -> (&'static str, &'static str) {
+        match self {
+            CopyKind::BufferToBuffer => ("srcBuffer", "dstBuffer"),
+            CopyKind::BufferToImage => ("srcBuffer", "dstImage"),
+            CopyKind::ImageToBuffer => ("srcImage", "dstBuffer"),
+            CopyKind::ImageToImage => ("srcImage", "dstImage"),
+        }
+    }
+
+    /// The member of the `*2` variant that holds the arguments.
+    pub fn info_key(self) -> &'static str {
+        match self {
+            CopyKind::BufferToBuffer => "pCopyBufferInfo",
+            CopyKind::BufferToImage => "pCopyBufferToImageInfo",
+            CopyKind::ImageToBuffer => "pCopyImageToBufferInfo",
+            CopyKind::ImageToImage => "pCopyImageInfo",
+        }
+    }
+}
+
+/// A `vkCmd*` function.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CmdFunc {
+    BindDescriptorSets,
+    PushDescriptorSet,
+    PushDescriptorSetWithTemplate,
+    BindVertexBuffers,
+    BindIndexBuffer,
+    Draw {
+        indexed: bool,
+    },
+    DrawIndirect {
+        indexed: bool,
+    },
+    Dispatch,
+    DispatchIndirect,
+    /// `vkCmdPipelineBarrier` or `vkCmdWaitEvents`: stage masks on the call.
+    PipelineBarrier,
+    PipelineBarrier2,
+    WaitEvents2,
+    BeginRenderPass,
+    NextSubpass,
+    /// The end of a render pass instance or of dynamic rendering.
+    EndRender,
+    BeginRendering,
+    /// A copy; `v2`: the arguments sit in a `*Info` structure.
+    Copy {
+        kind: CopyKind,
+        v2: bool,
+    },
+    ClearImage,
+    FillBuffer,
+    ResolveImage,
+    BeginDebugLabel,
+    BeginDebugMarker,
+    EndLabel,
+    ExecuteCommands,
+    /// Scaled blits: no pass kind holds them.
+    Blit,
+    ClearAttachments,
+    /// Work framelab's passes cannot hold (indirect counts, mesh tasks, ray tracing, ...).
+    NotImported,
+    /// State setting, queries and the like: touches no resource framelab models.
+    Other,
+}
+
+impl Func {
+    pub fn of(name: &str) -> Func {
+        if name.starts_with("vkCmd") {
+            return Func::Cmd(CmdFunc::of(name));
+        }
+        let image = if name.contains("Image") {
+            Object::Image
+        } else {
+            Object::Buffer
+        };
+        match name {
+            "vkAllocateCommandBuffers" => Func::AllocateCommandBuffers,
+            "vkBeginCommandBuffer" | "vkResetCommandBuffer" => Func::ResetCommandBuffer,
+            "vkFreeCommandBuffers" => Func::FreeCommandBuffers,
+            "vkResetCommandPool" => Func::ResetCommandPool,
+            "vkQueueSubmit" => Func::QueueSubmit { v2: false },
+            "vkQueueSubmit2" | "vkQueueSubmit2KHR" => Func::QueueSubmit { v2: true },
+            "vkQueuePresentKHR" => Func::QueuePresent,
+            "vkGetPhysicalDeviceQueueFamilyProperties"
+            | "vkGetPhysicalDeviceQueueFamilyProperties2"
+            | "vkGetPhysicalDeviceQueueFamilyProperties2KHR" => Func::QueueFamilyProperties,
+            "vkGetPhysicalDeviceMemoryProperties"
+            | "vkGetPhysicalDeviceMemoryProperties2"
+            | "vkGetPhysicalDeviceMemoryProperties2KHR" => Func::MemoryProperties,
+            "vkGetDeviceQueue" => Func::GetDeviceQueue,
+            "vkGetDeviceQueue2" => Func::GetDeviceQueue2,
+            "vkAllocateMemory" => Func::AllocateMemory,
+            "vkCreateImage" => Func::CreateImage,
+            "vkCreateBuffer" => Func::CreateBuffer,
+            "vkGetImageMemoryRequirements"
+            | "vkGetImageMemoryRequirements2"
+            | "vkGetImageMemoryRequirements2KHR"
+            | "vkGetBufferMemoryRequirements"
+            | "vkGetBufferMemoryRequirements2"
+            | "vkGetBufferMemoryRequirements2KHR" => Func::MemoryRequirements(image),
+            "vkBindImageMemory" | "vkBindBufferMemory" => Func::BindMemory(image),
+            "vkBindImageMemory2"
+            | "vkBindImageMemory2KHR"
+            | "vkBindBufferMemory2"
+            | "vkBindBufferMemory2KHR" => Func::BindMemory2(image),
+            "vkCreateImageView" => Func::CreateImageView,
+            "vkCreateBufferView" => Func::CreateBufferView,
+            "vkCreateRenderPass" | "vkCreateRenderPass2" | "vkCreateRenderPass2KHR" => {
+                Func::CreateRenderPass
+            }
+            "vkCreateFramebuffer" => Func::CreateFramebuffer,
+            "vkAllocateDescriptorSets" => Func::AllocateDescriptorSets,
+            "vkUpdateDescriptorSets" => Func::UpdateDescriptorSets,
+            "vkUpdateDescriptorSetWithTemplate" | "vkUpdateDescriptorSetWithTemplateKHR" => {
+                Func::UpdateDescriptorSetWithTemplate
+            }
+            "vkCreateSwapchainKHR" => Func::CreateSwapchain,
+            "vkGetSwapchainImagesKHR" => Func::GetSwapchainImages,
+            "vkSetDebugUtilsObjectNameEXT" => Func::SetDebugUtilsObjectName,
+            "vkDebugMarkerSetObjectNameEXT" => Func::DebugMarkerSetObjectName,
+            "vkMapMemory" | "vkMapMemory2KHR" | "vkMapMemory2" => Func::MapMemory,
+            _ => Func::Other,
+        }
+    }
+}
+
+impl CmdFunc {
+    pub fn of(name: &str) -> CmdFunc {
+        use CmdFunc as C;
+        use CopyKind as K;
+        let copy = |kind, v2| C::Copy { kind, v2 };
+        match name {
+            "vkCmdBindDescriptorSets" => C::BindDescriptorSets,
+            "vkCmdPushDescriptorSetKHR" | "vkCmdPushDescriptorSet" => C::PushDescriptorSet,
+            "vkCmdPushDescriptorSetWithTemplateKHR" | "vkCmdPushDescriptorSetWithTemplate" => {
+                C::PushDescriptorSetWithTemplate
+            }
+            "vkCmdBlitImage" | "vkCmdBlitImage2" | "vkCmdBlitImage2KHR" => C::Blit,
+            "vkCmdClearAttachments" => C::ClearAttachments,
+            "vkCmdDrawIndirectCount"
+            | "vkCmdDrawIndirectCountKHR"
+            | "vkCmdDrawIndexedIndirectCount"
+            | "vkCmdDrawIndexedIndirectCountKHR"
+            | "vkCmdDrawMeshTasksEXT"
+            | "vkCmdDrawMeshTasksIndirectEXT"
+            | "vkCmdTraceRaysKHR"
+            | "vkCmdBuildAccelerationStructuresKHR"
+            | "vkCmdCopyQueryPoolResults" => C::NotImported,
+            "vkCmdBindVertexBuffers" | "vkCmdBindVertexBuffers2" | "vkCmdBindVertexBuffers2EXT" => {
+                C::BindVertexBuffers
+            }
+            "vkCmdBindIndexBuffer" | "vkCmdBindIndexBuffer2KHR" | "vkCmdBindIndexBuffer2" => {
+                C::BindIndexBuffer
+            }
+            "vkCmdDraw" => C::Draw { indexed: false },
+            "vkCmdDrawIndexed" => C::Draw { indexed: true },
+            "vkCmdDrawIndirect" => C::DrawIndirect { indexed: false },
+            "vkCmdDrawIndexedIndirect" => C::DrawIndirect { indexed: true },
+            "vkCmdDispatch" | "vkCmdDispatchBase" | "vkCmdDispatchBaseKHR" => C::Dispatch,
+            "vkCmdDispatchIndirect" => C::DispatchIndirect,
+            "vkCmdPipelineBarrier" | "vkCmdWaitEvents" => C::PipelineBarrier,
+            "vkCmdPipelineBarrier2" | "vkCmdPipelineBarrier2KHR" => C::PipelineBarrier2,
+            "vkCmdWaitEvents2" | "vkCmdWaitEvents2KHR" => C::WaitEvents2,
+            "vkCmdBeginRenderPass" | "vkCmdBeginRenderPass2" | "vkCmdBeginRenderPass2KHR" => {
+                C::BeginRenderPass
+            }
+            "vkCmdNextSubpass" | "vkCmdNextSubpass2" | "vkCmdNextSubpass2KHR" => C::NextSubpass,
+            "vkCmdEndRenderPass"
+            | "vkCmdEndRenderPass2"
+            | "vkCmdEndRenderPass2KHR"
+            | "vkCmdEndRendering"
+            | "vkCmdEndRenderingKHR" => C::EndRender,
+            "vkCmdBeginRendering" | "vkCmdBeginRenderingKHR" => C::BeginRendering,
+            "vkCmdCopyBuffer" => copy(K::BufferToBuffer, false),
+            "vkCmdCopyBufferToImage" => copy(K::BufferToImage, false),
+            "vkCmdCopyImageToBuffer" => copy(K::ImageToBuffer, false),
+            "vkCmdCopyImage" => copy(K::ImageToImage, false),
+            "vkCmdCopyBuffer2" | "vkCmdCopyBuffer2KHR" => copy(K::BufferToBuffer, true),
+            "vkCmdCopyBufferToImage2" | "vkCmdCopyBufferToImage2KHR" => {
+                copy(K::BufferToImage, true)
+            }
+            "vkCmdCopyImageToBuffer2" | "vkCmdCopyImageToBuffer2KHR" => {
+                copy(K::ImageToBuffer, true)
+            }
+            "vkCmdCopyImage2" | "vkCmdCopyImage2KHR" => copy(K::ImageToImage, true),
+            "vkCmdClearColorImage" | "vkCmdClearDepthStencilImage" => C::ClearImage,
+            "vkCmdFillBuffer" | "vkCmdUpdateBuffer" => C::FillBuffer,
+            "vkCmdResolveImage" => C::ResolveImage,
+            "vkCmdBeginDebugUtilsLabelEXT" => C::BeginDebugLabel,
+            "vkCmdDebugMarkerBeginEXT" => C::BeginDebugMarker,
+            "vkCmdEndDebugUtilsLabelEXT" | "vkCmdDebugMarkerEndEXT" => C::EndLabel,
+            "vkCmdExecuteCommands" => C::ExecuteCommands,
+            _ => C::Other,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn aliases_fold_into_one_function() {
+        assert_eq!(
+            Func::of("vkQueueSubmit2KHR"),
+            Func::QueueSubmit { v2: true }
+        );
+        assert_eq!(
+            Func::of("vkGetBufferMemoryRequirements2"),
+            Func::MemoryRequirements(Object::Buffer)
+        );
+        assert_eq!(
+            Func::of("vkCmdCopyImageToBuffer2KHR"),
+            Func::Cmd(CmdFunc::Copy {
+                kind: CopyKind::ImageToBuffer,
+                v2: true
+            })
+        );
+        assert_eq!(Func::of("vkCmdSetViewport"), Func::Cmd(CmdFunc::Other));
+        assert_eq!(Func::of("vkCreateSampler"), Func::Other);
+    }
+}

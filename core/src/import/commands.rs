@@ -1,0 +1,176 @@
+//! The commands a command buffer holds once recorded, as the recording and the render pass
+//! resolution make them and the builder reads them. A module of its own so that the
+//! recording (which calls the render pass resolution) and the resolution (which makes these)
+//! share them without importing each other.
+
+use super::state::Descriptor;
+use super::value::Arg;
+use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
+
+/// Most draws one indirect call is expanded into.
+pub const MAX_INDIRECT_DRAWS: u32 = 4096;
+
+/// A mip or layer range: base, and count (`None`: VK_REMAINING_*, to the end).
+pub type LevelRange = (u32, Option<u32>);
+
+/// A descriptor a draw or dispatch can reach, with dynamic offsets applied.
+#[derive(Clone, Debug)]
+pub struct Use {
+    pub set: u32,
+    pub binding: u32,
+    pub element: u32,
+    pub descriptor: Descriptor,
+}
+
+#[derive(Clone, Debug)]
+pub struct DrawCmd {
+    pub count: u32,
+    pub instances: u32,
+    pub first: u32,
+    pub base_vertex: i32,
+    pub first_instance: u32,
+    pub indirect: Option<(u64, u64)>,
+    pub uses: Vec<Use>,
+    pub vertex_buffers: Vec<u64>,
+    pub index_buffer: Option<u64>,
+}
+
+#[derive(Clone, Debug)]
+pub struct DispatchCmd {
+    pub groups: Option<[u32; 3]>,
+    pub indirect: Option<(u64, u64)>,
+    pub uses: Vec<Use>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum BarrierTarget {
+    Global,
+    Buffer {
+        buffer: u64,
+    },
+    Image {
+        image: u64,
+        mips: (u32, Option<u32>),
+        layers: (u32, Option<u32>),
+    },
+}
+
+#[derive(Clone, Debug)]
+pub struct BarrierCmd {
+    pub origin: String,
+    pub target: BarrierTarget,
+    pub src_stages: PipelineStages,
+    pub dst_stages: PipelineStages,
+    pub src_access: AccessFlags,
+    pub dst_access: AccessFlags,
+    pub layouts: Option<(ImageLayout, ImageLayout)>,
+    pub families: Option<(u32, u32)>,
+}
+
+#[derive(Clone, Debug)]
+pub struct AttUse {
+    pub view: u64,
+    pub load: String,
+    pub store: String,
+    pub clear: [f64; 4],
+}
+
+#[derive(Clone, Debug)]
+pub struct DepthUse {
+    pub view: u64,
+    pub load: String,
+    pub store: String,
+    pub stencil_load: String,
+    pub stencil_store: String,
+    pub depth_clear: f64,
+    pub stencil_clear: u32,
+    pub read_only: bool,
+}
+
+/// The attachments of one subpass (or of one dynamic rendering instance).
+#[derive(Clone, Debug, Default)]
+pub struct SubpassUse {
+    pub colors: Vec<AttUse>,
+    pub depth: Option<DepthUse>,
+    pub resolves: Vec<(u64, u64)>,
+}
+
+#[derive(Clone, Debug)]
+pub struct RenderInstance {
+    pub subpasses: Vec<SubpassUse>,
+    /// Layout transitions the render pass performs at its start and its end.
+    pub begin_barriers: Vec<BarrierCmd>,
+    pub end_barriers: Vec<BarrierCmd>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Region {
+    pub src_mip: u32,
+    pub src_layer: u32,
+    pub src_origin: [u32; 3],
+    pub src_offset: u64,
+    pub dst_mip: u32,
+    pub dst_layer: u32,
+    pub dst_origin: [u32; 3],
+    pub dst_offset: u64,
+    /// Buffer to buffer: bytes.
+    pub size: Option<u64>,
+    /// With a texture: texels.
+    pub extent: Option<[u32; 3]>,
+    /// Buffer footprint: texels per row (0: tightly packed).
+    pub row_texels: u32,
+}
+
+#[derive(Clone, Debug)]
+pub enum TransferCmd {
+    Copy {
+        call: String,
+        src: u64,
+        dst: u64,
+        regions: Vec<Region>,
+    },
+    Clear {
+        call: String,
+        target: u64,
+        value: [f64; 4],
+        stencil: u32,
+        ranges: Vec<(LevelRange, LevelRange)>,
+    },
+    Fill {
+        call: String,
+        buffer: u64,
+    },
+    Resolve {
+        src: u64,
+        dst: u64,
+    },
+}
+
+#[derive(Clone, Debug)]
+pub enum Cmd {
+    BeginRender(Box<RenderInstance>),
+    NextSubpass,
+    EndRender,
+    Draw(Box<DrawCmd>),
+    Dispatch(Box<DispatchCmd>),
+    Barrier(Vec<BarrierCmd>),
+    Transfer(Box<TransferCmd>),
+    BeginLabel(String),
+    EndLabel,
+    Execute(Vec<u64>),
+}
+
+/// A clear value as `[r, g, b, a]`; whichever of the float, uint or int members is present.
+pub fn clear_color(v: &Arg<'_>) -> [f64; 4] {
+    let mut out = [0.0; 4];
+    let color = v.opt("color").unwrap_or_else(|| v.clone());
+    for key in ["float32", "uint32", "int32"] {
+        if let Some(list) = color.opt(key).and_then(|l| l.items().ok()) {
+            for (o, x) in out.iter_mut().zip(&list) {
+                *o = x.f64().unwrap_or(0.0);
+            }
+            break;
+        }
+    }
+    out
+}
