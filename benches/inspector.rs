@@ -18,21 +18,6 @@ use framelab_core::pipeline::Analysed;
 use framelab_ui::project::{self as inspect, Reports};
 use framelab_ui::{Inspector, egui, headless};
 
-/// Tests name passes and resources as a user would; the model itself is keyed by id.
-trait ByName {
-    fn pass_named(&self, name: &str) -> Option<usize>;
-    fn resource_named(&self, name: &str) -> Option<usize>;
-}
-
-impl ByName for framelab_ui::model::Inspection {
-    fn pass_named(&self, name: &str) -> Option<usize> {
-        self.passes.iter().position(|p| p.name == name)
-    }
-    fn resource_named(&self, name: &str) -> Option<usize> {
-        self.resources.iter().position(|r| r.name == name)
-    }
-}
-
 const CAPTURE: &str = "captures/night_city/main_street_day.json";
 const SETTLE: Duration = Duration::from_secs(1200);
 
@@ -45,6 +30,12 @@ fn main() {
     };
     let analysed =
         Analysed::load(&path, &options, AnalyzeOptions::default()).expect("valid and acyclic");
+    // Named as a user would, resolved to ids once.
+    let c = &analysed.capture;
+    let pass_id = |name: &str| c.passes.iter().find(|p| p.name == name).expect(name).id;
+    let resource_id = |name: &str| c.resources.iter().find(|r| r.name == name).expect(name).id;
+    let (base, lighting) = (pass_id("base_material"), pass_id("tiled_direct_lighting"));
+    let albedo = resource_id("gbuffer_albedo");
     let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
         .expect("an adapter");
     let (model, worker) =
@@ -52,20 +43,16 @@ fn main() {
     let rs = headless::render_state(&ctx).expect("egui on the replay device");
     let mut app = Inspector::new(model, Some(worker), Some(rs.clone()));
     let model = app.model.clone();
-    app.select_pass(model.pass_named("base_material").expect("base_material"));
-    app.open_resource(
-        model
-            .resource_named("gbuffer_albedo")
-            .expect("gbuffer_albedo"),
-    );
+    app.select_pass(model.pass_position(base).expect("base_material is shown"));
+    app.open_resource(model.resource_position(albedo).expect("gbuffer_albedo"));
     let mut h = headless::harness(app, rs, egui::Vec2::new(1600.0, 900.0));
     headless::settle(&mut h, SETTLE).expect("first view");
     let first = start.elapsed();
     let switch_start = Instant::now();
     h.state_mut().select_pass(
         model
-            .pass_named("tiled_direct_lighting")
-            .expect("tiled_direct_lighting"),
+            .pass_position(lighting)
+            .expect("tiled_direct_lighting is shown"),
     );
     headless::settle(&mut h, SETTLE).expect("switched");
     let switch = switch_start.elapsed();

@@ -3,6 +3,7 @@
 //! so they can be tested on a fixed model; passes and resources keep their capture ids so
 //! that anything naming one (the command line, a test) finds it without matching names.
 
+pub use framelab_core::analysis::graph::EdgeKind;
 pub use framelab_core::capture::model::{PassId, ResourceId};
 pub use framelab_core::layout::{BufferLayout, Field, Scalar};
 
@@ -36,19 +37,6 @@ pub struct Edge {
     pub kind: EdgeKind,
     /// The resource of a data hazard.
     pub resource: Option<String>,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EdgeKind {
-    /// Read after write.
-    Raw,
-    /// Write after read.
-    War,
-    /// Write after write.
-    Waw,
-    /// Submission order on a queue.
-    Queue,
-    Fence,
 }
 
 /// One resource in the aliasing plan: its pool (heap type, or heap type and category), its

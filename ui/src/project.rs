@@ -616,8 +616,6 @@ fn compare_from(
 }
 
 fn edges(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<crate::model::Edge> {
-    use crate::model::EdgeKind;
-    use framelab_core::analysis::graph::EdgeKind as K;
     use petgraph::visit::EdgeRef;
     let mut out: Vec<crate::model::Edge> = a
         .graph
@@ -629,13 +627,7 @@ fn edges(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<crate::model
             Some(crate::model::Edge {
                 from,
                 to,
-                kind: match e.weight().kind {
-                    K::Raw => EdgeKind::Raw,
-                    K::War => EdgeKind::War,
-                    K::Waw => EdgeKind::Waw,
-                    K::Queue => EdgeKind::Queue,
-                    K::Fence => EdgeKind::Fence,
-                },
+                kind: e.weight().kind,
                 resource: e
                     .weight()
                     .resource

@@ -7,7 +7,8 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use super::commands::{
-    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, Region, RenderInstance, TransferCmd, Use,
+    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, Region, RenderInstance,
+    TransferCmd, Use,
 };
 use super::record::Recording;
 use super::state::{Descriptor, Objects};
@@ -725,150 +726,158 @@ impl Builder {
     fn transfer(&mut self, objects: &Objects, queue: u64, t: &TransferCmd) {
         match t {
             TransferCmd::Copy {
-                call,
+                name,
                 src,
                 dst,
                 regions,
-            } => {
-                let (Some(sn), Some(dn)) =
-                    (self.resource(objects, *src), self.resource(objects, *dst))
-                else {
-                    return;
-                };
-                let base = call
-                    .trim_start_matches("vkCmd")
-                    .trim_end_matches("KHR")
-                    .trim_end_matches('2');
-                let Some(pass) = self.new_pass(objects, queue, PassKind::Copy, &snake(base)) else {
-                    return;
-                };
-                let texel_bytes = |h: u64| {
-                    objects
-                        .images
-                        .get(&h)
-                        .and_then(|i| dxgi::lookup_vk(&i.format))
-                        .map(|f| (u64::from(f.bits_per_element) / 8, f.block_width.max(1)))
-                };
-                let footprint = texel_bytes(*src).or_else(|| texel_bytes(*dst));
-                for r in regions {
-                    let row = |r: &Region| {
-                        let (bytes, bw) = footprint?;
-                        let texels = if r.row_texels == 0 {
-                            r.extent?[0]
-                        } else {
-                            r.row_texels
-                        };
-                        u32::try_from(u64::from(texels.div_ceil(bw)) * bytes).ok()
-                    };
-                    let src_is_buffer = objects.buffers.contains_key(src);
-                    let dst_is_buffer = objects.buffers.contains_key(dst);
-                    let both_buffers = src_is_buffer && dst_is_buffer;
-                    self.passes[pass].copies.push(Copy {
-                        src: CopyLocation {
-                            resource: sn.clone(),
-                            mip: r.src_mip,
-                            layer: r.src_layer,
-                            origin: r.src_origin,
-                            offset: r.src_offset,
-                            size: if both_buffers { r.size } else { None },
-                            bytes_per_row: (src_is_buffer && !both_buffers)
-                                .then(|| row(r))
-                                .flatten(),
-                        },
-                        dst: CopyLocation {
-                            resource: dn.clone(),
-                            mip: r.dst_mip,
-                            layer: r.dst_layer,
-                            origin: r.dst_origin,
-                            offset: r.dst_offset,
-                            size: if both_buffers { r.size } else { None },
-                            bytes_per_row: (dst_is_buffer && !both_buffers)
-                                .then(|| row(r))
-                                .flatten(),
-                        },
-                        extent: r.extent,
-                    });
-                }
-            }
+            } => self.copy(objects, queue, name, (*src, *dst), regions),
             TransferCmd::Clear {
-                call,
+                depth_stencil,
                 target,
                 value,
                 stencil,
                 ranges,
             } => {
-                let Some(name) = self.resource(objects, *target) else {
-                    return;
-                };
-                let base = if call.contains("Depth") {
+                let base = if *depth_stencil {
                     "clear_depth_stencil"
                 } else {
                     "clear_color"
                 };
-                let Some(pass) = self.new_pass(objects, queue, PassKind::Clear, base) else {
-                    return;
-                };
-                let img = objects.images.get(target);
-                let total = img.map_or((1, 1), |i| (i.mips, i.layers));
-                for &((mb, mc), (lb, lc)) in ranges {
-                    let range = |base: u32, count: Option<u32>, all: u32| {
-                        (base != 0 || count.is_some_and(|c| c != all))
-                            .then_some(Range { base, count })
-                    };
-                    self.passes[pass].clears.push(Clear {
-                        resource: name.clone(),
-                        value: *value,
-                        stencil: *stencil,
-                        mips: range(mb, mc, total.0),
-                        layers: range(lb, lc, total.1),
-                    });
-                }
+                self.clear_image(objects, queue, base, *target, (*value, *stencil), ranges);
             }
-            TransferCmd::Fill { call, buffer } => {
-                let Some(name) = self.resource(objects, *buffer) else {
-                    return;
-                };
-                let base = if call.contains("Update") {
+            TransferCmd::Fill { update, buffer } => {
+                let base = if *update {
                     "update_buffer"
                 } else {
                     "fill_buffer"
                 };
-                if let Some(pass) = self.new_pass(objects, queue, PassKind::Clear, base) {
-                    self.passes[pass].clears.push(Clear {
-                        resource: name,
-                        value: [0.0; 4],
-                        stencil: 0,
-                        mips: None,
-                        layers: None,
-                    });
-                }
+                self.fill(objects, queue, base, *buffer);
             }
-            TransferCmd::Resolve { src, dst } => {
-                let (Some(s), Some(d)) =
-                    (self.resource(objects, *src), self.resource(objects, *dst))
-                else {
-                    return;
-                };
-                if let Some(p) = self.new_pass(objects, queue, PassKind::Resolve, "resolve_image") {
-                    self.passes[p].resolve = Some(Resolve {
-                        src: s,
-                        dst: d,
-                        format: None,
-                    });
-                }
-            }
+            TransferCmd::Resolve { src, dst } => self.resolve(objects, queue, *src, *dst),
         }
     }
-}
 
-/// `CopyBufferToImage` -> `copy_buffer_to_image`.
-fn snake(camel: &str) -> String {
-    let mut out = String::new();
-    for (i, c) in camel.chars().enumerate() {
-        if c.is_ascii_uppercase() && i > 0 {
-            out.push('_');
+    /// A copy pass with one copy per region; rows of buffer sides are sized from the image's
+    /// format, as a capture's copies need them.
+    fn copy(
+        &mut self,
+        objects: &Objects,
+        queue: u64,
+        name: &str,
+        (src, dst): (u64, u64),
+        regions: &[Region],
+    ) {
+        let (Some(sn), Some(dn)) = (self.resource(objects, src), self.resource(objects, dst))
+        else {
+            return;
+        };
+        let Some(pass) = self.new_pass(objects, queue, PassKind::Copy, name) else {
+            return;
+        };
+        let texel_bytes = |h: u64| {
+            objects
+                .images
+                .get(&h)
+                .and_then(|i| dxgi::lookup_vk(&i.format))
+                .map(|f| (u64::from(f.bits_per_element) / 8, f.block_width.max(1)))
+        };
+        let footprint = texel_bytes(src).or_else(|| texel_bytes(dst));
+        let src_is_buffer = objects.buffers.contains_key(&src);
+        let dst_is_buffer = objects.buffers.contains_key(&dst);
+        let both_buffers = src_is_buffer && dst_is_buffer;
+        for r in regions {
+            let row = |r: &Region| {
+                let (bytes, bw) = footprint?;
+                let texels = if r.row_texels == 0 {
+                    r.extent?[0]
+                } else {
+                    r.row_texels
+                };
+                u32::try_from(u64::from(texels.div_ceil(bw)) * bytes).ok()
+            };
+            self.passes[pass].copies.push(Copy {
+                src: CopyLocation {
+                    resource: sn.clone(),
+                    mip: r.src_mip,
+                    layer: r.src_layer,
+                    origin: r.src_origin,
+                    offset: r.src_offset,
+                    size: if both_buffers { r.size } else { None },
+                    bytes_per_row: (src_is_buffer && !both_buffers).then(|| row(r)).flatten(),
+                },
+                dst: CopyLocation {
+                    resource: dn.clone(),
+                    mip: r.dst_mip,
+                    layer: r.dst_layer,
+                    origin: r.dst_origin,
+                    offset: r.dst_offset,
+                    size: if both_buffers { r.size } else { None },
+                    bytes_per_row: (dst_is_buffer && !both_buffers).then(|| row(r)).flatten(),
+                },
+                extent: r.extent,
+            });
         }
-        out.push(c.to_ascii_lowercase());
     }
-    out
+
+    /// A clear pass with one clear per subresource range; a range covering the whole image is
+    /// left implicit.
+    fn clear_image(
+        &mut self,
+        objects: &Objects,
+        queue: u64,
+        base: &str,
+        target: u64,
+        (value, stencil): ([f64; 4], u32),
+        ranges: &[(LevelRange, LevelRange)],
+    ) {
+        let Some(name) = self.resource(objects, target) else {
+            return;
+        };
+        let Some(pass) = self.new_pass(objects, queue, PassKind::Clear, base) else {
+            return;
+        };
+        let img = objects.images.get(&target);
+        let total = img.map_or((1, 1), |i| (i.mips, i.layers));
+        for &((mb, mc), (lb, lc)) in ranges {
+            let range = |base: u32, count: Option<u32>, all: u32| {
+                (base != 0 || count.is_some_and(|c| c != all)).then_some(Range { base, count })
+            };
+            self.passes[pass].clears.push(Clear {
+                resource: name.clone(),
+                value,
+                stencil,
+                mips: range(mb, mc, total.0),
+                layers: range(lb, lc, total.1),
+            });
+        }
+    }
+
+    /// A buffer fill or update: a clear pass over the whole buffer (its bytes are not known).
+    fn fill(&mut self, objects: &Objects, queue: u64, base: &str, buffer: u64) {
+        let Some(name) = self.resource(objects, buffer) else {
+            return;
+        };
+        if let Some(pass) = self.new_pass(objects, queue, PassKind::Clear, base) {
+            self.passes[pass].clears.push(Clear {
+                resource: name,
+                value: [0.0; 4],
+                stencil: 0,
+                mips: None,
+                layers: None,
+            });
+        }
+    }
+
+    fn resolve(&mut self, objects: &Objects, queue: u64, src: u64, dst: u64) {
+        let (Some(s), Some(d)) = (self.resource(objects, src), self.resource(objects, dst)) else {
+            return;
+        };
+        if let Some(p) = self.new_pass(objects, queue, PassKind::Resolve, "resolve_image") {
+            self.passes[p].resolve = Some(Resolve {
+                src: s,
+                dst: d,
+                format: None,
+            });
+        }
+    }
 }

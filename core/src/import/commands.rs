@@ -124,20 +124,23 @@ pub struct Region {
 #[derive(Clone, Debug)]
 pub enum TransferCmd {
     Copy {
-        call: String,
+        /// The pass's name, after the call (`copy_buffer_to_image`).
+        name: String,
         src: u64,
         dst: u64,
         regions: Vec<Region>,
     },
     Clear {
-        call: String,
+        /// `vkCmdClearDepthStencilImage` rather than `vkCmdClearColorImage`.
+        depth_stencil: bool,
         target: u64,
         value: [f64; 4],
         stencil: u32,
         ranges: Vec<(LevelRange, LevelRange)>,
     },
     Fill {
-        call: String,
+        /// `vkCmdUpdateBuffer` rather than `vkCmdFillBuffer`.
+        update: bool,
         buffer: u64,
     },
     Resolve {

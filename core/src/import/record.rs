@@ -134,7 +134,7 @@ impl Recording {
             CmdFunc::Copy { kind, v2: true } => copy(kind, name, &args.get(kind.info_key())?)?,
             CmdFunc::ClearImage => clear_image(name, args)?,
             CmdFunc::FillBuffer => Cmd::Transfer(Box::new(TransferCmd::Fill {
-                call: name.to_owned(),
+                update: name.contains("Update"),
                 buffer: args.get("dstBuffer")?.handle()?,
             })),
             CmdFunc::ResolveImage => Cmd::Transfer(Box::new(TransferCmd::Resolve {
@@ -420,7 +420,7 @@ fn clear_image(name: &str, args: &Arg<'_>) -> Got<Cmd> {
         }
     };
     Ok(Cmd::Transfer(Box::new(TransferCmd::Clear {
-        call: name.to_owned(),
+        depth_stencil: name.contains("Depth"),
         target: args.get("image")?.handle()?,
         value,
         stencil,
@@ -492,9 +492,26 @@ fn copy(kind: CopyKind, name: &str, args: &Arg<'_>) -> Got<Cmd> {
         regions.push(region);
     }
     Ok(Cmd::Transfer(Box::new(TransferCmd::Copy {
-        call: name.to_owned(),
+        name: copy_pass_name(name),
         src,
         dst,
         regions,
     })))
+}
+
+/// The pass a copy call becomes is named after it: `vkCmdCopyBufferToImage2KHR` ->
+/// `copy_buffer_to_image`.
+fn copy_pass_name(call: &str) -> String {
+    let base = call
+        .trim_start_matches("vkCmd")
+        .trim_end_matches("KHR")
+        .trim_end_matches('2');
+    let mut out = String::new();
+    for (i, c) in base.chars().enumerate() {
+        if c.is_ascii_uppercase() && i > 0 {
+            out.push('_');
+        }
+        out.push(c.to_ascii_lowercase());
+    }
+    out
 }
