@@ -16,7 +16,7 @@ use super::barriers::{self, BarrierKind, BarrierPlan, Placement, VkScope};
 use super::graph::{self, CycleError, PassGraph};
 use super::lints::{self, Lint, LintInput, LintSeverity};
 use super::memory::{self, MemoryPlan, Totals};
-use super::model::{self, FrameModel};
+use super::model::{self, FrameModel, MPass, MQueue, MResource};
 use super::schedule::{self, Schedule};
 use crate::capture::model::{Capture, PassId, ResourceId, Subresources};
 
@@ -30,7 +30,7 @@ pub struct Analysis {
     /// Execution order, as capture passes.
     pub order: Vec<PassId>,
     /// Execution order as indices into `model.passes` (what graph, barriers and memory speak).
-    pub model_order: Vec<u32>,
+    pub model_order: Vec<MPass>,
     /// Capture passes whose work never reaches an output.
     pub culled: Vec<PassId>,
     pub plan: BarrierPlan,
@@ -41,13 +41,13 @@ pub struct Analysis {
 
 impl Analysis {
     /// The capture pass of a model pass index (what barriers, fences and the schedule hold).
-    pub fn pass_id(&self, model_pass: u32) -> PassId {
-        self.model.passes[model_pass as usize].id
+    pub fn pass_id(&self, model_pass: MPass) -> PassId {
+        self.model.passes[model_pass.index()].id
     }
     /// The capture resource of a model resource index (a previous-frame copy maps to the
     /// resource it copies).
-    pub fn resource_id(&self, model_resource: u32) -> ResourceId {
-        self.model.resources[model_resource as usize].id
+    pub fn resource_id(&self, model_resource: MResource) -> ResourceId {
+        self.model.resources[model_resource.index()].id
     }
 }
 
@@ -102,8 +102,8 @@ pub fn analyze(capture: &Capture, options: AnalyzeOptions) -> Result<Analysis, C
     };
     let schedule = schedule::schedule(&model, &graph, &order, &plan.fences, &times, source);
     Ok(Analysis {
-        order: order.iter().map(|&p| model.passes[p as usize].id).collect(),
-        culled: culled.iter().map(|&p| full_ids[p as usize]).collect(),
+        order: order.iter().map(|&p| model.passes[p.index()].id).collect(),
+        culled: culled.iter().map(|&p| full_ids[p.index()]).collect(),
         model,
         graph,
         model_order: order,
@@ -251,8 +251,8 @@ pub struct AliasingReport {
     pub resource_after: String,
 }
 
-fn subresource(model: &FrameModel, resource: u32, r: &Subresources) -> SubresourceReport {
-    let res = &model.resources[resource as usize];
+fn subresource(model: &FrameModel, resource: MResource, r: &Subresources) -> SubresourceReport {
+    let res = &model.resources[resource.index()];
     if *r == res.whole() {
         SubresourceReport::All("all")
     } else if res.is_buffer {
@@ -269,9 +269,9 @@ fn subresource(model: &FrameModel, resource: u32, r: &Subresources) -> Subresour
 
 pub fn report(capture: &Capture, a: &Analysis) -> Report {
     let m = &a.model;
-    let pass = |p: u32| m.passes[p as usize].name.clone();
-    let queue = |q: u32| m.queues[q as usize].name.clone();
-    let resource = |r: u32| m.resources[r as usize].name.clone();
+    let pass = |p: MPass| m.passes[p.index()].name.clone();
+    let queue = |q: MQueue| m.queues[q.index()].name.clone();
+    let resource = |r: MResource| m.resources[r.index()].name.clone();
     let vk = |src: &VkScope, dst: &VkScope| VulkanReport {
         old_layout: src.layout,
         new_layout: dst.layout,
@@ -287,19 +287,19 @@ pub fn report(capture: &Capture, a: &Analysis) -> Report {
         .map(|(position, &p)| Boundary {
             position,
             pass: pass(p),
-            queue: queue(m.passes[p as usize].queue),
+            queue: queue(m.passes[p.index()].queue),
             barriers: Vec::new(),
         })
         .collect();
     let mut position = vec![0usize; m.passes.len()];
     for (i, &p) in a.model_order.iter().enumerate() {
-        position[p as usize] = i;
+        position[p.index()] = i;
     }
     let mut sorted: Vec<&barriers::Barrier> = a.plan.barriers.iter().collect();
     sorted.sort_by_key(|b| (b.for_pass, b.kind, b.resource, b.range, b.placement));
     for b in sorted {
         let (vk_src, vk_dst) = b.vulkan(m);
-        boundaries[position[b.for_pass as usize]]
+        boundaries[position[b.for_pass.index()]]
             .barriers
             .push(BarrierReport {
                 kind: b.kind,
@@ -319,8 +319,8 @@ pub fn report(capture: &Capture, a: &Analysis) -> Report {
             });
     }
     for ab in &a.memory.aliasing_barriers {
-        let q = m.passes[ab.before_pass as usize].queue;
-        boundaries[position[ab.before_pass as usize]]
+        let q = m.passes[ab.before_pass.index()].queue;
+        boundaries[position[ab.before_pass.index()]]
             .barriers
             .push(BarrierReport {
                 kind: BarrierKind::Aliasing,
