@@ -626,8 +626,8 @@ fn edges(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<crate::model
         .graph
         .edge_references()
         .filter_map(|e| {
-            let from = *pass_index.get(&a.pass_id(e.source().index() as u32))?;
-            let to = *pass_index.get(&a.pass_id(e.target().index() as u32))?;
+            let from = *pass_index.get(&a.pass_id(a.graph.graph[e.source()]))?;
+            let to = *pass_index.get(&a.pass_id(a.graph.graph[e.target()]))?;
             Some(crate::model::Edge {
                 from,
                 to,
@@ -641,7 +641,7 @@ fn edges(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<crate::model
                 resource: e
                     .weight()
                     .resource
-                    .map(|r| a.model.resources[r as usize].name.clone()),
+                    .map(|r| a.model.resources[r.index()].name.clone()),
             })
         })
         .collect();
