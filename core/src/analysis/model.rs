@@ -41,7 +41,9 @@ macro_rules! dense_index {
             }
             /// `0..count` as indices.
             #[inline]
-            pub fn range(count: usize) -> impl DoubleEndedIterator<Item = Self> + ExactSizeIterator + Clone {
+            pub fn range(
+                count: usize,
+            ) -> impl DoubleEndedIterator<Item = Self> + ExactSizeIterator + Clone {
                 (0..count as u32).map(Self)
             }
         }
@@ -94,13 +96,6 @@ impl OptPass {
     #[inline]
     pub fn is_none(self) -> bool {
         self == Self::NONE
-    }
-}
-
-impl From<Option<MPass>> for OptPass {
-    #[inline]
-    fn from(p: Option<MPass>) -> Self {
-        p.map_or(Self::NONE, Self::some)
     }
 }
 
