@@ -7,7 +7,7 @@
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-use framelab_core::analysis::model::{FrameModel, Units};
+use framelab_core::analysis::model::{FrameModel, MPass, Units};
 use framelab_core::analysis::{barriers, derive_frame, graph, memory};
 use framelab_testkit::synthetic;
 use std::hint::black_box;
@@ -94,7 +94,7 @@ fn main() {
     );
 }
 
-fn repeat(stage: &str, model: &FrameModel, units: &Units, g: &graph::PassGraph, order: &[u32]) {
+fn repeat(stage: &str, model: &FrameModel, units: &Units, g: &graph::PassGraph, order: &[MPass]) {
     for _ in 0..200 {
         match stage {
             "units" => drop(black_box(Units::new(model))),

@@ -3,7 +3,7 @@
 //! few passes later, buffers read-modify-written by compute, a few long-lived resources).
 
 use framelab_core::analysis::model::{
-    FrameModel, ModelAccess, ModelPass, ModelResource, QueueInfo, State,
+    FrameModel, MQueue, MResource, ModelAccess, ModelPass, ModelResource, QueueInfo, State,
 };
 use framelab_core::capture::format::{HeapType, QueueType};
 use framelab_core::capture::model::ResourceCategory;
@@ -77,7 +77,7 @@ pub fn frame(passes: usize, resources: usize, seed: u64) -> FrameModel {
     // Each pass writes one or two resources, mostly new ones, and reads two to four of the
     // last few dozen written, so lifetimes are short and passes depend on recent work, as in a
     // real frame graph. Declared resources beyond what the passes reach stay unused.
-    let mut recent: std::collections::VecDeque<u32> = std::collections::VecDeque::new();
+    let mut recent: std::collections::VecDeque<MResource> = std::collections::VecDeque::new();
     let mut next_new = 0usize;
     for p in 0..passes {
         let queue = match rng.below(10) {
@@ -86,14 +86,14 @@ pub fn frame(passes: usize, resources: usize, seed: u64) -> FrameModel {
             _ => 2,
         };
         let mut accesses: Vec<ModelAccess> = Vec::new();
-        let mut used: Vec<u32> = Vec::new();
+        let mut used: Vec<MResource> = Vec::new();
         let writes = 1 + rng.below(2);
         let reads = 2 + rng.below(3);
         for k in 0..writes + reads {
             let write = k < writes;
             let r = if write && (rng.below(4) != 0 || recent.is_empty()) && next_new < resources {
                 next_new += 1;
-                (next_new - 1) as u32
+                MResource::new(next_new - 1)
             } else if recent.is_empty() {
                 continue;
             } else {
@@ -103,7 +103,7 @@ pub fn frame(passes: usize, resources: usize, seed: u64) -> FrameModel {
                 continue;
             }
             used.push(r);
-            let resource = &res[r as usize];
+            let resource = &res[r.index()];
             let (state, reads_, writes_, uav) = match (queue, write, resource.is_buffer) {
                 (2, true, _) => (State::COPY_DEST, false, true, false),
                 (2, false, _) => (State::COPY_SOURCE, true, false, false),
@@ -131,7 +131,7 @@ pub fn frame(passes: usize, resources: usize, seed: u64) -> FrameModel {
         model_passes.push(ModelPass {
             id: framelab_core::capture::model::PassId(p as u32),
             name: format!("p{p}"),
-            queue,
+            queue: MQueue(queue),
             accesses,
             raster: queue == 0,
             sink: p + 1 == passes,

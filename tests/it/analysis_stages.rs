@@ -2,7 +2,7 @@
 //! one by one, and the recorded order against the topological one.
 
 use framelab_core::analysis::graph::{build, recorded_order, topological_order};
-use framelab_core::analysis::model::Units;
+use framelab_core::analysis::model::{MPass, MQueue, MResource, Units};
 use framelab_core::analysis::{barriers, derive_frame, graph, memory, model};
 use framelab_testkit::synthetic;
 
@@ -35,16 +35,18 @@ fn derive_frame_matches_the_stages_run_one_by_one() {
     // waits for: the recorded order is no longer the order, and the other path runs.
     let mut extra = model.passes[0].clone();
     extra.name = "extra".into();
-    extra.queue = model.queues.len() as u32;
+    extra.queue = MQueue::new(model.queues.len());
     extra.accesses.truncate(1);
-    extra.accesses[0].resource = model.resources.len() as u32;
+    extra.accesses[0].resource = MResource::new(model.resources.len());
     model.resources.push(model.resources[0].clone());
     model.queues.push(model.queues[1].clone());
     model.passes.push(extra);
-    model.fences.push((model.passes.len() as u32 - 1, 0));
+    model
+        .fences
+        .push((MPass::new(model.passes.len() - 1), MPass(0)));
     assert!(graph::recorded_order(&model).is_none());
     let derived = derive_frame(&model, true).unwrap();
-    assert_eq!(derived.order[0] as usize, model.passes.len() - 1);
+    assert_eq!(derived.order[0].index(), model.passes.len() - 1);
     same_as_one_thread(&model);
 }
 
@@ -53,7 +55,9 @@ fn recorded_order_is_the_topological_order_when_no_fence_points_back() {
     for seed in 0..20 {
         let mut m = synthetic::frame(300, 400, seed);
         // Forward fences between queues keep the recorded order valid.
-        m.fences = vec![(3, 250), (10, 11), (100, 180)];
+        m.fences = [(3, 250), (10, 11), (100, 180)]
+            .map(|(a, b)| (MPass(a), MPass(b)))
+            .to_vec();
         let units = Units::new(&m);
         let g = build(&m, &units);
         let recorded = recorded_order(&m).expect("every fence points forward");

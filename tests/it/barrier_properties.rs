@@ -3,7 +3,8 @@
 //! the independent hazard checker nothing to report, and none of them can be removed.
 
 use framelab_core::analysis::model::{
-    FrameModel, ModelAccess, ModelPass, ModelResource, QueueInfo, State, Units,
+    FrameModel, MPass, MQueue, MResource, ModelAccess, ModelPass, ModelResource, QueueInfo, State,
+    Units,
 };
 use framelab_core::analysis::{barriers, graph, hazards, to_sync};
 use framelab_core::capture::format::{HeapType, QueueType};
@@ -168,7 +169,7 @@ fn random_frame(seed: u64) -> FrameModel {
                 }
             };
             accesses.push(ModelAccess {
-                resource,
+                resource: MResource(resource),
                 range,
                 state,
                 reads,
@@ -179,7 +180,7 @@ fn random_frame(seed: u64) -> FrameModel {
         passes.push(ModelPass {
             id: framelab_core::capture::model::PassId(i as u32),
             name: format!("p{i}"),
-            queue,
+            queue: MQueue(queue),
             accesses,
             raster: queue_types[queue as usize] == QueueType::Graphics && rng.below(2) == 0,
             sink: rng.below(8) == 0,
@@ -191,7 +192,7 @@ fn random_frame(seed: u64) -> FrameModel {
     for _ in 0..rng.below(3) {
         let (a, b) = (rng.below(np as u64) as u32, rng.below(np as u64) as u32);
         if a < b && passes[a as usize].queue != passes[b as usize].queue {
-            fences.push((a, b));
+            fences.push((MPass(a), MPass(b)));
         }
     }
     FrameModel {
@@ -210,7 +211,7 @@ fn check_frame(seed: u64) -> Result<(), String> {
     let order = graph::order(&model, &g).map_err(|e| format!("random frames are acyclic: {e}"))?;
     let plan = barriers::derive(&model, &units, &g, &order);
     let sync: Vec<_> = plan.barriers.iter().filter_map(to_sync).collect();
-    let fences: Vec<(u32, u32)> = plan
+    let fences: Vec<(MPass, MPass)> = plan
         .fences
         .iter()
         .map(|f| (f.signal_after, f.wait_before))
@@ -255,7 +256,7 @@ fn checker_catches_missing_synchronisation() {
         let order = graph::order(&model, &g).unwrap();
         let plan = barriers::derive(&model, &units, &g, &order);
         let sync: Vec<_> = plan.barriers.iter().filter_map(to_sync).collect();
-        let fences: Vec<(u32, u32)> = plan
+        let fences: Vec<(MPass, MPass)> = plan
             .fences
             .iter()
             .map(|f| (f.signal_after, f.wait_before))

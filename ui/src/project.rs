@@ -14,6 +14,7 @@ use crate::model::{
 use framelab_replay::wgpu;
 use serde::Serialize;
 
+use framelab_core::analysis::model::{MPass, MResource};
 use framelab_core::analysis::report::{self, Analysis, BarrierReport, SubresourceReport};
 use framelab_core::capture::model::{
     BindingTarget, Capture, PassDesc, PassId, ResourceId, Subresources,
@@ -453,7 +454,7 @@ fn resources(
     let buffers = lowered.map(|l| buffer_views(&l.plan)).unwrap_or_default();
     // A history resource's previous-frame copy is a resource of its own in the memory plan;
     // its placement is not the resource's.
-    let own = |r: u32| a.model.resources[r as usize].previous_of.is_none();
+    let own = |r: MResource| a.model.resources[r.index()].previous_of.is_none();
     let offset: BTreeMap<ResourceId, u64> = a
         .memory
         .resources
@@ -463,7 +464,7 @@ fn resources(
         .collect();
     let mut aliases: BTreeMap<ResourceId, Vec<String>> = BTreeMap::new();
     for x in &a.memory.aliasing_barriers {
-        let name = |r: u32| a.model.resources[r as usize].name.clone();
+        let name = |r: MResource| a.model.resources[r.index()].name.clone();
         for (this, other) in [
             (x.resource_before, x.resource_after),
             (x.resource_after, x.resource_before),
@@ -622,8 +623,8 @@ fn edges(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<crate::model
         .graph
         .edge_references()
         .filter_map(|e| {
-            let from = *pass_index.get(&a.pass_id(e.source().index() as u32))?;
-            let to = *pass_index.get(&a.pass_id(e.target().index() as u32))?;
+            let from = *pass_index.get(&a.pass_id(a.graph.graph[e.source()]))?;
+            let to = *pass_index.get(&a.pass_id(a.graph.graph[e.target()]))?;
             Some(crate::model::Edge {
                 from,
                 to,
@@ -631,7 +632,7 @@ fn edges(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<crate::model
                 resource: e
                     .weight()
                     .resource
-                    .map(|r| a.model.resources[r as usize].name.clone()),
+                    .map(|r| a.model.resources[r.index()].name.clone()),
             })
         })
         .collect();
@@ -651,7 +652,7 @@ fn memory(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<crate::mode
         .resources
         .iter()
         // A previous-frame copy's block is not the resource's own.
-        .filter(|m| a.model.resources[m.resource as usize].previous_of.is_none())
+        .filter(|m| a.model.resources[m.resource.index()].previous_of.is_none())
         .filter_map(|m| {
             let (first, last) = match (m.persistent, m.lifetime) {
                 (true, _) => (0, last),
@@ -702,7 +703,7 @@ fn model(
     let mut boundary: BTreeMap<PassId, Vec<BarrierReport>> = report::barriers_by_pass(a)
         .into_iter()
         .enumerate()
-        .map(|(p, barriers)| (a.pass_id(p as u32), barriers))
+        .map(|(p, barriers)| (a.pass_id(MPass::new(p)), barriers))
         .collect();
     let derived_at = |id: Option<&PassId>, side| -> Vec<Barrier> {
         id.and_then(|id| boundary.get(id))

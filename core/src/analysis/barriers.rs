@@ -14,7 +14,7 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use super::graph::PassGraph;
-use super::model::{FrameModel, State, UnitUse, Units};
+use super::model::{FrameModel, MPass, MQueue, MResource, OptPass, State, Unit, UnitUse, Units};
 use crate::capture::format::QueueType;
 use crate::capture::model::Subresources;
 use petgraph::visit::EdgeRef;
@@ -32,12 +32,12 @@ pub enum BarrierKind {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Placement {
-    Before(u32),
-    After(u32),
+    Before(MPass),
+    After(MPass),
 }
 
 impl Placement {
-    pub fn pass(self) -> u32 {
+    pub fn pass(self) -> MPass {
         match self {
             Placement::Before(p) | Placement::After(p) => p,
         }
@@ -58,15 +58,15 @@ pub struct Barrier {
     pub kind: BarrierKind,
     pub placement: Placement,
     /// The queue it is recorded on.
-    pub queue: u32,
+    pub queue: MQueue,
     /// The pass whose access needs it.
-    pub for_pass: u32,
-    pub resource: u32,
+    pub for_pass: MPass,
+    pub resource: MResource,
     pub range: Subresources,
     pub before: State,
     pub after: State,
     /// A split barrier could begin right after this pass (passes run in between).
-    pub split_begin_after: Option<u32>,
+    pub split_begin_after: Option<MPass>,
     /// An end-of-frame transition that prepares the resource for `for_pass` of the next frame,
     /// whose queue cannot hold the state this frame leaves it in.
     pub next_frame: bool,
@@ -76,20 +76,20 @@ impl Barrier {
     /// Vulkan's source and destination scopes for this barrier (computed on demand: reports
     /// need them, the derivation does not).
     pub fn vulkan(&self, model: &FrameModel) -> (VkScope, VkScope) {
-        let qtype = model.queues[self.queue as usize].queue_type;
-        let buffer = model.resources[self.resource as usize].is_buffer;
+        let qtype = model.queues[self.queue.index()].queue_type;
+        let buffer = model.resources[self.resource.index()].is_buffer;
         let src_pass = self.split_begin_after.unwrap_or(self.placement.pass());
         let src = vk_scope(
             self.before,
             qtype,
             buffer,
-            model.passes[src_pass as usize].raster,
+            model.passes[src_pass.index()].raster,
         );
         let dst = vk_scope(
             self.after,
             qtype,
             buffer,
-            model.passes[self.for_pass as usize].raster,
+            model.passes[self.for_pass.index()].raster,
         );
         (src, dst)
     }
@@ -98,8 +98,8 @@ impl Barrier {
 /// A fence a cross-queue dependency needs.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
 pub struct FenceNeed {
-    pub signal_after: u32,
-    pub wait_before: u32,
+    pub signal_after: MPass,
+    pub wait_before: MPass,
     /// Declared in the capture, or derived here because nothing else orders the two passes.
     pub declared: bool,
 }
@@ -107,12 +107,12 @@ pub struct FenceNeed {
 /// A Vulkan queue-family ownership transfer (release on one queue, acquire on the other).
 #[derive(Clone, Debug, Serialize)]
 pub struct OwnershipTransfer {
-    pub resource: u32,
+    pub resource: MResource,
     pub range: Subresources,
-    pub release_after: u32,
-    pub acquire_before: u32,
-    pub from_queue: u32,
-    pub to_queue: u32,
+    pub release_after: MPass,
+    pub acquire_before: MPass,
+    pub from_queue: MQueue,
+    pub to_queue: MQueue,
 }
 
 #[derive(Clone, Debug, Default, Serialize)]
@@ -129,13 +129,13 @@ pub struct BarrierPlan {
 #[derive(Clone, Copy)]
 struct UnitTrack {
     state: State,
-    /// Position in the order (`NO_PASS` before the first access) and pass of the last access.
+    /// Position in the order (`NO_POS` before the first access) and pass of the last access
+    /// (meaningless before it).
     last_pos: u32,
-    last_pass: u32,
-    /// The unit's last barrier: the pass it is placed at (`NO_PASS` if none) and the queue it
-    /// is recorded on.
-    anchor_pass: u32,
-    anchor_queue: u32,
+    last_pass: MPass,
+    /// The unit's last barrier: the pass it is placed at and the queue it is recorded on.
+    anchor_pass: OptPass,
+    anchor_queue: MQueue,
     /// Queues (bit per queue index) with an unordered-access write / read since the last
     /// barrier: a UAV barrier orders accesses on one queue; other queues are ordered by fences.
     pending_uav_write: u32,
@@ -150,7 +150,7 @@ impl UnitTrack {
         &mut self,
         n: &UnitUse,
         pos: u32,
-        p: u32,
+        p: MPass,
         qbit: u32,
         barrier: bool,
         transition: bool,
@@ -176,11 +176,13 @@ impl UnitTrack {
     }
 }
 
-const NO_PASS: u32 = u32::MAX;
+/// No position in the order yet. Positions stay bare `u32`s in the per-unit track (a
+/// sentinel, not `Option`, keeps `UnitTrack` as small as before).
+const NO_POS: u32 = u32::MAX;
 
 /// Queues past the 32nd share a bit: more UAV barriers among them, never fewer.
-fn queue_bit(queue: u32) -> u32 {
-    1u32 << queue.min(31)
+fn queue_bit(queue: MQueue) -> u32 {
+    1u32 << queue.0.min(31)
 }
 
 /// What barriers are batched by: one unit's barriers with equal keys in one pass boundary merge
@@ -188,13 +190,13 @@ fn queue_bit(queue: u32) -> u32 {
 #[derive(Clone, Copy, PartialEq, Eq)]
 struct BatchKey {
     placement: Placement,
-    queue: u32,
-    for_pass: u32,
+    queue: MQueue,
+    for_pass: MPass,
     kind: BarrierKind,
-    resource: u32,
+    resource: MResource,
     before: State,
     after: State,
-    split: Option<u32>,
+    split: Option<MPass>,
     next_frame: bool,
 }
 
@@ -222,7 +224,7 @@ impl<'a> Batcher<'a> {
         }
     }
 
-    fn add(&mut self, key: BatchKey, unit: usize) {
+    fn add(&mut self, key: BatchKey, unit: Unit) {
         if self.key != Some(key) {
             self.flush();
             self.key = Some(key);
@@ -257,44 +259,47 @@ impl<'a> Batcher<'a> {
     }
 }
 
-pub fn derive(model: &FrameModel, units: &Units, graph: &PassGraph, order: &[u32]) -> BarrierPlan {
+pub fn derive(
+    model: &FrameModel,
+    units: &Units,
+    graph: &PassGraph,
+    order: &[MPass],
+) -> BarrierPlan {
     // First walk: the state each unit is left in, which is where the next frame starts, unless
     // the first queue to touch it next frame cannot hold that state: then the frame ends with a
     // transition to what that first access needs.
     let mut steady: Vec<State> = vec![State::COMMON; units.total];
-    for r in 0..model.resources.len() as u32 {
+    for (r, resource) in model.resources.iter().enumerate() {
         // Only accessed resources have units; the others are not read at all.
-        let count = units.count(r);
-        if count > 0 {
-            let base = units.base(r);
-            steady[base..base + count].fill(model.resources[r as usize].initial_state);
-        }
+        steady[units.span(MResource::new(r))].fill(resource.initial_state);
     }
-    // The first pass to use each unit (`NO_PASS` if none) and the state it needs.
-    let mut first: Vec<(u32, State)> = vec![(NO_PASS, State::COMMON); units.total];
+    // The first pass to use each unit and the state it needs.
+    let mut first: Vec<(OptPass, State)> = vec![(OptPass::NONE, State::COMMON); units.total];
     for &p in order {
         for n in units.uses(p) {
-            let u = n.unit as usize;
+            let u = n.unit.index();
             steady[u] = n.state;
-            if first[u].0 == NO_PASS {
-                first[u] = (p, n.state);
+            if first[u].0.is_none() {
+                first[u] = (OptPass::some(p), n.state);
             }
         }
     }
     // Previous-frame copies end their frame where the resource they copy ends it.
     for &(copy, of) in units.previous_copies() {
-        let (base, of_base) = (units.base(copy), units.base(of));
+        let (base, of_base) = (units.base(copy).index(), units.base(of).index());
         for i in 0..units.count(copy).min(units.count(of)) {
             steady[base + i] = steady[of_base + i];
         }
     }
     // `steady` holds each unit's last state; where the first queue can't hold it, the frame
     // ends with a transition to what the first access needs.
-    let mut end_of_frame: Vec<u32> = vec![NO_PASS; units.total];
+    let mut end_of_frame: Vec<OptPass> = vec![OptPass::NONE; units.total];
     for (u, &(p0, need)) in first.iter().enumerate() {
-        if p0 != NO_PASS && !steady[u].allowed_on(model.queue_type(p0 as usize)) {
+        if let Some(p0) = p0.get()
+            && !steady[u].allowed_on(model.queue_type(p0))
+        {
             steady[u] = need;
-            end_of_frame[u] = p0;
+            end_of_frame[u] = OptPass::some(p0);
         }
     }
     drop(first);
@@ -313,46 +318,46 @@ pub(crate) fn serves(have: State, need: State, queue: QueueType) -> bool {
 
 /// One unit's queue-ownership transfer before batching: (resource, release after, acquire
 /// before, from queue, to queue, mip, layer).
-type TransferCell = (u32, u32, u32, u32, u32, u32, u32);
+type TransferCell = (MResource, MPass, MPass, MQueue, MQueue, u32, u32);
 
 /// "Must happen before" constraints the walk finds, as (later pass, earlier pass).
-type Requires = Vec<(u32, u32)>;
+type Requires = Vec<(MPass, MPass)>;
 
 fn walk(
     model: &FrameModel,
     units: &Units,
-    order: &[u32],
+    order: &[MPass],
     initial: &[State],
-    end_of_frame: &[u32],
+    end_of_frame: &[OptPass],
 ) -> (BarrierPlan, Requires) {
     let mut track: Vec<UnitTrack> = initial
         .iter()
         .map(|&state| UnitTrack {
             state,
-            last_pos: NO_PASS,
-            last_pass: 0,
-            anchor_pass: NO_PASS,
-            anchor_queue: 0,
+            last_pos: NO_POS,
+            last_pass: MPass(0),
+            anchor_pass: OptPass::NONE,
+            anchor_queue: MQueue(0),
             pending_uav_write: 0,
             pending_uav_read: 0,
         })
         .collect();
-    let pass_queue: Vec<u32> = model.passes.iter().map(|p| p.queue).collect();
+    let pass_queue: Vec<MQueue> = model.passes.iter().map(|p| p.queue).collect();
     // The latest pass on each queue that accessed each unit since its last barrier (flat,
     // unit-major); only the latest per queue matters, queue order covers the earlier ones.
     let nq = model.queues.len();
-    let mut since_sync: Vec<u32> = vec![NO_PASS; units.total * nq];
+    let mut since_sync: Vec<OptPass> = vec![OptPass::NONE; units.total * nq];
     let mut requires: Requires = Vec::with_capacity(order.len() * 4);
     let mut batcher = Batcher::new(model, units, units.total * 2);
     let mut transfers: Vec<TransferCell> = Vec::with_capacity(units.use_count() / 2);
     for (pos, &p) in order.iter().enumerate() {
         let pos = pos as u32;
-        let queue = pass_queue[p as usize];
-        let qtype = model.queues[queue as usize].queue_type;
+        let queue = pass_queue[p.index()];
+        let qtype = model.queues[queue.index()].queue_type;
         let qbit = queue_bit(queue);
         // Uses are merged per unit, so each unit is seen once per pass.
         for n in units.uses(p) {
-            let unit = n.unit as usize;
+            let unit = n.unit.index();
             let t = track[unit];
             let resource = n.resource;
             let transition = !serves(t.state, n.state, qtype);
@@ -360,7 +365,7 @@ fn walk(
                 && n.uav
                 && (t.pending_uav_write & qbit != 0
                     || (n.writes && t.pending_uav_read & qbit != 0));
-            let last_queue = (t.last_pos != NO_PASS).then(|| pass_queue[t.last_pass as usize]);
+            let last_queue = (t.last_pos != NO_POS).then(|| pass_queue[t.last_pass.index()]);
             if transition || uav_barrier {
                 let on_consumer = t.state.allowed_on(qtype) && n.state.allowed_on(qtype);
                 let (placement, barrier_queue) = match last_queue {
@@ -378,16 +383,19 @@ fn walk(
                 let target = placement.pass();
                 let accessors = &mut since_sync[unit * nq..(unit + 1) * nq];
                 for (q, a) in accessors.iter_mut().enumerate() {
-                    if *a != NO_PASS && q as u32 != barrier_queue && *a != target {
-                        requires.push((target, *a));
+                    if let Some(a) = a.get()
+                        && MQueue::new(q) != barrier_queue
+                        && a != target
+                    {
+                        requires.push((target, a));
                     }
-                    *a = NO_PASS;
+                    *a = OptPass::NONE;
                 }
                 if let Placement::After(q) = placement {
                     requires.push((p, q));
                 }
                 let t = &mut track[unit];
-                t.anchor_pass = target;
+                t.anchor_pass = OptPass::some(target);
                 t.anchor_queue = barrier_queue;
                 batcher.add(
                     BatchKey {
@@ -405,20 +413,23 @@ fn walk(
                         split,
                         next_frame: false,
                     },
-                    unit,
+                    n.unit,
                 );
-            } else if t.anchor_pass != NO_PASS && t.anchor_queue != queue && t.anchor_pass != p {
+            } else if let Some(anchor) = t.anchor_pass.get()
+                && t.anchor_queue != queue
+                && anchor != p
+            {
                 // The state this access relies on was set by that barrier: it must come first.
-                requires.push((p, t.anchor_pass));
+                requires.push((p, anchor));
             }
             if let (Some(lq), true) = (last_queue, n.reads)
-                && model.queues[lq as usize].queue_type != qtype
+                && model.queues[lq.index()].queue_type != qtype
             {
-                let (mip, layer) = units.cell(resource, unit);
+                let (mip, layer) = units.cell(resource, n.unit);
                 transfers.push((resource, t.last_pass, p, lq, queue, mip, layer));
             }
             track[unit].record(n, pos, p, qbit, transition || uav_barrier, transition);
-            since_sync[unit * nq + queue as usize] = p;
+            since_sync[unit * nq + queue.index()] = OptPass::some(p);
         }
     }
     end_of_frame_barriers(
@@ -451,23 +462,28 @@ fn end_of_frame_barriers(
     model: &FrameModel,
     units: &Units,
     track: &[UnitTrack],
-    since_sync: &[u32],
+    since_sync: &[OptPass],
     initial: &[State],
-    end_of_frame: &[u32],
+    end_of_frame: &[OptPass],
     batcher: &mut Batcher,
     requires: &mut Requires,
 ) {
-    let pass_queue = |p: u32| model.passes[p as usize].queue;
+    let pass_queue = |p: MPass| model.passes[p.index()].queue;
     let nq = model.queues.len();
     for (u, &p0) in end_of_frame.iter().enumerate() {
         let t = track[u];
-        if p0 == NO_PASS || t.last_pos == NO_PASS {
+        let Some(p0) = p0.get() else { continue };
+        if t.last_pos == NO_POS {
             continue;
         }
-        let (resource, _, _) = units.locate(model, u);
+        let unit = Unit::new(u);
+        let (resource, _, _) = units.locate(model, unit);
         let queue = pass_queue(t.last_pass);
         for (q, &a) in since_sync[u * nq..(u + 1) * nq].iter().enumerate() {
-            if a != NO_PASS && q as u32 != queue && a != t.last_pass {
+            if let Some(a) = a.get()
+                && MQueue::new(q) != queue
+                && a != t.last_pass
+            {
                 requires.push((t.last_pass, a));
             }
         }
@@ -483,7 +499,7 @@ fn end_of_frame_barriers(
                 split: None,
                 next_frame: true,
             },
-            u,
+            unit,
         );
     }
 }
@@ -519,7 +535,7 @@ fn batch_transfers(
 ) -> Vec<OwnershipTransfer> {
     // Sorted: bucketed by resource, then each resource's few sorted.
     let (start, mut t) = bucket_by(cells.iter().copied(), model.resources.len(), |x| {
-        x.0 as usize
+        x.0.index()
     });
     for r in 0..model.resources.len() {
         let bucket = &mut t[start[r] as usize..start[r + 1] as usize];
@@ -560,7 +576,7 @@ fn batch_transfers(
 fn rectangles(
     model: &FrameModel,
     units: &Units,
-    resource: u32,
+    resource: MResource,
     cells: &[(u32, u32)],
     mut emit: impl FnMut(Subresources),
 ) {
@@ -569,7 +585,7 @@ fn rectangles(
     let buffer = units.is_buffer(resource);
     if cells.len() == all && all > 1 {
         // Cells are distinct units, so all of them is the whole resource.
-        emit(model.resources[resource as usize].whole());
+        emit(model.resources[resource.index()].whole());
         return;
     }
     if let [(mip, layer)] = cells[..] {
@@ -659,21 +675,21 @@ fn rectangles(
 fn fences(
     model: &FrameModel,
     graph: &PassGraph,
-    order: &[u32],
+    order: &[MPass],
     mut requires: Requires,
 ) -> Vec<FenceNeed> {
     let nq = model.queues.len();
     let n = model.passes.len();
-    let pass_queue: Vec<u32> = model.passes.iter().map(|p| p.queue).collect();
+    let pass_queue: Vec<MQueue> = model.passes.iter().map(|p| p.queue).collect();
     let mut pos = vec![0u32; n];
     for (i, &p) in order.iter().enumerate() {
-        pos[p as usize] = i as u32;
+        pos[p.index()] = i as u32;
     }
     for e in graph.graph.edge_references() {
         if e.weight().kind.is_data() {
             let (a, b) = (e.source().index(), e.target().index());
             if pass_queue[a] != pass_queue[b] {
-                requires.push((b as u32, a as u32));
+                requires.push((MPass::new(b), MPass::new(a)));
             }
         }
     }
@@ -681,20 +697,20 @@ fn fences(
     // fences come first in each group.
     let declared = model.fences.iter().map(|&(a, b)| (b, a, true));
     let derived = requires.iter().map(|&(b, a)| (b, a, false));
-    let (start, producers) = bucket_by(declared.chain(derived), n, |x| x.0 as usize);
-    let mut producers: Vec<(u32, bool)> = producers.into_iter().map(|x| (x.1, x.2)).collect();
+    let (start, producers) = bucket_by(declared.chain(derived), n, |x| x.0.index());
+    let mut producers: Vec<(MPass, bool)> = producers.into_iter().map(|x| (x.1, x.2)).collect();
     const NONE: i64 = -1;
     // Vector clocks, pass-major: clock[p * nq + q].
     let mut clock: Vec<i64> = vec![NONE; n * nq];
     let mut c: Vec<i64> = vec![NONE; nq];
-    let mut last_on_queue: Vec<Option<u32>> = vec![None; nq];
+    let mut last_on_queue: Vec<Option<MPass>> = vec![None; nq];
     let mut out = Vec::new();
     for &p in order {
-        let pi = p as usize;
-        let q = model.passes[pi].queue as usize;
+        let pi = p.index();
+        let q = model.passes[pi].queue.index();
         match last_on_queue[q] {
             Some(prev) => {
-                c.copy_from_slice(&clock[prev as usize * nq..(prev as usize + 1) * nq]);
+                c.copy_from_slice(&clock[prev.index() * nq..(prev.index() + 1) * nq]);
             }
             None => c.fill(NONE),
         }
@@ -702,7 +718,7 @@ fn fences(
         let (declared, required) = group.split_at_mut(group.partition_point(|x| x.1));
         for &(a, _) in declared.iter() {
             for k in 0..nq {
-                c[k] = c[k].max(clock[a as usize * nq + k]);
+                c[k] = c[k].max(clock[a.index() * nq + k]);
             }
             out.push(FenceNeed {
                 signal_after: a,
@@ -711,19 +727,19 @@ fn fences(
             });
         }
         // Latest producers first: a fence from a later pass often covers earlier ones too.
-        required.sort_unstable_by_key(|&(a, _)| Reverse(pos[a as usize]));
-        let mut previous = NO_PASS;
+        required.sort_unstable_by_key(|&(a, _)| Reverse(pos[a.index()]));
+        let mut previous = None;
         for &(a, _) in required.iter() {
-            if a == previous {
+            if previous == Some(a) {
                 continue;
             }
-            previous = a;
-            let aq = pass_queue[a as usize] as usize;
-            if c[aq] >= i64::from(pos[a as usize]) {
+            previous = Some(a);
+            let aq = pass_queue[a.index()].index();
+            if c[aq] >= i64::from(pos[a.index()]) {
                 continue;
             }
             for k in 0..nq {
-                c[k] = c[k].max(clock[a as usize * nq + k]);
+                c[k] = c[k].max(clock[a.index() * nq + k]);
             }
             out.push(FenceNeed {
                 signal_after: a,

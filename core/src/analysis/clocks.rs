@@ -5,12 +5,14 @@
 //! exactly. That costs passes x queues words, where a bitset per pass costs passes^2 bits
 //! (800 MB at 80,000 passes), and answers "does `a` happen before `b`" with one comparison.
 
+use super::model::{MPass, MQueue};
+
 /// For every pass, per queue, the position of the latest pass on that queue that happens
 /// before it or is it.
 #[derive(Debug)]
 pub struct Clocks {
     queues: usize,
-    queue_of: Vec<usize>,
+    queue_of: Vec<MQueue>,
     /// Each pass's position on its queue (`None` for passes outside the order).
     position: Vec<Option<u32>>,
     /// Pass-major: `clock[p * queues + q]`, `None` where nothing on `q` precedes `p`.
@@ -24,9 +26,9 @@ impl Clocks {
     /// dependencies).
     pub fn new(
         queues: usize,
-        queue_of: Vec<usize>,
-        order: &[u32],
-        preds: impl Fn(u32) -> Vec<u32>,
+        queue_of: Vec<MQueue>,
+        order: &[MPass],
+        preds: impl Fn(MPass) -> Vec<MPass>,
     ) -> Self {
         let n = queue_of.len();
         let queues = queues.max(1);
@@ -36,22 +38,22 @@ impl Clocks {
             clock: vec![None; n.saturating_mul(queues)],
             queue_of,
         };
-        let mut last_on_queue: Vec<Option<u32>> = vec![None; queues];
+        let mut last_on_queue: Vec<Option<MPass>> = vec![None; queues];
         let mut next_position: Vec<u32> = vec![0; queues];
         let mut c: Vec<Option<u32>> = vec![None; queues];
         for &p in order {
-            let pi = p as usize;
+            let pi = p.index();
             let Some(&q) = clocks.queue_of.get(pi) else {
                 continue;
             };
-            let q = q.min(queues - 1);
+            let q = q.index().min(queues - 1);
             match last_on_queue[q] {
-                Some(prev) => c.copy_from_slice(clocks.row(prev as usize)),
+                Some(prev) => c.copy_from_slice(clocks.row(prev.index())),
                 None => c.fill(None),
             }
             for a in preds(p) {
-                if (a as usize) < n {
-                    for (mine, theirs) in c.iter_mut().zip(clocks.row(a as usize)) {
+                if a.index() < n {
+                    for (mine, theirs) in c.iter_mut().zip(clocks.row(a.index())) {
                         *mine = (*mine).max(*theirs);
                     }
                 }
@@ -70,15 +72,15 @@ impl Clocks {
     }
 
     /// Whether `a` strictly happens before `b`.
-    pub fn before(&self, a: u32, b: u32) -> bool {
-        let (a, b) = (a as usize, b as usize);
+    pub fn before(&self, a: MPass, b: MPass) -> bool {
+        let (a, b) = (a.index(), b.index());
         if a == b {
             return false;
         }
         let (Some(Some(pos)), Some(&q)) = (self.position.get(a), self.queue_of.get(a)) else {
             return false;
         };
-        let q = q.min(self.queues - 1);
+        let q = q.index().min(self.queues - 1);
         self.clock
             .get(b * self.queues + q)
             .copied()
@@ -87,7 +89,7 @@ impl Clocks {
     }
 
     /// Whether `a` happens before `b` or is `b`.
-    pub fn before_or_same(&self, a: u32, b: u32) -> bool {
+    pub fn before_or_same(&self, a: MPass, b: MPass) -> bool {
         a == b || self.before(a, b)
     }
 }
@@ -110,21 +112,22 @@ mod tests {
         for _ in 0..200 {
             let n = 1 + next(24) as usize;
             let queues = 1 + next(3) as usize;
-            let queue_of: Vec<usize> = (0..n).map(|_| next(queues as u64) as usize).collect();
-            let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
+            let queue_of: Vec<MQueue> =
+                (0..n).map(|_| MQueue(next(queues as u64) as u32)).collect();
+            let mut preds: Vec<Vec<MPass>> = vec![Vec::new(); n];
             for (b, list) in preds.iter_mut().enumerate().skip(1) {
                 for _ in 0..next(3) {
-                    list.push(next(b as u64) as u32);
+                    list.push(MPass(next(b as u64) as u32));
                 }
             }
-            let order: Vec<u32> = (0..n as u32).collect();
+            let order: Vec<MPass> = MPass::range(n).collect();
             let clocks = Clocks::new(queues, queue_of.clone(), &order, |p| {
-                preds[p as usize].clone()
+                preds[p.index()].clone()
             });
             // Slow closure: reach[b] = set of a with a -> b.
             let mut reach: Vec<Vec<bool>> = Vec::with_capacity(n);
             for b in 0..n {
-                let mut direct: Vec<usize> = preds[b].iter().map(|&a| a as usize).collect();
+                let mut direct: Vec<usize> = preds[b].iter().map(|a| a.index()).collect();
                 direct.extend((0..b).rfind(|&a| queue_of[a] == queue_of[b]));
                 let mut mine = vec![false; n];
                 for a in direct {
@@ -138,7 +141,7 @@ mod tests {
             for (b, row) in reach.iter().enumerate() {
                 for (a, &expected) in row.iter().enumerate() {
                     assert_eq!(
-                        clocks.before(a as u32, b as u32),
+                        clocks.before(MPass::new(a), MPass::new(b)),
                         expected,
                         "{a} -> {b} in {queue_of:?} {preds:?}"
                     );

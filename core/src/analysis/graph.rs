@@ -13,7 +13,7 @@ use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::EdgeRef;
 use serde::Serialize;
 
-use super::model::{FrameModel, Units};
+use super::model::{FirstAccess, FrameModel, MPass, MResource, OptPass, Units};
 use crate::capture::model::Subresources;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
@@ -41,7 +41,7 @@ impl EdgeKind {
 pub struct Edge {
     pub kind: EdgeKind,
     /// The resource, for data edges.
-    pub resource: Option<u32>,
+    pub resource: Option<MResource>,
     /// For data edges, the later pass's access (index into its accesses) whose range has the
     /// hazard: edges stay small, and the range is one lookup away (`Edge::range`).
     pub access: Option<u32>,
@@ -49,27 +49,34 @@ pub struct Edge {
 
 impl Edge {
     /// The subresource range of a data edge: the later pass's access range.
-    pub fn range<'m>(&self, model: &'m FrameModel, to: usize) -> Option<&'m Subresources> {
+    pub fn range<'m>(&self, model: &'m FrameModel, to: MPass) -> Option<&'m Subresources> {
         let access = self.access?;
-        Some(&model.passes.get(to)?.accesses.get(access as usize)?.range)
+        Some(
+            &model
+                .passes
+                .get(to.index())?
+                .accesses
+                .get(access as usize)?
+                .range,
+        )
     }
 }
 
 /// A read of a `history` resource before the frame writes it: it sees the previous frame.
 #[derive(Clone, Debug, Serialize)]
 pub struct HistoryRead {
-    pub pass: u32,
-    pub resource: u32,
+    pub pass: MPass,
+    pub resource: MResource,
 }
 
 #[derive(Debug)]
 pub struct PassGraph {
-    pub graph: DiGraph<u32, Edge>,
+    pub graph: DiGraph<MPass, Edge>,
     /// Node of each pass (node index == pass index; kept for clarity at call sites).
     pub nodes: Vec<NodeIndex>,
     pub history_reads: Vec<HistoryRead>,
-    /// The last writer of each unit at the end of the frame (for culling; `NO_PASS` if none).
-    final_writers: Vec<u32>,
+    /// The last writer of each unit at the end of the frame (for culling).
+    final_writers: Vec<OptPass>,
 }
 
 /// A cycle in the pass graph: the passes on it, and the resources whose hazards close it.
@@ -84,32 +91,33 @@ pub struct CycleError {
     pub steps: Vec<String>,
 }
 
-const NO_PASS: u32 = u32::MAX;
+/// The end of a list of readers in the arena (an arena position, not a pass).
+const END: u32 = u32::MAX;
 
 pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
     let n = model.passes.len();
-    let mut last_writer: Vec<u32> = vec![NO_PASS; units.total];
+    let mut last_writer: Vec<OptPass> = vec![OptPass::NONE; units.total];
     // Readers since the last write, per unit, as linked lists in one arena (no allocation per
     // unit): head index per unit, then (pass, next) entries.
-    let mut reader_head: Vec<u32> = vec![NO_PASS; units.total];
-    let mut reader_arena: Vec<(u32, u32)> = Vec::with_capacity(units.use_count());
+    let mut reader_head: Vec<u32> = vec![END; units.total];
+    let mut reader_arena: Vec<(MPass, u32)> = Vec::with_capacity(units.use_count());
     let mut history_reads = Vec::new();
     // One resource's hazards in one pass as (from, kind, access index); the edge keeps the
     // range of the first access of the pass that has the hazard.
-    let mut found: Vec<(u32, EdgeKind, u32)> = Vec::new();
+    let mut found: Vec<(MPass, EdgeKind, FirstAccess)> = Vec::new();
     // Hazard edges are added as found; most uses of a unit add about one.
-    let mut graph: DiGraph<u32, Edge> =
+    let mut graph: DiGraph<MPass, Edge> =
         DiGraph::with_capacity(n, units.use_count() + n + model.fences.len());
-    let nodes: Vec<NodeIndex> = (0..n as u32).map(|i| graph.add_node(i)).collect();
-    let mut last_on_queue: Vec<Option<u32>> = vec![None; model.queues.len()];
+    let nodes: Vec<NodeIndex> = MPass::range(n).map(|p| graph.add_node(p)).collect();
+    let mut last_on_queue: Vec<Option<MPass>> = vec![None; model.queues.len()];
 
     for (p, pass) in model.passes.iter().enumerate() {
-        let p = p as u32;
-        let last = last_on_queue.get_mut(pass.queue as usize);
+        let p = MPass::new(p);
+        let last = last_on_queue.get_mut(pass.queue.index());
         if let Some(prev) = last.and_then(|l| l.replace(p)) {
             graph.add_edge(
-                nodes[prev as usize],
-                nodes[p as usize],
+                nodes[prev.index()],
+                nodes[p.index()],
                 Edge {
                     kind: EdgeKind::Queue,
                     resource: None,
@@ -118,7 +126,7 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
             );
         }
         for a in &pass.accesses {
-            if let Some(of) = model.resources[a.resource as usize].previous_of {
+            if let Some(of) = model.resources[a.resource.index()].previous_of {
                 history_reads.push(HistoryRead {
                     pass: p,
                     resource: of,
@@ -138,9 +146,8 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
             }
             found.clear();
             for u in &uses[group..end] {
-                let unit = u.unit as usize;
-                let w = last_writer[unit];
-                if w != NO_PASS {
+                let unit = u.unit.index();
+                if let Some(w) = last_writer[unit].get() {
                     if u.reads {
                         found.push((w, EdgeKind::Raw, u.first_read));
                     }
@@ -150,7 +157,7 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
                 }
                 if u.writes {
                     let mut cursor = reader_head[unit];
-                    while cursor != NO_PASS {
+                    while cursor != END {
                         let (reader, next) = reader_arena[cursor as usize];
                         found.push((reader, EdgeKind::War, u.first_write));
                         cursor = next;
@@ -164,22 +171,22 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
             }
             for &(from, kind, access) in &found {
                 graph.add_edge(
-                    nodes[from as usize],
-                    nodes[p as usize],
+                    nodes[from.index()],
+                    nodes[p.index()],
                     Edge {
                         kind,
                         resource: Some(resource),
-                        access: Some(access),
+                        access: access.get(),
                     },
                 );
             }
             group = end;
         }
         for u in uses {
-            let unit = u.unit as usize;
+            let unit = u.unit.index();
             if u.writes {
-                last_writer[unit] = p;
-                reader_head[unit] = NO_PASS;
+                last_writer[unit] = OptPass::some(p);
+                reader_head[unit] = END;
             } else if u.reads {
                 reader_arena.push((p, reader_head[unit]));
                 reader_head[unit] = (reader_arena.len() - 1) as u32;
@@ -189,8 +196,8 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
 
     for &(from, to) in &model.fences {
         graph.add_edge(
-            nodes[from as usize],
-            nodes[to as usize],
+            nodes[from.index()],
+            nodes[to.index()],
             Edge {
                 kind: EdgeKind::Fence,
                 resource: None,
@@ -208,7 +215,7 @@ pub fn build(model: &FrameModel, units: &Units) -> PassGraph {
 
 /// A topological order; among ready passes the earliest recorded goes first, so each queue's
 /// recorded order is kept (queue edges force it) and the result is deterministic.
-pub fn order(model: &FrameModel, g: &PassGraph) -> Result<Vec<u32>, CycleError> {
+pub fn order(model: &FrameModel, g: &PassGraph) -> Result<Vec<MPass>, CycleError> {
     match recorded_order(model) {
         Some(order) => Ok(order),
         None => topological_order(model, g),
@@ -219,33 +226,33 @@ pub fn order(model: &FrameModel, g: &PassGraph) -> Result<Vec<u32>, CycleError> 
 /// hazard and queue edges always run from an earlier recorded pass to a later one, so only a
 /// declared fence can point backwards. With none doing so every edge points forward, the
 /// earliest recorded ready pass is always the next one, and the order is the recorded order.
-pub fn recorded_order(model: &FrameModel) -> Option<Vec<u32>> {
+pub fn recorded_order(model: &FrameModel) -> Option<Vec<MPass>> {
     model
         .fences
         .iter()
         .all(|&(signal, wait)| signal < wait)
-        .then(|| (0..model.passes.len() as u32).collect())
+        .then(|| MPass::range(model.passes.len()).collect())
 }
 
 /// Kahn's algorithm with the earliest recorded ready pass first.
-pub fn topological_order(model: &FrameModel, g: &PassGraph) -> Result<Vec<u32>, CycleError> {
+pub fn topological_order(model: &FrameModel, g: &PassGraph) -> Result<Vec<MPass>, CycleError> {
     let n = model.passes.len();
     let mut indegree = vec![0u32; n];
     for e in g.graph.edge_references() {
         indegree[e.target().index()] += 1;
     }
-    let mut ready: BinaryHeap<Reverse<u32>> = (0..n as u32)
-        .filter(|&p| indegree[p as usize] == 0)
+    let mut ready: BinaryHeap<Reverse<MPass>> = MPass::range(n)
+        .filter(|&p| indegree[p.index()] == 0)
         .map(Reverse)
         .collect();
     let mut out = Vec::with_capacity(n);
     while let Some(Reverse(p)) = ready.pop() {
         out.push(p);
-        for e in g.graph.edges(g.nodes[p as usize]) {
+        for e in g.graph.edges(g.nodes[p.index()]) {
             let t = e.target().index();
             indegree[t] -= 1;
             if indegree[t] == 0 {
-                ready.push(Reverse(t as u32));
+                ready.push(Reverse(MPass::new(t)));
             }
         }
     }
@@ -260,7 +267,7 @@ fn find_cycle(model: &FrameModel, g: &PassGraph, indegree: &[u32]) -> CycleError
     let start = indegree.iter().position(|&d| d > 0).unwrap_or(0);
     // Walk incoming edges backwards from a pass left with dependencies until a pass repeats.
     let mut path: Vec<usize> = vec![start];
-    let mut via: Vec<(EdgeKind, Option<u32>)> = Vec::new();
+    let mut via: Vec<(EdgeKind, Option<MResource>)> = Vec::new();
     let mut seen = vec![usize::MAX; model.passes.len()];
     seen[start] = 0;
     let mut current = start;
@@ -277,10 +284,10 @@ fn find_cycle(model: &FrameModel, g: &PassGraph, indegree: &[u32]) -> CycleError
             let from = seen[prev];
             // Forward order: prev (= path[from]) -> path[last] -> ... -> path[from]; the edge
             // into path[k] from path[k+1] is via[k], the edge into path[last] is the last one.
-            let mut nodes = vec![prev];
+            let mut nodes = vec![MPass::new(prev)];
             let mut edges = Vec::new();
             for k in (from..path.len()).rev() {
-                nodes.push(path[k]);
+                nodes.push(MPass::new(path[k]));
                 edges.push(via[k]);
             }
             return describe_cycle(model, &nodes, &edges);
@@ -299,11 +306,12 @@ fn find_cycle(model: &FrameModel, g: &PassGraph, indegree: &[u32]) -> CycleError
 /// A cycle `nodes[0] -> nodes[1] -> ... -> nodes[0]` with the edge into each `nodes[i + 1]`.
 fn describe_cycle(
     model: &FrameModel,
-    nodes: &[usize],
-    edges: &[(EdgeKind, Option<u32>)],
+    nodes: &[MPass],
+    edges: &[(EdgeKind, Option<MResource>)],
 ) -> CycleError {
-    let name = |p: usize| model.passes[p].name.as_str();
-    let resource = |r: Option<u32>| r.map_or("?", |r| model.resources[r as usize].name.as_str());
+    let name = |p: MPass| model.passes[p.index()].name.as_str();
+    let resource =
+        |r: Option<MResource>| r.map_or("?", |r| model.resources[r.index()].name.as_str());
     let steps = nodes
         .windows(2)
         .zip(edges)
@@ -329,21 +337,21 @@ fn describe_cycle(
                     name(a),
                     model
                         .queues
-                        .get(model.passes[b].queue as usize)
+                        .get(model.passes[b.index()].queue.index())
                         .map_or("?", |q| q.name.as_str())
                 ),
                 EdgeKind::Fence => format!(
                     "{} waits on a fence {} signals ($.passes[{}].wait)",
                     name(b),
                     name(a),
-                    model.passes[b].id.index()
+                    model.passes[b.index()].id.index()
                 ),
             }
         })
         .collect();
     let mut resources: Vec<String> = edges
         .iter()
-        .filter_map(|&(_, r)| r.map(|r| model.resources[r as usize].name.clone()))
+        .filter_map(|&(_, r)| r.map(|r| model.resources[r.index()].name.clone()))
         .collect();
     resources.sort();
     resources.dedup();
@@ -356,23 +364,23 @@ fn describe_cycle(
 
 /// Passes whose writes never reach a frame output: not a sink (present), not the final writer
 /// of an output or history resource, and not read (transitively) by a pass that is.
-pub fn culled(model: &FrameModel, units: &Units, g: &PassGraph) -> Vec<u32> {
+pub fn culled(model: &FrameModel, units: &Units, g: &PassGraph) -> Vec<MPass> {
     let n = model.passes.len();
     let mut live = vec![false; n];
-    let mut stack: Vec<u32> = Vec::new();
+    let mut stack: Vec<MPass> = Vec::new();
     for (p, pass) in model.passes.iter().enumerate() {
         if pass.sink {
             live[p] = true;
-            stack.push(p as u32);
+            stack.push(MPass::new(p));
         }
     }
     for (r, res) in model.resources.iter().enumerate() {
         if res.output || res.history {
-            let base = units.base(r as u32);
-            for u in base..base + units.count(r as u32) {
-                let w = g.final_writers[u];
-                if w != NO_PASS && !live[w as usize] {
-                    live[w as usize] = true;
+            for u in units.span(MResource::new(r)) {
+                if let Some(w) = g.final_writers[u].get()
+                    && !live[w.index()]
+                {
+                    live[w.index()] = true;
                     stack.push(w);
                 }
             }
@@ -381,32 +389,32 @@ pub fn culled(model: &FrameModel, units: &Units, g: &PassGraph) -> Vec<u32> {
     while let Some(p) = stack.pop() {
         for e in g
             .graph
-            .edges_directed(g.nodes[p as usize], petgraph::Direction::Incoming)
+            .edges_directed(g.nodes[p.index()], petgraph::Direction::Incoming)
         {
             let s = e.source().index();
             if e.weight().kind == EdgeKind::Raw && !live[s] {
                 live[s] = true;
-                stack.push(s as u32);
+                stack.push(MPass::new(s));
             }
         }
     }
-    (0..n as u32).filter(|&p| !live[p as usize]).collect()
+    MPass::range(n).filter(|&p| !live[p.index()]).collect()
 }
 
 /// The model without the given passes (for `--cull`); fences touching them are dropped.
-pub fn without_passes(model: &FrameModel, drop: &[u32]) -> FrameModel {
+pub fn without_passes(model: &FrameModel, drop: &[MPass]) -> FrameModel {
     let mut keep_index = vec![None; model.passes.len()];
     let mut passes = Vec::new();
     for (i, p) in model.passes.iter().enumerate() {
-        if !drop.contains(&(i as u32)) {
-            keep_index[i] = Some(passes.len() as u32);
+        if !drop.contains(&MPass::new(i)) {
+            keep_index[i] = Some(MPass::new(passes.len()));
             passes.push(p.clone());
         }
     }
     let fences = model
         .fences
         .iter()
-        .filter_map(|&(a, b)| Some((keep_index[a as usize]?, keep_index[b as usize]?)))
+        .filter_map(|&(a, b)| Some((keep_index[a.index()]?, keep_index[b.index()]?)))
         .collect();
     FrameModel {
         queues: model.queues.clone(),
@@ -446,7 +454,7 @@ mod tests {
 
     fn access(resource: u32, mip: u32, state: State, reads: bool, writes: bool) -> ModelAccess {
         ModelAccess {
-            resource,
+            resource: MResource(resource),
             range: Subresources {
                 mip_base: mip,
                 mip_count: 1,
@@ -466,7 +474,7 @@ mod tests {
         ModelPass {
             id: crate::capture::model::PassId(0),
             name: name.into(),
-            queue,
+            queue: MQueue(queue),
             accesses,
             raster: queue == 0,
             sink: false,
@@ -544,7 +552,7 @@ mod tests {
             ],
             "b touches only mip 1 and has no data edge"
         );
-        assert_eq!(order(&m, &g).unwrap(), vec![0, 1, 2, 3]);
+        assert_eq!(order(&m, &g).unwrap(), MPass::range(4).collect::<Vec<_>>());
     }
 
     #[test]
@@ -596,7 +604,7 @@ mod tests {
                 ),
             ],
         );
-        m.fences.push((1, 0)); // producer waits on the consumer: impossible.
+        m.fences.push((MPass(1), MPass(0))); // producer waits on the consumer: impossible.
         let units = Units::new(&m);
         let g = build(&m, &units);
         let err = order(&m, &g).unwrap_err();
@@ -625,11 +633,11 @@ mod tests {
                 ),
             ],
         );
-        m.fences.push((1, 0));
+        m.fences.push((MPass(1), MPass(0)));
         assert_eq!(recorded_order(&m), None);
         let units = Units::new(&m);
         let g = build(&m, &units);
-        assert_eq!(order(&m, &g).unwrap(), vec![1, 0]);
+        assert_eq!(order(&m, &g).unwrap(), vec![MPass(1), MPass(0)]);
     }
 
     #[test]
@@ -661,6 +669,6 @@ mod tests {
         );
         let units = Units::new(&m);
         let g = build(&m, &units);
-        assert_eq!(culled(&m, &units, &g), vec![1]);
+        assert_eq!(culled(&m, &units, &g), vec![MPass(1)]);
     }
 }

@@ -18,7 +18,7 @@
 use serde::Serialize;
 
 use super::clocks::Clocks;
-use super::model::{FrameModel, State, Units};
+use super::model::{FrameModel, MPass, MQueue, MResource, State, Unit, Units};
 use crate::capture::format::QueueType;
 use crate::capture::model::Subresources;
 
@@ -26,12 +26,12 @@ use crate::capture::model::Subresources;
 #[derive(Clone, Debug, PartialEq)]
 pub struct SyncBarrier {
     /// Executes before this pass (`after == false`) or right after it (`after == true`).
-    pub pass: u32,
+    pub pass: MPass,
     pub after: bool,
-    pub queue: u32,
+    pub queue: MQueue,
     /// A UAV barrier changes no state.
     pub uav: bool,
-    pub resource: u32,
+    pub resource: MResource,
     pub range: Subresources,
     pub before: State,
     pub after_state: State,
@@ -50,9 +50,9 @@ pub enum HazardKind {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct Hazard {
     pub kind: HazardKind,
-    pub earlier: u32,
-    pub later: u32,
-    pub resource: u32,
+    pub earlier: MPass,
+    pub later: MPass,
+    pub resource: MResource,
     pub mip: u32,
     pub layer: u32,
 }
@@ -61,8 +61,8 @@ pub struct Hazard {
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum StateError {
     WrongState {
-        pass: u32,
-        resource: u32,
+        pass: MPass,
+        resource: MResource,
         mip: u32,
         layer: u32,
         have: State,
@@ -75,17 +75,17 @@ pub enum StateError {
     },
     QueueCannotHold {
         barrier: usize,
-        queue: u32,
+        queue: MQueue,
         state: State,
     },
     UnorderedState {
-        pass: u32,
-        resource: u32,
+        pass: MPass,
+        resource: MResource,
         barrier: usize,
     },
     /// The frame leaves a unit in a state other than the one the next frame starts with.
     FrameEndMismatch {
-        resource: u32,
+        resource: MResource,
         mip: u32,
         layer: u32,
         end: State,
@@ -108,24 +108,24 @@ impl CheckReport {
 /// Happens-before over queue order and fences.
 type HappensBefore = Clocks;
 
-fn happens_before(model: &FrameModel, order: &[u32], fences: &[(u32, u32)]) -> HappensBefore {
+fn happens_before(model: &FrameModel, order: &[MPass], fences: &[(MPass, MPass)]) -> HappensBefore {
     let n = model.passes.len();
-    let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let mut preds: Vec<Vec<MPass>> = vec![Vec::new(); n];
     for &(a, b) in fences {
-        if let Some(list) = preds.get_mut(b as usize) {
+        if let Some(list) = preds.get_mut(b.index()) {
             list.push(a);
         }
     }
-    let queue_of = model.passes.iter().map(|p| p.queue as usize).collect();
+    let queue_of = model.passes.iter().map(|p| p.queue).collect();
     Clocks::new(model.queues.len(), queue_of, order, |p| {
-        preds[p as usize].clone()
+        preds[p.index()].clone()
     })
 }
 
 #[derive(Clone, Copy)]
 struct Use {
-    pass: u32,
-    queue: u32,
+    pass: MPass,
+    queue: MQueue,
     state: State,
     time: u32,
 }
@@ -137,7 +137,7 @@ struct Applied {
 }
 
 /// Whether barrier `b` lies between access `a` and pass `later` in happens-before terms.
-fn barrier_between(hb: &HappensBefore, b: &SyncBarrier, a: u32, later: u32) -> bool {
+fn barrier_between(hb: &HappensBefore, b: &SyncBarrier, a: MPass, later: MPass) -> bool {
     if b.after {
         hb.before_or_same(a, b.pass) && hb.before(b.pass, later)
     } else {
@@ -146,7 +146,7 @@ fn barrier_between(hb: &HappensBefore, b: &SyncBarrier, a: u32, later: u32) -> b
 }
 
 /// Whether the barrier happens before pass `p`'s accesses.
-fn barrier_before(hb: &HappensBefore, b: &SyncBarrier, p: u32) -> bool {
+fn barrier_before(hb: &HappensBefore, b: &SyncBarrier, p: MPass) -> bool {
     if b.after {
         hb.before(b.pass, p)
     } else {
@@ -185,18 +185,18 @@ fn holds(queue: QueueType, s: State) -> bool {
 pub fn check(
     model: &FrameModel,
     units: &Units,
-    order: &[u32],
+    order: &[MPass],
     barriers: &[SyncBarrier],
-    fences: &[(u32, u32)],
+    fences: &[(MPass, MPass)],
     initial: &[State],
 ) -> CheckReport {
     let mut before_pass: Vec<Vec<usize>> = vec![Vec::new(); model.passes.len()];
     let mut after_pass: Vec<Vec<usize>> = vec![Vec::new(); model.passes.len()];
     for (i, b) in barriers.iter().enumerate() {
         if b.after {
-            after_pass[b.pass as usize].push(i)
+            after_pass[b.pass.index()].push(i)
         } else {
-            before_pass[b.pass as usize].push(i)
+            before_pass[b.pass.index()].push(i)
         }
     }
     let mut c = Checker {
@@ -213,7 +213,7 @@ pub fn check(
         time: 0,
     };
     for &p in order {
-        for &i in &before_pass[p as usize] {
+        for &i in &before_pass[p.index()] {
             c.apply(i);
         }
         c.time += 1;
@@ -221,7 +221,7 @@ pub fn check(
         c.check_pass(p, &need);
         c.record(p, &need);
         c.time += 1;
-        for &i in &after_pass[p as usize] {
+        for &i in &after_pass[p.index()] {
             c.apply(i);
         }
         c.time += 1;
@@ -231,7 +231,7 @@ pub fn check(
 }
 
 /// A pass's combined need of one unit: (unit, state, reads, writes).
-type Need = (usize, State, bool, bool);
+type Need = (Unit, State, bool, bool);
 
 /// The walk's state: what each unit holds, who last used it, which barriers reached it.
 struct Checker<'a> {
@@ -255,7 +255,7 @@ impl Checker<'_> {
         let (model, units, hb, time) = (self.model, self.units, &self.hb, self.time);
         let b = &self.barriers[i];
         let report = &mut self.report;
-        let qtype = model.queues[b.queue as usize].queue_type;
+        let qtype = model.queues[b.queue.index()].queue_type;
         if !b.uav {
             for s in [b.before, b.after_state] {
                 if !holds(qtype, s) {
@@ -276,7 +276,8 @@ impl Checker<'_> {
             uav: false,
         };
         let (state, since, applied) = (&mut self.state, &mut self.since_barrier, &mut self.applied);
-        units.for_each(model, &access, |u| {
+        units.for_each(model, &access, |unit| {
+            let u = unit.index();
             if !b.uav {
                 if state[u] != b.before {
                     report.state_errors.push(StateError::WrongBefore {
@@ -294,7 +295,7 @@ impl Checker<'_> {
                     hb.before(a.pass, b.pass)
                 };
                 if !ordered {
-                    let (resource, mip, layer) = units.locate(model, u);
+                    let (resource, mip, layer) = units.locate(model, unit);
                     report.hazards.push(Hazard {
                         kind: HazardKind::BarrierRace,
                         earlier: a.pass,
@@ -310,9 +311,9 @@ impl Checker<'_> {
     }
 
     /// The pass's combined need per unit: read states add up; a write state stands alone.
-    fn need(&self, p: u32) -> Vec<Need> {
+    fn need(&self, p: MPass) -> Vec<Need> {
         let mut need: Vec<Need> = Vec::new();
-        for a in &self.model.passes[p as usize].accesses {
+        for a in &self.model.passes[p.index()].accesses {
             self.units.for_each(self.model, a, |u| {
                 if let Some(e) = need.iter_mut().find(|e| e.0 == u) {
                     if a.state.is_write() {
@@ -332,12 +333,13 @@ impl Checker<'_> {
 
     /// Each unit the pass uses must be in a state that serves it, set by a barrier ordered
     /// before the pass, and every earlier conflicting use must be synchronised with it.
-    fn check_pass(&mut self, p: u32, need: &[Need]) {
+    fn check_pass(&mut self, p: MPass, need: &[Need]) {
         let (model, units, hb, barriers) = (self.model, self.units, &self.hb, self.barriers);
-        let queue = model.passes[p as usize].queue;
-        let qtype = model.queues[queue as usize].queue_type;
-        for &(u, s, r, w) in need {
-            let (resource, mip, layer) = units.locate(model, u);
+        let queue = model.passes[p.index()].queue;
+        let qtype = model.queues[queue.index()].queue_type;
+        for &(unit, s, r, w) in need {
+            let (resource, mip, layer) = units.locate(model, unit);
+            let u = unit.index();
             let have = self.state[u];
             let ok = have == s
                 || (!s.is_write()
@@ -407,9 +409,10 @@ impl Checker<'_> {
     }
 
     /// Records the pass's uses for the passes after it.
-    fn record(&mut self, p: u32, need: &[Need]) {
-        let queue = self.model.passes[p as usize].queue;
-        for &(u, s, r, w) in need {
+    fn record(&mut self, p: MPass, need: &[Need]) {
+        let queue = self.model.passes[p.index()].queue;
+        for &(unit, s, r, w) in need {
+            let u = unit.index();
             let use_ = Use {
                 pass: p,
                 queue,
@@ -430,7 +433,7 @@ impl Checker<'_> {
     fn frame_end(&mut self, initial: &[State]) {
         for (u, (&end, &start)) in self.state.iter().zip(initial).enumerate() {
             if end != start {
-                let (resource, mip, layer) = self.units.locate(self.model, u);
+                let (resource, mip, layer) = self.units.locate(self.model, Unit::new(u));
                 self.report.state_errors.push(StateError::FrameEndMismatch {
                     resource,
                     mip,
@@ -447,9 +450,9 @@ impl Checker<'_> {
 pub fn redundant(
     model: &FrameModel,
     units: &Units,
-    order: &[u32],
+    order: &[MPass],
     barriers: &[SyncBarrier],
-    fences: &[(u32, u32)],
+    fences: &[(MPass, MPass)],
     initial: &[State],
 ) -> Vec<usize> {
     (0..barriers.len())

@@ -13,7 +13,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use serde::Serialize;
 
-use super::model::FrameModel;
+use super::model::{FrameModel, MPass, MResource};
 use crate::capture::format::HeapType;
 use crate::capture::model::ResourceCategory;
 
@@ -26,7 +26,7 @@ pub struct Lifetime {
 
 #[derive(Clone, Debug, Serialize)]
 pub struct Placed {
-    pub resource: u32,
+    pub resource: MResource,
     /// Index into `MemoryPlan::pools`.
     pub pool: u32,
     pub offset: u64,
@@ -46,9 +46,9 @@ pub struct Totals {
 /// An aliasing barrier: `after` starts using memory `before` used.
 #[derive(Clone, Debug, Serialize, PartialEq, Eq, PartialOrd, Ord)]
 pub struct AliasingBarrier {
-    pub before_pass: u32,
-    pub resource_before: u32,
-    pub resource_after: u32,
+    pub before_pass: MPass,
+    pub resource_before: MResource,
+    pub resource_after: MResource,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -62,12 +62,12 @@ pub struct MemoryPlan {
     pub aliasing_barriers: Vec<AliasingBarrier>,
 }
 
-pub fn lifetimes(model: &FrameModel, order: &[u32]) -> Vec<Option<Lifetime>> {
+pub fn lifetimes(model: &FrameModel, order: &[MPass]) -> Vec<Option<Lifetime>> {
     let mut out: Vec<Option<Lifetime>> = vec![None; model.resources.len()];
     for (pos, &p) in order.iter().enumerate() {
         let pos = pos as u32;
-        for a in &model.passes[p as usize].accesses {
-            let l = out[a.resource as usize].get_or_insert(Lifetime {
+        for a in &model.passes[p.index()].accesses {
+            let l = out[a.resource.index()].get_or_insert(Lifetime {
                 first: pos,
                 last: pos,
             });
@@ -78,10 +78,10 @@ pub fn lifetimes(model: &FrameModel, order: &[u32]) -> Vec<Option<Lifetime>> {
     out
 }
 
-/// One item to place: index into the caller's list, size, alignment, live interval.
+/// One item to place: the resource it is, size, alignment, live interval.
 #[derive(Clone, Copy, Debug)]
 pub struct Item {
-    pub id: u32,
+    pub id: MResource,
     pub bytes: u64,
     pub alignment: u64,
     pub first: u32,
@@ -159,7 +159,7 @@ pub fn place_greedy(items: &[Item]) -> (Vec<u64>, u64) {
 pub fn place_timeline(items: &[Item]) -> (Vec<u64>, u64) {
     let mut offsets = vec![0u64; items.len()];
     // Sort keys carry what they compare, so sorting never chases indices into `items`.
-    let mut births: Vec<(u32, std::cmp::Reverse<u64>, u32, u32)> = items
+    let mut births: Vec<(u32, std::cmp::Reverse<u64>, MResource, u32)> = items
         .iter()
         .enumerate()
         .map(|(i, it)| (it.first, std::cmp::Reverse(it.bytes), it.id, i as u32))
@@ -267,16 +267,16 @@ pub fn place(items: &[Item]) -> (Vec<u64>, u64) {
 /// Aliasing barriers of one pool: walking resources by first use, a map from address ranges to
 /// their latest occupant says whose memory each resource takes over. Placement guarantees that
 /// any earlier occupant of an overlapping range is dead by then.
-fn aliasing(items: &[Item], offsets: &[u64], order: &[u32], out: &mut Vec<AliasingBarrier>) {
-    let mut by_birth: Vec<(u32, u32, u32)> = items
+fn aliasing(items: &[Item], offsets: &[u64], order: &[MPass], out: &mut Vec<AliasingBarrier>) {
+    let mut by_birth: Vec<(u32, MResource, u32)> = items
         .iter()
         .enumerate()
         .map(|(i, it)| (it.first, it.id, i as u32))
         .collect();
     by_birth.sort_unstable();
     // start -> (end, occupant); segments never overlap.
-    let mut painted: BTreeMap<u64, (u64, u32)> = BTreeMap::new();
-    let mut previous: Vec<u32> = Vec::new();
+    let mut painted: BTreeMap<u64, (u64, MResource)> = BTreeMap::new();
+    let mut previous: Vec<MResource> = Vec::new();
     for (first, id, i) in by_birth {
         let start = offsets[i as usize];
         let end = start + items[i as usize].bytes;
@@ -316,7 +316,7 @@ fn category_name(c: ResourceCategory) -> &'static str {
     }
 }
 
-pub fn plan(model: &FrameModel, order: &[u32]) -> MemoryPlan {
+pub fn plan(model: &FrameModel, order: &[MPass]) -> MemoryPlan {
     let lifetimes = lifetimes(model, order);
     let end = order.len().saturating_sub(1) as u32;
     const HEAPS: [HeapType; 4] = [
@@ -359,7 +359,7 @@ pub fn plan(model: &FrameModel, order: &[u32]) -> MemoryPlan {
         *unaliased[pool / 3].get_or_insert(0) += r.aligned_bytes;
         let lifetime = lifetimes[i];
         placed.push(Placed {
-            resource: i as u32,
+            resource: MResource::new(i),
             pool: pool as u32,
             offset: 0,
             bytes: r.aligned_bytes,
@@ -374,7 +374,7 @@ pub fn plan(model: &FrameModel, order: &[u32]) -> MemoryPlan {
             (l.first, l.last)
         };
         pools[pool].push(Item {
-            id: i as u32,
+            id: MResource::new(i),
             bytes: r.aligned_bytes,
             alignment: r.alignment,
             first,
@@ -406,7 +406,7 @@ pub fn plan(model: &FrameModel, order: &[u32]) -> MemoryPlan {
         totals.aliased_bytes += size;
         totals.lower_bound_bytes += lower_bound(items);
         for (item, &offset) in items.iter().zip(&offsets) {
-            placed[item.id as usize].offset = offset;
+            placed[item.id.index()].offset = offset;
         }
         aliasing(items, &offsets, order, &mut aliasing_barriers);
     }
@@ -432,7 +432,7 @@ mod tests {
 
     fn item(id: u32, kib: u64, first: u32, last: u32) -> Item {
         Item {
-            id,
+            id: MResource(id),
             bytes: kib * 1024,
             alignment: 65536,
             first,

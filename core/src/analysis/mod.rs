@@ -42,7 +42,7 @@ pub fn to_sync(b: &Barrier) -> Option<SyncBarrier> {
 pub struct Derived {
     pub units: model::Units,
     pub graph: graph::PassGraph,
-    pub order: Vec<u32>,
+    pub order: Vec<model::MPass>,
     pub plan: barriers::BarrierPlan,
     /// `None` unless asked for.
     pub memory: Option<memory::MemoryPlan>,
@@ -109,7 +109,7 @@ pub fn barriers_and_memory(
     model: &model::FrameModel,
     units: &model::Units,
     graph: &graph::PassGraph,
-    order: &[u32],
+    order: &[model::MPass],
 ) -> (barriers::BarrierPlan, memory::MemoryPlan) {
     if !parallel() {
         return (

@@ -16,6 +16,122 @@ use crate::capture::model::{
     Subresources,
 };
 
+/// Dense indices of the model. The model numbers its passes, resources, queues and subresource
+/// units from zero so that analyses keep per-item state in plain vectors; these newtypes keep
+/// the four spaces apart (and apart from the capture's ids) at no cost: each is a `u32` in
+/// memory, and serializes and formats as the bare number reports have always shown.
+macro_rules! dense_index {
+    ($($(#[$doc:meta])* $name:ident),* $(,)?) => {$(
+        $(#[$doc])*
+        #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default, Serialize)]
+        #[serde(transparent)]
+        #[repr(transparent)]
+        pub struct $name(pub u32);
+
+        impl $name {
+            #[inline]
+            pub fn index(self) -> usize {
+                self.0 as usize
+            }
+            /// From a position in the model's vectors (which never hold more than `u32::MAX`
+            /// items).
+            #[inline]
+            pub fn new(index: usize) -> Self {
+                Self(index as u32)
+            }
+            /// `0..count` as indices.
+            #[inline]
+            pub fn range(
+                count: usize,
+            ) -> impl DoubleEndedIterator<Item = Self> + ExactSizeIterator + Clone {
+                (0..count as u32).map(Self)
+            }
+        }
+
+        // Messages and debug dumps print the bare number, as they did before these types.
+        impl fmt::Debug for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                fmt::Debug::fmt(&self.0, f)
+            }
+        }
+
+        impl fmt::Display for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                fmt::Display::fmt(&self.0, f)
+            }
+        }
+    )*};
+}
+
+dense_index!(
+    /// A pass of the model: an index into `FrameModel::passes`.
+    MPass,
+    /// A resource of the model: an index into `FrameModel::resources` (previous-frame copies
+    /// included, so not always a capture resource).
+    MResource,
+    /// A queue of the model: an index into `FrameModel::queues`.
+    MQueue,
+    /// A subresource unit: an index into the flat unit space of `Units`.
+    Unit,
+);
+
+/// A pass or none, in four bytes. `Option<MPass>` takes eight; the graph build and the barrier
+/// walk keep one of these per unit (and per unit and queue), and those vectors are the hot
+/// loops' working set, so they keep the compact form with a named sentinel instead.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(transparent)]
+pub struct OptPass(u32);
+
+impl OptPass {
+    pub const NONE: OptPass = OptPass(u32::MAX);
+
+    #[inline]
+    pub fn some(p: MPass) -> Self {
+        OptPass(p.0)
+    }
+    #[inline]
+    pub fn get(self) -> Option<MPass> {
+        (self != Self::NONE).then_some(MPass(self.0))
+    }
+    #[inline]
+    pub fn is_none(self) -> bool {
+        self == Self::NONE
+    }
+}
+
+impl fmt::Debug for OptPass {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(&self.get(), f)
+    }
+}
+
+/// The index of a pass's first access with some property, or none, in four bytes: `UnitUse`
+/// carries two, and uses are the most numerous records of the analysis, so `Option<u32>`'s
+/// extra bytes would grow every walk over them. None orders after every index, so merging two
+/// uses keeps the earlier access with `min`.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(transparent)]
+pub struct FirstAccess(u32);
+
+impl FirstAccess {
+    pub const NONE: FirstAccess = FirstAccess(u32::MAX);
+
+    #[inline]
+    pub fn some(access: u32) -> Self {
+        FirstAccess(access)
+    }
+    #[inline]
+    pub fn get(self) -> Option<u32> {
+        (self != Self::NONE).then_some(self.0)
+    }
+}
+
+impl fmt::Debug for FirstAccess {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(&self.get(), f)
+    }
+}
+
 /// A D3D12 resource state, as bit flags so read states can be combined. The values are
 /// D3D12's, except PRESENT, which D3D12 aliases to COMMON and which gets its own bit here so
 /// reports can name it.
@@ -131,7 +247,7 @@ impl Serialize for State {
 /// One access of a pass to a range of a resource, in the state it needs.
 #[derive(Clone, Debug)]
 pub struct ModelAccess {
-    pub resource: u32,
+    pub resource: MResource,
     pub range: Subresources,
     pub state: State,
     /// Reads the previous contents.
@@ -146,7 +262,7 @@ pub struct ModelPass {
     /// The capture pass this is (synthetic frames number their passes in order).
     pub id: PassId,
     pub name: String,
-    pub queue: u32,
+    pub queue: MQueue,
     pub accesses: Vec<ModelAccess>,
     /// Runs graphics pipelines (shader reads are pixel-shader reads, Vulkan stages are graphics
     /// stages); otherwise compute or transfer work.
@@ -182,7 +298,7 @@ pub struct ModelResource {
     /// State at the start of the frame.
     pub initial_state: State,
     /// For the previous-frame copy of a `history` resource: the resource it is the copy of.
-    pub previous_of: Option<u32>,
+    pub previous_of: Option<MResource>,
 }
 
 impl ModelResource {
@@ -205,7 +321,7 @@ pub struct FrameModel {
     pub resources: Vec<ModelResource>,
     pub passes: Vec<ModelPass>,
     /// Declared fences as (signalling pass, waiting pass).
-    pub fences: Vec<(u32, u32)>,
+    pub fences: Vec<(MPass, MPass)>,
     /// D3D12 resource heap tier (1 keeps buffers, RT/DS and other textures apart).
     pub heap_tier: u8,
 }
@@ -217,8 +333,8 @@ pub struct QueueInfo {
 }
 
 impl FrameModel {
-    pub fn queue_type(&self, pass: usize) -> QueueType {
-        self.queues[self.passes[pass].queue as usize].queue_type
+    pub fn queue_type(&self, pass: MPass) -> QueueType {
+        self.queues[self.passes[pass.index()].queue.index()].queue_type
     }
 }
 
@@ -353,7 +469,7 @@ pub fn from_capture(capture: &Capture) -> FrameModel {
                         (None, _) => Stages::Compute,
                     };
                     ModelAccess {
-                        resource: a.resource.0,
+                        resource: MResource(a.resource.0),
                         range: a.range,
                         state: state_for(a.access, stages, texture),
                         reads: a.reads,
@@ -365,7 +481,7 @@ pub fn from_capture(capture: &Capture) -> FrameModel {
             ModelPass {
                 id: p.id,
                 name: p.name.clone(),
-                queue: p.queue.0,
+                queue: MQueue(p.queue.0),
                 accesses,
                 raster: raster || p.kind == PassKind::GenerateMips,
                 sink: p.kind == PassKind::Present,
@@ -378,7 +494,8 @@ pub fn from_capture(capture: &Capture) -> FrameModel {
     for waiter in &capture.passes {
         for f in &waiter.wait {
             if let Some(signaller) = capture.passes.iter().find(|p| p.signal.contains(f)) {
-                fences.push((signaller.id.0, waiter.id.0));
+                // Capture passes are numbered in recorded order, as the model's are.
+                fences.push((MPass(signaller.id.0), MPass(waiter.id.0)));
             }
         }
     }
@@ -410,25 +527,25 @@ impl FrameModel {
             if !self.resources[r].history || self.resources[r].previous_of.is_some() {
                 continue;
             }
-            let mut previous: Option<u32> = None;
+            let mut previous: Option<MResource> = None;
             'passes: for p in 0..self.passes.len() {
                 let writes_here = self.passes[p]
                     .accesses
                     .iter()
-                    .any(|a| a.resource as usize == r && a.writes);
+                    .any(|a| a.resource.index() == r && a.writes);
                 for a in 0..self.passes[p].accesses.len() {
                     let access = &self.passes[p].accesses[a];
-                    if access.resource as usize != r || !access.reads || access.writes {
+                    if access.resource.index() != r || !access.reads || access.writes {
                         continue;
                     }
                     let id = *previous.get_or_insert_with(|| {
                         let mut copy = self.resources[r].clone();
                         copy.name = format!("{} (previous frame)", copy.name);
-                        copy.previous_of = Some(r as u32);
+                        copy.previous_of = Some(MResource::new(r));
                         copy.initialised = true;
                         copy.output = false;
                         self.resources.push(copy);
-                        (self.resources.len() - 1) as u32
+                        MResource::new(self.resources.len() - 1)
                     });
                     self.passes[p].accesses[a].resource = id;
                 }
@@ -456,7 +573,7 @@ pub struct Units {
     /// `base` it locates a unit's mip and layer without reading the resource.
     layers: Vec<u32>,
     /// Accessed previous-frame copies of `history` resources, as (copy, resource).
-    previous_copies: Vec<(u32, u32)>,
+    previous_copies: Vec<(MResource, MResource)>,
     /// Per unit, for buffers: the end of its byte interval (the interior boundaries of a buffer
     /// are the ends of all its units but the last).
     unit_end: Vec<u64>,
@@ -470,16 +587,16 @@ pub struct Units {
 /// several write states the first access's wins (the pass orders its own accesses internally).
 #[derive(Clone, Copy, Debug)]
 pub struct UnitUse {
-    pub unit: u32,
-    pub resource: u32,
+    pub unit: Unit,
+    pub resource: MResource,
     pub state: State,
     pub reads: bool,
     pub writes: bool,
     pub uav: bool,
-    /// Index of the pass's first access that reads (writes) the unit, `u32::MAX` if none: the
-    /// range a hazard on this unit is reported with.
-    pub first_read: u32,
-    pub first_write: u32,
+    /// Index of the pass's first access that reads (writes) the unit: the range a hazard on
+    /// this unit is reported with.
+    pub first_read: FirstAccess,
+    pub first_write: FirstAccess,
 }
 
 impl Units {
@@ -488,15 +605,15 @@ impl Units {
         // frame's work, not with how many resources it declares.
         let mut accessed = vec![false; model.resources.len()];
         // Interior byte boundaries of buffer accesses, as (resource, offset).
-        let mut boundaries: Vec<(u32, u64)> = Vec::new();
+        let mut boundaries: Vec<(MResource, u64)> = Vec::new();
         // Buffers that are the previous-frame copy of another, both ways round.
-        let mut twins: HashMap<u32, u32> = HashMap::new();
+        let mut twins: HashMap<MResource, MResource> = HashMap::new();
         let mut access_count = 0;
         for pass in &model.passes {
             access_count += pass.accesses.len();
             for a in &pass.accesses {
-                accessed[a.resource as usize] = true;
-                let r = &model.resources[a.resource as usize];
+                accessed[a.resource.index()] = true;
+                let r = &model.resources[a.resource.index()];
                 if r.is_buffer {
                     if let Some(of) = r.previous_of {
                         twins.insert(a.resource, of);
@@ -532,6 +649,7 @@ impl Units {
         let mut unit_end: Vec<u64> = Vec::new();
         let mut next_boundary = 0;
         for (i, r) in model.resources.iter().enumerate() {
+            let resource = MResource::new(i);
             base.push(unit_end.len() as u32);
             if !accessed[i] {
                 counts.push(0);
@@ -540,14 +658,14 @@ impl Units {
             }
             layers.push(if r.is_buffer { 0 } else { r.layers.max(1) });
             if let Some(of) = r.previous_of {
-                previous_copies.push((i as u32, of));
+                previous_copies.push((resource, of));
             }
             if r.is_buffer {
                 // Boundaries of unaccessed twins are passed over.
-                while next_boundary < boundaries.len() && boundaries[next_boundary].0 < i as u32 {
+                while next_boundary < boundaries.len() && boundaries[next_boundary].0 < resource {
                     next_boundary += 1;
                 }
-                while next_boundary < boundaries.len() && boundaries[next_boundary].0 == i as u32 {
+                while next_boundary < boundaries.len() && boundaries[next_boundary].0 == resource {
                     unit_end.push(boundaries[next_boundary].1);
                     next_boundary += 1;
                 }
@@ -574,7 +692,7 @@ impl Units {
 
     fn merge_uses(&mut self, model: &FrameModel) {
         let mut uses = std::mem::take(&mut self.uses);
-        let mut by_resource: Vec<(u32, u32)> = Vec::new();
+        let mut by_resource: Vec<(MResource, u32)> = Vec::new();
         for pass in &model.passes {
             let start = uses.len();
             self.use_start.push(start as u32);
@@ -594,14 +712,22 @@ impl Units {
                 let a = &pass.accesses[i as usize];
                 self.for_each(model, a, |unit| {
                     uses.push(UnitUse {
-                        unit: unit as u32,
+                        unit,
                         resource: a.resource,
                         state: a.state,
                         reads: a.reads,
                         writes: a.writes,
                         uav: a.uav,
-                        first_read: if a.reads { i } else { u32::MAX },
-                        first_write: if a.writes { i } else { u32::MAX },
+                        first_read: if a.reads {
+                            FirstAccess::some(i)
+                        } else {
+                            FirstAccess::NONE
+                        },
+                        first_write: if a.writes {
+                            FirstAccess::some(i)
+                        } else {
+                            FirstAccess::NONE
+                        },
                     })
                 });
             }
@@ -648,37 +774,37 @@ impl Units {
     }
 
     /// A pass's uses of units, sorted by unit, one per unit.
-    pub fn uses(&self, pass: u32) -> &[UnitUse] {
-        let p = pass as usize;
+    pub fn uses(&self, pass: MPass) -> &[UnitUse] {
+        let p = pass.index();
         &self.uses[self.use_start[p] as usize..self.use_start[p + 1] as usize]
     }
 
     /// The (mip, layer) of a unit of a known resource (buffer interval index in `layer`).
-    pub fn cell(&self, resource: u32, unit: usize) -> (u32, u32) {
-        let offset = (unit - self.base[resource as usize] as usize) as u32;
-        match self.layers[resource as usize] {
+    pub fn cell(&self, resource: MResource, unit: Unit) -> (u32, u32) {
+        let offset = unit.0 - self.base[resource.index()];
+        match self.layers[resource.index()] {
             0 => (0, offset),
             layers => (offset / layers, offset % layers),
         }
     }
 
     /// Whether an accessed resource is a buffer (its units are byte intervals).
-    pub fn is_buffer(&self, resource: u32) -> bool {
-        self.layers[resource as usize] == 0
+    pub fn is_buffer(&self, resource: MResource) -> bool {
+        self.layers[resource.index()] == 0
     }
 
     /// Accessed previous-frame copies of `history` resources, as (copy, resource).
-    pub fn previous_copies(&self) -> &[(u32, u32)] {
+    pub fn previous_copies(&self) -> &[(MResource, MResource)] {
         &self.previous_copies
     }
 
     /// Calls `f` with each unit an access touches.
-    pub fn for_each(&self, model: &FrameModel, a: &ModelAccess, mut f: impl FnMut(usize)) {
-        let r = &model.resources[a.resource as usize];
-        let base = self.base[a.resource as usize] as usize;
+    pub fn for_each(&self, model: &FrameModel, a: &ModelAccess, mut f: impl FnMut(Unit)) {
+        let r = &model.resources[a.resource.index()];
+        let base = self.base[a.resource.index()];
         if r.is_buffer {
-            let count = self.counts[a.resource as usize] as usize;
-            let b = &self.unit_end[base..base + count.saturating_sub(1)];
+            let count = self.counts[a.resource.index()] as usize;
+            let b = &self.unit_end[base as usize..base as usize + count.saturating_sub(1)];
             let (start, end) = (
                 a.range.byte_offset,
                 a.range.byte_offset.saturating_add(a.range.byte_size),
@@ -695,42 +821,50 @@ impl Units {
                 b.partition_point(|&x| x < end)
             };
             for u in first..=last {
-                f(base + u);
+                f(Unit(base + u as u32));
             }
         } else {
             let rg = &a.range;
             for mip in rg.mip_base..(rg.mip_base + rg.mip_count).min(r.mips) {
                 for layer in rg.layer_base..(rg.layer_base + rg.layer_count).min(r.layers) {
-                    f(base + (mip * r.layers + layer) as usize);
+                    f(Unit(base + mip * r.layers + layer));
                 }
             }
         }
     }
 
     /// The resource and (mip, layer) of a unit, for messages and range merging.
-    pub fn locate(&self, model: &FrameModel, unit: usize) -> (u32, u32, u32) {
-        let resource = self.base.partition_point(|&b| b as usize <= unit) - 1;
+    pub fn locate(&self, model: &FrameModel, unit: Unit) -> (MResource, u32, u32) {
+        let resource = self.base.partition_point(|&b| b <= unit.0) - 1;
         let r = &model.resources[resource];
-        let offset = (unit - self.base[resource] as usize) as u32;
+        let offset = unit.0 - self.base[resource];
+        let resource = MResource::new(resource);
         if r.is_buffer {
-            (resource as u32, 0, offset)
+            (resource, 0, offset)
         } else {
-            (resource as u32, offset / r.layers, offset % r.layers)
+            (resource, offset / r.layers, offset % r.layers)
         }
     }
 
-    pub fn base(&self, resource: u32) -> usize {
-        self.base[resource as usize] as usize
+    /// The first unit of a resource.
+    pub fn base(&self, resource: MResource) -> Unit {
+        Unit(self.base[resource.index()])
     }
 
     /// Units of a resource; 0 for a resource no pass accesses.
-    pub fn count(&self, resource: u32) -> usize {
-        self.counts[resource as usize] as usize
+    pub fn count(&self, resource: MResource) -> usize {
+        self.counts[resource.index()] as usize
+    }
+
+    /// A resource's units as positions in per-unit vectors (empty for one no pass accesses).
+    pub fn span(&self, resource: MResource) -> std::ops::Range<usize> {
+        let base = self.base[resource.index()] as usize;
+        base..base + self.count(resource)
     }
 
     /// The byte interval of a buffer unit.
-    pub fn buffer_interval(&self, resource: u32, index: u32) -> (u64, u64) {
-        let unit = self.base[resource as usize] as usize + index as usize;
+    pub fn buffer_interval(&self, resource: MResource, index: u32) -> (u64, u64) {
+        let unit = self.base[resource.index()] as usize + index as usize;
         let start = if index == 0 {
             0
         } else {
@@ -784,7 +918,7 @@ mod tests {
             byte_size: size,
         };
         let access = |range: Subresources, state: State, writes: bool| ModelAccess {
-            resource: 0,
+            resource: MResource(0),
             range,
             state,
             reads: !writes,
@@ -794,7 +928,7 @@ mod tests {
         let pass = |name: &str, a: ModelAccess| ModelPass {
             id: PassId(0),
             name: name.into(),
-            queue: 0,
+            queue: MQueue(0),
             accesses: vec![a],
             raster: false,
             sink: false,
@@ -822,16 +956,19 @@ mod tests {
             heap_tier: 2,
         };
         m.split_history();
-        assert_eq!(m.resources[1].previous_of, Some(0));
+        assert_eq!(m.resources[1].previous_of, Some(MResource(0)));
         let units = Units::new(&m);
-        let intervals = |r: u32| -> Vec<(u64, u64)> {
+        let intervals = |r: MResource| -> Vec<(u64, u64)> {
             (0..units.count(r) as u32)
                 .map(|i| units.buffer_interval(r, i))
                 .collect()
         };
-        assert_eq!(intervals(0), vec![(0, 64), (64, 192), (192, 256)]);
-        assert_eq!(intervals(1), intervals(0));
-        assert_eq!(units.previous_copies(), &[(1, 0)]);
+        assert_eq!(
+            intervals(MResource(0)),
+            vec![(0, 64), (64, 192), (192, 256)]
+        );
+        assert_eq!(intervals(MResource(1)), intervals(MResource(0)));
+        assert_eq!(units.previous_copies(), &[(MResource(1), MResource(0))]);
     }
 
     #[test]

@@ -11,7 +11,7 @@ use serde::Serialize;
 use super::barriers::FenceNeed;
 use super::clocks::Clocks;
 use super::graph::PassGraph;
-use super::model::FrameModel;
+use super::model::{FrameModel, MPass, MQueue};
 use crate::capture::format::QueueType;
 
 #[derive(Clone, Debug, Serialize)]
@@ -49,25 +49,36 @@ pub struct Schedule {
 pub const MAX_LISTED_OVERLAPS: usize = 64;
 
 /// Happens-before over every edge (queue order included) and fence.
-fn ancestors(model: &FrameModel, graph: &PassGraph, order: &[u32], fences: &[FenceNeed]) -> Clocks {
-    let n = model.passes.len();
-    let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
+fn ancestors(
+    model: &FrameModel,
+    graph: &PassGraph,
+    order: &[MPass],
+    fences: &[FenceNeed],
+) -> Clocks {
+    let preds = predecessors(model, graph, fences);
+    let queue_of = model.passes.iter().map(|p| p.queue).collect();
+    Clocks::new(model.queues.len(), queue_of, order, |p| {
+        preds[p.index()].clone()
+    })
+}
+
+/// Every pass's direct predecessors: edge sources (queue order included), then fence
+/// signallers.
+fn predecessors(model: &FrameModel, graph: &PassGraph, fences: &[FenceNeed]) -> Vec<Vec<MPass>> {
+    let mut preds: Vec<Vec<MPass>> = vec![Vec::new(); model.passes.len()];
     for e in graph.graph.edge_references() {
-        preds[e.target().index()].push(e.source().index() as u32);
+        preds[e.target().index()].push(MPass::new(e.source().index()));
     }
     for f in fences {
-        preds[f.wait_before as usize].push(f.signal_after);
+        preds[f.wait_before.index()].push(f.signal_after);
     }
-    let queue_of = model.passes.iter().map(|p| p.queue as usize).collect();
-    Clocks::new(model.queues.len(), queue_of, order, |p| {
-        preds[p as usize].clone()
-    })
+    preds
 }
 
 pub fn schedule(
     model: &FrameModel,
     graph: &PassGraph,
-    order: &[u32],
+    order: &[MPass],
     fences: &[FenceNeed],
     times: &[Option<u64>],
     timing_source: &str,
@@ -80,25 +91,25 @@ pub fn schedule(
     let place: Vec<usize> = {
         let mut place = vec![usize::MAX; model.passes.len()];
         for (i, &p) in order.iter().enumerate() {
-            place[p as usize] = i;
+            place[p.index()] = i;
         }
         place
     };
-    let mut graphics: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    let mut graphics: BTreeMap<MQueue, Vec<MPass>> = BTreeMap::new();
     for &g in order {
-        if model.queue_type(g as usize) == QueueType::Graphics {
+        if model.queue_type(g) == QueueType::Graphics {
             graphics
-                .entry(model.passes[g as usize].queue)
+                .entry(model.passes[g.index()].queue)
                 .or_default()
                 .push(g);
         }
     }
     let mut async_compute = Vec::new();
     for &c in order {
-        if model.queue_type(c as usize) != QueueType::Compute {
+        if model.queue_type(c) != QueueType::Compute {
             continue;
         }
-        let mut ranges: Vec<&[u32]> = Vec::new();
+        let mut ranges: Vec<&[MPass]> = Vec::new();
         for passes in graphics.values() {
             let lo = passes.partition_point(|&g| clocks.before(g, c));
             let hi = passes.partition_point(|&g| !clocks.before(c, g));
@@ -107,18 +118,18 @@ pub fn schedule(
             }
         }
         let total: usize = ranges.iter().map(|r| r.len()).sum();
-        let mut listed: Vec<u32> = Vec::new();
+        let mut listed: Vec<MPass> = Vec::new();
         for r in &ranges {
             listed.extend(r.iter().take(MAX_LISTED_OVERLAPS));
         }
-        listed.sort_unstable_by_key(|&g| place[g as usize]);
+        listed.sort_unstable_by_key(|&g| place[g.index()]);
         listed.truncate(MAX_LISTED_OVERLAPS);
         async_compute.push(Overlap {
-            pass: model.passes[c as usize].name.clone(),
+            pass: model.passes[c.index()].name.clone(),
             more: total - listed.len(),
             overlaps: listed
                 .iter()
-                .map(|&g| model.passes[g as usize].name.clone())
+                .map(|&g| model.passes[g.index()].name.clone())
                 .collect(),
         });
     }
@@ -126,29 +137,23 @@ pub fn schedule(
     let n = model.passes.len();
     let weight = |p: usize| times.get(p).copied().flatten().unwrap_or(0);
     let mut dist = vec![0u64; n];
-    let mut via: Vec<Option<u32>> = vec![None; n];
-    let mut preds: Vec<Vec<u32>> = vec![Vec::new(); n];
-    for e in graph.graph.edge_references() {
-        preds[e.target().index()].push(e.source().index() as u32);
-    }
-    for f in fences {
-        preds[f.wait_before as usize].push(f.signal_after);
-    }
+    let mut via: Vec<Option<MPass>> = vec![None; n];
+    let preds = predecessors(model, graph, fences);
     for &p in order {
-        let best = preds[p as usize]
+        let best = preds[p.index()]
             .iter()
             .copied()
-            .max_by_key(|&a| (dist[a as usize], std::cmp::Reverse(a)));
+            .max_by_key(|&a| (dist[a.index()], std::cmp::Reverse(a)));
         // Recorded times come from the capture: saturate rather than overflow.
-        dist[p as usize] = weight(p as usize).saturating_add(best.map_or(0, |a| dist[a as usize]));
-        via[p as usize] = best;
+        dist[p.index()] = weight(p.index()).saturating_add(best.map_or(0, |a| dist[a.index()]));
+        via[p.index()] = best;
     }
     let end = (0..n).max_by_key(|&p| (dist[p], std::cmp::Reverse(p)));
     let mut passes = Vec::new();
-    let mut cursor = end.map(|p| p as u32);
+    let mut cursor = end.map(MPass::new);
     while let Some(p) = cursor {
-        passes.push(model.passes[p as usize].name.clone());
-        cursor = via[p as usize];
+        passes.push(model.passes[p.index()].name.clone());
+        cursor = via[p.index()];
     }
     passes.reverse();
     Schedule {

@@ -12,7 +12,7 @@ mod vulkan;
 
 use super::barriers::BarrierPlan;
 use super::graph::{EdgeKind, PassGraph};
-use super::model::FrameModel;
+use super::model::{FrameModel, MPass, MResource};
 use crate::capture::format::{Access, DescriptorHeapType, ResourceFlag};
 use crate::capture::model::{BindingTarget, Capture, PassDesc, PassId, ResourceAccess, ResourceId};
 use recorded::compare_recorded;
@@ -273,8 +273,8 @@ pub struct LintInput<'a> {
     pub capture: &'a Capture,
     pub model: &'a FrameModel,
     pub graph: &'a PassGraph,
-    pub order: &'a [u32],
-    pub culled: &'a [u32],
+    pub order: &'a [MPass],
+    pub culled: &'a [MPass],
     pub plan: &'a BarrierPlan,
 }
 
@@ -284,10 +284,10 @@ struct Linter<'a> {
     capture: &'a Capture,
     model: &'a FrameModel,
     graph: &'a PassGraph,
-    order: &'a [u32],
-    culled: &'a [u32],
+    order: &'a [MPass],
+    culled: &'a [MPass],
     plan: &'a BarrierPlan,
-    in_order: &'a BTreeSet<u32>,
+    in_order: &'a BTreeSet<PassId>,
     /// Per resource (by index), every pass's accesses of it with the pass, in capture order:
     /// built once so that per-resource rules cost the accesses' number, not resources x
     /// passes.
@@ -295,6 +295,17 @@ struct Linter<'a> {
 }
 
 impl<'a> Linter<'a> {
+    /// The capture pass a model pass is.
+    fn capture_pass(&self, p: MPass) -> &'a PassDesc {
+        self.capture.pass(self.model.passes[p.index()].id)
+    }
+
+    /// The model resource a capture resource is: lints read the whole frame's model, where
+    /// every capture resource keeps its index (previous-frame copies come after them).
+    fn model_resource(id: ResourceId) -> MResource {
+        MResource::new(id.index())
+    }
+
     /// The accesses of resource `r` by the passes that run, with their pass.
     fn uses_of(
         &self,
@@ -306,7 +317,7 @@ impl<'a> Linter<'a> {
             .into_iter()
             .flatten()
             .copied()
-            .filter(move |(p, _)| in_order.contains(&p.id.0))
+            .filter(move |(p, _)| in_order.contains(&p.id))
     }
 
     /// Flags never used.
@@ -356,20 +367,21 @@ impl<'a> Linter<'a> {
     /// Written, never read.
     fn written_never_read(&self, out: &mut Vec<Lint>) {
         let Linter { capture, model, .. } = *self;
-        let read_by: BTreeSet<u32> = model
+        let read_by: BTreeSet<MResource> = model
             .passes
             .iter()
             .flat_map(|p| p.accesses.iter())
             .filter(|a| a.reads)
             .map(|a| {
-                model.resources[a.resource as usize]
+                model.resources[a.resource.index()]
                     .previous_of
                     .unwrap_or(a.resource)
             })
             .collect();
         for r in &capture.resources {
             let written = self.uses_of(r.id).any(|(_, a)| a.writes);
-            if written && !read_by.contains(&r.id.0) && !r.output && !r.history {
+            if written && !read_by.contains(&Self::model_resource(r.id)) && !r.output && !r.history
+            {
                 out.push(lint(
                     LintKind::WrittenNeverRead,
                     format!("\"{}\" is written but nothing reads it", r.name),
@@ -384,7 +396,7 @@ impl<'a> Linter<'a> {
     fn dead_passes(&self, out: &mut Vec<Lint>) {
         let Linter { model, culled, .. } = *self;
         for &p in culled {
-            let pass = &model.passes[p as usize];
+            let pass = &model.passes[p.index()];
             let message = if pass.accesses.iter().any(|a| a.writes) {
                 format!(
                     "the results of \"{}\" never reach a frame output (use --cull to drop it)",
@@ -412,12 +424,12 @@ impl<'a> Linter<'a> {
         } = *self;
         // An imported storage binding reads only by assumption (no shader code says).
         let assumed_reads = capture.not_replayable().is_some();
-        let mut written: BTreeSet<u32> = BTreeSet::new();
-        let mut reported: BTreeSet<u32> = BTreeSet::new();
+        let mut written: BTreeSet<MResource> = BTreeSet::new();
+        let mut reported: BTreeSet<MResource> = BTreeSet::new();
         for &p in order {
-            let pass = &model.passes[p as usize];
+            let pass = &model.passes[p.index()];
             for a in &pass.accesses {
-                let r = &model.resources[a.resource as usize];
+                let r = &model.resources[a.resource.index()];
                 if a.reads
                     && (!assumed_reads || !a.uav || !a.writes)
                     && !written.contains(&a.resource)
@@ -425,7 +437,7 @@ impl<'a> Linter<'a> {
                     && r.previous_of.is_none()
                     && reported.insert(a.resource)
                 {
-                    out.push(lint(LintKind::ReadBeforeWrite, format!("\"{}\" reads \"{}\" before any pass writes it and it has no initial contents", pass.name, r.name), Some(pass.id), Some(ResourceId(a.resource))));
+                    out.push(lint(LintKind::ReadBeforeWrite, format!("\"{}\" reads \"{}\" before any pass writes it and it has no initial contents", pass.name, r.name), Some(pass.id), Some(r.id)));
                 }
             }
             for a in &pass.accesses {
@@ -445,13 +457,17 @@ impl<'a> Linter<'a> {
             order,
             ..
         } = *self;
-        let mut seen_copies: BTreeMap<(u32, u32, String), u32> = BTreeMap::new();
+        let mut seen_copies: BTreeMap<(ResourceId, ResourceId, String), MPass> = BTreeMap::new();
         for &p in order {
-            let pass = &capture.passes[p as usize];
+            let pass = self.capture_pass(p);
             for (i, c) in pass.copies.iter().enumerate() {
                 let dst = c.dst.resource;
-                let read_later = graph.graph.edges(graph.nodes[p as usize]).any(|e| {
-                    e.weight().kind == EdgeKind::Raw && e.weight().resource == Some(dst.0)
+                let (src_m, dst_m) = (
+                    Self::model_resource(c.src.resource),
+                    Self::model_resource(dst),
+                );
+                let read_later = graph.graph.edges(graph.nodes[p.index()]).any(|e| {
+                    e.weight().kind == EdgeKind::Raw && e.weight().resource == Some(dst_m)
                 });
                 let dst_res = capture.resource(dst);
                 if !read_later && !dst_res.output && !dst_res.history {
@@ -466,8 +482,8 @@ impl<'a> Linter<'a> {
                     ));
                 }
                 let key = (
-                    c.src.resource.0,
-                    dst.0,
+                    c.src.resource,
+                    dst,
                     format!("{:?}{:?}{:?}", c.src.origin, c.dst.origin, c.extent),
                 );
                 if let Some(&earlier) = seen_copies.get(&key) {
@@ -477,9 +493,10 @@ impl<'a> Linter<'a> {
                         .skip(1)
                         .take_while(|&&q| q != p)
                         .any(|&q| {
-                            model.passes[q as usize].accesses.iter().any(|a| {
-                                a.writes && (a.resource == c.src.resource.0 || a.resource == dst.0)
-                            })
+                            model.passes[q.index()]
+                                .accesses
+                                .iter()
+                                .any(|a| a.writes && (a.resource == src_m || a.resource == dst_m))
                         });
                     if !touched_between {
                         out.push(lint(
@@ -487,7 +504,7 @@ impl<'a> Linter<'a> {
                             format!(
                                 "\"{}\" repeats the copy \"{}\" made from \"{}\" to \"{}\"",
                                 pass.name,
-                                capture.passes[earlier as usize].name,
+                                self.capture_pass(earlier).name,
                                 capture.resource(c.src.resource).name,
                                 dst_res.name
                             ),
@@ -545,7 +562,7 @@ impl<'a> Linter<'a> {
     fn depth_could_be_read_only(&self, out: &mut Vec<Lint>) {
         let Linter { capture, order, .. } = *self;
         for &p in order {
-            let pass = &capture.passes[p as usize];
+            let pass = self.capture_pass(p);
             if let Some(d) = &pass.depth_stencil {
                 let access = pass.accesses.iter().find(|a| {
                     a.resource == d.resource
@@ -564,7 +581,7 @@ impl<'a> Linter<'a> {
         let Linter { capture, order, .. } = *self;
         let mut needed: BTreeMap<DescriptorHeapType, u64> = BTreeMap::new();
         for &p in order {
-            let pass = &capture.passes[p as usize];
+            let pass = self.capture_pass(p);
             for b in &pass.bindings {
                 let ty = match b.target {
                     BindingTarget::Sampler(_) => DescriptorHeapType::Sampler,
@@ -678,17 +695,17 @@ impl<'a> Linter<'a> {
         let Linter { model, plan, .. } = *self;
         for f in plan.fences.iter().filter(|f| !f.declared) {
             let (a, b) = (
-                &model.passes[f.signal_after as usize],
-                &model.passes[f.wait_before as usize],
+                &model.passes[f.signal_after.index()],
+                &model.passes[f.wait_before.index()],
             );
             out.push(lint(
                 LintKind::MissingFence,
                 format!(
                     "\"{}\" (queue {}) must wait for \"{}\" (queue {}), but no fence orders them",
                     b.name,
-                    model.queues[b.queue as usize].name,
+                    model.queues[b.queue.index()].name,
                     a.name,
-                    model.queues[a.queue as usize].name
+                    model.queues[a.queue.index()].name
                 ),
                 Some(b.id),
                 None,
@@ -722,7 +739,7 @@ impl Linter<'_> {
     fn anisotropic_without_mips(&self, out: &mut Vec<Lint>) {
         let Linter { capture, order, .. } = *self;
         for &p in order {
-            let pass = &capture.passes[p as usize];
+            let pass = self.capture_pass(p);
             let Some(shader) = &pass.shader else { continue };
             let interface = &capture.shader(shader.id).interface;
             let entries = [&shader.vertex, &shader.fragment, &shader.compute]
@@ -764,7 +781,11 @@ impl Linter<'_> {
 }
 
 pub fn lints(input: &LintInput<'_>) -> Vec<Lint> {
-    let in_order: BTreeSet<u32> = input.order.iter().copied().collect();
+    let in_order: BTreeSet<PassId> = input
+        .order
+        .iter()
+        .map(|p| input.model.passes[p.index()].id)
+        .collect();
     let mut uses: Vec<Vec<(&PassDesc, &ResourceAccess)>> =
         vec![Vec::new(); input.capture.resources.len()];
     for p in &input.capture.passes {

@@ -5,9 +5,9 @@ use std::collections::BTreeMap;
 
 use super::{Lint, LintKind, lint};
 use crate::analysis::barriers::{Barrier, BarrierKind, BarrierPlan};
-use crate::analysis::model::{FrameModel, State};
+use crate::analysis::model::{FrameModel, MPass, MResource, State};
 use crate::capture::format::{BarrierType, ResourceState, SplitFlag};
-use crate::capture::model::{Capture, ResourceId, Subresources};
+use crate::capture::model::{Capture, Subresources};
 
 fn state_of(s: ResourceState) -> State {
     match s {
@@ -65,13 +65,17 @@ pub(super) fn compare_recorded(
     {
         return out;
     }
-    let mut by_pass: BTreeMap<u32, Vec<&Barrier>> = BTreeMap::new();
+    let mut by_pass: BTreeMap<MPass, Vec<&Barrier>> = BTreeMap::new();
     for b in plan.barriers.iter().filter(|b| !b.next_frame) {
         by_pass.entry(b.for_pass).or_default().push(b);
     }
-    let name = |r: u32| model.resources[r as usize].name.clone();
+    let name = |r: MResource| model.resources[r.index()].name.clone();
     for pass in &capture.passes {
-        let derived = by_pass.get(&pass.id.0).cloned().unwrap_or_default();
+        // The whole frame's model: its passes are the capture's, in the same places.
+        let derived = by_pass
+            .get(&MPass::new(pass.id.index()))
+            .cloned()
+            .unwrap_or_default();
         let recorded: Vec<_> = pass
             .barriers
             .iter()
@@ -79,14 +83,15 @@ pub(super) fn compare_recorded(
             .collect();
         let mut used = vec![false; recorded.len()];
         for d in &derived {
-            let resource = model.resources[d.resource as usize]
+            let resource = model.resources[d.resource.index()]
                 .previous_of
                 .unwrap_or(d.resource);
+            let resource_id = model.resources[resource.index()].id;
             let matching = recorded
                 .iter()
                 .enumerate()
                 .find(|(_, r)| {
-                    r.resource.map(|x| x.0) == Some(resource)
+                    r.resource == Some(resource_id)
                         && match d.kind {
                             BarrierKind::Transition => {
                                 r.barrier_type == BarrierType::Transition
@@ -116,7 +121,7 @@ pub(super) fn compare_recorded(
                     BarrierKind::Uav => "UAV barrier".to_owned(),
                     _ => format!("transition {} -> {}", d.before.name(), d.after.name()),
                 };
-                out.push(lint(LintKind::BarrierMissing, format!("\"{}\" needs a {what} on \"{}\" that the capture did not record (a hazard)", pass.name, name(resource)), Some(pass.id), Some(ResourceId(resource))));
+                out.push(lint(LintKind::BarrierMissing, format!("\"{}\" needs a {what} on \"{}\" that the capture did not record (a hazard)", pass.name, name(resource)), Some(pass.id), Some(resource_id)));
                 continue;
             };
             used[i] = true;
@@ -142,10 +147,10 @@ pub(super) fn compare_recorded(
                         d.before.name()
                     ),
                     Some(pass.id),
-                    Some(ResourceId(resource)),
+                    Some(resource_id),
                 ));
             }
-            let whole = model.resources[resource as usize].whole();
+            let whole = model.resources[resource.index()].whole();
             let wider_range = r
                 .range
                 .as_ref()
@@ -163,11 +168,11 @@ pub(super) fn compare_recorded(
                         describe(Some(&d.range))
                     ),
                     Some(pass.id),
-                    Some(ResourceId(resource)),
+                    Some(resource_id),
                 ));
             }
             if let (Some(q), SplitFlag::None) = (d.split_begin_after, r.split) {
-                out.push(lint(LintKind::BarrierCouldSplit, format!("the transition of \"{}\" before \"{}\" could begin after \"{}\" (split barrier)", name(resource), pass.name, model.passes[q as usize].name), Some(pass.id), Some(ResourceId(resource))));
+                out.push(lint(LintKind::BarrierCouldSplit, format!("the transition of \"{}\" before \"{}\" could begin after \"{}\" (split barrier)", name(resource), pass.name, model.passes[q.index()].name), Some(pass.id), Some(resource_id)));
             }
         }
         for (i, r) in recorded.iter().enumerate() {

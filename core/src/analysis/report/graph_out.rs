@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use super::{Analysis, SubresourceReport, subresource};
 use crate::analysis::graph::EdgeKind;
-use crate::analysis::model::FrameModel;
+use crate::analysis::model::{FrameModel, MPass};
 use crate::capture::model::PassId;
 
 #[derive(Debug, Serialize)]
@@ -52,7 +52,7 @@ pub fn graph_report(a: &Analysis) -> GraphReport {
         .iter()
         .map(|p| GraphPass {
             name: p.name.clone(),
-            queue: m.queues[p.queue as usize].name.clone(),
+            queue: m.queues[p.queue.index()].name.clone(),
             markers: p.markers.clone(),
             culled: a.culled.contains(&p.id),
         })
@@ -68,9 +68,9 @@ pub fn graph_report(a: &Analysis) -> GraphReport {
             resource: e
                 .weight()
                 .resource
-                .map(|r| m.resources[r as usize].name.clone()),
+                .map(|r| m.resources[r.index()].name.clone()),
             subresource: e.weight().resource.and_then(|r| {
-                let range = e.weight().range(m, e.target().index())?;
+                let range = e.weight().range(m, MPass::new(e.target().index()))?;
                 Some(subresource(m, r, range))
             }),
         })
@@ -81,8 +81,8 @@ pub fn graph_report(a: &Analysis) -> GraphReport {
         .history_reads
         .iter()
         .map(|h| HistoryReadReport {
-            pass: m.passes[h.pass as usize].name.clone(),
-            resource: m.resources[h.resource as usize].name.clone(),
+            pass: m.passes[h.pass.index()].name.clone(),
+            resource: m.resources[h.resource.index()].name.clone(),
         })
         .collect();
     GraphReport {
@@ -120,13 +120,13 @@ pub fn dot(a: &Analysis) -> String {
     // Nested clusters by marker path.
     #[derive(Default)]
     struct Cluster {
-        passes: Vec<u32>,
+        passes: Vec<MPass>,
         children: BTreeMap<String, Cluster>,
     }
     let mut root = Cluster::default();
     for &p in &a.model_order {
         let mut c = &mut root;
-        for marker in &m.passes[p as usize].markers {
+        for marker in &m.passes[p.index()].markers {
             c = c.children.entry(marker.clone()).or_default();
         }
         c.passes.push(p);
@@ -141,8 +141,8 @@ pub fn dot(a: &Analysis) -> String {
     ) {
         let indent = "  ".repeat(depth + 1);
         for &p in &c.passes {
-            let pass = &m.passes[p as usize];
-            let colour = QUEUE_COLOURS[pass.queue as usize % QUEUE_COLOURS.len()];
+            let pass = &m.passes[p.index()];
+            let colour = QUEUE_COLOURS[pass.queue.index() % QUEUE_COLOURS.len()];
             let dead = if culled.contains(&pass.id) {
                 ", style=\"rounded,filled,dashed\", fillcolor=\"#bbbbbb\""
             } else {

@@ -16,7 +16,7 @@ use super::barriers::{self, BarrierKind, BarrierPlan, Placement, VkScope};
 use super::graph::{self, CycleError, PassGraph};
 use super::lints::{self, Lint, LintInput, LintSeverity};
 use super::memory::{self, MemoryPlan, Totals};
-use super::model::{self, FrameModel};
+use super::model::{self, FrameModel, MPass, MQueue, MResource};
 use super::schedule::{self, Schedule};
 use crate::capture::model::{Capture, PassId, ResourceId, Subresources};
 
@@ -30,7 +30,7 @@ pub struct Analysis {
     /// Execution order, as capture passes.
     pub order: Vec<PassId>,
     /// Execution order as indices into `model.passes` (what graph, barriers and memory speak).
-    pub model_order: Vec<u32>,
+    pub model_order: Vec<MPass>,
     /// Capture passes whose work never reaches an output.
     pub culled: Vec<PassId>,
     pub plan: BarrierPlan,
@@ -41,13 +41,13 @@ pub struct Analysis {
 
 impl Analysis {
     /// The capture pass of a model pass index (what barriers, fences and the schedule hold).
-    pub fn pass_id(&self, model_pass: u32) -> PassId {
-        self.model.passes[model_pass as usize].id
+    pub fn pass_id(&self, model_pass: MPass) -> PassId {
+        self.model.passes[model_pass.index()].id
     }
     /// The capture resource of a model resource index (a previous-frame copy maps to the
     /// resource it copies).
-    pub fn resource_id(&self, model_resource: u32) -> ResourceId {
-        self.model.resources[model_resource as usize].id
+    pub fn resource_id(&self, model_resource: MResource) -> ResourceId {
+        self.model.resources[model_resource.index()].id
     }
 }
 
@@ -102,8 +102,8 @@ pub fn analyze(capture: &Capture, options: AnalyzeOptions) -> Result<Analysis, C
     };
     let schedule = schedule::schedule(&model, &graph, &order, &plan.fences, &times, source);
     Ok(Analysis {
-        order: order.iter().map(|&p| model.passes[p as usize].id).collect(),
-        culled: culled.iter().map(|&p| full_ids[p as usize]).collect(),
+        order: order.iter().map(|&p| model.passes[p.index()].id).collect(),
+        culled: culled.iter().map(|&p| full_ids[p.index()]).collect(),
         model,
         graph,
         model_order: order,
@@ -241,8 +241,8 @@ pub struct AliasingReport {
     pub resource_after: String,
 }
 
-fn subresource(model: &FrameModel, resource: u32, r: &Subresources) -> SubresourceReport {
-    let res = &model.resources[resource as usize];
+fn subresource(model: &FrameModel, resource: MResource, r: &Subresources) -> SubresourceReport {
+    let res = &model.resources[resource.index()];
     if *r == res.whole() {
         SubresourceReport::All("all")
     } else if res.is_buffer {
@@ -258,13 +258,13 @@ fn subresource(model: &FrameModel, resource: u32, r: &Subresources) -> Subresour
 }
 
 /// The derived barriers (transitions, UAV barriers, aliasing barriers) at the boundary before
-/// each pass, indexed by model pass, in the order reports list them. `report` names them; the
+/// each pass, indexed by model pass (`MPass::index`), in the order reports list them. `report` names them; the
 /// inspector projects them onto its passes by id.
 pub fn barriers_by_pass(a: &Analysis) -> Vec<Vec<BarrierReport>> {
     let m = &a.model;
-    let pass = |p: u32| m.passes[p as usize].name.clone();
-    let queue = |q: u32| m.queues[q as usize].name.clone();
-    let resource = |r: u32| m.resources[r as usize].name.clone();
+    let pass = |p: MPass| m.passes[p.index()].name.clone();
+    let queue = |q: MQueue| m.queues[q.index()].name.clone();
+    let resource = |r: MResource| m.resources[r.index()].name.clone();
     let vk = |src: &VkScope, dst: &VkScope| VulkanReport {
         old_layout: src.layout,
         new_layout: dst.layout,
@@ -278,7 +278,7 @@ pub fn barriers_by_pass(a: &Analysis) -> Vec<Vec<BarrierReport>> {
     sorted.sort_by_key(|b| (b.for_pass, b.kind, b.resource, b.range, b.placement));
     for b in sorted {
         let (vk_src, vk_dst) = b.vulkan(m);
-        by_pass[b.for_pass as usize].push(BarrierReport {
+        by_pass[b.for_pass.index()].push(BarrierReport {
             kind: b.kind,
             resource: resource(b.resource),
             resource_before: None,
@@ -296,8 +296,8 @@ pub fn barriers_by_pass(a: &Analysis) -> Vec<Vec<BarrierReport>> {
         });
     }
     for ab in &a.memory.aliasing_barriers {
-        let q = m.passes[ab.before_pass as usize].queue;
-        by_pass[ab.before_pass as usize].push(BarrierReport {
+        let q = m.passes[ab.before_pass.index()].queue;
+        by_pass[ab.before_pass.index()].push(BarrierReport {
             kind: BarrierKind::Aliasing,
             resource: resource(ab.resource_after),
             resource_before: Some(resource(ab.resource_before)),
@@ -340,9 +340,9 @@ pub fn lint_report(capture: &Capture, l: &Lint) -> LintReport {
 
 pub fn report(capture: &Capture, a: &Analysis) -> Report {
     let m = &a.model;
-    let pass = |p: u32| m.passes[p as usize].name.clone();
-    let queue = |q: u32| m.queues[q as usize].name.clone();
-    let resource = |r: u32| m.resources[r as usize].name.clone();
+    let pass = |p: MPass| m.passes[p.index()].name.clone();
+    let queue = |q: MQueue| m.queues[q.index()].name.clone();
+    let resource = |r: MResource| m.resources[r.index()].name.clone();
     let mut by_pass = barriers_by_pass(a);
     let boundaries: Vec<Boundary> = a
         .model_order
@@ -351,8 +351,8 @@ pub fn report(capture: &Capture, a: &Analysis) -> Report {
         .map(|(position, &p)| Boundary {
             position,
             pass: pass(p),
-            queue: queue(m.passes[p as usize].queue),
-            barriers: std::mem::take(&mut by_pass[p as usize]),
+            queue: queue(m.passes[p.index()].queue),
+            barriers: std::mem::take(&mut by_pass[p.index()]),
         })
         .collect();
     let fences = a
