@@ -187,9 +187,18 @@ pub fn file_name(
     }
 }
 
+/// Why an image could not be encoded into its file.
+#[derive(Debug, thiserror::Error)]
+enum EncodeImageError {
+    #[error(transparent)]
+    Png(#[from] image::ImageError),
+    #[error(transparent)]
+    Exr(#[from] exr::error::Error),
+}
+
 fn atomically(
     path: &Path,
-    write: impl FnOnce(&Path) -> Result<(), String>,
+    write: impl FnOnce(&Path) -> Result<(), EncodeImageError>,
 ) -> Result<(), ExportError> {
     atomic::write_with(path, write).map_err(|e| ExportError::Write {
         path: e.path,
@@ -200,12 +209,11 @@ fn atomically(
 fn save_png<P: image::Pixel<Subpixel = S> + image::PixelWithColorType, S: image::Primitive>(
     img: &image::ImageBuffer<P, Vec<S>>,
     tmp: &Path,
-) -> Result<(), String>
+) -> Result<(), EncodeImageError>
 where
     [S]: image::EncodableLayout,
 {
-    img.save_with_format(tmp, image::ImageFormat::Png)
-        .map_err(|e| e.to_string())
+    Ok(img.save_with_format(tmp, image::ImageFormat::Png)?)
 }
 
 /// Writes `image`'s values as a float RGBA EXR at `path` (replacing it only once complete).
@@ -216,7 +224,7 @@ pub fn save_exr(path: &Path, image: &DecodedImage) -> Result<(), ExportError> {
             let v = image.rgba(y * width + x);
             (v[0], v[1], v[2], v[3])
         })
-        .map_err(|e| e.to_string())
+        .map_err(EncodeImageError::from)
     })
 }
 

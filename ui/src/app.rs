@@ -7,7 +7,7 @@ use eframe::egui_wgpu;
 use crate::model::Inspection;
 use crate::panels;
 pub use crate::state::{Displayed, HistogramKey, Pane, Selection, View, Zoom};
-use crate::worker::{Reply, SaveAs, ViewRequest, Worker};
+use crate::worker::{Reply, SaveAs, ViewRequest, Worker, WorkerError};
 
 /// The inspector: the view state the panels share, the worker that replays behind it, and the
 /// docked layout. It dereferences to its `View`, so callers select passes and open resources
@@ -120,7 +120,7 @@ impl Inspector {
         if sent {
             view.saving = true;
         } else {
-            view.saved = Some(Err("nothing to save: open a texture and name a file".into()));
+            view.saved = Some(Err(WorkerError::NothingToSave));
         }
     }
 
@@ -143,7 +143,7 @@ impl Inspector {
                     self.view.saving = false;
                 }
                 Reply::Failed(e) => {
-                    self.view.error = Some(e);
+                    self.view.error = Some(e.to_string());
                     self.view.idle = true;
                 }
             }

@@ -10,7 +10,7 @@ use framelab_replay::decode::DecodedImage;
 
 use crate::model::{Inspection, Sampling, Timings};
 use crate::visualise::{Controls, Subresource};
-use crate::worker::{BufferBytes, SaveAs, TextureRequest, ViewRequest};
+use crate::worker::{BufferBytes, SaveAs, TextureRequest, ViewRequest, WorkerError};
 
 /// The docked panels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -128,7 +128,7 @@ pub struct View {
     /// Where the texture viewer saves (edited in its panel).
     pub save_path: String,
     /// The last save's outcome: the file written, or why not.
-    pub saved: Option<Result<String, String>>,
+    pub saved: Option<Result<String, WorkerError>>,
     /// A replay runs behind the views (an imported capture has none).
     pub(crate) replays: bool,
     /// The worker answered the last request (and finished timing).

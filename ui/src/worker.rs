@@ -45,6 +45,31 @@ enum Command {
     Save(ViewRequest, SaveAs, std::path::PathBuf),
 }
 
+/// Why the worker could not answer a view or a save; shown in the status bar or beside the
+/// save button.
+#[derive(Debug, thiserror::Error)]
+pub enum WorkerError {
+    #[error(transparent)]
+    Replay(#[from] framelab_replay::ReplayError),
+    #[error(transparent)]
+    Read(#[from] framelab_replay::decode::ReadError),
+    #[error(transparent)]
+    Readback(#[from] framelab_replay::ReadbackError),
+    #[error(transparent)]
+    Export(#[from] framelab_replay::export::ExportError),
+    #[error("no texture is shown")]
+    NothingShown,
+    /// The viewed subresource has no values to save; why (its format has no decoder ...).
+    #[error("{0}")]
+    NotRead(String),
+    #[error("the display image read back empty")]
+    EmptyDisplay,
+    #[error("no buffer {0} in the replay plan")]
+    NoBuffer(usize),
+    #[error("nothing to save: open a texture and name a file")]
+    NothingToSave,
+}
+
 /// What the worker sends back.
 #[derive(Debug)]
 pub enum Reply {
@@ -53,8 +78,8 @@ pub enum Reply {
     Timings(Timings),
     Shown(Box<Shown>),
     /// A save finished: the file written, or why not.
-    Saved(Result<String, String>),
-    Failed(String),
+    Saved(Result<String, WorkerError>),
+    Failed(WorkerError),
 }
 
 #[derive(Debug)]
@@ -145,7 +170,7 @@ fn run(replaying: Replaying, timed_frames: u32, rx: &Receiver<Command>, tx: &Sen
         {
             Ok(times) => last = times,
             Err(e) => {
-                let _ = tx.send(Reply::Failed(e.to_string()));
+                let _ = tx.send(Reply::Failed(e.into()));
                 return;
             }
         }
@@ -207,29 +232,29 @@ fn save(
     how: SaveAs,
     path: &std::path::Path,
     tx: &Sender<Reply>,
-) -> Result<String, String> {
+) -> Result<String, WorkerError> {
     // The same view as on screen: replay and read-back are cached, only the small display
     // draw runs again.
     let shown = show(s, request, tx)?;
     let written = match how {
         SaveAs::Png => {
-            let display = shown.display.ok_or("no texture is shown")?;
+            let display = shown.display.ok_or(WorkerError::NothingShown)?;
             let image = display_pixels(s, &display)?;
             framelab_replay::export::save_rgba8(path, &image)
         }
         SaveAs::Exr => {
-            let decoded = shown
-                .decoded
-                .ok_or_else(|| shown.note.unwrap_or_else(|| "nothing read back".into()))?;
+            let decoded = shown.decoded.ok_or_else(|| {
+                WorkerError::NotRead(shown.note.unwrap_or_else(|| "nothing read back".into()))
+            })?;
             framelab_replay::export::save_exr(path, &decoded)
         }
     };
-    written.map_err(|e| e.to_string())?;
+    written?;
     Ok(path.display().to_string())
 }
 
 /// The display image's pixels, read back.
-fn display_pixels(s: &State, display: &wgpu::Texture) -> Result<image::RgbaImage, String> {
+fn display_pixels(s: &State, display: &wgpu::Texture) -> Result<image::RgbaImage, WorkerError> {
     let spec = framelab_core::plan::TextureSpec {
         name: "display".into(),
         format: display.format(),
@@ -248,16 +273,15 @@ fn display_pixels(s: &State, display: &wgpu::Texture) -> Result<image::RgbaImage
         display,
         &spec,
         display.format(),
-    )
-    .map_err(|e| e.to_string())?;
-    let d = decoded.first().ok_or("the display image read back empty")?;
+    )?;
+    let d = decoded.first().ok_or(WorkerError::EmptyDisplay)?;
     Ok(image::RgbaImage::from_fn(d.width, d.height, |x, y| {
         let v = d.rgba((y * d.width + x) as usize);
         image::Rgba(v.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8))
     }))
 }
 
-fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Shown, String> {
+fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Shown, WorkerError> {
     let passes = s.replaying.session.plan.passes.len();
     let pass = request.pass.min(passes.saturating_sub(1));
     if s.replayed_pass != Some(pass) {
@@ -276,8 +300,7 @@ fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Show
         for (frame, stop) in [(0, None), (1, Some(pass))] {
             s.replaying
                 .session
-                .run_frame(&s.replaying.constants(frame), stop)
-                .map_err(|e| e.to_string())?;
+                .run_frame(&s.replaying.constants(frame), stop)?;
         }
         s.replayed_pass = Some(pass);
         s.read = None;
@@ -345,8 +368,7 @@ fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Show
     );
     s.replaying
         .session
-        .check_faults("drawing the texture view")
-        .map_err(|e| e.to_string())?;
+        .check_faults("drawing the texture view")?;
     Ok(Shown {
         request: request.clone(),
         display: Some(display),
@@ -357,7 +379,7 @@ fn show(s: &mut State, request: &ViewRequest, tx: &Sender<Reply>) -> Result<Show
 }
 
 /// Plan buffer `index` as of `pass` (cached until either changes).
-fn read_buffer(s: &mut State, pass: usize, index: usize) -> Result<Arc<Vec<u8>>, String> {
+fn read_buffer(s: &mut State, pass: usize, index: usize) -> Result<Arc<Vec<u8>>, WorkerError> {
     if let Some((key, bytes)) = &s.buffer
         && *key == (pass, index)
     {
@@ -369,7 +391,7 @@ fn read_buffer(s: &mut State, pass: usize, index: usize) -> Result<Arc<Vec<u8>>,
         .plan
         .buffers
         .get(index)
-        .ok_or_else(|| format!("no buffer {index} in the replay plan"))?;
+        .ok_or(WorkerError::NoBuffer(index))?;
     // Copies need a multiple of 4 bytes; plan buffers are sized so.
     let size = spec.size.min(MAX_BUFFER_READ) & !3;
     let bytes = framelab_replay::read_buffer(
@@ -378,8 +400,7 @@ fn read_buffer(s: &mut State, pass: usize, index: usize) -> Result<Arc<Vec<u8>>,
         s.replaying.session.buffer(index),
         size,
         &spec.name,
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     let bytes = Arc::new(bytes);
     s.buffer = Some(((pass, index), bytes.clone()));
     Ok(bytes)

@@ -48,7 +48,9 @@ macro_rules! vk_flags {
 
             /// The set the names stand for (with or without `VK_..._` and `_BIT`, or `0x` hex);
             /// the first unknown name as the error.
-            pub fn parse<'a>(names: impl IntoIterator<Item = &'a String>) -> Result<Self, &'a str> {
+            pub fn parse<'a>(
+                names: impl IntoIterator<Item = &'a String>,
+            ) -> Result<Self, UnknownName<'a>> {
                 parse_mask(Self::NAMES, names).map(Self)
             }
         }
@@ -337,18 +339,26 @@ fn mask_names(table: &[(&str, u64)], mask: u64) -> Vec<String> {
 }
 
 /// The mask the names stand for; the first unknown name as the error.
+/// A stage or access name that is not Vulkan's (validation names it with a suggestion).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown Vulkan name \"{0}\"")]
+pub struct UnknownName<'a>(pub &'a str);
+
 fn parse_mask<'a>(
     table: &[(&str, u64)],
     names: impl IntoIterator<Item = &'a String>,
-) -> Result<u64, &'a str> {
+) -> Result<u64, UnknownName<'a>> {
     let mut mask = 0;
     for n in names {
         if let Some(hex) = n.strip_prefix("0x") {
-            mask |= u64::from_str_radix(hex, 16).map_err(|_| n.as_str())?;
+            mask |= u64::from_str_radix(hex, 16).map_err(|_| UnknownName(n))?;
             continue;
         }
         let bare = bare_name(n);
-        let (_, v) = table.iter().find(|(t, _)| *t == bare).ok_or(n.as_str())?;
+        let (_, v) = table
+            .iter()
+            .find(|(t, _)| *t == bare)
+            .ok_or(UnknownName(n))?;
         mask |= v;
     }
     Ok(mask)
@@ -392,7 +402,7 @@ mod tests {
         let full = vec!["VK_PIPELINE_STAGE_2_TRANSFER_BIT".to_owned()];
         assert_eq!(PipelineStages::parse(&full), Ok(PipelineStages::TRANSFER));
         let bad = vec!["SHADING".to_owned()];
-        assert_eq!(PipelineStages::parse(&bad), Err("SHADING"));
+        assert_eq!(PipelineStages::parse(&bad), Err(UnknownName("SHADING")));
         assert_eq!(
             AccessFlags::from_bits(0x8_0000_0000_0000).names(),
             ["0x8000000000000"]

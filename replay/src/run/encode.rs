@@ -15,6 +15,25 @@ fn render_stamps(stamps: Stamps<'_>) -> Option<wgpu::RenderPassTimestampWrites<'
     })
 }
 
+/// Why one pass could not be recorded; the session reports it as that pass's error.
+#[derive(Debug, thiserror::Error)]
+pub(super) enum EncodeError {
+    #[error("pass was not prepared")]
+    NotPrepared,
+    #[error("no pipeline for `{0}`")]
+    NoPipeline(String),
+    #[error("a dispatch without groups")]
+    NoGroups,
+    #[error("mip pipeline missing")]
+    NoMipPipeline,
+    #[error(
+        "clearing unordered-access texture \"{texture}\" to a non-zero value is not supported; clear it as a render target"
+    )]
+    NonZeroTextureClear { texture: String },
+    #[error("{0}")]
+    Mapping(wgpu::MapRangeError),
+}
+
 impl Session {
     fn tex_at(&self, t: usize, parity: usize) -> &wgpu::Texture {
         &self.textures[t][parity]
@@ -33,9 +52,9 @@ impl Session {
         inside_encoders: bool,
     ) -> Result<(), ReplayError> {
         let pass = &self.plan.passes[i];
-        let err = |message: String| ReplayError::Pass {
+        let err = |e: EncodeError| ReplayError::Pass {
             pass: pass.name.clone(),
-            message,
+            message: e.to_string(),
         };
         let stamp_encoder = |encoder: &mut wgpu::CommandEncoder, at_end: bool| {
             if let (Some((set, start, end)), true) = (stamps, inside_encoders) {
@@ -91,7 +110,7 @@ impl Session {
                 stamp_encoder(encoder, false);
                 stamp_encoder(encoder, true);
             }
-            _ => return Err(err("pass was not prepared".into())),
+            _ => return Err(err(EncodeError::NotPrepared)),
         }
         Ok(())
     }
@@ -104,14 +123,14 @@ impl Session {
         parity: usize,
         encoder: &mut wgpu::CommandEncoder,
         stamps: Stamps<'_>,
-    ) -> Result<(), String> {
+    ) -> Result<(), EncodeError> {
         let Prepared::Raster {
             pipelines,
             groups,
             draw_groups,
         } = prepared
         else {
-            return Err("pass was not prepared".into());
+            return Err(EncodeError::NotPrepared);
         };
         let buf = |b: usize| self.buf_at(b, parity);
         let color_views: Vec<wgpu::TextureView> = r
@@ -191,7 +210,7 @@ impl Session {
         for (d, set) in r.draws.iter().zip(draw_groups) {
             let vertex = d.vertex.as_ref().unwrap_or(&r.vertex);
             let (Some(pipeline), Some(sets)) = (pipelines.get(vertex), groups.get(vertex)) else {
-                return Err(format!("no pipeline for `{vertex}`"));
+                return Err(EncodeError::NoPipeline(vertex.clone()));
             };
             rp.set_pipeline(pipeline);
             for (g, bg) in &sets[*set][parity] {
@@ -251,14 +270,14 @@ impl Session {
         parity: usize,
         encoder: &mut wgpu::CommandEncoder,
         stamps: Stamps<'_>,
-    ) -> Result<(), String> {
+    ) -> Result<(), EncodeError> {
         let Prepared::Compute {
             pipelines,
             groups,
             dispatch_groups,
         } = prepared
         else {
-            return Err("pass was not prepared".into());
+            return Err(EncodeError::NotPrepared);
         };
         let buf = |b: usize| self.buf_at(b, parity);
         let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -272,7 +291,7 @@ impl Session {
         for (d, set) in c.dispatches.iter().zip(dispatch_groups) {
             let entry = d.entry.as_ref().unwrap_or(&c.entry);
             let (Some(pipeline), Some(sets)) = (pipelines.get(entry), groups.get(entry)) else {
-                return Err(format!("no pipeline for `{entry}`"));
+                return Err(EncodeError::NoPipeline(entry.clone()));
             };
             cp.set_pipeline(pipeline);
             for (g, bg) in &sets[*set][parity] {
@@ -281,7 +300,7 @@ impl Session {
             match (d.groups, d.indirect) {
                 (_, Some((b, offset))) => cp.dispatch_workgroups_indirect(buf(b), offset),
                 (Some([x, y, z]), None) => cp.dispatch_workgroups(x, y, z),
-                (None, None) => return Err("a dispatch without groups".into()),
+                (None, None) => return Err(EncodeError::NoGroups),
             }
         }
         Ok(())
@@ -425,12 +444,12 @@ impl Session {
         layers: std::ops::Range<u32>,
         parity: usize,
         encoder: &mut wgpu::CommandEncoder,
-    ) -> Result<(), String> {
+    ) -> Result<(), EncodeError> {
         let spec = &self.plan.textures[texture];
         let (pipeline, sampler) = self
             .mip_pipelines
             .get(&format!("{:?}", spec.format))
-            .ok_or_else(|| "mip pipeline missing".to_owned())?;
+            .ok_or(EncodeError::NoMipPipeline)?;
         let layout = pipeline.get_bind_group_layout(0);
         for layer in layers.clone() {
             for mip in 1..spec.mip_levels {
@@ -486,7 +505,7 @@ impl Session {
         encoder: &mut wgpu::CommandEncoder,
         c: &ClearOp,
         parity: usize,
-    ) -> Result<(), String> {
+    ) -> Result<(), EncodeError> {
         match c {
             ClearOp::Attachment {
                 texture,
@@ -561,10 +580,9 @@ impl Session {
                 value,
             } => {
                 if value.iter().any(|v| *v != 0.0) {
-                    return Err(format!(
-                        "clearing unordered-access texture \"{}\" to a non-zero value is not supported; clear it as a render target",
-                        self.plan.textures[*texture].name
-                    ));
+                    return Err(EncodeError::NonZeroTextureClear {
+                        texture: self.plan.textures[*texture].name.clone(),
+                    });
                 }
                 let spec = &self.plan.textures[*texture];
                 encoder.clear_texture(
@@ -596,7 +614,7 @@ impl Session {
                     staging
                         .slice(..)
                         .get_mapped_range_mut()
-                        .map_err(|e| e.to_string())?
+                        .map_err(EncodeError::Mapping)?
                         .copy_from_slice(&bytes);
                     staging.unmap();
                     encoder.copy_buffer_to_buffer(&staging, 0, b, 0, b.size());

@@ -230,7 +230,7 @@ fn save_row(app: &mut View, ui: &mut egui::Ui) {
                 ui.weak(format!("wrote {path}"));
             }
             Some(Err(e)) => {
-                ui.colored_label(Color32::LIGHT_RED, e);
+                ui.colored_label(Color32::LIGHT_RED, e.to_string());
             }
             None => {}
         }

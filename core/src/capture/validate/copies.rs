@@ -479,7 +479,7 @@ impl<'a> Validator<'a> {
         };
         let mut stages = |names: &Vec<String>, field: &str| {
             PipelineStages::parse(names).unwrap_or_else(|bad| {
-                unknown(bad, PipelineStages::NAMES, field);
+                unknown(bad.0, PipelineStages::NAMES, field);
                 PipelineStages::EMPTY
             })
         };
@@ -487,7 +487,7 @@ impl<'a> Validator<'a> {
         let dst_stages = stages(&v.dst_stages, "dst_stages");
         let mut access = |names: &Vec<String>, field: &str| {
             AccessFlags::parse(names).unwrap_or_else(|bad| {
-                unknown(bad, AccessFlags::NAMES, field);
+                unknown(bad.0, AccessFlags::NAMES, field);
                 AccessFlags::EMPTY
             })
         };
