@@ -6,6 +6,8 @@
 
 use std::collections::BTreeMap;
 
+use crate::capture::model::{PassId, QueueId};
+
 #[derive(Debug, Clone)]
 pub struct Plan {
     pub textures: Vec<TextureSpec>,
@@ -90,9 +92,12 @@ pub type Params = BTreeMap<String, Vec<f64>>;
 
 #[derive(Debug, Clone)]
 pub struct PassSpec {
+    /// The capture pass it replays.
+    pub id: PassId,
+    /// As named in labels and messages.
     pub name: String,
-    /// The capture queue it came from, for reports (wgpu replays on one queue).
-    pub queue: String,
+    /// The capture queue it came from (wgpu replays every pass on one queue).
+    pub queue: QueueId,
     pub op: PassOp,
 }
 

@@ -84,8 +84,9 @@ impl<'c> Lowering<'c> {
             },
         };
         self.plan.passes.push(PassSpec {
+            id: p.id,
             name: p.name.clone(),
-            queue: self.capture.queue(p.queue).name.clone(),
+            queue: p.queue,
             op,
         });
         Ok(())

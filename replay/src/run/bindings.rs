@@ -1,9 +1,13 @@
 //! Bind groups by WGSL variable name: reflection of each variable's slot and view dimension,
 //! the `frame` and `params` uniforms, capture bindings for both frame parities, cached views.
 
-#[allow(unused_imports)]
-use super::*;
+use std::collections::{BTreeMap, BTreeSet};
 
+use framelab_core::plan::{BindTarget, Binding, Params, TextureSpec};
+use framelab_core::uniforms;
+
+use super::pipelines::has_stencil;
+use super::{Groups, ReplayError, Session};
 /// The WGSL global variable named `variable`.
 pub(super) fn global<'m>(
     module: &'m naga::Module,

@@ -1,9 +1,10 @@
 //! Creating a plan's GPU objects: textures and buffers (two copies for history resources)
 //! with their initial contents, samplers, mesh buffers, shader modules and timestamp queries.
 
-#[allow(unused_imports)]
-use super::*;
+use framelab_core::plan::{Plan, TextureSpec};
+use framelab_core::uniforms;
 
+use super::{GpuMesh, Module, ReplayError, Scopes, close, scope};
 /// Uploads every mip's contents.
 pub(super) fn write_texture(
     queue: &wgpu::Queue,

@@ -2,10 +2,12 @@
 //! (dispatches, indirect), copies, clears, resolves, mip generation. Passes without a pass
 //! object of their own get their timestamps written on the encoder where the adapter allows.
 
-#[allow(unused_imports)]
-use super::*;
+use framelab_core::plan::{ClearOp, ComputeOp, CopyEnd, CopyOp, PassOp, RasterOp};
 
+use super::create::{extent, texel};
+use super::pipelines::{buffer_layout, has_stencil};
 use super::stamps::Stamps;
+use super::{Prepared, ReplayError, Session};
 
 fn render_stamps(stamps: Stamps<'_>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
     stamps.map(|(set, start, end)| wgpu::RenderPassTimestampWrites {

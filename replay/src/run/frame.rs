@@ -1,9 +1,12 @@
 //! Running a frame: encode every pass with its timestamps, submit, read the times back, and
 //! when the frame's error scope caught something, find the pass that caused it.
 
-#[allow(unused_imports)]
-use super::*;
+use std::time::Instant;
 
+use framelab_core::plan::Params;
+use framelab_core::uniforms;
+
+use super::{PassTime, ReplayError, Session, close, scope, stamps};
 impl Session {
     /// Encodes every pass of one frame (up to `stop_after`) and submits it without waiting:
     /// the CPU side of a replay, which the benchmark measures. Times carry CPU encode time only.

@@ -15,17 +15,12 @@ mod frame;
 mod pipelines;
 mod stamps;
 
-use std::collections::{BTreeMap, BTreeSet};
-
-use bindings::*;
-use create::*;
-use pipelines::*;
-use std::time::Instant;
+use std::collections::BTreeMap;
 
 use crate::device::GpuContext;
 use framelab_core::plan::*;
 use framelab_core::shader::{ShaderError, ValidatedShader};
-use framelab_core::uniforms::{self, UniformError};
+use framelab_core::uniforms::UniformError;
 
 #[derive(Debug, thiserror::Error)]
 pub enum ReplayError {

@@ -1,9 +1,12 @@
 //! Pipelines with automatic layouts for raster and compute passes (one per entry point), their
 //! bind groups, and the blit pipeline that generates mips.
 
-#[allow(unused_imports)]
-use super::*;
+use std::collections::{BTreeMap, BTreeSet};
 
+use framelab_core::plan::{ComputeOp, PassOp, RasterOp, StreamSpec, TextureSpec};
+
+use super::bindings::set_indices;
+use super::{Prepared, ReplayError, Session, close, scope};
 const MIP_SHADER: &str = "
 @group(0) @binding(0) var src: texture_2d<f32>;
 @group(0) @binding(1) var smp: sampler;
