@@ -89,7 +89,7 @@ impl Replaying {
             adapter: self.adapter.clone(),
             backend: self.backend.clone(),
             capture: capture.name.clone(),
-            capture_sha256: self.analysed.sha256.clone(),
+            capture_sha256: self.analysed.sha256.clone().unwrap_or_default(),
             scale: capture.scale,
             frames: times.len() as u32,
             warmup,

@@ -9,7 +9,7 @@ use std::path::Path;
 
 use framelab_core::analysis::report::AnalyzeOptions;
 use framelab_core::capture::{CaptureError, Options};
-use framelab_core::pipeline::{Analysed, Lowered, StageError, Validated};
+use framelab_core::pipeline::{Analysed, Loaded, Lowered, StageError, Validated};
 use framelab_replay::GpuContext;
 
 fn options(scale: f64) -> Options {
@@ -56,9 +56,12 @@ pub fn analysed(path: &Path, cull: bool, scale: f64) -> Option<Analysed> {
         .ok()
 }
 
-/// An analysed capture for a device command.
+/// An analysed capture for a device command, its bytes hashed for the timing report.
 pub fn analysed_for_device(path: &Path, scale: f64, cull: bool) -> anyhow::Result<Analysed> {
-    Analysed::load(path, &options(scale), AnalyzeOptions { cull }).map_err(device_error)
+    Loaded::read_hashed(path)
+        .and_then(|l| l.validate(&options(scale)))
+        .and_then(|v| v.analyse(AnalyzeOptions { cull }))
+        .map_err(device_error)
 }
 
 /// An analysed capture to replay: one that cannot be (an import) is refused before any device
