@@ -4,8 +4,6 @@
 //! or DXGI, and its vocabulary is wgpu's own plain data (`wgpu-types`), handed to the device as
 //! it is.
 
-use std::collections::BTreeMap;
-
 use crate::capture::model::{PassId, QueueId};
 
 #[derive(Debug, Clone)]
@@ -87,8 +85,7 @@ pub struct ShaderSource {
     pub validated: std::sync::Arc<crate::shader::ValidatedShader>,
 }
 
-/// Per-pass (or per-draw) parameters by uniform struct member name.
-pub type Params = BTreeMap<String, Vec<f64>>;
+pub use crate::uniforms::Params;
 
 #[derive(Debug, Clone)]
 pub struct PassSpec {

@@ -5,7 +5,8 @@
 
 use naga::{Module, ScalarKind, TypeInner};
 
-use crate::plan::Params;
+/// Per-pass (or per-draw) parameters by uniform struct member name.
+pub type Params = std::collections::BTreeMap<String, Vec<f64>>;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum UniformError {

@@ -6,7 +6,6 @@ use std::collections::{BTreeMap, BTreeSet};
 use framelab_core::plan::{BindTarget, Binding, Params, TextureSpec};
 use framelab_core::uniforms;
 
-use super::pipelines::has_stencil;
 use super::{Groups, ReplayError, Session};
 /// The WGSL global variable named `variable`.
 pub(super) fn global<'m>(
@@ -208,11 +207,11 @@ impl Session {
                             let tex = &self.textures[*texture][copy];
                             let spec = &self.plan.textures[*texture];
                             let dimension = view_dimension(&m.reflection.module, var);
-                            let aspect = if has_stencil(*format)
+                            let aspect = if format.has_stencil_aspect()
                                 && samples_uint(&m.reflection.module, var)
                             {
                                 wgpu::TextureAspect::StencilOnly
-                            } else if format.has_depth_aspect() && has_stencil(*format) {
+                            } else if format.has_depth_aspect() && format.has_stencil_aspect() {
                                 wgpu::TextureAspect::DepthOnly
                             } else {
                                 wgpu::TextureAspect::All

@@ -5,7 +5,7 @@
 use framelab_core::plan::{ClearOp, ComputeOp, CopyEnd, CopyOp, PassOp, RasterOp};
 
 use super::create::{extent, texel};
-use super::pipelines::{buffer_layout, has_stencil};
+use super::pipelines::buffer_layout;
 use super::stamps::Stamps;
 use super::{Prepared, ReplayError, Session};
 
@@ -171,7 +171,7 @@ impl Session {
             })
             .collect();
         let depth_attachment = r.depth.as_ref().zip(depth_view.as_ref()).map(|(d, view)| {
-            let stencil = has_stencil(d.format);
+            let stencil = d.format.has_stencil_aspect();
             wgpu::RenderPassDepthStencilAttachment {
                 view,
                 depth_ops: if d.read_only {
@@ -559,10 +559,12 @@ impl Session {
                                         load: wgpu::LoadOp::Clear(value[0] as f32),
                                         store: wgpu::StoreOp::Store,
                                     }),
-                                    stencil_ops: has_stencil(*format).then_some(wgpu::Operations {
-                                        load: wgpu::LoadOp::Clear(*stencil),
-                                        store: wgpu::StoreOp::Store,
-                                    }),
+                                    stencil_ops: format.has_stencil_aspect().then_some(
+                                        wgpu::Operations {
+                                            load: wgpu::LoadOp::Clear(*stencil),
+                                            store: wgpu::StoreOp::Store,
+                                        },
+                                    ),
                                 }
                             }),
                             timestamp_writes: None,

@@ -18,15 +18,6 @@ struct V { @builtin(position) p: vec4<f32>, @location(0) uv: vec2<f32> }
 @fragment fn fs(v: V) -> @location(0) vec4<f32> { return textureSample(src, smp, v.uv); }
 ";
 
-pub(super) fn has_stencil(f: wgpu::TextureFormat) -> bool {
-    matches!(
-        f,
-        wgpu::TextureFormat::Depth24PlusStencil8
-            | wgpu::TextureFormat::Depth32FloatStencil8
-            | wgpu::TextureFormat::Stencil8
-    )
-}
-
 pub(super) fn buffer_layout<'a>(
     b: &'a wgpu::Buffer,
     offset: u64,

@@ -127,8 +127,7 @@ fn value(variant: Variant) -> Result<Value, GenerateError> {
     for r in &mut resources {
         if r["name"] == "lights" {
             // Neon and shop lights over the district (the city spans about 200 x 300 m).
-            r["initial"]["generator"]["params"]["count"] =
-                json!(if day { scene::LIGHT_COUNT } else { 1024 });
+            r["initial"]["generator"]["params"]["count"] = json!(scene::light_count(day));
         }
     }
     capture["resources"] = Value::Array(resources);

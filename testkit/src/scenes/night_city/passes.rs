@@ -11,7 +11,7 @@ use super::helpers::{
 };
 use super::scene::{
     BOX_INDICES, BUILDINGS, BUILDINGS_PER_BLOCK, CAPSULE_INDICES, DepthOnly, KIND_COUNTS,
-    LIGHT_COUNT, SHADOWED_LIGHTS, SceneError, World, d, depth_attach, depth_only, scene_bindings,
+    SHADOWED_LIGHTS, SceneError, World, d, depth_attach, depth_only, light_count, scene_bindings,
     scene_defaults, with_view, world_draws,
 };
 
@@ -19,10 +19,6 @@ const PRE: &[&str] = &["Pre-geometry"];
 const GEO: &[&str] = &["Geometry"];
 const MASKS: &[&str] = &["Masks and LUTs"];
 pub(super) const LIGHTS: &[&str] = &["Lights and shadows"];
-
-pub(super) fn light_count(day: bool) -> u32 {
-    if day { LIGHT_COUNT } else { 1024 }
-}
 
 /// Every pass, or what `scene.wgsl` lacks that a pass asks of it.
 pub(super) fn passes(day: bool) -> Result<Vec<Value>, SceneError> {

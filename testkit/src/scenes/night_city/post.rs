@@ -49,7 +49,7 @@ pub(super) fn passes(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError> 
                "wait": ["taa_read"]}),
     ));
     // 48: holograms and the water surface.
-    out.push(transparent_holo(POST, super::passes::light_count(day))?);
+    out.push(transparent_holo(POST, super::scene::light_count(day))?);
     post_taa(out);
     hdr(out, day);
     bloom(out);

@@ -20,6 +20,11 @@ const CAPSULE_SEGMENTS: u32 = 12;
 pub(super) const CAPSULE_INDICES: u32 =
     2 * (CAPSULE_SEGMENTS * (CAPSULE_SEGMENTS / 2) * 6) + CAPSULE_SEGMENTS * 6;
 pub(super) const LIGHT_COUNT: u32 = 256;
+
+/// Local lights by day (the street's own) and at night (every neon sign lit).
+pub(super) fn light_count(day: bool) -> u32 {
+    if day { LIGHT_COUNT } else { 1024 }
+}
 pub(super) const SHADOWED_LIGHTS: u32 = 10;
 
 const FIRST_CAR: u32 = CANDIDATES;
