@@ -12,6 +12,7 @@
 pub mod analysis;
 pub mod atomic;
 pub mod capture;
+pub mod files;
 pub mod import;
 pub mod info;
 pub mod layout;

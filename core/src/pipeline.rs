@@ -61,11 +61,18 @@ impl StageError {
     }
 }
 
+/// The capture's bytes, read through `files` (a regular file within the capture limit); a
+/// file system error keeps the words it always had.
 fn read_file(path: &Path) -> Result<Vec<u8>, StageError> {
-    Ok(std::fs::read(path).map_err(|source| CaptureError::Read {
-        path: path.to_owned(),
-        source,
-    })?)
+    crate::files::read(path, crate::files::CAPTURE).map_err(|e| {
+        StageError::Capture(match e {
+            crate::files::FileError::Io { path, error } => CaptureError::Read {
+                path,
+                source: error,
+            },
+            e => CaptureError::File(e),
+        })
+    })
 }
 
 /// The capture file read once and parsed into the serde form; for a replay, its bytes hashed too

@@ -9,10 +9,10 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use framelab_core::lower;
 use framelab_core::structure::Frame;
 use framelab_core::timing::diff::{DiffOptions, diff};
 use framelab_core::timing::{TimingReport, render};
+use framelab_core::{files, lower};
 
 use super::stages;
 use super::{parse_percent, parse_scale, print_stdout};
@@ -59,8 +59,12 @@ pub struct DiffArgs {
 
 /// A file is a timing report when it parses as one; anything else is taken for a capture.
 fn as_report(path: &Path) -> anyhow::Result<Option<TimingReport>> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| anyhow::anyhow!("cannot read {}: {e}", path.display()))?;
+    // Either kind of file may come here, so the larger of their limits.
+    let limit = files::Limit {
+        what: "a capture or timing report",
+        bytes: files::CAPTURE.bytes.max(files::TIMING_REPORT.bytes),
+    };
+    let text = files::read_to_string(path, limit)?;
     let value: serde_json::Value = serde_json::from_str(&text)
         .map_err(|e| anyhow::anyhow!("{}: not JSON: {e}", path.display()))?;
     if value.get("capture_sha256").is_some() && value.get("backend").is_some() {

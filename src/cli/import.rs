@@ -6,9 +6,9 @@ use std::io::{BufReader, Write};
 use std::path::Path;
 use std::process::ExitCode;
 
-use anyhow::Context;
 use framelab_core::capture::validate::validate;
 use framelab_core::capture::{CaptureError, Options};
+use framelab_core::files::{self, FileError};
 use framelab_core::import::{ImportOptions, Summary, import};
 
 use super::{print_diagnostics, print_stdout};
@@ -38,13 +38,14 @@ pub fn run(
     frames: Option<(u32, u32)>,
     json: bool,
 ) -> anyhow::Result<ExitCode> {
-    let meta =
-        std::fs::metadata(input).with_context(|| format!("cannot read {}", input.display()))?;
-    if !meta.is_file() {
-        anyhow::bail!("{} is not a regular file", input.display());
-    }
-    let file =
-        std::fs::File::open(input).with_context(|| format!("cannot open {}", input.display()))?;
+    // Read line by line, so no size limit; but only a regular file (a named pipe would block,
+    // a device never end).
+    let file = files::open(input).map_err(|e| match e {
+        FileError::NotRegular { path, kind } => {
+            anyhow::anyhow!("{} is not a regular file: it is {kind}", path.display())
+        }
+        e => anyhow::anyhow!("{e}"),
+    })?;
     let name = input.display().to_string();
     let imported = import(BufReader::new(file), &name, &ImportOptions { frames })?;
     let text = serde_json::to_string_pretty(&imported.capture)? + "\n";

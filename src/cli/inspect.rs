@@ -93,8 +93,7 @@ fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
 }
 
 fn report(path: &Path) -> anyhow::Result<TimingReport> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = framelab_core::files::read_to_string(path, framelab_core::files::TIMING_REPORT)?;
     Ok(TimingReport::from_json(&path.display().to_string(), &text)?)
 }
 

@@ -269,27 +269,28 @@ fn check_out(out: &Path) -> anyhow::Result<()> {
         return Ok(());
     }
     let manifest = out.join("manifest.json");
-    let listed: Option<std::collections::BTreeSet<String>> = std::fs::read_to_string(&manifest)
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .map(|m| {
-            let mut names: std::collections::BTreeSet<String> = m["files"]
-                .as_array()
-                .into_iter()
-                .flatten()
-                .flat_map(|f| {
-                    [
-                        f["file"].as_str(),
-                        f["preview"].as_str(),
-                        f["alpha"].as_str(),
-                    ]
-                })
-                .flatten()
-                .map(str::to_owned)
-                .collect();
-            names.insert("manifest.json".to_owned());
-            names
-        });
+    let listed: Option<std::collections::BTreeSet<String>> =
+        framelab_core::files::read_to_string(&manifest, framelab_core::files::MANIFEST)
+            .ok()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+            .map(|m| {
+                let mut names: std::collections::BTreeSet<String> = m["files"]
+                    .as_array()
+                    .into_iter()
+                    .flatten()
+                    .flat_map(|f| {
+                        [
+                            f["file"].as_str(),
+                            f["preview"].as_str(),
+                            f["alpha"].as_str(),
+                        ]
+                    })
+                    .flatten()
+                    .map(str::to_owned)
+                    .collect();
+                names.insert("manifest.json".to_owned());
+                names
+            });
     let Some(listed) = listed else {
         bail!(
             "{} exists and is not an earlier framelab export (no readable manifest.json); choose another --out",

@@ -506,3 +506,163 @@ fn side_files_must_be_regular_files() {
     assert!(err.contains("is a directory, not a regular file"), "{err}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Runs `framelab` under a 4 GB address-space limit and a 60 s clock, so that a regression that
+/// reads a file without bound fails here instead of exhausting the machine, and one that blocks
+/// on a named pipe fails instead of hanging the tests.
+fn framelab_bounded(args: &[&str]) -> std::process::Output {
+    std::process::Command::new("sh")
+        .arg("-c")
+        .arg(r#"ulimit -v 4000000; exec timeout 60 "$0" "$@""#)
+        .arg(env!("CARGO_BIN_EXE_framelab"))
+        .args(args)
+        .current_dir(repo())
+        .output()
+        .expect("run framelab")
+}
+
+/// Every command that reads a capture refuses a device, a named pipe, a directory and a sparse
+/// file of 64 GiB: it exits with an error naming the file and what it is or the limit, without
+/// reading it (a FIFO would block, `/dev/zero` and the sparse file would exhaust memory).
+#[test]
+fn captures_that_are_not_regular_files_or_too_large_are_refused_unread() {
+    let dir = std::env::temp_dir().join(format!("framelab-bounded-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("pipe.json");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let big = dir.join("big.json");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(64 << 30)
+        .unwrap();
+    let folder = dir.join("folder.json");
+    std::fs::create_dir(&folder).unwrap();
+    let cases = [
+        (
+            "/dev/zero".to_owned(),
+            "cannot read /dev/zero: it is a device, not a regular file".to_owned(),
+        ),
+        (
+            fifo.display().to_string(),
+            format!(
+                "cannot read {}: it is a named pipe (FIFO), not a regular file",
+                fifo.display()
+            ),
+        ),
+        (
+            folder.display().to_string(),
+            format!(
+                "cannot read {}: it is a directory, not a regular file",
+                folder.display()
+            ),
+        ),
+        (
+            big.display().to_string(),
+            format!(
+                "{}: 64.0 GiB is over the 256.0 MiB limit for a ",
+                big.display()
+            ),
+        ),
+    ];
+    let example = "captures/example/frame.json";
+    for (file, message) in &cases {
+        let runs: [Vec<&str>; 6] = [
+            vec!["validate", file],
+            vec!["info", file],
+            vec!["analyze", file],
+            vec!["graph", file],
+            vec!["diff", "--structure", file, example],
+            vec!["diff", "--structure", example, file],
+        ];
+        for args in &runs {
+            let out = framelab_bounded(args);
+            let err = stderr(&out);
+            let code = out.status.code();
+            assert!(
+                code.is_some_and(|c| c != 0 && c != 124),
+                "{args:?}: {code:?} {err}"
+            );
+            assert!(err.contains(message.as_str()), "{args:?}: {err}");
+        }
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A shader the capture names that is a sparse file of 64 GiB is refused by its size, with the
+/// shader limit, and not read.
+#[test]
+fn a_shader_over_its_limit_is_refused_unread() {
+    let dir = std::env::temp_dir().join(format!("framelab-big-wgsl-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("shaders")).unwrap();
+    let example = repo().join("captures/example");
+    std::fs::copy(example.join("frame.json"), dir.join("frame.json")).unwrap();
+    for f in ["scene.wgsl", "simulate.wgsl", "tonemap.wgsl"] {
+        std::fs::copy(example.join("shaders").join(f), dir.join("shaders").join(f)).unwrap();
+    }
+    let bloom = dir.join("shaders/bloom.wgsl");
+    std::fs::File::create(&bloom)
+        .unwrap()
+        .set_len(64 << 30)
+        .unwrap();
+    let capture = dir.join("frame.json");
+    let capture = capture.to_str().unwrap();
+    let message = format!(
+        "{}: 64.0 GiB is over the 16.0 MiB limit for a WGSL shader",
+        bloom.display()
+    );
+    let example = "captures/example/frame.json";
+    let runs: [Vec<&str>; 6] = [
+        vec!["validate", capture],
+        vec!["info", capture],
+        vec!["analyze", capture],
+        vec!["graph", capture],
+        vec!["diff", "--structure", capture, example],
+        vec!["diff", "--structure", example, capture],
+    ];
+    for args in &runs {
+        let out = framelab_bounded(args);
+        let err = stderr(&out);
+        let code = out.status.code();
+        assert!(
+            code.is_some_and(|c| c != 0 && c != 124),
+            "{args:?}: {code:?} {err}"
+        );
+        assert!(err.contains(&message), "{args:?}: {err}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `import` reads its stream line by line, but only from a regular file.
+#[test]
+fn import_refuses_a_named_pipe_and_a_device() {
+    let dir = std::env::temp_dir().join(format!("framelab-import-fifo-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("app.jsonl");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let out_file = dir.join("x.json");
+    for (input, kind) in [
+        (fifo.to_str().unwrap(), "a named pipe (FIFO)"),
+        ("/dev/zero", "a device"),
+    ] {
+        let out = framelab_bounded(&["import", input, "-o", out_file.to_str().unwrap()]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{input}: {err}");
+        assert!(
+            err.contains(&format!("{input} is not a regular file: it is {kind}")),
+            "{err}"
+        );
+        assert!(!out_file.exists());
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

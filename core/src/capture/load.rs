@@ -18,6 +18,9 @@ pub enum CaptureError {
         #[source]
         source: std::io::Error,
     },
+    /// Not a regular file, or over the size limit for a capture.
+    #[error(transparent)]
+    File(crate::files::FileError),
     #[error("{}:{line}:{column}: JSON syntax error: {message}", path.display())]
     Syntax {
         path: PathBuf,
@@ -77,6 +80,7 @@ impl CaptureError {
         };
         match self {
             CaptureError::Read { source, .. } => one("read", "$".into(), source.to_string()),
+            CaptureError::File(e) => one("read", "$".into(), e.to_string()),
             CaptureError::Syntax {
                 line,
                 column,

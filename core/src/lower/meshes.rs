@@ -54,13 +54,32 @@ pub(super) fn lower_mesh(m: &MeshDesc) -> Result<MeshSpec, LowerError> {
             (streams, indices, data.positions.len() as u32)
         }
         MeshSourceDesc::File(path) => {
-            let bytes = std::fs::read(path).map_err(|error| {
-                err(MeshError::Read {
-                    path: path.clone(),
-                    error,
-                })
-            })?;
             let vertex_count = m.vertex_count.unwrap_or(0);
+            // What the capture says the file holds: its streams, then its indices.
+            let declared = m
+                .streams
+                .iter()
+                .map(|s| {
+                    let count = if s.step == cf::StepMode::Vertex {
+                        u64::from(vertex_count)
+                    } else {
+                        u64::from(instance_count)
+                    };
+                    stride(s).saturating_mul(count)
+                })
+                .chain(m.index_format.map(|f| {
+                    u64::from(f.size()).saturating_mul(u64::from(m.index_count.unwrap_or(0)))
+                }))
+                .fold(0u64, u64::saturating_add);
+            let bytes =
+                crate::files::read(path, crate::files::side_file(declared)).map_err(|e| {
+                    err(match e {
+                        crate::files::FileError::Io { path, error } => {
+                            MeshError::Read { path, error }
+                        }
+                        e => MeshError::File(e),
+                    })
+                })?;
             let mut offset = 0usize;
             let mut streams = Vec::new();
             for s in &m.streams {
@@ -158,5 +177,63 @@ fn vertex_format(f: cf::VertexFormat) -> wgpu::VertexFormat {
         V::Float32x4 => wgpu::VertexFormat::Float32x4,
         V::Uint32 => wgpu::VertexFormat::Uint32,
         V::Uint32x2 => wgpu::VertexFormat::Uint32x2,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mesh(path: &std::path::Path) -> MeshDesc {
+        MeshDesc {
+            id: MeshId(0),
+            name: "m".into(),
+            source: MeshSourceDesc::File(path.to_owned()),
+            streams: vec![cf::VertexStream {
+                slot: 0,
+                attributes: vec![cf::VertexAttribute {
+                    semantic: "POSITION0".into(),
+                    format: cf::VertexFormat::Snorm16x4,
+                    location: 0,
+                }],
+                step: cf::StepMode::Vertex,
+            }],
+            index_format: None,
+            vertex_count: Some(3),
+            index_count: None,
+            instance_count: None,
+            instances: None,
+        }
+    }
+
+    /// A mesh file is read up to the size its streams and indices need, never whole: a sparse
+    /// file of 64 GiB is refused by its size.
+    #[test]
+    fn a_mesh_file_over_its_declared_size_is_refused_unread() {
+        let dir = std::env::temp_dir().join(format!("framelab-mesh-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("mesh.bin");
+        std::fs::write(&path, [0u8; 24]).unwrap();
+        assert!(lower_mesh(&mesh(&path)).is_ok());
+        std::fs::File::create(&path)
+            .unwrap()
+            .set_len(64 << 30)
+            .unwrap();
+        let e = lower_mesh(&mesh(&path)).unwrap_err();
+        assert!(
+            matches!(
+                &e,
+                LowerError::Mesh {
+                    problem: MeshError::File(crate::files::FileError::TooLarge { limit: 24, .. }),
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert!(
+            e.to_string().contains("64.0 GiB is over the 24 B limit"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
     }
 }

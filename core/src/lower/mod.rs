@@ -79,6 +79,9 @@ pub enum ContentsError {
         path: PathBuf,
         error: std::io::Error,
     },
+    /// Over what the capture declares for it, or not a regular file.
+    #[error("{0}")]
+    File(crate::files::FileError),
     #[error("side file is shorter than the texture")]
     ShortFile {
         path: PathBuf,
@@ -99,6 +102,9 @@ pub enum MeshError {
         path: PathBuf,
         error: std::io::Error,
     },
+    /// Over what the capture declares for it, or not a regular file.
+    #[error("{0}")]
+    File(crate::files::FileError),
     #[error("side file too short")]
     ShortFile {
         path: PathBuf,

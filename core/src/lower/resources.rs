@@ -115,19 +115,17 @@ impl<'c> Lowering<'c> {
         let Some(&usage) = self.usage.buffers.get(&r.id) else {
             return Ok(());
         };
-        let initial = match &r.initial {
-            InitialDesc::Undefined | InitialDesc::BeforeCapture => None,
-            InitialDesc::Generator(contents) => Some(generate::buffer(contents, r.bytes)),
-            InitialDesc::File(path) => {
-                Some(std::fs::read(path).map_err(|error| LowerError::Contents {
-                    resource: r.name.clone(),
-                    problem: ContentsError::Read {
-                        path: path.clone(),
-                        error,
+        let initial =
+            match &r.initial {
+                InitialDesc::Undefined | InitialDesc::BeforeCapture => None,
+                InitialDesc::Generator(contents) => Some(generate::buffer(contents, r.bytes)),
+                InitialDesc::File(path) => Some(read_side_file(path, r.bytes).map_err(
+                    |problem| LowerError::Contents {
+                        resource: r.name.clone(),
+                        problem,
                     },
-                })?)
-            }
-        };
+                )?),
+            };
         self.buffer_of.insert(r.id, self.plan.buffers.len());
         self.plan.buffers.push(BufferSpec {
             name: r.name.clone(),
@@ -140,30 +138,44 @@ impl<'c> Lowering<'c> {
     }
 }
 
+/// A side file of contents, of at most the `declared` bytes the capture gives it.
+fn read_side_file(path: &std::path::Path, declared: u64) -> Result<Vec<u8>, ContentsError> {
+    crate::files::read(path, crate::files::side_file(declared)).map_err(|e| match e {
+        crate::files::FileError::Io { path, error } => ContentsError::Read { path, error },
+        e => ContentsError::File(e),
+    })
+}
+
 /// A texture's mips cut from its side file (every layer, or the volume, of a mip together).
 fn texture_file(
     r: &ResourceDesc,
     info: &FormatInfo,
     path: &std::path::Path,
 ) -> Result<Vec<Vec<u8>>, ContentsError> {
-    let bytes = std::fs::read(path).map_err(|error| ContentsError::Read {
-        path: path.to_owned(),
-        error,
-    })?;
     let volume = r.kind == ResourceKind::Texture3D;
+    let mip_bytes = |m: u32| {
+        let (w, h, d) = r.mip_extent(m);
+        info.surface_bytes(u64::from(w), u64::from(h))
+            .unwrap_or(0)
+            .saturating_mul(u64::from(d))
+            .saturating_mul(if volume { 1 } else { u64::from(r.array_layers) })
+    };
+    // Validation holds the file to the resource's size; the mips are what is cut from it.
+    let declared = (0..r.mip_levels)
+        .map(mip_bytes)
+        .fold(0u64, u64::saturating_add)
+        .max(r.bytes);
+    let bytes = read_side_file(path, declared)?;
     let mut mips = Vec::new();
     let mut offset = 0usize;
     for m in 0..r.mip_levels {
-        let (w, h, d) = r.mip_extent(m);
-        let size = info.surface_bytes(u64::from(w), u64::from(h)).unwrap_or(0) as usize
-            * d as usize
-            * if volume { 1 } else { r.array_layers as usize };
+        let size = usize::try_from(mip_bytes(m)).unwrap_or(usize::MAX);
         mips.push(
             bytes
-                .get(offset..offset + size)
+                .get(offset..offset.saturating_add(size))
                 .ok_or_else(|| ContentsError::ShortFile {
                     path: path.to_owned(),
-                    needed: offset + size,
+                    needed: offset.saturating_add(size),
                     len: bytes.len(),
                 })?
                 .to_vec(),

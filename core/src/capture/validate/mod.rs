@@ -82,28 +82,6 @@ pub struct Validated {
 }
 
 /// Validates a parsed capture; `path` locates side files and names the file in messages.
-/// What a non-regular file is, in words.
-fn file_kind(t: &std::fs::FileType) -> &'static str {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if t.is_fifo() {
-            return "a named pipe (FIFO)";
-        }
-        if t.is_socket() {
-            return "a socket";
-        }
-        if t.is_char_device() || t.is_block_device() {
-            return "a device";
-        }
-    }
-    if t.is_dir() {
-        "a directory"
-    } else {
-        "not a regular file"
-    }
-}
-
 pub fn validate(
     raw: &RawCapture,
     path: &Path,
@@ -524,7 +502,7 @@ impl<'a> Validator<'a> {
             Ok(meta) if meta.is_file() => None,
             Ok(meta) => Some(format!(
                 "side file \"{rel}\" is {}, not a regular file ({})",
-                file_kind(&meta.file_type()),
+                crate::files::kind(&meta.file_type()),
                 full.display()
             )),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => Some(format!(

@@ -17,6 +17,9 @@ use crate::capture::shaders::{self, Shader, ShaderId, ShaderInterface, Stage};
 enum ShaderFileError {
     #[error("cannot read {file}: {error}")]
     Read { file: String, error: std::io::Error },
+    /// Over the size limit for a shader (or, replaced since it was resolved, not regular).
+    #[error("{0}")]
+    File(crate::files::FileError),
     #[error("{0}")]
     Invalid(crate::shader::ShaderError),
 }
@@ -33,10 +36,13 @@ impl<'a> Validator<'a> {
             return known;
         }
         let name = resolved.display().to_string();
-        let loaded = std::fs::read_to_string(resolved)
-            .map_err(|error| ShaderFileError::Read {
-                file: name.clone(),
-                error,
+        let loaded = crate::files::read_to_string(resolved, crate::files::SHADER)
+            .map_err(|e| match e {
+                crate::files::FileError::Io { error, .. } => ShaderFileError::Read {
+                    file: name.clone(),
+                    error,
+                },
+                e => ShaderFileError::File(e),
             })
             .and_then(|source| {
                 crate::shader::validate_wgsl(&name, &source)
