@@ -12,6 +12,7 @@ mod analysis_stages;
 mod barrier_properties;
 mod cli;
 mod diff_cli;
+mod driver_rejects;
 mod dxgi_ddsfile;
 mod fuzz;
 mod import;

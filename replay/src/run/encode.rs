@@ -242,9 +242,9 @@ impl Session {
                         d.instances
                     };
                     rp.draw_indexed(
-                        d.first..d.first + count,
+                        d.first..d.first.saturating_add(count),
                         d.base_vertex,
-                        d.first_instance..d.first_instance + instances,
+                        d.first_instance..d.first_instance.saturating_add(instances),
                     );
                 }
                 (None, None) => {
@@ -255,8 +255,8 @@ impl Session {
                         d.instances
                     };
                     rp.draw(
-                        d.first..d.first + count,
-                        d.first_instance..d.first_instance + instances,
+                        d.first..d.first.saturating_add(count),
+                        d.first_instance..d.first_instance.saturating_add(instances),
                     );
                 }
             }

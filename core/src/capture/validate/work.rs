@@ -4,15 +4,20 @@
 use super::passes::PassContext;
 use super::{DISPATCH_ARGS, DRAW_ARGS, DRAW_INDEXED_ARGS, Validator};
 use crate::capture::diag::JsonPath;
+use crate::capture::format::StepMode;
 use crate::capture::format::{Access, Draw, Pass, PassKind};
 use crate::capture::model::{
-    AccessSource, DispatchDesc, DrawDesc, MeshId, ResourceAccess, ResourceDesc, Subresources,
+    AccessSource, DispatchDesc, DrawDesc, MeshDesc, MeshId, ResourceAccess, ResourceDesc,
+    Subresources,
 };
 
 /// Most instances one draw may ask for, and most vertices times instances: a draw of 2^32
 /// instances would replay for hours on a software rasterizer.
 pub const MAX_DRAW_INSTANCES: u32 = 1 << 24;
 pub const MAX_DRAW_VERTICES: u64 = 1 << 32;
+/// Vertex, index and instance ids are 32-bit and a draw's range is a `Range<u32>` (wgpu) or a
+/// start plus a count the API adds in 32 bits (D3D12, Vulkan): its end must fit in a u32.
+pub const DRAW_ID_RANGE: u64 = u32::MAX as u64;
 
 impl<'a> Validator<'a> {
     pub(super) fn pass_draws(
@@ -85,6 +90,7 @@ impl<'a> Validator<'a> {
                     );
                 }
             }
+            self.draw_ranges(d, &dpath, mesh_desc);
             if d.stencil_reference.is_some_and(|r| r > 255) {
                 self.diags.error(
                     "draw",
@@ -195,6 +201,103 @@ impl<'a> Validator<'a> {
         }
 
         dispatches
+    }
+
+    /// The element (vertex or index) and instance ranges a direct draw reads, computed in 64
+    /// bits: each must end within the 32-bit ids the GPU counts in (a range past 2^32 wraps
+    /// to a small one) and within the mesh rows it reads where the capture states them. The
+    /// `count` given with a mesh is checked by `pass_draws` itself (its message predates this).
+    fn draw_ranges(&mut self, d: &Draw, dpath: &JsonPath, mesh: Option<&MeshDesc>) {
+        if d.indirect.is_some() {
+            return;
+        }
+        let indexed = mesh.is_some_and(|m| m.index_format.is_some()) || d.index_buffer.is_some();
+        let (what, whats) = if indexed {
+            ("index", "indices")
+        } else {
+            ("vertex", "vertices")
+        };
+        let available = mesh.and_then(|m| {
+            if m.index_format.is_some() {
+                m.index_count
+            } else {
+                m.vertex_count
+            }
+        });
+        if let Some(count) = d.count.or(available) {
+            let end = u64::from(d.first) + u64::from(count);
+            let field = if d.count.is_some() { "count" } else { "first" };
+            if end > DRAW_ID_RANGE {
+                self.diags.error(
+                    "draw",
+                    &dpath.field(field),
+                    format!(
+                        "draw reads {whats} {}..{end}, past the 32-bit {what} range (ends at most at {DRAW_ID_RANGE}): lower `first` or `count`",
+                        d.first
+                    ),
+                );
+            } else if d.count.is_none()
+                && let (Some(m), Some(avail)) = (mesh, available)
+                && end > u64::from(avail)
+            {
+                self.diags.error(
+                    "draw",
+                    &dpath.field("first"),
+                    format!(
+                        "draw reads elements {}..{end} of mesh \"{}\", which has {avail}: `first` must leave the mesh's {avail} elements in range, or give a smaller `count`",
+                        d.first, m.name
+                    ),
+                );
+            }
+        }
+        let rows = mesh.and_then(|m| {
+            m.streams
+                .iter()
+                .any(|s| s.step == StepMode::Instance)
+                .then(|| m.instance_count.unwrap_or(1))
+        });
+        // Replay draws every instance row of the mesh when the draw leaves `instances` at 1.
+        let instances = if d.instances == 1 {
+            mesh.map_or(1, |m| m.instance_count.unwrap_or(1).max(1))
+        } else {
+            d.instances
+        };
+        let end = u64::from(d.first_instance) + u64::from(instances);
+        if end > DRAW_ID_RANGE {
+            self.diags.error(
+                "draw",
+                &dpath.field("first_instance"),
+                format!(
+                    "draw reads instances {}..{end}, past the 32-bit instance range (ends at most at {DRAW_ID_RANGE}): lower `first_instance` or `instances`",
+                    d.first_instance
+                ),
+            );
+        } else if let (Some(m), Some(rows)) = (mesh, rows)
+            && end > u64::from(rows)
+        {
+            self.diags.error(
+                "draw",
+                &dpath.field("first_instance"),
+                format!(
+                    "draw reads instances {}..{end} of mesh \"{}\", whose per-instance streams have {rows} rows: lower `first_instance` or `instances`",
+                    d.first_instance, m.name
+                ),
+            );
+        }
+        if indexed
+            && let Some(m) = mesh
+            && let Some(vertices) = m.vertex_count
+            && i64::from(d.base_vertex) >= i64::from(vertices)
+        {
+            self.diags.error(
+                "draw",
+                &dpath.field("base_vertex"),
+                format!(
+                    "base_vertex {} is past the {vertices} vertices of mesh \"{}\": every index would read outside it",
+                    d.base_vertex, m.name
+                ),
+            );
+        }
     }
 
     /// Vertex and index buffers an imported draw names: buffers, read as such. Replayed
