@@ -18,7 +18,12 @@ fn example() -> Value {
 
 /// The errors `capture` gets, validated as if it were the example file (its side files resolve).
 fn errors(capture: &Value) -> Vec<Diagnostic> {
-    let path = repo().join("captures/example/frame.json");
+    errors_as(capture, "captures/example/frame.json")
+}
+
+/// The errors `capture` gets, validated as if it were the file `at` (relative to the repository).
+fn errors_as(capture: &Value, at: &str) -> Vec<Diagnostic> {
+    let path = repo().join(at);
     let bytes = serde_json::to_vec(capture).unwrap();
     let raw = match parse(Path::new(&path), &bytes) {
         Ok(raw) => raw,
@@ -108,4 +113,105 @@ fn draw_ranges_past_32_bits_are_refused() {
     assert!(missed.is_empty(), "accepted:\n{}", missed.join("\n"));
     // The unedited capture is valid, so each refusal above is the edit's.
     assert!(errors(&example()).is_empty());
+}
+
+/// Every format of the DXGI table on every texture kind, bare, as a render target and as a
+/// depth-stencil, against the rule D3D12 and Vulkan state:
+/// - video and palette formats are no texture framelab replays;
+/// - depth/stencil formats (and the typeless families holding only depth/stencil) exist on
+///   1D and 2D textures (arrays, cubes) only, never 3D;
+/// - block-compressed formats are 2D or 3D (a 1D texture is one texel high, never a block);
+/// - ALLOW_DEPTH_STENCIL needs a depth format or its typeless family, and no 3D texture;
+/// - ALLOW_RENDER_TARGET needs a colour format: not depth/stencil, block-compressed or
+///   shared-exponent (1-bit and packed 4:2:2 formats, which WebGPU lacks, are refused where a
+///   pass attaches them; the probe here is attached nowhere).
+#[test]
+fn every_format_on_every_texture_kind_matches_the_rule() {
+    use framelab_core::capture::dxgi::{self, Layout, Numeric};
+    let text = std::fs::read_to_string(repo().join("tests/fixtures/minimal.json")).unwrap();
+    let base: Value = serde_json::from_str(&text).unwrap();
+    let kinds = [
+        "texture_1d",
+        "texture_2d",
+        "texture_2d_array",
+        "texture_cube",
+        "texture_3d",
+    ];
+    let depth_typeless = [
+        "R16_TYPELESS",
+        "R32_TYPELESS",
+        "R24G8_TYPELESS",
+        "R32G8X24_TYPELESS",
+    ];
+    let mut wrong = Vec::new();
+    for f in dxgi::all() {
+        let depth_only = f.depth_bits > 0
+            || f.stencil_bits > 0
+            || matches!(f.name, "R24G8_TYPELESS" | "R32G8X24_TYPELESS");
+        let bc = f.layout == Layout::BlockCompressed;
+        let video = matches!(f.layout, Layout::Planar | Layout::Opaque)
+            || f.channels.iter().any(|c| c.numeric == Numeric::Other);
+        let color_target = !depth_only
+            && !bc
+            && !video
+            && f.channels.first().map(|c| c.numeric) != Some(Numeric::SharedExp)
+            && (f.name != "R1_UNORM" && f.block_width == 1 && f.block_height == 1
+                || framelab_core::capture::formats::webgpu_gap(f.name).is_some());
+        let depth_capable =
+            (f.name.starts_with('D') && depth_only) || depth_typeless.contains(&f.name);
+        for kind in kinds {
+            for flag in [
+                None,
+                Some("ALLOW_RENDER_TARGET"),
+                Some("ALLOW_DEPTH_STENCIL"),
+            ] {
+                let refused = f.name == "UNKNOWN"
+                    || video
+                    || (kind == "texture_3d" && depth_only)
+                    || (kind == "texture_1d" && bc)
+                    || (flag == Some("ALLOW_DEPTH_STENCIL")
+                        && (!depth_capable || kind == "texture_3d"))
+                    || (flag == Some("ALLOW_RENDER_TARGET") && !color_target);
+                let mut probe = json!({
+                    "name": "probe",
+                    "kind": kind,
+                    "format": f.name,
+                    "width": 64,
+                    "flags": flag.into_iter().collect::<Vec<_>>(),
+                });
+                match kind {
+                    "texture_1d" => {}
+                    "texture_3d" => {
+                        probe["height"] = json!(64);
+                        probe["depth"] = json!(4);
+                    }
+                    "texture_2d_array" => {
+                        probe["height"] = json!(64);
+                        probe["array_layers"] = json!(2);
+                    }
+                    "texture_cube" => {
+                        probe["height"] = json!(64);
+                        probe["array_layers"] = json!(6);
+                    }
+                    _ => probe["height"] = json!(64),
+                }
+                let mut c = base.clone();
+                c["resources"].as_array_mut().unwrap().push(probe);
+                let errs = errors_as(&c, "tests/fixtures/minimal.json");
+                if refused == errs.is_empty() {
+                    wrong.push(format!(
+                        "{} {kind} {flag:?}: rule says {}, validate says {errs:?}",
+                        f.name,
+                        if refused { "refused" } else { "valid" }
+                    ));
+                }
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "{}\n{} wrong",
+        wrong.join("\n"),
+        wrong.len()
+    );
 }

@@ -640,6 +640,41 @@ impl<'a> Validator<'a> {
                 "3D textures cannot be depth-stencil",
             );
         }
+        // Depth/stencil formats exist on 1D and 2D textures only; with ALLOW_DEPTH_STENCIL the
+        // flag check above already refuses the 3D texture.
+        if r.kind == ResourceKind::Texture3D && format.is_depth_only() && !ds {
+            self.diags.error(
+                "format-usage",
+                &path.field("format"),
+                format!(
+                    "{} is a depth/stencil format, which D3D12 and Vulkan allow only on 1D and 2D textures (arrays and cubes included), not on 3D texture \"{}\"; give it a colour format (R32_FLOAT for depth values) or make it 2D",
+                    format.name, r.name
+                ),
+            );
+        }
+        if (rt || uav)
+            && !format.can_be_color_target()
+            && !format.is_depth_format()
+            && !format.is_block_compressed()
+            && !format.is_video_or_palette()
+            // Formats WebGPU lacks are refused where a pass attaches them, with the reason.
+            && (format.is_depth_only()
+                || crate::capture::formats::webgpu_gap(format.name).is_none())
+        {
+            let flag = if rt {
+                "ALLOW_RENDER_TARGET"
+            } else {
+                "ALLOW_UNORDERED_ACCESS"
+            };
+            self.diags.error(
+                "format-usage",
+                &path.field("flags"),
+                format!(
+                    "\"{}\" has {flag} but {} cannot be a render target or unordered-access format (depth/stencil, shared-exponent, 1-bit or packed 4:2:2); drop the flag or use a colour format",
+                    r.name, format.name
+                ),
+            );
+        }
         if format.is_depth_format() && (rt || uav) {
             self.diags.error(
                 "format-usage",
