@@ -215,3 +215,65 @@ fn every_format_on_every_texture_kind_matches_the_rule() {
         wrong.len()
     );
 }
+
+/// Every writable shader access to a typed buffer, with the view format taken from the buffer
+/// or given on the binding, over every DXGI format of the table: a typed buffer view needs a
+/// typed format a buffer can hold (not typeless, depth/stencil, block-compressed or video), and
+/// a binding's format must be of the buffer format's family.
+#[test]
+fn typed_buffer_views_need_a_typed_format() {
+    use framelab_core::capture::dxgi::{self, Layout, Numeric};
+    let text = std::fs::read_to_string(repo().join("tests/fixtures/minimal.json")).unwrap();
+    let base: Value = serde_json::from_str(&text).unwrap();
+    // The fixture's shader variable is var<storage, read_write>, so it takes these two; the
+    // view-format check runs the same way for every access of a buffer binding.
+    let accesses = ["storage_read_write", "storage_write"];
+    let mut wrong = Vec::new();
+    for f in dxgi::all().iter().filter(|f| f.name != "UNKNOWN") {
+        let holdable = |f: &dxgi::FormatInfo| {
+            !f.is_typeless()
+                && f.depth_bits == 0
+                && f.stencil_bits == 0
+                && f.layout == Layout::Linear
+                && !f.channels.iter().any(|c| c.numeric == Numeric::Other)
+        };
+        // The view format: the buffer's own, or (for a typeless buffer) each of its family.
+        let mut views: Vec<(Option<&str>, bool)> = vec![(None, holdable(f))];
+        for member in dxgi::all()
+            .iter()
+            .filter(|m| m.typeless_family == Some(f.name))
+        {
+            views.push((Some(member.name), holdable(member)));
+        }
+        for (view, accepted) in views {
+            for access in accesses {
+                let mut c = base.clone();
+                let d = &mut c["resources"][2];
+                d["buffer_kind"] = json!("typed");
+                d["format"] = json!(f.name);
+                d.as_object_mut().unwrap().remove("stride");
+                let b = &mut c["passes"][0]["bindings"]["particles"];
+                b["access"] = json!(access);
+                if let Some(v) = view {
+                    b["format"] = json!(v);
+                }
+                let errs = errors_as(&c, "tests/fixtures/minimal.json");
+                let at = "$.passes[0].bindings.particles";
+                let refused = errs.iter().any(|d| d.path.starts_with(at));
+                if refused == accepted {
+                    wrong.push(format!(
+                        "{} viewed as {view:?} for {access}: expected {}, got {errs:?}",
+                        f.name,
+                        if accepted { "valid" } else { "refused" }
+                    ));
+                }
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "{}\n{} wrong",
+        wrong.join("\n"),
+        wrong.len()
+    );
+}

@@ -124,6 +124,8 @@ impl<'a> Validator<'a> {
                             &path.field("format"),
                             "only typed buffers take a view format",
                         );
+                    } else if r.buffer_kind == Some(BufferKind::Typed) {
+                        self.typed_buffer_view(r, b.format.as_deref(), path);
                     }
                     None
                 };
@@ -281,6 +283,57 @@ impl<'a> Validator<'a> {
                 );
             }
             range
+        }
+    }
+
+    /// A typed buffer view, read or written, of any access: its format (the binding's, else
+    /// the buffer's) must be a typed member of the buffer format's family, and one a buffer
+    /// can hold (no depth/stencil, block-compressed or video format).
+    fn typed_buffer_view(&mut self, r: &ResourceDesc, view: Option<&str>, path: &JsonPath) {
+        let Some(resource_format) = r.format else {
+            return;
+        };
+        let fpath = path.field("format");
+        let f = match view {
+            Some(view) => {
+                let Some(f) = self.lookup_format(view, &fpath) else {
+                    return;
+                };
+                if !dxgi::view_compatible(resource_format, f) {
+                    self.diags.error("view-format", &fpath, format!(
+                        "view format {} is not compatible with \"{}\" ({}); only typeless resources can be viewed in another format of their family",
+                        f.name, r.name, resource_format.name
+                    ));
+                    return;
+                }
+                f
+            }
+            None => resource_format,
+        };
+        if f.is_typeless() {
+            let typed = dxgi::all()
+                .iter()
+                .find(|t| {
+                    t.typeless_family == Some(f.name) && !t.is_typeless() && !t.is_depth_stencil()
+                })
+                .map_or(String::new(), |t| format!(" (e.g. {})", t.name));
+            self.diags.error(
+                "typeless-view",
+                if view.is_some() { &fpath } else { path },
+                format!(
+                    "typed view of buffer \"{}\" has the typeless format {}: typed buffer views (Buffer<T>, RWBuffer<T>, texel buffers) need a typed format; give the binding a `format` from its family{typed}",
+                    r.name, f.name
+                ),
+            );
+        } else if f.is_depth_stencil() || f.is_block_compressed() || f.is_video_or_palette() {
+            self.diags.error(
+                "format-usage",
+                if view.is_some() { &fpath } else { path },
+                format!(
+                    "typed view of buffer \"{}\" has format {}: buffers hold no depth/stencil, block-compressed or video formats",
+                    r.name, f.name
+                ),
+            );
         }
     }
 
