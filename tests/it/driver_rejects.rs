@@ -277,3 +277,33 @@ fn typed_buffer_views_need_a_typed_format() {
         wrong.len()
     );
 }
+
+/// Instance ranges against the rows a mesh's per-instance streams hold: the night-city mesh
+/// "buildings" has 96, drawn four at a time by pass 5.
+#[test]
+fn instance_ranges_past_the_mesh_rows_are_refused() {
+    let at = "captures/night_city/main_street_day.json";
+    let text = std::fs::read_to_string(repo().join(at)).unwrap();
+    let base: Value = serde_json::from_str(&text).unwrap();
+    assert!(errors_as(&base, at).is_empty());
+    let cases = [
+        json!({"first_instance": 93, "instances": 4}),
+        json!({"first_instance": 96, "instances": 2}),
+        // `instances` left at 1 draws every row of the mesh: 1..97.
+        json!({"first_instance": 1, "instances": 1}),
+        json!({"first_instance": NEAR, "instances": 16}),
+    ];
+    let mut missed = Vec::new();
+    for fields in cases {
+        let mut c = base.clone();
+        let d = &mut c["passes"][5]["draws"][0];
+        for (k, v) in fields.as_object().unwrap() {
+            d[k] = v.clone();
+        }
+        let errs = errors_as(&c, at);
+        if !has(&errs, "draw", "$.passes[5].draws[0].first_instance") {
+            missed.push(format!("{fields}: {errs:?}"));
+        }
+    }
+    assert!(missed.is_empty(), "accepted:\n{}", missed.join("\n"));
+}
