@@ -11,6 +11,7 @@ pub mod model;
 pub mod report;
 pub mod schedule;
 pub mod traffic;
+pub mod units;
 
 use barriers::{Barrier, BarrierKind, Placement};
 use hazards::SyncBarrier;
