@@ -2,14 +2,16 @@
 //! written (atomically) so that an import either gives a capture every command accepts or
 //! nothing, and a summary of what was found and what was left out.
 
-use std::io::{BufReader, Write};
+use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 use std::process::ExitCode;
 
+use anyhow::Context;
+use framelab_core::capture::format::RawCapture;
 use framelab_core::capture::validate::validate;
 use framelab_core::capture::{CaptureError, Options};
 use framelab_core::files::{self, FileError};
-use framelab_core::import::{ImportOptions, Summary, import};
+use framelab_core::import::{ImportOptions, Imported, Summary, gfxr, import};
 
 use super::{print_diagnostics, print_stdout};
 
@@ -47,21 +49,36 @@ pub fn run(
         e => anyhow::anyhow!("{e}"),
     })?;
     let name = input.display().to_string();
-    let imported = import(BufReader::new(file), &name, &ImportOptions { frames })?;
+    let len = file.metadata().ok().map(|m| m.len());
+    let mut reader = BufReader::with_capacity(1 << 20, file);
+    let head = reader
+        .fill_buf()
+        .map_err(|e| anyhow::anyhow!("cannot read {name}: {e}"))?;
+    let options = ImportOptions { frames };
+    let imported = if gfxr::is_gfxr(head) {
+        let stem = out.file_stem().map_or_else(
+            || "imported".to_owned(),
+            |s| s.to_string_lossy().into_owned(),
+        );
+        gfxr::import(reader, len, &name, &stem, &options)?
+    } else if head
+        .iter()
+        .find(|b| !b.is_ascii_whitespace())
+        .is_some_and(|b| *b != b'{' && *b != b'[')
+    {
+        anyhow::bail!(
+            "{name}: neither a GFXReconstruct binary capture (it does not start with `GFXR`) nor a JSON Lines stream (gfxrecon-convert)"
+        );
+    } else {
+        import(reader, &name, &options)?
+    };
     let text = serde_json::to_string_pretty(&imported.capture)? + "\n";
-    // Validate what would be written, resolving against the output's folder.
-    match validate(&imported.capture, out, &Options::default()) {
-        Ok(_) => {}
-        Err(CaptureError::Invalid { diagnostics, .. }) => {
-            print_diagnostics(&diagnostics, out);
-            anyhow::bail!(
-                "the capture imported from {name} does not validate ({} problems above); nothing was written",
-                diagnostics.len()
-            );
-        }
-        Err(e) => return Err(e.into()),
+    if imported.side_files.is_empty() {
+        check(&imported.capture, out, &name)?;
+        framelab_core::output::write_atomically(out, text.as_bytes())?;
+    } else {
+        write_with_side_files(&imported, out, &text, &name)?;
     }
-    framelab_core::output::write_atomically(out, text.as_bytes())?;
     if json {
         print_stdout(&(serde_json::to_string_pretty(&imported.summary)? + "\n"))?;
     } else {
@@ -71,15 +88,87 @@ pub fn run(
     Ok(ExitCode::SUCCESS)
 }
 
+/// Validates the capture as it would be written at `out`.
+fn check(capture: &RawCapture, out: &Path, name: &str) -> anyhow::Result<()> {
+    match validate(capture, out, &Options::default()) {
+        Ok(_) => Ok(()),
+        Err(CaptureError::Invalid { diagnostics, .. }) => {
+            print_diagnostics(&diagnostics, out);
+            anyhow::bail!(
+                "the capture imported from {name} does not validate ({} problems above); nothing was written",
+                diagnostics.len()
+            );
+        }
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// Writes the capture and its side files so that a failure leaves nothing half-written: all
+/// of it goes to a staging folder beside `out` first and is validated there; then each side
+/// folder replaces the one of the same name and the capture is written last.
+fn write_with_side_files(
+    imported: &Imported,
+    out: &Path,
+    text: &str,
+    name: &str,
+) -> anyhow::Result<()> {
+    let dir = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let file_name = out
+        .file_name()
+        .ok_or_else(|| anyhow::anyhow!("{} names no file", out.display()))?;
+    let staging = dir.join(format!(
+        ".{}.import-{}",
+        file_name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| -> anyhow::Result<()> {
+        let mut folders = std::collections::BTreeSet::new();
+        for f in &imported.side_files {
+            let path = staging.join(&f.path);
+            if let Some(parent) = path.parent() {
+                std::fs::create_dir_all(parent)
+                    .with_context(|| format!("cannot create {}", parent.display()))?;
+            }
+            std::fs::write(&path, &f.bytes)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            if let Some(top) = Path::new(&f.path).components().next() {
+                folders.insert(top.as_os_str().to_owned());
+            }
+        }
+        check(&imported.capture, &staging.join(file_name), name)?;
+        for folder in folders {
+            let target = dir.join(&folder);
+            if target.is_dir() {
+                std::fs::remove_dir_all(&target)
+                    .with_context(|| format!("cannot replace {}", target.display()))?;
+            }
+            std::fs::rename(staging.join(&folder), &target)
+                .with_context(|| format!("cannot move side files to {}", target.display()))?;
+        }
+        framelab_core::output::write_atomically(out, text.as_bytes())?;
+        Ok(())
+    })();
+    let _ = std::fs::remove_dir_all(&staging);
+    result
+}
+
 fn render(s: &Summary, out: &Path) -> String {
     let mut t = String::new();
+    let unit = if s.dialect == "binary" {
+        "block"
+    } else {
+        "line"
+    };
     let frames = if s.frames_imported.0 == s.frames_imported.1 {
         format!("frame {}", s.frames_imported.0)
     } else {
         format!("frames {}-{}", s.frames_imported.0, s.frames_imported.1)
     };
     t += &format!(
-        "{}: {} ({} dialect), {} lines, {} calls, {} frame(s)\n",
+        "{}: {} ({} dialect), {} {unit}s, {} calls, {} frame(s)\n",
         s.file, s.tool, s.dialect, s.lines, s.calls, s.frames_in_stream
     );
     let kinds: Vec<String> = s
@@ -104,10 +193,22 @@ fn render(s: &Summary, out: &Path) -> String {
         for k in &s.skipped {
             let at = k
                 .first_line
-                .map(|l| format!(" (first at line {l})"))
+                .map(|l| format!(" (first at {unit} {l})"))
                 .unwrap_or_default();
             t += &format!("  {}x {}{at}\n", k.count, k.what);
         }
+    }
+    if let Some(n) = s.shader_modules {
+        t += &format!("  {n} SPIR-V shader modules\n");
+    }
+    if let Some(c) = &s.contents {
+        t += &format!(
+            "  contents of {} resources at the start of the frame ({} bytes; {} mapped-memory writes in the capture)\n",
+            c.resources, c.bytes, c.memory_writes
+        );
+    }
+    if let Some(why) = &s.not_replayable {
+        t += &format!("not replayable yet: {why}\n");
     }
     if !s.not_modelled.is_empty() {
         let total: u64 = s.not_modelled.values().sum();

@@ -157,13 +157,15 @@ enum Command {
     ///
     /// Example: framelab inspect frame.json --screenshot view.png --select tonemap --view ldr
     Inspect(Box<inspect::InspectArgs>),
-    /// Turn a GFXReconstruct JSON Lines stream (gfxrecon-convert) into a capture: passes,
-    /// resources, heaps and the barriers the application recorded, for validate, analyze,
-    /// graph and diff --structure (it holds no shader code, so it is not replayed).
+    /// Turn a GFXReconstruct capture into a framelab capture: passes, resources, heaps and
+    /// the barriers the application recorded. A binary capture (`.gfxr`, recognised by its
+    /// file header) also brings its SPIR-V shaders and memory contents, written as side
+    /// files beside the output; a JSON Lines stream (gfxrecon-convert) holds neither, so its
+    /// import is for validate, analyze, graph and diff --structure only.
     ///
-    /// Example: framelab import app.jsonl -o app.json --frame 1
+    /// Example: framelab import app.gfxr -o app.json --frame 1
     Import {
-        /// The stream (JSON Lines, from gfxrecon-convert).
+        /// The capture: a binary `.gfxr`, or JSON Lines from gfxrecon-convert.
         stream: PathBuf,
         /// Where to write the capture (JSON); written only if it validates.
         #[arg(short, long)]

@@ -15,6 +15,8 @@ mod diff_cli;
 mod driver_rejects;
 mod dxgi_ddsfile;
 mod fuzz;
+mod gfxr_binary;
+mod gfxr_fuzz;
 mod import;
 mod inspector;
 mod invalid_corpus;

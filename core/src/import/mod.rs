@@ -8,6 +8,7 @@ mod build;
 mod calls;
 mod commands;
 mod emit;
+pub mod gfxr;
 mod record;
 mod render_pass;
 mod state;
@@ -45,6 +46,14 @@ pub enum ImportError {
     },
     #[error("{file}: {message}")]
     Stream { file: String, message: String },
+    /// A binary capture's block that cannot be read: its number and the byte it starts at.
+    #[error("{file}: block {block} at byte {offset}: {message}")]
+    Block {
+        file: String,
+        block: u64,
+        offset: u64,
+        message: String,
+    },
 }
 
 /// Something the import left out, how often, and the first line it happened on.
@@ -81,12 +90,43 @@ pub struct Summary {
     pub skipped: Vec<Skipped>,
     /// Calls of functions that create or record nothing framelab models, by name.
     pub not_modelled: BTreeMap<String, u64>,
+    /// Binary captures: SPIR-V modules written as side files.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shader_modules: Option<usize>,
+    /// Binary captures: resources whose contents at the start of the frame were written as
+    /// side files, and the bytes they hold.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contents: Option<ContentsSummary>,
+    /// Why the capture cannot be replayed yet.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_replayable: Option<String>,
+}
+
+/// The contents a binary import wrote.
+#[derive(Clone, Debug, Serialize)]
+pub struct ContentsSummary {
+    pub resources: usize,
+    pub bytes: u64,
+    /// Mapped-memory writes the capture holds.
+    pub memory_writes: u64,
 }
 
 #[derive(Debug)]
 pub struct Imported {
     pub capture: RawCapture,
     pub summary: Summary,
+    /// Files to write beside the capture (paths relative to it): a binary capture's SPIR-V
+    /// modules and resource contents. Empty for a JSON Lines stream.
+    pub side_files: Vec<SideFile>,
+}
+
+pub use gfxr::contents::SideFile;
+
+/// What only a binary capture brings, for `finish` to attach.
+struct Extras<'a> {
+    contents: &'a gfxr::contents::Contents,
+    /// The capture's stem: side files go in `<stem>.contents/` and `<stem>.shaders/`.
+    stem: &'a str,
 }
 
 /// Calls whose failure at capture time means they created or did nothing.
@@ -254,7 +294,7 @@ impl Importer {
 struct Read {
     tool: String,
     lines: u64,
-    /// Lines other than calls, by kind.
+    /// Entries other than calls, by what they are.
     other: BTreeMap<String, u64>,
 }
 
@@ -286,13 +326,8 @@ fn read_stream(reader: impl BufRead, file: &str, imp: &mut Importer) -> Result<R
                 }
                 imp.call(&call);
             }
-            Entry::FrameEnd => {
-                if imp.submitted_in_frame {
-                    imp.builder.end_frame();
-                    imp.submitted_in_frame = false;
-                }
-            }
-            Entry::Other(kind) => *read.other.entry(kind).or_default() += 1,
+            Entry::FrameEnd => imp.frame_end(),
+            Entry::Other(kind) => *read.other.entry(format!("({kind} lines)")).or_default() += 1,
         }
         if imp.builder.done() {
             break;
@@ -372,25 +407,39 @@ fn nothing_submitted(
     }
 }
 
+impl Importer {
+    fn new(options: &ImportOptions) -> Self {
+        Importer {
+            objects: Objects::default(),
+            recordings: HashMap::new(),
+            pool_of: HashMap::new(),
+            builder: Builder::new(options.frames),
+            submitted_in_frame: false,
+            skipped: BTreeMap::new(),
+            not_modelled: BTreeMap::new(),
+            calls: 0,
+            dialect: None,
+            last_index: 0,
+            hidden_blocks: false,
+        }
+    }
+
+    /// The end of a frame the stream marks explicitly.
+    fn frame_end(&mut self) {
+        if self.submitted_in_frame {
+            self.builder.end_frame();
+            self.submitted_in_frame = false;
+        }
+    }
+}
+
 /// Imports the frames `options` selects from a JSON Lines stream; `file` names it in messages.
 pub fn import(
     reader: impl BufRead,
     file: &str,
     options: &ImportOptions,
 ) -> Result<Imported, ImportError> {
-    let mut imp = Importer {
-        objects: Objects::default(),
-        recordings: HashMap::new(),
-        pool_of: HashMap::new(),
-        builder: Builder::new(options.frames),
-        submitted_in_frame: false,
-        skipped: BTreeMap::new(),
-        not_modelled: BTreeMap::new(),
-        calls: 0,
-        dialect: None,
-        last_index: 0,
-        hidden_blocks: false,
-    };
+    let mut imp = Importer::new(options);
     let read = read_stream(reader, file, &mut imp)?;
     if imp.calls == 0 {
         return Err(ImportError::Stream {
@@ -398,6 +447,17 @@ pub fn import(
             message: "no API calls: not a GFXReconstruct JSON Lines stream (gfxrecon-convert --format jsonl)".to_owned(),
         });
     }
+    finish(imp, read, file, options, None)
+}
+
+/// The capture and summary from everything the importer gathered.
+fn finish(
+    mut imp: Importer,
+    read: Read,
+    file: &str,
+    options: &ImportOptions,
+    extras: Option<Extras<'_>>,
+) -> Result<Imported, ImportError> {
     if imp.submitted_in_frame {
         imp.builder.end_frame();
     }
@@ -413,6 +473,7 @@ pub fn import(
         || "imported".to_owned(),
         |s| s.to_string_lossy().into_owned(),
     );
+    let names = imp.builder.names.clone();
     let emitted = emit::emit(
         imp.builder,
         &imp.objects,
@@ -428,9 +489,48 @@ pub fn import(
     }));
     let mut not_modelled = imp.not_modelled;
     for (kind, n) in read.other {
-        *not_modelled.entry(format!("({kind} lines)")).or_default() += n;
+        *not_modelled.entry(kind).or_default() += n;
     }
-    let capture = emitted.capture;
+    let mut capture = emitted.capture;
+    let mut side_files = Vec::new();
+    let (mut shader_modules, mut contents) = (None, None);
+    if let Some(x) = extras {
+        let (files, notes) = x.contents.attach(
+            &names,
+            &imp.objects,
+            &mut capture,
+            &format!("{}.contents", x.stem),
+        );
+        contents = Some(ContentsSummary {
+            resources: files.len(),
+            bytes: files.iter().map(|f| f.bytes.len() as u64).sum(),
+            memory_writes: x.contents.fills,
+        });
+        side_files = files;
+        for (handle, code) in &x.contents.modules {
+            side_files.push(SideFile {
+                path: format!("{}.shaders/module_{handle}.spv", x.stem),
+                bytes: code.clone(),
+            });
+        }
+        shader_modules = Some(x.contents.modules.len());
+        skipped.extend(notes.into_iter().map(|what| Skipped {
+            what,
+            count: 1,
+            first_line: None,
+        }));
+        if let Some(source) = &mut capture.source {
+            source.not_replayable = Some(format!(
+                "the capture's {} SPIR-V modules and the contents of {} resources are imported, but its pipelines (shader stages, vertex input, raster, depth and blend state, descriptor layouts) are not yet part of the capture format, so the passes have nothing to run",
+                x.contents.modules.len(),
+                contents.as_ref().map_or(0, |c| c.resources)
+            ));
+        }
+    }
+    let not_replayable = capture
+        .source
+        .as_ref()
+        .and_then(|s| s.not_replayable.clone());
     if capture.passes.is_empty() {
         return Err(nothing_submitted(
             file, selected, frames, imp.calls, &skipped,
@@ -462,6 +562,13 @@ pub fn import(
         fences: capture.fences.len(),
         skipped,
         not_modelled,
+        shader_modules,
+        contents,
+        not_replayable,
     };
-    Ok(Imported { capture, summary })
+    Ok(Imported {
+        capture,
+        summary,
+        side_files,
+    })
 }

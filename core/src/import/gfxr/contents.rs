@@ -1,0 +1,347 @@
+//! What only a binary capture holds, gathered while its blocks are read: the SPIR-V of every
+//! shader module, the bytes the application wrote to mapped memory, and a trimmed capture's
+//! buffer and image snapshot. At the end it is matched to the imported resources and written
+//! as side files: each buffer or image whose contents at the start of the frame are known
+//! gets a `file`, and the rest that existed before the frame stay `before_capture`, named.
+//!
+//! Memory is bounded by the live objects: mapped-memory writes are kept as non-overlapping
+//! extents of each live allocation (a later write replaces what it covers), and dropped when
+//! the allocation is freed.
+
+use std::collections::{BTreeMap, HashMap};
+
+use serde_json::Value;
+
+use super::super::state::{ImageInfo, Objects};
+use super::blocks::MAX_BLOCK_BYTES;
+use super::meta::Meta;
+use crate::capture::dxgi;
+use crate::capture::format::{InitialContents, RawCapture};
+
+/// A file the import writes beside the capture, by its path relative to it.
+#[derive(Clone, Debug)]
+pub struct SideFile {
+    pub path: String,
+    pub bytes: Vec<u8>,
+}
+
+/// The non-overlapping byte extents written to one allocation, by offset.
+#[derive(Debug, Default)]
+struct Extents(BTreeMap<u64, Vec<u8>>);
+
+impl Extents {
+    fn write(&mut self, offset: u64, data: Vec<u8>) {
+        let end = offset + data.len() as u64;
+        // Cut every extent that overlaps [offset, end) down to the parts outside it.
+        let overlapping: Vec<u64> = self
+            .0
+            .range(..end)
+            .filter(|(o, d)| **o + d.len() as u64 > offset)
+            .map(|(o, _)| *o)
+            .collect();
+        for o in overlapping {
+            let Some(old) = self.0.remove(&o) else {
+                continue;
+            };
+            let old_end = o + old.len() as u64;
+            if o < offset {
+                self.0.insert(o, old[..(offset - o) as usize].to_vec());
+            }
+            if old_end > end {
+                self.0.insert(end, old[(end - o) as usize..].to_vec());
+            }
+        }
+        self.0.insert(offset, data);
+    }
+
+    /// The bytes [offset, offset + size), zero where nothing was written; `None` when no
+    /// write touches the range, or when the range is larger than any block could have
+    /// written (a corrupt size).
+    fn read(&self, offset: u64, size: u64) -> Option<Vec<u8>> {
+        let end = offset.checked_add(size)?;
+        if size > MAX_BLOCK_BYTES {
+            return None;
+        }
+        let mut out: Option<Vec<u8>> = None;
+        for (&o, d) in self.0.range(..end) {
+            let d_end = o + d.len() as u64;
+            if d_end <= offset {
+                continue;
+            }
+            if out.is_none() {
+                let mut v = Vec::new();
+                v.try_reserve_exact(size as usize).ok()?;
+                v.resize(size as usize, 0);
+                out = Some(v);
+            }
+            let buf = out.as_mut()?;
+            let from = o.max(offset);
+            let to = d_end.min(end);
+            buf[(from - offset) as usize..(to - offset) as usize]
+                .copy_from_slice(&d[(from - o) as usize..(to - o) as usize]);
+        }
+        out
+    }
+}
+
+/// One aspect of an image snapshot.
+#[derive(Debug)]
+struct ImageData {
+    aspect: u32,
+    data: Vec<u8>,
+}
+
+/// The binary-only things gathered while reading.
+#[derive(Debug, Default)]
+pub struct Contents {
+    /// Shader module handle -> its SPIR-V.
+    pub modules: BTreeMap<u64, Vec<u8>>,
+    memory: HashMap<u64, Extents>,
+    /// Memory -> the offset its current mapping starts at.
+    map_offset: HashMap<u64, u64>,
+    buffers: HashMap<u64, Vec<u8>>,
+    images: HashMap<u64, Vec<ImageData>>,
+    pub fills: u64,
+    /// Bytes the capture wrote (memory fills and snapshots): what the contents written out
+    /// may add up to, beside a fixed allowance for the zeros of unwritten ranges.
+    written: u64,
+}
+
+/// Contents produced beyond the bytes the capture wrote: zeros where a buffer's memory was
+/// never written. Past it, a hostile size cannot make the import hold more.
+const ZERO_ALLOWANCE: u64 = 256 << 20;
+
+fn handle(v: &Value) -> Option<u64> {
+    v.as_u64()
+}
+
+impl Contents {
+    /// A call only the binary route needs to see.
+    pub fn observe(&mut self, name: &str, args: &Value) {
+        match name {
+            "vkCreateShaderModule" => {
+                let Some(module) = args.get("pShaderModule").and_then(handle) else {
+                    return;
+                };
+                let Some(words) = args
+                    .get("pCreateInfo")
+                    .and_then(|c| c.get("pCode"))
+                    .and_then(Value::as_array)
+                else {
+                    return;
+                };
+                let bytes: Vec<u8> = words
+                    .iter()
+                    .filter_map(Value::as_u64)
+                    .flat_map(|w| (w as u32).to_le_bytes())
+                    .collect();
+                self.modules.insert(module, bytes);
+            }
+            "vkMapMemory" => {
+                if let (Some(m), Some(o)) = (
+                    args.get("memory").and_then(handle),
+                    args.get("offset").and_then(Value::as_u64),
+                ) {
+                    self.map_offset.insert(m, o);
+                }
+            }
+            "vkMapMemory2KHR" | "vkMapMemory2" => {
+                let info = args.get("pMemoryMapInfo");
+                if let (Some(m), Some(o)) = (
+                    info.and_then(|i| i.get("memory")).and_then(handle),
+                    info.and_then(|i| i.get("offset")).and_then(Value::as_u64),
+                ) {
+                    self.map_offset.insert(m, o);
+                }
+            }
+            "vkFreeMemory" => {
+                if let Some(m) = args.get("memory").and_then(handle) {
+                    self.memory.remove(&m);
+                    self.map_offset.remove(&m);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// A meta-data command's contents.
+    pub fn meta(&mut self, meta: Meta) {
+        match meta {
+            Meta::FillMemory {
+                memory,
+                offset,
+                data,
+            } => {
+                self.fills += 1;
+                self.written += data.len() as u64;
+                let base = self.map_offset.get(&memory).copied().unwrap_or(0);
+                self.memory
+                    .entry(memory)
+                    .or_default()
+                    .write(base.saturating_add(offset), data);
+            }
+            Meta::InitBuffer { buffer, data } => {
+                self.written += data.len() as u64;
+                self.buffers.insert(buffer, data);
+            }
+            Meta::InitImage {
+                image,
+                aspect,
+                data,
+                ..
+            } => {
+                self.written += data.len() as u64;
+                self.images
+                    .entry(image)
+                    .or_default()
+                    .push(ImageData { aspect, data });
+            }
+            Meta::SwapchainImageState { .. } | Meta::Other(_) => {}
+        }
+    }
+
+    /// The contents of buffer `handle` at this point: its snapshot, else what was written to
+    /// the memory it is bound to.
+    fn buffer_bytes(&self, handle: u64, objects: &Objects) -> Option<Vec<u8>> {
+        let info = objects.buffers.get(&handle)?;
+        if let Some(d) = self.buffers.get(&handle) {
+            return (d.len() as u64 == info.size).then(|| d.clone());
+        }
+        let (memory, offset) = info.bound?;
+        self.memory.get(&memory)?.read(offset, info.size)
+    }
+
+    /// The contents of image `handle`: its snapshot's color or depth aspect.
+    fn image_bytes(&self, handle: u64) -> Option<&[u8]> {
+        let aspects = self.images.get(&handle)?;
+        // Color (1) or depth (2); a stencil aspect (4) travels with depth in one resource
+        // only where the format packs them, which the size check below decides.
+        aspects
+            .iter()
+            .find(|a| a.aspect & 0x3 != 0)
+            .map(|a| a.data.as_slice())
+    }
+
+    /// Gives each resource whose contents are known a side file under `dir` (relative to the
+    /// capture), and returns the files and notes on what stays unknown.
+    pub fn attach(
+        &self,
+        names: &BTreeMap<u64, String>,
+        objects: &Objects,
+        capture: &mut RawCapture,
+        dir: &str,
+    ) -> (Vec<SideFile>, Vec<String>) {
+        let by_name: HashMap<&str, u64> = names.iter().map(|(h, n)| (n.as_str(), *h)).collect();
+        let mut files = Vec::new();
+        let mut unknown = Vec::new();
+        let mut wrong_size = Vec::new();
+        let mut over_budget = Vec::new();
+        let mut budget = self.written.saturating_add(ZERO_ALLOWANCE);
+        for r in &mut capture.resources {
+            let Some(&h) = by_name.get(r.name.as_str()) else {
+                continue;
+            };
+            let (bytes, size) = match objects.images.get(&h) {
+                Some(img) => (self.image_bytes(h).map(<[u8]>::to_vec), packed_size(img)),
+                None => {
+                    let size = objects.buffers.get(&h).map(|b| b.size);
+                    if size.is_some_and(|s| s > budget) {
+                        over_budget.push(r.name.clone());
+                        continue;
+                    }
+                    (self.buffer_bytes(h, objects), size)
+                }
+            };
+            if let Some(b) = &bytes {
+                budget = budget.saturating_sub(b.len() as u64);
+            }
+            match bytes {
+                Some(bytes) if Some(bytes.len() as u64) == size => {
+                    let path = format!("{dir}/{}.bin", sanitize(&r.name));
+                    r.initial = Some(InitialContents::File { path: path.clone() });
+                    files.push(SideFile { path, bytes });
+                }
+                Some(bytes) => wrong_size.push(format!("{} ({} bytes)", r.name, bytes.len())),
+                None => {
+                    if matches!(r.initial, Some(InitialContents::BeforeCapture {})) {
+                        unknown.push(r.name.clone());
+                    }
+                }
+            }
+        }
+        let mut notes = Vec::new();
+        if !unknown.is_empty() {
+            notes.push(format!(
+                "contents from before the frame that the capture does not hold (earlier GPU work): {}",
+                unknown.join(", ")
+            ));
+        }
+        if !over_budget.is_empty() {
+            notes.push(format!(
+                "contents larger than everything the capture wrote (left out): {}",
+                over_budget.join(", ")
+            ));
+        }
+        if !wrong_size.is_empty() {
+            notes.push(format!(
+                "snapshot contents whose size is not the resource's packed size (left out): {}",
+                wrong_size.join(", ")
+            ));
+        }
+        (files, notes)
+    }
+}
+
+/// Bytes of every mip level and layer of a single-sampled image, tightly packed: the layout
+/// of a snapshot and of a `file`'s contents.
+fn packed_size(img: &ImageInfo) -> Option<u64> {
+    let format = dxgi::lookup_vk(&img.format)?;
+    let mut sum = 0u64;
+    for m in 0..img.mips.min(32) {
+        let (w, h, d) = (
+            (img.extent[0] >> m).max(1),
+            (img.extent[1] >> m).max(1),
+            (img.extent[2] >> m).max(1),
+        );
+        let surface = format.surface_bytes(u64::from(w), u64::from(h))?;
+        sum = sum.checked_add(
+            surface
+                .checked_mul(u64::from(d))?
+                .checked_mul(u64::from(img.layers.max(1)))?,
+        )?;
+    }
+    (img.samples <= 1).then_some(sum)
+}
+
+/// A resource name as a file name: letters, digits, `-`, `_` and `.` kept, the rest `_`.
+pub fn sanitize(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn later_writes_replace_what_they_cover() {
+        let mut e = Extents::default();
+        e.write(0, vec![1; 8]);
+        e.write(4, vec![2; 8]);
+        e.write(2, vec![3; 2]);
+        assert_eq!(
+            e.read(0, 12),
+            Some(vec![1, 1, 3, 3, 2, 2, 2, 2, 2, 2, 2, 2])
+        );
+        assert_eq!(e.read(10, 4), Some(vec![2, 2, 0, 0]));
+        assert_eq!(e.read(12, 4), None);
+        assert_eq!(e.0.len(), 4);
+    }
+}

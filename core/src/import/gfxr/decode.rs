@@ -1,0 +1,264 @@
+//! Turns a call's encoded parameters into the JSON the JSON Lines importer reads, driven by
+//! the registry tables: one decoder for every call and structure, so the binary capture and
+//! `gfxrecon-convert`'s stream of the same frame reach the importer in the same shape
+//! (pointers to one value inline, arrays as arrays, handles as numbers, enums by name).
+//!
+//! Lengths come from the data and are checked against the bytes left before anything is
+//! allocated for them; nesting is bounded, so no input can take memory or stack beyond its
+//! own size.
+
+use serde_json::{Map, Value};
+
+use super::registry::{self, CommandDef, ENUMS, STRUCTS, Ty};
+
+const IS_NULL: u32 = 0x1;
+const IS_ARRAY: u32 = 0x4;
+const IS_STRING: u32 = 0x8;
+const IS_WSTRING: u32 = 0x10;
+const IS_ARRAY_2D: u32 = 0x100;
+const HAS_ADDRESS: u32 = 0x40;
+const HAS_DATA: u32 = 0x80;
+/// Deepest nesting of structures and `pNext` chains read.
+const MAX_DEPTH: u32 = 48;
+
+/// A decoded call: its arguments by name, and its return value.
+#[derive(Debug)]
+pub struct Decoded {
+    pub args: Value,
+    pub ret: Option<Value>,
+}
+
+struct Reader<'a> {
+    buf: &'a [u8],
+    pos: usize,
+    depth: u32,
+}
+
+type Res<T> = Result<T, String>;
+
+impl<'a> Reader<'a> {
+    fn take(&mut self, n: usize, what: &str) -> Res<&'a [u8]> {
+        let left = self.buf.len() - self.pos;
+        if n > left {
+            return Err(format!(
+                "{what} needs {n} bytes at parameter byte {}, {left} left",
+                self.pos
+            ));
+        }
+        let s = &self.buf[self.pos..self.pos + n];
+        self.pos += n;
+        Ok(s)
+    }
+
+    fn array<const N: usize>(&mut self, what: &str) -> Res<[u8; N]> {
+        let mut a = [0; N];
+        a.copy_from_slice(self.take(N, what)?);
+        Ok(a)
+    }
+
+    fn u32(&mut self, what: &str) -> Res<u32> {
+        self.array(what).map(u32::from_le_bytes)
+    }
+
+    fn u64(&mut self, what: &str) -> Res<u64> {
+        self.array(what).map(u64::from_le_bytes)
+    }
+
+    fn left(&self) -> usize {
+        self.buf.len() - self.pos
+    }
+
+    /// A pointer's preamble: the attribute mask, the address when flagged, the length for
+    /// arrays and strings (else 1). `None` for a null pointer.
+    fn preamble(&mut self, what: &str) -> Res<Option<(u32, u64)>> {
+        let attrib = self.u32(what)?;
+        if attrib & IS_NULL != 0 {
+            return Ok(None);
+        }
+        if attrib & HAS_ADDRESS != 0 {
+            self.u64(what)?;
+        }
+        let len = if attrib & (IS_ARRAY | IS_ARRAY_2D | IS_STRING | IS_WSTRING) != 0 {
+            self.u64(what)?
+        } else {
+            1
+        };
+        Ok(Some((attrib, len)))
+    }
+
+    /// A length read from the data, refused when even one byte per element would not fit.
+    fn count(&self, len: u64, what: &str) -> Res<usize> {
+        if len > self.left() as u64 {
+            return Err(format!(
+                "{what} says {len} elements, but only {} bytes are left",
+                self.left()
+            ));
+        }
+        Ok(len as usize)
+    }
+
+    fn value(&mut self, ty: Ty, what: &str) -> Res<Value> {
+        Ok(match ty {
+            Ty::U8 => Value::from(self.array::<1>(what)?[0]),
+            Ty::U16 => Value::from(u16::from_le_bytes(self.array(what)?)),
+            Ty::U32 | Ty::Flags32 => Value::from(self.u32(what)?),
+            Ty::I32 => Value::from(i32::from_le_bytes(self.array(what)?)),
+            Ty::U64 | Ty::Flags64 | Ty::Handle | Ty::Address => Value::from(self.u64(what)?),
+            Ty::I64 => Value::from(i64::from_le_bytes(self.array(what)?)),
+            Ty::F32 => Value::from(shortest(f32::from_le_bytes(self.array(what)?))),
+            Ty::F64 => Value::from(f64::from_le_bytes(self.array(what)?)),
+            Ty::Enum(e) => {
+                let v = i32::from_le_bytes(self.array(what)?);
+                match ENUMS.get(usize::from(e)).and_then(|d| d.name_of(v)) {
+                    Some(name) => Value::from(name),
+                    None => Value::from(v),
+                }
+            }
+            Ty::Struct(s) => self.structure(s, what)?,
+            Ty::PNext => self.pnext(what)?,
+            Ty::Ptr(elem) => self.pointer(*elem, what)?,
+            Ty::Str => self.string(what)?,
+            Ty::Strs => match self.preamble(what)? {
+                Some((attrib, len)) if attrib & HAS_DATA != 0 => {
+                    let n = self.count(len, what)?;
+                    let mut items = Vec::with_capacity(n);
+                    for i in 0..n {
+                        items.push(self.string(&format!("{what}[{i}]"))?);
+                    }
+                    Value::Array(items)
+                }
+                _ => Value::Null,
+            },
+            Ty::Opaque => return Err(format!("{what} has a type this decoder cannot read")),
+        })
+    }
+
+    fn string(&mut self, what: &str) -> Res<Value> {
+        match self.preamble(what)? {
+            Some((attrib, len)) if attrib & HAS_DATA != 0 => {
+                let n = self.count(len, what)?;
+                let bytes = self.take(n, what)?;
+                let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
+                Ok(Value::from(
+                    String::from_utf8_lossy(&bytes[..end]).into_owned(),
+                ))
+            }
+            _ => Ok(Value::Null),
+        }
+    }
+
+    fn pointer(&mut self, elem: Ty, what: &str) -> Res<Value> {
+        let Some((attrib, len)) = self.preamble(what)? else {
+            return Ok(Value::Null);
+        };
+        if attrib & HAS_DATA == 0 {
+            return Ok(Value::Null);
+        }
+        if attrib & IS_ARRAY == 0 {
+            return self.value(elem, what);
+        }
+        let n = self.count(len, what)?;
+        let mut items = Vec::with_capacity(n);
+        for i in 0..n {
+            items.push(self.value(elem, &format!("{what}[{i}]"))?);
+        }
+        Ok(Value::Array(items))
+    }
+
+    fn structure(&mut self, index: u16, what: &str) -> Res<Value> {
+        let def = STRUCTS
+            .get(usize::from(index))
+            .ok_or_else(|| format!("{what}: no structure {index} in the tables"))?;
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            return Err(format!("{what}: structures nested deeper than {MAX_DEPTH}"));
+        }
+        let mut map = Map::new();
+        for m in def.members {
+            let path = format!("{what}.{}", m.name);
+            map.insert(m.name.to_owned(), self.value(m.ty, &path)?);
+        }
+        self.depth -= 1;
+        if def.name == "VkClearColorValue" {
+            return Ok(clear_color_views(map));
+        }
+        Ok(Value::Object(map))
+    }
+
+    /// A `pNext` element: the preamble, then the structure its `sType` names (read ahead,
+    /// since the structure repeats it).
+    fn pnext(&mut self, what: &str) -> Res<Value> {
+        let attrib = self.u32(what)?;
+        if attrib & IS_NULL != 0 {
+            return Ok(Value::Null);
+        }
+        if attrib & HAS_ADDRESS != 0 {
+            self.u64(what)?;
+        }
+        if attrib & HAS_DATA == 0 {
+            return Ok(Value::Null);
+        }
+        let stype = u32::from_le_bytes(
+            self.buf
+                .get(self.pos..self.pos + 4)
+                .and_then(|s| s.try_into().ok())
+                .ok_or_else(|| format!("{what}: the data ends before the sType"))?,
+        );
+        let index = registry::struct_index_of_stype(stype)
+            .ok_or_else(|| format!("{what}: a structure with unknown sType {stype}"))?;
+        self.structure(index, what)
+    }
+}
+
+/// A 32-bit float as the shortest decimal that reads back as it (0.2, not 0.200000003):
+/// the value the application wrote, as a text stream of the same call shows it.
+fn shortest(f: f32) -> f64 {
+    f.to_string().parse().unwrap_or(f64::from(f))
+}
+
+/// A clear colour is a union GFXReconstruct writes as its four `uint32` words; it is given
+/// back in all three of its views, as the JSON Lines stream shows it.
+fn clear_color_views(map: Map<String, Value>) -> Value {
+    let words: Vec<u32> = map
+        .get("uint32")
+        .and_then(Value::as_array)
+        .map(|a| {
+            a.iter()
+                .filter_map(Value::as_u64)
+                .map(|w| w as u32)
+                .collect()
+        })
+        .unwrap_or_default();
+    let float32: Vec<Value> = words
+        .iter()
+        .map(|w| Value::from(shortest(f32::from_bits(*w))))
+        .collect();
+    let int32: Vec<Value> = words.iter().map(|w| Value::from(*w as i32)).collect();
+    let uint32: Vec<Value> = words.iter().map(|w| Value::from(*w)).collect();
+    let mut out = Map::new();
+    out.insert("float32".to_owned(), Value::Array(float32));
+    out.insert("int32".to_owned(), Value::Array(int32));
+    out.insert("uint32".to_owned(), Value::Array(uint32));
+    Value::Object(out)
+}
+
+/// Decodes `params` (the bytes after the thread id) as the parameters of `def`.
+pub fn decode_call(def: &CommandDef, params: &[u8]) -> Result<Decoded, String> {
+    let mut r = Reader {
+        buf: params,
+        pos: 0,
+        depth: 0,
+    };
+    let mut args = Map::new();
+    for p in def.params {
+        args.insert(p.name.to_owned(), r.value(p.ty, p.name)?);
+    }
+    let ret = match def.ret {
+        Some(ty) => Some(r.value(ty, "the return value")?),
+        None => None,
+    };
+    Ok(Decoded {
+        args: Value::Object(args),
+        ret,
+    })
+}

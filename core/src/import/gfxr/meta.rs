@@ -1,0 +1,224 @@
+//! The meta-data commands a capture carries besides API calls: what the application wrote
+//! into mapped memory, the buffer and image contents of a trimmed capture's state snapshot,
+//! and the swapchain images' state. Each is read into a plain record; the rest are named
+//! and counted.
+
+use super::blocks::Block;
+use super::compress::{self, Compression};
+
+/// A meta-data command framelab uses.
+#[derive(Debug)]
+pub enum Meta {
+    /// Bytes the application wrote to mapped memory, at an offset from the start of the
+    /// mapping.
+    FillMemory {
+        memory: u64,
+        offset: u64,
+        data: Vec<u8>,
+    },
+    /// A buffer's contents from the state snapshot.
+    InitBuffer { buffer: u64, data: Vec<u8> },
+    /// One aspect of an image from the state snapshot: each mip level tightly packed, all
+    /// layers, one after the other.
+    InitImage {
+        image: u64,
+        aspect: u32,
+        layout: u32,
+        level_sizes: Vec<u64>,
+        data: Vec<u8>,
+    },
+    /// The layout and acquisition of each swapchain image at the start of the capture.
+    SwapchainImageState {
+        swapchain: u64,
+        images: Vec<SwapchainImage>,
+    },
+    /// Anything else, by name.
+    Other(&'static str),
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct SwapchainImage {
+    pub image: u64,
+    pub index: u32,
+    pub layout: u32,
+    pub acquired: bool,
+}
+
+impl Meta {
+    /// What the command is, for counts.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Meta::FillMemory { .. } => "fill memory",
+            Meta::InitBuffer { .. } => "init buffer",
+            Meta::InitImage { .. } => "init image",
+            Meta::SwapchainImageState { .. } => "swapchain image state",
+            Meta::Other(name) => name,
+        }
+    }
+}
+
+fn name(kind: u32) -> &'static str {
+    match kind {
+        1 => "display message",
+        3 | 13 => "resize window",
+        5 => "begin resource init",
+        6 => "end resource init",
+        9 | 24 | 35 => "create hardware buffer",
+        10 => "destroy hardware buffer",
+        11 => "set device properties",
+        12 => "set device memory properties",
+        14 => "set opaque address",
+        15 => "set ray tracing shader group handles",
+        16 => "create heap allocation",
+        17 => "init subresource",
+        18 => "executable file info",
+        20 => "fill memory resource value",
+        22 => "driver info",
+        27 => "parent to child dependency",
+        28..=30 => "acceleration structure command",
+        32 => "set environment variables",
+        _ => "unknown meta-data command",
+    }
+}
+
+struct Fields<'a> {
+    body: &'a [u8],
+    pos: usize,
+}
+
+impl Fields<'_> {
+    fn u32(&mut self) -> Result<u32, String> {
+        let b = self.bytes(4)?;
+        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    }
+
+    fn u64(&mut self) -> Result<u64, String> {
+        let b = self.bytes(8)?;
+        let mut a = [0; 8];
+        a.copy_from_slice(b);
+        Ok(u64::from_le_bytes(a))
+    }
+
+    fn bytes(&mut self, n: usize) -> Result<&[u8], String> {
+        let left = self.body.len() - self.pos;
+        if n > left {
+            return Err(format!(
+                "meta-data command needs {n} more bytes at byte {}, {left} left",
+                self.pos
+            ));
+        }
+        self.pos += n;
+        Ok(&self.body[self.pos - n..self.pos])
+    }
+
+    /// The payload after the fixed fields: `size` bytes, decompressed when the block is.
+    fn payload(&mut self, block: &Block, how: Compression, size: u64) -> Result<Vec<u8>, String> {
+        let rest = &self.body[self.pos..];
+        if block.compressed {
+            return compress::decompress(how, rest, size);
+        }
+        if rest.len() as u64 != size {
+            return Err(format!(
+                "meta-data command says {size} bytes of data, the block holds {}",
+                rest.len()
+            ));
+        }
+        Ok(rest.to_vec())
+    }
+}
+
+/// Reads a meta-data block.
+pub fn read(block: &Block, how: Compression) -> Result<Meta, String> {
+    let mut f = Fields {
+        body: &block.body,
+        pos: 0,
+    };
+    let kind = block.id & 0xffff;
+    Ok(match kind {
+        2 => {
+            let _thread = f.u64()?;
+            let memory = f.u64()?;
+            let offset = f.u64()?;
+            let size = f.u64()?;
+            Meta::FillMemory {
+                memory,
+                offset,
+                data: f.payload(block, how, size)?,
+            }
+        }
+        7 => {
+            let (_thread, _device) = (f.u64()?, f.u64()?);
+            let buffer = f.u64()?;
+            let size = f.u64()?;
+            Meta::InitBuffer {
+                buffer,
+                data: f.payload(block, how, size)?,
+            }
+        }
+        8 => {
+            let (_thread, _device) = (f.u64()?, f.u64()?);
+            let image = f.u64()?;
+            let size = f.u64()?;
+            let aspect = f.u32()?;
+            let layout = f.u32()?;
+            let levels = f.u32()?;
+            // Each level size takes 8 bytes; a count past what the block holds is corrupt.
+            if u64::from(levels) * 8 > (f.body.len() - f.pos) as u64 {
+                return Err(format!(
+                    "init image command lists {levels} mip levels, more than the block holds"
+                ));
+            }
+            let mut level_sizes = Vec::with_capacity(levels as usize);
+            for _ in 0..levels {
+                level_sizes.push(f.u64()?);
+            }
+            let sum = level_sizes.iter().try_fold(0u64, |a, b| a.checked_add(*b));
+            if sum != Some(size) {
+                return Err(format!(
+                    "init image command: the mip level sizes {level_sizes:?} do not add up to its {size} bytes"
+                ));
+            }
+            let data = if size == 0 {
+                Vec::new()
+            } else {
+                f.payload(block, how, size)?
+            };
+            Meta::InitImage {
+                image,
+                aspect,
+                layout,
+                level_sizes,
+                data,
+            }
+        }
+        4 => {
+            let (_thread, _device) = (f.u64()?, f.u64()?);
+            let swapchain = f.u64()?;
+            let _last_presented = f.u32()?;
+            let count = f.u32()?;
+            // 48 bytes per image record.
+            if u64::from(count) * 48 > (f.body.len() - f.pos) as u64 {
+                return Err(format!(
+                    "swapchain image state lists {count} images, more than the block holds"
+                ));
+            }
+            let mut images = Vec::with_capacity(count as usize);
+            for _ in 0..count {
+                let image = f.u64()?;
+                let index = f.u32()?;
+                let layout = f.u32()?;
+                let acquired = f.u32()? != 0;
+                let _mask = f.u32()?;
+                let (_sem, _fence, _queue) = (f.u64()?, f.u64()?, f.u64()?);
+                images.push(SwapchainImage {
+                    image,
+                    index,
+                    layout,
+                    acquired,
+                });
+            }
+            Meta::SwapchainImageState { swapchain, images }
+        }
+        other => Meta::Other(name(other)),
+    })
+}

@@ -1,0 +1,244 @@
+//! `framelab import app.gfxr`: GFXReconstruct's binary capture read directly, block by block.
+//!
+//! Function calls are decoded through tables generated from the Vulkan registry into the
+//! same JSON arguments `gfxrecon-convert` writes, and fed to the same importer as a JSON
+//! Lines stream, so both routes give the same passes, resources and barriers. What only the
+//! binary file holds comes on top: the SPIR-V of every shader module and the memory contents
+//! (mapped-memory writes, a trimmed capture's buffer and image snapshot), which the import
+//! writes as side files beside the capture.
+
+mod blocks;
+mod compress;
+pub mod contents;
+mod decode;
+mod meta;
+mod registry;
+#[rustfmt::skip]
+#[allow(clippy::all, clippy::pedantic)]
+mod tables;
+
+use std::collections::BTreeMap;
+use std::io::Read;
+
+use super::calls::Func;
+use super::stream::Call;
+use super::{ImportError, ImportOptions, Imported, Importer};
+use blocks::{Block, Blocks, Kind};
+pub use blocks::{MAX_BLOCK_BYTES, is_gfxr};
+use contents::Contents;
+
+/// What reading the blocks gathered besides the importer's own state.
+struct Reading {
+    tool: String,
+    blocks: u64,
+    other: BTreeMap<String, u64>,
+    /// Calls whose id no table knows, by id.
+    unknown_ids: BTreeMap<u32, (u64, u64)>,
+    in_snapshot: bool,
+}
+
+fn located(file: &str, at: blocks::At, message: impl Into<String>) -> ImportError {
+    ImportError::Block {
+        file: file.to_owned(),
+        block: at.block,
+        offset: at.offset,
+        message: message.into(),
+    }
+}
+
+fn block_error(file: &str, e: blocks::BlockError) -> ImportError {
+    match e.at {
+        Some(at) => located(file, at, e.message),
+        None => ImportError::Stream {
+            file: file.to_owned(),
+            message: format!("file header: {}", e.message),
+        },
+    }
+}
+
+/// The result code of a call as the JSON Lines stream writes it.
+fn result_text(ret: Option<serde_json::Value>) -> Option<String> {
+    match ret? {
+        serde_json::Value::String(s) => Some(s),
+        serde_json::Value::Number(n) => Some(n.to_string()),
+        _ => None,
+    }
+}
+
+impl Reading {
+    fn count(&mut self, what: impl Into<String>) {
+        *self.other.entry(what.into()).or_default() += 1;
+    }
+
+    /// The capture tool's version from the capture's `operation` annotation.
+    fn annotation(&mut self, block: &Block) {
+        let b = &block.body;
+        if b.len() < 12 {
+            return;
+        }
+        let label_len = u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize;
+        let rest = &b[12..];
+        if label_len > rest.len() {
+            return;
+        }
+        let (label, data) = rest.split_at(label_len);
+        if label == b"operation"
+            && let Ok(v) = serde_json::from_slice::<serde_json::Value>(data)
+            && let Some(version) = v.get("gfxrecon-version").and_then(|x| x.as_str())
+        {
+            self.tool = format!("GFXReconstruct {version}");
+        }
+    }
+}
+
+/// Calls the importer does not model but the binary route reads for what only it holds.
+fn binary_only(name: &str) -> bool {
+    matches!(
+        name,
+        "vkCreateShaderModule" | "vkFreeMemory" | "vkMapMemory2KHR" | "vkMapMemory2"
+    )
+}
+
+/// One function call block: decoded and given to the importer, or counted.
+fn call(
+    imp: &mut Importer,
+    reading: &mut Reading,
+    contents: &mut Contents,
+    block: &Block,
+) -> Result<(), String> {
+    let Some(def) = registry::command(block.id) else {
+        let e = reading
+            .unknown_ids
+            .entry(block.id)
+            .or_insert((0, block.at.block));
+        e.0 += 1;
+        return Ok(());
+    };
+    let func = Func::of(def.name);
+    let extra = binary_only(def.name) || func == Func::MapMemory;
+    if func == Func::Other && !extra {
+        imp.calls += 1;
+        *imp.not_modelled.entry(def.name.to_owned()).or_default() += 1;
+        return Ok(());
+    }
+    if block.body.len() < 8 {
+        return Err(format!(
+            "call block of {} bytes has no thread id",
+            block.body.len()
+        ));
+    }
+    match decode::decode_call(def, &block.body[8..]) {
+        Ok(decoded) => {
+            if extra {
+                contents.observe(def.name, &decoded.args);
+                if func == Func::Other {
+                    imp.calls += 1;
+                    *imp.not_modelled.entry(def.name.to_owned()).or_default() += 1;
+                    return Ok(());
+                }
+            }
+            let call = Call {
+                line: block.at.block,
+                index: block.at.block,
+                name: def.name.to_owned(),
+                func,
+                args: decoded.args,
+                result: result_text(decoded.ret),
+                dialect: "binary",
+            };
+            if imp.dialect.is_none() {
+                imp.dialect = Some(call.dialect);
+            }
+            imp.call(&call);
+        }
+        Err(why) => {
+            imp.calls += 1;
+            imp.skip(
+                format!("{}: cannot decode: {why}", def.name),
+                block.at.block,
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Imports the frames `options` selects from a binary capture of `len` bytes (when known).
+/// Side files are named after `stem` (the output capture's), in `<stem>.contents/` and
+/// `<stem>.shaders/`.
+pub fn import(
+    reader: impl Read,
+    len: Option<u64>,
+    file: &str,
+    stem: &str,
+    options: &ImportOptions,
+) -> Result<Imported, ImportError> {
+    let mut blocks = Blocks::new(reader, len).map_err(|e| block_error(file, e))?;
+    let compression = blocks.header.compression;
+    let mut imp = Importer::new(options);
+    let mut reading = Reading {
+        tool: "GFXReconstruct (version not in the capture)".to_owned(),
+        blocks: 0,
+        other: BTreeMap::new(),
+        unknown_ids: BTreeMap::new(),
+        in_snapshot: false,
+    };
+    let mut contents = Contents::default();
+    while let Some(block) = blocks.next_block() {
+        let block = block.map_err(|e| block_error(file, e))?;
+        reading.blocks += 1;
+        let at = block.at;
+        match block.kind {
+            Kind::FunctionCall => {
+                call(&mut imp, &mut reading, &mut contents, &block)
+                    .map_err(|m| located(file, at, m))?;
+            }
+            Kind::MetaData => {
+                let meta = meta::read(&block, compression).map_err(|m| located(file, at, m))?;
+                reading.count(format!("(meta-data: {})", meta.name()));
+                contents.meta(meta);
+            }
+            Kind::FrameMarker => {
+                // An explicit end-of-frame marker (file format 0.1 and later).
+                if block.id == 2 {
+                    imp.frame_end();
+                }
+            }
+            Kind::StateMarker => reading.in_snapshot = block.id == 1,
+            Kind::Annotation => reading.annotation(&block),
+            Kind::MethodCall => reading.count("(D3D12 method calls)"),
+            Kind::Unknown(t) => reading.count(format!("(blocks of unknown type {t:#x})")),
+        }
+        if imp.builder.done() {
+            break;
+        }
+    }
+    if imp.calls == 0 {
+        return Err(ImportError::Stream {
+            file: file.to_owned(),
+            message: format!("no Vulkan calls in {} blocks", reading.blocks),
+        });
+    }
+    for (id, (n, first)) in &reading.unknown_ids {
+        let e = imp
+            .skipped
+            .entry(format!("calls with unknown call id {id:#x}"))
+            .or_insert((0, *first));
+        e.0 += n;
+    }
+    let (major, minor) = blocks.header.version;
+    imp.dialect = Some("binary");
+    let read = super::Read {
+        tool: format!(
+            "{} (binary, file format {major}.{minor}, {})",
+            reading.tool,
+            compression.name()
+        ),
+        lines: reading.blocks,
+        other: reading.other,
+    };
+    let extras = super::Extras {
+        contents: &contents,
+        stem,
+    };
+    super::finish(imp, read, file, options, Some(extras))
+}

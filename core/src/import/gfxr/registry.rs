@@ -1,0 +1,108 @@
+//! The shapes of Vulkan calls and structures as GFXReconstruct encodes them, for the
+//! table-driven decoder. The tables themselves (`tables.rs`) are generated from the Vulkan
+//! registry (`vk.xml`) and GFXReconstruct's call ids by `tools/vkregistry`, so a new call or
+//! structure costs a regenerated line, not a hand-written function.
+
+/// How one parameter or structure member is encoded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ty {
+    /// Plain little-endian values. `VkBool32` and `VkSampleMask` are `U32`; `size_t`,
+    /// `VkDeviceSize` and `VkDeviceAddress` are `U64`.
+    U8,
+    U16,
+    U32,
+    I32,
+    U64,
+    I64,
+    F32,
+    // No call or structure of the 1.3.239 registry holds a `double`; a later one may.
+    #[allow(dead_code)]
+    F64,
+    /// A 32-bit enumerant of `ENUMS[i]`, written by name.
+    Enum(u16),
+    /// A 32-bit or 64-bit flags value, written as a number.
+    Flags32,
+    Flags64,
+    /// A 64-bit handle id.
+    Handle,
+    /// A host address without data: `void*` with no length, function and platform pointers.
+    Address,
+    /// A structure `STRUCTS[i]` encoded inline, member after member.
+    Struct(u16),
+    /// The `pNext` chain: a pointer preamble, then a structure found by its `sType`.
+    PNext,
+    /// A pointer or a fixed-size array: the attribute mask, the address when flagged, the
+    /// length for arrays and strings, then the elements when flagged. The element type is
+    /// the pointee; `void*` with a length is bytes (`U8`).
+    Ptr(&'static Ty),
+    /// `char*` and `char[N]`: a pointer preamble with a length, then UTF-8 bytes.
+    Str,
+    /// `const char* const*`: an array of strings, each with its own preamble.
+    Strs,
+    /// Something the decoder cannot read (a pointer to pointers of structures, a bit field);
+    /// a call that holds one is counted as not decoded.
+    Opaque,
+}
+
+/// One parameter of a call or member of a structure.
+#[derive(Clone, Copy, Debug)]
+pub struct Field {
+    pub name: &'static str,
+    pub ty: Ty,
+}
+
+/// A structure (or a union GFXReconstruct encodes as one of its members).
+#[derive(Clone, Copy, Debug)]
+pub struct StructDef {
+    pub name: &'static str,
+    pub members: &'static [Field],
+}
+
+/// A Vulkan command with its GFXReconstruct call id.
+#[derive(Clone, Copy, Debug)]
+pub struct CommandDef {
+    /// `(api family << 16) | call`, as in the block header.
+    pub id: u32,
+    pub name: &'static str,
+    pub params: &'static [Field],
+    /// The return value, encoded after the parameters; `None` for `void`.
+    pub ret: Option<Ty>,
+}
+
+/// An enumerated type's values, sorted by value.
+#[derive(Clone, Copy, Debug)]
+pub struct EnumDef {
+    // Named for whoever reads the tables; the decoder needs only the values.
+    #[allow(dead_code)]
+    pub name: &'static str,
+    pub values: &'static [(i32, &'static str)],
+}
+
+impl EnumDef {
+    /// The name of `value`, or `None` for a value the registry does not list.
+    pub fn name_of(&self, value: i32) -> Option<&'static str> {
+        self.values
+            .binary_search_by_key(&value, |(v, _)| *v)
+            .ok()
+            .map(|i| self.values[i].1)
+    }
+}
+
+pub use super::tables::{COMMANDS, ENUMS, STRUCTS, STYPES};
+
+/// The command with call id `id`, if the tables know it (`COMMANDS` is sorted by id).
+pub fn command(id: u32) -> Option<&'static CommandDef> {
+    COMMANDS
+        .binary_search_by_key(&id, |c| c.id)
+        .ok()
+        .map(|i| &COMMANDS[i])
+}
+
+/// The index in `STRUCTS` of the structure a `pNext` element with this `sType` value is
+/// (`STYPES` is sorted by value).
+pub fn struct_index_of_stype(stype: u32) -> Option<u16> {
+    STYPES
+        .binary_search_by_key(&stype, |(v, _)| *v)
+        .ok()
+        .map(|i| STYPES[i].1)
+}
