@@ -74,7 +74,7 @@ pub fn run(
     };
     let text = serde_json::to_string_pretty(&imported.capture)? + "\n";
     if imported.side_files.is_empty() {
-        check(&imported.capture, out, &name)?;
+        check(&imported.capture, out, out, &name)?;
         framelab_core::output::write_atomically(out, text.as_bytes())?;
     } else {
         write_with_side_files(&imported, out, &text, &name)?;
@@ -88,9 +88,9 @@ pub fn run(
     Ok(ExitCode::SUCCESS)
 }
 
-/// Validates the capture as it would be written at `out`.
-fn check(capture: &RawCapture, out: &Path, name: &str) -> anyhow::Result<()> {
-    match validate(capture, out, &Options::default()) {
+/// Validates the capture as it would be written at `at`; messages name `out`.
+fn check(capture: &RawCapture, at: &Path, out: &Path, name: &str) -> anyhow::Result<()> {
+    match validate(capture, at, &Options::default()) {
         Ok(_) => Ok(()),
         Err(CaptureError::Invalid { diagnostics, .. }) => {
             print_diagnostics(&diagnostics, out);
@@ -138,7 +138,7 @@ fn write_with_side_files(
                 folders.insert(top.as_os_str().to_owned());
             }
         }
-        check(&imported.capture, &staging.join(file_name), name)?;
+        check(&imported.capture, &staging.join(file_name), out, name)?;
         for folder in folders {
             let target = dir.join(&folder);
             if target.is_dir() {

@@ -30,6 +30,7 @@ impl Indices {
                 Self::index(&self.structs, "structure", name)?
             ),
             Ty::Ptr(inner) => format!("Ty::Ptr(&{})", self.ty(inner)?),
+            Ty::Arr(inner) => format!("Ty::Arr(&{})", self.ty(inner)?),
             other => format!("Ty::{other:?}"),
         })
     }

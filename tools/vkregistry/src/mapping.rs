@@ -26,6 +26,9 @@ pub enum Ty {
     Struct(String),
     PNext,
     Ptr(Box<Ty>),
+    /// A pointer the registry gives a length, or a fixed array: always a list, even where
+    /// GFXReconstruct wrote it as a pointer to one element.
+    Arr(Box<Ty>),
     Str,
     Strs,
     Opaque,
@@ -135,7 +138,7 @@ impl Mapper<'_> {
         let name = self.reg.resolve_type(name);
         match name {
             "char" => return Ty::Str,
-            "void" if has_len => return Ty::Ptr(Box::new(Ty::U8)),
+            "void" if has_len => return Ty::Arr(Box::new(Ty::U8)),
             "void" => return Ty::Address,
             _ => {}
         }
@@ -144,6 +147,7 @@ impl Mapper<'_> {
             Some(Platform::PointerLike) => Ty::Ptr(Box::new(Ty::U64)),
             _ => match self.value(name) {
                 Ty::Opaque => Ty::Opaque,
+                ty if has_len => Ty::Arr(Box::new(ty)),
                 ty => Ty::Ptr(Box::new(ty)),
             },
         }
@@ -179,7 +183,7 @@ impl Mapper<'_> {
             // An array of something unreadable is as unreadable as one element.
             (0, _) => match self.value(&d.type_name) {
                 Ty::Opaque => Ty::Opaque,
-                ty => Ty::Ptr(Box::new(ty)),
+                ty => Ty::Arr(Box::new(ty)),
             },
             (1, _) => self.pointee(&d.type_name, len.is_some()),
             (2, _) => self.pointee_of_pointers(&d.type_name, len.is_some()),
@@ -218,7 +222,7 @@ impl Mapper<'_> {
     /// unions it handles by hand, an unreadable placeholder for the rest.
     pub fn union_members(&self, name: &str) -> Vec<(String, Ty)> {
         let (member, ty) = match name {
-            "VkClearColorValue" => ("uint32", Ty::Ptr(Box::new(Ty::U32))),
+            "VkClearColorValue" => ("uint32", Ty::Arr(Box::new(Ty::U32))),
             "VkClearValue" => ("color", Ty::Struct("VkClearColorValue".to_owned())),
             "VkPipelineExecutableStatisticValueKHR" => ("u64", Ty::U64),
             "VkDeviceOrHostAddressKHR" | "VkDeviceOrHostAddressConstKHR" => {
@@ -232,7 +236,7 @@ impl Mapper<'_> {
     /// The structures and enumerated types `ty` names directly.
     pub fn visit<'t>(ty: &'t Ty, out: &mut Vec<&'t Ty>) {
         match ty {
-            Ty::Ptr(inner) => Self::visit(inner, out),
+            Ty::Ptr(inner) | Ty::Arr(inner) => Self::visit(inner, out),
             Ty::Struct(_) | Ty::Enum(_) => out.push(ty),
             _ => {}
         }

@@ -105,6 +105,12 @@ pub struct Contents {
     /// Bytes the capture wrote (memory fills and snapshots): what the contents written out
     /// may add up to, beside a fixed allowance for the zeros of unwritten ranges.
     written: u64,
+    /// Set at the first submission of the imported frames: what is written later is the
+    /// frame's own work, not its starting contents.
+    pub frozen: bool,
+    /// Linear images: (row pitch, offset of the first texel in their memory binding) from
+    /// `vkGetImageSubresourceLayout`, for images the application writes through a mapping.
+    linear: HashMap<u64, (u64, u64)>,
 }
 
 /// Contents produced beyond the bytes the capture wrote: zeros where a buffer's memory was
@@ -118,7 +124,29 @@ fn handle(v: &Value) -> Option<u64> {
 impl Contents {
     /// A call only the binary route needs to see.
     pub fn observe(&mut self, name: &str, args: &Value) {
+        if self.frozen && name != "vkCreateShaderModule" {
+            return;
+        }
         match name {
+            "vkGetImageSubresourceLayout" => {
+                let sub = args.get("pSubresource");
+                let first = sub.and_then(|s| s.get("mipLevel")).and_then(Value::as_u64) == Some(0)
+                    && sub
+                        .and_then(|s| s.get("arrayLayer"))
+                        .and_then(Value::as_u64)
+                        == Some(0);
+                let layout = args.get("pLayout");
+                if let (true, Some(image), Some(pitch), Some(offset)) = (
+                    first,
+                    args.get("image").and_then(handle),
+                    layout
+                        .and_then(|l| l.get("rowPitch"))
+                        .and_then(Value::as_u64),
+                    layout.and_then(|l| l.get("offset")).and_then(Value::as_u64),
+                ) {
+                    self.linear.insert(image, (pitch, offset));
+                }
+            }
             "vkCreateShaderModule" => {
                 let Some(module) = args.get("pShaderModule").and_then(handle) else {
                     return;
@@ -166,6 +194,9 @@ impl Contents {
 
     /// A meta-data command's contents.
     pub fn meta(&mut self, meta: Meta) {
+        if self.frozen {
+            return;
+        }
         match meta {
             Meta::FillMemory {
                 memory,
@@ -211,15 +242,38 @@ impl Contents {
         self.memory.get(&memory)?.read(offset, info.size)
     }
 
-    /// The contents of image `handle`: its snapshot's color or depth aspect.
-    fn image_bytes(&self, handle: u64) -> Option<&[u8]> {
-        let aspects = self.images.get(&handle)?;
-        // Color (1) or depth (2); a stencil aspect (4) travels with depth in one resource
-        // only where the format packs them, which the size check below decides.
-        aspects
-            .iter()
-            .find(|a| a.aspect & 0x3 != 0)
-            .map(|a| a.data.as_slice())
+    /// The contents of image `handle`: its snapshot's color or depth aspect, else, for a
+    /// single-level linear image the application wrote through a mapping, its rows read
+    /// from that memory at the pitch the driver gave.
+    fn image_bytes(&self, handle: u64, img: &ImageInfo, size: u64) -> Option<Vec<u8>> {
+        if let Some(aspects) = self.images.get(&handle) {
+            // Color (1) or depth (2); a stencil aspect (4) travels with depth in one resource
+            // only where the format packs them, which the size check decides.
+            return aspects
+                .iter()
+                .find(|a| a.aspect & 0x3 != 0)
+                .map(|a| a.data.clone());
+        }
+        let &(pitch, first) = self.linear.get(&handle)?;
+        let (memory, bound) = img.bound?;
+        let rows = u64::from(img.extent[1]);
+        if img.mips != 1 || img.layers != 1 || img.extent[2] != 1 || rows == 0 {
+            return None;
+        }
+        let row = size / rows;
+        if pitch < row || pitch.checked_mul(rows)? > MAX_BLOCK_BYTES {
+            return None;
+        }
+        let whole = self
+            .memory
+            .get(&memory)?
+            .read(bound.checked_add(first)?, pitch * (rows - 1) + row)?;
+        let mut out = Vec::with_capacity(size as usize);
+        for r in 0..rows {
+            let at = (r * pitch) as usize;
+            out.extend_from_slice(&whole[at..at + row as usize]);
+        }
+        Some(out)
     }
 
     /// Gives each resource whose contents are known a side file under `dir` (relative to the
@@ -242,7 +296,14 @@ impl Contents {
                 continue;
             };
             let (bytes, size) = match objects.images.get(&h) {
-                Some(img) => (self.image_bytes(h).map(<[u8]>::to_vec), packed_size(img)),
+                Some(img) => {
+                    let size = packed_size(img);
+                    if size.is_some_and(|s| s > budget) {
+                        over_budget.push(r.name.clone());
+                        continue;
+                    }
+                    (size.and_then(|s| self.image_bytes(h, img, s)), size)
+                }
                 None => {
                     let size = objects.buffers.get(&h).map(|b| b.size);
                     if size.is_some_and(|s| s > budget) {

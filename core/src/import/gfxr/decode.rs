@@ -117,6 +117,10 @@ impl<'a> Reader<'a> {
             Ty::Struct(s) => self.structure(s, what)?,
             Ty::PNext => self.pnext(what)?,
             Ty::Ptr(elem) => self.pointer(*elem, what)?,
+            Ty::Arr(elem) => match self.pointer(*elem, what)? {
+                v @ (Value::Array(_) | Value::Null) => v,
+                one => Value::Array(vec![one]),
+            },
             Ty::Str => self.string(what)?,
             Ty::Strs => match self.preamble(what)? {
                 Some((attrib, len)) if attrib & HAS_DATA != 0 => {

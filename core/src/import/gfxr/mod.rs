@@ -95,7 +95,11 @@ impl Reading {
 fn binary_only(name: &str) -> bool {
     matches!(
         name,
-        "vkCreateShaderModule" | "vkFreeMemory" | "vkMapMemory2KHR" | "vkMapMemory2"
+        "vkCreateShaderModule"
+            | "vkFreeMemory"
+            | "vkMapMemory2KHR"
+            | "vkMapMemory2"
+            | "vkGetImageSubresourceLayout"
     )
 }
 
@@ -207,6 +211,9 @@ pub fn import(
             Kind::Annotation => reading.annotation(&block),
             Kind::MethodCall => reading.count("(D3D12 method calls)"),
             Kind::Unknown(t) => reading.count(format!("(blocks of unknown type {t:#x})")),
+        }
+        if imp.builder.first_submit.is_some() {
+            contents.frozen = true;
         }
         if imp.builder.done() {
             break;

@@ -35,6 +35,10 @@ pub enum Ty {
     /// length for arrays and strings, then the elements when flagged. The element type is
     /// the pointee; `void*` with a length is bytes (`U8`).
     Ptr(&'static Ty),
+    /// A pointer the registry gives a length, or a fixed array: encoded like `Ptr`, decoded
+    /// as a list even where the writer flagged a single element (a trimmed capture's
+    /// re-recorded submissions point at one structure).
+    Arr(&'static Ty),
     /// `char*` and `char[N]`: a pointer preamble with a length, then UTF-8 bytes.
     Str,
     /// `const char* const*`: an array of strings, each with its own preamble.
