@@ -203,7 +203,7 @@ fn render(s: &Summary, out: &Path) -> String {
     }
     if let Some(c) = &s.contents {
         t += &format!(
-            "  contents of {} resources at the start of the frame ({} bytes; {} mapped-memory writes in the capture)\n",
+            "  contents of {} resources at the start of the frame ({} bytes; {} mapped-memory writes before it)\n",
             c.resources, c.bytes, c.memory_writes
         );
     }

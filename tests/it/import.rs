@@ -555,7 +555,11 @@ fn unreadable_streams_are_located_and_write_nothing() {
             "[1, 2, 3]\n".to_owned(),
             ":1: expected a JSON object",
         ),
-        ("binary.jsonl", "\u{0}\u{1}gfxr".to_owned(), ":1: not JSON"),
+        (
+            "binary.jsonl",
+            "\u{0}\u{1}gfxr".to_owned(),
+            "neither a GFXReconstruct binary capture",
+        ),
     ];
     for (name, body, message) in cases {
         let input = dir.join(name);

@@ -124,7 +124,7 @@ pub use gfxr::contents::SideFile;
 
 /// What only a binary capture brings, for `finish` to attach.
 struct Extras<'a> {
-    contents: &'a gfxr::contents::Contents,
+    contents: &'a mut gfxr::contents::Contents,
     /// The capture's stem: side files go in `<stem>.contents/` and `<stem>.shaders/`.
     stem: &'a str,
 }
@@ -507,13 +507,14 @@ fn finish(
             memory_writes: x.contents.fills,
         });
         side_files = files;
-        for (handle, code) in &x.contents.modules {
+        let modules = std::mem::take(&mut x.contents.modules);
+        shader_modules = Some(modules.len());
+        for (handle, bytes) in modules {
             side_files.push(SideFile {
                 path: format!("{}.shaders/module_{handle}.spv", x.stem),
-                bytes: code.clone(),
+                bytes,
             });
         }
-        shader_modules = Some(x.contents.modules.len());
         skipped.extend(notes.into_iter().map(|what| Skipped {
             what,
             count: 1,
@@ -522,7 +523,7 @@ fn finish(
         if let Some(source) = &mut capture.source {
             source.not_replayable = Some(format!(
                 "the capture's {} SPIR-V modules and the contents of {} resources are imported, but its pipelines (shader stages, vertex input, raster, depth and blend state, descriptor layouts) are not yet part of the capture format, so the passes have nothing to run",
-                x.contents.modules.len(),
+                shader_modules.unwrap_or(0),
                 contents.as_ref().map_or(0, |c| c.resources)
             ));
         }

@@ -123,7 +123,7 @@ fn handle(v: &Value) -> Option<u64> {
 
 impl Contents {
     /// A call only the binary route needs to see.
-    pub fn observe(&mut self, name: &str, args: &Value) {
+    pub fn observe(&mut self, name: &str, args: &Value, blobs: &[(String, Vec<u8>)]) {
         if self.frozen && name != "vkCreateShaderModule" {
             return;
         }
@@ -151,18 +151,22 @@ impl Contents {
                 let Some(module) = args.get("pShaderModule").and_then(handle) else {
                     return;
                 };
-                let Some(words) = args
-                    .get("pCreateInfo")
-                    .and_then(|c| c.get("pCode"))
-                    .and_then(Value::as_array)
-                else {
-                    return;
+                // Long code comes as raw bytes; a module of a few words as numbers.
+                let bytes = match blobs.iter().find(|(p, _)| p == "pCreateInfo.pCode") {
+                    Some((_, b)) => b.clone(),
+                    None => args
+                        .get("pCreateInfo")
+                        .and_then(|c| c.get("pCode"))
+                        .and_then(Value::as_array)
+                        .map(|words| {
+                            words
+                                .iter()
+                                .filter_map(Value::as_u64)
+                                .flat_map(|w| (w as u32).to_le_bytes())
+                                .collect()
+                        })
+                        .unwrap_or_default(),
                 };
-                let bytes: Vec<u8> = words
-                    .iter()
-                    .filter_map(Value::as_u64)
-                    .flat_map(|w| (w as u32).to_le_bytes())
-                    .collect();
                 self.modules.insert(module, bytes);
             }
             "vkMapMemory" => {
@@ -233,10 +237,13 @@ impl Contents {
 
     /// The contents of buffer `handle` at this point: its snapshot, else what was written to
     /// the memory it is bound to.
-    fn buffer_bytes(&self, handle: u64, objects: &Objects) -> Option<Vec<u8>> {
+    fn buffer_bytes(&mut self, handle: u64, objects: &Objects) -> Option<Vec<u8>> {
         let info = objects.buffers.get(&handle)?;
         if let Some(d) = self.buffers.get(&handle) {
-            return (d.len() as u64 == info.size).then(|| d.clone());
+            if d.len() as u64 == info.size {
+                return self.buffers.remove(&handle);
+            }
+            return None;
         }
         let (memory, offset) = info.bound?;
         self.memory.get(&memory)?.read(offset, info.size)
@@ -245,14 +252,14 @@ impl Contents {
     /// The contents of image `handle`: its snapshot's color or depth aspect, else, for a
     /// single-level linear image the application wrote through a mapping, its rows read
     /// from that memory at the pitch the driver gave.
-    fn image_bytes(&self, handle: u64, img: &ImageInfo, size: u64) -> Option<Vec<u8>> {
-        if let Some(aspects) = self.images.get(&handle) {
+    fn image_bytes(&mut self, handle: u64, img: &ImageInfo, size: u64) -> Option<Vec<u8>> {
+        if let Some(aspects) = self.images.get_mut(&handle) {
             // Color (1) or depth (2); a stencil aspect (4) travels with depth in one resource
             // only where the format packs them, which the size check decides.
             return aspects
-                .iter()
+                .iter_mut()
                 .find(|a| a.aspect & 0x3 != 0)
-                .map(|a| a.data.clone());
+                .map(|a| std::mem::take(&mut a.data));
         }
         let &(pitch, first) = self.linear.get(&handle)?;
         let (memory, bound) = img.bound?;
@@ -279,7 +286,7 @@ impl Contents {
     /// Gives each resource whose contents are known a side file under `dir` (relative to the
     /// capture), and returns the files and notes on what stays unknown.
     pub fn attach(
-        &self,
+        &mut self,
         names: &BTreeMap<u64, String>,
         objects: &Objects,
         capture: &mut RawCapture,

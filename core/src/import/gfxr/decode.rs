@@ -26,22 +26,41 @@ const MAX_DEPTH: u32 = 48;
 pub struct Decoded {
     pub args: Value,
     pub ret: Option<Value>,
+    /// Arrays of bytes or 32-bit words longer than `BLOB_BYTES` (SPIR-V code, update data,
+    /// push constants), kept as raw bytes by their path (`pCreateInfo.pCode`) instead of one
+    /// JSON number per element; the arguments show `"(N bytes)"` in their place, as the JSON
+    /// Lines stream shows no data there either.
+    pub blobs: Vec<(String, Vec<u8>)>,
 }
+
+/// Byte or word arrays longer than this are kept as raw bytes.
+const BLOB_BYTES: usize = 256;
 
 struct Reader<'a> {
     buf: &'a [u8],
     pos: usize,
     depth: u32,
+    /// Where the reader is (`pCreateInfo.pStages[1].pName`), kept as parts and spelt out only
+    /// for an error, since most calls never need it.
+    path: Vec<Part>,
+    blobs: Vec<(String, Vec<u8>)>,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Part {
+    Name(&'static str),
+    Index(usize),
 }
 
 type Res<T> = Result<T, String>;
 
 impl<'a> Reader<'a> {
-    fn take(&mut self, n: usize, what: &str) -> Res<&'a [u8]> {
+    fn take(&mut self, n: usize) -> Res<&'a [u8]> {
         let left = self.buf.len() - self.pos;
         if n > left {
             return Err(format!(
-                "{what} needs {n} bytes at parameter byte {}, {left} left",
+                "{} needs {n} bytes at parameter byte {}, {left} left",
+                self.at(),
                 self.pos
             ));
         }
@@ -50,18 +69,46 @@ impl<'a> Reader<'a> {
         Ok(s)
     }
 
-    fn array<const N: usize>(&mut self, what: &str) -> Res<[u8; N]> {
+    /// The path spelt out, for messages.
+    fn at(&self) -> String {
+        let mut s = String::new();
+        for p in &self.path {
+            match p {
+                Part::Name(n) if s.is_empty() => s.push_str(n),
+                Part::Name(n) => {
+                    s.push('.');
+                    s.push_str(n);
+                }
+                Part::Index(i) => s.push_str(&format!("[{i}]")),
+            }
+        }
+        if s.is_empty() {
+            "the return value".to_owned()
+        } else {
+            s
+        }
+    }
+
+    fn array<const N: usize>(&mut self) -> Res<[u8; N]> {
         let mut a = [0; N];
-        a.copy_from_slice(self.take(N, what)?);
+        a.copy_from_slice(self.take(N)?);
         Ok(a)
     }
 
-    fn u32(&mut self, what: &str) -> Res<u32> {
-        self.array(what).map(u32::from_le_bytes)
+    fn u32(&mut self) -> Res<u32> {
+        self.array().map(u32::from_le_bytes)
     }
 
-    fn u64(&mut self, what: &str) -> Res<u64> {
-        self.array(what).map(u64::from_le_bytes)
+    fn u64(&mut self) -> Res<u64> {
+        self.array().map(u64::from_le_bytes)
+    }
+
+    /// `f` with `part` on the path.
+    fn within<T>(&mut self, part: Part, f: impl FnOnce(&mut Self) -> Res<T>) -> Res<T> {
+        self.path.push(part);
+        let r = f(self);
+        self.path.pop();
+        r
     }
 
     fn left(&self) -> usize {
@@ -70,16 +117,16 @@ impl<'a> Reader<'a> {
 
     /// A pointer's preamble: the attribute mask, the address when flagged, the length for
     /// arrays and strings (else 1). `None` for a null pointer.
-    fn preamble(&mut self, what: &str) -> Res<Option<(u32, u64)>> {
-        let attrib = self.u32(what)?;
+    fn preamble(&mut self) -> Res<Option<(u32, u64)>> {
+        let attrib = self.u32()?;
         if attrib & IS_NULL != 0 {
             return Ok(None);
         }
         if attrib & HAS_ADDRESS != 0 {
-            self.u64(what)?;
+            self.u64()?;
         }
         let len = if attrib & (IS_ARRAY | IS_ARRAY_2D | IS_STRING | IS_WSTRING) != 0 {
-            self.u64(what)?
+            self.u64()?
         } else {
             1
         };
@@ -87,61 +134,62 @@ impl<'a> Reader<'a> {
     }
 
     /// A length read from the data, refused when even one byte per element would not fit.
-    fn count(&self, len: u64, what: &str) -> Res<usize> {
+    fn count(&self, len: u64) -> Res<usize> {
         if len > self.left() as u64 {
             return Err(format!(
-                "{what} says {len} elements, but only {} bytes are left",
+                "{} says {len} elements, but only {} bytes are left",
+                self.at(),
                 self.left()
             ));
         }
         Ok(len as usize)
     }
 
-    fn value(&mut self, ty: Ty, what: &str) -> Res<Value> {
+    fn value(&mut self, ty: Ty) -> Res<Value> {
         Ok(match ty {
-            Ty::U8 => Value::from(self.array::<1>(what)?[0]),
-            Ty::U16 => Value::from(u16::from_le_bytes(self.array(what)?)),
-            Ty::U32 | Ty::Flags32 => Value::from(self.u32(what)?),
-            Ty::I32 => Value::from(i32::from_le_bytes(self.array(what)?)),
-            Ty::U64 | Ty::Flags64 | Ty::Handle | Ty::Address => Value::from(self.u64(what)?),
-            Ty::I64 => Value::from(i64::from_le_bytes(self.array(what)?)),
-            Ty::F32 => Value::from(shortest(f32::from_le_bytes(self.array(what)?))),
-            Ty::F64 => Value::from(f64::from_le_bytes(self.array(what)?)),
+            Ty::U8 => Value::from(self.array::<1>()?[0]),
+            Ty::U16 => Value::from(u16::from_le_bytes(self.array()?)),
+            Ty::U32 | Ty::Flags32 => Value::from(self.u32()?),
+            Ty::I32 => Value::from(i32::from_le_bytes(self.array()?)),
+            Ty::U64 | Ty::Flags64 | Ty::Handle | Ty::Address => Value::from(self.u64()?),
+            Ty::I64 => Value::from(i64::from_le_bytes(self.array()?)),
+            Ty::F32 => Value::from(shortest(f32::from_le_bytes(self.array()?))),
+            Ty::F64 => Value::from(f64::from_le_bytes(self.array()?)),
             Ty::Enum(e) => {
-                let v = i32::from_le_bytes(self.array(what)?);
+                let v = i32::from_le_bytes(self.array()?);
                 match ENUMS.get(usize::from(e)).and_then(|d| d.name_of(v)) {
                     Some(name) => Value::from(name),
                     None => Value::from(v),
                 }
             }
-            Ty::Struct(s) => self.structure(s, what)?,
-            Ty::PNext => self.pnext(what)?,
-            Ty::Ptr(elem) => self.pointer(*elem, what)?,
-            Ty::Arr(elem) => match self.pointer(*elem, what)? {
+            Ty::Struct(s) => self.structure(s)?,
+            Ty::PNext => self.pnext()?,
+            Ty::Ptr(elem) => self.pointer(*elem)?,
+            Ty::Arr(elem) => match self.pointer(*elem)? {
                 v @ (Value::Array(_) | Value::Null) => v,
                 one => Value::Array(vec![one]),
             },
-            Ty::Str => self.string(what)?,
-            Ty::Strs => match self.preamble(what)? {
+            Ty::Str => self.string()?,
+            Ty::Strs => match self.preamble()? {
                 Some((attrib, len)) if attrib & HAS_DATA != 0 => {
-                    let n = self.count(len, what)?;
+                    let n = self.count(len)?;
                     let mut items = Vec::with_capacity(n);
                     for i in 0..n {
-                        items.push(self.string(&format!("{what}[{i}]"))?);
+                        items.push(self.within(Part::Index(i), Self::string)?);
                     }
                     Value::Array(items)
                 }
                 _ => Value::Null,
             },
-            Ty::Opaque => return Err(format!("{what} has a type this decoder cannot read")),
+            Ty::Opaque => return Err(format!("{} has a type this decoder cannot read", self.at())),
         })
     }
 
-    fn string(&mut self, what: &str) -> Res<Value> {
-        match self.preamble(what)? {
+    fn string(&mut self) -> Res<Value> {
+        match self.preamble()? {
             Some((attrib, len)) if attrib & HAS_DATA != 0 => {
-                let n = self.count(len, what)?;
-                let bytes = self.take(n, what)?;
+                let n = self.count(len)?;
+                let bytes = self.take(n)?;
                 let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
                 Ok(Value::from(
                     String::from_utf8_lossy(&bytes[..end]).into_owned(),
@@ -151,36 +199,50 @@ impl<'a> Reader<'a> {
         }
     }
 
-    fn pointer(&mut self, elem: Ty, what: &str) -> Res<Value> {
-        let Some((attrib, len)) = self.preamble(what)? else {
+    fn pointer(&mut self, elem: Ty) -> Res<Value> {
+        let Some((attrib, len)) = self.preamble()? else {
             return Ok(Value::Null);
         };
         if attrib & HAS_DATA == 0 {
             return Ok(Value::Null);
         }
         if attrib & IS_ARRAY == 0 {
-            return self.value(elem, what);
+            return self.value(elem);
         }
-        let n = self.count(len, what)?;
+        let n = self.count(len)?;
+        let width = match elem {
+            Ty::U8 => 1,
+            Ty::U32 => 4,
+            _ => 0,
+        };
+        if width > 0 && n * width > BLOB_BYTES {
+            let bytes = self.take(n * width)?.to_vec();
+            let shown = Value::from(format!("({} bytes)", bytes.len()));
+            self.blobs.push((self.at(), bytes));
+            return Ok(shown);
+        }
         let mut items = Vec::with_capacity(n);
         for i in 0..n {
-            items.push(self.value(elem, &format!("{what}[{i}]"))?);
+            items.push(self.within(Part::Index(i), |r| r.value(elem))?);
         }
         Ok(Value::Array(items))
     }
 
-    fn structure(&mut self, index: u16, what: &str) -> Res<Value> {
+    fn structure(&mut self, index: u16) -> Res<Value> {
         let def = STRUCTS
             .get(usize::from(index))
-            .ok_or_else(|| format!("{what}: no structure {index} in the tables"))?;
+            .ok_or_else(|| format!("{}: no structure {index} in the tables", self.at()))?;
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(format!("{what}: structures nested deeper than {MAX_DEPTH}"));
+            return Err(format!(
+                "{}: structures nested deeper than {MAX_DEPTH}",
+                self.at()
+            ));
         }
         let mut map = Map::new();
         for m in def.members {
-            let path = format!("{what}.{}", m.name);
-            map.insert(m.name.to_owned(), self.value(m.ty, &path)?);
+            let v = self.within(Part::Name(m.name), |r| r.value(m.ty))?;
+            map.insert(m.name.to_owned(), v);
         }
         self.depth -= 1;
         if def.name == "VkClearColorValue" {
@@ -191,13 +253,13 @@ impl<'a> Reader<'a> {
 
     /// A `pNext` element: the preamble, then the structure its `sType` names (read ahead,
     /// since the structure repeats it).
-    fn pnext(&mut self, what: &str) -> Res<Value> {
-        let attrib = self.u32(what)?;
+    fn pnext(&mut self) -> Res<Value> {
+        let attrib = self.u32()?;
         if attrib & IS_NULL != 0 {
             return Ok(Value::Null);
         }
         if attrib & HAS_ADDRESS != 0 {
-            self.u64(what)?;
+            self.u64()?;
         }
         if attrib & HAS_DATA == 0 {
             return Ok(Value::Null);
@@ -206,11 +268,11 @@ impl<'a> Reader<'a> {
             self.buf
                 .get(self.pos..self.pos + 4)
                 .and_then(|s| s.try_into().ok())
-                .ok_or_else(|| format!("{what}: the data ends before the sType"))?,
+                .ok_or_else(|| format!("{}: the data ends before the sType", self.at()))?,
         );
         let index = registry::struct_index_of_stype(stype)
-            .ok_or_else(|| format!("{what}: a structure with unknown sType {stype}"))?;
-        self.structure(index, what)
+            .ok_or_else(|| format!("{}: a structure with unknown sType {stype}", self.at()))?;
+        self.structure(index)
     }
 }
 
@@ -252,17 +314,21 @@ pub fn decode_call(def: &CommandDef, params: &[u8]) -> Result<Decoded, String> {
         buf: params,
         pos: 0,
         depth: 0,
+        path: Vec::with_capacity(8),
+        blobs: Vec::new(),
     };
     let mut args = Map::new();
     for p in def.params {
-        args.insert(p.name.to_owned(), r.value(p.ty, p.name)?);
+        let v = r.within(Part::Name(p.name), |r| r.value(p.ty))?;
+        args.insert(p.name.to_owned(), v);
     }
     let ret = match def.ret {
-        Some(ty) => Some(r.value(ty, "the return value")?),
+        Some(ty) => Some(r.value(ty)?),
         None => None,
     };
     Ok(Decoded {
         args: Value::Object(args),
         ret,
+        blobs: r.blobs,
     })
 }

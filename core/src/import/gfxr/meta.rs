@@ -45,6 +45,16 @@ pub struct SwapchainImage {
 }
 
 impl Meta {
+    /// The bytes of memory or resource contents the command carries.
+    pub fn payload_len(&self) -> u64 {
+        match self {
+            Meta::FillMemory { data, .. }
+            | Meta::InitBuffer { data, .. }
+            | Meta::InitImage { data, .. } => data.len() as u64,
+            Meta::SwapchainImageState { .. } | Meta::Other(_) => 0,
+        }
+    }
+
     /// What the command is, for counts.
     pub fn name(&self) -> &'static str {
         match self {
