@@ -90,7 +90,7 @@ fn import(input: &Path, out: &Path) -> Value {
 }
 
 /// The capture with what may differ between the two routes removed: where it came from, and
-/// the contents only the binary file holds.
+/// what only the binary file holds (contents, module code, specialization values).
 fn comparable(path: &Path) -> Value {
     let mut v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let o = v.as_object_mut().unwrap();
@@ -98,6 +98,23 @@ fn comparable(path: &Path) -> Value {
     o.remove("source");
     for r in o["resources"].as_array_mut().unwrap() {
         r.as_object_mut().unwrap().remove("initial");
+    }
+    if let Some(vk) = o.get_mut("vulkan") {
+        for m in vk["shader_modules"].as_array_mut().unwrap() {
+            m.as_object_mut().unwrap().remove("file");
+        }
+        for p in vk["pipelines"].as_array_mut().unwrap() {
+            for s in p["stages"].as_array_mut().unwrap() {
+                for c in s
+                    .get_mut("specialization")
+                    .and_then(Value::as_array_mut)
+                    .into_iter()
+                    .flatten()
+                {
+                    c.as_object_mut().unwrap().remove("value");
+                }
+            }
+        }
     }
     v
 }
@@ -134,6 +151,7 @@ fn binary_and_json_lines_of_the_same_frame_agree() {
             );
         }
         assert!(bin["passes"].as_u64().unwrap() > 0, "{name}: no passes");
+        check_pipelines(&dir.join(format!("b_{name}.json")), name);
         let (b, j) = (
             comparable(&dir.join(format!("b_{name}.json"))),
             comparable(&dir.join(format!("j_{name}.json"))),
@@ -143,6 +161,48 @@ fn binary_and_json_lines_of_the_same_frame_agree() {
         }
         assert_eq!(bin["dialect"], "binary");
         assert_eq!(text["dialect"], "0.9.x");
+    }
+}
+
+/// Every draw and dispatch of a binary import names a pipeline of the right kind whose
+/// stages' modules have code files, and every such file is one of the side files.
+fn check_pipelines(path: &Path, name: &str) {
+    let capture: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let vk = &capture["vulkan"];
+    let pipelines: std::collections::BTreeMap<&str, &Value> = vk["pipelines"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| (p["name"].as_str().unwrap(), p))
+        .collect();
+    let mut work = 0;
+    for pass in capture["passes"].as_array().unwrap() {
+        for (key, point) in [
+            ("draws", "VK_PIPELINE_BIND_POINT_GRAPHICS"),
+            ("dispatches", "VK_PIPELINE_BIND_POINT_COMPUTE"),
+        ] {
+            for w in pass
+                .get(key)
+                .and_then(Value::as_array)
+                .into_iter()
+                .flatten()
+            {
+                let p = pipelines[w["pipeline"]
+                    .as_str()
+                    .unwrap_or_else(|| panic!("{name}: {w} names no pipeline"))];
+                assert_eq!(p["bind_point"], point, "{name}");
+                work += 1;
+            }
+        }
+    }
+    assert!(work > 0, "{name}: no draws or dispatches");
+    for m in vk["shader_modules"].as_array().unwrap() {
+        let file = path.parent().unwrap().join(m["file"].as_str().unwrap());
+        assert_eq!(
+            std::fs::metadata(&file).unwrap().len(),
+            m["size"].as_u64().unwrap(),
+            "{name}"
+        );
     }
 }
 
@@ -460,3 +520,48 @@ fn handles_never_created_are_left_out_not_fatal() {
 
 /// GFXReconstruct's call id of `vkCmdDraw`.
 const VK_CMD_DRAW: u32 = 0x1_106a;
+
+/// A name, an edit of a good capture, and what validation must say about it.
+type Broken = (&'static str, fn(&mut Value), &'static str);
+
+#[test]
+fn the_vulkan_section_is_validated() {
+    let dir = temp_dir("vkvalid");
+    let out = dir.join("cube.json");
+    import(&fixture("vkcube_f3.gfxr"), &out);
+    let good: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let cases: [Broken; 4] = [
+        (
+            "entry",
+            |c| c["vulkan"]["pipelines"][0]["stages"][1]["entry"] = "mian".into(),
+            "has no VK_SHADER_STAGE_FRAGMENT_BIT entry point \"mian\"",
+        ),
+        (
+            "size",
+            |c| c["vulkan"]["shader_modules"][0]["size"] = 1564.into(),
+            "is 1564 bytes",
+        ),
+        (
+            "layout",
+            |c| c["vulkan"]["pipelines"][0]["layout"] = "pipeline_layout_1".into(),
+            "no pipeline layout \"pipeline_layout_1\"",
+        ),
+        (
+            "draw",
+            |c| c["passes"][0]["draws"][0]["pipeline"] = "pipeline_2".into(),
+            "no pipeline \"pipeline_2\"",
+        ),
+    ];
+    let ok = framelab(&["validate", out.to_str().unwrap()]);
+    assert!(ok.status.success(), "{}", stderr(&ok));
+    for (tag, edit, message) in cases {
+        let mut c = good.clone();
+        edit(&mut c);
+        let path = dir.join(format!("{tag}.json"));
+        std::fs::write(&path, serde_json::to_string(&c).unwrap()).unwrap();
+        let o = framelab(&["validate", path.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(1), "{tag}");
+        let text = format!("{}{}", stdout(&o), stderr(&o));
+        assert!(text.contains(message), "{tag}: {text}");
+    }
+}

@@ -10,6 +10,7 @@ use super::commands::{
     BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, Region, RenderInstance,
     TransferCmd, Use,
 };
+use super::pipelines;
 use super::record::Recording;
 use super::state::{Descriptor, Objects};
 use crate::capture::dxgi;
@@ -59,6 +60,8 @@ pub struct Builder {
     pub first_submit: Option<u64>,
     pub draws: u64,
     pub dispatches: u64,
+    /// Pipelines the imported draws and dispatches bound.
+    pub pipelines_used: BTreeSet<u64>,
 }
 
 fn load_op(op: &str) -> LoadOp {
@@ -699,6 +702,10 @@ impl Builder {
             first_instance: d.first_instance,
             base_vertex: d.base_vertex,
             indirect,
+            pipeline: d.pipeline.map(|p| {
+                self.pipelines_used.insert(p);
+                pipelines::pipeline_name(p)
+            }),
             stencil_reference: None,
             params: BTreeMap::new(),
         });
@@ -719,6 +726,10 @@ impl Builder {
             entry: None,
             groups: d.groups,
             indirect,
+            pipeline: d.pipeline.map(|p| {
+                self.pipelines_used.insert(p);
+                pipelines::pipeline_name(p)
+            }),
             params: BTreeMap::new(),
         });
     }

@@ -60,6 +60,14 @@ pub enum Func {
     SetDebugUtilsObjectName,
     DebugMarkerSetObjectName,
     MapMemory,
+    CreateShaderModule,
+    CreateSampler,
+    CreateDescriptorSetLayout,
+    CreatePipelineLayout,
+    /// `vkCreateGraphicsPipelines`, or (`compute`) `vkCreateComputePipelines`.
+    CreatePipelines {
+        compute: bool,
+    },
     /// Creates or records nothing framelab models.
     Other,
 }
@@ -98,6 +106,7 @@ impl CopyKind {
 /// A `vkCmd*` function.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CmdFunc {
+    BindPipeline,
     BindDescriptorSets,
     PushDescriptorSet,
     PushDescriptorSetWithTemplate,
@@ -197,6 +206,12 @@ impl Func {
             "vkSetDebugUtilsObjectNameEXT" => Func::SetDebugUtilsObjectName,
             "vkDebugMarkerSetObjectNameEXT" => Func::DebugMarkerSetObjectName,
             "vkMapMemory" | "vkMapMemory2KHR" | "vkMapMemory2" => Func::MapMemory,
+            "vkCreateShaderModule" => Func::CreateShaderModule,
+            "vkCreateSampler" => Func::CreateSampler,
+            "vkCreateDescriptorSetLayout" => Func::CreateDescriptorSetLayout,
+            "vkCreatePipelineLayout" => Func::CreatePipelineLayout,
+            "vkCreateGraphicsPipelines" => Func::CreatePipelines { compute: false },
+            "vkCreateComputePipelines" => Func::CreatePipelines { compute: true },
             _ => Func::Other,
         }
     }
@@ -208,6 +223,7 @@ impl CmdFunc {
         use CopyKind as K;
         let copy = |kind, v2| C::Copy { kind, v2 };
         match name {
+            "vkCmdBindPipeline" => C::BindPipeline,
             "vkCmdBindDescriptorSets" => C::BindDescriptorSets,
             "vkCmdPushDescriptorSetKHR" | "vkCmdPushDescriptorSet" => C::PushDescriptorSet,
             "vkCmdPushDescriptorSetWithTemplateKHR" | "vkCmdPushDescriptorSetWithTemplate" => {
@@ -295,6 +311,7 @@ mod tests {
             })
         );
         assert_eq!(Func::of("vkCmdSetViewport"), Func::Cmd(CmdFunc::Other));
-        assert_eq!(Func::of("vkCreateSampler"), Func::Other);
+        assert_eq!(Func::of("vkCreateSampler"), Func::CreateSampler);
+        assert_eq!(Func::of("vkCreateFence"), Func::Other);
     }
 }

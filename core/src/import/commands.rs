@@ -33,6 +33,8 @@ pub struct DrawCmd {
     pub uses: Vec<Use>,
     pub vertex_buffers: Vec<u64>,
     pub index_buffer: Option<u64>,
+    /// The graphics pipeline bound.
+    pub pipeline: Option<u64>,
 }
 
 #[derive(Clone, Debug)]
@@ -40,6 +42,8 @@ pub struct DispatchCmd {
     pub groups: Option<[u32; 3]>,
     pub indirect: Option<(u64, u64)>,
     pub uses: Vec<Use>,
+    /// The compute pipeline bound.
+    pub pipeline: Option<u64>,
 }
 
 #[derive(Clone, Debug, PartialEq)]

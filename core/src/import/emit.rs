@@ -361,6 +361,7 @@ pub fn emit(
         fences,
         meshes: Vec::new(),
         passes: b.passes,
+        vulkan: None,
         source: Some(CaptureSource {
             tool: tool.to_owned(),
             api: Api::Vulkan,

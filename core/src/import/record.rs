@@ -22,6 +22,8 @@ struct Bound {
     sets: BTreeMap<(bool, u32), Vec<Use>>,
     vertex: BTreeMap<u32, u64>,
     index: Option<u64>,
+    /// Bind point is compute -> the pipeline bound.
+    pipelines: BTreeMap<bool, u64>,
 }
 
 #[derive(Default, Debug)]
@@ -79,6 +81,13 @@ impl Recording {
     ) -> Got<bool> {
         let origin = || format!("{name} #{call_index}");
         let cmd = match func {
+            CmdFunc::BindPipeline => {
+                let point = compute_point(&args.get("pipelineBindPoint")?)?;
+                self.bound
+                    .pipelines
+                    .insert(point, args.get("pipeline")?.handle()?);
+                return Ok(true);
+            }
             CmdFunc::BindDescriptorSets => return self.bind_sets(args, objects).map(|()| true),
             CmdFunc::PushDescriptorSet => return self.push_set(args).map(|()| true),
             CmdFunc::BindVertexBuffers => return self.bind_vertex_buffers(args).map(|()| true),
@@ -99,11 +108,13 @@ impl Recording {
                 ]),
                 indirect: None,
                 uses: self.uses(true),
+                pipeline: self.bound.pipelines.get(&true).copied(),
             })),
             CmdFunc::DispatchIndirect => Cmd::Dispatch(Box::new(DispatchCmd {
                 groups: None,
                 indirect: Some((args.get("buffer")?.handle()?, args.get("offset")?.u64()?)),
                 uses: self.uses(true),
+                pipeline: self.bound.pipelines.get(&true).copied(),
             })),
             CmdFunc::PipelineBarrier => {
                 let src_stages = args.get("srcStageMask")?.stages()?;
@@ -323,6 +334,7 @@ impl Recording {
             uses: self.uses(false),
             vertex_buffers: self.bound.vertex.values().copied().collect(),
             index_buffer: if indexed { self.bound.index } else { None },
+            pipeline: self.bound.pipelines.get(&false).copied(),
         }
     }
 }

@@ -16,6 +16,7 @@ mod passes;
 mod queues;
 mod render_state;
 mod resources;
+mod vulkan_objects;
 mod work;
 
 pub use descriptors::*;
@@ -25,6 +26,7 @@ pub use passes::*;
 pub use queues::*;
 pub use render_state::*;
 pub use resources::*;
+pub use vulkan_objects::*;
 pub use work::*;
 
 /// The only format version this build reads.
@@ -69,6 +71,10 @@ pub struct RawCapture {
     /// Passes in the order the application recorded them (per queue, this is submission order).
     #[serde(default)]
     pub passes: Vec<Pass>,
+    /// The Vulkan objects an imported frame's draws and dispatches run with (pipelines,
+    /// layouts, samplers, SPIR-V modules); absent for captures written for framelab.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vulkan: Option<VulkanObjects>,
     /// The tool and API stream the capture was imported from; absent for captures written by
     /// hand or generated.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -42,6 +42,9 @@ pub struct Draw {
     /// Arguments read from a buffer (DrawIndexedInstanced/DrawInstanced layout) instead.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub indirect: Option<IndirectArgs>,
+    /// The Vulkan pipeline bound when an imported draw was recorded (`vulkan.pipelines`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pipeline: Option<String>,
     /// Stencil reference for this draw (OMSetStencilRef).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stencil_reference: Option<u32>,
@@ -77,6 +80,9 @@ pub struct Dispatch {
     pub groups: Option<[u32; 3]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub indirect: Option<IndirectArgs>,
+    /// The Vulkan pipeline bound when an imported dispatch was recorded (`vulkan.pipelines`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pipeline: Option<String>,
     /// Per-dispatch parameters overriding the pass's.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub params: BTreeMap<String, ParamValue>,

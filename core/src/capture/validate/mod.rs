@@ -16,6 +16,7 @@ mod heaps;
 mod passes;
 mod resources;
 mod shaders;
+mod vulkan;
 mod work;
 
 use super::diag::{Diagnostic, Diagnostics, JsonPath, suggest};
@@ -197,6 +198,7 @@ impl<'a> Validator<'a> {
         let resources = self.check_resources(&heaps);
         let descriptor_heaps = self.check_descriptor_heaps();
         self.check_samplers();
+        self.check_vulkan();
         let queues: Vec<QueueDesc> = self
             .raw
             .queues

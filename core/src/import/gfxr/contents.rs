@@ -410,6 +410,6 @@ mod tests {
         );
         assert_eq!(e.read(10, 4), Some(vec![2, 2, 0, 0]));
         assert_eq!(e.read(12, 4), None);
-        assert_eq!(e.0.len(), 4);
+        assert_eq!(e.0.len(), 3);
     }
 }

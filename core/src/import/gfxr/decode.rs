@@ -26,15 +26,17 @@ const MAX_DEPTH: u32 = 48;
 pub struct Decoded {
     pub args: Value,
     pub ret: Option<Value>,
-    /// Arrays of bytes or 32-bit words longer than `BLOB_BYTES` (SPIR-V code, update data,
-    /// push constants), kept as raw bytes by their path (`pCreateInfo.pCode`) instead of one
+    /// Long arrays of bytes or 32-bit words (SPIR-V code, update data), kept as raw bytes by their path (`pCreateInfo.pCode`) instead of one
     /// JSON number per element; the arguments show `"(N bytes)"` in their place, as the JSON
     /// Lines stream shows no data there either.
     pub blobs: Vec<(String, Vec<u8>)>,
 }
 
-/// Byte or word arrays longer than this are kept as raw bytes.
+/// Word arrays longer than this (SPIR-V) and byte arrays longer than `BLOB_BYTES_U8` (update
+/// data, cache blobs) are kept as raw bytes; shorter ones, such as specialization data and
+/// push constants, stay numbers the importer reads.
 const BLOB_BYTES: usize = 256;
+const BLOB_BYTES_U8: usize = 4096;
 
 struct Reader<'a> {
     buf: &'a [u8],
@@ -215,7 +217,12 @@ impl<'a> Reader<'a> {
             Ty::U32 => 4,
             _ => 0,
         };
-        if width > 0 && n * width > BLOB_BYTES {
+        let limit = if width == 1 {
+            BLOB_BYTES_U8
+        } else {
+            BLOB_BYTES
+        };
+        if width > 0 && n * width > limit {
             let bytes = self.take(n * width)?.to_vec();
             let shown = Value::from(format!("({} bytes)", bytes.len()));
             self.blobs.push((self.at(), bytes));

@@ -1,0 +1,258 @@
+//! The Vulkan objects an imported frame's draws and dispatches run with: SPIR-V shader
+//! modules, samplers, descriptor set layouts, pipeline layouts and pipelines with their whole
+//! fixed-function state, each by name. Enumerants keep their Vulkan names and flags their
+//! Vulkan bits, so nothing is lost in translation; a draw or dispatch names the pipeline
+//! bound when it was recorded.
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+/// The Vulkan objects of an imported frame: the pipelines its draws and dispatches bound with
+/// the layouts and modules they name, and every sampler the application created (descriptor
+/// writes name samplers, and a frame's writes may predate it).
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VulkanObjects {
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub shader_modules: Vec<ShaderModule>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub samplers: Vec<VkSampler>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub set_layouts: Vec<SetLayout>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pipeline_layouts: Vec<PipelineLayout>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pipelines: Vec<Pipeline>,
+}
+
+/// A SPIR-V module.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ShaderModule {
+    pub name: String,
+    /// The module's code, relative to the capture: exactly the bytes the application gave
+    /// `vkCreateShaderModule`. Absent when the source holds no code (a JSON Lines stream).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// `codeSize` in bytes.
+    pub size: u64,
+}
+
+/// A `VkSamplerCreateInfo`.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkSampler {
+    pub name: String,
+    pub mag_filter: String,
+    pub min_filter: String,
+    pub mipmap_mode: String,
+    pub address_mode_u: String,
+    pub address_mode_v: String,
+    pub address_mode_w: String,
+    pub mip_lod_bias: f32,
+    /// `maxAnisotropy` when anisotropy is enabled.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_anisotropy: Option<f32>,
+    /// `compareOp` when comparison is enabled.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compare_op: Option<String>,
+    pub min_lod: f32,
+    pub max_lod: f32,
+    pub border_color: String,
+    #[serde(default)]
+    pub unnormalized_coordinates: bool,
+}
+
+/// A `VkDescriptorSetLayout`.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SetLayout {
+    pub name: String,
+    /// `VkDescriptorSetLayoutCreateFlags` (e.g. 0x1, push descriptors).
+    #[serde(default)]
+    pub flags: u32,
+    pub bindings: Vec<LayoutBinding>,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LayoutBinding {
+    pub binding: u32,
+    /// `VK_DESCRIPTOR_TYPE_*`.
+    pub descriptor_type: String,
+    pub count: u32,
+    /// `VkShaderStageFlags`.
+    pub stages: u32,
+    /// Samplers fixed in the layout, by name.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub immutable_samplers: Vec<String>,
+}
+
+/// A `VkPipelineLayout`.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PipelineLayout {
+    pub name: String,
+    /// Set layouts by set number.
+    pub set_layouts: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub push_constants: Vec<PushConstantRange>,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PushConstantRange {
+    /// `VkShaderStageFlags`.
+    pub stages: u32,
+    pub offset: u32,
+    pub size: u32,
+}
+
+/// A graphics or compute pipeline.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Pipeline {
+    pub name: String,
+    /// `VK_PIPELINE_BIND_POINT_GRAPHICS` or `VK_PIPELINE_BIND_POINT_COMPUTE`.
+    pub bind_point: String,
+    pub layout: String,
+    pub stages: Vec<PipelineStage>,
+    /// Fixed-function state (graphics pipelines).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub graphics: Option<Box<GraphicsState>>,
+}
+
+/// One shader stage of a pipeline.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PipelineStage {
+    /// `VK_SHADER_STAGE_*_BIT`.
+    pub stage: String,
+    pub module: String,
+    pub entry: String,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub specialization: Vec<SpecConstant>,
+}
+
+/// A specialization constant: its id, size, and value read from `pData` (little-endian,
+/// `size` bytes, at most 8). The value is absent where the source holds no data (a JSON
+/// Lines stream gives only `pData`'s address).
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SpecConstant {
+    pub id: u32,
+    pub size: u32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub value: Option<u64>,
+}
+
+/// A graphics pipeline's fixed-function state.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GraphicsState {
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vertex_bindings: Vec<VertexBinding>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vertex_attributes: Vec<VertexAttributeVk>,
+    /// `VK_PRIMITIVE_TOPOLOGY_*`.
+    pub topology: String,
+    #[serde(default)]
+    pub primitive_restart: bool,
+    pub polygon_mode: String,
+    /// `VkCullModeFlags`.
+    pub cull_mode: u32,
+    pub front_face: String,
+    #[serde(default)]
+    pub depth_clamp: bool,
+    #[serde(default)]
+    pub rasterizer_discard: bool,
+    /// (constant factor, clamp, slope factor) when depth bias is enabled.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_bias: Option<[f32; 3]>,
+    pub line_width: f32,
+    /// `VK_SAMPLE_COUNT_*_BIT`.
+    pub samples: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_stencil: Option<DepthStencilVk>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub blend: Vec<BlendAttachment>,
+    #[serde(default)]
+    pub blend_constants: [f32; 4],
+    /// `VK_LOGIC_OP_*` when logic ops are enabled.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub logic_op: Option<String>,
+    /// Viewports and scissors fixed in the pipeline, as `[x, y, width, height]`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub viewports: Vec<[f32; 4]>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub scissors: Vec<[i64; 4]>,
+    /// `VK_DYNAMIC_STATE_*`: state the draws set instead.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub dynamic_states: Vec<String>,
+    /// The subpass of the render pass the pipeline was made for.
+    #[serde(default)]
+    pub subpass: u32,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VertexBinding {
+    pub binding: u32,
+    pub stride: u32,
+    /// `VK_VERTEX_INPUT_RATE_*`.
+    pub input_rate: String,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VertexAttributeVk {
+    pub location: u32,
+    pub binding: u32,
+    /// `VK_FORMAT_*`.
+    pub format: String,
+    pub offset: u32,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DepthStencilVk {
+    pub depth_test: bool,
+    pub depth_write: bool,
+    /// `VK_COMPARE_OP_*`.
+    pub depth_compare: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_bounds: Option<[f32; 2]>,
+    #[serde(default)]
+    pub stencil_test: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub front: Option<StencilFaceVk>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub back: Option<StencilFaceVk>,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StencilFaceVk {
+    pub fail_op: String,
+    pub pass_op: String,
+    pub depth_fail_op: String,
+    pub compare_op: String,
+    pub compare_mask: u32,
+    pub write_mask: u32,
+    pub reference: u32,
+}
+
+/// One colour attachment's blend state.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BlendAttachment {
+    pub enable: bool,
+    pub src_color: String,
+    pub dst_color: String,
+    pub color_op: String,
+    pub src_alpha: String,
+    pub dst_alpha: String,
+    pub alpha_op: String,
+    /// `VkColorComponentFlags`.
+    pub write_mask: u32,
+}

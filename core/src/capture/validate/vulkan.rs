@@ -1,0 +1,324 @@
+//! The `vulkan` section of an imported capture: every name it uses resolves (pipeline ->
+//! layout -> set layouts -> immutable samplers, stage -> module, draw or dispatch ->
+//! pipeline of the right bind point), names are unique per kind, and each SPIR-V file is
+//! there, of the size the module declares, starts with SPIR-V's magic number and has the
+//! entry point each stage names for that stage.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use super::{JsonPath, Validator};
+use crate::capture::format::{PassKind, VulkanObjects};
+use crate::files;
+
+/// SPIR-V's magic number, the first word of every module.
+const SPIRV_MAGIC: u32 = 0x0723_0203;
+/// `OpEntryPoint`: execution model, function id, name, interface.
+const OP_ENTRY_POINT: u32 = 15;
+
+/// The `(execution model, name)` of every entry point of a SPIR-V module; `None` when the
+/// words are not SPIR-V. Only `OpEntryPoint` is read: each instruction states its own word
+/// count, so the walk needs nothing else of the grammar.
+pub fn entry_points(bytes: &[u8]) -> Option<Vec<(u32, String)>> {
+    if !bytes.len().is_multiple_of(4) || bytes.len() < 20 {
+        return None;
+    }
+    let words: Vec<u32> = bytes
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    if words[0] != SPIRV_MAGIC {
+        return None;
+    }
+    let mut out = Vec::new();
+    let mut at = 5;
+    while at < words.len() {
+        let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
+        if count == 0 || at + count > words.len() {
+            return None;
+        }
+        if opcode == OP_ENTRY_POINT && count >= 4 {
+            let text: Vec<u8> = words[at + 3..at + count]
+                .iter()
+                .flat_map(|w| w.to_le_bytes())
+                .take_while(|b| *b != 0)
+                .collect();
+            out.push((words[at + 1], String::from_utf8_lossy(&text).into_owned()));
+        }
+        at += count;
+    }
+    Some(out)
+}
+
+/// The SPIR-V execution model of a `VK_SHADER_STAGE_*_BIT`.
+fn execution_model(stage: &str) -> Option<u32> {
+    Some(match stage {
+        "VK_SHADER_STAGE_VERTEX_BIT" => 0,
+        "VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT" => 1,
+        "VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT" => 2,
+        "VK_SHADER_STAGE_GEOMETRY_BIT" => 3,
+        "VK_SHADER_STAGE_FRAGMENT_BIT" => 4,
+        "VK_SHADER_STAGE_COMPUTE_BIT" => 5,
+        _ => return None,
+    })
+}
+
+/// Names of one kind, each once; a repeated one is an error at its path.
+fn unique<'n>(
+    v: &mut Validator<'_>,
+    names: impl Iterator<Item = (&'n str, JsonPath)>,
+    kind: &str,
+) -> BTreeSet<&'n str> {
+    let mut seen = BTreeSet::new();
+    for (n, path) in names {
+        if !seen.insert(n) {
+            v.diags
+                .error("vulkan", &path, format!("{kind} \"{n}\" is defined twice"));
+        }
+    }
+    seen
+}
+
+impl Validator<'_> {
+    pub(super) fn check_vulkan(&mut self) {
+        let raw = self.raw;
+        let root = self.root.field("vulkan");
+        let Some(vk) = &raw.vulkan else {
+            self.check_pipeline_uses(None);
+            return;
+        };
+        let samplers = unique(
+            self,
+            vk.samplers
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (s.name.as_str(), root.field("samplers").index(i))),
+            "sampler",
+        );
+        let sets = unique(
+            self,
+            vk.set_layouts
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (s.name.as_str(), root.field("set_layouts").index(i))),
+            "set layout",
+        );
+        let layouts = unique(
+            self,
+            vk.pipeline_layouts
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (s.name.as_str(), root.field("pipeline_layouts").index(i))),
+            "pipeline layout",
+        );
+        unique(
+            self,
+            vk.pipelines
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (s.name.as_str(), root.field("pipelines").index(i))),
+            "pipeline",
+        );
+        for (i, l) in vk.set_layouts.iter().enumerate() {
+            for (j, b) in l.bindings.iter().enumerate() {
+                for (k, s) in b.immutable_samplers.iter().enumerate() {
+                    if !samplers.contains(s.as_str()) {
+                        let p = root
+                            .field("set_layouts")
+                            .index(i)
+                            .field("bindings")
+                            .index(j)
+                            .field("immutable_samplers")
+                            .index(k);
+                        self.diags
+                            .error("vulkan", &p, format!("no sampler \"{s}\""));
+                    }
+                }
+            }
+        }
+        for (i, l) in vk.pipeline_layouts.iter().enumerate() {
+            for (j, s) in l.set_layouts.iter().enumerate() {
+                if !sets.contains(s.as_str()) {
+                    let p = root
+                        .field("pipeline_layouts")
+                        .index(i)
+                        .field("set_layouts")
+                        .index(j);
+                    self.diags
+                        .error("vulkan", &p, format!("no set layout \"{s}\""));
+                }
+            }
+        }
+        let modules = self.check_modules(vk, &root);
+        for (i, p) in vk.pipelines.iter().enumerate() {
+            let path = root.field("pipelines").index(i);
+            if !layouts.contains(p.layout.as_str()) {
+                self.diags.error(
+                    "vulkan",
+                    &path.field("layout"),
+                    format!("no pipeline layout \"{}\"", p.layout),
+                );
+            }
+            for (j, st) in p.stages.iter().enumerate() {
+                let sp = path.field("stages").index(j);
+                match modules.get(st.module.as_str()) {
+                    None => self.diags.error(
+                        "vulkan",
+                        &sp.field("module"),
+                        format!("no shader module \"{}\"", st.module),
+                    ),
+                    // A module whose code the source did not hold cannot be checked further.
+                    Some(None) => {}
+                    Some(Some(entries)) => {
+                        let model = execution_model(&st.stage);
+                        if !entries
+                            .iter()
+                            .any(|(m, n)| *n == st.entry && model.is_none_or(|x| x == *m))
+                        {
+                            self.diags.error(
+                                "vulkan",
+                                &sp.field("entry"),
+                                format!(
+                                    "module \"{}\" has no {} entry point \"{}\"",
+                                    st.module, st.stage, st.entry
+                                ),
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        self.check_pipeline_uses(Some(vk));
+    }
+
+    /// Each module's entry points, read from its file (`None` where there is no file).
+    fn check_modules<'v>(
+        &mut self,
+        vk: &'v VulkanObjects,
+        root: &JsonPath,
+    ) -> BTreeMap<&'v str, Option<Vec<(u32, String)>>> {
+        let mut out = BTreeMap::new();
+        for (i, m) in vk.shader_modules.iter().enumerate() {
+            let path = root.field("shader_modules").index(i);
+            if out.contains_key(m.name.as_str()) {
+                self.diags.error(
+                    "vulkan",
+                    &path,
+                    format!("shader module \"{}\" is defined twice", m.name),
+                );
+            }
+            let entries = m.file.as_ref().and_then(|rel| {
+                let fp = path.field("file");
+                let full = self.side_file(rel, &fp)?;
+                let bytes = match files::read(&full, files::side_file(m.size)) {
+                    Ok(b) => b,
+                    Err(e) => {
+                        self.diags.error("side-file", &fp, e.to_string());
+                        return None;
+                    }
+                };
+                if bytes.len() as u64 != m.size {
+                    self.diags.error(
+                        "side-file",
+                        &fp,
+                        format!("\"{rel}\" has {} bytes; module \"{}\" is {} bytes", bytes.len(), m.name, m.size),
+                    );
+                    return None;
+                }
+                let entries = entry_points(&bytes);
+                if entries.is_none() {
+                    self.diags.error("side-file", &fp, format!("\"{rel}\" is not SPIR-V (no magic number, or an instruction runs past the end)"));
+                }
+                entries
+            });
+            out.insert(m.name.as_str(), entries);
+        }
+        out
+    }
+
+    /// Every draw names a graphics pipeline and every dispatch a compute one, when they name
+    /// one.
+    fn check_pipeline_uses(&mut self, vk: Option<&VulkanObjects>) {
+        let points: BTreeMap<&str, &str> = vk
+            .map(|v| {
+                v.pipelines
+                    .iter()
+                    .map(|p| (p.name.as_str(), p.bind_point.as_str()))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let raw = self.raw;
+        for (i, pass) in raw.passes.iter().enumerate() {
+            let path = self.root.field("passes").index(i);
+            let named = pass
+                .draws
+                .iter()
+                .enumerate()
+                .map(|(j, d)| {
+                    (
+                        d.pipeline.as_deref(),
+                        path.field("draws").index(j),
+                        "VK_PIPELINE_BIND_POINT_GRAPHICS",
+                    )
+                })
+                .chain(pass.dispatches.iter().enumerate().map(|(j, d)| {
+                    (
+                        d.pipeline.as_deref(),
+                        path.field("dispatches").index(j),
+                        "VK_PIPELINE_BIND_POINT_COMPUTE",
+                    )
+                }));
+            for (name, p, want) in named {
+                let Some(name) = name else { continue };
+                match points.get(name) {
+                    None => self.diags.error(
+                        "vulkan",
+                        &p.field("pipeline"),
+                        format!("no pipeline \"{name}\" in `vulkan.pipelines`"),
+                    ),
+                    Some(point) if *point != want => self.diags.error(
+                        "vulkan",
+                        &p.field("pipeline"),
+                        format!(
+                            "pipeline \"{name}\" binds to {point}; a {} needs {want}",
+                            if pass.kind == PassKind::Compute {
+                                "dispatch"
+                            } else {
+                                "draw"
+                            }
+                        ),
+                    ),
+                    Some(_) => {}
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn entry_points_of_a_minimal_module() {
+        // Header, then OpEntryPoint GLCompute %1 "main".
+        let name = u32::from_le_bytes(*b"main");
+        let words = [
+            SPIRV_MAGIC,
+            0x0001_0000,
+            0,
+            2,
+            0,
+            (5 << 16) | 15,
+            5,
+            1,
+            name,
+            0,
+        ];
+        let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+        assert_eq!(entry_points(&bytes), Some(vec![(5, "main".to_owned())]));
+        assert_eq!(entry_points(&bytes[..bytes.len() - 4]), None);
+        let mut bad = bytes.clone();
+        bad[0] = 0;
+        assert_eq!(entry_points(&bad), None);
+    }
+}

@@ -1,0 +1,430 @@
+//! The pipelines a stream creates and what they are made of: shader modules (their size;
+//! the binary route adds their code), samplers, descriptor set layouts, pipeline layouts, and
+//! graphics and compute pipelines with their fixed-function state, by handle. At the end, the
+//! pipelines the imported draws and dispatches bound, and everything they name, become the
+//! capture's `vulkan` section.
+
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+
+use super::calls::Func;
+use super::value::{Arg, Got};
+use crate::capture::format::{
+    BlendAttachment, DepthStencilVk, GraphicsState, LayoutBinding, Pipeline, PipelineLayout,
+    PipelineStage, PushConstantRange, SetLayout, ShaderModule, SpecConstant, StencilFaceVk,
+    VertexAttributeVk, VertexBinding, VkSampler, VulkanObjects,
+};
+
+/// A pipeline as created, naming the objects it uses by handle.
+#[derive(Clone, Debug)]
+struct Made {
+    pipeline: Pipeline,
+    layout: u64,
+    modules: Vec<u64>,
+}
+
+/// Pipeline objects by handle.
+#[derive(Debug, Default)]
+pub struct Pipelines {
+    modules: HashMap<u64, u64>,
+    samplers: HashMap<u64, VkSampler>,
+    /// Set layout -> (layout, immutable samplers by binding).
+    set_layouts: HashMap<u64, (SetLayout, Vec<Vec<u64>>)>,
+    layouts: HashMap<u64, (PipelineLayout, Vec<u64>)>,
+    pipelines: HashMap<u64, Made>,
+}
+
+pub fn module_name(h: u64) -> String {
+    format!("module_{h}")
+}
+
+pub fn pipeline_name(h: u64) -> String {
+    format!("pipeline_{h}")
+}
+
+fn boolean(a: &Arg<'_>, key: &str) -> Got<bool> {
+    Ok(a.get(key)?.u64()? != 0)
+}
+
+fn float(a: &Arg<'_>, key: &str) -> Got<f32> {
+    Ok(a.get(key)?.f64()? as f32)
+}
+
+impl Pipelines {
+    /// Applies a call that creates a pipeline object; `Ok(false)` for other calls.
+    pub fn apply(&mut self, func: Func, args: &Arg<'_>) -> Got<bool> {
+        match func {
+            Func::CreateShaderModule => {
+                let size = args.get("pCreateInfo")?.get("codeSize")?.u64()?;
+                self.modules
+                    .insert(args.get("pShaderModule")?.handle()?, size);
+            }
+            Func::CreateSampler => {
+                let h = args.get("pSampler")?.handle()?;
+                let s = sampler(&args.get("pCreateInfo")?, h)?;
+                self.samplers.insert(h, s);
+            }
+            Func::CreateDescriptorSetLayout => {
+                let h = args.get("pSetLayout")?.handle()?;
+                let ci = args.get("pCreateInfo")?;
+                let mut bindings = Vec::new();
+                let mut immutable = Vec::new();
+                for b in ci.list("pBindings")? {
+                    let fixed: Vec<u64> = b
+                        .list("pImmutableSamplers")?
+                        .iter()
+                        .map(Arg::handle)
+                        .collect::<Got<_>>()?;
+                    bindings.push(LayoutBinding {
+                        binding: b.get("binding")?.u32()?,
+                        descriptor_type: b.get("descriptorType")?.name()?,
+                        count: b.get("descriptorCount")?.u32()?,
+                        stages: b.get("stageFlags")?.u32()?,
+                        immutable_samplers: Vec::new(),
+                    });
+                    immutable.push(fixed);
+                }
+                let layout = SetLayout {
+                    name: format!("set_layout_{h}"),
+                    flags: ci.get("flags")?.u32()?,
+                    bindings,
+                };
+                self.set_layouts.insert(h, (layout, immutable));
+            }
+            Func::CreatePipelineLayout => {
+                let h = args.get("pPipelineLayout")?.handle()?;
+                let ci = args.get("pCreateInfo")?;
+                let sets: Vec<u64> = ci
+                    .list("pSetLayouts")?
+                    .iter()
+                    .map(Arg::handle)
+                    .collect::<Got<_>>()?;
+                let push_constants = ci
+                    .list("pPushConstantRanges")?
+                    .iter()
+                    .map(|r| {
+                        Ok(PushConstantRange {
+                            stages: r.get("stageFlags")?.u32()?,
+                            offset: r.get("offset")?.u32()?,
+                            size: r.get("size")?.u32()?,
+                        })
+                    })
+                    .collect::<Got<_>>()?;
+                let layout = PipelineLayout {
+                    name: format!("pipeline_layout_{h}"),
+                    set_layouts: sets.iter().map(|s| format!("set_layout_{s}")).collect(),
+                    push_constants,
+                };
+                self.layouts.insert(h, (layout, sets));
+            }
+            Func::CreatePipelines { compute } => {
+                let infos = args.list("pCreateInfos")?;
+                let handles = args.list("pPipelines")?;
+                for (ci, h) in infos.iter().zip(&handles) {
+                    let h = h.handle()?;
+                    if h != 0 {
+                        let made = pipeline(ci, h, compute)?;
+                        self.pipelines.insert(h, made);
+                    }
+                }
+            }
+            _ => return Ok(false),
+        }
+        Ok(true)
+    }
+
+    /// The `vulkan` section for the pipelines `used` names, with everything they name;
+    /// `files` gives each module's code file where the source held it.
+    pub fn emit(
+        &self,
+        used: &BTreeSet<u64>,
+        files: &BTreeMap<u64, String>,
+    ) -> (VulkanObjects, Vec<String>) {
+        let mut out = VulkanObjects::default();
+        let mut notes = Vec::new();
+        let (mut layouts, mut modules) = (BTreeSet::new(), BTreeSet::new());
+        for h in used {
+            match self.pipelines.get(h) {
+                Some(m) => {
+                    out.pipelines.push(m.pipeline.clone());
+                    layouts.insert(m.layout);
+                    modules.extend(m.modules.iter().copied());
+                }
+                None => notes.push(format!(
+                    "pipeline {h} is bound but its creation is not in the capture"
+                )),
+            }
+        }
+        let mut sets = BTreeSet::new();
+        for h in &layouts {
+            if let Some((l, s)) = self.layouts.get(h) {
+                out.pipeline_layouts.push(l.clone());
+                sets.extend(s.iter().copied());
+            }
+        }
+        let mut samplers = BTreeSet::new();
+        for h in &sets {
+            if let Some((l, fixed)) = self.set_layouts.get(h) {
+                let mut l = l.clone();
+                for (b, f) in l.bindings.iter_mut().zip(fixed) {
+                    b.immutable_samplers = f.iter().map(|s| format!("sampler_{s}")).collect();
+                    samplers.extend(f.iter().copied());
+                }
+                out.set_layouts.push(l);
+            }
+        }
+        // Every sampler: descriptor writes name them too, not only layouts.
+        samplers.extend(self.samplers.keys().copied());
+        for h in &samplers {
+            if let Some(s) = self.samplers.get(h) {
+                out.samplers.push(s.clone());
+            }
+        }
+        for h in &modules {
+            if let Some(size) = self.modules.get(h) {
+                out.shader_modules.push(ShaderModule {
+                    name: module_name(*h),
+                    file: files.get(h).cloned(),
+                    size: *size,
+                });
+            }
+        }
+        (out, notes)
+    }
+}
+
+fn sampler(ci: &Arg<'_>, h: u64) -> Got<VkSampler> {
+    Ok(VkSampler {
+        name: format!("sampler_{h}"),
+        mag_filter: ci.get("magFilter")?.name()?,
+        min_filter: ci.get("minFilter")?.name()?,
+        mipmap_mode: ci.get("mipmapMode")?.name()?,
+        address_mode_u: ci.get("addressModeU")?.name()?,
+        address_mode_v: ci.get("addressModeV")?.name()?,
+        address_mode_w: ci.get("addressModeW")?.name()?,
+        mip_lod_bias: float(ci, "mipLodBias")?,
+        max_anisotropy: if boolean(ci, "anisotropyEnable")? {
+            Some(float(ci, "maxAnisotropy")?)
+        } else {
+            None
+        },
+        compare_op: if boolean(ci, "compareEnable")? {
+            Some(ci.get("compareOp")?.name()?)
+        } else {
+            None
+        },
+        min_lod: float(ci, "minLod")?,
+        max_lod: float(ci, "maxLod")?,
+        border_color: ci.get("borderColor")?.name()?,
+        unnormalized_coordinates: boolean(ci, "unnormalizedCoordinates")?,
+    })
+}
+
+/// One stage: its module, entry point and specialization constants.
+fn stage(s: &Arg<'_>) -> Got<(PipelineStage, u64)> {
+    let module = s.get("module")?.handle()?;
+    let mut specialization = Vec::new();
+    if let Some(info) = s.opt("pSpecializationInfo") {
+        // The binary capture holds the data; a JSON Lines stream only its address.
+        let data: Option<Vec<u8>> = match info.opt("pData") {
+            Some(d) if d.value.is_array() => Some(
+                d.items()?
+                    .iter()
+                    .map(|b| b.u32().map(|v| v as u8))
+                    .collect::<Got<_>>()?,
+            ),
+            _ => None,
+        };
+        for e in info.list("pMapEntries")? {
+            let (offset, size) = (e.get("offset")?.u32()? as usize, e.get("size")?.u64()?);
+            let value = data.as_ref().and_then(|d| {
+                let bytes = d.get(offset..offset.checked_add(size.min(8) as usize)?)?;
+                let mut v = [0u8; 8];
+                v[..bytes.len()].copy_from_slice(bytes);
+                Some(u64::from_le_bytes(v))
+            });
+            specialization.push(SpecConstant {
+                id: e.get("constantID")?.u32()?,
+                size: size as u32,
+                value,
+            });
+        }
+    }
+    Ok((
+        PipelineStage {
+            stage: s.get("stage")?.name()?,
+            module: module_name(module),
+            entry: s.get("pName")?.str()?.to_owned(),
+            specialization,
+        },
+        module,
+    ))
+}
+
+fn pipeline(ci: &Arg<'_>, h: u64, compute: bool) -> Got<Made> {
+    let stage_args = if compute {
+        vec![ci.get("stage")?]
+    } else {
+        ci.list("pStages")?
+    };
+    let mut stages = Vec::new();
+    let mut modules = Vec::new();
+    for s in &stage_args {
+        let (st, m) = stage(s)?;
+        stages.push(st);
+        modules.push(m);
+    }
+    let layout = ci.get("layout")?.handle()?;
+    Ok(Made {
+        pipeline: Pipeline {
+            name: pipeline_name(h),
+            bind_point: if compute {
+                "VK_PIPELINE_BIND_POINT_COMPUTE"
+            } else {
+                "VK_PIPELINE_BIND_POINT_GRAPHICS"
+            }
+            .to_owned(),
+            layout: format!("pipeline_layout_{layout}"),
+            stages,
+            graphics: if compute {
+                None
+            } else {
+                Some(Box::new(graphics(ci)?))
+            },
+        },
+        layout,
+        modules,
+    })
+}
+
+fn stencil_face(f: &Arg<'_>) -> Got<StencilFaceVk> {
+    Ok(StencilFaceVk {
+        fail_op: f.get("failOp")?.name()?,
+        pass_op: f.get("passOp")?.name()?,
+        depth_fail_op: f.get("depthFailOp")?.name()?,
+        compare_op: f.get("compareOp")?.name()?,
+        compare_mask: f.get("compareMask")?.u32()?,
+        write_mask: f.get("writeMask")?.u32()?,
+        reference: f.get("reference")?.u32()?,
+    })
+}
+
+fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
+    let mut g = GraphicsState {
+        topology: "VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST".to_owned(),
+        polygon_mode: "VK_POLYGON_MODE_FILL".to_owned(),
+        front_face: "VK_FRONT_FACE_COUNTER_CLOCKWISE".to_owned(),
+        line_width: 1.0,
+        samples: "VK_SAMPLE_COUNT_1_BIT".to_owned(),
+        subpass: ci.get("subpass")?.u32()?,
+        ..GraphicsState::default()
+    };
+    if let Some(v) = ci.opt("pVertexInputState") {
+        for b in v.list("pVertexBindingDescriptions")? {
+            g.vertex_bindings.push(VertexBinding {
+                binding: b.get("binding")?.u32()?,
+                stride: b.get("stride")?.u32()?,
+                input_rate: b.get("inputRate")?.name()?,
+            });
+        }
+        for a in v.list("pVertexAttributeDescriptions")? {
+            g.vertex_attributes.push(VertexAttributeVk {
+                location: a.get("location")?.u32()?,
+                binding: a.get("binding")?.u32()?,
+                format: a.get("format")?.name()?,
+                offset: a.get("offset")?.u32()?,
+            });
+        }
+    }
+    if let Some(ia) = ci.opt("pInputAssemblyState") {
+        g.topology = ia.get("topology")?.name()?;
+        g.primitive_restart = boolean(&ia, "primitiveRestartEnable")?;
+    }
+    if let Some(r) = ci.opt("pRasterizationState") {
+        g.polygon_mode = r.get("polygonMode")?.name()?;
+        g.cull_mode = r.get("cullMode")?.u32()?;
+        g.front_face = r.get("frontFace")?.name()?;
+        g.depth_clamp = boolean(&r, "depthClampEnable")?;
+        g.rasterizer_discard = boolean(&r, "rasterizerDiscardEnable")?;
+        g.line_width = float(&r, "lineWidth")?;
+        if boolean(&r, "depthBiasEnable")? {
+            g.depth_bias = Some([
+                float(&r, "depthBiasConstantFactor")?,
+                float(&r, "depthBiasClamp")?,
+                float(&r, "depthBiasSlopeFactor")?,
+            ]);
+        }
+    }
+    if let Some(m) = ci.opt("pMultisampleState") {
+        g.samples = m.get("rasterizationSamples")?.name()?;
+    }
+    if let Some(d) = ci.opt("pDepthStencilState") {
+        let stencil = boolean(&d, "stencilTestEnable")?;
+        g.depth_stencil = Some(DepthStencilVk {
+            depth_test: boolean(&d, "depthTestEnable")?,
+            depth_write: boolean(&d, "depthWriteEnable")?,
+            depth_compare: d.get("depthCompareOp")?.name()?,
+            depth_bounds: if boolean(&d, "depthBoundsTestEnable")? {
+                Some([float(&d, "minDepthBounds")?, float(&d, "maxDepthBounds")?])
+            } else {
+                None
+            },
+            stencil_test: stencil,
+            front: if stencil {
+                Some(stencil_face(&d.get("front")?)?)
+            } else {
+                None
+            },
+            back: if stencil {
+                Some(stencil_face(&d.get("back")?)?)
+            } else {
+                None
+            },
+        });
+    }
+    if let Some(c) = ci.opt("pColorBlendState") {
+        for a in c.list("pAttachments")? {
+            g.blend.push(BlendAttachment {
+                enable: boolean(&a, "blendEnable")?,
+                src_color: a.get("srcColorBlendFactor")?.name()?,
+                dst_color: a.get("dstColorBlendFactor")?.name()?,
+                color_op: a.get("colorBlendOp")?.name()?,
+                src_alpha: a.get("srcAlphaBlendFactor")?.name()?,
+                dst_alpha: a.get("dstAlphaBlendFactor")?.name()?,
+                alpha_op: a.get("alphaBlendOp")?.name()?,
+                write_mask: a.get("colorWriteMask")?.u32()?,
+            });
+        }
+        let k = c.list("blendConstants")?;
+        for (i, v) in k.iter().take(4).enumerate() {
+            g.blend_constants[i] = v.f64()? as f32;
+        }
+        if boolean(&c, "logicOpEnable")? {
+            g.logic_op = Some(c.get("logicOp")?.name()?);
+        }
+    }
+    if let Some(v) = ci.opt("pViewportState") {
+        for vp in v.list("pViewports")? {
+            g.viewports.push([
+                float(&vp, "x")?,
+                float(&vp, "y")?,
+                float(&vp, "width")?,
+                float(&vp, "height")?,
+            ]);
+        }
+        for s in v.list("pScissors")? {
+            let (o, e) = (s.get("offset")?, s.get("extent")?);
+            g.scissors.push([
+                o.get("x")?.i64()?,
+                o.get("y")?.i64()?,
+                e.get("width")?.i64()?,
+                e.get("height")?.i64()?,
+            ]);
+        }
+    }
+    if let Some(d) = ci.opt("pDynamicState") {
+        for s in d.list("pDynamicStates")? {
+            g.dynamic_states.push(s.name()?);
+        }
+    }
+    Ok(g)
+}
