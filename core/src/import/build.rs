@@ -706,6 +706,7 @@ impl Builder {
                 self.pipelines_used.insert(p);
                 pipelines::pipeline_name(p)
             }),
+            vulkan_state: d.state.clone(),
             stencil_reference: None,
             params: BTreeMap::new(),
         });
@@ -730,6 +731,7 @@ impl Builder {
                 self.pipelines_used.insert(p);
                 pipelines::pipeline_name(p)
             }),
+            vulkan_state: d.state.clone(),
             params: BTreeMap::new(),
         });
     }

@@ -107,6 +107,9 @@ impl CopyKind {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CmdFunc {
     BindPipeline,
+    SetViewport,
+    SetScissor,
+    PushConstants,
     BindDescriptorSets,
     PushDescriptorSet,
     PushDescriptorSetWithTemplate,
@@ -224,6 +227,13 @@ impl CmdFunc {
         let copy = |kind, v2| C::Copy { kind, v2 };
         match name {
             "vkCmdBindPipeline" => C::BindPipeline,
+            "vkCmdSetViewport" | "vkCmdSetViewportWithCount" | "vkCmdSetViewportWithCountEXT" => {
+                C::SetViewport
+            }
+            "vkCmdSetScissor" | "vkCmdSetScissorWithCount" | "vkCmdSetScissorWithCountEXT" => {
+                C::SetScissor
+            }
+            "vkCmdPushConstants" => C::PushConstants,
             "vkCmdBindDescriptorSets" => C::BindDescriptorSets,
             "vkCmdPushDescriptorSetKHR" | "vkCmdPushDescriptorSet" => C::PushDescriptorSet,
             "vkCmdPushDescriptorSetWithTemplateKHR" | "vkCmdPushDescriptorSetWithTemplate" => {
@@ -310,7 +320,11 @@ mod tests {
                 v2: true
             })
         );
-        assert_eq!(Func::of("vkCmdSetViewport"), Func::Cmd(CmdFunc::Other));
+        assert_eq!(
+            Func::of("vkCmdSetViewport"),
+            Func::Cmd(CmdFunc::SetViewport)
+        );
+        assert_eq!(Func::of("vkCmdSetLineWidth"), Func::Cmd(CmdFunc::Other));
         assert_eq!(Func::of("vkCreateSampler"), Func::CreateSampler);
         assert_eq!(Func::of("vkCreateFence"), Func::Other);
     }

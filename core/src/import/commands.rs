@@ -5,6 +5,7 @@
 
 use super::state::Descriptor;
 use super::value::Arg;
+use crate::capture::format::VkCommandState;
 use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
 
 /// Most draws one indirect call is expanded into.
@@ -35,6 +36,7 @@ pub struct DrawCmd {
     pub index_buffer: Option<u64>,
     /// The graphics pipeline bound.
     pub pipeline: Option<u64>,
+    pub state: VkCommandState,
 }
 
 #[derive(Clone, Debug)]
@@ -44,6 +46,7 @@ pub struct DispatchCmd {
     pub uses: Vec<Use>,
     /// The compute pipeline bound.
     pub pipeline: Option<u64>,
+    pub state: VkCommandState,
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -13,6 +13,7 @@ use super::commands::{
 use super::render_pass;
 use super::state::{Descriptor, Objects};
 use super::value::{ASPECTS, Arg, Got, Skip};
+use crate::capture::format::VkCommandState;
 use crate::capture::vulkan::{AccessFlags, PipelineStages};
 
 /// Bindings in effect while recording one command buffer.
@@ -24,7 +25,17 @@ struct Bound {
     index: Option<u64>,
     /// Bind point is compute -> the pipeline bound.
     pipelines: BTreeMap<bool, u64>,
+    viewport: Option<[f32; 6]>,
+    scissor: Option<[i64; 4]>,
+    /// Push-constant bytes written so far; `None` once a push's values were not in the
+    /// source.
+    push: Option<Vec<u8>>,
+    pushed: bool,
 }
+
+/// Most push-constant bytes a device may take (`maxPushConstantsSize` is at least 128;
+/// no device offers more than 256).
+const MAX_PUSH_BYTES: u32 = 256;
 
 #[derive(Default, Debug)]
 pub struct Recording {
@@ -88,6 +99,33 @@ impl Recording {
                     .insert(point, args.get("pipeline")?.handle()?);
                 return Ok(true);
             }
+            CmdFunc::SetViewport => {
+                if let Some(v) = args.list("pViewports")?.first() {
+                    let f = |k: &str| -> Got<f32> { Ok(v.get(k)?.f64()? as f32) };
+                    self.bound.viewport = Some([
+                        f("x")?,
+                        f("y")?,
+                        f("width")?,
+                        f("height")?,
+                        f("minDepth")?,
+                        f("maxDepth")?,
+                    ]);
+                }
+                return Ok(true);
+            }
+            CmdFunc::SetScissor => {
+                if let Some(r) = args.list("pScissors")?.first() {
+                    let (o, e) = (r.get("offset")?, r.get("extent")?);
+                    self.bound.scissor = Some([
+                        o.get("x")?.i64()?,
+                        o.get("y")?.i64()?,
+                        e.get("width")?.i64()?,
+                        e.get("height")?.i64()?,
+                    ]);
+                }
+                return Ok(true);
+            }
+            CmdFunc::PushConstants => return self.push_constants(args).map(|()| true),
             CmdFunc::BindDescriptorSets => return self.bind_sets(args, objects).map(|()| true),
             CmdFunc::PushDescriptorSet => return self.push_set(args).map(|()| true),
             CmdFunc::BindVertexBuffers => return self.bind_vertex_buffers(args).map(|()| true),
@@ -109,12 +147,14 @@ impl Recording {
                 indirect: None,
                 uses: self.uses(true),
                 pipeline: self.bound.pipelines.get(&true).copied(),
+                state: self.state(true),
             })),
             CmdFunc::DispatchIndirect => Cmd::Dispatch(Box::new(DispatchCmd {
                 groups: None,
                 indirect: Some((args.get("buffer")?.handle()?, args.get("offset")?.u64()?)),
                 uses: self.uses(true),
                 pipeline: self.bound.pipelines.get(&true).copied(),
+                state: self.state(true),
             })),
             CmdFunc::PipelineBarrier => {
                 let src_stages = args.get("srcStageMask")?.stages()?;
@@ -191,6 +231,54 @@ impl Recording {
         };
         self.cmds.push(cmd);
         Ok(true)
+    }
+
+    /// Push constants: bytes at an offset, kept while every push so far had its values.
+    fn push_constants(&mut self, args: &Arg<'_>) -> Got<()> {
+        let offset = args.get("offset")?.u32()?;
+        let size = args.get("size")?.u32()?;
+        if offset.saturating_add(size) > MAX_PUSH_BYTES {
+            return Err(Skip(format!(
+                "push constants at {offset}..{} are past the {MAX_PUSH_BYTES} bytes any device takes",
+                u64::from(offset) + u64::from(size)
+            )));
+        }
+        let values = args.opt("pValues").filter(|v| v.value.is_array());
+        let first = !self.bound.pushed;
+        self.bound.pushed = true;
+        let Some(values) = values else {
+            self.bound.push = None;
+            return Ok(());
+        };
+        let bytes: Vec<u8> = values
+            .items()?
+            .iter()
+            .map(|b| b.u32().map(|v| v as u8))
+            .collect::<Got<_>>()?;
+        if first {
+            self.bound.push = Some(Vec::new());
+        }
+        if let Some(push) = &mut self.bound.push {
+            let end = (offset as usize + bytes.len()).min(MAX_PUSH_BYTES as usize);
+            if push.len() < end {
+                push.resize(end, 0);
+            }
+            push[offset as usize..end].copy_from_slice(&bytes[..end - offset as usize]);
+        }
+        Ok(())
+    }
+
+    /// The dynamic state and push constants a draw (or dispatch) runs with.
+    fn state(&self, compute: bool) -> VkCommandState {
+        VkCommandState {
+            viewport: if compute { None } else { self.bound.viewport },
+            scissor: if compute { None } else { self.bound.scissor },
+            push_constants: self
+                .bound
+                .push
+                .as_ref()
+                .map(|p| p.iter().map(|b| format!("{b:02x}")).collect()),
+        }
     }
 
     fn bind_vertex_buffers(&mut self, args: &Arg<'_>) -> Got<()> {
@@ -335,6 +423,7 @@ impl Recording {
             vertex_buffers: self.bound.vertex.values().copied().collect(),
             index_buffer: if indexed { self.bound.index } else { None },
             pipeline: self.bound.pipelines.get(&false).copied(),
+            state: self.state(false),
         }
     }
 }

@@ -256,3 +256,27 @@ pub struct BlendAttachment {
     /// `VkColorComponentFlags`.
     pub write_mask: u32,
 }
+
+/// The dynamic state and push constants in effect for an imported draw or dispatch, as the
+/// command buffer set them before it.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkCommandState {
+    /// `vkCmdSetViewport`'s first viewport: `[x, y, width, height, min depth, max depth]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub viewport: Option<[f32; 6]>,
+    /// `vkCmdSetScissor`'s first scissor: `[x, y, width, height]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scissor: Option<[i64; 4]>,
+    /// The push-constant bytes from offset 0 up to the last byte written, as hex (bytes never
+    /// written are zero). Absent where the source holds no values (a JSON Lines stream gives
+    /// only `pValues`' address).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub push_constants: Option<String>,
+}
+
+impl VkCommandState {
+    pub fn is_empty(&self) -> bool {
+        *self == VkCommandState::default()
+    }
+}

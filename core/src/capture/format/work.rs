@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use super::{ParamValue, Range};
+use super::{ParamValue, Range, VkCommandState};
 
 /// One draw call.
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
@@ -45,6 +45,9 @@ pub struct Draw {
     /// The Vulkan pipeline bound when an imported draw was recorded (`vulkan.pipelines`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pipeline: Option<String>,
+    /// Dynamic viewport and scissor and push constants of an imported draw.
+    #[serde(default, skip_serializing_if = "VkCommandState::is_empty")]
+    pub vulkan_state: VkCommandState,
     /// Stencil reference for this draw (OMSetStencilRef).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stencil_reference: Option<u32>,
@@ -83,6 +86,9 @@ pub struct Dispatch {
     /// The Vulkan pipeline bound when an imported dispatch was recorded (`vulkan.pipelines`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pipeline: Option<String>,
+    /// Push constants of an imported dispatch.
+    #[serde(default, skip_serializing_if = "VkCommandState::is_empty")]
+    pub vulkan_state: VkCommandState,
     /// Per-dispatch parameters overriding the pass's.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub params: BTreeMap<String, ParamValue>,
