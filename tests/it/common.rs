@@ -7,6 +7,11 @@ pub fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// A GFXReconstruct capture of a real program under `tests/fixtures/gfxr/`.
+pub fn gfxr_fixture(name: &str) -> PathBuf {
+    repo().join("tests/fixtures/gfxr").join(name)
+}
+
 pub fn framelab(args: &[&str]) -> Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_framelab"))
         .args(args)

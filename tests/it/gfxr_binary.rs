@@ -9,11 +9,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use crate::common::{framelab, json, repo, stderr, stdout};
-
-fn fixture(name: &str) -> PathBuf {
-    repo().join("tests/fixtures/gfxr").join(name)
-}
+use crate::common::{framelab, gfxr_fixture, json, stderr, stdout};
 
 /// Binary captures with their JSON Lines conversion beside them (`<name>.jsonl`) and the
 /// modules `gfxrecon-extract` pulled from them (`extracted/<name>/`).
@@ -142,11 +138,11 @@ fn binary_and_json_lines_of_the_same_frame_agree() {
     let dir = temp_dir("agree");
     for name in CAPTURES {
         let bin = import(
-            &fixture(&format!("{name}.gfxr")),
+            &gfxr_fixture(&format!("{name}.gfxr")),
             &dir.join(format!("b_{name}.json")),
         );
         let text = import(
-            &fixture(&format!("{name}.jsonl")),
+            &gfxr_fixture(&format!("{name}.jsonl")),
             &dir.join(format!("j_{name}.json")),
         );
         for key in [
@@ -284,7 +280,7 @@ fn spirv_side_files_validate_and_are_the_modules_the_application_created() {
     let dir = temp_dir("spirv");
     for name in CAPTURES {
         let out = dir.join(format!("{name}.json"));
-        let summary = import(&fixture(&format!("{name}.gfxr")), &out);
+        let summary = import(&gfxr_fixture(&format!("{name}.gfxr")), &out);
         let modules = summary["shader_modules"].as_u64().unwrap();
         assert!(modules > 0, "{name}: no shader modules");
         let mut ours = Vec::new();
@@ -298,7 +294,7 @@ fn spirv_side_files_validate_and_are_the_modules_the_application_created() {
         assert_eq!(ours.len() as u64, modules);
         // The modules gfxrecon-extract took from the same file, byte for byte.
         let mut theirs = Vec::new();
-        for e in std::fs::read_dir(fixture(&format!("extracted/{name}"))).unwrap() {
+        for e in std::fs::read_dir(gfxr_fixture(&format!("extracted/{name}"))).unwrap() {
             theirs.push(std::fs::read(e.unwrap().path()).unwrap());
         }
         ours.sort();
@@ -318,7 +314,7 @@ fn vkcube_texture(capture: &str, extra: &[&str]) -> Vec<u8> {
     let out = dir.join("vkcube.json");
     let mut args = vec![
         "import".to_owned(),
-        fixture(capture).display().to_string(),
+        gfxr_fixture(capture).display().to_string(),
         "-o".to_owned(),
         out.display().to_string(),
     ];
@@ -342,7 +338,7 @@ fn vkcube_texture(capture: &str, extra: &[&str]) -> Vec<u8> {
 fn the_vkcube_texture_is_the_logo_the_program_loads() {
     // From a trimmed capture's snapshot, and from a whole capture's writes through a mapping
     // (vkcube on lavapipe samples a linear image it fills itself), as of frame 1.
-    let logo = image::open(fixture("lunarg.png")).unwrap().to_rgba8();
+    let logo = image::open(gfxr_fixture("lunarg.png")).unwrap().to_rgba8();
     assert_eq!(logo.dimensions(), (256, 256));
     for (capture, extra) in [
         ("vkcube_f3.gfxr", &[][..]),
@@ -366,7 +362,7 @@ fn the_vkcube_texture_is_the_logo_the_program_loads() {
 fn analysis_works_on_a_binary_import_and_replay_says_what_is_missing() {
     let dir = temp_dir("analyse");
     let out = dir.join("vkd3d.json");
-    import(&fixture("vkd3d_triangle_f1.gfxr"), &out);
+    import(&gfxr_fixture("vkd3d_triangle_f1.gfxr"), &out);
     let a = framelab(&["analyze", out.to_str().unwrap()]);
     assert!(a.status.success(), "{}", stderr(&a));
     assert!(stdout(&a).contains("passes"), "{}", stdout(&a));
@@ -381,7 +377,7 @@ fn analysis_works_on_a_binary_import_and_replay_says_what_is_missing() {
 
 /// A copy of a fixture with `edit` applied, written to `dir`.
 fn edited(dir: &Path, name: &str, edit: impl FnOnce(&mut Vec<u8>)) -> PathBuf {
-    let mut bytes = std::fs::read(fixture(name)).unwrap();
+    let mut bytes = std::fs::read(gfxr_fixture(name)).unwrap();
     edit(&mut bytes);
     let path = dir.join(format!("edited_{name}"));
     std::fs::write(&path, bytes).unwrap();
@@ -419,7 +415,7 @@ fn refused(input: &Path, dir: &Path) -> String {
 fn bad_binary_input_gets_a_located_error() {
     let dir = temp_dir("bad");
     let name = "vkcube_f3.gfxr";
-    let blocks = block_offsets(&std::fs::read(fixture(name)).unwrap());
+    let blocks = block_offsets(&std::fs::read(gfxr_fixture(name)).unwrap());
     // Cut inside the tenth block.
     let cut = blocks[10] + 20;
     let e = refused(&edited(&dir, name, |b| b.truncate(cut)), &dir);
@@ -451,7 +447,7 @@ fn bad_binary_input_gets_a_located_error() {
         "{e}"
     );
     // Compressed data that is not LZ4: the first compressed call's payload overwritten.
-    let bytes = std::fs::read(fixture(name)).unwrap();
+    let bytes = std::fs::read(gfxr_fixture(name)).unwrap();
     let call = *blocks
         .iter()
         .find(|&&o| u32::from_le_bytes(bytes[o + 8..o + 12].try_into().unwrap()) == 0x8000_0004)
@@ -480,7 +476,7 @@ fn bad_binary_input_gets_a_located_error() {
 fn unknown_call_ids_are_skipped_and_counted() {
     let dir = temp_dir("unknown");
     let name = "vkcube_f3.gfxr";
-    let bytes = std::fs::read(fixture(name)).unwrap();
+    let bytes = std::fs::read(gfxr_fixture(name)).unwrap();
     // Every vkCreateFence call's id replaced by one no Vulkan version has: the frame still
     // imports (its passes need no fence) and the summary counts them.
     let blocks = block_offsets(&bytes);
@@ -516,7 +512,7 @@ fn handles_never_created_are_left_out_not_fatal() {
     // created: the draw lands in no submitted command buffer, and the rest imports.
     let dir = temp_dir("handles");
     let name = "vkcube_f3_none.gfxr";
-    let bytes = std::fs::read(fixture(name)).unwrap();
+    let bytes = std::fs::read(gfxr_fixture(name)).unwrap();
     let mut changed = 0;
     let path = edited(&dir, name, |b| {
         for o in block_offsets(&bytes) {
@@ -546,7 +542,7 @@ type Broken = (&'static str, fn(&mut Value), &'static str);
 fn the_vulkan_section_is_validated() {
     let dir = temp_dir("vkvalid");
     let out = dir.join("cube.json");
-    import(&fixture("vkcube_f3.gfxr"), &out);
+    import(&gfxr_fixture("vkcube_f3.gfxr"), &out);
     let good: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     let cases: [Broken; 4] = [
         (
@@ -589,7 +585,7 @@ fn draws_carry_their_dynamic_state_and_push_constants() {
     // mpv's draw pushes 72 bytes of constants and sets a 640x360 viewport and scissor.
     let dir = temp_dir("state");
     let out = dir.join("mpv.json");
-    import(&fixture("mpv_testsrc_f5.gfxr"), &out);
+    import(&gfxr_fixture("mpv_testsrc_f5.gfxr"), &out);
     let capture: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     let draw = capture["passes"]
         .as_array()

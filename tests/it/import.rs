@@ -10,11 +10,7 @@ use std::path::{Path, PathBuf};
 use framelab_core::capture::dxgi;
 use serde_json::Value;
 
-use crate::common::{framelab, json, repo, stderr, stdout};
-
-fn fixture(name: &str) -> PathBuf {
-    repo().join("tests/fixtures/gfxr").join(name)
-}
+use crate::common::{framelab, gfxr_fixture, json, stderr, stdout};
 
 const STREAMS: [&str; 6] = [
     "vkd3d_triangle.jsonl",
@@ -155,7 +151,7 @@ fn import_cli(name: &str, extra: &[&str]) -> (Value, PathBuf) {
     let dir = std::env::temp_dir().join(format!("framelab-import-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join(name.replace(".jsonl", &format!("{}.json", extra.join("_"))));
-    let input = fixture(name);
+    let input = gfxr_fixture(name);
     let mut args = vec![
         "import",
         input.to_str().unwrap(),
@@ -183,7 +179,7 @@ fn kind_count(c: &Value, kind: &str) -> usize {
 #[test]
 fn every_stream_imports_as_it_was_recorded() {
     for name in STREAMS {
-        let expected = counts(&fixture(name));
+        let expected = counts(&gfxr_fixture(name));
         let (c, out) = import_cli(name, &[]);
         let ps = passes(&c);
         let draws: usize = ps
@@ -402,7 +398,7 @@ fn the_1x_dialect_with_frames_queues_and_semaphores() {
     assert_eq!(names, ["density (frame 1)", "render_pass (frame 1)"]);
     let o = framelab(&[
         "import",
-        fixture("v1_dynamic_rendering.jsonl").to_str().unwrap(),
+        gfxr_fixture("v1_dynamic_rendering.jsonl").to_str().unwrap(),
         "-o",
         "/dev/null",
         "--frame",
@@ -543,7 +539,7 @@ fn imported_captures_are_analysed_not_replayed() {
 fn unreadable_streams_are_located_and_write_nothing() {
     let dir = std::env::temp_dir().join(format!("framelab-import-bad-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let text = std::fs::read_to_string(fixture("vkd3d_triangle.jsonl")).unwrap();
+    let text = std::fs::read_to_string(gfxr_fixture("vkd3d_triangle.jsonl")).unwrap();
     let mut lines: Vec<&str> = text.lines().collect();
     let truncated = &lines[40][..lines[40].len() / 2].to_owned();
     lines[40] = truncated;
