@@ -544,7 +544,7 @@ fn the_vulkan_section_is_validated() {
     let out = dir.join("cube.json");
     import(&gfxr_fixture("vkcube_f3.gfxr"), &out);
     let good: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    let cases: [Broken; 4] = [
+    let cases: [Broken; 5] = [
         (
             "entry",
             |c| c["vulkan"]["pipelines"][0]["stages"][1]["entry"] = "mian".into(),
@@ -564,6 +564,14 @@ fn the_vulkan_section_is_validated() {
             "draw",
             |c| c["passes"][0]["draws"][0]["pipeline"] = "pipeline_2".into(),
             "no pipeline \"pipeline_2\"",
+        ),
+        (
+            "view",
+            |c| {
+                c["passes"][0]["draws"][0]["vulkan_state"]["descriptors"][1]["view"] =
+                    "view_9".into()
+            },
+            "no image view \"view_9\"",
         ),
     ];
     let ok = framelab(&["validate", out.to_str().unwrap()]);
@@ -606,4 +614,22 @@ fn draws_carry_their_dynamic_state_and_push_constants() {
     );
     assert_eq!(state["scissor"], serde_json::json!([0, 0, 640, 360]));
     assert_eq!(state["push_constants"].as_str().unwrap().len(), 72 * 2);
+    // vkcube's draw reads its uniform buffer and samples the logo through a view and sampler.
+    let out = dir.join("cube.json");
+    import(&gfxr_fixture("vkcube_f3.gfxr"), &out);
+    let capture: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let d = &capture["passes"][0]["draws"][0]["vulkan_state"]["descriptors"];
+    assert_eq!(d[0]["descriptor_type"], "UNIFORM_BUFFER");
+    assert_eq!(d[0]["range"], 1216);
+    assert_eq!(d[1]["descriptor_type"], "COMBINED_IMAGE_SAMPLER");
+    let view = &capture["vulkan"]["image_views"][0];
+    assert_eq!(d[1]["view"], view["name"]);
+    assert_eq!(view["format"], "VK_FORMAT_R8G8B8A8_UNORM");
+    let sampler = capture["vulkan"]["samplers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["name"] == d[1]["sampler"])
+        .expect("the draw's sampler");
+    assert_eq!(sampler["mag_filter"], "VK_FILTER_NEAREST");
 }

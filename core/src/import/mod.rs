@@ -483,6 +483,7 @@ fn finish(
     );
     let names = imp.builder.names.clone();
     let pipelines_used = std::mem::take(&mut imp.builder.pipelines_used);
+    let views_used = std::mem::take(&mut imp.builder.views_used);
     let emitted = emit::emit(
         imp.builder,
         &imp.objects,
@@ -510,26 +511,49 @@ fn finish(
             .collect(),
         None => BTreeMap::new(),
     };
-    let (vulkan, vulkan_notes) = imp.pipelines.emit(&pipelines_used, &module_files);
+    let (mut vulkan, vulkan_notes) = imp.pipelines.emit(&pipelines_used, &module_files);
+    vulkan.image_views = views_used.into_values().collect();
     skipped.extend(vulkan_notes.into_iter().map(|what| Skipped {
         what,
         count: 1,
         first_line: None,
     }));
     // A pipeline whose creation the stream does not hold is named in a note, not by draws.
+    // So is a sampler whose creation it does not hold.
     let known: std::collections::BTreeSet<String> =
         vulkan.pipelines.iter().map(|p| p.name.clone()).collect();
+    let samplers: std::collections::BTreeSet<String> =
+        vulkan.samplers.iter().map(|s| s.name.clone()).collect();
+    let mut unknown_samplers = 0u64;
     for pass in &mut capture.passes {
         let named = pass
             .draws
             .iter_mut()
-            .map(|d| &mut d.pipeline)
-            .chain(pass.dispatches.iter_mut().map(|d| &mut d.pipeline));
-        for p in named {
+            .map(|d| (&mut d.pipeline, &mut d.vulkan_state))
+            .chain(
+                pass.dispatches
+                    .iter_mut()
+                    .map(|d| (&mut d.pipeline, &mut d.vulkan_state)),
+            );
+        for (p, state) in named {
             if p.as_ref().is_some_and(|n| !known.contains(n)) {
                 *p = None;
             }
+            for d in &mut state.descriptors {
+                if d.sampler.as_ref().is_some_and(|n| !samplers.contains(n)) {
+                    d.sampler = None;
+                    unknown_samplers += 1;
+                }
+            }
         }
+    }
+    if unknown_samplers > 0 {
+        skipped.push(Skipped {
+            what: "descriptors naming samplers the stream never created: sampler left out"
+                .to_owned(),
+            count: unknown_samplers,
+            first_line: None,
+        });
     }
     capture.vulkan = (vulkan != Default::default()).then_some(vulkan);
     let mut side_files = Vec::new();
@@ -562,7 +586,7 @@ fn finish(
         }));
         if let Some(source) = &mut capture.source {
             source.not_replayable = Some(format!(
-                "the frame's {} SPIR-V modules, its {} pipelines with their layouts and fixed-function state, and the contents of {} resources are imported, but replaying Vulkan pipelines through wgpu is not built yet, and the draws do not yet carry the views and samplers their descriptor sets held, their dynamic viewports and scissors, or their push constants",
+                "the frame's {} SPIR-V modules, its {} pipelines with their layouts and fixed-function state, every draw's descriptors, viewport, scissor and push constants, and the contents of {} resources are imported, but replaying Vulkan pipelines through wgpu is not built yet",
                 shader_modules.unwrap_or(0),
                 capture.vulkan.as_ref().map_or(0, |v| v.pipelines.len()),
                 contents.as_ref().map_or(0, |c| c.resources)

@@ -37,6 +37,10 @@ pub fn module_name(h: u64) -> String {
     format!("module_{h}")
 }
 
+pub fn sampler_name(h: u64) -> String {
+    format!("sampler_{h}")
+}
+
 pub fn pipeline_name(h: u64) -> String {
     format!("pipeline_{h}")
 }
@@ -166,7 +170,7 @@ impl Pipelines {
             if let Some((l, fixed)) = self.set_layouts.get(h) {
                 let mut l = l.clone();
                 for (b, f) in l.bindings.iter_mut().zip(fixed) {
-                    b.immutable_samplers = f.iter().map(|s| format!("sampler_{s}")).collect();
+                    b.immutable_samplers = f.iter().map(|s| sampler_name(*s)).collect();
                     samplers.extend(f.iter().copied());
                 }
                 out.set_layouts.push(l);
@@ -194,7 +198,7 @@ impl Pipelines {
 
 fn sampler(ci: &Arg<'_>, h: u64) -> Got<VkSampler> {
     Ok(VkSampler {
-        name: format!("sampler_{h}"),
+        name: sampler_name(h),
         mag_filter: ci.get("magFilter")?.name()?,
         min_filter: ci.get("minFilter")?.name()?,
         mipmap_mode: ci.get("mipmapMode")?.name()?,

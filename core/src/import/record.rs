@@ -278,6 +278,7 @@ impl Recording {
                 .push
                 .as_ref()
                 .map(|p| p.iter().map(|b| format!("{b:02x}")).collect()),
+            descriptors: Vec::new(),
         }
     }
 

@@ -103,7 +103,14 @@ pub struct FramebufferInfo {
 pub enum Descriptor {
     Image {
         view: u64,
+        /// The sampler of a combined image sampler (0 for none).
+        sampler: u64,
         ty: String,
+    },
+    /// A sampler on its own (`VK_DESCRIPTOR_TYPE_SAMPLER`): no resource, but the draw
+    /// samples with it.
+    Sampler {
+        sampler: u64,
     },
     Buffer {
         buffer: u64,
@@ -137,6 +144,8 @@ pub struct Objects {
     pub images: HashMap<u64, ImageInfo>,
     pub buffers: HashMap<u64, BufferInfo>,
     pub views: HashMap<u64, ViewInfo>,
+    /// Image view -> (view type, format, aspect mask), for the replay's views.
+    pub view_kinds: HashMap<u64, (String, String, u64)>,
     /// Texel buffer views -> (buffer, offset, range).
     pub buffer_views: HashMap<u64, (u64, u64, u64)>,
     pub render_passes: HashMap<u64, RenderPassInfo>,
@@ -377,9 +386,18 @@ impl Objects {
     fn create_image_view(&mut self, args: &Arg<'_>) -> Got<()> {
         let ci = args.get("pCreateInfo")?;
         let range = ci.get("subresourceRange")?;
-        let _aspect = range.get("aspectMask")?.flags(ASPECTS)?;
+        let aspect = range.get("aspectMask")?.flags(ASPECTS)?;
+        let view = args.get("pView")?.handle()?;
+        self.view_kinds.insert(
+            view,
+            (
+                ci.get("viewType")?.name()?,
+                ci.get("format")?.name()?,
+                aspect,
+            ),
+        );
         self.views.insert(
-            args.get("pView")?.handle()?,
+            view,
             ViewInfo {
                 image: ci.get("image")?.handle()?,
                 base_mip: range.get("baseMipLevel")?.u32()?,
@@ -528,14 +546,30 @@ pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
         kind,
         "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" | "4" | "5"
     );
-    if is_image {
+    if kind == "SAMPLER" || kind == "0" {
+        for (k, i) in images.iter().enumerate() {
+            let sampler = i.get("sampler")?.handle()?;
+            if sampler != 0 {
+                out.push((
+                    (binding, first.saturating_add(k as u32)),
+                    Descriptor::Sampler { sampler },
+                ));
+            }
+        }
+    } else if is_image {
         for (k, i) in images.iter().enumerate() {
             let view = i.get("imageView")?.handle()?;
+            let sampler = if kind == "COMBINED_IMAGE_SAMPLER" || kind == "1" {
+                i.get("sampler")?.handle()?
+            } else {
+                0
+            };
             if view != 0 {
                 out.push((
                     (binding, first.saturating_add(k as u32)),
                     Descriptor::Image {
                         view,
+                        sampler,
                         ty: kind.to_owned(),
                     },
                 ));

@@ -17,6 +17,9 @@ pub struct VulkanObjects {
     pub shader_modules: Vec<ShaderModule>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub samplers: Vec<VkSampler>,
+    /// The image views the draws' and dispatches' descriptors name.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub image_views: Vec<VkImageView>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub set_layouts: Vec<SetLayout>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -61,6 +64,57 @@ pub struct VkSampler {
     pub border_color: String,
     #[serde(default)]
     pub unnormalized_coordinates: bool,
+}
+
+/// A `VkImageView`: the image (a resource) and what of it the view sees.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkImageView {
+    pub name: String,
+    pub image: String,
+    /// `VK_IMAGE_VIEW_TYPE_*`.
+    pub view_type: String,
+    /// `VK_FORMAT_*`.
+    pub format: String,
+    /// `VkImageAspectFlags`.
+    pub aspect: u32,
+    #[serde(default)]
+    pub base_mip: u32,
+    /// Absent: every level from `base_mip`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mips: Option<u32>,
+    #[serde(default)]
+    pub base_layer: u32,
+    /// Absent: every layer from `base_layer`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layers: Option<u32>,
+}
+
+/// A descriptor a draw or dispatch could reach: in set `set`, at `binding` and array
+/// `element`, as the set held it when the command was recorded (dynamic offsets applied).
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkDescriptor {
+    pub set: u32,
+    pub binding: u32,
+    #[serde(default)]
+    pub element: u32,
+    /// `VK_DESCRIPTOR_TYPE_*` without the prefix (`COMBINED_IMAGE_SAMPLER`).
+    pub descriptor_type: String,
+    /// The buffer or image (through `view`), by resource name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resource: Option<String>,
+    /// An image view of `vulkan.image_views`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub view: Option<String>,
+    /// A sampler of `vulkan.samplers`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sampler: Option<String>,
+    /// Buffers: the bytes bound.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub offset: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range: Option<u64>,
 }
 
 /// A `VkDescriptorSetLayout`.
@@ -273,6 +327,9 @@ pub struct VkCommandState {
     /// only `pValues`' address).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub push_constants: Option<String>,
+    /// The descriptors of the sets bound at its bind point, in set, binding, element order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub descriptors: Vec<VkDescriptor>,
 }
 
 impl VkCommandState {

@@ -82,7 +82,9 @@ impl Validator<'_> {
     pub(super) fn check_vulkan(&mut self) {
         let raw = self.raw;
         let root = self.root.field("vulkan");
+        let resources: BTreeSet<&str> = raw.resources.iter().map(|r| r.name.as_str()).collect();
         let Some(vk) = &raw.vulkan else {
+            self.check_descriptors(&resources, &BTreeSet::new(), &BTreeSet::new());
             self.check_pipeline_uses(None);
             return;
         };
@@ -148,6 +150,22 @@ impl Validator<'_> {
                 }
             }
         }
+        let views = unique(
+            self,
+            vk.image_views
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (v.name.as_str(), root.field("image_views").index(i))),
+            "image view",
+        );
+        for (i, v) in vk.image_views.iter().enumerate() {
+            if !resources.contains(v.image.as_str()) {
+                let p = root.field("image_views").index(i).field("image");
+                self.diags
+                    .error("vulkan", &p, format!("no resource \"{}\"", v.image));
+            }
+        }
+        self.check_descriptors(&resources, &views, &samplers);
         let modules = self.check_modules(vk, &root);
         for (i, p) in vk.pipelines.iter().enumerate() {
             let path = root.field("pipelines").index(i);
@@ -233,6 +251,52 @@ impl Validator<'_> {
             out.insert(m.name.as_str(), entries);
         }
         out
+    }
+
+    /// Every descriptor a draw or dispatch carries names a resource, image view and sampler
+    /// that exist.
+    fn check_descriptors(
+        &mut self,
+        resources: &BTreeSet<&str>,
+        views: &BTreeSet<&str>,
+        samplers: &BTreeSet<&str>,
+    ) {
+        let raw = self.raw;
+        for (i, pass) in raw.passes.iter().enumerate() {
+            let path = self.root.field("passes").index(i);
+            let states = pass
+                .draws
+                .iter()
+                .enumerate()
+                .map(|(j, d)| (&d.vulkan_state, path.field("draws").index(j)))
+                .chain(
+                    pass.dispatches
+                        .iter()
+                        .enumerate()
+                        .map(|(j, d)| (&d.vulkan_state, path.field("dispatches").index(j))),
+                );
+            for (state, p) in states {
+                for (k, d) in state.descriptors.iter().enumerate() {
+                    let dp = p.field("vulkan_state").field("descriptors").index(k);
+                    let checks = [
+                        (d.resource.as_deref(), resources, "resource", "resource"),
+                        (d.view.as_deref(), views, "view", "image view"),
+                        (d.sampler.as_deref(), samplers, "sampler", "sampler"),
+                    ];
+                    for (name, known, field, kind) in checks {
+                        if let Some(n) = name
+                            && !known.contains(n)
+                        {
+                            self.diags.error(
+                                "vulkan",
+                                &dp.field(field),
+                                format!("no {kind} \"{n}\""),
+                            );
+                        }
+                    }
+                }
+            }
+        }
     }
 
     /// Every draw names a graphics pipeline and every dispatch a compute one, when they name
