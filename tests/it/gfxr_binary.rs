@@ -633,3 +633,85 @@ fn draws_carry_their_dynamic_state_and_push_constants() {
         .expect("the draw's sampler");
     assert_eq!(sampler["mag_filter"], "VK_FILTER_NEAREST");
 }
+
+#[test]
+fn every_live_allocation_and_resource_is_imported() {
+    // vkd3d-gears creates two 1x1 images for null descriptors that no command uses; they and
+    // every other allocation alive in the frame are part of what the application had
+    // resident. Counted here from the JSON Lines stream: allocations not freed, each with the
+    // images and buffers bound to it.
+    let dir = temp_dir("alive");
+    let text = std::fs::read_to_string(gfxr_fixture("vkd3d_gears_f2.jsonl")).unwrap();
+    let mut allocations = std::collections::BTreeMap::new();
+    let mut bound = std::collections::BTreeMap::<u64, Vec<u64>>::new();
+    for line in text.lines() {
+        let v: Value = serde_json::from_str(line).unwrap();
+        let Some(f) = v.get("vkFunc") else { continue };
+        let a = &f["args"];
+        match f["name"].as_str().unwrap() {
+            "vkAllocateMemory" => {
+                allocations.insert(
+                    a["pMemory"].as_u64().unwrap(),
+                    a["pAllocateInfo"]["allocationSize"].as_u64().unwrap(),
+                );
+            }
+            "vkFreeMemory" => {
+                allocations.remove(&a["memory"].as_u64().unwrap());
+            }
+            "vkBindImageMemory" | "vkBindBufferMemory" => {
+                let object = a.get("image").or_else(|| a.get("buffer")).unwrap();
+                bound
+                    .entry(a["memory"].as_u64().unwrap())
+                    .or_default()
+                    .push(object.as_u64().unwrap());
+            }
+            _ => {}
+        }
+    }
+    for route in ["gfxr", "jsonl"] {
+        let out = dir.join(format!("gears_{route}.json"));
+        import(&gfxr_fixture(&format!("vkd3d_gears_f2.{route}")), &out);
+        let capture: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        let heaps: std::collections::BTreeMap<String, u64> = capture["heaps"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|h| {
+                (
+                    h["name"].as_str().unwrap().to_owned(),
+                    h["size"].as_u64().unwrap(),
+                )
+            })
+            .collect();
+        let expected: std::collections::BTreeMap<String, u64> = allocations
+            .iter()
+            .filter(|(m, _)| bound.contains_key(m))
+            .map(|(m, size)| (format!("memory_{m}"), *size))
+            .collect();
+        assert_eq!(
+            heaps, expected,
+            "{route}: heaps against the stream's allocations"
+        );
+        let placed: std::collections::BTreeSet<String> = capture["resources"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|r| r["placement"]["placed"]["heap"].as_str().map(str::to_owned))
+            .collect();
+        assert_eq!(
+            placed,
+            expected.keys().cloned().collect(),
+            "{route}: every allocation holds an imported resource"
+        );
+        let null_images = capture["resources"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|r| r["format"] == "R8G8B8A8_UNORM" && r["width"] == 1 && r["height"] == 1)
+            .count();
+        assert_eq!(
+            null_images, 2,
+            "{route}: vkd3d's two null-descriptor images"
+        );
+    }
+}

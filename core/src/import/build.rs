@@ -61,6 +61,8 @@ pub struct Builder {
     pub first_submit: Option<u64>,
     pub draws: u64,
     pub dispatches: u64,
+    /// Block index of the last submission whose passes are imported.
+    pub last_submit: Option<u64>,
     /// Pipelines the imported draws and dispatches bound.
     pub pipelines_used: BTreeSet<u64>,
     /// Image views their descriptors name.
@@ -116,6 +118,35 @@ impl Builder {
 
     /// The name a resource is known by from its first use on; `None` (and a note) for one
     /// framelab cannot represent.
+    /// Names every image and buffer alive during the imported frames (created before their
+    /// last submission, not destroyed before their first), so the capture holds what the
+    /// application really had resident even where no pass touches it.
+    pub fn keep_alive(&mut self, objects: &Objects) {
+        let (Some(first), Some(last)) = (self.first_submit, self.last_submit) else {
+            return;
+        };
+        let alive = |created: u64, destroyed: Option<u64>| {
+            created <= last && destroyed.is_none_or(|d| d > first)
+        };
+        let mut handles: Vec<u64> = objects
+            .images
+            .iter()
+            .filter(|(_, i)| alive(i.created_at, i.destroyed_at))
+            .map(|(h, _)| *h)
+            .chain(
+                objects
+                    .buffers
+                    .iter()
+                    .filter(|(_, b)| alive(b.created_at, b.destroyed_at))
+                    .map(|(h, _)| *h),
+            )
+            .collect();
+        handles.sort_unstable();
+        for h in handles {
+            self.resource(objects, h);
+        }
+    }
+
     fn resource(&mut self, objects: &Objects, handle: u64) -> Option<String> {
         if let Some(n) = self.names.get(&handle) {
             return Some(n.clone());
@@ -258,6 +289,9 @@ impl Builder {
         signals: &[u64],
     ) {
         self.wait(queue, waits);
+        if self.emitting() {
+            self.last_submit = Some(objects.at);
+        }
         if self.emitting() && self.first_submit.is_none() {
             self.first_submit = Some(objects.at);
         }

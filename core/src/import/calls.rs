@@ -60,6 +60,8 @@ pub enum Func {
     SetDebugUtilsObjectName,
     DebugMarkerSetObjectName,
     MapMemory,
+    /// `vkDestroyImage` or `vkDestroyBuffer`.
+    Destroy(Object),
     CreateShaderModule,
     CreateSampler,
     CreateDescriptorSetLayout,
@@ -209,6 +211,8 @@ impl Func {
             "vkSetDebugUtilsObjectNameEXT" => Func::SetDebugUtilsObjectName,
             "vkDebugMarkerSetObjectNameEXT" => Func::DebugMarkerSetObjectName,
             "vkMapMemory" | "vkMapMemory2KHR" | "vkMapMemory2" => Func::MapMemory,
+            "vkDestroyImage" => Func::Destroy(Object::Image),
+            "vkDestroyBuffer" => Func::Destroy(Object::Buffer),
             "vkCreateShaderModule" => Func::CreateShaderModule,
             "vkCreateSampler" => Func::CreateSampler,
             "vkCreateDescriptorSetLayout" => Func::CreateDescriptorSetLayout,

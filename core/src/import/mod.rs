@@ -481,6 +481,7 @@ fn finish(
         || "imported".to_owned(),
         |s| s.to_string_lossy().into_owned(),
     );
+    imp.builder.keep_alive(&imp.objects);
     let names = imp.builder.names.clone();
     let pipelines_used = std::mem::take(&mut imp.builder.pipelines_used);
     let views_used = std::mem::take(&mut imp.builder.views_used);

@@ -28,12 +28,16 @@ pub struct ImageInfo {
     pub swapchain: Option<(u64, u32)>,
     /// Block index of the call that created it.
     pub created_at: u64,
+    /// Block index of the call that destroyed it, if any.
+    pub destroyed_at: Option<u64>,
 }
 
 #[derive(Clone, Debug)]
 pub struct BufferInfo {
     /// Block index of the call that created it.
     pub created_at: u64,
+    /// Block index of the call that destroyed it, if any.
+    pub destroyed_at: Option<u64>,
     pub size: u64,
     pub usage: u64,
     pub bound: Option<(u64, u64)>,
@@ -281,6 +285,16 @@ impl Objects {
                 self.names
                     .insert(handle, info.get("pObjectName")?.str()?.to_owned());
             }
+            Func::Destroy(Object::Image) => {
+                if let Some(i) = self.images.get_mut(&args.get("image")?.handle()?) {
+                    i.destroyed_at = Some(self.at);
+                }
+            }
+            Func::Destroy(Object::Buffer) => {
+                if let Some(b) = self.buffers.get_mut(&args.get("buffer")?.handle()?) {
+                    b.destroyed_at = Some(self.at);
+                }
+            }
             Func::MapMemory => {
                 let memory = match args.opt("pMemoryMapInfo") {
                     Some(info) => info.get("memory")?.handle()?,
@@ -327,6 +341,7 @@ impl Objects {
             buffer,
             BufferInfo {
                 created_at: self.at,
+                destroyed_at: None,
                 size: ci.get("size")?.u64()?,
                 usage: ci.get("usage")?.flags(BUFFER_USAGE)?,
                 bound: None,
@@ -357,6 +372,7 @@ impl Objects {
             alignment: None,
             swapchain: None,
             created_at: self.at,
+            destroyed_at: None,
         };
         self.images.insert(image, info);
         Ok(())
@@ -493,6 +509,7 @@ impl Objects {
                     alignment: None,
                     swapchain: Some((chain, i as u32)),
                     created_at: self.at,
+                    destroyed_at: None,
                 },
             );
         }
