@@ -188,15 +188,8 @@ fn render(s: &Summary, out: &Path) -> String {
         "  {} images, {} buffers in {} heaps, {} queues, {} recorded barriers, {} fences\n",
         s.images, s.buffers, s.heaps, s.queues, s.recorded_barriers, s.fences
     );
-    if !s.skipped.is_empty() {
-        t += "left out or approximated:\n";
-        for k in &s.skipped {
-            let at = k
-                .first_line
-                .map(|l| format!(" (first at {unit} {l})"))
-                .unwrap_or_default();
-            t += &format!("  {}x {}{at}\n", k.count, k.what);
-        }
+    if s.pipelines > 0 {
+        t += &format!("  {} Vulkan pipelines bound by the draws and dispatches\n", s.pipelines);
     }
     if let Some(n) = s.shader_modules {
         t += &format!("  {n} SPIR-V shader modules\n");
@@ -206,6 +199,16 @@ fn render(s: &Summary, out: &Path) -> String {
             "  contents of {} resources at the start of the frame ({} bytes; {} mapped-memory writes before it)\n",
             c.resources, c.bytes, c.memory_writes
         );
+    }
+    if !s.skipped.is_empty() {
+        t += "left out or approximated:\n";
+        for k in &s.skipped {
+            let at = k
+                .first_line
+                .map(|l| format!(" (first at {unit} {l})"))
+                .unwrap_or_default();
+            t += &format!("  {}x {}{at}\n", k.count, k.what);
+        }
     }
     if let Some(why) = &s.not_replayable {
         t += &format!("not replayable yet: {why}\n");

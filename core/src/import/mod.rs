@@ -91,6 +91,8 @@ pub struct Summary {
     pub skipped: Vec<Skipped>,
     /// Calls of functions that create or record nothing framelab models, by name.
     pub not_modelled: BTreeMap<String, u64>,
+    /// Vulkan pipelines the imported draws and dispatches bound (in the capture's `vulkan`).
+    pub pipelines: usize,
     /// Binary captures: SPIR-V modules written as side files.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shader_modules: Option<usize>,
@@ -629,6 +631,7 @@ fn finish(
         fences: capture.fences.len(),
         skipped,
         not_modelled,
+        pipelines: capture.vulkan.as_ref().map_or(0, |v| v.pipelines.len()),
         shader_modules,
         contents,
         not_replayable,
