@@ -189,7 +189,10 @@ fn render(s: &Summary, out: &Path) -> String {
         s.images, s.buffers, s.heaps, s.queues, s.recorded_barriers, s.fences
     );
     if s.pipelines > 0 {
-        t += &format!("  {} Vulkan pipelines bound by the draws and dispatches\n", s.pipelines);
+        t += &format!(
+            "  {} Vulkan pipelines bound by the draws and dispatches\n",
+            s.pipelines
+        );
     }
     if let Some(n) = s.shader_modules {
         t += &format!("  {n} SPIR-V shader modules\n");
