@@ -307,3 +307,37 @@ fn instance_ranges_past_the_mesh_rows_are_refused() {
     }
     assert!(missed.is_empty(), "accepted:\n{}", missed.join("\n"));
 }
+
+/// Class: one texture subresource read through one binding and written through another in
+/// one pass. Every sampled mip range of a 4-mip texture against a storage view of each mip:
+/// refused exactly when the ranges share a mip.
+#[test]
+fn reading_and_writing_one_subresource_through_two_views_is_refused() {
+    let text = std::fs::read_to_string(repo().join("tests/invalid/srv_uav_same_subresource.json"))
+        .unwrap();
+    let mut base: Value = serde_json::from_str(&text).unwrap();
+    base["resources"][0]["mip_levels"] = json!(4);
+    let mut walked = 0;
+    for dst in 0..4u32 {
+        for src_base in 0..4u32 {
+            for src_count in 1..=(4 - src_base) {
+                let mut c = base.clone();
+                let b = &mut c["passes"][0]["bindings"];
+                b["src"]["mips"] = json!({"base": src_base, "count": src_count});
+                b["dst"]["mips"] = json!({"base": dst, "count": 1});
+                let overlap = src_base <= dst && dst < src_base + src_count;
+                let hazards = errors_as(&c, "tests/invalid/srv_uav_same_subresource.json")
+                    .iter()
+                    .filter(|d| d.code == "view-hazard")
+                    .count();
+                assert_eq!(
+                    hazards,
+                    usize::from(overlap),
+                    "src mips {src_base}+{src_count}, dst mip {dst}"
+                );
+                walked += 1;
+            }
+        }
+    }
+    assert_eq!(walked, 40);
+}

@@ -181,6 +181,80 @@ impl<'a> Validator<'a> {
         }
     }
 
+    /// A texture subresource may not be read through one binding and written through another
+    /// in one pass (a shader resource and an unordered-access view of the same mip and
+    /// layer): D3D12 forbids it without a barrier between the work, and within one dispatch
+    /// or draw it is undefined. Every pass kind, every overlapping range. An imported frame
+    /// binds what the application bound without the shader code that would say which
+    /// bindings it really uses, so there it is a warning.
+    fn check_view_hazards(
+        &mut self,
+        p: &Pass,
+        path: &JsonPath,
+        resources: Option<&[ResourceDesc]>,
+        accesses: &[ResourceAccess],
+        bindings: &[BindingDesc],
+    ) {
+        let overlaps = |a: &Subresources, b: &Subresources| {
+            a.mip_base < b.mip_base + b.mip_count
+                && b.mip_base < a.mip_base + a.mip_count
+                && a.layer_base < b.layer_base + b.layer_count.max(1)
+                && b.layer_base < a.layer_base + a.layer_count.max(1)
+        };
+        let previous_frame = |variable: &str| {
+            bindings
+                .iter()
+                .any(|b| b.variable == variable && b.previous_frame)
+        };
+        let bound: Vec<(&str, &ResourceAccess)> = accesses
+            .iter()
+            .filter_map(|a| match &a.source {
+                AccessSource::Binding(v) if !previous_frame(v) => Some((v.as_str(), a)),
+                _ => None,
+            })
+            .collect();
+        let imported = self.raw.source.is_some();
+        let mut reported = std::collections::BTreeSet::new();
+        for (i, (wv, w)) in bound.iter().enumerate() {
+            if !w.writes {
+                continue;
+            }
+            let Some(r) = resources.and_then(|r| r.get(w.resource.index())) else {
+                continue;
+            };
+            if !r.is_texture() {
+                continue;
+            }
+            for (j, (rv, other)) in bound.iter().enumerate() {
+                if i == j
+                    || other.resource != w.resource
+                    || other.writes
+                    || !overlaps(&w.range, &other.range)
+                {
+                    continue;
+                }
+                if !reported.insert((*rv, *wv)) {
+                    continue;
+                }
+                let message = format!(
+                    "pass \"{}\" reads \"{}\" through `{rv}` ({}) and writes the same subresource (mip {}, layer {}) through `{wv}` ({}): one subresource cannot be read and written through different views in one pass; bind one read-write view, or split the pass with a barrier between",
+                    p.name,
+                    r.name,
+                    other.access.as_str(),
+                    w.range.mip_base.max(other.range.mip_base),
+                    w.range.layer_base.max(other.range.layer_base),
+                    w.access.as_str()
+                );
+                let at = path.field("bindings").field(rv);
+                if imported {
+                    self.diags.warning("view-hazard", &at, message);
+                } else {
+                    self.diags.error("view-hazard", &at, message);
+                }
+            }
+        }
+    }
+
     pub(super) fn check_pass(
         &mut self,
         index: usize,
@@ -225,6 +299,7 @@ impl<'a> Validator<'a> {
 
         let draws = self.pass_draws(p, path, resources, &mut accesses, &cx);
         self.check_feedback(p, path, resources, &accesses, &bindings);
+        self.check_view_hazards(p, path, resources, &accesses, &bindings);
         self.check_sample_counts(p, path, resources, &accesses);
 
         let dispatches = self.pass_dispatches(p, path, resources, &mut accesses);
