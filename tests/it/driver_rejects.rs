@@ -341,3 +341,56 @@ fn reading_and_writing_one_subresource_through_two_views_is_refused() {
     }
     assert_eq!(walked, 40);
 }
+
+/// The same class on a buffer: a storage-read range and a storage-write range of one buffer
+/// in one pass, every pair of four 256-byte ranges and the whole buffer: refused exactly when
+/// the bytes overlap.
+#[test]
+fn reading_and_writing_overlapping_buffer_bytes_through_two_views_is_refused() {
+    let base = json!({
+        "format_version": 1,
+        "name": "buffer_view_hazard",
+        "resolution": {"width": 64, "height": 64},
+        "camera": {"position": [0, 2, -10], "target": [0, 0, 0], "fov_y_degrees": 60},
+        "resources": [{"name": "words", "kind": "buffer", "buffer_kind": "structured", "stride": 4,
+                       "size": 1024, "flags": ["ALLOW_UNORDERED_ACCESS"]}],
+        "queues": [{"name": "gfx", "type": "graphics"}],
+        "passes": [{"name": "bump", "queue": "gfx", "kind": "compute",
+                    "shader": {"file": "buffer_view_hazard.wgsl", "compute": "cs_main"},
+                    "bindings": {"src": {"resource": "words", "access": "storage_read"},
+                                 "dst": {"resource": "words", "access": "storage_read_write"}},
+                    "dispatches": [{"groups": [1, 1, 1]}]}]
+    });
+    let ranges: [Option<(u64, u64)>; 5] = [
+        None,
+        Some((0, 256)),
+        Some((256, 256)),
+        Some((512, 512)),
+        Some((128, 256)),
+    ];
+    let span = |r: Option<(u64, u64)>| r.map_or((0, 1024), |(o, s)| (o, o + s));
+    let mut walked = 0;
+    for src in ranges {
+        for dst in ranges {
+            let mut c = base.clone();
+            let b = &mut c["passes"][0]["bindings"];
+            if let Some((offset, size)) = src {
+                b["src"]["bytes"] = json!({"offset": offset, "size": size});
+            }
+            if let Some((offset, size)) = dst {
+                b["dst"]["bytes"] = json!({"offset": offset, "size": size});
+            }
+            let (a, d) = (span(src), span(dst));
+            let overlap = a.0 < d.1 && d.0 < a.1;
+            let errors = errors_as(&c, "tests/invalid/buffer_view_hazard.json");
+            let hazards = errors.iter().filter(|d| d.code == "view-hazard").count();
+            assert_eq!(
+                hazards,
+                usize::from(overlap),
+                "src {src:?}, dst {dst:?}: {errors:?}"
+            );
+            walked += 1;
+        }
+    }
+    assert_eq!(walked, 25);
+}

@@ -181,10 +181,11 @@ impl<'a> Validator<'a> {
         }
     }
 
-    /// A texture subresource may not be read through one binding and written through another
-    /// in one pass (a shader resource and an unordered-access view of the same mip and
-    /// layer): D3D12 forbids it without a barrier between the work, and within one dispatch
-    /// or draw it is undefined. Every pass kind, every overlapping range. An imported frame
+    /// A subresource may not be read through one binding and written through another in one
+    /// pass (a shader resource and an unordered-access view of the same mip and layer, or of
+    /// overlapping bytes of a buffer): D3D12 forbids it without a barrier between the work,
+    /// and within one dispatch or draw it is undefined. Every pass kind, every overlapping
+    /// range. An imported frame
     /// binds what the application bound without the shader code that would say which
     /// bindings it really uses, so there it is a warning.
     fn check_view_hazards(
@@ -213,6 +214,15 @@ impl<'a> Validator<'a> {
                 _ => None,
             })
             .collect();
+        // A buffer binding's bytes: its range, or the whole buffer.
+        let bytes = |variable: &str| {
+            p.bindings
+                .get(variable)
+                .and_then(|b| b.bytes.as_ref())
+                .map_or((0, u64::MAX), |r| {
+                    (r.offset, r.offset.saturating_add(r.size))
+                })
+        };
         let imported = self.raw.source.is_some();
         let mut reported = std::collections::BTreeSet::new();
         for (i, (wv, w)) in bound.iter().enumerate() {
@@ -222,27 +232,37 @@ impl<'a> Validator<'a> {
             let Some(r) = resources.and_then(|r| r.get(w.resource.index())) else {
                 continue;
             };
-            if !r.is_texture() {
-                continue;
-            }
+            let texture = r.is_texture();
             for (j, (rv, other)) in bound.iter().enumerate() {
-                if i == j
-                    || other.resource != w.resource
-                    || other.writes
-                    || !overlaps(&w.range, &other.range)
-                {
+                if i == j || other.resource != w.resource || other.writes {
+                    continue;
+                }
+                let shared = if texture {
+                    overlaps(&w.range, &other.range)
+                } else {
+                    let (a, b) = (bytes(wv), bytes(rv));
+                    a.0 < b.1 && b.0 < a.1
+                };
+                if !shared {
                     continue;
                 }
                 if !reported.insert((*rv, *wv)) {
                     continue;
                 }
+                let what = if texture {
+                    format!(
+                        "the same subresource (mip {}, layer {})",
+                        w.range.mip_base.max(other.range.mip_base),
+                        w.range.layer_base.max(other.range.layer_base)
+                    )
+                } else {
+                    "overlapping bytes".to_owned()
+                };
                 let message = format!(
-                    "pass \"{}\" reads \"{}\" through `{rv}` ({}) and writes the same subresource (mip {}, layer {}) through `{wv}` ({}): one subresource cannot be read and written through different views in one pass; bind one read-write view, or split the pass with a barrier between",
+                    "pass \"{}\" reads \"{}\" through `{rv}` ({}) and writes {what} through `{wv}` ({}): one subresource cannot be read and written through different views in one pass; bind one read-write view, or split the pass with a barrier between",
                     p.name,
                     r.name,
                     other.access.as_str(),
-                    w.range.mip_base.max(other.range.mip_base),
-                    w.range.layer_base.max(other.range.layer_base),
                     w.access.as_str()
                 );
                 let at = path.field("bindings").field(rv);
