@@ -715,3 +715,29 @@ fn every_live_allocation_and_resource_is_imported() {
         );
     }
 }
+
+#[test]
+fn a_sparse_capture_is_refused_at_once() {
+    // A capture header followed by 64 GiB of zeros (a sparse file): refused at its first
+    // block, not read to its end.
+    let dir = temp_dir("sparse");
+    let path = dir.join("sparse.gfxr");
+    let mut head = std::fs::read(gfxr_fixture("vkcube_f3.gfxr")).unwrap();
+    head.truncate(24);
+    std::fs::write(&path, &head).unwrap();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .open(&path)
+        .unwrap()
+        .set_len(64 << 30)
+        .unwrap();
+    let started = std::time::Instant::now();
+    let e = refused(&path, &dir);
+    assert!(
+        e.contains("block 0 at byte 24") && e.contains("zero-filled"),
+        "{e}"
+    );
+    // Generous for a loaded CI machine; reading the file would take minutes.
+    assert!(started.elapsed() < std::time::Duration::from_secs(20));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

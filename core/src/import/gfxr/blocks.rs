@@ -230,6 +230,16 @@ impl<R: Read> Blocks<R> {
                 ),
             ));
         }
+        // GFXReconstruct never writes type 0; a run of them is a zero-filled (or sparse) file,
+        // which would otherwise be read 12 bytes at a time to its end.
+        if raw_kind == 0 {
+            return Err(err(
+                at,
+                format!(
+                    "block type 0 (size {size}): GFXReconstruct writes no such block; the file is corrupt or zero-filled here"
+                ),
+            ));
+        }
         let kind = Kind::of(raw_kind);
         let compressed = raw_kind & COMPRESSED_BIT != 0;
         if compressed && !matches!(kind, Kind::MetaData | Kind::FunctionCall | Kind::MethodCall) {
