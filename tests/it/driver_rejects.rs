@@ -308,6 +308,14 @@ fn instance_ranges_past_the_mesh_rows_are_refused() {
     assert!(missed.is_empty(), "accepted:\n{}", missed.join("\n"));
 }
 
+/// How many `view-hazard` errors `capture` gets, validated as the file `at`.
+fn view_hazards(capture: &Value, at: &str) -> usize {
+    errors_as(capture, at)
+        .iter()
+        .filter(|d| d.code == "view-hazard")
+        .count()
+}
+
 /// Class: one texture subresource read through one binding and written through another in
 /// one pass. Every sampled mip range of a 4-mip texture against a storage view of each mip:
 /// refused exactly when the ranges share a mip.
@@ -326,10 +334,7 @@ fn reading_and_writing_one_subresource_through_two_views_is_refused() {
                 b["src"]["mips"] = json!({"base": src_base, "count": src_count});
                 b["dst"]["mips"] = json!({"base": dst, "count": 1});
                 let overlap = src_base <= dst && dst < src_base + src_count;
-                let hazards = errors_as(&c, "tests/invalid/srv_uav_same_subresource.json")
-                    .iter()
-                    .filter(|d| d.code == "view-hazard")
-                    .count();
+                let hazards = view_hazards(&c, "tests/invalid/srv_uav_same_subresource.json");
                 assert_eq!(
                     hazards,
                     usize::from(overlap),
@@ -382,13 +387,8 @@ fn reading_and_writing_overlapping_buffer_bytes_through_two_views_is_refused() {
             }
             let (a, d) = (span(src), span(dst));
             let overlap = a.0 < d.1 && d.0 < a.1;
-            let errors = errors_as(&c, "tests/invalid/buffer_view_hazard.json");
-            let hazards = errors.iter().filter(|d| d.code == "view-hazard").count();
-            assert_eq!(
-                hazards,
-                usize::from(overlap),
-                "src {src:?}, dst {dst:?}: {errors:?}"
-            );
+            let hazards = view_hazards(&c, "tests/invalid/buffer_view_hazard.json");
+            assert_eq!(hazards, usize::from(overlap), "src {src:?}, dst {dst:?}");
             walked += 1;
         }
     }

@@ -146,6 +146,33 @@ impl FormatInfo {
             .checked_mul(u64::from(self.bits_per_element))?;
         Some(bits.div_ceil(8))
     }
+
+    /// Bytes of every mip level, layer and sample of a texture in this format, tightly packed
+    /// level after level; `depth` is a 3D texture's (halved with each level), 1 otherwise.
+    /// `None` on overflow or for a format without a size.
+    pub fn texture_bytes(
+        &self,
+        (width, height, depth): (u32, u32, u32),
+        layers: u32,
+        mips: u32,
+        samples: u32,
+    ) -> Option<u64> {
+        let mut sum: u64 = 0;
+        for m in 0..mips {
+            let (w, h, d) = (
+                (width >> m).max(1),
+                (height >> m).max(1),
+                (depth >> m).max(1),
+            );
+            let level = self
+                .surface_bytes(u64::from(w), u64::from(h))?
+                .checked_mul(u64::from(d))?
+                .checked_mul(u64::from(layers))?
+                .checked_mul(u64::from(samples))?;
+            sum = sum.checked_add(level)?;
+        }
+        Some(sum)
+    }
 }
 
 impl fmt::Display for FormatInfo {

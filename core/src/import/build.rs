@@ -10,15 +10,13 @@ use super::commands::{
     BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, Region, RenderInstance,
     TransferCmd, Use,
 };
-use super::pipelines;
 use super::record::Recording;
 use super::state::{Descriptor, Objects};
 use crate::capture::dxgi;
 use crate::capture::format::{
     Access, BarrierType, Binding, ByteRange, Clear, ColorAttachment, Copy, CopyLocation,
     DepthStencilAttachment, Dispatch, Draw, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range,
-    RecordedBarrier, Resolve, SplitFlag, StoreOp, VkCommandState, VkDescriptor, VkImageView,
-    VulkanBarrier,
+    RecordedBarrier, Resolve, SplitFlag, StoreOp, VkImageView, VulkanBarrier,
 };
 
 /// Deepest nesting of secondary command buffers followed.
@@ -147,7 +145,7 @@ impl Builder {
         }
     }
 
-    fn resource(&mut self, objects: &Objects, handle: u64) -> Option<String> {
+    pub(super) fn resource(&mut self, objects: &Objects, handle: u64) -> Option<String> {
         if let Some(n) = self.names.get(&handle) {
             return Some(n.clone());
         }
@@ -591,85 +589,6 @@ impl Builder {
         }
     }
 
-    /// The descriptors a draw or dispatch can reach, by name, for the replay; the image views
-    /// they name are kept for the `vulkan` section.
-    fn vk_descriptors(&mut self, objects: &Objects, uses: &[Use]) -> Vec<VkDescriptor> {
-        let mut out = Vec::new();
-        for u in uses {
-            let mut d = VkDescriptor {
-                set: u.set,
-                binding: u.binding,
-                element: u.element,
-                descriptor_type: String::new(),
-                resource: None,
-                view: None,
-                sampler: None,
-                offset: None,
-                range: None,
-            };
-            match &u.descriptor {
-                Descriptor::Sampler { sampler } => {
-                    d.descriptor_type = "SAMPLER".to_owned();
-                    d.sampler = Some(pipelines::sampler_name(*sampler));
-                }
-                Descriptor::Image { view, sampler, ty } => {
-                    d.descriptor_type = ty.clone();
-                    let (Some(v), Some((view_type, format, aspect))) =
-                        (objects.views.get(view), objects.view_kinds.get(view))
-                    else {
-                        continue;
-                    };
-                    let Some(image) = self.resource(objects, v.image) else {
-                        continue;
-                    };
-                    let name = format!("view_{view}");
-                    self.views_used.entry(*view).or_insert_with(|| VkImageView {
-                        name: name.clone(),
-                        image: image.clone(),
-                        view_type: view_type.clone(),
-                        format: format.clone(),
-                        aspect: *aspect as u32,
-                        base_mip: v.base_mip,
-                        mips: v.mip_count,
-                        base_layer: v.base_layer,
-                        layers: v.layer_count,
-                    });
-                    d.resource = Some(image);
-                    d.view = Some(name);
-                    d.sampler = (*sampler != 0).then(|| pipelines::sampler_name(*sampler));
-                }
-                Descriptor::Buffer {
-                    buffer,
-                    offset,
-                    range,
-                    ty,
-                } => {
-                    d.descriptor_type = ty.clone();
-                    let Some(name) = self.resource(objects, *buffer) else {
-                        continue;
-                    };
-                    d.resource = Some(name);
-                    d.offset = Some(*offset);
-                    d.range = Some(*range);
-                }
-                Descriptor::TexelBuffer { view, ty } => {
-                    d.descriptor_type = ty.clone();
-                    let Some(&(buffer, offset, range)) = objects.buffer_views.get(view) else {
-                        continue;
-                    };
-                    let Some(name) = self.resource(objects, buffer) else {
-                        continue;
-                    };
-                    d.resource = Some(name);
-                    d.offset = Some(offset);
-                    d.range = Some(range);
-                }
-            }
-            out.push(d);
-        }
-        out
-    }
-
     /// Bindings from the descriptors a draw or dispatch can reach. Without shader code,
     /// storage descriptors count as read-write.
     fn bind(&mut self, objects: &Objects, pass: usize, uses: &[Use]) {
@@ -807,7 +726,7 @@ impl Builder {
             },
             None => None,
         };
-        let descriptors = self.vk_descriptors(objects, &d.uses);
+        let (pipeline, vulkan_state) = self.vk_work(objects, d.pipeline, &d.state, &d.uses);
         self.passes[pass].draws.push(Draw {
             label: None,
             vertex: None,
@@ -820,14 +739,8 @@ impl Builder {
             first_instance: d.first_instance,
             base_vertex: d.base_vertex,
             indirect,
-            pipeline: d.pipeline.map(|p| {
-                self.pipelines_used.insert(p);
-                pipelines::pipeline_name(p)
-            }),
-            vulkan_state: VkCommandState {
-                descriptors,
-                ..d.state.clone()
-            },
+            pipeline,
+            vulkan_state,
             stencil_reference: None,
             params: BTreeMap::new(),
         });
@@ -843,20 +756,14 @@ impl Builder {
             },
             None => None,
         };
-        let descriptors = self.vk_descriptors(objects, &d.uses);
+        let (pipeline, vulkan_state) = self.vk_work(objects, d.pipeline, &d.state, &d.uses);
         self.passes[pass].dispatches.push(Dispatch {
             label: None,
             entry: None,
             groups: d.groups,
             indirect,
-            pipeline: d.pipeline.map(|p| {
-                self.pipelines_used.insert(p);
-                pipelines::pipeline_name(p)
-            }),
-            vulkan_state: VkCommandState {
-                descriptors,
-                ..d.state.clone()
-            },
+            pipeline,
+            vulkan_state,
             params: BTreeMap::new(),
         });
     }

@@ -15,6 +15,7 @@ mod render_pass;
 mod state;
 mod stream;
 mod value;
+mod vk_work;
 
 use std::collections::{BTreeMap, HashMap};
 use std::io::BufRead;

@@ -12,6 +12,7 @@ use std::path::{Component, Path, PathBuf};
 mod bindings;
 mod copies;
 mod descriptors;
+mod hazards;
 mod heaps;
 mod passes;
 mod resources;

@@ -720,23 +720,12 @@ impl<'a> Validator<'a> {
             mips,
             samples,
         } = d;
-        let mut sum: Option<u64> = Some(0);
-        for m in 0..mips {
-            let (w, h) = ((width >> m).max(1), (height >> m).max(1));
-            let d = if r.kind == ResourceKind::Texture3D {
-                (depth >> m).max(1)
-            } else {
-                1
-            };
-            let surface = format.surface_bytes(u64::from(w), u64::from(h));
-            sum = sum.and_then(|s| {
-                surface?
-                    .checked_mul(u64::from(d))?
-                    .checked_mul(u64::from(layers))?
-                    .checked_mul(u64::from(samples))
-                    .and_then(|b| s.checked_add(b))
-            });
-        }
+        let depth = if r.kind == ResourceKind::Texture3D {
+            depth
+        } else {
+            1
+        };
+        let sum = format.texture_bytes((width, height, depth), layers, mips, samples);
         if sum.is_none() {
             self.diags.error(
                 "limit",

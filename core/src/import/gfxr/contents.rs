@@ -363,22 +363,15 @@ impl Contents {
 /// Bytes of every mip level and layer of a single-sampled image, tightly packed: the layout
 /// of a snapshot and of a `file`'s contents.
 fn packed_size(img: &ImageInfo) -> Option<u64> {
-    let format = dxgi::lookup_vk(&img.format)?;
-    let mut sum = 0u64;
-    for m in 0..img.mips.min(32) {
-        let (w, h, d) = (
-            (img.extent[0] >> m).max(1),
-            (img.extent[1] >> m).max(1),
-            (img.extent[2] >> m).max(1),
-        );
-        let surface = format.surface_bytes(u64::from(w), u64::from(h))?;
-        sum = sum.checked_add(
-            surface
-                .checked_mul(u64::from(d))?
-                .checked_mul(u64::from(img.layers.max(1)))?,
-        )?;
+    if img.samples > 1 {
+        return None;
     }
-    (img.samples <= 1).then_some(sum)
+    dxgi::lookup_vk(&img.format)?.texture_bytes(
+        (img.extent[0], img.extent[1], img.extent[2]),
+        img.layers.max(1),
+        img.mips.min(32),
+        1,
+    )
 }
 
 /// A resource name as a file name: letters, digits, `-`, `_` and `.` kept, the rest `_`.
