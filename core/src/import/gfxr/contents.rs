@@ -231,7 +231,7 @@ impl Contents {
                     .or_default()
                     .push(ImageData { aspect, data });
             }
-            Meta::SwapchainImageState { .. } | Meta::Other(_) => {}
+            Meta::Other(_) => {}
         }
     }
 

@@ -1,7 +1,6 @@
 //! The meta-data commands a capture carries besides API calls: what the application wrote
-//! into mapped memory, the buffer and image contents of a trimmed capture's state snapshot,
-//! and the swapchain images' state. Each is read into a plain record; the rest are named
-//! and counted.
+//! into mapped memory, and the buffer and image contents of a trimmed capture's state
+//! snapshot. Each is read into a plain record; the rest are named and counted.
 
 use super::blocks::Block;
 use super::compress::{self, Compression};
@@ -27,21 +26,8 @@ pub enum Meta {
         level_sizes: Vec<u64>,
         data: Vec<u8>,
     },
-    /// The layout and acquisition of each swapchain image at the start of the capture.
-    SwapchainImageState {
-        swapchain: u64,
-        images: Vec<SwapchainImage>,
-    },
     /// Anything else, by name.
     Other(&'static str),
-}
-
-#[derive(Clone, Copy, Debug)]
-pub struct SwapchainImage {
-    pub image: u64,
-    pub index: u32,
-    pub layout: u32,
-    pub acquired: bool,
 }
 
 impl Meta {
@@ -51,7 +37,7 @@ impl Meta {
             Meta::FillMemory { data, .. }
             | Meta::InitBuffer { data, .. }
             | Meta::InitImage { data, .. } => data.len() as u64,
-            Meta::SwapchainImageState { .. } | Meta::Other(_) => 0,
+            Meta::Other(_) => 0,
         }
     }
 
@@ -61,7 +47,6 @@ impl Meta {
             Meta::FillMemory { .. } => "fill memory",
             Meta::InitBuffer { .. } => "init buffer",
             Meta::InitImage { .. } => "init image",
-            Meta::SwapchainImageState { .. } => "swapchain image state",
             Meta::Other(name) => name,
         }
     }
@@ -70,6 +55,7 @@ impl Meta {
 fn name(kind: u32) -> &'static str {
     match kind {
         1 => "display message",
+        4 => "swapchain image state",
         3 | 13 => "resize window",
         5 => "begin resource init",
         6 => "end resource init",
@@ -200,34 +186,6 @@ pub fn read(block: &Block, how: Compression) -> Result<Meta, String> {
                 level_sizes,
                 data,
             }
-        }
-        4 => {
-            let (_thread, _device) = (f.u64()?, f.u64()?);
-            let swapchain = f.u64()?;
-            let _last_presented = f.u32()?;
-            let count = f.u32()?;
-            // 48 bytes per image record.
-            if u64::from(count) * 48 > (f.body.len() - f.pos) as u64 {
-                return Err(format!(
-                    "swapchain image state lists {count} images, more than the block holds"
-                ));
-            }
-            let mut images = Vec::with_capacity(count as usize);
-            for _ in 0..count {
-                let image = f.u64()?;
-                let index = f.u32()?;
-                let layout = f.u32()?;
-                let acquired = f.u32()? != 0;
-                let _mask = f.u32()?;
-                let (_sem, _fence, _queue) = (f.u64()?, f.u64()?, f.u64()?);
-                images.push(SwapchainImage {
-                    image,
-                    index,
-                    layout,
-                    acquired,
-                });
-            }
-            Meta::SwapchainImageState { swapchain, images }
         }
         other => Meta::Other(name(other)),
     })

@@ -34,7 +34,6 @@ struct Reading {
     other: BTreeMap<String, u64>,
     /// Calls whose id no table knows, by id.
     unknown_ids: BTreeMap<u32, (u64, u64)>,
-    in_snapshot: bool,
 }
 
 fn located(file: &str, at: blocks::At, message: impl Into<String>) -> ImportError {
@@ -184,7 +183,6 @@ pub fn import(
         blocks: 0,
         other: BTreeMap::new(),
         unknown_ids: BTreeMap::new(),
-        in_snapshot: false,
     };
     let mut contents = Contents::default();
     while let Some(block) = blocks.next_block() {
@@ -207,7 +205,7 @@ pub fn import(
                     imp.frame_end();
                 }
             }
-            Kind::StateMarker => reading.in_snapshot = block.id == 1,
+            Kind::StateMarker => reading.count("(state snapshot markers)"),
             Kind::Annotation => reading.annotation(&block),
             Kind::MethodCall => reading.count("(D3D12 method calls)"),
             Kind::Unknown(t) => reading.count(format!("(blocks of unknown type {t:#x})")),
