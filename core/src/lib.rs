@@ -23,9 +23,11 @@ pub mod pipeline;
 pub mod plan;
 pub mod schema;
 pub mod shader;
+pub mod spirv;
 pub mod structure;
 pub mod text;
 pub mod timing;
 pub mod uniforms;
+pub mod vk_plan;
 
 pub use wgpu_types;

@@ -5,6 +5,7 @@
 //! it is.
 
 use crate::capture::model::{PassId, QueueId};
+pub use crate::vk_plan::*;
 
 #[derive(Debug, Clone)]
 pub struct Plan {
@@ -15,6 +16,8 @@ pub struct Plan {
     pub shaders: Vec<ShaderSource>,
     /// Passes in execution order.
     pub passes: Vec<PassSpec>,
+    /// An imported frame's pipelines (empty for a capture written for framelab).
+    pub vk: VkPlan,
 }
 
 #[derive(Debug, Clone)]
@@ -113,13 +116,17 @@ pub enum PassOp {
         base_layer: u32,
         layers: u32,
     },
+    /// An imported render pass: each draw with its own Vulkan pipeline.
+    VkRaster(VkRasterOp),
+    /// An imported compute pass.
+    VkCompute(VkComputeOp),
     /// The presented image; replay leaves it for export.
     Present {
         texture: usize,
     },
 }
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum BindTarget {
     Texture {
         texture: usize,

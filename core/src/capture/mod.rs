@@ -11,6 +11,7 @@ pub mod model;
 pub mod shaders;
 pub mod validate;
 pub mod vulkan;
+pub mod vk_model;
 
 pub use diag::{Diagnostic, Severity};
 pub use load::CaptureError;

@@ -69,6 +69,8 @@ pub struct Capture {
     pub shaders: Vec<super::shaders::Shader>,
     /// The tool and stream an imported capture came from.
     pub origin: Option<super::format::CaptureSource>,
+    /// An imported frame's Vulkan objects, by index.
+    pub vulkan: Option<super::vk_model::VkModel>,
 }
 
 impl Capture {
@@ -459,6 +461,8 @@ pub struct DrawDesc {
     pub indirect: Option<(ResourceId, u64)>,
     pub stencil_reference: Option<u32>,
     pub params: std::collections::BTreeMap<String, ParamValue>,
+    /// An imported draw's pipeline and state.
+    pub vk: Option<Box<super::vk_model::VkWork>>,
 }
 
 #[derive(Clone, Debug)]
@@ -468,6 +472,8 @@ pub struct DispatchDesc {
     pub groups: Option<[u32; 3]>,
     pub indirect: Option<(ResourceId, u64)>,
     pub params: std::collections::BTreeMap<String, ParamValue>,
+    /// An imported dispatch's pipeline and state.
+    pub vk: Option<Box<super::vk_model::VkWork>>,
 }
 
 #[derive(Clone, Debug)]

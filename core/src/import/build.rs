@@ -14,6 +14,7 @@ use super::record::Recording;
 use super::state::{Descriptor, Objects};
 use crate::capture::dxgi;
 use crate::capture::format::{
+    VkIndexBuffer, VkVertexBuffer,
     Access, BarrierType, Binding, ByteRange, Clear, ColorAttachment, Copy, CopyLocation,
     DepthStencilAttachment, Dispatch, Draw, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range,
     RecordedBarrier, Resolve, SplitFlag, StoreOp, VkImageView, VulkanBarrier,
@@ -713,12 +714,31 @@ impl Builder {
     fn draw(&mut self, objects: &Objects, pass: usize, d: &DrawCmd) {
         self.draws += 1;
         self.bind(objects, pass, &d.uses);
-        let vertex_buffers: Vec<String> = d
+        let vk_vertex: Vec<VkVertexBuffer> = d
             .vertex_buffers
             .iter()
-            .filter_map(|b| self.resource(objects, *b))
+            .filter_map(|&(binding, b, offset)| {
+                Some(VkVertexBuffer {
+                    binding,
+                    resource: self.resource(objects, b)?,
+                    offset,
+                })
+            })
             .collect();
-        let index_buffer = d.index_buffer.and_then(|b| self.resource(objects, b));
+        let vk_index = d.index_buffer.as_ref().and_then(|(b, offset, ty)| {
+            Some(VkIndexBuffer {
+                resource: self.resource(objects, *b)?,
+                offset: *offset,
+                index_type: ty.clone(),
+            })
+        });
+        let mut vertex_buffers: Vec<String> = Vec::new();
+        for v in &vk_vertex {
+            if !vertex_buffers.contains(&v.resource) {
+                vertex_buffers.push(v.resource.clone());
+            }
+        }
+        let index_buffer = vk_index.as_ref().map(|i| i.resource.clone());
         let indirect = match d.indirect {
             Some((b, offset)) => match self.resource(objects, b) {
                 Some(buffer) => Some(IndirectArgs { buffer, offset }),
@@ -726,7 +746,9 @@ impl Builder {
             },
             None => None,
         };
-        let (pipeline, vulkan_state) = self.vk_work(objects, d.pipeline, &d.state, &d.uses);
+        let (pipeline, mut vulkan_state) = self.vk_work(objects, d.pipeline, &d.state, &d.uses);
+        vulkan_state.vertex_buffers = vk_vertex;
+        vulkan_state.index_buffer = vk_index;
         self.passes[pass].draws.push(Draw {
             label: None,
             vertex: None,

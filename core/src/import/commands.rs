@@ -32,8 +32,10 @@ pub struct DrawCmd {
     pub first_instance: u32,
     pub indirect: Option<(u64, u64)>,
     pub uses: Vec<Use>,
-    pub vertex_buffers: Vec<u64>,
-    pub index_buffer: Option<u64>,
+    /// (binding, buffer, offset).
+    pub vertex_buffers: Vec<(u32, u64, u64)>,
+    /// (buffer, offset, `VK_INDEX_TYPE_*`).
+    pub index_buffer: Option<(u64, u64, String)>,
     /// The graphics pipeline bound.
     pub pipeline: Option<u64>,
     pub state: VkCommandState,

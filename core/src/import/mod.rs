@@ -588,13 +588,9 @@ fn finish(
             count: 1,
             first_line: None,
         }));
+        // The binary capture holds the code and the contents: the frame replays.
         if let Some(source) = &mut capture.source {
-            source.not_replayable = Some(format!(
-                "the frame's {} SPIR-V modules, its {} pipelines with their layouts and fixed-function state, every draw's descriptors, viewport, scissor and push constants, and the contents of {} resources are imported, but replaying Vulkan pipelines through wgpu is not built yet",
-                shader_modules.unwrap_or(0),
-                capture.vulkan.as_ref().map_or(0, |v| v.pipelines.len()),
-                contents.as_ref().map_or(0, |c| c.resources)
-            ));
+            source.not_replayable = None;
         }
     }
     let not_replayable = capture

@@ -21,8 +21,10 @@ use crate::capture::vulkan::{AccessFlags, PipelineStages};
 struct Bound {
     /// (bind point is compute, set index) -> descriptors with dynamic offsets applied.
     sets: BTreeMap<(bool, u32), Vec<Use>>,
-    vertex: BTreeMap<u32, u64>,
-    index: Option<u64>,
+    /// Binding -> (buffer, offset).
+    vertex: BTreeMap<u32, (u64, u64)>,
+    /// (buffer, offset, `VK_INDEX_TYPE_*`).
+    index: Option<(u64, u64, String)>,
     /// Bind point is compute -> the pipeline bound.
     pipelines: BTreeMap<bool, u64>,
     viewport: Option<[f32; 6]>,
@@ -131,7 +133,15 @@ impl Recording {
             CmdFunc::BindVertexBuffers => return self.bind_vertex_buffers(args).map(|()| true),
             CmdFunc::BindIndexBuffer => {
                 let b = args.get("buffer")?.handle()?;
-                self.bound.index = (b != 0).then_some(b);
+                self.bound.index = if b == 0 {
+                    None
+                } else {
+                    Some((
+                        b,
+                        args.get("offset")?.u64()?,
+                        args.get("indexType")?.name()?,
+                    ))
+                };
                 return Ok(true);
             }
             CmdFunc::Draw { indexed } => self.draw_call(indexed, args)?,
@@ -279,18 +289,25 @@ impl Recording {
                 .as_ref()
                 .map(|p| p.iter().map(|b| format!("{b:02x}")).collect()),
             descriptors: Vec::new(),
+            vertex_buffers: Vec::new(),
+            index_buffer: None,
         }
     }
 
     fn bind_vertex_buffers(&mut self, args: &Arg<'_>) -> Got<()> {
         let first = args.get("firstBinding")?.u32()?;
+        let offsets = args.list("pOffsets")?;
         for (k, b) in args.list("pBuffers")?.iter().enumerate() {
             let buffer = b.handle()?;
             let slot = first.saturating_add(k as u32);
+            let offset = match offsets.get(k) {
+                Some(o) => o.u64()?,
+                None => 0,
+            };
             if buffer == 0 {
                 self.bound.vertex.remove(&slot);
             } else {
-                self.bound.vertex.insert(slot, buffer);
+                self.bound.vertex.insert(slot, (buffer, offset));
             }
         }
         Ok(())
@@ -421,8 +438,17 @@ impl Recording {
             first_instance: 0,
             indirect,
             uses: self.uses(false),
-            vertex_buffers: self.bound.vertex.values().copied().collect(),
-            index_buffer: if indexed { self.bound.index } else { None },
+            vertex_buffers: self
+                .bound
+                .vertex
+                .iter()
+                .map(|(&slot, &(buffer, offset))| (slot, buffer, offset))
+                .collect(),
+            index_buffer: if indexed {
+                self.bound.index.clone()
+            } else {
+                None
+            },
             pipeline: self.bound.pipelines.get(&false).copied(),
             state: self.state(false),
         }

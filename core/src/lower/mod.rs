@@ -13,6 +13,9 @@ mod passes;
 mod resources;
 mod states;
 mod usage;
+mod vulkan;
+
+pub use vulkan::VkProblem;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -58,6 +61,12 @@ pub enum LowerError {
     Pass { pass: String, problem: PassError },
     #[error("{0}")]
     NotReplayable(String),
+    #[error("pass \"{pass}\", {work}: {problem}")]
+    Vulkan {
+        pass: String,
+        work: String,
+        problem: VkProblem,
+    },
     #[error("pass \"{pass}\" needs {feature}, which adapter {adapter} does not support")]
     MissingFeature {
         pass: String,
@@ -155,6 +164,7 @@ struct Lowering<'c> {
     /// Optional device features each pass needs (by pass name, so errors name it).
     pass_features: BTreeMap<&'c str, Features>,
     shader_index: BTreeMap<ShaderId, usize>,
+    vk: vulkan::VkLowering,
 }
 
 /// Lowers `capture`'s passes in `order` for an adapter with the `available` features.
@@ -179,12 +189,14 @@ pub fn lower(
             meshes: Vec::new(),
             shaders: Vec::new(),
             passes: Vec::new(),
+            vk: VkPlan::default(),
         },
         texture_of: BTreeMap::new(),
         buffer_of: BTreeMap::new(),
         notes: Vec::new(),
         pass_features: BTreeMap::new(),
         shader_index: BTreeMap::new(),
+        vk: vulkan::VkLowering::default(),
     };
     for r in &capture.resources {
         l.resource(r)?;

@@ -40,7 +40,7 @@ fn params(p: &BTreeMap<String, cf::ParamValue>) -> Params {
         .collect()
 }
 
-fn pass_error(p: &PassDesc, problem: PassError) -> LowerError {
+pub(super) fn pass_error(p: &PassDesc, problem: PassError) -> LowerError {
     LowerError::Pass {
         pass: p.name.clone(),
         problem,
@@ -49,9 +49,17 @@ fn pass_error(p: &PassDesc, problem: PassError) -> LowerError {
 
 impl<'c> Lowering<'c> {
     pub(super) fn pass(&mut self, p: &'c PassDesc) -> Result<(), LowerError> {
+        let imported = p.draws.iter().any(|d| d.vk.is_some())
+            || p.dispatches.iter().any(|d| d.vk.is_some());
         let shader = self.shader(p);
-        let bindings = self.bindings(p)?;
+        let bindings = if imported {
+            Vec::new()
+        } else {
+            self.bindings(p)?
+        };
         let op = match p.kind {
+            PassKind::Raster if imported => self.vk_raster(p)?,
+            PassKind::Compute if imported => self.vk_compute(p)?,
             PassKind::Raster => self.raster(p, shader.unwrap_or(0), bindings)?,
             PassKind::Compute => self.compute(p, shader.unwrap_or(0), bindings)?,
             PassKind::Copy => self.copies(p)?,
@@ -92,7 +100,7 @@ impl<'c> Lowering<'c> {
         Ok(())
     }
 
-    fn tex(&self, p: &PassDesc, r: ResourceId) -> Result<usize, LowerError> {
+    pub(super) fn tex(&self, p: &PassDesc, r: ResourceId) -> Result<usize, LowerError> {
         self.texture_of.get(&r).copied().ok_or_else(|| {
             pass_error(
                 p,
@@ -103,7 +111,7 @@ impl<'c> Lowering<'c> {
         })
     }
 
-    fn buf(&self, p: &PassDesc, r: ResourceId) -> Result<usize, LowerError> {
+    pub(super) fn buf(&self, p: &PassDesc, r: ResourceId) -> Result<usize, LowerError> {
         self.buffer_of.get(&r).copied().ok_or_else(|| {
             pass_error(
                 p,
@@ -190,23 +198,7 @@ impl<'c> Lowering<'c> {
             .as_ref()
             .ok_or_else(|| pass_error(p, PassError::NoShader))?;
         let color = self.color_targets(p)?;
-        let depth = match &p.depth_stencil {
-            Some(d) => {
-                let t = self.tex(p, d.resource)?;
-                Some(DepthTarget {
-                    texture: t,
-                    format: self.plan.textures[t].format,
-                    mip: d.mip,
-                    layer: d.layer,
-                    depth_clear: (d.depth_load == LoadOp::Clear).then_some(d.depth_clear as f32),
-                    depth_store: d.depth_store == StoreOp::Store,
-                    stencil_clear: (d.stencil_load == LoadOp::Clear).then_some(d.stencil_clear),
-                    stencil_store: d.stencil_store == StoreOp::Store,
-                    read_only: d.read_only,
-                })
-            }
-            None => None,
-        };
+        let depth = self.depth_target(p)?;
         let st = &p.state;
         let draws = p
             .draws
@@ -245,7 +237,25 @@ impl<'c> Lowering<'c> {
         }))
     }
 
-    fn color_targets(&mut self, p: &'c PassDesc) -> Result<Vec<ColorTarget>, LowerError> {
+    pub(super) fn depth_target(&self, p: &PassDesc) -> Result<Option<DepthTarget>, LowerError> {
+        let Some(d) = &p.depth_stencil else {
+            return Ok(None);
+        };
+        let t = self.tex(p, d.resource)?;
+        Ok(Some(DepthTarget {
+            texture: t,
+            format: self.plan.textures[t].format,
+            mip: d.mip,
+            layer: d.layer,
+            depth_clear: (d.depth_load == LoadOp::Clear).then_some(d.depth_clear as f32),
+            depth_store: d.depth_store == StoreOp::Store,
+            stencil_clear: (d.stencil_load == LoadOp::Clear).then_some(d.stencil_clear),
+            stencil_store: d.stencil_store == StoreOp::Store,
+            read_only: d.read_only,
+        }))
+    }
+
+    pub(super) fn color_targets(&mut self, p: &'c PassDesc) -> Result<Vec<ColorTarget>, LowerError> {
         let mut out = Vec::new();
         for c in &p.color_attachments {
             let t = self.tex(p, c.resource)?;

@@ -2,7 +2,9 @@
 //! (dispatches, indirect), copies, clears, resolves, mip generation. Passes without a pass
 //! object of their own get their timestamps written on the encoder where the adapter allows.
 
-use framelab_core::plan::{ClearOp, ComputeOp, CopyEnd, CopyOp, PassOp, RasterOp};
+use framelab_core::plan::{
+    ClearOp, ColorTarget, ComputeOp, CopyEnd, CopyOp, DepthTarget, PassOp, RasterOp,
+};
 
 use super::create::{extent, texel};
 use super::pipelines::buffer_layout;
@@ -11,6 +13,14 @@ use super::{Prepared, ReplayError, Session};
 
 fn render_stamps(stamps: Stamps<'_>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
     stamps.map(|(set, start, end)| wgpu::RenderPassTimestampWrites {
+        query_set: set,
+        beginning_of_pass_write_index: start,
+        end_of_pass_write_index: Some(end),
+    })
+}
+
+fn compute_stamps(stamps: Stamps<'_>) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    stamps.map(|(set, start, end)| wgpu::ComputePassTimestampWrites {
         query_set: set,
         beginning_of_pass_write_index: start,
         end_of_pass_write_index: Some(end),
@@ -73,6 +83,17 @@ impl Session {
             (PassOp::Compute(c), prepared @ Prepared::Compute { .. }) => self
                 .encode_compute(&pass.name, c, prepared, parity, encoder, stamps)
                 .map_err(err)?,
+            (PassOp::VkRaster(r), Prepared::VkWork(groups)) => {
+                let rp = self.begin_render(&pass.name, &r.color, r.depth.as_ref(), parity, encoder, stamps);
+                self.encode_vk_raster(&pass.name, r, groups, rp);
+            }
+            (PassOp::VkCompute(c), Prepared::VkWork(groups)) => {
+                let cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(&pass.name),
+                    timestamp_writes: compute_stamps(stamps),
+                });
+                self.encode_vk_compute(c, groups, cp);
+            }
             (PassOp::Copy(copies), _) => {
                 stamp_encoder(encoder, false);
                 for c in copies {
@@ -135,79 +156,7 @@ impl Session {
             return Err(EncodeError::NotPrepared);
         };
         let buf = |b: usize| self.buf_at(b, parity);
-        let color_views: Vec<wgpu::TextureView> = r
-            .color
-            .iter()
-            .map(|c| self.view(c.texture, parity, c.mip, c.layer, Some(c.format)))
-            .collect();
-        let depth_view = r
-            .depth
-            .as_ref()
-            .map(|d| self.view(d.texture, parity, d.mip, d.layer, None));
-        let attachments: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = r
-            .color
-            .iter()
-            .zip(&color_views)
-            .map(|(c, view)| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: (self.plan.textures[c.texture].dimension
-                        == wgpu::TextureDimension::D3)
-                        .then_some(c.layer),
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: match c.load {
-                            Some(color) => wgpu::LoadOp::Clear(color),
-                            None if c.discard_load => wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                            None => wgpu::LoadOp::Load,
-                        },
-                        store: if c.store {
-                            wgpu::StoreOp::Store
-                        } else {
-                            wgpu::StoreOp::Discard
-                        },
-                    },
-                })
-            })
-            .collect();
-        let depth_attachment = r.depth.as_ref().zip(depth_view.as_ref()).map(|(d, view)| {
-            let stencil = d.format.has_stencil_aspect();
-            wgpu::RenderPassDepthStencilAttachment {
-                view,
-                depth_ops: if d.read_only {
-                    None
-                } else {
-                    Some(wgpu::Operations {
-                        load: d
-                            .depth_clear
-                            .map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
-                        store: if d.depth_store {
-                            wgpu::StoreOp::Store
-                        } else {
-                            wgpu::StoreOp::Discard
-                        },
-                    })
-                },
-                stencil_ops: (stencil && !d.read_only).then(|| wgpu::Operations {
-                    load: d
-                        .stencil_clear
-                        .map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
-                    store: if d.stencil_store {
-                        wgpu::StoreOp::Store
-                    } else {
-                        wgpu::StoreOp::Discard
-                    },
-                }),
-            }
-        });
-        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(name),
-            color_attachments: &attachments,
-            depth_stencil_attachment: depth_attachment,
-            timestamp_writes: render_stamps(stamps),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut rp = self.begin_render(name, &r.color, r.depth.as_ref(), parity, encoder, stamps);
         rp.set_stencil_reference(r.stencil_reference);
         for (d, set) in r.draws.iter().zip(draw_groups) {
             let vertex = d.vertex.as_ref().unwrap_or(&r.vertex);
@@ -264,6 +213,87 @@ impl Session {
         Ok(())
     }
 
+    /// Begins a render pass on the targets' views, with the pass's timestamps.
+    fn begin_render<'e>(
+        &self,
+        name: &str,
+        color: &[ColorTarget],
+        depth: Option<&DepthTarget>,
+        parity: usize,
+        encoder: &'e mut wgpu::CommandEncoder,
+        stamps: Stamps<'_>,
+    ) -> wgpu::RenderPass<'e> {
+        let color_views: Vec<wgpu::TextureView> = color
+            .iter()
+            .map(|c| self.view(c.texture, parity, c.mip, c.layer, Some(c.format)))
+            .collect();
+        let depth_view = depth
+            .map(|d| self.view(d.texture, parity, d.mip, d.layer, None));
+        let attachments: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = color
+            .iter()
+            .zip(&color_views)
+            .map(|(c, view)| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: (self.plan.textures[c.texture].dimension
+                        == wgpu::TextureDimension::D3)
+                        .then_some(c.layer),
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: match c.load {
+                            Some(color) => wgpu::LoadOp::Clear(color),
+                            None if c.discard_load => wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            None => wgpu::LoadOp::Load,
+                        },
+                        store: if c.store {
+                            wgpu::StoreOp::Store
+                        } else {
+                            wgpu::StoreOp::Discard
+                        },
+                    },
+                })
+            })
+            .collect();
+        let depth_attachment = depth.zip(depth_view.as_ref()).map(|(d, view)| {
+            let stencil = d.format.has_stencil_aspect();
+            wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: if d.read_only {
+                    None
+                } else {
+                    Some(wgpu::Operations {
+                        load: d
+                            .depth_clear
+                            .map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+                        store: if d.depth_store {
+                            wgpu::StoreOp::Store
+                        } else {
+                            wgpu::StoreOp::Discard
+                        },
+                    })
+                },
+                stencil_ops: (stencil && !d.read_only).then(|| wgpu::Operations {
+                    load: d
+                        .stencil_clear
+                        .map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+                    store: if d.stencil_store {
+                        wgpu::StoreOp::Store
+                    } else {
+                        wgpu::StoreOp::Discard
+                    },
+                }),
+            }
+        });
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(name),
+            color_attachments: &attachments,
+            depth_stencil_attachment: depth_attachment,
+            timestamp_writes: render_stamps(stamps),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+
     fn encode_compute(
         &self,
         name: &str,
@@ -284,11 +314,7 @@ impl Session {
         let buf = |b: usize| self.buf_at(b, parity);
         let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(name),
-            timestamp_writes: stamps.map(|(set, start, end)| wgpu::ComputePassTimestampWrites {
-                query_set: set,
-                beginning_of_pass_write_index: start,
-                end_of_pass_write_index: Some(end),
-            }),
+            timestamp_writes: compute_stamps(stamps),
         });
         for (d, set) in c.dispatches.iter().zip(dispatch_groups) {
             let entry = d.entry.as_ref().unwrap_or(&c.entry);

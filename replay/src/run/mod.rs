@@ -14,6 +14,7 @@ mod encode;
 mod frame;
 mod pipelines;
 mod stamps;
+mod vulkan;
 
 use std::collections::BTreeMap;
 
@@ -84,6 +85,8 @@ enum Prepared {
         groups: BTreeMap<String, Vec<Groups>>,
         dispatch_groups: Vec<usize>,
     },
+    /// An imported pass: the bind groups of each draw or dispatch.
+    VkWork(vulkan::WorkGroups),
     Other,
 }
 
@@ -110,6 +113,8 @@ pub struct Session {
     stamp_plan: stamps::StampPlan,
     timestamp_period: f32,
     frames_run: u64,
+    vk: vulkan::VkObjects,
+    vk_layouts: Vec<wgpu::BindGroupLayout>,
 }
 
 impl std::fmt::Debug for Session {
@@ -171,7 +176,10 @@ impl Session {
             stamp_plan: Default::default(),
             timestamp_period,
             frames_run: 0,
+            vk: Default::default(),
+            vk_layouts: Vec::new(),
         };
+        session.create_vk()?;
         for i in 0..session.plan.passes.len() {
             let p = session.prepare(i)?;
             session.prepared.push(p);

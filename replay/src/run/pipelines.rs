@@ -50,6 +50,12 @@ impl Session {
         let prepared = match &pass.op {
             PassOp::Raster(r) => self.prepare_raster(&name, r)?,
             PassOp::Compute(c) => self.prepare_compute(&name, c)?,
+            PassOp::VkRaster(r) => Prepared::VkWork(
+                self.vk_work_groups(&name, r.draws.iter().map(|d| &d.groups[..]).collect())?,
+            ),
+            PassOp::VkCompute(c) => Prepared::VkWork(
+                self.vk_work_groups(&name, c.dispatches.iter().map(|d| &d.groups[..]).collect())?,
+            ),
             PassOp::GenerateMips { texture, .. } => {
                 let format = self.plan.textures[*texture].format;
                 self.mip_pipeline(format);

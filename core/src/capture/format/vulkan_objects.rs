@@ -330,6 +330,33 @@ pub struct VkCommandState {
     /// The descriptors of the sets bound at its bind point, in set, binding, element order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub descriptors: Vec<VkDescriptor>,
+    /// The vertex buffers bound (draws), by binding number.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vertex_buffers: Vec<VkVertexBuffer>,
+    /// The index buffer bound (indexed draws).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub index_buffer: Option<VkIndexBuffer>,
+}
+
+/// A `vkCmdBindVertexBuffers` binding.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkVertexBuffer {
+    pub binding: u32,
+    pub resource: String,
+    #[serde(default)]
+    pub offset: u64,
+}
+
+/// A `vkCmdBindIndexBuffer` binding.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkIndexBuffer {
+    pub resource: String,
+    #[serde(default)]
+    pub offset: u64,
+    /// `VK_INDEX_TYPE_UINT16` or `VK_INDEX_TYPE_UINT32`.
+    pub index_type: String,
 }
 
 impl VkCommandState {

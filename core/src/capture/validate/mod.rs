@@ -154,6 +154,8 @@ struct Validator<'a> {
     /// Resources some pass so far has written: a read of a `history` resource that none has
     /// sees the previous frame's copy, a different texture from the one rendered to.
     written: std::collections::HashSet<ResourceId>,
+    /// The `vulkan` section by index, once it validated.
+    vk_model: Option<crate::capture::vk_model::VkModel>,
 }
 
 /// Bytes of indirect argument records (D3D12_DRAW_INDEXED_ARGUMENTS, D3D12_DRAW_ARGUMENTS,
@@ -184,6 +186,7 @@ impl<'a> Validator<'a> {
             shaders: Vec::new(),
             shader_ids: HashMap::new(),
             written: std::collections::HashSet::new(),
+            vk_model: None,
         }
     }
 
@@ -237,6 +240,7 @@ impl<'a> Validator<'a> {
             passes,
             shaders: std::mem::take(&mut self.shaders),
             origin: self.raw.source.clone(),
+            vulkan: self.vk_model.take(),
         })
     }
 

@@ -416,6 +416,7 @@ impl<'a> Validator<'a> {
         if matches!(p.kind, PassKind::Raster | PassKind::Compute)
             && p.shader.is_none()
             && !self.not_replayable()
+            && !self.vulkan()
         {
             self.diags.error(
                 "shader",

@@ -7,7 +7,11 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::{JsonPath, Validator};
-use crate::capture::format::{PassKind, VulkanObjects};
+use std::sync::Arc;
+
+use crate::capture::format::{PassKind, VkCommandState, VulkanObjects};
+use crate::capture::model::ResourceId;
+use crate::capture::vk_model::*;
 use crate::files;
 
 /// SPIR-V's magic number, the first word of every module.
@@ -186,7 +190,7 @@ impl Validator<'_> {
                     ),
                     // A module whose code the source did not hold cannot be checked further.
                     Some(None) => {}
-                    Some(Some(entries)) => {
+                    Some(Some((entries, _))) => {
                         let model = execution_model(&st.stage);
                         if !entries
                             .iter()
@@ -206,6 +210,177 @@ impl Validator<'_> {
             }
         }
         self.check_pipeline_uses(Some(vk));
+        if !self.diags.has_errors() {
+            self.vk_model = Some(self.vk_model(vk, modules));
+        }
+    }
+
+    /// The section by index, once every name in it is known to resolve.
+    fn vk_model(
+        &self,
+        vk: &VulkanObjects,
+        mut code: BTreeMap<&str, Option<(Vec<(u32, String)>, Vec<u8>)>>,
+    ) -> VkModel {
+        let index = |names: Vec<&str>| -> BTreeMap<String, usize> {
+            names
+                .into_iter()
+                .enumerate()
+                .map(|(i, n)| (n.to_owned(), i))
+                .collect()
+        };
+        let samplers = index(vk.samplers.iter().map(|s| s.name.as_str()).collect());
+        let sets = index(vk.set_layouts.iter().map(|s| s.name.as_str()).collect());
+        let layouts = index(vk.pipeline_layouts.iter().map(|s| s.name.as_str()).collect());
+        let modules = index(vk.shader_modules.iter().map(|s| s.name.as_str()).collect());
+        VkModel {
+            modules: vk
+                .shader_modules
+                .iter()
+                .map(|m| VkModule {
+                    name: m.name.clone(),
+                    file: m.file.clone(),
+                    words: code.remove(m.name.as_str()).flatten().map(|(_, bytes)| {
+                        Arc::new(
+                            bytes
+                                .chunks_exact(4)
+                                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                                .collect(),
+                        )
+                    }),
+                })
+                .collect(),
+            samplers: vk.samplers.clone(),
+            views: vk
+                .image_views
+                .iter()
+                .filter_map(|v| {
+                    Some(VkView {
+                        name: v.name.clone(),
+                        image: ResourceId(self.resources.get(&v.image)?),
+                        view_type: v.view_type.clone(),
+                        format: v.format.clone(),
+                        aspect: v.aspect,
+                        base_mip: v.base_mip,
+                        mips: v.mips,
+                        base_layer: v.base_layer,
+                        layers: v.layers,
+                    })
+                })
+                .collect(),
+            set_layouts: vk
+                .set_layouts
+                .iter()
+                .map(|l| VkSetLayout {
+                    name: l.name.clone(),
+                    flags: l.flags,
+                    bindings: l.bindings.clone(),
+                    immutable: l
+                        .bindings
+                        .iter()
+                        .map(|b| {
+                            b.immutable_samplers
+                                .iter()
+                                .filter_map(|s| samplers.get(s).copied())
+                                .collect()
+                        })
+                        .collect(),
+                })
+                .collect(),
+            pipeline_layouts: vk
+                .pipeline_layouts
+                .iter()
+                .map(|l| VkPipelineLayout {
+                    name: l.name.clone(),
+                    sets: l
+                        .set_layouts
+                        .iter()
+                        .filter_map(|s| sets.get(s).copied())
+                        .collect(),
+                    push_size: l
+                        .push_constants
+                        .iter()
+                        .map(|r| r.offset.saturating_add(r.size))
+                        .max()
+                        .unwrap_or(0),
+                })
+                .collect(),
+            pipelines: vk
+                .pipelines
+                .iter()
+                .map(|p| VkPipeline {
+                    name: p.name.clone(),
+                    compute: p.bind_point.contains("COMPUTE"),
+                    layout: layouts.get(&p.layout).copied().unwrap_or(0),
+                    stages: p
+                        .stages
+                        .iter()
+                        .filter_map(|s| {
+                            Some(VkStage {
+                                stage: s.stage.clone(),
+                                module: modules.get(&s.module).copied()?,
+                                entry: s.entry.clone(),
+                                specialization: s
+                                    .specialization
+                                    .iter()
+                                    .map(|c| (c.id, c.size, c.value))
+                                    .collect(),
+                            })
+                        })
+                        .collect(),
+                    graphics: p.graphics.clone(),
+                })
+                .collect(),
+        }
+    }
+
+    /// The Vulkan state of one draw or dispatch by index (`None` when it names no pipeline or
+    /// the capture has no `vulkan` section).
+    pub(super) fn vk_work(&self, pipeline: Option<&str>, state: &VkCommandState) -> Option<Box<VkWork>> {
+        let vk = self.raw.vulkan.as_ref()?;
+        let model = self.vk_model.as_ref()?;
+        let name = pipeline?;
+        let pipeline = vk.pipelines.iter().position(|p| p.name == name)?;
+        let resource = |n: &str| self.resources.get(n).map(ResourceId);
+        let descriptors = state
+            .descriptors
+            .iter()
+            .map(|d| VkBound {
+                set: d.set,
+                binding: d.binding,
+                element: d.element,
+                descriptor_type: d.descriptor_type.clone(),
+                resource: d.resource.as_deref().and_then(resource),
+                view: d
+                    .view
+                    .as_deref()
+                    .and_then(|v| model.views.iter().position(|x| x.name == v)),
+                sampler: d
+                    .sampler
+                    .as_deref()
+                    .and_then(|v| model.samplers.iter().position(|x| x.name == v)),
+                offset: d.offset,
+                range: d.range,
+            })
+            .collect();
+        Some(Box::new(VkWork {
+            pipeline,
+            viewport: state.viewport,
+            scissor: state.scissor,
+            push_constants: state.push_constants.as_deref().and_then(hex_bytes),
+            descriptors,
+            vertex_buffers: state
+                .vertex_buffers
+                .iter()
+                .filter_map(|v| Some((v.binding, resource(&v.resource)?, v.offset)))
+                .collect(),
+            index_buffer: state.index_buffer.as_ref().and_then(|i| {
+                Some((
+                    resource(&i.resource)?,
+                    i.offset,
+                    i.index_type.ends_with("UINT32"),
+                ))
+            }),
+        }))
     }
 
     /// Each module's entry points, read from its file (`None` where there is no file).
@@ -213,7 +388,7 @@ impl Validator<'_> {
         &mut self,
         vk: &'v VulkanObjects,
         root: &JsonPath,
-    ) -> BTreeMap<&'v str, Option<Vec<(u32, String)>>> {
+    ) -> BTreeMap<&'v str, Option<(Vec<(u32, String)>, Vec<u8>)>> {
         let mut out = BTreeMap::new();
         for (i, m) in vk.shader_modules.iter().enumerate() {
             let path = root.field("shader_modules").index(i);
@@ -246,7 +421,7 @@ impl Validator<'_> {
                 if entries.is_none() {
                     self.diags.error("side-file", &fp, format!("\"{rel}\" is not SPIR-V (no magic number, or an instruction runs past the end)"));
                 }
-                entries
+                entries.map(|e| (e, bytes))
             });
             out.insert(m.name.as_str(), entries);
         }
@@ -276,6 +451,51 @@ impl Validator<'_> {
                         .map(|(j, d)| (&d.vulkan_state, path.field("dispatches").index(j))),
                 );
             for (state, p) in states {
+                let sp = p.field("vulkan_state");
+                if let Some(hex) = &state.push_constants
+                    && hex_bytes(hex).is_none()
+                {
+                    self.diags.error(
+                        "vulkan",
+                        &sp.field("push_constants"),
+                        "push constants must be hex digits, two per byte",
+                    );
+                }
+                let buffers = state
+                    .vertex_buffers
+                    .iter()
+                    .enumerate()
+                    .map(|(k, v)| (&v.resource, sp.field("vertex_buffers").index(k)))
+                    .chain(
+                        state
+                            .index_buffer
+                            .iter()
+                            .map(|i| (&i.resource, sp.field("index_buffer"))),
+                    );
+                for (name, bp) in buffers {
+                    if !resources.contains(name.as_str()) {
+                        self.diags.error(
+                            "vulkan",
+                            &bp.field("resource"),
+                            format!("no resource \"{name}\""),
+                        );
+                    }
+                }
+                if let Some(i) = &state.index_buffer
+                    && !matches!(
+                        i.index_type.as_str(),
+                        "VK_INDEX_TYPE_UINT16" | "VK_INDEX_TYPE_UINT32"
+                    )
+                {
+                    self.diags.error(
+                        "vulkan",
+                        &sp.field("index_buffer").field("index_type"),
+                        format!(
+                            "index type \"{}\" is not VK_INDEX_TYPE_UINT16 or VK_INDEX_TYPE_UINT32",
+                            i.index_type
+                        ),
+                    );
+                }
                 for (k, d) in state.descriptors.iter().enumerate() {
                     let dp = p.field("vulkan_state").field("descriptors").index(k);
                     let checks = [
@@ -385,4 +605,16 @@ mod tests {
         bad[0] = 0;
         assert_eq!(entry_points(&bad), None);
     }
+}
+
+/// Push-constant bytes from their hex spelling; `None` for text that is not whole hex bytes
+/// (validation reports it).
+fn hex_bytes(hex: &str) -> Option<Vec<u8>> {
+    if !hex.len().is_multiple_of(2) {
+        return None;
+    }
+    (0..hex.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(hex.get(i..i + 2)?, 16).ok())
+        .collect()
 }

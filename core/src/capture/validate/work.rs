@@ -135,6 +135,7 @@ impl<'a> Validator<'a> {
                 indirect,
                 stencil_reference: d.stencil_reference,
                 params: d.params.clone(),
+                vk: self.vk_work(d.pipeline.as_deref(), &d.vulkan_state),
             });
         }
 
@@ -197,6 +198,7 @@ impl<'a> Validator<'a> {
                 groups: d.groups,
                 indirect,
                 params: d.params.clone(),
+                vk: self.vk_work(d.pipeline.as_deref(), &d.vulkan_state),
             });
         }
 

@@ -1,0 +1,350 @@
+//! Bind groups of one imported draw or dispatch: the descriptors its pipeline's shaders use
+//! (by reflection), each checked against the captured set layout and turned into wgpu layout
+//! entries and bound resources. Descriptors no shader uses are left out, as Vulkan lets them
+//! be; one a shader uses and the draw lacks is an error.
+
+use std::collections::BTreeMap;
+
+use wgpu_types as wgpu;
+
+use super::{Fail, VkProblem, stage_of};
+use crate::capture::model::*;
+use crate::capture::vk_model::*;
+use crate::lower::Lowering;
+use crate::plan::*;
+use crate::spirv::{ResourceKind, ResourceVar};
+
+/// The wgpu bindings of each set, sorted: the rewrite numbers SPIR-V bindings by them.
+pub(super) type SetBindings = BTreeMap<u32, Vec<u32>>;
+
+/// One used descriptor: its variable, and every stage that uses it.
+struct Used {
+    var: ResourceVar,
+    stages: wgpu::ShaderStages,
+    shader: String,
+}
+
+type Entry = (wgpu::BindGroupLayoutEntry, VkResource);
+
+impl<'c> Lowering<'c> {
+    /// The reflection of module `m`, read once.
+    pub(super) fn vk_reflect(&mut self, m: usize) -> Result<&crate::spirv::Reflection, Fail> {
+        if !self.vk.reflections.contains_key(&m) {
+            let model = self.vk_model()?;
+            let module = &model.modules[m];
+            let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
+                module: module.name.clone(),
+            })?;
+            let r = crate::spirv::reflect(words).map_err(|error| VkProblem::Spirv {
+                shader: module.name.clone(),
+                error,
+            })?;
+            self.vk.reflections.insert(m, r);
+        }
+        Ok(&self.vk.reflections[&m])
+    }
+
+    pub(super) fn vk_groups(
+        &mut self,
+        p: &PassDesc,
+        pipe: &VkPipeline,
+        work: &VkWork,
+    ) -> Result<(Vec<Option<VkGroup>>, SetBindings), Fail> {
+        let model = self.vk_model()?;
+        let mut used: BTreeMap<(u32, u32), Used> = BTreeMap::new();
+        for stage in &pipe.stages {
+            let (s, _) = stage_of(&stage.stage)?;
+            let shader = model.modules[stage.module].name.clone();
+            for var in &self.vk_reflect(stage.module)?.resources {
+                used.entry((var.set, var.binding))
+                    .and_modify(|u| {
+                        u.stages |= s;
+                        u.var.non_writable &= var.non_writable;
+                        u.var.non_readable &= var.non_readable;
+                    })
+                    .or_insert_with(|| Used {
+                        var: var.clone(),
+                        stages: s,
+                        shader: shader.clone(),
+                    });
+            }
+        }
+        let layout = &model.pipeline_layouts[pipe.layout];
+        let mut per_set: BTreeMap<u32, Vec<Entry>> = BTreeMap::new();
+        for (&(set, binding), u) in &used {
+            let lb = layout
+                .sets
+                .get(set as usize)
+                .map(|&s| &model.set_layouts[s])
+                .and_then(|l| {
+                    let i = l.bindings.iter().position(|b| b.binding == binding)?;
+                    Some((&l.bindings[i], l.immutable[i].first().copied()))
+                })
+                .ok_or_else(|| {
+                    VkProblem::Missing(format!(
+                        "shader {} uses set {set} binding {binding}, which pipeline layout {} lacks",
+                        u.shader, layout.name
+                    ))
+                })?;
+            if u.var.count.is_some_and(|n| n != 1) {
+                return Err(VkProblem::Unsupported {
+                    feature: format!(
+                        "a descriptor array (set {set} binding {binding}) in shader {}",
+                        u.shader
+                    ),
+                }
+                .into());
+            }
+            let entries = self.vk_entries(p, work, (set, binding), u, lb)?;
+            per_set.entry(set).or_default().extend(entries);
+        }
+        let last = per_set.keys().next_back().map_or(0, |&s| s as usize + 1);
+        let mut groups = vec![None; last];
+        let mut sets = SetBindings::new();
+        for (set, mut entries) in per_set {
+            entries.sort_by_key(|(e, _)| e.binding);
+            let layout_entries: Vec<wgpu::BindGroupLayoutEntry> =
+                entries.iter().map(|(e, _)| *e).collect();
+            let index = match self
+                .plan
+                .vk
+                .group_layouts
+                .iter()
+                .position(|l| *l == layout_entries)
+            {
+                Some(i) => i,
+                None => {
+                    self.plan.vk.group_layouts.push(layout_entries.clone());
+                    self.plan.vk.group_layouts.len() - 1
+                }
+            };
+            sets.insert(set, layout_entries.iter().map(|e| e.binding).collect());
+            groups[set as usize] = Some(VkGroup {
+                layout: index,
+                entries: entries
+                    .into_iter()
+                    .map(|(e, r)| (e.binding, r))
+                    .collect(),
+            });
+        }
+        Ok((groups, sets))
+    }
+
+    /// The wgpu entries (one, or a texture and a sampler) of one used descriptor.
+    fn vk_entries(
+        &mut self,
+        p: &PassDesc,
+        work: &VkWork,
+        (set, binding): (u32, u32),
+        u: &Used,
+        (lb, immutable): (&crate::capture::format::LayoutBinding, Option<usize>),
+    ) -> Result<Vec<Entry>, Fail> {
+        let ty = lb
+            .descriptor_type
+            .strip_prefix("VK_DESCRIPTOR_TYPE_")
+            .unwrap_or(&lb.descriptor_type);
+        let d = work
+            .descriptors
+            .iter()
+            .find(|d| d.set == set && d.binding == binding && d.element == 0);
+        let missing = || {
+            VkProblem::Missing(format!(
+                "shader {} uses set {set} binding {binding} ({ty}), and the draw has nothing bound there",
+                u.shader
+            ))
+        };
+        let entry = |b: u32, ty: wgpu::BindingType| wgpu::BindGroupLayoutEntry {
+            binding: b,
+            visibility: u.stages,
+            ty,
+            count: None,
+        };
+        let wb = binding * 2;
+        Ok(match ty {
+            "UNIFORM_BUFFER" | "UNIFORM_BUFFER_DYNAMIC" | "STORAGE_BUFFER"
+            | "STORAGE_BUFFER_DYNAMIC" => {
+                let d = d.ok_or_else(missing)?;
+                let buffer = self.buf(p, d.resource.ok_or_else(missing)?)?;
+                let kind = if ty.starts_with("UNIFORM") {
+                    wgpu::BufferBindingType::Uniform
+                } else {
+                    wgpu::BufferBindingType::Storage {
+                        read_only: u.var.non_writable,
+                    }
+                };
+                vec![(
+                    entry(
+                        wb,
+                        wgpu::BindingType::Buffer {
+                            ty: kind,
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                    ),
+                    VkResource::Buffer {
+                        buffer,
+                        offset: d.offset.unwrap_or(0),
+                        size: d.range.filter(|&r| r != u64::MAX),
+                    },
+                )]
+            }
+            "SAMPLER" => {
+                let s = d.and_then(|d| d.sampler).or(immutable).ok_or_else(missing)?;
+                vec![self.vk_sampler_entry(wb, u.stages, s)?]
+            }
+            "SAMPLED_IMAGE" | "COMBINED_IMAGE_SAMPLER" => {
+                let d = d.ok_or_else(missing)?;
+                let view = d.view.ok_or_else(missing)?;
+                let (ty, resource) = self.vk_texture(p, view, &u.var, false)?;
+                let mut out = vec![(entry(wb, ty), resource)];
+                if ty_is_combined(&lb.descriptor_type) {
+                    let s = d.sampler.or(immutable).ok_or_else(missing)?;
+                    out.push(self.vk_sampler_entry(wb + 1, u.stages, s)?);
+                }
+                out
+            }
+            "STORAGE_IMAGE" => {
+                let d = d.ok_or_else(missing)?;
+                let view = d.view.ok_or_else(missing)?;
+                let (ty, resource) = self.vk_texture(p, view, &u.var, true)?;
+                vec![(entry(wb, ty), resource)]
+            }
+            other => {
+                return Err(VkProblem::Unsupported {
+                    feature: format!(
+                        "{other} descriptors (set {set} binding {binding} of shader {})",
+                        u.shader
+                    ),
+                }
+                .into());
+            }
+        })
+    }
+
+    fn vk_sampler_entry(
+        &mut self,
+        binding: u32,
+        visibility: wgpu::ShaderStages,
+        s: usize,
+    ) -> Result<Entry, Fail> {
+        let model = self.vk_model()?;
+        let comparison = model.samplers[s].compare_op.is_some();
+        let index = self.vk_sampler(s)?;
+        Ok((
+            wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility,
+                ty: wgpu::BindingType::Sampler(if comparison {
+                    wgpu::SamplerBindingType::Comparison
+                } else {
+                    wgpu::SamplerBindingType::Filtering
+                }),
+                count: None,
+            },
+            VkResource::Sampler(index),
+        ))
+    }
+
+    /// A sampled or storage texture through image view `v`.
+    fn vk_texture(
+        &self,
+        p: &PassDesc,
+        v: usize,
+        var: &ResourceVar,
+        storage: bool,
+    ) -> Result<(wgpu::BindingType, VkResource), Fail> {
+        let model = self.vk_model()?;
+        let view = &model.views[v];
+        let texture = self.tex(p, view.image)?;
+        let spec = &self.plan.textures[texture];
+        let dimension = match view
+            .view_type
+            .strip_prefix("VK_IMAGE_VIEW_TYPE_")
+            .unwrap_or(&view.view_type)
+        {
+            "1D" => wgpu::TextureViewDimension::D1,
+            "2D" => wgpu::TextureViewDimension::D2,
+            "3D" => wgpu::TextureViewDimension::D3,
+            "CUBE" => wgpu::TextureViewDimension::Cube,
+            "2D_ARRAY" => wgpu::TextureViewDimension::D2Array,
+            "CUBE_ARRAY" => wgpu::TextureViewDimension::CubeArray,
+            other => {
+                return Err(VkProblem::Unsupported {
+                    feature: format!("image view type {other} (view {})", view.name),
+                }
+                .into());
+            }
+        };
+        let has_depth = spec.format.has_depth_aspect();
+        let has_stencil = spec.format.has_stencil_aspect();
+        // VkImageAspectFlags: colour 1, depth 2, stencil 4.
+        let aspect = if view.aspect & 4 != 0 && has_stencil {
+            wgpu::TextureAspect::StencilOnly
+        } else if has_depth && has_stencil {
+            wgpu::TextureAspect::DepthOnly
+        } else {
+            wgpu::TextureAspect::All
+        };
+        let format = if has_depth || has_stencil {
+            None
+        } else {
+            Some(self.vk_view_format(p, texture, &view.format)?)
+        };
+        let resource = VkResource::Texture {
+            texture,
+            format,
+            dimension,
+            aspect,
+            base_mip: view.base_mip,
+            mips: view.mips,
+            base_layer: view.base_layer,
+            layers: view.layers,
+        };
+        let ty = if storage {
+            let format = format.ok_or_else(|| VkProblem::Unsupported {
+                feature: format!("a depth or stencil storage image (view {})", view.name),
+            })?;
+            wgpu::BindingType::StorageTexture {
+                access: if var.non_writable {
+                    wgpu::StorageTextureAccess::ReadOnly
+                } else if var.non_readable {
+                    wgpu::StorageTextureAccess::WriteOnly
+                } else {
+                    wgpu::StorageTextureAccess::ReadWrite
+                },
+                format,
+                view_dimension: dimension,
+            }
+        } else {
+            let depth_compare = match &var.kind {
+                ResourceKind::SampledImage(i) | ResourceKind::CombinedImageSampler(i) => {
+                    i.depth == Some(true)
+                }
+                _ => false,
+            };
+            let sample_type = if aspect == wgpu::TextureAspect::StencilOnly {
+                wgpu::TextureSampleType::Uint
+            } else if has_depth {
+                if depth_compare {
+                    wgpu::TextureSampleType::Depth
+                } else {
+                    wgpu::TextureSampleType::Float { filterable: false }
+                }
+            } else {
+                let f = format.unwrap_or(spec.format);
+                f.sample_type(None, Some(self.available))
+                    .unwrap_or(wgpu::TextureSampleType::Float { filterable: false })
+            };
+            wgpu::BindingType::Texture {
+                sample_type,
+                view_dimension: dimension,
+                multisampled: spec.samples > 1,
+            }
+        };
+        Ok((ty, resource))
+    }
+}
+
+fn ty_is_combined(descriptor_type: &str) -> bool {
+    descriptor_type.ends_with("COMBINED_IMAGE_SAMPLER")
+}

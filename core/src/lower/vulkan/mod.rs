@@ -1,0 +1,471 @@
+//! Imported passes at wgpu level: each draw and dispatch keeps the Vulkan pipeline it was
+//! recorded with. The pipeline's shaders are reflected (`crate::spirv`) to learn which
+//! descriptors they use; those become bind group layout entries (a combined image sampler
+//! becomes a texture and a sampler), the SPIR-V is rewritten to match (`shaders`), and the
+//! draw's descriptors, vertex and index buffers, viewport, scissor and push constants become
+//! its plan operation. Pipelines, layouts and rewritten shaders are shared between draws that
+//! agree on them.
+//!
+//! wgpu numbers bindings its own way: `Role::Whole` and `Role::SplitImage` of Vulkan binding
+//! `b` take wgpu binding `2b`, `Role::SplitSampler` takes `2b + 1`.
+
+mod bindings;
+mod shaders;
+mod states;
+
+use std::collections::{BTreeMap, HashMap};
+
+use wgpu_types as wgpu;
+
+use super::{LowerError, Lowering, PassError, formats};
+use crate::capture::model::*;
+use crate::capture::vk_model::*;
+use crate::plan::*;
+use crate::spirv::Reflection;
+
+/// Why an imported draw or dispatch cannot be replayed. Messages name the shader and the
+/// feature; `LowerError::Vulkan` adds the pass and the draw.
+#[derive(Debug, thiserror::Error)]
+pub enum VkProblem {
+    #[error("uses {feature}, which the replay cannot do")]
+    Unsupported { feature: String },
+    #[error("shader {shader}: {error}")]
+    Spirv {
+        shader: String,
+        error: crate::spirv::SpirvError,
+    },
+    #[error("shader module \"{module}\" has no code in the capture (a JSON Lines import holds none)")]
+    NoCode { module: String },
+    #[error("{0}")]
+    Missing(String),
+}
+
+/// What the lowering of imported passes shares between draws.
+#[derive(Default)]
+pub(super) struct VkLowering {
+    reflections: BTreeMap<usize, Reflection>,
+    shaders: HashMap<shaders::ShaderKey, usize>,
+    pipelines: HashMap<PipelineKey, usize>,
+    samplers: BTreeMap<usize, usize>,
+}
+
+#[derive(Clone, PartialEq, Eq, Hash)]
+struct PipelineKey {
+    pipeline: usize,
+    flip: bool,
+    groups: Vec<Option<usize>>,
+    targets: Vec<wgpu::TextureFormat>,
+    depth: Option<wgpu::TextureFormat>,
+    strip_index: Option<wgpu::IndexFormat>,
+}
+
+/// The wgpu stage and SPIR-V execution model of a `VK_SHADER_STAGE_*_BIT`.
+fn stage_of(
+    stage: &str,
+) -> Result<(wgpu::ShaderStages, rspirv::spirv::ExecutionModel), VkProblem> {
+    use rspirv::spirv::ExecutionModel as M;
+    Ok(match stage {
+        "VK_SHADER_STAGE_VERTEX_BIT" => (wgpu::ShaderStages::VERTEX, M::Vertex),
+        "VK_SHADER_STAGE_FRAGMENT_BIT" => (wgpu::ShaderStages::FRAGMENT, M::Fragment),
+        "VK_SHADER_STAGE_COMPUTE_BIT" => (wgpu::ShaderStages::COMPUTE, M::GLCompute),
+        other => {
+            return Err(VkProblem::Unsupported {
+                feature: format!("a {other} stage (wgpu has vertex, fragment and compute)"),
+            });
+        }
+    })
+}
+
+fn vk_error(p: &PassDesc, work: String, problem: VkProblem) -> LowerError {
+    LowerError::Vulkan {
+        pass: p.name.clone(),
+        work,
+        problem,
+    }
+}
+
+/// Bytes of push constants wgpu is given: the layout's, rounded up to whole words.
+fn immediate_size(layout: &VkPipelineLayout) -> u32 {
+    layout.push_size.div_ceil(4) * 4
+}
+
+impl<'c> Lowering<'c> {
+    fn vk_model(&self) -> Result<&'c VkModel, LowerError> {
+        self.capture.vulkan.as_ref().ok_or_else(|| {
+            LowerError::NotReplayable("an imported pass has no `vulkan` section".to_owned())
+        })
+    }
+
+    pub(super) fn vk_raster(&mut self, p: &'c PassDesc) -> Result<PassOp, LowerError> {
+        let color = self.color_targets(p)?;
+        let depth = self.depth_target(p)?;
+        let size = color
+            .first()
+            .map(|c| (c.texture, c.mip))
+            .or(depth.as_ref().map(|d| (d.texture, d.mip)))
+            .map(|(t, mip)| {
+                let s = self.plan.textures[t].size;
+                ((s.width >> mip).max(1), (s.height >> mip).max(1))
+            })
+            .unwrap_or((1, 1));
+        let targets: Vec<wgpu::TextureFormat> = color.iter().map(|c| c.format).collect();
+        let depth_format = depth.as_ref().map(|d| d.format);
+        let mut draws = Vec::new();
+        for (i, d) in p.draws.iter().enumerate() {
+            let work = format!("draw {i}");
+            let op = self
+                .vk_draw(p, d, &targets, depth_format, size)
+                .map_err(|e| match e {
+                    Fail::Problem(problem) => vk_error(p, work, problem),
+                    Fail::Lower(e) => e,
+                })?;
+            draws.push(op);
+        }
+        Ok(PassOp::VkRaster(VkRasterOp {
+            color,
+            depth,
+            draws,
+        }))
+    }
+
+    pub(super) fn vk_compute(&mut self, p: &'c PassDesc) -> Result<PassOp, LowerError> {
+        let mut dispatches = Vec::new();
+        for (i, d) in p.dispatches.iter().enumerate() {
+            let work = format!("dispatch {i}");
+            let op = self.vk_dispatch(p, d).map_err(|e| match e {
+                Fail::Problem(problem) => vk_error(p, work, problem),
+                Fail::Lower(e) => e,
+            })?;
+            dispatches.push(op);
+        }
+        Ok(PassOp::VkCompute(VkComputeOp { dispatches }))
+    }
+
+    fn vk_draw(
+        &mut self,
+        p: &'c PassDesc,
+        d: &DrawDesc,
+        targets: &[wgpu::TextureFormat],
+        depth: Option<wgpu::TextureFormat>,
+        (width, height): (u32, u32),
+    ) -> Result<VkDrawOp, Fail> {
+        let model = self.vk_model()?;
+        let work = d.vk.as_deref().ok_or_else(|| {
+            VkProblem::Missing("the draw names no pipeline (none was bound)".to_owned())
+        })?;
+        let pipe = &model.pipelines[work.pipeline];
+        let g = pipe.graphics.as_deref().ok_or_else(|| {
+            VkProblem::Missing(format!("pipeline {} has no graphics state", pipe.name))
+        })?;
+        for s in &g.dynamic_states {
+            let name = s.strip_prefix("VK_DYNAMIC_STATE_").unwrap_or(s);
+            if !matches!(name, "VIEWPORT" | "SCISSOR") {
+                return Err(VkProblem::Unsupported {
+                    feature: format!(
+                        "dynamic state {s} of pipeline {} (the capture keeps viewport and scissor only)",
+                        pipe.name
+                    ),
+                }
+                .into());
+            }
+        }
+        // Vulkan's viewport may have a negative height (the application flips y itself):
+        // then its clip space is already wgpu's, and the shader is left as it is.
+        let viewport = match work.viewport {
+            Some(v) => v,
+            None => {
+                let v = g.viewports.first().ok_or_else(|| {
+                    VkProblem::Missing(format!(
+                        "pipeline {} has a dynamic viewport the draw never set",
+                        pipe.name
+                    ))
+                })?;
+                [v[0], v[1], v[2], v[3], 0.0, 1.0]
+            }
+        };
+        let flip = viewport[3] >= 0.0;
+        let viewport = if flip {
+            viewport
+        } else {
+            [
+                viewport[0],
+                viewport[1] + viewport[3],
+                viewport[2],
+                -viewport[3],
+                viewport[4],
+                viewport[5],
+            ]
+        };
+        let scissor = work.scissor.or(g.scissors.first().copied()).map(|s| {
+            let x0 = s[0].clamp(0, i64::from(width));
+            let y0 = s[1].clamp(0, i64::from(height));
+            let x1 = s[0].saturating_add(s[2]).clamp(x0, i64::from(width));
+            let y1 = s[1].saturating_add(s[3]).clamp(y0, i64::from(height));
+            [x0 as u32, y0 as u32, (x1 - x0) as u32, (y1 - y0) as u32]
+        });
+        let index = work
+            .index_buffer
+            .map(|(b, offset, wide)| {
+                Ok::<_, Fail>((
+                    self.buf(p, b)?,
+                    offset,
+                    if wide {
+                        wgpu::IndexFormat::Uint32
+                    } else {
+                        wgpu::IndexFormat::Uint16
+                    },
+                ))
+            })
+            .transpose()?;
+        let (groups, sets) = self.vk_groups(p, pipe, work)?;
+        let key = PipelineKey {
+            pipeline: work.pipeline,
+            flip,
+            groups: groups.iter().map(|g| g.as_ref().map(|g| g.layout)).collect(),
+            targets: targets.to_vec(),
+            depth,
+            strip_index: index.map(|i| i.2),
+        };
+        let pipeline = match self.vk.pipelines.get(&key) {
+            Some(&i) => i,
+            None => {
+                let spec = self.vk_render_pipeline(pipe, g, &key, &sets)?;
+                self.plan.vk.pipelines.push(spec);
+                let i = self.plan.vk.pipelines.len() - 1;
+                self.vk.pipelines.insert(key, i);
+                i
+            }
+        };
+        let vertex_buffers = work
+            .vertex_buffers
+            .iter()
+            .map(|&(slot, b, offset)| Ok::<_, Fail>((slot, self.buf(p, b)?, offset)))
+            .collect::<Result<Vec<_>, _>>()?;
+        let layout = &model.pipeline_layouts[pipe.layout];
+        Ok(VkDrawOp {
+            pipeline,
+            groups,
+            vertex_buffers,
+            index,
+            viewport: Some(viewport),
+            scissor,
+            immediates: self.immediates(pipe, layout, work)?,
+            blend_constant: g
+                .blend
+                .iter()
+                .any(states::uses_constant)
+                .then(|| g.blend_constants.map(f64::from)),
+            stencil_reference: g
+                .depth_stencil
+                .as_ref()
+                .filter(|s| s.stencil_test)
+                .and_then(|s| s.front.as_ref())
+                .map(|f| f.reference),
+            count: d.count.unwrap_or(0),
+            instances: d.instances,
+            first: d.first,
+            first_instance: d.first_instance,
+            base_vertex: d.base_vertex,
+            indirect: d
+                .indirect
+                .map(|(b, o)| self.buf(p, b).map(|i| (i, o)))
+                .transpose()?,
+        })
+    }
+
+    fn vk_dispatch(&mut self, p: &'c PassDesc, d: &DispatchDesc) -> Result<VkDispatchOp, Fail> {
+        let model = self.vk_model()?;
+        let work = d.vk.as_deref().ok_or_else(|| {
+            VkProblem::Missing("the dispatch names no pipeline (none was bound)".to_owned())
+        })?;
+        let pipe = &model.pipelines[work.pipeline];
+        let (groups, sets) = self.vk_groups(p, pipe, work)?;
+        let key = PipelineKey {
+            pipeline: work.pipeline,
+            flip: false,
+            groups: groups.iter().map(|g| g.as_ref().map(|g| g.layout)).collect(),
+            targets: Vec::new(),
+            depth: None,
+            strip_index: None,
+        };
+        let pipeline = match self.vk.pipelines.get(&key) {
+            Some(&i) => i,
+            None => {
+                let stage = pipe
+                    .stages
+                    .iter()
+                    .find(|s| s.stage == "VK_SHADER_STAGE_COMPUTE_BIT")
+                    .ok_or_else(|| {
+                        VkProblem::Missing(format!("pipeline {} has no compute stage", pipe.name))
+                    })?;
+                let shader = self.vk_shader(pipe, stage, false, &sets)?;
+                let layout = &model.pipeline_layouts[pipe.layout];
+                self.plan.vk.pipelines.push(VkPipelineSpec {
+                    name: pipe.name.clone(),
+                    groups: key.groups.clone(),
+                    immediate_size: immediate_size(layout),
+                    kind: VkPipelineKind::Compute { shader },
+                });
+                let i = self.plan.vk.pipelines.len() - 1;
+                self.vk.pipelines.insert(key, i);
+                i
+            }
+        };
+        let layout = &model.pipeline_layouts[pipe.layout];
+        Ok(VkDispatchOp {
+            pipeline,
+            groups,
+            immediates: self.immediates(pipe, layout, work)?,
+            workgroups: d.groups,
+            indirect: d
+                .indirect
+                .map(|(b, o)| self.buf(p, b).map(|i| (i, o)))
+                .transpose()?,
+        })
+    }
+
+    /// The push-constant bytes a draw or dispatch gives wgpu: the recorded ones, zero-padded
+    /// to the layout's size.
+    fn immediates(
+        &self,
+        pipe: &VkPipeline,
+        layout: &VkPipelineLayout,
+        work: &VkWork,
+    ) -> Result<Vec<u8>, Fail> {
+        let size = immediate_size(layout) as usize;
+        if size == 0 {
+            return Ok(Vec::new());
+        }
+        let mut bytes = work.push_constants.clone().ok_or_else(|| {
+            VkProblem::Missing(format!(
+                "pipeline {} takes {} bytes of push constants and the capture holds no values",
+                pipe.name, layout.push_size
+            ))
+        })?;
+        bytes.resize(size, 0);
+        Ok(bytes)
+    }
+
+    fn vk_render_pipeline(
+        &mut self,
+        pipe: &VkPipeline,
+        g: &crate::capture::format::GraphicsState,
+        key: &PipelineKey,
+        sets: &bindings::SetBindings,
+    ) -> Result<VkPipelineSpec, Fail> {
+        let model = self.vk_model()?;
+        let mut vertex = None;
+        let mut fragment = None;
+        for stage in &pipe.stages {
+            let (s, _) = stage_of(&stage.stage)?;
+            let shader = self.vk_shader(pipe, stage, key.flip, sets)?;
+            if s == wgpu::ShaderStages::VERTEX {
+                vertex = Some(shader);
+            } else if s == wgpu::ShaderStages::FRAGMENT {
+                fragment = Some(shader);
+            }
+        }
+        let vertex = vertex.ok_or_else(|| {
+            VkProblem::Missing(format!("pipeline {} has no vertex stage", pipe.name))
+        })?;
+        let mut buffers = Vec::new();
+        for b in &g.vertex_bindings {
+            let mut attributes = Vec::new();
+            for a in g.vertex_attributes.iter().filter(|a| a.binding == b.binding) {
+                attributes.push(wgpu::VertexAttribute {
+                    format: states::vertex_format(&a.format)?,
+                    offset: u64::from(a.offset),
+                    shader_location: a.location,
+                });
+            }
+            buffers.push(VkVertexLayout {
+                slot: b.binding,
+                stride: u64::from(b.stride),
+                step: if b.input_rate.ends_with("INSTANCE") {
+                    wgpu::VertexStepMode::Instance
+                } else {
+                    wgpu::VertexStepMode::Vertex
+                },
+                attributes,
+            });
+        }
+        let samples = g
+            .samples
+            .trim_start_matches("VK_SAMPLE_COUNT_")
+            .trim_end_matches("_BIT")
+            .parse::<u32>()
+            .map_err(|_| VkProblem::Unsupported {
+                feature: format!("sample count {}", g.samples),
+            })?;
+        if g.logic_op.is_some() {
+            return Err(VkProblem::Unsupported {
+                feature: format!("logic ops (pipeline {})", pipe.name),
+            }
+            .into());
+        }
+        let targets = key
+            .targets
+            .iter()
+            .enumerate()
+            .map(|(i, &f)| states::color_target(f, g.blend.get(i)).map(Some))
+            .collect::<Result<Vec<_>, _>>()?;
+        let layout = &model.pipeline_layouts[pipe.layout];
+        Ok(VkPipelineSpec {
+            name: pipe.name.clone(),
+            groups: key.groups.clone(),
+            immediate_size: immediate_size(layout),
+            kind: VkPipelineKind::Render(Box::new(VkRenderPipeline {
+                vertex,
+                fragment,
+                buffers,
+                primitive: states::primitive(g, key.strip_index)?,
+                depth_stencil: key
+                    .depth
+                    .map(|f| states::depth_stencil(g, f))
+                    .transpose()?,
+                targets,
+                samples,
+            })),
+        })
+    }
+
+    /// The plan sampler of a Vulkan sampler, added on first use.
+    fn vk_sampler(&mut self, s: usize) -> Result<usize, Fail> {
+        if let Some(&i) = self.vk.samplers.get(&s) {
+            return Ok(i);
+        }
+        let model = self.vk_model()?;
+        let spec = states::sampler(&model.samplers[s])?;
+        self.plan.samplers.push(spec);
+        let i = self.plan.samplers.len() - 1;
+        self.vk.samplers.insert(s, i);
+        Ok(i)
+    }
+
+    /// The wgpu format a `VK_FORMAT_*` view of texture `t` reads through.
+    fn vk_view_format(&self, p: &PassDesc, t: usize, vk: &str) -> Result<wgpu::TextureFormat, Fail> {
+        let info = crate::capture::dxgi::lookup_vk(vk).ok_or_else(|| VkProblem::Unsupported {
+            feature: format!("view format {vk}"),
+        })?;
+        formats::view_format(self.plan.textures[t].format, Some(info))
+            .map_err(|e| super::passes::pass_error(p, PassError::ViewFormat(e)).into())
+    }
+}
+
+/// A lowering error, or a problem `vk_raster` and `vk_compute` turn into one naming the draw.
+pub(super) enum Fail {
+    Problem(VkProblem),
+    Lower(LowerError),
+}
+
+impl From<VkProblem> for Fail {
+    fn from(p: VkProblem) -> Self {
+        Fail::Problem(p)
+    }
+}
+
+impl From<LowerError> for Fail {
+    fn from(e: LowerError) -> Self {
+        Fail::Lower(e)
+    }
+}

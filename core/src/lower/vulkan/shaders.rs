@@ -1,0 +1,151 @@
+//! An imported pipeline stage's SPIR-V made ready for wgpu, and the path it takes to the
+//! device. The module is rewritten (`crate::spirv::rewrite`): combined image samplers split,
+//! bindings renumbered, and `gl_Position.y` negated where Vulkan's clip space (y down) must
+//! become wgpu's (y up; wgpu's Vulkan backend flips the viewport back). The result goes
+//! through naga's SPIR-V front end and validator: where naga accepts it, wgpu translates it
+//! for any backend (the naga path, wgpu's binding numbers); where naga refuses it, it is
+//! rewritten again for the numbers wgpu's Vulkan backend gives its descriptor set layouts (the
+//! entries of each group in binding order, numbered from 0) and handed to the driver as it is
+//! (passthrough).
+
+use wgpu_types as wgpu;
+
+use super::bindings::SetBindings;
+use super::{Fail, VkProblem, stage_of};
+use crate::capture::vk_model::{VkPipeline, VkStage};
+use crate::lower::Lowering;
+use crate::plan::{ShaderPath, SpirvShader};
+use crate::spirv::{Role, RewriteOptions};
+
+/// A rewritten stage is shared by pipelines that agree on all of this.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub(super) struct ShaderKey {
+    module: usize,
+    entry: String,
+    stage: String,
+    flip: bool,
+    sets: Vec<(u32, Vec<u32>)>,
+}
+
+/// wgpu's binding for Vulkan binding `b` in the role asked.
+fn wgpu_binding(b: u32, role: Role) -> u32 {
+    match role {
+        Role::Whole | Role::SplitImage => b * 2,
+        Role::SplitSampler => b * 2 + 1,
+    }
+}
+
+/// Whether naga's front end and validator accept the module.
+fn naga_accepts(words: &[u32]) -> bool {
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+    let options = naga::front::spv::Options {
+        // The rewrite already turned clip space around.
+        adjust_coordinate_space: false,
+        strict_capabilities: true,
+        block_ctx_dump_prefix: None,
+    };
+    let Ok(module) = naga::front::spv::parse_u8_slice(&bytes, &options) else {
+        return false;
+    };
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default() | naga::valid::Capabilities::IMMEDIATES,
+    )
+    .validate(&module)
+    .is_ok()
+}
+
+impl<'c> Lowering<'c> {
+    pub(super) fn vk_shader(
+        &mut self,
+        pipe: &VkPipeline,
+        stage: &VkStage,
+        flip: bool,
+        sets: &SetBindings,
+    ) -> Result<usize, Fail> {
+        let key = ShaderKey {
+            module: stage.module,
+            entry: stage.entry.clone(),
+            stage: stage.stage.clone(),
+            flip,
+            sets: sets.iter().map(|(s, b)| (*s, b.clone())).collect(),
+        };
+        if let Some(&i) = self.vk.shaders.get(&key) {
+            return Ok(i);
+        }
+        let model = self.vk_model()?;
+        let module = &model.modules[stage.module];
+        let (wgpu_stage, execution_model) = stage_of(&stage.stage)?;
+        let name = format!(
+            "{} ({} of pipeline {})",
+            module.name,
+            stage
+                .stage
+                .trim_start_matches("VK_SHADER_STAGE_")
+                .trim_end_matches("_BIT")
+                .to_lowercase(),
+            pipe.name
+        );
+        if stage.specialization.iter().any(|c| c.2.is_some()) {
+            return Err(VkProblem::Unsupported {
+                feature: format!("specialization constants in shader {name}"),
+            }
+            .into());
+        }
+        let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
+            module: module.name.clone(),
+        })?;
+        let flip = flip && wgpu_stage == wgpu::ShaderStages::VERTEX;
+        let used = |set: u32, b: u32, role: Role| -> Option<u32> {
+            let w = wgpu_binding(b, role);
+            sets.get(&set)?.contains(&w).then_some(w)
+        };
+        let spirv_error = |error| VkProblem::Spirv {
+            shader: name.clone(),
+            error,
+        };
+        let naga_words = crate::spirv::rewrite(
+            words,
+            execution_model,
+            &stage.entry,
+            &RewriteOptions {
+                flip_y: flip,
+                binding: &used,
+            },
+        )
+        .map_err(spirv_error)?;
+        let (path, words) = if naga_accepts(&naga_words) {
+            (ShaderPath::Naga, naga_words)
+        } else {
+            let rank = |set: u32, b: u32, role: Role| -> Option<u32> {
+                let w = wgpu_binding(b, role);
+                sets.get(&set)?
+                    .iter()
+                    .position(|&x| x == w)
+                    .map(|r| r as u32)
+            };
+            let words = crate::spirv::rewrite(
+                words,
+                execution_model,
+                &stage.entry,
+                &RewriteOptions {
+                    flip_y: flip,
+                    binding: &rank,
+                },
+            )
+            .map_err(spirv_error)?;
+            (ShaderPath::Passthrough, words)
+        };
+        self.plan.vk.shaders.push(SpirvShader {
+            name,
+            entry: stage.entry.clone(),
+            stage: wgpu_stage,
+            path,
+            words,
+            workgroup: [1, 1, 1],
+        });
+        let i = self.plan.vk.shaders.len() - 1;
+        self.vk.shaders.insert(key, i);
+        Ok(i)
+    }
+}

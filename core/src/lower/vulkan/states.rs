@@ -1,0 +1,355 @@
+//! Vulkan's fixed-function vocabulary at wgpu level: topology, rasterisation, depth and
+//! stencil, blending, vertex formats and samplers, each from the enumerant names an imported
+//! capture keeps. A name wgpu has no twin for is an error naming it, never a guess.
+
+use wgpu_types as wgpu;
+
+use super::VkProblem;
+use crate::capture::format::{
+    BlendAttachment, DepthStencilVk, GraphicsState, StencilFaceVk, VkSampler,
+};
+use crate::plan::SamplerSpec;
+
+fn unsupported(what: &str, name: &str) -> VkProblem {
+    VkProblem::Unsupported {
+        feature: format!("{what} {name}"),
+    }
+}
+
+fn strip<'a>(name: &'a str, prefix: &str) -> &'a str {
+    name.strip_prefix(prefix).unwrap_or(name)
+}
+
+pub(super) fn compare(name: &str) -> Result<wgpu::CompareFunction, VkProblem> {
+    use wgpu::CompareFunction as C;
+    Ok(match strip(name, "VK_COMPARE_OP_") {
+        "NEVER" => C::Never,
+        "LESS" => C::Less,
+        "EQUAL" => C::Equal,
+        "LESS_OR_EQUAL" => C::LessEqual,
+        "GREATER" => C::Greater,
+        "NOT_EQUAL" => C::NotEqual,
+        "GREATER_OR_EQUAL" => C::GreaterEqual,
+        "ALWAYS" => C::Always,
+        _ => return Err(unsupported("compare op", name)),
+    })
+}
+
+fn stencil_op(name: &str) -> Result<wgpu::StencilOperation, VkProblem> {
+    use wgpu::StencilOperation as S;
+    Ok(match strip(name, "VK_STENCIL_OP_") {
+        "KEEP" => S::Keep,
+        "ZERO" => S::Zero,
+        "REPLACE" => S::Replace,
+        "INVERT" => S::Invert,
+        "INCREMENT_AND_CLAMP" => S::IncrementClamp,
+        "DECREMENT_AND_CLAMP" => S::DecrementClamp,
+        "INCREMENT_AND_WRAP" => S::IncrementWrap,
+        "DECREMENT_AND_WRAP" => S::DecrementWrap,
+        _ => return Err(unsupported("stencil op", name)),
+    })
+}
+
+fn stencil_face(f: &StencilFaceVk) -> Result<wgpu::StencilFaceState, VkProblem> {
+    Ok(wgpu::StencilFaceState {
+        compare: compare(&f.compare_op)?,
+        fail_op: stencil_op(&f.fail_op)?,
+        depth_fail_op: stencil_op(&f.depth_fail_op)?,
+        pass_op: stencil_op(&f.pass_op)?,
+    })
+}
+
+/// The pipeline's primitive state. wgpu's strip topologies need the index format when
+/// primitive restart is on; `strip_index` gives it from the draws.
+pub(super) fn primitive(
+    g: &GraphicsState,
+    strip_index: Option<wgpu::IndexFormat>,
+) -> Result<wgpu::PrimitiveState, VkProblem> {
+    use wgpu::PrimitiveTopology as T;
+    let topology = match strip(&g.topology, "VK_PRIMITIVE_TOPOLOGY_") {
+        "POINT_LIST" => T::PointList,
+        "LINE_LIST" => T::LineList,
+        "LINE_STRIP" => T::LineStrip,
+        "TRIANGLE_LIST" => T::TriangleList,
+        "TRIANGLE_STRIP" => T::TriangleStrip,
+        _ => return Err(unsupported("topology", &g.topology)),
+    };
+    let polygon_mode = match strip(&g.polygon_mode, "VK_POLYGON_MODE_") {
+        "FILL" => wgpu::PolygonMode::Fill,
+        "LINE" => wgpu::PolygonMode::Line,
+        "POINT" => wgpu::PolygonMode::Point,
+        _ => return Err(unsupported("polygon mode", &g.polygon_mode)),
+    };
+    let cull_mode = match g.cull_mode {
+        0 => None,
+        1 => Some(wgpu::Face::Front),
+        2 => Some(wgpu::Face::Back),
+        _ => {
+            return Err(VkProblem::Unsupported {
+                feature: "cull mode FRONT_AND_BACK".to_owned(),
+            });
+        }
+    };
+    let front_face = match strip(&g.front_face, "VK_FRONT_FACE_") {
+        "COUNTER_CLOCKWISE" => wgpu::FrontFace::Ccw,
+        "CLOCKWISE" => wgpu::FrontFace::Cw,
+        _ => return Err(unsupported("front face", &g.front_face)),
+    };
+    if g.rasterizer_discard {
+        return Err(VkProblem::Unsupported {
+            feature: "rasterizer discard".to_owned(),
+        });
+    }
+    if g.line_width != 1.0 {
+        return Err(VkProblem::Unsupported {
+            feature: format!("line width {}", g.line_width),
+        });
+    }
+    let strips = matches!(topology, T::LineStrip | T::TriangleStrip);
+    Ok(wgpu::PrimitiveState {
+        topology,
+        strip_index_format: if strips && g.primitive_restart {
+            strip_index
+        } else {
+            None
+        },
+        front_face,
+        cull_mode,
+        unclipped_depth: g.depth_clamp,
+        polygon_mode,
+        conservative: false,
+    })
+}
+
+/// Depth and stencil for a pass whose depth target has `format`. A pipeline without depth
+/// state in a pass with a depth target neither tests nor writes, which wgpu says as
+/// `Always` and no writes.
+pub(super) fn depth_stencil(
+    g: &GraphicsState,
+    format: wgpu::TextureFormat,
+) -> Result<wgpu::DepthStencilState, VkProblem> {
+    let off = DepthStencilVk {
+        depth_test: false,
+        depth_write: false,
+        depth_compare: "VK_COMPARE_OP_ALWAYS".to_owned(),
+        depth_bounds: None,
+        stencil_test: false,
+        front: None,
+        back: None,
+    };
+    let d = g.depth_stencil.as_ref().unwrap_or(&off);
+    if d.depth_bounds.is_some() {
+        return Err(VkProblem::Unsupported {
+            feature: "depth bounds test".to_owned(),
+        });
+    }
+    let (depth_compare, depth_write) = if d.depth_test {
+        (compare(&d.depth_compare)?, d.depth_write)
+    } else {
+        // Vulkan writes no depth when the test is off.
+        (wgpu::CompareFunction::Always, false)
+    };
+    let stencil = match (d.stencil_test, &d.front, &d.back) {
+        (true, Some(f), Some(b)) => {
+            if f.compare_mask != b.compare_mask
+                || f.write_mask != b.write_mask
+                || f.reference != b.reference
+            {
+                return Err(VkProblem::Unsupported {
+                    feature: "different stencil masks or references per face".to_owned(),
+                });
+            }
+            wgpu::StencilState {
+                front: stencil_face(f)?,
+                back: stencil_face(b)?,
+                read_mask: f.compare_mask,
+                write_mask: f.write_mask,
+            }
+        }
+        _ => wgpu::StencilState::default(),
+    };
+    let bias = match g.depth_bias {
+        Some([constant, clamp, slope]) => wgpu::DepthBiasState {
+            constant: constant as i32,
+            slope_scale: slope,
+            clamp,
+        },
+        None => wgpu::DepthBiasState::default(),
+    };
+    Ok(wgpu::DepthStencilState {
+        format,
+        depth_write_enabled: Some(depth_write),
+        depth_compare: Some(depth_compare),
+        stencil,
+        bias,
+    })
+}
+
+fn blend_factor(name: &str) -> Result<wgpu::BlendFactor, VkProblem> {
+    use wgpu::BlendFactor as F;
+    Ok(match strip(name, "VK_BLEND_FACTOR_") {
+        "ZERO" => F::Zero,
+        "ONE" => F::One,
+        "SRC_COLOR" => F::Src,
+        "ONE_MINUS_SRC_COLOR" => F::OneMinusSrc,
+        "DST_COLOR" => F::Dst,
+        "ONE_MINUS_DST_COLOR" => F::OneMinusDst,
+        "SRC_ALPHA" => F::SrcAlpha,
+        "ONE_MINUS_SRC_ALPHA" => F::OneMinusSrcAlpha,
+        "DST_ALPHA" => F::DstAlpha,
+        "ONE_MINUS_DST_ALPHA" => F::OneMinusDstAlpha,
+        "CONSTANT_COLOR" | "CONSTANT_ALPHA" => F::Constant,
+        "ONE_MINUS_CONSTANT_COLOR" | "ONE_MINUS_CONSTANT_ALPHA" => F::OneMinusConstant,
+        "SRC_ALPHA_SATURATE" => F::SrcAlphaSaturated,
+        _ => return Err(unsupported("blend factor", name)),
+    })
+}
+
+fn blend_op(name: &str) -> Result<wgpu::BlendOperation, VkProblem> {
+    use wgpu::BlendOperation as O;
+    Ok(match strip(name, "VK_BLEND_OP_") {
+        "ADD" => O::Add,
+        "SUBTRACT" => O::Subtract,
+        "REVERSE_SUBTRACT" => O::ReverseSubtract,
+        "MIN" => O::Min,
+        "MAX" => O::Max,
+        _ => return Err(unsupported("blend op", name)),
+    })
+}
+
+/// Whether the blend reads the pipeline's blend constants.
+pub(super) fn uses_constant(b: &BlendAttachment) -> bool {
+    b.enable
+        && [&b.src_color, &b.dst_color, &b.src_alpha, &b.dst_alpha]
+            .iter()
+            .any(|f| f.contains("CONSTANT"))
+}
+
+/// One colour target's blend and write mask.
+pub(super) fn color_target(
+    format: wgpu::TextureFormat,
+    b: Option<&BlendAttachment>,
+) -> Result<wgpu::ColorTargetState, VkProblem> {
+    let Some(b) = b else {
+        return Ok(wgpu::ColorTargetState {
+            format,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        });
+    };
+    let blend = if b.enable {
+        Some(wgpu::BlendState {
+            color: wgpu::BlendComponent {
+                src_factor: blend_factor(&b.src_color)?,
+                dst_factor: blend_factor(&b.dst_color)?,
+                operation: blend_op(&b.color_op)?,
+            },
+            alpha: wgpu::BlendComponent {
+                src_factor: blend_factor(&b.src_alpha)?,
+                dst_factor: blend_factor(&b.dst_alpha)?,
+                operation: blend_op(&b.alpha_op)?,
+            },
+        })
+    } else {
+        None
+    };
+    Ok(wgpu::ColorTargetState {
+        format,
+        blend,
+        // VkColorComponentFlags and wgpu's ColorWrites share bits: R 1, G 2, B 4, A 8.
+        write_mask: wgpu::ColorWrites::from_bits_truncate(b.write_mask & 0xf),
+    })
+}
+
+/// The wgpu vertex format of a `VK_FORMAT_*` vertex attribute.
+pub(super) fn vertex_format(name: &str) -> Result<wgpu::VertexFormat, VkProblem> {
+    use wgpu::VertexFormat as V;
+    Ok(match strip(name, "VK_FORMAT_") {
+        "R8_UINT" => V::Uint8,
+        "R8G8_UINT" => V::Uint8x2,
+        "R8G8B8A8_UINT" => V::Uint8x4,
+        "R8_SINT" => V::Sint8,
+        "R8G8_SINT" => V::Sint8x2,
+        "R8G8B8A8_SINT" => V::Sint8x4,
+        "R8_UNORM" => V::Unorm8,
+        "R8G8_UNORM" => V::Unorm8x2,
+        "R8G8B8A8_UNORM" => V::Unorm8x4,
+        "B8G8R8A8_UNORM" => V::Unorm8x4Bgra,
+        "R8_SNORM" => V::Snorm8,
+        "R8G8_SNORM" => V::Snorm8x2,
+        "R8G8B8A8_SNORM" => V::Snorm8x4,
+        "R16_UINT" => V::Uint16,
+        "R16G16_UINT" => V::Uint16x2,
+        "R16G16B16A16_UINT" => V::Uint16x4,
+        "R16_SINT" => V::Sint16,
+        "R16G16_SINT" => V::Sint16x2,
+        "R16G16B16A16_SINT" => V::Sint16x4,
+        "R16_UNORM" => V::Unorm16,
+        "R16G16_UNORM" => V::Unorm16x2,
+        "R16G16B16A16_UNORM" => V::Unorm16x4,
+        "R16_SNORM" => V::Snorm16,
+        "R16G16_SNORM" => V::Snorm16x2,
+        "R16G16B16A16_SNORM" => V::Snorm16x4,
+        "R16_SFLOAT" => V::Float16,
+        "R16G16_SFLOAT" => V::Float16x2,
+        "R16G16B16A16_SFLOAT" => V::Float16x4,
+        "R32_SFLOAT" => V::Float32,
+        "R32G32_SFLOAT" => V::Float32x2,
+        "R32G32B32_SFLOAT" => V::Float32x3,
+        "R32G32B32A32_SFLOAT" => V::Float32x4,
+        "R32_UINT" => V::Uint32,
+        "R32G32_UINT" => V::Uint32x2,
+        "R32G32B32_UINT" => V::Uint32x3,
+        "R32G32B32A32_UINT" => V::Uint32x4,
+        "R32_SINT" => V::Sint32,
+        "R32G32_SINT" => V::Sint32x2,
+        "R32G32B32_SINT" => V::Sint32x3,
+        "R32G32B32A32_SINT" => V::Sint32x4,
+        "A2B10G10R10_UNORM_PACK32" => V::Unorm10_10_10_2,
+        _ => return Err(unsupported("vertex format", name)),
+    })
+}
+
+/// A Vulkan sampler at wgpu level.
+pub(super) fn sampler(s: &VkSampler) -> Result<SamplerSpec, VkProblem> {
+    let filter = |n: &str| match strip(n, "VK_FILTER_") {
+        "NEAREST" => Ok(wgpu::FilterMode::Nearest),
+        "LINEAR" => Ok(wgpu::FilterMode::Linear),
+        _ => Err(unsupported("filter", n)),
+    };
+    let address = |n: &str| match strip(n, "VK_SAMPLER_ADDRESS_MODE_") {
+        "REPEAT" => Ok(wgpu::AddressMode::Repeat),
+        "MIRRORED_REPEAT" => Ok(wgpu::AddressMode::MirrorRepeat),
+        "CLAMP_TO_EDGE" => Ok(wgpu::AddressMode::ClampToEdge),
+        _ => Err(unsupported("address mode", n)),
+    };
+    if s.unnormalized_coordinates {
+        return Err(VkProblem::Unsupported {
+            feature: format!("sampler {} with unnormalized coordinates", s.name),
+        });
+    }
+    let mip = match strip(&s.mipmap_mode, "VK_SAMPLER_MIPMAP_MODE_") {
+        "NEAREST" => wgpu::MipmapFilterMode::Nearest,
+        "LINEAR" => wgpu::MipmapFilterMode::Linear,
+        _ => return Err(unsupported("mipmap mode", &s.mipmap_mode)),
+    };
+    if s.mip_lod_bias != 0.0 {
+        return Err(VkProblem::Unsupported {
+            feature: format!("sampler {} with LOD bias {}", s.name, s.mip_lod_bias),
+        });
+    }
+    Ok(SamplerSpec {
+        name: s.name.clone(),
+        address: [
+            address(&s.address_mode_u)?,
+            address(&s.address_mode_v)?,
+            address(&s.address_mode_w)?,
+        ],
+        mag: filter(&s.mag_filter)?,
+        min: filter(&s.min_filter)?,
+        mip,
+        lod: (s.min_lod, s.max_lod.max(s.min_lod)),
+        compare: s.compare_op.as_deref().map(compare).transpose()?,
+        anisotropy: s.max_anisotropy.map_or(1, |a| a.clamp(1.0, 16.0) as u16),
+    })
+}

@@ -1,0 +1,163 @@
+//! The replay plan's Vulkan half: an imported frame's pipelines at wgpu level. Shaders are
+//! the application's SPIR-V, rewritten for wgpu (`crate::spirv`); bind group layouts come
+//! from the captured set layouts and what the shaders use; every draw and dispatch carries its
+//! own pipeline, bind groups, vertex and index buffers, dynamic state and push constants, as
+//! the application recorded them. Re-exported by `crate::plan`.
+
+use crate::plan::{ColorTarget, DepthTarget};
+
+#[derive(Debug, Clone, Default)]
+pub struct VkPlan {
+    pub shaders: Vec<SpirvShader>,
+    /// Entries of each bind group layout, sorted by binding.
+    pub group_layouts: Vec<Vec<wgpu_types::BindGroupLayoutEntry>>,
+    pub pipelines: Vec<VkPipelineSpec>,
+}
+
+impl VkPlan {
+    pub fn is_empty(&self) -> bool {
+        self.pipelines.is_empty()
+    }
+}
+
+/// How a shader reaches the device.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShaderPath {
+    /// naga parsed and validated it; wgpu translates it for whatever backend it runs on.
+    Naga,
+    /// Handed to the Vulkan driver as it is (after the rewrite).
+    Passthrough,
+}
+
+impl ShaderPath {
+    pub fn name(self) -> &'static str {
+        match self {
+            ShaderPath::Naga => "naga",
+            ShaderPath::Passthrough => "passthrough",
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct SpirvShader {
+    /// As named in messages: the module, its stage and the pipeline it was made for.
+    pub name: String,
+    pub entry: String,
+    pub stage: wgpu_types::ShaderStages,
+    pub path: ShaderPath,
+    /// The module rewritten for wgpu's binding numbers (the naga path, where wgpu renumbers
+    /// for the backend) or for the Vulkan backend's own numbering (passthrough).
+    pub words: Vec<u32>,
+    /// The entry point's workgroup size (compute).
+    pub workgroup: [u32; 3],
+}
+
+#[derive(Debug, Clone)]
+pub struct VkPipelineSpec {
+    pub name: String,
+    /// Bind group layouts by set number (`None`: a set the shaders do not use).
+    pub groups: Vec<Option<usize>>,
+    /// Push-constant bytes, at most the device's immediate size.
+    pub immediate_size: u32,
+    pub kind: VkPipelineKind,
+}
+
+#[derive(Debug, Clone)]
+pub enum VkPipelineKind {
+    Render(Box<VkRenderPipeline>),
+    Compute { shader: usize },
+}
+
+#[derive(Debug, Clone)]
+pub struct VkRenderPipeline {
+    pub vertex: usize,
+    pub fragment: Option<usize>,
+    pub buffers: Vec<VkVertexLayout>,
+    pub primitive: wgpu_types::PrimitiveState,
+    pub depth_stencil: Option<wgpu_types::DepthStencilState>,
+    pub targets: Vec<Option<wgpu_types::ColorTargetState>>,
+    pub samples: u32,
+}
+
+#[derive(Debug, Clone)]
+pub struct VkVertexLayout {
+    /// The Vulkan binding, which is the wgpu vertex buffer slot.
+    pub slot: u32,
+    pub stride: u64,
+    pub step: wgpu_types::VertexStepMode,
+    pub attributes: Vec<wgpu_types::VertexAttribute>,
+}
+
+/// A bind group of one draw or dispatch.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct VkGroup {
+    pub layout: usize,
+    /// (wgpu binding, what is bound), sorted by binding.
+    pub entries: Vec<(u32, VkResource)>,
+}
+
+/// What a descriptor binds, with the view a Vulkan image view describes.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum VkResource {
+    Texture {
+        texture: usize,
+        /// `None`: the texture's own format (depth and stencil views).
+        format: Option<wgpu_types::TextureFormat>,
+        dimension: wgpu_types::TextureViewDimension,
+        aspect: wgpu_types::TextureAspect,
+        base_mip: u32,
+        mips: Option<u32>,
+        base_layer: u32,
+        layers: Option<u32>,
+    },
+    Buffer {
+        buffer: usize,
+        offset: u64,
+        size: Option<u64>,
+    },
+    Sampler(usize),
+}
+
+#[derive(Debug, Clone)]
+pub struct VkRasterOp {
+    pub color: Vec<ColorTarget>,
+    pub depth: Option<DepthTarget>,
+    pub draws: Vec<VkDrawOp>,
+}
+
+#[derive(Debug, Clone)]
+pub struct VkDrawOp {
+    pub pipeline: usize,
+    /// By set number.
+    pub groups: Vec<Option<VkGroup>>,
+    /// (slot, buffer, offset).
+    pub vertex_buffers: Vec<(u32, usize, u64)>,
+    pub index: Option<(usize, u64, wgpu_types::IndexFormat)>,
+    /// `[x, y, width, height, min depth, max depth]` in framebuffer pixels.
+    pub viewport: Option<[f32; 6]>,
+    /// `[x, y, width, height]`, clipped to the target.
+    pub scissor: Option<[u32; 4]>,
+    pub immediates: Vec<u8>,
+    pub blend_constant: Option<[f64; 4]>,
+    pub stencil_reference: Option<u32>,
+    pub count: u32,
+    pub instances: u32,
+    pub first: u32,
+    pub first_instance: u32,
+    pub base_vertex: i32,
+    pub indirect: Option<(usize, u64)>,
+}
+
+#[derive(Debug, Clone)]
+pub struct VkComputeOp {
+    pub dispatches: Vec<VkDispatchOp>,
+}
+
+#[derive(Debug, Clone)]
+pub struct VkDispatchOp {
+    pub pipeline: usize,
+    pub groups: Vec<Option<VkGroup>>,
+    pub immediates: Vec<u8>,
+    pub workgroups: Option<[u32; 3]>,
+    pub indirect: Option<(usize, u64)>,
+}

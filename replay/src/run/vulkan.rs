@@ -1,0 +1,362 @@
+//! The GPU objects of an imported frame's Vulkan pipelines, and encoding its passes. Shaders
+//! on the naga path are created as SPIR-V sources (wgpu parses and validates them against the
+//! explicit layouts); passthrough shaders go to the driver as they are, which is why the core
+//! validated and rewrote them first. Bind groups are made once per distinct set of bindings
+//! and shared by every draw and dispatch that binds the same.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+
+use framelab_core::plan::{
+    ShaderPath, VkComputeOp, VkGroup, VkPipelineKind, VkRasterOp, VkResource,
+};
+
+use super::{ReplayError, Session, close, scope};
+
+pub(super) enum VkGpuPipeline {
+    Render(wgpu::RenderPipeline),
+    Compute(wgpu::ComputePipeline),
+}
+
+/// An imported frame's modules, layouts, pipelines and bind groups.
+#[derive(Default)]
+pub(super) struct VkObjects {
+    pub(super) pipelines: Vec<VkGpuPipeline>,
+    pub(super) groups: Vec<wgpu::BindGroup>,
+    group_index: HashMap<VkGroup, usize>,
+}
+
+/// Bind group indices of each draw or dispatch of a pass, by set.
+pub(super) type WorkGroups = Vec<Vec<Option<usize>>>;
+
+/// The one place framelab hands the driver code wgpu has not checked.
+#[allow(unsafe_code)]
+fn passthrough(device: &wgpu::Device, s: &framelab_core::plan::SpirvShader) -> wgpu::ShaderModule {
+    // SAFETY: the words were loaded, reflected and rewritten by framelab's SPIR-V module
+    // (`framelab_core::spirv`), which refuses malformed modules and what the replay cannot
+    // do; every binding they use is in the layout made from that reflection.
+    unsafe {
+        device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
+            label: Some(&s.name),
+            entry_points: Cow::Owned(vec![wgpu::PassthroughShaderEntryPoint {
+                name: Cow::Borrowed(&s.entry),
+                workgroup_size: (s.workgroup[0], s.workgroup[1], s.workgroup[2]),
+            }]),
+            spirv: Some(Cow::Borrowed(&s.words)),
+            ..Default::default()
+        })
+    }
+}
+
+fn setup(what: String, message: String) -> ReplayError {
+    ReplayError::Setup { what, message }
+}
+
+impl Session {
+    /// Creates every shader module, bind group layout and pipeline of the plan's Vulkan half.
+    pub(super) fn create_vk(&mut self) -> Result<(), ReplayError> {
+        let vk = &self.plan.vk;
+        if vk.is_empty() {
+            return Ok(());
+        }
+        let mut modules = Vec::new();
+        for s in &vk.shaders {
+            let scopes = scope(&self.device);
+            let module = match s.path {
+                ShaderPath::Naga => self
+                    .device
+                    .create_shader_module(wgpu::ShaderModuleDescriptor {
+                        label: Some(&s.name),
+                        source: wgpu::ShaderSource::SpirV(Cow::Borrowed(&s.words)),
+                    }),
+                ShaderPath::Passthrough => passthrough(&self.device, s),
+            };
+            if let Some(message) = close(scopes) {
+                return Err(setup(
+                    format!("shader {} ({} path)", s.name, s.path.name()),
+                    message,
+                ));
+            }
+            modules.push(module);
+        }
+        let layouts: Vec<wgpu::BindGroupLayout> = vk
+            .group_layouts
+            .iter()
+            .map(|entries| {
+                self.device
+                    .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                        label: None,
+                        entries,
+                    })
+            })
+            .collect();
+        let mut pipelines = Vec::new();
+        for p in &vk.pipelines {
+            let scopes = scope(&self.device);
+            let groups: Vec<Option<&wgpu::BindGroupLayout>> =
+                p.groups.iter().map(|g| g.map(|i| &layouts[i])).collect();
+            let layout = self
+                .device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some(&p.name),
+                    bind_group_layouts: &groups,
+                    immediate_size: p.immediate_size,
+                });
+            let pipeline = match &p.kind {
+                VkPipelineKind::Compute { shader } => {
+                    let s = &vk.shaders[*shader];
+                    VkGpuPipeline::Compute(self.device.create_compute_pipeline(
+                        &wgpu::ComputePipelineDescriptor {
+                            label: Some(&p.name),
+                            layout: Some(&layout),
+                            module: &modules[*shader],
+                            entry_point: Some(&s.entry),
+                            compilation_options: Default::default(),
+                            cache: None,
+                        },
+                    ))
+                }
+                VkPipelineKind::Render(r) => {
+                    let mut slots: Vec<Option<wgpu::VertexBufferLayout<'_>>> = Vec::new();
+                    for b in &r.buffers {
+                        let slot = b.slot as usize;
+                        if slots.len() <= slot {
+                            slots.resize(slot + 1, None);
+                        }
+                        slots[slot] = Some(wgpu::VertexBufferLayout {
+                            array_stride: b.stride,
+                            step_mode: b.step,
+                            attributes: &b.attributes,
+                        });
+                    }
+                    let vs = &vk.shaders[r.vertex];
+                    let fragment = r.fragment.map(|f| wgpu::FragmentState {
+                        module: &modules[f],
+                        entry_point: Some(&vk.shaders[f].entry),
+                        compilation_options: Default::default(),
+                        targets: &r.targets,
+                    });
+                    VkGpuPipeline::Render(self.device.create_render_pipeline(
+                        &wgpu::RenderPipelineDescriptor {
+                            label: Some(&p.name),
+                            layout: Some(&layout),
+                            vertex: wgpu::VertexState {
+                                module: &modules[r.vertex],
+                                entry_point: Some(&vs.entry),
+                                compilation_options: Default::default(),
+                                buffers: &slots,
+                            },
+                            primitive: r.primitive,
+                            depth_stencil: r.depth_stencil.clone(),
+                            multisample: wgpu::MultisampleState {
+                                count: r.samples,
+                                mask: !0,
+                                alpha_to_coverage_enabled: false,
+                            },
+                            fragment,
+                            multiview_mask: None,
+                            cache: None,
+                        },
+                    ))
+                }
+            };
+            if let Some(message) = close(scopes) {
+                return Err(setup(format!("pipeline {}", p.name), message));
+            }
+            pipelines.push(pipeline);
+        }
+        self.vk.pipelines = pipelines;
+        self.vk_layouts = layouts;
+        Ok(())
+    }
+
+    /// Bind groups of every draw or dispatch of pass `i`, made on first use.
+    pub(super) fn vk_work_groups(
+        &mut self,
+        name: &str,
+        groups: Vec<&[Option<VkGroup>]>,
+    ) -> Result<WorkGroups, ReplayError> {
+        let mut out = Vec::new();
+        for sets in groups {
+            let mut indices = Vec::new();
+            for g in sets {
+                indices.push(match g {
+                    Some(g) => Some(self.vk_group(name, g)?),
+                    None => None,
+                });
+            }
+            out.push(indices);
+        }
+        Ok(out)
+    }
+
+    fn vk_group(&mut self, pass: &str, g: &VkGroup) -> Result<usize, ReplayError> {
+        if let Some(&i) = self.vk.group_index.get(g) {
+            return Ok(i);
+        }
+        let scopes = scope(&self.device);
+        // Views first: the entries borrow them.
+        let views: Vec<Option<wgpu::TextureView>> = g
+            .entries
+            .iter()
+            .map(|(_, r)| match r {
+                VkResource::Texture {
+                    texture,
+                    format,
+                    dimension,
+                    aspect,
+                    base_mip,
+                    mips,
+                    base_layer,
+                    layers,
+                } => Some(self.textures[*texture][0].create_view(
+                    &wgpu::TextureViewDescriptor {
+                        label: Some(&self.plan.textures[*texture].name),
+                        format: *format,
+                        dimension: Some(*dimension),
+                        usage: None,
+                        aspect: *aspect,
+                        base_mip_level: *base_mip,
+                        mip_level_count: *mips,
+                        base_array_layer: *base_layer,
+                        array_layer_count: *layers,
+                    },
+                )),
+                _ => None,
+            })
+            .collect();
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = g
+            .entries
+            .iter()
+            .zip(&views)
+            .map(|((binding, r), view)| wgpu::BindGroupEntry {
+                binding: *binding,
+                resource: match (r, view) {
+                    (
+                        VkResource::Buffer {
+                            buffer,
+                            offset,
+                            size,
+                        },
+                        _,
+                    ) => wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.buffers[*buffer][0],
+                        offset: *offset,
+                        size: size.and_then(wgpu::BufferSize::new),
+                    }),
+                    (VkResource::Sampler(s), _) => {
+                        wgpu::BindingResource::Sampler(&self.samplers[*s])
+                    }
+                    (VkResource::Texture { .. }, Some(view)) => {
+                        wgpu::BindingResource::TextureView(view)
+                    }
+                    (VkResource::Texture { texture, .. }, None) => {
+                        // Unreachable: a view was made above for every texture.
+                        wgpu::BindingResource::Sampler(&self.samplers[*texture])
+                    }
+                },
+            })
+            .collect();
+        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(pass),
+            layout: &self.vk_layouts[g.layout],
+            entries: &entries,
+        });
+        if let Some(message) = close(scopes) {
+            return Err(ReplayError::Pass {
+                pass: pass.to_owned(),
+                message: format!("making a bind group: {message}"),
+            });
+        }
+        self.vk.groups.push(group);
+        let i = self.vk.groups.len() - 1;
+        self.vk.group_index.insert(g.clone(), i);
+        Ok(i)
+    }
+
+    pub(super) fn encode_vk_raster(
+        &self,
+        name: &str,
+        r: &VkRasterOp,
+        groups: &WorkGroups,
+        mut rp: wgpu::RenderPass<'_>,
+    ) {
+        let buf = |b: usize| &self.buffers[b][0];
+        for (d, sets) in r.draws.iter().zip(groups) {
+            let VkGpuPipeline::Render(pipeline) = &self.vk.pipelines[d.pipeline] else {
+                continue;
+            };
+            rp.set_pipeline(pipeline);
+            for (set, g) in sets.iter().enumerate() {
+                if let Some(g) = g {
+                    rp.set_bind_group(set as u32, &self.vk.groups[*g], &[]);
+                }
+            }
+            for &(slot, b, offset) in &d.vertex_buffers {
+                rp.set_vertex_buffer(slot, buf(b).slice(offset..));
+            }
+            if let Some([x, y, w, h, min, max]) = d.viewport {
+                rp.set_viewport(x, y, w, h, min, max);
+            }
+            if let Some([x, y, w, h]) = d.scissor {
+                rp.set_scissor_rect(x, y, w, h);
+            }
+            if !d.immediates.is_empty() {
+                rp.set_immediates(0, &d.immediates);
+            }
+            if let Some([r, g, b, a]) = d.blend_constant {
+                rp.set_blend_constant(wgpu::Color { r, g, b, a });
+            }
+            if let Some(s) = d.stencil_reference {
+                rp.set_stencil_reference(s);
+            }
+            match (d.index, d.indirect) {
+                (Some((ib, offset, format)), Some((b, at))) => {
+                    rp.set_index_buffer(buf(ib).slice(offset..), format);
+                    rp.draw_indexed_indirect(buf(b), at);
+                }
+                (None, Some((b, at))) => rp.draw_indirect(buf(b), at),
+                (Some((ib, offset, format)), None) => {
+                    rp.set_index_buffer(buf(ib).slice(offset..), format);
+                    rp.draw_indexed(
+                        d.first..d.first.saturating_add(d.count),
+                        d.base_vertex,
+                        d.first_instance..d.first_instance.saturating_add(d.instances),
+                    );
+                }
+                (None, None) => rp.draw(
+                    d.first..d.first.saturating_add(d.count),
+                    d.first_instance..d.first_instance.saturating_add(d.instances),
+                ),
+            }
+        }
+        let _ = name;
+    }
+
+    pub(super) fn encode_vk_compute(
+        &self,
+        c: &VkComputeOp,
+        groups: &WorkGroups,
+        mut cp: wgpu::ComputePass<'_>,
+    ) {
+        for (d, sets) in c.dispatches.iter().zip(groups) {
+            let VkGpuPipeline::Compute(pipeline) = &self.vk.pipelines[d.pipeline] else {
+                continue;
+            };
+            cp.set_pipeline(pipeline);
+            for (set, g) in sets.iter().enumerate() {
+                if let Some(g) = g {
+                    cp.set_bind_group(set as u32, &self.vk.groups[*g], &[]);
+                }
+            }
+            if !d.immediates.is_empty() {
+                cp.set_immediates(0, &d.immediates);
+            }
+            match (d.workgroups, d.indirect) {
+                (_, Some((b, at))) => cp.dispatch_workgroups_indirect(&self.buffers[b][0], at),
+                (Some([x, y, z]), None) => cp.dispatch_workgroups(x, y, z),
+                (None, None) => {}
+            }
+        }
+    }
+}
