@@ -44,10 +44,12 @@ pub struct SpirvShader {
     pub name: String,
     pub entry: String,
     pub stage: wgpu_types::ShaderStages,
-    pub path: ShaderPath,
-    /// The module rewritten for wgpu's binding numbers (the naga path, where wgpu renumbers
-    /// for the backend) or for the Vulkan backend's own numbering (passthrough).
-    pub words: Vec<u32>,
+    /// The module rewritten for wgpu's binding numbers, where naga's front end and validator
+    /// accept it (wgpu then renumbers for whatever backend runs it).
+    pub naga: Option<Vec<u32>>,
+    /// The module rewritten for the numbers wgpu's Vulkan backend gives its descriptor set
+    /// layouts, for the driver as it is.
+    pub passthrough: Vec<u32>,
     /// The entry point's workgroup size (compute).
     pub workgroup: [u32; 3],
 }

@@ -133,6 +133,9 @@ pub fn replay(
         }
     }
     let mut replayer = Replaying::start(&ctx, lowered)?;
+    for (shader, path) in replayer.session.shader_paths() {
+        on(Event::Note(&format!("shader {shader}: {} path", path.name())));
+    }
     replayer
         .session
         .set_timestamp_pairs(options.timestamp_pairs);

@@ -86,6 +86,9 @@ pub struct VkWork {
     pub pipeline: usize,
     pub viewport: Option<[f32; 6]>,
     pub scissor: Option<[i64; 4]>,
+    pub blend_constants: Option<[f32; 4]>,
+    /// (front, back).
+    pub stencil_reference: Option<[u32; 2]>,
     /// Push-constant bytes from offset 0; `None` where the source held no values.
     pub push_constants: Option<Vec<u8>>,
     pub descriptors: Vec<VkBound>,

@@ -111,6 +111,8 @@ pub enum CmdFunc {
     BindPipeline,
     SetViewport,
     SetScissor,
+    SetBlendConstants,
+    SetStencilReference,
     PushConstants,
     BindDescriptorSets,
     PushDescriptorSet,
@@ -237,6 +239,8 @@ impl CmdFunc {
             "vkCmdSetScissor" | "vkCmdSetScissorWithCount" | "vkCmdSetScissorWithCountEXT" => {
                 C::SetScissor
             }
+            "vkCmdSetBlendConstants" => C::SetBlendConstants,
+            "vkCmdSetStencilReference" => C::SetStencilReference,
             "vkCmdPushConstants" => C::PushConstants,
             "vkCmdBindDescriptorSets" => C::BindDescriptorSets,
             "vkCmdPushDescriptorSetKHR" | "vkCmdPushDescriptorSet" => C::PushDescriptorSet,

@@ -29,6 +29,9 @@ struct Bound {
     pipelines: BTreeMap<bool, u64>,
     viewport: Option<[f32; 6]>,
     scissor: Option<[i64; 4]>,
+    blend_constants: Option<[f32; 4]>,
+    /// (front, back) references.
+    stencil_reference: (Option<u32>, Option<u32>),
     /// Push-constant bytes written so far; `None` once a push's values were not in the
     /// source.
     push: Option<Vec<u8>>,
@@ -124,6 +127,27 @@ impl Recording {
                         e.get("width")?.i64()?,
                         e.get("height")?.i64()?,
                     ]);
+                }
+                return Ok(true);
+            }
+            CmdFunc::SetBlendConstants => {
+                let k = args.list("blendConstants")?;
+                let mut c = [0.0f32; 4];
+                for (i, v) in k.iter().take(4).enumerate() {
+                    c[i] = v.f64()? as f32;
+                }
+                self.bound.blend_constants = Some(c);
+                return Ok(true);
+            }
+            CmdFunc::SetStencilReference => {
+                // VkStencilFaceFlags: front 1, back 2.
+                let faces = args.get("faceMask")?.u64()?;
+                let reference = args.get("reference")?.u32()?;
+                if faces & 1 != 0 {
+                    self.bound.stencil_reference.0 = Some(reference);
+                }
+                if faces & 2 != 0 {
+                    self.bound.stencil_reference.1 = Some(reference);
                 }
                 return Ok(true);
             }
@@ -283,6 +307,20 @@ impl Recording {
         VkCommandState {
             viewport: if compute { None } else { self.bound.viewport },
             scissor: if compute { None } else { self.bound.scissor },
+            blend_constants: if compute {
+                None
+            } else {
+                self.bound.blend_constants
+            },
+            stencil_reference: if compute {
+                None
+            } else {
+                match self.bound.stencil_reference {
+                    (Some(f), Some(b)) if f != b => Some([f, b]),
+                    (Some(f), _) | (None, Some(f)) => Some([f, f]),
+                    (None, None) => None,
+                }
+            },
             push_constants: self
                 .bound
                 .push

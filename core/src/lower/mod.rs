@@ -37,6 +37,12 @@ pub fn wanted_features() -> Features {
         | Features::RG11B10UFLOAT_RENDERABLE
         | Features::FLOAT32_FILTERABLE
         | Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
+        // Imported Vulkan frames: their SPIR-V where naga cannot take it, their push
+        // constants, and depth clamping.
+        | Features::PASSTHROUGH_SHADERS
+        | Features::IMMEDIATES
+        | Features::DEPTH_CLIP_CONTROL
+        | Features::CLEAR_TEXTURE
 }
 
 #[derive(Debug, thiserror::Error)]

@@ -49,8 +49,9 @@ pub(super) fn pass_error(p: &PassDesc, problem: PassError) -> LowerError {
 
 impl<'c> Lowering<'c> {
     pub(super) fn pass(&mut self, p: &'c PassDesc) -> Result<(), LowerError> {
-        let imported = p.draws.iter().any(|d| d.vk.is_some())
-            || p.dispatches.iter().any(|d| d.vk.is_some());
+        // An imported frame's draws and dispatches run with their Vulkan pipelines (a render
+        // pass without draws still loads, clears and stores its attachments).
+        let imported = self.capture.vulkan.is_some();
         let shader = self.shader(p);
         let bindings = if imported {
             Vec::new()

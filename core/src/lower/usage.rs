@@ -91,6 +91,8 @@ impl<'c> Usage<'c> {
                 *u |= wgpu::BufferUsages::STORAGE
             }
             Access::IndirectArgs => *u |= wgpu::BufferUsages::INDIRECT,
+            Access::VertexBuffer => *u |= wgpu::BufferUsages::VERTEX,
+            Access::IndexBuffer => *u |= wgpu::BufferUsages::INDEX,
             _ => {}
         }
     }

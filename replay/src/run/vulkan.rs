@@ -1,14 +1,17 @@
-//! The GPU objects of an imported frame's Vulkan pipelines, and encoding its passes. Shaders
-//! on the naga path are created as SPIR-V sources (wgpu parses and validates them against the
-//! explicit layouts); passthrough shaders go to the driver as they are, which is why the core
-//! validated and rewrote them first. Bind groups are made once per distinct set of bindings
-//! and shared by every draw and dispatch that binds the same.
+//! The GPU objects of an imported frame's Vulkan pipelines, and encoding its passes. A
+//! pipeline takes the naga path when every stage has a module naga accepted and wgpu accepts
+//! the pipeline made from them (wgpu checks the stages against the explicit layouts and
+//! against each other); otherwise its stages go to the driver as they are (passthrough),
+//! which is why the core validated and rewrote them first. The path each shader took is kept
+//! for the summary. Bind groups are made once per distinct set of bindings and shared by every
+//! draw and dispatch that binds the same.
 
 use std::borrow::Cow;
 use std::collections::HashMap;
 
 use framelab_core::plan::{
-    ShaderPath, VkComputeOp, VkGroup, VkPipelineKind, VkRasterOp, VkResource,
+    ShaderPath, SpirvShader, VkComputeOp, VkGroup, VkPipelineKind, VkPipelineSpec, VkRasterOp,
+    VkResource,
 };
 
 use super::{ReplayError, Session, close, scope};
@@ -18,12 +21,20 @@ pub(super) enum VkGpuPipeline {
     Compute(wgpu::ComputePipeline),
 }
 
-/// An imported frame's modules, layouts, pipelines and bind groups.
+/// An imported frame's pipelines and bind groups, and the path each shader took.
 #[derive(Default)]
 pub(super) struct VkObjects {
     pub(super) pipelines: Vec<VkGpuPipeline>,
     pub(super) groups: Vec<wgpu::BindGroup>,
     group_index: HashMap<VkGroup, usize>,
+    pub(super) paths: Vec<(String, ShaderPath)>,
+}
+
+/// Shader modules made so far, per path.
+#[derive(Default)]
+struct Modules {
+    naga: HashMap<usize, wgpu::ShaderModule>,
+    passthrough: HashMap<usize, wgpu::ShaderModule>,
 }
 
 /// Bind group indices of each draw or dispatch of a pass, by set.
@@ -31,7 +42,7 @@ pub(super) type WorkGroups = Vec<Vec<Option<usize>>>;
 
 /// The one place framelab hands the driver code wgpu has not checked.
 #[allow(unsafe_code)]
-fn passthrough(device: &wgpu::Device, s: &framelab_core::plan::SpirvShader) -> wgpu::ShaderModule {
+fn passthrough(device: &wgpu::Device, s: &SpirvShader) -> wgpu::ShaderModule {
     // SAFETY: the words were loaded, reflected and rewritten by framelab's SPIR-V module
     // (`framelab_core::spirv`), which refuses malformed modules and what the replay cannot
     // do; every binding they use is in the layout made from that reflection.
@@ -42,7 +53,7 @@ fn passthrough(device: &wgpu::Device, s: &framelab_core::plan::SpirvShader) -> w
                 name: Cow::Borrowed(&s.entry),
                 workgroup_size: (s.workgroup[0], s.workgroup[1], s.workgroup[2]),
             }]),
-            spirv: Some(Cow::Borrowed(&s.words)),
+            spirv: Some(Cow::Borrowed(&s.passthrough)),
             ..Default::default()
         })
     }
@@ -52,34 +63,23 @@ fn setup(what: String, message: String) -> ReplayError {
     ReplayError::Setup { what, message }
 }
 
+fn shaders_of(p: &VkPipelineSpec) -> Vec<usize> {
+    match &p.kind {
+        VkPipelineKind::Compute { shader } => vec![*shader],
+        VkPipelineKind::Render(r) => std::iter::once(r.vertex).chain(r.fragment).collect(),
+    }
+}
+
 impl Session {
-    /// Creates every shader module, bind group layout and pipeline of the plan's Vulkan half.
+    /// Creates every bind group layout and pipeline of the plan's Vulkan half, with the shader
+    /// modules they use.
     pub(super) fn create_vk(&mut self) -> Result<(), ReplayError> {
-        let vk = &self.plan.vk;
-        if vk.is_empty() {
+        if self.plan.vk.is_empty() {
             return Ok(());
         }
-        let mut modules = Vec::new();
-        for s in &vk.shaders {
-            let scopes = scope(&self.device);
-            let module = match s.path {
-                ShaderPath::Naga => self
-                    .device
-                    .create_shader_module(wgpu::ShaderModuleDescriptor {
-                        label: Some(&s.name),
-                        source: wgpu::ShaderSource::SpirV(Cow::Borrowed(&s.words)),
-                    }),
-                ShaderPath::Passthrough => passthrough(&self.device, s),
-            };
-            if let Some(message) = close(scopes) {
-                return Err(setup(
-                    format!("shader {} ({} path)", s.name, s.path.name()),
-                    message,
-                ));
-            }
-            modules.push(module);
-        }
-        let layouts: Vec<wgpu::BindGroupLayout> = vk
+        let layouts: Vec<wgpu::BindGroupLayout> = self
+            .plan
+            .vk
             .group_layouts
             .iter()
             .map(|entries| {
@@ -90,84 +90,152 @@ impl Session {
                     })
             })
             .collect();
+        let mut modules = Modules::default();
         let mut pipelines = Vec::new();
-        for p in &vk.pipelines {
-            let scopes = scope(&self.device);
-            let groups: Vec<Option<&wgpu::BindGroupLayout>> =
-                p.groups.iter().map(|g| g.map(|i| &layouts[i])).collect();
-            let layout = self
-                .device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some(&p.name),
-                    bind_group_layouts: &groups,
-                    immediate_size: p.immediate_size,
-                });
-            let pipeline = match &p.kind {
-                VkPipelineKind::Compute { shader } => {
-                    let s = &vk.shaders[*shader];
-                    VkGpuPipeline::Compute(self.device.create_compute_pipeline(
-                        &wgpu::ComputePipelineDescriptor {
-                            label: Some(&p.name),
-                            layout: Some(&layout),
-                            module: &modules[*shader],
-                            entry_point: Some(&s.entry),
-                            compilation_options: Default::default(),
-                            cache: None,
-                        },
-                    ))
+        let mut paths = Vec::new();
+        for p in &self.plan.vk.pipelines {
+            let stages = shaders_of(p);
+            let naga = stages
+                .iter()
+                .all(|&s| self.plan.vk.shaders[s].naga.is_some());
+            let mut tried = Vec::new();
+            let mut made = None;
+            for path in [ShaderPath::Naga, ShaderPath::Passthrough] {
+                if path == ShaderPath::Naga && !naga {
+                    continue;
                 }
-                VkPipelineKind::Render(r) => {
-                    let mut slots: Vec<Option<wgpu::VertexBufferLayout<'_>>> = Vec::new();
-                    for b in &r.buffers {
-                        let slot = b.slot as usize;
-                        if slots.len() <= slot {
-                            slots.resize(slot + 1, None);
-                        }
-                        slots[slot] = Some(wgpu::VertexBufferLayout {
-                            array_stride: b.stride,
-                            step_mode: b.step,
-                            attributes: &b.attributes,
-                        });
+                let scopes = scope(&self.device);
+                let pipeline = self.vk_pipeline(p, &layouts, &mut modules, path);
+                match close(scopes) {
+                    None => {
+                        made = Some((pipeline, path));
+                        break;
                     }
-                    let vs = &vk.shaders[r.vertex];
-                    let fragment = r.fragment.map(|f| wgpu::FragmentState {
-                        module: &modules[f],
-                        entry_point: Some(&vk.shaders[f].entry),
-                        compilation_options: Default::default(),
-                        targets: &r.targets,
-                    });
-                    VkGpuPipeline::Render(self.device.create_render_pipeline(
-                        &wgpu::RenderPipelineDescriptor {
-                            label: Some(&p.name),
-                            layout: Some(&layout),
-                            vertex: wgpu::VertexState {
-                                module: &modules[r.vertex],
-                                entry_point: Some(&vs.entry),
-                                compilation_options: Default::default(),
-                                buffers: &slots,
-                            },
-                            primitive: r.primitive,
-                            depth_stencil: r.depth_stencil.clone(),
-                            multisample: wgpu::MultisampleState {
-                                count: r.samples,
-                                mask: !0,
-                                alpha_to_coverage_enabled: false,
-                            },
-                            fragment,
-                            multiview_mask: None,
-                            cache: None,
-                        },
-                    ))
+                    Some(message) => tried.push(format!("{} path: {message}", path.name())),
                 }
+            }
+            let Some((pipeline, path)) = made else {
+                return Err(setup(format!("pipeline {}", p.name), tried.join("; ")));
             };
-            if let Some(message) = close(scopes) {
-                return Err(setup(format!("pipeline {}", p.name), message));
+            for &s in &stages {
+                paths.push((self.plan.vk.shaders[s].name.clone(), path));
             }
             pipelines.push(pipeline);
         }
+        paths.sort_by(|a, b| a.0.cmp(&b.0));
+        paths.dedup();
         self.vk.pipelines = pipelines;
+        self.vk.paths = paths;
         self.vk_layouts = layouts;
         Ok(())
+    }
+
+    /// The path each imported shader took to the device, by shader name.
+    pub fn shader_paths(&self) -> &[(String, ShaderPath)] {
+        &self.vk.paths
+    }
+
+    fn vk_module<'m>(
+        &self,
+        modules: &'m mut Modules,
+        s: usize,
+        path: ShaderPath,
+    ) -> &'m wgpu::ShaderModule {
+        let shader = &self.plan.vk.shaders[s];
+        match path {
+            ShaderPath::Naga => modules.naga.entry(s).or_insert_with(|| {
+                let words = shader.naga.as_deref().unwrap_or(&shader.passthrough);
+                self.device
+                    .create_shader_module(wgpu::ShaderModuleDescriptor {
+                        label: Some(&shader.name),
+                        source: wgpu::ShaderSource::SpirV(Cow::Borrowed(words)),
+                    })
+            }),
+            ShaderPath::Passthrough => modules
+                .passthrough
+                .entry(s)
+                .or_insert_with(|| passthrough(&self.device, shader)),
+        }
+    }
+
+    fn vk_pipeline(
+        &self,
+        p: &VkPipelineSpec,
+        layouts: &[wgpu::BindGroupLayout],
+        modules: &mut Modules,
+        path: ShaderPath,
+    ) -> VkGpuPipeline {
+        let vk = &self.plan.vk;
+        let groups: Vec<Option<&wgpu::BindGroupLayout>> =
+            p.groups.iter().map(|g| g.map(|i| &layouts[i])).collect();
+        let layout = self
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(&p.name),
+                bind_group_layouts: &groups,
+                immediate_size: p.immediate_size,
+            });
+        match &p.kind {
+            VkPipelineKind::Compute { shader } => {
+                let module = self.vk_module(modules, *shader, path).clone();
+                VkGpuPipeline::Compute(self.device.create_compute_pipeline(
+                    &wgpu::ComputePipelineDescriptor {
+                        label: Some(&p.name),
+                        layout: Some(&layout),
+                        module: &module,
+                        entry_point: Some(&vk.shaders[*shader].entry),
+                        compilation_options: Default::default(),
+                        cache: None,
+                    },
+                ))
+            }
+            VkPipelineKind::Render(r) => {
+                let mut slots: Vec<Option<wgpu::VertexBufferLayout<'_>>> = Vec::new();
+                for b in &r.buffers {
+                    let slot = b.slot as usize;
+                    if slots.len() <= slot {
+                        slots.resize(slot + 1, None);
+                    }
+                    slots[slot] = Some(wgpu::VertexBufferLayout {
+                        array_stride: b.stride,
+                        step_mode: b.step,
+                        attributes: &b.attributes,
+                    });
+                }
+                let vertex = self.vk_module(modules, r.vertex, path).clone();
+                let fragment_module = r.fragment.map(|f| self.vk_module(modules, f, path).clone());
+                let fragment = r.fragment.zip(fragment_module.as_ref()).map(|(f, module)| {
+                    wgpu::FragmentState {
+                        module,
+                        entry_point: Some(&vk.shaders[f].entry),
+                        compilation_options: Default::default(),
+                        targets: &r.targets,
+                    }
+                });
+                VkGpuPipeline::Render(self.device.create_render_pipeline(
+                    &wgpu::RenderPipelineDescriptor {
+                        label: Some(&p.name),
+                        layout: Some(&layout),
+                        vertex: wgpu::VertexState {
+                            module: &vertex,
+                            entry_point: Some(&vk.shaders[r.vertex].entry),
+                            compilation_options: Default::default(),
+                            buffers: &slots,
+                        },
+                        primitive: r.primitive,
+                        depth_stencil: r.depth_stencil.clone(),
+                        multisample: wgpu::MultisampleState {
+                            count: r.samples,
+                            mask: !0,
+                            alpha_to_coverage_enabled: false,
+                        },
+                        fragment,
+                        multiview_mask: None,
+                        cache: None,
+                    },
+                ))
+            }
+        }
     }
 
     /// Bind groups of every draw or dispatch of pass `i`, made on first use.

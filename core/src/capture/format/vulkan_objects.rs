@@ -322,6 +322,12 @@ pub struct VkCommandState {
     /// `vkCmdSetScissor`'s first scissor: `[x, y, width, height]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scissor: Option<[i64; 4]>,
+    /// `vkCmdSetBlendConstants`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub blend_constants: Option<[f32; 4]>,
+    /// `vkCmdSetStencilReference`: (front, back).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stencil_reference: Option<[u32; 2]>,
     /// The push-constant bytes from offset 0 up to the last byte written, as hex (bytes never
     /// written are zero). Absent where the source holds no values (a JSON Lines stream gives
     /// only `pValues`' address).

@@ -366,6 +366,8 @@ impl Validator<'_> {
             pipeline,
             viewport: state.viewport,
             scissor: state.scissor,
+            blend_constants: state.blend_constants,
+            stencil_reference: state.stencil_reference,
             push_constants: state.push_constants.as_deref().and_then(hex_bytes),
             descriptors,
             vertex_buffers: state

@@ -159,10 +159,13 @@ impl<'c> Lowering<'c> {
         })?;
         for s in &g.dynamic_states {
             let name = s.strip_prefix("VK_DYNAMIC_STATE_").unwrap_or(s);
-            if !matches!(name, "VIEWPORT" | "SCISSOR") {
+            if !matches!(
+                name,
+                "VIEWPORT" | "SCISSOR" | "BLEND_CONSTANTS" | "STENCIL_REFERENCE"
+            ) {
                 return Err(VkProblem::Unsupported {
                     feature: format!(
-                        "dynamic state {s} of pipeline {} (the capture keeps viewport and scissor only)",
+                        "dynamic state {s} of pipeline {} (the capture keeps viewport, scissor, blend constants and stencil reference)",
                         pipe.name
                     ),
                 }
@@ -254,13 +257,8 @@ impl<'c> Lowering<'c> {
                 .blend
                 .iter()
                 .any(states::uses_constant)
-                .then(|| g.blend_constants.map(f64::from)),
-            stencil_reference: g
-                .depth_stencil
-                .as_ref()
-                .filter(|s| s.stencil_test)
-                .and_then(|s| s.front.as_ref())
-                .map(|f| f.reference),
+                .then(|| work.blend_constants.unwrap_or(g.blend_constants).map(f64::from)),
+            stencil_reference: self.stencil_reference(pipe, g, work)?,
             count: d.count.unwrap_or(0),
             instances: d.instances,
             first: d.first,
@@ -322,6 +320,43 @@ impl<'c> Lowering<'c> {
                 .map(|(b, o)| self.buf(p, b).map(|i| (i, o)))
                 .transpose()?,
         })
+    }
+
+    /// The stencil reference a draw tests with: set by the command buffer where the pipeline
+    /// makes it dynamic, else the pipeline's. wgpu has one reference for both faces.
+    fn stencil_reference(
+        &self,
+        pipe: &VkPipeline,
+        g: &crate::capture::format::GraphicsState,
+        work: &VkWork,
+    ) -> Result<Option<u32>, Fail> {
+        let Some(ds) = g.depth_stencil.as_ref().filter(|s| s.stencil_test) else {
+            return Ok(None);
+        };
+        let dynamic = g
+            .dynamic_states
+            .iter()
+            .any(|s| s.ends_with("STENCIL_REFERENCE"));
+        let [front, back] = if dynamic {
+            work.stencil_reference.ok_or_else(|| {
+                VkProblem::Missing(format!(
+                    "pipeline {} has a dynamic stencil reference the draw never set",
+                    pipe.name
+                ))
+            })?
+        } else {
+            [
+                ds.front.as_ref().map_or(0, |f| f.reference),
+                ds.back.as_ref().map_or(0, |f| f.reference),
+            ]
+        };
+        if front != back {
+            return Err(VkProblem::Unsupported {
+                feature: format!("different stencil references per face ({front}, {back})"),
+            }
+            .into());
+        }
+        Ok(Some(front))
     }
 
     /// The push-constant bytes a draw or dispatch gives wgpu: the recorded ones, zero-padded

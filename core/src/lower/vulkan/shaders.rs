@@ -14,7 +14,7 @@ use super::bindings::SetBindings;
 use super::{Fail, VkProblem, stage_of};
 use crate::capture::vk_model::{VkPipeline, VkStage};
 use crate::lower::Lowering;
-use crate::plan::{ShaderPath, SpirvShader};
+use crate::plan::SpirvShader;
 use crate::spirv::{Role, RewriteOptions};
 
 /// A rewritten stage is shared by pipelines that agree on all of this.
@@ -114,34 +114,29 @@ impl<'c> Lowering<'c> {
             },
         )
         .map_err(spirv_error)?;
-        let (path, words) = if naga_accepts(&naga_words) {
-            (ShaderPath::Naga, naga_words)
-        } else {
-            let rank = |set: u32, b: u32, role: Role| -> Option<u32> {
-                let w = wgpu_binding(b, role);
-                sets.get(&set)?
-                    .iter()
-                    .position(|&x| x == w)
-                    .map(|r| r as u32)
-            };
-            let words = crate::spirv::rewrite(
-                words,
-                execution_model,
-                &stage.entry,
-                &RewriteOptions {
-                    flip_y: flip,
-                    binding: &rank,
-                },
-            )
-            .map_err(spirv_error)?;
-            (ShaderPath::Passthrough, words)
+        let rank = |set: u32, b: u32, role: Role| -> Option<u32> {
+            let w = wgpu_binding(b, role);
+            sets.get(&set)?
+                .iter()
+                .position(|&x| x == w)
+                .map(|r| r as u32)
         };
+        let passthrough = crate::spirv::rewrite(
+            words,
+            execution_model,
+            &stage.entry,
+            &RewriteOptions {
+                flip_y: flip,
+                binding: &rank,
+            },
+        )
+        .map_err(spirv_error)?;
         self.plan.vk.shaders.push(SpirvShader {
             name,
             entry: stage.entry.clone(),
             stage: wgpu_stage,
-            path,
-            words,
+            naga: naga_accepts(&naga_words).then_some(naga_words),
+            passthrough,
             workgroup: [1, 1, 1],
         });
         let i = self.plan.vk.shaders.len() - 1;

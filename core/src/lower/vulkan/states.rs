@@ -151,12 +151,9 @@ pub(super) fn depth_stencil(
     };
     let stencil = match (d.stencil_test, &d.front, &d.back) {
         (true, Some(f), Some(b)) => {
-            if f.compare_mask != b.compare_mask
-                || f.write_mask != b.write_mask
-                || f.reference != b.reference
-            {
+            if f.compare_mask != b.compare_mask || f.write_mask != b.write_mask {
                 return Err(VkProblem::Unsupported {
-                    feature: "different stencil masks or references per face".to_owned(),
+                    feature: "different stencil masks per face".to_owned(),
                 });
             }
             wgpu::StencilState {
