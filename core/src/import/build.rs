@@ -66,6 +66,12 @@ pub struct Builder {
     pub pipelines_used: BTreeSet<u64>,
     /// Image views their descriptors name.
     pub views_used: BTreeMap<u64, VkImageView>,
+    /// Bytes the host wrote into mapped memory after the imported frames began, by the name
+    /// of the buffer that holds them for the replay: `host_write` passes copy them into place
+    /// at the point of the frame where the application wrote them.
+    pub uploads: Vec<(String, Vec<u8>)>,
+    /// The queue of the latest pass, for passes no queue records (host writes).
+    last_queue: Option<u64>,
 }
 
 fn load_op(op: &str) -> LoadOp {
@@ -274,7 +280,46 @@ impl Builder {
         self.passes.push(pass);
         let index = self.passes.len() - 1;
         self.last_pass_on.insert(queue, index);
+        self.last_queue = Some(queue);
         Some(index)
+    }
+
+    /// A host write of `bytes` into `buffer` at `offset` during the imported frames: a copy
+    /// pass from a buffer holding the bytes, on the queue of the latest pass.
+    pub fn upload(&mut self, objects: &Objects, buffer: u64, offset: u64, bytes: Vec<u8>) {
+        let Some(queue) = self.last_queue.or_else(|| self.queue_names.keys().next().copied())
+        else {
+            self.note("host writes before any queue was seen: not imported");
+            return;
+        };
+        let Some(dst) = self.resource(objects, buffer) else {
+            return;
+        };
+        let Some(pass) = self.new_pass(objects, queue, PassKind::Copy, "host_write") else {
+            return;
+        };
+        let mut k = self.uploads.len();
+        let mut name = format!("host_write_{k}");
+        while !self.taken.insert(name.clone()) {
+            k += 1;
+            name = format!("host_write_{k}");
+        }
+        let size = Some(bytes.len() as u64);
+        let at = |resource: String, offset: u64| CopyLocation {
+            resource,
+            mip: 0,
+            layer: 0,
+            origin: [0; 3],
+            offset,
+            size,
+            bytes_per_row: None,
+        };
+        self.passes[pass].copies.push(Copy {
+            src: at(name.clone(), 0),
+            dst: at(dst, offset),
+            extent: None,
+        });
+        self.uploads.push((name, bytes));
     }
 
     /// One queue submission: waits, command buffers in order, signals.
@@ -290,6 +335,7 @@ impl Builder {
         self.wait(queue, waits);
         if self.emitting() {
             self.last_submit = Some(objects.at);
+            self.last_queue = Some(queue);
         }
         if self.emitting() && self.first_submit.is_none() {
             self.first_submit = Some(objects.at);

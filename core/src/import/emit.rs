@@ -170,6 +170,31 @@ fn buffer_resource(
     }
 }
 
+/// The buffer holding bytes the host wrote during the frame, read by its `host_write` pass.
+pub fn upload_buffer(name: &str, size: u64, path: &str) -> Resource {
+    Resource {
+        name: name.to_owned(),
+        kind: ResourceKind::Buffer,
+        format: None,
+        width: None,
+        height: None,
+        depth: None,
+        array_layers: None,
+        mip_levels: None,
+        samples: None,
+        size: Some(size),
+        stride: None,
+        buffer_kind: None,
+        flags: Vec::new(),
+        placement: None,
+        initial: Some(InitialContents::File {
+            path: path.to_owned(),
+        }),
+        history: false,
+        output: false,
+    }
+}
+
 /// Memory objects as heaps, gathered as resources are placed in them.
 struct Heaps<'a> {
     objects: &'a Objects,

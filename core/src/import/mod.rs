@@ -159,6 +159,34 @@ struct Importer {
 }
 
 impl Importer {
+    /// Host writes of `data` at `offset` in `memory`, into every buffer bound over them.
+    fn host_write(&mut self, memory: u64, offset: u64, data: &[u8]) {
+        let end = offset.saturating_add(data.len() as u64);
+        let mut targets: Vec<(u64, u64, u64)> = self
+            .objects
+            .buffers
+            .iter()
+            .filter(|(_, b)| b.destroyed_at.is_none())
+            .filter_map(|(&h, b)| {
+                let (m, at) = b.bound?;
+                let (from, to) = (offset.max(at), end.min(at.saturating_add(b.size)));
+                (m == memory && from < to).then_some((h, from, to))
+            })
+            .collect();
+        targets.sort_unstable();
+        for (buffer, from, to) in targets {
+            let at = self
+                .objects
+                .buffers
+                .get(&buffer)
+                .and_then(|b| b.bound)
+                .map_or(0, |(_, a)| a);
+            let bytes = data[(from - offset) as usize..(to - offset) as usize].to_vec();
+            self.builder
+                .upload(&self.objects, buffer, from - at, bytes);
+        }
+    }
+
     fn skip(&mut self, what: String, line: u64) {
         let e = self.skipped.entry(what).or_insert((0, line));
         e.0 += 1;
@@ -487,6 +515,7 @@ fn finish(
     imp.builder.keep_alive(&imp.objects);
     let names = imp.builder.names.clone();
     let pipelines_used = std::mem::take(&mut imp.builder.pipelines_used);
+    let uploads = std::mem::take(&mut imp.builder.uploads);
     let views_used = std::mem::take(&mut imp.builder.views_used);
     let emitted = emit::emit(
         imp.builder,
@@ -575,6 +604,11 @@ fn finish(
             memory_writes: x.contents.fills,
         });
         side_files = files;
+        for (name, bytes) in uploads {
+            let path = format!("{}.contents/{name}.bin", x.stem);
+            capture.resources.push(emit::upload_buffer(&name, bytes.len() as u64, &path));
+            side_files.push(SideFile { path, bytes });
+        }
         let modules = std::mem::take(&mut x.contents.modules);
         shader_modules = Some(modules.len());
         for (handle, bytes) in modules {

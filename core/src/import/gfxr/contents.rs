@@ -124,7 +124,7 @@ fn handle(v: &Value) -> Option<u64> {
 impl Contents {
     /// A call only the binary route needs to see.
     pub fn observe(&mut self, name: &str, args: &Value, blobs: &[(String, Vec<u8>)]) {
-        if self.frozen && name != "vkCreateShaderModule" {
+        if self.frozen && !matches!(name, "vkCreateShaderModule" | "vkMapMemory" | "vkMapMemory2KHR" | "vkMapMemory2") {
             return;
         }
         match name {
@@ -194,6 +194,16 @@ impl Contents {
             }
             _ => {}
         }
+    }
+
+    /// Where a fill of `memory` at `offset` lands: offsets of fills count from the start of
+    /// the memory's current mapping.
+    pub fn absolute(&self, memory: u64, offset: u64) -> u64 {
+        self.map_offset
+            .get(&memory)
+            .copied()
+            .unwrap_or(0)
+            .saturating_add(offset)
     }
 
     /// A meta-data command's contents.

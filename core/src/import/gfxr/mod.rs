@@ -26,6 +26,7 @@ use super::{ImportError, ImportOptions, Imported, Importer};
 use blocks::{Block, Blocks, Kind};
 pub use blocks::{MAX_BLOCK_BYTES, is_gfxr};
 use contents::Contents;
+use meta::Meta;
 
 /// What reading the blocks gathered besides the importer's own state.
 struct Reading {
@@ -197,7 +198,18 @@ pub fn import(
             Kind::MetaData => {
                 let meta = meta::read(&block, compression).map_err(|m| located(file, at, m))?;
                 reading.count(format!("(meta-data: {})", meta.name()));
-                contents.meta(meta);
+                match meta {
+                    // Written while the imported frames run: their work reads it from here on.
+                    Meta::FillMemory {
+                        memory,
+                        offset,
+                        data,
+                    } if contents.frozen => {
+                        let at = contents.absolute(memory, offset);
+                        imp.host_write(memory, at, &data);
+                    }
+                    meta => contents.meta(meta),
+                }
             }
             Kind::FrameMarker => {
                 // An explicit end-of-frame marker (file format 0.1 and later).
