@@ -1,0 +1,188 @@
+//! Vulkan SPIR-V as captured from applications, made fit for wgpu. Imported frames carry the
+//! applications' own shader modules; wgpu runs them through `create_shader_module_passthrough`,
+//! which takes SPIR-V as is, so what wgpu cannot express has to be rewritten first. This module
+//! owns both halves: `reflect` reads a module's interface (entry points, descriptor bindings,
+//! push-constant size, capabilities) so a layout can be built for it, and `rewrite` reshapes the
+//! module to that layout (combined image samplers split into an image and a sampler, bindings
+//! renumbered, gl_Position's y negated for wgpu's flipped viewport).
+
+mod index;
+mod reflect;
+mod rewrite;
+#[cfg(test)]
+mod tests;
+
+use std::fmt;
+
+use rspirv::spirv::{Capability, Dim, ExecutionModel, ImageFormat};
+
+pub use reflect::reflect;
+pub use rewrite::rewrite;
+
+/// Why a module could not be read, reflected or rewritten.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SpirvError {
+    #[error("SPIR-V is made of 32-bit words; {len} bytes is not a whole number of them")]
+    NotWords { len: usize },
+    #[error("not SPIR-V: the first word is {found:#010x}, not the magic number 0x07230203")]
+    BadMagic { found: u32 },
+    #[error("malformed SPIR-V at word {at_word}: {detail}")]
+    Malformed { at_word: usize, detail: String },
+    #[error("unsupported {feature}: {detail}")]
+    Unsupported {
+        feature: &'static str,
+        detail: String,
+    },
+    #[error("the module has no {model:?} entry point named {name:?}")]
+    EntryPointNotFound { model: ExecutionModel, name: String },
+    #[error("set {set} binding {binding} ({role}) is not in the layout")]
+    BindingNotInLayout { set: u32, binding: u32, role: Role },
+    #[error("the module uses every id up to {bound}; none is left for the rewrite")]
+    IdsExhausted { bound: u32 },
+}
+
+/// SPIR-V words from the bytes of a .spv file. The file is little-endian as captured; a
+/// byte-swapped magic number means a big-endian file, whose words are swapped back.
+pub fn words(bytes: &[u8]) -> Result<Vec<u32>, SpirvError> {
+    if !bytes.len().is_multiple_of(4) {
+        return Err(SpirvError::NotWords { len: bytes.len() });
+    }
+    let mut words: Vec<u32> = bytes
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    match words.first() {
+        None => {
+            return Err(SpirvError::Malformed {
+                at_word: 0,
+                detail: "the file is empty".to_owned(),
+            });
+        }
+        Some(&m) if m == rspirv::spirv::MAGIC_NUMBER => {}
+        Some(&m) if m == rspirv::spirv::MAGIC_NUMBER.swap_bytes() => {
+            words.iter_mut().for_each(|w| *w = w.swap_bytes());
+        }
+        Some(&found) => return Err(SpirvError::BadMagic { found }),
+    }
+    Ok(words)
+}
+
+/// A module's interface: what a pipeline layout for it has to provide.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Reflection {
+    /// In module order.
+    pub entry_points: Vec<EntryPoint>,
+    /// Every variable decorated DescriptorSet and Binding, sorted by (set, binding), then by
+    /// module order where variables alias one binding.
+    pub resources: Vec<ResourceVar>,
+    /// Bytes of the largest PushConstant block (0 when there is none): the furthest member
+    /// offset plus that member's size.
+    pub push_constant_size: u32,
+    pub capabilities: Vec<Capability>,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct EntryPoint {
+    pub model: ExecutionModel,
+    pub name: String,
+}
+
+/// One descriptor variable.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ResourceVar {
+    pub set: u32,
+    pub binding: u32,
+    /// `Some(n)` for an array of n descriptors; `Some(0)` for a runtime-sized array.
+    pub count: Option<u32>,
+    pub kind: ResourceKind,
+    /// NonWritable on the variable, or on every member of its block.
+    pub non_writable: bool,
+    /// NonReadable on the variable, or on every member of its block.
+    pub non_readable: bool,
+    /// The variable's result id.
+    pub id: u32,
+    /// Its OpName, when it has a non-empty one.
+    pub name: Option<String>,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ResourceKind {
+    /// Uniform storage class, Block struct.
+    UniformBuffer,
+    /// StorageBuffer storage class, or Uniform with a BufferBlock struct.
+    StorageBuffer,
+    /// SPIR-V does not say whether a sampler compares (that is in the sampler object), so
+    /// `comparison` is always false here; the field is for the layout built from captured state.
+    Sampler {
+        comparison: bool,
+    },
+    SampledImage(ImageInfo),
+    StorageImage(ImageInfo),
+    CombinedImageSampler(ImageInfo),
+    UniformTexelBuffer,
+    StorageTexelBuffer(ImageFormat),
+    InputAttachment {
+        index: Option<u32>,
+    },
+    AccelerationStructure,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ImageInfo {
+    pub dim: Dim,
+    pub arrayed: bool,
+    pub multisampled: bool,
+    /// The Depth operand: `Some(false)` not depth, `Some(true)` depth, `None` not said.
+    pub depth: Option<bool>,
+    pub sampled_type: ScalarKind,
+    pub format: ImageFormat,
+}
+
+/// The component type an image is sampled as.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ScalarKind {
+    Float,
+    Sint,
+    Uint,
+}
+
+/// Which variable a new binding number is asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Role {
+    /// A descriptor kept as it is.
+    Whole,
+    /// The image half of a combined image sampler.
+    SplitImage,
+    /// The sampler half of a combined image sampler.
+    SplitSampler,
+}
+
+impl fmt::Display for Role {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Role::Whole => "whole",
+            Role::SplitImage => "image of a combined image sampler",
+            Role::SplitSampler => "sampler of a combined image sampler",
+        })
+    }
+}
+
+/// What `rewrite` is to do besides splitting combined image samplers.
+pub struct RewriteOptions<'a> {
+    /// Negate gl_Position.y written by the entry point: Vulkan's clip space has y down, and
+    /// wgpu's Vulkan backend flips the viewport so that y is up. Only Vertex,
+    /// TessellationEvaluation and Geometry entry points write the final position; it is ignored
+    /// for the others.
+    pub flip_y: bool,
+    /// The new binding number for (set, binding, role); None means the binding is not in the
+    /// layout, which is an error.
+    pub binding: &'a dyn Fn(u32, u32, Role) -> Option<u32>,
+}
+
+impl fmt::Debug for RewriteOptions<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("RewriteOptions")
+            .field("flip_y", &self.flip_y)
+            .finish_non_exhaustive()
+    }
+}
