@@ -9,6 +9,7 @@ use std::collections::HashMap;
 
 use rspirv::binary::{Consumer, ParseAction, ParseState};
 use rspirv::dr::{Instruction, Loader, Module, ModuleHeader, Operand};
+use rspirv::grammar::OperandKind;
 use rspirv::spirv::{Decoration, Op, Word};
 
 use super::SpirvError;
@@ -82,7 +83,7 @@ impl Consumer for Tracking<'_> {
 /// Checks the header and loads the module, converting rspirv's errors to `Malformed` with the
 /// word offset of the instruction at fault.
 pub(super) fn load(words: &[u32]) -> Result<Loaded, SpirvError> {
-    let Some(header) = words.get(..HEADER_WORDS) else {
+    let Some(&[magic, _version, generator, _bound, _schema]) = words.get(..HEADER_WORDS) else {
         return Err(SpirvError::Malformed {
             at_word: words.len(),
             detail: format!(
@@ -91,9 +92,10 @@ pub(super) fn load(words: &[u32]) -> Result<Loaded, SpirvError> {
             ),
         });
     };
-    if header[0] != rspirv::spirv::MAGIC_NUMBER {
-        return Err(SpirvError::BadMagic { found: header[0] });
+    if magic != rspirv::spirv::MAGIC_NUMBER {
+        return Err(SpirvError::BadMagic { found: magic });
     }
+    check_stream(words)?;
     let mut tracking = Tracking {
         inner: Loader::new(),
         words,
@@ -123,13 +125,58 @@ pub(super) fn load(words: &[u32]) -> Result<Loaded, SpirvError> {
     // rspirv stamps its own generator on the header; the module still comes from the
     // application's compiler, and tools key workarounds on that.
     if let Some(h) = module.header.as_mut() {
-        h.generator = header[2];
+        h.generator = generator;
     }
     Ok(Loaded {
         module,
         offsets,
         entry_offsets,
     })
+}
+
+/// rspirv's parser trusts two things it reads and panics when they are wrong: that an
+/// instruction's word count stays inside the stream (when it decodes a string), and that
+/// OpSpecConstantOp names an instruction whose operands it can decode on their own. Input
+/// breaking either is malformed anyway, so it is refused before rspirv sees it.
+fn check_stream(words: &[u32]) -> Result<(), SpirvError> {
+    let mut at = HEADER_WORDS;
+    while let Some(&first) = words.get(at) {
+        let count = (first >> 16) as usize;
+        let malformed = |detail: String| SpirvError::Malformed {
+            at_word: at,
+            detail,
+        };
+        if count == 0 {
+            return Err(malformed("an instruction of 0 words".to_owned()));
+        }
+        let end = at.saturating_add(count);
+        if end > words.len() {
+            return Err(malformed(format!(
+                "an instruction of {count} words runs past the end of the module ({} words)",
+                words.len()
+            )));
+        }
+        if first & 0xffff == Op::SpecConstantOp as u32
+            && let Some(computed) = words
+                .get(at + 3)
+                .and_then(|op| rspirv::grammar::INSTRUCTION_TABLE.lookup_opcode(*op))
+            && computed.operands.iter().any(|o| {
+                matches!(
+                    o.kind,
+                    OperandKind::LiteralContextDependentNumber
+                        | OperandKind::LiteralSpecConstantOpInteger
+                        | OperandKind::PairLiteralIntegerIdRef
+                )
+            })
+        {
+            return Err(malformed(format!(
+                "OpSpecConstantOp cannot compute Op{}",
+                computed.opname
+            )));
+        }
+        at = end;
+    }
+    Ok(())
 }
 
 /// An operand as a 32-bit literal.
@@ -152,12 +199,18 @@ pub(super) fn id_ref(op: Option<&Operand>) -> Option<Word> {
 pub(super) struct Index<'m> {
     /// Types, constants and global variables.
     pub globals: HashMap<Word, &'m Instruction>,
-    /// Decorations (from OpDecorate, directly or through a decoration group) by target.
-    decorations: HashMap<Word, Vec<&'m Instruction>>,
-    /// Member decorations by (struct, member).
-    member_decorations: HashMap<(Word, u32), Vec<&'m Instruction>>,
-    /// Targets that take decorations through OpGroupDecorate or OpGroupMemberDecorate.
-    pub grouped: HashMap<Word, Word>,
+    /// The operands after the decoration of each OpDecorate, by (target, decoration); the first
+    /// one wins where a malformed module repeats a decoration.
+    decorations: HashMap<(Word, Decoration), &'m [Operand]>,
+    /// The same for OpMemberDecorate, by (struct, member, decoration).
+    member_decorations: HashMap<(Word, u32, Decoration), &'m [Operand]>,
+    /// The decoration groups applied to a target (OpGroupDecorate). A group's decorations are
+    /// looked up through it rather than copied to each target, which would take the product of
+    /// the two counts.
+    groups: HashMap<Word, Vec<Word>>,
+    /// The decoration groups applied to a struct member (OpGroupMemberDecorate).
+    member_groups: HashMap<(Word, u32), Vec<Word>>,
+    names: HashMap<Word, &'m str>,
     offsets: &'m HashMap<Word, usize>,
 }
 
@@ -170,71 +223,72 @@ impl<'m> Index<'m> {
                 globals.entry(id).or_insert(inst);
             }
         }
-        let mut decorations: HashMap<Word, Vec<&Instruction>> = HashMap::new();
-        let mut member_decorations: HashMap<(Word, u32), Vec<&Instruction>> = HashMap::new();
+        let mut decorations = HashMap::new();
+        let mut member_decorations = HashMap::new();
+        let mut groups: HashMap<Word, Vec<Word>> = HashMap::new();
+        let mut member_groups: HashMap<(Word, u32), Vec<Word>> = HashMap::new();
         for inst in &module.annotations {
-            match inst.class.opcode {
-                Op::Decorate => {
-                    if let Some(target) = id_ref(inst.operands.first()) {
-                        decorations.entry(target).or_default().push(inst);
+            let ops = inst.operands.as_slice();
+            match (inst.class.opcode, ops) {
+                (Op::Decorate, [Operand::IdRef(target), Operand::Decoration(d), rest @ ..]) => {
+                    decorations.entry((*target, *d)).or_insert(rest);
+                }
+                (
+                    Op::MemberDecorate,
+                    [
+                        Operand::IdRef(target),
+                        Operand::LiteralBit32(member),
+                        Operand::Decoration(d),
+                        rest @ ..,
+                    ],
+                ) => {
+                    member_decorations
+                        .entry((*target, *member, *d))
+                        .or_insert(rest);
+                }
+                (Op::GroupDecorate, [Operand::IdRef(group), targets @ ..]) => {
+                    for target in targets {
+                        if let Operand::IdRef(target) = target {
+                            groups.entry(*target).or_default().push(*group);
+                        }
                     }
                 }
-                Op::MemberDecorate => {
-                    if let (Some(target), Some(member)) = (
-                        id_ref(inst.operands.first()),
-                        literal(inst.operands.get(1)),
-                    ) {
-                        member_decorations
-                            .entry((target, member))
-                            .or_default()
-                            .push(inst);
+                (Op::GroupMemberDecorate, [Operand::IdRef(group), pairs @ ..]) => {
+                    for pair in pairs.chunks_exact(2) {
+                        if let [Operand::IdRef(target), Operand::LiteralBit32(member)] = pair {
+                            member_groups
+                                .entry((*target, *member))
+                                .or_default()
+                                .push(*group);
+                        }
                     }
                 }
                 _ => {}
             }
         }
-        // A group's decorations apply to each of its targets. OpDecorate on a group stays
-        // listed under the group too; nothing looks groups up by their own id.
-        let mut grouped = HashMap::new();
-        for inst in &module.annotations {
-            let Some(group) = id_ref(inst.operands.first()) else {
-                continue;
-            };
-            match inst.class.opcode {
-                Op::GroupDecorate => {
-                    let of_group = decorations.get(&group).cloned().unwrap_or_default();
-                    for target in inst.operands.iter().skip(1) {
-                        if let Operand::IdRef(target) = target {
-                            grouped.insert(*target, group);
-                            decorations
-                                .entry(*target)
-                                .or_default()
-                                .extend(of_group.iter().copied());
-                        }
-                    }
-                }
-                Op::GroupMemberDecorate => {
-                    let of_group = decorations.get(&group).cloned().unwrap_or_default();
-                    for pair in inst.operands.get(1..).unwrap_or_default().chunks_exact(2) {
-                        if let [Operand::IdRef(target), Operand::LiteralBit32(member)] = pair {
-                            grouped.insert(*target, group);
-                            member_decorations
-                                .entry((*target, *member))
-                                .or_default()
-                                .extend(of_group.iter().copied());
-                        }
-                    }
-                }
-                _ => {}
+        let mut names = HashMap::new();
+        for inst in &module.debug_names {
+            if let (Op::Name, [Operand::IdRef(id), Operand::LiteralString(name)]) =
+                (inst.class.opcode, inst.operands.as_slice())
+                && !name.is_empty()
+            {
+                names.entry(*id).or_insert(name.as_str());
             }
         }
         Index {
             globals,
             decorations,
             member_decorations,
-            grouped,
+            groups,
+            member_groups,
+            names,
             offsets: &loaded.offsets,
         }
+    }
+
+    /// Whether `id` takes decorations from a decoration group.
+    pub fn is_grouped(&self, id: Word) -> bool {
+        self.groups.contains_key(&id)
     }
 
     /// Word offset of the instruction defining `id` (0 when it has none).
@@ -275,7 +329,12 @@ impl<'m> Index<'m> {
 
     /// The extra operands of decoration `d` on `id`, if it is decorated so.
     pub fn decoration(&self, id: Word, d: Decoration) -> Option<&'m [Operand]> {
-        decoration_in(self.decorations.get(&id), d)
+        self.decorations.get(&(id, d)).copied().or_else(|| {
+            self.groups
+                .get(&id)?
+                .iter()
+                .find_map(|group| self.decorations.get(&(*group, d)).copied())
+        })
     }
 
     pub fn has_decoration(&self, id: Word, d: Decoration) -> bool {
@@ -288,36 +347,21 @@ impl<'m> Index<'m> {
     }
 
     pub fn member_decoration(&self, id: Word, member: u32, d: Decoration) -> Option<&'m [Operand]> {
-        decoration_in(self.member_decorations.get(&(id, member)), d)
+        self.member_decorations
+            .get(&(id, member, d))
+            .copied()
+            .or_else(|| {
+                self.member_groups
+                    .get(&(id, member))?
+                    .iter()
+                    .find_map(|group| self.decorations.get(&(*group, d)).copied())
+            })
     }
 
-    pub fn name(&self, module: &Module, id: Word) -> Option<String> {
-        module.debug_names.iter().find_map(|inst| {
-            if inst.class.opcode != Op::Name || id_ref(inst.operands.first()) != Some(id) {
-                return None;
-            }
-            match inst.operands.get(1) {
-                Some(Operand::LiteralString(s)) if !s.is_empty() => Some(s.clone()),
-                _ => None,
-            }
-        })
+    /// The OpName of `id`, when it has a non-empty one.
+    pub fn name(&self, id: Word) -> Option<&'m str> {
+        self.names.get(&id).copied()
     }
-}
-
-/// Finds decoration `d` in a list of OpDecorate / OpMemberDecorate instructions and returns the
-/// operands after it. The position of the decoration operand differs between the two (and a
-/// group's decoration names the group), so it is found by kind.
-fn decoration_in<'m>(list: Option<&Vec<&'m Instruction>>, d: Decoration) -> Option<&'m [Operand]> {
-    list?.iter().find_map(|inst| {
-        let at = inst
-            .operands
-            .iter()
-            .position(|op| matches!(op, Operand::Decoration(_)))?;
-        match inst.operands.get(at) {
-            Some(Operand::Decoration(found)) if *found == d => inst.operands.get(at + 1..),
-            _ => None,
-        }
-    })
 }
 
 /// The first id the rewrite may allocate: past the header's bound and past every id the module

@@ -29,7 +29,10 @@ pub enum SpirvError {
     #[error("malformed SPIR-V at word {at_word}: {detail}")]
     Malformed { at_word: usize, detail: String },
     #[error("unsupported {feature}: {detail}")]
-    Unsupported { feature: &'static str, detail: String },
+    Unsupported {
+        feature: &'static str,
+        detail: String,
+    },
     #[error("the module has no {model:?} entry point named {name:?}")]
     EntryPointNotFound { model: ExecutionModel, name: String },
     #[error("set {set} binding {binding} ({role}) is not in the layout")]
@@ -110,13 +113,17 @@ pub enum ResourceKind {
     StorageBuffer,
     /// SPIR-V does not say whether a sampler compares (that is in the sampler object), so
     /// `comparison` is always false here; the field is for the layout built from captured state.
-    Sampler { comparison: bool },
+    Sampler {
+        comparison: bool,
+    },
     SampledImage(ImageInfo),
     StorageImage(ImageInfo),
     CombinedImageSampler(ImageInfo),
     UniformTexelBuffer,
     StorageTexelBuffer(ImageFormat),
-    InputAttachment { index: Option<u32> },
+    InputAttachment {
+        index: Option<u32>,
+    },
     AccelerationStructure,
 }
 

@@ -3,13 +3,13 @@
 //! is built from this, and `rewrite` uses the same descriptor list to find what it must split
 //! and renumber, so both agree on what a binding is.
 
+use std::collections::HashMap;
+
 use rspirv::dr::{Instruction, Module, Operand};
 use rspirv::spirv::{Decoration, Dim, ExecutionModel, Op, StorageClass, Word};
 
 use super::index::{self, Index, MAX_TYPE_DEPTH, id_ref, literal};
-use super::{
-    EntryPoint, ImageInfo, Reflection, ResourceKind, ResourceVar, ScalarKind, SpirvError,
-};
+use super::{EntryPoint, ImageInfo, Reflection, ResourceKind, ResourceVar, ScalarKind, SpirvError};
 
 /// Reads the interface of a module (see [`Reflection`]).
 pub fn reflect(words: &[u32]) -> Result<Reflection, SpirvError> {
@@ -70,6 +70,7 @@ pub(super) fn describe(set: u32, binding: u32, var: Word) -> String {
 /// Every global variable decorated with both DescriptorSet and Binding, sorted by (set, binding).
 pub(super) fn resources(module: &Module, index: &Index) -> Result<Vec<ResourceVar>, SpirvError> {
     let mut out = Vec::new();
+    let mut blocks = HashMap::new();
     for inst in &module.types_global_values {
         if inst.class.opcode != Op::Variable {
             continue;
@@ -81,15 +82,19 @@ pub(super) fn resources(module: &Module, index: &Index) -> Result<Vec<ResourceVa
         ) else {
             continue;
         };
-        out.push(resource(module, index, inst, set, binding)?);
+        out.push(resource(index, &mut blocks, inst, set, binding)?);
     }
     out.sort_by_key(|r| (r.set, r.binding));
     Ok(out)
 }
 
+/// Whether every member of a block struct is NonWritable, and whether every one is
+/// NonReadable, by struct id: many variables may share one block type.
+type BlockAccess = HashMap<Word, (bool, bool)>;
+
 fn resource(
-    module: &Module,
     index: &Index,
+    blocks: &mut BlockAccess,
     inst: &Instruction,
     set: u32,
     binding: u32,
@@ -150,10 +155,9 @@ fn resource(
             Op::TypeSampledImage => {
                 let image = index.operand_def(ty, 0, rid(ty))?;
                 if image.class.opcode != Op::TypeImage {
-                    return Err(index.malformed(
-                        rid(ty),
-                        "OpTypeSampledImage of a non-image".to_owned(),
-                    ));
+                    return Err(
+                        index.malformed(rid(ty), "OpTypeSampledImage of a non-image".to_owned())
+                    );
                 }
                 ResourceKind::CombinedImageSampler(image_info(index, image)?)
             }
@@ -172,26 +176,33 @@ fn resource(
             });
         }
     };
-    let block = (ty.class.opcode == Op::TypeStruct).then(|| (rid(ty), ty.operands.len()));
-    let on_all = |d: Decoration| {
-        index.has_decoration(var, d)
-            || block.is_some_and(|(id, members)| {
+    let (members_non_writable, members_non_readable) = if ty.class.opcode == Op::TypeStruct {
+        *blocks.entry(rid(ty)).or_insert_with(|| {
+            let on_all = |d| {
+                let members = ty.operands.len();
                 members > 0
                     && (0..members).all(|m| {
                         u32::try_from(m)
-                            .is_ok_and(|m| index.member_decoration(id, m, d).is_some())
+                            .is_ok_and(|m| index.member_decoration(rid(ty), m, d).is_some())
                     })
-            })
+            };
+            (
+                on_all(Decoration::NonWritable),
+                on_all(Decoration::NonReadable),
+            )
+        })
+    } else {
+        (false, false)
     };
     Ok(ResourceVar {
         set,
         binding,
         count,
         kind,
-        non_writable: on_all(Decoration::NonWritable),
-        non_readable: on_all(Decoration::NonReadable),
+        non_writable: members_non_writable || index.has_decoration(var, Decoration::NonWritable),
+        non_readable: members_non_readable || index.has_decoration(var, Decoration::NonReadable),
         id: var,
-        name: index.name(module, var),
+        name: index.name(var).map(str::to_owned),
     })
 }
 
@@ -220,13 +231,20 @@ fn image_kind(index: &Index, ty: &Instruction, var: Word) -> Result<ResourceKind
 /// The operands of an OpTypeImage.
 pub(super) fn image_info(index: &Index, ty: &Instruction) -> Result<ImageInfo, SpirvError> {
     let id = rid(ty);
-    let (Some(Operand::Dim(dim)), Some(depth), Some(arrayed), Some(ms), Some(Operand::ImageFormat(format))) = (
+    let (
+        Some(Operand::Dim(dim)),
+        Some(depth),
+        Some(arrayed),
+        Some(ms),
+        Some(Operand::ImageFormat(format)),
+    ) = (
         ty.operands.get(1),
         literal(ty.operands.get(2)),
         literal(ty.operands.get(3)),
         literal(ty.operands.get(4)),
         ty.operands.get(6),
-    ) else {
+    )
+    else {
         return Err(index.malformed(id, "OpTypeImage with missing operands".to_owned()));
     };
     let sampled = index.operand_def(ty, 0, id)?;
@@ -279,6 +297,10 @@ fn array_length(index: &Index, ty: &Instruction, what: &str) -> Result<u32, Spir
 /// The largest PushConstant block in the module. Each entry point has at most one; a module
 /// with several entry points may have one each, and a layout for any of them fits the largest.
 fn push_constant_size(module: &Module, index: &Index) -> Result<u32, SpirvError> {
+    let mut sizer = Sizer {
+        index,
+        known: HashMap::new(),
+    };
     let mut size = 0;
     for inst in &module.types_global_values {
         if inst.class.opcode != Op::Variable
@@ -291,88 +313,111 @@ fn push_constant_size(module: &Module, index: &Index) -> Result<u32, SpirvError>
             return Err(index.malformed(var, "OpVariable without a type".to_owned()));
         };
         let block = index.operand_def(pointer, 1, rid(pointer))?;
-        size = size.max(byte_size(index, block, Layout::default(), 0)?);
+        let bytes = sizer.size(block, Layout::default(), 0)?;
+        let bytes = u32::try_from(bytes)
+            .map_err(|_| index.malformed(var, format!("a push-constant block of {bytes} bytes")))?;
+        size = size.max(bytes);
     }
-    u32::try_from(size).map_err(|_| SpirvError::Malformed {
-        at_word: 0,
-        detail: format!("push-constant block of {size} bytes"),
-    })
+    Ok(size)
 }
 
 /// How a struct member lays out matrices inside it (decorations on the member, which apply to
 /// matrices nested in arrays too).
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
 struct Layout {
     matrix_stride: Option<u32>,
     row_major: bool,
 }
 
-/// Bytes `ty` spans in an explicitly laid-out block: for a struct, the furthest member end;
-/// for an array, stride times length; for a matrix, stride times its major count.
-fn byte_size(index: &Index, ty: &Instruction, layout: Layout, depth: usize) -> Result<u64, SpirvError> {
-    let id = rid(ty);
-    if depth > MAX_TYPE_DEPTH {
-        return Err(index.malformed(id, format!("types nest deeper than {MAX_TYPE_DEPTH}")));
-    }
-    let lit = |n| {
-        literal(ty.operands.get(n))
-            .map(u64::from)
-            .ok_or_else(|| index.malformed(id, format!("operand {n} is not a literal")))
-    };
-    Ok(match ty.class.opcode {
-        Op::TypeInt | Op::TypeFloat => lit(0)? / 8,
-        Op::TypeVector => {
-            let component = index.operand_def(ty, 0, id)?;
-            lit(1)?.saturating_mul(byte_size(index, component, layout, depth + 1)?)
+/// Sizes types in explicitly laid-out blocks. Sizes are remembered: a struct of two copies of a
+/// struct of two copies of... is small to write down and would take exponential time to walk.
+struct Sizer<'i, 'm> {
+    index: &'i Index<'m>,
+    known: HashMap<(Word, Layout), u64>,
+}
+
+impl Sizer<'_, '_> {
+    /// Bytes `ty` spans: for a struct, the furthest member end; for an array, stride times
+    /// length; for a matrix, stride times its major count.
+    fn size(&mut self, ty: &Instruction, layout: Layout, depth: usize) -> Result<u64, SpirvError> {
+        let id = rid(ty);
+        if let Some(size) = self.known.get(&(id, layout)) {
+            return Ok(*size);
         }
-        Op::TypeMatrix => {
-            let Some(stride) = layout.matrix_stride else {
-                return Err(index.malformed(id, "matrix in a block without MatrixStride".to_owned()));
-            };
-            let columns = lit(1)?;
-            let column = index.operand_def(ty, 0, id)?;
-            let rows = literal(column.operands.get(1)).map(u64::from).unwrap_or(0);
-            u64::from(stride).saturating_mul(if layout.row_major { rows } else { columns })
+        let index = self.index;
+        if depth > MAX_TYPE_DEPTH {
+            return Err(index.malformed(id, format!("types nest deeper than {MAX_TYPE_DEPTH}")));
         }
-        Op::TypeArray => {
-            let Some(stride) = index.decoration_literal(id, Decoration::ArrayStride) else {
-                return Err(index.malformed(id, "array in a block without ArrayStride".to_owned()));
-            };
-            u64::from(stride).saturating_mul(u64::from(array_length(index, ty, "a push-constant block")?))
-        }
-        // Only the fixed part of a block has a size.
-        Op::TypeRuntimeArray => 0,
-        Op::TypeStruct => {
-            let mut end = 0;
-            for (m, member) in ty.operands.iter().enumerate() {
-                let Ok(m) = u32::try_from(m) else { break };
-                let Some(member) = id_ref(Some(member)) else {
-                    return Err(index.malformed(id, format!("member {m} is not an id")));
-                };
-                let Some(offset) = index
-                    .member_decoration(id, m, Decoration::Offset)
-                    .and_then(|ops| literal(ops.first()))
-                else {
-                    return Err(index.malformed(id, format!("member {m} has no Offset")));
-                };
-                let inner = Layout {
-                    matrix_stride: index
-                        .member_decoration(id, m, Decoration::MatrixStride)
-                        .and_then(|ops| literal(ops.first())),
-                    row_major: index.member_decoration(id, m, Decoration::RowMajor).is_some(),
-                };
-                let member = index.def(member, id)?;
-                end = end.max(u64::from(offset).saturating_add(byte_size(index, member, inner, depth + 1)?));
+        let lit = |n| {
+            literal(ty.operands.get(n))
+                .map(u64::from)
+                .ok_or_else(|| index.malformed(id, format!("operand {n} is not a literal")))
+        };
+        let size = match ty.class.opcode {
+            Op::TypeInt | Op::TypeFloat => lit(0)? / 8,
+            Op::TypeVector => {
+                let component = index.operand_def(ty, 0, id)?;
+                lit(1)?.saturating_mul(self.size(component, layout, depth + 1)?)
             }
-            end
-        }
-        // The only pointers a block may hold are buffer device addresses, 64-bit.
-        Op::TypePointer => 8,
-        other => {
-            return Err(SpirvError::Unsupported {
-                feature: "type in a push-constant block",
-                detail: format!("%{id} is Op{other:?}"),
-            });
-        }
-    })
+            Op::TypeMatrix => {
+                let Some(stride) = layout.matrix_stride else {
+                    return Err(
+                        index.malformed(id, "matrix in a block without MatrixStride".to_owned())
+                    );
+                };
+                let columns = lit(1)?;
+                let column = index.operand_def(ty, 0, id)?;
+                let rows = literal(column.operands.get(1)).map(u64::from).unwrap_or(0);
+                u64::from(stride).saturating_mul(if layout.row_major { rows } else { columns })
+            }
+            Op::TypeArray => {
+                let Some(stride) = index.decoration_literal(id, Decoration::ArrayStride) else {
+                    return Err(
+                        index.malformed(id, "array in a block without ArrayStride".to_owned())
+                    );
+                };
+                let length = array_length(index, ty, "a push-constant block")?;
+                u64::from(stride).saturating_mul(u64::from(length))
+            }
+            // Only the fixed part of a block has a size.
+            Op::TypeRuntimeArray => 0,
+            Op::TypeStruct => {
+                let mut end = 0;
+                for (m, member) in ty.operands.iter().enumerate() {
+                    let Ok(m) = u32::try_from(m) else { break };
+                    let Some(member) = id_ref(Some(member)) else {
+                        return Err(index.malformed(id, format!("member {m} is not an id")));
+                    };
+                    let decoration = |d| {
+                        index
+                            .member_decoration(id, m, d)
+                            .and_then(|ops| literal(ops.first()))
+                    };
+                    let Some(offset) = decoration(Decoration::Offset) else {
+                        return Err(index.malformed(id, format!("member {m} has no Offset")));
+                    };
+                    let inner = Layout {
+                        matrix_stride: decoration(Decoration::MatrixStride),
+                        row_major: index
+                            .member_decoration(id, m, Decoration::RowMajor)
+                            .is_some(),
+                    };
+                    let member = index.def(member, id)?;
+                    let size = self.size(member, inner, depth + 1)?;
+                    end = end.max(u64::from(offset).saturating_add(size));
+                }
+                end
+            }
+            // The only pointers a block may hold are buffer device addresses, 64-bit.
+            Op::TypePointer => 8,
+            other => {
+                return Err(SpirvError::Unsupported {
+                    feature: "type in a push-constant block",
+                    detail: format!("%{id} is Op{other:?}"),
+                });
+            }
+        };
+        self.known.insert((id, layout), size);
+        Ok(size)
+    }
 }

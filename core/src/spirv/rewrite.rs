@@ -46,6 +46,8 @@ struct Plan {
 struct Split {
     var: Word,
     set: u32,
+    /// The binding it had, for errors.
+    binding: u32,
     image_binding: u32,
     sampler_binding: u32,
     sampled_image_ty: Word,
@@ -90,7 +92,7 @@ fn plan(
     let mut splits = Vec::new();
     for r in resources(module, &index)? {
         let what = describe(r.set, r.binding, r.id);
-        if index.grouped.contains_key(&r.id) {
+        if index.is_grouped(r.id) {
             return Err(SpirvError::Unsupported {
                 feature: "descriptor decorated through a decoration group",
                 detail: what,
@@ -126,18 +128,18 @@ fn plan(
         let (Some(sampled_image_ty), Some(image_ty)) = (sampled_image_ty, image_ty) else {
             return Err(index.malformed(r.id, format!("{what}: no sampled image type")));
         };
-        let split = Split {
+        splits.push(Split {
             var: r.id,
             set: r.set,
+            binding: r.binding,
             image_binding: new_binding(Role::SplitImage)?,
             sampler_binding: new_binding(Role::SplitSampler)?,
             sampled_image_ty,
             image_ty,
             name: r.name.clone(),
-        };
-        check_uses(module, &index, &split, r.binding)?;
-        splits.push(split);
+        });
     }
+    check_uses(module, &index, &splits)?;
 
     let flips = matches!(
         model,
@@ -161,7 +163,8 @@ fn plan(
         });
     }
 
-    let next_id = index::first_free_id(module).ok_or(SpirvError::IdsExhausted { bound: u32::MAX })?;
+    let next_id =
+        index::first_free_id(module).ok_or(SpirvError::IdsExhausted { bound: u32::MAX })?;
     Ok(Plan {
         next_id,
         renumber,
@@ -172,49 +175,45 @@ fn plan(
 
 /// Refuses any use of a combined image sampler variable the split cannot follow: only loading
 /// it whole is rewritten; naming, decorating and listing it in an interface are updated.
-fn check_uses(
-    module: &Module,
-    index: &Index,
-    split: &Split,
-    binding: u32,
-) -> Result<(), SpirvError> {
-    let var = split.var;
-    let unsupported = |opcode: Op| SpirvError::Unsupported {
+fn check_uses(module: &Module, index: &Index, splits: &[Split]) -> Result<(), SpirvError> {
+    let by_var: HashMap<Word, &Split> = splits.iter().map(|s| (s.var, s)).collect();
+    let uses = |inst: &Instruction| {
+        inst.operands
+            .iter()
+            .enumerate()
+            .filter_map(|(n, op)| Some((n, *by_var.get(&id_ref(Some(op))?)?)))
+            .collect::<Vec<_>>()
+    };
+    let unsupported = |opcode: Op, split: &Split| SpirvError::Unsupported {
         feature: "use of a combined image sampler other than loading it",
         detail: format!(
             "{} is used by Op{opcode:?}",
-            describe(split.set, binding, var)
+            describe(split.set, split.binding, split.var)
         ),
     };
     for inst in module.global_inst_iter() {
-        for (n, op) in inst.operands.iter().enumerate() {
-            if *op != Operand::IdRef(var) {
-                continue;
-            }
+        for (n, split) in uses(inst) {
             let handled = match inst.class.opcode {
                 Op::Name | Op::Decorate => n == 0,
                 Op::EntryPoint => n >= 3,
                 _ => false,
             };
             if !handled {
-                return Err(unsupported(inst.class.opcode));
+                return Err(unsupported(inst.class.opcode, split));
             }
         }
     }
     for inst in module.functions.iter().flat_map(|f| f.all_inst_iter()) {
-        for (n, op) in inst.operands.iter().enumerate() {
-            if *op != Operand::IdRef(var) {
-                continue;
-            }
+        for (n, split) in uses(inst) {
             if inst.class.opcode != Op::Load || n != 0 {
-                return Err(unsupported(inst.class.opcode));
+                return Err(unsupported(inst.class.opcode, split));
             }
             if inst.result_type != Some(split.sampled_image_ty) {
                 return Err(SpirvError::Malformed {
                     at_word: inst.result_id.map_or(0, |id| index.offset(id)),
                     detail: format!(
                         "a load of {} has a type other than the variable's",
-                        describe(split.set, binding, var)
+                        describe(split.set, split.binding, split.var)
                     ),
                 });
             }
@@ -229,10 +228,14 @@ fn find_position(
     entry: &Instruction,
     returns_of: Option<Word>,
 ) -> Result<Option<Flip>, SpirvError> {
-    let is_position = |ops: Option<&[Operand]>| {
-        matches!(ops, Some([Operand::BuiltIn(BuiltIn::Position), ..]))
-    };
-    for id in entry.operands.iter().skip(3).filter_map(|op| id_ref(Some(op))) {
+    let is_position =
+        |ops: Option<&[Operand]>| matches!(ops, Some([Operand::BuiltIn(BuiltIn::Position), ..]));
+    for id in entry
+        .operands
+        .iter()
+        .skip(3)
+        .filter_map(|op| id_ref(Some(op)))
+    {
         let Some(var) = index.globals.get(&id) else {
             continue;
         };
@@ -261,11 +264,12 @@ fn find_position(
             continue;
         };
         let vec4_id = vec4.result_id.unwrap_or(0);
-        let float = (vec4.class.opcode == Op::TypeVector && literal(vec4.operands.get(1)) == Some(4))
-            .then(|| index.operand_def(vec4, 0, vec4_id))
-            .transpose()?
-            .filter(|f| f.class.opcode == Op::TypeFloat && literal(f.operands.first()) == Some(32))
-            .and_then(|f| f.result_id);
+        let float = (vec4.class.opcode == Op::TypeVector
+            && literal(vec4.operands.get(1)) == Some(4))
+        .then(|| index.operand_def(vec4, 0, vec4_id))
+        .transpose()?
+        .filter(|f| f.class.opcode == Op::TypeFloat && literal(f.operands.first()) == Some(32))
+        .and_then(|f| f.result_id);
         let Some(float) = float else {
             return Err(SpirvError::Unsupported {
                 feature: "gl_Position that is not a vec4 of 32-bit floats",
@@ -378,15 +382,32 @@ fn split(module: &mut Module, splits: &[Split], ids: &mut Ids) -> Result<(), Spi
         Op::TypePointer,
         vec![uniform_constant.clone(), Operand::IdRef(sampler_ty)],
     )?;
+    // Looked up once rather than searched for each split: a module may hold many.
+    let mut image_ptrs: HashMap<Word, Word> = HashMap::new();
+    for i in &module.types_global_values {
+        if let (Op::TypePointer, Some(ptr), [storage, Operand::IdRef(pointee)]) =
+            (i.class.opcode, i.result_id, i.operands.as_slice())
+            && *storage == uniform_constant
+        {
+            image_ptrs.entry(*pointee).or_insert(ptr);
+        }
+    }
     let mut made: HashMap<Word, SplitIds> = HashMap::new();
     for s in splits {
-        let image_ptr = type_id(
-            module,
-            &mut added,
-            ids,
-            Op::TypePointer,
-            vec![uniform_constant.clone(), Operand::IdRef(s.image_ty)],
-        )?;
+        let image_ptr = match image_ptrs.get(&s.image_ty) {
+            Some(ptr) => *ptr,
+            None => {
+                let ptr = ids.fresh()?;
+                added.push(inst(
+                    Op::TypePointer,
+                    None,
+                    Some(ptr),
+                    vec![uniform_constant.clone(), Operand::IdRef(s.image_ty)],
+                ));
+                image_ptrs.insert(s.image_ty, ptr);
+                ptr
+            }
+        };
         let image_var = ids.fresh()?;
         let sampler_var = ids.fresh()?;
         for (var, ptr, binding, suffix) in [
@@ -399,7 +420,10 @@ fn split(module: &mut Module, splits: &[Split], ids: &mut Ids) -> Result<(), Spi
                 Some(var),
                 vec![uniform_constant.clone()],
             ));
-            for (d, value) in [(Decoration::DescriptorSet, s.set), (Decoration::Binding, binding)] {
+            for (d, value) in [
+                (Decoration::DescriptorSet, s.set),
+                (Decoration::Binding, binding),
+            ] {
                 decorations.push(inst(
                     Op::Decorate,
                     None,
@@ -436,9 +460,9 @@ fn split(module: &mut Module, splits: &[Split], ids: &mut Ids) -> Result<(), Spi
     }
 
     let is_split = |op: Option<&Operand>| id_ref(op).is_some_and(|id| made.contains_key(&id));
-    module
-        .types_global_values
-        .retain(|i| !(i.class.opcode == Op::Variable && i.result_id.is_some_and(|id| made.contains_key(&id))));
+    module.types_global_values.retain(|i| {
+        !(i.class.opcode == Op::Variable && i.result_id.is_some_and(|id| made.contains_key(&id)))
+    });
     module.types_global_values.extend(added);
     module
         .annotations
@@ -587,7 +611,10 @@ fn flip_y(module: &mut Module, flip: &Flip, ids: &mut Ids) -> Result<(), SpirvEr
     module.types_global_values.extend(added);
 
     for function in &mut module.functions {
-        if flip.returns_of.is_some_and(|f| function.def_id() != Some(f)) {
+        if flip
+            .returns_of
+            .is_some_and(|f| function.def_id() != Some(f))
+        {
             continue;
         }
         for block in &mut function.blocks {
