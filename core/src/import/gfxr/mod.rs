@@ -186,6 +186,8 @@ pub fn import(
         unknown_ids: BTreeMap::new(),
     };
     let mut contents = Contents::default();
+    // Block index where the state snapshot of a trimmed capture ends (`u64::MAX` inside it).
+    let mut snapshot_end: Option<u64> = None;
     while let Some(block) = blocks.next_block() {
         let block = block.map_err(|e| block_error(file, e))?;
         reading.blocks += 1;
@@ -217,12 +219,27 @@ pub fn import(
                     imp.frame_end();
                 }
             }
-            Kind::StateMarker => reading.count("(state snapshot markers)"),
+            Kind::StateMarker => {
+                reading.count("(state snapshot markers)");
+                // Marker types: 1 begins the snapshot, 2 ends it.
+                if block.id == 1 {
+                    snapshot_end = Some(u64::MAX);
+                } else if block.id == 2 {
+                    snapshot_end = Some(at.block);
+                }
+            }
             Kind::Annotation => reading.annotation(&block),
             Kind::MethodCall => reading.count("(D3D12 method calls)"),
             Kind::Unknown(t) => reading.count(format!("(blocks of unknown type {t:#x})")),
         }
-        if imp.builder.first_submit.is_some() {
+        // The frame's contents are what stood before its first submission; a trimmed
+        // capture's state snapshot submits too (to set semaphores), and its contents come
+        // after that, so only a submission past the snapshot counts.
+        if imp
+            .builder
+            .last_submit
+            .is_some_and(|s| snapshot_end.is_none_or(|end| s > end))
+        {
             contents.frozen = true;
         }
         if imp.builder.done() {
