@@ -45,6 +45,9 @@ pub struct ExportedFile {
     pub alpha: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub alpha_constant: Option<f64>,
+    /// The image the frame presented (the last present pass's, when the whole frame ran).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub presented: bool,
 }
 
 /// How the caller names a texture's files and its format.
@@ -372,6 +375,7 @@ pub fn write_image(
         uniform: image.uniform(),
         alpha,
         alpha_constant,
+        presented: false,
     })
 }
 

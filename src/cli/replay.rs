@@ -347,8 +347,19 @@ fn export(
                 },
             })
             .collect();
-        let (files, skipped) =
+        let (mut files, skipped) =
             export::export_all(&session.device, &session.queue, &items, &staging)?;
+        // The frame's presented image, when the frame ran to its end.
+        let presented = session.plan.passes.iter().rev().find_map(|p| match p.op {
+            framelab_core::plan::PassOp::Present { texture } if after.is_none() => Some(texture),
+            _ => None,
+        });
+        if let Some(t) = presented {
+            let name = &session.plan.textures[t].name;
+            for f in &mut files {
+                f.presented = &f.resource == name && f.mip == 0 && f.layer == 0;
+            }
+        }
         let manifest = Manifest {
             capture,
             frames,

@@ -17,6 +17,7 @@ mod dxgi_ddsfile;
 mod fuzz;
 mod gfxr_binary;
 mod gfxr_fuzz;
+mod gfxr_replay;
 mod import;
 mod inspector;
 mod invalid_corpus;

@@ -108,6 +108,10 @@ pub struct Contents {
     /// Set at the first submission of the imported frames: what is written later is the
     /// frame's own work, not its starting contents.
     pub frozen: bool,
+    /// Fills that came after snapshot contents (memory, offset in it, bytes): the application
+    /// wrote them later, so they overwrite what the snapshot says of buffers bound there.
+    late_fills: Vec<(u64, u64, Vec<u8>)>,
+    snapshot_seen: bool,
     /// Linear images: (row pitch, offset of the first texel in their memory binding) from
     /// `vkGetImageSubresourceLayout`, for images the application writes through a mapping.
     linear: HashMap<u64, (u64, u64)>,
@@ -219,13 +223,15 @@ impl Contents {
             } => {
                 self.fills += 1;
                 self.written += data.len() as u64;
-                let base = self.map_offset.get(&memory).copied().unwrap_or(0);
-                self.memory
-                    .entry(memory)
-                    .or_default()
-                    .write(base.saturating_add(offset), data);
+                let at = self.absolute(memory, offset);
+                if self.snapshot_seen {
+                    self.written += data.len() as u64;
+                    self.late_fills.push((memory, at, data.clone()));
+                }
+                self.memory.entry(memory).or_default().write(at, data);
             }
             Meta::InitBuffer { buffer, data } => {
+                self.snapshot_seen = true;
                 self.written += data.len() as u64;
                 self.buffers.insert(buffer, data);
             }
@@ -235,6 +241,7 @@ impl Contents {
                 data,
                 ..
             } => {
+                self.snapshot_seen = true;
                 self.written += data.len() as u64;
                 self.images
                     .entry(image)
@@ -250,10 +257,22 @@ impl Contents {
     fn buffer_bytes(&mut self, handle: u64, objects: &Objects) -> Option<Vec<u8>> {
         let info = objects.buffers.get(&handle)?;
         if let Some(d) = self.buffers.get(&handle) {
-            if d.len() as u64 == info.size {
-                return self.buffers.remove(&handle);
+            if d.len() as u64 != info.size {
+                return None;
             }
-            return None;
+            let mut d = self.buffers.remove(&handle)?;
+            if let Some((memory, bound)) = info.bound {
+                let end = bound.saturating_add(info.size);
+                for (m, at, bytes) in &self.late_fills {
+                    let stop = at.saturating_add(bytes.len() as u64);
+                    let (from, to) = ((*at).max(bound), stop.min(end));
+                    if *m == memory && from < to {
+                        d[(from - bound) as usize..(to - bound) as usize]
+                            .copy_from_slice(&bytes[(from - at) as usize..(to - at) as usize]);
+                    }
+                }
+            }
+            return Some(d);
         }
         let (memory, offset) = info.bound?;
         self.memory.get(&memory)?.read(offset, info.size)
