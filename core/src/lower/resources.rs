@@ -85,6 +85,20 @@ impl<'c> Lowering<'c> {
                     Err(problem) => return Err(contents_err(problem)),
                 }
             }
+            // wgpu copies into no depth format but Depth16Unorm (and no stencil): an imported
+            // frame's depth snapshot is left out, said in a note, and the texture starts
+            // cleared, as the render passes that use one nearly always begin by clearing it.
+            InitialDesc::File(_)
+                if lowered.format.is_depth_stencil_format()
+                    && lowered.format != wgpu::TextureFormat::Depth16Unorm
+                    && self.capture.vulkan.is_some() =>
+            {
+                self.notes.push(format!(
+                    "\"{}\": its {:?} contents are not loaded (wgpu cannot copy into that format); it starts cleared",
+                    r.name, lowered.format
+                ));
+                None
+            }
             InitialDesc::File(path) => Some(texture_file(r, info, path).map_err(contents_err)?),
         };
         self.texture_of.insert(r.id, self.plan.textures.len());

@@ -88,6 +88,7 @@ impl Extents {
 #[derive(Debug)]
 struct ImageData {
     aspect: u32,
+    level_sizes: Vec<u64>,
     data: Vec<u8>,
 }
 
@@ -238,6 +239,7 @@ impl Contents {
             Meta::InitImage {
                 image,
                 aspect,
+                level_sizes,
                 data,
                 ..
             } => {
@@ -246,7 +248,11 @@ impl Contents {
                 self.images
                     .entry(image)
                     .or_default()
-                    .push(ImageData { aspect, data });
+                    .push(ImageData {
+                        aspect,
+                        level_sizes,
+                        data,
+                    });
             }
             Meta::Other(_) => {}
         }
@@ -285,10 +291,12 @@ impl Contents {
         if let Some(aspects) = self.images.get_mut(&handle) {
             // Color (1) or depth (2); a stencil aspect (4) travels with depth in one resource
             // only where the format packs them, which the size check decides.
-            return aspects
-                .iter_mut()
-                .find(|a| a.aspect & 0x3 != 0)
-                .map(|a| std::mem::take(&mut a.data));
+            let a = aspects.iter_mut().find(|a| a.aspect & 0x3 != 0)?;
+            let data = std::mem::take(&mut a.data);
+            if data.len() as u64 == size {
+                return Some(data);
+            }
+            return unpad(img, &a.level_sizes, &data);
         }
         let &(pitch, first) = self.linear.get(&handle)?;
         let (memory, bound) = img.bound?;
@@ -387,6 +395,39 @@ impl Contents {
         }
         (files, notes)
     }
+}
+
+/// A snapshot whose rows the driver padded (lavapipe aligns each row to 64 bytes), packed:
+/// each level's size, divided by its rows of blocks, gives the pitch its rows were read at.
+/// `None` where the sizes do not divide so.
+fn unpad(img: &ImageInfo, level_sizes: &[u64], data: &[u8]) -> Option<Vec<u8>> {
+    let f = dxgi::lookup_vk(&img.format)?;
+    let (block, bytes) = (
+        u64::from(f.block_width.max(1)),
+        u64::from(f.bits_per_element) / 8,
+    );
+    if bytes == 0 || level_sizes.len() != img.mips as usize {
+        return None;
+    }
+    let mut out = Vec::new();
+    let mut at = 0usize;
+    for (l, &size) in level_sizes.iter().enumerate() {
+        let dim = |d: u32| u64::from((d >> l).max(1));
+        let row = dim(img.extent[0]).div_ceil(block) * bytes;
+        let rows = dim(img.extent[1]).div_ceil(block)
+            * dim(img.extent[2])
+            * u64::from(img.layers.max(1));
+        if rows == 0 || size % rows != 0 || size / rows < row {
+            return None;
+        }
+        let pitch = (size / rows) as usize;
+        let level = data.get(at..at.checked_add(size as usize)?)?;
+        for r in level.chunks_exact(pitch) {
+            out.extend_from_slice(&r[..row as usize]);
+        }
+        at += size as usize;
+    }
+    Some(out)
 }
 
 /// Bytes of every mip level and layer of a single-sampled image, tightly packed: the layout
