@@ -99,3 +99,98 @@ fn real_frames_replay_to_the_image_they_presented() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// Each real frame replays two frames under the Khronos validation layer with no error or
+/// warning (the layer writes its log file when it loads: an empty file proves it ran).
+#[test]
+fn real_frames_are_clean_under_the_validation_layer() {
+    let dir = temp("validation-layer");
+    let log = dir.join("log.txt");
+    std::fs::write(
+        dir.join("vk_layer_settings.txt"),
+        format!(
+            "khronos_validation.debug_action = VK_DBG_LAYER_ACTION_LOG_MSG\n\
+             khronos_validation.log_filename = {}\n\
+             khronos_validation.report_flags = error,warn\n",
+            log.display()
+        ),
+    )
+    .unwrap();
+    for name in REPLAYED {
+        let capture = import(name, &dir);
+        let _ = std::fs::remove_file(&log);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_framelab"))
+            .args(["replay", capture.to_str().unwrap(), "--frames", "2", "--quiet"])
+            .env("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation")
+            .env("VK_LAYER_SETTINGS_PATH", &dir)
+            // As for the bundled captures: debug builds of wgpu add WGSL debug info to their
+            // own SPIR-V, which Debian 12's layer predates.
+            .env("WGPU_DEBUG", "0")
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        let messages = std::fs::read_to_string(&log).unwrap_or_else(|e| {
+            panic!("{name}: the validation layer wrote no log ({e}): is vulkan-validationlayers installed?")
+        });
+        assert!(messages.is_empty(), "{name}:\n{messages}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// mpv uploads its frame through a storage texel buffer, which wgpu has no binding for: the
+/// replay refuses before creating anything, naming the pass, the dispatch, the shader and the
+/// feature.
+#[test]
+fn what_the_replay_cannot_do_is_named() {
+    let dir = temp("unsupported");
+    let capture = import("mpv_testsrc_f5", &dir);
+    let out = framelab(&["replay", capture.to_str().unwrap(), "--frames", "1"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let err = stderr(&out);
+    for part in [
+        "pass \"vk_pass_run\"",
+        "dispatch 0",
+        "STORAGE_TEXEL_BUFFER",
+        "module_73",
+    ] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A module damaged inside (an OpLoad reading an id nothing defines, the file still SPIR-V
+/// of the declared size with its entry point) is refused before it reaches the driver, with
+/// the pass, the draw, the shader and the word at fault.
+#[test]
+fn a_damaged_module_never_reaches_the_driver() {
+    let dir = temp("damaged");
+    let capture = import("vkcube_f3", &dir);
+    let spv = dir.join("vkcube_f3.shaders/module_38.spv");
+    let mut words: Vec<u32> = std::fs::read(&spv)
+        .unwrap()
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    let mut at = 5;
+    let load = loop {
+        let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
+        if opcode == 61 {
+            break at;
+        }
+        at += count;
+    };
+    // OpLoad: result type, result id, pointer.
+    words[load + 3] = 0xffff;
+    std::fs::write(
+        &spv,
+        words.iter().flat_map(|w| w.to_le_bytes()).collect::<Vec<u8>>(),
+    )
+    .unwrap();
+    let out = framelab(&["replay", capture.to_str().unwrap(), "--frames", "1"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let err = stderr(&out);
+    for part in ["pass \"render_pass\"", "draw 0", "module_38", "%65535"] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

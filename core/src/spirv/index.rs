@@ -127,11 +127,51 @@ pub(super) fn load(words: &[u32]) -> Result<Loaded, SpirvError> {
     if let Some(h) = module.header.as_mut() {
         h.generator = generator;
     }
+    check_ids(&module, words[3], &offsets)?;
     Ok(Loaded {
         module,
         offsets,
         entry_offsets,
     })
+}
+
+/// Every id is defined once and below the header's bound, and every id an instruction uses
+/// is defined somewhere in the module (forward references, to functions and labels, are
+/// SPIR-V's own). A driver trusts all of this; a damaged module breaks it first.
+fn check_ids(module: &Module, bound: u32, offsets: &HashMap<Word, usize>) -> Result<(), SpirvError> {
+    let at = |id: Word| offsets.get(&id).copied().unwrap_or(HEADER_WORDS);
+    let mut defined = std::collections::HashSet::new();
+    for inst in module.all_inst_iter() {
+        if let Some(id) = inst.result_id {
+            if id == 0 || id >= bound {
+                return Err(SpirvError::Malformed {
+                    at_word: at(id),
+                    detail: format!("id %{id} is outside the header's bound {bound}"),
+                });
+            }
+            if !defined.insert(id) {
+                return Err(SpirvError::Malformed {
+                    at_word: at(id),
+                    detail: format!("id %{id} is defined twice"),
+                });
+            }
+        }
+    }
+    for inst in module.all_inst_iter() {
+        let used = inst.result_type.into_iter().chain(inst.operands.iter().filter_map(|o| match o {
+            Operand::IdRef(id) | Operand::IdScope(id) | Operand::IdMemorySemantics(id) => Some(*id),
+            _ => None,
+        }));
+        for id in used {
+            if !defined.contains(&id) {
+                return Err(SpirvError::Malformed {
+                    at_word: inst.result_id.map_or(HEADER_WORDS, at),
+                    detail: format!("{:?} uses %{id}, which nothing defines", inst.class.opcode),
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// rspirv's parser trusts two things it reads and panics when they are wrong: that an

@@ -29,6 +29,16 @@ pub fn rewrite(
     let plan = plan(&loaded, model, entry, opts)?;
     let mut module = loaded.module;
     apply(&mut module, plan)?;
+    // The source language is only information; one newer than the driver's own tools know
+    // (naga writes WGSL's, 10) makes older validation layers call the module invalid.
+    module.debug_string_source.retain(|i| {
+        !matches!(
+            i.class.opcode,
+            rspirv::spirv::Op::Source
+                | rspirv::spirv::Op::SourceContinued
+                | rspirv::spirv::Op::SourceExtension
+        )
+    });
     Ok(module.assemble())
 }
 
