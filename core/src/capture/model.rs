@@ -492,6 +492,8 @@ pub struct CopyDesc {
     pub src: CopyLocationDesc,
     pub dst: CopyLocationDesc,
     pub extent: Option<[u32; 3]>,
+    /// Bytes the CPU wrote during the frame (see the format's `Copy::host`).
+    pub host: bool,
 }
 
 #[derive(Clone, Debug)]

@@ -318,6 +318,7 @@ impl Builder {
             src: at(name.clone(), 0),
             dst: at(dst, offset),
             extent: None,
+            host: true,
         });
         self.uploads.push((name, bytes));
     }
@@ -928,6 +929,7 @@ impl Builder {
                     bytes_per_row: (dst_is_buffer && !both_buffers).then(|| row(r)).flatten(),
                 },
                 extent: r.extent,
+                host: false,
             });
         }
     }

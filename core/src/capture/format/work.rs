@@ -104,6 +104,11 @@ pub struct Copy {
     /// buffer copies, `size` in the locations is used instead.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub extent: Option<[u32; 3]>,
+    /// The source holds bytes the application's CPU wrote into mapped memory during the
+    /// frame (an imported frame's host write): the submission that follows makes them
+    /// visible, so Vulkan needs no barrier for them.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub host: bool,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]

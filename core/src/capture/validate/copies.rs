@@ -73,6 +73,7 @@ impl<'a> Validator<'a> {
             src: loc(&c.src, src),
             dst: loc(&c.dst, dst),
             extent: c.extent,
+            host: c.host,
         })
     }
 
