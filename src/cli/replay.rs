@@ -134,7 +134,10 @@ pub fn replay(
     }
     let mut replayer = Replaying::start(&ctx, lowered)?;
     for (shader, path) in replayer.session.shader_paths() {
-        on(Event::Note(&format!("shader {shader}: {} path", path.name())));
+        on(Event::Note(&format!(
+            "shader {shader}: {} path",
+            path.name()
+        )));
     }
     replayer
         .session

@@ -43,8 +43,7 @@ fn import(name: &str, dir: &Path) -> PathBuf {
 
 fn manifest(out: &Path) -> Vec<Value> {
     let m: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap())
-            .unwrap();
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
     m["files"].as_array().unwrap().clone()
 }
 
@@ -120,7 +119,13 @@ fn real_frames_are_clean_under_the_validation_layer() {
         let capture = import(name, &dir);
         let _ = std::fs::remove_file(&log);
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_framelab"))
-            .args(["replay", capture.to_str().unwrap(), "--frames", "2", "--quiet"])
+            .args([
+                "replay",
+                capture.to_str().unwrap(),
+                "--frames",
+                "2",
+                "--quiet",
+            ])
             .env("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation")
             .env("VK_LAYER_SETTINGS_PATH", &dir)
             // As for the bundled captures: debug builds of wgpu add WGSL debug info to their
@@ -183,7 +188,10 @@ fn a_damaged_module_never_reaches_the_driver() {
     words[load + 3] = 0xffff;
     std::fs::write(
         &spv,
-        words.iter().flat_map(|w| w.to_le_bytes()).collect::<Vec<u8>>(),
+        words
+            .iter()
+            .flat_map(|w| w.to_le_bytes())
+            .collect::<Vec<u8>>(),
     )
     .unwrap();
     let out = framelab(&["replay", capture.to_str().unwrap(), "--frames", "1"]);

@@ -10,8 +10,8 @@ pub mod load;
 pub mod model;
 pub mod shaders;
 pub mod validate;
-pub mod vulkan;
 pub mod vk_model;
+pub mod vulkan;
 
 pub use diag::{Diagnostic, Severity};
 pub use load::CaptureError;

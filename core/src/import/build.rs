@@ -14,10 +14,10 @@ use super::record::Recording;
 use super::state::{Descriptor, Objects};
 use crate::capture::dxgi;
 use crate::capture::format::{
-    VkIndexBuffer, VkVertexBuffer,
     Access, BarrierType, Binding, ByteRange, Clear, ColorAttachment, Copy, CopyLocation,
     DepthStencilAttachment, Dispatch, Draw, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range,
-    RecordedBarrier, Resolve, SplitFlag, StoreOp, VkImageView, VulkanBarrier,
+    RecordedBarrier, Resolve, SplitFlag, StoreOp, VkImageView, VkIndexBuffer, VkVertexBuffer,
+    VulkanBarrier,
 };
 
 /// Deepest nesting of secondary command buffers followed.
@@ -287,7 +287,9 @@ impl Builder {
     /// A host write of `bytes` into `buffer` at `offset` during the imported frames: a copy
     /// pass from a buffer holding the bytes, on the queue of the latest pass.
     pub fn upload(&mut self, objects: &Objects, buffer: u64, offset: u64, bytes: Vec<u8>) {
-        let Some(queue) = self.last_queue.or_else(|| self.queue_names.keys().next().copied())
+        let Some(queue) = self
+            .last_queue
+            .or_else(|| self.queue_names.keys().next().copied())
         else {
             self.note("host writes before any queue was seen: not imported");
             return;

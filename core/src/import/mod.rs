@@ -182,8 +182,7 @@ impl Importer {
                 .and_then(|b| b.bound)
                 .map_or(0, |(_, a)| a);
             let bytes = data[(from - offset) as usize..(to - offset) as usize].to_vec();
-            self.builder
-                .upload(&self.objects, buffer, from - at, bytes);
+            self.builder.upload(&self.objects, buffer, from - at, bytes);
         }
     }
 
@@ -606,7 +605,9 @@ fn finish(
         side_files = files;
         for (name, bytes) in uploads {
             let path = format!("{}.contents/{name}.bin", x.stem);
-            capture.resources.push(emit::upload_buffer(&name, bytes.len() as u64, &path));
+            capture
+                .resources
+                .push(emit::upload_buffer(&name, bytes.len() as u64, &path));
             side_files.push(SideFile { path, bytes });
         }
         let modules = std::mem::take(&mut x.contents.modules);

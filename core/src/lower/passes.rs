@@ -256,7 +256,10 @@ impl<'c> Lowering<'c> {
         }))
     }
 
-    pub(super) fn color_targets(&mut self, p: &'c PassDesc) -> Result<Vec<ColorTarget>, LowerError> {
+    pub(super) fn color_targets(
+        &mut self,
+        p: &'c PassDesc,
+    ) -> Result<Vec<ColorTarget>, LowerError> {
         let mut out = Vec::new();
         for c in &p.color_attachments {
             let t = self.tex(p, c.resource)?;

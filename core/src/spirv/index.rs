@@ -138,7 +138,11 @@ pub(super) fn load(words: &[u32]) -> Result<Loaded, SpirvError> {
 /// Every id is defined once and below the header's bound, and every id an instruction uses
 /// is defined somewhere in the module (forward references, to functions and labels, are
 /// SPIR-V's own). A driver trusts all of this; a damaged module breaks it first.
-fn check_ids(module: &Module, bound: u32, offsets: &HashMap<Word, usize>) -> Result<(), SpirvError> {
+fn check_ids(
+    module: &Module,
+    bound: u32,
+    offsets: &HashMap<Word, usize>,
+) -> Result<(), SpirvError> {
     let at = |id: Word| offsets.get(&id).copied().unwrap_or(HEADER_WORDS);
     let mut defined = std::collections::HashSet::new();
     for inst in module.all_inst_iter() {
@@ -158,10 +162,15 @@ fn check_ids(module: &Module, bound: u32, offsets: &HashMap<Word, usize>) -> Res
         }
     }
     for inst in module.all_inst_iter() {
-        let used = inst.result_type.into_iter().chain(inst.operands.iter().filter_map(|o| match o {
-            Operand::IdRef(id) | Operand::IdScope(id) | Operand::IdMemorySemantics(id) => Some(*id),
-            _ => None,
-        }));
+        let used = inst
+            .result_type
+            .into_iter()
+            .chain(inst.operands.iter().filter_map(|o| match o {
+                Operand::IdRef(id) | Operand::IdScope(id) | Operand::IdMemorySemantics(id) => {
+                    Some(*id)
+                }
+                _ => None,
+            }));
         for id in used {
             if !defined.contains(&id) {
                 return Err(SpirvError::Malformed {

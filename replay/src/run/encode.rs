@@ -84,7 +84,14 @@ impl Session {
                 .encode_compute(&pass.name, c, prepared, parity, encoder, stamps)
                 .map_err(err)?,
             (PassOp::VkRaster(r), Prepared::VkWork(groups)) => {
-                let rp = self.begin_render(&pass.name, &r.color, r.depth.as_ref(), parity, encoder, stamps);
+                let rp = self.begin_render(
+                    &pass.name,
+                    &r.color,
+                    r.depth.as_ref(),
+                    parity,
+                    encoder,
+                    stamps,
+                );
                 self.encode_vk_raster(&pass.name, r, groups, rp);
             }
             (PassOp::VkCompute(c), Prepared::VkWork(groups)) => {
@@ -227,8 +234,7 @@ impl Session {
             .iter()
             .map(|c| self.view(c.texture, parity, c.mip, c.layer, Some(c.format)))
             .collect();
-        let depth_view = depth
-            .map(|d| self.view(d.texture, parity, d.mip, d.layer, None));
+        let depth_view = depth.map(|d| self.view(d.texture, parity, d.mip, d.layer, None));
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = color
             .iter()
             .zip(&color_views)

@@ -277,8 +277,8 @@ impl Session {
                     mips,
                     base_layer,
                     layers,
-                } => Some(self.textures[*texture][0].create_view(
-                    &wgpu::TextureViewDescriptor {
+                } => Some(
+                    self.textures[*texture][0].create_view(&wgpu::TextureViewDescriptor {
                         label: Some(&self.plan.textures[*texture].name),
                         format: *format,
                         dimension: Some(*dimension),
@@ -288,8 +288,8 @@ impl Session {
                         mip_level_count: *mips,
                         base_array_layer: *base_layer,
                         array_layer_count: *layers,
-                    },
-                )),
+                    }),
+                ),
                 _ => None,
             })
             .collect();

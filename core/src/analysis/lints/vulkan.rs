@@ -307,8 +307,7 @@ pub(super) fn compare_vulkan(
             let p = group[0].0;
             // The CPU's writes during the frame: the next submission makes them visible
             // without a barrier, and they wait for the GPU on fences, not barriers.
-            if p.kind == PassKind::Copy && !p.copies.is_empty() && p.copies.iter().all(|c| c.host)
-            {
+            if p.kind == PassKind::Copy && !p.copies.is_empty() && p.copies.iter().all(|c| c.host) {
                 continue;
             }
             let accesses: Vec<&ResourceAccess> = group.iter().map(|&(_, a)| a).collect();

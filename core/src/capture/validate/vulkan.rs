@@ -14,6 +14,9 @@ use crate::capture::model::ResourceId;
 use crate::capture::vk_model::*;
 use crate::files;
 
+/// Each module's entry points and bytes, by name (`None` where the capture holds no code).
+type ModuleCode<'v> = BTreeMap<&'v str, Option<(Vec<(u32, String)>, Vec<u8>)>>;
+
 /// SPIR-V's magic number, the first word of every module.
 const SPIRV_MAGIC: u32 = 0x0723_0203;
 /// `OpEntryPoint`: execution model, function id, name, interface.
@@ -219,7 +222,7 @@ impl Validator<'_> {
     fn vk_model(
         &self,
         vk: &VulkanObjects,
-        mut code: BTreeMap<&str, Option<(Vec<(u32, String)>, Vec<u8>)>>,
+        mut code: ModuleCode<'_>,
     ) -> VkModel {
         let index = |names: Vec<&str>| -> BTreeMap<String, usize> {
             names
@@ -230,7 +233,12 @@ impl Validator<'_> {
         };
         let samplers = index(vk.samplers.iter().map(|s| s.name.as_str()).collect());
         let sets = index(vk.set_layouts.iter().map(|s| s.name.as_str()).collect());
-        let layouts = index(vk.pipeline_layouts.iter().map(|s| s.name.as_str()).collect());
+        let layouts = index(
+            vk.pipeline_layouts
+                .iter()
+                .map(|s| s.name.as_str())
+                .collect(),
+        );
         let modules = index(vk.shader_modules.iter().map(|s| s.name.as_str()).collect());
         VkModel {
             modules: vk
@@ -335,7 +343,11 @@ impl Validator<'_> {
 
     /// The Vulkan state of one draw or dispatch by index (`None` when it names no pipeline or
     /// the capture has no `vulkan` section).
-    pub(super) fn vk_work(&self, pipeline: Option<&str>, state: &VkCommandState) -> Option<Box<VkWork>> {
+    pub(super) fn vk_work(
+        &self,
+        pipeline: Option<&str>,
+        state: &VkCommandState,
+    ) -> Option<Box<VkWork>> {
         let vk = self.raw.vulkan.as_ref()?;
         let model = self.vk_model.as_ref()?;
         let name = pipeline?;
@@ -390,7 +402,7 @@ impl Validator<'_> {
         &mut self,
         vk: &'v VulkanObjects,
         root: &JsonPath,
-    ) -> BTreeMap<&'v str, Option<(Vec<(u32, String)>, Vec<u8>)>> {
+    ) -> ModuleCode<'v> {
         let mut out = BTreeMap::new();
         for (i, m) in vk.shader_modules.iter().enumerate() {
             let path = root.field("shader_modules").index(i);

@@ -312,7 +312,8 @@ impl<'a> Validator<'a> {
         accesses: &mut Vec<ResourceAccess>,
         i: usize,
     ) {
-        if (d.index_buffer.is_some() || !d.vertex_buffers.is_empty()) && !self.not_replayable()
+        if (d.index_buffer.is_some() || !d.vertex_buffers.is_empty())
+            && !self.not_replayable()
             && d.pipeline.is_none()
         {
             self.diags.error(

@@ -129,7 +129,12 @@ fn handle(v: &Value) -> Option<u64> {
 impl Contents {
     /// A call only the binary route needs to see.
     pub fn observe(&mut self, name: &str, args: &Value, blobs: &[(String, Vec<u8>)]) {
-        if self.frozen && !matches!(name, "vkCreateShaderModule" | "vkMapMemory" | "vkMapMemory2KHR" | "vkMapMemory2") {
+        if self.frozen
+            && !matches!(
+                name,
+                "vkCreateShaderModule" | "vkMapMemory" | "vkMapMemory2KHR" | "vkMapMemory2"
+            )
+        {
             return;
         }
         match name {
@@ -245,14 +250,11 @@ impl Contents {
             } => {
                 self.snapshot_seen = true;
                 self.written += data.len() as u64;
-                self.images
-                    .entry(image)
-                    .or_default()
-                    .push(ImageData {
-                        aspect,
-                        level_sizes,
-                        data,
-                    });
+                self.images.entry(image).or_default().push(ImageData {
+                    aspect,
+                    level_sizes,
+                    data,
+                });
             }
             Meta::Other(_) => {}
         }
@@ -414,9 +416,8 @@ fn unpad(img: &ImageInfo, level_sizes: &[u64], data: &[u8]) -> Option<Vec<u8>> {
     for (l, &size) in level_sizes.iter().enumerate() {
         let dim = |d: u32| u64::from((d >> l).max(1));
         let row = dim(img.extent[0]).div_ceil(block) * bytes;
-        let rows = dim(img.extent[1]).div_ceil(block)
-            * dim(img.extent[2])
-            * u64::from(img.layers.max(1));
+        let rows =
+            dim(img.extent[1]).div_ceil(block) * dim(img.extent[2]) * u64::from(img.layers.max(1));
         if rows == 0 || size % rows != 0 || size / rows < row {
             return None;
         }

@@ -121,10 +121,7 @@ impl<'c> Lowering<'c> {
             sets.insert(set, layout_entries.iter().map(|e| e.binding).collect());
             groups[set as usize] = Some(VkGroup {
                 layout: index,
-                entries: entries
-                    .into_iter()
-                    .map(|(e, r)| (e.binding, r))
-                    .collect(),
+                entries: entries.into_iter().map(|(e, r)| (e.binding, r)).collect(),
             });
         }
         Ok((groups, sets))
@@ -161,7 +158,9 @@ impl<'c> Lowering<'c> {
         };
         let wb = binding * 2;
         Ok(match ty {
-            "UNIFORM_BUFFER" | "UNIFORM_BUFFER_DYNAMIC" | "STORAGE_BUFFER"
+            "UNIFORM_BUFFER"
+            | "UNIFORM_BUFFER_DYNAMIC"
+            | "STORAGE_BUFFER"
             | "STORAGE_BUFFER_DYNAMIC" => {
                 let d = d.ok_or_else(missing)?;
                 let buffer = self.buf(p, d.resource.ok_or_else(missing)?)?;
@@ -189,7 +188,10 @@ impl<'c> Lowering<'c> {
                 )]
             }
             "SAMPLER" => {
-                let s = d.and_then(|d| d.sampler).or(immutable).ok_or_else(missing)?;
+                let s = d
+                    .and_then(|d| d.sampler)
+                    .or(immutable)
+                    .ok_or_else(missing)?;
                 vec![self.vk_sampler_entry(wb, u.stages, s)?]
             }
             "SAMPLED_IMAGE" | "COMBINED_IMAGE_SAMPLER" => {

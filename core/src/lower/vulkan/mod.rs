@@ -34,7 +34,9 @@ pub enum VkProblem {
         shader: String,
         error: crate::spirv::SpirvError,
     },
-    #[error("shader module \"{module}\" has no code in the capture (a JSON Lines import holds none)")]
+    #[error(
+        "shader module \"{module}\" has no code in the capture (a JSON Lines import holds none)"
+    )]
     NoCode { module: String },
     #[error("{0}")]
     Missing(String),
@@ -60,9 +62,7 @@ struct PipelineKey {
 }
 
 /// The wgpu stage and SPIR-V execution model of a `VK_SHADER_STAGE_*_BIT`.
-fn stage_of(
-    stage: &str,
-) -> Result<(wgpu::ShaderStages, rspirv::spirv::ExecutionModel), VkProblem> {
+fn stage_of(stage: &str) -> Result<(wgpu::ShaderStages, rspirv::spirv::ExecutionModel), VkProblem> {
     use rspirv::spirv::ExecutionModel as M;
     Ok(match stage {
         "VK_SHADER_STAGE_VERTEX_BIT" => (wgpu::ShaderStages::VERTEX, M::Vertex),
@@ -224,7 +224,10 @@ impl<'c> Lowering<'c> {
         let key = PipelineKey {
             pipeline: work.pipeline,
             flip,
-            groups: groups.iter().map(|g| g.as_ref().map(|g| g.layout)).collect(),
+            groups: groups
+                .iter()
+                .map(|g| g.as_ref().map(|g| g.layout))
+                .collect(),
             targets: targets.to_vec(),
             depth,
             strip_index: index.map(|i| i.2),
@@ -253,11 +256,11 @@ impl<'c> Lowering<'c> {
             viewport: Some(viewport),
             scissor,
             immediates: self.immediates(pipe, layout, work)?,
-            blend_constant: g
-                .blend
-                .iter()
-                .any(states::uses_constant)
-                .then(|| work.blend_constants.unwrap_or(g.blend_constants).map(f64::from)),
+            blend_constant: g.blend.iter().any(states::uses_constant).then(|| {
+                work.blend_constants
+                    .unwrap_or(g.blend_constants)
+                    .map(f64::from)
+            }),
             stencil_reference: self.stencil_reference(pipe, g, work)?,
             count: d.count.unwrap_or(0),
             instances: d.instances,
@@ -281,7 +284,10 @@ impl<'c> Lowering<'c> {
         let key = PipelineKey {
             pipeline: work.pipeline,
             flip: false,
-            groups: groups.iter().map(|g| g.as_ref().map(|g| g.layout)).collect(),
+            groups: groups
+                .iter()
+                .map(|g| g.as_ref().map(|g| g.layout))
+                .collect(),
             targets: Vec::new(),
             depth: None,
             strip_index: None,
@@ -406,7 +412,11 @@ impl<'c> Lowering<'c> {
         let mut buffers = Vec::new();
         for b in &g.vertex_bindings {
             let mut attributes = Vec::new();
-            for a in g.vertex_attributes.iter().filter(|a| a.binding == b.binding) {
+            for a in g
+                .vertex_attributes
+                .iter()
+                .filter(|a| a.binding == b.binding)
+            {
                 attributes.push(wgpu::VertexAttribute {
                     format: states::vertex_format(&a.format)?,
                     offset: u64::from(a.offset),
@@ -454,10 +464,7 @@ impl<'c> Lowering<'c> {
                 fragment,
                 buffers,
                 primitive: states::primitive(g, key.strip_index)?,
-                depth_stencil: key
-                    .depth
-                    .map(|f| states::depth_stencil(g, f))
-                    .transpose()?,
+                depth_stencil: key.depth.map(|f| states::depth_stencil(g, f)).transpose()?,
                 targets,
                 samples,
             })),
@@ -478,7 +485,12 @@ impl<'c> Lowering<'c> {
     }
 
     /// The wgpu format a `VK_FORMAT_*` view of texture `t` reads through.
-    fn vk_view_format(&self, p: &PassDesc, t: usize, vk: &str) -> Result<wgpu::TextureFormat, Fail> {
+    fn vk_view_format(
+        &self,
+        p: &PassDesc,
+        t: usize,
+        vk: &str,
+    ) -> Result<wgpu::TextureFormat, Fail> {
         let info = crate::capture::dxgi::lookup_vk(vk).ok_or_else(|| VkProblem::Unsupported {
             feature: format!("view format {vk}"),
         })?;

@@ -15,7 +15,7 @@ use super::{Fail, VkProblem, stage_of};
 use crate::capture::vk_model::{VkPipeline, VkStage};
 use crate::lower::Lowering;
 use crate::plan::SpirvShader;
-use crate::spirv::{Role, RewriteOptions};
+use crate::spirv::{RewriteOptions, Role};
 
 /// A rewritten stage is shared by pipelines that agree on all of this.
 #[derive(Clone, PartialEq, Eq, Hash)]
