@@ -219,11 +219,7 @@ impl Validator<'_> {
     }
 
     /// The section by index, once every name in it is known to resolve.
-    fn vk_model(
-        &self,
-        vk: &VulkanObjects,
-        mut code: ModuleCode<'_>,
-    ) -> VkModel {
+    fn vk_model(&self, vk: &VulkanObjects, mut code: ModuleCode<'_>) -> VkModel {
         let index = |names: Vec<&str>| -> BTreeMap<String, usize> {
             names
                 .into_iter()
@@ -398,11 +394,7 @@ impl Validator<'_> {
     }
 
     /// Each module's entry points, read from its file (`None` where there is no file).
-    fn check_modules<'v>(
-        &mut self,
-        vk: &'v VulkanObjects,
-        root: &JsonPath,
-    ) -> ModuleCode<'v> {
+    fn check_modules<'v>(&mut self, vk: &'v VulkanObjects, root: &JsonPath) -> ModuleCode<'v> {
         let mut out = BTreeMap::new();
         for (i, m) in vk.shader_modules.iter().enumerate() {
             let path = root.field("shader_modules").index(i);
@@ -592,6 +584,18 @@ impl Validator<'_> {
     }
 }
 
+/// Push-constant bytes from their hex spelling; `None` for text that is not whole hex bytes
+/// (validation reports it).
+fn hex_bytes(hex: &str) -> Option<Vec<u8>> {
+    if !hex.len().is_multiple_of(2) {
+        return None;
+    }
+    (0..hex.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(hex.get(i..i + 2)?, 16).ok())
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -619,16 +623,4 @@ mod tests {
         bad[0] = 0;
         assert_eq!(entry_points(&bad), None);
     }
-}
-
-/// Push-constant bytes from their hex spelling; `None` for text that is not whole hex bytes
-/// (validation reports it).
-fn hex_bytes(hex: &str) -> Option<Vec<u8>> {
-    if !hex.len().is_multiple_of(2) {
-        return None;
-    }
-    (0..hex.len())
-        .step_by(2)
-        .map(|i| u8::from_str_radix(hex.get(i..i + 2)?, 16).ok())
-        .collect()
 }
