@@ -297,7 +297,17 @@ impl Builder {
         let Some(dst) = self.resource(objects, buffer) else {
             return;
         };
-        let Some(pass) = self.new_pass(objects, queue, PassKind::Copy, "host_write") else {
+        // Barriers and waits recorded for the queue belong to its next GPU pass, not to this.
+        let barriers = self.pending_barriers.remove(&queue);
+        let waits = self.pending_waits.remove(&queue);
+        let pass = self.new_pass(objects, queue, PassKind::Copy, "host_write");
+        if let Some(b) = barriers {
+            self.pending_barriers.insert(queue, b);
+        }
+        if let Some(w) = waits {
+            self.pending_waits.insert(queue, w);
+        }
+        let Some(pass) = pass else {
             return;
         };
         let mut k = self.uploads.len();

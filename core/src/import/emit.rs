@@ -284,7 +284,12 @@ fn resources(b: &Builder, objects: &Objects, hidden_blocks: bool) -> Made {
     let written: BTreeSet<&str> = b
         .passes
         .iter()
-        .flat_map(|p| p.copies.iter().map(|c| c.dst.resource.as_str()))
+        .flat_map(|p| {
+            p.copies
+                .iter()
+                .filter(|c| !c.host)
+                .map(|c| c.dst.resource.as_str())
+        })
         .collect();
     let mut largest = (0u32, 0u32);
     let mut swapchain_extent = None;
