@@ -27,6 +27,8 @@ pub struct Inspection {
     pub timings: Option<Timings>,
     /// A second report to compare with (`--compare`).
     pub compare: Option<Compare>,
+    /// The resource the frame presents (the last present pass's), opened first.
+    pub presented: Option<usize>,
 }
 
 /// A dependency between two passes.

@@ -759,7 +759,13 @@ fn model(
         memory: memory(a, &pass_index),
         timings: None,
         compare: None,
+        presented: None,
     };
+    m.presented = order
+        .iter()
+        .rev()
+        .find_map(|&id| c.pass(id).present)
+        .and_then(|r| m.resources.iter().position(|x| x.id == r));
     if let Some((t, source)) = &reports.timings {
         m.timings = Some(timings_from(&m, t, source));
         if let Some((b, other)) = &reports.compare {

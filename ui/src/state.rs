@@ -186,11 +186,18 @@ impl View {
             pane_pending: None,
         };
         view.selection.pass = view.model.passes.len().saturating_sub(1);
+        // The presented image first: what the frame is for.
+        let viewable = |r: usize| {
+            view.model.resources[r]
+                .texture
+                .as_ref()
+                .is_some_and(|t| t.unviewable.is_none())
+        };
         let first_texture = view
             .model
-            .resources
-            .iter()
-            .position(|r| r.texture.as_ref().is_some_and(|t| t.unviewable.is_none()));
+            .presented
+            .filter(|&r| viewable(r))
+            .or_else(|| (0..view.model.resources.len()).find(|&r| viewable(r)));
         if let Some(r) = first_texture {
             view.open_resource(r);
         }

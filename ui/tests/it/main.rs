@@ -97,6 +97,7 @@ fn model() -> Inspection {
         }],
         timings: None,
         compare: None,
+        presented: None,
     }
 }
 
