@@ -56,6 +56,12 @@ fn params(
 
 fn work(c: &Capture, p: &PassDesc) -> Vec<String> {
     let name = |r| c.resource(r).name.clone();
+    // An imported draw or dispatch names the Vulkan pipeline it runs with.
+    let pipeline = |vk: &Option<Box<framelab_core::capture::vk_model::VkWork>>| {
+        vk.as_ref()
+            .and_then(|w| c.vulkan.as_ref()?.pipelines.get(w.pipeline))
+            .map_or(String::new(), |pl| format!(" with {}", pl.name))
+    };
     let mut out = Vec::new();
     for (i, d) in p.draws.iter().enumerate() {
         let what = d.label.clone().unwrap_or_else(|| format!("draw {i}"));
@@ -72,7 +78,7 @@ fn work(c: &Capture, p: &PassDesc) -> Vec<String> {
                 d.instances
             ),
         };
-        out.push(format!("{what}: {args}"));
+        out.push(format!("{what}: {args}{}", pipeline(&d.vk)));
     }
     for (i, d) in p.dispatches.iter().enumerate() {
         let what = d.label.clone().unwrap_or_else(|| format!("dispatch {i}"));
@@ -81,7 +87,7 @@ fn work(c: &Capture, p: &PassDesc) -> Vec<String> {
             (None, Some([x, y, z])) => format!("{x}x{y}x{z} groups"),
             (None, None) => "no groups".to_owned(),
         };
-        out.push(format!("{what}: {args}"));
+        out.push(format!("{what}: {args}{}", pipeline(&d.vk)));
     }
     for cp in &p.copies {
         out.push(format!(
