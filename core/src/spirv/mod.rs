@@ -11,6 +11,7 @@ mod reflect;
 mod rewrite;
 #[cfg(test)]
 mod tests;
+mod texel;
 
 use std::fmt;
 
@@ -177,6 +178,9 @@ pub struct RewriteOptions<'a> {
     /// The new binding number for (set, binding, role); None means the binding is not in the
     /// layout, which is an error.
     pub binding: &'a dyn Fn(u32, u32, Role) -> Option<u32>,
+    /// Specialization constants the pipeline gave, as (SpecId, value): each becomes a plain
+    /// constant of that value (passthrough modules take no specialization in wgpu).
+    pub specialization: &'a [(u32, u64)],
 }
 
 impl fmt::Debug for RewriteOptions<'_> {

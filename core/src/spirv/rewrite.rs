@@ -11,7 +11,7 @@ use std::collections::HashMap;
 
 use rspirv::binary::Assemble;
 use rspirv::dr::{Instruction, Module, Operand};
-use rspirv::spirv::{BuiltIn, Decoration, ExecutionModel, Op, StorageClass, Word};
+use rspirv::spirv::{BuiltIn, Decoration, ExecutionModel, ImageFormat, Op, StorageClass, Word};
 
 use super::index::{self, Index, Loaded, id_ref, literal};
 use super::reflect::{describe, entry_point_parts, resources};
@@ -29,6 +29,7 @@ pub fn rewrite(
     let plan = plan(&loaded, model, entry, opts)?;
     let mut module = loaded.module;
     apply(&mut module, plan)?;
+    specialize(&mut module, opts.specialization);
     // The source language is only information; one newer than the driver's own tools know
     // (naga writes WGSL's, 10) makes older validation layers call the module invalid.
     module.debug_string_source.retain(|i| {
@@ -49,7 +50,18 @@ struct Plan {
     /// Variables that keep their descriptor, with their new binding.
     renumber: HashMap<Word, u32>,
     splits: Vec<Split>,
+    /// Storage texel buffers read as storage buffers of words.
+    texels: Vec<Texel>,
     flip: Option<Flip>,
+}
+
+/// A storage texel buffer wgpu has no binding for: it becomes a storage buffer of 32-bit
+/// words, and each `OpImageRead` of it unpacks its texel from them.
+pub(super) struct Texel {
+    pub(super) var: Word,
+    pub(super) format: ImageFormat,
+    pub(super) set: u32,
+    pub(super) binding: u32,
 }
 
 /// A combined image sampler to split.
@@ -100,6 +112,7 @@ fn plan(
 
     let mut renumber = HashMap::new();
     let mut splits = Vec::new();
+    let mut texels = Vec::new();
     for r in resources(module, &index)? {
         let what = describe(r.set, r.binding, r.id);
         if index.is_grouped(r.id) {
@@ -115,9 +128,28 @@ fn plan(
                 role,
             })
         };
-        if !matches!(r.kind, ResourceKind::CombinedImageSampler(_)) {
-            renumber.insert(r.id, new_binding(Role::Whole)?);
-            continue;
+        match r.kind {
+            // Rewritten where it is only read, in a format the rewrite unpacks; left as it is
+            // otherwise, which the caller sees by reflecting the result.
+            ResourceKind::StorageTexelBuffer(format)
+                if r.count.is_none()
+                    && texel_layout(format).is_some()
+                    && only_read(module, r.id) =>
+            {
+                texels.push(Texel {
+                    var: r.id,
+                    format,
+                    set: r.set,
+                    binding: r.binding,
+                });
+                renumber.insert(r.id, new_binding(Role::Whole)?);
+                continue;
+            }
+            ResourceKind::CombinedImageSampler(_) => {}
+            _ => {
+                renumber.insert(r.id, new_binding(Role::Whole)?);
+                continue;
+            }
         }
         if r.count.is_some() {
             return Err(SpirvError::Unsupported {
@@ -179,6 +211,7 @@ fn plan(
         next_id,
         renumber,
         splits,
+        texels,
         flip,
     })
 }
@@ -297,13 +330,49 @@ fn find_position(
     Ok(None)
 }
 
+/// Bytes per texel and (bits per channel, channels, numeric kind) of the texel buffer formats
+/// the rewrite reads.
+pub(super) fn texel_layout(f: ImageFormat) -> Option<(u32, u32, super::ScalarKind)> {
+    use super::ScalarKind as K;
+    Some(match f {
+        ImageFormat::R8 => (8, 1, K::Float),
+        ImageFormat::R8ui => (8, 1, K::Uint),
+        ImageFormat::Rgba8 => (8, 4, K::Float),
+        ImageFormat::R32f => (32, 1, K::Float),
+        ImageFormat::R32ui => (32, 1, K::Uint),
+        ImageFormat::R32i => (32, 1, K::Sint),
+        _ => return None,
+    })
+}
+
+/// Whether every use of variable `var` in the functions is a load whose image only
+/// `OpImageRead` takes.
+fn only_read(module: &Module, var: Word) -> bool {
+    let mut loaded = std::collections::HashSet::new();
+    let insts = || module.functions.iter().flat_map(|f| f.all_inst_iter());
+    for i in insts() {
+        if i.operands.iter().any(|o| id_ref(Some(o)) == Some(var)) {
+            if i.class.opcode != Op::Load {
+                return false;
+            }
+            loaded.extend(i.result_id);
+        }
+    }
+    insts().all(|i| {
+        i.operands.iter().enumerate().all(|(n, o)| {
+            id_ref(Some(o)).is_none_or(|id| !loaded.contains(&id))
+                || (i.class.opcode == Op::ImageRead && n == 0)
+        })
+    })
+}
+
 /// Hands out ids past every one in use.
-struct Ids {
+pub(super) struct Ids {
     next: Word,
 }
 
 impl Ids {
-    fn fresh(&mut self) -> Result<Word, SpirvError> {
+    pub(super) fn fresh(&mut self) -> Result<Word, SpirvError> {
         let id = self.next;
         self.next = id
             .checked_add(1)
@@ -312,13 +381,18 @@ impl Ids {
     }
 }
 
-fn inst(op: Op, ty: Option<Word>, id: Option<Word>, operands: Vec<Operand>) -> Instruction {
+pub(super) fn inst(
+    op: Op,
+    ty: Option<Word>,
+    id: Option<Word>,
+    operands: Vec<Operand>,
+) -> Instruction {
     Instruction::new(op, ty, id, operands)
 }
 
 /// An existing global type with this opcode and these operands, or a new one appended to
 /// `added` (global types are appended after everything they could refer to).
-fn type_id(
+pub(super) fn type_id(
     module: &Module,
     added: &mut Vec<Instruction>,
     ids: &mut Ids,
@@ -368,6 +442,9 @@ fn apply(module: &mut Module, plan: Plan) -> Result<(), SpirvError> {
 
     if !plan.splits.is_empty() {
         split(module, &plan.splits, &mut ids)?;
+    }
+    if !plan.texels.is_empty() {
+        super::texel::texel_buffers(module, &plan.texels, &mut ids)?;
     }
     if let Some(flip) = &plan.flip {
         flip_y(module, flip, &mut ids)?;
@@ -744,4 +821,56 @@ fn int_constant(
         vec![Operand::LiteralBit32(value)],
     ));
     Ok(id)
+}
+
+/// Turns each specialization constant the pipeline gave a value for into a plain constant of
+/// that value, and drops its SpecId. Booleans take any non-zero value as true; numbers keep
+/// their width (the value's low 32 bits for 32-bit constants).
+fn specialize(module: &mut Module, values: &[(u32, u64)]) {
+    if values.is_empty() {
+        return;
+    }
+    let mut by_target: HashMap<Word, u64> = HashMap::new();
+    module.annotations.retain(|a| {
+        let spec = a.class.opcode == Op::Decorate
+            && a.operands.get(1) == Some(&Operand::Decoration(Decoration::SpecId));
+        let given = spec
+            .then(|| {
+                let target = id_ref(a.operands.first())?;
+                let id = literal(a.operands.get(2))?;
+                let value = values.iter().find(|(s, _)| *s == id)?.1;
+                Some((target, value))
+            })
+            .flatten();
+        match given {
+            Some((target, value)) => {
+                by_target.insert(target, value);
+                false
+            }
+            None => true,
+        }
+    });
+    for c in &mut module.types_global_values {
+        let Some(&value) = c.result_id.and_then(|id| by_target.get(&id)) else {
+            continue;
+        };
+        match c.class.opcode {
+            Op::SpecConstantTrue | Op::SpecConstantFalse => {
+                let op = if value != 0 {
+                    Op::ConstantTrue
+                } else {
+                    Op::ConstantFalse
+                };
+                *c = inst(op, c.result_type, c.result_id, Vec::new());
+            }
+            Op::SpecConstant => {
+                let operand = match c.operands.first() {
+                    Some(Operand::LiteralBit64(_)) => Operand::LiteralBit64(value),
+                    _ => Operand::LiteralBit32(value as u32),
+                };
+                *c = inst(Op::Constant, c.result_type, c.result_id, vec![operand]);
+            }
+            _ => {}
+        }
+    }
 }

@@ -64,6 +64,7 @@ fn opts(flip_y: bool) -> RewriteOptions<'static> {
     RewriteOptions {
         flip_y,
         binding: &doubled,
+        specialization: &[],
     }
 }
 
@@ -410,6 +411,7 @@ fn renumbers_every_binding() {
         &RewriteOptions {
             flip_y: true,
             binding: &|_, b, _| Some(b + 10),
+            specialization: &[],
         },
     )
     .unwrap();
@@ -496,6 +498,7 @@ fn flips_a_position_variable() {
         &RewriteOptions {
             flip_y: true,
             binding: &|_, b, _| Some(b),
+            specialization: &[],
         },
     )
     .unwrap();
@@ -649,6 +652,7 @@ fn binding_missing_from_the_layout_is_an_error() {
         &RewriteOptions {
             flip_y: false,
             binding: &|_, _, _| None,
+            specialization: &[],
         },
     )
     .unwrap_err();
@@ -667,6 +671,7 @@ fn binding_missing_from_the_layout_is_an_error() {
         &RewriteOptions {
             flip_y: false,
             binding: &|_, b, role| (role != Role::SplitSampler).then_some(b),
+            specialization: &[],
         },
     )
     .unwrap_err();
@@ -1079,4 +1084,61 @@ fn geometry_module() -> Vec<u32> {
     b.execution_mode(f, ExecutionMode::OutputVertices, [2]);
     b.execution_mode(f, ExecutionMode::Invocations, [1]);
     b.module().assemble()
+}
+
+/// mpv's upload shader: its R8 storage texel buffer becomes a read-only storage buffer of
+/// words at the same set and binding, read by no OpImageRead any more, and the three
+/// specialization constants it was given become plain constants without SpecId.
+#[test]
+fn texel_buffer_reads_become_word_loads_and_specialization_applies() {
+    let words = fixture("mpv_testsrc_f5/sh73");
+    let spec = [(0u32, 1u64), (1, 3), (2, 640 * 3)];
+    let out = rewrite(
+        &words,
+        ExecutionModel::GLCompute,
+        "main",
+        &RewriteOptions {
+            flip_y: false,
+            binding: &doubled,
+            specialization: &spec,
+        },
+    )
+    .unwrap();
+    let r = reflect(&out).unwrap();
+    assert_eq!(r.resources[0].kind, ResourceKind::StorageBuffer);
+    assert_eq!((r.resources[0].set, r.resources[0].binding), (0, 0));
+    assert!(r.resources[0].non_writable);
+    let module = rspirv::dr::load_words(&out).unwrap();
+    let ops: Vec<Op> = module.all_inst_iter().map(|i| i.class.opcode).collect();
+    assert!(!ops.contains(&Op::ImageRead), "a texel buffer read is left");
+    assert_eq!(
+        ops.iter().filter(|&&o| o == Op::BitFieldUExtract).count(),
+        3,
+        "one byte extracted per read"
+    );
+    assert!(!ops.contains(&Op::SpecConstant));
+    assert!(
+        !module
+            .annotations
+            .iter()
+            .any(|a| a.operands.get(1) == Some(&Operand::Decoration(Decoration::SpecId)))
+    );
+    let values: BTreeSet<u32> = module
+        .types_global_values
+        .iter()
+        .filter(|i| i.class.opcode == Op::Constant)
+        .filter_map(|i| match i.operands.first() {
+            Some(Operand::LiteralBit32(v)) => Some(*v),
+            _ => None,
+        })
+        .collect();
+    assert!(values.contains(&(640 * 3)), "{values:?}");
+    // Unchanged without the values: reads of a texel buffer are rewritten all the same.
+    let plain = rewrite(&words, ExecutionModel::GLCompute, "main", &opts(false)).unwrap();
+    let module = rspirv::dr::load_words(&plain).unwrap();
+    assert!(
+        module
+            .all_inst_iter()
+            .any(|i| i.class.opcode == Op::SpecConstant)
+    );
 }

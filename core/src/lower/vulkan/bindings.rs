@@ -187,6 +187,30 @@ impl<'c> Lowering<'c> {
                     },
                 )]
             }
+            // Read as words: the rewrite unpacks each texel (`crate::spirv`).
+            "STORAGE_TEXEL_BUFFER" => {
+                let d = d.ok_or_else(missing)?;
+                let buffer = self.buf(p, d.resource.ok_or_else(missing)?)?;
+                vec![(
+                    entry(
+                        wb,
+                        wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Storage { read_only: true },
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                    ),
+                    VkResource::Buffer {
+                        buffer,
+                        offset: d.offset.unwrap_or(0),
+                        // Whole words: the buffer itself is padded to them.
+                        size: d
+                            .range
+                            .filter(|&r| r != u64::MAX)
+                            .map(|r| r.div_ceil(4) * 4),
+                    },
+                )]
+            }
             "SAMPLER" => {
                 let s = d
                     .and_then(|d| d.sampler)

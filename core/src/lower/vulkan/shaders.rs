@@ -15,7 +15,7 @@ use super::{Fail, VkProblem, stage_of};
 use crate::capture::vk_model::{VkPipeline, VkStage};
 use crate::lower::Lowering;
 use crate::plan::SpirvShader;
-use crate::spirv::{RewriteOptions, Role};
+use crate::spirv::{ResourceKind, RewriteOptions, Role};
 
 /// A rewritten stage is shared by pipelines that agree on all of this.
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -25,6 +25,7 @@ pub(super) struct ShaderKey {
     stage: String,
     flip: bool,
     sets: Vec<(u32, Vec<u32>)>,
+    specialization: Vec<(u32, u32, Option<u64>)>,
 }
 
 /// wgpu's binding for Vulkan binding `b` in the role asked.
@@ -69,6 +70,7 @@ impl<'c> Lowering<'c> {
             stage: stage.stage.clone(),
             flip,
             sets: sets.iter().map(|(s, b)| (*s, b.clone())).collect(),
+            specialization: stage.specialization.clone(),
         };
         if let Some(&i) = self.vk.shaders.get(&key) {
             return Ok(i);
@@ -86,12 +88,16 @@ impl<'c> Lowering<'c> {
                 .to_lowercase(),
             pipe.name
         );
-        if stage.specialization.iter().any(|c| c.2.is_some()) {
-            return Err(VkProblem::Unsupported {
-                feature: format!("specialization constants in shader {name}"),
-            }
-            .into());
-        }
+        let specialization: Vec<(u32, u64)> =
+            stage
+                .specialization
+                .iter()
+                .map(|&(id, _, value)| {
+                    value.map(|v| (id, v)).ok_or_else(|| VkProblem::Missing(format!(
+                    "shader {name}: specialization constant {id} has no value in the capture"
+                )))
+                })
+                .collect::<Result<_, _>>()?;
         let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
             module: module.name.clone(),
         })?;
@@ -111,6 +117,7 @@ impl<'c> Lowering<'c> {
             &RewriteOptions {
                 flip_y: flip,
                 binding: &used,
+                specialization: &specialization,
             },
         )
         .map_err(spirv_error)?;
@@ -128,9 +135,27 @@ impl<'c> Lowering<'c> {
             &RewriteOptions {
                 flip_y: flip,
                 binding: &rank,
+                specialization: &specialization,
             },
         )
         .map_err(spirv_error)?;
+        // wgpu binds no texel buffer: the rewrite turns those a shader only reads into word
+        // buffers, and what is left the replay cannot do.
+        let after = crate::spirv::reflect(&passthrough).map_err(spirv_error)?;
+        if let Some(r) = after.resources.iter().find(|r| {
+            matches!(
+                r.kind,
+                ResourceKind::StorageTexelBuffer(_) | ResourceKind::UniformTexelBuffer
+            )
+        }) {
+            return Err(VkProblem::Unsupported {
+                feature: format!(
+                    "a texel buffer it writes, queries or reads in a format the rewrite does not unpack ({:?} at set {} binding {} of shader {name})",
+                    r.kind, r.set, r.binding
+                ),
+            }
+            .into());
+        }
         self.plan.vk.shaders.push(SpirvShader {
             name,
             entry: stage.entry.clone(),

@@ -1,0 +1,405 @@
+//! Storage texel buffers for wgpu, which binds none: each becomes a read-only storage buffer
+//! of 32-bit words (a struct holding a runtime array, `Block`), and each `OpImageRead` of it
+//! loads the word holding its texel and unpacks it as the format says (unorm bytes scaled to
+//! 0..1, integers as they are), missing channels filled as Vulkan fills them (0, 0, 1). The
+//! variable keeps its id, set and binding, and moves after the new types. Only reads are
+//! rewritten: a write, a size query or any other use is refused.
+
+use std::collections::HashMap;
+
+use rspirv::dr::{Instruction, Module, Operand};
+use rspirv::spirv::{Decoration, Op, StorageClass, Word};
+
+use super::index::id_ref;
+use super::rewrite::{Ids, Texel, inst, texel_layout, type_id};
+use super::{ScalarKind, SpirvError};
+
+fn constant(
+    added: &mut Vec<Instruction>,
+    ids: &mut Ids,
+    cache: &mut HashMap<(Word, u32), Word>,
+    ty: Word,
+    bits: u32,
+) -> Result<Word, SpirvError> {
+    if let Some(&id) = cache.get(&(ty, bits)) {
+        return Ok(id);
+    }
+    let id = ids.fresh()?;
+    added.push(inst(
+        Op::Constant,
+        Some(ty),
+        Some(id),
+        vec![Operand::LiteralBit32(bits)],
+    ));
+    cache.insert((ty, bits), id);
+    Ok(id)
+}
+
+fn unsupported(t: &Texel, detail: String) -> SpirvError {
+    SpirvError::Unsupported {
+        feature: "use of a storage texel buffer other than reading a texel",
+        detail: format!(
+            "the storage texel buffer at set {} binding {} (%{}): {detail}",
+            t.set, t.binding, t.var
+        ),
+    }
+}
+
+pub(super) fn texel_buffers(
+    module: &mut Module,
+    texels: &[Texel],
+    ids: &mut Ids,
+) -> Result<(), SpirvError> {
+    let mut added = Vec::new();
+    let mut decorations = Vec::new();
+    let mut consts = HashMap::new();
+    let uint = type_id(
+        module,
+        &mut added,
+        ids,
+        Op::TypeInt,
+        vec![Operand::LiteralBit32(32), Operand::LiteralBit32(0)],
+    )?;
+    let float = type_id(
+        module,
+        &mut added,
+        ids,
+        Op::TypeFloat,
+        vec![Operand::LiteralBit32(32)],
+    )?;
+    let int = type_id(
+        module,
+        &mut added,
+        ids,
+        Op::TypeInt,
+        vec![Operand::LiteralBit32(32), Operand::LiteralBit32(1)],
+    )?;
+    // Arrays and structs may be declared more than once: fresh ones carry their own layout.
+    let words = ids.fresh()?;
+    added.push(inst(
+        Op::TypeRuntimeArray,
+        None,
+        Some(words),
+        vec![Operand::IdRef(uint)],
+    ));
+    let block = ids.fresh()?;
+    added.push(inst(
+        Op::TypeStruct,
+        None,
+        Some(block),
+        vec![Operand::IdRef(words)],
+    ));
+    let block_ptr = ids.fresh()?;
+    added.push(inst(
+        Op::TypePointer,
+        None,
+        Some(block_ptr),
+        vec![
+            Operand::StorageClass(StorageClass::StorageBuffer),
+            Operand::IdRef(block),
+        ],
+    ));
+    let word_ptr = type_id(
+        module,
+        &mut added,
+        ids,
+        Op::TypePointer,
+        vec![
+            Operand::StorageClass(StorageClass::StorageBuffer),
+            Operand::IdRef(uint),
+        ],
+    )?;
+    let decorate = |target: Word, d: Decoration, extra: Vec<Operand>| {
+        let mut ops = vec![Operand::IdRef(target), Operand::Decoration(d)];
+        ops.extend(extra);
+        inst(Op::Decorate, None, None, ops)
+    };
+    decorations.push(decorate(
+        words,
+        Decoration::ArrayStride,
+        vec![Operand::LiteralBit32(4)],
+    ));
+    decorations.push(decorate(block, Decoration::Block, vec![]));
+    decorations.push(inst(
+        Op::MemberDecorate,
+        None,
+        None,
+        vec![
+            Operand::IdRef(block),
+            Operand::LiteralBit32(0),
+            Operand::Decoration(Decoration::Offset),
+            Operand::LiteralBit32(0),
+        ],
+    ));
+    decorations.push(inst(
+        Op::MemberDecorate,
+        None,
+        None,
+        vec![
+            Operand::IdRef(block),
+            Operand::LiteralBit32(0),
+            Operand::Decoration(Decoration::NonWritable),
+        ],
+    ));
+    let by_var: HashMap<Word, &Texel> = texels.iter().map(|t| (t.var, t)).collect();
+    // Scalar type of each vector type, for the reads' results.
+    let components: HashMap<Word, (Word, u32)> = module
+        .types_global_values
+        .iter()
+        .filter(|i| i.class.opcode == Op::TypeVector)
+        .filter_map(|i| {
+            let n = match i.operands.get(1) {
+                Some(Operand::LiteralBit32(n)) => *n,
+                _ => return None,
+            };
+            Some((i.result_id?, (id_ref(i.operands.first())?, n)))
+        })
+        .collect();
+    let kinds: HashMap<Word, ScalarKind> = module
+        .types_global_values
+        .iter()
+        .filter_map(|i| {
+            let kind = match (i.class.opcode, i.operands.as_slice()) {
+                (Op::TypeFloat, [Operand::LiteralBit32(32)]) => ScalarKind::Float,
+                (Op::TypeInt, [Operand::LiteralBit32(32), Operand::LiteralBit32(0)]) => {
+                    ScalarKind::Uint
+                }
+                (Op::TypeInt, [Operand::LiteralBit32(32), Operand::LiteralBit32(1)]) => {
+                    ScalarKind::Sint
+                }
+                _ => return None,
+            };
+            Some((i.result_id?, kind))
+        })
+        .collect();
+
+    // The variables become storage buffers, defined after the types they now point to.
+    let mut moved = Vec::new();
+    module.types_global_values.retain(|i| {
+        let texel = i.class.opcode == Op::Variable
+            && i.result_id.is_some_and(|id| by_var.contains_key(&id));
+        if texel {
+            moved.push(inst(
+                Op::Variable,
+                Some(block_ptr),
+                i.result_id,
+                vec![Operand::StorageClass(StorageClass::StorageBuffer)],
+            ));
+        }
+        !texel
+    });
+
+    for function in &mut module.functions {
+        // Loaded images of a texel buffer -> the buffer.
+        let mut loaded: HashMap<Word, &Texel> = HashMap::new();
+        for b in &mut function.blocks {
+            let mut out = Vec::with_capacity(b.instructions.len());
+            for i in b.instructions.drain(..) {
+                let uses: Vec<Word> = i.operands.iter().filter_map(|o| id_ref(Some(o))).collect();
+                if i.class.opcode == Op::Load
+                    && let Some(t) = id_ref(i.operands.first()).and_then(|v| by_var.get(&v))
+                {
+                    if let Some(r) = i.result_id {
+                        loaded.insert(r, t);
+                    }
+                    continue;
+                }
+                if let Some(t) = uses.iter().find_map(|u| by_var.get(u)) {
+                    return Err(unsupported(t, format!("used by Op{:?}", i.class.opcode)));
+                }
+                let Some(t) = uses.iter().find_map(|u| loaded.get(u)).copied() else {
+                    out.push(i);
+                    continue;
+                };
+                if i.class.opcode != Op::ImageRead
+                    || id_ref(i.operands.first()).is_none_or(|img| !loaded.contains_key(&img))
+                {
+                    return Err(unsupported(
+                        t,
+                        format!("its image is used by Op{:?}", i.class.opcode),
+                    ));
+                }
+                let (Some(result), Some(result_ty)) = (i.result_id, i.result_type) else {
+                    return Err(unsupported(t, "a read without a result".to_owned()));
+                };
+                let coord = id_ref(i.operands.get(1))
+                    .ok_or_else(|| unsupported(t, "a read without a coordinate".to_owned()))?;
+                let (scalar, n) = components.get(&result_ty).copied().ok_or_else(|| {
+                    unsupported(t, "a read whose result is not a vector".to_owned())
+                })?;
+                let kind = *kinds.get(&scalar).ok_or_else(|| {
+                    unsupported(t, "a read whose result is not 32-bit".to_owned())
+                })?;
+                let Some((bits, channels, format_kind)) = texel_layout(t.format) else {
+                    return Err(unsupported(t, format!("format {:?}", t.format)));
+                };
+                if format_kind != kind {
+                    return Err(unsupported(
+                        t,
+                        format!("format {:?} read as {kind:?}", t.format),
+                    ));
+                }
+                let mut c = |ty: Word, bits: u32| constant(&mut added, ids, &mut consts, ty, bits);
+                let zero = c(uint, 0)?;
+                let mut emit = |op: Op,
+                                ty: Word,
+                                operands: Vec<Operand>,
+                                ids: &mut Ids|
+                 -> Result<Word, SpirvError> {
+                    let id = ids.fresh()?;
+                    out.push(inst(op, Some(ty), Some(id), operands));
+                    Ok(id)
+                };
+                let texel_index = emit(Op::Bitcast, uint, vec![Operand::IdRef(coord)], ids)?;
+                let per_word = 32 / (bits * channels).min(32);
+                let (word_index, shift) = if per_word > 1 {
+                    let log = per_word.trailing_zeros();
+                    let log_c = constant(&mut added, ids, &mut consts, uint, log)?;
+                    let mask = constant(&mut added, ids, &mut consts, uint, per_word - 1)?;
+                    let three = constant(
+                        &mut added,
+                        ids,
+                        &mut consts,
+                        uint,
+                        (bits * channels).trailing_zeros(),
+                    )?;
+                    let w = emit(
+                        Op::ShiftRightLogical,
+                        uint,
+                        vec![Operand::IdRef(texel_index), Operand::IdRef(log_c)],
+                        ids,
+                    )?;
+                    let lane = emit(
+                        Op::BitwiseAnd,
+                        uint,
+                        vec![Operand::IdRef(texel_index), Operand::IdRef(mask)],
+                        ids,
+                    )?;
+                    let sh = emit(
+                        Op::ShiftLeftLogical,
+                        uint,
+                        vec![Operand::IdRef(lane), Operand::IdRef(three)],
+                        ids,
+                    )?;
+                    (w, Some(sh))
+                } else {
+                    (texel_index, None)
+                };
+                let ptr = emit(
+                    Op::AccessChain,
+                    word_ptr,
+                    vec![
+                        Operand::IdRef(t.var),
+                        Operand::IdRef(zero),
+                        Operand::IdRef(word_index),
+                    ],
+                    ids,
+                )?;
+                let word = emit(Op::Load, uint, vec![Operand::IdRef(ptr)], ids)?;
+                let mut values = Vec::new();
+                for ch in 0..channels {
+                    let v = if bits == 32 {
+                        match kind {
+                            ScalarKind::Uint => word,
+                            ScalarKind::Sint => {
+                                emit(Op::Bitcast, int, vec![Operand::IdRef(word)], ids)?
+                            }
+                            ScalarKind::Float => {
+                                emit(Op::Bitcast, float, vec![Operand::IdRef(word)], ids)?
+                            }
+                        }
+                    } else {
+                        let width = constant(&mut added, ids, &mut consts, uint, bits)?;
+                        let offset = match shift {
+                            Some(sh) if ch == 0 => sh,
+                            Some(sh) => {
+                                let k = constant(&mut added, ids, &mut consts, uint, ch * bits)?;
+                                emit(
+                                    Op::IAdd,
+                                    uint,
+                                    vec![Operand::IdRef(sh), Operand::IdRef(k)],
+                                    ids,
+                                )?
+                            }
+                            None => constant(&mut added, ids, &mut consts, uint, ch * bits)?,
+                        };
+                        let raw = emit(
+                            Op::BitFieldUExtract,
+                            uint,
+                            vec![
+                                Operand::IdRef(word),
+                                Operand::IdRef(offset),
+                                Operand::IdRef(width),
+                            ],
+                            ids,
+                        )?;
+                        match kind {
+                            ScalarKind::Float => {
+                                let f =
+                                    emit(Op::ConvertUToF, float, vec![Operand::IdRef(raw)], ids)?;
+                                let scale = constant(
+                                    &mut added,
+                                    ids,
+                                    &mut consts,
+                                    float,
+                                    (1.0f32 / ((1u32 << bits) - 1) as f32).to_bits(),
+                                )?;
+                                emit(
+                                    Op::FMul,
+                                    float,
+                                    vec![Operand::IdRef(f), Operand::IdRef(scale)],
+                                    ids,
+                                )?
+                            }
+                            _ => raw,
+                        }
+                    };
+                    values.push(v);
+                }
+                let (fill, one) = match kind {
+                    ScalarKind::Float => (
+                        constant(&mut added, ids, &mut consts, float, 0.0f32.to_bits())?,
+                        constant(&mut added, ids, &mut consts, float, 1.0f32.to_bits())?,
+                    ),
+                    ScalarKind::Uint => (zero, constant(&mut added, ids, &mut consts, uint, 1)?),
+                    ScalarKind::Sint => (
+                        constant(&mut added, ids, &mut consts, int, 0)?,
+                        constant(&mut added, ids, &mut consts, int, 1)?,
+                    ),
+                };
+                while values.len() < 3 {
+                    values.push(fill);
+                }
+                if values.len() < 4 {
+                    values.push(one);
+                }
+                values.truncate(n as usize);
+                out.push(inst(
+                    Op::CompositeConstruct,
+                    Some(result_ty),
+                    Some(result),
+                    values.into_iter().map(Operand::IdRef).collect(),
+                ));
+            }
+            b.instructions = out;
+        }
+    }
+    module.types_global_values.extend(added);
+    module.types_global_values.extend(moved);
+    module.annotations.extend(decorations);
+    // SPIR-V before 1.3 names the storage class by an extension.
+    let version = module.header.as_ref().map_or((1, 0), |h| h.version());
+    if version < (1, 3)
+        && !module.extensions.iter().any(|e| {
+            matches!(e.operands.first(), Some(Operand::LiteralString(s)) if s == "SPV_KHR_storage_buffer_storage_class")
+        })
+    {
+        module.extensions.push(inst(
+            Op::Extension,
+            None,
+            None,
+            vec![Operand::LiteralString("SPV_KHR_storage_buffer_storage_class".to_owned())],
+        ));
+    }
+    Ok(())
+}
