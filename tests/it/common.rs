@@ -55,3 +55,21 @@ pub fn exr_image(path: &std::path::Path) -> (usize, Vec<[f32; 4]>) {
     .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     decoded.layer_data.channel_data.pixels
 }
+
+/// Settings for the Khronos validation layer that log its errors and warnings to
+/// `dir/log.txt`; returns that path. The layer writes the file when it loads, so an empty
+/// file that exists proves it ran and found nothing.
+pub fn validation_layer_settings(dir: &std::path::Path) -> PathBuf {
+    let log = dir.join("log.txt");
+    std::fs::write(
+        dir.join("vk_layer_settings.txt"),
+        format!(
+            "khronos_validation.debug_action = VK_DBG_LAYER_ACTION_LOG_MSG\n\
+             khronos_validation.log_filename = {}\n\
+             khronos_validation.report_flags = error,warn\n",
+            log.display()
+        ),
+    )
+    .unwrap();
+    log
+}

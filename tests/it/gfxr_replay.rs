@@ -105,17 +105,7 @@ fn real_frames_replay_to_the_image_they_presented() {
 #[test]
 fn real_frames_are_clean_under_the_validation_layer() {
     let dir = temp("validation-layer");
-    let log = dir.join("log.txt");
-    std::fs::write(
-        dir.join("vk_layer_settings.txt"),
-        format!(
-            "khronos_validation.debug_action = VK_DBG_LAYER_ACTION_LOG_MSG\n\
-             khronos_validation.log_filename = {}\n\
-             khronos_validation.report_flags = error,warn\n",
-            log.display()
-        ),
-    )
-    .unwrap();
+    let log = crate::common::validation_layer_settings(&dir);
     for name in REPLAYED {
         let capture = import(name, &dir);
         let _ = std::fs::remove_file(&log);

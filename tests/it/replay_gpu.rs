@@ -623,17 +623,7 @@ fn export_never_replaces_files_it_did_not_write() {
 #[test]
 fn bundled_captures_are_clean_under_the_validation_layer() {
     let dir = temp("validation-layer");
-    let log = dir.join("log.txt");
-    std::fs::write(
-        dir.join("vk_layer_settings.txt"),
-        format!(
-            "khronos_validation.debug_action = VK_DBG_LAYER_ACTION_LOG_MSG\n\
-             khronos_validation.log_filename = {}\n\
-             khronos_validation.report_flags = error,warn\n",
-            log.display()
-        ),
-    )
-    .unwrap();
+    let log = crate::common::validation_layer_settings(&dir);
     for (capture, scale) in [
         ("captures/example/frame.json", "0.25"),
         ("captures/example/frame_sync.json", "0.25"),

@@ -149,29 +149,28 @@ fn buffer_resource(
         .and_then(|m| objects.memory_type_flags.get(m.type_index as usize))
         .is_some_and(|f| f & HOST_VISIBLE != 0);
     Resource {
-        name: name.to_owned(),
-        kind: ResourceKind::Buffer,
-        format: None,
-        width: None,
-        height: None,
-        depth: None,
-        array_layers: None,
-        mip_levels: None,
-        samples: None,
-        size: Some(buf.size),
-        stride: None,
-        buffer_kind: None,
         flags,
-        placement: None,
         initial: (mapped || before_capture).then_some(InitialContents::BeforeCapture {}),
-        history: false,
         // The CPU reads what the frame copies into host-visible memory.
         output: host && written,
+        ..plain_buffer(name, buf.size)
     }
 }
 
 /// The buffer holding bytes the host wrote during the frame, read by its `host_write` pass.
 pub fn upload_buffer(name: &str, size: u64, path: &str) -> Resource {
+    Resource {
+        flags: Vec::new(),
+        initial: Some(InitialContents::File {
+            path: path.to_owned(),
+        }),
+        output: false,
+        ..plain_buffer(name, size)
+    }
+}
+
+/// A buffer resource with nothing but its name and size.
+fn plain_buffer(name: &str, size: u64) -> Resource {
     Resource {
         name: name.to_owned(),
         kind: ResourceKind::Buffer,
@@ -187,9 +186,7 @@ pub fn upload_buffer(name: &str, size: u64, path: &str) -> Resource {
         buffer_kind: None,
         flags: Vec::new(),
         placement: None,
-        initial: Some(InitialContents::File {
-            path: path.to_owned(),
-        }),
+        initial: None,
         history: false,
         output: false,
     }
