@@ -399,9 +399,10 @@ impl Contents {
     }
 }
 
-/// A snapshot whose rows the driver padded (lavapipe aligns each row to 64 bytes), packed:
-/// each level's size, divided by its rows of blocks, gives the pitch its rows were read at.
-/// `None` where the sizes do not divide so.
+/// A snapshot the driver padded, packed. Lavapipe lays out each level of an optimal image as
+/// tightly packed rows with the height rounded up (to 16 rows: a 4x4 texture's level holds
+/// 16 rows, a 300-row depth buffer 304), so each layer's slab of a level is cut to its own
+/// rows. `None` where a level's size is not whole padded slabs of the level's rows.
 fn unpad(img: &ImageInfo, level_sizes: &[u64], data: &[u8]) -> Option<Vec<u8>> {
     let f = dxgi::lookup_vk(&img.format)?;
     let (block, bytes) = (
@@ -416,15 +417,15 @@ fn unpad(img: &ImageInfo, level_sizes: &[u64], data: &[u8]) -> Option<Vec<u8>> {
     for (l, &size) in level_sizes.iter().enumerate() {
         let dim = |d: u32| u64::from((d >> l).max(1));
         let row = dim(img.extent[0]).div_ceil(block) * bytes;
-        let rows =
-            dim(img.extent[1]).div_ceil(block) * dim(img.extent[2]) * u64::from(img.layers.max(1));
-        if rows == 0 || size % rows != 0 || size / rows < row {
+        let rows = dim(img.extent[1]).div_ceil(block);
+        let slabs = dim(img.extent[2]) * u64::from(img.layers.max(1));
+        let slab = size.checked_div(slabs)?;
+        if row == 0 || size % slabs != 0 || slab % row != 0 || slab / row < rows {
             return None;
         }
-        let pitch = (size / rows) as usize;
         let level = data.get(at..at.checked_add(size as usize)?)?;
-        for r in level.chunks_exact(pitch) {
-            out.extend_from_slice(&r[..row as usize]);
+        for s in level.chunks_exact(slab as usize) {
+            out.extend_from_slice(&s[..(rows * row) as usize]);
         }
         at += size as usize;
     }
@@ -461,6 +462,46 @@ pub fn sanitize(name: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn image(format: &str, extent: [u32; 3], mips: u32, layers: u32) -> ImageInfo {
+        ImageInfo {
+            format: format.to_owned(),
+            image_type: "VK_IMAGE_TYPE_2D".to_owned(),
+            extent,
+            mips,
+            layers,
+            samples: 1,
+            usage: 0,
+            create_flags: 0,
+            bound: None,
+            alignment: None,
+            swapchain: None,
+            created_at: 0,
+            destroyed_at: None,
+        }
+    }
+
+    /// Lavapipe's snapshot of a 4x4 RGBA8 image holds 16 rows of 16 bytes: the texture is the
+    /// first four (read as 64-byte rows instead, three of them would be the padding's zeros).
+    #[test]
+    fn padded_levels_keep_their_first_rows() {
+        let data: Vec<u8> = (0..256u32)
+            .map(|i| if i < 64 { i as u8 + 1 } else { 0 })
+            .collect();
+        let img = image("VK_FORMAT_R8G8B8A8_UNORM", [4, 4, 1], 1, 1);
+        let packed = unpad(&img, &[256], &data).unwrap();
+        assert_eq!(packed, (1..=64u8).collect::<Vec<_>>());
+        // Two layers, each slab padded: each keeps its own rows.
+        let img = image("VK_FORMAT_R8G8B8A8_UNORM", [4, 4, 1], 1, 2);
+        let mut two = data.clone();
+        two.extend(data.iter().map(|b| b.wrapping_mul(2)));
+        let packed = unpad(&img, &[512], &two).unwrap();
+        assert_eq!(packed.len(), 128);
+        assert_eq!(packed[64], 2);
+        // Sizes that are not whole padded slabs are refused.
+        assert!(unpad(&img, &[500], &two).is_none());
+        assert!(unpad(&img, &[512, 4], &two).is_none());
+    }
 
     #[test]
     fn later_writes_replace_what_they_cover() {
