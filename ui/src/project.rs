@@ -210,7 +210,59 @@ fn state(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
             }
         }
     }
-    // An import records no pipeline state: the defaults would be made up.
+    // An imported pass's state is its draws' and dispatches' pipelines; a pass-level render
+    // state would be made up.
+    if let Some(vk) = &c.vulkan {
+        let mut used: Vec<usize> = p
+            .draws
+            .iter()
+            .filter_map(|d| d.vk.as_ref())
+            .chain(p.dispatches.iter().filter_map(|d| d.vk.as_ref()))
+            .map(|w| w.pipeline)
+            .collect();
+        used.sort_unstable();
+        used.dedup();
+        for pl in used.iter().filter_map(|&i| vk.pipelines.get(i)) {
+            let stages: Vec<String> = pl
+                .stages
+                .iter()
+                .filter_map(|s| {
+                    let m = vk.modules.get(s.module)?;
+                    Some(format!(
+                        "{} {}",
+                        s.stage
+                            .trim_start_matches("VK_SHADER_STAGE_")
+                            .trim_end_matches("_BIT")
+                            .to_lowercase(),
+                        m.name
+                    ))
+                })
+                .collect();
+            out.push((pl.name.clone(), stages.join(", ")));
+            if let Some(g) = &pl.graphics {
+                let short = |n: &str, prefix: &str| n.trim_start_matches(prefix).to_lowercase();
+                let mut line = format!(
+                    "{}, cull {}, front {}",
+                    short(&g.topology, "VK_PRIMITIVE_TOPOLOGY_"),
+                    ["none", "front", "back", "both"][(g.cull_mode & 3) as usize],
+                    short(&g.front_face, "VK_FRONT_FACE_")
+                );
+                if let Some(d) = g.depth_stencil.as_ref().filter(|d| d.depth_test) {
+                    line += &format!(
+                        ", depth {}{}",
+                        short(&d.depth_compare, "VK_COMPARE_OP_"),
+                        if d.depth_write { " write" } else { "" }
+                    );
+                }
+                if g.blend.iter().any(|b| b.enable) {
+                    line += ", blend";
+                }
+                out.push((String::new(), line));
+            }
+        }
+        return out;
+    }
+    // An import without code records no pipeline state: the defaults would be made up.
     if p.kind.as_str() == "raster"
         && c.not_replayable().is_none()
         && let Ok(serde_json::Value::Object(m)) = serde_json::to_value(&p.state)
