@@ -488,3 +488,42 @@ fn untrusted_report_times_stay_on_the_timeline_unmeasured() {
     assert!(bloom_mips.measured);
     assert!(tonemap.start_ns >= bloom_mips.start_ns + bloom_mips.gpu_ns);
 }
+
+/// A real program's frame (vkd3d-gears, imported from its binary capture) opens replayed: the
+/// presented image first, and a pass's state and work name the Vulkan pipelines its draws run
+/// with.
+#[test]
+fn an_imported_frame_opens_on_its_presented_image_with_its_pipelines() {
+    let dir = std::env::temp_dir().join("framelab-inspector-imported");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let capture = dir.join("gears.json");
+    let out = crate::common::framelab(&[
+        "import",
+        crate::common::gfxr_fixture("vkd3d_gears_f2.gfxr")
+            .to_str()
+            .unwrap(),
+        "-o",
+        capture.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", crate::common::stderr(&out));
+    let mut h = open(capture.to_str().unwrap());
+    let presented = h.state().model.resource_named("swapchain_0");
+    assert!(presented.is_some());
+    assert_eq!(h.state().selection.resource, presented);
+    h.get_by_label("render_pass 3").click();
+    settle(&mut h);
+    assert!(
+        h.query_by_label("pipeline_86").is_some(),
+        "state names the pipeline"
+    );
+    // In the events list and the pass's work.
+    assert!(
+        h.query_all_by_label_contains("1080 vertices x1 instances with pipeline_86")
+            .count()
+            >= 1,
+        "work names each draw's pipeline"
+    );
+    drop(h);
+    std::fs::remove_dir_all(dir).unwrap();
+}
