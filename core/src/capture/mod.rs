@@ -6,6 +6,7 @@ pub mod dxgi;
 pub mod format;
 pub mod formats;
 pub mod generators;
+pub mod ids;
 pub mod load;
 pub mod model;
 pub mod shaders;

@@ -19,27 +19,7 @@ use super::format::{
 use crate::capture::dxgi::FormatInfo;
 use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
 
-macro_rules! id_type {
-    ($($name:ident),*) => {$(
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
-        pub struct $name(pub u32);
-        impl $name {
-            pub fn index(self) -> usize {
-                self.0 as usize
-            }
-        }
-    )*};
-}
-id_type!(
-    ResourceId,
-    PassId,
-    HeapId,
-    QueueId,
-    MeshId,
-    SamplerId,
-    FenceId,
-    DescriptorHeapId
-);
+pub use super::ids::*;
 
 /// A validated capture, resolved for one output scale.
 #[derive(Clone, Debug)]

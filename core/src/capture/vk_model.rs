@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use super::format::{GraphicsState, LayoutBinding, VkSampler};
-use super::model::ResourceId;
+use super::ids::ResourceId;
 
 #[derive(Clone, Debug, Default)]
 pub struct VkModel {

@@ -7,6 +7,7 @@
 //! renumbered, gl_Position's y negated for wgpu's flipped viewport).
 
 mod index;
+mod ops;
 mod reflect;
 mod rewrite;
 #[cfg(test)]

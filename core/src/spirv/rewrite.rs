@@ -11,10 +11,12 @@ use std::collections::HashMap;
 
 use rspirv::binary::Assemble;
 use rspirv::dr::{Instruction, Module, Operand};
-use rspirv::spirv::{BuiltIn, Decoration, ExecutionModel, ImageFormat, Op, StorageClass, Word};
+use rspirv::spirv::{BuiltIn, Decoration, ExecutionModel, Op, StorageClass, Word};
 
 use super::index::{self, Index, Loaded, id_ref, literal};
+use super::ops::{Ids, inst, type_id};
 use super::reflect::{describe, entry_point_parts, resources};
+use super::texel::{Texel, texel_layout};
 use super::{ResourceKind, RewriteOptions, Role, SpirvError};
 
 /// Rewrites the module for the entry point `entry` of execution model `model` and returns the
@@ -53,15 +55,6 @@ struct Plan {
     /// Storage texel buffers read as storage buffers of words.
     texels: Vec<Texel>,
     flip: Option<Flip>,
-}
-
-/// A storage texel buffer wgpu has no binding for: it becomes a storage buffer of 32-bit
-/// words, and each `OpImageRead` of it unpacks its texel from them.
-pub(super) struct Texel {
-    pub(super) var: Word,
-    pub(super) format: ImageFormat,
-    pub(super) set: u32,
-    pub(super) binding: u32,
 }
 
 /// A combined image sampler to split.
@@ -330,21 +323,6 @@ fn find_position(
     Ok(None)
 }
 
-/// Bytes per texel and (bits per channel, channels, numeric kind) of the texel buffer formats
-/// the rewrite reads.
-pub(super) fn texel_layout(f: ImageFormat) -> Option<(u32, u32, super::ScalarKind)> {
-    use super::ScalarKind as K;
-    Some(match f {
-        ImageFormat::R8 => (8, 1, K::Float),
-        ImageFormat::R8ui => (8, 1, K::Uint),
-        ImageFormat::Rgba8 => (8, 4, K::Float),
-        ImageFormat::R32f => (32, 1, K::Float),
-        ImageFormat::R32ui => (32, 1, K::Uint),
-        ImageFormat::R32i => (32, 1, K::Sint),
-        _ => return None,
-    })
-}
-
 /// Whether every use of variable `var` in the functions is a load whose image only
 /// `OpImageRead` takes.
 fn only_read(module: &Module, var: Word) -> bool {
@@ -364,53 +342,6 @@ fn only_read(module: &Module, var: Word) -> bool {
                 || (i.class.opcode == Op::ImageRead && n == 0)
         })
     })
-}
-
-/// Hands out ids past every one in use.
-pub(super) struct Ids {
-    next: Word,
-}
-
-impl Ids {
-    pub(super) fn fresh(&mut self) -> Result<Word, SpirvError> {
-        let id = self.next;
-        self.next = id
-            .checked_add(1)
-            .ok_or(SpirvError::IdsExhausted { bound: id })?;
-        Ok(id)
-    }
-}
-
-pub(super) fn inst(
-    op: Op,
-    ty: Option<Word>,
-    id: Option<Word>,
-    operands: Vec<Operand>,
-) -> Instruction {
-    Instruction::new(op, ty, id, operands)
-}
-
-/// An existing global type with this opcode and these operands, or a new one appended to
-/// `added` (global types are appended after everything they could refer to).
-pub(super) fn type_id(
-    module: &Module,
-    added: &mut Vec<Instruction>,
-    ids: &mut Ids,
-    op: Op,
-    operands: Vec<Operand>,
-) -> Result<Word, SpirvError> {
-    let existing = module
-        .types_global_values
-        .iter()
-        .chain(added.iter())
-        .find(|i| i.class.opcode == op && i.operands == operands)
-        .and_then(|i| i.result_id);
-    if let Some(id) = existing {
-        return Ok(id);
-    }
-    let id = ids.fresh()?;
-    added.push(inst(op, None, Some(id), operands));
-    Ok(id)
 }
 
 /// The ids one split produced.

@@ -8,11 +8,35 @@
 use std::collections::HashMap;
 
 use rspirv::dr::{Instruction, Module, Operand};
-use rspirv::spirv::{Decoration, Op, StorageClass, Word};
+use rspirv::spirv::{Decoration, ImageFormat, Op, StorageClass, Word};
 
 use super::index::id_ref;
-use super::rewrite::{Ids, Texel, inst, texel_layout, type_id};
+use super::ops::{Ids, inst, type_id};
 use super::{ScalarKind, SpirvError};
+
+/// A storage texel buffer wgpu has no binding for: it becomes a storage buffer of 32-bit
+/// words, and each `OpImageRead` of it unpacks its texel from them.
+pub(super) struct Texel {
+    pub(super) var: Word,
+    pub(super) format: ImageFormat,
+    pub(super) set: u32,
+    pub(super) binding: u32,
+}
+
+/// Bytes per texel and (bits per channel, channels, numeric kind) of the texel buffer formats
+/// the rewrite reads.
+pub(super) fn texel_layout(f: ImageFormat) -> Option<(u32, u32, ScalarKind)> {
+    use ScalarKind as K;
+    Some(match f {
+        ImageFormat::R8 => (8, 1, K::Float),
+        ImageFormat::R8ui => (8, 1, K::Uint),
+        ImageFormat::Rgba8 => (8, 4, K::Float),
+        ImageFormat::R32f => (32, 1, K::Float),
+        ImageFormat::R32ui => (32, 1, K::Uint),
+        ImageFormat::R32i => (32, 1, K::Sint),
+        _ => return None,
+    })
+}
 
 fn constant(
     added: &mut Vec<Instruction>,

@@ -1,0 +1,54 @@
+//! Making instructions for a rewrite: fresh ids past every one in use, instructions, and
+//! global types found or added once. Shared by the rewrites that add code.
+
+use rspirv::dr::{Instruction, Module, Operand};
+use rspirv::spirv::{Op, Word};
+
+use super::SpirvError;
+
+/// Hands out ids past every one in use.
+pub(super) struct Ids {
+    pub(super) next: Word,
+}
+
+impl Ids {
+    pub(super) fn fresh(&mut self) -> Result<Word, SpirvError> {
+        let id = self.next;
+        self.next = id
+            .checked_add(1)
+            .ok_or(SpirvError::IdsExhausted { bound: id })?;
+        Ok(id)
+    }
+}
+
+pub(super) fn inst(
+    op: Op,
+    ty: Option<Word>,
+    id: Option<Word>,
+    operands: Vec<Operand>,
+) -> Instruction {
+    Instruction::new(op, ty, id, operands)
+}
+
+/// An existing global type with this opcode and these operands, or a new one appended to
+/// `added` (global types are appended after everything they could refer to).
+pub(super) fn type_id(
+    module: &Module,
+    added: &mut Vec<Instruction>,
+    ids: &mut Ids,
+    op: Op,
+    operands: Vec<Operand>,
+) -> Result<Word, SpirvError> {
+    let existing = module
+        .types_global_values
+        .iter()
+        .chain(added.iter())
+        .find(|i| i.class.opcode == op && i.operands == operands)
+        .and_then(|i| i.result_id);
+    if let Some(id) = existing {
+        return Ok(id);
+    }
+    let id = ids.fresh()?;
+    added.push(inst(op, None, Some(id), operands));
+    Ok(id)
+}
