@@ -12,13 +12,14 @@ use serde_json::Value;
 use crate::common::{framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 7] = [
+const REPLAYED: [&str; 8] = [
     "vkcube_f3",
     "vkcube_f3_zstd",
     "vkcubepp_f3",
     "vkd3d_triangle_f1",
     "vkd3d_gears_f2",
     "mpv_testsrc_f5",
+    "mpv_hq_f5",
     "framelab_inspect_f3",
 ];
 

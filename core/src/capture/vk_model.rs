@@ -111,4 +111,6 @@ pub struct VkBound {
     pub sampler: Option<usize>,
     pub offset: Option<u64>,
     pub range: Option<u64>,
+    /// Texel buffers: the view's `VK_FORMAT_*`.
+    pub format: Option<String>,
 }

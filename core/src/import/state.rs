@@ -152,6 +152,8 @@ pub struct Objects {
     pub view_kinds: HashMap<u64, (String, String, u64)>,
     /// Texel buffer views -> (buffer, offset, range).
     pub buffer_views: HashMap<u64, (u64, u64, u64)>,
+    /// Buffer view -> its `VK_FORMAT_*` (a uniform texel buffer's texels are read in it).
+    pub buffer_view_formats: HashMap<u64, String>,
     pub render_passes: HashMap<u64, RenderPassInfo>,
     pub framebuffers: HashMap<u64, FramebufferInfo>,
     pub sets: HashMap<u64, BTreeMap<(u32, u32), Descriptor>>,
@@ -230,8 +232,11 @@ impl Objects {
             Func::CreateImageView => self.create_image_view(args)?,
             Func::CreateBufferView => {
                 let ci = args.get("pCreateInfo")?;
+                let view = args.get("pView")?.handle()?;
+                self.buffer_view_formats
+                    .insert(view, ci.get("format")?.name()?);
                 self.buffer_views.insert(
-                    args.get("pView")?.handle()?,
+                    view,
                     (
                         ci.get("buffer")?.handle()?,
                         ci.get("offset")?.u64()?,

@@ -43,6 +43,7 @@ impl Builder {
                 sampler: None,
                 offset: None,
                 range: None,
+                format: None,
             };
             match &u.descriptor {
                 Descriptor::Sampler { sampler } => {
@@ -100,6 +101,7 @@ impl Builder {
                     d.resource = Some(name);
                     d.offset = Some(offset);
                     d.range = Some(range);
+                    d.format = objects.buffer_view_formats.get(view).cloned();
                 }
             }
             out.push(d);

@@ -182,6 +182,9 @@ pub struct RewriteOptions<'a> {
     /// Specialization constants the pipeline gave, as (SpecId, value): each becomes a plain
     /// constant of that value (passthrough modules take no specialization in wgpu).
     pub specialization: &'a [(u32, u64)],
+    /// The format of each uniform texel buffer, as (set, binding, format): the shader does not
+    /// state it (the buffer view does), and its reads are unpacked in it.
+    pub texel_formats: &'a [(u32, u32, ImageFormat)],
 }
 
 impl fmt::Debug for RewriteOptions<'_> {

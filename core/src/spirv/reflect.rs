@@ -159,7 +159,14 @@ fn resource(
                         index.malformed(rid(ty), "OpTypeSampledImage of a non-image".to_owned())
                     );
                 }
-                ResourceKind::CombinedImageSampler(image_info(index, image)?)
+                let info = image_info(index, image)?;
+                // GLSL's samplerBuffer: a sampled image over a buffer, bound as a uniform
+                // texel buffer (no sampler).
+                if info.dim == Dim::DimBuffer {
+                    ResourceKind::UniformTexelBuffer
+                } else {
+                    ResourceKind::CombinedImageSampler(info)
+                }
             }
             Op::TypeAccelerationStructureKHR => ResourceKind::AccelerationStructure,
             other => {

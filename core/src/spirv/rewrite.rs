@@ -138,6 +138,23 @@ fn plan(
                 renumber.insert(r.id, new_binding(Role::Whole)?);
                 continue;
             }
+            ResourceKind::UniformTexelBuffer if r.count.is_none() && only_read(module, r.id) => {
+                let given = opts
+                    .texel_formats
+                    .iter()
+                    .find(|(s, b, _)| (*s, *b) == (r.set, r.binding))
+                    .map(|t| t.2);
+                if let Some(format) = given.filter(|&f| texel_layout(f).is_some()) {
+                    texels.push(Texel {
+                        var: r.id,
+                        format,
+                        set: r.set,
+                        binding: r.binding,
+                    });
+                }
+                renumber.insert(r.id, new_binding(Role::Whole)?);
+                continue;
+            }
             ResourceKind::CombinedImageSampler(_) => {}
             _ => {
                 renumber.insert(r.id, new_binding(Role::Whole)?);
@@ -324,7 +341,7 @@ fn find_position(
 }
 
 /// Whether every use of variable `var` in the functions is a load whose image only
-/// `OpImageRead` takes.
+/// `OpImageRead` (storage) or `OpImageFetch` (uniform texel buffers) takes.
 fn only_read(module: &Module, var: Word) -> bool {
     let mut loaded = std::collections::HashSet::new();
     let insts = || module.functions.iter().flat_map(|f| f.all_inst_iter());
@@ -336,10 +353,18 @@ fn only_read(module: &Module, var: Word) -> bool {
             loaded.extend(i.result_id);
         }
     }
+    // A samplerBuffer's loaded value reaches its fetches through OpImage.
+    for i in insts() {
+        if i.class.opcode == Op::Image
+            && id_ref(i.operands.first()).is_some_and(|x| loaded.contains(&x))
+        {
+            loaded.extend(i.result_id);
+        }
+    }
     insts().all(|i| {
         i.operands.iter().enumerate().all(|(n, o)| {
             id_ref(Some(o)).is_none_or(|id| !loaded.contains(&id))
-                || (i.class.opcode == Op::ImageRead && n == 0)
+                || (matches!(i.class.opcode, Op::ImageRead | Op::ImageFetch | Op::Image) && n == 0)
         })
     })
 }

@@ -65,6 +65,7 @@ fn opts(flip_y: bool) -> RewriteOptions<'static> {
         flip_y,
         binding: &doubled,
         specialization: &[],
+        texel_formats: &[],
     }
 }
 
@@ -412,6 +413,7 @@ fn renumbers_every_binding() {
             flip_y: true,
             binding: &|_, b, _| Some(b + 10),
             specialization: &[],
+            texel_formats: &[],
         },
     )
     .unwrap();
@@ -499,6 +501,7 @@ fn flips_a_position_variable() {
             flip_y: true,
             binding: &|_, b, _| Some(b),
             specialization: &[],
+            texel_formats: &[],
         },
     )
     .unwrap();
@@ -653,6 +656,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             flip_y: false,
             binding: &|_, _, _| None,
             specialization: &[],
+            texel_formats: &[],
         },
     )
     .unwrap_err();
@@ -672,6 +676,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             flip_y: false,
             binding: &|_, b, role| (role != Role::SplitSampler).then_some(b),
             specialization: &[],
+            texel_formats: &[],
         },
     )
     .unwrap_err();
@@ -1101,6 +1106,7 @@ fn texel_buffer_reads_become_word_loads_and_specialization_applies() {
             flip_y: false,
             binding: &doubled,
             specialization: &spec,
+            texel_formats: &[],
         },
     )
     .unwrap();

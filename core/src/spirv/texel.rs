@@ -1,5 +1,5 @@
-//! Storage texel buffers for wgpu, which binds none: each becomes a read-only storage buffer
-//! of 32-bit words (a struct holding a runtime array, `Block`), and each `OpImageRead` of it
+//! Texel buffers for wgpu, which binds none: each becomes a read-only storage buffer
+//! of 32-bit words (a struct holding a runtime array, `Block`), and each `OpImageRead` (storage) or `OpImageFetch` (uniform, in the buffer view's format) of it
 //! loads the word holding its texel and unpacks it as the format says (unorm bytes scaled to
 //! 0..1, integers as they are), missing channels filled as Vulkan fills them (0, 0, 1). The
 //! variable keeps its id, set and binding, and moves after the new types. Only reads are
@@ -235,7 +235,16 @@ pub(super) fn texel_buffers(
                     out.push(i);
                     continue;
                 };
-                if i.class.opcode != Op::ImageRead
+                // A samplerBuffer's image, taken from the loaded sampled image.
+                if i.class.opcode == Op::Image
+                    && id_ref(i.operands.first()).is_some_and(|x| loaded.contains_key(&x))
+                {
+                    if let Some(r) = i.result_id {
+                        loaded.insert(r, t);
+                    }
+                    continue;
+                }
+                if !matches!(i.class.opcode, Op::ImageRead | Op::ImageFetch)
                     || id_ref(i.operands.first()).is_none_or(|img| !loaded.contains_key(&img))
                 {
                     return Err(unsupported(

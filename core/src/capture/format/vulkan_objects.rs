@@ -115,6 +115,9 @@ pub struct VkDescriptor {
     pub offset: Option<u64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub range: Option<u64>,
+    /// Texel buffers: the buffer view's `VK_FORMAT_*`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub format: Option<String>,
 }
 
 /// A `VkDescriptorSetLayout`.

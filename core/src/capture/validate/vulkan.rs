@@ -368,6 +368,7 @@ impl Validator<'_> {
                     .and_then(|v| model.samplers.iter().position(|x| x.name == v)),
                 offset: d.offset,
                 range: d.range,
+                format: d.format.clone(),
             })
             .collect();
         Some(Box::new(VkWork {

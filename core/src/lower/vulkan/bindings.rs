@@ -17,6 +17,28 @@ use crate::spirv::{ResourceKind, ResourceVar};
 /// The wgpu bindings of each set, sorted: the rewrite numbers SPIR-V bindings by them.
 pub(super) type SetBindings = BTreeMap<u32, Vec<u32>>;
 
+/// What the rewrite needs of a draw's bindings: the wgpu bindings of each set, and the format
+/// of each uniform texel buffer (its buffer view's, which the shader does not state).
+pub(super) struct Bound {
+    pub sets: SetBindings,
+    pub texel_formats: Vec<(u32, u32, rspirv::spirv::ImageFormat)>,
+}
+
+/// The SPIR-V image format a texel buffer view of `VK_FORMAT_*` reads in, where the rewrite
+/// unpacks it.
+fn texel_format(vk: &str) -> Option<rspirv::spirv::ImageFormat> {
+    use rspirv::spirv::ImageFormat as F;
+    Some(match vk.strip_prefix("VK_FORMAT_").unwrap_or(vk) {
+        "R8_UNORM" => F::R8,
+        "R8_UINT" => F::R8ui,
+        "R8G8B8A8_UNORM" => F::Rgba8,
+        "R32_SFLOAT" => F::R32f,
+        "R32_UINT" => F::R32ui,
+        "R32_SINT" => F::R32i,
+        _ => return None,
+    })
+}
+
 /// One used descriptor: its variable, and every stage that uses it.
 struct Used {
     var: ResourceVar,
@@ -49,7 +71,7 @@ impl<'c> Lowering<'c> {
         p: &PassDesc,
         pipe: &VkPipeline,
         work: &VkWork,
-    ) -> Result<(Vec<Option<VkGroup>>, SetBindings), Fail> {
+    ) -> Result<(Vec<Option<VkGroup>>, Bound), Fail> {
         let model = self.vk_model()?;
         let mut used: BTreeMap<(u32, u32), Used> = BTreeMap::new();
         for stage in &pipe.stages {
@@ -71,6 +93,7 @@ impl<'c> Lowering<'c> {
         }
         let layout = &model.pipeline_layouts[pipe.layout];
         let mut per_set: BTreeMap<u32, Vec<Entry>> = BTreeMap::new();
+        let mut texel_formats = Vec::new();
         for (&(set, binding), u) in &used {
             let lb = layout
                 .sets
@@ -94,6 +117,26 @@ impl<'c> Lowering<'c> {
                     ),
                 }
                 .into());
+            }
+            if matches!(u.var.kind, ResourceKind::UniformTexelBuffer) {
+                let view = work
+                    .descriptors
+                    .iter()
+                    .find(|d| d.set == set && d.binding == binding && d.element == 0)
+                    .and_then(|d| d.format.as_deref());
+                match view.and_then(texel_format) {
+                    Some(f) => texel_formats.push((set, binding, f)),
+                    None => {
+                        return Err(VkProblem::Unsupported {
+                            feature: format!(
+                                "a uniform texel buffer of format {} (set {set} binding {binding} of shader {})",
+                                view.unwrap_or("unknown"),
+                                u.shader
+                            ),
+                        }
+                        .into());
+                    }
+                }
             }
             let entries = self.vk_entries(p, work, (set, binding), u, lb)?;
             per_set.entry(set).or_default().extend(entries);
@@ -124,7 +167,13 @@ impl<'c> Lowering<'c> {
                 entries: entries.into_iter().map(|(e, r)| (e.binding, r)).collect(),
             });
         }
-        Ok((groups, sets))
+        Ok((
+            groups,
+            Bound {
+                sets,
+                texel_formats,
+            },
+        ))
     }
 
     /// The wgpu entries (one, or a texture and a sampler) of one used descriptor.
@@ -188,7 +237,7 @@ impl<'c> Lowering<'c> {
                 )]
             }
             // Read as words: the rewrite unpacks each texel (`crate::spirv`).
-            "STORAGE_TEXEL_BUFFER" => {
+            "STORAGE_TEXEL_BUFFER" | "UNIFORM_TEXEL_BUFFER" => {
                 let d = d.ok_or_else(missing)?;
                 let buffer = self.buf(p, d.resource.ok_or_else(missing)?)?;
                 vec![(

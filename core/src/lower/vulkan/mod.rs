@@ -59,6 +59,8 @@ struct PipelineKey {
     targets: Vec<wgpu::TextureFormat>,
     depth: Option<wgpu::TextureFormat>,
     strip_index: Option<wgpu::IndexFormat>,
+    /// Uniform texel buffers' formats, which the rewritten shaders read in.
+    texel_formats: Vec<(u32, u32, rspirv::spirv::ImageFormat)>,
 }
 
 /// The wgpu stage and SPIR-V execution model of a `VK_SHADER_STAGE_*_BIT`.
@@ -231,6 +233,7 @@ impl<'c> Lowering<'c> {
             targets: targets.to_vec(),
             depth,
             strip_index: index.map(|i| i.2),
+            texel_formats: sets.texel_formats.clone(),
         };
         let pipeline = match self.vk.pipelines.get(&key) {
             Some(&i) => i,
@@ -291,6 +294,7 @@ impl<'c> Lowering<'c> {
             targets: Vec::new(),
             depth: None,
             strip_index: None,
+            texel_formats: sets.texel_formats.clone(),
         };
         let pipeline = match self.vk.pipelines.get(&key) {
             Some(&i) => i,
@@ -302,7 +306,7 @@ impl<'c> Lowering<'c> {
                     .ok_or_else(|| {
                         VkProblem::Missing(format!("pipeline {} has no compute stage", pipe.name))
                     })?;
-                let shader = self.vk_shader(pipe, stage, false, &sets)?;
+                let shader = self.vk_shader(pipe, stage, false, &sets.sets, &sets.texel_formats)?;
                 let layout = &model.pipeline_layouts[pipe.layout];
                 self.plan.vk.pipelines.push(VkPipelineSpec {
                     name: pipe.name.clone(),
@@ -392,14 +396,14 @@ impl<'c> Lowering<'c> {
         pipe: &VkPipeline,
         g: &crate::capture::format::GraphicsState,
         key: &PipelineKey,
-        sets: &bindings::SetBindings,
+        sets: &bindings::Bound,
     ) -> Result<VkPipelineSpec, Fail> {
         let model = self.vk_model()?;
         let mut vertex = None;
         let mut fragment = None;
         for stage in &pipe.stages {
             let (s, _) = stage_of(&stage.stage)?;
-            let shader = self.vk_shader(pipe, stage, key.flip, sets)?;
+            let shader = self.vk_shader(pipe, stage, key.flip, &sets.sets, &sets.texel_formats)?;
             if s == wgpu::ShaderStages::VERTEX {
                 vertex = Some(shader);
             } else if s == wgpu::ShaderStages::FRAGMENT {

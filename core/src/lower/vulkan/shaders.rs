@@ -8,6 +8,7 @@
 //! entries of each group in binding order, numbered from 0) and handed to the driver as it is
 //! (passthrough).
 
+use rspirv::spirv::ImageFormat;
 use wgpu_types as wgpu;
 
 use super::bindings::SetBindings;
@@ -26,6 +27,7 @@ pub(super) struct ShaderKey {
     flip: bool,
     sets: Vec<(u32, Vec<u32>)>,
     specialization: Vec<(u32, u32, Option<u64>)>,
+    texel_formats: Vec<(u32, u32, ImageFormat)>,
 }
 
 /// wgpu's binding for Vulkan binding `b` in the role asked.
@@ -63,6 +65,7 @@ impl<'c> Lowering<'c> {
         stage: &VkStage,
         flip: bool,
         sets: &SetBindings,
+        texel_formats: &[(u32, u32, ImageFormat)],
     ) -> Result<usize, Fail> {
         let key = ShaderKey {
             module: stage.module,
@@ -71,6 +74,7 @@ impl<'c> Lowering<'c> {
             flip,
             sets: sets.iter().map(|(s, b)| (*s, b.clone())).collect(),
             specialization: stage.specialization.clone(),
+            texel_formats: texel_formats.to_vec(),
         };
         if let Some(&i) = self.vk.shaders.get(&key) {
             return Ok(i);
@@ -118,6 +122,7 @@ impl<'c> Lowering<'c> {
                 flip_y: flip,
                 binding: &used,
                 specialization: &specialization,
+                texel_formats,
             },
         )
         .map_err(spirv_error)?;
@@ -136,6 +141,7 @@ impl<'c> Lowering<'c> {
                 flip_y: flip,
                 binding: &rank,
                 specialization: &specialization,
+                texel_formats,
             },
         )
         .map_err(spirv_error)?;
