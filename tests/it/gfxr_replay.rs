@@ -106,30 +106,18 @@ fn real_frames_replay_to_the_image_they_presented() {
 #[test]
 fn real_frames_are_clean_under_the_validation_layer() {
     let dir = temp("validation-layer");
-    let log = crate::common::validation_layer_settings(&dir);
     for name in REPLAYED {
         let capture = import(name, &dir);
-        let _ = std::fs::remove_file(&log);
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_framelab"))
-            .args([
+        crate::common::assert_clean_under_validation_layer(
+            &dir,
+            &[
                 "replay",
                 capture.to_str().unwrap(),
                 "--frames",
                 "2",
                 "--quiet",
-            ])
-            .env("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation")
-            .env("VK_LAYER_SETTINGS_PATH", &dir)
-            // As for the bundled captures: debug builds of wgpu add WGSL debug info to their
-            // own SPIR-V, which Debian 12's layer predates.
-            .env("WGPU_DEBUG", "0")
-            .output()
-            .unwrap();
-        assert!(out.status.success(), "{name}: {}", stderr(&out));
-        let messages = std::fs::read_to_string(&log).unwrap_or_else(|e| {
-            panic!("{name}: the validation layer wrote no log ({e}): is vulkan-validationlayers installed?")
-        });
-        assert!(messages.is_empty(), "{name}:\n{messages}");
+            ],
+        );
     }
     std::fs::remove_dir_all(dir).unwrap();
 }

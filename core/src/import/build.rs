@@ -36,7 +36,7 @@ pub struct Builder {
     pub frames_seen: u32,
     /// Resource handles referenced by emitted passes, with their frozen names.
     pub names: BTreeMap<u64, String>,
-    taken: BTreeSet<String>,
+    pub(super) taken: BTreeSet<String>,
     pass_names: BTreeSet<String>,
     /// Next number to try per pass-name stem, and per (pass, binding stem); bindings already
     /// on each pass. These keep naming linear in the number of passes and descriptors.
@@ -44,8 +44,8 @@ pub struct Builder {
     binding_next: HashMap<(usize, String), u32>,
     binding_seen: HashMap<usize, std::collections::HashSet<String>>,
     pub queue_names: BTreeMap<u64, (String, QueueType)>,
-    pending_barriers: HashMap<u64, Vec<RecordedBarrier>>,
-    pending_waits: HashMap<u64, Vec<String>>,
+    pub(super) pending_barriers: HashMap<u64, Vec<RecordedBarrier>>,
+    pub(super) pending_waits: HashMap<u64, Vec<String>>,
     labels: HashMap<u64, Vec<String>>,
     last_pass_on: HashMap<u64, usize>,
     /// Semaphore -> the fence of its latest queue signal and the queue that signalled it.
@@ -71,7 +71,7 @@ pub struct Builder {
     /// at the point of the frame where the application wrote them.
     pub uploads: Vec<(String, Vec<u8>)>,
     /// The queue of the latest pass, for passes no queue records (host writes).
-    last_queue: Option<u64>,
+    pub(super) last_queue: Option<u64>,
 }
 
 fn load_op(op: &str) -> LoadOp {
@@ -219,7 +219,7 @@ impl Builder {
     }
 
     /// Starts a pass on `queue`: barriers and waits pending there are its own.
-    fn new_pass(
+    pub(super) fn new_pass(
         &mut self,
         objects: &Objects,
         queue: u64,
@@ -282,57 +282,6 @@ impl Builder {
         self.last_pass_on.insert(queue, index);
         self.last_queue = Some(queue);
         Some(index)
-    }
-
-    /// A host write of `bytes` into `buffer` at `offset` during the imported frames: a copy
-    /// pass from a buffer holding the bytes, on the queue of the latest pass.
-    pub fn upload(&mut self, objects: &Objects, buffer: u64, offset: u64, bytes: Vec<u8>) {
-        let Some(queue) = self
-            .last_queue
-            .or_else(|| self.queue_names.keys().next().copied())
-        else {
-            self.note("host writes before any queue was seen: not imported");
-            return;
-        };
-        let Some(dst) = self.resource(objects, buffer) else {
-            return;
-        };
-        // Barriers and waits recorded for the queue belong to its next GPU pass, not to this.
-        let barriers = self.pending_barriers.remove(&queue);
-        let waits = self.pending_waits.remove(&queue);
-        let pass = self.new_pass(objects, queue, PassKind::Copy, "host_write");
-        if let Some(b) = barriers {
-            self.pending_barriers.insert(queue, b);
-        }
-        if let Some(w) = waits {
-            self.pending_waits.insert(queue, w);
-        }
-        let Some(pass) = pass else {
-            return;
-        };
-        let mut k = self.uploads.len();
-        let mut name = format!("host_write_{k}");
-        while !self.taken.insert(name.clone()) {
-            k += 1;
-            name = format!("host_write_{k}");
-        }
-        let size = Some(bytes.len() as u64);
-        let at = |resource: String, offset: u64| CopyLocation {
-            resource,
-            mip: 0,
-            layer: 0,
-            origin: [0; 3],
-            offset,
-            size,
-            bytes_per_row: None,
-        };
-        self.passes[pass].copies.push(Copy {
-            src: at(name.clone(), 0),
-            dst: at(dst, offset),
-            extent: None,
-            host: true,
-        });
-        self.uploads.push((name, bytes));
     }
 
     /// One queue submission: waits, command buffers in order, signals.

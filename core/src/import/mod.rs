@@ -9,6 +9,7 @@ mod calls;
 mod commands;
 mod emit;
 pub mod gfxr;
+mod host_writes;
 mod pipelines;
 mod record;
 mod render_pass;
@@ -159,33 +160,6 @@ struct Importer {
 }
 
 impl Importer {
-    /// Host writes of `data` at `offset` in `memory`, into every buffer bound over them.
-    fn host_write(&mut self, memory: u64, offset: u64, data: &[u8]) {
-        let end = offset.saturating_add(data.len() as u64);
-        let mut targets: Vec<(u64, u64, u64)> = self
-            .objects
-            .buffers
-            .iter()
-            .filter(|(_, b)| b.destroyed_at.is_none())
-            .filter_map(|(&h, b)| {
-                let (m, at) = b.bound?;
-                let (from, to) = (offset.max(at), end.min(at.saturating_add(b.size)));
-                (m == memory && from < to).then_some((h, from, to))
-            })
-            .collect();
-        targets.sort_unstable();
-        for (buffer, from, to) in targets {
-            let at = self
-                .objects
-                .buffers
-                .get(&buffer)
-                .and_then(|b| b.bound)
-                .map_or(0, |(_, a)| a);
-            let bytes = data[(from - offset) as usize..(to - offset) as usize].to_vec();
-            self.builder.upload(&self.objects, buffer, from - at, bytes);
-        }
-    }
-
     fn skip(&mut self, what: String, line: u64) {
         let e = self.skipped.entry(what).or_insert((0, line));
         e.0 += 1;

@@ -147,6 +147,8 @@ pub struct Objects {
     pub memories: HashMap<u64, MemoryInfo>,
     pub images: HashMap<u64, ImageInfo>,
     pub buffers: HashMap<u64, BufferInfo>,
+    /// Memory -> the buffers ever bound to it (each host write looks only at these).
+    pub buffers_in: HashMap<u64, Vec<u64>>,
     pub views: HashMap<u64, ViewInfo>,
     /// Image view -> (view type, format, aspect mask), for the replay's views.
     pub view_kinds: HashMap<u64, (String, String, u64)>,
@@ -527,6 +529,7 @@ impl Objects {
             i.bound = Some((memory, offset));
         } else if let Some(b) = self.buffers.get_mut(&handle) {
             b.bound = Some((memory, offset));
+            self.buffers_in.entry(memory).or_default().push(handle);
         }
     }
 }

@@ -112,6 +112,17 @@ impl<'c> Lowering<'c> {
         })
     }
 
+    /// An indirect-argument buffer and offset at plan level.
+    pub(super) fn indirect(
+        &self,
+        p: &PassDesc,
+        indirect: Option<(ResourceId, u64)>,
+    ) -> Result<Option<(usize, u64)>, LowerError> {
+        indirect
+            .map(|(b, o)| self.buf(p, b).map(|i| (i, o)))
+            .transpose()
+    }
+
     pub(super) fn buf(&self, p: &PassDesc, r: ResourceId) -> Result<usize, LowerError> {
         self.buffer_of.get(&r).copied().ok_or_else(|| {
             pass_error(
@@ -214,10 +225,7 @@ impl<'c> Lowering<'c> {
                     first: d.first,
                     first_instance: d.first_instance,
                     base_vertex: d.base_vertex,
-                    indirect: d
-                        .indirect
-                        .map(|(b, o)| self.buf(p, b).map(|i| (i, o)))
-                        .transpose()?,
+                    indirect: self.indirect(p, d.indirect)?,
                     stencil_reference: d.stencil_reference,
                     params: params(&d.params),
                 })
@@ -306,10 +314,7 @@ impl<'c> Lowering<'c> {
                 Ok(DispatchOp {
                     entry: d.entry.clone(),
                     groups: d.groups,
-                    indirect: d
-                        .indirect
-                        .map(|(b, o)| self.buf(p, b).map(|i| (i, o)))
-                        .transpose()?,
+                    indirect: self.indirect(p, d.indirect)?,
                     params: params(&d.params),
                 })
             })

@@ -121,40 +121,34 @@ fn plan(
                 role,
             })
         };
-        match r.kind {
-            // Rewritten where it is only read, in a format the rewrite unpacks; left as it is
-            // otherwise, which the caller sees by reflecting the result.
-            ResourceKind::StorageTexelBuffer(format)
-                if r.count.is_none()
-                    && texel_layout(format).is_some()
-                    && only_read(module, r.id) =>
-            {
+        // A texel buffer is rewritten where it is only read, in a format the rewrite unpacks
+        // (a storage one states it, a uniform one's comes from its buffer view); it is left as
+        // it is otherwise, which the caller sees by reflecting the result.
+        let texel_format = match r.kind {
+            ResourceKind::StorageTexelBuffer(format) => Some(Some(format)),
+            ResourceKind::UniformTexelBuffer => Some(
+                opts.texel_formats
+                    .iter()
+                    .find(|(s, b, _)| (*s, *b) == (r.set, r.binding))
+                    .map(|t| t.2),
+            ),
+            _ => None,
+        };
+        if let Some(format) = texel_format {
+            if let Some(format) = format.filter(|&f| {
+                r.count.is_none() && texel_layout(f).is_some() && only_read(module, r.id)
+            }) {
                 texels.push(Texel {
                     var: r.id,
                     format,
                     set: r.set,
                     binding: r.binding,
                 });
-                renumber.insert(r.id, new_binding(Role::Whole)?);
-                continue;
             }
-            ResourceKind::UniformTexelBuffer if r.count.is_none() && only_read(module, r.id) => {
-                let given = opts
-                    .texel_formats
-                    .iter()
-                    .find(|(s, b, _)| (*s, *b) == (r.set, r.binding))
-                    .map(|t| t.2);
-                if let Some(format) = given.filter(|&f| texel_layout(f).is_some()) {
-                    texels.push(Texel {
-                        var: r.id,
-                        format,
-                        set: r.set,
-                        binding: r.binding,
-                    });
-                }
-                renumber.insert(r.id, new_binding(Role::Whole)?);
-                continue;
-            }
+            renumber.insert(r.id, new_binding(Role::Whole)?);
+            continue;
+        }
+        match r.kind {
             ResourceKind::CombinedImageSampler(_) => {}
             _ => {
                 renumber.insert(r.id, new_binding(Role::Whole)?);

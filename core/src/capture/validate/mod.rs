@@ -156,6 +156,7 @@ struct Validator<'a> {
     written: std::collections::HashSet<ResourceId>,
     /// The `vulkan` section by index, once it validated.
     vk_model: Option<crate::capture::vk_model::VkModel>,
+    vk_names: Option<vulkan::VkNames>,
 }
 
 /// Bytes of indirect argument records (D3D12_DRAW_INDEXED_ARGUMENTS, D3D12_DRAW_ARGUMENTS,
@@ -187,6 +188,7 @@ impl<'a> Validator<'a> {
             shader_ids: HashMap::new(),
             written: std::collections::HashSet::new(),
             vk_model: None,
+            vk_names: None,
         }
     }
 

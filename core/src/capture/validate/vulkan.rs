@@ -14,6 +14,15 @@ use crate::capture::model::ResourceId;
 use crate::capture::vk_model::*;
 use crate::files;
 
+/// Indices of the section's pipelines, image views and samplers by name: every draw and
+/// dispatch names them, so each is looked up once, not searched for.
+#[derive(Default)]
+pub(super) struct VkNames {
+    pipelines: std::collections::HashMap<String, usize>,
+    views: std::collections::HashMap<String, usize>,
+    samplers: std::collections::HashMap<String, usize>,
+}
+
 /// Each module's entry points and bytes, by name (`None` where the capture holds no code).
 type ModuleCode<'v> = BTreeMap<&'v str, Option<(Vec<(u32, String)>, Vec<u8>)>>;
 
@@ -214,7 +223,20 @@ impl Validator<'_> {
         }
         self.check_pipeline_uses(Some(vk));
         if !self.diags.has_errors() {
-            self.vk_model = Some(self.vk_model(vk, modules));
+            let model = self.vk_model(vk, modules);
+            let index = |names: Vec<&String>| {
+                names
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, n)| (n.clone(), i))
+                    .collect()
+            };
+            self.vk_names = Some(VkNames {
+                pipelines: index(vk.pipelines.iter().map(|p| &p.name).collect()),
+                views: index(model.views.iter().map(|v| &v.name).collect()),
+                samplers: index(model.samplers.iter().map(|s| &s.name).collect()),
+            });
+            self.vk_model = Some(model);
         }
     }
 
@@ -344,10 +366,8 @@ impl Validator<'_> {
         pipeline: Option<&str>,
         state: &VkCommandState,
     ) -> Option<Box<VkWork>> {
-        let vk = self.raw.vulkan.as_ref()?;
-        let model = self.vk_model.as_ref()?;
-        let name = pipeline?;
-        let pipeline = vk.pipelines.iter().position(|p| p.name == name)?;
+        let names = self.vk_names.as_ref()?;
+        let pipeline = *names.pipelines.get(pipeline?)?;
         let resource = |n: &str| self.resources.get(n).map(ResourceId);
         let descriptors = state
             .descriptors
@@ -358,14 +378,11 @@ impl Validator<'_> {
                 element: d.element,
                 descriptor_type: d.descriptor_type.clone(),
                 resource: d.resource.as_deref().and_then(resource),
-                view: d
-                    .view
-                    .as_deref()
-                    .and_then(|v| model.views.iter().position(|x| x.name == v)),
+                view: d.view.as_deref().and_then(|v| names.views.get(v).copied()),
                 sampler: d
                     .sampler
                     .as_deref()
-                    .and_then(|v| model.samplers.iter().position(|x| x.name == v)),
+                    .and_then(|v| names.samplers.get(v).copied()),
                 offset: d.offset,
                 range: d.range,
                 format: d.format.clone(),

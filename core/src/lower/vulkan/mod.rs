@@ -270,10 +270,7 @@ impl<'c> Lowering<'c> {
             first: d.first,
             first_instance: d.first_instance,
             base_vertex: d.base_vertex,
-            indirect: d
-                .indirect
-                .map(|(b, o)| self.buf(p, b).map(|i| (i, o)))
-                .transpose()?,
+            indirect: self.indirect(p, d.indirect)?,
         })
     }
 
@@ -325,10 +322,7 @@ impl<'c> Lowering<'c> {
             groups,
             immediates: self.immediates(pipe, layout, work)?,
             workgroups: d.groups,
-            indirect: d
-                .indirect
-                .map(|(b, o)| self.buf(p, b).map(|i| (i, o)))
-                .transpose()?,
+            indirect: self.indirect(p, d.indirect)?,
         })
     }
 
