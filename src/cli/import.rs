@@ -11,7 +11,7 @@ use framelab_core::capture::format::RawCapture;
 use framelab_core::capture::validate::validate;
 use framelab_core::capture::{CaptureError, Options};
 use framelab_core::files::{self, FileError};
-use framelab_core::import::{ImportOptions, Imported, Summary, gfxr, import};
+use framelab_core::import::{ImportOptions, Imported, Summary, gfxr, import, rdc};
 
 use super::{print_diagnostics, print_stdout};
 
@@ -55,19 +55,22 @@ pub fn run(
         .fill_buf()
         .map_err(|e| anyhow::anyhow!("cannot read {name}: {e}"))?;
     let options = ImportOptions { frames };
+    let stem = out.file_stem().map_or_else(
+        || "imported".to_owned(),
+        |s| s.to_string_lossy().into_owned(),
+    );
     let imported = if gfxr::is_gfxr(head) {
-        let stem = out.file_stem().map_or_else(
-            || "imported".to_owned(),
-            |s| s.to_string_lossy().into_owned(),
-        );
         gfxr::import(reader, len, &name, &stem, &options)?
+    } else if rdc::is_rdc(head) {
+        drop(reader);
+        rdc::import_file(input, &name, &stem, &options)?
     } else if head
         .iter()
         .find(|b| !b.is_ascii_whitespace())
         .is_some_and(|b| *b != b'{' && *b != b'[')
     {
         anyhow::bail!(
-            "{name}: neither a GFXReconstruct binary capture (it does not start with `GFXR`) nor a JSON Lines stream (gfxrecon-convert)"
+            "{name}: neither a GFXReconstruct binary capture (it does not start with `GFXR`), a RenderDoc capture (`RDOC`) nor a JSON Lines stream (gfxrecon-convert)"
         );
     } else {
         import(reader, &name, &options)?
@@ -157,10 +160,10 @@ fn write_with_side_files(
 
 fn render(s: &Summary, out: &Path) -> String {
     let mut t = String::new();
-    let unit = if s.dialect == "binary" {
-        "block"
-    } else {
-        "line"
+    let unit = match s.dialect.as_str() {
+        "binary" => "block",
+        "renderdoc" => "chunk",
+        _ => "line",
     };
     let frames = if s.frames_imported.0 == s.frames_imported.1 {
         format!("frame {}", s.frames_imported.0)

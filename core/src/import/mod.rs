@@ -7,10 +7,12 @@
 mod build;
 mod calls;
 mod commands;
+mod contents;
 mod emit;
 pub mod gfxr;
 mod host_writes;
 mod pipelines;
+pub mod rdc;
 mod record;
 mod render_pass;
 mod state;
@@ -125,11 +127,11 @@ pub struct Imported {
     pub side_files: Vec<SideFile>,
 }
 
-pub use gfxr::contents::SideFile;
+pub use contents::SideFile;
 
 /// What only a binary capture brings, for `finish` to attach.
 struct Extras<'a> {
-    contents: &'a mut gfxr::contents::Contents,
+    contents: &'a mut contents::Contents,
     /// The capture's stem: side files go in `<stem>.contents/` and `<stem>.shaders/`.
     stem: &'a str,
 }

@@ -276,6 +276,12 @@ pub const IMAGE_CREATE: &[(&str, u64)] = &[
 
 pub const ASPECTS: &[(&str, u64)] = &[("COLOR", 0x1), ("DEPTH", 0x2), ("STENCIL", 0x4)];
 
+/// A 32-bit float as the shortest decimal that reads back as it (0.2, not 0.200000003):
+/// the value the application wrote, as a text stream of the same call shows it.
+pub fn shortest(f: f32) -> f64 {
+    f.to_string().parse().unwrap_or(f64::from(f))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -9,6 +9,7 @@
 
 use serde_json::{Map, Value};
 
+use super::super::value::shortest;
 use super::registry::{self, CommandDef, ENUMS, STRUCTS, Ty};
 
 const IS_NULL: u32 = 0x1;
@@ -281,12 +282,6 @@ impl<'a> Reader<'a> {
             .ok_or_else(|| format!("{}: a structure with unknown sType {stype}", self.at()))?;
         self.structure(index)
     }
-}
-
-/// A 32-bit float as the shortest decimal that reads back as it (0.2, not 0.200000003):
-/// the value the application wrote, as a text stream of the same call shows it.
-fn shortest(f: f32) -> f64 {
-    f.to_string().parse().unwrap_or(f64::from(f))
 }
 
 /// A clear colour is a union GFXReconstruct writes as its four `uint32` words; it is given

@@ -9,10 +9,9 @@
 
 mod blocks;
 mod compress;
-pub mod contents;
 mod decode;
 mod meta;
-mod registry;
+pub(super) mod registry;
 #[rustfmt::skip]
 #[allow(clippy::all, clippy::pedantic)]
 mod tables;
@@ -21,11 +20,11 @@ use std::collections::BTreeMap;
 use std::io::Read;
 
 use super::calls::Func;
+use super::contents::Contents;
 use super::stream::Call;
 use super::{ImportError, ImportOptions, Imported, Importer};
 use blocks::{Block, Blocks, Kind};
 pub use blocks::{MAX_BLOCK_BYTES, is_gfxr};
-use contents::Contents;
 use meta::Meta;
 
 /// What reading the blocks gathered besides the importer's own state.
@@ -210,7 +209,20 @@ pub fn import(
                         let at = contents.absolute(memory, offset);
                         imp.host_write(memory, at, &data);
                     }
-                    meta => contents.meta(meta),
+                    Meta::FillMemory {
+                        memory,
+                        offset,
+                        data,
+                    } => contents.fill(memory, contents.absolute(memory, offset), data),
+                    Meta::InitBuffer { buffer, data } => contents.init_buffer(buffer, data),
+                    Meta::InitImage {
+                        image,
+                        aspect,
+                        level_sizes,
+                        data,
+                        ..
+                    } => contents.init_image(image, aspect, level_sizes, data),
+                    Meta::Other(_) => {}
                 }
             }
             Kind::FrameMarker => {

@@ -110,3 +110,27 @@ pub fn struct_index_of_stype(stype: u32) -> Option<u16> {
         .ok()
         .map(|i| STYPES[i].1)
 }
+
+/// The command named `name` (`vkCreateImage`), if the tables know it.
+pub fn command_named(name: &str) -> Option<&'static CommandDef> {
+    static BY_NAME: std::sync::OnceLock<std::collections::HashMap<&'static str, usize>> =
+        std::sync::OnceLock::new();
+    BY_NAME
+        .get_or_init(|| {
+            COMMANDS
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (c.name, i))
+                .collect()
+        })
+        .get(name)
+        .map(|&i| &COMMANDS[i])
+}
+
+/// The index in `STRUCTS` of the structure named `name` (`STRUCTS` is sorted by name).
+pub fn struct_named(name: &str) -> Option<u16> {
+    STRUCTS
+        .binary_search_by(|s| s.name.cmp(name))
+        .ok()
+        .and_then(|i| u16::try_from(i).ok())
+}

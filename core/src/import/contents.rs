@@ -1,7 +1,9 @@
-//! What only a binary capture holds, gathered while its blocks are read: the SPIR-V of every
-//! shader module, the bytes the application wrote to mapped memory, and a trimmed capture's
-//! buffer and image snapshot. At the end it is matched to the imported resources and written
-//! as side files: each buffer or image whose contents at the start of the frame are known
+//! What only a capture file holds (a GFXReconstruct binary capture, a RenderDoc capture), not
+//! a JSON Lines stream, gathered while it is read: the SPIR-V of every shader module, the bytes
+//! the application wrote to mapped memory, and the buffer, memory and image contents the
+//! capture saved at its start. Both readers feed it through the same few calls, so contents
+//! are matched to resources one way. At the end it is matched to the imported resources and
+//! written as side files: each buffer or image whose contents at the start of the frame are known
 //! gets a `file`, and the rest that existed before the frame stay `before_capture`, named.
 //!
 //! Memory is bounded by the live objects: mapped-memory writes are kept as non-overlapping
@@ -12,9 +14,7 @@ use std::collections::{BTreeMap, HashMap};
 
 use serde_json::Value;
 
-use super::super::state::{ImageInfo, Objects};
-use super::blocks::MAX_BLOCK_BYTES;
-use super::meta::Meta;
+use super::state::{ImageInfo, Objects};
 use crate::capture::dxgi;
 use crate::capture::format::{InitialContents, RawCapture};
 
@@ -118,6 +118,9 @@ pub struct Contents {
     linear: HashMap<u64, (u64, u64)>,
 }
 
+/// Largest contents of one resource or range read back: what one GFXReconstruct block can hold.
+const MAX_BLOCK_BYTES: u64 = 4 << 30;
+
 /// Contents produced beyond the bytes the capture wrote: zeros where a buffer's memory was
 /// never written. Past it, a hostile size cannot make the import hold more.
 const ZERO_ALLOWANCE: u64 = 256 << 20;
@@ -177,7 +180,7 @@ impl Contents {
                         })
                         .unwrap_or_default(),
                 };
-                self.modules.insert(module, bytes);
+                self.module(module, bytes);
             }
             "vkMapMemory" => {
                 if let (Some(m), Some(o)) = (
@@ -216,48 +219,60 @@ impl Contents {
             .saturating_add(offset)
     }
 
-    /// A meta-data command's contents.
-    pub fn meta(&mut self, meta: Meta) {
+    /// Bytes the application wrote to `memory` at `at` (from the start of the allocation).
+    pub fn fill(&mut self, memory: u64, at: u64, data: Vec<u8>) {
         if self.frozen {
             return;
         }
-        match meta {
-            Meta::FillMemory {
-                memory,
-                offset,
-                data,
-            } => {
-                self.fills += 1;
-                self.written += data.len() as u64;
-                let at = self.absolute(memory, offset);
-                if self.snapshot_seen {
-                    self.written += data.len() as u64;
-                    self.late_fills.push((memory, at, data.clone()));
-                }
-                self.memory.entry(memory).or_default().write(at, data);
-            }
-            Meta::InitBuffer { buffer, data } => {
-                self.snapshot_seen = true;
-                self.written += data.len() as u64;
-                self.buffers.insert(buffer, data);
-            }
-            Meta::InitImage {
-                image,
-                aspect,
-                level_sizes,
-                data,
-                ..
-            } => {
-                self.snapshot_seen = true;
-                self.written += data.len() as u64;
-                self.images.entry(image).or_default().push(ImageData {
-                    aspect,
-                    level_sizes,
-                    data,
-                });
-            }
-            Meta::Other(_) => {}
+        self.fills += 1;
+        self.written += data.len() as u64;
+        if self.snapshot_seen {
+            self.written += data.len() as u64;
+            self.late_fills.push((memory, at, data.clone()));
         }
+        self.memory.entry(memory).or_default().write(at, data);
+    }
+
+    /// A buffer's contents as the capture saved them at its start.
+    pub fn init_buffer(&mut self, buffer: u64, data: Vec<u8>) {
+        if self.frozen {
+            return;
+        }
+        self.snapshot_seen = true;
+        self.written += data.len() as u64;
+        self.buffers.insert(buffer, data);
+    }
+
+    /// A whole allocation's contents as the capture saved them at its start: the buffers
+    /// bound to it read their ranges from here.
+    pub fn init_memory(&mut self, memory: u64, data: Vec<u8>) {
+        if self.frozen {
+            return;
+        }
+        self.written += data.len() as u64;
+        let mut extents = Extents::default();
+        extents.write(0, data);
+        self.memory.insert(memory, extents);
+    }
+
+    /// One aspect of an image as the capture saved it (`aspect` 1 colour, 2 depth, 4
+    /// stencil): each level's size in `level_sizes`, the levels one after the other.
+    pub fn init_image(&mut self, image: u64, aspect: u32, level_sizes: Vec<u64>, data: Vec<u8>) {
+        if self.frozen {
+            return;
+        }
+        self.snapshot_seen = true;
+        self.written += data.len() as u64;
+        self.images.entry(image).or_default().push(ImageData {
+            aspect,
+            level_sizes,
+            data,
+        });
+    }
+
+    /// A shader module's SPIR-V.
+    pub fn module(&mut self, module: u64, code: Vec<u8>) {
+        self.modules.insert(module, code);
     }
 
     /// The contents of buffer `handle` at this point: its snapshot, else what was written to
