@@ -13,7 +13,12 @@ use serde_json::Value;
 use crate::common::{framelab, gfxr_fixture, json, repo, stderr};
 
 /// RenderDoc captures, each with `<name>.rdc.renderdoc.json` and `<name>.rdc.ref.png`.
-const CAPTURES: [&str; 3] = ["vkcube_frame183", "vkd3d_gears_f3445", "mpv_testsrc_f73"];
+const CAPTURES: [&str; 4] = [
+    "vkcube_frame183",
+    "vkd3d_gears_f3445",
+    "mpv_testsrc_f73",
+    "framelab_inspect_f117",
+];
 
 fn fixture(name: &str) -> PathBuf {
     repo().join("tests/fixtures/rdc").join(name)
@@ -485,6 +490,14 @@ fn bad_renderdoc_input_is_refused_with_a_located_error() {
         &[],
         &["truncated.rdc", "renderdoccmd convert failed"],
     );
+    // A corrupt one: bytes changed all through its compressed sections.
+    let mut damaged = bytes.clone();
+    for i in (2000..damaged.len()).step_by(997) {
+        damaged[i] ^= 0x5a;
+    }
+    let corrupt = dir.join("corrupt.rdc");
+    std::fs::write(&corrupt, damaged).unwrap();
+    refused(&dir, &corrupt, &[], &["corrupt.rdc", "convert failed"]);
     // No converter.
     refused(
         &dir,
@@ -534,6 +547,35 @@ fn bad_renderdoc_input_is_refused_with_a_located_error() {
     assert!(conv.status.success(), "{}", stderr(&conv));
     let text = std::fs::read_to_string(&xml).unwrap();
     let zip = real.join("vkcube.zip");
+    // Another capture's zip: its members are not the sizes this XML says.
+    let other_zip = real.join("gears.zip");
+    let conv = std::process::Command::new("renderdoccmd")
+        .args([
+            "convert",
+            "-f",
+            fixture("vkd3d_gears_f3445.rdc").to_str().unwrap(),
+            "-c",
+            "zip.xml",
+            "-o",
+        ])
+        .arg(real.join("gears.zip.xml"))
+        .output()
+        .unwrap();
+    assert!(conv.status.success(), "{}", stderr(&conv));
+    let fake = fake_converter(
+        &dir,
+        &format!(
+            "cp '{}' \"$7\" && cp '{}' \"${{7%.xml}}\"",
+            xml.display(),
+            other_zip.display()
+        ),
+    );
+    refused(
+        &dir,
+        &good,
+        &[("FRAMELAB_RENDERDOCCMD", fake.as_os_str())],
+        &["member 000000 holds 0 bytes", "but the XML says 1560"],
+    );
     let edits: [(&str, String, &[&str]); 4] = [
         (
             "version",

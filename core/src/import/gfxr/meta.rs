@@ -25,6 +25,9 @@ pub enum Meta {
         level_sizes: Vec<u64>,
         data: Vec<u8>,
     },
+    /// The property flags of each memory type of the capturing device: a trimmed capture
+    /// records them here rather than as the application's query.
+    MemoryProperties { type_flags: Vec<u32> },
     /// Anything else, by name.
     Other(&'static str),
 }
@@ -36,7 +39,7 @@ impl Meta {
             Meta::FillMemory { data, .. }
             | Meta::InitBuffer { data, .. }
             | Meta::InitImage { data, .. } => data.len() as u64,
-            Meta::Other(_) => 0,
+            Meta::MemoryProperties { .. } | Meta::Other(_) => 0,
         }
     }
 
@@ -46,6 +49,7 @@ impl Meta {
             Meta::FillMemory { .. } => "fill memory",
             Meta::InitBuffer { .. } => "init buffer",
             Meta::InitImage { .. } => "init image",
+            Meta::MemoryProperties { .. } => "set device memory properties",
             Meta::Other(name) => name,
         }
     }
@@ -184,6 +188,23 @@ pub fn read(block: &Block, how: Compression) -> Result<Meta, String> {
                 level_sizes,
                 data,
             }
+        }
+        12 => {
+            let (_thread, _device) = (f.u64()?, f.u64()?);
+            let types = f.u32()?;
+            let _heaps = f.u32()?;
+            // Vulkan has at most 32 memory types; each is its flags and its heap index.
+            if types > 32 {
+                return Err(format!(
+                    "memory properties command lists {types} memory types, more than Vulkan's 32"
+                ));
+            }
+            let mut type_flags = Vec::with_capacity(types as usize);
+            for _ in 0..types {
+                type_flags.push(f.u32()?);
+                let _heap = f.u32()?;
+            }
+            Meta::MemoryProperties { type_flags }
         }
         other => Meta::Other(name(other)),
     })

@@ -222,6 +222,10 @@ pub fn import(
                         data,
                         ..
                     } => contents.init_image(image, aspect, level_sizes, data),
+                    Meta::MemoryProperties { type_flags } => {
+                        imp.objects.memory_type_flags =
+                            type_flags.into_iter().map(u64::from).collect();
+                    }
                     Meta::Other(_) => {}
                 }
             }

@@ -157,19 +157,11 @@ pub fn value(node: &Node, ty: Option<Ty>, load: &mut Load<'_>) -> Result<Value, 
                 Some(Ty::Ptr(e) | Ty::Arr(e)) => Some(*e),
                 _ => None,
             };
+            // Small byte arrays (push constants, update data) inline; code and contents are
+            // read by whoever needs them, as GFXReconstruct's long arrays are.
             match elem {
-                Some(Ty::U8 | Ty::U32) if len <= INLINE_BYTES => {
-                    let bytes = load(node)?;
-                    if elem == Some(Ty::U8) {
-                        Value::Array(bytes.iter().map(|b| Value::from(*b)).collect())
-                    } else {
-                        Value::Array(
-                            bytes
-                                .chunks_exact(4)
-                                .map(|w| Value::from(u32::from_le_bytes([w[0], w[1], w[2], w[3]])))
-                                .collect(),
-                        )
-                    }
+                Some(Ty::U8) if len <= INLINE_BYTES => {
+                    Value::Array(load(node)?.iter().map(|b| Value::from(*b)).collect())
                 }
                 _ => Value::from(format!("({len} bytes)")),
             }
@@ -210,5 +202,109 @@ fn enumerant(node: &Node, ty: Option<Ty>) -> Value {
             }
             _ => number,
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn command(name: &str) -> &'static CommandDef {
+        registry::command_named(name).unwrap_or_else(|| panic!("{name} is in the tables"))
+    }
+
+    #[test]
+    fn renderdoc_parameters_find_the_registry_ones() {
+        let cases = [
+            ("vkCreateImage", "CreateInfo", "pCreateInfo"),
+            ("vkCreateImage", "Image", "pImage"),
+            ("vkCreateCommandPool", "CmdPool", "pCommandPool"),
+            ("vkCreateSwapchainKHR", "SwapChain", "pSwapchain"),
+            ("vkBeginCommandBuffer", "CommandBuffer", "commandBuffer"),
+            (
+                "vkAllocateCommandBuffers",
+                "CommandBuffer",
+                "pCommandBuffers",
+            ),
+            ("vkCreateGraphicsPipelines", "CreateInfo", "pCreateInfos"),
+            ("vkCreateGraphicsPipelines", "Pipeline", "pPipelines"),
+            ("vkCmdPipelineBarrier", "destStageMask", "dstStageMask"),
+            ("vkCmdCopyBuffer", "destBuffer", "dstBuffer"),
+            ("vkCmdDispatch", "y", "groupCountY"),
+            ("vkCmdPushConstants", "values", "pValues"),
+            ("vkCmdBindDescriptorSets", "setCount", "descriptorSetCount"),
+        ];
+        for (cmd, rdc, ours) in cases {
+            assert_eq!(
+                param(command(cmd), rdc).map(|f| f.name),
+                Some(ours),
+                "{cmd} {rdc}"
+            );
+        }
+        // RenderDoc's own records match nothing.
+        assert!(param(command("vkBeginCommandBuffer"), "BakedCommandBuffer").is_none());
+        assert!(param(command("vkCreateImage"), "memoryRequirements").is_none());
+    }
+
+    fn leaf(tag: &str, name: &str, text: &str, string: Option<&str>) -> Node {
+        Node {
+            tag: tag.to_owned(),
+            name: Some(name.to_owned()),
+            string: string.map(str::to_owned),
+            text: text.to_owned(),
+            ..Node::default()
+        }
+    }
+
+    #[test]
+    fn values_are_typed_by_the_registry() {
+        let ci = Node {
+            tag: "struct".to_owned(),
+            name: Some("CreateInfo".to_owned()),
+            typename: Some("VkImageCreateInfo".to_owned()),
+            children: vec![
+                leaf("enum", "format", "124", Some("VK_FORMAT_D16_UNORM")),
+                leaf(
+                    "enum",
+                    "usage",
+                    "32",
+                    Some("VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT"),
+                ),
+                leaf("enum", "samples", "1", Some("VK_SAMPLE_COUNT_1_BIT")),
+                leaf("int", "mipLevels", "-1", None),
+            ],
+            ..Node::default()
+        };
+        let chunk = Node {
+            tag: "chunk".to_owned(),
+            children: vec![ci, leaf("ResourceId", "Image", "160", None)],
+            ..Node::default()
+        };
+        let mut load = |_: &Node| -> Result<Vec<u8>, String> { Err("no zip".to_owned()) };
+        let args = call_args(command("vkCreateImage"), &chunk, &mut load).unwrap();
+        assert_eq!(args["pImage"], 160);
+        let ci = &args["pCreateInfo"];
+        assert_eq!(ci["format"], "VK_FORMAT_D16_UNORM");
+        assert_eq!(ci["usage"], 32, "flags stay numbers");
+        assert_eq!(
+            ci["samples"], "VK_SAMPLE_COUNT_1_BIT",
+            "the registry says enum"
+        );
+        assert_eq!(
+            ci["mipLevels"],
+            u64::from(u32::MAX),
+            "unsigned written signed"
+        );
+        // A float is the shortest decimal of its 32 bits.
+        let f = leaf("float", "x", "0.20000000298023224", None);
+        assert_eq!(value(&f, Some(Ty::F32), &mut load).unwrap(), 0.2);
+        // A parameter the registry makes a list comes as one, even from a single value.
+        let one = leaf("ResourceId", "DescriptorSet", "192", None);
+        let def = command("vkAllocateDescriptorSets");
+        let f = param(def, "DescriptorSet").unwrap();
+        assert_eq!(
+            value(&one, Some(f.ty), &mut load).unwrap(),
+            serde_json::json!([192])
+        );
     }
 }

@@ -105,8 +105,9 @@ fn attr(e: &BytesStart<'_>, key: &str) -> Option<String> {
 impl<R: BufRead> Chunks<R> {
     /// Reads up to the first chunk: the header and the chunks' version.
     pub fn new(reader: R) -> Result<Self, XmlError> {
-        let mut reader = Reader::from_reader(reader);
-        reader.config_mut().trim_text(true);
+        // Text is kept as written (a string's spaces around `&amp;` matter); the whitespace
+        // between elements is dropped when its element turns out to have children.
+        let reader = Reader::from_reader(reader);
         let mut chunks = Chunks {
             reader,
             buf: Vec::new(),
@@ -307,9 +308,12 @@ impl<R: BufRead> Chunks<R> {
                     push_text(&mut stack, c.encode_utf8(&mut [0; 4])).map_err(|m| fail(self, m))?;
                 }
                 Event::End(_) => {
-                    let Some(done) = stack.pop() else {
+                    let Some(mut done) = stack.pop() else {
                         return Err(fail(self, "unbalanced end tag".to_owned()));
                     };
+                    if !done.children.is_empty() {
+                        done.text.clear();
+                    }
                     match stack.last_mut() {
                         Some(parent) => parent.children.push(done),
                         None => return Ok(done),
@@ -366,4 +370,72 @@ fn header(node: &Node) -> Header {
         }
     }
     h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEAD: &str = r#"<?xml version="1.0"?>
+<rdc>
+	<header>
+		<driver id="8">Vulkan</driver>
+		<thumbnail width="4" height="4">thumb.png</thumbnail>
+	</header>
+	<chunks version="21">
+"#;
+
+    #[test]
+    fn chunks_are_read_one_at_a_time_with_their_values() {
+        let xml = format!(
+            r#"{HEAD}<chunk id="1019" name="vkCreateShaderModule" length="8">
+<struct name="CreateInfo" typename="VkShaderModuleCreateInfo">
+<buffer name="pCode" typename="Byte Buffer" byteLength="1560">0</buffer>
+<string name="label">a &amp; b</string>
+</struct>
+<ResourceId name="ShaderModule" typename="VkShaderModule" width="8">181</ResourceId>
+</chunk>
+<chunk id="6" name="Internal::End of Capture" length="0"/>
+</chunks></rdc>"#
+        );
+        let mut chunks = Chunks::new(xml.as_bytes()).unwrap();
+        assert_eq!(
+            (chunks.header.driver.as_str(), chunks.header.driver_id),
+            ("Vulkan", Some(8))
+        );
+        assert_eq!(chunks.version, 21);
+        let c = chunks.next_chunk().unwrap().unwrap();
+        assert_eq!((c.ordinal, c.name.as_str()), (1, "vkCreateShaderModule"));
+        let ci = c.root.child("CreateInfo").unwrap();
+        let code = ci.child("pCode").unwrap();
+        assert_eq!((code.byte_length, code.text.as_str()), (Some(1560), "0"));
+        assert_eq!(ci.child("label").unwrap().text, "a & b");
+        assert_eq!(c.root.child("ShaderModule").unwrap().u64(), Some(181));
+        let end = chunks.next_chunk().unwrap().unwrap();
+        assert_eq!(
+            (end.ordinal, end.name.as_str()),
+            (2, "Internal::End of Capture")
+        );
+        assert!(chunks.next_chunk().is_none());
+    }
+
+    #[test]
+    fn damaged_xml_is_located() {
+        assert!(
+            Chunks::new("<html></html>".as_bytes())
+                .unwrap_err()
+                .message
+                .contains("not <rdc>")
+        );
+        assert!(Chunks::new("<rdc><header>".as_bytes()).is_err());
+        let cut = format!("{HEAD}<chunk id=\"1\" name=\"vkCmdDraw\"><uint name=\"x\">3");
+        let mut chunks = Chunks::new(cut.as_bytes()).unwrap();
+        let e = chunks.next_chunk().unwrap().unwrap_err();
+        assert_eq!(e.at.chunk, 1);
+        assert!(e.message.contains("truncated"), "{}", e.message);
+        let deep = format!("{HEAD}<chunk name=\"x\">{}", "<struct>".repeat(100));
+        let mut chunks = Chunks::new(deep.as_bytes()).unwrap();
+        let e = chunks.next_chunk().unwrap().unwrap_err();
+        assert!(e.message.contains("deeper than"), "{}", e.message);
+    }
 }
