@@ -22,6 +22,7 @@ mod import;
 mod inspector;
 mod invalid_corpus;
 mod memory_quality;
+mod rdc_fuzz;
 mod rdc_import;
 mod replay_gpu;
 mod scenes;

@@ -30,8 +30,12 @@ pub struct SideFile {
 struct Extents(BTreeMap<u64, Vec<u8>>);
 
 impl Extents {
+    /// Writes `data` at `offset`; a write that would run past the end of the address space
+    /// (a damaged offset) is no write.
     fn write(&mut self, offset: u64, data: Vec<u8>) {
-        let end = offset + data.len() as u64;
+        let Some(end) = offset.checked_add(data.len() as u64) else {
+            return;
+        };
         // Cut every extent that overlaps [offset, end) down to the parts outside it.
         let overlapping: Vec<u64> = self
             .0
@@ -530,6 +534,10 @@ mod tests {
         );
         assert_eq!(e.read(10, 4), Some(vec![2, 2, 0, 0]));
         assert_eq!(e.read(12, 4), None);
+        assert_eq!(e.0.len(), 3);
+        // A write past the end of the address space (a damaged offset, found by the RenderDoc
+        // fuzz harness) is no write, not an overflow.
+        e.write(u64::MAX - 2, vec![9; 8]);
         assert_eq!(e.0.len(), 3);
     }
 }

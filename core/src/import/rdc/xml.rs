@@ -14,6 +14,8 @@ const MAX_DEPTH: usize = 48;
 const MAX_NODES: usize = 1 << 20;
 /// Longest text of one element.
 const MAX_TEXT: usize = 1 << 20;
+/// Most text in one chunk, all its elements together.
+const MAX_CHUNK_TEXT: usize = 64 << 20;
 
 /// One element: its tag (`struct`, `array`, `uint`, `enum`, `ResourceId`, `buffer`, ...), the
 /// attributes the import reads, its text and its children.
@@ -240,6 +242,7 @@ impl<R: BufRead> Chunks<R> {
     fn tree(&mut self, start: &BytesStart<'_>) -> Result<Node, XmlError> {
         let mut stack = vec![node(start)];
         let mut nodes = 1usize;
+        let mut text_bytes = 0usize;
         loop {
             self.buf.clear();
             let event = match self.reader.read_event_into(&mut self.buf) {
@@ -280,13 +283,13 @@ impl<R: BufRead> Chunks<R> {
                     let text = t
                         .decode()
                         .map_err(|e| fail(self, format!("text is not UTF-8: {e}")))?;
-                    push_text(&mut stack, &text).map_err(|m| fail(self, m))?;
+                    push_text(&mut stack, &text, &mut text_bytes).map_err(|m| fail(self, m))?;
                 }
                 Event::CData(t) => {
                     let text = t
                         .decode()
                         .map_err(|e| fail(self, format!("text is not UTF-8: {e}")))?;
-                    push_text(&mut stack, &text).map_err(|m| fail(self, m))?;
+                    push_text(&mut stack, &text, &mut text_bytes).map_err(|m| fail(self, m))?;
                 }
                 Event::GeneralRef(r) => {
                     let c = match r.resolve_char_ref() {
@@ -305,7 +308,8 @@ impl<R: BufRead> Chunks<R> {
                             }
                         },
                     };
-                    push_text(&mut stack, c.encode_utf8(&mut [0; 4])).map_err(|m| fail(self, m))?;
+                    push_text(&mut stack, c.encode_utf8(&mut [0; 4]), &mut text_bytes)
+                        .map_err(|m| fail(self, m))?;
                 }
                 Event::End(_) => {
                     let Some(mut done) = stack.pop() else {
@@ -331,7 +335,14 @@ impl<R: BufRead> Chunks<R> {
     }
 }
 
-fn push_text(stack: &mut [Node], text: &str) -> Result<(), String> {
+fn push_text(stack: &mut [Node], text: &str, total: &mut usize) -> Result<(), String> {
+    *total += text.len();
+    if *total > MAX_CHUNK_TEXT {
+        return Err(format!(
+            "a chunk with more than {} MiB of text",
+            MAX_CHUNK_TEXT >> 20
+        ));
+    }
     if let Some(top) = stack.last_mut() {
         if top.text.len() + text.len() > MAX_TEXT {
             return Err(format!(
