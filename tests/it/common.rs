@@ -90,3 +90,62 @@ pub fn assert_clean_under_validation_layer(dir: &std::path::Path, args: &[&str])
     });
     assert!(messages.is_empty(), "{args:?}:\n{messages}");
 }
+
+/// Replays one frame of `capture` into `out` and returns the image the frame presented (the
+/// manifest entry marked `presented`, which must be exactly one).
+pub fn replay_presented(capture: &std::path::Path, out: &std::path::Path) -> image::RgbaImage {
+    let run = framelab(&[
+        "replay",
+        capture.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let notes = stderr(&run);
+    assert!(
+        notes.contains(" path"),
+        "{}: the replay names no shader path:\n{notes}",
+        capture.display()
+    );
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let presented: Vec<&serde_json::Value> = m["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|f| f["presented"] == serde_json::Value::Bool(true))
+        .collect();
+    assert_eq!(
+        presented.len(),
+        1,
+        "{}: one presented image",
+        capture.display()
+    );
+    image::open(out.join(presented[0]["file"].as_str().unwrap()))
+        .unwrap()
+        .to_rgba8()
+}
+
+/// Imports each of `captures` into `dir` with `import` and replays two frames of each under
+/// the Khronos validation layer, which must say nothing.
+pub fn replays_clean_under_validation_layer(
+    dir: &std::path::Path,
+    captures: &[&str],
+    import: impl Fn(&str, &std::path::Path) -> PathBuf,
+) {
+    for name in captures {
+        let capture = import(name, dir);
+        assert_clean_under_validation_layer(
+            dir,
+            &[
+                "replay",
+                capture.to_str().unwrap(),
+                "--frames",
+                "2",
+                "--quiet",
+            ],
+        );
+    }
+}

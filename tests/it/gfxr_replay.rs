@@ -7,8 +7,6 @@
 
 use std::path::{Path, PathBuf};
 
-use serde_json::Value;
-
 use crate::common::{framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
@@ -43,58 +41,18 @@ fn import(name: &str, dir: &Path) -> PathBuf {
     capture
 }
 
-fn manifest(out: &Path) -> Vec<Value> {
-    let m: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
-    m["files"].as_array().unwrap().clone()
-}
-
 #[test]
 fn real_frames_replay_to_the_image_they_presented() {
     let mut failures = Vec::new();
     for name in REPLAYED {
         let dir = temp(name);
         let capture = import(name, &dir);
-        let out = dir.join("out");
-        let run = framelab(&[
-            "replay",
-            capture.to_str().unwrap(),
-            "--frames",
-            "1",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert!(run.status.success(), "{name}: {}", stderr(&run));
-        let notes = stderr(&run);
-        assert!(
-            notes.contains(" path"),
-            "{name}: the replay names no shader path:\n{notes}"
-        );
-        let files = manifest(&out);
-        let presented: Vec<&Value> = files
-            .iter()
-            .filter(|f| f["presented"] == Value::Bool(true))
-            .collect();
-        assert_eq!(presented.len(), 1, "{name}: one presented image");
-        let image = image::open(out.join(presented[0]["file"].as_str().unwrap()))
-            .unwrap()
-            .to_rgba8();
+        let image = crate::common::replay_presented(&capture, &dir.join("out"));
         let reference = image::open(gfxr_fixture(&format!("{name}.ref.png")))
             .unwrap()
             .to_rgba8();
-        let c = crate::golden::compare(&image, &reference);
-        eprintln!(
-            "{name}: mean FLIP {:.4}, 99th percentile {:.4}",
-            c.mean, c.p99
-        );
-        if c.mean > crate::golden::MEAN_TOLERANCE || c.p99 > crate::golden::P99_TOLERANCE {
-            failures.push(format!(
-                "{name}: mean FLIP {:.4} (max {}), 99th percentile {:.4} (max {})",
-                c.mean,
-                crate::golden::MEAN_TOLERANCE,
-                c.p99,
-                crate::golden::P99_TOLERANCE
-            ));
+        if let Err(e) = crate::golden::within(name, &image, &reference) {
+            failures.push(e);
         }
         std::fs::remove_dir_all(dir).unwrap();
     }
@@ -106,19 +64,7 @@ fn real_frames_replay_to_the_image_they_presented() {
 #[test]
 fn real_frames_are_clean_under_the_validation_layer() {
     let dir = temp("validation-layer");
-    for name in REPLAYED {
-        let capture = import(name, &dir);
-        crate::common::assert_clean_under_validation_layer(
-            &dir,
-            &[
-                "replay",
-                capture.to_str().unwrap(),
-                "--frames",
-                "2",
-                "--quiet",
-            ],
-        );
-    }
+    crate::common::replays_clean_under_validation_layer(&dir, &REPLAYED, import);
     std::fs::remove_dir_all(dir).unwrap();
 }
 

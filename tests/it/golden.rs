@@ -85,6 +85,27 @@ pub fn assert_matches_golden(actual_path: &Path, golden: &Path) {
     }
 }
 
+/// `image` against `reference` with the golden metric: `Err` naming `what` and both figures
+/// when it is past the tolerance. The figures are printed either way.
+pub fn within(
+    what: &str,
+    image: &image::RgbaImage,
+    reference: &image::RgbaImage,
+) -> Result<(), String> {
+    let c = compare(image, reference);
+    eprintln!(
+        "{what}: mean FLIP {:.4}, 99th percentile {:.4}",
+        c.mean, c.p99
+    );
+    if c.mean > MEAN_TOLERANCE || c.p99 > P99_TOLERANCE {
+        return Err(format!(
+            "{what}: mean FLIP {:.4} (max {MEAN_TOLERANCE}), 99th percentile {:.4} (max {P99_TOLERANCE})",
+            c.mean, c.p99
+        ));
+    }
+    Ok(())
+}
+
 /// Inspector panel snapshots (egui_kittest): a pixel fails when its YIQ distance exceeds
 /// `UI_PIXEL_THRESHOLD` (kittest's default 0.6 absorbs backend anti-aliasing differences);
 /// up to `UI_FAILED_PIXELS` may fail, so a moved separator or a changed label still does.

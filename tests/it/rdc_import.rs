@@ -213,44 +213,10 @@ fn renderdoc_frames_import_as_renderdoc_lists_them() {
     }
 }
 
-/// The replay's presented image (`presented` in the manifest) of `capture`.
-fn replay_presented(capture: &Path, out: &Path) -> image::RgbaImage {
-    let run = framelab(&[
-        "replay",
-        capture.to_str().unwrap(),
-        "--frames",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let m = read(&out.join("manifest.json"));
-    let presented: Vec<&Value> = m["files"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|f| f["presented"] == Value::Bool(true))
-        .collect();
-    assert_eq!(presented.len(), 1, "one presented image");
-    image::open(out.join(presented[0]["file"].as_str().unwrap()))
-        .unwrap()
-        .to_rgba8()
-}
-
 fn within_tolerance(what: &str, image: &image::RgbaImage, reference: &image::RgbaImage) {
-    let c = crate::golden::compare(image, reference);
-    eprintln!(
-        "{what}: mean FLIP {:.4}, 99th percentile {:.4}",
-        c.mean, c.p99
-    );
-    assert!(
-        c.mean <= crate::golden::MEAN_TOLERANCE && c.p99 <= crate::golden::P99_TOLERANCE,
-        "{what}: mean FLIP {:.4} (max {}), 99th percentile {:.4} (max {})",
-        c.mean,
-        crate::golden::MEAN_TOLERANCE,
-        c.p99,
-        crate::golden::P99_TOLERANCE
-    );
+    if let Err(e) = crate::golden::within(what, image, reference) {
+        panic!("{e}");
+    }
 }
 
 #[test]
@@ -258,7 +224,7 @@ fn renderdoc_frames_replay_to_the_image_renderdoc_presented() {
     for name in CAPTURES {
         let dir = temp(&format!("replay-{name}"));
         let (capture, _) = import(&fixture(&format!("{name}.rdc")), &dir, name);
-        let image = replay_presented(&capture, &dir.join("out"));
+        let image = crate::common::replay_presented(&capture, &dir.join("out"));
         let reference = image::open(fixture(&format!("{name}.rdc.ref.png")))
             .unwrap()
             .to_rgba8();
@@ -270,19 +236,9 @@ fn renderdoc_frames_replay_to_the_image_renderdoc_presented() {
 #[test]
 fn renderdoc_frames_are_clean_under_the_validation_layer() {
     let dir = temp("validation-layer");
-    for name in CAPTURES {
-        let (capture, _) = import(&fixture(&format!("{name}.rdc")), &dir, name);
-        crate::common::assert_clean_under_validation_layer(
-            &dir,
-            &[
-                "replay",
-                capture.to_str().unwrap(),
-                "--frames",
-                "2",
-                "--quiet",
-            ],
-        );
-    }
+    crate::common::replays_clean_under_validation_layer(&dir, &CAPTURES, |name, dir| {
+        import(&fixture(&format!("{name}.rdc")), dir, name).0
+    });
     std::fs::remove_dir_all(dir).unwrap();
 }
 
@@ -376,8 +332,8 @@ fn renderdoc_and_gfxreconstruct_captures_of_one_frame_agree() {
         v
     };
     assert_eq!(used(&ca), used(&cb));
-    let ia = replay_presented(&a, &dir.join("out-rdc"));
-    let ib = replay_presented(&b, &dir.join("out-gfxr"));
+    let ia = crate::common::replay_presented(&a, &dir.join("out-rdc"));
+    let ib = crate::common::replay_presented(&b, &dir.join("out-gfxr"));
     within_tolerance("RenderDoc against GFXReconstruct", &ia, &ib);
     // And the structural diff sees no pass added or removed.
     let diff = framelab(&[
