@@ -26,4 +26,5 @@ mod rdc_fuzz;
 mod rdc_import;
 mod replay_gpu;
 mod scenes;
+mod sync_layer;
 mod synthetic_scale;

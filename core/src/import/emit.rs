@@ -396,6 +396,7 @@ pub fn emit(
             not_replayable: Some(
                 "GFXReconstruct's JSON holds no shader code (only each module's size and a pointer), so the passes have nothing to run".to_owned(),
             ),
+            sync_hazards: None,
         }),
     };
     Emitted {

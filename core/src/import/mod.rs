@@ -17,6 +17,7 @@ mod record;
 mod render_pass;
 mod state;
 mod stream;
+mod sync;
 mod value;
 mod vk_work;
 
@@ -91,6 +92,8 @@ pub struct Summary {
     pub heaps: usize,
     pub queues: usize,
     pub recorded_barriers: u64,
+    /// Synchronization hazards found in the imported command stream.
+    pub sync_hazards: usize,
     pub fences: usize,
     pub skipped: Vec<Skipped>,
     /// Calls of functions that create or record nothing framelab models, by name.
@@ -159,6 +162,8 @@ struct Importer {
     /// first imported submission (a trimmed capture's state snapshot, memory fills).
     last_index: u64,
     hidden_blocks: bool,
+    /// Vulkan's synchronization rules over the imported frames' submissions.
+    sync: sync::Sync,
 }
 
 impl Importer {
@@ -270,6 +275,15 @@ impl Importer {
             };
             let (waits, cbs, signals) = (handles(waits)?, handles(cbs)?, handles(signals)?);
             self.submitted_in_frame |= !cbs.is_empty();
+            if self.builder.emitting() {
+                self.sync.submit(
+                    &self.objects,
+                    &self.pipelines,
+                    &self.recordings,
+                    waits.len(),
+                    &cbs,
+                );
+            }
             self.builder.submit(
                 &self.objects,
                 &self.recordings,
@@ -435,6 +449,7 @@ impl Importer {
             dialect: None,
             last_index: 0,
             hidden_blocks: false,
+            sync: sync::Sync::default(),
         }
     }
 
@@ -489,6 +504,14 @@ fn finish(
     );
     imp.builder.keep_alive(&imp.objects);
     let names = imp.builder.names.clone();
+    let (hazards, hazards_dropped) = imp.sync.hazards(|h| names.get(&h).cloned());
+    if hazards_dropped > 0 {
+        skipped.push(Skipped {
+            what: "synchronization hazards past the first 10000 (not listed)".to_owned(),
+            count: hazards_dropped,
+            first_line: None,
+        });
+    }
     let pipelines_used = std::mem::take(&mut imp.builder.pipelines_used);
     let uploads = std::mem::take(&mut imp.builder.uploads);
     let views_used = std::mem::take(&mut imp.builder.views_used);
@@ -564,6 +587,10 @@ fn finish(
         });
     }
     capture.vulkan = (vulkan != Default::default()).then_some(vulkan);
+    let hazard_count = hazards.len();
+    if let Some(source) = &mut capture.source {
+        source.sync_hazards = Some(hazards);
+    }
     let mut side_files = Vec::new();
     let (mut shader_modules, mut contents) = (None, None);
     if let Some(x) = extras {
@@ -636,6 +663,7 @@ fn finish(
         heaps: capture.heaps.len(),
         queues: capture.queues.len(),
         recorded_barriers,
+        sync_hazards: hazard_count,
         fences: capture.fences.len(),
         skipped,
         not_modelled,

@@ -54,6 +54,19 @@ fn float(a: &Arg<'_>, key: &str) -> Got<f32> {
 }
 
 impl Pipelines {
+    /// The `VkShaderStageFlags` of binding `binding` of set `set` in pipeline `pipeline`'s
+    /// layout.
+    pub fn binding_stages(&self, pipeline: u64, set: u32, binding: u32) -> Option<u32> {
+        let made = self.pipelines.get(&pipeline)?;
+        let (_, sets) = self.layouts.get(&made.layout)?;
+        let (layout, _) = self.set_layouts.get(sets.get(set as usize)?)?;
+        layout
+            .bindings
+            .iter()
+            .find(|b| b.binding == binding)
+            .map(|b| b.stages)
+    }
+
     /// Applies a call that creates a pipeline object; `Ok(false)` for other calls.
     pub fn apply(&mut self, func: Func, args: &Arg<'_>) -> Got<bool> {
         match func {

@@ -45,6 +45,9 @@ const MAX_PUSH_BYTES: u32 = 256;
 #[derive(Default, Debug)]
 pub struct Recording {
     pub cmds: Vec<Cmd>,
+    /// Each command's call and its index in the stream (`vkCmdDraw #164`), for findings
+    /// that name the command.
+    pub at: Vec<String>,
     bound: Bound,
 }
 
@@ -170,7 +173,7 @@ impl Recording {
             }
             CmdFunc::Draw { indexed } => self.draw_call(indexed, args)?,
             CmdFunc::DrawIndirect { indexed } => {
-                return self.draw_indirect(indexed, args).map(|()| true);
+                return self.draw_indirect(indexed, args, &origin()).map(|()| true);
             }
             CmdFunc::Dispatch => Cmd::Dispatch(Box::new(DispatchCmd {
                 groups: Some([
@@ -264,6 +267,7 @@ impl Recording {
             CmdFunc::Other => return Ok(false),
         };
         self.cmds.push(cmd);
+        self.at.push(origin());
         Ok(true)
     }
 
@@ -440,7 +444,7 @@ impl Recording {
     }
 
     /// An indirect draw becomes one draw per record, each reading its own arguments.
-    fn draw_indirect(&mut self, indexed: bool, args: &Arg<'_>) -> Got<()> {
+    fn draw_indirect(&mut self, indexed: bool, args: &Arg<'_>, origin: &str) -> Got<()> {
         let buffer = args.get("buffer")?.handle()?;
         let offset = args.get("offset")?.u64()?;
         let draws = args.get("drawCount")?.u32()?;
@@ -454,6 +458,7 @@ impl Recording {
             let at = offset.saturating_add(k.saturating_mul(stride));
             self.cmds
                 .push(Cmd::Draw(Box::new(self.draw(indexed, Some((buffer, at))))));
+            self.at.push(origin.to_owned());
         }
         Ok(())
     }

@@ -247,8 +247,10 @@ fn attachment_barriers(
         mips: (image.base_mip, image.mip_count),
         layers: (image.base_layer, image.layer_count),
     };
-    // The external dependency orders the attachment against earlier work even where the
-    // layout stays; at the end only a layout change or a declared dependency does anything.
+    // A declared external dependency orders the attachment against earlier (or later) work
+    // even where the layout stays; the implicit one exists only where the layout changes
+    // (Vulkan's render pass chapter: "only exists if there exists an automatic layout
+    // transition away from initialLayout", and likewise into finalLayout).
     let transition = |from: Option<ImageLayout>,
                       to: Option<ImageLayout>,
                       dep: &Dependency,
@@ -286,7 +288,7 @@ fn attachment_barriers(
     };
     let begin = layout_in(first).and_then(|l| {
         let dep = declared_in.clone().unwrap_or_else(|| implicit(true));
-        transition(d.initial, l, &dep, in_what, true)
+        transition(d.initial, l, &dep, in_what, declared_in.is_some())
     });
     let end = layout_in(last).and_then(|l| {
         let dep = declared_out.clone().unwrap_or_else(|| implicit(false));

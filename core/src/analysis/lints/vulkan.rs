@@ -252,6 +252,51 @@ pub(super) fn compare_vulkan(
     model: &FrameModel,
     uses: &[Vec<(&PassDesc, &ResourceAccess)>],
 ) -> Vec<Lint> {
+    let mut out = pass_level(capture, model, uses);
+    // Where the import checked the command stream by Vulkan's synchronization rules, its
+    // findings are the missing barriers: they name the command, the subresource and both
+    // accesses, which the pass-level comparison cannot.
+    if let Some(hazards) = capture
+        .origin
+        .as_ref()
+        .and_then(|o| o.sync_hazards.as_ref())
+    {
+        out.retain(|l| l.kind != LintKind::BarrierMissing);
+        for h in hazards {
+            let resource = capture
+                .resources
+                .iter()
+                .find(|r| r.name == h.resource)
+                .map(|r| r.id);
+            let sub = match (h.mip, h.layer) {
+                (Some(m), Some(l)) => format!(" mip {m} layer {l}"),
+                _ => String::new(),
+            };
+            out.push(lint(
+                LintKind::BarrierMissing,
+                format!(
+                    "{}: {} hazard on \"{}\"{sub}: {} after the {} of {}, with no execution and memory dependency between them",
+                    h.command,
+                    h.kind.as_str(),
+                    h.resource,
+                    h.access,
+                    h.prior,
+                    h.prior_command
+                ),
+                None,
+                resource,
+            ));
+        }
+    }
+    out
+}
+
+/// The pass-level comparison of the barriers each resource's uses need with those recorded.
+fn pass_level(
+    capture: &Capture,
+    model: &FrameModel,
+    uses: &[Vec<(&PassDesc, &ResourceAccess)>],
+) -> Vec<Lint> {
     let mut out = Vec::new();
     let recorded: Vec<Recorded<'_>> = capture
         .passes
@@ -374,8 +419,14 @@ pub(super) fn compare_vulkan(
         }
     }
     for &(p, i, r, v, _) in &recorded {
-        // Render pass dependencies are not the application's to drop.
-        if used.contains(&(p, i)) || r.is_none() || v.origin.starts_with("vkCmdBeginRenderPass") {
+        // Render pass dependencies are not the application's to drop, and a barrier that
+        // changes an image's layout does something whatever it orders.
+        let transition = matches!((v.old_layout, v.new_layout), (Some(a), Some(b)) if a != b);
+        if used.contains(&(p, i))
+            || r.is_none()
+            || transition
+            || v.origin.starts_with("vkCmdBeginRenderPass")
+        {
             continue;
         }
         let what = match (v.old_layout, v.new_layout) {

@@ -96,6 +96,55 @@ pub struct CaptureSource {
     /// with this reason.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub not_replayable: Option<String>,
+    /// The synchronization hazards of the imported command stream, found at import by
+    /// Vulkan's synchronization rules command by command; absent where the stream was not
+    /// checked. `analyze` reports each as `FL020 barrier-missing`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sync_hazards: Option<Vec<SyncHazard>>,
+}
+
+/// A pair of accesses to one resource that no dependency orders, as the Khronos
+/// synchronization validation names them.
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize, JsonSchema,
+)]
+#[serde(rename_all = "SCREAMING_SNAKE_CASE")]
+pub enum HazardKind {
+    ReadAfterWrite,
+    WriteAfterRead,
+    WriteAfterWrite,
+}
+
+impl HazardKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            HazardKind::ReadAfterWrite => "READ_AFTER_WRITE",
+            HazardKind::WriteAfterRead => "WRITE_AFTER_READ",
+            HazardKind::WriteAfterWrite => "WRITE_AFTER_WRITE",
+        }
+    }
+}
+
+/// One synchronization hazard of an imported stream: the command that makes the later access
+/// (by its call and index in the stream), the resource and subresource, and both accesses
+/// with their stage and access type.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SyncHazard {
+    pub kind: HazardKind,
+    /// `vkCmdBeginRenderPass #236`.
+    pub command: String,
+    pub resource: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mip: Option<u32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer: Option<u32>,
+    /// The later access: `COLOR_ATTACHMENT_OUTPUT/COLOR_ATTACHMENT_READ (load op LOAD)`.
+    pub access: String,
+    /// The earlier access it is not ordered with.
+    pub prior: String,
+    /// The command that made the earlier access.
+    pub prior_command: String,
 }
 
 /// A graphics API a capture was recorded from.

@@ -1,0 +1,851 @@
+//! Vulkan's synchronization rules applied to the imported command stream, command by command,
+//! as the specification's synchronization chapter defines them: each access (a draw's or a
+//! dispatch's descriptors, vertex, index and indirect buffers; a copy's source and destination;
+//! a render pass's load and store operations; an image layout transition, which is a write)
+//! happens at a pipeline stage with an access type, and two accesses to the same memory of
+//! which one writes need a dependency between them: an execution dependency whose first
+//! synchronization scope reaches the earlier access and whose second reaches the later one,
+//! and, after a write, a memory dependency that makes the write available (its access in the
+//! first access scope, or an earlier barrier that did, chained) and visible to the later
+//! access (in the second access scope).
+//!
+//! Pipeline barriers, a render pass's external dependencies and its layout transitions order
+//! accesses; semaphore waits order everything submitted before them. Accesses to one
+//! attachment inside one render pass instance are ordered by the load and store operations
+//! and rasterization order, which the specification guarantees within a subpass only: two
+//! render passes on the same attachment need a dependency of their own. What existed before
+//! the imported frames is initial contents, not an access.
+//!
+//! Images are tracked per mip and layer, buffers whole. A finding names the command by its
+//! index in the captured stream, the resource and subresource, and both accesses.
+
+use std::collections::{BTreeMap, HashMap};
+
+use super::commands::{BarrierCmd, BarrierTarget, Cmd, RenderInstance, TransferCmd, Use};
+use super::pipelines::Pipelines;
+use super::record::Recording;
+use super::state::{Descriptor, Objects};
+use crate::capture::format::{HazardKind, SyncHazard};
+use crate::capture::vulkan::{AccessFlags as A, PipelineStages as S};
+
+/// Most subresources (mips x layers) of one image tracked one by one; an image with more is
+/// tracked as its first mip and layer stand for all.
+const MAX_UNITS: u32 = 4096;
+/// Most findings kept; the rest are counted.
+const MAX_HAZARDS: usize = 10_000;
+
+/// The stages of each pipeline in their logical order: a stage's "earlier" stages come first.
+const ORDERS: [&[S]; 3] = [
+    &[
+        S::TOP_OF_PIPE,
+        S::DRAW_INDIRECT,
+        S::VERTEX_INPUT,
+        S::VERTEX_SHADER,
+        S::TESSELLATION_CONTROL_SHADER,
+        S::TESSELLATION_EVALUATION_SHADER,
+        S::GEOMETRY_SHADER,
+        S::EARLY_FRAGMENT_TESTS,
+        S::FRAGMENT_SHADER,
+        S::LATE_FRAGMENT_TESTS,
+        S::COLOR_ATTACHMENT_OUTPUT,
+        S::BOTTOM_OF_PIPE,
+    ],
+    &[
+        S::TOP_OF_PIPE,
+        S::DRAW_INDIRECT,
+        S::COMPUTE_SHADER,
+        S::BOTTOM_OF_PIPE,
+    ],
+    &[S::TOP_OF_PIPE, S::TRANSFER, S::BOTTOM_OF_PIPE],
+];
+
+/// A stage with the parts the `*2` enum splits it into, so one bit stands for them all.
+fn canonical(s: S) -> S {
+    let mut out = s.expand();
+    if out.intersects(S::TRANSFER_PARTS) {
+        out |= S::TRANSFER;
+    }
+    if out.intersects(S::VERTEX_INPUT_PARTS) {
+        out |= S::VERTEX_INPUT;
+    }
+    if out.intersects(S::PRE_RASTERIZATION_SHADERS) {
+        out |= S::PRE_RASTERIZATION_PARTS;
+    }
+    out
+}
+
+/// A first synchronization scope: the stages and every stage logically earlier.
+fn earlier(s: S) -> S {
+    let s = canonical(s);
+    let mut out = s;
+    for order in ORDERS {
+        if let Some(last) = order.iter().rposition(|x| s.intersects(*x)) {
+            for x in &order[..=last] {
+                out |= *x;
+            }
+        }
+    }
+    out
+}
+
+/// A second synchronization scope: the stages and every stage logically later.
+fn later(s: S) -> S {
+    let s = canonical(s);
+    let mut out = s;
+    for order in ORDERS {
+        if let Some(first) = order.iter().position(|x| s.intersects(*x)) {
+            for x in &order[first..] {
+                out |= *x;
+            }
+        }
+    }
+    out
+}
+
+/// One access: where, what, by which command.
+#[derive(Clone, Debug)]
+struct Access {
+    stage: S,
+    access: A,
+    command: String,
+    what: String,
+}
+
+impl Access {
+    fn describe(&self) -> String {
+        if self.stage.is_empty() {
+            return self.what.clone();
+        }
+        format!("{}/{} ({})", self.stage, self.access, self.what)
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Write {
+    access: Access,
+    /// Stages ordered after the write (execution dependencies, chained).
+    exec: S,
+    /// Scopes the write has been made visible to.
+    visible: Vec<(S, A)>,
+}
+
+#[derive(Clone, Debug)]
+struct Read {
+    access: Access,
+    /// Stages ordered after the read.
+    exec: S,
+}
+
+#[derive(Clone, Debug, Default)]
+struct State {
+    write: Option<Write>,
+    reads: Vec<Read>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+enum Key {
+    Buffer(u64),
+    Image { image: u64, mip: u32, layer: u32 },
+}
+
+/// The first synchronization and access scope of a dependency, and its second.
+#[derive(Clone, Copy, Debug)]
+struct Dep {
+    src: S,
+    src_access: A,
+    dst: S,
+    dst_access: A,
+}
+
+impl Dep {
+    fn of(b: &BarrierCmd) -> Self {
+        Dep {
+            src: earlier(b.src_stages),
+            src_access: b.src_access.expand(),
+            dst: later(b.dst_stages),
+            dst_access: b.dst_access.expand(),
+        }
+    }
+
+    /// Everything before, everything after: a semaphore wait's effect on one queue.
+    fn full() -> Self {
+        Dep {
+            src: S::from_bits(u64::MAX),
+            src_access: A::from_bits(u64::MAX),
+            dst: S::from_bits(u64::MAX),
+            dst_access: A::from_bits(u64::MAX),
+        }
+    }
+}
+
+/// The checker's state across the imported frames' submissions.
+#[derive(Debug, Default)]
+pub struct Sync {
+    states: HashMap<Key, State>,
+    found: BTreeMap<(String, u64, HazardKind), (Key, Access, Access)>,
+    dropped: u64,
+}
+
+impl State {
+    /// `a` reads: after a write it must be visible to it.
+    fn read(&mut self, a: Access) -> Option<(HazardKind, Access)> {
+        let hazard = self.write.as_ref().and_then(|w| {
+            let seen = w
+                .visible
+                .iter()
+                .any(|(s, x)| s.intersects(a.stage) && x.intersects(a.access));
+            (!seen).then(|| (HazardKind::ReadAfterWrite, w.access.clone()))
+        });
+        match self.reads.iter_mut().find(|r| r.access.stage == a.stage) {
+            Some(r) => {
+                r.access = a;
+                r.exec = S::EMPTY;
+            }
+            None => self.reads.push(Read {
+                access: a,
+                exec: S::EMPTY,
+            }),
+        }
+        hazard
+    }
+
+    /// `a` writes: reads since the last write must be ordered before it, else the last
+    /// write must be visible to it.
+    fn write(&mut self, a: Access) -> Option<(HazardKind, Access)> {
+        let hazard = if let Some(r) = self.reads.iter().find(|r| !r.exec.intersects(a.stage)) {
+            Some((HazardKind::WriteAfterRead, r.access.clone()))
+        } else if self.reads.is_empty() {
+            self.write.as_ref().and_then(|w| {
+                let seen = w
+                    .visible
+                    .iter()
+                    .any(|(s, x)| s.intersects(a.stage) && x.intersects(a.access));
+                (!seen).then(|| (HazardKind::WriteAfterWrite, w.access.clone()))
+            })
+        } else {
+            None
+        };
+        self.write = Some(Write {
+            access: a,
+            exec: S::EMPTY,
+            visible: Vec::new(),
+        });
+        self.reads.clear();
+        hazard
+    }
+
+    /// A memory dependency without a layout transition.
+    fn depend(&mut self, d: &Dep) {
+        if let Some(w) = &mut self.write {
+            let in_scope = d.src.intersects(w.access.stage) || w.exec.intersects(d.src);
+            if in_scope {
+                // The write is made available by this barrier (its access in the first
+                // access scope) or was by an earlier one this barrier chains to.
+                let available = d.src_access.intersects(w.access.access) || !w.visible.is_empty();
+                w.exec |= d.dst;
+                if available {
+                    w.visible.push((d.dst, d.dst_access));
+                }
+            }
+        }
+        for r in &mut self.reads {
+            if d.src.intersects(r.access.stage) || r.exec.intersects(d.src) {
+                r.exec |= d.dst;
+            }
+        }
+    }
+
+    /// A layout transition: a write ordered after what the first scopes reach, visible to
+    /// the second.
+    fn transition(&mut self, d: &Dep, a: Access) -> Option<(HazardKind, Access)> {
+        let hazard = if let Some(r) = self
+            .reads
+            .iter()
+            .find(|r| !(d.src.intersects(r.access.stage) || r.exec.intersects(d.src)))
+        {
+            Some((HazardKind::WriteAfterRead, r.access.clone()))
+        } else {
+            self.write.as_ref().and_then(|w| {
+                let exec = d.src.intersects(w.access.stage) || w.exec.intersects(d.src);
+                let available = d.src_access.intersects(w.access.access)
+                    || w.visible.iter().any(|(s, _)| s.intersects(d.src));
+                (!(exec && available)).then(|| (HazardKind::WriteAfterWrite, w.access.clone()))
+            })
+        };
+        self.write = Some(Write {
+            access: a,
+            exec: d.dst,
+            visible: vec![(d.dst, d.dst_access)],
+        });
+        self.reads.clear();
+        hazard
+    }
+}
+
+/// Which shader stages of the bound pipeline can reach a binding (its set layout's stages),
+/// as pipeline stages.
+fn shader_stages(flags: u32, compute: bool) -> S {
+    if compute {
+        return S::COMPUTE_SHADER;
+    }
+    let mut s = S::EMPTY;
+    for (bit, stage) in [
+        (0x1, S::VERTEX_SHADER),
+        (0x2, S::TESSELLATION_CONTROL_SHADER),
+        (0x4, S::TESSELLATION_EVALUATION_SHADER),
+        (0x8, S::GEOMETRY_SHADER),
+        (0x10, S::FRAGMENT_SHADER),
+    ] {
+        if flags & bit != 0 {
+            s |= stage;
+        }
+    }
+    if s.is_empty() {
+        S::VERTEX_SHADER | S::FRAGMENT_SHADER
+    } else {
+        s
+    }
+}
+
+/// The single stages of a set.
+fn stages_of(s: S) -> impl Iterator<Item = S> {
+    (0..64)
+        .map(|b| S::from_bits(1u64 << b))
+        .filter(move |x| s.intersects(*x))
+}
+
+impl Sync {
+    /// The mips and layers of `image` a range names (`None` counts: to the end).
+    fn image_keys(
+        objects: &Objects,
+        image: u64,
+        mips: (u32, Option<u32>),
+        layers: (u32, Option<u32>),
+    ) -> Vec<Key> {
+        let (total_mips, total_layers) = objects
+            .images
+            .get(&image)
+            .map_or((1, 1), |i| (i.mips.max(1), i.layers.max(1)));
+        if total_mips.saturating_mul(total_layers) > MAX_UNITS {
+            return vec![Key::Image {
+                image,
+                mip: 0,
+                layer: 0,
+            }];
+        }
+        let m_end = mips
+            .1
+            .map_or(total_mips, |c| mips.0.saturating_add(c))
+            .min(total_mips);
+        let l_end = layers
+            .1
+            .map_or(total_layers, |c| layers.0.saturating_add(c))
+            .min(total_layers);
+        let mut out = Vec::new();
+        for mip in mips.0..m_end {
+            for layer in layers.0..l_end {
+                out.push(Key::Image { image, mip, layer });
+            }
+        }
+        out
+    }
+
+    fn view_keys(objects: &Objects, view: u64) -> Vec<Key> {
+        match objects.views.get(&view) {
+            Some(v) => Self::image_keys(
+                objects,
+                v.image,
+                (v.base_mip, v.mip_count),
+                (v.base_layer, v.layer_count),
+            ),
+            None => Vec::new(),
+        }
+    }
+
+    fn note(&mut self, command: &str, key: Key, kind: HazardKind, access: Access, prior: Access) {
+        let id = match key {
+            Key::Buffer(b) => b,
+            Key::Image { image, .. } => image,
+        };
+        let k = (command.to_owned(), id, kind);
+        if self.found.contains_key(&k) {
+            return;
+        }
+        if self.found.len() >= MAX_HAZARDS {
+            self.dropped += 1;
+            return;
+        }
+        self.found.insert(k, (key, access, prior));
+    }
+
+    fn access(&mut self, keys: &[Key], write: bool, a: &Access) {
+        for &key in keys {
+            let st = self.states.entry(key).or_default();
+            let hazard = if write {
+                st.write(a.clone())
+            } else {
+                st.read(a.clone())
+            };
+            if let Some((kind, prior)) = hazard {
+                self.note(&a.command, key, kind, a.clone(), prior);
+            }
+        }
+    }
+
+    fn barrier(&mut self, objects: &Objects, b: &BarrierCmd) {
+        let d = Dep::of(b);
+        let keys: Vec<Key> = match &b.target {
+            BarrierTarget::Global => self.states.keys().copied().collect(),
+            BarrierTarget::Buffer { buffer } => vec![Key::Buffer(*buffer)],
+            BarrierTarget::Image {
+                image,
+                mips,
+                layers,
+            } => Self::image_keys(objects, *image, *mips, *layers),
+        };
+        let transition = b.layouts.filter(|(from, to)| from != to);
+        for key in keys {
+            let st = self.states.entry(key).or_default();
+            match transition {
+                Some((from, to)) => {
+                    let a = Access {
+                        stage: S::EMPTY,
+                        access: A::EMPTY,
+                        command: b.origin.clone(),
+                        what: format!("layout transition {from} -> {to}"),
+                    };
+                    if let Some((kind, prior)) = st.transition(&d, a.clone()) {
+                        self.note(&b.origin, key, kind, a, prior);
+                    }
+                }
+                None => st.depend(&d),
+            }
+        }
+    }
+
+    /// Everything so far is ordered before what follows (a semaphore wait).
+    fn wait_all(&mut self) {
+        let d = Dep::full();
+        for st in self.states.values_mut() {
+            st.depend(&d);
+        }
+    }
+
+    fn descriptor(
+        &mut self,
+        objects: &Objects,
+        pipelines: &Pipelines,
+        pipeline: Option<u64>,
+        u: &Use,
+        compute: bool,
+        command: &str,
+    ) {
+        let flags = pipeline
+            .and_then(|p| pipelines.binding_stages(p, u.set, u.binding))
+            .unwrap_or(0);
+        let stages = shader_stages(flags, compute);
+        let (keys, ty) = match &u.descriptor {
+            Descriptor::Image { view, ty, .. } => (Self::view_keys(objects, *view), ty.as_str()),
+            Descriptor::Buffer { buffer, ty, .. } => (vec![Key::Buffer(*buffer)], ty.as_str()),
+            Descriptor::TexelBuffer { view, ty } => (
+                objects
+                    .buffer_views
+                    .get(view)
+                    .map(|(b, _, _)| vec![Key::Buffer(*b)])
+                    .unwrap_or_default(),
+                ty.as_str(),
+            ),
+            Descriptor::Sampler { .. } => return,
+        };
+        let kind = ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
+        // Whether a shader reads or writes a storage binding is in its code, not in the
+        // stream: a storage access is satisfied by a dependency that covers either, and is
+        // not taken for a write, so no hazard is claimed on an access the shader may not make.
+        let (access, write) = match kind {
+            "STORAGE_IMAGE"
+            | "STORAGE_BUFFER"
+            | "STORAGE_BUFFER_DYNAMIC"
+            | "STORAGE_TEXEL_BUFFER" => (A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE, false),
+            "UNIFORM_BUFFER" | "UNIFORM_BUFFER_DYNAMIC" => (A::UNIFORM_READ, false),
+            "INPUT_ATTACHMENT" => (A::INPUT_ATTACHMENT_READ, false),
+            _ => (A::SHADER_SAMPLED_READ, false),
+        };
+        for stage in stages_of(stages) {
+            let a = Access {
+                stage,
+                access,
+                command: command.to_owned(),
+                what: format!("set {} binding {} ({kind})", u.set, u.binding),
+            };
+            self.access(&keys, write, &a);
+        }
+    }
+
+    fn load_ops(&mut self, objects: &Objects, ri: &RenderInstance, command: &str) {
+        let Some(first) = ri.subpasses.first() else {
+            return;
+        };
+        for c in &first.colors {
+            let keys = Self::view_keys(objects, c.view);
+            let load = c.load.trim_start_matches("VK_ATTACHMENT_LOAD_OP_");
+            let (access, write) = match load {
+                "LOAD" => (A::COLOR_ATTACHMENT_READ, false),
+                "NONE_EXT" | "NONE_KHR" | "NONE" => continue,
+                _ => (A::COLOR_ATTACHMENT_WRITE, true),
+            };
+            let a = Access {
+                stage: S::COLOR_ATTACHMENT_OUTPUT,
+                access,
+                command: command.to_owned(),
+                what: format!("load op {load}"),
+            };
+            self.access(&keys, write, &a);
+        }
+        if let Some(d) = &first.depth {
+            let keys = Self::view_keys(objects, d.view);
+            let load = d.load.trim_start_matches("VK_ATTACHMENT_LOAD_OP_");
+            let (access, write) = match load {
+                "LOAD" => (A::DEPTH_STENCIL_ATTACHMENT_READ, false),
+                "NONE_EXT" | "NONE_KHR" | "NONE" => (A::EMPTY, false),
+                _ => (A::DEPTH_STENCIL_ATTACHMENT_WRITE, true),
+            };
+            if !access.is_empty() {
+                let a = Access {
+                    stage: S::EARLY_FRAGMENT_TESTS,
+                    access,
+                    command: command.to_owned(),
+                    what: format!("depth load op {load}"),
+                };
+                self.access(&keys, write, &a);
+            }
+        }
+    }
+
+    /// Store operations write at the end of the render pass, ordered after the pass's own
+    /// accesses by the render pass itself.
+    fn store_ops(&mut self, objects: &Objects, ri: &RenderInstance, command: &str) {
+        let Some(last) = ri.subpasses.last() else {
+            return;
+        };
+        let mut stores = Vec::new();
+        for c in &last.colors {
+            stores.push((
+                c.view,
+                c.store.clone(),
+                S::COLOR_ATTACHMENT_OUTPUT,
+                A::COLOR_ATTACHMENT_WRITE,
+            ));
+        }
+        if let Some(d) = &last.depth {
+            stores.push((
+                d.view,
+                d.store.clone(),
+                S::LATE_FRAGMENT_TESTS,
+                A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            ));
+        }
+        for (view, store, stage, access) in stores {
+            let store = store
+                .trim_start_matches("VK_ATTACHMENT_STORE_OP_")
+                .to_owned();
+            if store.starts_with("NONE") {
+                continue;
+            }
+            for key in Self::view_keys(objects, view) {
+                let st = self.states.entry(key).or_default();
+                st.write = Some(Write {
+                    access: Access {
+                        stage,
+                        access,
+                        command: command.to_owned(),
+                        what: format!("store op {store}"),
+                    },
+                    exec: S::EMPTY,
+                    visible: Vec::new(),
+                });
+                st.reads.clear();
+            }
+        }
+    }
+
+    fn transfer(&mut self, objects: &Objects, t: &TransferCmd, command: &str) {
+        let buffer_or_image = |h: u64| -> Vec<Key> {
+            if objects.images.contains_key(&h) {
+                Self::image_keys(objects, h, (0, None), (0, None))
+            } else {
+                vec![Key::Buffer(h)]
+            }
+        };
+        let mk = |access: A, what: &str| Access {
+            stage: S::TRANSFER,
+            access,
+            command: command.to_owned(),
+            what: what.to_owned(),
+        };
+        match t {
+            TransferCmd::Copy {
+                src, dst, regions, ..
+            } => {
+                let keys = |h: u64, pick: &dyn Fn(&super::commands::Region) -> (u32, u32)| {
+                    if objects.images.contains_key(&h) {
+                        let mut k: Vec<Key> = regions
+                            .iter()
+                            .flat_map(|r| {
+                                let (m, l) = pick(r);
+                                Self::image_keys(objects, h, (m, Some(1)), (l, Some(1)))
+                            })
+                            .collect();
+                        k.sort_unstable();
+                        k.dedup();
+                        k
+                    } else {
+                        vec![Key::Buffer(h)]
+                    }
+                };
+                let s = keys(*src, &|r| (r.src_mip, r.src_layer));
+                let d = keys(*dst, &|r| (r.dst_mip, r.dst_layer));
+                self.access(&s, false, &mk(A::TRANSFER_READ, "copy source"));
+                self.access(&d, true, &mk(A::TRANSFER_WRITE, "copy destination"));
+            }
+            TransferCmd::Clear { target, ranges, .. } => {
+                let keys: Vec<Key> = ranges
+                    .iter()
+                    .flat_map(|(m, l)| Self::image_keys(objects, *target, *m, *l))
+                    .collect();
+                self.access(&keys, true, &mk(A::TRANSFER_WRITE, "clear"));
+            }
+            TransferCmd::Fill { buffer, update } => {
+                let what = if *update { "update" } else { "fill" };
+                self.access(&[Key::Buffer(*buffer)], true, &mk(A::TRANSFER_WRITE, what));
+            }
+            TransferCmd::Resolve { src, dst } => {
+                let (s, d) = (buffer_or_image(*src), buffer_or_image(*dst));
+                self.access(&s, false, &mk(A::TRANSFER_READ, "resolve source"));
+                self.access(&d, true, &mk(A::TRANSFER_WRITE, "resolve destination"));
+            }
+        }
+    }
+
+    fn walk(
+        &mut self,
+        objects: &Objects,
+        pipelines: &Pipelines,
+        recordings: &HashMap<u64, Recording>,
+        r: &Recording,
+        depth: u32,
+    ) {
+        let mut render: Option<(&RenderInstance, &str)> = None;
+        for (i, cmd) in r.cmds.iter().enumerate() {
+            let command = r.at.get(i).map_or("(command)", String::as_str);
+            match cmd {
+                Cmd::Barrier(bs) => {
+                    for b in bs {
+                        self.barrier(objects, b);
+                    }
+                }
+                Cmd::BeginRender(ri) => {
+                    for b in &ri.begin_barriers {
+                        self.barrier(objects, b);
+                    }
+                    self.load_ops(objects, ri, command);
+                    render = Some((ri, command));
+                }
+                Cmd::EndRender => {
+                    if let Some((ri, _)) = render.take() {
+                        self.store_ops(objects, ri, command);
+                        for b in &ri.end_barriers {
+                            self.barrier(objects, b);
+                        }
+                    }
+                }
+                Cmd::Draw(d) => {
+                    for u in &d.uses {
+                        self.descriptor(objects, pipelines, d.pipeline, u, false, command);
+                    }
+                    let read = |access: A, what: &str| Access {
+                        stage: S::VERTEX_INPUT,
+                        access,
+                        command: command.to_owned(),
+                        what: what.to_owned(),
+                    };
+                    for (binding, buffer, _) in &d.vertex_buffers {
+                        let a = read(
+                            A::VERTEX_ATTRIBUTE_READ,
+                            &format!("vertex buffer {binding}"),
+                        );
+                        self.access(&[Key::Buffer(*buffer)], false, &a);
+                    }
+                    if let Some((buffer, _, _)) = &d.index_buffer {
+                        let a = read(A::INDEX_READ, "index buffer");
+                        self.access(&[Key::Buffer(*buffer)], false, &a);
+                    }
+                    if let Some((buffer, _)) = d.indirect {
+                        let a = Access {
+                            stage: S::DRAW_INDIRECT,
+                            access: A::INDIRECT_COMMAND_READ,
+                            command: command.to_owned(),
+                            what: "indirect arguments".to_owned(),
+                        };
+                        self.access(&[Key::Buffer(buffer)], false, &a);
+                    }
+                }
+                Cmd::Dispatch(d) => {
+                    for u in &d.uses {
+                        self.descriptor(objects, pipelines, d.pipeline, u, true, command);
+                    }
+                    if let Some((buffer, _)) = d.indirect {
+                        let a = Access {
+                            stage: S::DRAW_INDIRECT,
+                            access: A::INDIRECT_COMMAND_READ,
+                            command: command.to_owned(),
+                            what: "indirect arguments".to_owned(),
+                        };
+                        self.access(&[Key::Buffer(buffer)], false, &a);
+                    }
+                }
+                Cmd::Transfer(t) => self.transfer(objects, t, command),
+                Cmd::Execute(list) if depth < 4 => {
+                    for cb in list {
+                        if let Some(sub) = recordings.get(cb) {
+                            self.walk(objects, pipelines, recordings, sub, depth + 1);
+                        }
+                    }
+                }
+                Cmd::NextSubpass | Cmd::BeginLabel(_) | Cmd::EndLabel | Cmd::Execute(_) => {}
+            }
+        }
+    }
+
+    /// One submission of the imported frames: semaphore waits, then the command buffers in
+    /// order.
+    pub fn submit(
+        &mut self,
+        objects: &Objects,
+        pipelines: &Pipelines,
+        recordings: &HashMap<u64, Recording>,
+        waits: usize,
+        command_buffers: &[u64],
+    ) {
+        if waits > 0 {
+            self.wait_all();
+        }
+        for cb in command_buffers {
+            if let Some(r) = recordings.get(cb) {
+                self.walk(objects, pipelines, recordings, r, 0);
+            }
+        }
+    }
+
+    /// The findings, in the order of the stream, with resources named by `name`.
+    pub fn hazards(&self, name: impl Fn(u64) -> Option<String>) -> (Vec<SyncHazard>, u64) {
+        let mut out: Vec<(u64, SyncHazard)> = self
+            .found
+            .iter()
+            .map(|((command, id, kind), (key, access, prior))| {
+                let (mip, layer) = match key {
+                    Key::Image { mip, layer, .. } => (Some(*mip), Some(*layer)),
+                    Key::Buffer(_) => (None, None),
+                };
+                let at = command
+                    .rsplit_once('#')
+                    .and_then(|(_, n)| n.split(':').next()?.trim().parse().ok())
+                    .unwrap_or(u64::MAX);
+                (
+                    at,
+                    SyncHazard {
+                        kind: *kind,
+                        command: command.clone(),
+                        resource: name(*id).unwrap_or_else(|| format!("object {id}")),
+                        mip,
+                        layer,
+                        access: access.describe(),
+                        prior: prior.describe(),
+                        prior_command: prior.command.clone(),
+                    },
+                )
+            })
+            .collect();
+        out.sort_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.resource.cmp(&b.1.resource)));
+        (out.into_iter().map(|(_, h)| h).collect(), self.dropped)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scopes_reach_logically_earlier_and_later_stages() {
+        assert!(earlier(S::FRAGMENT_SHADER).intersects(S::VERTEX_SHADER));
+        assert!(!earlier(S::VERTEX_SHADER).intersects(S::FRAGMENT_SHADER));
+        assert!(!earlier(S::TOP_OF_PIPE).intersects(S::COLOR_ATTACHMENT_OUTPUT));
+        assert!(earlier(S::BOTTOM_OF_PIPE).intersects(S::TRANSFER));
+        assert!(later(S::TOP_OF_PIPE).intersects(S::COMPUTE_SHADER));
+        assert!(!later(S::BOTTOM_OF_PIPE).intersects(S::FRAGMENT_SHADER));
+        assert!(later(S::VERTEX_SHADER).intersects(S::COLOR_ATTACHMENT_OUTPUT));
+        assert!(earlier(S::COPY).intersects(S::TRANSFER));
+    }
+
+    fn acc(stage: S, access: A) -> Access {
+        Access {
+            stage,
+            access,
+            command: "cmd".to_owned(),
+            what: String::new(),
+        }
+    }
+
+    #[test]
+    fn a_write_needs_a_memory_dependency_to_be_read() {
+        let mut st = State::default();
+        assert!(st.write(acc(S::TRANSFER, A::TRANSFER_WRITE)).is_none());
+        // No barrier: the read sees nothing.
+        let mut unordered = st.clone();
+        let h = unordered.read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ));
+        assert_eq!(h.map(|h| h.0), Some(HazardKind::ReadAfterWrite));
+        // An execution dependency alone does not make the write visible.
+        let mut exec_only = st.clone();
+        exec_only.depend(&Dep {
+            src: earlier(S::TRANSFER),
+            src_access: A::EMPTY,
+            dst: later(S::FRAGMENT_SHADER),
+            dst_access: A::SHADER_READ.expand(),
+        });
+        assert!(
+            exec_only
+                .read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ))
+                .is_some()
+        );
+        // The full dependency does.
+        st.depend(&Dep {
+            src: earlier(S::TRANSFER),
+            src_access: A::TRANSFER_WRITE,
+            dst: later(S::FRAGMENT_SHADER),
+            dst_access: A::SHADER_READ.expand(),
+        });
+        assert!(
+            st.read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ))
+                .is_none()
+        );
+        // A later write must wait for that read.
+        let h = st.clone().write(acc(S::TRANSFER, A::TRANSFER_WRITE));
+        assert_eq!(h.map(|h| h.0), Some(HazardKind::WriteAfterRead));
+    }
+
+    #[test]
+    fn a_layout_transition_is_a_write_its_barrier_must_make_visible() {
+        let mut st = State::default();
+        let d = Dep {
+            src: earlier(S::TRANSFER),
+            src_access: A::TRANSFER_WRITE,
+            dst: later(S::COLOR_ATTACHMENT_OUTPUT),
+            dst_access: A::COLOR_ATTACHMENT_WRITE,
+        };
+        st.write(acc(S::TRANSFER, A::TRANSFER_WRITE));
+        assert!(st.transition(&d, acc(S::EMPTY, A::EMPTY)).is_none());
+        // loadOp LOAD reads the attachment: the barrier made the transition visible to
+        // writes only (mpv's frames).
+        let h = st.read(acc(S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_READ));
+        assert_eq!(h.map(|h| h.0), Some(HazardKind::ReadAfterWrite));
+    }
+}
