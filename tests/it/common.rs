@@ -61,18 +61,7 @@ pub fn exr_image(path: &std::path::Path) -> (usize, Vec<[f32; 4]>) {
 /// layer said nothing. The layer writes the file when it loads, so an empty file that exists
 /// proves it ran and found nothing; a missing layer fails.
 pub fn assert_clean_under_validation_layer(dir: &std::path::Path, args: &[&str]) {
-    let log = dir.join("log.txt");
-    std::fs::write(
-        dir.join("vk_layer_settings.txt"),
-        format!(
-            "khronos_validation.debug_action = VK_DBG_LAYER_ACTION_LOG_MSG\n\
-             khronos_validation.log_filename = {}\n\
-             khronos_validation.report_flags = error,warn\n",
-            log.display()
-        ),
-    )
-    .unwrap();
-    let _ = std::fs::remove_file(&log);
+    let log = layer_settings(dir, "log.txt", &[]);
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_framelab"))
         .args(args)
         .current_dir(repo())
@@ -148,4 +137,23 @@ pub fn replays_clean_under_validation_layer(
             ],
         );
     }
+}
+
+/// Writes `dir/vk_layer_settings.txt` so that the Khronos validation layer logs its errors and
+/// warnings to `dir/<log>` (removed first), with `enables` (`VK_VALIDATION_FEATURE_ENABLE_*`)
+/// on; returns the log's path. Point `VK_LAYER_SETTINGS_PATH` at `dir`.
+pub fn layer_settings(dir: &std::path::Path, log: &str, enables: &[&str]) -> PathBuf {
+    let log = dir.join(log);
+    let mut text = format!(
+        "khronos_validation.debug_action = VK_DBG_LAYER_ACTION_LOG_MSG\n\
+         khronos_validation.log_filename = {}\n\
+         khronos_validation.report_flags = error,warn\n",
+        log.display()
+    );
+    if !enables.is_empty() {
+        text += &format!("khronos_validation.enables = {}\n", enables.join(","));
+    }
+    std::fs::write(dir.join("vk_layer_settings.txt"), text).unwrap();
+    let _ = std::fs::remove_file(&log);
+    log
 }

@@ -65,19 +65,11 @@ fn start_display() -> Display {
 
 /// The layer's synchronization findings on `capture` replayed by gfxrecon-replay.
 fn layer_findings(capture: &Path, display: &Display, dir: &Path) -> BTreeSet<Finding> {
-    let log = dir.join("sync_log.txt");
-    std::fs::write(
-        dir.join("vk_layer_settings.txt"),
-        format!(
-            "khronos_validation.debug_action = VK_DBG_LAYER_ACTION_LOG_MSG\n\
-             khronos_validation.log_filename = {}\n\
-             khronos_validation.report_flags = error,warn\n\
-             khronos_validation.enables = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT\n",
-            log.display()
-        ),
-    )
-    .unwrap();
-    let _ = std::fs::remove_file(&log);
+    let log = crate::common::layer_settings(
+        dir,
+        "sync_log.txt",
+        &["VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT"],
+    );
     let out = Command::new("timeout")
         .args(["300", "gfxrecon-replay", "--use-captured-swapchain-indices"])
         .arg(capture)

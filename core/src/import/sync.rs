@@ -74,32 +74,33 @@ fn canonical(s: S) -> S {
     out
 }
 
-/// A first synchronization scope: the stages and every stage logically earlier.
-fn earlier(s: S) -> S {
+/// The stages and every stage logically earlier (`earlier`) or later than them, in each
+/// pipeline that has them.
+fn reach(s: S, earlier: bool) -> S {
     let s = canonical(s);
     let mut out = s;
     for order in ORDERS {
-        if let Some(last) = order.iter().rposition(|x| s.intersects(*x)) {
-            for x in &order[..=last] {
-                out |= *x;
-            }
+        let hit = |x: &S| s.intersects(*x);
+        let span = if earlier {
+            order.iter().rposition(hit).map(|last| &order[..=last])
+        } else {
+            order.iter().position(hit).map(|first| &order[first..])
+        };
+        for x in span.unwrap_or(&[]) {
+            out |= *x;
         }
     }
     out
 }
 
+/// A first synchronization scope: the stages and every stage logically earlier.
+fn earlier(s: S) -> S {
+    reach(s, true)
+}
+
 /// A second synchronization scope: the stages and every stage logically later.
 fn later(s: S) -> S {
-    let s = canonical(s);
-    let mut out = s;
-    for order in ORDERS {
-        if let Some(first) = order.iter().position(|x| s.intersects(*x)) {
-            for x in &order[first..] {
-                out |= *x;
-            }
-        }
-    }
-    out
+    reach(s, false)
 }
 
 /// One access: where, what, by which command.
