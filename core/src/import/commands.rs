@@ -110,6 +110,9 @@ pub struct RenderInstance {
     /// Layout transitions the render pass performs at its start and its end.
     pub begin_barriers: Vec<BarrierCmd>,
     pub end_barriers: Vec<BarrierCmd>,
+    /// Each attachment view with the layout the render pass expects it in at its start
+    /// (`initialLayout`; `None` for `UNDEFINED`, which accepts any) and leaves it in.
+    pub layouts: Vec<(u64, Option<ImageLayout>, ImageLayout)>,
 }
 
 #[derive(Clone, Debug)]

@@ -114,15 +114,22 @@ pub(super) fn begin_render_pass(
         .collect::<Got<Vec<_>>>()?;
     let mut begin_barriers = Vec::new();
     let mut end_barriers = Vec::new();
+    let mut layouts = Vec::new();
     for (a, d) in rp.attachments.iter().enumerate() {
         let (begin, end) = attachment_barriers(rp, a as u32, d, &views, objects, &origin);
         begin_barriers.extend(begin);
         end_barriers.extend(end);
+        if let (Some(_), Ok(view), Some(initial), Some(last)) =
+            (first_use(rp, a as u32), views.get(a as u32), d.initial, d.final_layout)
+        {
+            layouts.push((view, (initial != ImageLayout::Undefined).then_some(initial), last));
+        }
     }
     Ok(RenderInstance {
         subpasses,
         begin_barriers,
         end_barriers,
+        layouts,
     })
 }
 
@@ -299,11 +306,23 @@ fn attachment_barriers(
 
 pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
     let mut sub = SubpassUse::default();
+    // Dynamic rendering neither transitions nor expects anything but each view's own layout.
+    let mut layouts = Vec::new();
+    let mut expect = |view: u64, a: &Arg<'_>| {
+        if let Some(l) = a
+            .get("imageLayout")
+            .ok()
+            .and_then(|l| ImageLayout::from_name(&l.name().ok()?))
+        {
+            layouts.push((view, Some(l), l));
+        }
+    };
     for c in info.list("pColorAttachments")? {
         let view = c.get("imageView")?.handle()?;
         if view == 0 {
             continue;
         }
+        expect(view, &c);
         sub.colors.push(AttUse {
             view,
             load: c.get("loadOp")?.name()?,
@@ -336,8 +355,10 @@ pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
         let (load, store) = ops(&depth)?;
         let (stencil_load, stencil_store) = ops(&stencil)?;
         let clear = d.opt("clearValue").and_then(|c| c.opt("depthStencil"));
+        let view = d.get("imageView")?.handle()?;
+        expect(view, d);
         sub.depth = Some(DepthUse {
-            view: d.get("imageView")?.handle()?,
+            view,
             load,
             store,
             stencil_load,
@@ -359,5 +380,6 @@ pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
         subpasses: vec![sub],
         begin_barriers: Vec::new(),
         end_barriers: Vec::new(),
+        layouts,
     })
 }

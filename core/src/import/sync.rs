@@ -26,7 +26,7 @@ use super::pipelines::Pipelines;
 use super::record::Recording;
 use super::state::{Descriptor, Objects};
 use crate::capture::format::{HazardKind, SyncHazard};
-use crate::capture::vulkan::{AccessFlags as A, PipelineStages as S};
+use crate::capture::vulkan::{AccessFlags as A, ImageLayout, PipelineStages as S};
 
 /// Most subresources (mips x layers) of one image tracked one by one; an image with more is
 /// tracked as its first mip and layer stand for all.
@@ -141,6 +141,9 @@ struct Read {
 struct State {
     write: Option<Write>,
     reads: Vec<Read>,
+    /// An image subresource's layout and the command that put it there; `None` until the
+    /// imported frames set it (what the capture's snapshot left is not checked).
+    layout: Option<(ImageLayout, String)>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -393,7 +396,10 @@ impl Sync {
         }
     }
 
-    fn barrier(&mut self, objects: &Objects, b: &BarrierCmd) {
+    /// `b`'s dependency and layout transition; `check_old`: whether its old layout must be
+    /// the one the subresource is in (a render pass's own transitions are checked at its
+    /// start, by `expect_layouts`, under the command that begins it).
+    fn barrier(&mut self, objects: &Objects, b: &BarrierCmd, check_old: bool) {
         let d = Dep::of(b);
         let keys: Vec<Key> = match &b.target {
             BarrierTarget::Global => self.states.keys().copied().collect(),
@@ -406,6 +412,12 @@ impl Sync {
         };
         let transition = b.layouts.filter(|(from, to)| from != to);
         for key in keys {
+            if let Some((from, to)) = b.layouts {
+                if check_old && from != ImageLayout::Undefined {
+                    self.expect_layout(key, from, &b.origin, &format!("old layout {from}"));
+                }
+                self.states.entry(key).or_default().layout = Some((to, b.origin.clone()));
+            }
             let st = self.states.entry(key).or_default();
             match transition {
                 Some((from, to)) => {
@@ -420,6 +432,50 @@ impl Sync {
                     }
                 }
                 None => st.depend(&d),
+            }
+        }
+    }
+
+    /// A use of `key` in `layout` by `command`: a finding when the subresource is known to
+    /// be in another.
+    fn expect_layout(&mut self, key: Key, layout: ImageLayout, command: &str, what: &str) {
+        let Some((current, by)) = self.states.get(&key).and_then(|s| s.layout.clone()) else {
+            return;
+        };
+        if current == layout {
+            return;
+        }
+        let access = Access {
+            stage: S::EMPTY,
+            access: A::EMPTY,
+            command: command.to_owned(),
+            what: what.to_owned(),
+        };
+        let prior = Access {
+            stage: S::EMPTY,
+            access: A::EMPTY,
+            command: by,
+            what: format!("layout {current}"),
+        };
+        self.note(command, key, HazardKind::LayoutMismatch, access, prior);
+    }
+
+    /// A render pass's attachments at its start: each in the layout the render pass
+    /// declares (`initialLayout`; dynamic rendering: the attachment's own).
+    fn expect_layouts(&mut self, objects: &Objects, ri: &RenderInstance, command: &str) {
+        for (view, initial, _) in &ri.layouts {
+            let Some(initial) = initial else { continue };
+            for key in Self::view_keys(objects, *view) {
+                self.expect_layout(key, *initial, command, &format!("attachment in {initial}"));
+            }
+        }
+    }
+
+    /// A render pass's attachments at its end, in their final layouts.
+    fn leave_layouts(&mut self, objects: &Objects, ri: &RenderInstance, command: &str) {
+        for (view, _, last) in &ri.layouts {
+            for key in Self::view_keys(objects, *view) {
+                self.states.entry(key).or_default().layout = Some((*last, command.to_owned()));
             }
         }
     }
@@ -641,12 +697,13 @@ impl Sync {
             match cmd {
                 Cmd::Barrier(bs) => {
                     for b in bs {
-                        self.barrier(objects, b);
+                        self.barrier(objects, b, true);
                     }
                 }
                 Cmd::BeginRender(ri) => {
+                    self.expect_layouts(objects, ri, command);
                     for b in &ri.begin_barriers {
-                        self.barrier(objects, b);
+                        self.barrier(objects, b, false);
                     }
                     self.load_ops(objects, ri, command);
                     render = Some((ri, command));
@@ -655,8 +712,9 @@ impl Sync {
                     if let Some((ri, _)) = render.take() {
                         self.store_ops(objects, ri, command);
                         for b in &ri.end_barriers {
-                            self.barrier(objects, b);
+                            self.barrier(objects, b, false);
                         }
+                        self.leave_layouts(objects, ri, command);
                     }
                 }
                 Cmd::Draw(d) => {

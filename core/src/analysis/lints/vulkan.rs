@@ -15,7 +15,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::recorded::covers;
 use super::{Lint, LintKind, lint};
 use crate::analysis::model::FrameModel;
-use crate::capture::format::{Access, BarrierType, PassKind};
+use crate::capture::format::{Access, BarrierType, HazardKind, PassKind};
 use crate::capture::model::{
     Capture, PassDesc, PassId, QueueId, ResourceAccess, ResourceId, Subresources, VulkanBarrierDesc,
 };
@@ -261,7 +261,9 @@ pub(super) fn compare_vulkan(
         .as_ref()
         .and_then(|o| o.sync_hazards.as_ref())
     {
-        out.retain(|l| l.kind != LintKind::BarrierMissing);
+        out.retain(|l| {
+            l.kind != LintKind::BarrierMissing && l.kind != LintKind::BarrierWrongBeforeState
+        });
         for h in hazards {
             let resource = capture
                 .resources
@@ -272,9 +274,21 @@ pub(super) fn compare_vulkan(
                 (Some(m), Some(l)) => format!(" mip {m} layer {l}"),
                 _ => String::new(),
             };
-            out.push(lint(
-                LintKind::BarrierMissing,
-                format!(
+            let (kind, message) = if h.kind == HazardKind::LayoutMismatch {
+                // A barrier from the wrong old layout names a wrong before-state; anything
+                // else used in the wrong layout lacks the transition that would put it there.
+                let kind = if h.access.starts_with("old layout") {
+                    LintKind::BarrierWrongBeforeState
+                } else {
+                    LintKind::BarrierMissing
+                };
+                let message = format!(
+                    "{}: \"{}\"{sub}: {}, but it is in {} (since {})",
+                    h.command, h.resource, h.access, h.prior, h.prior_command
+                );
+                (kind, message)
+            } else {
+                let message = format!(
                     "{}: {} hazard on \"{}\"{sub}: {} after the {} of {}, with no execution and memory dependency between them",
                     h.command,
                     h.kind.as_str(),
@@ -282,10 +296,10 @@ pub(super) fn compare_vulkan(
                     h.access,
                     h.prior,
                     h.prior_command
-                ),
-                None,
-                resource,
-            ));
+                );
+                (LintKind::BarrierMissing, message)
+            };
+            out.push(lint(kind, message, None, resource));
         }
     }
     out

@@ -113,6 +113,8 @@ pub enum HazardKind {
     ReadAfterWrite,
     WriteAfterRead,
     WriteAfterWrite,
+    /// An image used in (or transitioned from) a layout other than the one it is in.
+    LayoutMismatch,
 }
 
 impl HazardKind {
@@ -121,6 +123,7 @@ impl HazardKind {
             HazardKind::ReadAfterWrite => "READ_AFTER_WRITE",
             HazardKind::WriteAfterRead => "WRITE_AFTER_READ",
             HazardKind::WriteAfterWrite => "WRITE_AFTER_WRITE",
+            HazardKind::LayoutMismatch => "LAYOUT_MISMATCH",
         }
     }
 }
