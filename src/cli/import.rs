@@ -11,6 +11,7 @@ use framelab_core::capture::format::RawCapture;
 use framelab_core::capture::validate::validate;
 use framelab_core::capture::{CaptureError, Options};
 use framelab_core::files::{self, FileError};
+use framelab_core::import::gfxr::edit::FieldEdit;
 use framelab_core::import::{ImportOptions, Imported, Summary, gfxr, import, rdc};
 
 use super::{print_diagnostics, print_stdout};
@@ -236,4 +237,30 @@ fn render(s: &Summary, out: &Path) -> String {
         );
     }
     t
+}
+
+/// `framelab edit`: the capture with the edits applied, written next to `out` and renamed
+/// into place, so a failed edit leaves nothing behind.
+pub fn edit(capture: &Path, out: &Path, edits: &[FieldEdit]) -> anyhow::Result<ExitCode> {
+    let bytes =
+        std::fs::read(capture).with_context(|| format!("cannot read {}", capture.display()))?;
+    if !framelab_core::import::gfxr::is_gfxr(&bytes) {
+        anyhow::bail!(
+            "{}: not a GFXReconstruct binary capture (no `GFXR` header)",
+            capture.display()
+        );
+    }
+    let edited = framelab_core::import::gfxr::edit::apply(&bytes, edits)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", capture.display()))?;
+    let staging = out.with_extension("gfxr.partial");
+    std::fs::write(&staging, &edited)
+        .with_context(|| format!("cannot write {}", staging.display()))?;
+    std::fs::rename(&staging, out).with_context(|| format!("cannot write {}", out.display()))?;
+    println!(
+        "{}: {} edit(s) applied, written to {}",
+        capture.display(),
+        edits.len(),
+        out.display()
+    );
+    Ok(ExitCode::SUCCESS)
 }

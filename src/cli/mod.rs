@@ -180,6 +180,22 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Set numbers in a GFXReconstruct capture's calls (a barrier's masks or layouts) and
+    /// write the edited capture, which replays like the original: a barrier removed or
+    /// weakened in a real stream, to see what breaks. BLOCK is the call's block index as
+    /// `gfxrecon-convert` numbers it; PATH names a parameter as the JSON Lines stream does.
+    ///
+    /// Example: framelab edit app.gfxr -o weak.gfxr --set '233:pImageMemoryBarriers[0].srcAccessMask=0'
+    Edit {
+        /// The binary capture (`.gfxr`).
+        capture: PathBuf,
+        /// Where to write the edited capture.
+        #[arg(short, long)]
+        out: PathBuf,
+        /// BLOCK:PATH=VALUE, the value a number or a Vulkan enum name; repeatable.
+        #[arg(long = "set", required = true)]
+        set: Vec<framelab_core::import::gfxr::edit::FieldEdit>,
+    },
     /// Print the JSON Schema of the capture format.
     ///
     /// Example: framelab schema > capture.schema.json
@@ -285,6 +301,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             frames,
             json,
         } => import::run(&stream, &out, frame.or(frames), json),
+        Command::Edit { capture, out, set } => import::edit(&capture, &out, &set),
         Command::Schema => {
             print_stdout(&framelab_core::schema::schema_json())?;
             Ok(ExitCode::SUCCESS)

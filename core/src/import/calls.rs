@@ -23,6 +23,14 @@ impl Object {
     }
 }
 
+/// What a host wait waits for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Wait {
+    Fences,
+    Semaphores,
+    Idle,
+}
+
 /// A Vulkan function outside command buffers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Func {
@@ -38,6 +46,13 @@ pub enum Func {
         v2: bool,
     },
     QueuePresent,
+    /// `vkAcquireNextImageKHR`, or (`v2`) `vkAcquireNextImage2KHR`.
+    AcquireNextImage {
+        v2: bool,
+    },
+    /// A host wait: `vkWaitForFences`, `vkWaitSemaphores`, `vkQueueWaitIdle`,
+    /// `vkDeviceWaitIdle`.
+    HostWait(Wait),
     QueueFamilyProperties,
     MemoryProperties,
     GetDeviceQueue,
@@ -175,6 +190,11 @@ impl Func {
             "vkQueueSubmit" => Func::QueueSubmit { v2: false },
             "vkQueueSubmit2" | "vkQueueSubmit2KHR" => Func::QueueSubmit { v2: true },
             "vkQueuePresentKHR" => Func::QueuePresent,
+            "vkAcquireNextImageKHR" => Func::AcquireNextImage { v2: false },
+            "vkAcquireNextImage2KHR" => Func::AcquireNextImage { v2: true },
+            "vkWaitForFences" => Func::HostWait(Wait::Fences),
+            "vkWaitSemaphores" | "vkWaitSemaphoresKHR" => Func::HostWait(Wait::Semaphores),
+            "vkQueueWaitIdle" | "vkDeviceWaitIdle" => Func::HostWait(Wait::Idle),
             "vkGetPhysicalDeviceQueueFamilyProperties"
             | "vkGetPhysicalDeviceQueueFamilyProperties2"
             | "vkGetPhysicalDeviceQueueFamilyProperties2KHR" => Func::QueueFamilyProperties,

@@ -21,6 +21,7 @@ mod sync;
 mod value;
 mod vk_work;
 
+use crate::capture::vulkan::PipelineStages;
 use std::collections::{BTreeMap, HashMap};
 use std::io::BufRead;
 
@@ -222,7 +223,9 @@ impl Importer {
             }
             Func::ResetCommandPool => self.reset_pool(args)?,
             Func::QueueSubmit { v2 } => self.submit(args, v2)?,
-            Func::QueuePresent => self.present(args)?,
+            Func::QueuePresent => self.present(call, args)?,
+            Func::AcquireNextImage { v2 } => self.acquire(call, args, v2)?,
+            Func::HostWait(wait) => self.host_wait(args, wait)?,
             Func::CreateShaderModule
             | Func::CreateSampler
             | Func::CreateDescriptorSetLayout
@@ -263,6 +266,7 @@ impl Importer {
             )
         };
         let queue = args.get("queue")?.handle()?;
+        let fence = args.opt("fence").map_or(Ok(0), |f| f.handle())?;
         for s in args.list("pSubmits")? {
             let handles = |(key, field): (&str, Option<&str>)| -> Got<Vec<u64>> {
                 s.list(key)?
@@ -274,14 +278,38 @@ impl Importer {
                     .collect()
             };
             let (waits, cbs, signals) = (handles(waits)?, handles(cbs)?, handles(signals)?);
+            // The stages each wait blocks: its own stage mask in the `2` structure, the
+            // parallel pWaitDstStageMask list in the first.
+            let masks: Vec<PipelineStages> = if v2 {
+                s.list("pWaitSemaphoreInfos")?
+                    .iter()
+                    .map(|i| i.get("stageMask")?.stages())
+                    .collect::<Got<_>>()?
+            } else {
+                s.list("pWaitDstStageMask")?
+                    .iter()
+                    .map(Arg::stages)
+                    .collect::<Got<_>>()?
+            };
             self.submitted_in_frame |= !cbs.is_empty();
             if self.builder.emitting() {
+                let waits: Vec<(u64, PipelineStages)> = waits
+                    .iter()
+                    .zip(
+                        masks
+                            .iter()
+                            .chain(std::iter::repeat(&PipelineStages::ALL_COMMANDS)),
+                    )
+                    .map(|(w, m)| (*w, *m))
+                    .collect();
                 self.sync.submit(
                     &self.objects,
                     &self.pipelines,
                     &self.recordings,
-                    waits.len(),
+                    &waits,
                     &cbs,
+                    &signals,
+                    fence,
                 );
             }
             self.builder.submit(
@@ -296,7 +324,64 @@ impl Importer {
         Ok(())
     }
 
-    fn present(&mut self, args: &Arg<'_>) -> Got<()> {
+    /// `vkAcquireNextImage(2)KHR`: the image it handed over, and the semaphore and fence
+    /// that order the presentation engine's read of it.
+    fn acquire(&mut self, call: &Call, args: &Arg<'_>, v2: bool) -> Got<()> {
+        let info = if v2 {
+            args.get("pAcquireInfo")?
+        } else {
+            args.clone()
+        };
+        let swapchain = info.get("swapchain")?.handle()?;
+        let index = args.get("pImageIndex")?.u32()?;
+        let semaphore = info.get("semaphore")?.handle()?;
+        let fence = info.get("fence")?.handle()?;
+        let image = self
+            .objects
+            .swapchain_images
+            .get(&swapchain)
+            .and_then(|images| images.get(index as usize))
+            .copied();
+        if let Some(image) = image.filter(|_| self.builder.emitting()) {
+            let command = format!("{} #{}", call.name, call.index);
+            self.sync
+                .acquire(&self.objects, image, (semaphore, fence), &command);
+        }
+        Ok(())
+    }
+
+    /// A host wait that succeeded: what it waited for is complete.
+    fn host_wait(&mut self, args: &Arg<'_>, wait: calls::Wait) -> Got<()> {
+        if !self.builder.emitting() {
+            return Ok(());
+        }
+        match wait {
+            calls::Wait::Fences => {
+                let fences: Vec<u64> = args
+                    .list("pFences")?
+                    .iter()
+                    .map(Arg::handle)
+                    .collect::<Got<_>>()?;
+                let all = args.get("waitAll")?.u64()? != 0;
+                self.sync.host_wait(&fences, &[], all);
+            }
+            calls::Wait::Semaphores => {
+                let info = args.get("pWaitInfo")?;
+                let sems: Vec<u64> = info
+                    .list("pSemaphores")?
+                    .iter()
+                    .map(Arg::handle)
+                    .collect::<Got<_>>()?;
+                // VK_SEMAPHORE_WAIT_ANY_BIT
+                let all = info.get("flags")?.u64()? & 1 == 0;
+                self.sync.host_wait(&[], &sems, all);
+            }
+            calls::Wait::Idle => self.sync.host_wait(&[], &[], true),
+        }
+        Ok(())
+    }
+
+    fn present(&mut self, call: &Call, args: &Arg<'_>) -> Got<()> {
         let queue = args.get("queue")?.handle()?;
         let info = args.get("pPresentInfo")?;
         let waits: Vec<u64> = info
@@ -311,6 +396,16 @@ impl Importer {
             .zip(&indices)
             .map(|(c, i)| Ok((c.handle()?, i.u32()?)))
             .collect::<Got<Vec<_>>>()?;
+        if self.builder.emitting() {
+            let swapchain_images: Vec<u64> = images
+                .iter()
+                .filter_map(|(c, i)| self.objects.swapchain_images.get(c)?.get(*i as usize))
+                .copied()
+                .collect();
+            let command = format!("{} #{}", call.name, call.index);
+            self.sync
+                .present(&self.objects, &waits, &swapchain_images, &command);
+        }
         self.builder.present(&self.objects, queue, &waits, &images);
         self.submitted_in_frame = false;
         Ok(())

@@ -31,6 +31,16 @@ pub struct Pipelines {
     set_layouts: HashMap<u64, (SetLayout, Vec<Vec<u64>>)>,
     layouts: HashMap<u64, (PipelineLayout, Vec<u64>)>,
     pipelines: HashMap<u64, Made>,
+    /// Per shader module whose code the capture holds: its storage bindings as (set,
+    /// binding, reads, writes), from the SPIR-V's NonWritable and NonReadable decorations.
+    storage: HashMap<u64, Vec<(u32, u32, bool, bool)>>,
+}
+
+/// Whether a pipeline's shaders read and write a storage binding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StorageUse {
+    pub reads: bool,
+    pub writes: bool,
 }
 
 pub fn module_name(h: u64) -> String {
@@ -54,6 +64,47 @@ fn float(a: &Arg<'_>, key: &str) -> Got<f32> {
 }
 
 impl Pipelines {
+    /// Learns module `module`'s storage bindings from its SPIR-V; code that does not parse
+    /// teaches nothing (its bindings stay read-write for the synchronization check).
+    pub fn learn_module(&mut self, module: u64, code: &[u8]) {
+        let Ok(reflection) = crate::spirv::words(code).and_then(|w| crate::spirv::reflect(&w))
+        else {
+            return;
+        };
+        use crate::spirv::ResourceKind as K;
+        let storage = reflection
+            .resources
+            .iter()
+            .filter(|r| {
+                matches!(
+                    r.kind,
+                    K::StorageBuffer | K::StorageImage(_) | K::StorageTexelBuffer(_)
+                )
+            })
+            .map(|r| (r.set, r.binding, !r.non_readable, !r.non_writable))
+            .collect();
+        self.storage.insert(module, storage);
+    }
+
+    /// How pipeline `pipeline`'s shaders use storage binding (`set`, `binding`): `None` when
+    /// the code of one of its modules is not known.
+    pub fn storage_use(&self, pipeline: u64, set: u32, binding: u32) -> Option<StorageUse> {
+        let made = self.pipelines.get(&pipeline)?;
+        let mut out = StorageUse {
+            reads: false,
+            writes: false,
+        };
+        for m in &made.modules {
+            for (s, b, reads, writes) in self.storage.get(m)? {
+                if (*s, *b) == (set, binding) {
+                    out.reads |= reads;
+                    out.writes |= writes;
+                }
+            }
+        }
+        (out.reads || out.writes).then_some(out)
+    }
+
     /// The `VkShaderStageFlags` of binding `binding` of set `set` in pipeline `pipeline`'s
     /// layout.
     pub fn binding_stages(&self, pipeline: u64, set: u32, binding: u32) -> Option<u32> {

@@ -119,10 +119,17 @@ pub(super) fn begin_render_pass(
         let (begin, end) = attachment_barriers(rp, a as u32, d, &views, objects, &origin);
         begin_barriers.extend(begin);
         end_barriers.extend(end);
-        if let (Some(_), Ok(view), Some(initial), Some(last)) =
-            (first_use(rp, a as u32), views.get(a as u32), d.initial, d.final_layout)
-        {
-            layouts.push((view, (initial != ImageLayout::Undefined).then_some(initial), last));
+        if let (Some(_), Ok(view), Some(initial), Some(last)) = (
+            first_use(rp, a as u32),
+            views.get(a as u32),
+            d.initial,
+            d.final_layout,
+        ) {
+            layouts.push((
+                view,
+                (initial != ImageLayout::Undefined).then_some(initial),
+                last,
+            ));
         }
     }
     Ok(RenderInstance {

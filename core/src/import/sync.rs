@@ -22,7 +22,7 @@
 use std::collections::{BTreeMap, HashMap};
 
 use super::commands::{BarrierCmd, BarrierTarget, Cmd, RenderInstance, TransferCmd, Use};
-use super::pipelines::Pipelines;
+use super::pipelines::{Pipelines, StorageUse};
 use super::record::Recording;
 use super::state::{Descriptor, Objects};
 use crate::capture::format::{HazardKind, SyncHazard};
@@ -124,6 +124,8 @@ impl Access {
 #[derive(Clone, Debug)]
 struct Write {
     access: Access,
+    /// The submission it was made in (host waits retire what they waited for).
+    seq: u32,
     /// Stages ordered after the write (execution dependencies, chained).
     exec: S,
     /// Scopes the write has been made visible to.
@@ -133,6 +135,7 @@ struct Write {
 #[derive(Clone, Debug)]
 struct Read {
     access: Access,
+    seq: u32,
     /// Stages ordered after the read.
     exec: S,
 }
@@ -170,16 +173,6 @@ impl Dep {
             dst_access: b.dst_access.expand(),
         }
     }
-
-    /// Everything before, everything after: a semaphore wait's effect on one queue.
-    fn full() -> Self {
-        Dep {
-            src: S::from_bits(u64::MAX),
-            src_access: A::from_bits(u64::MAX),
-            dst: S::from_bits(u64::MAX),
-            dst_access: A::from_bits(u64::MAX),
-        }
-    }
 }
 
 /// The checker's state across the imported frames' submissions.
@@ -188,11 +181,20 @@ pub struct Sync {
     states: HashMap<Key, State>,
     found: BTreeMap<(String, u64, HazardKind), (Key, Access, Access)>,
     dropped: u64,
+    /// Submissions so far: each access carries the one it was made in.
+    seq: u32,
+    /// The last submission that signalled each semaphore, and each fence.
+    signalled: HashMap<u64, u32>,
+    fences: HashMap<u64, u32>,
+    /// Swapchain images an acquire's semaphore, or its fence, orders after the
+    /// presentation engine's read.
+    acquire_semaphores: HashMap<u64, Vec<Key>>,
+    acquire_fences: HashMap<u64, Vec<Key>>,
 }
 
 impl State {
     /// `a` reads: after a write it must be visible to it.
-    fn read(&mut self, a: Access) -> Option<(HazardKind, Access)> {
+    fn read(&mut self, a: Access, seq: u32) -> Option<(HazardKind, Access)> {
         let hazard = self.write.as_ref().and_then(|w| {
             let seen = w
                 .visible
@@ -204,38 +206,46 @@ impl State {
             Some(r) => {
                 r.access = a;
                 r.exec = S::EMPTY;
+                r.seq = seq;
             }
             None => self.reads.push(Read {
                 access: a,
                 exec: S::EMPTY,
+                seq,
             }),
         }
         hazard
     }
 
-    /// `a` writes: reads since the last write must be ordered before it, else the last
-    /// write must be visible to it.
-    fn write(&mut self, a: Access) -> Option<(HazardKind, Access)> {
-        let hazard = if let Some(r) = self.reads.iter().find(|r| !r.exec.intersects(a.stage)) {
-            Some((HazardKind::WriteAfterRead, r.access.clone()))
-        } else if self.reads.is_empty() {
-            self.write.as_ref().and_then(|w| {
-                let seen = w
-                    .visible
-                    .iter()
-                    .any(|(s, x)| s.intersects(a.stage) && x.intersects(a.access));
-                (!seen).then(|| (HazardKind::WriteAfterWrite, w.access.clone()))
-            })
-        } else {
-            None
-        };
+    /// `a` writes: reads since the last write must be ordered before it; without such
+    /// reads, the last write must be visible to it. (Reads ordered after the last write
+    /// carry its ordering; the validation layer checks a write the same way, so one missing
+    /// dependency is one finding.)
+    fn write(&mut self, a: Access, seq: u32) -> Vec<(HazardKind, Access)> {
+        let mut hazards: Vec<(HazardKind, Access)> = self
+            .reads
+            .iter()
+            .find(|r| !r.exec.intersects(a.stage))
+            .map(|r| (HazardKind::WriteAfterRead, r.access.clone()))
+            .into_iter()
+            .collect();
+        if let Some(w) = &self.write {
+            let seen = w
+                .visible
+                .iter()
+                .any(|(s, x)| s.intersects(a.stage) && x.intersects(a.access));
+            if !seen && self.reads.is_empty() {
+                hazards.push((HazardKind::WriteAfterWrite, w.access.clone()));
+            }
+        }
         self.write = Some(Write {
             access: a,
+            seq,
             exec: S::EMPTY,
             visible: Vec::new(),
         });
         self.reads.clear();
-        hazard
+        hazards
     }
 
     /// A memory dependency without a layout transition.
@@ -260,29 +270,31 @@ impl State {
     }
 
     /// A layout transition: a write ordered after what the first scopes reach, visible to
-    /// the second.
-    fn transition(&mut self, d: &Dep, a: Access) -> Option<(HazardKind, Access)> {
-        let hazard = if let Some(r) = self
+    /// the second. Like any write it must follow the reads, or without them the last write.
+    fn transition(&mut self, d: &Dep, a: Access, seq: u32) -> Vec<(HazardKind, Access)> {
+        let mut hazards: Vec<(HazardKind, Access)> = self
             .reads
             .iter()
             .find(|r| !(d.src.intersects(r.access.stage) || r.exec.intersects(d.src)))
-        {
-            Some((HazardKind::WriteAfterRead, r.access.clone()))
-        } else {
-            self.write.as_ref().and_then(|w| {
-                let exec = d.src.intersects(w.access.stage) || w.exec.intersects(d.src);
-                let available = d.src_access.intersects(w.access.access)
-                    || w.visible.iter().any(|(s, _)| s.intersects(d.src));
-                (!(exec && available)).then(|| (HazardKind::WriteAfterWrite, w.access.clone()))
-            })
-        };
+            .map(|r| (HazardKind::WriteAfterRead, r.access.clone()))
+            .into_iter()
+            .collect();
+        if let Some(w) = &self.write {
+            let exec = d.src.intersects(w.access.stage) || w.exec.intersects(d.src);
+            let available = d.src_access.intersects(w.access.access)
+                || w.visible.iter().any(|(s, _)| s.intersects(d.src));
+            if !(exec && available) && self.reads.is_empty() {
+                hazards.push((HazardKind::WriteAfterWrite, w.access.clone()));
+            }
+        }
         self.write = Some(Write {
             access: a,
+            seq,
             exec: d.dst,
             visible: vec![(d.dst, d.dst_access)],
         });
         self.reads.clear();
-        hazard
+        hazards
     }
 }
 
@@ -385,12 +397,12 @@ impl Sync {
     fn access(&mut self, keys: &[Key], write: bool, a: &Access) {
         for &key in keys {
             let st = self.states.entry(key).or_default();
-            let hazard = if write {
-                st.write(a.clone())
+            let hazards = if write {
+                st.write(a.clone(), self.seq)
             } else {
-                st.read(a.clone())
+                st.read(a.clone(), self.seq).into_iter().collect()
             };
-            if let Some((kind, prior)) = hazard {
+            for (kind, prior) in hazards {
                 self.note(&a.command, key, kind, a.clone(), prior);
             }
         }
@@ -427,8 +439,8 @@ impl Sync {
                         command: b.origin.clone(),
                         what: format!("layout transition {from} -> {to}"),
                     };
-                    if let Some((kind, prior)) = st.transition(&d, a.clone()) {
-                        self.note(&b.origin, key, kind, a, prior);
+                    for (kind, prior) in st.transition(&d, a.clone(), self.seq) {
+                        self.note(&b.origin, key, kind, a.clone(), prior);
                     }
                 }
                 None => st.depend(&d),
@@ -480,11 +492,129 @@ impl Sync {
         }
     }
 
-    /// Everything so far is ordered before what follows (a semaphore wait).
-    fn wait_all(&mut self) {
-        let d = Dep::full();
+    /// A semaphore wait at stages `mask`: what was submitted up to the semaphore's signal
+    /// is ordered before those stages (and logically later ones), and its writes are
+    /// visible to them (a signal makes every write available, a wait visible). A wait on
+    /// an image acquire orders the presentation engine's read before them.
+    fn semaphore_wait(&mut self, semaphore: u64, mask: S) {
+        let dst = later(mask);
+        if let Some(keys) = self.acquire_semaphores.remove(&semaphore) {
+            for key in keys {
+                if let Some(st) = self.states.get_mut(&key) {
+                    for r in &mut st.reads {
+                        r.exec |= dst;
+                    }
+                }
+            }
+            return;
+        }
+        let Some(&upto) = self.signalled.get(&semaphore) else {
+            // Signalled before the imported frames, or by the host: nothing here to order.
+            return;
+        };
         for st in self.states.values_mut() {
-            st.depend(&d);
+            if let Some(w) = st.write.as_mut().filter(|w| w.seq <= upto) {
+                w.exec |= dst;
+                w.visible.push((dst, A::from_bits(u64::MAX)));
+            }
+            for r in st.reads.iter_mut().filter(|r| r.seq <= upto) {
+                r.exec |= dst;
+            }
+        }
+    }
+
+    /// A host wait saw submissions up to `upto` complete: their accesses are over (the
+    /// validation layer retires them too).
+    fn retire(&mut self, upto: u32) {
+        for st in self.states.values_mut() {
+            if st.write.as_ref().is_some_and(|w| w.seq <= upto) {
+                st.write = None;
+            }
+            st.reads.retain(|r| r.seq > upto);
+        }
+    }
+
+    /// `vkAcquireNextImageKHR` handed `image` over: the presentation engine read it until
+    /// now, and only the acquire's semaphore (waited on) or fence orders that read.
+    pub fn acquire(&mut self, objects: &Objects, image: u64, sync: (u64, u64), command: &str) {
+        let keys = Self::image_keys(objects, image, (0, None), (0, None));
+        for &key in &keys {
+            let st = self.states.entry(key).or_default();
+            st.write = None;
+            st.reads = vec![Read {
+                access: Access {
+                    stage: S::EMPTY,
+                    access: A::EMPTY,
+                    command: command.to_owned(),
+                    what: "presentation engine read (acquire)".to_owned(),
+                },
+                seq: self.seq,
+                exec: S::EMPTY,
+            }];
+        }
+        let (semaphore, fence) = sync;
+        if semaphore != 0 {
+            self.acquire_semaphores.insert(semaphore, keys.clone());
+        }
+        if fence != 0 {
+            self.acquire_fences.insert(fence, keys);
+        }
+    }
+
+    /// `vkQueuePresentKHR` of `images` after waiting on `waits`: the presentation engine
+    /// reads each image, which needs the image's last write submitted no later than a
+    /// waited semaphore's signal.
+    pub fn present(&mut self, objects: &Objects, waits: &[u64], images: &[u64], command: &str) {
+        let covered = waits
+            .iter()
+            .filter_map(|s| self.signalled.get(s))
+            .max()
+            .copied();
+        for &image in images {
+            for key in Self::image_keys(objects, image, (0, None), (0, None)) {
+                let Some(w) = self.states.get(&key).and_then(|s| s.write.clone()) else {
+                    continue;
+                };
+                if covered.is_none_or(|c| w.seq > c) {
+                    let a = Access {
+                        stage: S::EMPTY,
+                        access: A::EMPTY,
+                        command: command.to_owned(),
+                        what: "presentation engine read (present)".to_owned(),
+                    };
+                    self.note(command, key, HazardKind::PresentAfterWrite, a, w.access);
+                }
+            }
+        }
+    }
+
+    /// A host wait that returned `VK_SUCCESS`: on `fences` (all of them, or the only one),
+    /// on timeline `semaphores` likewise, or a queue or the device idle (`None`).
+    pub fn host_wait(&mut self, fences: &[u64], semaphores: &[u64], all: bool) {
+        if fences.is_empty() && semaphores.is_empty() {
+            self.retire(self.seq);
+            return;
+        }
+        if !all && fences.len() + semaphores.len() > 1 {
+            // One of several, unknown which.
+            return;
+        }
+        for f in fences {
+            if let Some(keys) = self.acquire_fences.remove(f) {
+                for key in keys {
+                    if let Some(st) = self.states.get_mut(&key) {
+                        st.reads.clear();
+                    }
+                }
+            }
+            if let Some(&upto) = self.fences.get(f) {
+                self.retire(upto);
+            }
+        }
+        for s in semaphores {
+            if let Some(&upto) = self.signalled.get(s) {
+                self.retire(upto);
+            }
         }
     }
 
@@ -515,14 +645,27 @@ impl Sync {
             Descriptor::Sampler { .. } => return,
         };
         let kind = ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
-        // Whether a shader reads or writes a storage binding is in its code, not in the
-        // stream: a storage access is satisfied by a dependency that covers either, and is
-        // not taken for a write, so no hazard is claimed on an access the shader may not make.
+        // Whether a shader reads or writes a storage binding is in its code: its SPIR-V's
+        // NonWritable and NonReadable decorations say so where the capture holds the code. A
+        // binding that may do both, or whose code is unknown, is satisfied by a dependency
+        // that covers either access and is not taken for a write, so no hazard is claimed on
+        // an access the shader may not make.
+        let storage = pipeline.and_then(|p| pipelines.storage_use(p, u.set, u.binding));
         let (access, write) = match kind {
             "STORAGE_IMAGE"
             | "STORAGE_BUFFER"
             | "STORAGE_BUFFER_DYNAMIC"
-            | "STORAGE_TEXEL_BUFFER" => (A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE, false),
+            | "STORAGE_TEXEL_BUFFER" => match storage {
+                Some(StorageUse {
+                    reads: true,
+                    writes: false,
+                }) => (A::SHADER_STORAGE_READ, false),
+                Some(StorageUse {
+                    reads: false,
+                    writes: true,
+                }) => (A::SHADER_STORAGE_WRITE, true),
+                _ => (A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE, false),
+            },
             "UNIFORM_BUFFER" | "UNIFORM_BUFFER_DYNAMIC" => (A::UNIFORM_READ, false),
             "INPUT_ATTACHMENT" => (A::INPUT_ATTACHMENT_READ, false),
             _ => (A::SHADER_SAMPLED_READ, false),
@@ -617,6 +760,7 @@ impl Sync {
                         command: command.to_owned(),
                         what: format!("store op {store}"),
                     },
+                    seq: self.seq,
                     exec: S::EMPTY,
                     visible: Vec::new(),
                 });
@@ -633,8 +777,15 @@ impl Sync {
                 vec![Key::Buffer(h)]
             }
         };
+        // The part of TRANSFER each command runs in, as synchronization2 names it (and the
+        // validation layer reports it): copies and updates COPY, clears and fills CLEAR.
+        let stage = match t {
+            TransferCmd::Copy { .. } | TransferCmd::Fill { update: true, .. } => S::COPY,
+            TransferCmd::Clear { .. } | TransferCmd::Fill { update: false, .. } => S::CLEAR,
+            TransferCmd::Resolve { .. } => S::RESOLVE,
+        };
         let mk = |access: A, what: &str| Access {
-            stage: S::TRANSFER,
+            stage,
             access,
             command: command.to_owned(),
             what: what.to_owned(),
@@ -775,23 +926,33 @@ impl Sync {
         }
     }
 
-    /// One submission of the imported frames: semaphore waits, then the command buffers in
-    /// order.
+    /// One submission of the imported frames: semaphore waits (each with its stage mask),
+    /// the command buffers in order, then its signals and fence.
+    #[allow(clippy::too_many_arguments)]
     pub fn submit(
         &mut self,
         objects: &Objects,
         pipelines: &Pipelines,
         recordings: &HashMap<u64, Recording>,
-        waits: usize,
+        waits: &[(u64, S)],
         command_buffers: &[u64],
+        signals: &[u64],
+        fence: u64,
     ) {
-        if waits > 0 {
-            self.wait_all();
+        for &(semaphore, mask) in waits {
+            self.semaphore_wait(semaphore, mask);
         }
+        self.seq += 1;
         for cb in command_buffers {
             if let Some(r) = recordings.get(cb) {
                 self.walk(objects, pipelines, recordings, r, 0);
             }
+        }
+        for s in signals {
+            self.signalled.insert(*s, self.seq);
+        }
+        if fence != 0 {
+            self.fences.insert(fence, self.seq);
         }
     }
 
@@ -857,10 +1018,10 @@ mod tests {
     #[test]
     fn a_write_needs_a_memory_dependency_to_be_read() {
         let mut st = State::default();
-        assert!(st.write(acc(S::TRANSFER, A::TRANSFER_WRITE)).is_none());
+        assert!(st.write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0).is_empty());
         // No barrier: the read sees nothing.
         let mut unordered = st.clone();
-        let h = unordered.read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ));
+        let h = unordered.read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ), 0);
         assert_eq!(h.map(|h| h.0), Some(HazardKind::ReadAfterWrite));
         // An execution dependency alone does not make the write visible.
         let mut exec_only = st.clone();
@@ -872,7 +1033,7 @@ mod tests {
         });
         assert!(
             exec_only
-                .read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ))
+                .read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ), 0)
                 .is_some()
         );
         // The full dependency does.
@@ -883,12 +1044,60 @@ mod tests {
             dst_access: A::SHADER_READ.expand(),
         });
         assert!(
-            st.read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ))
+            st.read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ), 0)
                 .is_none()
         );
-        // A later write must wait for that read.
-        let h = st.clone().write(acc(S::TRANSFER, A::TRANSFER_WRITE));
-        assert_eq!(h.map(|h| h.0), Some(HazardKind::WriteAfterRead));
+        // A later write must wait for that read; the read, ordered after the first write,
+        // orders the two writes.
+        let h = st.clone().write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0);
+        let kinds: Vec<HazardKind> = h.iter().map(|h| h.0).collect();
+        assert_eq!(kinds, [HazardKind::WriteAfterRead]);
+    }
+
+    #[test]
+    fn a_write_unordered_with_the_read_before_it_is_a_write_after_read() {
+        // A layout transition made visible to shader reads, a compute read, then a compute
+        // write with no dependency on either (a weakened barrier between two dispatches):
+        // the read is the access it must wait for.
+        let mut st = State::default();
+        let to_reads = Dep {
+            src: earlier(S::TRANSFER),
+            src_access: A::TRANSFER_WRITE,
+            dst: later(S::COMPUTE_SHADER),
+            dst_access: A::SHADER_READ.expand(),
+        };
+        assert!(
+            st.transition(&to_reads, acc(S::EMPTY, A::EMPTY), 0)
+                .is_empty()
+        );
+        assert!(
+            st.read(acc(S::COMPUTE_SHADER, A::SHADER_STORAGE_READ), 0)
+                .is_none()
+        );
+        let weak = Dep {
+            src: earlier(S::TRANSFER),
+            src_access: A::EMPTY,
+            dst: later(S::COMPUTE_SHADER),
+            dst_access: A::SHADER_WRITE.expand(),
+        };
+        let mut unordered = st.clone();
+        unordered.depend(&weak);
+        let kinds: Vec<HazardKind> = unordered
+            .write(acc(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE), 0)
+            .iter()
+            .map(|h| h.0)
+            .collect();
+        assert_eq!(kinds, [HazardKind::WriteAfterRead]);
+        // The barrier as recorded (its first scope reaches the compute stage) orders both.
+        st.depend(&Dep {
+            src: earlier(S::COMPUTE_SHADER),
+            src_access: A::SHADER_READ.expand(),
+            ..weak
+        });
+        assert!(
+            st.write(acc(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE), 0)
+                .is_empty()
+        );
     }
 
     #[test]
@@ -900,11 +1109,11 @@ mod tests {
             dst: later(S::COLOR_ATTACHMENT_OUTPUT),
             dst_access: A::COLOR_ATTACHMENT_WRITE,
         };
-        st.write(acc(S::TRANSFER, A::TRANSFER_WRITE));
-        assert!(st.transition(&d, acc(S::EMPTY, A::EMPTY)).is_none());
+        st.write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0);
+        assert!(st.transition(&d, acc(S::EMPTY, A::EMPTY), 0).is_empty());
         // loadOp LOAD reads the attachment: the barrier made the transition visible to
         // writes only (mpv's frames).
-        let h = st.read(acc(S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_READ));
+        let h = st.read(acc(S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_READ), 0);
         assert_eq!(h.map(|h| h.0), Some(HazardKind::ReadAfterWrite));
     }
 }

@@ -115,6 +115,9 @@ pub enum HazardKind {
     WriteAfterWrite,
     /// An image used in (or transitioned from) a layout other than the one it is in.
     LayoutMismatch,
+    /// A swapchain image presented before its last write is ordered before the present
+    /// (no waited semaphore was signalled after it).
+    PresentAfterWrite,
 }
 
 impl HazardKind {
@@ -124,6 +127,7 @@ impl HazardKind {
             HazardKind::WriteAfterRead => "WRITE_AFTER_READ",
             HazardKind::WriteAfterWrite => "WRITE_AFTER_WRITE",
             HazardKind::LayoutMismatch => "LAYOUT_MISMATCH",
+            HazardKind::PresentAfterWrite => "PRESENT_AFTER_WRITE",
         }
     }
 }

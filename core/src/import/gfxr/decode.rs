@@ -47,6 +47,9 @@ struct Reader<'a> {
     /// for an error, since most calls never need it.
     path: Vec<Part>,
     blobs: Vec<(String, Vec<u8>)>,
+    /// A parameter path to find (`locate`), and where its bytes were found.
+    seek: Option<&'a str>,
+    found: Option<(usize, usize)>,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -149,6 +152,18 @@ impl<'a> Reader<'a> {
     }
 
     fn value(&mut self, ty: Ty) -> Res<Value> {
+        if let Some(seek) = self.seek {
+            let width = match ty {
+                Ty::U8 => 1,
+                Ty::U16 => 2,
+                Ty::U32 | Ty::Flags32 | Ty::I32 | Ty::F32 | Ty::Enum(_) => 4,
+                Ty::U64 | Ty::Flags64 | Ty::Handle | Ty::Address | Ty::I64 | Ty::F64 => 8,
+                _ => 0,
+            };
+            if width > 0 && self.found.is_none() && self.at() == seek {
+                self.found = Some((self.pos, width));
+            }
+        }
         Ok(match ty {
             Ty::U8 => Value::from(self.array::<1>()?[0]),
             Ty::U16 => Value::from(u16::from_le_bytes(self.array()?)),
@@ -312,12 +327,34 @@ fn clear_color_views(map: Map<String, Value>) -> Value {
 
 /// Decodes `params` (the bytes after the thread id) as the parameters of `def`.
 pub fn decode_call(def: &CommandDef, params: &[u8]) -> Result<Decoded, String> {
+    decode(def, params, None).map(|(d, _)| d)
+}
+
+/// Where the scalar parameter at `path` (`pImageMemoryBarriers[0].oldLayout`) lies in
+/// `params`: its byte offset and width.
+pub fn locate(def: &CommandDef, params: &[u8], path: &str) -> Result<(usize, usize), String> {
+    match decode(def, params, Some(path))? {
+        (_, Some(found)) => Ok(found),
+        (_, None) => Err(format!(
+            "{} has no number at `{path}` (a path is spelt like `pImageMemoryBarriers[0].oldLayout`)",
+            def.name
+        )),
+    }
+}
+
+fn decode<'a>(
+    def: &CommandDef,
+    params: &'a [u8],
+    seek: Option<&'a str>,
+) -> Result<(Decoded, Option<(usize, usize)>), String> {
     let mut r = Reader {
         buf: params,
         pos: 0,
         depth: 0,
         path: Vec::with_capacity(8),
         blobs: Vec::new(),
+        seek,
+        found: None,
     };
     let mut args = Map::new();
     for p in def.params {
@@ -328,9 +365,12 @@ pub fn decode_call(def: &CommandDef, params: &[u8]) -> Result<Decoded, String> {
         Some(ty) => Some(r.value(ty)?),
         None => None,
     };
-    Ok(Decoded {
-        args: Value::Object(args),
-        ret,
-        blobs: r.blobs,
-    })
+    Ok((
+        Decoded {
+            args: Value::Object(args),
+            ret,
+            blobs: r.blobs,
+        },
+        r.found,
+    ))
 }

@@ -10,6 +10,7 @@
 mod blocks;
 mod compress;
 mod decode;
+pub mod edit;
 mod meta;
 pub(super) mod registry;
 #[rustfmt::skip]
@@ -134,6 +135,12 @@ fn call(
         Ok(decoded) => {
             if extra {
                 contents.observe(def.name, &decoded.args, &decoded.blobs);
+                if func == Func::CreateShaderModule
+                    && let Some(h) = decoded.args.get("pShaderModule").and_then(|v| v.as_u64())
+                    && let Some(code) = contents.modules.get(&h)
+                {
+                    imp.pipelines.learn_module(h, code);
+                }
                 if func == Func::Other {
                     imp.calls += 1;
                     *imp.not_modelled.entry(def.name.to_owned()).or_default() += 1;

@@ -149,6 +149,7 @@ impl<R: Read + Seek> Reader<R> {
                         .and_then(|c| c.child("pCode")),
                 ) {
                     let bytes = self.bytes(code)?;
+                    imp.pipelines.learn_module(module, &bytes);
                     self.contents.module(module, bytes);
                 }
             }
