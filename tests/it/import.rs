@@ -307,12 +307,22 @@ fn formats_barriers_and_placements_are_the_streams() {
 fn a_missing_barrier_is_reported_in_vulkan_terms() {
     // vkd3d clears the swapchain image in one render pass and loads it in a second; neither
     // declares a subpass dependency, and with no layout change there is no implicit one:
-    // nothing orders the first pass's store with the second's load.
+    // nothing orders the first pass's store with the second's load. It then presents
+    // waiting on no semaphore, so nothing orders the transition to PRESENT_SRC_KHR before
+    // the presentation engine's read.
     let (_, out) = import_cli("vkd3d_triangle.jsonl", &[]);
     let o = framelab(&["analyze", out.to_str().unwrap(), "--json"]);
     let lints = json(&o)["lints"].as_array().unwrap().clone();
     let missing: Vec<&Value> = lints.iter().filter(|l| l["code"] == "FL020").collect();
-    assert_eq!(missing.len(), 1, "{missing:?}");
+    assert_eq!(missing.len(), 2, "{missing:?}");
+    let present = missing[1]["message"].as_str().unwrap();
+    for part in [
+        "vkQueuePresentKHR #157",
+        "PRESENT_AFTER_WRITE",
+        "of vkCmdPipelineBarrier #154",
+    ] {
+        assert!(present.contains(part), "{present}");
+    }
     let m = missing[0]["message"].as_str().unwrap();
     for part in [
         "vkCmdBeginRenderPass #151",

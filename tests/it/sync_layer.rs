@@ -93,8 +93,12 @@ fn layer_findings(capture: &Path, display: &Display, dir: &Path) -> BTreeSet<Fin
         panic!("the validation layer wrote no log ({e}): is vulkan-validationlayers installed?")
     });
     text.lines()
-        .filter(|l| l.contains("SYNC-HAZARD-"))
-        .map(|l| parse_layer(l).unwrap_or_else(|| panic!("unreadable layer message: {l}")))
+        .filter(|l| l.contains("SYNC-HAZARD-") || layout_message(l).is_some())
+        .map(|l| {
+            layout_message(l)
+                .or_else(|| parse_layer(l))
+                .unwrap_or_else(|| panic!("unreadable layer message: {l}"))
+        })
         .collect()
 }
 
@@ -139,6 +143,30 @@ fn parse_layer(line: &str) -> Option<Finding> {
     ))
 }
 
+/// The layer's image layout errors, as (command, `LAYOUT_MISMATCH`, expected layout,
+/// current layout, ""): a barrier's old layout that is not the image's, and a render pass
+/// begun with an attachment in another layout than its initialLayout.
+fn layout_message(line: &str) -> Option<Finding> {
+    let command = if line.contains("VUID-VkImageMemoryBarrier-oldLayout-01197") {
+        "vkCmdPipelineBarrier"
+    } else if line.contains("cannot start a render pass using attachment") {
+        "vkCmdBeginRenderPass"
+    } else {
+        return None;
+    };
+    let text = line.rsplit_once("| ")?.1;
+    let mut layouts = text
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .filter_map(|w| w.strip_prefix("VK_IMAGE_LAYOUT_"));
+    Some((
+        command.to_owned(),
+        "LAYOUT_MISMATCH".to_owned(),
+        layouts.next()?.to_owned(),
+        layouts.next()?.to_owned(),
+        String::new(),
+    ))
+}
+
 /// framelab's access description in the layer's words: `SYNC_<stage>_<access>`, a layout
 /// transition `SYNC_IMAGE_LAYOUT_TRANSITION`.
 fn usage(access: &str) -> String {
@@ -170,6 +198,17 @@ fn framelab_findings(capture: &Path) -> (BTreeSet<Finding>, BTreeSet<Finding>) {
     let (mut all, mut across) = (BTreeSet::new(), BTreeSet::new());
     for h in hazards {
         let s = |k: &str| h[k].as_str().unwrap().to_owned();
+        let last = |k: &str| s(k).rsplit(' ').next().unwrap_or("").to_owned();
+        if s("kind") == "LAYOUT_MISMATCH" {
+            all.insert((
+                call(&s("command")),
+                s("kind"),
+                last("access"),
+                last("prior"),
+                String::new(),
+            ));
+            continue;
+        }
         let f = (
             call(&s("command")),
             s("kind"),
@@ -204,7 +243,7 @@ fn import(input: &Path, out: &Path) {
 
 /// GFXReconstruct captures, with the hazards framelab finds that the layer does not because
 /// of its rasterization-order rule across render passes (expected count).
-const GFXR: [(&str, usize); 8] = [
+const GFXR: [(&str, usize); 9] = [
     ("vkcube_f3", 0),
     ("vkcube_f184", 0),
     ("vkcubepp_f3", 0),
@@ -213,6 +252,7 @@ const GFXR: [(&str, usize); 8] = [
     ("mpv_testsrc_f5", 0),
     ("mpv_hq_f5", 0),
     ("framelab_inspect_f3", 0),
+    ("write_after_read", 0),
 ];
 
 /// RenderDoc captures and the GFXReconstruct capture of the same program the layer ran on.
@@ -306,4 +346,157 @@ fn layer_messages_are_read() {
         usage("COLOR_ATTACHMENT_OUTPUT/COLOR_ATTACHMENT_READ (load op LOAD)"),
         "SYNC_COLOR_ATTACHMENT_OUTPUT_COLOR_ATTACHMENT_READ"
     );
+}
+
+/// A barrier removed or weakened in a real stream (`framelab edit`), and what it breaks: the
+/// finding framelab must add at the command (by its index in the stream), and the one the
+/// layer adds there when it is another.
+struct Planted {
+    file: &'static str,
+    source: &'static str,
+    edits: &'static [&'static str],
+    command: &'static str,
+    kind: &'static str,
+    layer_kind: Option<&'static str>,
+}
+
+const PLANTED: [Planted; 5] = [
+    // Read after write: the copy's write is not made visible to the compute shader's read.
+    Planted {
+        file: "raw_mpv_testsrc_f5",
+        source: "mpv_testsrc_f5",
+        edits: &["201:pBufferMemoryBarriers[0].dstAccessMask=0"],
+        command: "vkCmdDispatch #205",
+        kind: "READ_AFTER_WRITE",
+        layer_kind: None,
+    },
+    // Write after read: the barrier between two dispatches no longer waits for the compute
+    // stage, so the second dispatch's write of `a` is unordered with the first's read. The
+    // layer (1.3.239, checking across command buffers at submission) reports the same write
+    // against the earlier layout transition of `a` instead: it carries no read of another
+    // command buffer into the submission's state. Both are unordered with the write by the
+    // specification's rule (an execution dependency must order each earlier access before
+    // a write); framelab names the read, the access the write must wait for last.
+    Planted {
+        file: "war_write_after_read",
+        source: "write_after_read",
+        edits: &[
+            "197:srcStageMask=4096",
+            "197:pImageMemoryBarriers[0].srcAccessMask=0",
+        ],
+        command: "vkCmdDispatch #180",
+        kind: "WRITE_AFTER_READ",
+        layer_kind: Some("WRITE_AFTER_WRITE"),
+    },
+    // Write after write: the transition to PRESENT_SRC no longer makes the render pass's
+    // store available.
+    Planted {
+        file: "waw_vkd3d_gears_f2",
+        source: "vkd3d_gears_f2",
+        edits: &["176:pImageMemoryBarriers[0].srcAccessMask=0"],
+        command: "vkCmdPipelineBarrier #176",
+        kind: "WRITE_AFTER_WRITE",
+        layer_kind: None,
+    },
+    // A wrong old layout: the swapchain image is in PRESENT_SRC_KHR, the barrier says GENERAL.
+    Planted {
+        file: "old_layout_vkd3d_gears_f2",
+        source: "vkd3d_gears_f2",
+        edits: &["154:pImageMemoryBarriers[0].oldLayout=VK_IMAGE_LAYOUT_GENERAL"],
+        command: "vkCmdPipelineBarrier #154",
+        kind: "LAYOUT_MISMATCH",
+        layer_kind: None,
+    },
+    // A missing layout transition: the barrier keeps PRESENT_SRC_KHR, and the render pass
+    // expects COLOR_ATTACHMENT_OPTIMAL.
+    Planted {
+        file: "no_transition_vkd3d_gears_f2",
+        source: "vkd3d_gears_f2",
+        edits: &["154:pImageMemoryBarriers[0].newLayout=VK_IMAGE_LAYOUT_PRESENT_SRC_KHR"],
+        command: "vkCmdBeginRenderPass #156",
+        kind: "LAYOUT_MISMATCH",
+        layer_kind: None,
+    },
+];
+
+/// framelab's findings as imported, with the command's index kept.
+fn commands_found(capture: &Path) -> BTreeSet<(String, String)> {
+    let c: Value = serde_json::from_str(&std::fs::read_to_string(capture).unwrap()).unwrap();
+    c["source"]["sync_hazards"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|h| {
+            (
+                h["command"].as_str().unwrap().to_owned(),
+                h["kind"].as_str().unwrap().to_owned(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn planted_hazards_are_flagged_by_framelab_and_the_layer_at_the_same_command() {
+    let dir = temp("planted");
+    let display = start_display();
+    for p in PLANTED {
+        let planted = repo().join(format!("tests/fixtures/gfxr/planted/{}.gfxr", p.file));
+        let source = gfxr_fixture(&format!("{}.gfxr", p.source));
+        // The fixture is the source with exactly these edits.
+        let remade = dir.join(format!("{}.gfxr", p.file));
+        let mut args = vec![
+            "edit".to_owned(),
+            source.display().to_string(),
+            "-o".to_owned(),
+            remade.display().to_string(),
+        ];
+        for e in p.edits {
+            args.extend(["--set".to_owned(), (*e).to_owned()]);
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let run = framelab(&args);
+        assert!(run.status.success(), "{}", stderr(&run));
+        assert!(
+            std::fs::read(&remade).unwrap() == std::fs::read(&planted).unwrap(),
+            "{}: the fixture is not {} with its edits",
+            p.file,
+            p.source
+        );
+
+        let (before, after) = (dir.join("before.json"), dir.join("after.json"));
+        import(&source, &before);
+        import(&planted, &after);
+        let added: Vec<(String, String)> = commands_found(&after)
+            .difference(&commands_found(&before))
+            .cloned()
+            .collect();
+        assert_eq!(
+            added,
+            [(p.command.to_owned(), p.kind.to_owned())],
+            "{}: framelab's new findings",
+            p.file
+        );
+        let ours: BTreeSet<Finding> = framelab_findings(&after)
+            .0
+            .difference(&framelab_findings(&before).0)
+            .cloned()
+            .collect();
+        let layer: BTreeSet<Finding> = layer_findings(&planted, &display, &dir)
+            .difference(&layer_findings(&source, &display, &dir))
+            .cloned()
+            .collect();
+        match p.layer_kind {
+            None => assert_eq!(
+                ours, layer,
+                "{}: framelab (left) and the layer (right)",
+                p.file
+            ),
+            Some(kind) => {
+                let found: Vec<(&str, &str)> =
+                    layer.iter().map(|f| (f.0.as_str(), f.1.as_str())).collect();
+                assert_eq!(found, [(call(p.command).as_str(), kind)], "{}", p.file);
+            }
+        }
+    }
+    std::fs::remove_dir_all(dir).unwrap();
 }

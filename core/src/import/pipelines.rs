@@ -64,10 +64,15 @@ fn float(a: &Arg<'_>, key: &str) -> Got<f32> {
 }
 
 impl Pipelines {
-    /// Learns module `module`'s storage bindings from its SPIR-V; code that does not parse
-    /// teaches nothing (its bindings stay read-write for the synchronization check).
+    /// Learns module `module`'s storage bindings from its SPIR-V: what its instructions do
+    /// with each, within what its NonWritable and NonReadable decorations allow. Code that
+    /// does not parse teaches nothing (its bindings stay read-write for the check).
     pub fn learn_module(&mut self, module: u64, code: &[u8]) {
-        let Ok(reflection) = crate::spirv::words(code).and_then(|w| crate::spirv::reflect(&w))
+        let Ok(words) = crate::spirv::words(code) else {
+            return;
+        };
+        let (Ok(reflection), Ok(usage)) =
+            (crate::spirv::reflect(&words), crate::spirv::usage(&words))
         else {
             return;
         };
@@ -81,7 +86,15 @@ impl Pipelines {
                     K::StorageBuffer | K::StorageImage(_) | K::StorageTexelBuffer(_)
                 )
             })
-            .map(|r| (r.set, r.binding, !r.non_readable, !r.non_writable))
+            .map(|r| {
+                let u = usage.get(&(r.set, r.binding)).copied().unwrap_or_default();
+                (
+                    r.set,
+                    r.binding,
+                    u.reads && !r.non_readable,
+                    u.writes && !r.non_writable,
+                )
+            })
             .collect();
         self.storage.insert(module, storage);
     }
@@ -102,7 +115,7 @@ impl Pipelines {
                 }
             }
         }
-        (out.reads || out.writes).then_some(out)
+        Some(out)
     }
 
     /// The `VkShaderStageFlags` of binding `binding` of set `set` in pipeline `pipeline`'s

@@ -645,26 +645,22 @@ impl Sync {
             Descriptor::Sampler { .. } => return,
         };
         let kind = ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
-        // Whether a shader reads or writes a storage binding is in its code: its SPIR-V's
-        // NonWritable and NonReadable decorations say so where the capture holds the code. A
-        // binding that may do both, or whose code is unknown, is satisfied by a dependency
-        // that covers either access and is not taken for a write, so no hazard is claimed on
-        // an access the shader may not make.
+        // Whether a shader reads or writes a storage binding is in its code, which a binary
+        // capture holds (`spirv::usage`). Where the code is unknown, a storage access is
+        // satisfied by a dependency that covers either access and is not taken for a write,
+        // so no hazard is claimed on an access the shader may not make.
         let storage = pipeline.and_then(|p| pipelines.storage_use(p, u.set, u.binding));
         let (access, write) = match kind {
             "STORAGE_IMAGE"
             | "STORAGE_BUFFER"
             | "STORAGE_BUFFER_DYNAMIC"
             | "STORAGE_TEXEL_BUFFER" => match storage {
-                Some(StorageUse {
-                    reads: true,
-                    writes: false,
-                }) => (A::SHADER_STORAGE_READ, false),
-                Some(StorageUse {
-                    reads: false,
-                    writes: true,
-                }) => (A::SHADER_STORAGE_WRITE, true),
-                _ => (A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE, false),
+                // Written (and maybe read): a write, as the layer takes it.
+                Some(StorageUse { writes: true, .. }) => (A::SHADER_STORAGE_WRITE, true),
+                Some(StorageUse { reads: true, .. }) => (A::SHADER_STORAGE_READ, false),
+                // Bound but never touched by the code.
+                Some(_) => return,
+                None => (A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE, false),
             },
             "UNIFORM_BUFFER" | "UNIFORM_BUFFER_DYNAMIC" => (A::UNIFORM_READ, false),
             "INPUT_ATTACHMENT" => (A::INPUT_ATTACHMENT_READ, false),

@@ -4,7 +4,8 @@
 //! owns both halves: `reflect` reads a module's interface (entry points, descriptor bindings,
 //! push-constant size, capabilities) so a layout can be built for it, and `rewrite` reshapes the
 //! module to that layout (combined image samplers split into an image and a sampler, bindings
-//! renumbered, gl_Position's y negated for wgpu's flipped viewport).
+//! renumbered, gl_Position's y negated for wgpu's flipped viewport). `usage` says which
+//! bindings the code reads and writes, for the synchronization check.
 
 mod index;
 mod ops;
@@ -13,6 +14,7 @@ mod rewrite;
 #[cfg(test)]
 mod tests;
 mod texel;
+mod usage;
 
 use std::fmt;
 
@@ -20,6 +22,7 @@ use rspirv::spirv::{Capability, Dim, ExecutionModel, ImageFormat};
 
 pub use reflect::reflect;
 pub use rewrite::rewrite;
+pub use usage::{Usage, usage};
 
 /// Why a module could not be read, reflected or rewritten.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

@@ -262,4 +262,5 @@ mod errors;
 /// specialization constants it was given become plain constants without SpecId.
 mod reflect;
 mod rewrite;
+mod usage;
 mod validators;
