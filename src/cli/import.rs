@@ -55,7 +55,10 @@ pub fn run(
     let head = reader
         .fill_buf()
         .map_err(|e| anyhow::anyhow!("cannot read {name}: {e}"))?;
-    let options = ImportOptions { frames };
+    let options = ImportOptions {
+        frames,
+        ..ImportOptions::default()
+    };
     let stem = out.file_stem().map_or_else(
         || "imported".to_owned(),
         |s| s.to_string_lossy().into_owned(),

@@ -594,3 +594,74 @@ fn unreadable_streams_are_located_and_write_nothing() {
         stderr(&o)
     );
 }
+
+#[test]
+fn edits_that_cannot_land_are_named_and_write_nothing() {
+    let dir = std::env::temp_dir().join(format!("framelab-edit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let source = gfxr_fixture("vkd3d_gears_f2.gfxr");
+    let out = dir.join("out.gfxr");
+    for (edit, says) in [
+        ("99999:srcStageMask=1", "has no block 99999"),
+        (
+            "176:pImageMemoryBarriers[3].srcAccessMask=0",
+            "no number at `pImageMemoryBarriers[3].srcAccessMask`",
+        ),
+        (
+            "176:srcStageMask=0x100000000",
+            "does not fit the 4-byte field",
+        ),
+        ("0:srcStageMask=1", "not a call"),
+    ] {
+        let run = framelab(&[
+            "edit",
+            source.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--set",
+            edit,
+        ]);
+        assert_eq!(run.status.code(), Some(1), "{edit}");
+        assert!(stderr(&run).contains(says), "{edit}: {}", stderr(&run));
+        assert!(!out.exists(), "{edit}: something was written");
+    }
+    let bad = framelab(&[
+        "edit",
+        source.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        "176:srcStageMask",
+    ]);
+    assert_eq!(
+        bad.status.code(),
+        Some(2),
+        "a malformed edit is a usage error"
+    );
+    // An edit that lands changes that one field: the import sees the weaker barrier.
+    let run = framelab(&[
+        "edit",
+        source.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        "176:dstStageMask=VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT",
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let c = dir.join("edited.json");
+    let imported = framelab(&["import", out.to_str().unwrap(), "-o", c.to_str().unwrap()]);
+    assert!(imported.status.success(), "{}", stderr(&imported));
+    let edited: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
+    let stages: Vec<Value> = passes(&edited)
+        .iter()
+        .flat_map(|p| p["barriers"].as_array().cloned().unwrap_or_default())
+        .filter(|b| b["vulkan"]["origin"] == "vkCmdPipelineBarrier #176")
+        .map(|b| b["vulkan"]["dst_stages"].clone())
+        .collect();
+    assert_eq!(
+        stages,
+        [serde_json::json!(["BOTTOM_OF_PIPE"])],
+        "the barrier at block 176"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -37,10 +37,14 @@ use value::{Arg, Got};
 
 pub use stream::MAX_LINE_BYTES;
 
-/// Which frames to import (0-based, inclusive); all when absent.
+/// What to import.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ImportOptions {
+    /// Which frames (0-based, inclusive); all when absent.
     pub frames: Option<(u32, u32)>,
+    /// Leave out the synchronization check (the capture then records no `sync_hazards`):
+    /// what the check costs is the difference.
+    pub skip_sync_check: bool,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -544,7 +548,7 @@ impl Importer {
             dialect: None,
             last_index: 0,
             hidden_blocks: false,
-            sync: sync::Sync::default(),
+            sync: sync::Sync::new(!options.skip_sync_check),
         }
     }
 
@@ -599,6 +603,7 @@ fn finish(
     );
     imp.builder.keep_alive(&imp.objects);
     let names = imp.builder.names.clone();
+    let imp_checked = imp.sync.enabled();
     let (hazards, hazards_dropped) = imp.sync.hazards(|h| names.get(&h).cloned());
     if hazards_dropped > 0 {
         skipped.push(Skipped {
@@ -684,7 +689,7 @@ fn finish(
     capture.vulkan = (vulkan != Default::default()).then_some(vulkan);
     let hazard_count = hazards.len();
     if let Some(source) = &mut capture.source {
-        source.sync_hazards = Some(hazards);
+        source.sync_hazards = imp_checked.then_some(hazards);
     }
     let mut side_files = Vec::new();
     let (mut shader_modules, mut contents) = (None, None);

@@ -190,6 +190,21 @@ pub struct Sync {
     /// presentation engine's read.
     acquire_semaphores: HashMap<u64, Vec<Key>>,
     acquire_fences: HashMap<u64, Vec<Key>>,
+    /// Off: every call returns at once and nothing is found.
+    enabled: bool,
+}
+
+impl Sync {
+    pub fn new(enabled: bool) -> Self {
+        Sync {
+            enabled,
+            ..Sync::default()
+        }
+    }
+
+    pub fn enabled(&self) -> bool {
+        self.enabled
+    }
 }
 
 impl State {
@@ -537,6 +552,9 @@ impl Sync {
     /// `vkAcquireNextImageKHR` handed `image` over: the presentation engine read it until
     /// now, and only the acquire's semaphore (waited on) or fence orders that read.
     pub fn acquire(&mut self, objects: &Objects, image: u64, sync: (u64, u64), command: &str) {
+        if !self.enabled {
+            return;
+        }
         let keys = Self::image_keys(objects, image, (0, None), (0, None));
         for &key in &keys {
             let st = self.states.entry(key).or_default();
@@ -565,6 +583,9 @@ impl Sync {
     /// reads each image, which needs the image's last write submitted no later than a
     /// waited semaphore's signal.
     pub fn present(&mut self, objects: &Objects, waits: &[u64], images: &[u64], command: &str) {
+        if !self.enabled {
+            return;
+        }
         let covered = waits
             .iter()
             .filter_map(|s| self.signalled.get(s))
@@ -591,6 +612,9 @@ impl Sync {
     /// A host wait that returned `VK_SUCCESS`: on `fences` (all of them, or the only one),
     /// on timeline `semaphores` likewise, or a queue or the device idle (`None`).
     pub fn host_wait(&mut self, fences: &[u64], semaphores: &[u64], all: bool) {
+        if !self.enabled {
+            return;
+        }
         if fences.is_empty() && semaphores.is_empty() {
             self.retire(self.seq);
             return;
@@ -935,6 +959,9 @@ impl Sync {
         signals: &[u64],
         fence: u64,
     ) {
+        if !self.enabled {
+            return;
+        }
         for &(semaphore, mask) in waits {
             self.semaphore_wait(semaphore, mask);
         }
