@@ -72,7 +72,10 @@ fn u64_at(b: &[u8], i: usize) -> u64 {
 pub fn apply(input: &[u8], edits: &[FieldEdit]) -> Result<Vec<u8>, String> {
     let mut blocks =
         Blocks::new(Cursor::new(input), Some(input.len() as u64)).map_err(|e| e.message.clone())?;
-    let header_len = 16 + 8 * u32::from_le_bytes(input[12..16].try_into().unwrap()) as usize;
+    // The header was read by `Blocks::new`: 16 bytes, then 8 per option.
+    let mut options = [0u8; 4];
+    options.copy_from_slice(&input[12..16]);
+    let header_len = 16 + 8 * u32::from_le_bytes(options) as usize;
     let mut out = input[..header_len].to_vec();
     let mut done = vec![false; edits.len()];
     while let Some(block) = blocks.next_block() {
