@@ -314,6 +314,7 @@ impl Importer {
                     &cbs,
                     &signals,
                     fence,
+                    self.objects.queues.get(&queue).map(|(family, _)| *family),
                 );
             }
             self.builder.submit(

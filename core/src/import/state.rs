@@ -164,6 +164,16 @@ pub struct Objects {
     pub names: HashMap<u64, String>,
     /// Memory the application mapped (its buffers hold what the CPU wrote).
     pub mapped: std::collections::HashSet<u64>,
+    /// Images and buffers created with `VK_SHARING_MODE_CONCURRENT`: any queue family may
+    /// use them without an ownership transfer.
+    pub concurrent: std::collections::HashSet<u64>,
+}
+
+/// Whether a create info asks for `VK_SHARING_MODE_CONCURRENT` (by name or value).
+fn concurrent(ci: &Arg<'_>) -> bool {
+    ci.opt("sharingMode").is_some_and(|m| {
+        m.u64().is_ok_and(|v| v == 1) || m.name().is_ok_and(|n| n.ends_with("CONCURRENT"))
+    })
 }
 
 fn samples(a: &Arg<'_>) -> Got<u32> {
@@ -344,6 +354,9 @@ impl Objects {
     fn create_buffer(&mut self, args: &Arg<'_>) -> Got<()> {
         let ci = args.get("pCreateInfo")?;
         let buffer = args.get("pBuffer")?.handle()?;
+        if concurrent(&ci) {
+            self.concurrent.insert(buffer);
+        }
         self.buffers.insert(
             buffer,
             BufferInfo {
@@ -362,6 +375,9 @@ impl Objects {
         let ci = args.get("pCreateInfo")?;
         let extent = ci.get("extent")?;
         let image = args.get("pImage")?.handle()?;
+        if concurrent(&ci) {
+            self.concurrent.insert(image);
+        }
         let info = ImageInfo {
             format: ci.get("format")?.name()?,
             image_type: ci.get("imageType")?.name()?,

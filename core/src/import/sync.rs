@@ -147,6 +147,10 @@ struct State {
     /// An image subresource's layout and the command that put it there; `None` until the
     /// imported frames set it (what the capture's snapshot left is not checked).
     layout: Option<(ImageLayout, String)>,
+    /// The queue family that last used it (an exclusive resource's owner), and a release
+    /// to another family not yet acquired.
+    owner: Option<u32>,
+    released: Option<(u32, u32)>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -192,6 +196,10 @@ pub struct Sync {
     acquire_fences: HashMap<u64, Vec<Key>>,
     /// Off: every call returns at once and nothing is found.
     enabled: bool,
+    /// The queue family of the submission being walked, when the stream says.
+    family: Option<u32>,
+    /// Resources any queue family may use (`VK_SHARING_MODE_CONCURRENT`).
+    concurrent: std::collections::HashSet<u64>,
 }
 
 impl Sync {
@@ -411,6 +419,7 @@ impl Sync {
 
     fn access(&mut self, keys: &[Key], write: bool, a: &Access) {
         for &key in keys {
+            self.own(key, write, a);
             let st = self.states.entry(key).or_default();
             let hazards = if write {
                 st.write(a.clone(), self.seq)
@@ -426,7 +435,99 @@ impl Sync {
     /// `b`'s dependency and layout transition; `check_old`: whether its old layout must be
     /// the one the subresource is in (a render pass's own transitions are checked at its
     /// start, by `expect_layouts`, under the command that begins it).
+    /// An exclusive resource used by the current queue family: reading what another family
+    /// left needs that family's release and this one's acquire (a write that keeps nothing
+    /// needs neither). The user becomes the owner.
+    fn own(&mut self, key: Key, write: bool, a: &Access) {
+        let Some(family) = self.family else { return };
+        let handle = match key {
+            Key::Buffer(b) => b,
+            Key::Image { image, .. } => image,
+        };
+        if self.concurrent.contains(&handle) {
+            return;
+        }
+        let st = self.states.entry(key).or_default();
+        let previous = st.owner.replace(family);
+        if let Some(owner) = previous.filter(|o| *o != family && !write) {
+            let prior = Access {
+                stage: S::EMPTY,
+                access: A::EMPTY,
+                command: st
+                    .write
+                    .as_ref()
+                    .map_or_else(String::new, |w| w.access.command.clone()),
+                what: format!("owned by queue family {owner}"),
+            };
+            let mut access = a.clone();
+            access.what = format!("{} on queue family {family}", access.what);
+            self.note(
+                &a.command,
+                key,
+                HazardKind::OwnershipTransferMissing,
+                access,
+                prior,
+            );
+        }
+    }
+
+    /// A queue family ownership transfer's half on this queue: the release (on the source
+    /// family) ignores its second scope, the acquire (on the destination) its first, which
+    /// the semaphore between the two queues stands in for.
+    fn transfer_half(&mut self, objects: &Objects, b: &BarrierCmd, (src, dst): (u32, u32)) {
+        let Some(family) = self.family else { return };
+        let keys: Vec<Key> = match &b.target {
+            BarrierTarget::Global => return,
+            BarrierTarget::Buffer { buffer } => vec![Key::Buffer(*buffer)],
+            BarrierTarget::Image {
+                image,
+                mips,
+                layers,
+            } => Self::image_keys(objects, *image, *mips, *layers),
+        };
+        if family == src {
+            let release = BarrierCmd {
+                dst_stages: S::EMPTY,
+                dst_access: A::EMPTY,
+                families: None,
+                ..b.clone()
+            };
+            self.barrier(objects, &release, true);
+            for key in keys {
+                let st = self.states.entry(key).or_default();
+                st.released = Some((src, dst));
+                // Made available by the release, visible to nothing yet.
+                if let Some(w) = st.write.as_mut().filter(|w| w.visible.is_empty()) {
+                    w.visible.push((S::EMPTY, A::EMPTY));
+                }
+            }
+        } else if family == dst {
+            let later_stages = later(b.dst_stages);
+            for key in keys {
+                let st = self.states.entry(key).or_default();
+                st.released = None;
+                st.owner = Some(dst);
+                if let Some(w) = st.write.as_mut().filter(|w| !w.exec.is_empty()) {
+                    w.exec |= later_stages;
+                    if !w.visible.is_empty() {
+                        w.visible.push((later_stages, b.dst_access.expand()));
+                    }
+                }
+                for r in st.reads.iter_mut().filter(|r| !r.exec.is_empty()) {
+                    r.exec |= later_stages;
+                }
+                if let Some((_, to)) = b.layouts {
+                    st.layout = Some((to, b.origin.clone()));
+                }
+            }
+        }
+    }
+
     fn barrier(&mut self, objects: &Objects, b: &BarrierCmd, check_old: bool) {
+        if let Some(families) = b.families {
+            self.transfer_half(objects, b, families);
+            return;
+        }
         let d = Dep::of(b);
         let keys: Vec<Key> = match &b.target {
             BarrierTarget::Global => self.states.keys().copied().collect(),
@@ -946,8 +1047,8 @@ impl Sync {
         }
     }
 
-    /// One submission of the imported frames: semaphore waits (each with its stage mask),
-    /// the command buffers in order, then its signals and fence.
+    /// One submission of the imported frames on a queue of `family`: semaphore waits (each
+    /// with its stage mask), the command buffers in order, then its signals and fence.
     #[allow(clippy::too_many_arguments)]
     pub fn submit(
         &mut self,
@@ -958,10 +1059,13 @@ impl Sync {
         command_buffers: &[u64],
         signals: &[u64],
         fence: u64,
+        family: Option<u32>,
     ) {
         if !self.enabled {
             return;
         }
+        self.family = family;
+        self.concurrent.clone_from(&objects.concurrent);
         for &(semaphore, mask) in waits {
             self.semaphore_wait(semaphore, mask);
         }
@@ -1138,5 +1242,60 @@ mod tests {
         // writes only (mpv's frames).
         let h = st.read(acc(S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_READ), 0);
         assert_eq!(h.map(|h| h.0), Some(HazardKind::ReadAfterWrite));
+    }
+
+    /// A buffer written on queue family 0 and read on family 1, each in its own submission,
+    /// the read waiting on a semaphore the write's submission signalled.
+    fn across_families(release_and_acquire: bool) -> Vec<HazardKind> {
+        let objects = Objects::default();
+        let mut sync = Sync::new(true);
+        let at = |command: &str, stage: S, access: A| Access {
+            stage,
+            access,
+            command: command.to_owned(),
+            what: String::new(),
+        };
+        let transfer = |family_side: bool| BarrierCmd {
+            origin: if family_side { "release" } else { "acquire" }.to_owned(),
+            target: BarrierTarget::Buffer { buffer: 1 },
+            src_stages: S::TRANSFER,
+            dst_stages: S::COMPUTE_SHADER,
+            src_access: A::TRANSFER_WRITE,
+            dst_access: A::SHADER_READ,
+            layouts: None,
+            families: Some((0, 1)),
+        };
+        sync.family = Some(0);
+        sync.seq = 1;
+        sync.access(
+            &[Key::Buffer(1)],
+            true,
+            &at("write", S::COPY, A::TRANSFER_WRITE),
+        );
+        if release_and_acquire {
+            sync.barrier(&objects, &transfer(true), true);
+        }
+        sync.signalled.insert(9, 1);
+        sync.family = Some(1);
+        sync.semaphore_wait(9, S::TOP_OF_PIPE);
+        sync.seq = 2;
+        if release_and_acquire {
+            sync.barrier(&objects, &transfer(false), true);
+        }
+        sync.access(
+            &[Key::Buffer(1)],
+            false,
+            &at("read", S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),
+        );
+        sync.found.keys().map(|(_, _, kind)| *kind).collect()
+    }
+
+    #[test]
+    fn an_exclusive_resource_read_on_another_family_needs_its_ownership_transferred() {
+        assert_eq!(
+            across_families(false),
+            [HazardKind::OwnershipTransferMissing]
+        );
+        assert!(across_families(true).is_empty());
     }
 }

@@ -118,6 +118,9 @@ pub enum HazardKind {
     /// A swapchain image presented before its last write is ordered before the present
     /// (no waited semaphore was signalled after it).
     PresentAfterWrite,
+    /// An exclusive resource read on a queue family other than the one that used it last,
+    /// with no release and acquire between them.
+    OwnershipTransferMissing,
 }
 
 impl HazardKind {
@@ -128,6 +131,7 @@ impl HazardKind {
             HazardKind::WriteAfterWrite => "WRITE_AFTER_WRITE",
             HazardKind::LayoutMismatch => "LAYOUT_MISMATCH",
             HazardKind::PresentAfterWrite => "PRESENT_AFTER_WRITE",
+            HazardKind::OwnershipTransferMissing => "OWNERSHIP_TRANSFER_MISSING",
         }
     }
 }
