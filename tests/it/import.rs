@@ -315,6 +315,14 @@ fn a_missing_barrier_is_reported_in_vulkan_terms() {
     let lints = json(&o)["lints"].as_array().unwrap().clone();
     let missing: Vec<&Value> = lints.iter().filter(|l| l["code"] == "FL020").collect();
     assert_eq!(missing.len(), 2, "{missing:?}");
+    // Each is shown on its pass: the render pass that loads, the present.
+    let c: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let kind_of = |lint: &Value| {
+        let name = lint["pass"].as_str().expect("the finding names its pass");
+        passes(&c).iter().find(|p| p["name"] == name).unwrap()["kind"].clone()
+    };
+    assert_eq!(kind_of(missing[0]), "raster");
+    assert_eq!(kind_of(missing[1]), "present");
     let present = missing[1]["message"].as_str().unwrap();
     for part in [
         "vkQueuePresentKHR #157",

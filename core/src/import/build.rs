@@ -45,6 +45,10 @@ pub struct Builder {
     binding_seen: HashMap<usize, std::collections::HashSet<String>>,
     pub queue_names: BTreeMap<u64, (String, QueueType)>,
     pub(super) pending_barriers: HashMap<u64, Vec<RecordedBarrier>>,
+    /// The pass each command's work went into (`vkCmdDispatch #205` -> pass index), so a
+    /// finding that names a command can be shown on its pass. Barriers are found by their
+    /// origin in the passes' own lists.
+    pub(super) pass_of_command: HashMap<String, usize>,
     pub(super) pending_waits: HashMap<u64, Vec<String>>,
     labels: HashMap<u64, Vec<String>>,
     last_pass_on: HashMap<u64, usize>,
@@ -304,7 +308,7 @@ impl Builder {
         }
         for cb in command_buffers {
             match recordings.get(cb) {
-                Some(r) => self.walk(objects, recordings, queue, &r.cmds, 0),
+                Some(r) => self.walk(objects, recordings, queue, r, 0),
                 None => self.note("submitted command buffers the stream never recorded: skipped"),
             }
         }
@@ -344,7 +348,15 @@ impl Builder {
         }
     }
 
-    pub fn present(&mut self, objects: &Objects, queue: u64, waits: &[u64], images: &[(u64, u32)]) {
+    /// `vkQueuePresentKHR` (`command`) of `images` on `queue`: a present pass each.
+    pub fn present(
+        &mut self,
+        objects: &Objects,
+        queue: u64,
+        waits: &[u64],
+        images: &[(u64, u32)],
+        command: &str,
+    ) {
         self.wait(queue, waits);
         for &(chain, index) in images {
             let Some(&image) = objects
@@ -364,6 +376,7 @@ impl Builder {
             };
             if let Some(p) = self.new_pass(objects, queue, PassKind::Present, "present") {
                 self.passes[p].present = Some(name);
+                self.pass_of_command.insert(command.to_owned(), p);
             }
         }
         self.end_frame();
@@ -374,12 +387,19 @@ impl Builder {
         objects: &Objects,
         recordings: &HashMap<u64, Recording>,
         queue: u64,
-        cmds: &[Cmd],
+        recording: &Recording,
         depth: u32,
     ) {
         let mut compute: Option<usize> = None;
         let mut render: Option<(&RenderInstance, usize, Option<usize>)> = None;
-        for cmd in cmds {
+        for (i, cmd) in recording.cmds.iter().enumerate() {
+            // The work of these goes into the pass last started on the queue once it is done.
+            let origin = recording.at.get(i).filter(|_| {
+                matches!(
+                    cmd,
+                    Cmd::BeginRender(_) | Cmd::Draw(_) | Cmd::Dispatch(_) | Cmd::Transfer(_)
+                )
+            });
             if !matches!(cmd, Cmd::Dispatch(_)) {
                 compute = None;
             }
@@ -446,13 +466,18 @@ impl Builder {
                     }
                     for cb in list {
                         match recordings.get(cb) {
-                            Some(r) => self.walk(objects, recordings, queue, &r.cmds, depth + 1),
+                            Some(r) => self.walk(objects, recordings, queue, r, depth + 1),
                             None => self.note(
                                 "executed command buffers the stream never recorded: skipped",
                             ),
                         }
                     }
                 }
+            }
+            if let Some(origin) = origin.filter(|_| self.emitting())
+                && let Some(&pass) = self.last_pass_on.get(&queue)
+            {
+                self.pass_of_command.insert(origin.clone(), pass);
             }
         }
     }

@@ -401,17 +401,18 @@ impl Importer {
             .zip(&indices)
             .map(|(c, i)| Ok((c.handle()?, i.u32()?)))
             .collect::<Got<Vec<_>>>()?;
+        let command = format!("{} #{}", call.name, call.index);
         if self.builder.emitting() {
             let swapchain_images: Vec<u64> = images
                 .iter()
                 .filter_map(|(c, i)| self.objects.swapchain_images.get(c)?.get(*i as usize))
                 .copied()
                 .collect();
-            let command = format!("{} #{}", call.name, call.index);
             self.sync
                 .present(&self.objects, &waits, &swapchain_images, &command);
         }
-        self.builder.present(&self.objects, queue, &waits, &images);
+        self.builder
+            .present(&self.objects, queue, &waits, &images, &command);
         self.submitted_in_frame = false;
         Ok(())
     }
@@ -605,7 +606,26 @@ fn finish(
     imp.builder.keep_alive(&imp.objects);
     let names = imp.builder.names.clone();
     let imp_checked = imp.sync.enabled();
-    let (hazards, hazards_dropped) = imp.sync.hazards(|h| names.get(&h).cloned());
+    let (mut hazards, hazards_dropped) = imp.sync.hazards(|h| names.get(&h).cloned());
+    // Each finding on the pass its command's work, or its barrier, went into.
+    let mut pass_of: HashMap<&str, usize> = imp
+        .builder
+        .pass_of_command
+        .iter()
+        .map(|(c, p)| (c.as_str(), *p))
+        .collect();
+    for (i, pass) in imp.builder.passes.iter().enumerate() {
+        for b in &pass.barriers {
+            if let Some(v) = &b.vulkan {
+                pass_of.entry(v.origin.as_str()).or_insert(i);
+            }
+        }
+    }
+    for h in &mut hazards {
+        h.pass = pass_of
+            .get(h.command.as_str())
+            .map(|&i| imp.builder.passes[i].name.clone());
+    }
     if hazards_dropped > 0 {
         skipped.push(Skipped {
             what: "synchronization hazards past the first 10000 (not listed)".to_owned(),

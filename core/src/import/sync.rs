@@ -1108,6 +1108,7 @@ impl Sync {
                         access: access.describe(),
                         prior: prior.describe(),
                         prior_command: prior.command.clone(),
+                        pass: None,
                     },
                 )
             })

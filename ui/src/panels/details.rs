@@ -136,7 +136,14 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
             });
             section(ui, "Lints", p.lints.len(), &mut |ui| {
                 for l in &p.lints {
-                    ui.colored_label(egui::Color32::from_rgb(230, 170, 60), l);
+                    // A synchronization finding is a long sentence naming two commands: wrapped,
+                    // so all of it can be read in the panel.
+                    let text = egui::RichText::new(l).color(egui::Color32::from_rgb(230, 170, 60));
+                    // The panel scrolls sideways for the barrier tables: wrap at what is seen.
+                    let visible = (ui.clip_rect().max.x - ui.cursor().min.x).max(120.0);
+                    ui.allocate_ui(egui::vec2(visible, 0.0), |ui| {
+                        ui.add(egui::Label::new(text).wrap());
+                    });
                 }
             });
         });

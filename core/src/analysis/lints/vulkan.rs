@@ -299,7 +299,12 @@ pub(super) fn compare_vulkan(
                 );
                 (LintKind::BarrierMissing, message)
             };
-            out.push(lint(kind, message, None, resource));
+            let pass = h
+                .pass
+                .as_ref()
+                .and_then(|name| capture.passes.iter().find(|p| &p.name == name))
+                .map(|p| p.id);
+            out.push(lint(kind, message, pass, resource));
         }
     }
     out

@@ -156,6 +156,9 @@ pub struct SyncHazard {
     pub prior: String,
     /// The command that made the earlier access.
     pub prior_command: String,
+    /// The pass the later command's work (or barrier) went into, where it went into one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pass: Option<String>,
 }
 
 /// A graphics API a capture was recorded from.
