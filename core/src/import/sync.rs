@@ -849,6 +849,18 @@ impl Sync {
             return;
         };
         let mut stores = Vec::new();
+        // Multisample resolves write their targets at the end of each subpass, at the colour
+        // output stage as colour attachment writes (the specification's resolve operations).
+        for sub in &ri.subpasses {
+            for (_, target) in &sub.resolves {
+                stores.push((
+                    *target,
+                    "RESOLVE".to_owned(),
+                    S::COLOR_ATTACHMENT_OUTPUT,
+                    A::COLOR_ATTACHMENT_WRITE,
+                ));
+            }
+        }
         for c in &last.colors {
             stores.push((
                 c.view,
@@ -879,7 +891,11 @@ impl Sync {
                         stage,
                         access,
                         command: command.to_owned(),
-                        what: format!("store op {store}"),
+                        what: if store == "RESOLVE" {
+                            "resolve".to_owned()
+                        } else {
+                            format!("store op {store}")
+                        },
                     },
                     seq: self.seq,
                     exec: S::EMPTY,
