@@ -144,17 +144,22 @@ fn parse_layer(line: &str) -> Option<Finding> {
 }
 
 /// The layer's image layout errors, as (command, `LAYOUT_MISMATCH`, expected layout,
-/// current layout, ""): a barrier's old layout that is not the image's, and a render pass
-/// begun with an attachment in another layout than its initialLayout.
+/// current layout, ""): a barrier's old layout that is not the image's, a render pass begun
+/// with an attachment in another layout than its initialLayout, and a descriptor whose image
+/// is in another layout than the descriptor says.
 fn layout_message(line: &str) -> Option<Finding> {
+    let text = line.rsplit_once("| ")?.1;
     let command = if line.contains("VUID-VkImageMemoryBarrier-oldLayout-01197") {
         "vkCmdPipelineBarrier"
     } else if line.contains("cannot start a render pass using attachment") {
         "vkCmdBeginRenderPass"
+    } else if line.contains("VUID-VkDescriptorImageInfo-imageLayout-00344") {
+        // `vkCmdDraw: Cannot use VkImage ... with specific layout X that doesn't match the
+        // previous known layout Y.`
+        text.split(':').next()?
     } else {
         return None;
     };
-    let text = line.rsplit_once("| ")?.1;
     let mut layouts = text
         .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
         .filter_map(|w| w.strip_prefix("VK_IMAGE_LAYOUT_"));
@@ -360,7 +365,7 @@ struct Planted {
     layer_kind: Option<&'static str>,
 }
 
-const PLANTED: [Planted; 5] = [
+const PLANTED: [Planted; 6] = [
     // Read after write: the copy's write is not made visible to the compute shader's read.
     Planted {
         file: "raw_mpv_testsrc_f5",
@@ -414,6 +419,16 @@ const PLANTED: [Planted; 5] = [
         source: "vkd3d_gears_f2",
         edits: &["154:pImageMemoryBarriers[0].newLayout=VK_IMAGE_LAYOUT_PRESENT_SRC_KHR"],
         command: "vkCmdBeginRenderPass #156",
+        kind: "LAYOUT_MISMATCH",
+        layer_kind: None,
+    },
+    // A missing layout transition before sampling: mpv's storage image stays in GENERAL,
+    // and the draw's descriptor says SHADER_READ_ONLY_OPTIMAL.
+    Planted {
+        file: "descriptor_layout_mpv_testsrc_f5",
+        source: "mpv_testsrc_f5",
+        edits: &["228:pImageMemoryBarriers[0].newLayout=VK_IMAGE_LAYOUT_GENERAL"],
+        command: "vkCmdDraw #237",
         kind: "LAYOUT_MISMATCH",
         layer_kind: None,
     },

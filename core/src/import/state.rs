@@ -110,6 +110,8 @@ pub enum Descriptor {
         /// The sampler of a combined image sampler (0 for none).
         sampler: u64,
         ty: String,
+        /// The layout the descriptor says the image is in when the shader accesses it.
+        layout: Option<ImageLayout>,
     },
     /// A sampler on its own (`VK_DESCRIPTOR_TYPE_SAMPLER`): no resource, but the draw
     /// samples with it.
@@ -612,6 +614,9 @@ pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
                         view,
                         sampler,
                         ty: kind.to_owned(),
+                        layout: i
+                            .opt("imageLayout")
+                            .and_then(|l| ImageLayout::from_name(&l.name().ok()?)),
                     },
                 ));
             }

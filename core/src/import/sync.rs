@@ -757,7 +757,17 @@ impl Sync {
             .unwrap_or(0);
         let stages = shader_stages(flags, compute);
         let (keys, ty) = match &u.descriptor {
-            Descriptor::Image { view, ty, .. } => (Self::view_keys(objects, *view), ty.as_str()),
+            Descriptor::Image {
+                view, ty, layout, ..
+            } => {
+                let keys = Self::view_keys(objects, *view);
+                if let Some(l) = layout {
+                    for &key in &keys {
+                        self.expect_layout(key, *l, command, &format!("descriptor in {l}"));
+                    }
+                }
+                (keys, ty.as_str())
+            }
             Descriptor::Buffer { buffer, ty, .. } => (vec![Key::Buffer(*buffer)], ty.as_str()),
             Descriptor::TexelBuffer { view, ty } => (
                 objects

@@ -50,7 +50,9 @@ impl Builder {
                     d.descriptor_type = "SAMPLER".to_owned();
                     d.sampler = Some(pipelines::sampler_name(*sampler));
                 }
-                Descriptor::Image { view, sampler, ty } => {
+                Descriptor::Image {
+                    view, sampler, ty, ..
+                } => {
                     d.descriptor_type = ty.clone();
                     let (Some(v), Some((view_type, format, aspect))) =
                         (objects.views.get(view), objects.view_kinds.get(view))
