@@ -830,6 +830,7 @@ impl Builder {
                 src,
                 dst,
                 regions,
+                ..
             } => self.copy(objects, queue, name, (*src, *dst), regions),
             TransferCmd::Clear {
                 depth_stencil,
@@ -837,6 +838,7 @@ impl Builder {
                 value,
                 stencil,
                 ranges,
+                ..
             } => {
                 let base = if *depth_stencil {
                     "clear_depth_stencil"

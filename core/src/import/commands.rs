@@ -141,6 +141,8 @@ pub enum TransferCmd {
         src: u64,
         dst: u64,
         regions: Vec<Region>,
+        /// The layouts the call says its source and destination images are in.
+        layouts: (Option<ImageLayout>, Option<ImageLayout>),
     },
     Clear {
         /// `vkCmdClearDepthStencilImage` rather than `vkCmdClearColorImage`.
@@ -149,6 +151,8 @@ pub enum TransferCmd {
         value: [f64; 4],
         stencil: u32,
         ranges: Vec<(LevelRange, LevelRange)>,
+        /// The layout the call says the image is in.
+        layout: Option<ImageLayout>,
     },
     Fill {
         /// `vkCmdUpdateBuffer` rather than `vkCmdFillBuffer`.

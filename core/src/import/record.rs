@@ -14,6 +14,7 @@ use super::render_pass;
 use super::state::{Descriptor, Objects};
 use super::value::{ASPECTS, Arg, Got, Skip};
 use crate::capture::format::VkCommandState;
+use crate::capture::vulkan::ImageLayout;
 use crate::capture::vulkan::{AccessFlags, PipelineStages};
 
 /// Bindings in effect while recording one command buffer.
@@ -592,6 +593,9 @@ fn clear_image(name: &str, args: &Arg<'_>) -> Got<Cmd> {
     };
     Ok(Cmd::Transfer(Box::new(TransferCmd::Clear {
         depth_stencil: name.contains("Depth"),
+        layout: args
+            .opt("imageLayout")
+            .and_then(|l| ImageLayout::from_name(&l.name().ok()?)),
         target: args.get("image")?.handle()?,
         value,
         stencil,
@@ -662,11 +666,16 @@ fn copy(kind: CopyKind, name: &str, args: &Arg<'_>) -> Got<Cmd> {
         };
         regions.push(region);
     }
+    let layout = |key: &str| {
+        args.opt(key)
+            .and_then(|l| ImageLayout::from_name(&l.name().ok()?))
+    };
     Ok(Cmd::Transfer(Box::new(TransferCmd::Copy {
         name: copy_pass_name(name),
         src,
         dst,
         regions,
+        layouts: (layout("srcImageLayout"), layout("dstImageLayout")),
     })))
 }
 

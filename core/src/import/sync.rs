@@ -939,7 +939,11 @@ impl Sync {
         };
         match t {
             TransferCmd::Copy {
-                src, dst, regions, ..
+                src,
+                dst,
+                regions,
+                layouts,
+                ..
             } => {
                 let keys = |h: u64, pick: &dyn Fn(&super::commands::Region) -> (u32, u32)| {
                     if objects.images.contains_key(&h) {
@@ -959,14 +963,35 @@ impl Sync {
                 };
                 let s = keys(*src, &|r| (r.src_mip, r.src_layer));
                 let d = keys(*dst, &|r| (r.dst_mip, r.dst_layer));
+                for (keys, layout, side) in
+                    [(&s, layouts.0, "source"), (&d, layouts.1, "destination")]
+                {
+                    if let Some(l) =
+                        layout.filter(|_| matches!(keys.first(), Some(Key::Image { .. })))
+                    {
+                        for &key in keys {
+                            self.expect_layout(key, l, command, &format!("copy {side} in {l}"));
+                        }
+                    }
+                }
                 self.access(&s, false, &mk(A::TRANSFER_READ, "copy source"));
                 self.access(&d, true, &mk(A::TRANSFER_WRITE, "copy destination"));
             }
-            TransferCmd::Clear { target, ranges, .. } => {
+            TransferCmd::Clear {
+                target,
+                ranges,
+                layout,
+                ..
+            } => {
                 let keys: Vec<Key> = ranges
                     .iter()
                     .flat_map(|(m, l)| Self::image_keys(objects, *target, *m, *l))
                     .collect();
+                if let Some(l) = layout {
+                    for &key in &keys {
+                        self.expect_layout(key, *l, command, &format!("clear in {l}"));
+                    }
+                }
                 self.access(&keys, true, &mk(A::TRANSFER_WRITE, "clear"));
             }
             TransferCmd::Fill { buffer, update } => {
