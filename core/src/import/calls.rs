@@ -71,6 +71,7 @@ pub enum Func {
     UpdateDescriptorSets,
     UpdateDescriptorSetWithTemplate,
     CreateSwapchain,
+    CreateSemaphore,
     GetSwapchainImages,
     SetDebugUtilsObjectName,
     DebugMarkerSetObjectName,
@@ -229,6 +230,7 @@ impl Func {
                 Func::UpdateDescriptorSetWithTemplate
             }
             "vkCreateSwapchainKHR" => Func::CreateSwapchain,
+            "vkCreateSemaphore" => Func::CreateSemaphore,
             "vkGetSwapchainImagesKHR" => Func::GetSwapchainImages,
             "vkSetDebugUtilsObjectNameEXT" => Func::SetDebugUtilsObjectName,
             "vkDebugMarkerSetObjectNameEXT" => Func::DebugMarkerSetObjectName,

@@ -295,24 +295,69 @@ impl Importer {
                     .map(Arg::stages)
                     .collect::<Got<_>>()?
             };
+            // A timeline semaphore's values: in each info of the `2` structure, in a
+            // VkTimelineSemaphoreSubmitInfo in the first's chain.
+            let values = |key: &str, list: &str| -> Vec<Option<u64>> {
+                if v2 {
+                    return s
+                        .list(list)
+                        .unwrap_or_default()
+                        .iter()
+                        .map(|i| i.opt("value").and_then(|v| v.u64().ok()))
+                        .collect();
+                }
+                let mut next = s.opt("pNext");
+                while let Some(n) = next {
+                    if let Ok(v) = n.list(key)
+                        && !v.is_empty()
+                    {
+                        return v.iter().map(|x| x.u64().ok()).collect();
+                    }
+                    next = n.opt("pNext");
+                }
+                Vec::new()
+            };
+            let timeline = |sems: &[u64], values: Vec<Option<u64>>| -> Vec<Option<u64>> {
+                sems.iter()
+                    .enumerate()
+                    .map(|(i, sem)| {
+                        if self.objects.timeline.contains(sem) {
+                            values.get(i).copied().flatten()
+                        } else {
+                            None
+                        }
+                    })
+                    .collect()
+            };
+            let wait_values = timeline(
+                &waits,
+                values("pWaitSemaphoreValues", "pWaitSemaphoreInfos"),
+            );
+            let signal_values = timeline(
+                &signals,
+                values("pSignalSemaphoreValues", "pSignalSemaphoreInfos"),
+            );
             self.submitted_in_frame |= !cbs.is_empty();
             if self.builder.emitting() {
-                let waits: Vec<(u64, PipelineStages)> = waits
+                let timed_waits: Vec<(u64, PipelineStages, Option<u64>)> = waits
                     .iter()
                     .zip(
                         masks
                             .iter()
                             .chain(std::iter::repeat(&PipelineStages::ALL_COMMANDS)),
                     )
-                    .map(|(w, m)| (*w, *m))
+                    .zip(&wait_values)
+                    .map(|((w, m), v)| (*w, *m, *v))
                     .collect();
+                let timed_signals: Vec<(u64, Option<u64>)> =
+                    signals.iter().copied().zip(signal_values).collect();
                 self.sync.submit(
                     &self.objects,
                     &self.pipelines,
                     &self.recordings,
-                    &waits,
+                    &timed_waits,
                     &cbs,
-                    &signals,
+                    &timed_signals,
                     fence,
                     self.objects.queues.get(&queue).map(|(family, _)| *family),
                 );
@@ -372,10 +417,12 @@ impl Importer {
             }
             calls::Wait::Semaphores => {
                 let info = args.get("pWaitInfo")?;
-                let sems: Vec<u64> = info
+                let values = info.list("pValues").unwrap_or_default();
+                let sems: Vec<(u64, Option<u64>)> = info
                     .list("pSemaphores")?
                     .iter()
-                    .map(Arg::handle)
+                    .enumerate()
+                    .map(|(i, s)| Ok((s.handle()?, values.get(i).and_then(|v| v.u64().ok()))))
                     .collect::<Got<_>>()?;
                 // VK_SEMAPHORE_WAIT_ANY_BIT
                 let all = info.get("flags")?.u64()? & 1 == 0;

@@ -169,6 +169,8 @@ pub struct Objects {
     /// Images and buffers created with `VK_SHARING_MODE_CONCURRENT`: any queue family may
     /// use them without an ownership transfer.
     pub concurrent: std::collections::HashSet<u64>,
+    /// Timeline semaphores.
+    pub timeline: std::collections::HashSet<u64>,
 }
 
 /// Whether a create info asks for `VK_SHARING_MODE_CONCURRENT` (by name or value).
@@ -290,6 +292,20 @@ impl Objects {
                 ));
             }
             Func::CreateSwapchain => self.create_swapchain(args)?,
+            Func::CreateSemaphore => {
+                // VkSemaphoreTypeCreateInfo in the chain: timeline semaphores are waited on by
+                // value, binary ones by their last signal.
+                let mut next = args.get("pCreateInfo")?.opt("pNext");
+                while let Some(n) = next {
+                    if n.opt("semaphoreType").is_some_and(|t| {
+                        t.u64().is_ok_and(|v| v == 1)
+                            || t.name().is_ok_and(|n| n.ends_with("TIMELINE"))
+                    }) {
+                        self.timeline.insert(args.get("pSemaphore")?.handle()?);
+                    }
+                    next = n.opt("pNext");
+                }
+            }
             Func::GetSwapchainImages => self.swapchain_images(args)?,
             Func::SetDebugUtilsObjectName => {
                 let info = args.get("pNameInfo")?;

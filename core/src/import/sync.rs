@@ -187,8 +187,9 @@ pub struct Sync {
     dropped: u64,
     /// Submissions so far: each access carries the one it was made in.
     seq: u32,
-    /// The last submission that signalled each semaphore, and each fence.
-    signalled: HashMap<u64, u32>,
+    /// The submissions that signalled each semaphore (with the value, for a timeline
+    /// semaphore), and the last that signalled each fence.
+    signalled: HashMap<u64, Vec<(Option<u64>, u32)>>,
     fences: HashMap<u64, u32>,
     /// Swapchain images an acquire's semaphore, or its fence, orders after the
     /// presentation engine's read.
@@ -202,7 +203,24 @@ pub struct Sync {
     concurrent: std::collections::HashSet<u64>,
 }
 
+/// Signals kept per semaphore: a wait looks for the one that satisfies it among these.
+const SIGNALS_KEPT: usize = 64;
+
 impl Sync {
+    /// The submission whose signal a wait on `semaphore` waits for: a binary semaphore's
+    /// last signal; a timeline semaphore's first signal of at least `value`.
+    fn signal_for(&self, semaphore: u64, value: Option<u64>) -> Option<u32> {
+        let signals = self.signalled.get(&semaphore)?;
+        match value {
+            None => signals.last().map(|(_, seq)| *seq),
+            Some(v) => signals
+                .iter()
+                .filter(|(sv, _)| sv.is_none_or(|sv| sv >= v))
+                .map(|(_, seq)| *seq)
+                .min(),
+        }
+    }
+
     pub fn new(enabled: bool) -> Self {
         Sync {
             enabled,
@@ -612,7 +630,7 @@ impl Sync {
     /// is ordered before those stages (and logically later ones), and its writes are
     /// visible to them (a signal makes every write available, a wait visible). A wait on
     /// an image acquire orders the presentation engine's read before them.
-    fn semaphore_wait(&mut self, semaphore: u64, mask: S) {
+    fn semaphore_wait(&mut self, semaphore: u64, mask: S, value: Option<u64>) {
         let dst = later(mask);
         if let Some(keys) = self.acquire_semaphores.remove(&semaphore) {
             for key in keys {
@@ -624,7 +642,7 @@ impl Sync {
             }
             return;
         }
-        let Some(&upto) = self.signalled.get(&semaphore) else {
+        let Some(upto) = self.signal_for(semaphore, value) else {
             // Signalled before the imported frames, or by the host: nothing here to order.
             return;
         };
@@ -687,11 +705,7 @@ impl Sync {
         if !self.enabled {
             return;
         }
-        let covered = waits
-            .iter()
-            .filter_map(|s| self.signalled.get(s))
-            .max()
-            .copied();
+        let covered = waits.iter().filter_map(|s| self.signal_for(*s, None)).max();
         for &image in images {
             for key in Self::image_keys(objects, image, (0, None), (0, None)) {
                 let Some(w) = self.states.get(&key).and_then(|s| s.write.clone()) else {
@@ -712,7 +726,7 @@ impl Sync {
 
     /// A host wait that returned `VK_SUCCESS`: on `fences` (all of them, or the only one),
     /// on timeline `semaphores` likewise, or a queue or the device idle (`None`).
-    pub fn host_wait(&mut self, fences: &[u64], semaphores: &[u64], all: bool) {
+    pub fn host_wait(&mut self, fences: &[u64], semaphores: &[(u64, Option<u64>)], all: bool) {
         if !self.enabled {
             return;
         }
@@ -736,8 +750,8 @@ impl Sync {
                 self.retire(upto);
             }
         }
-        for s in semaphores {
-            if let Some(&upto) = self.signalled.get(s) {
+        for &(s, value) in semaphores {
+            if let Some(upto) = self.signal_for(s, value) {
                 self.retire(upto);
             }
         }
@@ -1099,16 +1113,17 @@ impl Sync {
     }
 
     /// One submission of the imported frames on a queue of `family`: semaphore waits (each
-    /// with its stage mask), the command buffers in order, then its signals and fence.
+    /// with its stage mask, and its value for a timeline semaphore), the command buffers in
+    /// order, then its signals (with their values) and fence.
     #[allow(clippy::too_many_arguments)]
     pub fn submit(
         &mut self,
         objects: &Objects,
         pipelines: &Pipelines,
         recordings: &HashMap<u64, Recording>,
-        waits: &[(u64, S)],
+        waits: &[(u64, S, Option<u64>)],
         command_buffers: &[u64],
-        signals: &[u64],
+        signals: &[(u64, Option<u64>)],
         fence: u64,
         family: Option<u32>,
     ) {
@@ -1117,8 +1132,8 @@ impl Sync {
         }
         self.family = family;
         self.concurrent.clone_from(&objects.concurrent);
-        for &(semaphore, mask) in waits {
-            self.semaphore_wait(semaphore, mask);
+        for &(semaphore, mask, value) in waits {
+            self.semaphore_wait(semaphore, mask, value);
         }
         self.seq += 1;
         for cb in command_buffers {
@@ -1126,8 +1141,12 @@ impl Sync {
                 self.walk(objects, pipelines, recordings, r, 0);
             }
         }
-        for s in signals {
-            self.signalled.insert(*s, self.seq);
+        for &(s, value) in signals {
+            let list = self.signalled.entry(s).or_default();
+            if list.len() >= SIGNALS_KEPT {
+                list.remove(0);
+            }
+            list.push((value, self.seq));
         }
         if fence != 0 {
             self.fences.insert(fence, self.seq);
@@ -1327,9 +1346,9 @@ mod tests {
         if release_and_acquire {
             sync.barrier(&objects, &transfer(true), true);
         }
-        sync.signalled.insert(9, 1);
+        sync.signalled.insert(9, vec![(None, 1)]);
         sync.family = Some(1);
-        sync.semaphore_wait(9, S::TOP_OF_PIPE);
+        sync.semaphore_wait(9, S::TOP_OF_PIPE, None);
         sync.seq = 2;
         if release_and_acquire {
             sync.barrier(&objects, &transfer(false), true);
@@ -1349,5 +1368,24 @@ mod tests {
             [HazardKind::OwnershipTransferMissing]
         );
         assert!(across_families(true).is_empty());
+    }
+
+    #[test]
+    fn a_timeline_wait_is_for_the_first_signal_of_its_value() {
+        let mut sync = Sync::new(true);
+        sync.signalled
+            .insert(5, vec![(Some(1), 1), (Some(2), 2), (Some(3), 3)]);
+        sync.signalled.insert(6, vec![(None, 1), (None, 4)]);
+        assert_eq!(sync.signal_for(5, Some(2)), Some(2));
+        assert_eq!(
+            sync.signal_for(5, Some(4)),
+            None,
+            "not signalled in the frames"
+        );
+        assert_eq!(
+            sync.signal_for(6, None),
+            Some(4),
+            "a binary semaphore's last signal"
+        );
     }
 }
