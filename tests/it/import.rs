@@ -609,7 +609,17 @@ fn edits_that_cannot_land_are_named_and_write_nothing() {
     std::fs::create_dir_all(&dir).unwrap();
     let source = gfxr_fixture("vkd3d_gears_f2.gfxr");
     let out = dir.join("out.gfxr");
-    for (edit, says) in [
+    let edit = |set: &str| {
+        framelab(&[
+            "edit",
+            source.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--set",
+            set,
+        ])
+    };
+    for (set, says) in [
         ("99999:srcStageMask=1", "has no block 99999"),
         (
             "176:pImageMemoryBarriers[3].srcAccessMask=0",
@@ -621,40 +631,19 @@ fn edits_that_cannot_land_are_named_and_write_nothing() {
         ),
         ("0:srcStageMask=1", "not a call"),
     ] {
-        let run = framelab(&[
-            "edit",
-            source.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--set",
-            edit,
-        ]);
-        assert_eq!(run.status.code(), Some(1), "{edit}");
-        assert!(stderr(&run).contains(says), "{edit}: {}", stderr(&run));
-        assert!(!out.exists(), "{edit}: something was written");
+        let run = edit(set);
+        assert_eq!(run.status.code(), Some(1), "{set}");
+        assert!(stderr(&run).contains(says), "{set}: {}", stderr(&run));
+        assert!(!out.exists(), "{set}: something was written");
     }
-    let bad = framelab(&[
-        "edit",
-        source.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--set",
-        "176:srcStageMask",
-    ]);
+    let bad = edit("176:srcStageMask");
     assert_eq!(
         bad.status.code(),
         Some(2),
         "a malformed edit is a usage error"
     );
     // An edit that lands changes that one field: the import sees the weaker barrier.
-    let run = framelab(&[
-        "edit",
-        source.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--set",
-        "176:dstStageMask=VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT",
-    ]);
+    let run = edit("176:dstStageMask=VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT");
     assert!(run.status.success(), "{}", stderr(&run));
     let c = dir.join("edited.json");
     let imported = framelab(&["import", out.to_str().unwrap(), "-o", c.to_str().unwrap()]);

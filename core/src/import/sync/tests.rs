@@ -1,0 +1,200 @@
+//! The checker's rules, each on the smallest case that shows it.
+
+use super::*;
+
+#[test]
+fn scopes_reach_logically_earlier_and_later_stages() {
+    assert!(earlier(S::FRAGMENT_SHADER).intersects(S::VERTEX_SHADER));
+    assert!(!earlier(S::VERTEX_SHADER).intersects(S::FRAGMENT_SHADER));
+    assert!(!earlier(S::TOP_OF_PIPE).intersects(S::COLOR_ATTACHMENT_OUTPUT));
+    assert!(earlier(S::BOTTOM_OF_PIPE).intersects(S::TRANSFER));
+    assert!(later(S::TOP_OF_PIPE).intersects(S::COMPUTE_SHADER));
+    assert!(!later(S::BOTTOM_OF_PIPE).intersects(S::FRAGMENT_SHADER));
+    assert!(later(S::VERTEX_SHADER).intersects(S::COLOR_ATTACHMENT_OUTPUT));
+    assert!(earlier(S::COPY).intersects(S::TRANSFER));
+}
+
+fn acc(stage: S, access: A) -> Access {
+    Access {
+        stage,
+        access,
+        command: "cmd".to_owned(),
+        what: String::new(),
+    }
+}
+
+#[test]
+fn a_write_needs_a_memory_dependency_to_be_read() {
+    let mut st = State::default();
+    assert!(st.write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0).is_empty());
+    // No barrier: the read sees nothing.
+    let mut unordered = st.clone();
+    let h = unordered.read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ), 0);
+    assert_eq!(h.map(|h| h.0), Some(HazardKind::ReadAfterWrite));
+    // An execution dependency alone does not make the write visible.
+    let mut exec_only = st.clone();
+    exec_only.depend(&Dep {
+        src: earlier(S::TRANSFER),
+        src_access: A::EMPTY,
+        dst: later(S::FRAGMENT_SHADER),
+        dst_access: A::SHADER_READ.expand(),
+    });
+    assert!(
+        exec_only
+            .read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ), 0)
+            .is_some()
+    );
+    // The full dependency does.
+    st.depend(&Dep {
+        src: earlier(S::TRANSFER),
+        src_access: A::TRANSFER_WRITE,
+        dst: later(S::FRAGMENT_SHADER),
+        dst_access: A::SHADER_READ.expand(),
+    });
+    assert!(
+        st.read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ), 0)
+            .is_none()
+    );
+    // A later write must wait for that read; the read, ordered after the first write,
+    // orders the two writes.
+    let h = st.clone().write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0);
+    let kinds: Vec<HazardKind> = h.iter().map(|h| h.0).collect();
+    assert_eq!(kinds, [HazardKind::WriteAfterRead]);
+}
+
+#[test]
+fn a_write_unordered_with_the_read_before_it_is_a_write_after_read() {
+    // A layout transition made visible to shader reads, a compute read, then a compute
+    // write with no dependency on either (a weakened barrier between two dispatches):
+    // the read is the access it must wait for.
+    let mut st = State::default();
+    let to_reads = Dep {
+        src: earlier(S::TRANSFER),
+        src_access: A::TRANSFER_WRITE,
+        dst: later(S::COMPUTE_SHADER),
+        dst_access: A::SHADER_READ.expand(),
+    };
+    assert!(
+        st.transition(&to_reads, acc(S::EMPTY, A::EMPTY), 0)
+            .is_empty()
+    );
+    assert!(
+        st.read(acc(S::COMPUTE_SHADER, A::SHADER_STORAGE_READ), 0)
+            .is_none()
+    );
+    let weak = Dep {
+        src: earlier(S::TRANSFER),
+        src_access: A::EMPTY,
+        dst: later(S::COMPUTE_SHADER),
+        dst_access: A::SHADER_WRITE.expand(),
+    };
+    let mut unordered = st.clone();
+    unordered.depend(&weak);
+    let kinds: Vec<HazardKind> = unordered
+        .write(acc(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE), 0)
+        .iter()
+        .map(|h| h.0)
+        .collect();
+    assert_eq!(kinds, [HazardKind::WriteAfterRead]);
+    // The barrier as recorded (its first scope reaches the compute stage) orders both.
+    st.depend(&Dep {
+        src: earlier(S::COMPUTE_SHADER),
+        src_access: A::SHADER_READ.expand(),
+        ..weak
+    });
+    assert!(
+        st.write(acc(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE), 0)
+            .is_empty()
+    );
+}
+
+#[test]
+fn a_layout_transition_is_a_write_its_barrier_must_make_visible() {
+    let mut st = State::default();
+    let d = Dep {
+        src: earlier(S::TRANSFER),
+        src_access: A::TRANSFER_WRITE,
+        dst: later(S::COLOR_ATTACHMENT_OUTPUT),
+        dst_access: A::COLOR_ATTACHMENT_WRITE,
+    };
+    st.write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0);
+    assert!(st.transition(&d, acc(S::EMPTY, A::EMPTY), 0).is_empty());
+    // loadOp LOAD reads the attachment: the barrier made the transition visible to
+    // writes only (mpv's frames).
+    let h = st.read(acc(S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_READ), 0);
+    assert_eq!(h.map(|h| h.0), Some(HazardKind::ReadAfterWrite));
+}
+
+/// A buffer written on queue family 0 and read on family 1, each in its own submission,
+/// the read waiting on a semaphore the write's submission signalled.
+fn across_families(release_and_acquire: bool) -> Vec<HazardKind> {
+    let objects = Objects::default();
+    let mut sync = Sync::new(true);
+    let at = |command: &str, stage: S, access: A| Access {
+        stage,
+        access,
+        command: command.to_owned(),
+        what: String::new(),
+    };
+    let transfer = |family_side: bool| BarrierCmd {
+        origin: if family_side { "release" } else { "acquire" }.to_owned(),
+        target: BarrierTarget::Buffer { buffer: 1 },
+        src_stages: S::TRANSFER,
+        dst_stages: S::COMPUTE_SHADER,
+        src_access: A::TRANSFER_WRITE,
+        dst_access: A::SHADER_READ,
+        layouts: None,
+        families: Some((0, 1)),
+    };
+    sync.family = Some(0);
+    sync.seq = 1;
+    sync.access(
+        &[Key::Buffer(1)],
+        true,
+        &at("write", S::COPY, A::TRANSFER_WRITE),
+    );
+    if release_and_acquire {
+        sync.barrier(&objects, &transfer(true), true);
+    }
+    sync.signalled.insert(9, vec![(None, 1)]);
+    sync.family = Some(1);
+    sync.semaphore_wait(9, S::TOP_OF_PIPE, None);
+    sync.seq = 2;
+    if release_and_acquire {
+        sync.barrier(&objects, &transfer(false), true);
+    }
+    sync.access(
+        &[Key::Buffer(1)],
+        false,
+        &at("read", S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),
+    );
+    sync.found.keys().map(|(_, _, kind)| *kind).collect()
+}
+
+#[test]
+fn an_exclusive_resource_read_on_another_family_needs_its_ownership_transferred() {
+    assert_eq!(
+        across_families(false),
+        [HazardKind::OwnershipTransferMissing]
+    );
+    assert!(across_families(true).is_empty());
+}
+
+#[test]
+fn a_timeline_wait_is_for_the_first_signal_of_its_value() {
+    let mut sync = Sync::new(true);
+    sync.signalled
+        .insert(5, vec![(Some(1), 1), (Some(2), 2), (Some(3), 3)]);
+    sync.signalled.insert(6, vec![(None, 1), (None, 4)]);
+    assert_eq!(sync.signal_for(5, Some(2)), Some(2));
+    assert_eq!(
+        sync.signal_for(5, Some(4)),
+        None,
+        "not signalled in the frames"
+    );
+    assert_eq!(
+        sync.signal_for(6, None),
+        Some(4),
+        "a binary semaphore's last signal"
+    );
+}
