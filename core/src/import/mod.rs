@@ -428,7 +428,7 @@ impl Importer {
                 let all = info.get("flags")?.u64()? & 1 == 0;
                 self.sync.host_wait(&[], &sems, all);
             }
-            calls::Wait::Idle => self.sync.host_wait(&[], &[], true),
+            calls::Wait::Idle => self.sync.idle(),
         }
         Ok(())
     }

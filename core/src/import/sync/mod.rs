@@ -119,6 +119,17 @@ struct Access {
 }
 
 impl Access {
+    /// What happens at no pipeline stage: a layout transition, the presentation engine's
+    /// read, a layout a command expects.
+    fn event(command: &str, what: String) -> Self {
+        Access {
+            stage: S::EMPTY,
+            access: A::EMPTY,
+            command: command.to_owned(),
+            what,
+        }
+    }
+
     fn describe(&self) -> String {
         if self.stage.is_empty() {
             return self.what.clone();
@@ -439,13 +450,10 @@ impl Sync {
         }
     }
 
-    fn barrier(&mut self, objects: &Objects, b: &BarrierCmd, check_old: bool) {
-        if let Some(families) = b.families {
-            self.transfer_half(objects, b, families);
-            return;
-        }
-        let d = Dep::of(b);
-        let keys: Vec<Key> = match &b.target {
+    /// What a barrier covers: its buffer, its image's subresources, or (a global memory
+    /// barrier) everything tracked.
+    fn barrier_keys(&self, objects: &Objects, target: &BarrierTarget) -> Vec<Key> {
+        match target {
             BarrierTarget::Global => self.states.keys().copied().collect(),
             BarrierTarget::Buffer { buffer } => vec![Key::Buffer(*buffer)],
             BarrierTarget::Image {
@@ -453,7 +461,27 @@ impl Sync {
                 mips,
                 layers,
             } => Self::image_keys(objects, *image, *mips, *layers),
+        }
+    }
+
+    /// A draw's or dispatch's indirect arguments, read at the draw-indirect stage.
+    fn indirect(&mut self, buffer: u64, command: &str) {
+        let a = Access {
+            stage: S::DRAW_INDIRECT,
+            access: A::INDIRECT_COMMAND_READ,
+            command: command.to_owned(),
+            what: "indirect arguments".to_owned(),
         };
+        self.access(&[Key::Buffer(buffer)], false, &a);
+    }
+
+    fn barrier(&mut self, objects: &Objects, b: &BarrierCmd, check_old: bool) {
+        if let Some(families) = b.families {
+            self.transfer_half(objects, b, families);
+            return;
+        }
+        let d = Dep::of(b);
+        let keys = self.barrier_keys(objects, &b.target);
         let transition = b.layouts.filter(|(from, to)| from != to);
         for key in keys {
             if let Some((from, to)) = b.layouts {
@@ -465,12 +493,7 @@ impl Sync {
             let st = self.states.entry(key).or_default();
             match transition {
                 Some((from, to)) => {
-                    let a = Access {
-                        stage: S::EMPTY,
-                        access: A::EMPTY,
-                        command: b.origin.clone(),
-                        what: format!("layout transition {from} -> {to}"),
-                    };
+                    let a = Access::event(&b.origin, format!("layout transition {from} -> {to}"));
                     for (kind, prior) in st.transition(&d, a.clone(), self.seq) {
                         self.note(&b.origin, key, kind, a.clone(), prior);
                     }
@@ -489,18 +512,8 @@ impl Sync {
         if current == layout {
             return;
         }
-        let access = Access {
-            stage: S::EMPTY,
-            access: A::EMPTY,
-            command: command.to_owned(),
-            what: what.to_owned(),
-        };
-        let prior = Access {
-            stage: S::EMPTY,
-            access: A::EMPTY,
-            command: by,
-            what: format!("layout {current}"),
-        };
+        let access = Access::event(command, what.to_owned());
+        let prior = Access::event(&by, format!("layout {current}"));
         self.note(command, key, HazardKind::LayoutMismatch, access, prior);
     }
 
@@ -843,13 +856,7 @@ impl Sync {
                         self.access(&[Key::Buffer(*buffer)], false, &a);
                     }
                     if let Some((buffer, _)) = d.indirect {
-                        let a = Access {
-                            stage: S::DRAW_INDIRECT,
-                            access: A::INDIRECT_COMMAND_READ,
-                            command: command.to_owned(),
-                            what: "indirect arguments".to_owned(),
-                        };
-                        self.access(&[Key::Buffer(buffer)], false, &a);
+                        self.indirect(buffer, command);
                     }
                 }
                 Cmd::Dispatch(d) => {
@@ -857,13 +864,7 @@ impl Sync {
                         self.descriptor(objects, pipelines, d.pipeline, u, true, command);
                     }
                     if let Some((buffer, _)) = d.indirect {
-                        let a = Access {
-                            stage: S::DRAW_INDIRECT,
-                            access: A::INDIRECT_COMMAND_READ,
-                            command: command.to_owned(),
-                            what: "indirect arguments".to_owned(),
-                        };
-                        self.access(&[Key::Buffer(buffer)], false, &a);
+                        self.indirect(buffer, command);
                     }
                 }
                 Cmd::Transfer(t) => self.transfer(objects, t, command),

@@ -2,7 +2,7 @@
 //! (binary and timeline), image acquires and presents, host waits on fences, semaphores and
 //! idle queues, and queue family ownership transfers.
 
-use super::{A, Access, BarrierCmd, BarrierTarget, HazardKind, Key, Objects, Read, S, Sync, later};
+use super::{A, Access, BarrierCmd, HazardKind, Key, Objects, Read, S, Sync, later};
 
 /// Signals kept per semaphore: a wait looks for the one that satisfies it among these.
 pub(super) const SIGNALS_KEPT: usize = 64;
@@ -40,15 +40,8 @@ impl Sync {
         let st = self.states.entry(key).or_default();
         let previous = st.owner.replace(family);
         if let Some(owner) = previous.filter(|o| *o != family && !write) {
-            let prior = Access {
-                stage: S::EMPTY,
-                access: A::EMPTY,
-                command: st
-                    .write
-                    .as_ref()
-                    .map_or_else(String::new, |w| w.access.command.clone()),
-                what: format!("owned by queue family {owner}"),
-            };
+            let by = st.write.as_ref().map_or("", |w| w.access.command.as_str());
+            let prior = Access::event(by, format!("owned by queue family {owner}"));
             let mut access = a.clone();
             access.what = format!("{} on queue family {family}", access.what);
             self.note(
@@ -71,15 +64,8 @@ impl Sync {
         (src, dst): (u32, u32),
     ) {
         let Some(family) = self.family else { return };
-        let keys: Vec<Key> = match &b.target {
-            BarrierTarget::Global => return,
-            BarrierTarget::Buffer { buffer } => vec![Key::Buffer(*buffer)],
-            BarrierTarget::Image {
-                image,
-                mips,
-                layers,
-            } => Self::image_keys(objects, *image, *mips, *layers),
-        };
+        // Only buffer and image barriers carry queue families.
+        let keys = self.barrier_keys(objects, &b.target);
         if family == src {
             let release = BarrierCmd {
                 dst_stages: S::EMPTY,
@@ -171,12 +157,7 @@ impl Sync {
             let st = self.states.entry(key).or_default();
             st.write = None;
             st.reads = vec![Read {
-                access: Access {
-                    stage: S::EMPTY,
-                    access: A::EMPTY,
-                    command: command.to_owned(),
-                    what: "presentation engine read (acquire)".to_owned(),
-                },
+                access: Access::event(command, "presentation engine read (acquire)".to_owned()),
                 seq: self.seq,
                 exec: S::EMPTY,
             }];
@@ -204,26 +185,22 @@ impl Sync {
                     continue;
                 };
                 if covered.is_none_or(|c| w.seq > c) {
-                    let a = Access {
-                        stage: S::EMPTY,
-                        access: A::EMPTY,
-                        command: command.to_owned(),
-                        what: "presentation engine read (present)".to_owned(),
-                    };
+                    let a = Access::event(command, "presentation engine read (present)".to_owned());
                     self.note(command, key, HazardKind::PresentAfterWrite, a, w.access);
                 }
             }
         }
     }
 
+    /// `vkQueueWaitIdle` or `vkDeviceWaitIdle`: everything submitted so far is over.
+    pub fn idle(&mut self) {
+        self.retire(self.seq);
+    }
+
     /// A host wait that returned `VK_SUCCESS`: on `fences` (all of them, or the only one),
-    /// on timeline `semaphores` likewise, or a queue or the device idle (`None`).
+    /// or on timeline `semaphores` likewise.
     pub fn host_wait(&mut self, fences: &[u64], semaphores: &[(u64, Option<u64>)], all: bool) {
         if !self.enabled {
-            return;
-        }
-        if fences.is_empty() && semaphores.is_empty() {
-            self.retire(self.seq);
             return;
         }
         if !all && fences.len() + semaphores.len() > 1 {
