@@ -1,7 +1,11 @@
-//! Inspector benchmarks on the available adapter, over Night City at `--scale 0.5`:
-//! - time to the first displayed render target (load, analyse, lower, start the worker, one
-//!   timed frame, then frame 1 up to the current pass, read-back and display), measured once;
-//! - time to switch the current pass (a replay up to the new pass, read-back, display), once;
+//! Inspector benchmarks on the available adapter, over Night City at `--scale 0.5`, through
+//! the same calls a click makes (`select_pass`, `open_resource`, then frames until the worker's
+//! image is shown):
+//! - the window: time from start to the first UI frame drawn (load, analyse, lower, the
+//!   worker started; its session is created on its own thread);
+//! - the first pass shown while the first replay runs, and the whole frame browsable;
+//! - switching to every pass in turn once the frame has replayed (median and worst);
+//! - re-opening a texture viewed before (median);
 //! - CPU time of one UI frame with the frame loaded and shown (criterion): layout, painting and
 //!   tessellation of every visible panel, without the GPU.
 
@@ -21,6 +25,39 @@ use framelab_ui::{Inspector, egui, headless};
 const CAPTURE: &str = "captures/night_city/main_street_day.json";
 const SETTLE: Duration = Duration::from_secs(1200);
 
+type Harness = framelab_ui::egui_kittest::Harness<'static, Inspector>;
+
+/// Steps frames until `done` holds, and returns how long that took.
+fn until(h: &mut Harness, done: impl Fn(&Inspector) -> bool) -> Duration {
+    let start = Instant::now();
+    while !done(h.state()) {
+        assert!(h.state().error.is_none(), "{:?}", h.state().error);
+        assert!(start.elapsed() < SETTLE, "timed out");
+        h.step();
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    start.elapsed()
+}
+
+/// Whether the texture the selection asks for is the one shown.
+fn shown(app: &Inspector) -> bool {
+    app.is_idle()
+        && app.displayed.as_ref().is_some_and(|d| {
+            d.request.pass == app.selection.pass
+                && d.request.texture.as_ref().map(|t| t.plan_index)
+                    == app
+                        .selection
+                        .resource
+                        .and_then(|r| app.model.resources[r].texture.as_ref())
+                        .map(|t| t.plan_index)
+        })
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
 fn main() {
     let start = Instant::now();
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(CAPTURE);
@@ -34,34 +71,63 @@ fn main() {
     let c = &analysed.capture;
     let pass_id = |name: &str| c.passes.iter().find(|p| p.name == name).expect(name).id;
     let resource_id = |name: &str| c.resources.iter().find(|r| r.name == name).expect(name).id;
-    let (base, lighting) = (pass_id("base_material"), pass_id("tiled_direct_lighting"));
-    let albedo = resource_id("gbuffer_albedo");
+    let base = pass_id("base_material");
+    let (albedo, normal) = (resource_id("gbuffer_albedo"), resource_id("gbuffer_normal"));
     let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
         .expect("an adapter");
+    let adapter = ctx.summary.name.clone();
+    let rs = headless::render_state(&ctx).expect("egui on its own device");
+    let options = inspect::LaunchOptions {
+        frames: 1,
+        ..Default::default()
+    };
     let (model, worker) =
-        inspect::launch(analysed, &ctx, &Reports::default(), 1).expect("launches");
-    let rs = headless::render_state(&ctx).expect("egui on the replay device");
-    let mut app = Inspector::new(model, Some(worker), Some(rs.clone()));
+        inspect::launch(analysed, ctx, &Reports::default(), options).expect("launches");
+    let mut app = Inspector::new(model, Some(worker));
     let model = app.model.clone();
-    app.select_pass(model.pass_position(base).expect("base_material is shown"));
-    app.open_resource(model.resource_position(albedo).expect("gbuffer_albedo"));
-    let mut h = headless::harness(app, rs, egui::Vec2::new(1600.0, 900.0));
-    headless::settle(&mut h, SETTLE).expect("first view");
-    let first = start.elapsed();
-    let switch_start = Instant::now();
-    h.state_mut().select_pass(
-        model
-            .pass_position(lighting)
-            .expect("tiled_direct_lighting is shown"),
+    let base = model.pass_position(base).expect("base_material is shown");
+    let (albedo, normal) = (
+        model.resource_position(albedo).expect("gbuffer_albedo"),
+        model.resource_position(normal).expect("gbuffer_normal"),
     );
-    headless::settle(&mut h, SETTLE).expect("switched");
-    let switch = switch_start.elapsed();
+    app.select_pass(base);
+    app.open_resource(albedo);
+    let mut h = headless::harness(app, rs, egui::Vec2::new(1600.0, 900.0));
+    h.step();
+    let window = start.elapsed();
+    until(&mut h, shown);
+    let first = start.elapsed();
+    let replayed_through = h.state().replayed.map_or(0, |(d, _)| d + 1);
+    until(&mut h, |a| !a.replaying());
+    let whole = start.elapsed();
+    let mut switches = Vec::new();
+    for p in 0..model.passes.len() {
+        h.state_mut().select_pass(p);
+        switches.push(until(&mut h, |a| a.is_idle()).as_secs_f64());
+    }
+    let mut reopen = Vec::new();
+    h.state_mut().select_pass(base);
+    until(&mut h, shown);
+    for _ in 0..5 {
+        for r in [normal, albedo] {
+            h.state_mut().open_resource(r);
+            reopen.push(until(&mut h, shown).as_secs_f64());
+        }
+    }
+    let worst = switches.iter().copied().fold(0.0, f64::max);
     println!(
-        "inspector on {} at scale 0.5, {}: first displayed target {:.2} s, pass switch {:.2} s",
-        CAPTURE,
-        ctx.summary.name,
+        "inspector on {CAPTURE} at scale 0.5, {adapter}: window {:.2} s; base_material's albedo \
+         shown {:.2} s (the first replay {replayed_through} passes in); whole frame browsable \
+         {:.2} s; pass switch over {} passes: median {:.3} s, worst {:.3} s; re-opening a \
+         texture: median {:.3} s; {}",
+        window.as_secs_f64(),
         first.as_secs_f64(),
-        switch.as_secs_f64()
+        whole.as_secs_f64(),
+        switches.len(),
+        median(switches),
+        worst,
+        median(reopen),
+        h.state().status,
     );
     // A frame as a window runs it: the UI laid out and painted, then tessellated (no
     // accessibility tree, which the test harness always builds).

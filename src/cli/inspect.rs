@@ -56,9 +56,14 @@ pub struct InspectArgs {
     /// Window size in points, WxH (screenshots).
     #[arg(long, default_value = "1600x900", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Whole frames timed before the first view.
+    /// Whole frames timed: the first before the browsed frame replays, the rest after it.
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub frames: u32,
+    /// Memory for the copies of what each pass writes, in MiB: a pass whose copies fit is shown
+    /// without a replay; one evicted costs a replay up to it.
+    #[arg(long, default_value_t = project::DEFAULT_BUDGET >> 20,
+          value_parser = clap::value_parser!(u64).range(1..=1 << 20))]
+    pub cache_mb: u64,
 }
 
 fn parse_size(text: &str) -> Result<(u32, u32), String> {
@@ -121,14 +126,23 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         let id = c.resources.iter().find(|r| &r.name == name).map(|r| r.id);
         (name, id)
     });
-    // The device draws the window even when nothing is replayed.
     let ctx = framelab_replay::open_device(args.adapter.as_deref(), lower::wanted_features())?;
+    // Off-screen, egui draws with a device of its own on the same adapter; a window draws
+    // with OpenGL.
+    let render_state = match &args.screenshot {
+        Some(_) => Some(headless::render_state(&ctx)?),
+        None => None,
+    };
     // An imported capture is inspected without a replay: passes, barriers, DAG and memory.
     let (model, worker) = if analysed.capture.not_replayable().is_some() {
         let model = project::model_without_replay(&analysed, &reports)?;
         (model, None)
     } else {
-        let (model, worker) = project::launch(analysed, &ctx, &reports, args.frames)?;
+        let options = project::LaunchOptions {
+            frames: args.frames,
+            budget: args.cache_mb << 20,
+        };
+        let (model, worker) = project::launch(analysed, ctx, &reports, options)?;
         (model, Some(worker))
     };
     let select = match select_id {
@@ -194,20 +208,19 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
             app.show_pane(p);
         }
     };
-    match &args.screenshot {
-        Some(path) => {
-            let rs = headless::render_state(&ctx)?;
-            let mut app = Inspector::new(model, worker, Some(rs.clone()));
+    match (&args.screenshot, render_state) {
+        (Some(path), Some(rs)) => {
+            let mut app = Inspector::new(model, worker);
             prepare(&mut app);
             let size = framelab_ui::egui::Vec2::new(args.size.0 as f32, args.size.1 as f32);
             let image = headless::capture(app, rs, size, Duration::from_secs(600))?;
             headless::save_png(&image, path)?;
             Ok(ExitCode::SUCCESS)
         }
-        None => {
+        _ => {
             let title = format!("framelab inspect {}", args.capture.display());
-            headless::window(&ctx, &title, move |rs| {
-                let mut app = Inspector::new(model, worker, rs);
+            headless::window(&title, move || {
+                let mut app = Inspector::new(model, worker);
                 prepare(&mut app);
                 app
             })?;

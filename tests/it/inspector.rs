@@ -3,7 +3,7 @@
 //! resource table, change mip and channels, read texel values, and check what it reads back
 //! against `framelab replay --after PASS --resource TEXTURE`.
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use framelab_core::analysis::report::AnalyzeOptions;
 use framelab_core::capture::Options;
@@ -51,6 +51,13 @@ fn report(path: &str) -> TimingReport {
 }
 
 fn open_with(capture: &str, reports: &Reports<'_>) -> egui_kittest::Harness<'static, Inspector> {
+    let mut harness = launched(capture, reports);
+    headless::settle(&mut harness, SETTLE).unwrap();
+    harness
+}
+
+/// The example at scale 0.25 in a 1400x900 harness, its worker just started.
+fn launched(capture: &str, reports: &Reports<'_>) -> egui_kittest::Harness<'static, Inspector> {
     let path = repo().join(capture);
     let options = Options {
         scale: 0.25,
@@ -59,12 +66,14 @@ fn open_with(capture: &str, reports: &Reports<'_>) -> egui_kittest::Harness<'sta
     let analysed = Analysed::load(&path, &options, AnalyzeOptions::default()).unwrap();
     let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
         .expect("an adapter");
-    let (model, worker) = inspect::launch(analysed, &ctx, reports, 1).unwrap();
     let rs = headless::render_state(&ctx).unwrap();
-    let app = Inspector::new(model, Some(worker), Some(rs.clone()));
-    let mut harness = headless::harness(app, rs, egui::Vec2::new(1400.0, 900.0));
-    headless::settle(&mut harness, SETTLE).unwrap();
-    harness
+    let options = inspect::LaunchOptions {
+        frames: 1,
+        ..Default::default()
+    };
+    let (model, worker) = inspect::launch(analysed, ctx, reports, options).unwrap();
+    let app = Inspector::new(model, Some(worker));
+    headless::harness(app, rs, egui::Vec2::new(1400.0, 900.0))
 }
 
 fn settle(h: &mut egui_kittest::Harness<'static, Inspector>) {
@@ -193,16 +202,20 @@ fn selecting_passes_and_textures_shows_the_frame_as_of_that_pass() {
         .find(|(p, _)| *p == bloom_extract)
         .map(|(_, r)| *r)
         .expect("a bloom_extract node");
-    click_at(&mut h, node.center());
+    // The DAG centres on the current pass (tonemap), so bloom_extract, left of it, may be
+    // partly outside the panel: click its right end.
+    click_at(&mut h, egui::pos2(node.right() - 8.0, node.center().y));
     assert_eq!(h.state().selection.pass, bloom_extract);
-    // Its node lies right of the scene it reads from.
-    let scene_node = h
-        .state()
-        .dag_nodes
-        .iter()
-        .find(|(p, _)| *p == scene)
-        .unwrap()
-        .1;
+    // It is centred now, its node right of the scene it reads from.
+    let at = |h: &egui_kittest::Harness<'static, Inspector>, pass: usize| {
+        h.state()
+            .dag_nodes
+            .iter()
+            .find(|(p, _)| *p == pass)
+            .unwrap()
+            .1
+    };
+    let (node, scene_node) = (at(&h, bloom_extract), at(&h, scene));
     assert!(node.left() > scene_node.right(), "{node:?} {scene_node:?}");
     // The memory view lists the aliasing plan's pools.
     h.get_by_label("Memory").click();
@@ -215,6 +228,69 @@ fn selecting_passes_and_textures_shows_the_frame_as_of_that_pass() {
     h.key_press(egui::Key::ArrowUp);
     h.run_steps(1);
     assert_eq!(h.state().selection.pass, tonemap - 1);
+}
+
+#[test]
+fn the_ui_keeps_drawing_and_taking_input_while_the_first_replay_runs() {
+    // Night City: a frame long enough on lavapipe for the UI to be seen drawing through it.
+    let mut h = launched(
+        "captures/night_city/main_street_day.json",
+        &Reports::default(),
+    );
+    // The first pass that draws into a texture: it opens that texture.
+    let model = h.state().model.clone();
+    let early = (0..model.passes.len())
+        .find(|&p| {
+            model.passes[p]
+                .outputs
+                .first()
+                .is_some_and(|&r| model.resources[r].texture.is_some())
+        })
+        .unwrap();
+    h.state_mut().select_pass(early);
+    let visible = framelab_ui::panels::events::visible(&model, "");
+    let next = visible[visible.iter().position(|&p| p == early).unwrap() + 1];
+    let start = Instant::now();
+    let (mut frames, mut longest) = (0u32, Duration::ZERO);
+    let mut first_pass_shown_early = false;
+    while h.state().replaying() {
+        assert!(h.state().error.is_none(), "{:?}", h.state().error);
+        let t = Instant::now();
+        h.step();
+        if frames % 8 == 0 {
+            // The UI's own drawing, on its own device.
+            h.render().unwrap();
+        }
+        longest = longest.max(t.elapsed());
+        frames += 1;
+        // That pass, once replayed, is shown before the frame's last pass has run.
+        if let Some(d) = &h.state().displayed
+            && d.request.pass == early
+            && d.arrived_at.is_some_and(|(done, total)| done + 1 < total)
+            && !first_pass_shown_early
+        {
+            first_pass_shown_early = true;
+            h.key_press(egui::Key::ArrowDown);
+        }
+        std::thread::sleep(Duration::from_millis(5));
+        assert!(start.elapsed() < SETTLE, "the first replay never finished");
+    }
+    let replay = start.elapsed();
+    assert!(
+        first_pass_shown_early,
+        "{} was not shown before the frame finished",
+        model.passes[early].name
+    );
+    // The key pressed while the replay ran was taken.
+    assert_eq!(h.state().selection.pass, next);
+    // A frozen UI draws a frame or two while the replay runs; this one kept drawing, none of
+    // its frames near as long as the replay.
+    assert!(frames >= 20, "{frames} UI frames in {replay:?}");
+    assert!(
+        longest * 5 < replay,
+        "longest UI frame {longest:?} during a {replay:?} replay"
+    );
+    settle(&mut h);
 }
 
 #[test]

@@ -2,8 +2,6 @@
 //! and the exchange with the replay worker. Everything shown is derived from the inspection
 //! model, the timings and the worker's latest image; a frame never waits on the GPU.
 
-use eframe::egui_wgpu;
-
 use crate::model::Inspection;
 use crate::panels;
 pub use crate::state::{Displayed, HistogramKey, Pane, Selection, View, Zoom};
@@ -15,8 +13,9 @@ use crate::worker::{Reply, SaveAs, ViewRequest, Worker, WorkerError};
 pub struct Inspector {
     pub view: View,
     worker: Option<Worker>,
-    render_state: Option<egui_wgpu::RenderState>,
     sent: Option<ViewRequest>,
+    /// The pass whose thumbnails were asked for last.
+    thumbnails_sent: Option<usize>,
     tree: Option<egui_tiles::Tree<Pane>>,
 }
 
@@ -72,18 +71,15 @@ fn default_tree() -> egui_tiles::Tree<Pane> {
 }
 
 impl Inspector {
-    /// An inspector over `model`; `worker` replays it on the device `render_state` draws
-    /// with (both absent: the panels show the model alone).
-    pub fn new(
-        model: Inspection,
-        worker: Option<Worker>,
-        render_state: Option<egui_wgpu::RenderState>,
-    ) -> Inspector {
+    /// An inspector over `model`; `worker` replays it on a device of its own (absent: the
+    /// panels show the model alone). Whatever egui draws with, the inspector only hands it
+    /// pixels, so the UI never touches the replay's queue.
+    pub fn new(model: Inspection, worker: Option<Worker>) -> Inspector {
         Inspector {
             view: View::new(model, worker.is_some()),
             worker,
-            render_state,
             sent: None,
+            thumbnails_sent: None,
             tree: Some(default_tree()),
         }
     }
@@ -132,12 +128,37 @@ impl Inspector {
         while let Ok(reply) = worker.replies.try_recv() {
             match reply {
                 Reply::Progress(p) => self.view.status = p,
+                Reply::Replayed { done, total } => self.view.replayed = Some((done, total)),
                 Reply::Timings(t) => {
-                    if self.view.timings.is_none() {
+                    // A report given on the command line stays; the worker's own frames
+                    // replace each other.
+                    if self
+                        .view
+                        .timings
+                        .as_ref()
+                        .is_none_or(|o| o.source == t.source)
+                    {
                         self.view.timings = Some(t);
                     }
                 }
                 Reply::Shown(s) => shown.push(s),
+                Reply::Thumbnail {
+                    pass,
+                    texture,
+                    image,
+                } => {
+                    let thumbnails = &mut self.view.thumbnails.0;
+                    // Thumbnails of the last few passes visited are kept.
+                    if thumbnails.len() > 8 * crate::state::THUMBNAILS {
+                        thumbnails.clear();
+                    }
+                    let handle = ctx.load_texture(
+                        format!("framelab thumbnail {pass} {texture}"),
+                        image,
+                        egui::TextureOptions::LINEAR,
+                    );
+                    thumbnails.insert((pass, texture), handle);
+                }
                 Reply::Saved(result) => {
                     self.view.saved = Some(result);
                     self.view.saving = false;
@@ -149,35 +170,24 @@ impl Inspector {
             }
         }
         for s in shown {
+            let s = *s;
             if Some(&s.request) == self.sent.as_ref() {
                 self.view.idle = true;
-                self.view.status = "ready".into();
             }
             if let (Some(bytes), Some(b)) = (s.buffer.clone(), s.request.buffer) {
                 self.view.buffer_bytes = Some(((s.request.pass, b), bytes));
             }
-            let Some(texture) = s.display else {
+            let Some(image) = s.display else {
                 self.view.displayed = None;
                 continue;
             };
-            let Some(rs) = &self.render_state else {
-                continue;
-            };
-            let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-            let mut renderer = rs.renderer.write();
-            let texture_id = match &self.view.displayed {
-                Some(d) => {
-                    renderer.update_egui_texture_from_wgpu_texture(
-                        &rs.device,
-                        &view,
-                        wgpu::FilterMode::Nearest,
-                        d.texture_id,
-                    );
-                    d.texture_id
+            let size = [image.size[0] as u32, image.size[1] as u32];
+            let texture = match self.view.displayed.take() {
+                Some(mut d) => {
+                    d.texture.set(image, egui::TextureOptions::NEAREST);
+                    d.texture
                 }
-                None => {
-                    renderer.register_native_texture(&rs.device, &view, wgpu::FilterMode::Nearest)
-                }
+                None => ctx.load_texture("framelab view", image, egui::TextureOptions::NEAREST),
             };
             let range = s.decoded.as_ref().map(|d| d.range());
             if self.view.fit_pending
@@ -190,15 +200,27 @@ impl Inspector {
                 self.view.selection.controls.white = if hi > lo { hi } else { lo + 1.0 };
             }
             self.view.displayed = Some(Displayed {
-                request: s.request.clone(),
-                texture_id,
-                size: [texture.width(), texture.height()],
+                request: s.request,
+                texture,
+                size,
                 range,
                 histogram: None,
                 decoded: s.decoded,
                 note: s.note,
-                _texture: texture,
+                written: s.written,
+                arrived_at: self.view.replayed,
             });
+        }
+        let pass = self.view.selection.pass;
+        if self.thumbnails_sent != Some(pass) && self.view.error.is_none() {
+            let list: Vec<_> = self
+                .view
+                .thumbnail_requests(pass)
+                .into_iter()
+                .filter(|t| !self.view.thumbnails.0.contains_key(&(pass, t.plan_index)))
+                .collect();
+            worker.thumbnails(pass, list);
+            self.thumbnails_sent = Some(pass);
         }
         let wanted = self.view.wanted();
         if self.sent.as_ref() != Some(&wanted) && self.view.error.is_none() {
@@ -207,7 +229,7 @@ impl Inspector {
             }
             self.sent = Some(wanted);
         }
-        if !self.view.is_idle() {
+        if !self.view.is_idle() || self.view.replaying() {
             ctx.request_repaint_after(std::time::Duration::from_millis(30));
         }
     }

@@ -1,12 +1,13 @@
-//! Running the inspector: in a window (eframe, drawing with the device that replays the frame)
-//! or off-screen (egui_kittest rendering with that same device) to write a screenshot of the
-//! whole window once the worker has shown what was asked.
+//! Running the inspector: in a window (eframe, drawing with OpenGL) or off-screen (egui_kittest
+//! rendering with a wgpu device of its own on the replay's adapter) to write a screenshot of the
+//! whole window once the worker has shown what was asked. Neither draws with the replay's device.
 
 use std::path::Path;
 use std::time::{Duration, Instant};
 
 use eframe::egui_wgpu::{self, RenderState, WgpuConfiguration, WgpuSetup, WgpuSetupExisting};
 use framelab_replay::GpuContext;
+use framelab_replay::wgpu;
 
 use crate::app::Inspector;
 
@@ -26,19 +27,23 @@ pub enum HeadlessError {
     Window(String),
 }
 
-fn setup(ctx: &GpuContext) -> WgpuSetup {
-    WgpuSetup::Existing(WgpuSetupExisting {
-        instance: ctx.instance.clone(),
-        adapter: ctx.adapter.clone(),
-        device: ctx.device.clone(),
-        queue: ctx.queue.clone(),
-    })
-}
-
-/// egui's renderer on the replay's device.
+/// egui's renderer on a device of its own on the replay's adapter: the UI never submits to or
+/// waits on the queue the replay uses, so a replay in flight never holds a frame up.
 pub fn render_state(ctx: &GpuContext) -> Result<RenderState, HeadlessError> {
+    let descriptor = wgpu::DeviceDescriptor {
+        label: Some("framelab ui"),
+        required_limits: ctx.adapter.limits(),
+        ..Default::default()
+    };
+    let (device, queue) = pollster::block_on(ctx.adapter.request_device(&descriptor))
+        .map_err(|e| HeadlessError::RenderState(e.to_string()))?;
     let config = WgpuConfiguration {
-        wgpu_setup: setup(ctx),
+        wgpu_setup: WgpuSetup::Existing(WgpuSetupExisting {
+            instance: ctx.instance.clone(),
+            adapter: ctx.adapter.clone(),
+            device,
+            queue,
+        }),
         ..Default::default()
     };
     pollster::block_on(RenderState::create(
@@ -127,27 +132,21 @@ pub fn save_png(image: &image::RgbaImage, path: &Path) -> Result<(), HeadlessErr
     framelab_core::atomic::write(path, &bytes).map_err(|e| err(e.to_string()))
 }
 
-/// Opens the inspector in a window; `make` builds it with egui's renderer on the replay device.
+/// Opens the inspector in a window drawn with OpenGL (eframe's glow renderer): the window's
+/// drawing shares nothing with the replay's Vulkan device, and has no swapchain surface that a
+/// window shown before its first resize could leave unconfigured.
 pub fn window(
-    ctx: &GpuContext,
     title: &str,
-    make: impl FnOnce(Option<RenderState>) -> Inspector + 'static,
+    make: impl FnOnce() -> Inspector + 'static,
 ) -> Result<(), HeadlessError> {
     let options = eframe::NativeOptions {
-        renderer: eframe::Renderer::Wgpu,
-        wgpu_options: WgpuConfiguration {
-            wgpu_setup: setup(ctx),
-            ..Default::default()
-        },
+        renderer: eframe::Renderer::Glow,
         viewport: egui::ViewportBuilder::default()
             .with_inner_size([1600.0, 900.0])
+            .with_min_inner_size([640.0, 400.0])
             .with_title(title),
         ..Default::default()
     };
-    eframe::run_native(
-        title,
-        options,
-        Box::new(move |cc| Ok(Box::new(make(cc.wgpu_render_state.clone())))),
-    )
-    .map_err(|e| HeadlessError::Window(e.to_string()))
+    eframe::run_native(title, options, Box::new(move |_cc| Ok(Box::new(make()))))
+        .map_err(|e| HeadlessError::Window(e.to_string()))
 }

@@ -79,6 +79,8 @@ pub struct PassTime {
 pub struct Compare {
     pub source: String,
     pub passes: Vec<Option<CompareRow>>,
+    /// A warning about the comparison itself (reports taken at different scales).
+    pub note: Option<String>,
 }
 
 #[derive(Clone, Debug)]
@@ -87,6 +89,8 @@ pub struct CompareRow {
     pub change_pct: f64,
     /// regression, improvement, unchanged, inconclusive or untimed.
     pub verdict: String,
+    /// The pass's name there, where it was renamed.
+    pub renamed: Option<String>,
 }
 
 #[derive(Clone, Debug)]
@@ -102,6 +106,9 @@ pub struct Pass {
     pub culled: bool,
     /// One line per draw, dispatch, copy or clear, with its arguments.
     pub work: Vec<String>,
+    /// How many of the first `work` lines are draws or dispatches (which can be replayed up
+    /// to).
+    pub steps: usize,
     /// WGSL variable -> resource view.
     pub bindings: Vec<(String, String)>,
     /// Colour and depth attachments with load/store and clear values.
@@ -112,6 +119,10 @@ pub struct Pass {
     pub barriers: Vec<Barrier>,
     /// Lints that name this pass: `code severity: message`.
     pub lints: Vec<String>,
+    /// Resources (model indices) it reads, and those it writes: colour attachments first, then
+    /// depth, then everything else it writes, each once.
+    pub inputs: Vec<usize>,
+    pub outputs: Vec<usize>,
 }
 
 /// Where a barrier sits relative to its pass, and who asked for it.

@@ -499,6 +499,8 @@ fn make_viewable(lowered: &mut Lowered) {
         if t.samples == 1 {
             t.usage |= wgpu::TextureUsages::TEXTURE_BINDING;
         }
+        // The worker copies what each pass writes.
+        t.usage |= wgpu::TextureUsages::COPY_SRC;
     }
 }
 
@@ -642,12 +644,36 @@ fn compare_from(
     b: &TimingReport,
     source: &str,
 ) -> Result<Compare, framelab_core::timing::diff::DiffError> {
+    // Reports taken at different scales are compared all the same, under a warning: the
+    // inspector shows what there is, the diff command refuses to give a verdict on it.
+    let note = (a.scale != b.scale).then(|| {
+        format!(
+            "the reports were taken at different scales ({} here, {} in {source}): their times \
+             are not comparable",
+            a.scale, b.scale
+        )
+    });
+    let rescaled;
+    let b = if a.scale == b.scale {
+        b
+    } else {
+        rescaled = TimingReport {
+            scale: a.scale,
+            ..b.clone()
+        };
+        &rescaled
+    };
     let d = framelab_core::timing::diff::diff(a, b, &DiffOptions::default())?;
+    // Keyed by the pass's name here (in A): a pass renamed there is matched by the diff's
+    // rename detection (same shader, queue and outputs) and found under its old name.
     let rows: BTreeMap<(&str, &str), &framelab_core::timing::diff::Row> = d
         .rows
         .iter()
         .filter(|r| r.kind == RowKind::Pass)
-        .map(|r| ((r.queue.as_str(), r.name.as_str()), r))
+        .map(|r| {
+            let here = r.renamed_from.as_deref().unwrap_or(r.name.as_str());
+            ((r.queue.as_str(), here), r)
+        })
         .collect();
     let passes = model
         .passes
@@ -665,12 +691,14 @@ fn compare_from(
                     Verdict::Untimed => "untimed",
                 }
                 .to_owned(),
+                renamed: r.renamed_from.as_ref().map(|_| r.name.clone()),
             })
         })
         .collect();
     Ok(Compare {
         source: source.to_owned(),
         passes,
+        note,
     })
 }
 
@@ -793,6 +821,7 @@ fn model(
                 markers: p.markers.clone(),
                 culled: a.culled.contains(&id),
                 work: work(c, p),
+                steps: p.draws.len() + p.dispatches.len(),
                 bindings: bindings(c, p),
                 attachments: attachments(c, p),
                 state: state(c, p),
@@ -802,6 +831,8 @@ fn model(
                     .iter()
                     .map(|l| format!("{} {}: {}", l.code, spelled(&l.severity), l.message))
                     .collect(),
+                inputs: touched(p, false),
+                outputs: touched(p, true),
             }
         })
         .collect();
@@ -854,6 +885,42 @@ fn fences(c: &Capture, order: &[PassId]) -> Vec<(usize, usize)> {
     out
 }
 
+/// The resources (model indices: capture order) pass `p` writes (`writes`) or only reads, each
+/// once; outputs list colour attachments first, then depth, so a pass opens on what it draws.
+fn touched(p: &framelab_core::capture::model::PassDesc, writes: bool) -> Vec<usize> {
+    use framelab_core::capture::format::Access;
+    let rank = |a: Access| match a {
+        Access::ColorAttachment => 0,
+        Access::DepthWrite | Access::DepthRead => 1,
+        _ => 2,
+    };
+    let mut list: Vec<(u8, usize, usize)> = p
+        .accesses
+        .iter()
+        .enumerate()
+        .filter(|(_, a)| if writes { a.writes } else { !a.writes })
+        .map(|(i, a)| (rank(a.access), i, a.resource.index()))
+        .collect();
+    list.sort_unstable();
+    let mut seen = std::collections::BTreeSet::new();
+    let mut out: Vec<usize> = list
+        .into_iter()
+        .filter(|&(_, _, r)| seen.insert(r))
+        .map(|(_, _, r)| r)
+        .collect();
+    if !writes {
+        // A resource read and written is an output.
+        let written: std::collections::BTreeSet<usize> = p
+            .accesses
+            .iter()
+            .filter(|a| a.writes)
+            .map(|a| a.resource.index())
+            .collect();
+        out.retain(|r| !written.contains(r));
+    }
+    out
+}
+
 /// Why the inspector could not start.
 #[derive(Debug, thiserror::Error)]
 pub enum LaunchError {
@@ -865,14 +932,34 @@ pub enum LaunchError {
     Compare(#[from] framelab_core::timing::diff::DiffError),
 }
 
-/// The inspector's model and its replay worker, started on `ctx`: the capture lowered for the
-/// device (every texture viewable), its replay on a worker thread that times `frames` whole
-/// frames before answering views.
+/// How the inspector's replay runs: whole frames timed (the first before the browsed frame, the
+/// rest after it) and the bytes of pass copies it keeps.
+#[derive(Clone, Copy, Debug)]
+pub struct LaunchOptions {
+    pub frames: u32,
+    pub budget: u64,
+}
+
+impl Default for LaunchOptions {
+    fn default() -> Self {
+        LaunchOptions {
+            frames: 2,
+            budget: DEFAULT_BUDGET,
+        }
+    }
+}
+
+/// The default memory budget for pass copies.
+pub const DEFAULT_BUDGET: u64 = 2048 << 20;
+
+/// The inspector's model and its replay worker on `ctx` (the replay's own device): the capture
+/// lowered for the device (every texture viewable, copyable) and the worker started, which
+/// creates the session on its own thread so the window can open at once.
 pub fn launch(
     analysed: Analysed,
-    ctx: &framelab_replay::GpuContext,
+    ctx: framelab_replay::GpuContext,
     reports: &Reports<'_>,
-    frames: u32,
+    options: LaunchOptions,
 ) -> Result<(Inspection, crate::worker::Worker), LaunchError> {
     let mut lowered = analysed.lower(ctx.device.features(), &ctx.summary.name)?;
     make_viewable(&mut lowered);
@@ -884,6 +971,38 @@ pub fn launch(
         Some(&lowered),
         reports,
     )?;
-    let replaying = framelab_replay::Replaying::start(ctx, lowered)?;
-    Ok((inspection, crate::worker::Worker::start(replaying, frames)))
+    let writes = pass_writes(&lowered);
+    let worker = crate::worker::Worker::start(crate::worker::Launch {
+        ctx,
+        lowered,
+        writes,
+        timed_frames: options.frames.max(1),
+        budget: options.budget,
+    });
+    Ok((inspection, worker))
+}
+
+/// The plan textures and buffers each plan pass writes.
+fn pass_writes(lowered: &Lowered) -> Vec<crate::worker::PassWrites> {
+    let c = lowered.capture();
+    lowered
+        .pass_ids
+        .iter()
+        .map(|&id| {
+            let mut w = crate::worker::PassWrites::default();
+            for a in c.pass(id).accesses.iter().filter(|a| a.writes) {
+                if let Some(&t) = lowered.texture_of.get(&a.resource) {
+                    w.textures.push(t);
+                }
+                if let Some(&b) = lowered.buffer_of.get(&a.resource) {
+                    w.buffers.push(b);
+                }
+            }
+            w.textures.sort_unstable();
+            w.textures.dedup();
+            w.buffers.sort_unstable();
+            w.buffers.dedup();
+            w
+        })
+        .collect()
 }

@@ -10,7 +10,53 @@ use framelab_replay::decode::DecodedImage;
 
 use crate::model::{Inspection, Sampling, Timings};
 use crate::visualise::{Controls, Subresource};
-use crate::worker::{BufferBytes, SaveAs, TextureRequest, ViewRequest, WorkerError};
+use crate::worker::{BufferBytes, SaveAs, TextureRequest, ViewRequest, WorkerError, Written};
+
+/// Thumbnails the worker drew, uploaded to egui: (pass, plan texture) -> image.
+#[derive(Default)]
+pub struct Thumbnails(pub std::collections::BTreeMap<(usize, usize), egui::TextureHandle>);
+
+impl std::fmt::Debug for Thumbnails {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} thumbnails", self.0.len())
+    }
+}
+
+/// Thumbnails asked for per pass, at most.
+pub const THUMBNAILS: usize = 24;
+
+/// The controls a texture opens with (its stencil aspect, if `stencil`), and whether its black
+/// and white points fit the values read back (depth).
+pub fn default_controls(t: &crate::model::TextureView, stencil: bool) -> (Controls, bool) {
+    let mut c = Controls {
+        encode_srgb: t.encode_srgb && !stencil,
+        ..Controls::default()
+    };
+    let mut fit = false;
+    match if stencil {
+        Sampling::Stencil
+    } else {
+        t.sampling
+    } {
+        // Depth: near is 0 in a forward depth buffer; invert so near is bright.
+        // Perspective depth crowds near one value: fit black and white to the range
+        // read back once it arrives, and invert so near is bright.
+        Sampling::Depth => {
+            c.channels = [true, false, false, false];
+            c.invert = true;
+            fit = true;
+        }
+        Sampling::Stencil => {
+            c.channels = [true, false, false, false];
+            c.white = 255.0;
+        }
+        Sampling::Uint | Sampling::Sint => {
+            c.white = 255.0;
+        }
+        Sampling::Float => {}
+    }
+    (c, fit)
+}
 
 /// The docked panels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -65,6 +111,12 @@ pub enum Zoom {
 pub struct Selection {
     /// The current pass: every panel shows the frame as it is right after it.
     pub pass: usize,
+    /// A draw or dispatch of the current pass (its index among them): the texture viewer shows
+    /// the frame right after it instead.
+    pub step: Option<usize>,
+    /// Passes whose draws and dispatches the event list shows (expanding one never moves the
+    /// rows above it, and selecting a pass expands nothing).
+    pub expanded: std::collections::BTreeSet<usize>,
     pub resource: Option<usize>,
     /// The viewed texture's stencil aspect is shown instead of its depth.
     pub stencil: bool,
@@ -80,16 +132,33 @@ pub struct Selection {
     pub sort: (usize, bool),
     pub zoom: Zoom,
     pub pan: Vec2,
+    /// Selecting a pass opens its first output (on by default, as a frame debugger's texture
+    /// viewer follows the current pass); off keeps the open texture.
+    pub follow: bool,
+    /// The texture picker's search text.
+    pub texture_filter: String,
+    /// Zoom and pan of every texture viewed before, restored when it opens again.
+    pub zooms: std::collections::BTreeMap<usize, (Zoom, Vec2)>,
+}
+
+impl std::fmt::Debug for Displayed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Displayed")
+            .field("request", &self.request)
+            .field("texture", &self.texture.id())
+            .field("size", &self.size)
+            .field("written", &self.written)
+            .finish_non_exhaustive()
+    }
 }
 
 /// What a histogram was counted for: the shown channels, black and white points.
 pub type HistogramKey = ([bool; 4], f32, f32);
 
-/// The image the worker last drew, registered with egui.
-#[derive(Debug)]
+/// The image the worker last drew, uploaded to egui.
 pub struct Displayed {
     pub request: ViewRequest,
-    pub texture_id: egui::TextureId,
+    pub texture: egui::TextureHandle,
     pub size: [u32; 2],
     pub decoded: Option<Arc<DecodedImage>>,
     /// The decoded values' finite range (for auto-fit), found once.
@@ -97,8 +166,10 @@ pub struct Displayed {
     /// The histogram and the (channels, black, white) it was counted for.
     pub histogram: Option<(HistogramKey, Vec<u32>)>,
     pub note: Option<String>,
-    /// Kept alive while egui samples it.
-    pub(crate) _texture: wgpu::Texture,
+    /// When the texture was last written, as of the view's pass.
+    pub written: Option<Written>,
+    /// How far the first replay had got when this image arrived (passes done, total).
+    pub arrived_at: Option<(usize, usize)>,
 }
 
 #[derive(Debug)]
@@ -112,6 +183,10 @@ pub struct View {
     /// The texel clicked last (or given on the command line), read out when none is hovered.
     pub picked: Option<(u32, u32)>,
     pub status: String,
+    /// The timeline's visible span (start, length in ns); `None`: the whole frame.
+    pub timeline_span: Option<(f64, f64)>,
+    /// Thumbnails the worker drew: (pass, plan texture) -> image.
+    pub thumbnails: Thumbnails,
     /// Where the timeline drew each pass last frame (for clicks, and for tests to aim at).
     pub timeline_bars: Vec<(usize, egui::Rect)>,
     /// Fit black and white points to the next image's range (set when a depth texture opens).
@@ -120,11 +195,16 @@ pub struct View {
     pub dag_nodes: Vec<(usize, egui::Rect)>,
     /// The DAG's pan and zoom.
     pub dag_view: (Vec2, f32),
+    /// The pass the DAG last centred on.
+    pub dag_centred: Option<usize>,
     /// The pass the event list last scrolled to.
     pub events_scrolled_to: Option<usize>,
     /// The viewed buffer's bytes as of a pass: (pass, plan buffer) and the bytes.
     pub buffer_bytes: Option<BufferBytes>,
     pub error: Option<String>,
+    /// Passes of the browsed frame the worker has replayed (the last one) and their count;
+    /// `None` before the first.
+    pub replayed: Option<(usize, usize)>,
     /// Where the texture viewer saves (edited in its panel).
     pub save_path: String,
     /// The last save's outcome: the file written, or why not.
@@ -150,6 +230,8 @@ impl View {
             timings,
             selection: Selection {
                 pass: 0,
+                step: None,
+                expanded: Default::default(),
                 resource: None,
                 stencil: false,
                 buffer: None,
@@ -161,6 +243,9 @@ impl View {
                 sort: (0, true),
                 zoom: Zoom::Fit,
                 pan: Vec2::ZERO,
+                follow: true,
+                texture_filter: String::new(),
+                zooms: Default::default(),
             },
             displayed: None,
             hovered: None,
@@ -171,6 +256,8 @@ impl View {
                 "imported capture: no replay, no texture contents".into()
             },
             timeline_bars: Vec::new(),
+            timeline_span: None,
+            thumbnails: Default::default(),
             events_scrolled_to: None,
             buffer_bytes: None,
             save_path: String::new(),
@@ -178,7 +265,9 @@ impl View {
             fit_pending: false,
             dag_nodes: Vec::new(),
             dag_view: (Vec2::ZERO, 1.0),
+            dag_centred: None,
             error: None,
+            replayed: None,
             replays,
             idle: !replays,
             saving: false,
@@ -209,6 +298,18 @@ impl View {
         self.replays
     }
 
+    /// Whether the worker is still replaying the browsed frame.
+    pub fn replaying(&self) -> bool {
+        self.replays
+            && self.error.is_none()
+            && self.replayed.is_none_or(|(done, total)| done + 1 < total)
+    }
+
+    /// Whether pass `pass` can be viewed now (its copies are made).
+    pub fn pass_ready(&self, pass: usize) -> bool {
+        !self.replays || self.replayed.is_some_and(|(done, _)| pass <= done)
+    }
+
     /// Whether the worker has answered everything asked of it.
     pub fn is_idle(&self) -> bool {
         self.idle && !self.saving
@@ -229,11 +330,48 @@ impl View {
         self.save_request = Some(how);
     }
 
-    /// Makes `pass` the current pass.
+    /// Makes `pass` the current pass and, when following, opens its first output a viewer can
+    /// show (colour attachment, depth, then anything else it writes).
     pub fn select_pass(&mut self, pass: usize) {
-        if pass < self.model.passes.len() {
-            self.selection.pass = pass;
+        if pass >= self.model.passes.len() {
+            return;
         }
+        self.selection.pass = pass;
+        self.selection.step = None;
+        if !self.selection.follow {
+            return;
+        }
+        let viewable = |r: &usize| {
+            self.model.resources.get(*r).is_some_and(|res| {
+                res.texture.as_ref().is_some_and(|t| t.unviewable.is_none()) || res.buffer.is_some()
+            })
+        };
+        let first = self.model.passes[pass]
+            .outputs
+            .iter()
+            .copied()
+            .find(viewable);
+        if let Some(r) = first
+            && Some(r) != self.selection.resource
+            && Some(r) != self.selection.buffer
+        {
+            self.open_resource(r);
+        }
+    }
+
+    /// Makes draw or dispatch `step` of `pass` current: the texture viewer shows the frame
+    /// right after it (the pass's first output, when following).
+    pub fn select_step(&mut self, pass: usize, step: usize) {
+        let Some(p) = self.model.passes.get(pass) else {
+            return;
+        };
+        if step >= p.steps {
+            return;
+        }
+        if pass != self.selection.pass {
+            self.select_pass(pass);
+        }
+        self.selection.step = Some(step);
     }
 
     /// Opens resource `r` in the texture viewer, with controls suited to its format.
@@ -247,9 +385,21 @@ impl View {
             self.show_pane(Pane::Buffer);
             return;
         }
+        // Each texture keeps its own zoom and pan; one never seen before opens fitted.
+        if let Some(old) = self.selection.resource {
+            let kept = (self.selection.zoom, self.selection.pan);
+            self.selection.zooms.insert(old, kept);
+        }
+        let (zoom, pan) = self
+            .selection
+            .zooms
+            .get(&r)
+            .copied()
+            .unwrap_or((Zoom::Fit, Vec2::ZERO));
+        self.selection.zoom = zoom;
+        self.selection.pan = pan;
         self.selection.resource = Some(r);
         self.selection.sub = Subresource::default();
-        self.selection.pan = Vec2::ZERO;
         self.picked = None;
         self.fit_pending = false;
         if let Some(t) = &res.texture {
@@ -270,34 +420,36 @@ impl View {
         };
         let stencil = stencil && (t.stencil || t.sampling == Sampling::Stencil);
         self.selection.stencil = stencil;
-        self.fit_pending = false;
-        let mut c = Controls {
-            encode_srgb: t.encode_srgb && !stencil,
-            ..Controls::default()
-        };
-        match if stencil {
-            Sampling::Stencil
-        } else {
-            t.sampling
-        } {
-            // Depth: near is 0 in a forward depth buffer; invert so near is bright.
-            // Perspective depth crowds near one value: fit black and white to the range
-            // read back once it arrives, and invert so near is bright.
-            Sampling::Depth => {
-                c.channels = [true, false, false, false];
-                c.invert = true;
-                self.fit_pending = true;
-            }
-            Sampling::Stencil => {
-                c.channels = [true, false, false, false];
-                c.white = 255.0;
-            }
-            Sampling::Uint | Sampling::Sint => {
-                c.white = 255.0;
-            }
-            Sampling::Float => {}
-        }
+        let (c, fit) = default_controls(t, stencil);
+        self.fit_pending = fit;
         self.selection.controls = c;
+    }
+
+    /// Thumbnails of the textures pass `pass` reads and writes (at most [`THUMBNAILS`]), with
+    /// the controls each opens with.
+    pub(crate) fn thumbnail_requests(&self, pass: usize) -> Vec<TextureRequest> {
+        let Some(p) = self.model.passes.get(pass) else {
+            return Vec::new();
+        };
+        p.outputs
+            .iter()
+            .chain(&p.inputs)
+            .filter_map(|&r| {
+                let t = self.model.resources.get(r)?.texture.as_ref()?;
+                if t.unviewable.is_some() {
+                    return None;
+                }
+                let (controls, _) = default_controls(t, false);
+                Some(TextureRequest {
+                    plan_index: t.plan_index,
+                    sampling: t.sampling,
+                    volume: t.volume,
+                    sub: Subresource::default(),
+                    controls,
+                })
+            })
+            .take(THUMBNAILS)
+            .collect()
     }
 
     /// The view the panels want now.
@@ -326,6 +478,7 @@ impl View {
             .map(|b| b.plan_index);
         ViewRequest {
             pass: self.selection.pass,
+            step: self.selection.step,
             texture,
             buffer,
         }

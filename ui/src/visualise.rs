@@ -1,8 +1,8 @@
 //! The texture viewer's display pass, on the device that replays the frame: it reads one
-//! subresource of a replayed texture and writes an `Rgba8Unorm` image egui shows as a native
-//! texture, so changing channels, black and white points or exposure costs one small draw and
-//! no copy through the CPU. One pipeline per way of reading texels (float, depth, unsigned,
-//! signed; 2D or a 3D slice), built when first needed.
+//! subresource of a replayed texture and writes an `Rgba8Unorm` image, gamma-encoded as egui
+//! expects, which is read back as pixels for the UI's renderer on its own device. One
+//! pipeline per way of reading texels (float, depth, unsigned, signed; 2D or a 3D slice),
+//! built when first needed.
 
 use std::collections::BTreeMap;
 
@@ -318,4 +318,51 @@ impl Visualiser {
         queue.submit([encoder.finish()]);
         display
     }
+}
+
+/// Reads the display image `draw` made back as egui pixels (premultiplied, as the display pass
+/// writes opaque or premultiplied values).
+pub fn read_display(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    display: &wgpu::Texture,
+) -> Result<egui::ColorImage, framelab_replay::ReadbackError> {
+    let (width, height) = (display.width(), display.height());
+    // Rows of a texture-to-buffer copy are padded to 256 bytes.
+    let row = width * 4;
+    let padded =
+        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let size = u64::from(padded) * u64::from(height);
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("framelab display read-back"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("framelab display read-back"),
+    });
+    encoder.copy_texture_to_buffer(
+        display.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &staging,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(height),
+            },
+        },
+        display.size(),
+    );
+    queue.submit([encoder.finish()]);
+    let bytes = framelab_replay::readback::map_read(device, &staging, size, "the display image")?;
+    let pixels: Vec<u8> = bytes
+        .chunks_exact(padded as usize)
+        .flat_map(|r| &r[..row as usize])
+        .copied()
+        .collect();
+    Ok(egui::ColorImage::from_rgba_premultiplied(
+        [width as usize, height as usize],
+        &pixels,
+    ))
 }

@@ -165,7 +165,7 @@ impl Session {
         let buf = |b: usize| self.buf_at(b, parity);
         let mut rp = self.begin_render(name, &r.color, r.depth.as_ref(), parity, encoder, stamps);
         rp.set_stencil_reference(r.stencil_reference);
-        for (d, set) in r.draws.iter().zip(draw_groups) {
+        for (d, set) in r.draws.iter().zip(draw_groups).take(self.steps()) {
             let vertex = d.vertex.as_ref().unwrap_or(&r.vertex);
             let (Some(pipeline), Some(sets)) = (pipelines.get(vertex), groups.get(vertex)) else {
                 return Err(EncodeError::NoPipeline(vertex.clone()));
@@ -322,7 +322,7 @@ impl Session {
             label: Some(name),
             timestamp_writes: compute_stamps(stamps),
         });
-        for (d, set) in c.dispatches.iter().zip(dispatch_groups) {
+        for (d, set) in c.dispatches.iter().zip(dispatch_groups).take(self.steps()) {
             let entry = d.entry.as_ref().unwrap_or(&c.entry);
             let (Some(pipeline), Some(sets)) = (pipelines.get(entry), groups.get(entry)) else {
                 return Err(EncodeError::NoPipeline(entry.clone()));

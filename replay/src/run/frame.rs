@@ -17,19 +17,7 @@ impl Session {
         with_timestamps: bool,
     ) -> Result<Vec<PassTime>, ReplayError> {
         let parity = self.parity(self.frames_run);
-        for (i, m) in self.modules.iter().enumerate() {
-            if let Some((buffer, size)) = &m.frame_buffer {
-                let mut bytes =
-                    uniforms::pack(&m.reflection.module, "frame", frame_constants, false).map_err(
-                        |source| ReplayError::Params {
-                            pass: format!("(frame constants in {})", self.plan.shaders[i].name),
-                            source,
-                        },
-                    )?;
-                bytes.resize(*size as usize, 0);
-                self.queue.write_buffer(buffer, 0, &bytes);
-            }
-        }
+        self.write_frame_constants(frame_constants)?;
         let last = stop_after
             .unwrap_or(self.plan.passes.len().saturating_sub(1))
             .min(self.plan.passes.len().saturating_sub(1));
@@ -83,6 +71,75 @@ impl Session {
         }
         self.frames_run += 1;
         Ok(times)
+    }
+
+    fn write_frame_constants(&self, frame_constants: &Params) -> Result<(), ReplayError> {
+        for (i, m) in self.modules.iter().enumerate() {
+            if let Some((buffer, size)) = &m.frame_buffer {
+                let mut bytes =
+                    uniforms::pack(&m.reflection.module, "frame", frame_constants, false).map_err(
+                        |source| ReplayError::Params {
+                            pass: format!("(frame constants in {})", self.plan.shaders[i].name),
+                            source,
+                        },
+                    )?;
+                bytes.resize(*size as usize, 0);
+                self.queue.write_buffer(buffer, 0, &bytes);
+            }
+        }
+        Ok(())
+    }
+
+    /// Starts a frame replayed a pass at a time ([`Session::submit_pass`], then
+    /// [`Session::end_frame`]), so a caller can look at the frame between passes: the
+    /// inspector keeps each pass's outputs as it finishes.
+    pub fn begin_frame(&mut self, frame_constants: &Params) -> Result<(), ReplayError> {
+        self.write_frame_constants(frame_constants)
+    }
+
+    /// Encodes and submits plan pass `i` of the frame begun, without timestamps, and waits for
+    /// it; a validation error names the pass.
+    pub fn submit_pass(&mut self, i: usize) -> Result<(), ReplayError> {
+        let Some(pass) = self.plan.passes.get(i) else {
+            return Ok(());
+        };
+        let name = pass.name.clone();
+        let parity = self.parity(self.frames_run);
+        let guards = scope(&self.device);
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(&name) });
+        let encoded = self.encode(i, parity, &mut encoder, None, false);
+        let commands = encoder.finish();
+        if encoded.is_ok() {
+            self.queue.submit([commands]);
+        }
+        let scoped = close(guards);
+        encoded?;
+        if let Some(message) = scoped {
+            return Err(ReplayError::Gpu {
+                pass: name,
+                message,
+            });
+        }
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| ReplayError::DeviceLost(e.to_string()))?;
+        self.check_faults(&format!("pass \"{name}\""))
+    }
+
+    /// Like [`Session::submit_pass`], encoding only the pass's draws or dispatches up to index
+    /// `step` (the frame as of that draw, for a frame debugger's draw view).
+    pub fn submit_pass_until(&mut self, i: usize, step: usize) -> Result<(), ReplayError> {
+        self.step_limit.set(Some(step));
+        let submitted = self.submit_pass(i);
+        self.step_limit.set(None);
+        submitted
+    }
+
+    /// Ends the frame begun: the next frame swaps the history copies.
+    pub fn end_frame(&mut self) {
+        self.frames_run += 1;
     }
 
     /// Runs one frame with the given frame constants (by member name), stopping after pass

@@ -115,6 +115,9 @@ pub struct Session {
     frames_run: u64,
     vk: vulkan::VkObjects,
     vk_layouts: Vec<wgpu::BindGroupLayout>,
+    /// While set, a pass encodes only its draws or dispatches up to this index (see
+    /// [`Session::submit_pass_until`]).
+    step_limit: std::cell::Cell<Option<usize>>,
 }
 
 impl std::fmt::Debug for Session {
@@ -178,6 +181,7 @@ impl Session {
             frames_run: 0,
             vk: Default::default(),
             vk_layouts: Vec::new(),
+            step_limit: Default::default(),
         };
         session.create_vk()?;
         for i in 0..session.plan.passes.len() {
@@ -229,6 +233,24 @@ impl Session {
 
     pub fn buffer(&self, index: usize) -> &wgpu::Buffer {
         &self.buffers[index][self.parity(self.frames_run.saturating_sub(1))]
+    }
+
+    /// The copy of plan texture `index` the frame begun writes (the same as [`Session::texture`]
+    /// except for history resources).
+    pub fn texture_in_frame(&self, index: usize) -> &wgpu::Texture {
+        &self.textures[index][self.parity(self.frames_run)]
+    }
+
+    /// The copy of plan buffer `index` the frame begun writes.
+    pub fn buffer_in_frame(&self, index: usize) -> &wgpu::Buffer {
+        &self.buffers[index][self.parity(self.frames_run)]
+    }
+
+    /// How many draws or dispatches a pass encodes now.
+    fn steps(&self) -> usize {
+        self.step_limit
+            .get()
+            .map_or(usize::MAX, |l| l.saturating_add(1))
     }
 
     fn parity(&self, frame: u64) -> usize {

@@ -350,7 +350,7 @@ impl Session {
         mut rp: wgpu::RenderPass<'_>,
     ) {
         let buf = |b: usize| &self.buffers[b][0];
-        for (d, sets) in r.draws.iter().zip(groups) {
+        for (d, sets) in r.draws.iter().zip(groups).take(self.steps()) {
             let VkGpuPipeline::Render(pipeline) = &self.vk.pipelines[d.pipeline] else {
                 continue;
             };
@@ -407,7 +407,7 @@ impl Session {
         groups: &WorkGroups,
         mut cp: wgpu::ComputePass<'_>,
     ) {
-        for (d, sets) in c.dispatches.iter().zip(groups) {
+        for (d, sets) in c.dispatches.iter().zip(groups).take(self.steps()) {
             let VkGpuPipeline::Compute(pipeline) = &self.vk.pipelines[d.pipeline] else {
                 continue;
             };

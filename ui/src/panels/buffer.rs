@@ -113,9 +113,14 @@ fn header(app: &mut View, ui: &mut egui::Ui, view: &BufferView) {
 fn typed_table(ui: &mut egui::Ui, bytes: &[u8], choice: &LayoutChoice) {
     let rows = typed_rows(bytes.len() as u64, choice);
     let fields = &choice.layout.fields;
+    // The body scrolls within what the panel has left below the header, so the last row
+    // can be reached however small the panel is.
+    let height = (ui.available_height() - ROW_HEIGHT).max(ROW_HEIGHT);
     TableBuilder::new(ui)
         .id_salt("buffer rows")
         .striped(true)
+        .min_scrolled_height(0.0)
+        .max_scroll_height(height)
         .resizable(true)
         .column(Column::auto().at_least(40.0))
         .column(Column::auto().at_least(60.0))
@@ -147,9 +152,14 @@ fn typed_table(ui: &mut egui::Ui, bytes: &[u8], choice: &LayoutChoice) {
 }
 
 fn hex_table(ui: &mut egui::Ui, bytes: &[u8]) {
+    // The body scrolls within what the panel has left below the header, so the last row
+    // can be reached however small the panel is.
+    let height = (ui.available_height() - ROW_HEIGHT).max(ROW_HEIGHT);
     TableBuilder::new(ui)
         .id_salt("buffer hex")
         .striped(true)
+        .min_scrolled_height(0.0)
+        .max_scroll_height(height)
         .column(Column::auto().at_least(90.0))
         .column(Column::auto().at_least(380.0))
         .column(Column::remainder())

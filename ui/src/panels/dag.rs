@@ -1,7 +1,8 @@
 //! The pass DAG drawn with egui's painter: passes in layers (a pass one layer right of the
 //! latest pass it depends on), coloured by queue, culled passes grey; data hazards as solid
 //! (read after write), dashed (write after read) and dotted (write after write) lines, queue
-//! order thin grey, fences yellow; drag to pan, wheel to zoom, click a pass to make it current.
+//! order thin grey, fences yellow; drag to pan, wheel to zoom, click a pass to make it current;
+//! the current pass is centred when it changes.
 
 use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Vec2};
 
@@ -56,6 +57,16 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
         if wheel != 0.0 {
             app.dag_view.1 = (app.dag_view.1 * (1.0 + wheel / 300.0)).clamp(0.2, 3.0);
         }
+    }
+    // A newly selected pass is brought to the centre; dragging moves away from it freely.
+    if app.dag_centred != Some(app.selection.pass)
+        && let Some(&(l, r)) = cells.get(app.selection.pass)
+    {
+        let zoom = app.dag_view.1;
+        let node = Vec2::new(l as f32 * (NODE.x + GAP.x), r as f32 * (NODE.y + GAP.y)) * zoom
+            + NODE * zoom / 2.0;
+        app.dag_view.0 = rect.center() - (rect.min + Vec2::splat(8.0) + node);
+        app.dag_centred = Some(app.selection.pass);
     }
     let (pan, zoom) = app.dag_view;
     let origin = rect.min + Vec2::splat(8.0) + pan;

@@ -18,12 +18,19 @@ fn pairs(ui: &mut egui::Ui, id: &str, rows: &[(String, String)]) {
     });
 }
 
-fn barriers(ui: &mut egui::Ui, p: &Pass, side: BarrierSide) {
+/// The barrier table of one side of the pass; returns the resource whose name was clicked.
+fn barriers(
+    ui: &mut egui::Ui,
+    model: &crate::model::Inspection,
+    p: &Pass,
+    side: BarrierSide,
+) -> Option<usize> {
     let list: Vec<_> = p.barriers.iter().filter(|b| b.side == side).collect();
     if list.is_empty() {
         ui.weak("none");
-        return;
+        return None;
     }
+    let mut open = None;
     TableBuilder::new(ui)
         .id_salt(("barriers", side == BarrierSide::Before))
         .striped(true)
@@ -43,21 +50,53 @@ fn barriers(ui: &mut egui::Ui, p: &Pass, side: BarrierSide) {
                         BarrierSource::Derived => "derived",
                         BarrierSource::Recorded => "recorded",
                     };
-                    for text in [
+                    for (i, text) in [
                         source,
                         &b.kind,
                         &b.resource,
                         &b.subresource,
                         &b.states,
                         &b.vulkan,
-                    ] {
-                        row.col(|ui| {
-                            ui.label(text);
+                    ]
+                    .into_iter()
+                    .enumerate()
+                    {
+                        row.col(|ui| match by_name(model, text).filter(|_| i == 2) {
+                            Some(r) => {
+                                if resource_link(ui, model, r) {
+                                    open = Some(r);
+                                }
+                            }
+                            None => {
+                                ui.label(text);
+                            }
                         });
                     }
                 });
             }
         });
+    open
+}
+
+/// A resource's name as a link that opens it (a texture in the viewer, a buffer in the buffer
+/// viewer); `true` when clicked. Resources the replay cannot show are plain text.
+pub fn resource_link(ui: &mut egui::Ui, model: &crate::model::Inspection, r: usize) -> bool {
+    let Some(res) = model.resources.get(r) else {
+        return false;
+    };
+    let viewable =
+        res.texture.as_ref().is_some_and(|t| t.unviewable.is_none()) || res.buffer.is_some();
+    if viewable {
+        ui.link(&res.name)
+            .on_hover_text(format!(
+                "{} {} {}x{}: open",
+                res.kind, res.format, res.width, res.height
+            ))
+            .clicked()
+    } else {
+        ui.weak(&res.name);
+        false
+    }
 }
 
 pub fn ui(app: &mut View, ui: &mut egui::Ui) {
@@ -94,8 +133,13 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
                 .and_then(|c| c.passes.get(app.selection.pass).cloned().flatten())
             {
                 ui.label(format!(
-                    "compared: {:.3} ms there, {:+.1}%, {}",
-                    c.other_ms, c.change_pct, c.verdict
+                    "compared: {:.3} ms there{}, {:+.1}%, {}",
+                    c.other_ms,
+                    c.renamed
+                        .as_ref()
+                        .map_or(String::new(), |n| format!(" (renamed {n})")),
+                    c.change_pct,
+                    c.verdict
                 ));
             }
             let section =
@@ -104,8 +148,40 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
                         .default_open(n > 0)
                         .show(ui, body);
                 };
+            let mut open = None;
+            for (title, list) in [("Outputs", &p.outputs), ("Inputs", &p.inputs)] {
+                section(ui, title, list.len(), &mut |ui| {
+                    ui.horizontal_wrapped(|ui| {
+                        for &r in list {
+                            if thumbnail(ui, app, &model, r) {
+                                open = Some(r);
+                            }
+                        }
+                    });
+                });
+            }
             section(ui, "Bindings", p.bindings.len(), &mut |ui| {
-                pairs(ui, "bindings", &p.bindings)
+                egui::Grid::new("bindings").striped(true).show(ui, |ui| {
+                    for (k, v) in &p.bindings {
+                        ui.label(egui::RichText::new(k).monospace());
+                        // `resource as view ...`: the resource's name opens it.
+                        let (name, rest) = v.split_once(" as ").unwrap_or((v.as_str(), ""));
+                        ui.horizontal(|ui| {
+                            ui.spacing_mut().item_spacing.x = 4.0;
+                            match by_name(&model, name) {
+                                Some(r) if resource_link(ui, &model, r) => open = Some(r),
+                                Some(_) => {}
+                                None => {
+                                    ui.label(name);
+                                }
+                            }
+                            if !rest.is_empty() {
+                                ui.label(format!("as {rest}"));
+                            }
+                        });
+                        ui.end_row();
+                    }
+                });
             });
             section(ui, "Attachments", p.attachments.len(), &mut |ui| {
                 for a in &p.attachments {
@@ -129,10 +205,14 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
                 .filter(|b| b.side == BarrierSide::Before)
                 .count();
             section(ui, "Barriers before", before, &mut |ui| {
-                barriers(ui, p, BarrierSide::Before)
+                if let Some(r) = barriers(ui, &model, p, BarrierSide::Before) {
+                    open = Some(r);
+                }
             });
             section(ui, "Barriers after", p.barriers.len() - before, &mut |ui| {
-                barriers(ui, p, BarrierSide::After)
+                if let Some(r) = barriers(ui, &model, p, BarrierSide::After) {
+                    open = Some(r);
+                }
             });
             section(ui, "Lints", p.lints.len(), &mut |ui| {
                 for l in &p.lints {
@@ -146,5 +226,42 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
                     });
                 }
             });
+            if let Some(r) = open {
+                app.open_resource(r);
+            }
         });
+}
+
+/// Resource `r` as a thumbnail with its name below (a link where the thumbnail is not drawn
+/// yet or the resource is a buffer); `true` when clicked.
+fn thumbnail(ui: &mut egui::Ui, app: &View, model: &crate::model::Inspection, r: usize) -> bool {
+    let pass = app.selection.pass;
+    let image = model.resources[r]
+        .texture
+        .as_ref()
+        .and_then(|t| app.thumbnails.0.get(&(pass, t.plan_index)));
+    let Some(image) = image else {
+        return resource_link(ui, model, r);
+    };
+    let side = crate::worker::THUMBNAIL_SIZE as f32;
+    ui.vertical(|ui| {
+        ui.set_width(side);
+        let size = image.size_vec2();
+        let scale = (side / size.x.max(size.y)).min(1.0);
+        let clicked = ui
+            .add(egui::Button::image(egui::load::SizedTexture::new(
+                image.id(),
+                size * scale,
+            )))
+            .on_hover_text(format!("{}: open", model.resources[r].name))
+            .clicked();
+        ui.add(egui::Label::new(egui::RichText::new(&model.resources[r].name).small()).truncate());
+        clicked
+    })
+    .inner
+}
+
+/// The resource named `name` (barrier and binding rows name resources).
+fn by_name(model: &crate::model::Inspection, name: &str) -> Option<usize> {
+    model.resources.iter().position(|r| r.name == name)
 }

@@ -1,5 +1,6 @@
-//! The event browser: marker groups, passes in execution order with queue and GPU time, the
-//! current pass's draws, dispatches, copies and clears; a filter; culled passes greyed.
+//! The event browser: marker groups, passes in execution order with queue and GPU time, each
+//! pass's draws, dispatches, copies and clears when expanded (a draw or dispatch selected shows
+//! the frame as of it); a filter; culled passes greyed.
 
 use crate::model::Inspection;
 use crate::state::View;
@@ -22,14 +23,26 @@ pub fn visible(model: &Inspection, filter: &str) -> Vec<usize> {
 
 /// One line of the event list.
 enum Line<'a> {
-    Group { depth: usize, name: &'a str },
+    Group {
+        depth: usize,
+        name: &'a str,
+    },
     Pass(usize),
-    Work { depth: usize, text: &'a str },
+    Work {
+        depth: usize,
+        pass: usize,
+        index: usize,
+        text: &'a str,
+    },
 }
 
 /// The list as lines: marker groups open where a pass's path leaves the previous one's, the
-/// current pass's work below it.
-fn lines<'a>(model: &'a Inspection, visible: &[usize], current: usize) -> Vec<Line<'a>> {
+/// work of each expanded pass below it.
+fn lines<'a>(
+    model: &'a Inspection,
+    visible: &[usize],
+    expanded: &std::collections::BTreeSet<usize>,
+) -> Vec<Line<'a>> {
     let mut out = Vec::new();
     let mut open: Vec<&str> = Vec::new();
     for &i in visible {
@@ -45,10 +58,12 @@ fn lines<'a>(model: &'a Inspection, visible: &[usize], current: usize) -> Vec<Li
             open.push(m);
         }
         out.push(Line::Pass(i));
-        if i == current {
-            for w in &p.work {
+        if expanded.contains(&i) {
+            for (index, w) in p.work.iter().enumerate() {
                 out.push(Line::Work {
                     depth: p.markers.len(),
+                    pass: i,
+                    index,
                     text: w,
                 });
             }
@@ -71,8 +86,14 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     });
     let model = app.model.clone();
     let current = app.selection.pass;
-    let rows = lines(&model, &visible(&model, &app.selection.filter), current);
+    let rows = lines(
+        &model,
+        &visible(&model, &app.selection.filter),
+        &app.selection.expanded,
+    );
     let mut clicked = None;
+    let mut step_clicked = None;
+    let mut toggled = None;
     let mut area = egui::ScrollArea::vertical()
         .id_salt("events")
         .auto_shrink([false, false]);
@@ -97,9 +118,24 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
                         ui.add_space(*depth as f32 * 12.0);
                         ui.label(egui::RichText::new(format!("{name} /")).strong());
                     }
-                    Line::Work { depth, text } => {
+                    Line::Work {
+                        depth,
+                        pass,
+                        index,
+                        text,
+                    } => {
                         ui.add_space(*depth as f32 * 12.0 + 24.0);
-                        ui.label(egui::RichText::new(*text).small());
+                        let p = &model.passes[*pass];
+                        let text = egui::RichText::new(*text).small();
+                        if *index < p.steps {
+                            // A draw or dispatch: the frame as of it.
+                            let on = *pass == current && app.selection.step == Some(*index);
+                            if ui.add(egui::Button::selectable(on, text)).clicked() {
+                                step_clicked = Some((*pass, *index));
+                            }
+                        } else {
+                            ui.label(text);
+                        }
                     }
                     Line::Pass(i) => {
                         let p = &model.passes[*i];
@@ -114,6 +150,20 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
                                 egui::Layout::left_to_right(egui::Align::Center),
                                 |ui| {
                                     ui.add_space(p.markers.len() as f32 * 12.0);
+                                    let open = app.selection.expanded.contains(i);
+                                    if p.work.is_empty() {
+                                        ui.add_space(14.0);
+                                    } else if ui
+                                        .add(
+                                            egui::Button::new(if open { "v" } else { ">" })
+                                                .small()
+                                                .frame(false),
+                                        )
+                                        .on_hover_text("show its draws, dispatches and copies")
+                                        .clicked()
+                                    {
+                                        toggled = Some(*i);
+                                    }
                                     let (rect, _) = ui.allocate_exact_size(
                                         egui::vec2(4.0, 14.0),
                                         egui::Sense::hover(),
@@ -146,5 +196,13 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     });
     if let Some(i) = clicked {
         app.select_pass(i);
+    }
+    if let Some((pass, step)) = step_clicked {
+        app.select_step(pass, step);
+    }
+    if let Some(i) = toggled
+        && !app.selection.expanded.remove(&i)
+    {
+        app.selection.expanded.insert(i);
     }
 }

@@ -53,7 +53,17 @@ pub fn status_bar(app: &View, ui: &mut egui::Ui) {
                 ui.colored_label(egui::Color32::LIGHT_RED, format!("error: {e}"));
             }
             None => {
-                if !app.is_idle() {
+                // The browsed frame's progress: every pass up to `done` can be viewed.
+                if app.replaying() {
+                    let (done, total) = app
+                        .replayed
+                        .map_or((0, app.model.passes.len().max(1)), |(d, t)| (d + 1, t));
+                    ui.add(
+                        egui::ProgressBar::new(done as f32 / total.max(1) as f32)
+                            .desired_width(160.0)
+                            .text(format!("{done}/{total} passes")),
+                    );
+                } else if !app.is_idle() {
                     ui.spinner();
                 }
                 ui.label(&app.status);

@@ -90,9 +90,12 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     let order = rows(&model, &app.selection.resource_filter, app.selection.sort);
     let mut open = None;
     let mut sort = app.selection.sort;
+    let height = (ui.available_height() - 20.0).max(20.0);
     TableBuilder::new(ui)
         .id_salt("resources")
         .striped(true)
+        .min_scrolled_height(0.0)
+        .max_scroll_height(height)
         .resizable(true)
         .columns(Column::auto().at_least(40.0), HEADERS.len())
         .header(18.0, |mut header| {

@@ -10,7 +10,7 @@ use framelab_replay::decode::{DecodedImage, ValueKind};
 use crate::model::Sampling;
 use crate::state::{View, Zoom};
 use crate::visualise::Controls;
-use crate::worker::SaveAs;
+use crate::worker::{SaveAs, Written};
 
 /// The exact value of a texel as the format stores it.
 pub fn texel_text(d: &DecodedImage, x: u32, y: u32) -> Option<String> {
@@ -73,16 +73,27 @@ fn controls(app: &mut View, ui: &mut egui::Ui) {
         egui::ComboBox::from_label("texture")
             .selected_text(name)
             .width(200.0)
+            .height(400.0)
             .show_ui(ui, |ui| {
+                ui.add(
+                    egui::TextEdit::singleline(&mut app.selection.texture_filter)
+                        .hint_text("search")
+                        .desired_width(180.0),
+                )
+                .request_focus();
+                let needle = app.selection.texture_filter.to_lowercase();
                 for &i in &textures {
-                    if ui
-                        .selectable_label(current == Some(i), &model.resources[i].name)
-                        .clicked()
-                    {
+                    let n = &model.resources[i].name;
+                    if !needle.is_empty() && !n.to_lowercase().contains(&needle) {
+                        continue;
+                    }
+                    if ui.selectable_label(current == Some(i), n).clicked() {
                         pick = Some(i);
                     }
                 }
             });
+        ui.checkbox(&mut app.selection.follow, "follow pass")
+            .on_hover_text("selecting a pass opens its first output");
         if let Some(i) = pick {
             app.open_resource(i);
         }
@@ -342,10 +353,15 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
         }
     }
     let Some(shown) = &app.displayed else {
-        ui.label("replaying...");
+        ui.label(if app.pass_ready(app.selection.pass) {
+            "reading back..."
+        } else {
+            "waiting for the replay to reach this pass..."
+        });
         return;
     };
-    let (size, id) = (shown.size, shown.texture_id);
+    written_badge(app, ui);
+    let (size, id) = (shown.size, shown.texture.id());
     let avail = ui.available_size();
     let (rect, response) = ui.allocate_exact_size(avail, Sense::click_and_drag());
     let texels = Vec2::new(size[0] as f32, size[1] as f32);
@@ -390,5 +406,40 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
             5.0,
             egui::Stroke::new(1.5, Color32::from_rgb(255, 60, 200)),
         );
+    }
+}
+
+/// Says whether the shown texture was written this frame as of the current pass, and by which
+/// pass: a texture not yet written shows the contents the frame started with.
+fn written_badge(app: &View, ui: &mut egui::Ui) {
+    let Some(written) = app.displayed.as_ref().and_then(|d| d.written) else {
+        return;
+    };
+    let name = |p: usize| app.model.passes.get(p).map_or("?", |p| p.name.as_str());
+    match written {
+        Written::After(p) if p == app.selection.pass => {
+            ui.label(format!("written by this pass ({})", name(p)));
+        }
+        Written::After(p) => {
+            ui.label(format!("last written by {}", name(p)));
+        }
+        Written::NotYet => {
+            ui.colored_label(
+                Color32::from_rgb(240, 180, 60),
+                "not yet written this frame: the contents it started the frame with",
+            );
+        }
+        Written::Never => {
+            ui.label("not written by any pass of the frame");
+        }
+        Written::Step { pass, step } => {
+            let line = app
+                .model
+                .passes
+                .get(pass)
+                .and_then(|p| p.work.get(step))
+                .map_or("?", String::as_str);
+            ui.label(format!("as of {} {line}", name(pass)));
+        }
     }
 }

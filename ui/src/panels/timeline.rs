@@ -1,7 +1,8 @@
 //! The timeline: one lane per queue, each pass as wide as its GPU time and placed where its
 //! work started, fences as lines from the signalling pass to the waiting one; hover for the
-//! figures, click to make a pass current. With a compared report, bars take the colour of the
-//! diff's verdict.
+//! figures, click to make a pass current, wheel to zoom about the pointer, drag to pan,
+//! double-click to see the whole frame again. With a compared report, bars take the colour of
+//! the diff's verdict, explained by a legend.
 
 use egui::{Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
@@ -40,19 +41,68 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
         ui.label("the adapter gave no timestamps");
         return;
     }
-    ui.weak(format!(
-        "frame: {:.3} ms on the GPU (from {})",
-        end / 1e6,
-        timings.source
-    ));
+    // The visible span: (start, length) in ns, within the frame.
+    let (mut t0, mut span) = app.timeline_span.unwrap_or((0.0, end));
+    span = span.clamp(end * 1e-4, end);
+    t0 = t0.clamp(0.0, end - span);
+    ui.horizontal(|ui| {
+        ui.weak(format!(
+            "frame: {:.3} ms on the GPU (from {})",
+            end / 1e6,
+            timings.source
+        ));
+        if span < end {
+            ui.weak(format!(
+                "showing {:.3}-{:.3} ms (double-click: whole frame)",
+                t0 / 1e6,
+                (t0 + span) / 1e6
+            ));
+        }
+    });
+    if model.compare.is_some() {
+        ui.horizontal(|ui| {
+            for (verdict, text) in [
+                ("regression", "slower there"),
+                ("improvement", "faster there"),
+            ] {
+                if let Some(c) = verdict_color(verdict) {
+                    let (r, _) = ui.allocate_exact_size(Vec2::splat(10.0), Sense::hover());
+                    ui.painter().rect_filled(r, 2.0, c);
+                    ui.weak(format!("{verdict}: {text}"));
+                }
+            }
+            ui.weak("queue colour: no significant change, or too few frames to tell");
+        });
+        if let Some(note) = &model.compare.as_ref().and_then(|c| c.note.clone()) {
+            ui.colored_label(Color32::from_rgb(240, 180, 60), note);
+        }
+    }
     if let Some(note) = &timings.note {
         ui.weak(format!("grey: not measured ({note})"));
     }
     let height = LANE * model.queues.len() as f32 + 20.0;
-    let (rect, response) =
-        ui.allocate_exact_size(Vec2::new(ui.available_width(), height), Sense::click());
+    let (rect, response) = ui.allocate_exact_size(
+        Vec2::new(ui.available_width(), height),
+        Sense::click_and_drag(),
+    );
     let painter = ui.painter_at(rect);
-    let x_of = |ns: f64| rect.left() + LABEL + ((ns / end) as f32) * (rect.width() - LABEL - 4.0);
+    let width = (rect.width() - LABEL - 4.0).max(1.0);
+    let x_of = |ns: f64| rect.left() + LABEL + (((ns - t0) / span) as f32) * width;
+    if response.double_clicked() {
+        app.timeline_span = None;
+    } else if let Some(at) = response.hover_pos() {
+        let wheel = ui.input(|i| i.smooth_scroll_delta.y);
+        let drag = response.drag_delta().x;
+        if wheel != 0.0 || drag != 0.0 {
+            // Zoom about the time under the pointer; drag moves the span with the pointer.
+            let under = t0 + f64::from((at.x - rect.left() - LABEL) / width) * span;
+            let factor = f64::from((-wheel / 200.0).exp());
+            let new_span = (span * factor).clamp(end * 1e-4, end);
+            let mut new_t0 = under - (under - t0) * new_span / span;
+            new_t0 -= f64::from(drag / width) * new_span;
+            app.timeline_span = Some((new_t0.clamp(0.0, end - new_span), new_span));
+        }
+    }
     for (q, name) in model.queues.iter().enumerate() {
         let y = rect.top() + q as f32 * LANE;
         painter.text(

@@ -24,6 +24,7 @@ fn pass(id: u32, name: &str, queue: usize, markers: &[&str]) -> Pass {
         markers: markers.iter().map(|m| (*m).to_owned()).collect(),
         culled: false,
         work: vec![format!("{name} work line")],
+        steps: 1,
         bindings: vec![("input".to_owned(), format!("{name}_input as texture_2d"))],
         attachments: Vec::new(),
         state: Vec::new(),
@@ -38,6 +39,8 @@ fn pass(id: u32, name: &str, queue: usize, markers: &[&str]) -> Pass {
             vulkan: String::new(),
         }],
         lints: Vec::new(),
+        inputs: Vec::new(),
+        outputs: Vec::new(),
     }
 }
 
@@ -102,7 +105,7 @@ fn model() -> Inspection {
 }
 
 fn open() -> Harness<'static, Inspector> {
-    let app = Inspector::new(model(), None, None);
+    let app = Inspector::new(model(), None);
     let mut h = Harness::builder()
         .with_size(egui::Vec2::new(1400.0, 900.0))
         .build_ui_state(|ui, app: &mut Inspector| app.ui(ui), app);
@@ -127,15 +130,32 @@ fn a_fresh_inspector_shows_the_last_pass_and_says_it_does_not_replay() {
 fn clicking_a_pass_in_the_event_list_selects_it_and_shows_its_work() {
     let mut h = open();
     let shown = |h: &Harness<'static, Inspector>, label: &str| h.query_all_by_label(label).count();
+    let row = |h: &Harness<'static, Inspector>, label: &str| {
+        h.get_all_by_label(label).next().unwrap().rect()
+    };
+    // The pass panel lists the current pass's work; the event list only an expanded pass's.
     assert_eq!(shown(&h, "shadow work line"), 0);
-    // The event list and the pass panel both list the current pass's work.
-    assert_eq!(shown(&h, "compose work line"), 2);
+    assert_eq!(shown(&h, "compose work line"), 1);
+    let compose_row = row(&h, "compose");
     h.get_all_by_label("shadow").next().unwrap().click();
     h.run_steps(3);
     assert_eq!(h.state().selection.pass, 0);
     assert_eq!(h.state().model.passes[0].id, PassId(0));
-    assert_eq!(shown(&h, "shadow work line"), 2);
+    assert_eq!(shown(&h, "shadow work line"), 1);
     assert_eq!(shown(&h, "compose work line"), 0);
+    // Selecting a pass moves no row.
+    assert_eq!(row(&h, "compose"), compose_row);
+    // Expanded, the pass lists its work in the event list, and its draw can be selected.
+    h.get_all_by_label(">").next().unwrap().click();
+    h.run_steps(3);
+    assert_eq!(shown(&h, "shadow work line"), 2);
+    h.get_all_by_label("shadow work line")
+        .next()
+        .unwrap()
+        .click();
+    h.run_steps(2);
+    assert_eq!(h.state().selection.step, Some(0));
+    assert_eq!(h.state().selection.pass, 0);
 }
 
 #[test]

@@ -1,0 +1,819 @@
+//! The replay worker: a thread that owns the replay session, on a device and queue of its own,
+//! so the UI thread never submits to or waits on them. It creates the session's pipelines,
+//! times a whole frame 0, then replays frame 1 a pass at a time, keeping a copy of what each
+//! pass writes (`snapshots`); every pass it has finished can be browsed at once. A view is then
+//! served from those copies: the texture as of the pass, read back for exact values (the last
+//! few read-backs are kept), drawn into a display image and read back as pixels the UI uploads
+//! to its own renderer. Only a copy the memory budget evicted costs a replay up to its pass.
+//! Views asked for while it works are skipped to the latest; saves are carried out in order.
+
+mod snapshots;
+
+use std::collections::{BTreeSet, VecDeque};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, Sender, TryRecvError};
+
+use framelab_core::pipeline::Lowered;
+use framelab_replay::decode::{DecodedImage, read_stencil, read_texture, readable_format};
+use framelab_replay::{GpuContext, Replaying};
+
+pub use self::snapshots::{Found, PassWrites, Snapshots, texture_bytes};
+use crate::model::{PassTime, Sampling, Timings};
+use crate::visualise::{Controls, Subresource, Visualiser};
+
+/// What the UI wants on screen.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewRequest {
+    /// The frame as it is right after this pass (plan index).
+    pub pass: usize,
+    /// Or right after this draw or dispatch of the pass (its index among them).
+    pub step: Option<usize>,
+    pub texture: Option<TextureRequest>,
+    /// A buffer to read back (plan index).
+    pub buffer: Option<usize>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextureRequest {
+    pub plan_index: usize,
+    pub sampling: Sampling,
+    pub volume: bool,
+    pub sub: Subresource,
+    pub controls: Controls,
+}
+
+/// How a view is saved: the image as shown (PNG), or the subresource's values (EXR).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SaveAs {
+    Png,
+    Exr,
+}
+
+enum Command {
+    View(ViewRequest),
+    Save(ViewRequest, SaveAs, PathBuf),
+    /// Small images of these textures as of a pass, drawn when nothing else waits.
+    Thumbnails(usize, Vec<TextureRequest>),
+}
+
+/// The longer side of a thumbnail, in pixels.
+pub const THUMBNAIL_SIZE: u32 = 96;
+
+/// Why the worker could not answer a view or a save; shown in the status bar or beside the
+/// save button.
+#[derive(Debug, thiserror::Error)]
+pub enum WorkerError {
+    #[error(transparent)]
+    Replay(#[from] framelab_replay::ReplayError),
+    #[error(transparent)]
+    Read(#[from] framelab_replay::decode::ReadError),
+    #[error(transparent)]
+    Readback(#[from] framelab_replay::ReadbackError),
+    #[error(transparent)]
+    Export(#[from] framelab_replay::export::ExportError),
+    #[error("no texture is shown")]
+    NothingShown,
+    /// The viewed subresource has no values to save; why (its format has no decoder ...).
+    #[error("{0}")]
+    NotRead(String),
+    #[error("the display image read back empty")]
+    EmptyDisplay,
+    #[error("no buffer {0} in the replay plan")]
+    NoBuffer(usize),
+    #[error("nothing to save: open a texture and name a file")]
+    NothingToSave,
+    /// Asked of a pass the frame has not reached, or of an evicted copy while the frame
+    /// replays: served once it can be.
+    #[error("not replayed yet")]
+    Later,
+}
+
+/// When the shown resource was last written in the browsed frame, as of the view's pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Written {
+    /// By this plan pass.
+    After(usize),
+    /// Not yet this frame: its contents are those the frame started with (the previous
+    /// frame's, or the capture's initial contents).
+    NotYet,
+    /// No pass of the frame writes it.
+    Never,
+    /// By this pass, up to and including draw or dispatch `step`.
+    Step { pass: usize, step: usize },
+}
+
+/// What the worker sends back.
+#[derive(Debug)]
+pub enum Reply {
+    Progress(String),
+    /// Passes `0..=done` of the browsed frame (of `total`) can be viewed.
+    Replayed {
+        done: usize,
+        total: usize,
+    },
+    /// Per plan pass, from the last timed frame.
+    Timings(Timings),
+    Shown(Box<Shown>),
+    /// A save finished: the file written, or why not.
+    Saved(Result<String, WorkerError>),
+    /// A thumbnail of plan texture `texture` as of `pass`.
+    Thumbnail {
+        pass: usize,
+        texture: usize,
+        image: egui::ColorImage,
+    },
+    Failed(WorkerError),
+}
+
+#[derive(Debug)]
+pub struct Shown {
+    pub request: ViewRequest,
+    /// The display image of the request's texture, as pixels for the UI's own renderer.
+    pub display: Option<egui::ColorImage>,
+    /// The viewed subresource read back and decoded, for exact pixel values; `None` where the
+    /// format has no decoder (its reason in `note`).
+    pub decoded: Option<Arc<DecodedImage>>,
+    pub note: Option<String>,
+    /// When the texture was last written, as of the pass.
+    pub written: Option<Written>,
+    /// The requested buffer's bytes as of the pass (at most [`MAX_BUFFER_READ`]).
+    pub buffer: Option<Arc<Vec<u8>>>,
+}
+
+/// A buffer's bytes as of a pass, keyed by (pass, plan buffer).
+pub type BufferBytes = ((usize, usize), Arc<Vec<u8>>);
+
+/// The buffer viewer reads at most this many bytes of a buffer, so a huge buffer costs a
+/// bounded copy; the viewer says when it shows a prefix.
+pub const MAX_BUFFER_READ: u64 = 64 << 20;
+
+/// Read-backs kept, most recent first: re-opening one of these textures costs only the
+/// display draw.
+const READS_KEPT: usize = 8;
+
+/// What the worker needs to start: the device it replays on (its own, not the UI's), the
+/// lowered capture, what each plan pass writes, the whole frames to time and the bytes of pass
+/// copies it may keep.
+#[derive(Debug)]
+pub struct Launch {
+    pub ctx: GpuContext,
+    pub lowered: Lowered,
+    pub writes: Vec<PassWrites>,
+    pub timed_frames: u32,
+    pub budget: u64,
+}
+
+/// The UI's end of the worker.
+#[derive(Debug)]
+pub struct Worker {
+    requests: Sender<Command>,
+    pub replies: Receiver<Reply>,
+}
+
+impl Worker {
+    /// Starts the worker: it sets the replay up on its own thread and reports as it goes.
+    pub fn start(launch: Launch) -> Worker {
+        let (requests, rx) = std::sync::mpsc::channel();
+        let (tx, replies) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            if let Err(Stop::Failed(e)) = run(launch, &rx, &tx) {
+                let _ = tx.send(Reply::Failed(e));
+            }
+        });
+        Worker { requests, replies }
+    }
+
+    /// Asks for a view; `false` when the worker has stopped.
+    pub fn request(&self, view: ViewRequest) -> bool {
+        self.requests.send(Command::View(view)).is_ok()
+    }
+
+    /// Asks for thumbnails of `textures` as of `pass`, answered one [`Reply::Thumbnail`] each;
+    /// a later call replaces what is left of an earlier one.
+    pub fn thumbnails(&self, pass: usize, textures: Vec<TextureRequest>) -> bool {
+        self.requests
+            .send(Command::Thumbnails(pass, textures))
+            .is_ok()
+    }
+
+    /// Asks for `view` to be written to `path`; answered with [`Reply::Saved`].
+    pub fn save(&self, view: ViewRequest, how: SaveAs, path: PathBuf) -> bool {
+        self.requests.send(Command::Save(view, how, path)).is_ok()
+    }
+}
+
+/// Why the worker stopped.
+enum Stop {
+    /// The UI went away.
+    Closed,
+    Failed(WorkerError),
+}
+
+impl<E: Into<WorkerError>> From<E> for Stop {
+    fn from(e: E) -> Stop {
+        Stop::Failed(e.into())
+    }
+}
+
+/// Where a texture's or buffer's contents as of a pass were found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Origin {
+    /// The copy made after this pass (`None`: at the frame's start).
+    After(Option<usize>),
+    /// The resource itself: nothing in the frame writes it.
+    Live,
+    /// The pass replayed up to one of its draws or dispatches.
+    Step(usize, usize),
+}
+
+impl Origin {
+    fn written(self) -> Written {
+        match self {
+            Origin::After(Some(p)) => Written::After(p),
+            Origin::After(None) => Written::NotYet,
+            Origin::Live => Written::Never,
+            Origin::Step(pass, step) => Written::Step { pass, step },
+        }
+    }
+}
+
+/// A texture read back: its decoded subresources, or why there are none.
+struct ReadBack {
+    /// Plan texture, where it came from, and whether the stencil aspect was read.
+    key: (usize, Origin, bool),
+    images: Vec<Arc<DecodedImage>>,
+    note: Option<String>,
+}
+
+/// A buffer read back: (plan buffer, where it came from) and its bytes.
+type ReadBuffer = ((usize, Origin), Arc<Vec<u8>>);
+
+struct State {
+    replaying: Replaying,
+    writes: Vec<PassWrites>,
+    snaps: Snapshots,
+    /// The browsed frame is being replayed: nothing may replay over it.
+    browsing: bool,
+    reads: VecDeque<ReadBack>,
+    /// The last buffer read back: (plan buffer, origin) and its bytes.
+    buffer: Option<ReadBuffer>,
+    visualiser: Visualiser,
+    /// What the pass wrote up to one of its draws: (pass, step) and copies of its textures.
+    step: Option<(
+        (usize, usize),
+        std::collections::BTreeMap<usize, wgpu::Texture>,
+    )>,
+}
+
+/// Commands not yet carried out: the latest view, and saves in order.
+#[derive(Default)]
+struct Pending {
+    view: Option<ViewRequest>,
+    saves: VecDeque<(ViewRequest, SaveAs, PathBuf)>,
+    thumbnails: Option<(usize, VecDeque<TextureRequest>)>,
+}
+
+impl Pending {
+    fn push(&mut self, command: Command) {
+        match command {
+            Command::View(v) => self.view = Some(v),
+            Command::Save(v, how, path) => self.saves.push_back((v, how, path)),
+            Command::Thumbnails(pass, list) => self.thumbnails = Some((pass, list.into())),
+        }
+    }
+
+    /// Takes every command sent so far without waiting.
+    fn drain(&mut self, rx: &Receiver<Command>) -> Result<(), Stop> {
+        loop {
+            match rx.try_recv() {
+                Ok(c) => self.push(c),
+                Err(TryRecvError::Empty) => return Ok(()),
+                Err(TryRecvError::Disconnected) => return Err(Stop::Closed),
+            }
+        }
+    }
+
+    /// Waits for a command, then takes the rest.
+    fn wait(&mut self, rx: &Receiver<Command>) -> Result<(), Stop> {
+        let c = rx.recv().map_err(|_| Stop::Closed)?;
+        self.push(c);
+        self.drain(rx)
+    }
+}
+
+fn run(launch: Launch, rx: &Receiver<Command>, tx: &Sender<Reply>) -> Result<(), Stop> {
+    let Launch {
+        ctx,
+        lowered,
+        writes,
+        timed_frames,
+        budget,
+    } = launch;
+    let send = |r: Reply| tx.send(r).map_err(|_| Stop::Closed);
+    send(Reply::Progress(format!(
+        "creating {} passes' pipelines and resources",
+        lowered.plan.passes.len()
+    )))?;
+    let replaying = Replaying::start(&ctx, lowered)?;
+    let plan = &replaying.session.plan;
+    let snaps = Snapshots::new(plan.textures.len(), plan.buffers.len(), budget);
+    let mut s = State {
+        replaying,
+        writes,
+        snaps,
+        browsing: false,
+        reads: VecDeque::new(),
+        buffer: None,
+        visualiser: Visualiser::default(),
+        step: None,
+    };
+    let mut pending = Pending::default();
+    send(Reply::Progress("timing frame 0".into()))?;
+    send(Reply::Timings(time_frame(&mut s, 0)?))?;
+    browse_frame(&mut s, rx, tx, &mut pending)?;
+    for f in 2..=timed_frames {
+        pending.drain(rx)?;
+        serve(&mut s, &mut pending, rx, tx)?;
+        send(Reply::Progress(format!("timing frame {f}")))?;
+        send(Reply::Timings(time_frame(&mut s, f)?))?;
+    }
+    send(Reply::Progress(ready(&s)))?;
+    loop {
+        serve(&mut s, &mut pending, rx, tx)?;
+        pending.wait(rx)?;
+    }
+}
+
+fn ready(s: &State) -> String {
+    format!(
+        "ready: {} MiB of pass copies kept{}",
+        s.snaps.used() >> 20,
+        if s.snaps.evicted > 0 {
+            format!(", {} evicted by the memory budget", s.snaps.evicted)
+        } else {
+            String::new()
+        }
+    )
+}
+
+/// Runs frame `f` whole and returns its per-pass GPU times.
+fn time_frame(s: &mut State, f: u32) -> Result<Timings, Stop> {
+    let untrusted = s.replaying.untrusted();
+    let constants = s.replaying.constants(f);
+    let times = s.replaying.session.run_frame(&constants, None)?;
+    let trusted = |i: usize| untrusted.get(i).is_none_or(Option::is_none);
+    Ok(Timings {
+        source: "replay".into(),
+        passes: times
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
+                Some(PassTime {
+                    start_ns: t.gpu_start_ns? as f64,
+                    gpu_ns: t.gpu_ns? as f64,
+                    measured: trusted(i),
+                })
+            })
+            .collect(),
+        note: untrusted.iter().flatten().next().cloned(),
+    })
+}
+
+/// Replays frame 1 a pass at a time, copying what each pass writes (and, first, what the
+/// frame will write, as it starts), and serves views of the passes done between passes.
+fn browse_frame(
+    s: &mut State,
+    rx: &Receiver<Command>,
+    tx: &Sender<Reply>,
+    pending: &mut Pending,
+) -> Result<(), Stop> {
+    s.browsing = true;
+    let constants = s.replaying.constants(1);
+    s.replaying.session.begin_frame(&constants)?;
+    let textures: BTreeSet<usize> = s.writes.iter().flat_map(|w| w.textures.clone()).collect();
+    let buffers: BTreeSet<usize> = s.writes.iter().flat_map(|w| w.buffers.clone()).collect();
+    keep(s, None, &textures, &buffers);
+    let total = s.replaying.session.plan.passes.len();
+    for i in 0..total {
+        let name = s.replaying.session.plan.passes[i].name.clone();
+        tx.send(Reply::Progress(format!(
+            "replaying frame 1: pass {} of {total}, {name}",
+            i + 1
+        )))
+        .map_err(|_| Stop::Closed)?;
+        s.replaying.session.submit_pass(i)?;
+        let w = s.writes.get(i).cloned().unwrap_or_default();
+        keep(
+            s,
+            Some(i),
+            &w.textures.into_iter().collect(),
+            &w.buffers.into_iter().collect(),
+        );
+        s.snaps.mark_done(i);
+        tx.send(Reply::Replayed { done: i, total })
+            .map_err(|_| Stop::Closed)?;
+        pending.drain(rx)?;
+        serve(s, pending, rx, tx)?;
+    }
+    s.replaying.session.end_frame();
+    s.browsing = false;
+    Ok(())
+}
+
+/// Copies the frame's current `textures` and `buffers` as they are after `after`.
+fn keep(
+    s: &mut State,
+    after: Option<usize>,
+    textures: &BTreeSet<usize>,
+    buffers: &BTreeSet<usize>,
+) {
+    let session = &s.replaying.session;
+    let mut encoder = session
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("framelab pass copies"),
+        });
+    for &t in textures {
+        let source = session.texture_in_frame(t);
+        s.snaps
+            .keep_texture(&session.device, &mut encoder, t, after, source);
+    }
+    for &b in buffers {
+        let source = session.buffer_in_frame(b);
+        s.snaps
+            .keep_buffer(&session.device, &mut encoder, b, after, source);
+    }
+    session.queue.submit([encoder.finish()]);
+}
+
+/// Carries out the pending commands the replay can answer now: saves in order, then the
+/// latest view, then thumbnails one at a time, looking for newer commands between them.
+fn serve(
+    s: &mut State,
+    pending: &mut Pending,
+    rx: &Receiver<Command>,
+    tx: &Sender<Reply>,
+) -> Result<(), Stop> {
+    let last = s.replaying.session.plan.passes.len().saturating_sub(1);
+    let send = |r: Reply| tx.send(r).map_err(|_| Stop::Closed);
+    loop {
+        while let Some((view, _, _)) = pending.saves.front() {
+            if !s.snaps.ready(view.pass.min(last)) {
+                break;
+            }
+            let Some((view, how, path)) = pending.saves.pop_front() else {
+                break;
+            };
+            match save(s, &view, how, &path) {
+                Err(WorkerError::Later) => {
+                    pending.saves.push_front((view, how, path));
+                    break;
+                }
+                done => send(Reply::Saved(done))?,
+            }
+        }
+        if let Some(view) = pending.view.take() {
+            if !s.snaps.ready(view.pass.min(last)) {
+                pending.view = Some(view);
+            } else {
+                match show(s, &view) {
+                    Ok(shown) => send(Reply::Shown(Box::new(shown)))?,
+                    Err(WorkerError::Later) => pending.view = Some(view),
+                    Err(e) => send(Reply::Failed(e))?,
+                }
+            }
+        }
+        let Some((pass, list)) = &mut pending.thumbnails else {
+            return Ok(());
+        };
+        let pass = (*pass).min(last);
+        if !s.snaps.ready(pass) {
+            return Ok(());
+        }
+        let Some(t) = list.pop_front() else {
+            pending.thumbnails = None;
+            return Ok(());
+        };
+        // A thumbnail never costs a replay: one whose copy is gone is left out.
+        if let Some(image) = thumbnail(s, pass, &t) {
+            send(Reply::Thumbnail {
+                pass,
+                texture: t.plan_index,
+                image,
+            })?;
+        }
+        pending.drain(rx)?;
+    }
+}
+
+/// A small image of `t` as of `pass`, from the pass copies (depth fitted to its range).
+fn thumbnail(s: &mut State, pass: usize, t: &TextureRequest) -> Option<egui::ColorImage> {
+    let texture = match s.snaps.texture(t.plan_index, pass) {
+        Found::Copy { copy, .. } => copy,
+        Found::Live => s.replaying.session.texture(t.plan_index).clone(),
+        Found::Evicted { .. } | Found::NotYet => return None,
+    };
+    let mut controls = t.controls;
+    if t.sampling == Sampling::Depth {
+        let spec = &s.replaying.session.plan.textures[t.plan_index];
+        let (device, queue) = (&s.replaying.session.device, &s.replaying.session.queue);
+        let f = readable_format(spec).ok()?;
+        let images = read_texture(device, queue, &texture, spec, f).ok()?;
+        let (lo, hi) = images.first()?.range();
+        controls.black = lo;
+        controls.white = if hi > lo { hi } else { lo + 1.0 };
+    }
+    let session = &s.replaying.session;
+    let display = s.visualiser.draw(
+        &session.device,
+        &session.queue,
+        &texture,
+        t.sampling,
+        t.volume,
+        t.sub,
+        &controls,
+    );
+    let full = crate::visualise::read_display(&session.device, &session.queue, &display).ok()?;
+    Some(shrink(&full, THUMBNAIL_SIZE))
+}
+
+/// `image` scaled down (box filter) so its longer side is at most `side` pixels.
+fn shrink(image: &egui::ColorImage, side: u32) -> egui::ColorImage {
+    let [w, h] = image.size;
+    let bytes: Vec<u8> = image.pixels.iter().flat_map(|c| c.to_array()).collect();
+    let Some(rgba) = image::RgbaImage::from_raw(w as u32, h as u32, bytes) else {
+        return image.clone();
+    };
+    let scale = f64::from(side) / w.max(h).max(1) as f64;
+    if scale >= 1.0 {
+        return image.clone();
+    }
+    let (tw, th) = (
+        ((w as f64 * scale).round() as u32).max(1),
+        ((h as f64 * scale).round() as u32).max(1),
+    );
+    let small = image::imageops::thumbnail(&rgba, tw, th);
+    egui::ColorImage::from_rgba_premultiplied([tw as usize, th as usize], small.as_raw())
+}
+
+/// Writes the view `request` asks for: the display image as shown (PNG), or the viewed
+/// subresource's decoded values (EXR).
+fn save(
+    s: &mut State,
+    request: &ViewRequest,
+    how: SaveAs,
+    path: &std::path::Path,
+) -> Result<String, WorkerError> {
+    // The same view as on screen: copies and read-backs are kept, only the small display draw
+    // runs again.
+    let shown = show(s, request)?;
+    let written = match how {
+        SaveAs::Png => {
+            let display = shown.display.ok_or(WorkerError::NothingShown)?;
+            let [w, h] = display.size;
+            let bytes: Vec<u8> = display.pixels.iter().flat_map(|c| c.to_array()).collect();
+            let image = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
+                .ok_or(WorkerError::EmptyDisplay)?;
+            framelab_replay::export::save_rgba8(path, &image)
+        }
+        SaveAs::Exr => {
+            let decoded = shown.decoded.ok_or_else(|| {
+                WorkerError::NotRead(shown.note.unwrap_or_else(|| "nothing read back".into()))
+            })?;
+            framelab_replay::export::save_exr(path, &decoded)
+        }
+    };
+    written?;
+    Ok(path.display().to_string())
+}
+
+/// Replays frame 1 up to `pass` after a whole frame 0 (what `replay --frames 2 --after PASS`
+/// exports), to make again a copy the budget evicted.
+fn replay_to(s: &mut State, pass: usize) -> Result<(), WorkerError> {
+    if s.browsing {
+        return Err(WorkerError::Later);
+    }
+    for (frame, stop) in [(0, None), (1, Some(pass))] {
+        let constants = s.replaying.constants(frame);
+        s.replaying.session.run_frame(&constants, stop)?;
+    }
+    Ok(())
+}
+
+/// Replays the frame up to draw or dispatch `step` of `pass` (frame 0 whole, then frame 1 a
+/// pass at a time) and keeps copies of the textures the pass writes; the last one is kept.
+fn replay_step(s: &mut State, pass: usize, step: usize) -> Result<(), WorkerError> {
+    if s.step.as_ref().is_some_and(|(k, _)| *k == (pass, step)) {
+        return Ok(());
+    }
+    if s.browsing {
+        return Err(WorkerError::Later);
+    }
+    let constants = s.replaying.constants(0);
+    s.replaying.session.run_frame(&constants, None)?;
+    let constants = s.replaying.constants(1);
+    let session = &mut s.replaying.session;
+    session.begin_frame(&constants)?;
+    let mut ran = (0..pass).try_for_each(|i| session.submit_pass(i));
+    if ran.is_ok() {
+        ran = session.submit_pass_until(pass, step);
+    }
+    let mut copies = std::collections::BTreeMap::new();
+    if ran.is_ok() {
+        let mut encoder = session
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("framelab step copies"),
+            });
+        for &t in s.writes.get(pass).map_or(&[][..], |w| &w.textures) {
+            let copy =
+                snapshots::copy_texture(&session.device, &mut encoder, session.texture_in_frame(t));
+            copies.insert(t, copy);
+        }
+        session.queue.submit([encoder.finish()]);
+    }
+    session.end_frame();
+    ran?;
+    s.step = Some(((pass, step), copies));
+    Ok(())
+}
+
+/// Plan texture `t` as of right after `pass`, and where it was found.
+fn texture_at(
+    s: &mut State,
+    t: usize,
+    pass: usize,
+) -> Result<(wgpu::Texture, Origin), WorkerError> {
+    match s.snaps.texture(t, pass) {
+        Found::Copy { copy, after } => Ok((copy, Origin::After(after))),
+        Found::Live => Ok((s.replaying.session.texture(t).clone(), Origin::Live)),
+        Found::NotYet => Err(WorkerError::Later),
+        Found::Evicted { after } => {
+            replay_to(s, pass)?;
+            let session = &s.replaying.session;
+            let live = session.texture(t).clone();
+            let mut encoder =
+                session
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("framelab pass copies"),
+                    });
+            s.snaps
+                .keep_texture(&session.device, &mut encoder, t, after, &live);
+            session.queue.submit([encoder.finish()]);
+            Ok((live, Origin::After(after)))
+        }
+    }
+}
+
+/// Plan buffer `b` as of right after `pass`, and where it was found.
+fn buffer_at(s: &mut State, b: usize, pass: usize) -> Result<(wgpu::Buffer, Origin), WorkerError> {
+    match s.snaps.buffer(b, pass) {
+        Found::Copy { copy, after } => Ok((copy, Origin::After(after))),
+        Found::Live => Ok((s.replaying.session.buffer(b).clone(), Origin::Live)),
+        Found::NotYet => Err(WorkerError::Later),
+        Found::Evicted { after } => {
+            replay_to(s, pass)?;
+            let session = &s.replaying.session;
+            let live = session.buffer(b).clone();
+            let mut encoder =
+                session
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("framelab pass copies"),
+                    });
+            s.snaps
+                .keep_buffer(&session.device, &mut encoder, b, after, &live);
+            session.queue.submit([encoder.finish()]);
+            Ok((live, Origin::After(after)))
+        }
+    }
+}
+
+fn show(s: &mut State, request: &ViewRequest) -> Result<Shown, WorkerError> {
+    let passes = s.replaying.session.plan.passes.len();
+    let pass = request.pass.min(passes.saturating_sub(1));
+    let buffer = match request.buffer {
+        Some(b) => Some(read_buffer(s, pass, b)?),
+        None => None,
+    };
+    let Some(t) = &request.texture else {
+        return Ok(Shown {
+            request: request.clone(),
+            display: None,
+            decoded: None,
+            note: None,
+            written: None,
+            buffer,
+        });
+    };
+    let step_copy = match request.step {
+        Some(step) => {
+            replay_step(s, pass, step)?;
+            s.step
+                .as_ref()
+                .and_then(|(_, copies)| copies.get(&t.plan_index).cloned())
+                .map(|c| (c, Origin::Step(pass, step)))
+        }
+        None => None,
+    };
+    // A texture the pass does not write is as it was before the pass, draws or not.
+    let (texture, origin) = match step_copy {
+        Some(found) => found,
+        None => texture_at(s, t.plan_index, pass)?,
+    };
+    let stencil = t.sampling == Sampling::Stencil;
+    let key = (t.plan_index, origin, stencil);
+    match s.reads.iter().position(|r| r.key == key) {
+        Some(i) => {
+            // Most recent first.
+            if let Some(r) = s.reads.remove(i) {
+                s.reads.push_front(r);
+            }
+        }
+        None => {
+            let spec = &s.replaying.session.plan.textures[t.plan_index];
+            let (device, queue) = (&s.replaying.session.device, &s.replaying.session.queue);
+            let read = if stencil {
+                Ok(read_stencil(device, queue, &texture, spec))
+            } else {
+                readable_format(spec).map(|f| read_texture(device, queue, &texture, spec, f))
+            };
+            let (images, note) = match read {
+                Ok(Ok(images)) => (images.into_iter().map(Arc::new).collect(), None),
+                Ok(Err(e)) => (Vec::new(), Some(e.to_string())),
+                Err(why) => (Vec::new(), Some(why.0.to_owned())),
+            };
+            s.reads.push_front(ReadBack { key, images, note });
+            s.reads.truncate(READS_KEPT);
+        }
+    }
+    let (decoded, note) = match s.reads.front() {
+        Some(ReadBack { images, note, .. }) => (
+            images
+                .iter()
+                .find(|d| {
+                    d.mip == t.sub.mip
+                        && if t.volume {
+                            d.z == Some(t.sub.layer)
+                        } else {
+                            d.layer == t.sub.layer
+                        }
+                })
+                .cloned(),
+            note.clone(),
+        ),
+        None => (None, None),
+    };
+    let session = &s.replaying.session;
+    let display = s.visualiser.draw(
+        &session.device,
+        &session.queue,
+        &texture,
+        t.sampling,
+        t.volume,
+        t.sub,
+        &t.controls,
+    );
+    let pixels = crate::visualise::read_display(&session.device, &session.queue, &display)?;
+    session.check_faults("drawing the texture view")?;
+    Ok(Shown {
+        request: request.clone(),
+        display: Some(pixels),
+        decoded,
+        note,
+        written: Some(origin.written()),
+        buffer,
+    })
+}
+
+/// Plan buffer `index` as of `pass` (the last one read is kept).
+fn read_buffer(s: &mut State, pass: usize, index: usize) -> Result<Arc<Vec<u8>>, WorkerError> {
+    let spec = s
+        .replaying
+        .session
+        .plan
+        .buffers
+        .get(index)
+        .ok_or(WorkerError::NoBuffer(index))?;
+    // Copies need a multiple of 4 bytes; plan buffers are sized so.
+    let size = spec.size.min(MAX_BUFFER_READ) & !3;
+    let name = spec.name.clone();
+    let (source, origin) = buffer_at(s, index, pass)?;
+    if let Some((key, bytes)) = &s.buffer
+        && *key == (index, origin)
+    {
+        return Ok(bytes.clone());
+    }
+    let bytes = framelab_replay::read_buffer(
+        &s.replaying.session.device,
+        &s.replaying.session.queue,
+        &source,
+        size,
+        &name,
+    )?;
+    let bytes = Arc::new(bytes);
+    s.buffer = Some(((index, origin), bytes.clone()));
+    Ok(bytes)
+}
