@@ -27,16 +27,19 @@ const SETTLE: Duration = Duration::from_secs(1200);
 
 type Harness = framelab_ui::egui_kittest::Harness<'static, Inspector>;
 
-/// Steps frames until `done` holds, and returns how long that took.
+/// Steps frames (at least one: the first sends the request) until `done` holds, and returns
+/// how long that took.
 fn until(h: &mut Harness, done: impl Fn(&Inspector) -> bool) -> Duration {
     let start = Instant::now();
-    while !done(h.state()) {
+    loop {
+        h.step();
+        if done(h.state()) {
+            return start.elapsed();
+        }
         assert!(h.state().error.is_none(), "{:?}", h.state().error);
         assert!(start.elapsed() < SETTLE, "timed out");
-        h.step();
-        std::thread::sleep(Duration::from_millis(2));
+        std::thread::sleep(Duration::from_millis(1));
     }
-    start.elapsed()
 }
 
 /// Whether the texture the selection asks for is the one shown.
@@ -103,7 +106,7 @@ fn main() {
     let mut switches = Vec::new();
     for p in 0..model.passes.len() {
         h.state_mut().select_pass(p);
-        switches.push(until(&mut h, |a| a.is_idle()).as_secs_f64());
+        switches.push(until(&mut h, shown).as_secs_f64());
     }
     let mut reopen = Vec::new();
     h.state_mut().select_pass(base);

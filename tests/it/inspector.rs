@@ -317,6 +317,51 @@ fn a_pass_with_barrier_lints_lists_its_barriers_and_lints() {
 /// What the inspector reads back for (pass, texture) is what `replay --after PASS --resource
 /// TEXTURE` exports: both run one whole frame, then the next up to the pass.
 #[test]
+fn pixel_history_lists_the_pass_and_draws_that_wrote_a_texel() {
+    let mut h = open("captures/example/frame.json");
+    let model = h.state().model.clone();
+    let scene = model.pass_named("scene").unwrap();
+    h.state_mut().select_pass(scene);
+    h.state_mut()
+        .open_resource(model.resource_named("scene_color").unwrap());
+    // A texel of the ground, in the lower half of the 160x90 target.
+    h.state_mut().pick(80, 70);
+    settle(&mut h);
+    let after_scene = readout(&h, "(80, 70)");
+    h.state_mut().request_history();
+    settle(&mut h);
+    let history = h.state().history.clone().unwrap().unwrap();
+    // scene_color is written by the scene pass alone: its draws, then the pass.
+    let passes: Vec<usize> = history
+        .rows
+        .iter()
+        .filter(|r| r.step.is_none())
+        .map(|r| r.pass)
+        .collect();
+    assert_eq!(passes, [scene]);
+    let steps = model.passes[scene].steps;
+    let draws: Vec<_> = history.rows.iter().filter(|r| r.step.is_some()).collect();
+    assert_eq!(draws.len(), steps);
+    let whole = history.rows.iter().find(|r| r.step.is_none()).unwrap();
+    assert!(whole.changed, "{history:?}");
+    // The pass replayed up to its last draw leaves the texel as the whole pass does, and the
+    // value is the one the texture viewer reads back there.
+    assert_eq!(draws.last().unwrap().value, whole.value);
+    let numbers = |text: &str| -> Vec<f32> {
+        text.split_whitespace()
+            .filter_map(|w| w.parse::<f32>().ok())
+            .collect()
+    };
+    assert_eq!(numbers(&whole.value), after_scene);
+    // The ground draw wrote the texel: the value changed from the frame's start there.
+    assert!(draws[0].changed, "{history:?}");
+    // Its rows select the draw they name.
+    h.state_mut().show_pane(Pane::History);
+    h.run_steps(3);
+    assert!(h.query_by_label_contains("write(s) this frame").is_some());
+}
+
+#[test]
 fn read_back_values_match_the_export() {
     let mut h = open("captures/example/frame.json");
     let model = h.state().model.clone();

@@ -51,7 +51,8 @@ fn default_tree() -> egui_tiles::Tree<Pane> {
     let details = tiles.insert_pane(Pane::Details);
     let dag = tiles.insert_pane(Pane::Dag);
     let memory = tiles.insert_pane(Pane::Memory);
-    let bottom = tiles.insert_tab_tile(vec![timeline, resources, buffer, dag, memory]);
+    let history = tiles.insert_pane(Pane::History);
+    let bottom = tiles.insert_tab_tile(vec![timeline, resources, buffer, dag, memory, history]);
     let middle = tiles.insert_vertical_tile(vec![texture, bottom]);
     let root = tiles.insert_horizontal_tile(vec![events, middle, details]);
     if let Some(egui_tiles::Tile::Container(egui_tiles::Container::Linear(linear))) =
@@ -142,6 +143,10 @@ impl Inspector {
                     }
                 }
                 Reply::Shown(s) => shown.push(s),
+                Reply::History(h) => {
+                    self.view.history = Some(h.map_err(|e| e.to_string()));
+                    self.view.history_pending = false;
+                }
                 Reply::Thumbnail {
                     pass,
                     texture,
@@ -283,6 +288,14 @@ impl Inspector {
             if let Some(how) = self.view.save_request.take() {
                 self.save_view(how);
             }
+            if let Some(h) = self.view.history_request.take()
+                && let Some(worker) = &self.worker
+                && worker.history(h)
+            {
+                self.view.history_pending = true;
+                self.view.history = None;
+                self.show_pane(Pane::History);
+            }
         });
     }
 }
@@ -313,6 +326,7 @@ impl egui_tiles::Behavior<Pane> for Behavior<'_> {
                 Pane::Dag => panels::dag::ui(self.view, ui),
                 Pane::Memory => panels::memory::ui(self.view, ui),
                 Pane::Buffer => panels::buffer::ui(self.view, ui),
+                Pane::History => panels::history::ui(self.view, ui),
             });
         egui_tiles::UiResponse::None
     }

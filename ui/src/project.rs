@@ -989,8 +989,12 @@ fn pass_writes(lowered: &Lowered) -> Vec<crate::worker::PassWrites> {
         .pass_ids
         .iter()
         .map(|&id| {
-            let mut w = crate::worker::PassWrites::default();
-            for a in c.pass(id).accesses.iter().filter(|a| a.writes) {
+            let p = c.pass(id);
+            let mut w = crate::worker::PassWrites {
+                steps: p.draws.len() + p.dispatches.len(),
+                ..Default::default()
+            };
+            for a in p.accesses.iter().filter(|a| a.writes) {
                 if let Some(&t) = lowered.texture_of.get(&a.resource) {
                     w.textures.push(t);
                 }

@@ -10,7 +10,10 @@ use framelab_replay::decode::DecodedImage;
 
 use crate::model::{Inspection, Sampling, Timings};
 use crate::visualise::{Controls, Subresource};
-use crate::worker::{BufferBytes, SaveAs, TextureRequest, ViewRequest, WorkerError, Written};
+use crate::worker::{
+    BufferBytes, HistoryRequest, PixelHistory, SaveAs, TextureRequest, ViewRequest, WorkerError,
+    Written,
+};
 
 /// Thumbnails the worker drew, uploaded to egui: (pass, plan texture) -> image.
 #[derive(Default)]
@@ -69,11 +72,12 @@ pub enum Pane {
     Dag,
     Memory,
     Buffer,
+    History,
 }
 
 impl Pane {
     /// Every pane, for choosing one by name.
-    pub const ALL: [Pane; 8] = [
+    pub const ALL: [Pane; 9] = [
         Pane::Events,
         Pane::Texture,
         Pane::Buffer,
@@ -82,6 +86,7 @@ impl Pane {
         Pane::Timeline,
         Pane::Dag,
         Pane::Memory,
+        Pane::History,
     ];
 
     pub fn title(self) -> &'static str {
@@ -94,6 +99,7 @@ impl Pane {
             Pane::Dag => "DAG",
             Pane::Memory => "Memory",
             Pane::Buffer => "Buffer",
+            Pane::History => "History",
         }
     }
 }
@@ -185,6 +191,12 @@ pub struct View {
     pub status: String,
     /// The timeline's visible span (start, length in ns); `None`: the whole frame.
     pub timeline_span: Option<(f64, f64)>,
+    /// The last pixel history answered, or why not.
+    pub history: Option<Result<Arc<PixelHistory>, String>>,
+    /// A pixel history was asked for and not yet answered.
+    pub history_pending: bool,
+    /// A history a panel asked for, sent by the inspector after the frame's panels.
+    pub(crate) history_request: Option<HistoryRequest>,
     /// Thumbnails the worker drew: (pass, plan texture) -> image.
     pub thumbnails: Thumbnails,
     /// Where the timeline drew each pass last frame (for clicks, and for tests to aim at).
@@ -258,6 +270,9 @@ impl View {
             timeline_bars: Vec::new(),
             timeline_span: None,
             thumbnails: Default::default(),
+            history: None,
+            history_pending: false,
+            history_request: None,
             events_scrolled_to: None,
             buffer_bytes: None,
             save_path: String::new(),
@@ -312,7 +327,16 @@ impl View {
 
     /// Whether the worker has answered everything asked of it.
     pub fn is_idle(&self) -> bool {
-        self.idle && !self.saving
+        self.idle && !self.saving && !self.history_pending
+    }
+
+    /// Asks for the history of the picked texel of the viewed subresource: every pass and
+    /// draw that wrote it this frame, with the value after each.
+    pub fn request_history(&mut self) {
+        let (Some(texture), Some((x, y))) = (self.wanted().texture, self.picked) else {
+            return;
+        };
+        self.history_request = Some(HistoryRequest { texture, x, y });
     }
 
     /// Picks texel (x, y) of the viewed subresource for the pixel readout.

@@ -5,6 +5,7 @@ pub mod buffer;
 pub mod dag;
 pub mod details;
 pub mod events;
+pub mod history;
 pub mod memory;
 pub mod resources;
 pub mod texture;

@@ -338,6 +338,15 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
         if let Some(n) = note {
             ui.weak(format!("(values: {n})"));
         }
+        if app.picked.is_some()
+            && app.replays()
+            && ui
+                .small_button("history")
+                .on_hover_text("every pass and draw that wrote the picked texel this frame")
+                .clicked()
+        {
+            app.request_history();
+        }
     });
     let c = app.selection.controls;
     if let Some(shown) = app.displayed.as_mut()

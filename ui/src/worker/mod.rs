@@ -7,6 +7,7 @@
 //! to its own renderer. Only a copy the memory budget evicted costs a replay up to its pass.
 //! Views asked for while it works are skipped to the latest; saves are carried out in order.
 
+mod history;
 mod snapshots;
 
 use std::collections::{BTreeSet, VecDeque};
@@ -18,6 +19,7 @@ use framelab_core::pipeline::Lowered;
 use framelab_replay::decode::{DecodedImage, read_stencil, read_texture, readable_format};
 use framelab_replay::{GpuContext, Replaying};
 
+pub use self::history::{HistoryRequest, HistoryRow, PixelHistory};
 pub use self::snapshots::{Found, PassWrites, Snapshots, texture_bytes};
 use crate::model::{PassTime, Sampling, Timings};
 use crate::visualise::{Controls, Subresource, Visualiser};
@@ -55,6 +57,7 @@ enum Command {
     Save(ViewRequest, SaveAs, PathBuf),
     /// Small images of these textures as of a pass, drawn when nothing else waits.
     Thumbnails(usize, Vec<TextureRequest>),
+    History(HistoryRequest),
 }
 
 /// The longer side of a thumbnail, in pixels.
@@ -117,6 +120,8 @@ pub enum Reply {
     Shown(Box<Shown>),
     /// A save finished: the file written, or why not.
     Saved(Result<String, WorkerError>),
+    /// A texel's history through the frame, or why there is none.
+    History(Result<Arc<PixelHistory>, WorkerError>),
     /// A thumbnail of plan texture `texture` as of `pass`.
     Thumbnail {
         pass: usize,
@@ -197,6 +202,11 @@ impl Worker {
             .is_ok()
     }
 
+    /// Asks for the history of a texel; answered with [`Reply::History`].
+    pub fn history(&self, request: HistoryRequest) -> bool {
+        self.requests.send(Command::History(request)).is_ok()
+    }
+
     /// Asks for `view` to be written to `path`; answered with [`Reply::Saved`].
     pub fn save(&self, view: ViewRequest, how: SaveAs, path: PathBuf) -> bool {
         self.requests.send(Command::Save(view, how, path)).is_ok()
@@ -272,6 +282,7 @@ struct Pending {
     view: Option<ViewRequest>,
     saves: VecDeque<(ViewRequest, SaveAs, PathBuf)>,
     thumbnails: Option<(usize, VecDeque<TextureRequest>)>,
+    history: Option<HistoryRequest>,
 }
 
 impl Pending {
@@ -280,6 +291,7 @@ impl Pending {
             Command::View(v) => self.view = Some(v),
             Command::Save(v, how, path) => self.saves.push_back((v, how, path)),
             Command::Thumbnails(pass, list) => self.thumbnails = Some((pass, list.into())),
+            Command::History(h) => self.history = Some(h),
         }
     }
 
@@ -481,6 +493,16 @@ fn serve(
                     Ok(shown) => send(Reply::Shown(Box::new(shown)))?,
                     Err(WorkerError::Later) => pending.view = Some(view),
                     Err(e) => send(Reply::Failed(e))?,
+                }
+            }
+        }
+        if let Some(h) = pending.history.take() {
+            match history::history(s, &h) {
+                Err(WorkerError::Later) => pending.history = Some(h),
+                done => {
+                    send(Reply::History(done.map(Arc::new)))?;
+                    pending.drain(rx)?;
+                    continue;
                 }
             }
         }

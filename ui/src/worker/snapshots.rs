@@ -4,11 +4,13 @@
 //! the frame's start, before any pass wrote it). A copy the budget evicted, least recently used
 //! first, is made again by a replay up to its pass.
 
-/// What each plan pass writes: plan textures and plan buffers.
+/// What each plan pass writes: plan textures and plan buffers; and how many draws or
+/// dispatches it has.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct PassWrites {
     pub textures: Vec<usize>,
     pub buffers: Vec<usize>,
+    pub steps: usize,
 }
 
 /// Where a resource's contents as of a pass come from.
@@ -101,6 +103,16 @@ pub fn copy_texture(
         usage: source.usage() | wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     });
+    copy_into(encoder, source, &copy);
+    copy
+}
+
+/// Encodes a copy of every mip of `source` into `target` (same size and format).
+pub fn copy_into(
+    encoder: &mut wgpu::CommandEncoder,
+    source: &wgpu::Texture,
+    target: &wgpu::Texture,
+) {
     for mip in 0..source.mip_level_count() {
         let size = source.size().mip_level_size(mip, source.dimension());
         let at = |texture| wgpu::TexelCopyTextureInfo {
@@ -109,9 +121,12 @@ pub fn copy_texture(
             origin: wgpu::Origin3d::ZERO,
             aspect: wgpu::TextureAspect::All,
         };
-        encoder.copy_texture_to_texture(at(source), at(&copy), size.physical_size(source.format()));
+        encoder.copy_texture_to_texture(
+            at(source),
+            at(target),
+            size.physical_size(source.format()),
+        );
     }
-    copy
 }
 
 impl Snapshots {
@@ -155,6 +170,17 @@ impl Snapshots {
         self.clock += 1;
         let clock = self.clock;
         find(self.textures.get_mut(t), pass, ready, clock)
+    }
+
+    /// The copy of plan texture `t` made at the frame's start, if it is held.
+    pub fn frame_start_texture(&self, t: usize) -> Option<wgpu::Texture> {
+        self.textures
+            .get(t)?
+            .entries
+            .first()
+            .filter(|e| e.after.is_none())?
+            .copy
+            .clone()
     }
 
     /// Plan buffer `b` as of right after `pass`.

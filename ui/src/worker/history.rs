@@ -1,0 +1,216 @@
+//! Pixel history: for one texel of one texture, every pass of the browsed frame that wrote
+//! the texture, with the texel's value after it, and inside each pass that changed the texel,
+//! its value after each draw or dispatch. Pass values come from the pass copies; draw values
+//! from one replay of the frame up to the pass, then the pass replayed up to each draw in turn
+//! from a copy of what it had written before it started (so a draw's value never includes the
+//! draws after it).
+
+use framelab_replay::decode::{DecodedImage, read_stencil, read_texture, readable_format};
+
+use super::{State, TextureRequest, WorkerError, snapshots};
+
+/// Passes whose draws are looked into, at most (each costs a replay of the frame up to it).
+pub const MAX_PASSES_BY_DRAW: usize = 8;
+/// Draws or dispatches of one pass looked into, at most.
+pub const MAX_STEPS: usize = 256;
+
+/// What a history is asked for: a texel of a subresource of a plan texture.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HistoryRequest {
+    pub texture: TextureRequest,
+    pub x: u32,
+    pub y: u32,
+}
+
+/// One write: the pass (and draw or dispatch) and the texel's value after it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HistoryRow {
+    pub pass: usize,
+    pub step: Option<usize>,
+    /// The value as the format stores it, or why it could not be read.
+    pub value: String,
+    /// The value differs from the one before.
+    pub changed: bool,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct PixelHistory {
+    pub request: HistoryRequest,
+    /// The value the frame started with.
+    pub start: String,
+    pub rows: Vec<HistoryRow>,
+    /// What was left out (passes or draws beyond the limits).
+    pub notes: Vec<String>,
+}
+
+/// The texel's value in `texture` (a replay texture or a copy of it), as text.
+fn texel(s: &State, texture: &wgpu::Texture, h: &HistoryRequest) -> String {
+    let t = &h.texture;
+    let spec = &s.replaying.session.plan.textures[t.plan_index];
+    let (device, queue) = (&s.replaying.session.device, &s.replaying.session.queue);
+    let read = if t.sampling == crate::model::Sampling::Stencil {
+        read_stencil(device, queue, texture, spec).map_err(|e| e.to_string())
+    } else {
+        match readable_format(spec) {
+            Ok(f) => read_texture(device, queue, texture, spec, f).map_err(|e| e.to_string()),
+            Err(why) => Err(why.0.to_owned()),
+        }
+    };
+    let images: Vec<DecodedImage> = match read {
+        Ok(images) => images,
+        Err(why) => return format!("not read: {why}"),
+    };
+    let image = images.iter().find(|d| {
+        d.mip == t.sub.mip
+            && if t.volume {
+                d.z == Some(t.sub.layer)
+            } else {
+                d.layer == t.sub.layer
+            }
+    });
+    image
+        .and_then(|d| crate::panels::texture::texel_text(d, h.x, h.y))
+        .map_or_else(|| "outside the subresource".to_owned(), strip_position)
+}
+
+/// `(x, y) R ...` without the position, which every row shares.
+fn strip_position(text: String) -> String {
+    match text.split_once(") ") {
+        Some((_, rest)) => rest.to_owned(),
+        None => text,
+    }
+}
+
+/// The history of the requested texel through the browsed frame.
+pub fn history(s: &mut State, h: &HistoryRequest) -> Result<PixelHistory, WorkerError> {
+    if s.browsing {
+        return Err(WorkerError::Later);
+    }
+    let t = h.texture.plan_index;
+    let writers: Vec<usize> = s
+        .writes
+        .iter()
+        .enumerate()
+        .filter(|(_, w)| w.textures.contains(&t))
+        .map(|(i, _)| i)
+        .collect();
+    let start = match s.snaps.frame_start_texture(t) {
+        Some(copy) => texel(s, &copy, h),
+        None => {
+            // No copy of the frame's start: nothing writes it, or the budget evicted it.
+            let (texture, _) = match writers.first() {
+                Some(&0) | None => super::texture_at(s, t, 0)?,
+                Some(&w) => super::texture_at(s, t, w - 1)?,
+            };
+            texel(s, &texture, h)
+        }
+    };
+    let mut rows = Vec::new();
+    let mut notes = Vec::new();
+    let mut before = start.clone();
+    let mut by_draw = 0;
+    for &pass in &writers {
+        let (texture, _) = super::texture_at(s, t, pass)?;
+        let value = texel(s, &texture, h);
+        let changed = value != before;
+        let steps = s.writes.get(pass).map_or(0, |w| w.steps);
+        if changed && steps > 0 {
+            if by_draw < MAX_PASSES_BY_DRAW && steps <= MAX_STEPS {
+                by_draw += 1;
+                let values = by_step(s, pass, steps, h)?;
+                let mut last = before.clone();
+                for (k, v) in values.into_iter().enumerate() {
+                    let changed = v != last;
+                    last = v.clone();
+                    rows.push(HistoryRow {
+                        pass,
+                        step: Some(k),
+                        value: v,
+                        changed,
+                    });
+                }
+            } else {
+                notes.push(format!(
+                    "pass {} not looked into draw by draw ({steps} draws or dispatches; at most \
+                     {MAX_STEPS} in at most {MAX_PASSES_BY_DRAW} passes)",
+                    s.replaying.session.plan.passes[pass].name
+                ));
+            }
+        }
+        rows.push(HistoryRow {
+            pass,
+            step: None,
+            value: value.clone(),
+            changed,
+        });
+        before = value;
+    }
+    Ok(PixelHistory {
+        request: h.clone(),
+        start,
+        rows,
+        notes,
+    })
+}
+
+/// The texel after each of the first `steps` draws or dispatches of `pass`.
+fn by_step(
+    s: &mut State,
+    pass: usize,
+    steps: usize,
+    h: &HistoryRequest,
+) -> Result<Vec<String>, WorkerError> {
+    let t = h.texture.plan_index;
+    let outputs = s
+        .writes
+        .get(pass)
+        .map(|w| w.textures.clone())
+        .unwrap_or_default();
+    let constants = s.replaying.constants(0);
+    s.replaying.session.run_frame(&constants, None)?;
+    let constants = s.replaying.constants(1);
+    s.replaying.session.begin_frame(&constants)?;
+    let mut values = Vec::new();
+    let ran = (|| -> Result<(), WorkerError> {
+        let session = &mut s.replaying.session;
+        (0..pass).try_for_each(|i| session.submit_pass(i))?;
+        // What the pass's outputs held before it started, to start each partial pass from.
+        let mut encoder = session
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("framelab history"),
+            });
+        let before: Vec<(usize, wgpu::Texture)> = outputs
+            .iter()
+            .map(|&o| {
+                let copy = snapshots::copy_texture(
+                    &session.device,
+                    &mut encoder,
+                    session.texture_in_frame(o),
+                );
+                (o, copy)
+            })
+            .collect();
+        session.queue.submit([encoder.finish()]);
+        for k in 0..steps {
+            let session = &mut s.replaying.session;
+            let mut encoder =
+                session
+                    .device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("framelab history"),
+                    });
+            for (o, copy) in &before {
+                snapshots::copy_into(&mut encoder, copy, session.texture_in_frame(*o));
+            }
+            session.queue.submit([encoder.finish()]);
+            session.submit_pass_until(pass, k)?;
+            let live = session.texture_in_frame(t).clone();
+            values.push(texel(s, &live, h));
+        }
+        Ok(())
+    })();
+    s.replaying.session.end_frame();
+    ran?;
+    Ok(values)
+}
