@@ -31,6 +31,11 @@ pub struct InspectArgs {
     /// A second timing report: each pass shows its time there and the diff's verdict.
     #[arg(long, requires = "timings")]
     pub compare: Option<PathBuf>,
+    /// A second capture (or this one again) replayed beside this one at the same scale: the
+    /// Image diff panel shows the viewed texture after the current pass in both, paired as the
+    /// structural diff pairs passes, and FLIP's error map between them.
+    #[arg(long)]
+    pub against: Option<PathBuf>,
     /// Use the adapter whose name contains this text.
     #[arg(long)]
     pub adapter: Option<String>,
@@ -104,6 +109,20 @@ fn report(path: &Path) -> anyhow::Result<TimingReport> {
 
 pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
     let analysed = stages::analysed_for_device(&args.capture, args.scale, false)?;
+    let against = match &args.against {
+        Some(path) => {
+            let b = stages::analysed_for_device(path, args.scale, false)?;
+            if b.capture.not_replayable().is_some() {
+                bail!(
+                    "--against: {} is not replayed, so it has no images to compare",
+                    path.display()
+                );
+            }
+            let pairs = framelab_core::structure::pass_pairs(&analysed.capture, &b.capture);
+            Some((b, pairs))
+        }
+        None => None,
+    };
     let timings = args.timings.as_deref().map(report).transpose()?;
     let compare = args.compare.as_deref().map(report).transpose()?;
     let reports = Reports {
@@ -133,15 +152,31 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         Some(_) => Some(headless::render_state(&ctx)?),
         None => None,
     };
+    if against.is_some() && analysed.capture.not_replayable().is_some() {
+        bail!(
+            "--against: {} is not replayed, so it has no images to compare",
+            args.capture.display()
+        );
+    }
+    let options = project::LaunchOptions {
+        frames: args.frames,
+        budget: args.cache_mb << 20,
+    };
+    // The second capture on a device of its own, so neither replay waits on the other's queue.
+    let against = match against {
+        Some((b, pairs)) => {
+            let ctx_b =
+                framelab_replay::open_device(args.adapter.as_deref(), lower::wanted_features())?;
+            let (model_b, worker_b) = project::launch(b, ctx_b, &Reports::default(), options)?;
+            Some((model_b, pairs, worker_b))
+        }
+        None => None,
+    };
     // An imported capture is inspected without a replay: passes, barriers, DAG and memory.
     let (model, worker) = if analysed.capture.not_replayable().is_some() {
         let model = project::model_without_replay(&analysed, &reports)?;
         (model, None)
     } else {
-        let options = project::LaunchOptions {
-            frames: args.frames,
-            budget: args.cache_mb << 20,
-        };
         let (model, worker) = project::launch(analysed, ctx, &reports, options)?;
         (model, Some(worker))
     };
@@ -191,6 +226,12 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
     let stencil = args.stencil;
     let pixel = args.pixel;
     let panel = args.panel;
+    let against = against.map(|(model_b, pairs, worker_b)| {
+        (
+            framelab_ui::against::Against::new(&model, model_b, &pairs),
+            worker_b,
+        )
+    });
     let prepare = move |app: &mut Inspector| {
         if let Some(p) = select {
             app.select_pass(p);
@@ -211,6 +252,9 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
     match (&args.screenshot, render_state) {
         (Some(path), Some(rs)) => {
             let mut app = Inspector::new(model, worker);
+            if let Some((a, w)) = against {
+                app = app.with_against(a, w);
+            }
             prepare(&mut app);
             let size = framelab_ui::egui::Vec2::new(args.size.0 as f32, args.size.1 as f32);
             let image = headless::capture(app, rs, size, Duration::from_secs(600))?;
@@ -221,6 +265,9 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
             let title = format!("framelab inspect {}", args.capture.display());
             headless::window(&title, move || {
                 let mut app = Inspector::new(model, worker);
+                if let Some((a, w)) = against {
+                    app = app.with_against(a, w);
+                }
                 prepare(&mut app);
                 app
             })?;

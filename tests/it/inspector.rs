@@ -293,6 +293,47 @@ fn the_ui_keeps_drawing_and_taking_input_while_the_first_replay_runs() {
     settle(&mut h);
 }
 
+/// The whole window at the common 1280x720 and at a small 800x600: every panel keeps a usable
+/// size (compared with blessed images).
+#[test]
+fn the_layout_holds_at_1280x720_and_800x600() {
+    let mut results = egui_kittest::SnapshotResults::new();
+    // A report's timings, so the images do not change with the machine's.
+    let a = report("tests/fixtures/timing/example_a.json");
+    let reports = Reports {
+        timings: Some((&a, "example_a.json".into())),
+        compare: None,
+    };
+    for (w, h, name) in [
+        (1280.0, 720.0, "window_1280x720"),
+        (800.0, 600.0, "window_800x600"),
+    ] {
+        let mut harness = launched("captures/example/frame.json", &reports);
+        harness.set_size(egui::Vec2::new(w, h));
+        let model = harness.state().model.clone();
+        harness
+            .state_mut()
+            .select_pass(model.pass_named("scene").unwrap());
+        settle(&mut harness);
+        while harness.state().replaying() {
+            harness.step();
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        settle(&mut harness);
+        harness.run_steps(3);
+        // Every pane shown is at least as large as the layout's minimum.
+        let panes = harness.state().pane_rects.clone();
+        assert_eq!(panes.len(), 4, "{panes:?}");
+        for (pane, rect) in panes {
+            assert!(
+                rect.width() >= 100.0 && rect.height() >= 100.0,
+                "{pane:?} at {w}x{h}: {rect:?}"
+            );
+        }
+        results.add(harness.try_snapshot_options(name, &ui_snapshot_options()));
+    }
+}
+
 #[test]
 fn a_pass_with_barrier_lints_lists_its_barriers_and_lints() {
     let mut h = open("captures/example/frame.json");
@@ -359,6 +400,88 @@ fn pixel_history_lists_the_pass_and_draws_that_wrote_a_texel() {
     h.state_mut().show_pane(Pane::History);
     h.run_steps(3);
     assert!(h.query_by_label_contains("write(s) this frame").is_some());
+}
+
+/// The example copied into a temporary folder with its ground tinted red and its tonemap pass
+/// renamed.
+fn changed_example() -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("framelab-against-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let example = repo().join("captures/example");
+    std::fs::create_dir_all(dir.join("shaders")).unwrap();
+    for entry in std::fs::read_dir(example.join("shaders")).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, dir.join("shaders").join(path.file_name().unwrap())).unwrap();
+    }
+    let mut capture: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(example.join("frame.json")).unwrap())
+            .unwrap();
+    for p in capture["passes"].as_array_mut().unwrap() {
+        if p["name"] == "scene" {
+            p["params"]["ground_tint"] = serde_json::json!([0.9, 0.1, 0.1, 1.0]);
+        }
+        if p["name"] == "tonemap" {
+            p["name"] = serde_json::json!("tonemap_aces");
+        }
+    }
+    let path = dir.join("frame.json");
+    std::fs::write(&path, capture.to_string()).unwrap();
+    path
+}
+
+#[test]
+fn the_image_diff_pairs_passes_and_measures_flip() {
+    let load = |path: &std::path::Path| {
+        let options = Options {
+            scale: 0.25,
+            ..Options::default()
+        };
+        Analysed::load(path, &options, AnalyzeOptions::default()).unwrap()
+    };
+    let changed = changed_example();
+    let (a, b) = (
+        load(&repo().join("captures/example/frame.json")),
+        load(&changed),
+    );
+    let pairs = framelab_core::structure::pass_pairs(&a.capture, &b.capture);
+    let open =
+        || framelab_replay::open_device(None, framelab_core::lower::wanted_features()).unwrap();
+    let ctx = open();
+    let rs = headless::render_state(&ctx).unwrap();
+    let options = inspect::LaunchOptions {
+        frames: 1,
+        ..Default::default()
+    };
+    let (model, worker) = inspect::launch(a, ctx, &Reports::default(), options).unwrap();
+    let (model_b, worker_b) = inspect::launch(b, open(), &Reports::default(), options).unwrap();
+    let against = framelab_ui::against::Against::new(&model, model_b, &pairs);
+    let app = Inspector::new(model, Some(worker)).with_against(against, worker_b);
+    let mut h = headless::harness(app, rs, egui::Vec2::new(1400.0, 900.0));
+    let model = h.state().model.clone();
+    let flip_at = |h: &mut egui_kittest::Harness<'static, Inspector>, pass: &str, texture: &str| {
+        h.state_mut().select_pass(model.pass_named(pass).unwrap());
+        h.state_mut()
+            .open_resource(model.resource_named(texture).unwrap());
+        settle(h);
+        let a = h.state().against.as_ref().unwrap();
+        let f = a.flip.as_ref().expect("a FLIP");
+        f.result.as_ref().map(|r| r.mean).unwrap()
+    };
+    // Before the tinted ground is drawn both frames are the same.
+    assert_eq!(flip_at(&mut h, "noise_mips", "noise"), 0.0);
+    // The scene differs where the ground is.
+    let scene = flip_at(&mut h, "scene", "scene_color");
+    assert!(scene > 0.05, "FLIP {scene}");
+    // The renamed pass is paired all the same, as a rename.
+    let tonemap = model.pass_named("tonemap").unwrap();
+    let a = h.state().against.as_ref().unwrap();
+    let (there, renamed) = a.pass_of[tonemap].unwrap();
+    assert_eq!(a.model.passes[there].name, "tonemap_aces");
+    assert!(renamed);
+    h.state_mut().show_pane(Pane::ImageDiff);
+    h.run_steps(3);
+    assert!(h.query_by_label_contains("FLIP mean").is_some());
+    let _ = std::fs::remove_dir_all(changed.parent().unwrap());
 }
 
 #[test]

@@ -2,6 +2,8 @@
 //! and the exchange with the replay worker. Everything shown is derived from the inspection
 //! model, the timings and the worker's latest image; a frame never waits on the GPU.
 
+use std::sync::Arc;
+
 use crate::model::Inspection;
 use crate::panels;
 pub use crate::state::{Displayed, HistogramKey, Pane, Selection, View, Zoom};
@@ -13,6 +15,8 @@ use crate::worker::{Reply, SaveAs, ViewRequest, Worker, WorkerError};
 pub struct Inspector {
     pub view: View,
     worker: Option<Worker>,
+    /// The second capture's worker (`--against`).
+    against_worker: Option<Worker>,
     sent: Option<ViewRequest>,
     /// The pass whose thumbnails were asked for last.
     thumbnails_sent: Option<usize>,
@@ -52,7 +56,10 @@ fn default_tree() -> egui_tiles::Tree<Pane> {
     let dag = tiles.insert_pane(Pane::Dag);
     let memory = tiles.insert_pane(Pane::Memory);
     let history = tiles.insert_pane(Pane::History);
-    let bottom = tiles.insert_tab_tile(vec![timeline, resources, buffer, dag, memory, history]);
+    let diff = tiles.insert_pane(Pane::ImageDiff);
+    let bottom = tiles.insert_tab_tile(vec![
+        timeline, resources, buffer, dag, memory, history, diff,
+    ]);
     let middle = tiles.insert_vertical_tile(vec![texture, bottom]);
     let root = tiles.insert_horizontal_tile(vec![events, middle, details]);
     if let Some(egui_tiles::Tile::Container(egui_tiles::Container::Linear(linear))) =
@@ -79,10 +86,99 @@ impl Inspector {
         Inspector {
             view: View::new(model, worker.is_some()),
             worker,
+            against_worker: None,
             sent: None,
             thumbnails_sent: None,
             tree: Some(default_tree()),
         }
+    }
+
+    /// Replays a second capture beside this one for the image diff: `against` pairs its passes
+    /// with these, `worker` replays it on a device of its own.
+    pub fn with_against(mut self, against: crate::against::Against, worker: Worker) -> Inspector {
+        self.view.against = Some(against);
+        self.against_worker = Some(worker);
+        self
+    }
+
+    /// The second capture's replies, its next view, and the FLIP of the two images.
+    fn poll_against(&mut self, ctx: &egui::Context) {
+        let here = self.view.wanted();
+        let Some(worker) = &self.against_worker else {
+            return;
+        };
+        let Some(mut against) = self.view.against.take() else {
+            return;
+        };
+        let a = &mut against;
+        while let Ok(reply) = worker.replies.try_recv() {
+            match reply {
+                Reply::Progress(p) => a.status = p,
+                Reply::Failed(e) => a.error = Some(e.to_string()),
+                Reply::Shown(s) => {
+                    let Some(image) = s.display else { continue };
+                    let pixels = Arc::new(image);
+                    let texture = match a.shown.take() {
+                        Some(mut old) => {
+                            old.texture
+                                .set(pixels.as_ref().clone(), egui::TextureOptions::NEAREST);
+                            old.texture
+                        }
+                        None => ctx.load_texture(
+                            "framelab against",
+                            pixels.as_ref().clone(),
+                            egui::TextureOptions::NEAREST,
+                        ),
+                    };
+                    a.shown = Some(crate::against::Shown {
+                        request: s.request,
+                        texture,
+                        pixels,
+                    });
+                }
+                _ => {}
+            }
+        }
+        let there = a.wanted(&self.view.model, &here, self.view.selection.resource);
+        if let Some(there) = &there
+            && a.sent.as_ref() != Some(there)
+            && a.error.is_none()
+        {
+            worker.request(there.clone());
+            a.sent = Some(there.clone());
+        }
+        // FLIP once both sides show what is asked; on its own thread.
+        if let (Some(there), Some(d), Some(s)) = (&there, &self.view.displayed, &a.shown)
+            && d.request == here
+            && &s.request == there
+        {
+            let key = (here.clone(), there.clone());
+            let done = a.flip.as_ref().is_some_and(|f| f.key == key);
+            let running = a.job.as_ref().is_some_and(|(k, _)| *k == key);
+            if !done && !running {
+                let (tx, rx) = std::sync::mpsc::channel();
+                let (reference, test) = (d.pixels.clone(), s.pixels.clone());
+                std::thread::spawn(move || {
+                    let _ = tx.send(crate::against::flip(&reference, &test));
+                });
+                a.job = Some((key, rx));
+            }
+        }
+        if let Some((key, rx)) = &a.job
+            && let Ok(result) = rx.try_recv()
+        {
+            let result = result.map(|(mean, p99, map)| crate::against::FlipResult {
+                mean,
+                p99,
+                map: ctx.load_texture("framelab flip", map, egui::TextureOptions::NEAREST),
+            });
+            a.flip = Some(crate::against::Flip {
+                key: key.clone(),
+                result,
+            });
+            a.job = None;
+        }
+        self.view.against = Some(against);
     }
 
     /// Brings `pane` to the front of its tab group.
@@ -187,12 +283,18 @@ impl Inspector {
                 continue;
             };
             let size = [image.size[0] as u32, image.size[1] as u32];
+            let pixels = Arc::new(image);
             let texture = match self.view.displayed.take() {
                 Some(mut d) => {
-                    d.texture.set(image, egui::TextureOptions::NEAREST);
+                    d.texture
+                        .set(pixels.as_ref().clone(), egui::TextureOptions::NEAREST);
                     d.texture
                 }
-                None => ctx.load_texture("framelab view", image, egui::TextureOptions::NEAREST),
+                None => ctx.load_texture(
+                    "framelab view",
+                    pixels.as_ref().clone(),
+                    egui::TextureOptions::NEAREST,
+                ),
             };
             let range = s.decoded.as_ref().map(|d| d.range());
             if self.view.fit_pending
@@ -213,6 +315,7 @@ impl Inspector {
                 decoded: s.decoded,
                 note: s.note,
                 written: s.written,
+                pixels,
                 arrived_at: self.view.replayed,
             });
         }
@@ -234,6 +337,7 @@ impl Inspector {
             }
             self.sent = Some(wanted);
         }
+        self.poll_against(ctx);
         if !self.view.is_idle() || self.view.replaying() {
             ctx.request_repaint_after(std::time::Duration::from_millis(30));
         }
@@ -272,6 +376,7 @@ impl Inspector {
             panels::status_bar(&self.view, ui);
         });
         egui::CentralPanel::default().show(ui, |ui| {
+            self.view.pane_rects.clear();
             if let Some(mut tree) = self.tree.take() {
                 tree.ui(
                     &mut Behavior {
@@ -315,6 +420,7 @@ impl egui_tiles::Behavior<Pane> for Behavior<'_> {
         _tile_id: egui_tiles::TileId,
         pane: &mut Pane,
     ) -> egui_tiles::UiResponse {
+        self.view.pane_rects.push((*pane, ui.max_rect()));
         egui::Frame::new()
             .inner_margin(4.0)
             .show(ui, |ui| match pane {
@@ -327,8 +433,14 @@ impl egui_tiles::Behavior<Pane> for Behavior<'_> {
                 Pane::Memory => panels::memory::ui(self.view, ui),
                 Pane::Buffer => panels::buffer::ui(self.view, ui),
                 Pane::History => panels::history::ui(self.view, ui),
+                Pane::ImageDiff => panels::image_diff::ui(self.view, ui),
             });
         egui_tiles::UiResponse::None
+    }
+
+    /// No panel shrinks below a size its controls fit in, however small the window.
+    fn min_size(&self) -> f32 {
+        120.0
     }
 
     fn simplification_options(&self) -> egui_tiles::SimplificationOptions {

@@ -3,6 +3,7 @@
 //! drives on its own thread; they never read captures themselves, so they can be tested
 //! headless with egui_kittest on fixed models.
 
+pub mod against;
 pub mod app;
 pub mod headless;
 pub mod model;

@@ -73,11 +73,12 @@ pub enum Pane {
     Memory,
     Buffer,
     History,
+    ImageDiff,
 }
 
 impl Pane {
     /// Every pane, for choosing one by name.
-    pub const ALL: [Pane; 9] = [
+    pub const ALL: [Pane; 10] = [
         Pane::Events,
         Pane::Texture,
         Pane::Buffer,
@@ -87,6 +88,7 @@ impl Pane {
         Pane::Dag,
         Pane::Memory,
         Pane::History,
+        Pane::ImageDiff,
     ];
 
     pub fn title(self) -> &'static str {
@@ -100,6 +102,7 @@ impl Pane {
             Pane::Memory => "Memory",
             Pane::Buffer => "Buffer",
             Pane::History => "History",
+            Pane::ImageDiff => "Image diff",
         }
     }
 }
@@ -174,6 +177,8 @@ pub struct Displayed {
     pub note: Option<String>,
     /// When the texture was last written, as of the view's pass.
     pub written: Option<Written>,
+    /// The pixels as shown (for the image diff).
+    pub pixels: Arc<egui::ColorImage>,
     /// How far the first replay had got when this image arrived (passes done, total).
     pub arrived_at: Option<(usize, usize)>,
 }
@@ -191,6 +196,8 @@ pub struct View {
     pub status: String,
     /// The timeline's visible span (start, length in ns); `None`: the whole frame.
     pub timeline_span: Option<(f64, f64)>,
+    /// A second capture replayed beside this one for the image diff (`--against`).
+    pub against: Option<crate::against::Against>,
     /// The last pixel history answered, or why not.
     pub history: Option<Result<Arc<PixelHistory>, String>>,
     /// A pixel history was asked for and not yet answered.
@@ -203,6 +210,8 @@ pub struct View {
     pub timeline_bars: Vec<(usize, egui::Rect)>,
     /// Fit black and white points to the next image's range (set when a depth texture opens).
     pub fit_pending: bool,
+    /// Where each pane shown was drawn last frame (for tests of the layout).
+    pub pane_rects: Vec<(Pane, egui::Rect)>,
     /// Where the DAG drew each pass last frame.
     pub dag_nodes: Vec<(usize, egui::Rect)>,
     /// The DAG's pan and zoom.
@@ -271,6 +280,7 @@ impl View {
             timeline_span: None,
             thumbnails: Default::default(),
             history: None,
+            against: None,
             history_pending: false,
             history_request: None,
             events_scrolled_to: None,
@@ -279,6 +289,7 @@ impl View {
             saved: None,
             fit_pending: false,
             dag_nodes: Vec::new(),
+            pane_rects: Vec::new(),
             dag_view: (Vec2::ZERO, 1.0),
             dag_centred: None,
             error: None,
@@ -327,7 +338,24 @@ impl View {
 
     /// Whether the worker has answered everything asked of it.
     pub fn is_idle(&self) -> bool {
-        self.idle && !self.saving && !self.history_pending
+        self.idle && !self.saving && !self.history_pending && self.against_settled()
+    }
+
+    /// Whether the image diff shows what the selection asks for (or cannot).
+    fn against_settled(&self) -> bool {
+        let Some(a) = &self.against else {
+            return true;
+        };
+        if a.error.is_some() {
+            return true;
+        }
+        let view = self.wanted();
+        let Some(there) = a.wanted(&self.model, &view, self.selection.resource) else {
+            return true;
+        };
+        let shown = a.shown.as_ref().is_some_and(|s| s.request == there);
+        let here = self.displayed.as_ref().is_some_and(|d| d.request == view);
+        shown && here && a.flip.as_ref().is_some_and(|f| f.key == (view, there))
     }
 
     /// Asks for the history of the picked texel of the viewed subresource: every pass and

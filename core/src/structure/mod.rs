@@ -195,13 +195,31 @@ fn pass_label(p: &PassInfo) -> String {
     format!("{}/{}", p.queue, p.marker_path)
 }
 
-fn passes(a: &[PassInfo], b: &[PassInfo]) -> PassChanges {
-    let m = match_items(
+/// Passes paired by marker path, name and occurrence, leftovers by kind, queue and written
+/// resources (a rename).
+fn pass_matching(a: &[PassInfo], b: &[PassInfo]) -> crate::matching::Matching {
+    match_items(
         a,
         b,
         |p| (p.marker_path.clone(), p.name.clone()),
         |p| (!p.writes.is_empty()).then(|| (p.kind, p.queue.clone(), p.writes.clone())),
-    );
+    )
+}
+
+/// The passes the structural diff takes for the same pass in captures `a` and `b`: indices
+/// into each capture's passes, and whether the pair is a rename. The inspector compares a
+/// pass's images across two captures with these.
+pub fn pass_pairs(a: &Capture, b: &Capture) -> Vec<(usize, usize, bool)> {
+    let (ia, ib) = (info::report(a), info::report(b));
+    let m = pass_matching(&ia.passes, &ib.passes);
+    m.pairs
+        .iter()
+        .map(|&(i, j)| (i, j, m.renamed.contains(&(i, j))))
+        .collect()
+}
+
+fn passes(a: &[PassInfo], b: &[PassInfo]) -> PassChanges {
+    let m = pass_matching(a, b);
     let mut out = PassChanges {
         added: m.added.iter().map(|&j| pass_label(&b[j])).collect(),
         removed: m.removed.iter().map(|&i| pass_label(&a[i])).collect(),

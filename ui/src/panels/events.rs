@@ -144,8 +144,15 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
                         // Figures first, from the right, so a long name is cut short instead
                         // of running under them.
                         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                            ui.label(egui::RichText::new(ms).monospace());
-                            ui.label(egui::RichText::new(&model.queues[p.queue]).weak());
+                            // In a narrow panel the name matters more than the figures: the
+                            // queue's colour bar stays, and the time shows on the timeline.
+                            let width = ui.available_width();
+                            if width > 180.0 {
+                                ui.label(egui::RichText::new(ms).monospace());
+                            }
+                            if width > 240.0 {
+                                ui.label(egui::RichText::new(&model.queues[p.queue]).weak());
+                            }
                             ui.with_layout(
                                 egui::Layout::left_to_right(egui::Align::Center),
                                 |ui| {

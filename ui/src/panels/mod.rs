@@ -6,6 +6,7 @@ pub mod dag;
 pub mod details;
 pub mod events;
 pub mod history;
+pub mod image_diff;
 pub mod memory;
 pub mod resources;
 pub mod texture;

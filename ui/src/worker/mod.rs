@@ -169,11 +169,22 @@ pub struct Launch {
     pub budget: u64,
 }
 
-/// The UI's end of the worker.
+/// The UI's end of the worker. Dropping it stops the worker at its next pass or frame and
+/// waits for it, so no replay is still using the device when the process exits.
 #[derive(Debug)]
 pub struct Worker {
-    requests: Sender<Command>,
+    requests: Option<Sender<Command>>,
     pub replies: Receiver<Reply>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        self.requests = None;
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
 }
 
 impl Worker {
@@ -181,35 +192,43 @@ impl Worker {
     pub fn start(launch: Launch) -> Worker {
         let (requests, rx) = std::sync::mpsc::channel();
         let (tx, replies) = std::sync::mpsc::channel();
-        std::thread::spawn(move || {
+        let thread = std::thread::spawn(move || {
             if let Err(Stop::Failed(e)) = run(launch, &rx, &tx) {
                 let _ = tx.send(Reply::Failed(e));
             }
         });
-        Worker { requests, replies }
+        Worker {
+            requests: Some(requests),
+            replies,
+            thread: Some(thread),
+        }
+    }
+
+    fn send(&self, command: Command) -> bool {
+        self.requests
+            .as_ref()
+            .is_some_and(|r| r.send(command).is_ok())
     }
 
     /// Asks for a view; `false` when the worker has stopped.
     pub fn request(&self, view: ViewRequest) -> bool {
-        self.requests.send(Command::View(view)).is_ok()
+        self.send(Command::View(view))
     }
 
     /// Asks for thumbnails of `textures` as of `pass`, answered one [`Reply::Thumbnail`] each;
     /// a later call replaces what is left of an earlier one.
     pub fn thumbnails(&self, pass: usize, textures: Vec<TextureRequest>) -> bool {
-        self.requests
-            .send(Command::Thumbnails(pass, textures))
-            .is_ok()
+        self.send(Command::Thumbnails(pass, textures))
     }
 
     /// Asks for the history of a texel; answered with [`Reply::History`].
     pub fn history(&self, request: HistoryRequest) -> bool {
-        self.requests.send(Command::History(request)).is_ok()
+        self.send(Command::History(request))
     }
 
     /// Asks for `view` to be written to `path`; answered with [`Reply::Saved`].
     pub fn save(&self, view: ViewRequest, how: SaveAs, path: PathBuf) -> bool {
-        self.requests.send(Command::Save(view, how, path)).is_ok()
+        self.send(Command::Save(view, how, path))
     }
 }
 

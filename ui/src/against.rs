@@ -1,0 +1,183 @@
+//! The image diff: a second capture (or a second replay of the same one) replayed beside the
+//! first by its own worker on its own device. For the current pass, the pass the structural
+//! diff pairs with it there (so renamed and moved passes still meet) shows the texture of the
+//! same name with the same controls, and the two images as shown are compared with FLIP
+//! (NVIDIA's perceptual error metric, through the `nv-flip` crate) on a thread of its own; the
+//! error map is drawn with FLIP's magma colours.
+
+use std::sync::Arc;
+use std::sync::mpsc::Receiver;
+
+use crate::model::Inspection;
+use crate::worker::{TextureRequest, ViewRequest};
+
+/// B's image as of its pass.
+pub struct Shown {
+    pub request: ViewRequest,
+    pub texture: egui::TextureHandle,
+    pub pixels: Arc<egui::ColorImage>,
+}
+
+/// FLIP between the two images as shown: its mean and 99th percentile, and the error map.
+pub struct Flip {
+    pub key: (ViewRequest, ViewRequest),
+    pub result: Result<FlipResult, String>,
+}
+
+pub struct FlipResult {
+    pub mean: f32,
+    pub p99: f32,
+    pub map: egui::TextureHandle,
+}
+
+/// What the image diff pane shows of the second capture.
+pub struct Against {
+    pub model: Arc<Inspection>,
+    /// For each pass here, the pass there and whether the structural diff paired them as a
+    /// rename.
+    pub pass_of: Vec<Option<(usize, bool)>>,
+    pub shown: Option<Shown>,
+    pub flip: Option<Flip>,
+    pub status: String,
+    pub error: Option<String>,
+    pub(crate) sent: Option<ViewRequest>,
+    pub(crate) job: Option<FlipJob>,
+}
+
+impl std::fmt::Debug for Shown {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Shown")
+            .field("request", &self.request)
+            .finish_non_exhaustive()
+    }
+}
+
+impl std::fmt::Debug for Flip {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Flip")
+            .field("key", &self.key)
+            .finish_non_exhaustive()
+    }
+}
+
+impl std::fmt::Debug for FlipResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FlipResult")
+            .field("mean", &self.mean)
+            .field("p99", &self.p99)
+            .finish_non_exhaustive()
+    }
+}
+
+impl std::fmt::Debug for Against {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Against")
+            .field("capture", &self.model.capture)
+            .field("sent", &self.sent)
+            .finish_non_exhaustive()
+    }
+}
+
+/// A FLIP computed off the UI thread: mean, 99th percentile, the map's pixels.
+pub(crate) type FlipOutput = (f32, f32, egui::ColorImage);
+
+/// A FLIP being computed: the two views it compares and where its result arrives.
+pub(crate) type FlipJob = (
+    (ViewRequest, ViewRequest),
+    Receiver<Result<FlipOutput, String>>,
+);
+
+impl Against {
+    /// The second capture's model, paired with `here` through `pairs` (capture pass indices,
+    /// here and there, and whether the pair is a rename).
+    pub fn new(here: &Inspection, model: Inspection, pairs: &[(usize, usize, bool)]) -> Against {
+        let pass_of = here
+            .passes
+            .iter()
+            .map(|p| {
+                let &(_, j, renamed) = pairs.iter().find(|(i, _, _)| *i == p.id.index())?;
+                let there = model.pass_position(crate::model::PassId(j as u32))?;
+                Some((there, renamed))
+            })
+            .collect();
+        Against {
+            model: Arc::new(model),
+            pass_of,
+            shown: None,
+            flip: None,
+            status: "starting".into(),
+            error: None,
+            sent: None,
+            job: None,
+        }
+    }
+
+    /// What to ask of the second worker for the view `here` wants: the paired pass, the texture
+    /// of the same name, the same subresource and controls.
+    pub fn wanted(
+        &self,
+        here: &Inspection,
+        view: &ViewRequest,
+        resource: Option<usize>,
+    ) -> Option<ViewRequest> {
+        let (pass, _) = self.pass_of.get(view.pass).copied().flatten()?;
+        let t = view.texture.as_ref()?;
+        let name = &here.resources.get(resource?)?.name;
+        let there = self.model.resources.iter().find(|r| &r.name == name)?;
+        let tv = there.texture.as_ref().filter(|t| t.unviewable.is_none())?;
+        Some(ViewRequest {
+            pass,
+            step: None,
+            texture: Some(TextureRequest {
+                plan_index: tv.plan_index,
+                sampling: t.sampling,
+                volume: tv.volume,
+                sub: t.sub,
+                controls: t.controls,
+            }),
+            buffer: None,
+        })
+    }
+}
+
+fn flip_image(i: &egui::ColorImage) -> nv_flip::FlipImageRgb8 {
+    let rgb: Vec<u8> = i
+        .pixels
+        .iter()
+        .flat_map(|c| {
+            let [r, g, b, _] = c.to_array();
+            [r, g, b]
+        })
+        .collect();
+    nv_flip::FlipImageRgb8::with_data(i.size[0] as u32, i.size[1] as u32, &rgb)
+}
+
+/// FLIP of `test` against `reference` (both as shown, gamma-encoded), or why not.
+pub(crate) fn flip(
+    reference: &egui::ColorImage,
+    test: &egui::ColorImage,
+) -> Result<FlipOutput, String> {
+    if reference.size != test.size {
+        return Err(format!(
+            "the images differ in size ({}x{} here, {}x{} there): FLIP compares equal sizes",
+            reference.size[0], reference.size[1], test.size[0], test.size[1]
+        ));
+    }
+    let error = nv_flip::flip(
+        flip_image(reference),
+        flip_image(test),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    let mut pool = nv_flip::FlipPool::from_image(&error);
+    let map = error.apply_color_lut(&nv_flip::magma_lut());
+    let rgba: Vec<u8> = map
+        .to_vec()
+        .chunks_exact(3)
+        .flat_map(|c| [c[0], c[1], c[2], 255])
+        .collect();
+    Ok((
+        pool.mean(),
+        pool.get_percentile(0.99, false),
+        egui::ColorImage::from_rgba_unmultiplied(reference.size, &rgba),
+    ))
+}
