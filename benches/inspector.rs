@@ -118,11 +118,18 @@ fn main() {
         }
     }
     let worst = switches.iter().copied().fold(0.0, f64::max);
+    let mut slowest: Vec<(f64, usize)> = switches.iter().copied().zip(0..).collect();
+    slowest.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let slowest: Vec<String> = slowest
+        .iter()
+        .take(5)
+        .map(|&(t, p)| format!("{} {t:.3} s", model.passes[p].name))
+        .collect();
     println!(
         "inspector on {CAPTURE} at scale 0.5, {adapter}: window {:.2} s; base_material's albedo \
          shown {:.2} s (the first replay {replayed_through} passes in); whole frame browsable \
          {:.2} s; pass switch over {} passes: median {:.3} s, worst {:.3} s; re-opening a \
-         texture: median {:.3} s; {}",
+         texture: median {:.3} s; {}; slowest switches: {}",
         window.as_secs_f64(),
         first.as_secs_f64(),
         whole.as_secs_f64(),
@@ -131,6 +138,7 @@ fn main() {
         worst,
         median(reopen),
         h.state().status,
+        slowest.join(", "),
     );
     // A frame as a window runs it: the UI laid out and painted, then tessellated (no
     // accessibility tree, which the test harness always builds).

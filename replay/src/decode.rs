@@ -348,6 +348,52 @@ pub fn read_texture(
     spec: &TextureSpec,
     format: wgpu::TextureFormat,
 ) -> Result<Vec<DecodedImage>, ReadError> {
+    read_texture_part(device, queue, texture, spec, format, None)
+}
+
+/// Reads back one mip and array layer of `texture` (of a 3D texture, every slice of the mip)
+/// and decodes it: a viewer showing one subresource of a shadow-map array reads a quarter of
+/// it. The caller checks `readable_format` first.
+pub fn read_subresource(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    spec: &TextureSpec,
+    format: wgpu::TextureFormat,
+    mip: u32,
+    layer: u32,
+) -> Result<Vec<DecodedImage>, ReadError> {
+    read_texture_part(device, queue, texture, spec, format, Some((mip, layer)))
+}
+
+/// The stencil aspect of one mip and array layer (see [`read_subresource`]).
+pub fn read_stencil_subresource(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    spec: &TextureSpec,
+    mip: u32,
+    layer: u32,
+) -> Result<Vec<DecodedImage>, ReadError> {
+    read_aspect(
+        device,
+        queue,
+        texture,
+        spec,
+        wgpu::TextureFormat::Stencil8,
+        wgpu::TextureAspect::StencilOnly,
+        Some((mip, layer)),
+    )
+}
+
+fn read_texture_part(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    spec: &TextureSpec,
+    format: wgpu::TextureFormat,
+    only: Option<(u32, u32)>,
+) -> Result<Vec<DecodedImage>, ReadError> {
     if spec.format.is_compressed() {
         let (decoded, decoded_spec) =
             crate::decompress::decompress(device, queue, texture, spec, format).map_err(|e| {
@@ -363,6 +409,7 @@ pub fn read_texture(
             &decoded_spec,
             format,
             wgpu::TextureAspect::All,
+            only,
         );
     }
     let aspect = if spec.format.has_depth_aspect() {
@@ -370,7 +417,7 @@ pub fn read_texture(
     } else {
         wgpu::TextureAspect::All
     };
-    read_aspect(device, queue, texture, spec, format, aspect)
+    read_aspect(device, queue, texture, spec, format, aspect, only)
 }
 
 /// Whether a texture has a stencil aspect that [`read_stencil`] can read.
@@ -393,9 +440,11 @@ pub fn read_stencil(
         spec,
         wgpu::TextureFormat::Stencil8,
         wgpu::TextureAspect::StencilOnly,
+        None,
     )
 }
 
+/// Reads `aspect` of every subresource, or of the one mip and layer in `only`.
 fn read_aspect(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -403,6 +452,7 @@ fn read_aspect(
     spec: &TextureSpec,
     format: wgpu::TextureFormat,
     aspect: wgpu::TextureAspect,
+    only: Option<(u32, u32)>,
 ) -> Result<Vec<DecodedImage>, ReadError> {
     let texel = format.block_copy_size(Some(aspect)).unwrap_or(4);
     let d3 = spec.dimension == wgpu::TextureDimension::D3;
@@ -421,6 +471,9 @@ fn read_aspect(
             1
         };
         for layer in 0..layers {
+            if only.is_some_and(|(m, l)| m != mip || (!d3 && l != layer)) {
+                continue;
+            }
             let row = w * texel;
             let padded = row.div_ceil(256) * 256;
             let size = u64::from(padded) * u64::from(h) * u64::from(depth);

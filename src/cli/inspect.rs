@@ -58,6 +58,13 @@ pub struct InspectArgs {
     /// The texel to read out, X,Y (as a click on the texture would pick it).
     #[arg(long, value_parser = parse_pixel)]
     pub pixel: Option<(u32, u32)>,
+    /// Show the frame as of this draw or dispatch of the `--select` pass (its index among
+    /// them, from 0), as selecting it in the event list does.
+    #[arg(long, requires = "select")]
+    pub draw: Option<usize>,
+    /// Ask for the history of the `--pixel` texel of the `--view` texture (the History panel).
+    #[arg(long, requires_all = ["pixel", "view"])]
+    pub history: bool,
     /// Window size in points, WxH (screenshots).
     #[arg(long, default_value = "1600x900", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -223,8 +230,18 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
             model.resources[v].name
         );
     }
+    if let (Some(p), Some(d)) = (select, args.draw) {
+        let steps = model.passes[p].steps;
+        if d >= steps {
+            bail!(
+                "--draw {d}: pass \"{}\" has {steps} draws or dispatches",
+                model.passes[p].name
+            );
+        }
+    }
     let stencil = args.stencil;
     let pixel = args.pixel;
+    let (draw, history) = (args.draw, args.history);
     let panel = args.panel;
     let against = against.map(|(model_b, pairs, worker_b)| {
         (
@@ -242,8 +259,15 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
                 app.show_aspect(true);
             }
         }
+        if let (Some(p), Some(d)) = (select, draw) {
+            app.expanded_pass(p);
+            app.select_step(p, d);
+        }
         if let Some((x, y)) = pixel {
             app.pick(x, y);
+        }
+        if history {
+            app.request_history();
         }
         if let Some(p) = panel {
             app.show_pane(p);

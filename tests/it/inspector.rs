@@ -291,6 +291,25 @@ fn the_ui_keeps_drawing_and_taking_input_while_the_first_replay_runs() {
         "longest UI frame {longest:?} during a {replay:?} replay"
     );
     settle(&mut h);
+    // Every texture of the frame opens at its last pass (2D and 3D, float, integer, depth).
+    h.state_mut().select_pass(model.passes.len() - 1);
+    for (r, res) in model.resources.iter().enumerate() {
+        if res.texture.as_ref().is_some_and(|t| t.unviewable.is_none()) {
+            h.state_mut().open_resource(r);
+            settle(&mut h);
+            let shown = h
+                .state()
+                .displayed
+                .as_ref()
+                .and_then(|d| d.request.texture.clone());
+            assert_eq!(
+                shown.map(|t| t.plan_index),
+                res.texture.as_ref().map(|t| t.plan_index),
+                "{}",
+                res.name
+            );
+        }
+    }
 }
 
 /// The whole window at the common 1280x720 and at a small 800x600: every panel keeps a usable

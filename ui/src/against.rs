@@ -134,6 +134,7 @@ impl Against {
                 volume: tv.volume,
                 sub: t.sub,
                 controls: t.controls,
+                stride: t.stride,
             }),
             buffer: None,
         })

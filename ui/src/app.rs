@@ -195,7 +195,11 @@ impl Inspector {
     /// Saves the texture view as shown (PNG) or its values (EXR) to `save_path`, with the
     /// extension set to match; the outcome arrives in `saved`.
     pub fn save_view(&mut self, how: SaveAs) {
-        let wanted = self.view.wanted();
+        // A saved image has every texel, whatever the zoom.
+        let mut wanted = self.view.wanted();
+        if let Some(t) = &mut wanted.texture {
+            t.stride = 1;
+        }
         let ext = match how {
             SaveAs::Png => "png",
             SaveAs::Exr => "exr",
@@ -225,6 +229,7 @@ impl Inspector {
         while let Ok(reply) = worker.replies.try_recv() {
             match reply {
                 Reply::Progress(p) => self.view.status = p,
+                Reply::Ready => self.view.ready = true,
                 Reply::Replayed { done, total } => self.view.replayed = Some((done, total)),
                 Reply::Timings(t) => {
                     // A report given on the command line stays; the worker's own frames
@@ -248,6 +253,11 @@ impl Inspector {
                     texture,
                     image,
                 } => {
+                    if self.thumbnails_sent == Some(pass) {
+                        self.view.thumbnails_waiting =
+                            self.view.thumbnails_waiting.saturating_sub(1);
+                    }
+                    let Some(image) = image else { continue };
                     let thumbnails = &mut self.view.thumbnails.0;
                     // Thumbnails of the last few passes visited are kept.
                     if thumbnails.len() > 8 * crate::state::THUMBNAILS {
@@ -282,7 +292,6 @@ impl Inspector {
                 self.view.displayed = None;
                 continue;
             };
-            let size = [image.size[0] as u32, image.size[1] as u32];
             let pixels = Arc::new(image);
             let texture = match self.view.displayed.take() {
                 Some(mut d) => {
@@ -296,7 +305,7 @@ impl Inspector {
                     egui::TextureOptions::NEAREST,
                 ),
             };
-            let range = s.decoded.as_ref().map(|d| d.range());
+            let range = s.range;
             if self.view.fit_pending
                 && self.view.wanted().texture.map(|t| t.plan_index)
                     == s.request.texture.as_ref().map(|t| t.plan_index)
@@ -309,7 +318,7 @@ impl Inspector {
             self.view.displayed = Some(Displayed {
                 request: s.request,
                 texture,
-                size,
+                size: s.texels,
                 range,
                 histogram: None,
                 decoded: s.decoded,
@@ -327,6 +336,7 @@ impl Inspector {
                 .into_iter()
                 .filter(|t| !self.view.thumbnails.0.contains_key(&(pass, t.plan_index)))
                 .collect();
+            self.view.thumbnails_waiting = list.len();
             worker.thumbnails(pass, list);
             self.thumbnails_sent = Some(pass);
         }

@@ -91,7 +91,8 @@ fn builder(size: egui::Vec2, render_state: RenderState) -> egui_kittest::Harness
         ))
 }
 
-/// Steps the harness until the worker has answered and the UI has drawn the answer.
+/// Steps the harness until the worker has answered, finished its start and drawn every
+/// thumbnail, and the UI has drawn it all.
 pub fn settle(
     harness: &mut egui_kittest::Harness<'static, Inspector>,
     timeout: Duration,
@@ -103,7 +104,7 @@ pub fn settle(
         if let Some(e) = &harness.state().error {
             return Err(HeadlessError::Replay(e.clone()));
         }
-        if harness.state().is_idle() {
+        if harness.state().is_settled() {
             quiet += 1;
         } else {
             quiet = 0;

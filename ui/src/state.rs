@@ -168,6 +168,7 @@ pub type HistogramKey = ([bool; 4], f32, f32);
 pub struct Displayed {
     pub request: ViewRequest,
     pub texture: egui::TextureHandle,
+    /// The subresource's size in texels (the image is smaller by the request's stride).
     pub size: [u32; 2],
     pub decoded: Option<Arc<DecodedImage>>,
     /// The decoded values' finite range (for auto-fit), found once.
@@ -206,10 +207,17 @@ pub struct View {
     pub(crate) history_request: Option<HistoryRequest>,
     /// Thumbnails the worker drew: (pass, plan texture) -> image.
     pub thumbnails: Thumbnails,
+    /// Thumbnails asked for the current pass and not yet answered.
+    pub thumbnails_waiting: usize,
+    /// The worker has done everything it does on its own at start (the browsed frame, the
+    /// timed frames).
+    pub ready: bool,
     /// Where the timeline drew each pass last frame (for clicks, and for tests to aim at).
     pub timeline_bars: Vec<(usize, egui::Rect)>,
     /// Fit black and white points to the next image's range (set when a depth texture opens).
     pub fit_pending: bool,
+    /// The texture panel's image area last frame, for the display's stride.
+    pub texture_area: egui::Vec2,
     /// Where each pane shown was drawn last frame (for tests of the layout).
     pub pane_rects: Vec<(Pane, egui::Rect)>,
     /// Where the DAG drew each pass last frame.
@@ -279,6 +287,8 @@ impl View {
             timeline_bars: Vec::new(),
             timeline_span: None,
             thumbnails: Default::default(),
+            thumbnails_waiting: 0,
+            ready: false,
             history: None,
             against: None,
             history_pending: false,
@@ -290,6 +300,7 @@ impl View {
             fit_pending: false,
             dag_nodes: Vec::new(),
             pane_rects: Vec::new(),
+            texture_area: egui::Vec2::ZERO,
             dag_view: (Vec2::ZERO, 1.0),
             dag_centred: None,
             error: None,
@@ -334,6 +345,14 @@ impl View {
     /// Whether pass `pass` can be viewed now (its copies are made).
     pub fn pass_ready(&self, pass: usize) -> bool {
         !self.replays || self.replayed.is_some_and(|(done, _)| pass <= done)
+    }
+
+    /// Whether the window shows all it will without further input: the worker is idle and done
+    /// with its start, and every thumbnail of the current pass has arrived.
+    pub fn is_settled(&self) -> bool {
+        self.is_idle()
+            && (!self.replays || self.ready || self.error.is_some())
+            && self.thumbnails_waiting == 0
     }
 
     /// Whether the worker has answered everything asked of it.
@@ -409,6 +428,11 @@ impl View {
         {
             self.open_resource(r);
         }
+    }
+
+    /// Shows the draws and dispatches of `pass` in the event list.
+    pub fn expanded_pass(&mut self, pass: usize) {
+        self.selection.expanded.insert(pass);
     }
 
     /// Makes draw or dispatch `step` of `pass` current: the texture viewer shows the frame
@@ -498,10 +522,32 @@ impl View {
                     volume: t.volume,
                     sub: Subresource::default(),
                     controls,
+                    stride: 1,
                 })
             })
             .take(THUMBNAILS)
             .collect()
+    }
+
+    /// Texels per display pixel for resource `r` at the current zoom: as many as fit in one
+    /// pixel of the panel (at least 1), so a large texture is drawn at the size it is seen.
+    fn stride(&self, r: usize) -> u32 {
+        let res = &self.model.resources[r];
+        let mip = self.selection.sub.mip;
+        let (w, h) = ((res.width >> mip).max(1), (res.height >> mip).max(1));
+        let per_pixel = match self.selection.zoom {
+            Zoom::Fit => {
+                let area = self.texture_area;
+                if area.x < 1.0 || area.y < 1.0 {
+                    return 1;
+                }
+                (w as f32 / area.x).max(h as f32 / area.y)
+            }
+            Zoom::Scale(s) => 1.0 / s.max(1e-3),
+        };
+        // Powers of two, so small zoom changes do not ask for a new image each time.
+        let stride = per_pixel.max(1.0).log2().floor().exp2() as u32;
+        stride.clamp(1, 64)
     }
 
     /// The view the panels want now.
@@ -521,6 +567,7 @@ impl View {
                 volume: t.volume,
                 sub: self.selection.sub,
                 controls: self.selection.controls,
+                stride: self.stride(r),
             })
         });
         let buffer = self

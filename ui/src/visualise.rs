@@ -79,16 +79,24 @@ fn source(sampling: Sampling, volume: bool) -> String {
             "var src: texture_depth_2d;",
             "vec4<f32>(textureLoad(src, p, 0), 0.0, 0.0, 1.0)".to_owned(),
         ),
-        (Sampling::Uint, _) => (
+        (Sampling::Uint, false) => (
             "var src: texture_2d<u32>;",
             "vec4<f32>(textureLoad(src, p, 0))".to_owned(),
+        ),
+        (Sampling::Uint, true) => (
+            "var src: texture_3d<u32>;",
+            "vec4<f32>(textureLoad(src, vec3<i32>(p, i32(view.slice)), 0))".to_owned(),
+        ),
+        (Sampling::Sint, true) => (
+            "var src: texture_3d<i32>;",
+            "vec4<f32>(textureLoad(src, vec3<i32>(p, i32(view.slice)), 0))".to_owned(),
         ),
         (Sampling::Stencil, _) => (
             "var src: texture_2d<u32>;",
             "vec4<f32>(f32(textureLoad(src, p, 0).r & view.stencil_bits), 0.0, 0.0, 1.0)"
                 .to_owned(),
         ),
-        (Sampling::Sint, _) => (
+        (Sampling::Sint, false) => (
             "var src: texture_2d<i32>;",
             "vec4<f32>(textureLoad(src, p, 0))".to_owned(),
         ),
@@ -102,7 +110,7 @@ fn source(sampling: Sampling, volume: bool) -> String {
         .replace("LOAD_EXPR", &load)
 }
 
-fn pack(c: &Controls, slice: u32) -> [u8; 48] {
+fn pack(c: &Controls, slice: u32, stride: u32) -> [u8; 48] {
     let mask = c.channels.map(|on| if on { 1.0f32 } else { 0.0 });
     let flags = u32::from(c.encode_srgb) | (u32::from(c.invert) << 1) | (u32::from(c.overlay) << 2);
     let mut out = [0u8; 48];
@@ -117,7 +125,7 @@ fn pack(c: &Controls, slice: u32) -> [u8; 48] {
         flags,
         slice,
         c.stencil_bits,
-        0,
+        stride,
         0,
     ];
     for (i, w) in words.iter().enumerate() {
@@ -133,7 +141,9 @@ impl Visualiser {
         sampling: Sampling,
         volume: bool,
     ) -> &(wgpu::RenderPipeline, wgpu::BindGroupLayout) {
-        let volume = volume && sampling == Sampling::Float;
+        // Depth and stencil textures are never 3D.
+        let volume =
+            volume && matches!(sampling, Sampling::Float | Sampling::Uint | Sampling::Sint);
         self.pipelines
             .entry((sampling_key(sampling), volume))
             .or_insert_with(|| {
@@ -208,7 +218,7 @@ impl Visualiser {
     }
 
     /// Draws `sub` of `texture` into a new display image of that subresource's size and
-    /// returns it; the caller registers its view with egui.
+    /// returns it; the caller reads it back.
     #[allow(clippy::too_many_arguments)]
     pub fn draw(
         &mut self,
@@ -220,9 +230,26 @@ impl Visualiser {
         sub: Subresource,
         controls: &Controls,
     ) -> wgpu::Texture {
+        self.draw_strided(device, queue, texture, (sampling, volume), sub, controls, 1)
+    }
+
+    /// Like [`Visualiser::draw`], one texel in `stride` along each axis: a small image of a
+    /// large texture without drawing it whole (thumbnails).
+    #[allow(clippy::too_many_arguments)]
+    pub fn draw_strided(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        texture: &wgpu::Texture,
+        (sampling, volume): (Sampling, bool),
+        sub: Subresource,
+        controls: &Controls,
+        stride: u32,
+    ) -> wgpu::Texture {
+        let stride = stride.max(1);
         let mip = sub.mip.min(texture.mip_level_count().saturating_sub(1));
-        let width = (texture.width() >> mip).max(1);
-        let height = (texture.height() >> mip).max(1);
+        let width = ((texture.width() >> mip).max(1)).div_ceil(stride);
+        let height = ((texture.height() >> mip).max(1)).div_ceil(stride);
         let depth = if volume {
             (texture.depth_or_array_layers() >> mip).max(1)
         } else {
@@ -274,7 +301,11 @@ impl Visualiser {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        queue.write_buffer(&uniform, 0, &pack(controls, sub.layer.min(depth - 1)));
+        queue.write_buffer(
+            &uniform,
+            0,
+            &pack(controls, sub.layer.min(depth - 1), stride),
+        );
         let (pipeline, layout) = self.pipeline(device, sampling, volume);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("framelab visualise"),

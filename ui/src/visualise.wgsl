@@ -1,4 +1,5 @@
-// The texture viewer's display pass: one texel of the viewed subresource per output pixel,
+// The texture viewer's display pass: one texel of the viewed subresource per output pixel
+// (every `stride`-th texel for a thumbnail),
 // channels masked, black and white points and exposure applied, encoded for egui (which
 // expects gamma-encoded, non-sRGB textures), NaN / Inf / negative values overlaid.
 // SOURCE_DECL and LOAD_EXPR are filled in per texture sampling type.
@@ -11,7 +12,8 @@ struct View {
     flags: u32,
     slice: u32,
     stencil_bits: u32,
-    pad1: u32,
+    // Texels per output pixel along each axis: 1 for the viewer, more for a thumbnail.
+    stride: u32,
     pad2: u32,
 };
 
@@ -50,7 +52,7 @@ fn is_inf(x: f32) -> bool {
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let raw = load(vec2<i32>(pos.xy));
+    let raw = load(vec2<i32>(pos.xy) * i32(max(view.stride, 1u)));
     if (view.flags & FLAG_OVERLAY) != 0u {
         var nan = false;
         var inf = false;

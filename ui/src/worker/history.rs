@@ -5,8 +5,6 @@
 //! from a copy of what it had written before it started (so a draw's value never includes the
 //! draws after it).
 
-use framelab_replay::decode::{DecodedImage, read_stencil, read_texture, readable_format};
-
 use super::{State, TextureRequest, WorkerError, snapshots};
 
 /// Passes whose draws are looked into, at most (each costs a replay of the frame up to it).
@@ -46,20 +44,10 @@ pub struct PixelHistory {
 /// The texel's value in `texture` (a replay texture or a copy of it), as text.
 fn texel(s: &State, texture: &wgpu::Texture, h: &HistoryRequest) -> String {
     let t = &h.texture;
-    let spec = &s.replaying.session.plan.textures[t.plan_index];
-    let (device, queue) = (&s.replaying.session.device, &s.replaying.session.queue);
-    let read = if t.sampling == crate::model::Sampling::Stencil {
-        read_stencil(device, queue, texture, spec).map_err(|e| e.to_string())
-    } else {
-        match readable_format(spec) {
-            Ok(f) => read_texture(device, queue, texture, spec, f).map_err(|e| e.to_string()),
-            Err(why) => Err(why.0.to_owned()),
-        }
-    };
-    let images: Vec<DecodedImage> = match read {
-        Ok(images) => images,
-        Err(why) => return format!("not read: {why}"),
-    };
+    let (images, note) = super::read_sub(s, texture, t);
+    if let Some(why) = note {
+        return format!("not read: {why}");
+    }
     let image = images.iter().find(|d| {
         d.mip == t.sub.mip
             && if t.volume {

@@ -16,7 +16,9 @@ use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, TryRecvError};
 
 use framelab_core::pipeline::Lowered;
-use framelab_replay::decode::{DecodedImage, read_stencil, read_texture, readable_format};
+use framelab_replay::decode::{
+    DecodedImage, read_stencil_subresource, read_subresource, readable_format,
+};
 use framelab_replay::{GpuContext, Replaying};
 
 pub use self::history::{HistoryRequest, HistoryRow, PixelHistory};
@@ -43,6 +45,10 @@ pub struct TextureRequest {
     pub volume: bool,
     pub sub: Subresource,
     pub controls: Controls,
+    /// Texels per display pixel along each axis: a 4096x4096 shadow map fitted into a panel a
+    /// quarter as wide is drawn at 1024x1024; zoomed in, at every texel. The values read out
+    /// are always every texel's.
+    pub stride: u32,
 }
 
 /// How a view is saved: the image as shown (PNG), or the subresource's values (EXR).
@@ -110,6 +116,9 @@ pub enum Written {
 #[derive(Debug)]
 pub enum Reply {
     Progress(String),
+    /// Everything the worker does on its own at start is done: the browsed frame and the
+    /// timed frames.
+    Ready,
     /// Passes `0..=done` of the browsed frame (of `total`) can be viewed.
     Replayed {
         done: usize,
@@ -122,11 +131,12 @@ pub enum Reply {
     Saved(Result<String, WorkerError>),
     /// A texel's history through the frame, or why there is none.
     History(Result<Arc<PixelHistory>, WorkerError>),
-    /// A thumbnail of plan texture `texture` as of `pass`.
+    /// A thumbnail of plan texture `texture` as of `pass` (`None`: its copy was evicted, and a
+    /// thumbnail never costs a replay).
     Thumbnail {
         pass: usize,
         texture: usize,
-        image: egui::ColorImage,
+        image: Option<egui::ColorImage>,
     },
     Failed(WorkerError),
 }
@@ -142,6 +152,10 @@ pub struct Shown {
     pub note: Option<String>,
     /// When the texture was last written, as of the pass.
     pub written: Option<Written>,
+    /// The subresource's size in texels (the display image is smaller by the stride).
+    pub texels: [u32; 2],
+    /// The decoded values' finite range (for auto-fit).
+    pub range: Option<(f32, f32)>,
     /// The requested buffer's bytes as of the pass (at most [`MAX_BUFFER_READ`]).
     pub buffer: Option<Arc<Vec<u8>>>,
 }
@@ -267,10 +281,12 @@ impl Origin {
     }
 }
 
-/// A texture read back: its decoded subresources, or why there are none.
+/// One subresource of a texture read back (of a 3D texture, every slice of a mip), decoded,
+/// or why it could not be.
 struct ReadBack {
-    /// Plan texture, where it came from, and whether the stencil aspect was read.
-    key: (usize, Origin, bool),
+    /// Plan texture, where it came from, whether the stencil aspect was read, and the mip and
+    /// layer.
+    key: (usize, Origin, bool, (u32, u32)),
     images: Vec<Arc<DecodedImage>>,
     note: Option<String>,
 }
@@ -370,6 +386,7 @@ fn run(launch: Launch, rx: &Receiver<Command>, tx: &Sender<Reply>) -> Result<(),
         send(Reply::Timings(time_frame(&mut s, f)?))?;
     }
     send(Reply::Progress(ready(&s)))?;
+    send(Reply::Ready)?;
     loop {
         serve(&mut s, &mut pending, rx, tx)?;
         pending.wait(rx)?;
@@ -537,43 +554,46 @@ fn serve(
             return Ok(());
         };
         // A thumbnail never costs a replay: one whose copy is gone is left out.
-        if let Some(image) = thumbnail(s, pass, &t) {
-            send(Reply::Thumbnail {
-                pass,
-                texture: t.plan_index,
-                image,
-            })?;
-        }
+        send(Reply::Thumbnail {
+            pass,
+            texture: t.plan_index,
+            image: thumbnail(s, pass, &t),
+        })?;
         pending.drain(rx)?;
     }
 }
 
 /// A small image of `t` as of `pass`, from the pass copies (depth fitted to its range).
 fn thumbnail(s: &mut State, pass: usize, t: &TextureRequest) -> Option<egui::ColorImage> {
-    let texture = match s.snaps.texture(t.plan_index, pass) {
-        Found::Copy { copy, .. } => copy,
-        Found::Live => s.replaying.session.texture(t.plan_index).clone(),
+    let (texture, origin) = match s.snaps.texture(t.plan_index, pass) {
+        Found::Copy { copy, after } => (copy, Origin::After(after)),
+        Found::Live => (
+            s.replaying.session.texture(t.plan_index).clone(),
+            Origin::Live,
+        ),
         Found::Evicted { .. } | Found::NotYet => return None,
     };
     let mut controls = t.controls;
     if t.sampling == Sampling::Depth {
-        let spec = &s.replaying.session.plan.textures[t.plan_index];
-        let (device, queue) = (&s.replaying.session.device, &s.replaying.session.queue);
-        let f = readable_format(spec).ok()?;
-        let images = read_texture(device, queue, &texture, spec, f).ok()?;
-        let (lo, hi) = images.first()?.range();
+        // Fitted to the subresource's range, from the read-back the viewer keeps (the view of
+        // this pass has usually just read it).
+        read_cached(s, &texture, origin, t);
+        let (lo, hi) = s.reads.front()?.images.first()?.range();
         controls.black = lo;
         controls.white = if hi > lo { hi } else { lo + 1.0 };
     }
+    // Every stride-th texel, to about twice the thumbnail's size, then box-filtered down.
+    let side = (texture.width() >> t.sub.mip).max(texture.height() >> t.sub.mip);
+    let stride = side.div_ceil(2 * THUMBNAIL_SIZE).max(1);
     let session = &s.replaying.session;
-    let display = s.visualiser.draw(
+    let display = s.visualiser.draw_strided(
         &session.device,
         &session.queue,
         &texture,
-        t.sampling,
-        t.volume,
+        (t.sampling, t.volume),
         t.sub,
         &controls,
+        stride,
     );
     let full = crate::visualise::read_display(&session.device, &session.queue, &display).ok()?;
     Some(shrink(&full, THUMBNAIL_SIZE))
@@ -746,6 +766,8 @@ fn show(s: &mut State, request: &ViewRequest) -> Result<Shown, WorkerError> {
             decoded: None,
             note: None,
             written: None,
+            texels: [0, 0],
+            range: None,
             buffer,
         });
     };
@@ -764,32 +786,7 @@ fn show(s: &mut State, request: &ViewRequest) -> Result<Shown, WorkerError> {
         Some(found) => found,
         None => texture_at(s, t.plan_index, pass)?,
     };
-    let stencil = t.sampling == Sampling::Stencil;
-    let key = (t.plan_index, origin, stencil);
-    match s.reads.iter().position(|r| r.key == key) {
-        Some(i) => {
-            // Most recent first.
-            if let Some(r) = s.reads.remove(i) {
-                s.reads.push_front(r);
-            }
-        }
-        None => {
-            let spec = &s.replaying.session.plan.textures[t.plan_index];
-            let (device, queue) = (&s.replaying.session.device, &s.replaying.session.queue);
-            let read = if stencil {
-                Ok(read_stencil(device, queue, &texture, spec))
-            } else {
-                readable_format(spec).map(|f| read_texture(device, queue, &texture, spec, f))
-            };
-            let (images, note) = match read {
-                Ok(Ok(images)) => (images.into_iter().map(Arc::new).collect(), None),
-                Ok(Err(e)) => (Vec::new(), Some(e.to_string())),
-                Err(why) => (Vec::new(), Some(why.0.to_owned())),
-            };
-            s.reads.push_front(ReadBack { key, images, note });
-            s.reads.truncate(READS_KEPT);
-        }
-    }
+    read_cached(s, &texture, origin, t);
     let (decoded, note) = match s.reads.front() {
         Some(ReadBack { images, note, .. }) => (
             images
@@ -808,25 +805,77 @@ fn show(s: &mut State, request: &ViewRequest) -> Result<Shown, WorkerError> {
         None => (None, None),
     };
     let session = &s.replaying.session;
-    let display = s.visualiser.draw(
+    let display = s.visualiser.draw_strided(
         &session.device,
         &session.queue,
         &texture,
-        t.sampling,
-        t.volume,
+        (t.sampling, t.volume),
         t.sub,
         &t.controls,
+        t.stride,
     );
     let pixels = crate::visualise::read_display(&session.device, &session.queue, &display)?;
     session.check_faults("drawing the texture view")?;
+    let mip = t.sub.mip.min(texture.mip_level_count().saturating_sub(1));
     Ok(Shown {
         request: request.clone(),
         display: Some(pixels),
+        range: decoded.as_ref().map(|d| d.range()),
         decoded,
         note,
         written: Some(origin.written()),
+        texels: [
+            (texture.width() >> mip).max(1),
+            (texture.height() >> mip).max(1),
+        ],
         buffer,
     })
+}
+
+/// Makes the read-back of the subresource `t` asks for of `texture` (found at `origin`) the
+/// first of the kept ones, reading it only if it is not kept.
+fn read_cached(s: &mut State, texture: &wgpu::Texture, origin: Origin, t: &TextureRequest) {
+    let stencil = t.sampling == Sampling::Stencil;
+    // A 3D texture's slices are read together.
+    let layer = if t.volume { 0 } else { t.sub.layer };
+    let key = (t.plan_index, origin, stencil, (t.sub.mip, layer));
+    match s.reads.iter().position(|r| r.key == key) {
+        Some(i) => {
+            if let Some(r) = s.reads.remove(i) {
+                s.reads.push_front(r);
+            }
+        }
+        None => {
+            let (images, note) = read_sub(s, texture, t);
+            s.reads.push_front(ReadBack { key, images, note });
+            s.reads.truncate(READS_KEPT);
+        }
+    }
+}
+
+/// The subresource `t` asks for of `texture` (a replay texture or a copy of it), decoded; or
+/// why it cannot be read.
+fn read_sub(
+    s: &State,
+    texture: &wgpu::Texture,
+    t: &TextureRequest,
+) -> (Vec<Arc<DecodedImage>>, Option<String>) {
+    let spec = &s.replaying.session.plan.textures[t.plan_index];
+    let (device, queue) = (&s.replaying.session.device, &s.replaying.session.queue);
+    let layer = if t.volume { 0 } else { t.sub.layer };
+    let read = if t.sampling == Sampling::Stencil {
+        Ok(read_stencil_subresource(
+            device, queue, texture, spec, t.sub.mip, layer,
+        ))
+    } else {
+        readable_format(spec)
+            .map(|f| read_subresource(device, queue, texture, spec, f, t.sub.mip, layer))
+    };
+    match read {
+        Ok(Ok(images)) => (images.into_iter().map(Arc::new).collect(), None),
+        Ok(Err(e)) => (Vec::new(), Some(e.to_string())),
+        Err(why) => (Vec::new(), Some(why.0.to_owned())),
+    }
 }
 
 /// Plan buffer `index` as of `pass` (the last one read is kept).
