@@ -706,6 +706,33 @@ fn panels_match_their_snapshots_with_compared_timings() {
 /// `taa_output` (nothing has written it yet this frame), while the blur chain that follows
 /// reads this frame's.
 #[test]
+fn reports_at_different_scales_are_compared_under_a_warning() {
+    let a = report("tests/fixtures/timing/example_a.json");
+    let mut b = report("tests/fixtures/timing/example_b.json");
+    b.scale = a.scale * 2.0;
+    let mut h = open_with(
+        "captures/example/frame.json",
+        &Reports {
+            timings: Some((&a, "example_a.json".into())),
+            compare: Some((&b, "example_b.json".into())),
+        },
+    );
+    let model = h.state().model.clone();
+    let compare = model.compare.as_ref().expect("compared all the same");
+    let note = compare.note.clone().expect("a warning");
+    assert!(note.contains("different scales"), "{note}");
+    // Passes are still matched, and the timeline says so with its legend.
+    assert!(compare.passes[model.pass_named("tonemap").unwrap()].is_some());
+    h.state_mut().show_pane(Pane::Timeline);
+    h.run_steps(3);
+    assert!(h.query_by_label_contains("different scales").is_some());
+    assert!(
+        h.query_by_label_contains("regression: slower there")
+            .is_some()
+    );
+}
+
+#[test]
 fn history_reads_are_labelled_previous_frame() {
     let path = repo().join("captures/night_city/main_street_day.json");
     let analysed = Analysed::load(&path, &Options::default(), AnalyzeOptions::default()).unwrap();

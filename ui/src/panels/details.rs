@@ -232,31 +232,61 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
         });
 }
 
-/// Resource `r` as a thumbnail with its name below (a link where the thumbnail is not drawn
-/// yet or the resource is a buffer); `true` when clicked.
+/// Resource `r` as a cell of the thumbnail grid: its image as of the current pass (a texture
+/// whose thumbnail has arrived) or its kind, its name below; `true` when clicked.
 fn thumbnail(ui: &mut egui::Ui, app: &View, model: &crate::model::Inspection, r: usize) -> bool {
     let pass = app.selection.pass;
-    let image = model.resources[r]
+    let res = &model.resources[r];
+    let image = res
         .texture
         .as_ref()
         .and_then(|t| app.thumbnails.0.get(&(pass, t.plan_index)));
-    let Some(image) = image else {
-        return resource_link(ui, model, r);
-    };
     let side = crate::worker::THUMBNAIL_SIZE as f32;
-    ui.vertical(|ui| {
-        ui.set_width(side);
-        let size = image.size_vec2();
-        let scale = (side / size.x.max(size.y)).min(1.0);
-        let clicked = ui
-            .add(egui::Button::image(egui::load::SizedTexture::new(
-                image.id(),
-                size * scale,
-            )))
-            .on_hover_text(format!("{}: open", model.resources[r].name))
-            .clicked();
-        ui.add(egui::Label::new(egui::RichText::new(&model.resources[r].name).small()).truncate());
-        clicked
+    ui.allocate_ui(egui::vec2(side, side + 16.0), |ui| {
+        ui.vertical(|ui| {
+            ui.set_width(side);
+            ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Truncate);
+            let (rect, response) =
+                ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::click());
+            ui.painter()
+                .rect_filled(rect, 3.0, ui.visuals().extreme_bg_color);
+            match image {
+                Some(image) => {
+                    let size = image.size_vec2();
+                    let scale = (side / size.x.max(size.y)).min(1.0);
+                    let at = egui::Rect::from_center_size(rect.center(), size * scale);
+                    ui.painter().image(
+                        image.id(),
+                        at,
+                        egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+                        egui::Color32::WHITE,
+                    );
+                }
+                None => {
+                    ui.painter().text(
+                        rect.center(),
+                        egui::Align2::CENTER_CENTER,
+                        &res.kind,
+                        egui::FontId::proportional(11.0),
+                        ui.visuals().weak_text_color(),
+                    );
+                }
+            }
+            if response.hovered() {
+                ui.painter().rect_stroke(
+                    rect,
+                    3.0,
+                    egui::Stroke::new(1.5, ui.visuals().selection.stroke.color),
+                    egui::StrokeKind::Inside,
+                );
+            }
+            let link = resource_link(ui, model, r);
+            response
+                .on_hover_text(format!("{}: open", res.name))
+                .clicked()
+                || link
+        })
+        .inner
     })
     .inner
 }

@@ -54,6 +54,7 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     }
     let mut chosen = None;
     let height = (ui.available_height() - 20.0).max(20.0);
+    ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Truncate);
     TableBuilder::new(ui)
         .id_salt("pixel history")
         .striped(true)

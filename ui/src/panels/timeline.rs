@@ -136,6 +136,11 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
             Pos2::new(x1, y + LANE - 6.0),
         ))
     };
+    // Bars and fences stay right of the lane names however far the view is zoomed.
+    let lanes = painter.with_clip_rect(Rect::from_min_max(
+        Pos2::new(rect.left() + LABEL, rect.top()),
+        rect.max,
+    ));
     let mut hovered = None;
     app.timeline_bars.clear();
     for (i, p) in model.passes.iter().enumerate() {
@@ -157,9 +162,9 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
         } else {
             color
         };
-        painter.rect_filled(r, 2.0, color);
+        lanes.rect_filled(r, 2.0, color);
         if i == app.selection.pass {
-            painter.rect_stroke(
+            lanes.rect_stroke(
                 r,
                 2.0,
                 Stroke::new(2.0, Color32::WHITE),
@@ -167,7 +172,7 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
             );
         }
         if r.width() > 40.0 {
-            painter.text(
+            lanes.text(
                 r.left_center() + Vec2::new(3.0, 0.0),
                 egui::Align2::LEFT_CENTER,
                 &p.name,
@@ -182,8 +187,8 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     for &(from, to) in &model.fences {
         if let (Some(a), Some(b)) = (bar(from), bar(to)) {
             let (p0, p1) = (a.right_center(), b.left_center());
-            painter.line_segment([p0, p1], Stroke::new(1.5, Color32::YELLOW));
-            painter.circle_filled(p1, 3.0, Color32::YELLOW);
+            lanes.line_segment([p0, p1], Stroke::new(1.5, Color32::YELLOW));
+            lanes.circle_filled(p1, 3.0, Color32::YELLOW);
         }
     }
     if let Some(i) = hovered {
