@@ -375,15 +375,7 @@ pub fn read_stencil_subresource(
     mip: u32,
     layer: u32,
 ) -> Result<Vec<DecodedImage>, ReadError> {
-    read_aspect(
-        device,
-        queue,
-        texture,
-        spec,
-        wgpu::TextureFormat::Stencil8,
-        wgpu::TextureAspect::StencilOnly,
-        Some((mip, layer)),
-    )
+    stencil(device, queue, texture, spec, Some((mip, layer)))
 }
 
 fn read_texture_part(
@@ -433,6 +425,16 @@ pub fn read_stencil(
     texture: &wgpu::Texture,
     spec: &TextureSpec,
 ) -> Result<Vec<DecodedImage>, ReadError> {
+    stencil(device, queue, texture, spec, None)
+}
+
+fn stencil(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    spec: &TextureSpec,
+    only: Option<(u32, u32)>,
+) -> Result<Vec<DecodedImage>, ReadError> {
     read_aspect(
         device,
         queue,
@@ -440,7 +442,7 @@ pub fn read_stencil(
         spec,
         wgpu::TextureFormat::Stencil8,
         wgpu::TextureAspect::StencilOnly,
-        None,
+        only,
     )
 }
 

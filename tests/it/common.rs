@@ -157,3 +157,15 @@ pub fn layer_settings(dir: &std::path::Path, log: &str, enables: &[&str]) -> Pat
     let _ = std::fs::remove_file(&log);
     log
 }
+
+/// Copies the example's shaders into `dir` (created) and returns its capture as JSON, for a
+/// test to change and write there as `frame.json`.
+pub fn example_copy(dir: &std::path::Path) -> serde_json::Value {
+    let example = repo().join("captures/example");
+    std::fs::create_dir_all(dir.join("shaders")).unwrap();
+    for entry in std::fs::read_dir(example.join("shaders")).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, dir.join("shaders").join(path.file_name().unwrap())).unwrap();
+    }
+    serde_json::from_str(&std::fs::read_to_string(example.join("frame.json")).unwrap()).unwrap()
+}

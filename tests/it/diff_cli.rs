@@ -112,15 +112,7 @@ fn replayed_captures_are_compared_interleaved() {
     );
 
     let dir = temp("heavier");
-    let example = repo().join("captures/example");
-    std::fs::create_dir_all(dir.join("shaders")).unwrap();
-    for entry in std::fs::read_dir(example.join("shaders")).unwrap() {
-        let path = entry.unwrap().path();
-        std::fs::copy(&path, dir.join("shaders").join(path.file_name().unwrap())).unwrap();
-    }
-    let mut capture: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(example.join("frame.json")).unwrap())
-            .unwrap();
+    let mut capture = crate::common::example_copy(&dir);
     let bloom = capture["passes"]
         .as_array_mut()
         .unwrap()

@@ -76,6 +76,18 @@ fn launched(capture: &str, reports: &Reports<'_>) -> egui_kittest::Harness<'stat
     headless::harness(app, rs, egui::Vec2::new(1400.0, 900.0))
 }
 
+/// The example settled with example_a's timings compared against `b`.
+fn compared_with(b: &TimingReport) -> egui_kittest::Harness<'static, Inspector> {
+    let a = report("tests/fixtures/timing/example_a.json");
+    open_with(
+        "captures/example/frame.json",
+        &Reports {
+            timings: Some((&a, "example_a.json".into())),
+            compare: Some((b, "example_b.json".into())),
+        },
+    )
+}
+
 fn settle(h: &mut egui_kittest::Harness<'static, Inspector>) {
     headless::settle(h, SETTLE).unwrap();
 }
@@ -426,15 +438,7 @@ fn pixel_history_lists_the_pass_and_draws_that_wrote_a_texel() {
 fn changed_example() -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("framelab-against-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let example = repo().join("captures/example");
-    std::fs::create_dir_all(dir.join("shaders")).unwrap();
-    for entry in std::fs::read_dir(example.join("shaders")).unwrap() {
-        let path = entry.unwrap().path();
-        std::fs::copy(&path, dir.join("shaders").join(path.file_name().unwrap())).unwrap();
-    }
-    let mut capture: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(example.join("frame.json")).unwrap())
-            .unwrap();
+    let mut capture = crate::common::example_copy(&dir);
     for p in capture["passes"].as_array_mut().unwrap() {
         if p["name"] == "scene" {
             p["params"]["ground_tint"] = serde_json::json!([0.9, 0.1, 0.1, 1.0]);
@@ -654,15 +658,8 @@ fn buffers_stencil_and_saving_a_view() {
 /// fixed: B has tonemap 60% slower and bloom_mips 40% faster.
 #[test]
 fn panels_match_their_snapshots_with_compared_timings() {
-    let a = report("tests/fixtures/timing/example_a.json");
     let b = report("tests/fixtures/timing/example_b.json");
-    let mut h = open_with(
-        "captures/example/frame.json",
-        &Reports {
-            timings: Some((&a, "example_a.json".into())),
-            compare: Some((&b, "example_b.json".into())),
-        },
-    );
+    let mut h = compared_with(&b);
     let model = h.state().model.clone();
     let compare = model.compare.as_ref().expect("a comparison");
     let verdict = |pass: &str| {
@@ -702,21 +699,12 @@ fn panels_match_their_snapshots_with_compared_timings() {
     results.unwrap();
 }
 
-/// The pass panel says which reads see last frame: TAA's `history` is the previous frame's
-/// `taa_output` (nothing has written it yet this frame), while the blur chain that follows
-/// reads this frame's.
+/// Reports taken at different scales are still compared, under a warning.
 #[test]
 fn reports_at_different_scales_are_compared_under_a_warning() {
-    let a = report("tests/fixtures/timing/example_a.json");
     let mut b = report("tests/fixtures/timing/example_b.json");
-    b.scale = a.scale * 2.0;
-    let mut h = open_with(
-        "captures/example/frame.json",
-        &Reports {
-            timings: Some((&a, "example_a.json".into())),
-            compare: Some((&b, "example_b.json".into())),
-        },
-    );
+    b.scale *= 2.0;
+    let mut h = compared_with(&b);
     let model = h.state().model.clone();
     let compare = model.compare.as_ref().expect("compared all the same");
     let note = compare.note.clone().expect("a warning");
@@ -732,6 +720,9 @@ fn reports_at_different_scales_are_compared_under_a_warning() {
     );
 }
 
+/// The pass panel says which reads see last frame: TAA's `history` is the previous frame's
+/// `taa_output` (nothing has written it yet this frame), while the blur chain that follows
+/// reads this frame's.
 #[test]
 fn history_reads_are_labelled_previous_frame() {
     let path = repo().join("captures/night_city/main_street_day.json");

@@ -118,18 +118,8 @@ impl Inspector {
                 Reply::Shown(s) => {
                     let Some(image) = s.display else { continue };
                     let pixels = Arc::new(image);
-                    let texture = match a.shown.take() {
-                        Some(mut old) => {
-                            old.texture
-                                .set(pixels.as_ref().clone(), egui::TextureOptions::NEAREST);
-                            old.texture
-                        }
-                        None => ctx.load_texture(
-                            "framelab against",
-                            pixels.as_ref().clone(),
-                            egui::TextureOptions::NEAREST,
-                        ),
-                    };
+                    let old = a.shown.take().map(|s| s.texture);
+                    let texture = upload(ctx, old, &pixels, "framelab against");
                     a.shown = Some(crate::against::Shown {
                         request: s.request,
                         texture,
@@ -293,18 +283,8 @@ impl Inspector {
                 continue;
             };
             let pixels = Arc::new(image);
-            let texture = match self.view.displayed.take() {
-                Some(mut d) => {
-                    d.texture
-                        .set(pixels.as_ref().clone(), egui::TextureOptions::NEAREST);
-                    d.texture
-                }
-                None => ctx.load_texture(
-                    "framelab view",
-                    pixels.as_ref().clone(),
-                    egui::TextureOptions::NEAREST,
-                ),
-            };
+            let old = self.view.displayed.take().map(|d| d.texture);
+            let texture = upload(ctx, old, &pixels, "framelab view");
             let range = s.range;
             if self.view.fit_pending
                 && self.view.wanted().texture.map(|t| t.plan_index)
@@ -412,6 +392,22 @@ impl Inspector {
                 self.show_pane(Pane::History);
             }
         });
+    }
+}
+
+/// Uploads `pixels` into `old` (kept, so egui reuses the texture) or a new texture.
+fn upload(
+    ctx: &egui::Context,
+    old: Option<egui::TextureHandle>,
+    pixels: &egui::ColorImage,
+    name: &str,
+) -> egui::TextureHandle {
+    match old {
+        Some(mut t) => {
+            t.set(pixels.clone(), egui::TextureOptions::NEAREST);
+            t
+        }
+        None => ctx.load_texture(name, pixels.clone(), egui::TextureOptions::NEAREST),
     }
 }
 

@@ -476,23 +476,33 @@ fn keep(
     textures: &BTreeSet<usize>,
     buffers: &BTreeSet<usize>,
 ) {
-    let session = &s.replaying.session;
-    let mut encoder = session
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("framelab pass copies"),
-        });
-    for &t in textures {
-        let source = session.texture_in_frame(t);
-        s.snaps
-            .keep_texture(&session.device, &mut encoder, t, after, source);
-    }
-    for &b in buffers {
-        let source = session.buffer_in_frame(b);
-        s.snaps
-            .keep_buffer(&session.device, &mut encoder, b, after, source);
-    }
-    session.queue.submit([encoder.finish()]);
+    // The frame's copies, taken out of the session's borrow for the copy closure.
+    let sources: Vec<(usize, Source)> = {
+        let session = &s.replaying.session;
+        textures
+            .iter()
+            .map(|&t| (t, Source::Texture(session.texture_in_frame(t).clone())))
+            .chain(
+                buffers
+                    .iter()
+                    .map(|&b| (b, Source::Buffer(session.buffer_in_frame(b).clone()))),
+            )
+            .collect()
+    };
+    copies(s, |snaps, device, e| {
+        for (index, source) in &sources {
+            match source {
+                Source::Texture(t) => snaps.keep_texture(device, e, *index, after, t),
+                Source::Buffer(b) => snaps.keep_buffer(device, e, *index, after, b),
+            }
+        }
+    });
+}
+
+/// A resource of the frame to copy.
+enum Source {
+    Texture(wgpu::Texture),
+    Buffer(wgpu::Buffer),
 }
 
 /// Carries out the pending commands the replay can answer now: saves in order, then the
@@ -700,6 +710,21 @@ fn replay_step(s: &mut State, pass: usize, step: usize) -> Result<(), WorkerErro
     Ok(())
 }
 
+/// Encodes copies with `record` and submits them.
+fn copies(
+    s: &mut State,
+    record: impl FnOnce(&mut Snapshots, &wgpu::Device, &mut wgpu::CommandEncoder),
+) {
+    let session = &s.replaying.session;
+    let mut encoder = session
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("framelab pass copies"),
+        });
+    record(&mut s.snaps, &session.device, &mut encoder);
+    session.queue.submit([encoder.finish()]);
+}
+
 /// Plan texture `t` as of right after `pass`, and where it was found.
 fn texture_at(
     s: &mut State,
@@ -712,17 +737,10 @@ fn texture_at(
         Found::NotYet => Err(WorkerError::Later),
         Found::Evicted { after } => {
             replay_to(s, pass)?;
-            let session = &s.replaying.session;
-            let live = session.texture(t).clone();
-            let mut encoder =
-                session
-                    .device
-                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("framelab pass copies"),
-                    });
-            s.snaps
-                .keep_texture(&session.device, &mut encoder, t, after, &live);
-            session.queue.submit([encoder.finish()]);
+            let live = s.replaying.session.texture(t).clone();
+            copies(s, |snaps, device, e| {
+                snaps.keep_texture(device, e, t, after, &live);
+            });
             Ok((live, Origin::After(after)))
         }
     }
@@ -736,17 +754,10 @@ fn buffer_at(s: &mut State, b: usize, pass: usize) -> Result<(wgpu::Buffer, Orig
         Found::NotYet => Err(WorkerError::Later),
         Found::Evicted { after } => {
             replay_to(s, pass)?;
-            let session = &s.replaying.session;
-            let live = session.buffer(b).clone();
-            let mut encoder =
-                session
-                    .device
-                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("framelab pass copies"),
-                    });
-            s.snaps
-                .keep_buffer(&session.device, &mut encoder, b, after, &live);
-            session.queue.submit([encoder.finish()]);
+            let live = s.replaying.session.buffer(b).clone();
+            copies(s, |snaps, device, e| {
+                snaps.keep_buffer(device, e, b, after, &live);
+            });
             Ok((live, Origin::After(after)))
         }
     }
