@@ -601,10 +601,41 @@ fn buffers_stencil_and_saving_a_view() {
     assert!(h.query_by_label("192").is_none());
     assert!(h.query_all_by_label("0").count() >= 5);
     // The particles read as rows of the shader's `Particle` struct.
-    h.state_mut()
-        .open_resource(model.resource_named("particles").unwrap());
+    let particles = model.resource_named("particles").unwrap();
+    h.state_mut().open_resource(particles);
     settle(&mut h);
     assert!(h.query_by_label("position_radius").is_some());
+    // Scrolled with the wheel, the table reaches its last row (only rows on screen are laid
+    // out, so its index label exists only once it is in view).
+    let view = model.resources[particles].buffer.clone().unwrap();
+    let rows = framelab_ui::panels::buffer::typed_rows(view.size, &view.layouts[0]);
+    let last = (rows - 1).to_string();
+    assert!(h.query_by_label(&last).is_none());
+    // In a small window, where the panel is shorter than the table's own default height.
+    h.set_size(egui::Vec2::new(800.0, 600.0));
+    h.run_steps(3);
+    let area = h
+        .state()
+        .pane_rects
+        .iter()
+        .find(|(p, _)| *p == Pane::Buffer)
+        .unwrap()
+        .1;
+    h.hover_at(area.center());
+    for _ in 0..40 {
+        h.event(egui::Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Point,
+            delta: egui::vec2(0.0, -400.0),
+            phase: egui::TouchPhase::Move,
+            source: egui::MouseWheelSource::Unknown,
+            modifiers: egui::Modifiers::NONE,
+        });
+        h.run_steps(2);
+    }
+    assert!(h.query_by_label(&last).is_some(), "row {last} not reached");
+    h.hover_at(egui::pos2(2.0, 2.0));
+    h.set_size(egui::Vec2::new(1400.0, 900.0));
+    h.run_steps(3);
 
     // The stencil aspect of the depth-stencil target, as `scene` cleared it (to 0).
     h.state_mut()

@@ -112,7 +112,7 @@ pub struct Pass {
     /// WGSL variable -> resource view.
     pub bindings: Vec<(String, String)>,
     /// Colour and depth attachments with load/store and clear values.
-    pub attachments: Vec<String>,
+    pub attachments: Vec<Attachment>,
     /// Render state and shader entry points.
     pub state: Vec<(String, String)>,
     pub params: Vec<(String, String)>,
@@ -123,6 +123,17 @@ pub struct Pass {
     /// depth, then everything else it writes, each once.
     pub inputs: Vec<usize>,
     pub outputs: Vec<usize>,
+}
+
+/// A colour or depth attachment of a pass.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Attachment {
+    /// `color N` or `depth`.
+    pub slot: String,
+    /// The resource (model index).
+    pub resource: usize,
+    /// Subresource, format, load and store, as one line.
+    pub text: String,
 }
 
 /// Where a barrier sits relative to its pass, and who asked for it.

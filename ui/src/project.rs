@@ -156,15 +156,17 @@ fn bindings(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
         .collect()
 }
 
-fn attachments(c: &Capture, p: &PassDesc) -> Vec<String> {
-    let mut out: Vec<String> = p
+/// Each attachment: its slot, its resource (model index) and the rest of its line.
+fn attachments(p: &PassDesc) -> Vec<crate::model::Attachment> {
+    let mut out: Vec<crate::model::Attachment> = p
         .color_attachments
         .iter()
         .enumerate()
-        .map(|(i, a)| {
-            format!(
-                "color {i}: {} mip {} layer {} ({}), load {}{}, store {}",
-                c.resource(a.resource).name,
+        .map(|(i, a)| crate::model::Attachment {
+            slot: format!("color {i}"),
+            resource: a.resource.index(),
+            text: format!(
+                "mip {} layer {} ({}), load {}{}, store {}",
                 a.mip,
                 a.layer,
                 a.format.name,
@@ -175,23 +177,26 @@ fn attachments(c: &Capture, p: &PassDesc) -> Vec<String> {
                     String::new()
                 },
                 spelled(&a.store)
-            )
+            ),
         })
         .collect();
     if let Some(d) = &p.depth_stencil {
-        out.push(format!(
-            "depth: {} mip {} ({}), depth load {} ({}) store {}, stencil load {} ({}) store {}{}",
-            c.resource(d.resource).name,
-            d.mip,
-            d.format.name,
-            spelled(&d.depth_load),
-            d.depth_clear,
-            spelled(&d.depth_store),
-            spelled(&d.stencil_load),
-            d.stencil_clear,
-            spelled(&d.stencil_store),
-            if d.read_only { ", read-only" } else { "" }
-        ));
+        out.push(crate::model::Attachment {
+            slot: "depth".into(),
+            resource: d.resource.index(),
+            text: format!(
+                "mip {} ({}), depth load {} ({}) store {}, stencil load {} ({}) store {}{}",
+                d.mip,
+                d.format.name,
+                spelled(&d.depth_load),
+                d.depth_clear,
+                spelled(&d.depth_store),
+                spelled(&d.stencil_load),
+                d.stencil_clear,
+                spelled(&d.stencil_store),
+                if d.read_only { ", read-only" } else { "" }
+            ),
+        });
     }
     out
 }
@@ -823,7 +828,7 @@ fn model(
                 work: work(c, p),
                 steps: p.draws.len() + p.dispatches.len(),
                 bindings: bindings(c, p),
-                attachments: attachments(c, p),
+                attachments: attachments(p),
                 state: state(c, p),
                 params: params(&p.params),
                 barriers,

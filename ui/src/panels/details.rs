@@ -185,7 +185,14 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
             });
             section(ui, "Attachments", p.attachments.len(), &mut |ui| {
                 for a in &p.attachments {
-                    ui.label(a);
+                    ui.horizontal(|ui| {
+                        ui.spacing_mut().item_spacing.x = 4.0;
+                        ui.label(format!("{}:", a.slot));
+                        if resource_link(ui, &model, a.resource) {
+                            open = Some(a.resource);
+                        }
+                        ui.label(&a.text);
+                    });
                 }
             });
             section(ui, "State", p.state.len(), &mut |ui| {
