@@ -117,6 +117,23 @@ fn main() {
             reopen.push(until(&mut h, shown).as_secs_f64());
         }
     }
+    // A draw of base_material (a replay up to the pass, then the pass up to the draw), and the
+    // history of a texel of the albedo target (every draw of the pass replayed in turn).
+    h.state_mut().select_pass(base);
+    until(&mut h, shown);
+    h.state_mut().select_step(base, 1);
+    let step = until(&mut h, |a| {
+        shown(a)
+            && a.displayed
+                .as_ref()
+                .is_some_and(|d| d.request.step == Some(1))
+    });
+    h.state_mut().select_pass(base);
+    h.state_mut().open_resource(albedo);
+    until(&mut h, shown);
+    h.state_mut().pick(480, 400);
+    h.state_mut().request_history();
+    let history = until(&mut h, |a| a.history.is_some() && a.is_idle());
     let worst = switches.iter().copied().fold(0.0, f64::max);
     let mut slowest: Vec<(f64, usize)> = switches.iter().copied().zip(0..).collect();
     slowest.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -129,7 +146,8 @@ fn main() {
         "inspector on {CAPTURE} at scale 0.5, {adapter}: window {:.2} s; base_material's albedo \
          shown {:.2} s (the first replay {replayed_through} passes in); whole frame browsable \
          {:.2} s; pass switch over {} passes: median {:.3} s, worst {:.3} s; re-opening a \
-         texture: median {:.3} s; {}; slowest switches: {}",
+         texture: median {:.3} s; {}; slowest switches: {}; a draw of base_material shown \
+         {:.2} s; a texel's history {:.2} s",
         window.as_secs_f64(),
         first.as_secs_f64(),
         whole.as_secs_f64(),
@@ -139,6 +157,8 @@ fn main() {
         median(reopen),
         h.state().status,
         slowest.join(", "),
+        step.as_secs_f64(),
+        history.as_secs_f64(),
     );
     // A frame as a window runs it: the UI laid out and painted, then tessellated (no
     // accessibility tree, which the test harness always builds).

@@ -427,7 +427,21 @@ fn pixel_history_lists_the_pass_and_draws_that_wrote_a_texel() {
     assert_eq!(numbers(&whole.value), after_scene);
     // The ground draw wrote the texel: the value changed from the frame's start there.
     assert!(draws[0].changed, "{history:?}");
-    // Its rows select the draw they name.
+    // The texture viewer as of each draw reads what the history says after it (the frame held
+    // open at the pass, the pass replayed up to the draw from its starting contents).
+    for (k, row) in draws.iter().enumerate().rev() {
+        h.state_mut().select_step(scene, k);
+        settle(&mut h);
+        let shown = h.state().displayed.as_ref().unwrap();
+        assert_eq!(
+            shown.written,
+            Some(framelab_ui::worker::Written::Step {
+                pass: scene,
+                step: k
+            })
+        );
+        assert_eq!(readout(&h, "(80, 70) R"), numbers(&row.value), "draw {k}");
+    }
     h.state_mut().show_pane(Pane::History);
     h.run_steps(3);
     assert!(h.query_by_label_contains("write(s) this frame").is_some());

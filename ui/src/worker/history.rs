@@ -1,11 +1,11 @@
 //! Pixel history: for one texel of one texture, every pass of the browsed frame that wrote
 //! the texture, with the texel's value after it, and inside each pass that changed the texel,
 //! its value after each draw or dispatch. Pass values come from the pass copies; draw values
-//! from one replay of the frame up to the pass, then the pass replayed up to each draw in turn
+//! from the frame held open at the pass (`steps`): the pass replayed up to each draw in turn
 //! from a copy of what it had written before it started (so a draw's value never includes the
 //! draws after it).
 
-use super::{State, TextureRequest, WorkerError, snapshots};
+use super::{State, TextureRequest, WorkerError};
 
 /// Passes whose draws are looked into, at most (each costs a replay of the frame up to it).
 pub const MAX_PASSES_BY_DRAW: usize = 8;
@@ -141,7 +141,8 @@ pub fn history(s: &mut State, h: &HistoryRequest) -> Result<PixelHistory, Worker
     })
 }
 
-/// The texel after each of the first `steps` draws or dispatches of `pass`.
+/// The texel after each of the first `steps` draws or dispatches of `pass`: the pass replayed
+/// up to each in turn from its starting contents, in the frame held open at it.
 fn by_step(
     s: &mut State,
     pass: usize,
@@ -149,56 +150,11 @@ fn by_step(
     h: &HistoryRequest,
 ) -> Result<Vec<String>, WorkerError> {
     let t = h.texture.plan_index;
-    let outputs = s
-        .writes
-        .get(pass)
-        .map(|w| w.textures.clone())
-        .unwrap_or_default();
-    let constants = s.replaying.constants(0);
-    s.replaying.session.run_frame(&constants, None)?;
-    let constants = s.replaying.constants(1);
-    s.replaying.session.begin_frame(&constants)?;
-    let mut values = Vec::new();
-    let ran = (|| -> Result<(), WorkerError> {
-        let session = &mut s.replaying.session;
-        (0..pass).try_for_each(|i| session.submit_pass(i))?;
-        // What the pass's outputs held before it started, to start each partial pass from.
-        let mut encoder = session
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("framelab history"),
-            });
-        let before: Vec<(usize, wgpu::Texture)> = outputs
-            .iter()
-            .map(|&o| {
-                let copy = snapshots::copy_texture(
-                    &session.device,
-                    &mut encoder,
-                    session.texture_in_frame(o),
-                );
-                (o, copy)
-            })
-            .collect();
-        session.queue.submit([encoder.finish()]);
-        for k in 0..steps {
-            let session = &mut s.replaying.session;
-            let mut encoder =
-                session
-                    .device
-                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("framelab history"),
-                    });
-            for (o, copy) in &before {
-                snapshots::copy_into(&mut encoder, copy, session.texture_in_frame(*o));
-            }
-            session.queue.submit([encoder.finish()]);
-            session.submit_pass_until(pass, k)?;
-            let live = session.texture_in_frame(t).clone();
-            values.push(texel(s, &live, h));
-        }
-        Ok(())
-    })();
-    s.replaying.session.end_frame();
-    ran?;
+    let mut values = Vec::with_capacity(steps);
+    for k in 0..steps {
+        super::steps::run_until(s, pass, k)?;
+        let live = s.replaying.session.texture_in_frame(t).clone();
+        values.push(texel(s, &live, h));
+    }
     Ok(values)
 }

@@ -9,6 +9,7 @@
 
 mod history;
 mod snapshots;
+mod steps;
 
 use std::collections::{BTreeSet, VecDeque};
 use std::path::PathBuf;
@@ -309,6 +310,8 @@ struct State {
         (usize, usize),
         std::collections::BTreeMap<usize, wgpu::Texture>,
     )>,
+    /// Frame 1 held open at a pass whose draws are shown (see `steps`).
+    open: Option<steps::Open>,
 }
 
 /// Commands not yet carried out: the latest view, and saves in order.
@@ -374,6 +377,7 @@ fn run(launch: Launch, rx: &Receiver<Command>, tx: &Sender<Reply>) -> Result<(),
         buffer: None,
         visualiser: Visualiser::default(),
         step: None,
+        open: None,
     };
     let mut pending = Pending::default();
     send(Reply::Progress("timing frame 0".into()))?;
@@ -407,6 +411,7 @@ fn ready(s: &State) -> String {
 
 /// Runs frame `f` whole and returns its per-pass GPU times.
 fn time_frame(s: &mut State, f: u32) -> Result<Timings, Stop> {
+    steps::close(s);
     let untrusted = s.replaying.untrusted();
     let constants = s.replaying.constants(f);
     let times = s.replaying.session.run_frame(&constants, None)?;
@@ -665,48 +670,11 @@ fn replay_to(s: &mut State, pass: usize) -> Result<(), WorkerError> {
     if s.browsing {
         return Err(WorkerError::Later);
     }
+    steps::close(s);
     for (frame, stop) in [(0, None), (1, Some(pass))] {
         let constants = s.replaying.constants(frame);
         s.replaying.session.run_frame(&constants, stop)?;
     }
-    Ok(())
-}
-
-/// Replays the frame up to draw or dispatch `step` of `pass` (frame 0 whole, then frame 1 a
-/// pass at a time) and keeps copies of the textures the pass writes; the last one is kept.
-fn replay_step(s: &mut State, pass: usize, step: usize) -> Result<(), WorkerError> {
-    if s.step.as_ref().is_some_and(|(k, _)| *k == (pass, step)) {
-        return Ok(());
-    }
-    if s.browsing {
-        return Err(WorkerError::Later);
-    }
-    let constants = s.replaying.constants(0);
-    s.replaying.session.run_frame(&constants, None)?;
-    let constants = s.replaying.constants(1);
-    let session = &mut s.replaying.session;
-    session.begin_frame(&constants)?;
-    let mut ran = (0..pass).try_for_each(|i| session.submit_pass(i));
-    if ran.is_ok() {
-        ran = session.submit_pass_until(pass, step);
-    }
-    let mut copies = std::collections::BTreeMap::new();
-    if ran.is_ok() {
-        let mut encoder = session
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("framelab step copies"),
-            });
-        for &t in s.writes.get(pass).map_or(&[][..], |w| &w.textures) {
-            let copy =
-                snapshots::copy_texture(&session.device, &mut encoder, session.texture_in_frame(t));
-            copies.insert(t, copy);
-        }
-        session.queue.submit([encoder.finish()]);
-    }
-    session.end_frame();
-    ran?;
-    s.step = Some(((pass, step), copies));
     Ok(())
 }
 
@@ -784,7 +752,7 @@ fn show(s: &mut State, request: &ViewRequest) -> Result<Shown, WorkerError> {
     };
     let step_copy = match request.step {
         Some(step) => {
-            replay_step(s, pass, step)?;
+            steps::replay_step(s, pass, step)?;
             s.step
                 .as_ref()
                 .and_then(|(_, copies)| copies.get(&t.plan_index).cloned())
