@@ -128,6 +128,11 @@ fn main() {
                 .as_ref()
                 .is_some_and(|d| d.request.step == Some(1))
     });
+    // The next draw of the same pass: only the pass runs again, from its starting contents.
+    h.state_mut().select_step(base, 2);
+    let next_step = until(&mut h, |a| {
+        shown(a) && a.displayed.as_ref().is_some_and(|d| d.request.step == Some(2))
+    });
     h.state_mut().select_pass(base);
     h.state_mut().open_resource(albedo);
     until(&mut h, shown);
@@ -147,7 +152,7 @@ fn main() {
          shown {:.2} s (the first replay {replayed_through} passes in); whole frame browsable \
          {:.2} s; pass switch over {} passes: median {:.3} s, worst {:.3} s; re-opening a \
          texture: median {:.3} s; {}; slowest switches: {}; a draw of base_material shown \
-         {:.2} s; a texel's history {:.2} s",
+         {:.2} s, its next draw {:.2} s; a texel's history {:.2} s",
         window.as_secs_f64(),
         first.as_secs_f64(),
         whole.as_secs_f64(),
@@ -158,6 +163,7 @@ fn main() {
         h.state().status,
         slowest.join(", "),
         step.as_secs_f64(),
+        next_step.as_secs_f64(),
         history.as_secs_f64(),
     );
     // A frame as a window runs it: the UI laid out and painted, then tessellated (no
