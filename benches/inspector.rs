@@ -131,7 +131,10 @@ fn main() {
     // The next draw of the same pass: only the pass runs again, from its starting contents.
     h.state_mut().select_step(base, 2);
     let next_step = until(&mut h, |a| {
-        shown(a) && a.displayed.as_ref().is_some_and(|d| d.request.step == Some(2))
+        shown(a)
+            && a.displayed
+                .as_ref()
+                .is_some_and(|d| d.request.step == Some(2))
     });
     h.state_mut().select_pass(base);
     h.state_mut().open_resource(albedo);
