@@ -744,18 +744,33 @@ fn panels_match_their_snapshots_with_compared_timings() {
     results.unwrap();
 }
 
-/// Reports taken at different scales are still compared, under a warning.
+/// Reports taken at different scales are still compared, under a warning; a pass renamed
+/// there is matched as a rename, one moved to another queue is shown but not compared.
 #[test]
 fn reports_at_different_scales_are_compared_under_a_warning() {
     let mut b = report("tests/fixtures/timing/example_b.json");
     b.scale *= 2.0;
+    for p in &mut b.passes {
+        if p.name == "tonemap" {
+            p.name = "tonemap_aces".into();
+            p.marker_path = "Frame/Post/tonemap_aces".into();
+        }
+        if p.name == "simulate" {
+            p.queue = "gfx".into();
+        }
+    }
     let mut h = compared_with(&b);
     let model = h.state().model.clone();
     let compare = model.compare.as_ref().expect("compared all the same");
     let note = compare.note.clone().expect("a warning");
     assert!(note.contains("different scales"), "{note}");
-    // Passes are still matched, and the timeline says so with its legend.
-    assert!(compare.passes[model.pass_named("tonemap").unwrap()].is_some());
+    let row = |name: &str| compare.passes[model.pass_named(name).unwrap()].clone();
+    let tonemap = row("tonemap").expect("the renamed pass matched");
+    assert_eq!(tonemap.renamed.as_deref(), Some("tonemap_aces"));
+    let simulate = row("simulate").expect("the moved pass shown");
+    assert_eq!(simulate.moved.as_deref(), Some("gfx"));
+    assert_eq!(simulate.verdict, "moved");
+    assert!(row("scene").is_some_and(|r| r.renamed.is_none() && r.moved.is_none()));
     h.state_mut().show_pane(Pane::Timeline);
     h.run_steps(3);
     assert!(h.query_by_label_contains("different scales").is_some());

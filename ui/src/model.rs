@@ -87,10 +87,13 @@ pub struct Compare {
 pub struct CompareRow {
     pub other_ms: f64,
     pub change_pct: f64,
-    /// regression, improvement, unchanged, inconclusive or untimed.
+    /// regression, improvement, unchanged, inconclusive, untimed or moved.
     pub verdict: String,
     /// The pass's name there, where it was renamed.
     pub renamed: Option<String>,
+    /// The queue it runs on there, where it moved to another (its times are shown, not
+    /// compared).
+    pub moved: Option<String>,
 }
 
 #[derive(Clone, Debug)]

@@ -643,6 +643,32 @@ fn timings_from(model: &Inspection, t: &TimingReport, source: &str) -> Timings {
     }
 }
 
+/// A pass the timing diff left unmatched that runs there on another queue under the same marker
+/// path and name (the structural diff's "moved"): its time there is shown, but no change or
+/// verdict, as times on different queues do not compare.
+fn moved(model: &Inspection, p: &crate::model::Pass, b: &TimingReport) -> Option<CompareRow> {
+    let here = model.queues[p.queue].as_str();
+    let path = if p.markers.is_empty() {
+        p.name.clone()
+    } else {
+        format!("{}/{}", p.markers.join("/"), p.name)
+    };
+    let there = b.passes.iter().find(|t| {
+        t.name == p.name && t.queue != here && (t.marker_path == path || t.marker_path.is_empty())
+    })?;
+    let samples: Vec<f64> = there.gpu_ns.iter().flatten().map(|&n| n as f64).collect();
+    if samples.is_empty() {
+        return None;
+    }
+    Some(CompareRow {
+        other_ms: stats::median(&samples) / 1e6,
+        change_pct: 0.0,
+        verdict: "moved".into(),
+        renamed: None,
+        moved: Some(there.queue.clone()),
+    })
+}
+
 fn compare_from(
     model: &Inspection,
     a: &TimingReport,
@@ -684,7 +710,9 @@ fn compare_from(
         .passes
         .iter()
         .map(|p| {
-            let r = rows.get(&(model.queues[p.queue].as_str(), p.name.as_str()))?;
+            let Some(r) = rows.get(&(model.queues[p.queue].as_str(), p.name.as_str())) else {
+                return moved(model, p, b);
+            };
             Some(CompareRow {
                 other_ms: r.median_b_ns / 1e6,
                 change_pct: r.change_pct,
@@ -697,6 +725,7 @@ fn compare_from(
                 }
                 .to_owned(),
                 renamed: r.renamed_from.as_ref().map(|_| r.name.clone()),
+                moved: None,
             })
         })
         .collect();

@@ -132,15 +132,21 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
                 .as_ref()
                 .and_then(|c| c.passes.get(app.selection.pass).cloned().flatten())
             {
-                ui.label(format!(
-                    "compared: {:.3} ms there{}, {:+.1}%, {}",
-                    c.other_ms,
-                    c.renamed
-                        .as_ref()
-                        .map_or(String::new(), |n| format!(" (renamed {n})")),
-                    c.change_pct,
-                    c.verdict
-                ));
+                match &c.moved {
+                    Some(q) => ui.label(format!(
+                        "compared: {:.3} ms there, moved to queue {q} (not compared)",
+                        c.other_ms
+                    )),
+                    None => ui.label(format!(
+                        "compared: {:.3} ms there{}, {:+.1}%, {}",
+                        c.other_ms,
+                        c.renamed
+                            .as_ref()
+                            .map_or(String::new(), |n| format!(" (renamed {n})")),
+                        c.change_pct,
+                        c.verdict
+                    )),
+                };
             }
             let section =
                 |ui: &mut egui::Ui, title: &str, n: usize, body: &mut dyn FnMut(&mut egui::Ui)| {

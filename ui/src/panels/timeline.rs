@@ -216,10 +216,13 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
             .as_ref()
             .and_then(|c| c.passes.get(i).cloned().flatten())
         {
-            text.push_str(&format!(
-                "\ncompared: {:.3} ms, {:+.1}% ({})",
-                c.other_ms, c.change_pct, c.verdict
-            ));
+            text.push_str(&match &c.moved {
+                Some(q) => format!("\nthere: {:.3} ms on {q} (moved: not compared)", c.other_ms),
+                None => format!(
+                    "\ncompared: {:.3} ms, {:+.1}% ({})",
+                    c.other_ms, c.change_pct, c.verdict
+                ),
+            });
         }
         response.clone().on_hover_text(text);
         if response.clicked() {
