@@ -20,7 +20,7 @@ use framelab_ui::headless;
 use framelab_ui::project::{self as inspect, Reports};
 use framelab_ui::worker::SaveAs;
 
-use crate::common::{exr_image, framelab, repo};
+use crate::common::{exr_image, framelab, repo, stderr};
 use crate::golden::ui_snapshot_options;
 
 /// Tests name passes and resources as a user would; the model itself is keyed by id.
@@ -742,6 +742,47 @@ fn panels_match_their_snapshots_with_compared_timings() {
     h.run_steps(3);
     results.add(h.try_snapshot_options("buffer", &options));
     results.unwrap();
+}
+
+/// The inspector's own options refuse what cannot be shown, by name, before a window opens.
+#[test]
+fn bad_inspector_options_are_named() {
+    let out = framelab(&[
+        "inspect",
+        "captures/example/frame.json",
+        "--scale",
+        "0.25",
+        "--select",
+        "scene",
+        "--draw",
+        "9",
+        "--screenshot",
+        "unused.png",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("--draw 9: pass \"scene\" has 2 draws or dispatches"),
+        "{}",
+        stderr(&out)
+    );
+    let out = framelab(&[
+        "inspect",
+        "captures/example/frame.json",
+        "--against",
+        "no/such/capture.json",
+        "--screenshot",
+        "unused.png",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("no/such/capture.json"),
+        "{}",
+        stderr(&out)
+    );
+    let out = framelab(&["inspect", "captures/example/frame.json", "--history"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("--pixel"), "{}", stderr(&out));
+    assert!(!repo().join("unused.png").exists());
 }
 
 /// Reports taken at different scales are still compared, under a warning; a pass renamed
