@@ -395,11 +395,12 @@ impl Inspector {
     }
 }
 
-/// Uploads `pixels` into `old` (kept, so egui reuses the texture) or a new texture.
+/// Uploads `pixels` into `old` (kept, so egui reuses the texture) or a new texture; egui
+/// shares the pixels with the caller rather than copying them.
 fn upload(
     ctx: &egui::Context,
     old: Option<egui::TextureHandle>,
-    pixels: &egui::ColorImage,
+    pixels: &Arc<egui::ColorImage>,
     name: &str,
 ) -> egui::TextureHandle {
     match old {

@@ -217,26 +217,11 @@ impl Visualiser {
             })
     }
 
-    /// Draws `sub` of `texture` into a new display image of that subresource's size and
-    /// returns it; the caller reads it back.
+    /// Draws `sub` of `texture` into a new display image, one texel in `stride` along each
+    /// axis (1: the subresource's size; more: a large texture drawn at the size it is seen, or
+    /// a thumbnail), and returns it for `read_display`.
     #[allow(clippy::too_many_arguments)]
     pub fn draw(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        texture: &wgpu::Texture,
-        sampling: Sampling,
-        volume: bool,
-        sub: Subresource,
-        controls: &Controls,
-    ) -> wgpu::Texture {
-        self.draw_strided(device, queue, texture, (sampling, volume), sub, controls, 1)
-    }
-
-    /// Like [`Visualiser::draw`], one texel in `stride` along each axis: a small image of a
-    /// large texture without drawing it whole (thumbnails).
-    #[allow(clippy::too_many_arguments)]
-    pub fn draw_strided(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,

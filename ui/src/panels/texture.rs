@@ -12,15 +12,21 @@ use crate::state::{View, Zoom};
 use crate::visualise::Controls;
 use crate::worker::{SaveAs, Written};
 
-/// The exact value of a texel as the format stores it.
+/// The exact value of a texel as the format stores it, after its position.
 pub fn texel_text(d: &DecodedImage, x: u32, y: u32) -> Option<String> {
+    Some(format!("({x}, {y}) {}", texel_values(d, x, y)?))
+}
+
+/// The exact value of a texel as the format stores it: `R v  G v ...` (10- and 16-bit
+/// normalised channels with their integer code), or the stencil value in decimal and binary.
+pub fn texel_values(d: &DecodedImage, x: u32, y: u32) -> Option<String> {
     if x >= d.width || y >= d.height {
         return None;
     }
     let v = d.values[(y * d.width + x) as usize];
     if d.format == wgpu::TextureFormat::Stencil8 {
         let s = v[0] as u32;
-        return Some(format!("({x}, {y}) S {s} (0b{s:08b})"));
+        return Some(format!("S {s} (0b{s:08b})"));
     }
     let names = ["R", "G", "B", "A"];
     let parts: Vec<String> = (0..d.channels)
@@ -44,7 +50,7 @@ pub fn texel_text(d: &DecodedImage, x: u32, y: u32) -> Option<String> {
             _ => format!("{} {}", names[c], v[c]),
         })
         .collect();
-    Some(format!("({x}, {y}) {}", parts.join("  ")))
+    Some(parts.join("  "))
 }
 
 /// Bits of channel `c` of a normalised format wider than 8 bits, for its integer code.

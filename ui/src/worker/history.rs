@@ -48,25 +48,10 @@ fn texel(s: &State, texture: &wgpu::Texture, h: &HistoryRequest) -> String {
     if let Some(why) = note {
         return format!("not read: {why}");
     }
-    let image = images.iter().find(|d| {
-        d.mip == t.sub.mip
-            && if t.volume {
-                d.z == Some(t.sub.layer)
-            } else {
-                d.layer == t.sub.layer
-            }
-    });
-    image
-        .and_then(|d| crate::panels::texture::texel_text(d, h.x, h.y))
-        .map_or_else(|| "outside the subresource".to_owned(), strip_position)
-}
-
-/// `(x, y) R ...` without the position, which every row shares.
-fn strip_position(text: String) -> String {
-    match text.split_once(") ") {
-        Some((_, rest)) => rest.to_owned(),
-        None => text,
-    }
+    let images: Vec<_> = images.into_iter().map(|d| (d, ())).collect();
+    super::subresource(&images, t)
+        .and_then(|(d, _)| crate::panels::texture::texel_values(d, h.x, h.y))
+        .unwrap_or_else(|| "outside the subresource".to_owned())
 }
 
 /// The history of the requested texel through the browsed frame.

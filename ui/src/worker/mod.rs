@@ -288,7 +288,8 @@ struct ReadBack {
     /// Plan texture, where it came from, whether the stencil aspect was read, and the mip and
     /// layer.
     key: (usize, Origin, bool, (u32, u32)),
-    images: Vec<Arc<DecodedImage>>,
+    /// Each decoded image with its finite range (found once, at the read).
+    images: Vec<(Arc<DecodedImage>, (f32, f32))>,
     note: Option<String>,
 }
 
@@ -481,33 +482,14 @@ fn keep(
     textures: &BTreeSet<usize>,
     buffers: &BTreeSet<usize>,
 ) {
-    // The frame's copies, taken out of the session's borrow for the copy closure.
-    let sources: Vec<(usize, Source)> = {
-        let session = &s.replaying.session;
-        textures
-            .iter()
-            .map(|&t| (t, Source::Texture(session.texture_in_frame(t).clone())))
-            .chain(
-                buffers
-                    .iter()
-                    .map(|&b| (b, Source::Buffer(session.buffer_in_frame(b).clone()))),
-            )
-            .collect()
-    };
-    copies(s, |snaps, device, e| {
-        for (index, source) in &sources {
-            match source {
-                Source::Texture(t) => snaps.keep_texture(device, e, *index, after, t),
-                Source::Buffer(b) => snaps.keep_buffer(device, e, *index, after, b),
-            }
+    copies(s, |snaps, session, e| {
+        for &t in textures {
+            snaps.keep_texture(&session.device, e, t, after, session.texture_in_frame(t));
+        }
+        for &b in buffers {
+            snaps.keep_buffer(&session.device, e, b, after, session.buffer_in_frame(b));
         }
     });
-}
-
-/// A resource of the frame to copy.
-enum Source {
-    Texture(wgpu::Texture),
-    Buffer(wgpu::Buffer),
 }
 
 /// Carries out the pending commands the replay can answer now: saves in order, then the
@@ -593,7 +575,8 @@ fn thumbnail(s: &mut State, pass: usize, t: &TextureRequest) -> Option<egui::Col
         // Fitted to the subresource's range, from the read-back the viewer keeps (the view of
         // this pass has usually just read it).
         read_cached(s, &texture, origin, t);
-        let (lo, hi) = s.reads.front()?.images.first()?.range();
+        let (_, (lo, hi)) = subresource(&s.reads.front()?.images, t)?;
+        let (lo, hi) = (*lo, *hi);
         controls.black = lo;
         controls.white = if hi > lo { hi } else { lo + 1.0 };
     }
@@ -601,7 +584,7 @@ fn thumbnail(s: &mut State, pass: usize, t: &TextureRequest) -> Option<egui::Col
     let side = (texture.width() >> t.sub.mip).max(texture.height() >> t.sub.mip);
     let stride = side.div_ceil(2 * THUMBNAIL_SIZE).max(1);
     let session = &s.replaying.session;
-    let display = s.visualiser.draw_strided(
+    let display = s.visualiser.draw(
         &session.device,
         &session.queue,
         &texture,
@@ -681,7 +664,7 @@ fn replay_to(s: &mut State, pass: usize) -> Result<(), WorkerError> {
 /// Encodes copies with `record` and submits them.
 fn copies(
     s: &mut State,
-    record: impl FnOnce(&mut Snapshots, &wgpu::Device, &mut wgpu::CommandEncoder),
+    record: impl FnOnce(&mut Snapshots, &framelab_replay::Session, &mut wgpu::CommandEncoder),
 ) {
     let session = &s.replaying.session;
     let mut encoder = session
@@ -689,8 +672,33 @@ fn copies(
         .create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("framelab pass copies"),
         });
-    record(&mut s.snaps, &session.device, &mut encoder);
+    record(&mut s.snaps, session, &mut encoder);
     session.queue.submit([encoder.finish()]);
+}
+
+/// A resource as of a pass, from what the copies store found: the copy, the resource itself
+/// (`live`), or, for an evicted copy, the resource after a replay up to the pass, whose copy
+/// `keep` makes again.
+fn resolve<T: Clone>(
+    s: &mut State,
+    found: Found<T>,
+    pass: usize,
+    live: impl Fn(&framelab_replay::Session) -> T,
+    keep: impl FnOnce(&mut Snapshots, &wgpu::Device, &mut wgpu::CommandEncoder, Option<usize>, &T),
+) -> Result<(T, Origin), WorkerError> {
+    match found {
+        Found::Copy { copy, after } => Ok((copy, Origin::After(after))),
+        Found::Live => Ok((live(&s.replaying.session), Origin::Live)),
+        Found::NotYet => Err(WorkerError::Later),
+        Found::Evicted { after } => {
+            replay_to(s, pass)?;
+            let resource = live(&s.replaying.session);
+            copies(s, |snaps, session, e| {
+                keep(snaps, &session.device, e, after, &resource);
+            });
+            Ok((resource, Origin::After(after)))
+        }
+    }
 }
 
 /// Plan texture `t` as of right after `pass`, and where it was found.
@@ -699,36 +707,26 @@ fn texture_at(
     t: usize,
     pass: usize,
 ) -> Result<(wgpu::Texture, Origin), WorkerError> {
-    match s.snaps.texture(t, pass) {
-        Found::Copy { copy, after } => Ok((copy, Origin::After(after))),
-        Found::Live => Ok((s.replaying.session.texture(t).clone(), Origin::Live)),
-        Found::NotYet => Err(WorkerError::Later),
-        Found::Evicted { after } => {
-            replay_to(s, pass)?;
-            let live = s.replaying.session.texture(t).clone();
-            copies(s, |snaps, device, e| {
-                snaps.keep_texture(device, e, t, after, &live);
-            });
-            Ok((live, Origin::After(after)))
-        }
-    }
+    let found = s.snaps.texture(t, pass);
+    resolve(
+        s,
+        found,
+        pass,
+        |session| session.texture(t).clone(),
+        |snaps, device, e, after, live| snaps.keep_texture(device, e, t, after, live),
+    )
 }
 
 /// Plan buffer `b` as of right after `pass`, and where it was found.
 fn buffer_at(s: &mut State, b: usize, pass: usize) -> Result<(wgpu::Buffer, Origin), WorkerError> {
-    match s.snaps.buffer(b, pass) {
-        Found::Copy { copy, after } => Ok((copy, Origin::After(after))),
-        Found::Live => Ok((s.replaying.session.buffer(b).clone(), Origin::Live)),
-        Found::NotYet => Err(WorkerError::Later),
-        Found::Evicted { after } => {
-            replay_to(s, pass)?;
-            let live = s.replaying.session.buffer(b).clone();
-            copies(s, |snaps, device, e| {
-                snaps.keep_buffer(device, e, b, after, &live);
-            });
-            Ok((live, Origin::After(after)))
-        }
-    }
+    let found = s.snaps.buffer(b, pass);
+    resolve(
+        s,
+        found,
+        pass,
+        |session| session.buffer(b).clone(),
+        |snaps, device, e, after, live| snaps.keep_buffer(device, e, b, after, live),
+    )
 }
 
 fn show(s: &mut State, request: &ViewRequest) -> Result<Shown, WorkerError> {
@@ -766,25 +764,19 @@ fn show(s: &mut State, request: &ViewRequest) -> Result<Shown, WorkerError> {
         None => texture_at(s, t.plan_index, pass)?,
     };
     read_cached(s, &texture, origin, t);
-    let (decoded, note) = match s.reads.front() {
-        Some(ReadBack { images, note, .. }) => (
-            images
-                .iter()
-                .find(|d| {
-                    d.mip == t.sub.mip
-                        && if t.volume {
-                            d.z == Some(t.sub.layer)
-                        } else {
-                            d.layer == t.sub.layer
-                        }
-                })
-                .cloned(),
-            note.clone(),
-        ),
-        None => (None, None),
+    let (decoded, range, note) = match s.reads.front() {
+        Some(r) => {
+            let image = subresource(&r.images, t).cloned();
+            (
+                image.as_ref().map(|i| i.0.clone()),
+                image.map(|i| i.1),
+                r.note.clone(),
+            )
+        }
+        None => (None, None, None),
     };
     let session = &s.replaying.session;
-    let display = s.visualiser.draw_strided(
+    let display = s.visualiser.draw(
         &session.device,
         &session.queue,
         &texture,
@@ -799,7 +791,7 @@ fn show(s: &mut State, request: &ViewRequest) -> Result<Shown, WorkerError> {
     Ok(Shown {
         request: request.clone(),
         display: Some(pixels),
-        range: decoded.as_ref().map(|d| d.range()),
+        range,
         decoded,
         note,
         written: Some(origin.written()),
@@ -826,10 +818,32 @@ fn read_cached(s: &mut State, texture: &wgpu::Texture, origin: Origin, t: &Textu
         }
         None => {
             let (images, note) = read_sub(s, texture, t);
+            let images = images
+                .into_iter()
+                .map(|d| {
+                    let range = d.range();
+                    (d, range)
+                })
+                .collect();
             s.reads.push_front(ReadBack { key, images, note });
             s.reads.truncate(READS_KEPT);
         }
     }
+}
+
+/// The image of the subresource (of a 3D texture, the slice) `t` asks for among `images`.
+fn subresource<'a, I: std::ops::Deref<Target = DecodedImage>, X>(
+    images: &'a [(I, X)],
+    t: &TextureRequest,
+) -> Option<&'a (I, X)> {
+    images.iter().find(|(d, _)| {
+        d.mip == t.sub.mip
+            && if t.volume {
+                d.z == Some(t.sub.layer)
+            } else {
+                d.layer == t.sub.layer
+            }
+    })
 }
 
 /// The subresource `t` asks for of `texture` (a replay texture or a copy of it), decoded; or

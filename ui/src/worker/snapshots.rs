@@ -192,7 +192,8 @@ impl Snapshots {
     }
 
     /// Encodes a copy of `source` (plan texture `t`) as it is after `after` and keeps it,
-    /// evicting the least recently used copies beyond the budget.
+    /// evicting the least recently used copies beyond the budget. A texture larger than the
+    /// whole budget is recorded as evicted.
     pub fn keep_texture(
         &mut self,
         device: &wgpu::Device,
@@ -202,15 +203,14 @@ impl Snapshots {
         source: &wgpu::Texture,
     ) {
         let bytes = texture_bytes(source);
-        if bytes > self.budget {
-            self.place(Kind::Texture, t, after, None, bytes);
-            return;
-        }
-        let copy = copy_texture(device, encoder, source);
-        self.place(Kind::Texture, t, after, Some(Held::Texture(copy)), bytes);
+        let copy = (bytes <= self.budget).then(|| copy_texture(device, encoder, source));
+        self.clock += 1;
+        let (held, clock) = (copy.is_some(), self.clock);
+        let freed = put(self.textures.get_mut(t), after, copy, bytes, clock);
+        self.account(held, bytes, freed, (Kind::Texture, t, after));
     }
 
-    /// Encodes a copy of `source` (plan buffer `b`, `size` bytes) as it is after `after`.
+    /// Encodes a copy of `source` (plan buffer `b`) as it is after `after` and keeps it.
     pub fn keep_buffer(
         &mut self,
         device: &wgpu::Device,
@@ -220,43 +220,30 @@ impl Snapshots {
         source: &wgpu::Buffer,
     ) {
         let bytes = source.size();
-        if bytes > self.budget {
-            self.place(Kind::Buffer, b, after, None, bytes);
-            return;
-        }
-        let copy = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("framelab snapshot"),
-            size: bytes,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
+        let copy = (bytes <= self.budget).then(|| {
+            let copy = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("framelab snapshot"),
+                size: bytes,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            encoder.copy_buffer_to_buffer(source, 0, &copy, 0, bytes & !3);
+            copy
         });
-        encoder.copy_buffer_to_buffer(source, 0, &copy, 0, bytes & !3);
-        self.place(Kind::Buffer, b, after, Some(Held::Buffer(copy)), bytes);
+        self.clock += 1;
+        let (held, clock) = (copy.is_some(), self.clock);
+        let freed = put(self.buffers.get_mut(b), after, copy, bytes, clock);
+        self.account(held, bytes, freed, (Kind::Buffer, b, after));
     }
 
-    fn place(
-        &mut self,
-        kind: Kind,
-        index: usize,
-        after: Option<usize>,
-        held: Option<Held>,
-        bytes: u64,
-    ) {
-        self.clock += 1;
-        let clock = self.clock;
-        let added = if held.is_some() { bytes } else { 0 };
-        let freed = match (kind, held) {
-            (Kind::Texture, held) => {
-                let copy = held.and_then(Held::texture);
-                put(self.textures.get_mut(index), after, copy, bytes, clock)
-            }
-            (Kind::Buffer, held) => {
-                let copy = held.and_then(Held::buffer);
-                put(self.buffers.get_mut(index), after, copy, bytes, clock)
-            }
-        };
-        self.used = self.used + added - freed;
-        self.evict((kind, index, after));
+    /// Counts a copy of `bytes` put in place of one holding `freed`, then evicts beyond the
+    /// budget (never the copy just kept).
+    fn account(&mut self, held: bool, bytes: u64, freed: u64, kept: (Kind, usize, Option<usize>)) {
+        if held {
+            self.used += bytes;
+        }
+        self.used -= freed;
+        self.evict(kept);
     }
 
     /// Drops the least recently used copies, never `keep`, until the budget holds.
@@ -291,26 +278,6 @@ impl Snapshots {
             };
             self.used -= bytes;
             self.evicted += 1;
-        }
-    }
-}
-
-enum Held {
-    Texture(wgpu::Texture),
-    Buffer(wgpu::Buffer),
-}
-
-impl Held {
-    fn texture(self) -> Option<wgpu::Texture> {
-        match self {
-            Held::Texture(t) => Some(t),
-            Held::Buffer(_) => None,
-        }
-    }
-    fn buffer(self) -> Option<wgpu::Buffer> {
-        match self {
-            Held::Buffer(b) => Some(b),
-            Held::Texture(_) => None,
         }
     }
 }

@@ -5,11 +5,17 @@
 //! receive only this plain data (ids, names and preformatted text), never capture types, and
 //! `launch` starts the replay they drive.
 
+mod launch;
+mod timings;
+
 use std::collections::BTreeMap;
 
+pub use self::launch::{DEFAULT_BUDGET, LaunchError, LaunchOptions, launch};
+use self::timings::{compare_from, timings_from};
+
 use crate::model::{
-    Barrier, BarrierSide, BarrierSource, BufferView, Compare, CompareRow, Inspection, LayoutChoice,
-    Pass, PassTime, Resource, Sampling, TextureView, Timings,
+    Barrier, BarrierSide, BarrierSource, BufferView, Inspection, LayoutChoice, Pass, Resource,
+    Sampling, TextureView,
 };
 use framelab_replay::wgpu;
 use serde::Serialize;
@@ -20,8 +26,7 @@ use framelab_core::capture::model::{
     BindingTarget, Capture, PassDesc, PassId, ResourceId, Subresources,
 };
 use framelab_core::pipeline::{Analysed, Lowered};
-use framelab_core::timing::diff::{DiffOptions, RowKind, Verdict};
-use framelab_core::timing::{TimingReport, stats};
+use framelab_core::timing::TimingReport;
 
 /// A serde enum's name as the capture spells it.
 fn spelled(x: &impl Serialize) -> String {
@@ -498,17 +503,6 @@ fn buffer_views(plan: &framelab_core::plan::Plan) -> Vec<BufferView> {
     views
 }
 
-/// Every plan texture the viewer can show gets bound as a texture by the display pass.
-fn make_viewable(lowered: &mut Lowered) {
-    for t in &mut lowered.plan.textures {
-        if t.samples == 1 {
-            t.usage |= wgpu::TextureUsages::TEXTURE_BINDING;
-        }
-        // The worker copies what each pass writes.
-        t.usage |= wgpu::TextureUsages::COPY_SRC;
-    }
-}
-
 fn resources(
     c: &Capture,
     a: &Analysis,
@@ -586,154 +580,6 @@ fn resources(
             }
         })
         .collect()
-}
-
-/// Per model pass, its median GPU time in a report, laid out per queue in order (a report
-/// keeps durations, not start times): a pass starts when the previous one on its queue ends,
-/// and not before the passes it waits on.
-fn timings_from(model: &Inspection, t: &TimingReport, source: &str) -> Timings {
-    let by_name: BTreeMap<(&str, &str), &framelab_core::timing::PassTiming> = t
-        .passes
-        .iter()
-        .map(|p| ((p.queue.as_str(), p.name.as_str()), p))
-        .collect();
-    let mut queue_end = vec![0.0f64; model.queues.len()];
-    let mut ends: Vec<f64> = Vec::with_capacity(model.passes.len());
-    let mut out = Vec::with_capacity(model.passes.len());
-    // The passes each pass waits on, gathered once.
-    let mut waits_on: Vec<Vec<usize>> = vec![Vec::new(); model.passes.len()];
-    for &(from, to) in &model.fences {
-        if let Some(list) = waits_on.get_mut(to) {
-            list.push(from);
-        }
-    }
-    for (i, p) in model.passes.iter().enumerate() {
-        let timing = by_name.get(&(model.queues[p.queue].as_str(), p.name.as_str()));
-        // A pass the adapter could not time keeps its place, unmeasured.
-        let measured = timing.is_none_or(|pt| pt.gpu_untrusted.is_none());
-        let ms = timing
-            .and_then(|pt| stats::gpu_ms_median_min(pt, t.warmup))
-            .map(|(median, _)| median * 1e6);
-        let waits = waits_on[i]
-            .iter()
-            .map(|&from| ends.get(from).copied().unwrap_or(0.0))
-            .fold(0.0f64, f64::max);
-        let start = queue_end[p.queue].max(waits);
-        let end = start + ms.unwrap_or(0.0);
-        queue_end[p.queue] = end;
-        ends.push(end);
-        out.push(match (ms, measured) {
-            (Some(gpu_ns), _) => Some(PassTime {
-                start_ns: start,
-                gpu_ns,
-                measured: true,
-            }),
-            (None, false) => Some(PassTime {
-                start_ns: start,
-                gpu_ns: 0.0,
-                measured: false,
-            }),
-            (None, true) => None,
-        });
-    }
-    Timings {
-        source: source.to_owned(),
-        passes: out,
-        note: t.passes.iter().find_map(|p| p.gpu_untrusted.clone()),
-    }
-}
-
-/// A pass the timing diff left unmatched that runs there on another queue under the same marker
-/// path and name (the structural diff's "moved"): its time there is shown, but no change or
-/// verdict, as times on different queues do not compare.
-fn moved(model: &Inspection, p: &crate::model::Pass, b: &TimingReport) -> Option<CompareRow> {
-    let here = model.queues[p.queue].as_str();
-    let path = if p.markers.is_empty() {
-        p.name.clone()
-    } else {
-        format!("{}/{}", p.markers.join("/"), p.name)
-    };
-    let there = b.passes.iter().find(|t| {
-        t.name == p.name && t.queue != here && (t.marker_path == path || t.marker_path.is_empty())
-    })?;
-    let samples: Vec<f64> = there.gpu_ns.iter().flatten().map(|&n| n as f64).collect();
-    if samples.is_empty() {
-        return None;
-    }
-    Some(CompareRow {
-        other_ms: stats::median(&samples) / 1e6,
-        change_pct: 0.0,
-        verdict: "moved".into(),
-        renamed: None,
-        moved: Some(there.queue.clone()),
-    })
-}
-
-fn compare_from(
-    model: &Inspection,
-    a: &TimingReport,
-    b: &TimingReport,
-    source: &str,
-) -> Result<Compare, framelab_core::timing::diff::DiffError> {
-    // Reports taken at different scales are compared all the same, under a warning: the
-    // inspector shows what there is, the diff command refuses to give a verdict on it.
-    let note = (a.scale != b.scale).then(|| {
-        format!(
-            "the reports were taken at different scales ({} here, {} in {source}): their times \
-             are not comparable",
-            a.scale, b.scale
-        )
-    });
-    let rescaled;
-    let b = if a.scale == b.scale {
-        b
-    } else {
-        rescaled = TimingReport {
-            scale: a.scale,
-            ..b.clone()
-        };
-        &rescaled
-    };
-    let d = framelab_core::timing::diff::diff(a, b, &DiffOptions::default())?;
-    // Keyed by the pass's name here (in A): a pass renamed there is matched by the diff's
-    // rename detection (same shader, queue and outputs) and found under its old name.
-    let rows: BTreeMap<(&str, &str), &framelab_core::timing::diff::Row> = d
-        .rows
-        .iter()
-        .filter(|r| r.kind == RowKind::Pass)
-        .map(|r| {
-            let here = r.renamed_from.as_deref().unwrap_or(r.name.as_str());
-            ((r.queue.as_str(), here), r)
-        })
-        .collect();
-    let passes = model
-        .passes
-        .iter()
-        .map(|p| {
-            let Some(r) = rows.get(&(model.queues[p.queue].as_str(), p.name.as_str())) else {
-                return moved(model, p, b);
-            };
-            Some(CompareRow {
-                other_ms: r.median_b_ns / 1e6,
-                change_pct: r.change_pct,
-                verdict: match r.verdict {
-                    Verdict::Regression => "regression",
-                    Verdict::Improvement => "improvement",
-                    Verdict::Unchanged => "unchanged",
-                    Verdict::Inconclusive { .. } => "inconclusive",
-                    Verdict::Untimed => "untimed",
-                }
-                .to_owned(),
-                renamed: r.renamed_from.as_ref().map(|_| r.name.clone()),
-                moved: None,
-            })
-        })
-        .collect();
-    Ok(Compare {
-        source: source.to_owned(),
-        passes,
-        note,
-    })
 }
 
 fn edges(a: &Analysis, pass_index: &BTreeMap<PassId, usize>) -> Vec<crate::model::Edge> {
@@ -953,94 +799,4 @@ fn touched(p: &framelab_core::capture::model::PassDesc, writes: bool) -> Vec<usi
         out.retain(|r| !written.contains(r));
     }
     out
-}
-
-/// Why the inspector could not start.
-#[derive(Debug, thiserror::Error)]
-pub enum LaunchError {
-    #[error(transparent)]
-    Lower(#[from] framelab_core::pipeline::StageError),
-    #[error(transparent)]
-    Replay(#[from] framelab_replay::ReplayError),
-    #[error("comparing the timing reports: {0}")]
-    Compare(#[from] framelab_core::timing::diff::DiffError),
-}
-
-/// How the inspector's replay runs: whole frames timed (the first before the browsed frame, the
-/// rest after it) and the bytes of pass copies it keeps.
-#[derive(Clone, Copy, Debug)]
-pub struct LaunchOptions {
-    pub frames: u32,
-    pub budget: u64,
-}
-
-impl Default for LaunchOptions {
-    fn default() -> Self {
-        LaunchOptions {
-            frames: 2,
-            budget: DEFAULT_BUDGET,
-        }
-    }
-}
-
-/// The default memory budget for pass copies.
-pub const DEFAULT_BUDGET: u64 = 2048 << 20;
-
-/// The inspector's model and its replay worker on `ctx` (the replay's own device): the capture
-/// lowered for the device (every texture viewable, copyable) and the worker started, which
-/// creates the session on its own thread so the window can open at once.
-pub fn launch(
-    analysed: Analysed,
-    ctx: framelab_replay::GpuContext,
-    reports: &Reports<'_>,
-    options: LaunchOptions,
-) -> Result<(Inspection, crate::worker::Worker), LaunchError> {
-    let mut lowered = analysed.lower(ctx.device.features(), &ctx.summary.name)?;
-    make_viewable(&mut lowered);
-    let a = &lowered.analysed;
-    let inspection = model(
-        &a.capture,
-        &a.analysis,
-        &lowered.pass_ids,
-        Some(&lowered),
-        reports,
-    )?;
-    let writes = pass_writes(&lowered);
-    let worker = crate::worker::Worker::start(crate::worker::Launch {
-        ctx,
-        lowered,
-        writes,
-        timed_frames: options.frames.max(1),
-        budget: options.budget,
-    });
-    Ok((inspection, worker))
-}
-
-/// The plan textures and buffers each plan pass writes.
-fn pass_writes(lowered: &Lowered) -> Vec<crate::worker::PassWrites> {
-    let c = lowered.capture();
-    lowered
-        .pass_ids
-        .iter()
-        .map(|&id| {
-            let p = c.pass(id);
-            let mut w = crate::worker::PassWrites {
-                steps: p.draws.len() + p.dispatches.len(),
-                ..Default::default()
-            };
-            for a in p.accesses.iter().filter(|a| a.writes) {
-                if let Some(&t) = lowered.texture_of.get(&a.resource) {
-                    w.textures.push(t);
-                }
-                if let Some(&b) = lowered.buffer_of.get(&a.resource) {
-                    w.buffers.push(b);
-                }
-            }
-            w.textures.sort_unstable();
-            w.textures.dedup();
-            w.buffers.sort_unstable();
-            w.buffers.dedup();
-            w
-        })
-        .collect()
 }
