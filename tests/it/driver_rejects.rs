@@ -122,9 +122,8 @@ fn draw_ranges_past_32_bits_are_refused() {
 ///   1D and 2D textures (arrays, cubes) only, never 3D;
 /// - block-compressed formats are 2D or 3D (a 1D texture is one texel high, never a block);
 /// - ALLOW_DEPTH_STENCIL needs a depth format or its typeless family, and no 3D texture;
-/// - ALLOW_RENDER_TARGET needs a colour format: not depth/stencil, block-compressed or
-///   shared-exponent (1-bit and packed 4:2:2 formats, which WebGPU lacks, are refused where a
-///   pass attaches them; the probe here is attached nowhere).
+/// - ALLOW_RENDER_TARGET needs a format D3D12 renders to: not depth/stencil, block-compressed,
+///   shared-exponent, 1-bit, packed 4:2:2, XR-bias or a depth aspect's read view.
 #[test]
 fn every_format_on_every_texture_kind_matches_the_rule() {
     use framelab_core::capture::dxgi::{self, Layout, Numeric};
@@ -155,8 +154,12 @@ fn every_format_on_every_texture_kind_matches_the_rule() {
             && !bc
             && !video
             && f.channels.first().map(|c| c.numeric) != Some(Numeric::SharedExp)
-            && (f.name != "R1_UNORM" && f.block_width == 1 && f.block_height == 1
-                || framelab_core::capture::formats::webgpu_gap(f.name).is_some());
+            && f.block_width == 1
+            && f.block_height == 1
+            && !matches!(f.name, "R1_UNORM" | "R10G10B10_XR_BIAS_A2_UNORM")
+            // the read views of a depth/stencil family's aspects
+            && !f.name.contains("_X8")
+            && !f.name.starts_with('X');
         let depth_capable =
             (f.name.starts_with('D') && depth_only) || depth_typeless.contains(&f.name);
         for kind in kinds {
@@ -393,4 +396,149 @@ fn reading_and_writing_overlapping_buffer_bytes_through_two_views_is_refused() {
         }
     }
     assert_eq!(walked, 25);
+}
+
+/// D3D12's support of each format, stated here apart from the table validation uses: which
+/// formats can be rendered to, blended, and stored through a typed unordered-access view.
+struct D3d12 {
+    render_target: bool,
+    blend: bool,
+    typed_store: bool,
+}
+
+fn d3d12(f: &framelab_core::capture::dxgi::FormatInfo) -> D3d12 {
+    use framelab_core::capture::dxgi::{Layout, Numeric};
+    let numeric = f.channels.iter().find(|c| c.name != 'X').map(|c| c.numeric);
+    let render_target = f.layout == Layout::Linear
+        && f.depth_bits == 0
+        && f.stencil_bits == 0
+        && !f.channels.is_empty()
+        && !matches!(
+            numeric,
+            Some(Numeric::Typeless | Numeric::SharedExp | Numeric::Other)
+        )
+        && !f.name.contains("_X8")
+        && !f.name.starts_with('X')
+        && !matches!(
+            f.name,
+            "R1_UNORM" | "R8G8_B8G8_UNORM" | "G8R8_G8B8_UNORM" | "R10G10B10_XR_BIAS_A2_UNORM"
+        );
+    let integer = matches!(numeric, Some(Numeric::Uint | Numeric::Sint));
+    D3d12 {
+        render_target,
+        blend: render_target && !integer,
+        typed_store: render_target && !f.srgb && !f.name.starts_with("R32G32B32_"),
+    }
+}
+
+/// Class: a format used where D3D12 has no support for that use. Every typed DXGI format,
+/// through every use that goes through a view of it: a clear through a render-target view
+/// and through an unordered-access view (the resource's flag says which), a colour
+/// attachment viewing a typeless resource as the format, the same with blending, and a
+/// storage binding viewing it. Each use is refused exactly when D3D12 (or, for an attachment,
+/// WebGPU, which framelab replays through) cannot do it.
+#[test]
+fn every_use_of_every_format_follows_d3d12_support() {
+    use framelab_core::capture::dxgi;
+    use framelab_core::capture::formats::webgpu_gap;
+    let minimal: Value = serde_json::from_str(
+        &std::fs::read_to_string(repo().join("tests/fixtures/minimal.json")).unwrap(),
+    )
+    .unwrap();
+    let example = example();
+    let mut wrong = Vec::new();
+    let mut walked = 0;
+    for f in dxgi::all().iter().filter(|f| {
+        !f.is_typeless() && f.name != "UNKNOWN" && !f.is_video_or_palette() && !f.is_depth_format()
+    }) {
+        let support = d3d12(f);
+        // Refused means a format-usage error at one of `paths` (the use, or the flag of the
+        // resource it views, which no view can then pass); "*" means any error at all.
+        let mut check = |what: &str, refused: bool, errs: &[Diagnostic], paths: &[&str]| {
+            walked += 1;
+            let got = if paths == ["*"] {
+                !errs.is_empty()
+            } else {
+                errs.iter()
+                    .any(|d| d.code == "format-usage" && paths.contains(&d.path.as_str()))
+            };
+            if got != refused {
+                wrong.push(format!(
+                    "{} {what}: expected {}, got {errs:?}",
+                    f.name,
+                    if refused { "refused" } else { "accepted" }
+                ));
+            }
+        };
+        // Clears: "color" in the minimal capture, cleared by pass 2.
+        for (flag, supported) in [
+            ("ALLOW_RENDER_TARGET", support.render_target),
+            ("ALLOW_UNORDERED_ACCESS", support.typed_store),
+        ] {
+            let mut c = minimal.clone();
+            c["resources"][0]["format"] = json!(f.name);
+            c["resources"][0]["flags"] = json!([flag]);
+            let errs = errors_as(&c, "tests/fixtures/minimal.json");
+            check(
+                &format!("cleared with {flag}"),
+                !supported,
+                &errs,
+                &["$.resources[0].flags"],
+            );
+            check(
+                &format!("cleared with {flag}, any error"),
+                !supported,
+                &errs,
+                &["*"],
+            );
+        }
+        // Views of a typeless family member: the example's "bloom" (pass 5's attachment) and
+        // "ldr" (pass 7's storage binding) made the family, viewed as the member.
+        let Some(family) = f.typeless_family else {
+            continue;
+        };
+        for blend in [false, true] {
+            let mut c = example.clone();
+            c["resources"][7]["format"] = json!(family);
+            let a = &mut c["passes"][5]["color_attachments"][0];
+            a["format"] = json!(f.name);
+            if blend {
+                a["blend"] = json!("additive");
+            }
+            let errs = errors(&c);
+            let at = "$.passes[5].color_attachments[0]";
+            if blend {
+                check(
+                    "blended attachment",
+                    support.render_target && !support.blend,
+                    &errs,
+                    &[&format!("{at}.blend")],
+                );
+            } else {
+                check(
+                    "attachment",
+                    !support.render_target || webgpu_gap(f.name).is_some(),
+                    &errs,
+                    &[at, "$.resources[7].flags"],
+                );
+            }
+        }
+        let mut c = example.clone();
+        c["resources"][8]["format"] = json!(family);
+        c["passes"][7]["bindings"]["ldr"]["format"] = json!(f.name);
+        let errs = errors(&c);
+        check(
+            "storage binding",
+            !support.typed_store,
+            &errs,
+            &["$.passes[7].bindings.ldr.access", "$.resources[8].flags"],
+        );
+    }
+    assert!(walked > 300, "walked only {walked} uses");
+    assert!(
+        wrong.is_empty(),
+        "{}\n{} wrong",
+        wrong.join("\n"),
+        wrong.len()
+    );
 }

@@ -98,17 +98,6 @@ impl FormatInfo {
     pub fn is_depth_only(&self) -> bool {
         self.is_depth_stencil() || matches!(self.name, "R24G8_TYPELESS" | "R32G8X24_TYPELESS")
     }
-    /// Whether a render-target or unordered-access view can have this format (or, for a
-    /// typeless format, a format of its family): not depth/stencil formats, block-compressed,
-    /// shared-exponent, 1-bit or packed 4:2:2 ones.
-    pub fn can_be_color_target(&self) -> bool {
-        !self.is_depth_only()
-            && !self.is_block_compressed()
-            && !self.is_video_or_palette()
-            && self.numeric() != Some(Numeric::SharedExp)
-            && self.name != "R1_UNORM"
-            && !(self.layout == Layout::Linear && (self.block_width > 1 || self.block_height > 1))
-    }
     pub fn is_block_compressed(&self) -> bool {
         self.layout == Layout::BlockCompressed
     }

@@ -10,6 +10,7 @@ pub mod ids;
 pub mod load;
 pub mod model;
 pub mod shaders;
+pub mod support;
 pub mod validate;
 pub mod vk_model;
 pub mod vulkan;

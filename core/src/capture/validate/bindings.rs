@@ -12,6 +12,7 @@ use crate::capture::model::{
     AccessSource, BindingDesc, BindingTarget, ResourceAccess, ResourceDesc, ResourceId, SamplerId,
     Subresources,
 };
+use crate::capture::support::Support;
 
 /// Largest uniform (constant) buffer view.
 pub const MAX_UNIFORM_BINDING_BYTES: u64 = 65_536;
@@ -104,14 +105,12 @@ impl<'a> Validator<'a> {
                 }
                 let view_format = if r.is_texture() {
                     let f = self.view_format(r, b.format.as_deref(), &path.field("format"))?;
-                    if access.is_unordered(r.is_texture())
-                        && (f.is_block_compressed() || f.is_depth_stencil() || f.srgb)
-                    {
+                    if access.is_unordered(r.is_texture()) && !Support::of(f).typed_uav_store {
                         self.diags.error(
                             "format-usage",
                             &path.field("access"),
                             format!(
-                                "{} cannot be a storage texture (\"{}\" in pass \"{pass}\")",
+                                "{} cannot be a storage texture (\"{}\" in pass \"{pass}\"): D3D12 has no typed unordered-access store for it (none for sRGB, depth/stencil, block-compressed, shared-exponent, 1-bit, packed 4:2:2 or XR-bias formats); bind a view of another format of its family",
                                 f.name, r.name
                             ),
                         );

@@ -13,6 +13,7 @@ use crate::capture::model::{
     PassDesc, PassId, QueueCapabilities, QueueId, ResourceAccess, ResourceDesc, ResourceId,
     ShaderDesc, Subresources,
 };
+use crate::capture::support::Support;
 
 /// What the sections of a pass's check share besides the pass itself.
 pub(super) struct PassContext<'c> {
@@ -452,13 +453,20 @@ impl<'a> Validator<'a> {
                     "\"{}\" is a colour attachment of pass \"{name}\" but lacks ALLOW_RENDER_TARGET", r.name
                 ));
             }
-            if format.is_depth_stencil() || format.is_block_compressed() || format.is_typeless() {
+            let support = Support::of(format);
+            if format.is_typeless() || !support.render_target {
                 self.diags.error(
                     "format-usage",
                     &apath,
                     format!(
-                        "{} cannot be a colour attachment (\"{}\" in pass \"{name}\")",
-                        format.name, r.name
+                        "{} cannot be a colour attachment (\"{}\" in pass \"{name}\"): {}",
+                        format.name,
+                        r.name,
+                        if format.is_typeless() {
+                            "a render-target view needs a typed format; give the attachment a `format` from its family"
+                        } else {
+                            "D3D12 has no render-target support for it"
+                        }
                     ),
                 );
             } else if let Some(why) = formats::not_renderable(format) {
@@ -474,12 +482,13 @@ impl<'a> Validator<'a> {
             if a.blend
                 .as_ref()
                 .is_some_and(|b| !matches!(b, Blend::Preset(BlendPreset::Opaque)))
-                && format.is_integer()
+                && support.render_target
+                && !support.blend
             {
                 self.diags.error(
                     "format-usage",
                     &apath.field("blend"),
-                    format!("integer format {} cannot blend", format.name),
+                    format!("{} cannot blend (D3D12 blends no integer format); make the attachment opaque", format.name),
                 );
             }
             if let Some(mask) = &a.write_mask

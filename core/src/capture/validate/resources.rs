@@ -16,6 +16,7 @@ use crate::capture::generators::{Content, Seeded};
 use crate::capture::model::{
     HeapDesc, HeapId, InitialDesc, PlacementDesc, ResourceCategory, ResourceDesc, ResourceId,
 };
+use crate::capture::support::Support;
 use crate::text::human_bytes;
 
 /// Resolved dimensions of a resource (all 1 for buffers).
@@ -652,28 +653,36 @@ impl<'a> Validator<'a> {
                 ),
             );
         }
-        if (rt || uav)
-            && !format.can_be_color_target()
-            && !format.is_depth_format()
-            && !format.is_block_compressed()
-            && !format.is_video_or_palette()
-            // Formats WebGPU lacks are refused where a pass attaches them, with the reason.
-            && (format.is_depth_only()
-                || crate::capture::formats::webgpu_gap(format.name).is_none())
-        {
-            let flag = if rt {
-                "ALLOW_RENDER_TARGET"
-            } else {
-                "ALLOW_UNORDERED_ACCESS"
-            };
-            self.diags.error(
-                "format-usage",
-                &path.field("flags"),
-                format!(
-                    "\"{}\" has {flag} but {} cannot be a render target or unordered-access format (depth/stencil, shared-exponent, 1-bit or packed 4:2:2); drop the flag or use a colour format",
-                    r.name, format.name
-                ),
-            );
+        // The per-format support of D3D12, for what the depth, block-compressed and sRGB
+        // checks here do not already say.
+        let support = Support::of(format);
+        let explained = format.is_depth_format()
+            || format.is_block_compressed()
+            || format.is_video_or_palette();
+        for (flag, set, supported, what) in [
+            (
+                "ALLOW_RENDER_TARGET",
+                rt,
+                support.render_target,
+                "a render target",
+            ),
+            (
+                "ALLOW_UNORDERED_ACCESS",
+                uav,
+                support.typed_uav_store || format.srgb,
+                "an unordered-access (typed store) format",
+            ),
+        ] {
+            if set && !supported && !explained {
+                self.diags.error(
+                    "format-usage",
+                    &path.field("flags"),
+                    format!(
+                        "\"{}\" has {flag} but {} cannot be {what} in D3D12 (no depth/stencil, shared-exponent, 1-bit, packed 4:2:2 or XR-bias format can); drop the flag or use a colour format",
+                        r.name, format.name
+                    ),
+                );
+            }
         }
         if format.is_depth_format() && (rt || uav) {
             self.diags.error(
