@@ -50,11 +50,25 @@ fn locate(
     report: String,
 ) -> ShaderError {
     let (line, column) = location.map_or((1, 1), |l| (l.line_number, l.line_position));
-    let source_line = source
+    let whole = source
         .lines()
         .nth(line.saturating_sub(1) as usize)
-        .unwrap_or_default()
-        .to_owned();
+        .unwrap_or_default();
+    // Control characters would move or erase what a terminal shows: quoted as U+FFFD.
+    let mut source_line: String = whole
+        .chars()
+        .take(QUOTED_LINE)
+        .map(|c| {
+            if c.is_control() && c != '\t' {
+                '\u{fffd}'
+            } else {
+                c
+            }
+        })
+        .collect();
+    if whole.chars().nth(QUOTED_LINE).is_some() {
+        source_line.push_str("...");
+    }
     ShaderError {
         file: file.to_owned(),
         line,
@@ -64,6 +78,24 @@ fn locate(
         report,
     }
 }
+
+/// naga's rendered report of an error, unless `source` holds control characters: its renderer
+/// replaces them one at a time in the whole source, which takes minutes for a file of many
+/// NUL bytes (a sparse file, a binary named as a shader). The message and location stand
+/// without it.
+fn report(source: &str, render: impl FnOnce() -> String) -> String {
+    if source
+        .bytes()
+        .any(|b| (b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r')) || b == 0x7f)
+    {
+        return String::new();
+    }
+    render()
+}
+
+/// The most of the offending line an error quotes: a shader on one line (minified, or a
+/// binary file) would otherwise be quoted whole.
+const QUOTED_LINE: usize = 120;
 
 /// Where `fn name` is declared in `source`.
 fn entry_point_location(source: &str, name: &str) -> Option<naga::SourceLocation> {
@@ -227,7 +259,7 @@ fn parse_and_validate(file: &str, source: &str) -> Result<ValidatedShader, Shade
             source,
             e.location(source),
             e.message().to_owned(),
-            e.emit_to_string_with_path(source, file),
+            report(source, || e.emit_to_string_with_path(source, file)),
         )
     })?;
     let mut validator = naga::valid::Validator::new(
@@ -255,7 +287,7 @@ fn parse_and_validate(file: &str, source: &str) -> Result<ValidatedShader, Shade
             source,
             location,
             message,
-            e.emit_to_string_with_path(source, file),
+            report(source, || e.emit_to_string_with_path(source, file)),
         )
     })?;
     Ok(ValidatedShader { module, info })
@@ -263,6 +295,22 @@ fn parse_and_validate(file: &str, source: &str) -> Result<ValidatedShader, Shade
 
 #[cfg(test)]
 mod tests {
+    /// A shader file of NUL bytes (a sparse file, a binary named as a shader) is refused
+    /// with a short quote and no rendered report: naga's renderer replaces control
+    /// characters one at a time, minutes for a file this size.
+    #[test]
+    fn control_characters_are_quoted_short_and_not_rendered() {
+        let source = "\0".repeat(4 << 20);
+        let err = validate_wgsl("zeros.wgsl", &source).expect_err("NUL bytes are no WGSL");
+        assert!(err.report.is_empty(), "{}", err.report.len());
+        assert!(err.source_line.chars().count() <= QUOTED_LINE + 3);
+        assert!(
+            err.source_line.starts_with('\u{fffd}'),
+            "{}",
+            err.source_line
+        );
+    }
+
     use super::*;
 
     #[test]

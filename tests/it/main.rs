@@ -15,6 +15,7 @@ mod diff_cli;
 mod driver_rejects;
 mod dxgi_ddsfile;
 mod fuzz;
+mod fuzz_files;
 mod gfxr_binary;
 mod gfxr_fuzz;
 mod gfxr_replay;
