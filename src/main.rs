@@ -1,6 +1,8 @@
-//! The `framelab` binary: the allocator choice and the entry point; everything else is in `cli`.
+//! The `framelab` binary: the allocator choice and the entry point; the commands are in `cli`,
+//! the MCP server (`framelab mcp`) in `mcp`.
 
 mod cli;
+mod mcp;
 
 /// Analyses allocate and free several MiB per run. The system allocator hands that memory back
 /// to the kernel between runs and faults it in again; mimalloc keeps it, which on a 2-core

@@ -157,6 +157,17 @@ enum Command {
     ///
     /// Example: framelab inspect frame.json --screenshot view.png --select tonemap --view ldr
     Inspect(Box<inspect::InspectArgs>),
+    /// Serve the Model Context Protocol over stdio, for assistants and scripts: open
+    /// captures, list passes and resources, one pass's details, the analysis, a structural
+    /// diff. Register it with a client as the command `framelab mcp`.
+    ///
+    /// Example: framelab mcp --root ~/captures
+    Mcp {
+        /// Read captures only inside this directory (and inside the client's roots); may be
+        /// given more than once.
+        #[arg(long)]
+        root: Vec<PathBuf>,
+    },
     /// Turn a GFXReconstruct capture into a framelab capture: passes, resources, heaps and
     /// the barriers the application recorded. A binary capture (`.gfxr`, recognised by its
     /// file header) also brings its SPIR-V shaders and memory contents, written as side
@@ -294,6 +305,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         }
         Command::Diff(args) => Ok(diff::run(&args)),
         Command::Inspect(args) => inspect::run(&args),
+        Command::Mcp { root } => crate::mcp::run(&root),
         Command::Import {
             stream,
             out,

@@ -22,6 +22,7 @@ mod gfxr_replay;
 mod import;
 mod inspector;
 mod invalid_corpus;
+mod mcp;
 mod memory_quality;
 mod rdc_fuzz;
 mod rdc_import;

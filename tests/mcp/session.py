@@ -1,0 +1,87 @@
+"""One MCP session with `framelab mcp`, held by the official Python SDK's client (an
+independent implementation of the protocol): initialize, tools/list, every tool on the
+bundled captures, bad input of each kind, then shutdown by closing stdin. Prints one JSON
+object: what each call answered, for the Rust test to compare with the command line.
+
+Usage: python3 session.py <framelab binary> <repository root>
+"""
+
+import asyncio
+import json
+import sys
+from pathlib import Path
+
+import mcp.types as types
+from mcp import ClientSession, StdioServerParameters
+from mcp.client.stdio import stdio_client
+
+FRAMELAB, REPO = sys.argv[1], Path(sys.argv[2]).resolve()
+
+
+async def roots(_context):
+    # The client lets the server read the repository only.
+    return types.ListRootsResult(roots=[types.Root(uri=REPO.as_uri(), name="repository")])
+
+
+def outcome(result):
+    """A call's answer: its structured content, or its error text."""
+    text = "".join(c.text for c in result.content if getattr(c, "type", "") == "text")
+    if result.is_error:
+        return {"error": text}
+    return {"ok": result.structured_content}
+
+
+async def main():
+    server = StdioServerParameters(command=FRAMELAB, args=["mcp"], cwd=str(REPO))
+    out = {}
+    async with stdio_client(server) as (read, write):
+        async with ClientSession(read, write, list_roots_callback=roots) as session:
+            init = await session.initialize()
+            out["server"] = init.server_info.name
+            tools = await session.list_tools()
+            out["tools"] = sorted(t.name for t in tools.tools)
+            out["schemas"] = {t.name: t.input_schema for t in tools.tools}
+
+            async def call(name, **arguments):
+                return outcome(await session.call_tool(name, arguments))
+
+            day = await call("open_capture", path="captures/night_city/main_street_day.json", scale=0.25)
+            example = await call("open_capture", path="captures/example/frame.json")
+            sync = await call("open_capture", path="captures/example/frame_sync.json")
+            out["open"] = {"day": day, "example": example}
+            d, e, s = (x["ok"]["capture"] for x in (day, example, sync))
+            # Every pass of the day frame, paged as a client would.
+            rows, offset = [], 0
+            while True:
+                page = await call("list_passes", capture=d, offset=offset, limit=40)
+                rows += page["ok"]["rows"]
+                offset += 40
+                if offset >= page["ok"]["total"]:
+                    break
+            out["day_passes"] = rows
+            out["example_resources"] = await call("list_resources", capture=e, limit=1000)
+            out["filtered"] = await call("list_passes", capture=d, filter="csm_")
+            # `pass` is a Python keyword: this call passes its arguments as a dict.
+            out["ssr_trace"] = outcome(await session.call_tool("pass_details", {"capture": d, "pass": "ssr_trace"}))
+            out["analyze"] = await call("analyze", capture=e)
+            out["analyze_cull"] = await call("analyze", capture=e, cull=True)
+            out["diff"] = await call("diff", a=e, b=s, mode="structure")
+            # Bad input: each a tool error naming what is wrong; the next call still answers.
+            out["bad"] = {
+                "unknown_capture": await call("list_passes", capture="c99"),
+                "unknown_pass": await session.call_tool("pass_details", {"capture": d, "pass": "ssr_trac"}),
+                "schema": await session.call_tool("list_passes", {"capture": 7}),
+                "unknown_field": await session.call_tool("list_passes", {"capture": d, "colour": "red"}),
+                "bad_mode": await call("diff", a=e, b=s, mode="pixels"),
+                "outside_roots": await call("open_capture", path="/etc/passwd"),
+                "does_not_load": await call("open_capture", path="tests/invalid/copy_overrun.json"),
+                "too_many_rows": await call("list_passes", capture=d, limit=100000),
+            }
+            out["bad"] = {k: v if isinstance(v, dict) else outcome(v) for k, v in out["bad"].items()}
+            out["after_bad"] = await call("list_passes", capture=e, limit=1)
+            out["closed"] = await call("close_capture", capture=s)
+            out["after_close"] = await call("list_passes", capture=s)
+    print(json.dumps(out))
+
+
+asyncio.run(main())
