@@ -226,3 +226,229 @@ fn malformed_messages_get_json_rpc_errors_and_closing_stdin_exits_zero() {
     assert_eq!(answers[6]["result"]["structuredContent"]["capture"], "c1");
     assert_eq!(answers.len(), 7, "{answers:?}");
 }
+
+/// A seeded source of choices for the request fuzzer, so a failure can be replayed.
+struct Rng(rand::rngs::StdRng);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        rand::RngExt::random(&mut self.0)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        rand::RngExt::random_range(&mut self.0, 0..n)
+    }
+    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
+        &items[self.below(items.len())]
+    }
+}
+
+/// A value a hostile client puts where an argument goes.
+fn hostile(rng: &mut Rng, depth: u32) -> Value {
+    match rng.below(if depth > 3 { 9 } else { 11 }) {
+        0 => Value::Null,
+        1 => json!(rng.next() as i64),
+        2 => json!(u64::MAX),
+        3 => json!(-1e308),
+        4 => json!(*rng.pick(&["c1", "c2", "c99", "", "scene", "ssr_trace", "bloom"])),
+        5 => json!(*rng.pick(&[
+            "captures/example/frame.json",
+            "captures/night_city/main_street_night.json",
+            "/etc/passwd",
+            "/dev/zero",
+            "tests/invalid/copy_overrun.json",
+            "../../../../etc/shadow",
+            "captures",
+        ])),
+        6 => json!("x".repeat(rng.below(100_000))),
+        7 => json!(rng.below(2) == 0),
+        8 => json!(*rng.pick(&["structure", "timing", "work", "pixels"])),
+        9 => Value::Array((0..rng.below(4)).map(|_| hostile(rng, depth + 1)).collect()),
+        _ => {
+            let mut m = serde_json::Map::new();
+            for _ in 0..rng.below(4) {
+                let key = *rng.pick(&[
+                    "capture", "pass", "path", "limit", "offset", "mode", "a", "b", "cull",
+                    "scale", "filter", "zz",
+                ]);
+                m.insert(key.to_owned(), hostile(rng, depth + 1));
+            }
+            Value::Object(m)
+        }
+    }
+}
+
+/// One line of the fuzz session, and whether the server owes an answer to it.
+fn fuzz_line(rng: &mut Rng, id: u64) -> (String, bool) {
+    const TOOLS: &[&str] = &[
+        "open_capture",
+        "list_passes",
+        "list_resources",
+        "pass_details",
+        "analyze",
+        "diff",
+        "close_capture",
+        "no_such_tool",
+    ];
+    const KEYS: &[&str] = &[
+        "capture", "pass", "path", "limit", "offset", "mode", "a", "b", "cull", "scale", "filter",
+    ];
+    match rng.below(10) {
+        // Bytes that are not JSON (no newline: the line ends where the test says).
+        0 => {
+            let n = rng.below(300);
+            let text: String = (0..n)
+                .map(|_| char::from(32 + rng.below(95) as u8))
+                .collect();
+            (format!("{{{text}"), true)
+        }
+        // JSON that is no JSON-RPC request.
+        1 => (hostile(rng, 0).to_string(), true),
+        // A request of a method the server does not have.
+        2 => (
+            json!({"jsonrpc": "2.0", "id": id, "method": rng.pick(&["resources/list", "x", "tools/lis"]), "params": hostile(rng, 1)}).to_string(),
+            true,
+        ),
+        // A valid call of a tool, mutated half the time: a key dropped, a value replaced by
+        // a hostile one, or a key no tool takes.
+        _ => {
+            let tool = *rng.pick(TOOLS);
+            let capture = json!(*rng.pick(&["c1", "c2"]));
+            let mut args = match tool {
+                "open_capture" => json!({"path": EXAMPLE, "scale": 0.25}),
+                "list_passes" | "list_resources" => json!({
+                    "capture": capture,
+                    "offset": rng.below(120),
+                    "limit": rng.below(200),
+                    "filter": *rng.pick(&["", "s", "csm", "bloom"]),
+                }),
+                "pass_details" => json!({
+                    "capture": capture,
+                    "pass": *rng.pick(&["scene", "tonemap", "ssr_trace", "csm_cascade_0", "bloom_mips"]),
+                }),
+                "analyze" => json!({"capture": capture, "cull": rng.below(2) == 0}),
+                "diff" => json!({"a": "c1", "b": capture, "mode": "structure"}),
+                "close_capture" => json!({"capture": format!("c{}", 3 + rng.below(10))}),
+                _ => json!({}),
+            };
+            if rng.below(2) == 0
+                && let Some(map) = args.as_object_mut()
+            {
+                let keys: Vec<String> = map.keys().cloned().collect();
+                match (rng.below(3), keys.is_empty()) {
+                    (0, false) => {
+                        map.remove(&keys[rng.below(keys.len())]);
+                    }
+                    (1, false) => {
+                        let value = hostile(rng, 1);
+                        map.insert(keys[rng.below(keys.len())].clone(), value);
+                    }
+                    _ => {
+                        let value = hostile(rng, 1);
+                        map.insert((*rng.pick(KEYS)).to_owned(), value);
+                    }
+                }
+            }
+            let params = if rng.below(50) == 0 {
+                hostile(rng, 1)
+            } else {
+                json!({"name": tool, "arguments": args})
+            };
+            (
+                json!({"jsonrpc": "2.0", "id": id, "method": "tools/call", "params": params})
+                    .to_string(),
+                true,
+            )
+        }
+    }
+}
+
+/// 10,000 random and mutated requests in one session: every line gets an answer, the server
+/// answers a normal request after them, its memory stays bounded, and closing stdin still
+/// ends it with exit 0.
+#[test]
+fn ten_thousand_hostile_requests_leave_the_server_answering() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_framelab"))
+        .arg("mcp")
+        .current_dir(repo())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let pid = child.id();
+    let stdout = BufReader::new(child.stdout.take().unwrap());
+    // Answers are read on their own thread, so neither pipe fills while the other waits.
+    let reader = std::thread::spawn(move || {
+        stdout
+            .lines()
+            .map(|l| serde_json::from_str::<Value>(&l.unwrap()).expect("stdout is protocol"))
+            .collect::<Vec<Value>>()
+    });
+    let mut stdin = child.stdin.take().unwrap();
+    writeln!(stdin, r#"{{"jsonrpc":"2.0","id":0,"method":"initialize","params":{{"protocolVersion":"2025-06-18","capabilities":{{}},"clientInfo":{{"name":"fuzz","version":"1"}}}}}}"#).unwrap();
+    writeln!(
+        stdin,
+        r#"{{"jsonrpc":"2.0","method":"notifications/initialized"}}"#
+    )
+    .unwrap();
+    // Two captures open first, so that the ids the fuzzer sends (c1, c2) often name one.
+    for (id, path) in [
+        (-1, EXAMPLE),
+        (-2, "captures/night_city/main_street_night.json"),
+    ] {
+        writeln!(stdin, r#"{{"jsonrpc":"2.0","id":{id},"method":"tools/call","params":{{"name":"open_capture","arguments":{{"path":"{path}","scale":0.25}}}}}}"#).unwrap();
+    }
+    let mut rng = Rng(rand::SeedableRng::seed_from_u64(0x9e37_79b9_7f4a_7c15));
+    let mut owed = 3;
+    let cases = std::env::var("FRAMELAB_FUZZ_CASES")
+        .ok()
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(10_000u64);
+    for id in 1..=cases {
+        let (line, answered) = fuzz_line(&mut rng, id);
+        writeln!(stdin, "{line}").unwrap();
+        owed += usize::from(answered);
+    }
+    let last = cases + 1;
+    writeln!(
+        stdin,
+        r#"{{"jsonrpc":"2.0","id":{last},"method":"tools/list"}}"#
+    )
+    .unwrap();
+    owed += 1;
+    stdin.flush().unwrap();
+    // The peak memory of the server, read before it exits.
+    std::thread::sleep(std::time::Duration::from_secs(2));
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
+    drop(stdin);
+    let answers = reader.join().unwrap();
+    let code = child.wait().unwrap().code();
+    assert_eq!(code, Some(0), "the server did not exit cleanly");
+    assert_eq!(
+        answers.len(),
+        owed,
+        "every request and bad line answered once"
+    );
+    let final_answer = answers.iter().find(|a| a["id"] == last).unwrap();
+    let answered = |ok: bool| {
+        answers
+            .iter()
+            .filter(|a| a["result"]["content"].is_array() && (a["result"]["isError"] != true) == ok)
+            .count()
+    };
+    // Both kinds happen: tools that answered and tool errors.
+    assert!(
+        answered(true) > 100,
+        "{} tool calls answered",
+        answered(true)
+    );
+    assert!(answered(false) > 1000, "{} tool errors", answered(false));
+    assert_eq!(final_answer["result"]["tools"].as_array().unwrap().len(), 7);
+    let peak_kb: u64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches(" kB").trim().parse().ok())
+        .unwrap_or(0);
+    assert!(peak_kb > 0, "no VmHWM in /proc/{pid}/status");
+    assert!(peak_kb < 1_000_000, "the server peaked at {peak_kb} kB");
+}
