@@ -243,25 +243,72 @@ fn write_exr(
     image: &DecodedImage,
     preview_name: String,
 ) -> Result<String, ExportError> {
-    let (width, height) = (image.width, image.height);
     save_exr(path, image)?;
-    let depth = image.format.has_depth_aspect();
-    let (lo, hi) = preview_range(&image.values, image.channels, depth);
     atomically(&dir.join(&preview_name), |tmp| {
-        let mut img = image::RgbaImage::new(width, height);
-        for (i, p) in img.pixels_mut().enumerate() {
-            let v = image.rgba(i);
-            let map = |c: f32| {
-                let t = ((c - lo) / (hi - lo)).clamp(0.0, 1.0);
-                // Depth reads better with near bright; colour gets a display gamma.
-                let t = if depth { 1.0 - t } else { t.powf(1.0 / 2.2) };
-                (t * 255.0).round() as u8
-            };
-            *p = image::Rgba([map(v[0]), map(v[1]), map(v[2]), 255]);
-        }
-        save_png(&img, tmp)
+        save_png(&float_preview(image), tmp)
     })?;
     Ok(preview_name)
+}
+
+/// The 8-bit preview of a float image: its finite range stretched, colour with a display
+/// gamma, depth inverted so that near is bright.
+fn float_preview(image: &DecodedImage) -> image::RgbaImage {
+    let depth = image.format.has_depth_aspect();
+    let (lo, hi) = preview_range(&image.values, image.channels, depth);
+    let mut img = image::RgbaImage::new(image.width, image.height);
+    for (i, p) in img.pixels_mut().enumerate() {
+        let v = image.rgba(i);
+        let map = |c: f32| {
+            let t = ((c - lo) / (hi - lo)).clamp(0.0, 1.0);
+            // Depth reads better with near bright; colour gets a display gamma.
+            let t = if depth { 1.0 - t } else { t.powf(1.0 / 2.2) };
+            (t * 255.0).round() as u8
+        };
+        *p = image::Rgba([map(v[0]), map(v[1]), map(v[2]), 255]);
+    }
+    img
+}
+
+/// 8-bit values with opaque alpha, as the export's `png8` files hold them.
+fn unorm8_image(image: &DecodedImage) -> image::RgbaImage {
+    let mut img = image::RgbaImage::new(image.width, image.height);
+    for (i, p) in img.pixels_mut().enumerate() {
+        let v = image.rgba(i);
+        let mut rgba = v.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+        rgba[3] = 255;
+        *p = image::Rgba(rgba);
+    }
+    img
+}
+
+/// The 8-bit image an export shows for `image`: the `png8` file itself for 8-bit formats,
+/// the preview for float ones, the 16-bit file's values to 8 bits for integer and wide ones.
+pub fn display_rgba8(image: &DecodedImage) -> image::RgbaImage {
+    match image.kind {
+        _ if image.format == wgpu::TextureFormat::Stencil8 => {
+            image::RgbaImage::from_fn(image.width, image.height, |x, y| {
+                let s = image.values[(y * image.width + x) as usize][0] as u8;
+                image::Rgba([s, s, s, 255])
+            })
+        }
+        ValueKind::Float => float_preview(image),
+        ValueKind::Unorm8 => unorm8_image(image),
+        ValueKind::Integer | ValueKind::UnormWide => {
+            let (min, max) = image.range();
+            let (lo, span) = if image.kind == ValueKind::Integer {
+                (min, (max - min).max(1.0))
+            } else {
+                (0.0, 1.0)
+            };
+            let mut img = image::RgbaImage::new(image.width, image.height);
+            for (i, p) in img.pixels_mut().enumerate() {
+                let v = image.rgba(i);
+                let n = |c: f32| (((c - lo) / span).clamp(0.0, 1.0) * 255.0).round() as u8;
+                *p = image::Rgba([n(v[0]), n(v[1]), n(v[2]), 255]);
+            }
+            img
+        }
+    }
 }
 
 /// Writes a decoded subresource into `dir` and describes the file.
@@ -312,16 +359,7 @@ pub fn write_image(
             let preview_name = file_name(naming.stem, spec, mip, layer, z, "preview.png");
             preview = Some(write_exr(dir, &path, image, preview_name)?);
         }
-        ValueKind::Unorm8 => atomically(&path, |tmp| {
-            let mut img = image::RgbaImage::new(width, height);
-            for (i, p) in img.pixels_mut().enumerate() {
-                let v = image.rgba(i);
-                let mut rgba = v.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
-                rgba[3] = 255;
-                *p = image::Rgba(rgba);
-            }
-            save_png(&img, tmp)
-        })?,
+        ValueKind::Unorm8 => atomically(&path, |tmp| save_png(&unorm8_image(image), tmp))?,
         ValueKind::Integer | ValueKind::UnormWide => atomically(&path, |tmp| {
             let (lo, span) = if integer {
                 (min, (max - min).max(1.0))

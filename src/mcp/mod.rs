@@ -5,6 +5,7 @@
 //! commands, so each answer is the command line's `--json` for the same question.
 
 mod framing;
+mod replay;
 mod store;
 mod tools;
 
@@ -25,7 +26,8 @@ impl ServerHandler for Framelab {
             .with_instructions(
                 "framelab analyses GPU frames. open_capture a capture file, then list its passes \
                  and resources, ask for one pass's details (bindings, barriers, lints, DAG \
-                 neighbours), the whole analysis, or a structural diff of two opened captures.",
+                 neighbours), the whole analysis, a structural diff of two opened captures, or a \
+                 texture as it stood after any pass (replayed on this machine's GPU).",
             )
     }
 }

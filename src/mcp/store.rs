@@ -21,6 +21,8 @@ pub struct Opened {
     pub graph: GraphReport,
     /// Each pass as the file records it (bindings, attachments, draws, recorded barriers).
     pub recorded: BTreeMap<String, Value>,
+    /// The replay behind `texture`, started on its first request.
+    pub worker: Option<super::replay::Worker>,
 }
 
 /// Every opened capture of the session.
@@ -63,6 +65,13 @@ impl Store {
         })
     }
 
+    pub fn get_mut(&mut self, id: &str) -> Result<&mut Opened, String> {
+        self.get(id)?;
+        self.open
+            .get_mut(id)
+            .ok_or_else(|| format!("no capture \"{id}\""))
+    }
+
     pub fn close(&mut self, id: &str) -> Result<Opened, String> {
         self.get(id)?;
         self.open
@@ -100,6 +109,7 @@ pub fn load(path: &Path, scale: f64) -> Result<Opened, String> {
         report,
         graph,
         recorded,
+        worker: None,
     })
 }
 

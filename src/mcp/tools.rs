@@ -20,6 +20,9 @@ use serde_json::{Value, json};
 
 use super::store::{self, Opened, Store, unknown};
 
+/// The longest side `texture` returns at most.
+pub const MAX_IMAGE_SIDE: u32 = 4096;
+
 /// The most rows one `list_*` call returns.
 pub const MAX_ROWS: usize = 1000;
 const DEFAULT_ROWS: usize = 100;
@@ -77,6 +80,25 @@ pub struct DiffArgs {
     /// Capture id of the second frame.
     pub b: String,
     pub mode: DiffMode,
+}
+
+#[derive(Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TextureArgs {
+    pub capture: String,
+    /// The texture's name.
+    pub resource: String,
+    /// Show it as it stood right after this pass of the frame (default: after the last).
+    pub after_pass: Option<String>,
+    /// Mip level (default 0).
+    pub mip: Option<u32>,
+    /// Array layer or cube face (default 0).
+    pub layer: Option<u32>,
+    /// Depth slice of a 3D texture (default 0).
+    pub slice: Option<u32>,
+    /// Longest side of the image returned (default 1024, at most 4096); larger textures are
+    /// scaled down to it.
+    pub max_size: Option<u32>,
 }
 
 #[derive(Debug, Deserialize, JsonSchema)]
@@ -259,6 +281,144 @@ fn pass_details(o: &Opened, pass: &str) -> Result<Value, String> {
     }))
 }
 
+/// The texture request checked against the capture before any replay: the resource is a
+/// texture, the pass exists, the subresource is in range; and what the summary says before
+/// the pixels: the format and whether a pass up to `after_pass` writes it.
+fn texture_checks(
+    o: &Opened,
+    a: &TextureArgs,
+    mip: u32,
+    layer: u32,
+    slice: u32,
+) -> Result<Value, String> {
+    let capture = &o.analysed.capture;
+    let Some(r) = capture.resources.iter().find(|r| r.name == a.resource) else {
+        return Err(unknown(
+            "resource",
+            &a.resource,
+            capture.resources.iter().map(|r| r.name.as_str()),
+            "list_resources names them",
+        ));
+    };
+    if r.format.is_none() {
+        return Err(format!("\"{}\" is a buffer, not a texture", r.name));
+    }
+    let order = &o.report.order;
+    let upto = match &a.after_pass {
+        None => order.len(),
+        Some(p) => order
+            .iter()
+            .position(|x| x == p)
+            .map(|i| i + 1)
+            .ok_or_else(|| {
+                unknown(
+                    "pass",
+                    p,
+                    order.iter().map(String::as_str),
+                    "list_passes names them",
+                )
+            })?,
+    };
+    if mip >= r.mip_levels {
+        return Err(format!(
+            "mip {mip}: \"{}\" has {} mip level(s)",
+            r.name, r.mip_levels
+        ));
+    }
+    if layer >= r.array_layers {
+        return Err(format!(
+            "layer {layer}: \"{}\" has {} layer(s)",
+            r.name, r.array_layers
+        ));
+    }
+    let depth = (r.depth >> mip).max(1);
+    if slice >= depth {
+        return Err(format!(
+            "slice {slice}: mip {mip} of \"{}\" has {depth} slice(s)",
+            r.name
+        ));
+    }
+    let written = order[..upto].iter().any(|p| {
+        o.info
+            .passes
+            .iter()
+            .any(|row| &row.name == p && row.writes.contains(&r.name))
+    });
+    Ok(json!({
+        "resource": r.name,
+        "format": r.format.map(|f| f.name),
+        "after_pass": a.after_pass,
+        "mip": mip,
+        "layer": layer,
+        "slice": slice,
+        "written_this_frame": written,
+    }))
+}
+
+/// A progress callback for the replay, when the client asked for progress.
+fn progress_sender(
+    peer: &Peer<RoleServer>,
+    meta: &rmcp::model::RequestMetaObject,
+) -> Box<dyn Fn(usize, usize) + Send> {
+    let token = meta
+        .get("progressToken")
+        .cloned()
+        .and_then(|t| serde_json::from_value::<rmcp::model::NumberOrString>(t).ok());
+    let (Some(token), Ok(runtime)) = (token, tokio::runtime::Handle::try_current()) else {
+        return Box::new(|_, _| {});
+    };
+    let peer = peer.clone();
+    Box::new(move |done, total| {
+        let peer = peer.clone();
+        let param = rmcp::model::ProgressNotificationParam::new(
+            rmcp::model::ProgressToken(token.clone()),
+            done as f64,
+        )
+        .with_total(total as f64)
+        .with_message(format!("pass {done} of {total}"));
+        runtime.spawn(async move {
+            let _ = peer.notify_progress(param).await;
+        });
+    })
+}
+
+/// Per-channel minimum, maximum and mean of the finite values.
+fn channel_stats(image: &framelab_replay::decode::DecodedImage) -> (Vec<f32>, Vec<f32>, Vec<f64>) {
+    let n = image.channels.clamp(1, 4);
+    let mut min = vec![f32::INFINITY; n];
+    let mut max = vec![f32::NEG_INFINITY; n];
+    let mut sum = vec![0f64; n];
+    let mut count = vec![0u64; n];
+    for v in &image.values {
+        for c in 0..n {
+            if v[c].is_finite() {
+                min[c] = min[c].min(v[c]);
+                max[c] = max[c].max(v[c]);
+                sum[c] += f64::from(v[c]);
+                count[c] += 1;
+            }
+        }
+    }
+    let mean = sum
+        .iter()
+        .zip(&count)
+        .map(|(s, &k)| if k == 0 { 0.0 } else { s / k as f64 })
+        .collect();
+    (min, max, mean)
+}
+
+/// `img` scaled down (triangle filter) so that its longest side is at most `side`.
+fn fit(img: image::RgbaImage, side: u32) -> image::RgbaImage {
+    let longest = img.width().max(img.height());
+    if longest <= side {
+        return img;
+    }
+    let scale = f64::from(side) / f64::from(longest);
+    let w = ((f64::from(img.width()) * scale).round() as u32).max(1);
+    let h = ((f64::from(img.height()) * scale).round() as u32).max(1);
+    image::imageops::resize(&img, w, h, image::imageops::FilterType::Triangle)
+}
+
 #[tool_router]
 impl Framelab {
     #[tool(
@@ -370,6 +530,81 @@ impl Framelab {
                 },
             )),
         }
+    }
+
+    #[tool(
+        description = "A texture as it stood right after a pass of frame 0, replayed on this machine's GPU (lavapipe included): a PNG as `framelab replay --after` exports it (8-bit formats as they are, float ones as the export's preview, integer ones stretched), its longest side at most max_size, with a summary: format, size, per-channel min/max/mean, whether the frame wrote it yet. The replay is kept: a later pass of the same frame continues from the last one asked for. Sends progress (pass i of n) and stops when cancelled.",
+        input_schema = schema_for_type::<TextureArgs>()
+    )]
+    async fn texture(
+        &self,
+        peer: Peer<RoleServer>,
+        meta: rmcp::model::RequestMetaObject,
+        cancel: tokio_util::sync::CancellationToken,
+        object: JsonObject,
+    ) -> Answer {
+        let a: TextureArgs = take!(args("texture", object));
+        let max_size = a.max_size.unwrap_or(1024);
+        if max_size == 0 || max_size > MAX_IMAGE_SIDE {
+            return refuse(format!(
+                "max_size {max_size} is outside 1..={MAX_IMAGE_SIDE}"
+            ));
+        }
+        let (mip, layer, slice) = (
+            a.mip.unwrap_or(0),
+            a.layer.unwrap_or(0),
+            a.slice.unwrap_or(0),
+        );
+        let (reply, answer_rx) = tokio::sync::oneshot::channel();
+        let summary = {
+            let mut store = self.store();
+            let o = take!(store.get_mut(&a.capture));
+            let summary = take!(texture_checks(o, &a, mip, layer, slice));
+            let progress = progress_sender(&peer, &meta);
+            let request = super::replay::Request {
+                resource: a.resource.clone(),
+                after: a.after_pass.clone(),
+                mip,
+                layer,
+                slice,
+                progress,
+                cancel,
+                reply,
+            };
+            let worker = o
+                .worker
+                .get_or_insert_with(|| super::replay::Worker::start(o.path.clone(), o.scale));
+            take!(worker.send(request));
+            summary
+        };
+        let image = take!(take!(
+            answer_rx.await.map_err(|_| "the replay stopped".to_owned())
+        ));
+        let (min, max, mean) = channel_stats(&image);
+        let display = framelab_replay::export::display_rgba8(&image);
+        let shown = fit(display, max_size);
+        let mut png = Vec::new();
+        take!(
+            shown
+                .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+                .map_err(|e| format!("encoding the PNG: {e}"))
+        );
+        let mut summary = summary;
+        summary["width"] = json!(image.width);
+        summary["height"] = json!(image.height);
+        summary["shown"] = json!([shown.width(), shown.height()]);
+        summary["channels"] = json!(image.channels);
+        summary["min"] = json!(min);
+        summary["max"] = json!(max);
+        summary["mean"] = json!(mean);
+        use base64::Engine as _;
+        let data = base64::engine::general_purpose::STANDARD.encode(&png);
+        let mut result = CallToolResult::success(vec![
+            ContentBlock::text(summary.to_string()),
+            ContentBlock::image(data, "image/png"),
+        ]);
+        result.structured_content = Some(summary);
+        Ok(result)
     }
 
     #[tool(

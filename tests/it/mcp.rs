@@ -22,11 +22,12 @@ fn cli(args: &[&str]) -> Value {
 }
 
 /// The session's answers, as `session.py` prints them.
-fn session() -> Value {
+fn session(images: &std::path::Path) -> Value {
     let out = Command::new("python3")
         .arg(repo().join("tests/mcp/session.py"))
         .arg(env!("CARGO_BIN_EXE_framelab"))
         .arg(repo())
+        .arg(images)
         .output()
         .expect("python3");
     assert!(
@@ -51,7 +52,10 @@ fn error(answer: &Value) -> &str {
 
 #[test]
 fn an_independent_client_gets_what_the_command_line_prints() {
-    let s = session();
+    let images = std::env::temp_dir().join(format!("framelab-mcp-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&images);
+    std::fs::create_dir_all(&images).unwrap();
+    let s = session(&images);
     assert_eq!(s["server"], "framelab");
     assert_eq!(
         s["tools"],
@@ -62,7 +66,8 @@ fn an_independent_client_gets_what_the_command_line_prints() {
             "list_passes",
             "list_resources",
             "open_capture",
-            "pass_details"
+            "pass_details",
+            "texture"
         ])
     );
     // Every tool describes its input with a JSON Schema naming its fields.
@@ -162,6 +167,96 @@ fn an_independent_client_gets_what_the_command_line_prints() {
     );
     assert!(ok(&s["closed"], "close")["closed"].is_string());
     assert!(error(&s["after_close"]).contains("no capture id"));
+    textures(&s["textures"], &images);
+    assert_eq!(
+        ok(&s["after_cancel"], "after cancel")["rows"]
+            .as_array()
+            .unwrap()
+            .len(),
+        1
+    );
+    std::fs::remove_dir_all(images).unwrap();
+}
+
+/// `texture` answers: the PNG equals what `replay --after` exports, a second request for the
+/// same pass replays nothing, an earlier pass shows the frame's starting contents, progress
+/// counts the passes, and bad requests are tool errors.
+fn textures(t: &Value, images: &std::path::Path) {
+    let ldr = ok(&t["ldr"], "texture ldr");
+    assert_eq!(t["ldr"]["mime"], "image/png");
+    assert_eq!(ldr["format"], "R8G8B8A8_UNORM");
+    assert_eq!(ldr["written_this_frame"], true);
+    let progress = t["ldr"]["progress"].as_array().unwrap();
+    assert!(!progress.is_empty(), "no progress reported");
+    let last = progress.last().unwrap();
+    assert_eq!(last[0], last[1], "progress ends at its total: {last}");
+    assert_eq!(
+        t["ldr_again"]["progress"],
+        json!([]),
+        "the held frame replays nothing again"
+    );
+    let out = images.join("export");
+    let exported = framelab(&[
+        "replay",
+        EXAMPLE,
+        "--frames",
+        "1",
+        "--after",
+        "tonemap",
+        "--resource",
+        "ldr",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(exported.status.success(), "{exported:?}");
+    let manifest: Value =
+        serde_json::from_slice(&std::fs::read(out.join("manifest.json")).unwrap()).unwrap();
+    let file = manifest["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["resource"] == "ldr")
+        .unwrap()["file"]
+        .as_str()
+        .unwrap()
+        .to_owned();
+    let want = image::open(out.join(file)).unwrap().to_rgba8();
+    let got = image::open(images.join("ldr.png")).unwrap().to_rgba8();
+    assert_eq!(got.dimensions(), want.dimensions());
+    assert!(
+        got == want,
+        "the MCP texture differs from replay --after's export"
+    );
+    assert_eq!(ldr["width"], want.width());
+
+    let albedo = ok(&t["albedo"], "albedo");
+    let day = cli(&["info", DAY, "--json", "--scale", "0.25"]);
+    let row = day["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["name"] == "gbuffer_albedo")
+        .unwrap();
+    assert_eq!(albedo["width"], row["width"]);
+    let png = image::open(images.join("albedo.png")).unwrap();
+    assert_eq!(json!(png.width()), row["width"]);
+    let small = image::open(images.join("albedo_small.png")).unwrap();
+    assert_eq!(
+        small.width().max(small.height()),
+        100,
+        "max_size bounds the longest side"
+    );
+    let before = ok(&t["albedo_before"], "before");
+    assert_eq!(before["written_this_frame"], false);
+    assert_eq!(
+        before["max"],
+        json!([0.0, 0.0, 0.0, 0.0]),
+        "the frame's starting contents"
+    );
+    assert!(albedo["max"][0].as_f64().unwrap() > 0.5);
+    assert!(error(&t["buffer"]).contains("is a buffer"));
+    assert!(error(&t["bad_mip"]).contains("mip 3"));
+    assert!(error(&t["bad_size"]).contains("max_size"));
 }
 
 /// Sends `lines` (then closes stdin) and returns every stdout line as JSON and the exit code.
@@ -220,7 +315,7 @@ fn malformed_messages_get_json_rpc_errors_and_closing_stdin_exits_zero() {
     assert_eq!(answers[2]["id"], 2);
     assert_eq!(answers[3]["error"]["code"], -32600);
     assert_eq!(answers[4]["id"], 3);
-    assert_eq!(answers[4]["result"]["tools"].as_array().unwrap().len(), 7);
+    assert_eq!(answers[4]["result"]["tools"].as_array().unwrap().len(), 8);
     assert_eq!(answers[5]["id"], 4);
     assert!(answers[5].get("error").is_some() || answers[5]["result"]["isError"] == true);
     assert_eq!(answers[6]["result"]["structuredContent"]["capture"], "c1");
@@ -252,7 +347,7 @@ fn hostile(rng: &mut Rng, depth: u32) -> Value {
         4 => json!(*rng.pick(&["c1", "c2", "c99", "", "scene", "ssr_trace", "bloom"])),
         5 => json!(*rng.pick(&[
             "captures/example/frame.json",
-            "captures/night_city/main_street_night.json",
+            "captures/night_city/river_bank_night.json",
             "/etc/passwd",
             "/dev/zero",
             "tests/invalid/copy_overrun.json",
@@ -290,7 +385,21 @@ fn fuzz_line(rng: &mut Rng, id: u64) -> (String, bool) {
         "no_such_tool",
     ];
     const KEYS: &[&str] = &[
-        "capture", "pass", "path", "limit", "offset", "mode", "a", "b", "cull", "scale", "filter",
+        "capture",
+        "pass",
+        "path",
+        "limit",
+        "offset",
+        "mode",
+        "a",
+        "b",
+        "cull",
+        "scale",
+        "filter",
+        "resource",
+        "after_pass",
+        "mip",
+        "max_size",
     ];
     match rng.below(10) {
         // Bytes that are not JSON (no newline: the line ends where the test says).
@@ -311,7 +420,12 @@ fn fuzz_line(rng: &mut Rng, id: u64) -> (String, bool) {
         // A valid call of a tool, mutated half the time: a key dropped, a value replaced by
         // a hostile one, or a key no tool takes.
         _ => {
-            let tool = *rng.pick(TOOLS);
+            // A texture replays: one call in a hundred, on the small example capture.
+            let tool = if rng.below(100) == 0 {
+                "texture"
+            } else {
+                *rng.pick(TOOLS)
+            };
             let capture = json!(*rng.pick(&["c1", "c2"]));
             let mut args = match tool {
                 "open_capture" => json!({"path": EXAMPLE, "scale": 0.25}),
@@ -328,6 +442,12 @@ fn fuzz_line(rng: &mut Rng, id: u64) -> (String, bool) {
                 "analyze" => json!({"capture": capture, "cull": rng.below(2) == 0}),
                 "diff" => json!({"a": "c1", "b": capture, "mode": "structure"}),
                 "close_capture" => json!({"capture": format!("c{}", 3 + rng.below(10))}),
+                "texture" => json!({
+                    "capture": "c1",
+                    "resource": *rng.pick(&["ldr", "bloom", "scene_color", "depth"]),
+                    "after_pass": *rng.pick(&["scene", "bloom_extract", "tonemap"]),
+                    "max_size": 1 + rng.below(300),
+                }),
                 _ => json!({}),
             };
             if rng.below(2) == 0
@@ -394,7 +514,7 @@ fn ten_thousand_hostile_requests_leave_the_server_answering() {
     // Two captures open first, so that the ids the fuzzer sends (c1, c2) often name one.
     for (id, path) in [
         (-1, EXAMPLE),
-        (-2, "captures/night_city/main_street_night.json"),
+        (-2, "captures/night_city/river_bank_night.json"),
     ] {
         writeln!(stdin, r#"{{"jsonrpc":"2.0","id":{id},"method":"tools/call","params":{{"name":"open_capture","arguments":{{"path":"{path}","scale":0.25}}}}}}"#).unwrap();
     }
@@ -443,7 +563,7 @@ fn ten_thousand_hostile_requests_leave_the_server_answering() {
         answered(true)
     );
     assert!(answered(false) > 1000, "{} tool errors", answered(false));
-    assert_eq!(final_answer["result"]["tools"].as_array().unwrap().len(), 7);
+    assert_eq!(final_answer["result"]["tools"].as_array().unwrap().len(), 8);
     let peak_kb: u64 = status
         .lines()
         .find_map(|l| l.strip_prefix("VmHWM:"))

@@ -3,10 +3,11 @@ independent implementation of the protocol): initialize, tools/list, every tool 
 bundled captures, bad input of each kind, then shutdown by closing stdin. Prints one JSON
 object: what each call answered, for the Rust test to compare with the command line.
 
-Usage: python3 session.py <framelab binary> <repository root>
+Usage: python3 session.py <framelab binary> <repository root> <folder for the images>
 """
 
 import asyncio
+import base64
 import json
 import sys
 from pathlib import Path
@@ -15,7 +16,9 @@ import mcp.types as types
 from mcp import ClientSession, StdioServerParameters
 from mcp.client.stdio import stdio_client
 
-FRAMELAB, REPO = sys.argv[1], Path(sys.argv[2]).resolve()
+import anyio
+
+FRAMELAB, REPO, IMAGES = sys.argv[1], Path(sys.argv[2]).resolve(), Path(sys.argv[3])
 
 
 async def roots(_context):
@@ -79,6 +82,39 @@ async def main():
             }
             out["bad"] = {k: v if isinstance(v, dict) else outcome(v) for k, v in out["bad"].items()}
             out["after_bad"] = await call("list_passes", capture=e, limit=1)
+
+            # Textures, replayed: the progress each call reports, the summary, the PNG saved.
+            async def texture(name, **arguments):
+                progress = []
+
+                async def on_progress(done, total, message):
+                    progress.append([done, total])
+
+                result = await session.call_tool("texture", arguments, progress_callback=on_progress)
+                answer = outcome(result)
+                for c in result.content:
+                    if c.type == "image":
+                        (IMAGES / f"{name}.png").write_bytes(base64.b64decode(c.data))
+                        answer["mime"] = c.mime_type
+                answer["progress"] = progress
+                return answer
+
+            out["textures"] = {
+                "ldr": await texture("ldr", capture=e, resource="ldr", after_pass="tonemap"),
+                "ldr_again": await texture("ldr_again", capture=e, resource="ldr", after_pass="tonemap"),
+                "albedo": await texture("albedo", capture=d, resource="gbuffer_albedo", after_pass="base_material"),
+                "albedo_small": await texture("albedo_small", capture=d, resource="gbuffer_albedo", after_pass="base_material", max_size=100),
+                "albedo_before": await texture("albedo_before", capture=d, resource="gbuffer_albedo", after_pass="depth_prepass"),
+                "buffer": await texture("buffer", capture=e, resource="particles"),
+                "bad_mip": await texture("bad_mip", capture=e, resource="ldr", mip=3),
+                "bad_size": await texture("bad_size", capture=e, resource="ldr", max_size=100000),
+            }
+            # A replay cancelled by the client stops; the next request is answered.
+            night = await call("open_capture", path="captures/night_city/river_bank_night.json", scale=0.25)
+            assert "ok" in night, night
+            with anyio.move_on_after(0.5):
+                await session.call_tool("texture", {"capture": night["ok"]["capture"], "resource": "gbuffer_albedo"})
+            out["after_cancel"] = await call("list_passes", capture=e, limit=1)
             out["closed"] = await call("close_capture", capture=s)
             out["after_close"] = await call("list_passes", capture=s)
     print(json.dumps(out))

@@ -1,0 +1,207 @@
+//! The replay behind `texture`: one worker thread per opened capture, started on the first
+//! request, owning a device and a `Replaying` session (its objects live on one thread). The
+//! worker holds frame 0 open at the last pass it was asked for, so a request for that pass
+//! or a later one continues from there instead of replaying from the start; an earlier pass
+//! begins the frame again. It reports each pass submitted (for progress notifications) and
+//! stops between passes when the request is cancelled.
+
+use std::path::PathBuf;
+use std::sync::mpsc;
+use std::thread::JoinHandle;
+
+use framelab_core::analysis::report::AnalyzeOptions;
+use framelab_core::capture::Options;
+use framelab_core::pipeline::Analysed;
+use framelab_replay::Replaying;
+use framelab_replay::decode::{self, DecodedImage};
+use tokio_util::sync::CancellationToken;
+
+/// One texture wanted as it stands after a pass of frame 0.
+pub struct Request {
+    /// The capture texture's plan index is found by the worker from this name.
+    pub resource: String,
+    /// The pass after which to read it; `None`: after the whole frame.
+    pub after: Option<String>,
+    pub mip: u32,
+    pub layer: u32,
+    pub slice: u32,
+    /// Called with (passes submitted, passes to submit) as the replay goes.
+    pub progress: Box<dyn Fn(usize, usize) + Send>,
+    pub cancel: CancellationToken,
+    pub reply: tokio::sync::oneshot::Sender<Result<DecodedImage, String>>,
+}
+
+/// A capture's replay worker.
+pub struct Worker {
+    jobs: Option<mpsc::Sender<Request>>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Worker {
+    pub fn start(path: PathBuf, scale: f64) -> Worker {
+        let (jobs, inbox) = mpsc::channel::<Request>();
+        let thread = std::thread::Builder::new()
+            .name("mcp-replay".into())
+            .spawn(move || serve(&path, scale, &inbox))
+            .ok();
+        Worker {
+            jobs: Some(jobs),
+            thread,
+        }
+    }
+
+    pub fn send(&self, request: Request) -> Result<(), String> {
+        self.jobs
+            .as_ref()
+            .and_then(|j| j.send(request).ok())
+            .ok_or_else(|| "the replay worker has stopped".to_owned())
+    }
+}
+
+impl Drop for Worker {
+    /// Closing the queue ends the worker after its current request.
+    fn drop(&mut self) {
+        self.jobs = None;
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+/// The session and where frame 0 is held.
+struct Held {
+    replaying: Replaying,
+    ctx: framelab_replay::GpuContext,
+    /// The plan texture of each capture texture.
+    texture_of: std::collections::BTreeMap<framelab_core::capture::model::ResourceId, usize>,
+    /// The last plan pass submitted in the open frame, if one is open.
+    at: Option<usize>,
+}
+
+fn start(path: &std::path::Path, scale: f64) -> Result<Held, String> {
+    let options = Options {
+        scale,
+        ..Options::default()
+    };
+    let analysed = Analysed::load(path, &options, AnalyzeOptions { cull: false })
+        .map_err(|e| e.to_string())?
+        .replayable()
+        .map_err(|e| e.to_string())?;
+    let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
+        .map_err(|e| e.to_string())?;
+    let lowered = analysed
+        .lower(ctx.device.features(), &ctx.summary.name)
+        .map_err(|e| e.to_string())?;
+    let texture_of = lowered.texture_of.clone();
+    let replaying = Replaying::start(&ctx, lowered).map_err(|e| e.to_string())?;
+    Ok(Held {
+        replaying,
+        ctx,
+        texture_of,
+        at: None,
+    })
+}
+
+fn serve(path: &std::path::Path, scale: f64, inbox: &mpsc::Receiver<Request>) {
+    let mut held: Option<Result<Held, String>> = None;
+    while let Ok(request) = inbox.recv() {
+        // A pass before the one the frame is held at needs the frame's starting contents,
+        // which the passes since have overwritten: the session starts again.
+        if let Some(Ok(h)) = &held
+            && let (Some(at), Some(stop)) = (h.at, stop_of(h, &request).ok().flatten())
+            && stop < at
+        {
+            held = None;
+        }
+        let state = held.get_or_insert_with(|| start(path, scale));
+        let answer = match state {
+            Ok(h) => read(h, &request),
+            Err(e) => Err(format!("the capture cannot be replayed here: {e}")),
+        };
+        let _ = request.reply.send(answer);
+    }
+}
+
+/// The plan pass after which `r` reads (the last one when it names none).
+fn stop_of(h: &Held, r: &Request) -> Result<Option<usize>, String> {
+    match &r.after {
+        None => Ok(h.replaying.session.plan.passes.len().checked_sub(1)),
+        Some(name) => {
+            let id = h
+                .replaying
+                .capture()
+                .passes
+                .iter()
+                .find(|p| &p.name == name)
+                .ok_or_else(|| format!("no pass \"{name}\""))?
+                .id;
+            h.replaying
+                .pass_ids
+                .iter()
+                .position(|&p| p == id)
+                .map(Some)
+                .ok_or_else(|| {
+                    format!(
+                        "pass \"{name}\" is not replayed (culled, or outside the replayed order)"
+                    )
+                })
+        }
+    }
+}
+
+fn read(h: &mut Held, r: &Request) -> Result<DecodedImage, String> {
+    let capture = h.replaying.capture();
+    let resource = capture
+        .resources
+        .iter()
+        .find(|x| x.name == r.resource)
+        .ok_or_else(|| format!("no resource \"{}\"", r.resource))?
+        .id;
+    let texture = *h
+        .texture_of
+        .get(&resource)
+        .ok_or_else(|| format!("\"{}\" is not a texture the replay creates", r.resource))?;
+    let stop = stop_of(h, r)?;
+    let from = match (h.at, stop) {
+        (Some(at), Some(stop)) if at <= stop => at + 1,
+        // A fresh session (`serve` starts one again for an earlier pass): begin the frame.
+        _ => {
+            let constants = h.replaying.constants(0);
+            h.replaying
+                .session
+                .begin_frame(&constants)
+                .map_err(|e| e.to_string())?;
+            h.at = None;
+            0
+        }
+    };
+    if let Some(stop) = stop {
+        for i in from..=stop {
+            if r.cancel.is_cancelled() {
+                return Err("cancelled".to_owned());
+            }
+            h.replaying
+                .session
+                .submit_pass(i)
+                .map_err(|e| e.to_string())?;
+            h.at = Some(i);
+            (r.progress)(i + 1, stop + 1);
+        }
+    }
+    let spec = &h.replaying.session.plan.textures[texture];
+    let format = decode::readable_format(spec).map_err(|e| e.0.to_owned())?;
+    let images = decode::read_subresource(
+        &h.ctx.device,
+        &h.ctx.queue,
+        h.replaying.session.texture_in_frame(texture),
+        spec,
+        format,
+        r.mip,
+        r.layer,
+    )
+    .map_err(|e| e.to_string())?;
+    images
+        .into_iter()
+        .find(|i| i.z.unwrap_or(0) == r.slice)
+        .ok_or_else(|| format!("no slice {} of mip {} layer {}", r.slice, r.mip, r.layer))
+}
