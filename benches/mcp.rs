@@ -2,7 +2,10 @@
 //! with its stdin and stdout piped; Night City's day frame at `--scale 0.5` is opened once,
 //! then each question is asked 200 times and the round trip (request written, answer read)
 //! timed: `list_passes` (a page of 100 rows), `pass_details` of every pass in turn, and
-//! `analyze`. Figures: median and 95th percentile.
+//! `analyze`. Figures: median and 95th percentile. Then `texture` (replayed on the available
+//! adapter): `gbuffer_albedo` after `base_material` the first time (the replay up to it),
+//! the same again 20 times (the frame is held there), and after each of the next passes in
+//! turn (each replays one more pass).
 
 // A benchmark that cannot set up (no binary, no capture) has nothing to measure: it stops with
 // the reason.
@@ -89,7 +92,7 @@ fn main() {
         .iter()
         .map(|p| p["name"].as_str().unwrap().to_owned())
         .collect();
-    let mut time = |name: &str, args: &dyn Fn(usize) -> Value| {
+    let time = |c: &mut Client, name: &str, args: &dyn Fn(usize) -> Value| {
         let times: Vec<Duration> = (0..ROUNDS)
             .map(|i| {
                 let t = Instant::now();
@@ -110,14 +113,47 @@ fn main() {
         passes.len()
     );
     time(
+        &mut c,
         "list_passes",
         &|i| json!({"capture": id, "offset": (i * 7) % passes.len(), "limit": 100}),
     );
     time(
+        &mut c,
         "pass_details",
         &|i| json!({"capture": id, "pass": passes[i % passes.len()]}),
     );
-    time("analyze", &|_| json!({"capture": id}));
+    time(&mut c, "analyze", &|_| json!({"capture": id}));
+    let texture = |c: &mut Client, after: &str| {
+        let t = Instant::now();
+        c.tool(
+            "texture",
+            json!({"capture": id, "resource": "gbuffer_albedo", "after_pass": after}),
+        );
+        t.elapsed()
+    };
+    let first = texture(&mut c, "base_material");
+    let (again, _) = percentiles((0..20).map(|_| texture(&mut c, "base_material")).collect());
+    // The next passes in the replayed order.
+    let analysis = c.tool("analyze", json!({"capture": id}));
+    let order: Vec<String> = analysis["result"]["structuredContent"]["order"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p.as_str().unwrap().to_owned())
+        .collect();
+    let at = order.iter().position(|p| p == "base_material").unwrap();
+    let (next, _) = percentiles(
+        order[at + 1..at + 11]
+            .iter()
+            .map(|p| texture(&mut c, p))
+            .collect(),
+    );
+    println!(
+        "texture        first {:.3} s, same pass again median {:.1} ms, next pass median {:.1} ms",
+        first.as_secs_f64(),
+        again.as_secs_f64() * 1e3,
+        next.as_secs_f64() * 1e3
+    );
     drop(c);
     let _ = child.wait();
 }

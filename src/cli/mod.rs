@@ -159,7 +159,8 @@ enum Command {
     Inspect(Box<inspect::InspectArgs>),
     /// Serve the Model Context Protocol over stdio, for assistants and scripts: open
     /// captures, list passes and resources, one pass's details, the analysis, a structural
-    /// diff. Register it with a client as the command `framelab mcp`.
+    /// diff, a texture or its texels after any pass, per-pass timings. Register it with a
+    /// client as the command `framelab mcp`.
     ///
     /// Example: framelab mcp --root ~/captures
     Mcp {

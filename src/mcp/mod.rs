@@ -2,7 +2,8 @@
 //! framelab about frames in the protocol they speak. Only protocol goes to stdout (messages
 //! about the session go to stderr); closing stdin ends the server with exit 0. The tools are
 //! in `tools`, the opened captures in `store`; both call the same core functions as the
-//! commands, so each answer is the command line's `--json` for the same question.
+//! commands, so each answer is the command line's `--json` for the same question; the
+//! replays behind `texture`, `read_texels` and `timings` are in `replay`.
 
 mod framing;
 mod replay;
@@ -26,8 +27,9 @@ impl ServerHandler for Framelab {
             .with_instructions(
                 "framelab analyses GPU frames. open_capture a capture file, then list its passes \
                  and resources, ask for one pass's details (bindings, barriers, lints, DAG \
-                 neighbours), the whole analysis, a structural diff of two opened captures, or a \
-                 texture as it stood after any pass (replayed on this machine's GPU).",
+                 neighbours), the whole analysis, a structural diff of two opened captures; replayed on \
+                 this machine's GPU: a texture or its texel values as they stood after any pass, \
+                 and per-pass timings.",
             )
     }
 }

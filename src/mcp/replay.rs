@@ -1,9 +1,11 @@
-//! The replay behind `texture`: one worker thread per opened capture, started on the first
-//! request, owning a device and a `Replaying` session (its objects live on one thread). The
+//! The replay behind `texture`, `read_texels` and `timings`: one worker thread per opened
+//! capture, started on the first request, owning a device and a `Replaying` session (its
+//! objects live on one thread). The
 //! worker holds frame 0 open at the last pass it was asked for, so a request for that pass
 //! or a later one continues from there instead of replaying from the start; an earlier pass
-//! begins the frame again. It reports each pass submitted (for progress notifications) and
-//! stops between passes when the request is cancelled.
+//! begins the frame again. A timing run takes a session of its own, so the held frame stays
+//! where it was. The worker reports each pass or frame done (for progress notifications) and
+//! stops between them when the request is cancelled.
 
 use std::path::PathBuf;
 use std::sync::mpsc;
@@ -11,7 +13,7 @@ use std::thread::JoinHandle;
 
 use framelab_core::analysis::report::AnalyzeOptions;
 use framelab_core::capture::Options;
-use framelab_core::pipeline::Analysed;
+use framelab_core::pipeline::{Analysed, Loaded};
 use framelab_replay::Replaying;
 use framelab_replay::decode::{self, DecodedImage};
 use tokio_util::sync::CancellationToken;
@@ -31,15 +33,30 @@ pub struct Request {
     pub reply: tokio::sync::oneshot::Sender<Result<DecodedImage, String>>,
 }
 
+/// Frames replayed and timed, as `framelab replay --timings` does.
+pub struct Timings {
+    pub frames: u32,
+    /// Called with (frames done, frames to run).
+    pub progress: Box<dyn Fn(usize, usize) + Send>,
+    pub cancel: CancellationToken,
+    pub reply: tokio::sync::oneshot::Sender<Result<framelab_core::timing::TimingReport, String>>,
+}
+
+/// What the worker is asked to do.
+pub enum Job {
+    Texture(Request),
+    Timings(Timings),
+}
+
 /// A capture's replay worker.
 pub struct Worker {
-    jobs: Option<mpsc::Sender<Request>>,
+    jobs: Option<mpsc::Sender<Job>>,
     thread: Option<JoinHandle<()>>,
 }
 
 impl Worker {
     pub fn start(path: PathBuf, scale: f64) -> Worker {
-        let (jobs, inbox) = mpsc::channel::<Request>();
+        let (jobs, inbox) = mpsc::channel::<Job>();
         let thread = std::thread::Builder::new()
             .name("mcp-replay".into())
             .spawn(move || serve(&path, scale, &inbox))
@@ -50,7 +67,7 @@ impl Worker {
         }
     }
 
-    pub fn send(&self, request: Request) -> Result<(), String> {
+    pub fn send(&self, request: Job) -> Result<(), String> {
         self.jobs
             .as_ref()
             .and_then(|j| j.send(request).ok())
@@ -83,9 +100,11 @@ fn start(path: &std::path::Path, scale: f64) -> Result<Held, String> {
         scale,
         ..Options::default()
     };
-    let analysed = Analysed::load(path, &options, AnalyzeOptions { cull: false })
-        .map_err(|e| e.to_string())?
-        .replayable()
+    // Hashed, as a replay's timing report names the capture by its digest.
+    let analysed = Loaded::read_hashed(path)
+        .and_then(|l| l.validate(&options))
+        .and_then(|v| v.analyse(AnalyzeOptions { cull: false }))
+        .and_then(Analysed::replayable)
         .map_err(|e| e.to_string())?;
     let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
         .map_err(|e| e.to_string())?;
@@ -102,9 +121,17 @@ fn start(path: &std::path::Path, scale: f64) -> Result<Held, String> {
     })
 }
 
-fn serve(path: &std::path::Path, scale: f64, inbox: &mpsc::Receiver<Request>) {
+fn serve(path: &std::path::Path, scale: f64, inbox: &mpsc::Receiver<Job>) {
     let mut held: Option<Result<Held, String>> = None;
-    while let Ok(request) = inbox.recv() {
+    while let Ok(job) = inbox.recv() {
+        let request = match job {
+            Job::Timings(t) => {
+                let report = timings(path, scale, &t);
+                let _ = t.reply.send(report);
+                continue;
+            }
+            Job::Texture(request) => request,
+        };
         // A pass before the one the frame is held at needs the frame's starting contents,
         // which the passes since have overwritten: the session starts again.
         if let Some(Ok(h)) = &held
@@ -120,6 +147,25 @@ fn serve(path: &std::path::Path, scale: f64, inbox: &mpsc::Receiver<Request>) {
         };
         let _ = request.reply.send(answer);
     }
+}
+
+/// `t.frames` frames on a session of their own, and their timing report.
+fn timings(
+    path: &std::path::Path,
+    scale: f64,
+    t: &Timings,
+) -> Result<framelab_core::timing::TimingReport, String> {
+    let mut h =
+        start(path, scale).map_err(|e| format!("the capture cannot be replayed here: {e}"))?;
+    let frames = t.frames as usize;
+    for f in 0..t.frames {
+        if t.cancel.is_cancelled() {
+            return Err("cancelled".to_owned());
+        }
+        h.replaying.frame(f, None).map_err(|e| e.to_string())?;
+        (t.progress)(f as usize + 1, frames);
+    }
+    Ok(h.replaying.report(0))
 }
 
 /// The plan pass after which `r` reads (the last one when it names none).

@@ -80,6 +80,15 @@ impl Store {
     }
 }
 
+impl Opened {
+    /// The capture's replay worker, started on first use.
+    pub fn worker(&mut self) -> &super::replay::Worker {
+        let (path, scale) = (&self.path, self.scale);
+        self.worker
+            .get_or_insert_with(|| super::replay::Worker::start(path.clone(), scale))
+    }
+}
+
 /// Loads, validates and analyses a capture file as every command does; the error is the
 /// command line's message (the file's diagnostics listed).
 pub fn load(path: &Path, scale: f64) -> Result<Opened, String> {

@@ -23,6 +23,12 @@ use super::store::{self, Opened, Store, unknown};
 /// The longest side `texture` returns at most.
 pub const MAX_IMAGE_SIDE: u32 = 4096;
 
+/// The most texels one `read_texels` call returns.
+pub const MAX_TEXELS: u64 = 4096;
+
+/// The most frames one `timings` call replays.
+pub const MAX_FRAMES: u32 = 100;
+
 /// The most rows one `list_*` call returns.
 pub const MAX_ROWS: usize = 1000;
 const DEFAULT_ROWS: usize = 100;
@@ -103,6 +109,35 @@ pub struct TextureArgs {
 
 #[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+pub struct TexelArgs {
+    pub capture: String,
+    /// The texture's name.
+    pub resource: String,
+    /// As it stood right after this pass of the frame (default: after the last).
+    pub after_pass: Option<String>,
+    /// The region's left column.
+    pub x: u32,
+    /// The region's top row.
+    pub y: u32,
+    /// Columns (default 1).
+    pub width: Option<u32>,
+    /// Rows (default 1); width x height at most 4096 texels.
+    pub height: Option<u32>,
+    pub mip: Option<u32>,
+    pub layer: Option<u32>,
+    pub slice: Option<u32>,
+}
+
+#[derive(Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TimingsArgs {
+    pub capture: String,
+    /// Frames to replay and time (default 3, at most 100).
+    pub frames: Option<u32>,
+}
+
+#[derive(Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
 pub struct CloseArgs {
     pub capture: String,
 }
@@ -167,6 +202,39 @@ impl Framelab {
         self.store
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// Checks `t` against the capture, then has the capture's replay worker (started on the
+    /// first request) read the texture; the lock is not held while it replays.
+    async fn replay_texture(
+        &self,
+        t: &Target<'_>,
+        peer: &Peer<RoleServer>,
+        meta: &rmcp::model::RequestMetaObject,
+        cancel: tokio_util::sync::CancellationToken,
+    ) -> Result<(Value, framelab_replay::decode::DecodedImage), String> {
+        let (reply, answer) = tokio::sync::oneshot::channel();
+        let summary = {
+            let mut store = self.store();
+            let o = store.get_mut(t.capture)?;
+            let summary = texture_checks(o, t)?;
+            let request = super::replay::Request {
+                resource: t.resource.to_owned(),
+                after: t.after_pass.map(str::to_owned),
+                mip: t.sub.0,
+                layer: t.sub.1,
+                slice: t.sub.2,
+                progress: progress_sender(peer, meta),
+                cancel,
+                reply,
+            };
+            o.worker().send(super::replay::Job::Texture(request))?;
+            summary
+        };
+        let image = answer
+            .await
+            .map_err(|_| "the replay stopped".to_owned())??;
+        Ok((summary, image))
     }
 
     /// The canonical `path` if it lies inside every root that applies: the `--root`
@@ -281,21 +349,25 @@ fn pass_details(o: &Opened, pass: &str) -> Result<Value, String> {
     }))
 }
 
+/// A texture subresource as it stood after a pass.
+struct Target<'a> {
+    capture: &'a str,
+    resource: &'a str,
+    after_pass: Option<&'a str>,
+    /// (mip, layer, slice)
+    sub: (u32, u32, u32),
+}
+
 /// The texture request checked against the capture before any replay: the resource is a
 /// texture, the pass exists, the subresource is in range; and what the summary says before
 /// the pixels: the format and whether a pass up to `after_pass` writes it.
-fn texture_checks(
-    o: &Opened,
-    a: &TextureArgs,
-    mip: u32,
-    layer: u32,
-    slice: u32,
-) -> Result<Value, String> {
+fn texture_checks(o: &Opened, a: &Target<'_>) -> Result<Value, String> {
+    let (mip, layer, slice) = a.sub;
     let capture = &o.analysed.capture;
     let Some(r) = capture.resources.iter().find(|r| r.name == a.resource) else {
         return Err(unknown(
             "resource",
-            &a.resource,
+            a.resource,
             capture.resources.iter().map(|r| r.name.as_str()),
             "list_resources names them",
         ));
@@ -304,7 +376,7 @@ fn texture_checks(
         return Err(format!("\"{}\" is a buffer, not a texture", r.name));
     }
     let order = &o.report.order;
-    let upto = match &a.after_pass {
+    let upto = match a.after_pass {
         None => order.len(),
         Some(p) => order
             .iter()
@@ -550,36 +622,17 @@ impl Framelab {
                 "max_size {max_size} is outside 1..={MAX_IMAGE_SIDE}"
             ));
         }
-        let (mip, layer, slice) = (
-            a.mip.unwrap_or(0),
-            a.layer.unwrap_or(0),
-            a.slice.unwrap_or(0),
-        );
-        let (reply, answer_rx) = tokio::sync::oneshot::channel();
-        let summary = {
-            let mut store = self.store();
-            let o = take!(store.get_mut(&a.capture));
-            let summary = take!(texture_checks(o, &a, mip, layer, slice));
-            let progress = progress_sender(&peer, &meta);
-            let request = super::replay::Request {
-                resource: a.resource.clone(),
-                after: a.after_pass.clone(),
-                mip,
-                layer,
-                slice,
-                progress,
-                cancel,
-                reply,
-            };
-            let worker = o
-                .worker
-                .get_or_insert_with(|| super::replay::Worker::start(o.path.clone(), o.scale));
-            take!(worker.send(request));
-            summary
+        let target = Target {
+            capture: &a.capture,
+            resource: &a.resource,
+            after_pass: a.after_pass.as_deref(),
+            sub: (
+                a.mip.unwrap_or(0),
+                a.layer.unwrap_or(0),
+                a.slice.unwrap_or(0),
+            ),
         };
-        let image = take!(take!(
-            answer_rx.await.map_err(|_| "the replay stopped".to_owned())
-        ));
+        let (summary, image) = take!(self.replay_texture(&target, &peer, &meta, cancel).await);
         let (min, max, mean) = channel_stats(&image);
         let display = framelab_replay::export::display_rgba8(&image);
         let shown = fit(display, max_size);
@@ -605,6 +658,94 @@ impl Framelab {
         ]);
         result.structured_content = Some(summary);
         Ok(result)
+    }
+
+    #[tool(
+        description = "Texel values of a texture region as it stood after a pass of frame 0, in the resource's own terms (float, normalised or integer channels as the inspector shows them), row by row; at most 4096 texels a call.",
+        input_schema = schema_for_type::<TexelArgs>()
+    )]
+    async fn read_texels(
+        &self,
+        peer: Peer<RoleServer>,
+        meta: rmcp::model::RequestMetaObject,
+        cancel: tokio_util::sync::CancellationToken,
+        object: JsonObject,
+    ) -> Answer {
+        let a: TexelArgs = take!(args("read_texels", object));
+        let (w, h) = (a.width.unwrap_or(1), a.height.unwrap_or(1));
+        if w == 0 || h == 0 || u64::from(w) * u64::from(h) > MAX_TEXELS {
+            return refuse(format!(
+                "a {w}x{h} region: read_texels returns 1 to {MAX_TEXELS} texels a call"
+            ));
+        }
+        let target = Target {
+            capture: &a.capture,
+            resource: &a.resource,
+            after_pass: a.after_pass.as_deref(),
+            sub: (
+                a.mip.unwrap_or(0),
+                a.layer.unwrap_or(0),
+                a.slice.unwrap_or(0),
+            ),
+        };
+        let (mut summary, image) = take!(self.replay_texture(&target, &peer, &meta, cancel).await);
+        let (x1, y1) = (u64::from(a.x) + u64::from(w), u64::from(a.y) + u64::from(h));
+        if x1 > u64::from(image.width) || y1 > u64::from(image.height) {
+            return refuse(format!(
+                "the region {}..{x1} x {}..{y1} is outside the {}x{} subresource",
+                a.x, a.y, image.width, image.height
+            ));
+        }
+        let channels = image.channels.clamp(1, 4);
+        let rows: Vec<Vec<Vec<f32>>> = (a.y..a.y + h)
+            .map(|y| {
+                (a.x..a.x + w)
+                    .map(|x| {
+                        let v = image.values[(y * image.width + x) as usize];
+                        v[..channels].to_vec()
+                    })
+                    .collect()
+            })
+            .collect();
+        summary["width"] = json!(image.width);
+        summary["height"] = json!(image.height);
+        summary["region"] = json!({"x": a.x, "y": a.y, "width": w, "height": h});
+        summary["values"] = json!(rows);
+        answer(summary)
+    }
+
+    #[tool(
+        description = "Replay the frame a number of times on this machine's GPU and time every pass: the timing report `framelab replay --timings` writes (per-pass GPU and CPU times per frame). Sends progress (frame i of n) and stops when cancelled.",
+        input_schema = schema_for_type::<TimingsArgs>()
+    )]
+    async fn timings(
+        &self,
+        peer: Peer<RoleServer>,
+        meta: rmcp::model::RequestMetaObject,
+        cancel: tokio_util::sync::CancellationToken,
+        object: JsonObject,
+    ) -> Answer {
+        let a: TimingsArgs = take!(args("timings", object));
+        let frames = a.frames.unwrap_or(3);
+        if frames == 0 || frames > MAX_FRAMES {
+            return refuse(format!("frames {frames} is outside 1..={MAX_FRAMES}"));
+        }
+        let (reply, report) = tokio::sync::oneshot::channel();
+        {
+            let mut store = self.store();
+            let o = take!(store.get_mut(&a.capture));
+            let job = super::replay::Timings {
+                frames,
+                progress: progress_sender(&peer, &meta),
+                cancel,
+                reply,
+            };
+            take!(o.worker().send(super::replay::Job::Timings(job)));
+        }
+        let report = take!(take!(
+            report.await.map_err(|_| "the replay stopped".to_owned())
+        ));
+        answer(report)
     }
 
     #[tool(

@@ -67,7 +67,9 @@ fn an_independent_client_gets_what_the_command_line_prints() {
             "list_resources",
             "open_capture",
             "pass_details",
-            "texture"
+            "read_texels",
+            "texture",
+            "timings"
         ])
     );
     // Every tool describes its input with a JSON Schema naming its fields.
@@ -168,6 +170,7 @@ fn an_independent_client_gets_what_the_command_line_prints() {
     assert!(ok(&s["closed"], "close")["closed"].is_string());
     assert!(error(&s["after_close"]).contains("no capture id"));
     textures(&s["textures"], &images);
+    timings(&s);
     assert_eq!(
         ok(&s["after_cancel"], "after cancel")["rows"]
             .as_array()
@@ -255,8 +258,70 @@ fn textures(t: &Value, images: &std::path::Path) {
     );
     assert!(albedo["max"][0].as_f64().unwrap() > 0.5);
     assert!(error(&t["buffer"]).contains("is a buffer"));
+    // The texels are the values the PNG shows (8-bit unorm: value x 255).
+    let texels = ok(&t["texels"], "texels");
+    assert_eq!(
+        texels["region"],
+        json!({"x": 10, "y": 20, "width": 3, "height": 2})
+    );
+    for (dy, row) in texels["values"].as_array().unwrap().iter().enumerate() {
+        for (dx, v) in row.as_array().unwrap().iter().enumerate() {
+            let p = got.get_pixel(10 + dx as u32, 20 + dy as u32);
+            for c in 0..3 {
+                let value = v[c].as_f64().unwrap();
+                assert_eq!(
+                    (value * 255.0).round() as u8,
+                    p[c],
+                    "texel ({dx},{dy}) channel {c}"
+                );
+            }
+        }
+    }
+    assert!(error(&t["texels_too_many"]).contains("4096 texels"));
+    assert!(error(&t["texels_outside"]).contains("outside"));
     assert!(error(&t["bad_mip"]).contains("mip 3"));
     assert!(error(&t["bad_size"]).contains("max_size"));
+}
+
+/// `timings`: the report `replay --timings` writes, for the same frames.
+fn timings(s: &Value) {
+    let report = ok(&s["timings"], "timings");
+    let dir = std::env::temp_dir().join(format!("framelab-mcp-t-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("t.json");
+    let out = framelab(&[
+        "replay",
+        EXAMPLE,
+        "--frames",
+        "2",
+        "--timings",
+        file.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    let cli: Value = serde_json::from_slice(&std::fs::read(&file).unwrap()).unwrap();
+    std::fs::remove_dir_all(dir).unwrap();
+    for key in [
+        "format_version",
+        "capture",
+        "capture_sha256",
+        "frames",
+        "scale",
+        "adapter",
+    ] {
+        assert_eq!(report[key], cli[key], "{key}");
+    }
+    let names = |r: &Value| -> Vec<Value> {
+        r["passes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["name"].clone())
+            .collect()
+    };
+    assert_eq!(names(report), names(&cli));
+    assert_eq!(s["timings"]["progress"], json!([[1.0, 2.0], [2.0, 2.0]]));
+    assert!(error(&s["timings_bad"]).contains("frames 1000"));
 }
 
 /// Sends `lines` (then closes stdin) and returns every stdout line as JSON and the exit code.
@@ -315,7 +380,7 @@ fn malformed_messages_get_json_rpc_errors_and_closing_stdin_exits_zero() {
     assert_eq!(answers[2]["id"], 2);
     assert_eq!(answers[3]["error"]["code"], -32600);
     assert_eq!(answers[4]["id"], 3);
-    assert_eq!(answers[4]["result"]["tools"].as_array().unwrap().len(), 8);
+    assert_eq!(answers[4]["result"]["tools"].as_array().unwrap().len(), 10);
     assert_eq!(answers[5]["id"], 4);
     assert!(answers[5].get("error").is_some() || answers[5]["result"]["isError"] == true);
     assert_eq!(answers[6]["result"]["structuredContent"]["capture"], "c1");
@@ -563,7 +628,10 @@ fn ten_thousand_hostile_requests_leave_the_server_answering() {
         answered(true)
     );
     assert!(answered(false) > 1000, "{} tool errors", answered(false));
-    assert_eq!(final_answer["result"]["tools"].as_array().unwrap().len(), 8);
+    assert_eq!(
+        final_answer["result"]["tools"].as_array().unwrap().len(),
+        10
+    );
     let peak_kb: u64 = status
         .lines()
         .find_map(|l| l.strip_prefix("VmHWM:"))

@@ -106,9 +106,20 @@ async def main():
                 "albedo_small": await texture("albedo_small", capture=d, resource="gbuffer_albedo", after_pass="base_material", max_size=100),
                 "albedo_before": await texture("albedo_before", capture=d, resource="gbuffer_albedo", after_pass="depth_prepass"),
                 "buffer": await texture("buffer", capture=e, resource="particles"),
+                "texels": await call("read_texels", capture=e, resource="ldr", after_pass="tonemap", x=10, y=20, width=3, height=2),
+                "texels_too_many": await call("read_texels", capture=e, resource="ldr", x=0, y=0, width=100, height=100),
+                "texels_outside": await call("read_texels", capture=e, resource="ldr", x=100000, y=0),
                 "bad_mip": await texture("bad_mip", capture=e, resource="ldr", mip=3),
                 "bad_size": await texture("bad_size", capture=e, resource="ldr", max_size=100000),
             }
+            progress = []
+
+            async def on_frame(done, total, message):
+                progress.append([done, total])
+
+            out["timings"] = outcome(await session.call_tool("timings", {"capture": e, "frames": 2}, progress_callback=on_frame))
+            out["timings"]["progress"] = progress
+            out["timings_bad"] = await call("timings", capture=e, frames=1000)
             # A replay cancelled by the client stops; the next request is answered.
             night = await call("open_capture", path="captures/night_city/river_bank_night.json", scale=0.25)
             assert "ok" in night, night
