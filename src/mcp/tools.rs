@@ -76,6 +76,8 @@ pub struct AnalyzeArgs {
 pub enum DiffMode {
     /// Passes, resources, formats and barriers added, removed or changed.
     Structure,
+    /// Per-pass GPU times of both frames, replayed here, with 95% intervals and verdicts.
+    Timing,
 }
 
 #[derive(Debug, Deserialize, JsonSchema)]
@@ -86,6 +88,8 @@ pub struct DiffArgs {
     /// Capture id of the second frame.
     pub b: String,
     pub mode: DiffMode,
+    /// `timing`: frames replayed and timed per capture (default 10, at most 100).
+    pub frames: Option<u32>,
 }
 
 #[derive(Debug, Deserialize, JsonSchema)]
@@ -235,6 +239,30 @@ impl Framelab {
             .await
             .map_err(|_| "the replay stopped".to_owned())??;
         Ok((summary, image))
+    }
+
+    /// `frames` frames of a capture replayed and timed by its worker (a session of its own).
+    async fn replay_timings(
+        &self,
+        capture: &str,
+        frames: u32,
+        peer: &Peer<RoleServer>,
+        meta: &rmcp::model::RequestMetaObject,
+        cancel: tokio_util::sync::CancellationToken,
+    ) -> Result<framelab_core::timing::TimingReport, String> {
+        let (reply, report) = tokio::sync::oneshot::channel();
+        {
+            let mut store = self.store();
+            let o = store.get_mut(capture)?;
+            let job = super::replay::Timings {
+                frames,
+                progress: progress_sender(peer, meta),
+                cancel,
+                reply,
+            };
+            o.worker().send(super::replay::Job::Timings(job))?;
+        }
+        report.await.map_err(|_| "the replay stopped".to_owned())?
     }
 
     /// The canonical `path` if it lies inside every root that applies: the `--root`
@@ -583,24 +611,63 @@ impl Framelab {
     }
 
     #[tool(
-        description = "Compare two opened captures, as `framelab diff --json`; mode `structure`: passes, resources and barriers added, removed or changed.",
+        description = "Compare two opened captures, as `framelab diff --json`. Mode `structure`: passes, resources and barriers added, removed or changed. Mode `timing`: both frames replayed here (`frames` each, one capture after the other) and their per-pass GPU times compared with 95% intervals and verdicts, as `framelab diff` compares two timing reports.",
         input_schema = schema_for_type::<DiffArgs>()
     )]
-    fn diff(&self, object: JsonObject) -> Answer {
+    async fn diff(
+        &self,
+        peer: Peer<RoleServer>,
+        meta: rmcp::model::RequestMetaObject,
+        cancel: tokio_util::sync::CancellationToken,
+        object: JsonObject,
+    ) -> Answer {
         let a: DiffArgs = take!(args("diff", object));
-        let store = self.store();
-        let (x, y) = (take!(store.get(&a.a)), take!(store.get(&a.b)));
         match a.mode {
-            DiffMode::Structure => answer(framelab_core::structure::diff(
-                Frame {
-                    capture: &x.analysed.capture,
-                    analysis: &x.analysed.analysis,
-                },
-                Frame {
-                    capture: &y.analysed.capture,
-                    analysis: &y.analysed.analysis,
-                },
-            )),
+            DiffMode::Structure => {
+                if a.frames.is_some() {
+                    return refuse("frames applies to mode timing only");
+                }
+                let store = self.store();
+                let (x, y) = (take!(store.get(&a.a)), take!(store.get(&a.b)));
+                answer(framelab_core::structure::diff(
+                    Frame {
+                        capture: &x.analysed.capture,
+                        analysis: &x.analysed.analysis,
+                    },
+                    Frame {
+                        capture: &y.analysed.capture,
+                        analysis: &y.analysed.analysis,
+                    },
+                ))
+            }
+            DiffMode::Timing => {
+                let frames = a.frames.unwrap_or(10);
+                if !(2..=MAX_FRAMES).contains(&frames) {
+                    return refuse(format!("frames {frames} is outside 2..={MAX_FRAMES}"));
+                }
+                {
+                    let store = self.store();
+                    take!(store.get(&a.a));
+                    take!(store.get(&a.b));
+                }
+                let x = take!(
+                    self.replay_timings(&a.a, frames, &peer, &meta, cancel.clone())
+                        .await
+                );
+                let y = take!(
+                    self.replay_timings(&a.b, frames, &peer, &meta, cancel)
+                        .await
+                );
+                let report = take!(
+                    framelab_core::timing::diff::diff(
+                        &x,
+                        &y,
+                        &framelab_core::timing::diff::DiffOptions::default()
+                    )
+                    .map_err(|e| e.to_string())
+                );
+                answer(report)
+            }
         }
     }
 
@@ -730,21 +797,10 @@ impl Framelab {
         if frames == 0 || frames > MAX_FRAMES {
             return refuse(format!("frames {frames} is outside 1..={MAX_FRAMES}"));
         }
-        let (reply, report) = tokio::sync::oneshot::channel();
-        {
-            let mut store = self.store();
-            let o = take!(store.get_mut(&a.capture));
-            let job = super::replay::Timings {
-                frames,
-                progress: progress_sender(&peer, &meta),
-                cancel,
-                reply,
-            };
-            take!(o.worker().send(super::replay::Job::Timings(job)));
-        }
-        let report = take!(take!(
-            report.await.map_err(|_| "the replay stopped".to_owned())
-        ));
+        let report = take!(
+            self.replay_timings(&a.capture, frames, &peer, &meta, cancel)
+                .await
+        );
         answer(report)
     }
 

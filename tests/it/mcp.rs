@@ -322,18 +322,48 @@ fn timings(s: &Value) {
     assert_eq!(names(report), names(&cli));
     assert_eq!(s["timings"]["progress"], json!([[1.0, 2.0], [2.0, 2.0]]));
     assert!(error(&s["timings_bad"]).contains("frames 1000"));
+    // A timing diff: the report `framelab diff` prints for the same two captures (times
+    // differ run to run; its shape and rows do not).
+    let d = ok(&s["diff_timing"], "diff timing");
+    // Exit 1 is a regression verdict, which noise over 3 frames may give.
+    let out = framelab(&[
+        "diff", EXAMPLE, SYNC, "--frames", "3", "--warmup", "0", "--json",
+    ]);
+    assert!(matches!(out.status.code(), Some(0 | 1)), "{out:?}");
+    let cli = json(&out);
+    let keys = |v: &Value| v.as_object().unwrap().keys().cloned().collect::<Vec<_>>();
+    assert_eq!(keys(d), keys(&cli));
+    // Rows are ordered by their change, which noise moves: compared as sets.
+    let rows = |v: &Value| -> Vec<String> {
+        let mut names: Vec<String> = v["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["name"].as_str().unwrap().to_owned())
+            .collect();
+        names.sort();
+        names
+    };
+    assert_eq!(rows(d), rows(&cli));
+    assert!(!rows(d).is_empty());
+    assert!(error(&s["diff_structure_frames"]).contains("timing only"));
 }
 
-/// Sends `lines` (then closes stdin) and returns every stdout line as JSON and the exit code.
-fn raw_session(lines: &[&str]) -> (Vec<Value>, Option<i32>) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_framelab"))
+/// `framelab mcp` with its stdin and stdout piped to the test.
+fn server() -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_framelab"))
         .arg("mcp")
         .current_dir(repo())
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
-        .unwrap();
+        .unwrap()
+}
+
+/// Sends `lines` (then closes stdin) and returns every stdout line as JSON and the exit code.
+fn raw_session(lines: &[&str]) -> (Vec<Value>, Option<i32>) {
+    let mut child = server();
     let mut stdin = child.stdin.take().unwrap();
     let stdout = BufReader::new(child.stdout.take().unwrap());
     let mut answers = Vec::new();
@@ -552,14 +582,7 @@ fn fuzz_line(rng: &mut Rng, id: u64) -> (String, bool) {
 /// ends it with exit 0.
 #[test]
 fn ten_thousand_hostile_requests_leave_the_server_answering() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_framelab"))
-        .arg("mcp")
-        .current_dir(repo())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut child = server();
     let pid = child.id();
     let stdout = BufReader::new(child.stdout.take().unwrap());
     // Answers are read on their own thread, so neither pipe fills while the other waits.

@@ -83,6 +83,7 @@ async def main():
             out["bad"] = {k: v if isinstance(v, dict) else outcome(v) for k, v in out["bad"].items()}
             out["after_bad"] = await call("list_passes", capture=e, limit=1)
 
+            s2 = (await call("open_capture", path="captures/example/frame_sync.json"))["ok"]["capture"]
             # Textures, replayed: the progress each call reports, the summary, the PNG saved.
             async def texture(name, **arguments):
                 progress = []
@@ -120,6 +121,8 @@ async def main():
             out["timings"] = outcome(await session.call_tool("timings", {"capture": e, "frames": 2}, progress_callback=on_frame))
             out["timings"]["progress"] = progress
             out["timings_bad"] = await call("timings", capture=e, frames=1000)
+            out["diff_timing"] = await call("diff", a=e, b=s2, mode="timing", frames=3)
+            out["diff_structure_frames"] = await call("diff", a=e, b=s2, mode="structure", frames=3)
             # A replay cancelled by the client stops; the next request is answered.
             night = await call("open_capture", path="captures/night_city/river_bank_night.json", scale=0.25)
             assert "ok" in night, night
