@@ -6,6 +6,7 @@
 //! replays behind `texture`, `read_texels` and `timings` are in `replay`.
 
 mod framing;
+mod imports;
 mod replay;
 mod store;
 mod tools;
@@ -71,6 +72,7 @@ pub fn run(roots: &[PathBuf]) -> anyhow::Result<ExitCode> {
             .context("relay")?
             .context("reading the engine")?;
         writer.await.context("writer")?.context("writing stdout")?;
+        let _ = std::fs::remove_dir_all(imports::scratch());
         Ok(ExitCode::SUCCESS)
     })
 }

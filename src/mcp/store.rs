@@ -23,12 +23,25 @@ pub struct Opened {
     pub recorded: BTreeMap<String, Value>,
     /// The replay behind `texture`, started on its first request.
     pub worker: Option<super::replay::Worker>,
+    /// For an import: the file imported, and the scratch folder holding what it became.
+    pub imported_from: Option<(PathBuf, PathBuf)>,
+}
+
+impl Drop for Opened {
+    /// An import's scratch folder goes with it (after its replay worker has stopped).
+    fn drop(&mut self) {
+        self.worker = None;
+        if let Some((_, scratch)) = &self.imported_from {
+            let _ = std::fs::remove_dir_all(scratch);
+        }
+    }
 }
 
 /// Every opened capture of the session.
 #[derive(Default)]
 pub struct Store {
     next: u32,
+    scratch: u32,
     open: BTreeMap<String, Opened>,
 }
 
@@ -36,6 +49,12 @@ pub struct Store {
 pub const MAX_OPEN: usize = 16;
 
 impl Store {
+    /// A fresh name for an import's scratch folder.
+    pub fn next_scratch(&mut self) -> String {
+        self.scratch += 1;
+        format!("import-{}", self.scratch)
+    }
+
     /// Refuses another capture once `MAX_OPEN` are open (checked before loading one).
     pub fn room(&self) -> Result<(), String> {
         if self.open.len() >= MAX_OPEN {
@@ -119,6 +138,7 @@ pub fn load(path: &Path, scale: f64) -> Result<Opened, String> {
         graph,
         recorded,
         worker: None,
+        imported_from: None,
     })
 }
 

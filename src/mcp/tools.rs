@@ -36,7 +36,7 @@ const DEFAULT_ROWS: usize = 100;
 #[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OpenArgs {
-    /// A capture file (JSON) inside the client's roots.
+    /// A capture file inside the client's roots: framelab JSON, `.gfxr`, JSON Lines or `.rdc`.
     pub path: String,
     /// Output-resolution multiplier the sizes are resolved for (default 1).
     pub scale: Option<f64>,
@@ -522,7 +522,7 @@ fn fit(img: image::RgbaImage, side: u32) -> image::RgbaImage {
 #[tool_router]
 impl Framelab {
     #[tool(
-        description = "Open a framelab capture (JSON): validate and analyse it, and return its id with a summary (queues, passes, resources, warnings).",
+        description = "Open a capture: a framelab capture (JSON), or what `framelab import` reads (a GFXReconstruct .gfxr or JSON Lines stream, a RenderDoc .rdc), imported first. Validate and analyse it, and return its id with a summary (queues, passes, resources, lints).",
         input_schema = schema_for_type::<OpenArgs>()
     )]
     async fn open_capture(&self, peer: Peer<RoleServer>, object: JsonObject) -> Answer {
@@ -532,15 +532,30 @@ impl Framelab {
             return refuse(format!("scale {scale} is outside 0.01..=8"));
         }
         let file = take!(self.allowed(&peer, &a.path).await);
-        take!(self.store().room());
+        let scratch = {
+            let mut store = self.store();
+            take!(store.room());
+            super::imports::scratch().join(store.next_scratch())
+        };
         // Loading takes a while on a large frame: off the protocol's threads, without the lock.
-        let loaded = tokio::task::spawn_blocking(move || store::load(&file, scale)).await;
+        let loaded = tokio::task::spawn_blocking(move || {
+            if super::imports::is_import(&file)? {
+                let written = super::imports::import_into(&file, &scratch)?;
+                let mut opened = store::load(&written, scale)?;
+                opened.imported_from = Some((file, scratch));
+                Ok(opened)
+            } else {
+                store::load(&file, scale)
+            }
+        })
+        .await;
         let opened = take!(take!(loaded.map_err(|e| format!("loading stopped: {e}"))));
         let mut store = self.store();
         let (id, o) = take!(store.insert(opened));
         answer(json!({
             "capture": id,
-            "path": o.path,
+            "path": o.imported_from.as_ref().map_or(&o.path, |(from, _)| from),
+            "imported": o.imported_from.is_some(),
             "name": o.analysed.capture.name,
             "scale": o.scale,
             "width": o.analysed.capture.width,

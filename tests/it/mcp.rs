@@ -52,7 +52,7 @@ fn error(answer: &Value) -> &str {
 
 #[test]
 fn an_independent_client_gets_what_the_command_line_prints() {
-    let images = std::env::temp_dir().join(format!("framelab-mcp-{}", std::process::id()));
+    let images = std::env::temp_dir().join(format!("framelab-mcp-test-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&images);
     std::fs::create_dir_all(&images).unwrap();
     let s = session(&images);
@@ -169,6 +169,7 @@ fn an_independent_client_gets_what_the_command_line_prints() {
     );
     assert!(ok(&s["closed"], "close")["closed"].is_string());
     assert!(error(&s["after_close"]).contains("no capture id"));
+    imports(&s["imports"], &images);
     textures(&s["textures"], &images);
     timings(&s);
     assert_eq!(
@@ -281,6 +282,30 @@ fn textures(t: &Value, images: &std::path::Path) {
     assert!(error(&t["texels_outside"]).contains("outside"));
     assert!(error(&t["bad_mip"]).contains("mip 3"));
     assert!(error(&t["bad_size"]).contains("max_size"));
+}
+
+/// `open_capture` on a binary capture and a JSON Lines stream: the passes `framelab import`
+/// then `info --json` give.
+fn imports(i: &Value, scratch: &std::path::Path) {
+    for name in ["vkcube_f3.gfxr", "vkcube_f3.jsonl"] {
+        let opened = ok(&i[name]["open"], name);
+        assert_eq!(opened["imported"], true);
+        let out = scratch.join(format!("{name}.json"));
+        let imported = framelab(&[
+            "import",
+            crate::common::gfxr_fixture(name).to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(imported.status.success(), "{imported:?}");
+        let info = cli(&["info", out.to_str().unwrap(), "--json"]);
+        assert_eq!(
+            ok(&i[name]["passes"], name)["rows"],
+            info["passes"],
+            "{name}"
+        );
+        assert!(!info["passes"].as_array().unwrap().is_empty());
+    }
 }
 
 /// `timings`: the report `replay --timings` writes, for the same frames.

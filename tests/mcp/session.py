@@ -84,6 +84,13 @@ async def main():
             out["after_bad"] = await call("list_passes", capture=e, limit=1)
 
             s2 = (await call("open_capture", path="captures/example/frame_sync.json"))["ok"]["capture"]
+            # What `framelab import` reads, opened directly.
+            out["imports"] = {}
+            for name in ["vkcube_f3.gfxr", "vkcube_f3.jsonl"]:
+                opened = await call("open_capture", path=f"tests/fixtures/gfxr/{name}")
+                rows = await call("list_passes", capture=opened["ok"]["capture"], limit=1000)
+                out["imports"][name] = {"open": opened, "passes": rows}
+                await call("close_capture", capture=opened["ok"]["capture"])
             # Textures, replayed: the progress each call reports, the summary, the PNG saved.
             async def texture(name, **arguments):
                 progress = []
