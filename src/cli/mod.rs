@@ -3,6 +3,7 @@
 //! `anyhow` lives here only.
 
 mod analysis;
+pub(crate) mod capture;
 mod diff;
 mod import;
 mod info;
@@ -163,6 +164,11 @@ enum Command {
     /// client as the command `framelab mcp`.
     ///
     /// Example: framelab mcp --root ~/captures
+    /// Take frame N of a running Vulkan program with GFXReconstruct's capture layer, stop the
+    /// program once the frame is written, and import it (see `import`).
+    ///
+    /// Example: framelab capture --frame 3 -o cube.gfxr -- vkcube
+    Capture(capture::CaptureArgs),
     Mcp {
         /// Read captures only inside this directory (and inside the client's roots); may be
         /// given more than once.
@@ -307,6 +313,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Diff(args) => Ok(diff::run(&args)),
         Command::Inspect(args) => inspect::run(&args),
         Command::Mcp { root } => crate::mcp::run(&root),
+        Command::Capture(args) => capture::run(&args),
         Command::Import {
             stream,
             out,

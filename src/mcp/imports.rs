@@ -28,8 +28,21 @@ pub fn scratch() -> PathBuf {
 /// Imports `path` and writes the capture and its side files into `dir` (made anew); returns
 /// the capture file written there.
 pub fn import_into(path: &Path, dir: &Path) -> Result<PathBuf, String> {
-    let name = path.display().to_string();
     let stem = path.file_stem().map_or_else(
+        || "imported".to_owned(),
+        |s| s.to_string_lossy().into_owned(),
+    );
+    let _ = std::fs::remove_dir_all(dir);
+    let capture = dir.join(format!("{stem}.json"));
+    import_to(path, &capture)?;
+    Ok(capture)
+}
+
+/// Imports `path` and writes the capture at `capture`, its side files beside it.
+pub fn import_to(path: &Path, capture: &Path) -> Result<(), String> {
+    let name = path.display().to_string();
+    let dir = capture.parent().unwrap_or(Path::new("."));
+    let stem = capture.file_stem().map_or_else(
         || "imported".to_owned(),
         |s| s.to_string_lossy().into_owned(),
     );
@@ -49,7 +62,6 @@ pub fn import_into(path: &Path, dir: &Path) -> Result<PathBuf, String> {
         import(reader, &name, &options)
     }
     .map_err(|e| e.to_string())?;
-    let _ = std::fs::remove_dir_all(dir);
     let write = |p: &Path, bytes: &[u8]| -> Result<(), String> {
         if let Some(parent) = p.parent() {
             std::fs::create_dir_all(parent)
@@ -60,9 +72,7 @@ pub fn import_into(path: &Path, dir: &Path) -> Result<PathBuf, String> {
     for f in &imported.side_files {
         write(&dir.join(&f.path), &f.bytes)?;
     }
-    let capture = dir.join(format!("{stem}.json"));
     let text = serde_json::to_string_pretty(&imported.capture)
         .map_err(|e| format!("the imported capture does not serialise: {e}"))?;
-    write(&capture, text.as_bytes())?;
-    Ok(capture)
+    write(capture, text.as_bytes())
 }

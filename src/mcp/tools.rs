@@ -142,6 +142,23 @@ pub struct TimingsArgs {
 
 #[derive(Debug, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+pub struct CaptureArgs {
+    /// The Vulkan program to run (a path, or a name found on PATH).
+    pub program: String,
+    /// Its arguments.
+    #[serde(default)]
+    pub args: Vec<String>,
+    /// The frame to take (1 is its first presented frame).
+    pub frame: u32,
+    /// An existing folder inside the client's roots: the capture (`.gfxr`) and its import go
+    /// there.
+    pub dir: String,
+    /// Seconds to wait for the frame before stopping the program (default 60, at most 600).
+    pub timeout: Option<u64>,
+}
+
+#[derive(Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
 pub struct CloseArgs {
     pub capture: String,
 }
@@ -817,6 +834,55 @@ impl Framelab {
                 .await
         );
         answer(report)
+    }
+
+    #[tool(
+        description = "Run a Vulkan program under GFXReconstruct's capture layer, take frame `frame`, stop the program, import the capture into `dir` (as `framelab capture` does) and open it: returns what open_capture returns.",
+        input_schema = schema_for_type::<CaptureArgs>()
+    )]
+    async fn capture_program(&self, peer: Peer<RoleServer>, object: JsonObject) -> Answer {
+        let a: CaptureArgs = take!(args("capture_program", object));
+        let timeout = a.timeout.unwrap_or(60);
+        if !(1..=600).contains(&timeout) || !(1..=1_000_000).contains(&a.frame) {
+            return refuse(format!(
+                "frame {} or timeout {timeout}: frame is 1..=1000000, timeout 1..=600 s",
+                a.frame
+            ));
+        }
+        let dir = take!(self.allowed(&peer, &a.dir).await);
+        if !dir.is_dir() {
+            return refuse(format!("{} is not a folder", dir.display()));
+        }
+        take!(self.store().room());
+        let stem = Path::new(&a.program).file_name().map_or_else(
+            || "capture".to_owned(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let frame = a.frame;
+        let loaded = tokio::task::spawn_blocking(move || {
+            let mut program = vec![a.program];
+            program.extend(a.args);
+            let gfxr = dir.join(format!("{stem}_frame{frame}.gfxr"));
+            let written = crate::cli::capture::take(&program, frame, timeout, &gfxr)
+                .map_err(|e| format!("{e:#}"))?;
+            std::fs::rename(&written, &gfxr)
+                .map_err(|e| format!("moving the capture to {}: {e}", gfxr.display()))?;
+            let json = gfxr.with_extension("json");
+            super::imports::import_to(&gfxr, &json)?;
+            store::load(&json, 1.0)
+        })
+        .await;
+        let opened = take!(take!(loaded.map_err(|e| format!("capturing stopped: {e}"))));
+        let mut store = self.store();
+        let (id, o) = take!(store.insert(opened));
+        answer(json!({
+            "capture": id,
+            "path": o.path,
+            "name": o.analysed.capture.name,
+            "passes": o.info.passes.len(),
+            "resources": o.info.resources.len(),
+            "lints": o.report.lints.len(),
+        }))
     }
 
     #[tool(

@@ -169,3 +169,45 @@ pub fn example_copy(dir: &std::path::Path) -> serde_json::Value {
     }
     serde_json::from_str(&std::fs::read_to_string(example.join("frame.json")).unwrap()).unwrap()
 }
+
+/// A virtual X server for a program's window, stopped when dropped.
+pub struct Display {
+    child: std::process::Child,
+    pub name: String,
+}
+
+impl Drop for Display {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+pub fn start_display() -> Display {
+    for n in 0..40 {
+        let number = 60 + (std::process::id() + n) % 200;
+        if std::path::Path::new(&format!("/tmp/.X11-unix/X{number}")).exists() {
+            continue;
+        }
+        // Owned by the guard at once, so that it is stopped and waited for on every path.
+        let display = Display {
+            child: std::process::Command::new("Xvfb")
+                .arg(format!(":{number}"))
+                .args(["-screen", "0", "1024x768x24", "-nolisten", "tcp"])
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .spawn()
+                .expect("Xvfb (apt-get install xvfb)"),
+            name: format!(":{number}"),
+        };
+        let socket = format!("/tmp/.X11-unix/X{number}");
+        for _ in 0..100 {
+            if std::path::Path::new(&socket).exists() {
+                return display;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        panic!("Xvfb :{number} did not start");
+    }
+    panic!("no free X display number");
+}

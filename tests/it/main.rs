@@ -10,6 +10,7 @@ mod golden;
 mod analysis_cli;
 mod analysis_stages;
 mod barrier_properties;
+mod capture;
 mod cli;
 mod diff_cli;
 mod driver_rejects;

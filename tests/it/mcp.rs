@@ -22,12 +22,14 @@ fn cli(args: &[&str]) -> Value {
 }
 
 /// The session's answers, as `session.py` prints them.
-fn session(images: &std::path::Path) -> Value {
+fn session(images: &std::path::Path, captures: &std::path::Path, display: &str) -> Value {
     let out = Command::new("python3")
         .arg(repo().join("tests/mcp/session.py"))
         .arg(env!("CARGO_BIN_EXE_framelab"))
         .arg(repo())
         .arg(images)
+        .arg(captures)
+        .env("DISPLAY", display)
         .output()
         .expect("python3");
     assert!(
@@ -52,15 +54,20 @@ fn error(answer: &Value) -> &str {
 
 #[test]
 fn an_independent_client_gets_what_the_command_line_prints() {
-    let images = std::env::temp_dir().join(format!("framelab-mcp-test-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&images);
-    std::fs::create_dir_all(&images).unwrap();
-    let s = session(&images);
+    let images = Scratch::new(
+        std::env::temp_dir().join(format!("framelab-mcp-test-{}", std::process::id())),
+    );
+    // capture_program writes where the client says, inside its roots: a folder in the
+    // repository's (ignored) target folder; vkcube gets a virtual X server.
+    let captures = Scratch::new(repo().join(format!("target/mcp-capture-{}", std::process::id())));
+    let display = crate::common::start_display();
+    let s = session(&images, &captures, &display.name);
     assert_eq!(s["server"], "framelab");
     assert_eq!(
         s["tools"],
         json!([
             "analyze",
+            "capture_program",
             "close_capture",
             "diff",
             "list_passes",
@@ -179,7 +186,45 @@ fn an_independent_client_gets_what_the_command_line_prints() {
             .len(),
         1
     );
-    std::fs::remove_dir_all(images).unwrap();
+    // capture_program: vkcube's frame 3 taken, imported into the folder and opened.
+    let taken = ok(&s["capture_program"], "capture_program");
+    assert!(captures.join("vkcube_frame3.gfxr").exists());
+    assert!(captures.join("vkcube_frame3.json").exists());
+    assert!(taken["passes"].as_u64().unwrap() >= 2);
+    let info = cli(&[
+        "info",
+        captures.join("vkcube_frame3.json").to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(
+        ok(&s["captured_passes"], "captured")["rows"],
+        info["passes"]
+    );
+    assert!(error(&s["capture_outside"]).contains("outside the client's roots"));
+}
+
+/// A folder made for a test and removed when it ends, passed or not.
+struct Scratch(std::path::PathBuf);
+
+impl Scratch {
+    fn new(path: std::path::PathBuf) -> Scratch {
+        let _ = std::fs::remove_dir_all(&path);
+        std::fs::create_dir_all(&path).unwrap();
+        Scratch(path)
+    }
+}
+
+impl std::ops::Deref for Scratch {
+    type Target = std::path::Path;
+    fn deref(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
 }
 
 /// `texture` answers: the PNG equals what `replay --after` exports, a second request for the
@@ -435,7 +480,7 @@ fn malformed_messages_get_json_rpc_errors_and_closing_stdin_exits_zero() {
     assert_eq!(answers[2]["id"], 2);
     assert_eq!(answers[3]["error"]["code"], -32600);
     assert_eq!(answers[4]["id"], 3);
-    assert_eq!(answers[4]["result"]["tools"].as_array().unwrap().len(), 10);
+    assert_eq!(answers[4]["result"]["tools"].as_array().unwrap().len(), 11);
     assert_eq!(answers[5]["id"], 4);
     assert!(answers[5].get("error").is_some() || answers[5]["result"]["isError"] == true);
     assert_eq!(answers[6]["result"]["structuredContent"]["capture"], "c1");
@@ -678,7 +723,7 @@ fn ten_thousand_hostile_requests_leave_the_server_answering() {
     assert!(answered(false) > 1000, "{} tool errors", answered(false));
     assert_eq!(
         final_answer["result"]["tools"].as_array().unwrap().len(),
-        10
+        11
     );
     let peak_kb: u64 = status
         .lines()

@@ -12,56 +12,14 @@
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command};
+use std::process::Command;
 
 use serde_json::Value;
 
-use crate::common::{framelab, gfxr_fixture, repo, stderr};
+use crate::common::{Display, framelab, gfxr_fixture, repo, start_display, stderr};
 
 /// (command, hazard kind, access, earlier access, earlier command), in the layer's words.
 type Finding = (String, String, String, String, String);
-
-/// A virtual X server for the replay's window, stopped when dropped.
-struct Display {
-    child: Child,
-    name: String,
-}
-
-impl Drop for Display {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-fn start_display() -> Display {
-    for n in 0..40 {
-        let number = 60 + (std::process::id() + n) % 200;
-        if Path::new(&format!("/tmp/.X11-unix/X{number}")).exists() {
-            continue;
-        }
-        // Owned by the guard at once, so that it is stopped and waited for on every path.
-        let display = Display {
-            child: Command::new("Xvfb")
-                .arg(format!(":{number}"))
-                .args(["-screen", "0", "1024x768x24", "-nolisten", "tcp"])
-                .stdout(std::process::Stdio::null())
-                .stderr(std::process::Stdio::null())
-                .spawn()
-                .expect("Xvfb (apt-get install xvfb)"),
-            name: format!(":{number}"),
-        };
-        let socket = format!("/tmp/.X11-unix/X{number}");
-        for _ in 0..100 {
-            if Path::new(&socket).exists() {
-                return display;
-            }
-            std::thread::sleep(std::time::Duration::from_millis(50));
-        }
-        panic!("Xvfb :{number} did not start");
-    }
-    panic!("no free X display number");
-}
 
 /// The layer's synchronization findings on `capture` replayed by gfxrecon-replay.
 fn layer_findings(capture: &Path, display: &Display, dir: &Path) -> BTreeSet<Finding> {

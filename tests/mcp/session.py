@@ -4,11 +4,13 @@ bundled captures, bad input of each kind, then shutdown by closing stdin. Prints
 object: what each call answered, for the Rust test to compare with the command line.
 
 Usage: python3 session.py <framelab binary> <repository root> <folder for the images>
+       [<folder inside the repository for capture_program>]
 """
 
 import asyncio
 import base64
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -35,7 +37,10 @@ def outcome(result):
 
 
 async def main():
-    server = StdioServerParameters(command=FRAMELAB, args=["mcp"], cwd=str(REPO))
+    # The SDK passes the server only a few variables of its own environment; vkcube (run by
+    # capture_program) needs the display.
+    env = {k: os.environ[k] for k in ["DISPLAY"] if k in os.environ}
+    server = StdioServerParameters(command=FRAMELAB, args=["mcp"], cwd=str(REPO), env=env)
     out = {}
     async with stdio_client(server) as (read, write):
         async with ClientSession(read, write, list_roots_callback=roots) as session:
@@ -130,6 +135,13 @@ async def main():
             out["timings_bad"] = await call("timings", capture=e, frames=1000)
             out["diff_timing"] = await call("diff", a=e, b=s2, mode="timing", frames=3)
             out["diff_structure_frames"] = await call("diff", a=e, b=s2, mode="structure", frames=3)
+            # A frame of a running program, taken into a folder inside the roots.
+            if len(sys.argv) > 4:
+                out["capture_program"] = await call("capture_program", program="vkcube", frame=3, dir=sys.argv[4], timeout=120)
+                if "ok" in out["capture_program"]:
+                    taken = out["capture_program"]["ok"]["capture"]
+                    out["captured_passes"] = await call("list_passes", capture=taken)
+                out["capture_outside"] = await call("capture_program", program="vkcube", frame=3, dir="/tmp")
             # A replay cancelled by the client stops; the next request is answered.
             night = await call("open_capture", path="captures/night_city/river_bank_night.json", scale=0.25)
             assert "ok" in night, night
