@@ -15,7 +15,7 @@ pub mod replaying;
 pub mod run;
 
 pub use device::{AdapterSummary, DeviceError, Faults, GpuContext, list_adapters, open_device};
-pub use readback::{ReadbackError, read_buffer};
+pub use readback::{ReadbackError, read_buffer, read_buffer_range};
 pub use replaying::Replaying;
 pub use run::{PassTime, ReplayError, Session};
 pub use wgpu;

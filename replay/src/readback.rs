@@ -32,6 +32,40 @@ pub fn read_buffer(
     map_read(device, &staging, size, label)
 }
 
+/// Copies bytes `offset..offset + size` of `source` (which needs COPY_SRC usage, and
+/// `offset + size` within it) to the CPU. The copy is widened to the 4-byte alignment buffer
+/// copies need, and the bytes asked for are cut from it.
+pub fn read_buffer_range(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    source: &wgpu::Buffer,
+    offset: u64,
+    size: u64,
+    label: &str,
+) -> Result<Vec<u8>, ReadbackError> {
+    let start = offset & !3;
+    let end = (offset + size).div_ceil(4) * 4;
+    let end = end.min(source.size() & !3).max(start);
+    if end == start {
+        return Ok(Vec::new());
+    }
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("framelab readback"),
+        size: end - start,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("framelab readback"),
+    });
+    encoder.copy_buffer_to_buffer(source, start, &staging, 0, end - start);
+    queue.submit([encoder.finish()]);
+    let bytes = map_read(device, &staging, end - start, label)?;
+    let from = (offset - start) as usize;
+    let to = (from + size as usize).min(bytes.len());
+    Ok(bytes[from.min(to)..to].to_vec())
+}
+
 /// Maps the first `size` bytes of `staging` (MAP_READ usage, written by work already
 /// submitted), copies them out and unmaps it, so the buffer can be written again.
 pub fn map_read(

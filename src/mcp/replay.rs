@@ -42,9 +42,28 @@ pub struct Timings {
     pub reply: tokio::sync::oneshot::Sender<Result<framelab_core::timing::TimingReport, String>>,
 }
 
+/// Bytes of a buffer as they stood after a pass of frame 0.
+pub struct BufferRequest {
+    pub resource: String,
+    pub after: Option<String>,
+    pub offset: u64,
+    pub length: u64,
+    pub progress: Box<dyn Fn(usize, usize) + Send>,
+    pub cancel: CancellationToken,
+    pub reply: tokio::sync::oneshot::Sender<Result<BufferBytes, String>>,
+}
+
+/// The bytes read, and the ways the buffer can be read as rows (the inspector's).
+pub struct BufferBytes {
+    pub bytes: Vec<u8>,
+    pub size: u64,
+    pub layouts: Vec<framelab_ui::model::LayoutChoice>,
+}
+
 /// What the worker is asked to do.
 pub enum Job {
     Texture(Request),
+    Buffer(BufferRequest),
     Timings(Timings),
 }
 
@@ -91,6 +110,10 @@ struct Held {
     ctx: framelab_replay::GpuContext,
     /// The plan texture of each capture texture.
     texture_of: std::collections::BTreeMap<framelab_core::capture::model::ResourceId, usize>,
+    /// The plan buffer of each capture buffer.
+    buffer_of: std::collections::BTreeMap<framelab_core::capture::model::ResourceId, usize>,
+    /// How each plan buffer can be read as rows.
+    buffer_views: Vec<framelab_ui::model::BufferView>,
     /// The last plan pass submitted in the open frame, if one is open.
     at: Option<usize>,
 }
@@ -112,11 +135,15 @@ fn start(path: &std::path::Path, scale: f64) -> Result<Held, String> {
         .lower(ctx.device.features(), &ctx.summary.name)
         .map_err(|e| e.to_string())?;
     let texture_of = lowered.texture_of.clone();
+    let buffer_of = lowered.buffer_of.clone();
+    let buffer_views = framelab_ui::project::buffer_views(&lowered.plan);
     let replaying = Replaying::start(&ctx, lowered).map_err(|e| e.to_string())?;
     Ok(Held {
         replaying,
         ctx,
         texture_of,
+        buffer_of,
+        buffer_views,
         at: None,
     })
 }
@@ -124,28 +151,39 @@ fn start(path: &std::path::Path, scale: f64) -> Result<Held, String> {
 fn serve(path: &std::path::Path, scale: f64, inbox: &mpsc::Receiver<Job>) {
     let mut held: Option<Result<Held, String>> = None;
     while let Ok(job) = inbox.recv() {
-        let request = match job {
-            Job::Timings(t) => {
-                let report = timings(path, scale, &t);
-                let _ = t.reply.send(report);
-                continue;
-            }
-            Job::Texture(request) => request,
+        let after = match &job {
+            Job::Timings(_) => None,
+            Job::Texture(r) => Some(&r.after),
+            Job::Buffer(r) => Some(&r.after),
         };
         // A pass before the one the frame is held at needs the frame's starting contents,
         // which the passes since have overwritten: the session starts again.
-        if let Some(Ok(h)) = &held
-            && let (Some(at), Some(stop)) = (h.at, stop_of(h, &request).ok().flatten())
+        if let (Some(after), Some(Ok(h))) = (after, &held)
+            && let (Some(at), Some(stop)) = (h.at, stop_of(h, after).ok().flatten())
             && stop < at
         {
             held = None;
         }
-        let state = held.get_or_insert_with(|| start(path, scale));
-        let answer = match state {
-            Ok(h) => read(h, &request),
-            Err(e) => Err(format!("the capture cannot be replayed here: {e}")),
-        };
-        let _ = request.reply.send(answer);
+        match job {
+            Job::Timings(t) => {
+                let report = timings(path, scale, &t);
+                let _ = t.reply.send(report);
+            }
+            Job::Texture(r) => {
+                let answer = match held.get_or_insert_with(|| start(path, scale)) {
+                    Ok(h) => read(h, &r),
+                    Err(e) => Err(format!("the capture cannot be replayed here: {e}")),
+                };
+                let _ = r.reply.send(answer);
+            }
+            Job::Buffer(r) => {
+                let answer = match held.get_or_insert_with(|| start(path, scale)) {
+                    Ok(h) => read_buffer(h, &r),
+                    Err(e) => Err(format!("the capture cannot be replayed here: {e}")),
+                };
+                let _ = r.reply.send(answer);
+            }
+        }
     }
 }
 
@@ -168,9 +206,9 @@ fn timings(
     Ok(h.replaying.report(0))
 }
 
-/// The plan pass after which `r` reads (the last one when it names none).
-fn stop_of(h: &Held, r: &Request) -> Result<Option<usize>, String> {
-    match &r.after {
+/// The plan pass after which a request reads (the last one when it names none).
+fn stop_of(h: &Held, after: &Option<String>) -> Result<Option<usize>, String> {
+    match after {
         None => Ok(h.replaying.session.plan.passes.len().checked_sub(1)),
         Some(name) => {
             let id = h
@@ -207,33 +245,7 @@ fn read(h: &mut Held, r: &Request) -> Result<DecodedImage, String> {
         .texture_of
         .get(&resource)
         .ok_or_else(|| format!("\"{}\" is not a texture the replay creates", r.resource))?;
-    let stop = stop_of(h, r)?;
-    let from = match (h.at, stop) {
-        (Some(at), Some(stop)) if at <= stop => at + 1,
-        // A fresh session (`serve` starts one again for an earlier pass): begin the frame.
-        _ => {
-            let constants = h.replaying.constants(0);
-            h.replaying
-                .session
-                .begin_frame(&constants)
-                .map_err(|e| e.to_string())?;
-            h.at = None;
-            0
-        }
-    };
-    if let Some(stop) = stop {
-        for i in from..=stop {
-            if r.cancel.is_cancelled() {
-                return Err("cancelled".to_owned());
-            }
-            h.replaying
-                .session
-                .submit_pass(i)
-                .map_err(|e| e.to_string())?;
-            h.at = Some(i);
-            (r.progress)(i + 1, stop + 1);
-        }
-    }
+    advance(h, &r.after, &r.cancel, &r.progress)?;
     let spec = &h.replaying.session.plan.textures[texture];
     let format = decode::readable_format(spec).map_err(|e| e.0.to_owned())?;
     let images = decode::read_subresource(
@@ -250,4 +262,86 @@ fn read(h: &mut Held, r: &Request) -> Result<DecodedImage, String> {
         .into_iter()
         .find(|i| i.z.unwrap_or(0) == r.slice)
         .ok_or_else(|| format!("no slice {} of mip {} layer {}", r.slice, r.mip, r.layer))
+}
+
+/// Holds frame 0 open right after the pass `after` names: continues from the pass it is held
+/// at, or begins the frame (a fresh session, see `serve`).
+fn advance(
+    h: &mut Held,
+    after: &Option<String>,
+    cancel: &CancellationToken,
+    progress: &(dyn Fn(usize, usize) + Send),
+) -> Result<(), String> {
+    let stop = stop_of(h, after)?;
+    let from = match (h.at, stop) {
+        (Some(at), Some(stop)) if at <= stop => at + 1,
+        // A fresh session (`serve` starts one again for an earlier pass): begin the frame.
+        _ => {
+            let constants = h.replaying.constants(0);
+            h.replaying
+                .session
+                .begin_frame(&constants)
+                .map_err(|e| e.to_string())?;
+            h.at = None;
+            0
+        }
+    };
+    if let Some(stop) = stop {
+        for i in from..=stop {
+            if cancel.is_cancelled() {
+                return Err("cancelled".to_owned());
+            }
+            h.replaying
+                .session
+                .submit_pass(i)
+                .map_err(|e| e.to_string())?;
+            h.at = Some(i);
+            progress(i + 1, stop + 1);
+        }
+    }
+    Ok(())
+}
+
+fn read_buffer(h: &mut Held, r: &BufferRequest) -> Result<BufferBytes, String> {
+    let capture = h.replaying.capture();
+    let resource = capture
+        .resources
+        .iter()
+        .find(|x| x.name == r.resource)
+        .ok_or_else(|| format!("no resource \"{}\"", r.resource))?
+        .id;
+    let buffer = *h
+        .buffer_of
+        .get(&resource)
+        .ok_or_else(|| format!("\"{}\" is not a buffer the replay creates", r.resource))?;
+    advance(h, &r.after, &r.cancel, &r.progress)?;
+    let source = h.replaying.session.buffer_in_frame(buffer);
+    let size = source.size();
+    if r.offset >= size {
+        return Err(format!(
+            "offset {} is past the end of \"{}\" ({size} bytes)",
+            r.offset, r.resource
+        ));
+    }
+    let length = r.length.min(size - r.offset);
+    let bytes = framelab_replay::read_buffer_range(
+        &h.ctx.device,
+        &h.ctx.queue,
+        source,
+        r.offset,
+        length,
+        &r.resource,
+    )
+    .map_err(|e| e.to_string())?;
+    let layouts = h
+        .buffer_views
+        .iter()
+        .find(|v| v.plan_index == buffer)
+        .map(|v| v.layouts.clone())
+        .unwrap_or_default();
+    Ok(BufferBytes {
+        bytes,
+        size,
+        layouts,
+    })
 }

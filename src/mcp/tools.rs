@@ -26,6 +26,9 @@ pub const MAX_IMAGE_SIDE: u32 = 4096;
 /// The most texels one `read_texels` call returns.
 pub const MAX_TEXELS: u64 = 4096;
 
+/// The most bytes one `read_buffer` call returns.
+pub const MAX_BUFFER_BYTES: u64 = 65536;
+
 /// The most frames one `timings` call replays.
 pub const MAX_FRAMES: u32 = 100;
 
@@ -130,6 +133,20 @@ pub struct TexelArgs {
     pub mip: Option<u32>,
     pub layer: Option<u32>,
     pub slice: Option<u32>,
+}
+
+#[derive(Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BufferArgs {
+    pub capture: String,
+    /// The buffer's name.
+    pub resource: String,
+    /// As it stood right after this pass of the frame (default: after the last).
+    pub after_pass: Option<String>,
+    /// First byte (default 0).
+    pub offset: Option<u64>,
+    /// Bytes (default 256, at most 65536).
+    pub length: Option<u64>,
 }
 
 #[derive(Debug, Deserialize, JsonSchema)]
@@ -811,6 +828,106 @@ impl Framelab {
         summary["region"] = json!({"x": a.x, "y": a.y, "width": w, "height": h});
         summary["values"] = json!(rows);
         answer(summary)
+    }
+
+    #[tool(
+        description = "Bytes of a buffer as they stood after a pass of frame 0: decoded as rows of the WGSL type of the variable that binds it (or of the indirect-argument records it feeds), as the inspector's buffer table shows them, and as hex; at most 65536 bytes a call.",
+        input_schema = schema_for_type::<BufferArgs>()
+    )]
+    async fn read_buffer(
+        &self,
+        peer: Peer<RoleServer>,
+        meta: rmcp::model::RequestMetaObject,
+        cancel: tokio_util::sync::CancellationToken,
+        object: JsonObject,
+    ) -> Answer {
+        let a: BufferArgs = take!(args("read_buffer", object));
+        let (offset, length) = (a.offset.unwrap_or(0), a.length.unwrap_or(256));
+        if length == 0 || length > MAX_BUFFER_BYTES {
+            return refuse(format!(
+                "length {length}: read_buffer returns 1 to {MAX_BUFFER_BYTES} bytes a call"
+            ));
+        }
+        let (reply, answer_rx) = tokio::sync::oneshot::channel();
+        {
+            let mut store = self.store();
+            let o = take!(store.get_mut(&a.capture));
+            let capture = &o.analysed.capture;
+            let Some(r) = capture.resources.iter().find(|r| r.name == a.resource) else {
+                return refuse(unknown(
+                    "resource",
+                    &a.resource,
+                    capture.resources.iter().map(|r| r.name.as_str()),
+                    "list_resources names them",
+                ));
+            };
+            if r.format.is_some() {
+                return refuse(format!(
+                    "\"{}\" is a texture: read it with read_texels",
+                    r.name
+                ));
+            }
+            if let Some(p) = &a.after_pass
+                && !o.report.order.contains(p)
+            {
+                return refuse(unknown(
+                    "pass",
+                    p,
+                    o.report.order.iter().map(String::as_str),
+                    "list_passes names them",
+                ));
+            }
+            let request = super::replay::BufferRequest {
+                resource: a.resource.clone(),
+                after: a.after_pass.clone(),
+                offset,
+                length,
+                progress: progress_sender(&peer, &meta),
+                cancel,
+                reply,
+            };
+            take!(o.worker().send(super::replay::Job::Buffer(request)));
+        }
+        let read = take!(take!(
+            answer_rx.await.map_err(|_| "the replay stopped".to_owned())
+        ));
+        let rows = read.layouts.first().map(|choice| {
+            let l = &choice.layout;
+            // Rows overlapping the bytes read, each decoded where it lies wholly inside them.
+            let first = offset.saturating_sub(choice.base) / l.stride.max(1);
+            let end = offset + read.bytes.len() as u64;
+            let mut rows = Vec::new();
+            let mut i = first;
+            while choice.base + i * l.stride + l.stride <= end && rows.len() < 256 {
+                let at = choice.base + i * l.stride;
+                if at >= offset {
+                    let row = &read.bytes[(at - offset) as usize..];
+                    let fields: serde_json::Map<String, Value> = l
+                        .fields
+                        .iter()
+                        .map(|f| (f.name.clone(), json!(f.read(row))))
+                        .collect();
+                    rows.push(json!({"index": i, "offset": at, "fields": fields}));
+                }
+                i += 1;
+            }
+            json!({
+                "type": l.type_name,
+                "source": choice.source,
+                "stride": l.stride,
+                "rows": rows,
+            })
+        });
+        let hex: String = read.bytes.iter().map(|b| format!("{b:02x}")).collect();
+        answer(json!({
+            "resource": a.resource,
+            "after_pass": a.after_pass,
+            "size": read.size,
+            "offset": offset,
+            "length": read.bytes.len(),
+            "as": rows,
+            "hex": hex,
+        }))
     }
 
     #[tool(

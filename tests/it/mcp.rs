@@ -74,6 +74,7 @@ fn an_independent_client_gets_what_the_command_line_prints() {
             "list_resources",
             "open_capture",
             "pass_details",
+            "read_buffer",
             "read_texels",
             "texture",
             "timings"
@@ -326,6 +327,7 @@ fn textures(t: &Value, images: &std::path::Path) {
     assert!(error(&t["texels_too_many"]).contains("4096 texels"));
     assert!(error(&t["texels_outside"]).contains("outside"));
     assert!(error(&t["bad_mip"]).contains("mip 3"));
+    buffers(t);
     assert!(error(&t["bad_size"]).contains("max_size"));
 }
 
@@ -351,6 +353,49 @@ fn imports(i: &Value, scratch: &std::path::Path) {
         );
         assert!(!info["passes"].as_array().unwrap().is_empty());
     }
+}
+
+/// `read_buffer`: the indirect arguments the simulation writes, read as the records they
+/// are; particle rows decoded as the WGSL struct, equal to the hex bytes read as floats.
+fn buffers(t: &Value) {
+    let cleared = ok(&t["args_cleared"], "cleared");
+    assert_eq!(
+        cleared["hex"],
+        "0".repeat(40),
+        "reset_args clears the 20 bytes"
+    );
+    let args = ok(&t["args"], "draw_args");
+    assert_eq!(args["as"]["type"], "DrawIndexedIndirectArgs");
+    let row = &args["as"]["rows"][0]["fields"];
+    // One instance per particle: 4096 bytes of 16-byte particles, every one alive.
+    assert_eq!(row["instance_count"], "256");
+    assert_eq!(row["first_index"], "0");
+    let p = ok(&t["particles"], "particles");
+    assert_eq!(p["as"]["type"], "Particle");
+    assert_eq!(p["length"], 64);
+    let hex = p["hex"].as_str().unwrap();
+    let bytes: Vec<u8> = (0..hex.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&hex[i..i + 2], 16).unwrap())
+        .collect();
+    let rows = p["as"]["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 4);
+    for (k, r) in rows.iter().enumerate() {
+        assert_eq!(r["index"], 1 + k);
+        let floats: Vec<f32> = bytes[k * 16..k * 16 + 16]
+            .chunks(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
+        let shown: Vec<f32> = r["fields"]["position_radius"]
+            .as_str()
+            .unwrap()
+            .split(' ')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        assert_eq!(shown, floats, "row {k}");
+    }
+    assert!(error(&t["buffer_texture"]).contains("read it with read_texels"));
+    assert!(error(&t["buffer_too_long"]).contains("65536 bytes"));
 }
 
 /// `timings`: the report `replay --timings` writes, for the same frames.
@@ -480,7 +525,7 @@ fn malformed_messages_get_json_rpc_errors_and_closing_stdin_exits_zero() {
     assert_eq!(answers[2]["id"], 2);
     assert_eq!(answers[3]["error"]["code"], -32600);
     assert_eq!(answers[4]["id"], 3);
-    assert_eq!(answers[4]["result"]["tools"].as_array().unwrap().len(), 11);
+    assert_eq!(answers[4]["result"]["tools"].as_array().unwrap().len(), 12);
     assert_eq!(answers[5]["id"], 4);
     assert!(answers[5].get("error").is_some() || answers[5]["result"]["isError"] == true);
     assert_eq!(answers[6]["result"]["structuredContent"]["capture"], "c1");
@@ -723,7 +768,7 @@ fn ten_thousand_hostile_requests_leave_the_server_answering() {
     assert!(answered(false) > 1000, "{} tool errors", answered(false));
     assert_eq!(
         final_answer["result"]["tools"].as_array().unwrap().len(),
-        11
+        12
     );
     let peak_kb: u64 = status
         .lines()

@@ -122,6 +122,11 @@ async def main():
                 "texels": await call("read_texels", capture=e, resource="ldr", after_pass="tonemap", x=10, y=20, width=3, height=2),
                 "texels_too_many": await call("read_texels", capture=e, resource="ldr", x=0, y=0, width=100, height=100),
                 "texels_outside": await call("read_texels", capture=e, resource="ldr", x=100000, y=0),
+                "args_cleared": await call("read_buffer", capture=e, resource="draw_args", after_pass="reset_args"),
+                "args": await call("read_buffer", capture=e, resource="draw_args", after_pass="simulate"),
+                "particles": await call("read_buffer", capture=e, resource="particles", after_pass="simulate", offset=16, length=64),
+                "buffer_texture": await call("read_buffer", capture=e, resource="ldr"),
+                "buffer_too_long": await call("read_buffer", capture=e, resource="particles", length=1 << 20),
                 "bad_mip": await texture("bad_mip", capture=e, resource="ldr", mip=3),
                 "bad_size": await texture("bad_size", capture=e, resource="ldr", max_size=100000),
             }

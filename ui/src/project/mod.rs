@@ -406,7 +406,7 @@ fn add_layout(list: &mut Vec<LayoutChoice>, choice: LayoutChoice) {
 /// How the buffer viewer can read each plan buffer, found in one walk over the plan: as the
 /// indirect arguments it feeds, then as the WGSL type of each variable bound to it (first
 /// binding of each distinct type; named struct members before bare scalar arrays).
-fn buffer_views(plan: &framelab_core::plan::Plan) -> Vec<BufferView> {
+pub fn buffer_views(plan: &framelab_core::plan::Plan) -> Vec<BufferView> {
     use framelab_core::layout::BufferLayout;
     use framelab_core::plan::{BindTarget, PassOp};
     let mut views: Vec<BufferView> = plan
