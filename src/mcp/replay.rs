@@ -233,18 +233,28 @@ fn stop_of(h: &Held, after: &Option<String>) -> Result<Option<usize>, String> {
     }
 }
 
-fn read(h: &mut Held, r: &Request) -> Result<DecodedImage, String> {
-    let capture = h.replaying.capture();
-    let resource = capture
+/// The plan texture or buffer (`of`, named `kind`) the capture resource `name` became.
+fn plan_index(
+    h: &Held,
+    of: &std::collections::BTreeMap<framelab_core::capture::model::ResourceId, usize>,
+    name: &str,
+    kind: &str,
+) -> Result<usize, String> {
+    let resource = h
+        .replaying
+        .capture()
         .resources
         .iter()
-        .find(|x| x.name == r.resource)
-        .ok_or_else(|| format!("no resource \"{}\"", r.resource))?
+        .find(|x| x.name == name)
+        .ok_or_else(|| format!("no resource \"{name}\""))?
         .id;
-    let texture = *h
-        .texture_of
-        .get(&resource)
-        .ok_or_else(|| format!("\"{}\" is not a texture the replay creates", r.resource))?;
+    of.get(&resource)
+        .copied()
+        .ok_or_else(|| format!("\"{name}\" is not a {kind} the replay creates"))
+}
+
+fn read(h: &mut Held, r: &Request) -> Result<DecodedImage, String> {
+    let texture = plan_index(h, &h.texture_of, &r.resource, "texture")?;
     advance(h, &r.after, &r.cancel, &r.progress)?;
     let spec = &h.replaying.session.plan.textures[texture];
     let format = decode::readable_format(spec).map_err(|e| e.0.to_owned())?;
@@ -303,17 +313,7 @@ fn advance(
 }
 
 fn read_buffer(h: &mut Held, r: &BufferRequest) -> Result<BufferBytes, String> {
-    let capture = h.replaying.capture();
-    let resource = capture
-        .resources
-        .iter()
-        .find(|x| x.name == r.resource)
-        .ok_or_else(|| format!("no resource \"{}\"", r.resource))?
-        .id;
-    let buffer = *h
-        .buffer_of
-        .get(&resource)
-        .ok_or_else(|| format!("\"{}\" is not a buffer the replay creates", r.resource))?;
+    let buffer = plan_index(h, &h.buffer_of, &r.resource, "buffer")?;
     advance(h, &r.after, &r.cancel, &r.progress)?;
     let source = h.replaying.session.buffer_in_frame(buffer);
     let size = source.size();
