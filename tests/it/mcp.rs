@@ -465,9 +465,10 @@ fn timings(s: &Value) {
 }
 
 /// `framelab mcp` with its stdin and stdout piped to the test.
-fn server() -> std::process::Child {
+fn server(args: &[&str]) -> std::process::Child {
     Command::new(env!("CARGO_BIN_EXE_framelab"))
         .arg("mcp")
+        .args(args)
         .current_dir(repo())
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
@@ -477,8 +478,8 @@ fn server() -> std::process::Child {
 }
 
 /// Sends `lines` (then closes stdin) and returns every stdout line as JSON and the exit code.
-fn raw_session(lines: &[&str]) -> (Vec<Value>, Option<i32>) {
-    let mut child = server();
+fn raw_session(args: &[&str], lines: &[&str]) -> (Vec<Value>, Option<i32>) {
+    let mut child = server(args);
     let mut stdin = child.stdin.take().unwrap();
     let stdout = BufReader::new(child.stdout.take().unwrap());
     let mut answers = Vec::new();
@@ -507,16 +508,19 @@ fn raw_session(lines: &[&str]) -> (Vec<Value>, Option<i32>) {
 
 #[test]
 fn malformed_messages_get_json_rpc_errors_and_closing_stdin_exits_zero() {
-    let (answers, code) = raw_session(&[
-        r#"{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"protocolVersion":"2025-06-18","capabilities":{},"clientInfo":{"name":"raw","version":"1"}}}"#,
-        r#"{"jsonrpc":"2.0","method":"notifications/initialized"}"#,
-        "this is not json",
-        r#"{"jsonrpc":"2.0","id":2}"#,
-        r#"[1, 2, 3]"#,
-        r#"{"jsonrpc":"2.0","id":3,"method":"tools/list"}"#,
-        r#"{"jsonrpc":"2.0","id":4,"method":"tools/call","params":{"name":"no_such_tool","arguments":{}}}"#,
-        r#"{"jsonrpc":"2.0","id":5,"method":"tools/call","params":{"name":"open_capture","arguments":{"path":"captures/example/frame.json"}}}"#,
-    ]);
+    let (answers, code) = raw_session(
+        &[],
+        &[
+            r#"{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"protocolVersion":"2025-06-18","capabilities":{},"clientInfo":{"name":"raw","version":"1"}}}"#,
+            r#"{"jsonrpc":"2.0","method":"notifications/initialized"}"#,
+            "this is not json",
+            r#"{"jsonrpc":"2.0","id":2}"#,
+            r#"[1, 2, 3]"#,
+            r#"{"jsonrpc":"2.0","id":3,"method":"tools/list"}"#,
+            r#"{"jsonrpc":"2.0","id":4,"method":"tools/call","params":{"name":"no_such_tool","arguments":{}}}"#,
+            r#"{"jsonrpc":"2.0","id":5,"method":"tools/call","params":{"name":"open_capture","arguments":{"path":"captures/example/frame.json"}}}"#,
+        ],
+    );
     assert_eq!(code, Some(0), "closing stdin ends the server cleanly");
     assert!(answers.iter().all(|a| a["jsonrpc"] == "2.0"), "{answers:?}");
     assert_eq!(answers[0]["result"]["serverInfo"]["name"], "framelab");
@@ -530,6 +534,28 @@ fn malformed_messages_get_json_rpc_errors_and_closing_stdin_exits_zero() {
     assert!(answers[5].get("error").is_some() || answers[5]["result"]["isError"] == true);
     assert_eq!(answers[6]["result"]["structuredContent"]["capture"], "c1");
     assert_eq!(answers.len(), 7, "{answers:?}");
+}
+
+/// `--root` bounds what the server reads, beside the client's roots: a capture outside it is
+/// refused, one inside opens; a `--root` that does not exist stops the server at start.
+#[test]
+fn files_outside_the_servers_root_are_refused() {
+    const INIT: &str = r#"{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"protocolVersion":"2025-06-18","capabilities":{},"clientInfo":{"name":"raw","version":"1"}}}"#;
+    let open = |path: &str| {
+        format!(
+            r#"{{"jsonrpc":"2.0","id":2,"method":"tools/call","params":{{"name":"open_capture","arguments":{{"path":"{path}"}}}}}}"#
+        )
+    };
+    let (answers, code) = raw_session(&["--root", "captures/night_city"], &[INIT, &open(EXAMPLE)]);
+    assert_eq!(code, Some(0));
+    let text = answers[1]["result"]["content"][0]["text"].as_str().unwrap();
+    assert_eq!(answers[1]["result"]["isError"], true);
+    assert!(text.contains("outside the server's --root"), "{text}");
+    let (answers, _) = raw_session(&["--root", "captures/night_city"], &[INIT, &open(DAY)]);
+    assert_eq!(answers[1]["result"]["structuredContent"]["passes"], 106);
+    let out = framelab(&["mcp", "--root", "no/such/folder"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(crate::common::stderr(&out).contains("--root no/such/folder"));
 }
 
 /// A seeded source of choices for the request fuzzer, so a failure can be replayed.
@@ -697,7 +723,7 @@ fn fuzz_line(rng: &mut Rng, id: u64) -> (String, bool) {
 /// ends it with exit 0.
 #[test]
 fn ten_thousand_hostile_requests_leave_the_server_answering() {
-    let mut child = server();
+    let mut child = server(&[]);
     let pid = child.id();
     let stdout = BufReader::new(child.stdout.take().unwrap());
     // Answers are read on their own thread, so neither pipe fills while the other waits.
