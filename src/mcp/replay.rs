@@ -198,6 +198,11 @@ fn timings(
     let frames = t.frames as usize;
     for f in 0..t.frames {
         if t.cancel.is_cancelled() {
+            eprintln!(
+                "framelab mcp: {}: timing cancelled before frame {} of {frames}",
+                h.replaying.capture().name,
+                f + 1
+            );
             return Err("cancelled".to_owned());
         }
         h.replaying.frame(f, None).map_err(|e| e.to_string())?;
@@ -299,6 +304,14 @@ fn advance(
     if let Some(stop) = stop {
         for i in from..=stop {
             if cancel.is_cancelled() {
+                // The client hears nothing more of a cancelled request; the log says where
+                // the replay stopped.
+                eprintln!(
+                    "framelab mcp: {}: replay cancelled before pass {} of {}",
+                    h.replaying.capture().name,
+                    i + 1,
+                    stop + 1
+                );
                 return Err("cancelled".to_owned());
             }
             h.replaying

@@ -187,6 +187,12 @@ fn an_independent_client_gets_what_the_command_line_prints() {
             .len(),
         1
     );
+    // The cancelled texture request stopped its replay between passes.
+    let log = std::fs::read_to_string(images.join("server.log")).unwrap();
+    assert!(
+        log.contains("river_bank_night: replay cancelled before pass"),
+        "{log}"
+    );
     // capture_program: vkcube's frame 3 taken, imported into the folder and opened.
     let taken = ok(&s["capture_program"], "capture_program");
     assert!(captures.join("vkcube_frame3.gfxr").exists());

@@ -42,7 +42,9 @@ async def main():
     env = {k: os.environ[k] for k in ["DISPLAY"] if k in os.environ}
     server = StdioServerParameters(command=FRAMELAB, args=["mcp"], cwd=str(REPO), env=env)
     out = {}
-    async with stdio_client(server) as (read, write):
+    # The server's log (stderr), where a cancelled replay says where it stopped.
+    log = open(IMAGES / "server.log", "w")
+    async with stdio_client(server, errlog=log) as (read, write):
         async with ClientSession(read, write, list_roots_callback=roots) as session:
             init = await session.initialize()
             out["server"] = init.server_info.name
