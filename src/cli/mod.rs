@@ -158,17 +158,17 @@ enum Command {
     ///
     /// Example: framelab inspect frame.json --screenshot view.png --select tonemap --view ldr
     Inspect(Box<inspect::InspectArgs>),
-    /// Serve the Model Context Protocol over stdio, for assistants and scripts: open
-    /// captures, list passes and resources, one pass's details, the analysis, a structural
-    /// diff, a texture or its texels after any pass, per-pass timings. Register it with a
-    /// client as the command `framelab mcp`.
-    ///
-    /// Example: framelab mcp --root ~/captures
     /// Take frame N of a running Vulkan program with GFXReconstruct's capture layer, stop the
     /// program once the frame is written, and import it (see `import`).
     ///
     /// Example: framelab capture --frame 3 -o cube.gfxr -- vkcube
     Capture(capture::CaptureArgs),
+    /// Serve the Model Context Protocol over stdio, for assistants and scripts: open
+    /// captures, list passes and resources, one pass's details, the analysis, a structural or
+    /// timing diff, a texture, its texels or a buffer after any pass, per-pass timings, and
+    /// take a running program's frame. Register it with a client as the command `framelab mcp`.
+    ///
+    /// Example: framelab mcp --root ~/captures
     Mcp {
         /// Read captures only inside this directory (and inside the client's roots); may be
         /// given more than once.
