@@ -188,7 +188,7 @@ fn run_bounded(capture: PathBuf, what: String) {
 #[test]
 fn file_kinds_and_sizes_under_an_address_space_limit() {
     let exe = std::env::current_exe().unwrap();
-    let out = std::process::Command::new("sh")
+    let child = std::process::Command::new("sh")
         .arg("-c")
         .arg(r#"ulimit -v 4000000; exec "$0" "$@""#)
         .arg(exe)
@@ -200,8 +200,15 @@ fn file_kinds_and_sizes_under_an_address_space_limit() {
             "1",
         ])
         .env("RUST_BACKTRACE", "0")
-        .output()
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
         .unwrap();
+    // `sh` execs the test binary, so the campaign's folders are named after this pid.
+    let pid = child.id();
+    let out = child.wait_with_output().unwrap();
+    let _ =
+        std::fs::remove_dir_all(std::env::temp_dir().join(format!("framelab-fuzz-files-{pid}")));
     let text =
         String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{text}");
