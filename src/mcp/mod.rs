@@ -5,6 +5,8 @@
 //! commands, so each answer is the command line's `--json` for the same question; the
 //! replays behind `texture`, `read_texels` and `timings` are in `replay`.
 
+mod answers;
+mod args;
 mod framing;
 mod imports;
 mod replay;

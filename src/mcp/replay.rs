@@ -8,7 +8,7 @@
 //! stops between them when the request is cancelled.
 
 use std::path::PathBuf;
-use std::sync::mpsc;
+use std::sync::{Arc, mpsc};
 use std::thread::JoinHandle;
 
 use framelab_core::analysis::report::AnalyzeOptions;
@@ -30,7 +30,7 @@ pub struct Request {
     /// Called with (passes submitted, passes to submit) as the replay goes.
     pub progress: Box<dyn Fn(usize, usize) + Send>,
     pub cancel: CancellationToken,
-    pub reply: tokio::sync::oneshot::Sender<Result<DecodedImage, String>>,
+    pub reply: tokio::sync::oneshot::Sender<Result<Arc<DecodedImage>, String>>,
 }
 
 /// Frames replayed and timed, as `framelab replay --timings` does.
@@ -104,6 +104,8 @@ impl Drop for Worker {
     }
 }
 
+type ReadKey = (usize, Option<usize>, u32, u32, u32);
+
 /// The session and where frame 0 is held.
 struct Held {
     replaying: Replaying,
@@ -116,6 +118,9 @@ struct Held {
     buffer_views: Vec<framelab_ui::model::BufferView>,
     /// The last plan pass submitted in the open frame, if one is open.
     at: Option<usize>,
+    /// The last subresource read back, by (plan texture, pass held at, mip, layer, slice):
+    /// `texture` then `read_texels` of the same view read the GPU once.
+    read_back: Option<(ReadKey, Arc<DecodedImage>)>,
 }
 
 fn start(path: &std::path::Path, scale: f64) -> Result<Held, String> {
@@ -145,6 +150,7 @@ fn start(path: &std::path::Path, scale: f64) -> Result<Held, String> {
         buffer_of,
         buffer_views,
         at: None,
+        read_back: None,
     })
 }
 
@@ -258,9 +264,15 @@ fn plan_index(
         .ok_or_else(|| format!("\"{name}\" is not a {kind} the replay creates"))
 }
 
-fn read(h: &mut Held, r: &Request) -> Result<DecodedImage, String> {
+fn read(h: &mut Held, r: &Request) -> Result<Arc<DecodedImage>, String> {
     let texture = plan_index(h, &h.texture_of, &r.resource, "texture")?;
     advance(h, &r.after, &r.cancel, &r.progress)?;
+    let key = (texture, h.at, r.mip, r.layer, r.slice);
+    if let Some((k, image)) = &h.read_back
+        && *k == key
+    {
+        return Ok(image.clone());
+    }
     let spec = &h.replaying.session.plan.textures[texture];
     let format = decode::readable_format(spec).map_err(|e| e.0.to_owned())?;
     let images = decode::read_subresource(
@@ -273,10 +285,14 @@ fn read(h: &mut Held, r: &Request) -> Result<DecodedImage, String> {
         r.layer,
     )
     .map_err(|e| e.to_string())?;
-    images
-        .into_iter()
-        .find(|i| i.z.unwrap_or(0) == r.slice)
-        .ok_or_else(|| format!("no slice {} of mip {} layer {}", r.slice, r.mip, r.layer))
+    let image = Arc::new(
+        images
+            .into_iter()
+            .find(|i| i.z.unwrap_or(0) == r.slice)
+            .ok_or_else(|| format!("no slice {} of mip {} layer {}", r.slice, r.mip, r.layer))?,
+    );
+    h.read_back = Some((key, image.clone()));
+    Ok(image)
 }
 
 /// Holds frame 0 open right after the pass `after` names: continues from the pass it is held

@@ -1,4 +1,5 @@
-//! The tools `framelab mcp` offers: each takes its arguments as described by a JSON Schema
+//! The tools `framelab mcp` offers (their arguments are in `args`, what they compute from an
+//! opened capture in `answers`): each takes its arguments as described by a JSON Schema
 //! (`schemars`), answers with the same JSON the command line's `--json` prints for the same
 //! question (the same core functions make it), and turns every bad argument into a tool
 //! error that names it, so a client can correct itself and the session goes on.
@@ -13,172 +14,15 @@ use rmcp::handler::server::common::schema_for_type;
 use rmcp::model::{CallToolResult, ContentBlock, JsonObject};
 use rmcp::service::RoleServer;
 use rmcp::{Peer, tool, tool_router};
-use schemars::JsonSchema;
-use serde::Deserialize;
 use serde::de::DeserializeOwned;
 use serde_json::{Value, json};
 
-use super::store::{self, Opened, Store, unknown};
-
-/// The longest side `texture` returns at most.
-pub const MAX_IMAGE_SIDE: u32 = 4096;
-
-/// The most texels one `read_texels` call returns.
-pub const MAX_TEXELS: u64 = 4096;
-
-/// The most bytes one `read_buffer` call returns.
-pub const MAX_BUFFER_BYTES: u64 = 65536;
-
-/// The most frames one `timings` call replays.
-pub const MAX_FRAMES: u32 = 100;
-
-/// The most rows one `list_*` call returns.
-pub const MAX_ROWS: usize = 1000;
-const DEFAULT_ROWS: usize = 100;
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct OpenArgs {
-    /// A capture file inside the client's roots: framelab JSON, `.gfxr`, JSON Lines or `.rdc`.
-    pub path: String,
-    /// Output-resolution multiplier the sizes are resolved for (default 1).
-    pub scale: Option<f64>,
-}
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct ListArgs {
-    /// A capture id from open_capture.
-    pub capture: String,
-    /// Keep rows whose name contains this text.
-    pub filter: Option<String>,
-    /// Rows to skip (default 0).
-    pub offset: Option<usize>,
-    /// Rows to return (default 100, at most 1000).
-    pub limit: Option<usize>,
-}
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct PassArgs {
-    pub capture: String,
-    /// The pass's name.
-    pub pass: String,
-}
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct AnalyzeArgs {
-    pub capture: String,
-    /// Drop passes whose results never reach an output first.
-    pub cull: Option<bool>,
-}
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(rename_all = "snake_case")]
-pub enum DiffMode {
-    /// Passes, resources, formats and barriers added, removed or changed.
-    Structure,
-    /// Per-pass GPU times of both frames, replayed here, with 95% intervals and verdicts.
-    Timing,
-}
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct DiffArgs {
-    /// Capture id of the first frame.
-    pub a: String,
-    /// Capture id of the second frame.
-    pub b: String,
-    pub mode: DiffMode,
-    /// `timing`: frames replayed and timed per capture (default 10, at most 100).
-    pub frames: Option<u32>,
-}
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct TextureArgs {
-    pub capture: String,
-    /// The texture's name.
-    pub resource: String,
-    /// Show it as it stood right after this pass of the frame (default: after the last).
-    pub after_pass: Option<String>,
-    /// Mip level (default 0).
-    pub mip: Option<u32>,
-    /// Array layer or cube face (default 0).
-    pub layer: Option<u32>,
-    /// Depth slice of a 3D texture (default 0).
-    pub slice: Option<u32>,
-    /// Longest side of the image returned (default 1024, at most 4096); larger textures are
-    /// scaled down to it.
-    pub max_size: Option<u32>,
-}
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct TexelArgs {
-    pub capture: String,
-    /// The texture's name.
-    pub resource: String,
-    /// As it stood right after this pass of the frame (default: after the last).
-    pub after_pass: Option<String>,
-    /// The region's left column.
-    pub x: u32,
-    /// The region's top row.
-    pub y: u32,
-    /// Columns (default 1).
-    pub width: Option<u32>,
-    /// Rows (default 1); width x height at most 4096 texels.
-    pub height: Option<u32>,
-    pub mip: Option<u32>,
-    pub layer: Option<u32>,
-    pub slice: Option<u32>,
-}
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct BufferArgs {
-    pub capture: String,
-    /// The buffer's name.
-    pub resource: String,
-    /// As it stood right after this pass of the frame (default: after the last).
-    pub after_pass: Option<String>,
-    /// First byte (default 0).
-    pub offset: Option<u64>,
-    /// Bytes (default 256, at most 65536).
-    pub length: Option<u64>,
-}
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct TimingsArgs {
-    pub capture: String,
-    /// Frames to replay and time (default 3, at most 100).
-    pub frames: Option<u32>,
-}
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct CaptureArgs {
-    /// The Vulkan program to run (a path, or a name found on PATH).
-    pub program: String,
-    /// Its arguments.
-    #[serde(default)]
-    pub args: Vec<String>,
-    /// The frame to take (1 is its first presented frame).
-    pub frame: u32,
-    /// An existing folder inside the client's roots: the capture (`.gfxr`) and its import go
-    /// there.
-    pub dir: String,
-    /// Seconds to wait for the frame before stopping the program (default 60, at most 600).
-    pub timeout: Option<u64>,
-}
-
-#[derive(Debug, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct CloseArgs {
-    pub capture: String,
-}
+use super::answers::{
+    Target, channel_stats, decode_rows, find_resource, fit, page, pass_details, passes_through,
+    progress_sender, texture_checks,
+};
+use super::args::*;
+use super::store::{self, Store};
 
 /// The server's state: the opened captures, and the directories it may read.
 #[derive(Clone)]
@@ -250,7 +94,7 @@ impl Framelab {
         peer: &Peer<RoleServer>,
         meta: &rmcp::model::RequestMetaObject,
         cancel: tokio_util::sync::CancellationToken,
-    ) -> Result<(Value, framelab_replay::decode::DecodedImage), String> {
+    ) -> Result<(Value, std::sync::Arc<framelab_replay::decode::DecodedImage>), String> {
         let (reply, answer) = tokio::sync::oneshot::channel();
         let summary = {
             let mut store = self.store();
@@ -354,203 +198,6 @@ fn list(paths: &[PathBuf]) -> String {
         .map(|p| p.display().to_string())
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-/// `rows` filtered by name and paginated, with the total that matched.
-fn page<T: serde::Serialize>(
-    rows: &[T],
-    name: impl Fn(&T) -> &str,
-    a: &ListArgs,
-) -> Result<Value, String> {
-    let limit = a.limit.unwrap_or(DEFAULT_ROWS);
-    if limit > MAX_ROWS {
-        return Err(format!(
-            "limit {limit} is over the {MAX_ROWS} rows one call returns; page with offset"
-        ));
-    }
-    let matching: Vec<&T> = rows
-        .iter()
-        .filter(|r| a.filter.as_deref().is_none_or(|f| name(r).contains(f)))
-        .collect();
-    let offset = a.offset.unwrap_or(0);
-    let shown: Vec<&T> = matching.iter().skip(offset).take(limit).copied().collect();
-    Ok(json!({
-        "total": matching.len(),
-        "offset": offset,
-        "rows": shown,
-    }))
-}
-
-fn pass_details(o: &Opened, pass: &str) -> Result<Value, String> {
-    let Some(info) = o.info.passes.iter().find(|p| p.name == pass) else {
-        return Err(unknown(
-            "pass",
-            pass,
-            o.info.passes.iter().map(|p| p.name.as_str()),
-            "list_passes names them",
-        ));
-    };
-    let r = &o.report;
-    let position = r.order.iter().position(|p| p == pass);
-    let barriers: Vec<_> = r.barriers.iter().filter(|b| b.pass == pass).collect();
-    let lints: Vec<_> = r
-        .lints
-        .iter()
-        .filter(|l| l.pass.as_deref() == Some(pass))
-        .collect();
-    let before: Vec<_> = o.graph.edges.iter().filter(|e| e.to == pass).collect();
-    let after: Vec<_> = o.graph.edges.iter().filter(|e| e.from == pass).collect();
-    Ok(json!({
-        "pass": info,
-        "position": position,
-        "culled": r.culled.iter().any(|c| c == pass),
-        "recorded": o.recorded.get(pass),
-        "derived_barriers": barriers,
-        "lints": lints,
-        "dag": {"before": before, "after": after},
-    }))
-}
-
-/// A texture subresource as it stood after a pass.
-struct Target<'a> {
-    capture: &'a str,
-    resource: &'a str,
-    after_pass: Option<&'a str>,
-    /// (mip, layer, slice)
-    sub: (u32, u32, u32),
-}
-
-/// The texture request checked against the capture before any replay: the resource is a
-/// texture, the pass exists, the subresource is in range; and what the summary says before
-/// the pixels: the format and whether a pass up to `after_pass` writes it.
-fn texture_checks(o: &Opened, a: &Target<'_>) -> Result<Value, String> {
-    let (mip, layer, slice) = a.sub;
-    let capture = &o.analysed.capture;
-    let Some(r) = capture.resources.iter().find(|r| r.name == a.resource) else {
-        return Err(unknown(
-            "resource",
-            a.resource,
-            capture.resources.iter().map(|r| r.name.as_str()),
-            "list_resources names them",
-        ));
-    };
-    if r.format.is_none() {
-        return Err(format!("\"{}\" is a buffer, not a texture", r.name));
-    }
-    let order = &o.report.order;
-    let upto = match a.after_pass {
-        None => order.len(),
-        Some(p) => order
-            .iter()
-            .position(|x| x == p)
-            .map(|i| i + 1)
-            .ok_or_else(|| {
-                unknown(
-                    "pass",
-                    p,
-                    order.iter().map(String::as_str),
-                    "list_passes names them",
-                )
-            })?,
-    };
-    if mip >= r.mip_levels {
-        return Err(format!(
-            "mip {mip}: \"{}\" has {} mip level(s)",
-            r.name, r.mip_levels
-        ));
-    }
-    if layer >= r.array_layers {
-        return Err(format!(
-            "layer {layer}: \"{}\" has {} layer(s)",
-            r.name, r.array_layers
-        ));
-    }
-    let depth = (r.depth >> mip).max(1);
-    if slice >= depth {
-        return Err(format!(
-            "slice {slice}: mip {mip} of \"{}\" has {depth} slice(s)",
-            r.name
-        ));
-    }
-    let written = order[..upto].iter().any(|p| {
-        o.info
-            .passes
-            .iter()
-            .any(|row| &row.name == p && row.writes.contains(&r.name))
-    });
-    Ok(json!({
-        "resource": r.name,
-        "format": r.format.map(|f| f.name),
-        "after_pass": a.after_pass,
-        "mip": mip,
-        "layer": layer,
-        "slice": slice,
-        "written_this_frame": written,
-    }))
-}
-
-/// A progress callback for the replay, when the client asked for progress.
-fn progress_sender(
-    peer: &Peer<RoleServer>,
-    meta: &rmcp::model::RequestMetaObject,
-) -> Box<dyn Fn(usize, usize) + Send> {
-    let token = meta
-        .get("progressToken")
-        .cloned()
-        .and_then(|t| serde_json::from_value::<rmcp::model::NumberOrString>(t).ok());
-    let (Some(token), Ok(runtime)) = (token, tokio::runtime::Handle::try_current()) else {
-        return Box::new(|_, _| {});
-    };
-    let peer = peer.clone();
-    Box::new(move |done, total| {
-        let peer = peer.clone();
-        let param = rmcp::model::ProgressNotificationParam::new(
-            rmcp::model::ProgressToken(token.clone()),
-            done as f64,
-        )
-        .with_total(total as f64)
-        .with_message(format!("pass {done} of {total}"));
-        runtime.spawn(async move {
-            let _ = peer.notify_progress(param).await;
-        });
-    })
-}
-
-/// Per-channel minimum, maximum and mean of the finite values.
-fn channel_stats(image: &framelab_replay::decode::DecodedImage) -> (Vec<f32>, Vec<f32>, Vec<f64>) {
-    let n = image.channels.clamp(1, 4);
-    let mut min = vec![f32::INFINITY; n];
-    let mut max = vec![f32::NEG_INFINITY; n];
-    let mut sum = vec![0f64; n];
-    let mut count = vec![0u64; n];
-    for v in &image.values {
-        for c in 0..n {
-            if v[c].is_finite() {
-                min[c] = min[c].min(v[c]);
-                max[c] = max[c].max(v[c]);
-                sum[c] += f64::from(v[c]);
-                count[c] += 1;
-            }
-        }
-    }
-    let mean = sum
-        .iter()
-        .zip(&count)
-        .map(|(s, &k)| if k == 0 { 0.0 } else { s / k as f64 })
-        .collect();
-    (min, max, mean)
-}
-
-/// `img` scaled down (triangle filter) so that its longest side is at most `side`.
-fn fit(img: image::RgbaImage, side: u32) -> image::RgbaImage {
-    let longest = img.width().max(img.height());
-    if longest <= side {
-        return img;
-    }
-    let scale = f64::from(side) / f64::from(longest);
-    let w = ((f64::from(img.width()) * scale).round() as u32).max(1);
-    let h = ((f64::from(img.height()) * scale).round() as u32).max(1);
-    image::imageops::resize(&img, w, h, image::imageops::FilterType::Triangle)
 }
 
 #[tool_router]
@@ -852,31 +499,14 @@ impl Framelab {
         {
             let mut store = self.store();
             let o = take!(store.get_mut(&a.capture));
-            let capture = &o.analysed.capture;
-            let Some(r) = capture.resources.iter().find(|r| r.name == a.resource) else {
-                return refuse(unknown(
-                    "resource",
-                    &a.resource,
-                    capture.resources.iter().map(|r| r.name.as_str()),
-                    "list_resources names them",
-                ));
-            };
+            let r = take!(find_resource(o, &a.resource));
             if r.format.is_some() {
                 return refuse(format!(
                     "\"{}\" is a texture: read it with read_texels",
                     r.name
                 ));
             }
-            if let Some(p) = &a.after_pass
-                && !o.report.order.contains(p)
-            {
-                return refuse(unknown(
-                    "pass",
-                    p,
-                    o.report.order.iter().map(String::as_str),
-                    "list_passes names them",
-                ));
-            }
+            take!(passes_through(o, a.after_pass.as_deref()));
             let request = super::replay::BufferRequest {
                 resource: a.resource.clone(),
                 after: a.after_pass.clone(),
@@ -891,33 +521,10 @@ impl Framelab {
         let read = take!(take!(
             answer_rx.await.map_err(|_| "the replay stopped".to_owned())
         ));
-        let rows = read.layouts.first().map(|choice| {
-            let l = &choice.layout;
-            // Rows overlapping the bytes read, each decoded where it lies wholly inside them.
-            let first = offset.saturating_sub(choice.base) / l.stride.max(1);
-            let end = offset + read.bytes.len() as u64;
-            let mut rows = Vec::new();
-            let mut i = first;
-            while choice.base + i * l.stride + l.stride <= end && rows.len() < 256 {
-                let at = choice.base + i * l.stride;
-                if at >= offset {
-                    let row = &read.bytes[(at - offset) as usize..];
-                    let fields: serde_json::Map<String, Value> = l
-                        .fields
-                        .iter()
-                        .map(|f| (f.name.clone(), json!(f.read(row))))
-                        .collect();
-                    rows.push(json!({"index": i, "offset": at, "fields": fields}));
-                }
-                i += 1;
-            }
-            json!({
-                "type": l.type_name,
-                "source": choice.source,
-                "stride": l.stride,
-                "rows": rows,
-            })
-        });
+        let rows = read
+            .layouts
+            .first()
+            .map(|choice| decode_rows(choice, offset, &read.bytes));
         let hex: String = read.bytes.iter().map(|b| format!("{b:02x}")).collect();
         answer(json!({
             "resource": a.resource,
