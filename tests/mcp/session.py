@@ -155,6 +155,11 @@ async def main():
             with anyio.move_on_after(0.5):
                 await session.call_tool("texture", {"capture": night["ok"]["capture"], "resource": "gbuffer_albedo"})
             out["after_cancel"] = await call("list_passes", capture=e, limit=1)
+            # The worker may still be setting the replay up when the request is cancelled (a
+            # slow machine): the session stays open until its log says where the replay stopped.
+            with anyio.move_on_after(600):
+                while "replay cancelled" not in (IMAGES / "server.log").read_text():
+                    await anyio.sleep(0.2)
             out["closed"] = await call("close_capture", capture=s)
             out["after_close"] = await call("list_passes", capture=s)
     print(json.dumps(out))
