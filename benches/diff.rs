@@ -33,6 +33,7 @@ fn report(seed: u64, shift: f64) -> TimingReport {
                 bytes_read: 8_000_000,
                 bytes_written: 4_000_000,
                 gpu_untrusted: None,
+                ..PassTiming::default()
             }
         })
         .collect();

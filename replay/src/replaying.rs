@@ -20,6 +20,8 @@ pub struct Replaying {
     pub session: Session,
     /// Per frame run, per plan pass.
     pub times: Vec<Vec<Sample>>,
+    /// Per frame run, per plan pass: pipeline statistics when the frame was counted.
+    pub counts: Vec<Vec<Option<framelab_core::timing::counters::Counts>>>,
     adapter: String,
     device_type: wgpu::DeviceType,
     backend: String,
@@ -33,6 +35,7 @@ impl Replaying {
             analysed: lowered.analysed,
             pass_ids: lowered.pass_ids,
             times: Vec::new(),
+            counts: Vec::new(),
             adapter: ctx.summary.name.clone(),
             device_type: ctx.summary.device_type,
             backend: ctx.summary.backend.clone(),
@@ -76,6 +79,8 @@ impl Replaying {
                 })
                 .collect(),
         );
+        self.counts
+            .push(measured.iter().map(|t| t.counters).collect());
         Ok(())
     }
 
@@ -132,6 +137,14 @@ impl Replaying {
                             .map(|t| t.get(i).map_or(0, |x| x.cpu_ns))
                             .collect(),
                         gpu_untrusted,
+                        counters: timing::counters::Counters::from_frames(
+                            &self
+                                .counts
+                                .iter()
+                                .map(|f| f.get(i).copied().flatten())
+                                .collect::<Vec<_>>(),
+                        ),
+                        work: Some(self.session.work(i)),
                     }
                 })
                 .collect(),

@@ -4,6 +4,8 @@
 //! warm-up frames first and discarded. Exit codes:
 //! 0 no significant regression beyond the gate, 1 a regression, 2 bad usage or input.
 //! `--structure` compares two captures' passes, resources and memory instead (exit 0 or 2).
+//! `--work` compares the passes' work counters (`replay --counters`): exact counts, one frame
+//! each, exit 1 when a counter grew past `--fail-on-increase`.
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -52,6 +54,15 @@ pub struct DiffArgs {
     /// passes, resources, queues, fences, counts and memory.
     #[arg(long, conflicts_with_all = ["plot", "fail_on_regression"])]
     pub structure: bool,
+    /// Compare the passes' work counters instead of their timings (pipeline statistics and
+    /// submitted work, which do not scatter): two reports written with `replay --counters`,
+    /// or two captures, each replayed for one counted frame.
+    #[arg(long, conflicts_with_all = ["plot", "fail_on_regression", "structure"])]
+    pub work: bool,
+    /// With --work: exit 1 when a GPU counter of the frame or of a pass grew by more than this,
+    /// in percent (0 fails on any growth).
+    #[arg(long, requires = "work", value_parser = parse_percent)]
+    pub fail_on_increase: Option<f64>,
     /// Use the adapter whose name contains this text when replaying.
     #[arg(long)]
     pub adapter: Option<String>,
@@ -77,7 +88,8 @@ fn as_report(path: &Path) -> anyhow::Result<Option<TimingReport>> {
     }
 }
 
-/// Replays both captures on one device, alternating frames, and returns their reports.
+/// Replays both captures on one device, alternating frames, and returns their reports
+/// (counted, one frame each, with `--work`).
 fn replay_both(args: &DiffArgs) -> anyhow::Result<(TimingReport, TimingReport)> {
     let a = stages::for_replay(&args.a, args.scale, false)?;
     let b = stages::for_replay(&args.b, args.scale, false)?;
@@ -85,6 +97,17 @@ fn replay_both(args: &DiffArgs) -> anyhow::Result<(TimingReport, TimingReport)> 
     let (la, lb) = (stages::lower(a, &ctx)?, stages::lower(b, &ctx)?);
     let mut ra = Replaying::start(&ctx, la)?;
     let mut rb = Replaying::start(&ctx, lb)?;
+    if args.work {
+        if !(ra.session.set_counting(true) && rb.session.set_counting(true)) {
+            anyhow::bail!(
+                "{} has no pipeline statistics queries: work counters cannot be measured on it",
+                ctx.summary.name
+            );
+        }
+        ra.frame(0, None)?;
+        rb.frame(0, None)?;
+        return Ok((ra.report(0), rb.report(0)));
+    }
     // A B, B A, A B, ...: whatever running second costs or saves falls on both alike.
     for f in 0..args.warmup + args.frames {
         if f % 2 == 0 {
@@ -142,7 +165,51 @@ fn structure(args: &DiffArgs) -> anyhow::Result<()> {
     print_stdout(&text)
 }
 
+/// The work diff of two reports or captures, printed; whether it passed the gate.
+fn work(args: &DiffArgs) -> anyhow::Result<bool> {
+    use framelab_core::timing::work_diff;
+    let (a, b) = inputs(args)?;
+    let d = work_diff::work_diff(&a, &b)?;
+    let text = if args.json {
+        serde_json::to_string_pretty(&d)? + "\n"
+    } else if args.markdown {
+        work_diff::markdown(&d)
+    } else {
+        work_diff::text(&d)
+    };
+    print_stdout(&text)?;
+    let Some(pct) = args.fail_on_increase else {
+        return Ok(true);
+    };
+    let offenders = d.offenders(pct);
+    for r in &offenders {
+        let grown: Vec<String> = r
+            .counters
+            .iter()
+            .filter(|(_, c)| c.grew_past(pct))
+            .map(|(k, c)| format!("{k} {} -> {}", c.a, c.b))
+            .collect();
+        let _ = writeln!(
+            std::io::stderr(),
+            "work grew past {pct}%: {}: {}",
+            r.name,
+            grown.join(", ")
+        );
+    }
+    Ok(offenders.is_empty())
+}
+
 pub fn run(args: &DiffArgs) -> ExitCode {
+    if args.work {
+        return match work(args) {
+            Ok(true) => ExitCode::SUCCESS,
+            Ok(false) => ExitCode::from(1),
+            Err(e) => {
+                let _ = writeln!(std::io::stderr(), "error: {e:#}");
+                ExitCode::from(2)
+            }
+        };
+    }
     if args.structure {
         return match structure(args) {
             Ok(()) => ExitCode::SUCCESS,

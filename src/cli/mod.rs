@@ -144,6 +144,11 @@ enum Command {
         /// pass's end: its time then leaves out the barriers before it, at twice the stamps.
         #[arg(long)]
         timestamp_pairs: bool,
+        /// Count each pass's pipeline statistics (vertex, clipper, fragment and compute
+        /// invocations) every frame: printed with the work each pass submits and the ratios
+        /// read off them, and written to the timing report and the trace.
+        #[arg(long)]
+        counters: bool,
         /// No progress bar or summary.
         #[arg(long)]
         quiet: bool,
@@ -293,6 +298,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             timings,
             trace,
             timestamp_pairs,
+            counters,
             quiet,
         } => {
             let options = replay::ReplayOptions {
@@ -307,6 +313,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 timings,
                 trace,
                 timestamp_pairs,
+                counters,
             };
             replay::run(&capture, &options, quiet)
         }

@@ -36,6 +36,8 @@ pub struct ReplayOptions {
     pub trace: Option<PathBuf>,
     /// A start and an end timestamp for every pass (see `Session::set_timestamp_pairs`).
     pub timestamp_pairs: bool,
+    /// Count every pass's pipeline statistics (see `Session::set_counting`).
+    pub counters: bool,
 }
 
 /// What happened, for the command to print.
@@ -142,6 +144,11 @@ pub fn replay(
     replayer
         .session
         .set_timestamp_pairs(options.timestamp_pairs);
+    if !replayer.session.set_counting(options.counters) {
+        on(Event::Note(
+            "the adapter has no pipeline statistics queries: counters are not measured",
+        ));
+    }
     let frames = options.frames.max(1);
     for f in 0..frames {
         on(Event::Frame { index: f });
@@ -252,8 +259,71 @@ pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<
                 &rows
             )
         ))?;
+        if options.counters && report.passes.iter().any(|p| p.counters.is_some()) {
+            print_stdout(&counters_table(&report))?;
+        }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Each pass's counters in the last frame, the work it submits and the ratios read off them;
+/// a pass whose counts changed between frames is marked, as exact counts should not.
+fn counters_table(report: &TimingReport) -> String {
+    use timing::counters::{Ratios, short};
+    let ratio = |r: Option<f64>| r.map_or("-".to_owned(), |r| format!("{r:.2}"));
+    let mut varied = 0;
+    let rows: Vec<Vec<String>> = report
+        .passes
+        .iter()
+        .map(|p| {
+            let work = p.work.clone().unwrap_or_default();
+            let last = p.counters.as_ref().and_then(|c| c.last());
+            let mut row = vec![p.name.clone(), (work.draws + work.dispatches).to_string()];
+            match last {
+                Some((c, steady)) => {
+                    if !steady {
+                        varied += 1;
+                    }
+                    let r = Ratios::of(&c, &work);
+                    row.extend(c.iter().map(|&v| short(v)));
+                    row.extend([
+                        ratio(r.overdraw),
+                        ratio(r.vertices_per_primitive),
+                        ratio(r.fragments_per_primitive),
+                        ratio(r.invocations_per_thread),
+                        if steady { "" } else { "varies" }.to_owned(),
+                    ]);
+                }
+                None => row.extend(std::iter::repeat_n("-".to_owned(), 9).chain([String::new()])),
+            }
+            row
+        })
+        .collect();
+    let note = if varied > 0 {
+        format!("\n{varied} pass(es) counted differently between frames")
+    } else {
+        String::new()
+    };
+    format!(
+        "work counters (last frame)\n{}{note}",
+        framelab_core::text::table(
+            &[
+                "pass",
+                "draws+dispatches",
+                "vertex inv",
+                "clipper inv",
+                "prims out",
+                "fragment inv",
+                "compute inv",
+                "overdraw",
+                "verts/prim",
+                "frags/prim",
+                "inv/thread",
+                "",
+            ],
+            &rows
+        )
+    )
 }
 
 /// Refuses an `--out` that framelab must not replace: anything but a missing or empty folder,

@@ -31,6 +31,7 @@ pub fn wanted_features() -> Features {
     Features::TIMESTAMP_QUERY
         | Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
         | Features::TIMESTAMP_QUERY_INSIDE_PASSES
+        | Features::PIPELINE_STATISTICS_QUERY
         | Features::TEXTURE_COMPRESSION_BC
         | Features::DEPTH32FLOAT_STENCIL8
         | Features::TEXTURE_FORMAT_16BIT_NORM

@@ -3,16 +3,19 @@
 //! frames can be matched without the capture), and keeps every frame's sample. The Chrome trace
 //! and the summary statistics are derived from it here, not in the command that prints them.
 
+pub mod counters;
 pub mod diff;
 pub mod plot;
 pub mod render;
 pub mod stats;
 pub mod trace;
+pub mod work_diff;
 
 use serde::{Deserialize, Serialize};
 
 /// The version of the timing report's JSON shape; a reader rejects newer ones.
-pub const FORMAT_VERSION: u32 = 1;
+/// Version 2 added work counters (`counters`, `work`); version 1 reports load unchanged.
+pub const FORMAT_VERSION: u32 = 2;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TimingReport {
@@ -84,6 +87,12 @@ pub struct PassTiming {
     /// are kept but no summary, verdict or frame sum uses them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gpu_untrusted: Option<String>,
+    /// Pipeline statistics per frame, when the replay counted them (`replay --counters`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub counters: Option<counters::Counters>,
+    /// The work the pass submits, from the replayed plan.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub work: Option<counters::Work>,
 }
 
 impl PassTiming {

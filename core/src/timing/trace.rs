@@ -25,10 +25,17 @@ pub fn chrome_trace(report: &TimingReport, frames: &[Vec<Sample>]) -> String {
             };
             cursor = start + dur;
             frame_end = frame_end.max(start + dur);
+            let mut args = serde_json::json!({"frame": f, "queue": p.queue, "gpu_ns": t.gpu_ns, "cpu_ns": t.cpu_ns});
+            // Counters as args, so a trace viewer shows a pass's work beside its time.
+            if let Some(c) = p.counters.as_ref().and_then(|c| c.frame(f)) {
+                for (name, v) in super::counters::NAMES.iter().zip(c) {
+                    args[*name] = v.into();
+                }
+            }
             events.push(serde_json::json!({
                 "name": p.name, "cat": p.marker_path, "ph": "X", "pid": 1, "tid": tid,
                 "ts": frame_start_us + start, "dur": dur.max(0.001),
-                "args": {"frame": f, "queue": p.queue, "gpu_ns": t.gpu_ns, "cpu_ns": t.cpu_ns}
+                "args": args
             }));
         }
         frame_start_us += frame_end + 1.0;

@@ -9,6 +9,9 @@ use framelab_core::plan::{
 use super::create::{extent, texel};
 use super::pipelines::buffer_layout;
 use super::stamps::Stamps;
+
+/// The pipeline statistics query a pass writes, if the frame counts it (see `counters`).
+pub(super) type Stat<'q> = Option<(&'q wgpu::QuerySet, u32)>;
 use super::{Prepared, ReplayError, Session};
 
 fn render_stamps(stamps: Stamps<'_>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
@@ -62,6 +65,7 @@ impl Session {
         encoder: &mut wgpu::CommandEncoder,
         stamps: Stamps<'_>,
         inside_encoders: bool,
+        stat: Stat<'_>,
     ) -> Result<(), ReplayError> {
         let pass = &self.plan.passes[i];
         let err = |e: EncodeError| ReplayError::Pass {
@@ -78,10 +82,10 @@ impl Session {
         };
         match (&pass.op, &self.prepared[i]) {
             (PassOp::Raster(r), prepared @ Prepared::Raster { .. }) => self
-                .encode_raster(&pass.name, r, prepared, parity, encoder, stamps)
+                .encode_raster(&pass.name, r, prepared, parity, encoder, (stamps, stat))
                 .map_err(err)?,
             (PassOp::Compute(c), prepared @ Prepared::Compute { .. }) => self
-                .encode_compute(&pass.name, c, prepared, parity, encoder, stamps)
+                .encode_compute(&pass.name, c, prepared, parity, encoder, (stamps, stat))
                 .map_err(err)?,
             (PassOp::VkRaster(r), Prepared::VkWork(groups)) => {
                 let rp = self.begin_render(
@@ -92,14 +96,14 @@ impl Session {
                     encoder,
                     stamps,
                 );
-                self.encode_vk_raster(&pass.name, r, groups, rp);
+                self.encode_vk_raster(&pass.name, r, groups, rp, stat);
             }
             (PassOp::VkCompute(c), Prepared::VkWork(groups)) => {
                 let cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some(&pass.name),
                     timestamp_writes: compute_stamps(stamps),
                 });
-                self.encode_vk_compute(c, groups, cp);
+                self.encode_vk_compute(c, groups, cp, stat);
             }
             (PassOp::Copy(copies), _) => {
                 stamp_encoder(encoder, false);
@@ -152,7 +156,7 @@ impl Session {
         prepared: &Prepared,
         parity: usize,
         encoder: &mut wgpu::CommandEncoder,
-        stamps: Stamps<'_>,
+        (stamps, stat): (Stamps<'_>, Stat<'_>),
     ) -> Result<(), EncodeError> {
         let Prepared::Raster {
             pipelines,
@@ -164,6 +168,9 @@ impl Session {
         };
         let buf = |b: usize| self.buf_at(b, parity);
         let mut rp = self.begin_render(name, &r.color, r.depth.as_ref(), parity, encoder, stamps);
+        if let Some((set, q)) = stat {
+            rp.begin_pipeline_statistics_query(set, q);
+        }
         rp.set_stencil_reference(r.stencil_reference);
         for (d, set) in r.draws.iter().zip(draw_groups).take(self.steps()) {
             let vertex = d.vertex.as_ref().unwrap_or(&r.vertex);
@@ -216,6 +223,9 @@ impl Session {
                     );
                 }
             }
+        }
+        if stat.is_some() {
+            rp.end_pipeline_statistics_query();
         }
         Ok(())
     }
@@ -307,7 +317,7 @@ impl Session {
         prepared: &Prepared,
         parity: usize,
         encoder: &mut wgpu::CommandEncoder,
-        stamps: Stamps<'_>,
+        (stamps, stat): (Stamps<'_>, Stat<'_>),
     ) -> Result<(), EncodeError> {
         let Prepared::Compute {
             pipelines,
@@ -322,6 +332,9 @@ impl Session {
             label: Some(name),
             timestamp_writes: compute_stamps(stamps),
         });
+        if let Some((set, q)) = stat {
+            cp.begin_pipeline_statistics_query(set, q);
+        }
         for (d, set) in c.dispatches.iter().zip(dispatch_groups).take(self.steps()) {
             let entry = d.entry.as_ref().unwrap_or(&c.entry);
             let (Some(pipeline), Some(sets)) = (pipelines.get(entry), groups.get(entry)) else {
@@ -336,6 +349,9 @@ impl Session {
                 (Some([x, y, z]), None) => cp.dispatch_workgroups(x, y, z),
                 (None, None) => return Err(EncodeError::NoGroups),
             }
+        }
+        if stat.is_some() {
+            cp.end_pipeline_statistics_query();
         }
         Ok(())
     }

@@ -6,7 +6,7 @@ use std::time::Instant;
 use framelab_core::plan::Params;
 use framelab_core::uniforms;
 
-use super::{PassTime, ReplayError, Session, close, scope, stamps};
+use super::{PassTime, ReplayError, Session, close, counters, scope, stamps};
 impl Session {
     /// Encodes every pass of one frame (up to `stop_after`) and submits it without waiting:
     /// the CPU side of a replay, which the benchmark measures. Times carry CPU encode time only.
@@ -31,6 +31,10 @@ impl Session {
         self.stamp_plan = timestamps
             .map(|t| t.plan(&self.plan.passes, last))
             .unwrap_or_default();
+        let statistics = self.statistics.as_ref().filter(|_| self.counting);
+        self.count_plan = statistics
+            .map(|_| counters::Statistics::plan(&self.plan.passes, last))
+            .unwrap_or_default();
         for i in 0..=last.min(self.plan.passes.len().saturating_sub(1)) {
             if self.plan.passes.is_empty() {
                 break;
@@ -42,13 +46,13 @@ impl Session {
                     label: Some(&self.plan.passes[i].name),
                 });
             let stamps = timestamps.and_then(|t| self.stamp_plan.stamps(t, i));
-            self.encode(i, parity, &mut encoder, stamps, inside_encoders)?;
+            let stat = statistics.and_then(|s| s.query(&self.count_plan, i));
+            self.encode(i, parity, &mut encoder, stamps, inside_encoders, stat)?;
             command_buffers.push(encoder.finish());
             let cpu_ns = start.elapsed().as_nanos() as u64;
             times.push(PassTime {
-                gpu_ns: None,
                 cpu_ns,
-                gpu_start_ns: None,
+                ..PassTime::default()
             });
         }
         if let Some(t) = timestamps.filter(|_| self.stamp_plan.count > 0) {
@@ -58,6 +62,15 @@ impl Session {
                     label: Some("timestamps"),
                 });
             t.resolve(&mut encoder, &self.stamp_plan);
+            command_buffers.push(encoder.finish());
+        }
+        if let Some(s) = statistics.filter(|_| self.count_plan.count > 0) {
+            let mut encoder = self
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("pipeline statistics"),
+                });
+            s.resolve(&mut encoder, &self.count_plan);
             command_buffers.push(encoder.finish());
         }
         self.queue.submit(command_buffers);
@@ -109,7 +122,7 @@ impl Session {
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(&name) });
-        let encoded = self.encode(i, parity, &mut encoder, None, false);
+        let encoded = self.encode(i, parity, &mut encoder, None, false, None);
         let commands = encoder.finish();
         if encoded.is_ok() {
             self.queue.submit([commands]);
@@ -164,6 +177,12 @@ impl Session {
                     .map_err(|e| ReplayError::DeviceLost(e.to_string()))?;
             }
         }
+        if let Some(s) = self.statistics.as_ref().filter(|_| self.counting) {
+            let counts = s.read(&self.device, &self.count_plan)?;
+            for (t, c) in times.iter_mut().zip(counts) {
+                t.counters = c;
+            }
+        }
         self.check_faults(&format!("frame {}", self.frames_run))?;
         Ok(times)
     }
@@ -178,6 +197,7 @@ impl Session {
     ) -> Option<ReplayError> {
         let timestamps = self.timestamps.as_ref().filter(|_| with_timestamps);
         let inside_encoders = timestamps.is_some_and(|t| t.inside_encoders);
+        let statistics = self.statistics.as_ref().filter(|_| self.counting);
         for i in 0..=last.min(self.plan.passes.len().saturating_sub(1)) {
             let guards = scope(&self.device);
             let mut encoder = self
@@ -186,7 +206,8 @@ impl Session {
                     label: Some(&self.plan.passes[i].name),
                 });
             let stamps = timestamps.and_then(|t| self.stamp_plan.stamps(t, i));
-            let encoded = self.encode(i, parity, &mut encoder, stamps, inside_encoders);
+            let stat = statistics.and_then(|s| s.query(&self.count_plan, i));
+            let encoded = self.encode(i, parity, &mut encoder, stamps, inside_encoders, stat);
             drop(encoder.finish());
             let scoped = close(guards);
             if let Err(e) = encoded {

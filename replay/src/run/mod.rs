@@ -9,12 +9,14 @@
 //! Resources marked `history` have two copies that swap every frame.
 
 mod bindings;
+mod counters;
 mod create;
 mod encode;
 mod frame;
 mod pipelines;
 mod stamps;
 mod vulkan;
+mod work;
 
 use std::collections::BTreeMap;
 
@@ -54,6 +56,8 @@ pub struct PassTime {
     pub cpu_ns: u64,
     /// GPU start relative to the frame's first timestamp (for traces).
     pub gpu_start_ns: Option<u64>,
+    /// Pipeline statistics, when the frame was counted and the pass draws or dispatches.
+    pub counters: Option<framelab_core::timing::counters::Counts>,
 }
 
 struct Module {
@@ -112,6 +116,11 @@ pub struct Session {
     /// The queries the last submitted frame writes.
     stamp_plan: stamps::StampPlan,
     timestamp_period: f32,
+    statistics: Option<counters::Statistics>,
+    /// Whether frames count pipeline statistics ([`Session::set_counting`]).
+    counting: bool,
+    /// The statistics queries the last submitted frame writes.
+    count_plan: counters::CountPlan,
     frames_run: u64,
     vk: vulkan::VkObjects,
     vk_layouts: Vec<wgpu::BindGroupLayout>,
@@ -161,6 +170,7 @@ impl Session {
         let modules = create::modules(&device, &plan)?;
         let timestamps = stamps::Timestamps::create(&device, plan.passes.len());
         let timestamp_period = queue.get_timestamp_period();
+        let statistics = counters::Statistics::create(&device, &plan.passes);
         let mut session = Session {
             faults: ctx.faults.clone(),
             views: Default::default(),
@@ -178,6 +188,9 @@ impl Session {
             timestamps,
             stamp_plan: Default::default(),
             timestamp_period,
+            statistics,
+            counting: false,
+            count_plan: Default::default(),
             frames_run: 0,
             vk: Default::default(),
             vk_layouts: Vec::new(),
@@ -219,6 +232,18 @@ impl Session {
     /// Whether every pass writes its own start stamp (`set_timestamp_pairs`).
     pub fn timestamp_pairs(&self) -> bool {
         self.timestamps.as_ref().is_some_and(|t| t.pairs)
+    }
+
+    /// Counts every pass's pipeline statistics in the frames [`Session::run_frame`] runs from
+    /// now on; false when the adapter has no pipeline statistics queries (nothing is counted).
+    pub fn set_counting(&mut self, on: bool) -> bool {
+        self.counting = on && self.statistics.is_some();
+        self.counting || !on
+    }
+
+    /// Whether frames count pipeline statistics.
+    pub fn counting(&self) -> bool {
+        self.counting
     }
 
     /// Nanoseconds per timestamp tick on this device.

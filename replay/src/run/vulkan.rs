@@ -348,7 +348,11 @@ impl Session {
         r: &VkRasterOp,
         groups: &WorkGroups,
         mut rp: wgpu::RenderPass<'_>,
+        stat: super::encode::Stat<'_>,
     ) {
+        if let Some((set, q)) = stat {
+            rp.begin_pipeline_statistics_query(set, q);
+        }
         let buf = |b: usize| &self.buffers[b][0];
         for (d, sets) in r.draws.iter().zip(groups).take(self.steps()) {
             let VkGpuPipeline::Render(pipeline) = &self.vk.pipelines[d.pipeline] else {
@@ -398,6 +402,9 @@ impl Session {
                 ),
             }
         }
+        if stat.is_some() {
+            rp.end_pipeline_statistics_query();
+        }
         let _ = name;
     }
 
@@ -406,7 +413,11 @@ impl Session {
         c: &VkComputeOp,
         groups: &WorkGroups,
         mut cp: wgpu::ComputePass<'_>,
+        stat: super::encode::Stat<'_>,
     ) {
+        if let Some((set, q)) = stat {
+            cp.begin_pipeline_statistics_query(set, q);
+        }
         for (d, sets) in c.dispatches.iter().zip(groups).take(self.steps()) {
             let VkGpuPipeline::Compute(pipeline) = &self.vk.pipelines[d.pipeline] else {
                 continue;
@@ -425,6 +436,9 @@ impl Session {
                 (Some([x, y, z]), None) => cp.dispatch_workgroups(x, y, z),
                 (None, None) => {}
             }
+        }
+        if stat.is_some() {
+            cp.end_pipeline_statistics_query();
         }
     }
 }

@@ -1,0 +1,168 @@
+//! Pipeline statistics per pass: one query around each pass that draws or dispatches (its
+//! render or compute pass object), numbered densely in the frame so every resolved query was
+//! written, resolved and copied to a mappable buffer in the frame's own submission. Counting
+//! is asked for per frame: a query costs the driver a flush around the pass.
+
+use framelab_core::plan::{PassOp, PassSpec};
+use framelab_core::timing::counters::Counts;
+
+use super::ReplayError;
+
+/// The five statistics, written per query in this (wgpu's bit) order: see `counters::NAMES`.
+const TYPES: wgpu::PipelineStatisticsTypes =
+    wgpu::PipelineStatisticsTypes::VERTEX_SHADER_INVOCATIONS
+        .union(wgpu::PipelineStatisticsTypes::CLIPPER_INVOCATIONS)
+        .union(wgpu::PipelineStatisticsTypes::CLIPPER_PRIMITIVES_OUT)
+        .union(wgpu::PipelineStatisticsTypes::FRAGMENT_SHADER_INVOCATIONS)
+        .union(wgpu::PipelineStatisticsTypes::COMPUTE_SHADER_INVOCATIONS);
+
+/// Bytes one query resolves to.
+const QUERY_BYTES: u64 = 5 * 8;
+/// Queries per query set; a set's first query lands at a multiple of 256 bytes (4096 * 40).
+const PER_SET: u32 = wgpu::QUERY_SET_MAX_QUERIES;
+
+/// The statistics query sets of a session, when the adapter has them.
+pub(super) struct Statistics {
+    sets: Vec<wgpu::QuerySet>,
+    resolve: wgpu::Buffer,
+    staging: wgpu::Buffer,
+}
+
+/// Which query each plan pass writes in a frame, and how many the frame writes.
+#[derive(Clone, Debug, Default)]
+pub(super) struct CountPlan {
+    pub slots: Vec<Option<u32>>,
+    pub count: u32,
+}
+
+/// Whether a pass has a render or compute pass object of its own that draws or dispatches.
+pub(super) fn counted(pass: &PassSpec) -> bool {
+    matches!(
+        pass.op,
+        PassOp::Raster(_) | PassOp::Compute(_) | PassOp::VkRaster(_) | PassOp::VkCompute(_)
+    )
+}
+
+impl Statistics {
+    pub fn create(device: &wgpu::Device, passes: &[PassSpec]) -> Option<Self> {
+        if !device
+            .features()
+            .contains(wgpu::Features::PIPELINE_STATISTICS_QUERY)
+        {
+            return None;
+        }
+        let queries = (passes.iter().filter(|p| counted(p)).count() as u32).max(1);
+        let set_count = queries.div_ceil(PER_SET);
+        let sets = (0..set_count)
+            .map(|k| {
+                device.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some("pass statistics"),
+                    ty: wgpu::QueryType::PipelineStatistics(TYPES),
+                    count: (queries - k * PER_SET).min(PER_SET),
+                })
+            })
+            .collect();
+        let size = u64::from(queries) * QUERY_BYTES;
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Some(Statistics {
+            sets,
+            resolve: buffer(
+                "statistics resolve",
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            staging: buffer(
+                "statistics readback",
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            ),
+        })
+    }
+
+    /// Numbers the counted passes among `0..=last`.
+    pub fn plan(passes: &[PassSpec], last: usize) -> CountPlan {
+        let mut plan = CountPlan::default();
+        for p in passes.iter().take(last.saturating_add(1)) {
+            plan.slots.push(counted(p).then(|| {
+                plan.count += 1;
+                plan.count - 1
+            }));
+        }
+        plan
+    }
+
+    /// The query set and index pass `i` writes.
+    pub fn query(&self, plan: &CountPlan, i: usize) -> Option<(&wgpu::QuerySet, u32)> {
+        let q = plan.slots.get(i).copied().flatten()?;
+        Some((self.sets.get((q / PER_SET) as usize)?, q % PER_SET))
+    }
+
+    /// Resolves the frame's queries and copies them to the mappable buffer.
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, plan: &CountPlan) {
+        for (k, set) in self.sets.iter().enumerate() {
+            let first = k as u32 * PER_SET;
+            if first >= plan.count {
+                break;
+            }
+            let count = (plan.count - first).min(PER_SET);
+            encoder.resolve_query_set(set, 0..count, &self.resolve, u64::from(first) * QUERY_BYTES);
+        }
+        if plan.count > 0 {
+            let bytes = u64::from(plan.count) * QUERY_BYTES;
+            encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.staging, 0, bytes);
+        }
+    }
+
+    /// Waits for the submitted frame and reads each counted pass's statistics.
+    pub fn read(
+        &self,
+        device: &wgpu::Device,
+        plan: &CountPlan,
+    ) -> Result<Vec<Option<Counts>>, ReplayError> {
+        if plan.count == 0 {
+            return Ok(vec![None; plan.slots.len()]);
+        }
+        let bytes = crate::readback::map_read(
+            device,
+            &self.staging,
+            u64::from(plan.count) * QUERY_BYTES,
+            "pipeline statistics",
+        )?;
+        let values: Vec<u64> = bytes
+            .chunks_exact(8)
+            .map(|c| {
+                let mut le = [0u8; 8];
+                le.copy_from_slice(c);
+                u64::from_le_bytes(le)
+            })
+            .collect();
+        Ok(plan
+            .slots
+            .iter()
+            .map(|slot| {
+                let at = (*slot)? as usize * 5;
+                let mut c = [0; 5];
+                c.copy_from_slice(values.get(at..at + 5)?);
+                Some(c)
+            })
+            .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_set_starts_on_a_resolve_alignment() {
+        assert_eq!(
+            (u64::from(PER_SET) * QUERY_BYTES) % wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT,
+            0
+        );
+    }
+}
