@@ -12,6 +12,7 @@ mod analysis_stages;
 mod barrier_properties;
 mod capture;
 mod cli;
+mod counters;
 mod diff_cli;
 mod driver_rejects;
 mod dxgi_ddsfile;

@@ -632,7 +632,15 @@ fn bundled_captures_are_clean_under_the_validation_layer() {
         crate::common::assert_clean_under_validation_layer(
             &dir,
             &[
-                "replay", capture, "--scale", scale, "--frames", "2", "--quiet",
+                "replay",
+                capture,
+                "--scale",
+                scale,
+                "--frames",
+                "2",
+                "--quiet",
+                // Counting too: its queries around every pass are checked with the rest.
+                "--counters",
             ],
         );
     }
