@@ -197,6 +197,8 @@ pub struct RasterOp {
 pub struct DrawOp {
     pub label: Option<String>,
     pub vertex: Option<String>,
+    /// The draw's own fragment entry point, when it differs from the pass's.
+    pub fragment: Option<String>,
     pub mesh: Option<usize>,
     pub count: Option<u32>,
     pub instances: u32,
@@ -205,6 +207,8 @@ pub struct DrawOp {
     pub base_vertex: i32,
     pub indirect: Option<(usize, u64)>,
     pub stencil_reference: Option<u32>,
+    /// No fragment stage (see the format's `Draw::depth_only`).
+    pub depth_only: bool,
     pub params: Params,
 }
 

@@ -65,6 +65,10 @@ pub struct InspectArgs {
     /// Ask for the history of the `--pixel` texel of the `--view` texture (the History panel).
     #[arg(long, requires_all = ["pixel", "view"])]
     pub history: bool,
+    /// Colour the timeline by a work counter (vertex_invocations, clipper_invocations,
+    /// clipper_primitives_out, fragment_invocations, compute_invocations) or overdraw.
+    #[arg(long, value_parser = parse_measure)]
+    pub color_by: Option<usize>,
     /// Window size in points, WxH (screenshots).
     #[arg(long, default_value = "1600x900", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -243,6 +247,7 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
     let pixel = args.pixel;
     let (draw, history) = (args.draw, args.history);
     let panel = args.panel;
+    let color_by = args.color_by;
     let against = against.map(|(model_b, pairs, worker_b)| {
         (
             framelab_ui::against::Against::new(&model, model_b, &pairs),
@@ -272,6 +277,9 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         if let Some(p) = panel {
             app.show_pane(p);
         }
+        if let Some(m) = color_by {
+            app.color_timeline_by(m);
+        }
     };
     match (&args.screenshot, render_state) {
         (Some(path), Some(rs)) => {
@@ -298,4 +306,12 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+fn parse_measure(s: &str) -> Result<usize, String> {
+    let measures = framelab_ui::panels::work::MEASURES;
+    measures
+        .iter()
+        .position(|m| *m == s)
+        .ok_or_else(|| format!("not a measure; one of {}", measures.join(", ")))
 }

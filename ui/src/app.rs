@@ -172,6 +172,11 @@ impl Inspector {
     }
 
     /// Brings `pane` to the front of its tab group.
+    /// Colours the timeline's bars by a work measure (an index into `panels::work::MEASURES`).
+    pub fn color_timeline_by(&mut self, measure: usize) {
+        self.view.timeline_color = Some(measure);
+    }
+
     pub fn show_pane(&mut self, pane: Pane) {
         match &mut self.tree {
             Some(tree) => {

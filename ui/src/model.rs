@@ -63,6 +63,8 @@ pub struct Timings {
     /// Why some passes have no time although they ran (the adapter's timestamps do not
     /// measure them), shown with the timeline.
     pub note: Option<String>,
+    /// Per pass, the work it submits (from the replayed plan), where known.
+    pub work: Vec<Option<framelab_core::timing::counters::Work>>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,6 +74,8 @@ pub struct PassTime {
     /// False where the adapter's timestamps do not measure this kind of pass (the timings'
     /// `note` says why): the pass keeps its place on the timeline but shows no time.
     pub measured: bool,
+    /// The pass's pipeline statistics in the frame timed, when counted.
+    pub counters: Option<framelab_core::timing::counters::Counts>,
 }
 
 /// The timing diff against another report: per pass, that side's median and the verdict.

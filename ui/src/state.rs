@@ -197,6 +197,8 @@ pub struct View {
     pub status: String,
     /// The timeline's visible span (start, length in ns); `None`: the whole frame.
     pub timeline_span: Option<(f64, f64)>,
+    /// The measure the timeline colours bars by (`panels::work::MEASURES`); `None`: queues.
+    pub timeline_color: Option<usize>,
     /// A second capture replayed beside this one for the image diff (`--against`).
     pub against: Option<crate::against::Against>,
     /// The last pixel history answered, or why not.
@@ -286,6 +288,7 @@ impl View {
             },
             timeline_bars: Vec::new(),
             timeline_span: None,
+            timeline_color: None,
             thumbnails: Default::default(),
             thumbnails_waiting: 0,
             ready: false,

@@ -495,8 +495,15 @@ fn window_pattern(world: vec3<f32>, n: vec3<f32>, seed: f32) -> vec2<f32> {
     return vec2<f32>(inside * (1.0 - ground_floor), lit);
 }
 
-@fragment
-fn fs_gbuffer(in: VertexOut) -> GBuffer {
+// What the G-buffer holds for a fragment, and whether the material's cut-out (foliage cards,
+// decal stripes, fur strands) keeps it.
+struct Surface {
+    out: GBuffer,
+    keep: bool,
+}
+
+fn gbuffer_surface(in: VertexOut) -> Surface {
+    var keep = true;
     var n = normalize(in.normal);
     var albedo = vec3<f32>(0.5);
     var metal = 0.0;
@@ -575,7 +582,7 @@ fn fs_gbuffer(in: VertexOut) -> GBuffer {
         }
         case 6u: {
             if (foliage_alpha(in.uv) < 0.5) {
-                discard;
+                keep = false;
             }
             albedo = in.color.rgb * (0.6 + 0.4 * noise2(in.uv * 20.0));
             albedo = select(albedo, vec3<f32>(0.25, 0.17, 0.1), in.uv.y < 0.45 && abs(in.uv.x - 0.5) < 0.05);
@@ -586,7 +593,7 @@ fn fs_gbuffer(in: VertexOut) -> GBuffer {
             let stripe = step(0.5, fract(in.uv.x * 8.0));
             let grime = noise2(in.world.xz * 0.8);
             if (in.variant == 0u && stripe < 0.5 && grime < 0.7) {
-                discard;
+                keep = false;
             }
             albedo = vec3<f32>(0.7, 0.7, 0.68) * (0.8 + 0.2 * grime);
             rough = 0.6;
@@ -599,7 +606,7 @@ fn fs_gbuffer(in: VertexOut) -> GBuffer {
                 let dither = textureLoad(blue_noise, vec2<u32>(in.clip.xy) % textureDimensions(blue_noise), 0).r;
                 let tip = clamp((in.world.y - 1.7) * 12.0, 0.0, 1.0);
                 if (fur_alpha(in.world) < 0.5 || dither < tip) {
-                    discard;
+                    keep = false;
                 }
             }
             let hue = f32(in.variant & 15u) / 16.0;
@@ -615,7 +622,24 @@ fn fs_gbuffer(in: VertexOut) -> GBuffer {
     out.material = vec4<f32>(metal, rough, 0.0, emissive);
     // Screen-space motion in UV units (y down), current minus previous position.
     out.motion = (cur - prev) * vec2<f32>(0.5, -0.5);
-    return out;
+    return Surface(out, keep);
+}
+
+@fragment
+fn fs_gbuffer(in: VertexOut) -> GBuffer {
+    let s = gbuffer_surface(in);
+    if (!s.keep) {
+        discard;
+    }
+    return s.out;
+}
+
+// Opaque draws: the same surface without a `discard` anywhere in the pipeline, so the GPU
+// tests depth before shading and shades each pixel the depth pre-pass left visible once
+// instead of every layer of the city behind it.
+@fragment
+fn fs_gbuffer_opaque(in: VertexOut) -> GBuffer {
+    return gbuffer_surface(in).out;
 }
 
 // Environment capture: a quick forward shade of the district for the reflection probe (sun

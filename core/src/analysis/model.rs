@@ -399,10 +399,14 @@ fn stage_usage(capture: &Capture, p: &PassDesc) -> Option<StageSets> {
     for entry in entries {
         vertex.extend(interface.globals_used_by(entry)?.iter().cloned());
     }
-    let fragment = match &shader.fragment {
-        Some(entry) => interface.globals_used_by(entry)?.clone(),
-        None => BTreeSet::new(),
-    };
+    let mut fragment = BTreeSet::new();
+    let entries = shader
+        .fragment
+        .iter()
+        .chain(p.draws.iter().filter_map(|d| d.fragment.as_ref()));
+    for entry in entries {
+        fragment.extend(interface.globals_used_by(entry)?.iter().cloned());
+    }
     Some((vertex, fragment))
 }
 

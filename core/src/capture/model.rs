@@ -432,6 +432,7 @@ pub struct DepthStencilDesc {
 pub struct DrawDesc {
     pub label: Option<String>,
     pub vertex: Option<String>,
+    pub fragment: Option<String>,
     pub mesh: Option<MeshId>,
     pub count: Option<u32>,
     pub instances: u32,
@@ -440,6 +441,8 @@ pub struct DrawDesc {
     pub base_vertex: i32,
     pub indirect: Option<(ResourceId, u64)>,
     pub stencil_reference: Option<u32>,
+    /// Runs no fragment shader (see the format's `Draw::depth_only`).
+    pub depth_only: bool,
     pub params: std::collections::BTreeMap<String, ParamValue>,
     /// An imported draw's pipeline and state.
     pub vk: Option<Box<super::vk_model::VkWork>>,

@@ -785,6 +785,7 @@ impl Builder {
         self.passes[pass].draws.push(Draw {
             label: None,
             vertex: None,
+            fragment: None,
             mesh: None,
             count: indirect.is_none().then_some(d.count),
             vertex_buffers,
@@ -797,6 +798,7 @@ impl Builder {
             pipeline,
             vulkan_state,
             stencil_reference: None,
+            depth_only: false,
             params: BTreeMap::new(),
         });
     }

@@ -219,6 +219,7 @@ impl<'c> Lowering<'c> {
                 Ok(DrawOp {
                     label: d.label.clone(),
                     vertex: d.vertex.clone(),
+                    fragment: d.fragment.clone(),
                     mesh: d.mesh.map(|m| m.index()),
                     count: d.count,
                     instances: d.instances,
@@ -227,6 +228,7 @@ impl<'c> Lowering<'c> {
                     base_vertex: d.base_vertex,
                     indirect: self.indirect(p, d.indirect)?,
                     stencil_reference: d.stencil_reference,
+                    depth_only: d.depth_only,
                     params: params(&d.params),
                 })
             })

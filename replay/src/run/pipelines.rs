@@ -3,7 +3,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use framelab_core::plan::{ComputeOp, PassOp, RasterOp, StreamSpec, TextureSpec};
+use framelab_core::plan::{ComputeOp, DrawOp, PassOp, RasterOp, StreamSpec, TextureSpec};
 
 use super::bindings::set_indices;
 use super::{Prepared, ReplayError, Session, close, scope};
@@ -39,6 +39,18 @@ pub(super) fn buffer_layout<'a>(
             bytes_per_row: Some(bytes_per_row),
             rows_per_image: Some(e[1].div_ceil(bh)),
         },
+    }
+}
+
+/// The pipeline a raster draw uses: its vertex entry point, with its own fragment entry point
+/// or without a fragment stage when it has them (entry point names hold no spaces, so keys
+/// never meet).
+pub(super) fn raster_key(d: &DrawOp, r: &RasterOp) -> String {
+    let vertex = d.vertex.as_ref().unwrap_or(&r.vertex);
+    match (&d.fragment, d.depth_only) {
+        (_, true) => format!("{vertex} (depth only)"),
+        (Some(f), false) => format!("{vertex} + {f}"),
+        (None, false) => vertex.clone(),
     }
 }
 
@@ -80,13 +92,21 @@ impl Session {
         };
         // Pipelines only for the vertex entry points some draw uses (the pass's default entry
         // may be overridden by every draw, and then has no mesh to take a layout from).
-        let mut entries: BTreeSet<String> = r
+        // (key, vertex entry, fragment entry) of each pipeline.
+        let mut entries: BTreeSet<(String, String, Option<String>)> = r
             .draws
             .iter()
-            .map(|d| d.vertex.clone().unwrap_or_else(|| r.vertex.clone()))
+            .map(|d| {
+                let fragment = match d.depth_only {
+                    true => None,
+                    false => d.fragment.clone().or_else(|| r.fragment.clone()),
+                };
+                let vertex = d.vertex.clone().unwrap_or_else(|| r.vertex.clone());
+                (raster_key(d, r), vertex, fragment)
+            })
             .collect();
         if entries.is_empty() {
-            entries.insert(r.vertex.clone());
+            entries.insert((r.vertex.clone(), r.vertex.clone(), r.fragment.clone()));
         }
         let targets: Vec<Option<wgpu::ColorTargetState>> = r
             .color
@@ -110,14 +130,23 @@ impl Session {
             .unwrap_or(1);
         let mut pipelines = BTreeMap::new();
         let mut groups = BTreeMap::new();
-        let all_used = self.used_by(r.shader, entries.iter().chain(r.fragment.iter()));
+        let all_used = self.used_by(
+            r.shader,
+            entries
+                .iter()
+                .flat_map(|(_, v, f)| std::iter::once(v).chain(f))
+                .chain(r.fragment.iter()),
+        );
         let pass_params = self.params_buffer(name, r.shader, &r.params, &all_used)?;
-        for vertex in &entries {
+        for (key, vertex, fragment) in &entries {
+            // A depth-only draw's pipeline has no fragment stage, so binds only what the
+            // vertex stage reads.
+            let fragment = fragment.as_ref();
             let mut used = m
                 .reflection
                 .globals_used_by(vertex)
                 .ok_or_else(|| err(format!("the shader has no vertex entry point `{vertex}`")))?;
-            if let Some(f) = &r.fragment {
+            if let Some(f) = fragment {
                 used.extend(
                     m.reflection.globals_used_by(f).ok_or_else(|| {
                         err(format!("the shader has no fragment entry point `{f}`"))
@@ -178,7 +207,7 @@ impl Session {
                         mask: !0,
                         alpha_to_coverage_enabled: false,
                     },
-                    fragment: r.fragment.as_ref().map(|f| wgpu::FragmentState {
+                    fragment: fragment.map(|f| wgpu::FragmentState {
                         module: &m.module,
                         entry_point: Some(f),
                         compilation_options: Default::default(),
@@ -190,9 +219,7 @@ impl Session {
             let own = r
                 .draws
                 .iter()
-                .filter(|d| {
-                    !d.params.is_empty() && d.vertex.as_ref().unwrap_or(&r.vertex) == vertex
-                })
+                .filter(|d| !d.params.is_empty() && &raster_key(d, r) == key)
                 .map(|d| &d.params);
             let layout = |g| pipeline.get_bind_group_layout(g);
             let sets = self.group_sets(
@@ -204,15 +231,15 @@ impl Session {
                 own,
                 &layout,
             )?;
-            groups.insert(vertex.clone(), sets);
-            pipelines.insert(vertex.clone(), pipeline);
+            groups.insert(key.clone(), sets);
+            pipelines.insert(key.clone(), pipeline);
         }
-        let draw_groups = set_indices(r.draws.iter().map(|d| {
-            (
-                d.vertex.as_deref().unwrap_or(&r.vertex),
-                !d.params.is_empty(),
-            )
-        }));
+        let keys: Vec<String> = r.draws.iter().map(|d| raster_key(d, r)).collect();
+        let draw_groups = set_indices(
+            keys.iter()
+                .zip(&r.draws)
+                .map(|(k, d)| (k.as_str(), !d.params.is_empty())),
+        );
         Ok(Prepared::Raster {
             pipelines,
             groups,

@@ -154,6 +154,7 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
                         .default_open(n > 0)
                         .show(ui, body);
                 };
+            super::work::section(ui, app.timings.as_ref(), app.selection.pass);
             let mut open = None;
             for (title, list) in [("Outputs", &p.outputs), ("Inputs", &p.inputs)] {
                 section(ui, title, list.len(), &mut |ui| {

@@ -11,6 +11,7 @@ pub mod memory;
 pub mod resources;
 pub mod texture;
 pub mod timeline;
+pub mod work;
 
 use crate::state::View;
 

@@ -80,6 +80,49 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     if let Some(note) = &timings.note {
         ui.weak(format!("grey: not measured ({note})"));
     }
+    let counted = (0..model.passes.len()).any(|i| super::work::measure(&timings, i, 0).is_some());
+    // Colouring by a measure: bars on a ramp from the frame's least to its most.
+    let by = app.timeline_color.filter(|_| counted);
+    let most = by.map_or(0.0, |m| {
+        (0..model.passes.len())
+            .filter_map(|i| super::work::measure(&timings, i, m))
+            .fold(0.0f64, f64::max)
+    });
+    if counted {
+        ui.horizontal(|ui| {
+            ui.weak("colour by");
+            egui::ComboBox::from_id_salt("timeline colour")
+                .selected_text(by.map_or("queue", |m| super::work::MEASURES[m]))
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut app.timeline_color, None, "queue");
+                    for (m, name) in super::work::MEASURES.iter().enumerate() {
+                        ui.selectable_value(&mut app.timeline_color, Some(m), *name);
+                    }
+                });
+            if let Some(m) = by {
+                let (r, _) = ui.allocate_exact_size(Vec2::new(60.0, 10.0), Sense::hover());
+                for k in 0..12 {
+                    let x = r.left() + r.width() * k as f32 / 12.0;
+                    let cell = Rect::from_min_max(
+                        Pos2::new(x, r.top()),
+                        Pos2::new(x + r.width() / 12.0 + 0.5, r.bottom()),
+                    );
+                    let v = (most.ln_1p() * f64::from(k) / 11.0).exp_m1();
+                    ui.painter()
+                        .rect_filled(cell, 0.0, super::work::ramp(v, most));
+                }
+                ui.weak(format!(
+                    "0 .. {} {} (log scale; grey: not counted)",
+                    if m == 5 {
+                        format!("{most:.2}")
+                    } else {
+                        framelab_core::timing::counters::short(most as u64)
+                    },
+                    super::work::MEASURES[m]
+                ));
+            }
+        });
+    }
     let height = LANE * model.queues.len() as f32 + 20.0;
     let (rect, response) = ui.allocate_exact_size(
         Vec2::new(ui.available_width(), height),
@@ -150,10 +193,14 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
             .compare
             .as_ref()
             .and_then(|c| c.passes.get(i).cloned().flatten());
-        let color = compare
-            .as_ref()
-            .and_then(|c| verdict_color(&c.verdict))
-            .unwrap_or_else(|| super::queue_color(p.queue));
+        let color = match by {
+            Some(m) => super::work::measure(&timings, i, m)
+                .map_or(Color32::from_gray(90), |v| super::work::ramp(v, most)),
+            None => compare
+                .as_ref()
+                .and_then(|c| verdict_color(&c.verdict))
+                .unwrap_or_else(|| super::queue_color(p.queue)),
+        };
         let measured = timings.passes[i].is_some_and(|t| t.measured);
         let color = if !measured {
             Color32::from_gray(110)
@@ -211,6 +258,12 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
                 t.map_or(0.0, |t| t.start_ns / 1e6)
             ),
         };
+        if let Some(m) = by {
+            text.push_str(&match super::work::measure(&timings, i, m) {
+                Some(v) => format!("\n{}: {v:.2}", super::work::MEASURES[m]),
+                None => format!("\n{}: not counted", super::work::MEASURES[m]),
+            });
+        }
         if let Some(c) = model
             .compare
             .as_ref()

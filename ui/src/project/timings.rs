@@ -37,6 +37,10 @@ pub(super) fn timings_from(model: &Inspection, t: &TimingReport, source: &str) -
             .iter()
             .map(|&from| ends.get(from).copied().unwrap_or(0.0))
             .fold(0.0f64, f64::max);
+        let counters = timing
+            .and_then(|pt| pt.counters.as_ref())
+            .and_then(|c| c.last())
+            .map(|(c, _)| c);
         let start = queue_end[p.queue].max(waits);
         let end = start + ms.unwrap_or(0.0);
         queue_end[p.queue] = end;
@@ -46,19 +50,30 @@ pub(super) fn timings_from(model: &Inspection, t: &TimingReport, source: &str) -
                 start_ns: start,
                 gpu_ns,
                 measured: true,
+                counters,
             }),
             (None, false) => Some(PassTime {
                 start_ns: start,
                 gpu_ns: 0.0,
                 measured: false,
+                counters,
             }),
             (None, true) => None,
         });
     }
+    let work = model
+        .passes
+        .iter()
+        .map(|p| {
+            let timing = by_name.get(&(model.queues[p.queue].as_str(), p.name.as_str()));
+            timing.and_then(|pt| pt.work.clone())
+        })
+        .collect();
     Timings {
         source: source.to_owned(),
         passes: out,
         note: t.passes.iter().find_map(|p| p.gpu_untrusted.clone()),
+        work,
     }
 }
 

@@ -366,7 +366,10 @@ fn run(launch: Launch, rx: &Receiver<Command>, tx: &Sender<Reply>) -> Result<(),
         "creating {} passes' pipelines and resources",
         lowered.plan.passes.len()
     )))?;
-    let replaying = Replaying::start(&ctx, lowered)?;
+    let mut replaying = Replaying::start(&ctx, lowered)?;
+    // Timed frames count each pass's work too (the timeline can be coloured by it); where the
+    // adapter cannot count, passes show no counters.
+    replaying.session.set_counting(true);
     let plan = &replaying.session.plan;
     let snaps = Snapshots::new(plan.textures.len(), plan.buffers.len(), budget);
     let mut s = State {
@@ -427,10 +430,14 @@ fn time_frame(s: &mut State, f: u32) -> Result<Timings, Stop> {
                     start_ns: t.gpu_start_ns? as f64,
                     gpu_ns: t.gpu_ns? as f64,
                     measured: trusted(i),
+                    counters: t.counters,
                 })
             })
             .collect(),
         note: untrusted.iter().flatten().next().cloned(),
+        work: (0..times.len())
+            .map(|i| Some(s.replaying.session.work(i)))
+            .collect(),
     })
 }
 

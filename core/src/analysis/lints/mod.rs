@@ -746,6 +746,7 @@ impl Linter<'_> {
                 .into_iter()
                 .flatten()
                 .chain(pass.draws.iter().filter_map(|d| d.vertex.as_ref()))
+                .chain(pass.draws.iter().filter_map(|d| d.fragment.as_ref()))
                 .chain(pass.dispatches.iter().filter_map(|d| d.entry.as_ref()));
             let pairs: BTreeSet<&(String, String)> = entries
                 .filter_map(|e| interface.entry_points.get(e))

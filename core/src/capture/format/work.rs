@@ -19,6 +19,11 @@ pub struct Draw {
     /// change within the pass).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vertex: Option<String>,
+    /// Fragment entry point for this draw, if it differs from the shader's `fragment` (an
+    /// opaque variant without the alpha test's `discard`, which lets the GPU test depth before
+    /// shading).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fragment: Option<String>,
     /// Mesh name; absent for full-screen draws that generate vertices in the shader.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mesh: Option<String>,
@@ -48,6 +53,12 @@ pub struct Draw {
     /// Dynamic viewport and scissor and push constants of an imported draw.
     #[serde(default, skip_serializing_if = "VkCommandState::is_empty")]
     pub vulkan_state: VkCommandState,
+    /// The draw runs no fragment shader: opaque geometry in a pass without colour targets
+    /// (shadow maps, a depth prepass), which the pass's fragment entry point (an alpha test)
+    /// would only slow down. With no fragment stage the GPU tests depth before shading and
+    /// runs no fragment invocations; alpha-tested draws of the same pass keep the shader.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub depth_only: bool,
     /// Stencil reference for this draw (OMSetStencilRef).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stencil_reference: Option<u32>,

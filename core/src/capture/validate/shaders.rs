@@ -98,6 +98,15 @@ impl<'a> Validator<'a> {
                     &dpath.field("vertex"),
                 );
             }
+            if let Some(entry) = &d.fragment {
+                self.check_entry(
+                    &interface,
+                    file,
+                    entry,
+                    Stage::Fragment,
+                    &dpath.field("fragment"),
+                );
+            }
             self.check_params(&interface, file, &d.params, &dpath.field("params"));
             let vertex = d.vertex.as_ref().or(s.vertex.as_ref());
             if let Some(inputs) = vertex

@@ -98,6 +98,22 @@ impl<'a> Validator<'a> {
                     "stencil reference is 8 bits (0..255)",
                 );
             }
+            if d.depth_only && d.fragment.is_some() {
+                self.diags.error(
+                    "draw",
+                    &dpath.field("fragment"),
+                    "a depth-only draw runs no fragment shader: drop `fragment` or `depth_only`",
+                );
+            }
+            if d.depth_only && (!p.color_attachments.is_empty() || p.depth_stencil.is_none()) {
+                self.diags.error(
+                    "draw",
+                    &dpath.field("depth_only"),
+                    format!(
+                        "a depth-only draw runs no fragment shader, so pass \"{name}\" must have a depth target and no colour targets"
+                    ),
+                );
+            }
             if d.stencil_reference.is_some() && cx.state.stencil.is_none() {
                 self.diags.error(
                     "draw",
@@ -126,6 +142,7 @@ impl<'a> Validator<'a> {
             draws.push(DrawDesc {
                 label: d.label.clone(),
                 vertex: d.vertex.clone(),
+                fragment: d.fragment.clone(),
                 mesh: mesh.map(MeshId),
                 count: d.count,
                 instances: d.instances,
@@ -134,6 +151,7 @@ impl<'a> Validator<'a> {
                 base_vertex: d.base_vertex,
                 indirect,
                 stencil_reference: d.stencil_reference,
+                depth_only: d.depth_only,
                 params: d.params.clone(),
                 vk: self.vk_work(d.pipeline.as_deref(), &d.vulkan_state),
             });

@@ -11,8 +11,8 @@ use super::helpers::{
 };
 use super::scene::{
     BOX_INDICES, BUILDINGS, BUILDINGS_PER_BLOCK, CAPSULE_INDICES, DepthOnly, KIND_COUNTS,
-    SHADOWED_LIGHTS, SceneError, World, d, depth_attach, depth_only, light_count, scene_bindings,
-    scene_defaults, with_view, world_draws,
+    SHADOWED_LIGHTS, SceneError, World, d, depth_attach, depth_only, light_count,
+    opaque_depth_only, opaque_gbuffer, scene_bindings, scene_defaults, with_view, world_draws,
 };
 
 const PRE: &[&str] = &["Pre-geometry"];
@@ -126,6 +126,7 @@ fn pre_geometry(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError> {
             format: "D16_UNORM",
             layer: 0,
             bias: None,
+            cull_back: false,
         },
         with_view(top, json!({"view": 5})),
         json!({"view": 5}),
@@ -234,7 +235,7 @@ fn terrain_and_ocean(out: &mut Vec<Value>, day: bool) {
                          "linear_clamp": sampler("linear_clamp")},
             "params": {"band": 0, "offset": [0, 0, 380, 0], "scale": [1, 1, 1, 0]},
             "state": {"cull": "none"},
-            "draws": [{"label": "water plates", "mesh": "water"}],
+            "draws": [{"label": "water plates (LOD 4x4)", "mesh": "water_lod"}],
         }),
     ));
 }
@@ -255,6 +256,7 @@ fn geometry(out: &mut Vec<Value>) -> Result<(), SceneError> {
             dr
         })
         .collect();
+    let prepass_draws = opaque_depth_only(prepass_draws);
     out.push(scene_bindings(raster(
         "depth_prepass",
         GEO,
@@ -288,7 +290,7 @@ fn geometry(out: &mut Vec<Value>) -> Result<(), SceneError> {
             "state": {"depth_compare": "less_equal", "depth_write": true, "cull": "none",
                       "stencil": {"write_mask": 255, "front": replace, "back": replace}},
             "params": scene_defaults(),
-            "draws": world_draws(World::ALL),
+            "draws": opaque_gbuffer(world_draws(World::ALL)),
         }),
     ))?);
     // 12: depth/stencil conversion.
@@ -471,6 +473,7 @@ fn lights_and_shadows(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError>
             format: "D16_UNORM",
             layer: 0,
             bias: None,
+            cull_back: false,
         },
         proxy,
         json!({"view": 7}),
@@ -491,6 +494,7 @@ fn lights_and_shadows(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError>
                 format: "D16_UNORM",
                 layer: c,
                 bias: Some((2, 1.5)),
+                cull_back: true,
             },
             with_view(world_draws(World::SHADOW), json!({"view": 1 + c})),
             json!({"view": 1 + c}),
@@ -621,13 +625,20 @@ fn omni_shadows(out: &mut Vec<Value>) -> Result<(), SceneError> {
                 format: "D32_FLOAT",
                 layer: 0,
                 bias: None,
+                cull_back: true,
             },
             draws,
             json!({"view": 6, "light": i}),
             json!({}),
         )?;
         p["shader"]["vertex"] = json!("vs_omni_static");
+        // fs_omni_depth writes every draw's distance as its depth: no draw goes without it.
         p["shader"]["fragment"] = json!("fs_omni_depth");
+        for dr in p["draws"].as_array_mut().into_iter().flatten() {
+            if let Some(o) = dr.as_object_mut() {
+                o.remove("depth_only");
+            }
+        }
         out.push(scene_bindings(p)?);
         let rest = if i == SHADOWED_LIGHTS - 1 {
             json!({"signal": ["omni_done"]})
