@@ -65,6 +65,8 @@ pub enum DiffMode {
     Structure,
     /// Per-pass GPU times of both frames, replayed here, with 95% intervals and verdicts.
     Timing,
+    /// Per-pass work counters of one frame of each, replayed here, compared exactly.
+    Work,
 }
 
 #[derive(Debug, Deserialize, JsonSchema)]
@@ -139,6 +141,8 @@ pub struct TimingsArgs {
     pub capture: String,
     /// Frames to replay and time (default 3, at most 100).
     pub frames: Option<u32>,
+    /// Count each pass's pipeline statistics in every frame too (default false).
+    pub counters: Option<bool>,
 }
 
 #[derive(Debug, Deserialize, JsonSchema)]

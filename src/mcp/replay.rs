@@ -36,6 +36,8 @@ pub struct Request {
 /// Frames replayed and timed, as `framelab replay --timings` does.
 pub struct Timings {
     pub frames: u32,
+    /// Count every pass's pipeline statistics too (the report's `counters`).
+    pub counters: bool,
     /// Called with (frames done, frames to run).
     pub progress: Box<dyn Fn(usize, usize) + Send>,
     pub cancel: CancellationToken,
@@ -202,6 +204,12 @@ fn timings(
     let mut h =
         start(path, scale).map_err(|e| format!("the capture cannot be replayed here: {e}"))?;
     let frames = t.frames as usize;
+    if !h.replaying.session.set_counting(t.counters) {
+        return Err(format!(
+            "{} has no pipeline statistics queries: work counters cannot be measured on it",
+            h.ctx.summary.name
+        ));
+    }
     for f in 0..t.frames {
         if t.cancel.is_cancelled() {
             eprintln!(

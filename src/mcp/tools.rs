@@ -123,7 +123,7 @@ impl Framelab {
     async fn replay_timings(
         &self,
         capture: &str,
-        frames: u32,
+        (frames, counters): (u32, bool),
         peer: &Peer<RoleServer>,
         meta: &rmcp::model::RequestMetaObject,
         cancel: tokio_util::sync::CancellationToken,
@@ -134,6 +134,7 @@ impl Framelab {
             let o = store.get_mut(capture)?;
             let job = super::replay::Timings {
                 frames,
+                counters,
                 progress: progress_sender(peer, meta),
                 cancel,
                 reply,
@@ -307,7 +308,7 @@ impl Framelab {
     }
 
     #[tool(
-        description = "Compare two opened captures, as `framelab diff --json`. Mode `structure`: passes, resources and barriers added, removed or changed. Mode `timing`: both frames replayed here (`frames` each, one capture after the other) and their per-pass GPU times compared with 95% intervals and verdicts, as `framelab diff` compares two timing reports.",
+        description = "Compare two opened captures, as `framelab diff --json`. Mode `structure`: passes, resources and barriers added, removed or changed. Mode `timing`: both frames replayed here (`frames` each, one capture after the other) and their per-pass GPU times compared with 95% intervals and verdicts, as `framelab diff` compares two timing reports. Mode `work`: one frame of each replayed here with its pipeline statistics counted, and every pass's counters and submitted work compared exactly, as `framelab diff --work` does (no statistics: counts do not scatter).",
         input_schema = schema_for_type::<DiffArgs>()
     )]
     async fn diff(
@@ -347,11 +348,11 @@ impl Framelab {
                     take!(store.get(&a.b));
                 }
                 let x = take!(
-                    self.replay_timings(&a.a, frames, &peer, &meta, cancel.clone())
+                    self.replay_timings(&a.a, (frames, false), &peer, &meta, cancel.clone())
                         .await
                 );
                 let y = take!(
-                    self.replay_timings(&a.b, frames, &peer, &meta, cancel)
+                    self.replay_timings(&a.b, (frames, false), &peer, &meta, cancel)
                         .await
                 );
                 let report = take!(
@@ -363,6 +364,29 @@ impl Framelab {
                     .map_err(|e| e.to_string())
                 );
                 answer(report)
+            }
+            DiffMode::Work => {
+                if a.frames.is_some() {
+                    return refuse(
+                        "frames applies to mode timing only: mode work counts one frame",
+                    );
+                }
+                {
+                    let store = self.store();
+                    take!(store.get(&a.a));
+                    take!(store.get(&a.b));
+                }
+                let x = take!(
+                    self.replay_timings(&a.a, (1, true), &peer, &meta, cancel.clone())
+                        .await
+                );
+                let y = take!(
+                    self.replay_timings(&a.b, (1, true), &peer, &meta, cancel)
+                        .await
+                );
+                answer(take!(
+                    framelab_core::timing::work_diff::work_diff(&x, &y).map_err(|e| e.to_string())
+                ))
             }
         }
     }
@@ -538,7 +562,7 @@ impl Framelab {
     }
 
     #[tool(
-        description = "Replay the frame a number of times on this machine's GPU and time every pass: the timing report `framelab replay --timings` writes (per-pass GPU and CPU times per frame). Sends progress (frame i of n) and stops when cancelled.",
+        description = "Replay the frame a number of times on this machine's GPU and time every pass: the timing report `framelab replay --timings` writes (per-pass GPU and CPU times per frame, and the work each pass submits). With `counters`, each pass's pipeline statistics per frame too, as `replay --counters` writes them. Sends progress (frame i of n) and stops when cancelled.",
         input_schema = schema_for_type::<TimingsArgs>()
     )]
     async fn timings(
@@ -554,8 +578,14 @@ impl Framelab {
             return refuse(format!("frames {frames} is outside 1..={MAX_FRAMES}"));
         }
         let report = take!(
-            self.replay_timings(&a.capture, frames, &peer, &meta, cancel)
-                .await
+            self.replay_timings(
+                &a.capture,
+                (frames, a.counters.unwrap_or(false)),
+                &peer,
+                &meta,
+                cancel
+            )
+            .await
         );
         answer(report)
     }

@@ -421,7 +421,6 @@ fn timings(s: &Value) {
     ]);
     assert!(out.status.success(), "{out:?}");
     let cli: Value = serde_json::from_slice(&std::fs::read(&file).unwrap()).unwrap();
-    std::fs::remove_dir_all(dir).unwrap();
     for key in [
         "format_version",
         "capture",
@@ -468,6 +467,43 @@ fn timings(s: &Value) {
     assert_eq!(rows(d), rows(&cli));
     assert!(!rows(d).is_empty());
     assert!(error(&s["diff_structure_frames"]).contains("timing only"));
+    // Work: exact counts, so the server's diff is the command line's, value for value.
+    let out = framelab(&["diff", EXAMPLE, SYNC, "--work", "--json"]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert_eq!(ok(&s["diff_work"], "diff work"), &json(&out));
+    let counted = ok(&s["timings_counted"], "timings with counters");
+    let out = framelab(&[
+        "replay",
+        EXAMPLE,
+        "--frames",
+        "1",
+        "--counters",
+        "--timings",
+        file.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let cli: Value = serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    let counters = |r: &Value| -> Vec<Value> {
+        r["passes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["counters"].clone())
+            .collect()
+    };
+    assert_eq!(counters(counted), counters(&cli));
+    assert!(
+        counters(&cli)
+            .iter()
+            .any(|c| c["fragment_invocations"][0].as_u64() > Some(0))
+    );
+    assert!(
+        counters(ok(&s["timings"], "timings"))
+            .iter()
+            .all(Value::is_null)
+    );
+    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// `framelab mcp` with its stdin and stdout piped to the test.

@@ -142,6 +142,8 @@ async def main():
             out["timings_bad"] = await call("timings", capture=e, frames=1000)
             out["diff_timing"] = await call("diff", a=e, b=s2, mode="timing", frames=3)
             out["diff_structure_frames"] = await call("diff", a=e, b=s2, mode="structure", frames=3)
+            out["diff_work"] = await call("diff", a=e, b=s2, mode="work")
+            out["timings_counted"] = await call("timings", capture=e, frames=1, counters=True)
             # A frame of a running program, taken into a folder inside the roots.
             if len(sys.argv) > 4:
                 out["capture_program"] = await call("capture_program", program="vkcube", frame=3, dir=sys.argv[4], timeout=120)
