@@ -367,3 +367,36 @@ fn the_work_diff_names_the_pass_that_does_more() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A dispatch that covers a texture runs one thread per texel (rounded up to its workgroup) at
+/// whatever scale the frame is replayed: the example's tonemap, given `cover` instead of its
+/// 1080p-sized group counts, runs 230400 threads at scale 1 as before, and 15360 at 0.25
+/// (160x90 texels in 8x8 groups) where the fixed counts ran 230400.
+#[test]
+fn a_covering_dispatch_shrinks_with_the_scale() {
+    let dir = temp("cover");
+    let mut capture = crate::common::example_copy(&dir);
+    let tonemap = capture["passes"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|p| p["name"] == "tonemap")
+        .unwrap();
+    tonemap["dispatches"] = serde_json::json!([{"cover": {"resource": "ldr"}}]);
+    let covered = dir.join("frame.json");
+    std::fs::write(&covered, serde_json::to_string_pretty(&capture).unwrap()).unwrap();
+    let threads = |capture: &Path, scale: &str, name: &str| {
+        let r = counted(capture, scale, "1", &dir.join(format!("{name}.json")), &[]);
+        let p = pass(&r, "tonemap");
+        (
+            p["work"]["threads"].as_u64().unwrap(),
+            last(p, "compute_invocations"),
+        )
+    };
+    let example = Path::new("captures/example/frame.json");
+    assert_eq!(threads(example, "1", "fixed1"), (230_400, 230_400));
+    assert_eq!(threads(&covered, "1", "cover1"), (230_400, 230_400));
+    assert_eq!(threads(example, "0.25", "fixed025"), (230_400, 230_400));
+    assert_eq!(threads(&covered, "0.25", "cover025"), (15_360, 15_360));
+    std::fs::remove_dir_all(dir).unwrap();
+}

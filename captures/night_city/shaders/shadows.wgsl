@@ -20,6 +20,7 @@ struct FrameConstants {
 @group(0) @binding(3) var csm: texture_depth_2d_array;
 @group(0) @binding(4) var shadow_compare: sampler_comparison;
 @group(0) @binding(5) var omni_depth: texture_depth_2d;
+@group(0) @binding(6) var point_clamp: sampler;
 
 struct FullscreenOut {
     @builtin(position) clip: vec4<f32>,
@@ -113,16 +114,24 @@ fn fs_sun_shadow(in: FullscreenOut) -> @location(0) f32 {
 }
 
 // Variance shadow map of one omni light: the first two moments of the paraboloid depth,
-// pre-filtered with a 5x5 box so the lighting pass can sample it bilinearly.
+// pre-filtered with a 5x5 box so the lighting pass can sample it bilinearly. The box is read
+// as nine 2x2 gathers over the 6x6 block from -2 to +3 (the last column and row weighted out),
+// a third of the 25 loads; the clamping sampler repeats edge texels as clamped loads did.
 @fragment
 fn fs_omni_vsm(in: FullscreenOut) -> @location(0) vec2<f32> {
-    let c = vec2<i32>(in.clip.xy);
-    let size = vec2<i32>(textureDimensions(omni_depth)) - 1;
+    let c = floor(in.clip.xy);
+    let texel = 1.0 / vec2<f32>(textureDimensions(omni_depth));
     var m = vec2<f32>(0.0);
-    for (var y = -2; y <= 2; y++) {
-        for (var x = -2; x <= 2; x++) {
-            let d = textureLoad(omni_depth, clamp(c + vec2<i32>(x, y), vec2<i32>(0), size), 0);
-            m += vec2<f32>(d, d * d);
+    for (var gy = 0; gy < 3; gy++) {
+        for (var gx = 0; gx < 3; gx++) {
+            // The corner shared by texels (c - 2 + 2g) and (c - 1 + 2g).
+            let corner = (c + vec2<f32>(f32(2 * gx - 1), f32(2 * gy - 1))) * texel;
+            // x: (left, bottom), y: (right, bottom), z: (right, top), w: (left, top).
+            let g = textureGather(omni_depth, point_clamp, corner);
+            let right = select(1.0, 0.0, gx == 2);
+            let bottom = select(1.0, 0.0, gy == 2);
+            let w = vec4<f32>(bottom, right * bottom, right, 1.0);
+            m += vec2<f32>(dot(g, w), dot(g * g, w));
         }
     }
     return m / 25.0;

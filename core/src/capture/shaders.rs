@@ -48,6 +48,8 @@ pub struct EntryPoint {
     pub vertex_inputs: BTreeSet<u32>,
     /// (texture, sampler) variable pairs it samples with, directly or in functions it calls.
     pub sampling: BTreeSet<(String, String)>,
+    /// `@workgroup_size` (compute entry points; 0s otherwise).
+    pub workgroup_size: [u32; 3],
 }
 
 /// What framelab reads from a shader, as plain data.
@@ -207,6 +209,7 @@ pub fn reflect(shader: &ValidatedShader) -> ShaderInterface {
                 globals,
                 vertex_inputs: inputs,
                 sampling,
+                workgroup_size: e.workgroup_size,
             },
         );
     }

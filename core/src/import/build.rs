@@ -819,6 +819,7 @@ impl Builder {
             entry: None,
             groups: d.groups,
             indirect,
+            cover: None,
             pipeline,
             vulkan_state,
             params: BTreeMap::new(),

@@ -94,6 +94,12 @@ pub struct Dispatch {
     pub groups: Option<[u32; 3]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub indirect: Option<IndirectArgs>,
+    /// Instead of `groups`: enough thread groups for one thread per texel of this texture as
+    /// replayed (its size at `--scale`), over the entry point's workgroup size, rounded up. A
+    /// frame recorded at one resolution then dispatches what the replayed one needs, not
+    /// threads that write nothing.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cover: Option<Cover>,
     /// The Vulkan pipeline bound when an imported dispatch was recorded (`vulkan.pipelines`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pipeline: Option<String>,
@@ -103,6 +109,16 @@ pub struct Dispatch {
     /// Per-dispatch parameters overriding the pass's.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub params: BTreeMap<String, ParamValue>,
+}
+
+/// The texture (and mip) a dispatch covers with one thread per texel: width, height, and depth
+/// (3D) or array layers.
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Cover {
+    pub resource: String,
+    #[serde(default)]
+    pub mip: u32,
 }
 
 /// A copy: buffer to buffer, buffer to texture, texture to buffer or texture to texture.

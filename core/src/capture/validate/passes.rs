@@ -53,9 +53,17 @@ impl<'a> Validator<'a> {
                 continue;
             }
             match self.check_pass(i, p, &path, resources.as_deref(), heaps, meshes.as_deref()) {
-                Some(pass) => {
-                    if let Some(shader) = &pass.shader {
-                        self.check_shader_use(p, shader.id, &path);
+                Some(mut pass) => {
+                    if let Some(id) = pass.shader.as_ref().map(|s| s.id) {
+                        self.check_shader_use(p, id, &path);
+                        let interface = self.shaders[id.index()].interface.clone();
+                        self.cover_dispatches(
+                            p,
+                            &mut pass,
+                            &interface,
+                            resources.as_deref(),
+                            &path,
+                        );
                     }
                     // The analysis tracks every subresource each access touches.
                     uses += pass

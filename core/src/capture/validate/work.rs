@@ -1,15 +1,18 @@
 //! The work a pass records: draws (meshes, counts, instances, indirect arguments, stencil
-//! references) and dispatches (group counts against the limits, indirect arguments).
+//! references) and dispatches (group counts against the limits, indirect arguments, the
+//! texture a dispatch covers resolved to group counts at the replayed scale).
 
 use super::passes::PassContext;
 use super::{DISPATCH_ARGS, DRAW_ARGS, DRAW_INDEXED_ARGS, Validator};
 use crate::capture::diag::JsonPath;
+use crate::capture::format::ResourceKind;
 use crate::capture::format::StepMode;
 use crate::capture::format::{Access, Draw, Pass, PassKind};
 use crate::capture::model::{
-    AccessSource, DispatchDesc, DrawDesc, MeshDesc, MeshId, ResourceAccess, ResourceDesc,
+    AccessSource, DispatchDesc, DrawDesc, MeshDesc, MeshId, PassDesc, ResourceAccess, ResourceDesc,
     Subresources,
 };
+use crate::capture::shaders::ShaderInterface;
 
 /// Most instances one draw may ask for, and most vertices times instances: a draw of 2^32
 /// instances would replay for hours on a software rasterizer.
@@ -178,15 +181,18 @@ impl<'a> Validator<'a> {
         }
         for (i, d) in p.dispatches.iter().enumerate() {
             let dpath = path.field("dispatches").index(i);
+            let given = [d.groups.is_some(), d.indirect.is_some(), d.cover.is_some()];
             match (&d.groups, &d.indirect) {
-                (Some(_), Some(_)) => {
-                    self.diags
-                        .error("dispatch", &dpath, "give `groups` or `indirect`, not both")
-                }
+                _ if given.iter().filter(|&&g| g).count() > 1 => self.diags.error(
+                    "dispatch",
+                    &dpath,
+                    "give one of `groups`, `indirect` and `cover`",
+                ),
+                (None, None) if d.cover.is_some() => {}
                 (None, None) => self.diags.error(
                     "dispatch",
                     &dpath,
-                    "a dispatch needs `groups` or `indirect`",
+                    "a dispatch needs `groups`, `indirect` or `cover`",
                 ),
                 (Some(g), None) => {
                     let max = self.options.limits.max_dispatch_groups;
@@ -198,7 +204,7 @@ impl<'a> Validator<'a> {
                         );
                     }
                 }
-                (None, Some(_)) => {}
+                (None, Some(_)) | (Some(_), Some(_)) => {}
             }
             let indirect = d.indirect.as_ref().and_then(|ind| {
                 self.check_indirect(
@@ -388,6 +394,87 @@ impl<'a> Validator<'a> {
                 writes: false,
                 source: AccessSource::DrawMesh(i),
             });
+        }
+    }
+
+    /// Resolves each `cover` dispatch of `p` to group counts: its texture's size as replayed
+    /// (at the mip asked for) over the entry point's workgroup size, rounded up. An entry
+    /// point that does not exist is reported where the shader's use is checked.
+    pub(super) fn cover_dispatches(
+        &mut self,
+        p: &Pass,
+        pass: &mut PassDesc,
+        interface: &ShaderInterface,
+        resources: Option<&[ResourceDesc]>,
+        path: &JsonPath,
+    ) {
+        let Some(resources) = resources else { return };
+        for (i, d) in p.dispatches.iter().enumerate() {
+            let Some(c) = &d.cover else { continue };
+            let cpath = path.field("dispatches").index(i).field("cover");
+            let Some(r) = resources.iter().find(|r| r.name == c.resource) else {
+                self.diags.error(
+                    "dispatch",
+                    &cpath.field("resource"),
+                    format!("no resource \"{}\" to cover", c.resource),
+                );
+                continue;
+            };
+            if !r.is_texture() {
+                self.diags.error(
+                    "dispatch",
+                    &cpath.field("resource"),
+                    format!(
+                        "a dispatch covers a texture's texels; \"{}\" is a buffer",
+                        r.name
+                    ),
+                );
+                continue;
+            }
+            if c.mip >= r.mip_levels {
+                self.diags.error(
+                    "dispatch",
+                    &cpath.field("mip"),
+                    format!(
+                        "\"{}\" has {} mip(s), no mip {}",
+                        r.name, r.mip_levels, c.mip
+                    ),
+                );
+                continue;
+            }
+            let entry = d
+                .entry
+                .as_ref()
+                .or(p.shader.as_ref().and_then(|s| s.compute.as_ref()));
+            let Some(size) = entry
+                .and_then(|e| interface.entry_points.get(e))
+                .map(|e| e.workgroup_size)
+                .filter(|s| s.iter().all(|&n| n > 0))
+            else {
+                continue;
+            };
+            let depth = if r.kind == ResourceKind::Texture3D {
+                (r.depth >> c.mip).max(1)
+            } else {
+                r.array_layers.max(1)
+            };
+            let extent = [(r.width >> c.mip).max(1), (r.height >> c.mip).max(1), depth];
+            let groups = [0, 1, 2].map(|k| extent[k].div_ceil(size[k]));
+            let max = self.options.limits.max_dispatch_groups;
+            if groups.iter().any(|&g| g > max) {
+                self.diags.error(
+                    "dispatch",
+                    &cpath,
+                    format!(
+                        "covering \"{}\" takes {groups:?} groups, over {max}",
+                        r.name
+                    ),
+                );
+                continue;
+            }
+            if let Some(slot) = pass.dispatches.get_mut(i) {
+                slot.groups = Some(groups);
+            }
         }
     }
 }

@@ -6,8 +6,8 @@
 use serde_json::{Value, json};
 
 use super::helpers::{
-    GBUFFER, color, compute, fullscreen_pass, groups, raster, sampled, sampled_each, sampler,
-    stencil_view, storage, with,
+    GBUFFER, color, compute, cover, fullscreen_pass, groups, raster, sampled, sampled_each,
+    sampler, stencil_view, storage, with,
 };
 use super::passes::LIGHTS;
 use super::scene::{
@@ -26,7 +26,7 @@ pub(super) fn passes(out: &mut Vec<Value>, day: bool) {
         LIGHTS,
         "composition.wgsl",
         "cs_indirect",
-        vec![groups(240, 135, 1)],
+        vec![cover("indirect", 0)],
         json!({
             "bindings": with(
                 sampled_each(&[&GBUFFER[..], &["env_dual_paraboloid", "sky_cube", "gi_probe_indices", "ao"]].concat()),

@@ -76,6 +76,13 @@ pub(super) fn groups(x: u32, y: u32, z: u32) -> Value {
     json!({ "groups": [x, y, z] })
 }
 
+/// A dispatch of one thread per texel of `resource`'s mip `mip` as replayed: at a reduced
+/// `--scale` it shrinks with the texture instead of running the 1080p frame's threads, most
+/// of which would write nothing (at scale 0.25, 15 in 16).
+pub(super) fn cover(resource: &str, mip: u32) -> Value {
+    json!({ "cover": {"resource": resource, "mip": mip} })
+}
+
 pub(super) fn markers(groups: &[&str]) -> Vec<String> {
     std::iter::once("Frame")
         .chain(groups.iter().copied())

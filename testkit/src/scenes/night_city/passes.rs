@@ -6,8 +6,8 @@
 use serde_json::{Value, json};
 
 use super::helpers::{
-    GBUFFER, color, compute, depth_view, fullscreen, groups, markers, object, raster, sampled,
-    sampled_each, sampler, stencil_view, storage, storage_mip, with,
+    GBUFFER, color, compute, cover, depth_view, fullscreen, groups, markers, object, raster,
+    sampled, sampled_each, sampler, stencil_view, storage, storage_mip, with,
 };
 use super::scene::{
     BOX_INDICES, BUILDINGS, BUILDINGS_PER_BLOCK, CAPSULE_INDICES, DepthOnly, KIND_COUNTS,
@@ -378,7 +378,7 @@ fn masks(out: &mut Vec<Value>) {
     ));
     // 15: noised normal.
     out.push(compute("noised_normal", MASKS, "gbuffer_post.wgsl", "cs_noised_normal",
-        vec![groups(240, 135, 1)],
+        vec![cover("noised_normal", 0)],
         json!({
             "bindings": {"gbuffer_normal": sampled("gbuffer_normal"), "blue_noise": sampled("blue_noise"),
                          "noised_normal": storage("noised_normal", "storage_write")},
@@ -420,7 +420,7 @@ fn masks(out: &mut Vec<Value>) {
         json!({"signal": ["masks_done"]}),
     ));
     // 17: HBAO.
-    out.push(compute("hbao", MASKS, "hbao.wgsl", "cs_hbao", vec![groups(120, 68, 1)], json!({
+    out.push(compute("hbao", MASKS, "hbao.wgsl", "cs_hbao", vec![cover("ao", 0)], json!({
         "bindings": {"depth_half": sampled("depth_half"), "noised_normal": sampled("noised_normal"),
                      "blue_noise": sampled("blue_noise"), "ao": storage("ao", "storage_write")},
         "wait": ["masks_done"], "signal": ["ao_done"],
@@ -648,7 +648,8 @@ fn omni_shadows(out: &mut Vec<Value>) -> Result<(), SceneError> {
         out.push(raster(&format!("omni_shadows_vsm_{i}"), groups_, "shadows.wgsl",
             ("vs_fullscreen", Some("fs_omni_vsm")), vec![with(color("omni_vsm"), json!({"layer": i}))],
             with(json!({
-                "bindings": {"omni_depth": with(sampled("omni_depth"), json!({"format": "R32_FLOAT"}))},
+                "bindings": {"omni_depth": with(sampled("omni_depth"), json!({"format": "R32_FLOAT"})),
+                             "point_clamp": sampler("point_clamp")},
                 "draws": [fullscreen(&format!("moments of light {i}"))],
             }), rest)));
     }

@@ -7,7 +7,7 @@ use serde_json::{Value, json};
 
 use super::composition::transparent_holo;
 use super::helpers::{
-    color, compute, fullscreen_pass, groups, markers, object, sampled, sampler, storage,
+    color, compute, cover, fullscreen_pass, groups, markers, object, sampled, sampler, storage,
     storage_mip, with,
 };
 use super::scene::SceneError;
@@ -91,11 +91,11 @@ fn taa(out: &mut Vec<Value>) {
             "signal": ["taa_read"],
         }),
     ));
-    let per_mip = || {
+    let per_mip = |to: &str| {
         (0..3u32)
             .map(|m| {
                 with(
-                    tiles(960 >> m, 540 >> m),
+                    cover(to, m),
                     json!({"label": format!("mip {m}"), "params": {"mip": m}}),
                 )
             })
@@ -120,7 +120,7 @@ fn taa(out: &mut Vec<Value>) {
             steps,
             "taa.wgsl",
             entry,
-            per_mip(),
+            per_mip(to),
             json!({
                 "bindings": with(mips(to), json!({"blur_source": sampled(from)})),
                 "params": {"mip": 0},
@@ -153,7 +153,7 @@ fn post_taa(out: &mut Vec<Value>) {
         steps,
         "post.wgsl",
         "cs_post_sharpen",
-        vec![tiles(1920, 1080)],
+        vec![cover("post_sharpened", 0)],
         json!({
             "bindings": {
                 "composite_post": sampled("composite_post"),
@@ -228,7 +228,10 @@ fn bloom(out: &mut Vec<Value>) {
             steps,
             "post.wgsl",
             entry,
-            vec![with(tiles(w, h), json!({"label": format!("{w}x{h}")}))],
+            vec![with(
+                cover("bloom_chain", level),
+                json!({"label": format!("{w}x{h} at 1080p")}),
+            )],
             with(
                 json!({
                     "bindings": with(bindings, json!({
@@ -303,7 +306,7 @@ fn gui_grain_present(out: &mut Vec<Value>) {
         gui,
         "present.wgsl",
         "cs_gui_glow",
-        vec![tiles(480, 270)],
+        vec![cover("gui_glow", 0)],
         json!({
             "bindings": {"gui_overlay": sampled("gui_overlay"), "linear_clamp": sampler("linear_clamp"),
                          "gui_glow_out": storage("gui_glow", "storage_write")},
@@ -324,7 +327,7 @@ fn gui_grain_present(out: &mut Vec<Value>) {
         grain,
         "present.wgsl",
         "cs_film_grain",
-        vec![tiles(1920, 1080)],
+        vec![cover("final", 0)],
         json!({
             "bindings": {
                 "ldr": sampled("ldr"),
