@@ -88,26 +88,29 @@ fn store_mip(mip: u32, p: vec2<u32>, layer: u32, c: vec4<f32>) {
     }
 }
 
-// One dispatch per mip; z is the probe (array layer).
+// One dispatch per mip. z 0 is the captured probe (layer 0); z 1 the distant probes (every
+// other layer), which all see the same sky and differ only by a ground term below the
+// horizon: each texel samples the sky once and writes it to every distant layer, where one
+// invocation per layer sampled the same texel 31 times.
 @compute @workgroup_size(8, 8, 1)
 fn cs_dual_paraboloid(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(max(512u >> params.mip, 1u), max(256u >> params.mip, 1u));
-    if (any(id.xy >= size)) {
+    if (any(id.xy >= size) || id.z > 1u) {
         return;
     }
     let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(size);
     let dir = paraboloid_direction(uv);
     let roughness = f32(params.mip) / f32(max(params.mip_count - 1u, 1u));
-    var c: vec3<f32>;
     if (id.z == 0u) {
-        c = prefilter_capture(dir, roughness);
-    } else {
-        let sky_mips = f32(textureNumLevels(sky_cube) - 1u);
-        c = textureSampleLevel(sky_cube, linear_clamp, dir, roughness * sky_mips).rgb;
+        store_mip(params.mip, id.xy, 0u, vec4<f32>(prefilter_capture(dir, roughness), 1.0));
+        return;
+    }
+    let sky_mips = f32(textureNumLevels(sky_cube) - 1u);
+    let c = textureSampleLevel(sky_cube, linear_clamp, dir, roughness * sky_mips).rgb;
+    for (var layer = 1u; layer < textureNumLayers(dp_mip_0); layer++) {
         // Distant probes sit over the hills or the water: darken the lower hemisphere by
         // a ground term that varies per probe.
-        let ground = 0.3 + 0.5 * fract(f32(id.z) * 0.618);
-        c = select(c, c * ground, dir.y < 0.0);
+        let ground = 0.3 + 0.5 * fract(f32(layer) * 0.618);
+        store_mip(params.mip, id.xy, layer, vec4<f32>(select(c, c * ground, dir.y < 0.0), 1.0));
     }
-    store_mip(params.mip, id.xy, id.z, vec4<f32>(c, 1.0));
 }

@@ -187,7 +187,7 @@ fn pre_geometry(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError> {
 fn terrain_and_ocean(out: &mut Vec<Value>, day: bool) {
     // 7: terrain layer maps, two chunks.
     let chunk = |label: &str, x: i32| {
-        json!({"label": label, "mesh": "terrain_chunk",
+        json!({"label": format!("{label} (LOD 4x4)"), "mesh": "terrain_chunk_lod",
                "params": {"offset": [x, 0, 0, 0], "scale": [1, 1, 2, 0]}})
     };
     out.push(raster("terrain", PRE, "terrain.wgsl", ("vs_map", Some("fs_layers")),
@@ -780,7 +780,8 @@ fn environment_capture(out: &mut Vec<Value>) -> Result<(), SceneError> {
     let dispatches = (0..6u32)
         .map(|m| {
             with(
-                groups((64u32 >> m).max(1), (32u32 >> m).max(1), 32),
+                // z: the captured probe, then all the distant ones (see the shader).
+                groups((64u32 >> m).max(1), (32u32 >> m).max(1), 2),
                 json!({"label": format!("mip {m}"), "params": {"mip": m, "mip_count": 6}}),
             )
         })

@@ -95,6 +95,16 @@ pub(super) fn meshes() -> Vec<Value> {
             json!({"size": 300, "divisions": 48}),
             "uint32",
         ),
+        // A terrain chunk's footprint in 4x4 cells: the layer maps see chunks from above, where
+        // every attribute is affine across the chunk, so the 48x48 grid only multiplied the
+        // fragments shaded along its triangles' edges (1.8 per texel).
+        mesh(
+            "terrain_chunk_lod",
+            "grid",
+            23,
+            json!({"size": 300, "divisions": 4}),
+            "uint32",
+        ),
         mesh(
             "water",
             "water_plate",
