@@ -91,7 +91,12 @@ fn vs_ocean(@location(0) position: vec4<f32>) -> MapOut {
 fn fs_ocean(in: MapOut) -> @location(0) f32 {
     let big = textureSample(ocean_wave_noise, linear_wrap, in.world / TILE_METRES).x;
     let small = textureSample(ocean_wave_noise, linear_wrap, in.world / (TILE_METRES * 0.23) + 0.37).x;
-    let water = textureSample(ocean_mask, linear_clamp, vec2<f32>(in.uv.x, 1.0 - in.uv.y)).r;
+    // The mask maps texel for texel onto the height map, so each fragment sits on a texel's
+    // centre, where filtering returns that texel: fetch it, one BC7 block decoded instead of
+    // the four a bilinear footprint decodes.
+    let mask_size = vec2<f32>(textureDimensions(ocean_mask));
+    let texel = vec2<i32>(vec2<f32>(in.uv.x, 1.0 - in.uv.y) * mask_size);
+    let water = textureLoad(ocean_mask, clamp(texel, vec2<i32>(0), vec2<i32>(mask_size) - 1), 0).r;
     let h = (big + small * 0.3) * mix(0.15, 1.0, water);
     return clamp(0.5 + h * 0.6, 0.0, 1.0);
 }

@@ -231,8 +231,7 @@ fn terrain_and_ocean(out: &mut Vec<Value>, day: bool) {
         json!({
             "bindings": {"ocean_wave_noise": sampled("ocean_wave_noise"),
                          "ocean_mask": sampled("ocean_mask"),
-                         "linear_wrap": sampler("linear_wrap"),
-                         "linear_clamp": sampler("linear_clamp")},
+                         "linear_wrap": sampler("linear_wrap")},
             "params": {"band": 0, "offset": [0, 0, 380, 0], "scale": [1, 1, 1, 0]},
             "state": {"cull": "none"},
             "draws": [{"label": "water plates (LOD 4x4)", "mesh": "water_lod"}],
