@@ -318,9 +318,23 @@ fn vs_terrain(v: VertexIn) -> VertexOut {
     return terrain_vertex(v);
 }
 
+// Shadow views of the ground: its shape without the normal, whose four more heights (eight
+// fbm evaluations) nothing in a depth-only or distance-only view reads.
+@vertex
+fn vs_terrain_depth(v: VertexIn) -> VertexOut {
+    let world = terrain_world(v);
+    return finish(base_out(v), world, world);
+}
+
 @vertex
 fn vs_omni_terrain(v: VertexIn) -> VertexOut {
-    return to_paraboloid(terrain_vertex(v));
+    let world = terrain_world(v);
+    return to_paraboloid(finish(base_out(v), world, world));
+}
+
+fn terrain_world(v: VertexIn) -> vec3<f32> {
+    let local = decode_position(v.position) * params.scale.xyz + params.offset.xyz;
+    return vec3<f32>(local.x, terrain_height(local.xz), local.z);
 }
 
 fn terrain_vertex(v: VertexIn) -> VertexOut {

@@ -436,14 +436,25 @@ pub(super) fn opaque_gbuffer(draws: Vec<Value>) -> Vec<Value> {
         .collect()
 }
 
-/// A pass that only lays depth with `fs_depth` (its alpha test), opaque draws without it.
+/// A pass that only lays depth with `fs_depth` (its alpha test), opaque draws without it, and
+/// the ground without the normal only shading would read (`vs_terrain_depth`). The depth
+/// pre-pass keeps `vs_terrain`: base_material tests its depth for equality with the same
+/// vertex shader's.
 pub(super) fn depth_only(
     p: DepthOnly<'_>,
     draws: Vec<Value>,
     params: Value,
     rest: Value,
 ) -> Result<Value, SceneError> {
-    let draws = opaque_depth_only(draws);
+    let draws: Vec<Value> = opaque_depth_only(draws)
+        .into_iter()
+        .map(|mut dr| {
+            if dr["vertex"] == "vs_terrain" && dr["depth_only"] == true {
+                dr["vertex"] = json!("vs_terrain_depth");
+            }
+            dr
+        })
+        .collect();
     let cull = if p.cull_back { "back" } else { "none" };
     let mut state = json!({"depth_compare": "less_equal", "depth_write": true, "cull": cull});
     if let Some((constant, slope)) = p.bias {
