@@ -6,6 +6,9 @@
 struct Params {
     mip: u32,
     mip_count: u32,
+    // Array layers of the probe array (a storage texture's layer count is not queried: naga
+    // emits a size-with-LOD query the SPIR-V rules allow on sampled images only).
+    layers: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -107,7 +110,7 @@ fn cs_dual_paraboloid(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let sky_mips = f32(textureNumLevels(sky_cube) - 1u);
     let c = textureSampleLevel(sky_cube, linear_clamp, dir, roughness * sky_mips).rgb;
-    for (var layer = 1u; layer < textureNumLayers(dp_mip_0); layer++) {
+    for (var layer = 1u; layer < params.layers; layer++) {
         // Distant probes sit over the hills or the water: darken the lower hemisphere by
         // a ground term that varies per probe.
         let ground = 0.3 + 0.5 * fract(f32(layer) * 0.618);

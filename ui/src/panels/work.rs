@@ -40,7 +40,7 @@ pub fn section(ui: &mut egui::Ui, t: Option<&Timings>, i: usize) {
     let counters = t.and_then(|t| t.passes.get(i).copied().flatten()?.counters);
     let work: Option<Work> = t.and_then(|t| t.work.get(i).cloned().flatten());
     let n = usize::from(counters.is_some()) * 5 + usize::from(work.is_some()) * 4;
-    egui::CollapsingHeader::new(format!("Work ({n})"))
+    egui::CollapsingHeader::new(format!("Counters ({n})"))
         .default_open(counters.is_some())
         .show(ui, |ui| {
             if counters.is_none() && work.is_none() {

@@ -786,7 +786,7 @@ fn environment_capture(out: &mut Vec<Value>) -> Result<(), SceneError> {
         })
         .collect();
     out.push(compute("env_capture_paraboloid", groups_, "env.wgsl", "cs_dual_paraboloid", dispatches,
-        json!({"bindings": object(dp), "params": {"mip": 0, "mip_count": 6}, "wait": ["env_captured"]})));
+        json!({"bindings": object(dp), "params": {"mip": 0, "mip_count": 6, "layers": 32}, "wait": ["env_captured"]})));
     Ok(())
 }
 
