@@ -107,12 +107,12 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
                         Pos2::new(x, r.top()),
                         Pos2::new(x + r.width() / 12.0 + 0.5, r.bottom()),
                     );
-                    let v = (most.ln_1p() * f64::from(k) / 11.0).exp_m1();
+                    let v = most * f64::from(k) / 11.0;
                     ui.painter()
                         .rect_filled(cell, 0.0, super::work::ramp(v, most));
                 }
                 ui.weak(format!(
-                    "0 .. {} {} (log scale; grey: not counted)",
+                    "0 .. {} {} (grey: not counted)",
                     if m == 5 {
                         format!("{most:.2}")
                     } else {

@@ -23,11 +23,11 @@ pub fn measure(t: &Timings, i: usize, m: usize) -> Option<f64> {
     }
 }
 
-/// A colour from dark blue (the frame's least) to orange-red (its most), by the value's place
-/// between them on a log scale: counts span orders of magnitude.
+/// A colour from dark blue (none) to orange-red (the frame's most), by the value's share of
+/// the most: the passes that do the frame's work stand out, as bars of its time do.
 pub fn ramp(value: f64, max: f64) -> Color32 {
-    let x = if max > 1.0 && value > 0.0 {
-        ((value.ln_1p()) / max.ln_1p()).clamp(0.0, 1.0) as f32
+    let x = if max > 0.0 {
+        (value / max).clamp(0.0, 1.0) as f32
     } else {
         0.0
     };
