@@ -170,6 +170,34 @@ pub fn example_copy(dir: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(example.join("frame.json")).unwrap()).unwrap()
 }
 
+/// Writes `dir/frame.json`: the example with its pass `name` changed by `change`, its shaders
+/// beside it; returns the file.
+pub fn example_changed(
+    dir: &std::path::Path,
+    name: &str,
+    change: impl FnOnce(&mut serde_json::Value),
+) -> PathBuf {
+    let mut capture = example_copy(dir);
+    let pass = capture["passes"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|p| p["name"] == name)
+        .unwrap_or_else(|| panic!("the example has no pass {name}"));
+    change(pass);
+    let file = dir.join("frame.json");
+    std::fs::write(&file, serde_json::to_string_pretty(&capture).unwrap()).unwrap();
+    file
+}
+
+/// The example with its bloom threshold pass drawing its fullscreen triangle eight times.
+pub fn example_with_bloom_drawn_eight_times(dir: &std::path::Path) -> PathBuf {
+    example_changed(dir, "bloom_extract", |bloom| {
+        let fullscreen = bloom["draws"][0].clone();
+        bloom["draws"] = serde_json::Value::Array(vec![fullscreen; 8]);
+    })
+}
+
 /// A virtual X server for a program's window, stopped when dropped.
 pub struct Display {
     child: std::process::Child,

@@ -209,20 +209,7 @@ fn two_replays_of_each_bundled_capture_count_the_same() {
 #[test]
 fn the_work_diff_names_the_pass_that_does_more() {
     let dir = temp("work-diff");
-    let mut capture = crate::common::example_copy(&dir);
-    let bloom = capture["passes"]
-        .as_array_mut()
-        .unwrap()
-        .iter_mut()
-        .find(|p| p["name"] == "bloom_extract")
-        .unwrap();
-    let fullscreen = bloom["draws"][0].clone();
-    let draws = bloom["draws"].as_array_mut().unwrap();
-    for _ in 0..7 {
-        draws.push(fullscreen.clone());
-    }
-    let heavier = dir.join("frame.json");
-    std::fs::write(&heavier, serde_json::to_string_pretty(&capture).unwrap()).unwrap();
+    let heavier = crate::common::example_with_bloom_drawn_eight_times(&dir);
     let example = "captures/example/frame.json";
     let scale = ["--scale", "0.25"];
 
@@ -375,16 +362,9 @@ fn the_work_diff_names_the_pass_that_does_more() {
 #[test]
 fn a_covering_dispatch_shrinks_with_the_scale() {
     let dir = temp("cover");
-    let mut capture = crate::common::example_copy(&dir);
-    let tonemap = capture["passes"]
-        .as_array_mut()
-        .unwrap()
-        .iter_mut()
-        .find(|p| p["name"] == "tonemap")
-        .unwrap();
-    tonemap["dispatches"] = serde_json::json!([{"cover": {"resource": "ldr"}}]);
-    let covered = dir.join("frame.json");
-    std::fs::write(&covered, serde_json::to_string_pretty(&capture).unwrap()).unwrap();
+    let covered = crate::common::example_changed(&dir, "tonemap", |tonemap| {
+        tonemap["dispatches"] = serde_json::json!([{"cover": {"resource": "ldr"}}]);
+    });
     let threads = |capture: &Path, scale: &str, name: &str| {
         let r = counted(capture, scale, "1", &dir.join(format!("{name}.json")), &[]);
         let p = pass(&r, "tonemap");

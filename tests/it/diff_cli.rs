@@ -112,20 +112,7 @@ fn replayed_captures_are_compared_interleaved() {
     );
 
     let dir = temp("heavier");
-    let mut capture = crate::common::example_copy(&dir);
-    let bloom = capture["passes"]
-        .as_array_mut()
-        .unwrap()
-        .iter_mut()
-        .find(|p| p["name"] == "bloom_extract")
-        .unwrap();
-    let fullscreen = bloom["draws"][0].clone();
-    let draws = bloom["draws"].as_array_mut().unwrap();
-    for _ in 0..7 {
-        draws.push(fullscreen.clone());
-    }
-    let heavier = dir.join("frame.json");
-    std::fs::write(&heavier, capture.to_string()).unwrap();
+    let heavier = crate::common::example_with_bloom_drawn_eight_times(&dir);
     let out = framelab(
         &[
             &[

@@ -62,25 +62,12 @@ impl Statistics {
                 })
             })
             .collect();
-        let size = u64::from(queries) * QUERY_BYTES;
-        let buffer = |label, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
+        let (resolve, staging) =
+            super::stamps::query_buffers(device, u64::from(queries) * QUERY_BYTES, "statistics");
         Some(Statistics {
             sets,
-            resolve: buffer(
-                "statistics resolve",
-                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            ),
-            staging: buffer(
-                "statistics readback",
-                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            ),
+            resolve,
+            staging,
         })
     }
 
@@ -133,14 +120,7 @@ impl Statistics {
             u64::from(plan.count) * QUERY_BYTES,
             "pipeline statistics",
         )?;
-        let values: Vec<u64> = bytes
-            .chunks_exact(8)
-            .map(|c| {
-                let mut le = [0u8; 8];
-                le.copy_from_slice(c);
-                u64::from_le_bytes(le)
-            })
-            .collect();
+        let values = super::stamps::u64s(&bytes);
         Ok(plan
             .slots
             .iter()

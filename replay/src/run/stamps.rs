@@ -79,24 +79,11 @@ impl Timestamps {
             })
             .collect();
         let size = u64::from(set_count) * u64::from(PER_SET) * 8;
-        let buffer = |label, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
+        let (resolve, staging) = query_buffers(device, size, "timestamp");
         Some(Timestamps {
             sets,
-            resolve: buffer(
-                "timestamp resolve",
-                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            ),
-            staging: buffer(
-                "timestamp readback",
-                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            ),
+            resolve,
+            staging,
             inside_encoders: features.contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS),
             pairs: false,
         })
@@ -140,15 +127,46 @@ impl Timestamps {
             u64::from(plan.count) * 8,
             "timestamps",
         )?;
-        Ok(bytes
-            .chunks_exact(8)
-            .map(|c| {
-                let mut le = [0u8; 8];
-                le.copy_from_slice(c);
-                u64::from_le_bytes(le)
-            })
-            .collect())
+        Ok(u64s(&bytes))
     }
+}
+
+/// The buffer a query set resolves into and the mappable copy read back, `size` bytes each.
+pub(super) fn query_buffers(
+    device: &wgpu::Device,
+    size: u64,
+    what: &str,
+) -> (wgpu::Buffer, wgpu::Buffer) {
+    let buffer = |label: String, usage| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(&label),
+            size,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    (
+        buffer(
+            format!("{what} resolve"),
+            wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        ),
+        buffer(
+            format!("{what} readback"),
+            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        ),
+    )
+}
+
+/// Resolved query values: little-endian u64s.
+pub(super) fn u64s(bytes: &[u8]) -> Vec<u64> {
+    bytes
+        .chunks_exact(8)
+        .map(|c| {
+            let mut le = [0u8; 8];
+            le.copy_from_slice(c);
+            u64::from_le_bytes(le)
+        })
+        .collect()
 }
 
 /// Assigns queries to passes, given for each whether it has a pass object (raster, compute)
