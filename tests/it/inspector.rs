@@ -909,3 +909,51 @@ fn an_imported_frame_opens_on_its_presented_image_with_its_pipelines() {
     drop(h);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// The frames the inspector times are counted: the pass details show a pass's counters, and
+/// the timeline can be coloured by any of them, with a legend saying which.
+#[test]
+fn the_timed_frame_is_counted_and_colours_the_timeline() {
+    let mut h = open("captures/example/frame.json");
+    let model = h.state().model.clone();
+    let bloom = model.pass_named("bloom_extract").unwrap();
+    let timings = h.state().timings.clone().expect("live timings");
+    let counts = timings.passes[bloom]
+        .and_then(|t| t.counters)
+        .expect("bloom_extract counted");
+    // A fullscreen triangle: 3 vertices, one primitive in.
+    assert_eq!(counts[..2], [3, 1]);
+    let area = timings.work[bloom].as_ref().unwrap().render_area;
+    assert!(
+        counts[3] >= area,
+        "{} fragments over {area} pixels",
+        counts[3]
+    );
+    // A copy pass has no counters.
+    let upload = model.pass_named("upload_noise").unwrap();
+    assert!(timings.passes[upload].is_none_or(|t| t.counters.is_none()));
+
+    h.get_by_label("bloom_extract").click();
+    settle(&mut h);
+    assert!(h.query_by_label_contains("Counters (9)").is_some());
+    let fragments = format!(
+        "{} ({})",
+        counts[3],
+        framelab_core::timing::counters::short(counts[3])
+    );
+    assert!(h.query_by_label(&fragments).is_some(), "{fragments} shown");
+    assert!(
+        h.query_by_label_contains("overdraw (fragments per pixel)")
+            .is_some()
+    );
+
+    h.get_by_label("Timeline").click();
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("colour by").is_some());
+    h.state_mut().color_timeline_by(3);
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains("fragment_invocations (grey: not counted)")
+            .is_some()
+    );
+}
