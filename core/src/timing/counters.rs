@@ -95,6 +95,25 @@ pub struct Work {
     pub threads: u64,
 }
 
+impl Work {
+    /// Adds one draw: `count` vertices or indices per instance, or an indirect one (its counts
+    /// are in a GPU buffer, so it is counted as a draw only).
+    pub fn add_draw(&mut self, indirect: bool, instances: u32, count: u32, indexed: bool) {
+        self.draws += 1;
+        if indirect {
+            self.indirect += 1;
+            return;
+        }
+        self.instances += u64::from(instances);
+        let drawn = u64::from(count) * u64::from(instances);
+        if indexed {
+            self.indices += drawn;
+        } else {
+            self.vertices += drawn;
+        }
+    }
+}
+
 /// Ratios read directly off a pass's counters and work.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
 pub struct Ratios {

@@ -60,8 +60,8 @@ pub(super) fn binding_slot(module: &naga::Module, variable: &str) -> Option<(u32
 
 /// Which bind-group set each draw or dispatch uses: 0 (the pass's) or, when it has its own
 /// parameters, the next one made for its pipeline (keyed by entry point).
-pub(super) fn set_indices<'k>(items: impl Iterator<Item = (&'k str, bool)>) -> Vec<usize> {
-    let mut next: BTreeMap<&str, usize> = BTreeMap::new();
+pub(super) fn set_indices<K: Ord>(items: impl Iterator<Item = (K, bool)>) -> Vec<usize> {
+    let mut next: BTreeMap<K, usize> = BTreeMap::new();
     items
         .map(|(key, own)| {
             if own {

@@ -7,7 +7,7 @@ use framelab_core::plan::{
 };
 
 use super::create::{extent, texel};
-use super::pipelines::{buffer_layout, raster_key};
+use super::pipelines::{Stages, buffer_layout};
 use super::stamps::Stamps;
 
 /// The pipeline statistics query a pass writes, if the frame counts it (see `counters`).
@@ -173,9 +173,9 @@ impl Session {
         }
         rp.set_stencil_reference(r.stencil_reference);
         for (d, set) in r.draws.iter().zip(draw_groups).take(self.steps()) {
-            let key = raster_key(d, r);
+            let key = Stages::of(d, r);
             let (Some(pipeline), Some(sets)) = (pipelines.get(&key), groups.get(&key)) else {
-                return Err(EncodeError::NoPipeline(key));
+                return Err(EncodeError::NoPipeline(key.to_string()));
             };
             rp.set_pipeline(pipeline);
             for (g, bg) in &sets[*set][parity] {

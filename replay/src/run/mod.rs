@@ -78,10 +78,10 @@ type Groups = [Vec<(u32, wgpu::BindGroup)>; 2];
 
 enum Prepared {
     Raster {
-        pipelines: BTreeMap<String, wgpu::RenderPipeline>,
-        /// Bind groups per vertex entry point, per draw (draws with their own parameters get
-        /// their own groups; index 0 is the pass's).
-        groups: BTreeMap<String, Vec<Groups>>,
+        pipelines: BTreeMap<pipelines::Stages, wgpu::RenderPipeline>,
+        /// Bind groups per pipeline, per draw (draws with their own parameters get their own
+        /// groups; index 0 is the pass's).
+        groups: BTreeMap<pipelines::Stages, Vec<Groups>>,
         draw_groups: Vec<usize>,
     },
     Compute {

@@ -42,15 +42,33 @@ pub(super) fn buffer_layout<'a>(
     }
 }
 
-/// The pipeline a raster draw uses: its vertex entry point, with its own fragment entry point
-/// or without a fragment stage when it has them (entry point names hold no spaces, so keys
-/// never meet).
-pub(super) fn raster_key(d: &DrawOp, r: &RasterOp) -> String {
-    let vertex = d.vertex.as_ref().unwrap_or(&r.vertex);
-    match (&d.fragment, d.depth_only) {
-        (_, true) => format!("{vertex} (depth only)"),
-        (Some(f), false) => format!("{vertex} + {f}"),
-        (None, false) => vertex.clone(),
+/// The stages a raster draw's pipeline runs, which tell its pipelines apart: the draw's vertex
+/// entry point (else the pass's) and its fragment entry point (the draw's own, else the
+/// pass's; none for a depth-only draw).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) struct Stages {
+    pub vertex: String,
+    pub fragment: Option<String>,
+}
+
+impl Stages {
+    pub fn of(d: &DrawOp, r: &RasterOp) -> Stages {
+        Stages {
+            vertex: d.vertex.clone().unwrap_or_else(|| r.vertex.clone()),
+            fragment: match d.depth_only {
+                true => None,
+                false => d.fragment.clone().or_else(|| r.fragment.clone()),
+            },
+        }
+    }
+}
+
+impl std::fmt::Display for Stages {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.fragment {
+            Some(fragment) => write!(f, "{} + {fragment}", self.vertex),
+            None => write!(f, "{} (no fragment stage)", self.vertex),
+        }
     }
 }
 
@@ -90,23 +108,14 @@ impl Session {
             pass: name.to_owned(),
             message,
         };
-        // Pipelines only for the vertex entry points some draw uses (the pass's default entry
-        // may be overridden by every draw, and then has no mesh to take a layout from).
-        // (key, vertex entry, fragment entry) of each pipeline.
-        let mut entries: BTreeSet<(String, String, Option<String>)> = r
-            .draws
-            .iter()
-            .map(|d| {
-                let fragment = match d.depth_only {
-                    true => None,
-                    false => d.fragment.clone().or_else(|| r.fragment.clone()),
-                };
-                let vertex = d.vertex.clone().unwrap_or_else(|| r.vertex.clone());
-                (raster_key(d, r), vertex, fragment)
-            })
-            .collect();
+        // Pipelines only for the stages some draw uses (the pass's default entry may be
+        // overridden by every draw, and then has no mesh to take a layout from).
+        let mut entries: BTreeSet<Stages> = r.draws.iter().map(|d| Stages::of(d, r)).collect();
         if entries.is_empty() {
-            entries.insert((r.vertex.clone(), r.vertex.clone(), r.fragment.clone()));
+            entries.insert(Stages {
+                vertex: r.vertex.clone(),
+                fragment: r.fragment.clone(),
+            });
         }
         let targets: Vec<Option<wgpu::ColorTargetState>> = r
             .color
@@ -134,14 +143,14 @@ impl Session {
             r.shader,
             entries
                 .iter()
-                .flat_map(|(_, v, f)| std::iter::once(v).chain(f))
+                .flat_map(|s| std::iter::once(&s.vertex).chain(&s.fragment))
                 .chain(r.fragment.iter()),
         );
         let pass_params = self.params_buffer(name, r.shader, &r.params, &all_used)?;
-        for (key, vertex, fragment) in &entries {
+        for key in &entries {
             // A depth-only draw's pipeline has no fragment stage, so binds only what the
             // vertex stage reads.
-            let fragment = fragment.as_ref();
+            let (vertex, fragment) = (&key.vertex, key.fragment.as_ref());
             let mut used = m
                 .reflection
                 .globals_used_by(vertex)
@@ -219,7 +228,7 @@ impl Session {
             let own = r
                 .draws
                 .iter()
-                .filter(|d| !d.params.is_empty() && &raster_key(d, r) == key)
+                .filter(|d| !d.params.is_empty() && &Stages::of(d, r) == key)
                 .map(|d| &d.params);
             let layout = |g| pipeline.get_bind_group_layout(g);
             let sets = self.group_sets(
@@ -234,11 +243,10 @@ impl Session {
             groups.insert(key.clone(), sets);
             pipelines.insert(key.clone(), pipeline);
         }
-        let keys: Vec<String> = r.draws.iter().map(|d| raster_key(d, r)).collect();
         let draw_groups = set_indices(
-            keys.iter()
-                .zip(&r.draws)
-                .map(|(k, d)| (k.as_str(), !d.params.is_empty())),
+            r.draws
+                .iter()
+                .map(|d| (Stages::of(d, r), !d.params.is_empty())),
         );
         Ok(Prepared::Raster {
             pipelines,

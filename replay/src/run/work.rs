@@ -17,45 +17,29 @@ impl Session {
         match &pass.op {
             PassOp::Raster(r) => {
                 w.render_area = self.render_area(&r.color, r.depth.as_ref());
-                w.draws = r.draws.len() as u64;
                 for d in &r.draws {
-                    if d.indirect.is_some() {
-                        w.indirect += 1;
-                        continue;
-                    }
                     let mesh = d.mesh.map(|m| &self.meshes[m]);
                     let instances = if d.instances == 1 {
                         mesh.map_or(1, |m| m.instance_count.max(1))
                     } else {
                         d.instances
                     };
-                    w.instances += u64::from(instances);
-                    match mesh.and_then(|m| m.index.as_ref()) {
-                        Some((_, _, n)) => {
-                            w.indices += u64::from(d.count.unwrap_or(*n)) * u64::from(instances)
-                        }
-                        None => {
-                            let count = d.count.or(mesh.map(|m| m.vertex_count)).unwrap_or(3);
-                            w.vertices += u64::from(count) * u64::from(instances);
-                        }
-                    }
+                    let (count, indexed) = match mesh.and_then(|m| m.index.as_ref()) {
+                        Some((_, _, n)) => (d.count.unwrap_or(*n), true),
+                        None => (d.count.or(mesh.map(|m| m.vertex_count)).unwrap_or(3), false),
+                    };
+                    w.add_draw(d.indirect.is_some(), instances, count, indexed);
                 }
             }
             PassOp::VkRaster(r) => {
                 w.render_area = self.render_area(&r.color, r.depth.as_ref());
-                w.draws = r.draws.len() as u64;
                 for d in &r.draws {
-                    if d.indirect.is_some() {
-                        w.indirect += 1;
-                        continue;
-                    }
-                    w.instances += u64::from(d.instances);
-                    let drawn = u64::from(d.count) * u64::from(d.instances);
-                    if d.index.is_some() {
-                        w.indices += drawn;
-                    } else {
-                        w.vertices += drawn;
-                    }
+                    w.add_draw(
+                        d.indirect.is_some(),
+                        d.instances,
+                        d.count,
+                        d.index.is_some(),
+                    );
                 }
             }
             PassOp::Compute(c) => {

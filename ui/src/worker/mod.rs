@@ -298,6 +298,8 @@ type ReadBuffer = ((usize, Origin), Arc<Vec<u8>>);
 
 struct State {
     replaying: Replaying,
+    /// What each plan pass submits (the plan does not change, so worked out once).
+    work: Vec<Option<framelab_core::timing::counters::Work>>,
     writes: Vec<PassWrites>,
     snaps: Snapshots,
     /// The browsed frame is being replayed: nothing may replay over it.
@@ -372,8 +374,12 @@ fn run(launch: Launch, rx: &Receiver<Command>, tx: &Sender<Reply>) -> Result<(),
     replaying.session.set_counting(true);
     let plan = &replaying.session.plan;
     let snaps = Snapshots::new(plan.textures.len(), plan.buffers.len(), budget);
+    let work = (0..replaying.session.plan.passes.len())
+        .map(|i| Some(replaying.session.work(i)))
+        .collect();
     let mut s = State {
         replaying,
+        work,
         writes,
         snaps,
         browsing: false,
@@ -435,9 +441,7 @@ fn time_frame(s: &mut State, f: u32) -> Result<Timings, Stop> {
             })
             .collect(),
         note: untrusted.iter().flatten().next().cloned(),
-        work: (0..times.len())
-            .map(|i| Some(s.replaying.session.work(i)))
-            .collect(),
+        work: s.work.clone(),
     })
 }
 

@@ -10,7 +10,7 @@ use super::helpers::{
     sampled, sampled_each, sampler, stencil_view, storage, storage_mip, with,
 };
 use super::scene::{
-    BOX_INDICES, BUILDINGS, BUILDINGS_PER_BLOCK, CAPSULE_INDICES, DepthOnly, KIND_COUNTS,
+    BOX_INDICES, BUILDINGS, BUILDINGS_PER_BLOCK, CAPSULE_INDICES, Depth, DepthOnly, KIND_COUNTS,
     SHADOWED_LIGHTS, SceneError, World, d, depth_attach, depth_only, light_count,
     opaque_depth_only, opaque_gbuffer, scene_bindings, scene_defaults, with_view, world_draws,
 };
@@ -127,6 +127,7 @@ fn pre_geometry(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError> {
             layer: 0,
             bias: None,
             cull_back: false,
+            depth: Depth::AlphaTest,
         },
         with_view(top, json!({"view": 5})),
         json!({"view": 5}),
@@ -473,6 +474,7 @@ fn lights_and_shadows(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError>
             layer: 0,
             bias: None,
             cull_back: false,
+            depth: Depth::AlphaTest,
         },
         proxy,
         json!({"view": 7}),
@@ -494,6 +496,7 @@ fn lights_and_shadows(out: &mut Vec<Value>, day: bool) -> Result<(), SceneError>
                 layer: c,
                 bias: Some((2, 1.5)),
                 cull_back: true,
+                depth: Depth::AlphaTest,
             },
             with_view(world_draws(World::SHADOW), json!({"view": 1 + c})),
             json!({"view": 1 + c}),
@@ -616,7 +619,7 @@ fn omni_shadows(out: &mut Vec<Value>) -> Result<(), SceneError> {
                 Some(with(dr, json!({ "vertex": entry })))
             })
             .collect();
-        let mut p = depth_only(
+        let p = depth_only(
             DepthOnly {
                 name: &format!("omni_shadows_{i}"),
                 groups: groups_,
@@ -625,20 +628,13 @@ fn omni_shadows(out: &mut Vec<Value>) -> Result<(), SceneError> {
                 layer: 0,
                 bias: None,
                 cull_back: true,
+                depth: Depth::Distance,
             },
             draws,
             json!({"view": 6, "light": i}),
             json!({}),
         )?;
-        p["shader"]["vertex"] = json!("vs_omni_static");
-        // fs_omni_depth writes every draw's distance as its depth: no draw goes without it.
-        p["shader"]["fragment"] = json!("fs_omni_depth");
-        for dr in p["draws"].as_array_mut().into_iter().flatten() {
-            if let Some(o) = dr.as_object_mut() {
-                o.remove("depth_only");
-            }
-        }
-        out.push(scene_bindings(p)?);
+        out.push(p);
         let rest = if i == SHADOWED_LIGHTS - 1 {
             json!({"signal": ["omni_done"]})
         } else {

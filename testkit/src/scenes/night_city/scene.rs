@@ -388,6 +388,16 @@ pub(super) fn depth_attach(extra: Value) -> Value {
     )
 }
 
+/// What a depth-only pass's fragment stage does.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Depth {
+    /// `fs_depth`: cuts alpha-tested draws (foliage, fur) out; opaque draws run without it.
+    AlphaTest,
+    /// `fs_omni_depth`: writes every draw's distance to the light as its depth, seen through
+    /// the light's paraboloid (`vs_omni_*`).
+    Distance,
+}
+
 /// A depth-only `scene.wgsl` pass into `resource` (one layer), with optional depth bias.
 pub(super) struct DepthOnly<'a> {
     pub name: &'a str,
@@ -398,9 +408,10 @@ pub(super) struct DepthOnly<'a> {
     pub bias: Option<(i32, f32)>,
     /// Back faces culled: a closed mesh's nearest surface to the light is a front face, so
     /// the map holds the same depth for a fraction of the rasterized fragments (the cascades
-    /// and omni maps of the day frame: 38-60% fewer; 263 edge texels of a 4096x4096 cascade
+    /// and omni maps of the day frame: 17-77% fewer; 263 edge texels of a 4096x4096 cascade
     /// moved).
     pub cull_back: bool,
+    pub depth: Depth,
 }
 
 /// Marks the draws `fs_depth` has nothing to cut out of (all but foliage and fur) as running
@@ -436,25 +447,31 @@ pub(super) fn opaque_gbuffer(draws: Vec<Value>) -> Vec<Value> {
         .collect()
 }
 
-/// A pass that only lays depth with `fs_depth` (its alpha test), opaque draws without it, and
-/// the ground without the normal only shading would read (`vs_terrain_depth`). The depth
-/// pre-pass keeps `vs_terrain`: base_material tests its depth for equality with the same
-/// vertex shader's.
+/// A pass that only lays depth. With the alpha test (`fs_depth`), opaque draws go without
+/// it, and the ground without the normal only shading would read (`vs_terrain_depth`; the
+/// depth pre-pass keeps `vs_terrain`: base_material tests its depth for equality with the
+/// same vertex shader's).
 pub(super) fn depth_only(
     p: DepthOnly<'_>,
     draws: Vec<Value>,
     params: Value,
     rest: Value,
 ) -> Result<Value, SceneError> {
-    let draws: Vec<Value> = opaque_depth_only(draws)
-        .into_iter()
-        .map(|mut dr| {
-            if dr["vertex"] == "vs_terrain" && dr["depth_only"] == true {
-                dr["vertex"] = json!("vs_terrain_depth");
-            }
-            dr
-        })
-        .collect();
+    let (entries, draws) = match p.depth {
+        Depth::AlphaTest => {
+            let draws = opaque_depth_only(draws)
+                .into_iter()
+                .map(|mut dr| {
+                    if dr["vertex"] == "vs_terrain" && dr["depth_only"] == true {
+                        dr["vertex"] = json!("vs_terrain_depth");
+                    }
+                    dr
+                })
+                .collect();
+            (("vs_static", Some("fs_depth")), draws)
+        }
+        Depth::Distance => (("vs_omni_static", Some("fs_omni_depth")), draws),
+    };
     let cull = if p.cull_back { "back" } else { "none" };
     let mut state = json!({"depth_compare": "less_equal", "depth_write": true, "cull": cull});
     if let Some((constant, slope)) = p.bias {
@@ -465,7 +482,7 @@ pub(super) fn depth_only(
         p.name,
         p.groups,
         "scene.wgsl",
-        ("vs_static", Some("fs_depth")),
+        entries,
         vec![],
         with(
             json!({
