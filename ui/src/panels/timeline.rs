@@ -90,8 +90,8 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     });
     if counted {
         ui.horizontal(|ui| {
-            ui.weak("colour by");
-            egui::ComboBox::from_id_salt("timeline colour")
+            // Named by its label, which screen readers (and the UI tests) find it by.
+            egui::ComboBox::new("timeline colour", "colour by")
                 .selected_text(by.map_or("queue", |m| super::work::MEASURES[m]))
                 .show_ui(ui, |ui| {
                     ui.selectable_value(&mut app.timeline_color, None, "queue");
