@@ -1,6 +1,8 @@
 //! `framelab import` on real binary captures, side by side with reading and decompressing
 //! the same file's blocks without decoding a call (the floor an import cannot go below).
-//! Throughput is in bytes of the capture file per second.
+//! Throughput is in bytes of the capture file per second. Besides the small fixtures, the
+//! synthetic 1,440-pass stream the synchronization benchmark uses: 37,000 calls, the
+//! call-heavy case where decoding, not decompression, is the work.
 
 #![allow(clippy::expect_used)]
 
@@ -10,13 +12,20 @@ use std::io::Cursor;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use framelab_core::import::{ImportOptions, gfxr};
 
+#[path = "common/sync_stream.rs"]
+mod sync_stream;
+
 const CAPTURES: [&str; 3] = ["framelab_inspect_f3", "mpv_testsrc_f5", "vkd3d_gears_f2"];
 
 fn bench(c: &mut Criterion) {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/gfxr");
     let mut group = c.benchmark_group("import");
-    for name in CAPTURES {
-        let bytes = std::fs::read(dir.join(format!("{name}.gfxr"))).expect("fixture");
+    let files = CAPTURES
+        .iter()
+        .map(|name| (*name, dir.join(format!("{name}.gfxr"))))
+        .chain([("sync_bench", sync_stream::stream())]);
+    for (name, path) in files {
+        let bytes = std::fs::read(path).expect("capture");
         let len = Some(bytes.len() as u64);
         group.throughput(Throughput::Bytes(bytes.len() as u64));
         group.bench_function(format!("{name}/decompress"), |b| {

@@ -41,6 +41,8 @@ pub enum Func {
     ResetCommandBuffer,
     FreeCommandBuffers,
     ResetCommandPool,
+    /// `vkDestroyCommandPool`: its command buffers go with it.
+    DestroyCommandPool,
     /// `vkQueueSubmit`, or (`v2`) `vkQueueSubmit2`.
     QueueSubmit {
         v2: bool,
@@ -188,6 +190,7 @@ impl Func {
             "vkBeginCommandBuffer" | "vkResetCommandBuffer" => Func::ResetCommandBuffer,
             "vkFreeCommandBuffers" => Func::FreeCommandBuffers,
             "vkResetCommandPool" => Func::ResetCommandPool,
+            "vkDestroyCommandPool" => Func::DestroyCommandPool,
             "vkQueueSubmit" => Func::QueueSubmit { v2: false },
             "vkQueueSubmit2" | "vkQueueSubmit2KHR" => Func::QueueSubmit { v2: true },
             "vkQueuePresentKHR" => Func::QueuePresent,

@@ -182,7 +182,7 @@ pub enum Cmd {
 /// A clear value as `[r, g, b, a]`; whichever of the float, uint or int members is present.
 pub fn clear_color(v: &Arg<'_>) -> [f64; 4] {
     let mut out = [0.0; 4];
-    let color = v.opt("color").unwrap_or_else(|| v.clone());
+    let color = v.opt("color").unwrap_or(*v);
     for key in ["float32", "uint32", "int32"] {
         if let Some(list) = color.opt(key).and_then(|l| l.items().ok()) {
             for (o, x) in out.iter_mut().zip(&list) {

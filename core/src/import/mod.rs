@@ -22,7 +22,7 @@ mod value;
 mod vk_work;
 
 use crate::capture::vulkan::PipelineStages;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::io::BufRead;
 
 use serde::Serialize;
@@ -155,8 +155,8 @@ struct Importer {
     objects: Objects,
     pipelines: pipelines::Pipelines,
     recordings: HashMap<u64, Recording>,
-    /// Command buffer -> its pool, for vkResetCommandPool.
-    pool_of: HashMap<u64, u64>,
+    /// Pool -> the command buffers allocated from it and not freed, for vkResetCommandPool.
+    pools: HashMap<u64, HashSet<u64>>,
     builder: Builder,
     submitted_in_frame: bool,
     skipped: BTreeMap<String, (u64, u64)>,
@@ -212,8 +212,9 @@ impl Importer {
             }
             Func::AllocateCommandBuffers => {
                 let pool = args.get("pAllocateInfo")?.get("commandPool")?.handle()?;
+                let members = self.pools.entry(pool).or_default();
                 for cb in args.list("pCommandBuffers")? {
-                    self.pool_of.insert(cb.handle()?, pool);
+                    members.insert(cb.handle()?);
                 }
             }
             Func::ResetCommandBuffer => {
@@ -221,11 +222,22 @@ impl Importer {
                 self.recordings.insert(cb, Recording::default());
             }
             Func::FreeCommandBuffers => {
+                let pool = args.get("commandPool")?.handle()?;
                 for cb in args.list("pCommandBuffers")? {
-                    self.recordings.remove(&cb.handle()?);
+                    let cb = cb.handle()?;
+                    self.recordings.remove(&cb);
+                    if let Some(members) = self.pools.get_mut(&pool) {
+                        members.remove(&cb);
+                    }
                 }
             }
             Func::ResetCommandPool => self.reset_pool(args)?,
+            Func::DestroyCommandPool => {
+                let pool = args.get("commandPool")?.handle()?;
+                for cb in self.pools.remove(&pool).into_iter().flatten() {
+                    self.recordings.remove(&cb);
+                }
+            }
             Func::QueueSubmit { v2 } => self.submit(args, v2)?,
             Func::QueuePresent => self.present(call, args)?,
             Func::AcquireNextImage { v2 } => self.acquire(call, args, v2)?,
@@ -242,14 +254,8 @@ impl Importer {
 
     fn reset_pool(&mut self, args: &Arg<'_>) -> Got<()> {
         let pool = args.get("commandPool")?.handle()?;
-        let cbs: Vec<u64> = self
-            .pool_of
-            .iter()
-            .filter(|(_, p)| **p == pool)
-            .map(|(c, _)| *c)
-            .collect();
-        for cb in cbs {
-            self.recordings.insert(cb, Recording::default());
+        for cb in self.pools.get(&pool).into_iter().flatten() {
+            self.recordings.insert(*cb, Recording::default());
         }
         Ok(())
     }
@@ -377,11 +383,7 @@ impl Importer {
     /// `vkAcquireNextImage(2)KHR`: the image it handed over, and the semaphore and fence
     /// that order the presentation engine's read of it.
     fn acquire(&mut self, call: &Call, args: &Arg<'_>, v2: bool) -> Got<()> {
-        let info = if v2 {
-            args.get("pAcquireInfo")?
-        } else {
-            args.clone()
-        };
+        let info = if v2 { args.get("pAcquireInfo")? } else { *args };
         let swapchain = info.get("swapchain")?.handle()?;
         let index = args.get("pImageIndex")?.u32()?;
         let semaphore = info.get("semaphore")?.handle()?;
@@ -588,7 +590,7 @@ impl Importer {
             objects: Objects::default(),
             pipelines: pipelines::Pipelines::default(),
             recordings: HashMap::new(),
-            pool_of: HashMap::new(),
+            pools: HashMap::new(),
             builder: Builder::new(options.frames),
             submitted_in_frame: false,
             skipped: BTreeMap::new(),

@@ -4,7 +4,9 @@
 //! pipelines the imported draws and dispatches bound, and everything they name, become the
 //! capture's `vulkan` section.
 
+use std::cell::OnceCell;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::sync::Arc;
 
 use super::calls::Func;
 use super::value::{Arg, Got};
@@ -31,9 +33,59 @@ pub struct Pipelines {
     set_layouts: HashMap<u64, (SetLayout, Vec<Vec<u64>>)>,
     layouts: HashMap<u64, (PipelineLayout, Vec<u64>)>,
     pipelines: HashMap<u64, Made>,
-    /// Per shader module whose code the capture holds: its storage bindings as (set,
-    /// binding, reads, writes), from the SPIR-V's NonWritable and NonReadable decorations.
-    storage: HashMap<u64, Vec<(u32, u32, bool, bool)>>,
+    /// Per shader module whose code the capture holds: the code, and its storage bindings
+    /// as (set, binding, reads, writes) once a pipeline the frame binds asks for them.
+    /// Parsing waits for that ask: an application creates far more modules than one frame
+    /// uses, and parsing every one was most of an import's time. Modules with the same code
+    /// (wgpu makes one per pipeline) share one entry, so each code is parsed once.
+    storage: HashMap<u64, usize>,
+    learned: Vec<Learned>,
+    by_code: HashMap<Arc<[u8]>, usize>,
+}
+
+/// A shader module's code and what parsing it taught, once asked.
+#[derive(Debug)]
+struct Learned {
+    code: Arc<[u8]>,
+    bindings: OnceCell<Vec<(u32, u32, bool, bool)>>,
+}
+
+impl Learned {
+    /// The module's storage bindings: what its instructions do with each, within what its
+    /// NonWritable and NonReadable decorations allow. Code that does not parse teaches
+    /// nothing (its bindings stay read-write for the check).
+    fn bindings(&self) -> &[(u32, u32, bool, bool)] {
+        self.bindings.get_or_init(|| {
+            let Ok(words) = crate::spirv::words(&self.code) else {
+                return Vec::new();
+            };
+            let (Ok(reflection), Ok(usage)) =
+                (crate::spirv::reflect(&words), crate::spirv::usage(&words))
+            else {
+                return Vec::new();
+            };
+            use crate::spirv::ResourceKind as K;
+            reflection
+                .resources
+                .iter()
+                .filter(|r| {
+                    matches!(
+                        r.kind,
+                        K::StorageBuffer | K::StorageImage(_) | K::StorageTexelBuffer(_)
+                    )
+                })
+                .map(|r| {
+                    let u = usage.get(&(r.set, r.binding)).copied().unwrap_or_default();
+                    (
+                        r.set,
+                        r.binding,
+                        u.reads && !r.non_readable,
+                        u.writes && !r.non_writable,
+                    )
+                })
+                .collect()
+        })
+    }
 }
 
 /// Whether a pipeline's shaders read and write a storage binding.
@@ -64,39 +116,21 @@ fn float(a: &Arg<'_>, key: &str) -> Got<f32> {
 }
 
 impl Pipelines {
-    /// Learns module `module`'s storage bindings from its SPIR-V: what its instructions do
-    /// with each, within what its NonWritable and NonReadable decorations allow. Code that
-    /// does not parse teaches nothing (its bindings stay read-write for the check).
+    /// Keeps module `module`'s code for `storage_use`.
     pub fn learn_module(&mut self, module: u64, code: &[u8]) {
-        let Ok(words) = crate::spirv::words(code) else {
-            return;
+        let at = match self.by_code.get(code) {
+            Some(&at) => at,
+            None => {
+                let code: Arc<[u8]> = code.into();
+                self.learned.push(Learned {
+                    code: code.clone(),
+                    bindings: OnceCell::new(),
+                });
+                self.by_code.insert(code, self.learned.len() - 1);
+                self.learned.len() - 1
+            }
         };
-        let (Ok(reflection), Ok(usage)) =
-            (crate::spirv::reflect(&words), crate::spirv::usage(&words))
-        else {
-            return;
-        };
-        use crate::spirv::ResourceKind as K;
-        let storage = reflection
-            .resources
-            .iter()
-            .filter(|r| {
-                matches!(
-                    r.kind,
-                    K::StorageBuffer | K::StorageImage(_) | K::StorageTexelBuffer(_)
-                )
-            })
-            .map(|r| {
-                let u = usage.get(&(r.set, r.binding)).copied().unwrap_or_default();
-                (
-                    r.set,
-                    r.binding,
-                    u.reads && !r.non_readable,
-                    u.writes && !r.non_writable,
-                )
-            })
-            .collect();
-        self.storage.insert(module, storage);
+        self.storage.insert(module, at);
     }
 
     /// How pipeline `pipeline`'s shaders use storage binding (`set`, `binding`): `None` when
@@ -108,7 +142,8 @@ impl Pipelines {
             writes: false,
         };
         for m in &made.modules {
-            for (s, b, reads, writes) in self.storage.get(m)? {
+            let learned = self.learned.get(*self.storage.get(m)?)?;
+            for (s, b, reads, writes) in learned.bindings() {
                 if (*s, *b) == (set, binding) {
                     out.reads |= reads;
                     out.writes |= writes;

@@ -348,7 +348,7 @@ impl Objects {
             self.queue_family_flags = list
                 .iter()
                 .map(|p| {
-                    let inner = p.opt("queueFamilyProperties").unwrap_or_else(|| p.clone());
+                    let inner = p.opt("queueFamilyProperties").unwrap_or(*p);
                     inner.get("queueFlags")?.flags(QUEUE_FLAGS)
                 })
                 .collect::<Got<_>>()?;

@@ -12,24 +12,68 @@ pub struct Skip(pub String);
 
 pub type Got<T> = Result<T, Skip>;
 
-/// One argument (or part of one) with its path for messages.
-#[derive(Clone, Debug)]
+/// One argument (or part of one). Its path for messages (`pCreateInfo.extent.width`) is
+/// found from the call's root only when a message needs it: reads far outnumber errors, and
+/// spelling a path out for every read was a large part of an import's time.
+#[derive(Clone, Copy, Debug)]
 pub struct Arg<'a> {
     pub value: &'a Value,
-    path: String,
+    root: &'a Value,
+}
+
+/// The path from `from` to the value at address `to`, if it lies inside.
+fn find(from: &Value, to: *const Value, path: &mut String) -> bool {
+    if std::ptr::eq(from, to) {
+        return true;
+    }
+    let len = path.len();
+    match from {
+        Value::Object(m) => {
+            for (k, v) in m {
+                if !path.is_empty() {
+                    path.push('.');
+                }
+                path.push_str(k);
+                if find(v, to, path) {
+                    return true;
+                }
+                path.truncate(len);
+            }
+        }
+        Value::Array(items) => {
+            for (i, v) in items.iter().enumerate() {
+                path.push_str(&format!("[{i}]"));
+                if find(v, to, path) {
+                    return true;
+                }
+                path.truncate(len);
+            }
+        }
+        _ => {}
+    }
+    false
 }
 
 impl<'a> Arg<'a> {
     pub fn root(value: &'a Value) -> Self {
-        Arg {
-            value,
-            path: String::new(),
-        }
+        Arg { value, root: value }
     }
 
     /// The argument's path, e.g. `pCreateInfo.extent.width` or `pRegions[2].size`.
-    pub fn path(&self) -> &str {
-        &self.path
+    pub fn path(&self) -> String {
+        let mut path = String::new();
+        find(self.root, self.value, &mut path);
+        path
+    }
+
+    /// The path of member `key` of this argument.
+    fn member_path(&self, key: &str) -> String {
+        let path = self.path();
+        if path.is_empty() {
+            key.to_owned()
+        } else {
+            format!("{path}.{key}")
+        }
     }
 
     fn skip<T>(&self, what: &str) -> Got<T> {
@@ -47,45 +91,34 @@ impl<'a> Arg<'a> {
         )))
     }
 
-    fn child(&self, value: &'a Value, key: &str) -> Arg<'a> {
+    fn child(&self, value: &'a Value) -> Arg<'a> {
         Arg {
             value,
-            path: if self.path.is_empty() {
-                key.to_owned()
-            } else {
-                format!("{}.{key}", self.path)
-            },
+            root: self.root,
         }
     }
 
     /// A member; missing members are an error naming them.
     pub fn get(&self, key: &str) -> Got<Arg<'a>> {
         match self.value.get(key) {
-            Some(v) => Ok(self.child(v, key)),
-            None => Err(Skip(format!(
-                "`{}` is missing",
-                self.child(self.value, key).path
-            ))),
+            Some(v) => Ok(self.child(v)),
+            None => Err(Skip(format!("`{}` is missing", self.member_path(key)))),
         }
     }
 
     /// A member that may be absent or null.
     pub fn opt(&self, key: &str) -> Option<Arg<'a>> {
-        self.get(key).ok().filter(|a| !a.value.is_null())
+        self.value
+            .get(key)
+            .filter(|v| !v.is_null())
+            .map(|v| self.child(v))
     }
 
     /// The elements of an array; null or absent arrays are empty.
     pub fn items(&self) -> Got<Vec<Arg<'a>>> {
         match self.value {
             Value::Null => Ok(Vec::new()),
-            Value::Array(items) => Ok(items
-                .iter()
-                .enumerate()
-                .map(|(i, v)| Arg {
-                    value: v,
-                    path: format!("{}[{i}]", self.path),
-                })
-                .collect()),
+            Value::Array(items) => Ok(items.iter().map(|v| self.child(v)).collect()),
             _ => self.skip("an array"),
         }
     }
