@@ -115,6 +115,67 @@ fn draw_ranges_past_32_bits_are_refused() {
     assert!(errors(&example()).is_empty());
 }
 
+/// Draws of a generator mesh (no counts in the capture) are held to what the generator
+/// builds: for every shape, the example's ground draw (pass 4, draw 0, indexed) reading all
+/// of the mesh's indices is accepted and one more is refused, and a base_vertex that moves
+/// every index outside the vertices (at or past the count, or at or below minus it) is
+/// refused while one just inside is accepted.
+#[test]
+fn draws_of_generator_meshes_stay_within_what_is_generated() {
+    // (generator, params, vertices, indices), counted by hand from each shape's construction.
+    let shapes = [
+        ("grid", json!({"size": 2, "divisions": 4}), 25i64, 96u32),
+        ("water_plate", json!({"divisions": 5}), 36, 150),
+        ("terrain", json!({"resolution": 9, "octaves": 1}), 100, 486),
+        ("box", json!({}), 24, 36),
+        ("sphere", json!({"segments": 8, "rings": 4}), 45, 192),
+        ("capsule", json!({"segments": 6}), 70, 252),
+        ("foliage_cards", json!({"count": 5}), 40, 60),
+        (
+            "city_blocks",
+            json!({"blocks_x": 2, "blocks_z": 3}),
+            576,
+            864,
+        ),
+    ];
+    let draw = "$.passes[4].draws[0]";
+    let mut wrong = Vec::new();
+    for (name, params, vertices, indices) in shapes {
+        let cases = [
+            (json!({"first": 0, "count": indices}), None),
+            (json!({"first": 1, "count": indices - 1}), None),
+            (json!({"first": 0, "count": indices + 1}), Some("count")),
+            (json!({"first": 1, "count": indices}), Some("count")),
+            (json!({"first": indices}), Some("first")),
+            (json!({"base_vertex": vertices - 1}), None),
+            (json!({"base_vertex": 1 - vertices}), None),
+            (json!({"base_vertex": vertices}), Some("base_vertex")),
+            (json!({"base_vertex": -vertices}), Some("base_vertex")),
+            (json!({"base_vertex": i32::MIN}), Some("base_vertex")),
+        ];
+        for (fields, refused) in cases {
+            let mut c = example();
+            c["meshes"][0]["source"]["generator"] =
+                json!({"name": name, "seed": 1, "params": params});
+            let d = &mut c["passes"][4]["draws"][0];
+            for (k, v) in fields.as_object().unwrap() {
+                d[k] = v.clone();
+            }
+            let errs = errors(&c);
+            let ok = match refused {
+                None => errs.is_empty(),
+                Some(field) => has(&errs, "draw", &format!("{draw}.{field}")),
+            };
+            if !ok {
+                wrong.push(format!(
+                    "{name} {fields}: expected {refused:?}, got {errs:?}"
+                ));
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
 /// Every format of the DXGI table on every texture kind, bare, as a render target and as a
 /// depth-stencil, against the rule D3D12 and Vulkan state:
 /// - video and palette formats are no texture framelab replays;

@@ -276,6 +276,50 @@ pub enum Shape {
     },
 }
 
+impl Shape {
+    /// The (vertices, indices) the generator builds, worked out without building them, so
+    /// validation can check a draw's range against a generated mesh as against a file's
+    /// stated counts. Parameters are rounded as the generator rounds them (to `f32`, then to
+    /// an integer, saturating); the lowering tests hold this equal to what it builds.
+    pub fn counts(&self) -> (u64, u64) {
+        let whole = |v: f64| u64::from(v as f32 as u32);
+        let grid = |divisions: f64| {
+            let n = whole(divisions).max(1);
+            ((n + 1) * (n + 1), 6 * n * n)
+        };
+        let sphere = |segments: u64, rings: u64| {
+            let (s, r) = (segments.max(3), rings.max(2));
+            ((r + 1) * (s + 1), 6 * r * s)
+        };
+        match *self {
+            Shape::Grid { divisions, .. } | Shape::WaterPlate { divisions, .. } => grid(divisions),
+            Shape::Terrain { resolution, .. } => grid(resolution),
+            Shape::Box { .. } => (24, 36),
+            Shape::CityBlocks(city) => {
+                let c = city.rounded_to_f32();
+                let n = |v: f64| (v as i64).max(0).unsigned_abs();
+                let per = n(c.buildings_per_block.max(1.0));
+                let buildings = n(c.blocks_x)
+                    .saturating_mul(n(c.blocks_z))
+                    .saturating_mul(per);
+                (buildings.saturating_mul(24), buildings.saturating_mul(36))
+            }
+            Shape::FoliageCards { count, .. } => {
+                let cards = (count as f32 as i64).max(0).unsigned_abs();
+                (cards.saturating_mul(8), cards.saturating_mul(12))
+            }
+            Shape::Sphere {
+                segments, rings, ..
+            } => sphere(whole(segments), whole(rings)),
+            Shape::Capsule { segments, .. } => {
+                let s = whole(segments);
+                let (cap_v, cap_i) = sphere(s, s / 2);
+                (2 * cap_v + 2 * (s + 1), 2 * cap_i + 6 * s)
+            }
+        }
+    }
+}
+
 /// A parameter's value: as given, else the generator's default.
 fn value(spec: &GeneratorSpec, params: &BTreeMap<String, ParamValue>, name: &str) -> f64 {
     match params.get(name) {

@@ -287,6 +287,33 @@ pub struct MeshDesc {
     pub instances: Option<Seeded<Content>>,
 }
 
+impl MeshDesc {
+    /// Its vertex count and (for an indexed mesh) index count: as a file mesh states them,
+    /// or as its generator builds them.
+    pub fn elements(&self) -> (Option<u64>, Option<u64>) {
+        let (vertices, indices) = match &self.source {
+            MeshSourceDesc::Generator(g) => {
+                let (v, i) = g.generator.counts();
+                (Some(v), Some(i))
+            }
+            MeshSourceDesc::File(_) => (
+                self.vertex_count.map(u64::from),
+                self.index_count.map(u64::from),
+            ),
+        };
+        (vertices, indices.filter(|_| self.index_format.is_some()))
+    }
+
+    /// The elements a draw of it reads: its indices when indexed, else its vertices.
+    pub fn drawn_elements(&self) -> Option<u64> {
+        match self.elements() {
+            (_, Some(i)) => Some(i),
+            (v, None) if self.index_format.is_none() => v,
+            _ => None,
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum MeshSourceDesc {
     File(PathBuf),

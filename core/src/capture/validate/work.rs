@@ -73,19 +73,14 @@ impl<'a> Validator<'a> {
                 );
             }
             if let (Some(m), Some(count)) = (mesh_desc, d.count) {
-                let available = if m.index_format.is_some() {
-                    m.index_count
-                } else {
-                    m.vertex_count
-                };
-                if let Some(avail) = available
-                    && u64::from(d.first) + u64::from(count) > u64::from(avail)
+                if let Some(avail) = m.drawn_elements()
+                    && u64::from(d.first) + u64::from(count) > avail
                 {
                     self.diags.error(
                         "draw",
                         &dpath.field("count"),
                         format!(
-                            "draw reads elements {}..{} of mesh \"{}\", which has {avail}",
+                            "draw reads elements {}..{} of mesh \"{}\", which has {avail}: lower `first` or `count`",
                             d.first,
                             u64::from(d.first) + u64::from(count),
                             m.name
@@ -243,15 +238,9 @@ impl<'a> Validator<'a> {
         } else {
             ("vertex", "vertices")
         };
-        let available = mesh.and_then(|m| {
-            if m.index_format.is_some() {
-                m.index_count
-            } else {
-                m.vertex_count
-            }
-        });
-        if let Some(count) = d.count.or(available) {
-            let end = u64::from(d.first) + u64::from(count);
+        let available = mesh.and_then(MeshDesc::drawn_elements);
+        if let Some(count) = d.count.map(u64::from).or(available) {
+            let end = u64::from(d.first) + count;
             let field = if d.count.is_some() { "count" } else { "first" };
             if end > DRAW_ID_RANGE {
                 self.diags.error(
@@ -264,7 +253,7 @@ impl<'a> Validator<'a> {
                 );
             } else if d.count.is_none()
                 && let (Some(m), Some(avail)) = (mesh, available)
-                && end > u64::from(avail)
+                && end > avail
             {
                 self.diags.error(
                     "draw",
@@ -310,16 +299,21 @@ impl<'a> Validator<'a> {
                 ),
             );
         }
+        // Indices address the mesh's own vertices, so a base_vertex that moves all of them
+        // past either end (at or past the count, or at or below minus the count) reads only
+        // outside the vertex buffer.
         if indexed
             && let Some(m) = mesh
-            && let Some(vertices) = m.vertex_count
-            && i64::from(d.base_vertex) >= i64::from(vertices)
+            && let (Some(vertices), _) = m.elements()
+            && vertices > 0
+            && i128::from(d.base_vertex).abs() >= i128::from(vertices)
         {
+            let side = if d.base_vertex < 0 { "before" } else { "past" };
             self.diags.error(
                 "draw",
                 &dpath.field("base_vertex"),
                 format!(
-                    "base_vertex {} is past the {vertices} vertices of mesh \"{}\": every index would read outside it",
+                    "base_vertex {} moves every index {side} the {vertices} vertices of mesh \"{}\": every index would read outside it; give a base_vertex within -{vertices}..{vertices}",
                     d.base_vertex, m.name
                 ),
             );

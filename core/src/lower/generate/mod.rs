@@ -180,4 +180,49 @@ mod tests {
             }
         }
     }
+
+    /// `Shape::counts`, which validation checks draws against, is what the generator builds,
+    /// for every shape and for parameters at and past their edges.
+    #[test]
+    fn shape_counts_are_what_the_generators_build() {
+        let cases: &[(&str, &[(&str, f64)])] = &[
+            ("grid", &[("divisions", 0.0)]),
+            ("grid", &[("divisions", 7.0)]),
+            ("grid", &[("divisions", 2.5)]),
+            ("water_plate", &[("divisions", 5.0)]),
+            ("terrain", &[("resolution", 9.0), ("octaves", 1.0)]),
+            ("box", &[]),
+            ("city_blocks", &[("blocks_x", 2.0), ("blocks_z", 3.0)]),
+            (
+                "city_blocks",
+                &[
+                    ("blocks_x", 1.0),
+                    ("blocks_z", 2.0),
+                    ("buildings_per_block", 0.0),
+                ],
+            ),
+            ("foliage_cards", &[("count", 5.0)]),
+            ("foliage_cards", &[("count", 0.0)]),
+            ("sphere", &[("segments", 8.0), ("rings", 4.0)]),
+            ("sphere", &[("segments", 1.0), ("rings", 1.0)]),
+            ("capsule", &[("segments", 6.0)]),
+            ("capsule", &[("segments", 3.0)]),
+        ];
+        for (name, params) in cases {
+            let params: BTreeMap<String, ParamValue> = params
+                .iter()
+                .map(|(k, v)| ((*k).to_owned(), ParamValue::Scalar(*v)))
+                .collect();
+            let shape = Shape::new(name, &params).unwrap();
+            let built = mesh(&Seeded {
+                generator: shape.clone(),
+                seed: 3,
+            });
+            assert_eq!(
+                shape.counts(),
+                (built.positions.len() as u64, built.indices.len() as u64),
+                "{name} {params:?}"
+            );
+        }
+    }
 }
