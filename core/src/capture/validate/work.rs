@@ -72,21 +72,20 @@ impl<'a> Validator<'a> {
                     ),
                 );
             }
-            if let (Some(m), Some(count)) = (mesh_desc, d.count) {
-                if let Some(avail) = m.drawn_elements()
-                    && u64::from(d.first) + u64::from(count) > avail
-                {
-                    self.diags.error(
-                        "draw",
-                        &dpath.field("count"),
-                        format!(
-                            "draw reads elements {}..{} of mesh \"{}\", which has {avail}: lower `first` or `count`",
-                            d.first,
-                            u64::from(d.first) + u64::from(count),
-                            m.name
-                        ),
-                    );
-                }
+            if let (Some(m), Some(count)) = (mesh_desc, d.count)
+                && let Some(avail) = m.drawn_elements()
+                && u64::from(d.first) + u64::from(count) > avail
+            {
+                self.diags.error(
+                    "draw",
+                    &dpath.field("count"),
+                    format!(
+                        "draw reads elements {}..{} of mesh \"{}\", which has {avail}: lower `first` or `count`",
+                        d.first,
+                        u64::from(d.first) + u64::from(count),
+                        m.name
+                    ),
+                );
             }
             self.draw_ranges(d, &dpath, mesh_desc);
             if d.stencil_reference.is_some_and(|r| r > 255) {
