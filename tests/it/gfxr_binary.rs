@@ -13,8 +13,9 @@ use crate::common::{framelab, gfxr_fixture, json, stderr, stdout};
 
 /// Binary captures with their JSON Lines conversion beside them (`<name>.jsonl`) and the
 /// modules `gfxrecon-extract` pulled from them (`extracted/<name>/`).
-const CAPTURES: [&str; 10] = [
+const CAPTURES: [&str; 11] = [
     "vkcube_f3",
+    "vkcube_staging",
     "vkcube_f3_zlib",
     "vkcube_f3_zstd",
     "vkcube_f3_none",
@@ -418,13 +419,16 @@ fn vkcube_texture(capture: &str, extra: &[&str]) -> Vec<u8> {
 
 #[test]
 fn the_vkcube_texture_is_the_logo_the_program_loads() {
-    // From a trimmed capture's snapshot, and from a whole capture's writes through a mapping
-    // (vkcube on lavapipe samples a linear image it fills itself), as of frame 1.
+    // From a trimmed capture's snapshot, from a whole capture's writes through a mapping
+    // (vkcube on lavapipe samples a linear image it fills itself), as of frame 1, and from a
+    // whole capture of `vkcube --use_staging` as of its last frame: the texture is what the
+    // first frame's vkCmdCopyBufferToImage made of the staging buffer's mapped writes.
     let logo = image::open(gfxr_fixture("lunarg.png")).unwrap().to_rgba8();
     assert_eq!(logo.dimensions(), (256, 256));
     for (capture, extra) in [
         ("vkcube_f3.gfxr", &[][..]),
         ("vkcube_whole.gfxr", &["--frame", "1"][..]),
+        ("vkcube_staging.gfxr", &["--frame", "2"][..]),
     ] {
         let bytes = vkcube_texture(capture, extra);
         assert_eq!(bytes.len(), 256 * 256 * 4);

@@ -10,8 +10,9 @@ use std::path::{Path, PathBuf};
 use crate::common::{framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 8] = [
+const REPLAYED: [&str; 9] = [
     "vkcube_f3",
+    "vkcube_staging",
     "vkcube_f3_zstd",
     "vkcubepp_f3",
     "vkd3d_triangle_f1",
@@ -28,15 +29,27 @@ fn temp(name: &str) -> PathBuf {
     d
 }
 
+/// The frame imported from whole captures (trimmed ones hold one): `vkcube_staging`'s last,
+/// whose texture a copy from a staging buffer in its first frame made.
+fn frame_of(name: &str) -> &'static [&'static str] {
+    match name {
+        "vkcube_staging" => &["--frame", "2"],
+        _ => &[],
+    }
+}
+
 /// Imports `name` into `dir`, returning the capture's path.
 fn import(name: &str, dir: &Path) -> PathBuf {
     let capture = dir.join(format!("{name}.json"));
-    let out = framelab(&[
+    let fixture = gfxr_fixture(&format!("{name}.gfxr"));
+    let mut args = vec![
         "import",
-        gfxr_fixture(&format!("{name}.gfxr")).to_str().unwrap(),
+        fixture.to_str().unwrap(),
         "-o",
         capture.to_str().unwrap(),
-    ]);
+    ];
+    args.extend(frame_of(name));
+    let out = framelab(&args);
     assert!(out.status.success(), "{name}: {}", stderr(&out));
     capture
 }

@@ -131,6 +131,10 @@ pub struct Region {
     pub extent: Option<[u32; 3]>,
     /// Buffer footprint: texels per row (0: tightly packed).
     pub row_texels: u32,
+    /// Rows per image of buffer data (`bufferImageHeight`; 0: the extent's height).
+    pub image_rows: u32,
+    /// Layers the region covers (`layerCount`).
+    pub layers: u32,
 }
 
 #[derive(Clone, Debug)]

@@ -10,7 +10,7 @@
 //! extents of each live allocation (a later write replaces what it covers), and dropped when
 //! the allocation is freed.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use serde_json::Value;
 
@@ -27,12 +27,12 @@ pub struct SideFile {
 
 /// The non-overlapping byte extents written to one allocation, by offset.
 #[derive(Debug, Default)]
-struct Extents(BTreeMap<u64, Vec<u8>>);
+pub(super) struct Extents(BTreeMap<u64, Vec<u8>>);
 
 impl Extents {
     /// Writes `data` at `offset`; a write that would run past the end of the address space
     /// (a damaged offset) is no write.
-    fn write(&mut self, offset: u64, data: Vec<u8>) {
+    pub(super) fn write(&mut self, offset: u64, data: Vec<u8>) {
         let Some(end) = offset.checked_add(data.len() as u64) else {
             return;
         };
@@ -61,7 +61,7 @@ impl Extents {
     /// The bytes [offset, offset + size), zero where nothing was written; `None` when no
     /// write touches the range, or when the range is larger than any block could have
     /// written (a corrupt size).
-    fn read(&self, offset: u64, size: u64) -> Option<Vec<u8>> {
+    pub(super) fn read(&self, offset: u64, size: u64) -> Option<Vec<u8>> {
         let end = offset.checked_add(size)?;
         if size > MAX_BLOCK_BYTES {
             return None;
@@ -101,15 +101,22 @@ struct ImageData {
 pub struct Contents {
     /// Shader module handle -> its SPIR-V.
     pub modules: BTreeMap<u64, Vec<u8>>,
-    memory: HashMap<u64, Extents>,
+    pub(super) memory: HashMap<u64, Extents>,
     /// Memory -> the offset its current mapping starts at.
     map_offset: HashMap<u64, u64>,
-    buffers: HashMap<u64, Vec<u8>>,
+    pub(super) buffers: HashMap<u64, Vec<u8>>,
     images: HashMap<u64, Vec<ImageData>>,
+    /// Images whose contents copies before the frames made, packed (`transfers`).
+    pub(super) uploaded: HashMap<u64, Vec<u8>>,
+    /// Resources the GPU wrote before the frames in ways the import does not carry out:
+    /// their contents are not known, whatever the host wrote before.
+    pub(super) gpu_written: HashSet<u64>,
+    /// Bytes copies before the frames produced, counted against the same allowance.
+    pub(super) copied: u64,
     pub fills: u64,
     /// Bytes the capture wrote (memory fills and snapshots): what the contents written out
     /// may add up to, beside a fixed allowance for the zeros of unwritten ranges.
-    written: u64,
+    pub(super) written: u64,
     /// Set at the first submission of the imported frames: what is written later is the
     /// frame's own work, not its starting contents.
     pub frozen: bool,
@@ -123,11 +130,11 @@ pub struct Contents {
 }
 
 /// Largest contents of one resource or range read back: what one GFXReconstruct block can hold.
-const MAX_BLOCK_BYTES: u64 = 4 << 30;
+pub(super) const MAX_BLOCK_BYTES: u64 = 4 << 30;
 
 /// Contents produced beyond the bytes the capture wrote: zeros where a buffer's memory was
 /// never written. Past it, a hostile size cannot make the import hold more.
-const ZERO_ALLOWANCE: u64 = 256 << 20;
+pub(super) const ZERO_ALLOWANCE: u64 = 256 << 20;
 
 fn handle(v: &Value) -> Option<u64> {
     v.as_u64()
@@ -281,7 +288,10 @@ impl Contents {
 
     /// The contents of buffer `handle` at this point: its snapshot, else what was written to
     /// the memory it is bound to.
-    fn buffer_bytes(&mut self, handle: u64, objects: &Objects) -> Option<Vec<u8>> {
+    pub(super) fn buffer_bytes(&mut self, handle: u64, objects: &Objects) -> Option<Vec<u8>> {
+        if self.gpu_written.contains(&handle) {
+            return None;
+        }
         let info = objects.buffers.get(&handle)?;
         if let Some(d) = self.buffers.get(&handle) {
             if d.len() as u64 != info.size {
@@ -309,6 +319,22 @@ impl Contents {
     /// single-level linear image the application wrote through a mapping, its rows read
     /// from that memory at the pitch the driver gave.
     fn image_bytes(&mut self, handle: u64, img: &ImageInfo, size: u64) -> Option<Vec<u8>> {
+        if self.gpu_written.contains(&handle) {
+            return None;
+        }
+        if let Some(data) = self.uploaded.remove(&handle) {
+            return (data.len() as u64 == size).then_some(data);
+        }
+        self.image_snapshot(handle, img, size)
+    }
+
+    /// An image's snapshot or linear contents, as `image_bytes` without copies.
+    pub(super) fn image_snapshot(
+        &mut self,
+        handle: u64,
+        img: &ImageInfo,
+        size: u64,
+    ) -> Option<Vec<u8>> {
         if let Some(aspects) = self.images.get_mut(&handle) {
             // Color (1) or depth (2); a stencil aspect (4) travels with depth in one resource
             // only where the format packs them, which the size check decides.
@@ -453,7 +479,7 @@ fn unpad(img: &ImageInfo, level_sizes: &[u64], data: &[u8]) -> Option<Vec<u8>> {
 
 /// Bytes of every mip level and layer of a single-sampled image, tightly packed: the layout
 /// of a snapshot and of a `file`'s contents.
-fn packed_size(img: &ImageInfo) -> Option<u64> {
+pub(super) fn packed_size(img: &ImageInfo) -> Option<u64> {
     if img.samples > 1 {
         return None;
     }

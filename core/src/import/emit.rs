@@ -290,7 +290,23 @@ fn resources(b: &Builder, objects: &Objects, hidden_blocks: bool) -> Made {
         .collect();
     let mut largest = (0u32, 0u32);
     let mut swapchain_extent = None;
+    // Work before the frames names what it touches; what was destroyed before them is not
+    // part of them.
+    let gone = |destroyed: Option<u64>| {
+        destroyed.is_some_and(|d| b.first_submit.is_some_and(|first| d < first))
+    };
     for (&handle, rname) in &b.names {
+        if objects
+            .images
+            .get(&handle)
+            .is_some_and(|i| gone(i.destroyed_at))
+            || objects
+                .buffers
+                .get(&handle)
+                .is_some_and(|x| gone(x.destroyed_at))
+        {
+            continue;
+        }
         let (mut r, bound, alignment) = if let Some(img) = objects.images.get(&handle) {
             images += 1;
             if img.swapchain.is_some() {

@@ -18,6 +18,7 @@ mod render_pass;
 mod state;
 mod stream;
 mod sync;
+mod transfers;
 mod value;
 mod vk_work;
 
@@ -169,6 +170,11 @@ struct Importer {
     hidden_blocks: bool,
     /// Vulkan's synchronization rules over the imported frames' submissions.
     sync: sync::Sync,
+    /// Command buffers submitted before the imported frames, not yet looked at by the
+    /// binary route (which carries out their copies on the contents); kept only when
+    /// `keep_submitted_before` is set, as the binary route drains it after every call.
+    submitted_before: Vec<u64>,
+    keep_submitted_before: bool,
 }
 
 impl Importer {
@@ -344,6 +350,9 @@ impl Importer {
                 values("pSignalSemaphoreValues", "pSignalSemaphoreInfos"),
             );
             self.submitted_in_frame |= !cbs.is_empty();
+            if self.keep_submitted_before && !self.builder.emitting() {
+                self.submitted_before.extend(&cbs);
+            }
             if self.builder.emitting() {
                 let timed_waits: Vec<(u64, PipelineStages, Option<u64>)> = waits
                     .iter()
@@ -591,6 +600,8 @@ impl Importer {
             pipelines: pipelines::Pipelines::default(),
             recordings: HashMap::new(),
             pools: HashMap::new(),
+            submitted_before: Vec::new(),
+            keep_submitted_before: false,
             builder: Builder::new(options.frames),
             submitted_in_frame: false,
             skipped: BTreeMap::new(),

@@ -88,6 +88,10 @@ fn subresource(a: &Arg<'_>) -> Got<(u32, u32)> {
     Ok((a.get("mipLevel")?.u32()?, a.get("baseArrayLayer")?.u32()?))
 }
 
+fn layer_count(a: &Arg<'_>) -> u32 {
+    a.opt("layerCount").and_then(|c| c.u32().ok()).unwrap_or(1)
+}
+
 impl Recording {
     /// Records one `vkCmd*` call; `Ok(false)` for commands that touch no resource framelab
     /// models (state setting, queries, ...).
@@ -626,6 +630,8 @@ fn copy(kind: CopyKind, name: &str, args: &Arg<'_>) -> Got<Cmd> {
                 size: Some(r.get("size")?.u64()?),
                 extent: None,
                 row_texels: 0,
+                image_rows: 0,
+                layers: 1,
             },
             CopyKind::ImageToImage => {
                 let (sm, sl) = subresource(&r.get("srcSubresource")?)?;
@@ -642,6 +648,8 @@ fn copy(kind: CopyKind, name: &str, args: &Arg<'_>) -> Got<Cmd> {
                     size: None,
                     extent: Some(extent3(&r.get("extent")?)?),
                     row_texels: 0,
+                    image_rows: 0,
+                    layers: layer_count(&r.get("dstSubresource")?),
                 }
             }
             CopyKind::BufferToImage | CopyKind::ImageToBuffer => {
@@ -661,6 +669,8 @@ fn copy(kind: CopyKind, name: &str, args: &Arg<'_>) -> Got<Cmd> {
                     size: None,
                     extent: Some(extent3(&r.get("imageExtent")?)?),
                     row_texels: r.get("bufferRowLength")?.u32()?,
+                    image_rows: r.opt("bufferImageHeight").map_or(Ok(0), |h| h.u32())?,
+                    layers: layer_count(&r.get("imageSubresource")?),
                 }
             }
         };

@@ -160,6 +160,9 @@ fn call(
                 imp.dialect = Some(call.dialect);
             }
             imp.call(&call);
+            for cb in std::mem::take(&mut imp.submitted_before) {
+                contents.submitted_before(&imp.objects, &imp.recordings, cb);
+            }
         }
         Err(why) => {
             imp.calls += 1;
@@ -185,6 +188,7 @@ pub fn import(
     let mut blocks = Blocks::new(reader, len).map_err(|e| block_error(file, e))?;
     let compression = blocks.header.compression;
     let mut imp = Importer::new(options);
+    imp.keep_submitted_before = true;
     let mut reading = Reading {
         tool: "GFXReconstruct (version not in the capture)".to_owned(),
         blocks: 0,
