@@ -36,7 +36,12 @@ fn run_import(bytes: &[u8], name: &str) {
     }
 }
 
-const SEEDS: [&str; 2] = ["vkcube_f3.gfxr", "vkd3d_triangle_f1.gfxr"];
+const SEEDS: [&str; 4] = [
+    "vkcube_f3.gfxr",
+    "vkd3d_triangle_f1.gfxr",
+    "vkcube_staging.gfxr",
+    "template_compute.gfxr",
+];
 
 #[test]
 fn every_capture_that_ever_failed_now_imports_or_is_refused() {

@@ -77,7 +77,61 @@ fn real_frames_replay_to_the_image_they_presented() {
 #[test]
 fn real_frames_are_clean_under_the_validation_layer() {
     let dir = temp("validation-layer");
-    crate::common::replays_clean_under_validation_layer(&dir, &REPLAYED, import);
+    let mut captures = REPLAYED.to_vec();
+    captures.push("template_compute");
+    crate::common::replays_clean_under_validation_layer(&dir, &captures, import);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `tools/template-compute` (descriptors written through an update template, `input` filled
+/// through a mapping) replayed from its binary capture: the storage image its dispatch writes
+/// is, texel for texel, what its shader computes from the program's input.
+#[test]
+fn a_frame_bound_through_an_update_template_computes_what_the_program_did() {
+    let dir = temp("template_compute");
+    let capture = import("template_compute", &dir);
+    let out = dir.join("out");
+    let run = framelab(&[
+        "replay",
+        capture.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let file = m["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find_map(|f| f["file"].as_str().filter(|n| n.ends_with(".png")))
+        .expect("the storage image exported");
+    let image = image::open(out.join(file)).unwrap().to_rgba8();
+    assert_eq!(image.dimensions(), (16, 16));
+    let unorm = |v: f64| (v * 255.0).round() as i32;
+    let mut wrong = 0;
+    for (x, y, p) in image.enumerate_pixels() {
+        let input = (y * 16 + x) * 5 + 1;
+        let want = [
+            unorm(f64::from(x) / 15.0),
+            unorm(f64::from(y) / 15.0),
+            unorm(f64::from(input % 7) / 6.0),
+            255,
+        ];
+        if want
+            .iter()
+            .zip(p.0)
+            .any(|(w, g)| (w - i32::from(g)).abs() > 1)
+        {
+            wrong += 1;
+        }
+    }
+    assert_eq!(
+        wrong, 0,
+        "{wrong} of 256 texels differ from the shader's result"
+    );
     std::fs::remove_dir_all(dir).unwrap();
 }
 

@@ -72,6 +72,7 @@ pub enum Func {
     AllocateDescriptorSets,
     UpdateDescriptorSets,
     UpdateDescriptorSetWithTemplate,
+    CreateDescriptorUpdateTemplate,
     CreateSwapchain,
     CreateSemaphore,
     GetSwapchainImages,
@@ -229,6 +230,9 @@ impl Func {
             "vkCreateFramebuffer" => Func::CreateFramebuffer,
             "vkAllocateDescriptorSets" => Func::AllocateDescriptorSets,
             "vkUpdateDescriptorSets" => Func::UpdateDescriptorSets,
+            "vkCreateDescriptorUpdateTemplate" | "vkCreateDescriptorUpdateTemplateKHR" => {
+                Func::CreateDescriptorUpdateTemplate
+            }
             "vkUpdateDescriptorSetWithTemplate" | "vkUpdateDescriptorSetWithTemplateKHR" => {
                 Func::UpdateDescriptorSetWithTemplate
             }

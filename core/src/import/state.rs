@@ -161,6 +161,8 @@ pub struct Objects {
     pub render_passes: HashMap<u64, RenderPassInfo>,
     pub framebuffers: HashMap<u64, FramebufferInfo>,
     pub sets: HashMap<u64, BTreeMap<(u32, u32), Descriptor>>,
+    /// Descriptor update templates: their entries, and for push templates the bind point.
+    pub templates: HashMap<u64, Template>,
     pub swapchains: HashMap<u64, SwapchainInfo>,
     pub swapchain_images: HashMap<u64, Vec<u64>>,
     pub names: HashMap<u64, String>,
@@ -284,12 +286,34 @@ impl Objects {
                 }
             }
             Func::UpdateDescriptorSets => self.update_descriptor_sets(args)?,
+            Func::CreateDescriptorUpdateTemplate => {
+                let ci = args.get("pCreateInfo")?;
+                let entries = ci
+                    .list("pDescriptorUpdateEntries")?
+                    .iter()
+                    .map(|e| {
+                        Ok(TemplateEntry {
+                            binding: e.get("dstBinding")?.u32()?,
+                            element: e.get("dstArrayElement")?.u32()?,
+                            count: e.get("descriptorCount")?.u32()?,
+                            ty: e.get("descriptorType")?.name()?,
+                        })
+                    })
+                    .collect::<Got<_>>()?;
+                let compute = ci
+                    .opt("pipelineBindPoint")
+                    .and_then(|p| p.name().ok())
+                    .is_some_and(|n| n.contains("COMPUTE") || n == "1");
+                self.templates.insert(
+                    args.get("pDescriptorUpdateTemplate")?.handle()?,
+                    Template { entries, compute },
+                );
+            }
             Func::UpdateDescriptorSetWithTemplate => {
-                // The JSON carries the template's decoded data but pairing it with the
-                // template's entries is not done: the set's bindings stay as they were.
-                return Err(Skip(
-                    "descriptor writes through an update template are not imported; accesses through those bindings are missing".to_owned(),
-                ));
+                let set = args.get("descriptorSet")?.handle()?;
+                let template = args.get("descriptorUpdateTemplate")?.handle()?;
+                let written = self.template_writes(template, &args.get("pData")?)?;
+                self.sets.entry(set).or_default().extend(written);
             }
             Func::CreateSwapchain => self.create_swapchain(args)?,
             Func::CreateSemaphore => {
@@ -570,6 +594,104 @@ impl Objects {
 
 /// The descriptors one VkWriteDescriptorSet writes, by (binding, array element); a write
 /// running past its binding continues in the next one, as Vulkan specifies.
+/// One entry of a descriptor update template.
+#[derive(Clone, Debug)]
+pub struct TemplateEntry {
+    pub binding: u32,
+    pub element: u32,
+    pub count: u32,
+    pub ty: String,
+}
+
+#[derive(Clone, Debug)]
+pub struct Template {
+    pub entries: Vec<TemplateEntry>,
+    /// A push template's bind point is compute.
+    pub compute: bool,
+}
+
+/// Most elements one template entry is read for: a hostile count stops here.
+const MAX_TEMPLATE_ELEMENTS: u32 = 4096;
+
+impl Objects {
+    /// The descriptors a template's data writes. The data lists image infos, buffer infos and
+    /// texel buffer views apart (as the binary capture holds them, and `gfxrecon-convert` 1.x
+    /// writes them), each group in the template's entry order; each entry takes its count
+    /// from the group of its kind, and becomes the write it stands for.
+    pub fn template_writes(
+        &self,
+        template: u64,
+        data: &Arg<'_>,
+    ) -> Got<Vec<((u32, u32), Descriptor)>> {
+        let Some(t) = self.templates.get(&template) else {
+            return Err(Skip(format!(
+                "update template {template} was never created in the stream"
+            )));
+        };
+        if data.opt("imageInfos").is_none() && data.opt("bufferInfos").is_none() {
+            return Err(Skip(
+                "the template's data is not in the stream (gfxrecon-convert 0.9.x writes none; import the .gfxr capture)".to_owned(),
+            ));
+        }
+        let groups = [
+            data.list("imageInfos")?,
+            data.list("bufferInfos")?,
+            data.list("bufferViews")?,
+        ];
+        let mut next = [0usize; 3];
+        let mut out = Vec::new();
+        for e in &t.entries {
+            let kind = e.ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
+            let (group, key) = match kind {
+                "SAMPLER"
+                | "COMBINED_IMAGE_SAMPLER"
+                | "SAMPLED_IMAGE"
+                | "STORAGE_IMAGE"
+                | "INPUT_ATTACHMENT"
+                | "0"
+                | "1"
+                | "2"
+                | "3"
+                | "10" => (0, "pImageInfo"),
+                "UNIFORM_BUFFER"
+                | "STORAGE_BUFFER"
+                | "UNIFORM_BUFFER_DYNAMIC"
+                | "STORAGE_BUFFER_DYNAMIC"
+                | "6"
+                | "7"
+                | "8"
+                | "9" => (1, "pBufferInfo"),
+                "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" | "4" | "5" => {
+                    (2, "pTexelBufferView")
+                }
+                // Acceleration structures and inline uniform blocks reach no resource
+                // framelab models.
+                _ => continue,
+            };
+            let n = e.count.min(MAX_TEMPLATE_ELEMENTS) as usize;
+            let Some(items) = groups[group].get(next[group]..next[group] + n) else {
+                return Err(Skip(format!(
+                    "the template's data holds {} {} but its entries ask for more",
+                    groups[group].len(),
+                    ["image infos", "buffer infos", "texel buffer views"][group]
+                )));
+            };
+            next[group] += n;
+            let mut write = serde_json::Map::new();
+            write.insert("dstBinding".to_owned(), e.binding.into());
+            write.insert("dstArrayElement".to_owned(), e.element.into());
+            write.insert("descriptorType".to_owned(), e.ty.clone().into());
+            write.insert(
+                key.to_owned(),
+                serde_json::Value::Array(items.iter().map(|a| a.value.clone()).collect()),
+            );
+            let write = serde_json::Value::Object(write);
+            out.extend(descriptor_writes(&Arg::root(&write))?);
+        }
+        Ok(out)
+    }
+}
+
 pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
     let binding = w.get("dstBinding")?.u32()?;
     let first = w.get("dstArrayElement")?.u32()?;

@@ -325,6 +325,128 @@ fn clear_color_views(map: Map<String, Value>) -> Value {
     Value::Object(out)
 }
 
+/// Calls whose `pData` is an update template's data, which GFXReconstruct writes in a layout
+/// of its own rather than as the application's bytes.
+const TEMPLATE_CALLS: [&str; 4] = [
+    "vkUpdateDescriptorSetWithTemplate",
+    "vkUpdateDescriptorSetWithTemplateKHR",
+    "vkCmdPushDescriptorSetWithTemplateKHR",
+    "vkCmdPushDescriptorSetWithTemplate",
+];
+
+/// `VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR` and `..._INLINE_UNIFORM_BLOCK`: the tags
+/// of the optional sections after the three groups.
+const ACCELERATION_STRUCTURES: u32 = 1_000_150_000;
+const INLINE_UNIFORM_BLOCK: u32 = 1_000_138_000;
+
+impl Reader<'_> {
+    /// An update template's data as GFXReconstruct writes it: the pointer's preamble, the
+    /// counts of image infos, buffer infos and texel buffer views (u64 each), then each group
+    /// packed (image infos as sampler, view and layout; buffer infos as buffer, offset and
+    /// range; views as handles), then optional sections (a u64 count and a u32 descriptor
+    /// type: acceleration structures as handles, an inline uniform block as bytes) to the end
+    /// of the parameters. Each group lists the template's entries of its kinds in entry
+    /// order, every element of each; pairing them with the entries is the importer's. Given
+    /// as `gfxrecon-convert` 1.x writes it (`imageInfos`, `bufferInfos`, `bufferViews`).
+    fn template_data(&mut self) -> Res<Value> {
+        let attrib = self.u32()?;
+        if attrib & IS_NULL != 0 {
+            return Ok(Value::Null);
+        }
+        if attrib & HAS_ADDRESS != 0 {
+            self.u64()?;
+        }
+        if attrib & (IS_ARRAY | IS_ARRAY_2D | IS_STRING | IS_WSTRING) != 0 {
+            // The capture layer writes an empty array for a template it did not know.
+            let len = self.u64()?;
+            if len == 0 {
+                return Ok(Value::Null);
+            }
+            return Err(format!(
+                "{}: template data written as an array of {len}, not GFXReconstruct's layout",
+                self.at()
+            ));
+        }
+        if attrib & HAS_DATA == 0 {
+            return Ok(Value::Null);
+        }
+        let counts = [self.u64()?, self.u64()?, self.u64()?];
+        let needed = counts[0]
+            .checked_mul(20)
+            .zip(counts[1].checked_mul(24))
+            .zip(counts[2].checked_mul(8))
+            .and_then(|((a, b), c)| a.checked_add(b)?.checked_add(c));
+        if needed.is_none_or(|n| n > self.left() as u64) {
+            return Err(format!(
+                "{}: {} image infos, {} buffer infos and {} texel buffer views need more than the {} bytes left",
+                self.at(),
+                counts[0],
+                counts[1],
+                counts[2],
+                self.left()
+            ));
+        }
+        let layouts = ENUMS.iter().find(|e| e.name == "VkImageLayout");
+        let mut images = Vec::with_capacity(counts[0] as usize);
+        for _ in 0..counts[0] {
+            let (sampler, view) = (self.u64()?, self.u64()?);
+            let layout = i32::from_le_bytes(self.array()?);
+            let mut m = Map::new();
+            m.insert("sampler".to_owned(), Value::from(sampler));
+            m.insert("imageView".to_owned(), Value::from(view));
+            m.insert(
+                "imageLayout".to_owned(),
+                match layouts.and_then(|e| e.name_of(layout)) {
+                    Some(name) => Value::from(name),
+                    None => Value::from(layout),
+                },
+            );
+            images.push(Value::Object(m));
+        }
+        let mut buffers = Vec::with_capacity(counts[1] as usize);
+        for _ in 0..counts[1] {
+            let mut m = Map::new();
+            m.insert("buffer".to_owned(), Value::from(self.u64()?));
+            m.insert("offset".to_owned(), Value::from(self.u64()?));
+            m.insert("range".to_owned(), Value::from(self.u64()?));
+            buffers.push(Value::Object(m));
+        }
+        let mut views = Vec::with_capacity(counts[2] as usize);
+        for _ in 0..counts[2] {
+            views.push(Value::from(self.u64()?));
+        }
+        let mut out = Map::new();
+        out.insert("imageInfos".to_owned(), Value::Array(images));
+        out.insert("bufferInfos".to_owned(), Value::Array(buffers));
+        out.insert("bufferViews".to_owned(), Value::Array(views));
+        while self.left() > 0 {
+            let count = self.u64()?;
+            let ty = self.u32()?;
+            match ty {
+                ACCELERATION_STRUCTURES => {
+                    let n = self.count(count.saturating_mul(8))? / 8;
+                    let handles = (0..n)
+                        .map(|_| self.u64().map(Value::from))
+                        .collect::<Res<Vec<_>>>()?;
+                    out.insert("accelStructViews".to_owned(), Value::Array(handles));
+                }
+                INLINE_UNIFORM_BLOCK => {
+                    let n = self.count(count)?;
+                    let bytes = self.take(n)?.iter().map(|b| Value::from(*b)).collect();
+                    out.insert("inlineUniformBlock".to_owned(), Value::Array(bytes));
+                }
+                other => {
+                    return Err(format!(
+                        "{}: a template data section of descriptor type {other} this decoder does not know",
+                        self.at()
+                    ));
+                }
+            }
+        }
+        Ok(Value::Object(out))
+    }
+}
+
 /// Decodes `params` (the bytes after the thread id) as the parameters of `def`.
 pub fn decode_call(def: &CommandDef, params: &[u8]) -> Result<Decoded, String> {
     decode(def, params, None).map(|(d, _)| d)
@@ -358,7 +480,11 @@ fn decode<'a>(
     };
     let mut args = Map::new();
     for p in def.params {
-        let v = r.within(Part::Name(p.name), |r| r.value(p.ty))?;
+        let v = if p.name == "pData" && TEMPLATE_CALLS.contains(&def.name) {
+            r.within(Part::Name(p.name), Reader::template_data)?
+        } else {
+            r.within(Part::Name(p.name), |r| r.value(p.ty))?
+        };
         args.insert(p.name.to_owned(), v);
     }
     let ret = match def.ret {

@@ -76,8 +76,6 @@ pub struct CommandDef {
 /// An enumerated type's values, sorted by value.
 #[derive(Clone, Copy, Debug)]
 pub struct EnumDef {
-    // Named for whoever reads the tables; the decoder needs only the values.
-    #[allow(dead_code)]
     pub name: &'static str,
     pub values: &'static [(i32, &'static str)],
 }
