@@ -20,7 +20,7 @@ mod tables;
 use std::collections::BTreeMap;
 use std::io::Read;
 
-use super::calls::Func;
+use super::calls::{CmdFunc, Func};
 use super::contents::Contents;
 use super::stream::Call;
 use super::{ImportError, ImportOptions, Imported, Importer};
@@ -120,7 +120,9 @@ fn call(
     };
     let func = Func::of(def.name);
     let extra = binary_only(def.name) || func == Func::MapMemory;
-    if func == Func::Other && !extra {
+    // Calls that touch nothing framelab models (state setting and queries among the
+    // commands) are counted without being decoded.
+    if matches!(func, Func::Other | Func::Cmd(CmdFunc::Other)) && !extra {
         imp.calls += 1;
         *imp.not_modelled.entry(def.name.to_owned()).or_default() += 1;
         return Ok(());
