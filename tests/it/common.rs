@@ -80,9 +80,9 @@ pub fn assert_clean_under_validation_layer(dir: &std::path::Path, args: &[&str])
     assert!(messages.is_empty(), "{args:?}:\n{messages}");
 }
 
-/// Replays one frame of `capture` into `out` and returns the image the frame presented (the
-/// manifest entry marked `presented`, which must be exactly one).
-pub fn replay_presented(capture: &std::path::Path, out: &std::path::Path) -> image::RgbaImage {
+/// Replays one frame of a real capture into `out`, which must succeed and name the path its
+/// shaders took; the export manifest.
+pub fn replay_one_frame(capture: &std::path::Path, out: &std::path::Path) -> serde_json::Value {
     let run = framelab(&[
         "replay",
         capture.to_str().unwrap(),
@@ -98,8 +98,13 @@ pub fn replay_presented(capture: &std::path::Path, out: &std::path::Path) -> ima
         "{}: the replay names no shader path:\n{notes}",
         capture.display()
     );
-    let m: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap()
+}
+
+/// Replays one frame of `capture` into `out` and returns the image the frame presented (the
+/// manifest entry marked `presented`, which must be exactly one).
+pub fn replay_presented(capture: &std::path::Path, out: &std::path::Path) -> image::RgbaImage {
+    let m = replay_one_frame(capture, out);
     let presented: Vec<&serde_json::Value> = m["files"]
         .as_array()
         .unwrap()

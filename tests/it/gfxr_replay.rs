@@ -91,17 +91,7 @@ fn a_frame_bound_through_an_update_template_computes_what_the_program_did() {
     let dir = temp("template_compute");
     let capture = import("template_compute", &dir);
     let out = dir.join("out");
-    let run = framelab(&[
-        "replay",
-        capture.to_str().unwrap(),
-        "--frames",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let m: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let m = crate::common::replay_one_frame(&capture, &out);
     let file = m["files"]
         .as_array()
         .unwrap()
