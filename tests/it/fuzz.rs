@@ -4,7 +4,8 @@
 //! deep) and feeds it through the same path `framelab analyze` takes. Whatever the input, the
 //! result must be a report or a list of diagnostics: no panic, and (by the limits validation
 //! enforces) no unbounded time or memory. Every input that ever failed is kept in
-//! `tests/fuzz_corpus/` and replayed first.
+//! `tests/fuzz_corpus/` and replayed first. Besides the example, mutations start from the
+//! captures of each class of frames a driver rejects.
 
 use std::path::{Path, PathBuf};
 
@@ -130,7 +131,8 @@ fn apply(v: &mut Value, m: &Mutation) {
     }
 }
 
-/// A scratch copy of the example's folder (so side files resolve) for mutated captures.
+/// A scratch copy of the example's folder (so side files resolve) for mutated captures, with
+/// the invalid corpus's shaders beside it for the captures taken from there.
 fn scratch() -> PathBuf {
     let dir = std::env::temp_dir().join(format!("framelab-fuzz-{}", std::process::id()));
     let shaders = dir.join("shaders");
@@ -139,8 +141,28 @@ fn scratch() -> PathBuf {
         let e = e.unwrap();
         std::fs::copy(e.path(), shaders.join(e.file_name())).unwrap();
     }
+    for e in std::fs::read_dir(repo().join("tests/invalid")).unwrap() {
+        let path = e.unwrap().path();
+        if path.extension().is_some_and(|x| x == "wgsl") {
+            std::fs::copy(&path, dir.join(path.file_name().unwrap())).unwrap();
+        }
+    }
     dir
 }
+
+/// What the mutations start from: the example, and one capture of each class of frames a
+/// driver rejects that validation once accepted (`tests/invalid/`), so that variants around
+/// each class are tried too.
+const SOURCES: [&str; 8] = [
+    "captures/example/frame.json",
+    "captures/example/frame_sync.json",
+    "tests/invalid/depth_format_3d.json",
+    "tests/invalid/draw_range_wraps.json",
+    "tests/invalid/generator_draw_past_mesh.json",
+    "tests/invalid/srv_uav_same_subresource.json",
+    "tests/invalid/r1_unorm_render_target_clear.json",
+    "tests/invalid/typed_buffer_typeless_view.json",
+];
 
 /// Each corpus capture runs beside the example's shaders and the corpus's own (`deep.wgsl`).
 #[test]
@@ -175,11 +197,11 @@ proptest! {
 
     #[test]
     fn mutated_captures_never_panic(
-        which in 0usize..2,
+        which in 0usize..SOURCES.len(),
         picks in proptest::collection::vec(any::<usize>(), 1..7),
         m in mutation(),
     ) {
-        let source = ["captures/example/frame.json", "captures/example/frame_sync.json"][which];
+        let source = SOURCES[which];
         let mut capture: Value =
             serde_json::from_str(&std::fs::read_to_string(repo().join(source)).unwrap()).unwrap();
         mutate(&mut capture, &picks, &m);
