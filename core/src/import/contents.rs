@@ -343,7 +343,7 @@ impl Contents {
             if data.len() as u64 == size {
                 return Some(data);
             }
-            return unpad(img, &a.level_sizes, &data);
+            return unpad(img, &a.level_sizes, data);
         }
         let &(pitch, first) = self.linear.get(&handle)?;
         let (memory, bound) = img.bound?;
@@ -448,7 +448,7 @@ impl Contents {
 /// tightly packed rows with the height rounded up (to 16 rows: a 4x4 texture's level holds
 /// 16 rows, a 300-row depth buffer 304), so each layer's slab of a level is cut to its own
 /// rows. `None` where a level's size is not whole padded slabs of the level's rows.
-fn unpad(img: &ImageInfo, level_sizes: &[u64], data: &[u8]) -> Option<Vec<u8>> {
+fn unpad(img: &ImageInfo, level_sizes: &[u64], mut data: Vec<u8>) -> Option<Vec<u8>> {
     let f = dxgi::lookup_vk(&img.format)?;
     let (block, bytes) = (
         u64::from(f.block_width.max(1)),
@@ -457,8 +457,8 @@ fn unpad(img: &ImageInfo, level_sizes: &[u64], data: &[u8]) -> Option<Vec<u8>> {
     if bytes == 0 || level_sizes.len() != img.mips as usize {
         return None;
     }
-    let mut out = Vec::new();
-    let mut at = 0usize;
+    // Packed, each slab is no longer than its padded self, so the rows move down in place.
+    let (mut from, mut to) = (0usize, 0usize);
     for (l, &size) in level_sizes.iter().enumerate() {
         let dim = |d: u32| u64::from((d >> l).max(1));
         let row = dim(img.extent[0]).div_ceil(block) * bytes;
@@ -468,13 +468,20 @@ fn unpad(img: &ImageInfo, level_sizes: &[u64], data: &[u8]) -> Option<Vec<u8>> {
         if row == 0 || size % slabs != 0 || slab % row != 0 || slab / row < rows {
             return None;
         }
-        let level = data.get(at..at.checked_add(size as usize)?)?;
-        for s in level.chunks_exact(slab as usize) {
-            out.extend_from_slice(&s[..(rows * row) as usize]);
+        let end = from.checked_add(size as usize)?;
+        if end > data.len() {
+            return None;
         }
-        at += size as usize;
+        let keep = (rows * row) as usize;
+        for s in 0..slabs as usize {
+            let at = from + s * slab as usize;
+            data.copy_within(at..at + keep, to);
+            to += keep;
+        }
+        from = end;
     }
-    Some(out)
+    data.truncate(to);
+    Some(data)
 }
 
 /// Bytes of every mip level and layer of a single-sampled image, tightly packed: the layout
@@ -534,18 +541,18 @@ mod tests {
             .map(|i| if i < 64 { i as u8 + 1 } else { 0 })
             .collect();
         let img = image("VK_FORMAT_R8G8B8A8_UNORM", [4, 4, 1], 1, 1);
-        let packed = unpad(&img, &[256], &data).unwrap();
+        let packed = unpad(&img, &[256], data.clone()).unwrap();
         assert_eq!(packed, (1..=64u8).collect::<Vec<_>>());
         // Two layers, each slab padded: each keeps its own rows.
         let img = image("VK_FORMAT_R8G8B8A8_UNORM", [4, 4, 1], 1, 2);
         let mut two = data.clone();
         two.extend(data.iter().map(|b| b.wrapping_mul(2)));
-        let packed = unpad(&img, &[512], &two).unwrap();
+        let packed = unpad(&img, &[512], two.clone()).unwrap();
         assert_eq!(packed.len(), 128);
         assert_eq!(packed[64], 2);
         // Sizes that are not whole padded slabs are refused.
-        assert!(unpad(&img, &[500], &two).is_none());
-        assert!(unpad(&img, &[512, 4], &two).is_none());
+        assert!(unpad(&img, &[500], two.clone()).is_none());
+        assert!(unpad(&img, &[512, 4], two).is_none());
     }
 
     #[test]

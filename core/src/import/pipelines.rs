@@ -59,9 +59,7 @@ impl Learned {
             let Ok(words) = crate::spirv::words(&self.code) else {
                 return Vec::new();
             };
-            let (Ok(reflection), Ok(usage)) =
-                (crate::spirv::reflect(&words), crate::spirv::usage(&words))
-            else {
+            let Ok((reflection, usage)) = crate::spirv::reflect_and_usage(&words) else {
                 return Vec::new();
             };
             use crate::spirv::ResourceKind as K;

@@ -46,6 +46,18 @@ pub enum SpirvError {
     IdsExhausted { bound: u32 },
 }
 
+/// What [`usage`] gives: per (set, binding), what the code does there.
+pub type Usages = std::collections::BTreeMap<(u32, u32), Usage>;
+
+/// [`reflect`] and [`usage`] of one module, parsed once for both.
+pub fn reflect_and_usage(words: &[u32]) -> Result<(Reflection, Usages), SpirvError> {
+    let loaded = index::load(words)?;
+    Ok((
+        reflect::reflect_loaded(&loaded)?,
+        usage::usage_loaded(&loaded)?,
+    ))
+}
+
 /// SPIR-V words from the bytes of a .spv file. The file is little-endian as captured; a
 /// byte-swapped magic number means a big-endian file, whose words are swapped back.
 pub fn words(bytes: &[u8]) -> Result<Vec<u32>, SpirvError> {

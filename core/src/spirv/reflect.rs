@@ -13,8 +13,12 @@ use super::{EntryPoint, ImageInfo, Reflection, ResourceKind, ResourceVar, Scalar
 
 /// Reads the interface of a module (see [`Reflection`]).
 pub fn reflect(words: &[u32]) -> Result<Reflection, SpirvError> {
-    let loaded = index::load(words)?;
-    let index = Index::new(&loaded);
+    reflect_loaded(&index::load(words)?)
+}
+
+/// [`reflect`] of a module already loaded.
+pub(super) fn reflect_loaded(loaded: &index::Loaded) -> Result<Reflection, SpirvError> {
+    let index = Index::new(loaded);
     let module = &loaded.module;
     let mut entry_points = Vec::with_capacity(module.entry_points.len());
     for (n, inst) in module.entry_points.iter().enumerate() {

@@ -25,8 +25,14 @@ pub struct Usage {
 
 /// Per (set, binding): what the module's code does with the variables bound there.
 pub fn usage(words: &[u32]) -> Result<BTreeMap<(u32, u32), Usage>, SpirvError> {
-    let loaded = index::load(words)?;
-    let index = Index::new(&loaded);
+    usage_loaded(&index::load(words)?)
+}
+
+/// [`usage`] of a module already loaded.
+pub(super) fn usage_loaded(
+    loaded: &index::Loaded,
+) -> Result<BTreeMap<(u32, u32), Usage>, SpirvError> {
+    let index = Index::new(loaded);
     let module = &loaded.module;
     let mut binding_of: HashMap<Word, (u32, u32)> = HashMap::new();
     for inst in &module.types_global_values {
