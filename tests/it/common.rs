@@ -217,7 +217,8 @@ impl Drop for Display {
 }
 
 pub fn start_display() -> Display {
-    for n in 0..40 {
+    // Every number of the range is tried: sockets of servers killed earlier stay behind.
+    for n in 0..200 {
         let number = 60 + (std::process::id() + n) % 200;
         if std::path::Path::new(&format!("/tmp/.X11-unix/X{number}")).exists() {
             continue;

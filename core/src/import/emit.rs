@@ -8,9 +8,9 @@ use super::build::Builder;
 use super::state::{BufferInfo, ImageInfo, Objects};
 use crate::capture::dxgi;
 use crate::capture::format::{
-    AdapterModel, Api, Camera, CaptureSource, CpuPageProperty, Extent, FORMAT_VERSION, Fence,
-    FrameConstants, Heap, HeapType, InitialContents, MemoryArchitecture, MemoryPool, MipLevels,
-    Placement, Queue, RawCapture, Resolution, Resource, ResourceFlag, ResourceKind,
+    Access, AdapterModel, Api, Camera, CaptureSource, CpuPageProperty, Extent, FORMAT_VERSION,
+    Fence, FrameConstants, Heap, HeapType, InitialContents, MemoryArchitecture, MemoryPool,
+    MipLevels, Placement, Queue, RawCapture, Resolution, Resource, ResourceFlag, ResourceKind,
 };
 
 const DEVICE_LOCAL: u64 = 0x1;
@@ -136,7 +136,7 @@ fn buffer_resource(
     name: &str,
     objects: &Objects,
     before_capture: bool,
-    written: bool,
+    (copied_into, storage_written): (bool, bool),
 ) -> Resource {
     let mut flags = Vec::new();
     if buf.usage & (0x20 | 0x8) != 0 {
@@ -151,8 +151,9 @@ fn buffer_resource(
     Resource {
         flags,
         initial: (mapped || before_capture).then_some(InitialContents::BeforeCapture {}),
-        // The CPU reads what the frame copies into host-visible memory.
-        output: host && written,
+        // The CPU reads what the frame copies into host-visible memory, and what its shaders
+        // write to memory the application maps (a compute program's results).
+        output: host && (copied_into || (storage_written && mapped)),
         ..plain_buffer(name, buf.size)
     }
 }
@@ -288,6 +289,18 @@ fn resources(b: &Builder, objects: &Objects, hidden_blocks: bool) -> Made {
                 .map(|c| c.dst.resource.as_str())
         })
         .collect();
+    let storage_written: BTreeSet<&str> = b
+        .passes
+        .iter()
+        .flat_map(|p| p.bindings.values())
+        .filter(|b| {
+            matches!(
+                b.access,
+                Some(Access::StorageWrite | Access::StorageReadWrite)
+            )
+        })
+        .filter_map(|b| b.resource.as_deref())
+        .collect();
     let mut largest = (0u32, 0u32);
     let mut swapchain_extent = None;
     // Work before the frames names what it touches; what was destroyed before them is not
@@ -321,7 +334,10 @@ fn resources(b: &Builder, objects: &Objects, hidden_blocks: bool) -> Made {
             (r, img.bound, img.alignment)
         } else if let Some(buf) = objects.buffers.get(&handle) {
             buffers += 1;
-            let written = written.contains(rname.as_str());
+            let written = (
+                written.contains(rname.as_str()),
+                storage_written.contains(rname.as_str()),
+            );
             let r = buffer_resource(buf, rname, objects, before(buf.created_at), written);
             (r, buf.bound, buf.alignment)
         } else {
