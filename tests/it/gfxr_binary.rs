@@ -460,10 +460,13 @@ fn the_vkcube_texture_is_the_logo_the_program_loads() {
 }
 
 /// `tools/template-compute` writes its four descriptors (two storage buffers, a 16-byte
-/// uniform range and a storage image) through `vkUpdateDescriptorSetWithTemplate`. The binary
-/// import pairs the template's data with its entries, so the dispatch binds what the program
-/// wrote; `gfxrecon-convert` 0.9.x writes no usable data there, and that import says so. Apart
-/// from those bindings, the two routes give the same frame.
+/// uniform range and a storage image) through update templates twice: into a descriptor set
+/// with `vkUpdateDescriptorSetWithTemplate` for its first dispatch, and pushed with
+/// `vkCmdPushDescriptorSetWithTemplateKHR` for its second, each with its own output buffer and
+/// image. The binary import pairs the templates' data with their entries, so each dispatch
+/// binds what the program wrote, and the shader's code says which storage bindings are read or
+/// written; `gfxrecon-convert` 0.9.x writes no usable data there, and that import says so.
+/// Apart from those bindings, the two routes give the same frame.
 #[test]
 fn update_templates_write_the_descriptors_the_program_wrote() {
     let dir = temp_dir("template");
@@ -477,67 +480,92 @@ fn update_templates_write_the_descriptors_the_program_wrote() {
     ]);
     assert!(text.status.success(), "{}", stderr(&text));
     let said = String::from_utf8_lossy(&text.stdout).into_owned() + &stderr(&text);
-    assert!(
-        said.contains("gfxrecon-convert 0.9.x writes none; import the .gfxr capture"),
-        "{said}"
-    );
+    for call in [
+        "vkUpdateDescriptorSetWithTemplate",
+        "vkCmdPushDescriptorSetWithTemplateKHR",
+    ] {
+        assert!(
+            said.contains(&format!(
+                "{call}: the template's data is not in the stream (gfxrecon-convert 0.9.x writes none; import the .gfxr capture)"
+            )),
+            "{call}: {said}"
+        );
+    }
     let capture: Value = serde_json::from_str(&std::fs::read_to_string(&b).unwrap()).unwrap();
     let pass = capture["passes"]
         .as_array()
         .unwrap()
         .iter()
         .find(|p| p["kind"] == "compute")
-        .expect("the dispatch's pass");
-    let descriptors = pass["dispatches"][0]["vulkan_state"]["descriptors"]
-        .as_array()
-        .expect("the dispatch's descriptors");
-    let seen: Vec<(u64, &str, Option<u64>, bool)> = descriptors
-        .iter()
-        .map(|d| {
-            (
-                d["binding"].as_u64().unwrap(),
-                d["descriptor_type"].as_str().unwrap(),
-                d["range"].as_u64(),
-                d["view"].is_string(),
-            )
-        })
-        .collect();
-    assert_eq!(
-        seen,
-        [
-            (0, "STORAGE_BUFFER", Some(u64::MAX), false),
-            (1, "STORAGE_BUFFER", Some(u64::MAX), false),
-            (2, "UNIFORM_BUFFER", Some(16), false),
-            (3, "STORAGE_IMAGE", None, true),
-        ]
+        .expect("the dispatches' pass");
+    let dispatches = pass["dispatches"].as_array().unwrap();
+    assert_eq!(dispatches.len(), 2);
+    let mut written = Vec::new();
+    for d in dispatches {
+        let descriptors = d["vulkan_state"]["descriptors"]
+            .as_array()
+            .expect("the dispatch's descriptors");
+        let seen: Vec<(u64, &str, Option<u64>, bool)> = descriptors
+            .iter()
+            .map(|d| {
+                (
+                    d["binding"].as_u64().unwrap(),
+                    d["descriptor_type"].as_str().unwrap(),
+                    d["range"].as_u64(),
+                    d["view"].is_string(),
+                )
+            })
+            .collect();
+        assert_eq!(
+            seen,
+            [
+                (0, "STORAGE_BUFFER", Some(u64::MAX), false),
+                (1, "STORAGE_BUFFER", Some(u64::MAX), false),
+                (2, "UNIFORM_BUFFER", Some(16), false),
+                (3, "STORAGE_IMAGE", None, true),
+            ]
+        );
+        written.push((
+            descriptors[1]["resource"].as_str().unwrap(),
+            descriptors[3]["resource"].as_str().unwrap(),
+        ));
+    }
+    assert!(
+        written[0].0 != written[1].0 && written[0].1 != written[1].1,
+        "each dispatch writes its own buffer and image: {written:?}"
     );
     let bindings = pass["bindings"].as_object().unwrap();
-    let resources: std::collections::BTreeSet<&str> = bindings
-        .values()
-        .map(|b| b["resource"].as_str().unwrap())
-        .collect();
-    assert_eq!((bindings.len(), resources.len()), (4, 4), "{bindings:?}");
-    // From the shader's code: `input` is only read, `output` and the image only written.
     let access = |key: &str| bindings[key]["access"].as_str().unwrap();
+    // From the shader's code: `input` is only read, the outputs and images only written.
     assert_eq!(
         [
             access("set0_binding0"),
             access("set0_binding1"),
+            access("set0_binding1_v2"),
             access("set0_binding2"),
-            access("set0_binding3")
+            access("set0_binding3"),
+            access("set0_binding3_v2")
         ],
-        ["storage_read", "storage_write", "uniform", "storage_write"]
+        [
+            "storage_read",
+            "storage_write",
+            "storage_write",
+            "uniform",
+            "storage_write",
+            "storage_write"
+        ]
     );
-    // The program maps the buffer its shader writes and reads the results: a frame output,
-    // so the dispatch that makes it is not culled.
-    let results = bindings["set0_binding1"]["resource"].as_str().unwrap();
-    let resource = capture["resources"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|r| r["name"] == results)
-        .unwrap();
-    assert_eq!(resource["output"], Value::Bool(true), "{resource}");
+    // The program maps the buffers its shader writes and reads the results: frame outputs,
+    // so the dispatches that make them are not culled.
+    for (results, _) in &written {
+        let resource = capture["resources"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["name"] == *results)
+            .unwrap();
+        assert_eq!(resource["output"], Value::Bool(true), "{resource}");
+    }
     let strip = |path: &Path| {
         let mut v = comparable(path);
         for p in v["passes"].as_array_mut().unwrap() {

@@ -83,45 +83,49 @@ fn real_frames_are_clean_under_the_validation_layer() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// `tools/template-compute` (descriptors written through an update template, `input` filled
-/// through a mapping) replayed from its binary capture: the storage image its dispatch writes
-/// is, texel for texel, what its shader computes from the program's input.
+/// `tools/template-compute` (descriptors written through update templates, into a set and
+/// pushed, `input` filled through a mapping) replayed from its binary capture: the storage
+/// image each of its two dispatches writes is, texel for texel, what its shader computes from
+/// the program's input.
 #[test]
-fn a_frame_bound_through_an_update_template_computes_what_the_program_did() {
+fn frames_bound_through_update_templates_compute_what_the_program_did() {
     let dir = temp("template_compute");
     let capture = import("template_compute", &dir);
     let out = dir.join("out");
     let m = crate::common::replay_one_frame(&capture, &out);
-    let file = m["files"]
+    let images: Vec<&str> = m["files"]
         .as_array()
         .unwrap()
         .iter()
-        .find_map(|f| f["file"].as_str().filter(|n| n.ends_with(".png")))
-        .expect("the storage image exported");
-    let image = image::open(out.join(file)).unwrap().to_rgba8();
-    assert_eq!(image.dimensions(), (16, 16));
+        .filter_map(|f| f["file"].as_str().filter(|n| n.ends_with(".png")))
+        .collect();
+    assert_eq!(images.len(), 2, "both storage images exported: {images:?}");
     let unorm = |v: f64| (v * 255.0).round() as i32;
-    let mut wrong = 0;
-    for (x, y, p) in image.enumerate_pixels() {
-        let input = (y * 16 + x) * 5 + 1;
-        let want = [
-            unorm(f64::from(x) / 15.0),
-            unorm(f64::from(y) / 15.0),
-            unorm(f64::from(input % 7) / 6.0),
-            255,
-        ];
-        if want
-            .iter()
-            .zip(p.0)
-            .any(|(w, g)| (w - i32::from(g)).abs() > 1)
-        {
-            wrong += 1;
+    for file in images {
+        let image = image::open(out.join(file)).unwrap().to_rgba8();
+        assert_eq!(image.dimensions(), (16, 16));
+        let mut wrong = 0;
+        for (x, y, p) in image.enumerate_pixels() {
+            let input = (y * 16 + x) * 5 + 1;
+            let want = [
+                unorm(f64::from(x) / 15.0),
+                unorm(f64::from(y) / 15.0),
+                unorm(f64::from(input % 7) / 6.0),
+                255,
+            ];
+            if want
+                .iter()
+                .zip(p.0)
+                .any(|(w, g)| (w - i32::from(g)).abs() > 1)
+            {
+                wrong += 1;
+            }
         }
+        assert_eq!(
+            wrong, 0,
+            "{file}: {wrong} of 256 texels differ from the shader's result"
+        );
     }
-    assert_eq!(
-        wrong, 0,
-        "{wrong} of 256 texels differ from the shader's result"
-    );
     std::fs::remove_dir_all(dir).unwrap();
 }
 

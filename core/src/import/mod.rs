@@ -168,7 +168,8 @@ fn storage_access_from_code(
         .iter()
         .map(|h| (pipelines::pipeline_name(*h), *h))
         .collect();
-    let mut refined = 0u64;
+    // The note counts the bindings left read-write for want of code.
+    let mut unknown = 0u64;
     for pass in &mut builder.passes {
         let bound: Option<Vec<u64>> = pass
             .draws
@@ -177,29 +178,29 @@ fn storage_access_from_code(
             .chain(pass.dispatches.iter().map(|d| d.pipeline.as_ref()))
             .map(|p| p.and_then(|n| by_name.get(n).copied()))
             .collect();
-        let Some(bound) = bound.filter(|b| !b.is_empty()) else {
-            continue;
-        };
+        let bound = bound.unwrap_or_default();
         for (key, binding) in &mut pass.bindings {
             if binding.access != Some(Access::StorageReadWrite) {
                 continue;
             }
-            let Some((set, slot)) = key
+            let slot = key
                 .strip_prefix("set")
                 .and_then(|k| k.split_once("_binding"))
                 .and_then(|(s, b)| {
                     // `set0_binding2`, or `set0_binding2_3` for element 3 of an array.
                     let b = b.split('_').next()?;
-                    Some((s.parse().ok()?, b.parse().ok()?))
-                })
-            else {
+                    Some((s.parse::<u32>().ok()?, b.parse::<u32>().ok()?))
+                });
+            let uses: Option<Vec<pipelines::StorageUse>> = slot.and_then(|(set, slot)| {
+                bound
+                    .iter()
+                    .map(|p| pipelines.storage_use(*p, set, slot))
+                    .collect()
+            });
+            let Some(uses) = uses.filter(|u| !u.is_empty()) else {
+                unknown += 1;
                 continue;
             };
-            let uses: Option<Vec<pipelines::StorageUse>> = bound
-                .iter()
-                .map(|p| pipelines.storage_use(*p, set, slot))
-                .collect();
-            let Some(uses) = uses else { continue };
             let (reads, writes) = uses
                 .iter()
                 .fold((false, false), |(r, w), u| (r || u.reads, w || u.writes));
@@ -209,14 +210,12 @@ fn storage_access_from_code(
                 // Bound and read, or bound and never touched: no write to order.
                 _ => Access::StorageRead,
             });
-            refined += 1;
         }
     }
-    if let Some(n) = builder.notes.get_mut(NOTE) {
-        *n = n.saturating_sub(refined);
-        if *n == 0 {
-            builder.notes.remove(NOTE);
-        }
+    if unknown == 0 {
+        builder.notes.remove(NOTE);
+    } else if let Some(n) = builder.notes.get_mut(NOTE) {
+        *n = unknown;
     }
 }
 

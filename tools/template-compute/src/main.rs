@@ -1,12 +1,14 @@
-//! A Vulkan compute program, written directly against the API (ash), that updates its
-//! descriptor set through a descriptor update template: storage buffers, a uniform buffer and
-//! a storage image written from one application struct. No library framelab captures uses
+//! A Vulkan compute program, written directly against the API (ash), that writes its
+//! descriptors through descriptor update templates: storage buffers, a uniform buffer and a
+//! storage image from one application struct, once into a descriptor set
+//! (`vkUpdateDescriptorSetWithTemplate`) and once pushed (`vkCmdPushDescriptorSetWithTemplateKHR`). No library framelab captures uses
 //! templates, so this is the program the binary import's template decoding is tested on
 //! (captured with GFXReconstruct; see `tests/fixtures/gfxr/README.md`).
 //!
-//! It fills `input` through a mapping, dispatches one 16x16 group that writes
-//! `output[i] = input[i] * scale + bias` and a 16x16 RGBA8 image, reads `output` back and
-//! checks it, and exits non-zero on any mismatch.
+//! It fills `input` through a mapping, then dispatches twice (through the set, then through the
+//! pushed descriptors) one 16x16 group that writes `output[i] = input[i] * scale + bias` and a
+//! 16x16 RGBA8 image, each dispatch into its own output buffer and image; it reads both
+//! outputs back and checks them, and exits non-zero on any mismatch.
 
 // Every Vulkan call through ash is `unsafe`: the program owns each object it creates and
 // destroys it after the device is idle.
@@ -129,6 +131,54 @@ fn read_u32s(device: &ash::Device, b: &Buffer, count: usize) -> Result<Vec<u32>>
         .collect())
 }
 
+/// A 16x16 RGBA8 storage image with its memory and view.
+fn storage_image(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+    device: &ash::Device,
+) -> Result<(vk::Image, vk::DeviceMemory, vk::ImageView)> {
+    unsafe {
+        let image = device.create_image(
+            &vk::ImageCreateInfo::default()
+                .image_type(vk::ImageType::TYPE_2D)
+                .format(vk::Format::R8G8B8A8_UNORM)
+                .extent(vk::Extent3D {
+                    width: SIDE,
+                    height: SIDE,
+                    depth: 1,
+                })
+                .mip_levels(1)
+                .array_layers(1)
+                .samples(vk::SampleCountFlags::TYPE_1)
+                .tiling(vk::ImageTiling::OPTIMAL)
+                .usage(vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC),
+            None,
+        )?;
+        let req = device.get_image_memory_requirements(image);
+        let memory = device.allocate_memory(
+            &vk::MemoryAllocateInfo::default()
+                .allocation_size(req.size)
+                .memory_type_index(memory_type(
+                    instance,
+                    physical,
+                    req.memory_type_bits,
+                    vk::MemoryPropertyFlags::DEVICE_LOCAL,
+                )?),
+            None,
+        )?;
+        device.bind_image_memory(image, memory, 0)?;
+        let view = device.create_image_view(
+            &vk::ImageViewCreateInfo::default()
+                .image(image)
+                .view_type(vk::ImageViewType::TYPE_2D)
+                .format(vk::Format::R8G8B8A8_UNORM)
+                .subresource_range(color_range()),
+            None,
+        )?;
+        Ok((image, memory, view))
+    }
+}
+
 fn main() -> Result<()> {
     let code = spirv()?;
     let entry = unsafe { ash::Entry::load() }.context("the Vulkan loader")?;
@@ -156,13 +206,17 @@ fn main() -> Result<()> {
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(family)
         .queue_priorities(&priorities)];
+    let extensions = [ash::khr::push_descriptor::NAME.as_ptr()];
     let device = unsafe {
         instance.create_device(
             physical,
-            &vk::DeviceCreateInfo::default().queue_create_infos(&queues),
+            &vk::DeviceCreateInfo::default()
+                .queue_create_infos(&queues)
+                .enabled_extension_names(&extensions),
             None,
         )?
     };
+    let push = ash::khr::push_descriptor::Device::new(&instance, &device);
     let queue = unsafe { device.get_device_queue(family, 0) };
 
     let bytes = (COUNT * 4) as u64;
@@ -180,46 +234,9 @@ fn main() -> Result<()> {
     write_u32s(&device, &input, &values)?;
     write_u32s(&device, &params, &[SCALE, BIAS, 0, 0])?;
 
-    let (image, image_memory, view) = unsafe {
-        let image = device.create_image(
-            &vk::ImageCreateInfo::default()
-                .image_type(vk::ImageType::TYPE_2D)
-                .format(vk::Format::R8G8B8A8_UNORM)
-                .extent(vk::Extent3D {
-                    width: SIDE,
-                    height: SIDE,
-                    depth: 1,
-                })
-                .mip_levels(1)
-                .array_layers(1)
-                .samples(vk::SampleCountFlags::TYPE_1)
-                .tiling(vk::ImageTiling::OPTIMAL)
-                .usage(vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC),
-            None,
-        )?;
-        let req = device.get_image_memory_requirements(image);
-        let memory = device.allocate_memory(
-            &vk::MemoryAllocateInfo::default()
-                .allocation_size(req.size)
-                .memory_type_index(memory_type(
-                    &instance,
-                    physical,
-                    req.memory_type_bits,
-                    vk::MemoryPropertyFlags::DEVICE_LOCAL,
-                )?),
-            None,
-        )?;
-        device.bind_image_memory(image, memory, 0)?;
-        let view = device.create_image_view(
-            &vk::ImageViewCreateInfo::default()
-                .image(image)
-                .view_type(vk::ImageViewType::TYPE_2D)
-                .format(vk::Format::R8G8B8A8_UNORM)
-                .subresource_range(color_range()),
-            None,
-        )?;
-        (image, memory, view)
-    };
+    let first = storage_image(&instance, physical, &device)?;
+    let second = storage_image(&instance, physical, &device)?;
+    let output2 = buffer(&instance, physical, &device, bytes, storage)?;
 
     let kinds = [
         vk::DescriptorType::STORAGE_BUFFER,
@@ -262,6 +279,12 @@ fn main() -> Result<()> {
             &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
             None,
         )?;
+        let push_layout = device.create_descriptor_set_layout(
+            &vk::DescriptorSetLayoutCreateInfo::default()
+                .flags(vk::DescriptorSetLayoutCreateFlags::PUSH_DESCRIPTOR_KHR)
+                .bindings(&bindings),
+            None,
+        )?;
         let sizes = [
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
@@ -288,6 +311,15 @@ fn main() -> Result<()> {
                 .descriptor_pool(pool)
                 .set_layouts(&layouts),
         )?[0];
+        let pipeline_layout = device.create_pipeline_layout(
+            &vk::PipelineLayoutCreateInfo::default().set_layouts(&layouts),
+            None,
+        )?;
+        let push_layouts = [push_layout];
+        let push_pipeline_layout = device.create_pipeline_layout(
+            &vk::PipelineLayoutCreateInfo::default().set_layouts(&push_layouts),
+            None,
+        )?;
         let template = device.create_descriptor_update_template(
             &vk::DescriptorUpdateTemplateCreateInfo::default()
                 .descriptor_update_entries(&entries)
@@ -295,14 +327,23 @@ fn main() -> Result<()> {
                 .descriptor_set_layout(set_layout),
             None,
         )?;
+        let push_template = device.create_descriptor_update_template(
+            &vk::DescriptorUpdateTemplateCreateInfo::default()
+                .descriptor_update_entries(&entries)
+                .template_type(vk::DescriptorUpdateTemplateType::PUSH_DESCRIPTORS_KHR)
+                .pipeline_bind_point(vk::PipelineBindPoint::COMPUTE)
+                .pipeline_layout(push_pipeline_layout)
+                .set(0),
+            None,
+        )?;
         let whole = |b: &Buffer| vk::DescriptorBufferInfo {
             buffer: b.buffer,
             offset: 0,
             range: vk::WHOLE_SIZE,
         };
-        let data = Descriptors {
+        let descriptors = |out: &Buffer, view: vk::ImageView| Descriptors {
             input: whole(&input),
-            output: whole(&output),
+            output: whole(out),
             params: vk::DescriptorBufferInfo {
                 buffer: params.buffer,
                 offset: 0,
@@ -314,31 +355,34 @@ fn main() -> Result<()> {
                 image_layout: vk::ImageLayout::GENERAL,
             },
         };
+        let data = descriptors(&output, first.2);
         device.update_descriptor_set_with_template(
             set,
             template,
             std::ptr::from_ref(&data).cast::<c_void>(),
         );
+        let pushed = descriptors(&output2, second.2);
 
         let module = device
             .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None)?;
-        let pipeline_layout = device.create_pipeline_layout(
-            &vk::PipelineLayoutCreateInfo::default().set_layouts(&layouts),
-            None,
-        )?;
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module)
             .name(c"main");
-        let pipeline = device
+        let pipelines = device
             .create_compute_pipelines(
                 vk::PipelineCache::null(),
-                &[vk::ComputePipelineCreateInfo::default()
-                    .stage(stage)
-                    .layout(pipeline_layout)],
+                &[
+                    vk::ComputePipelineCreateInfo::default()
+                        .stage(stage)
+                        .layout(pipeline_layout),
+                    vk::ComputePipelineCreateInfo::default()
+                        .stage(stage)
+                        .layout(push_pipeline_layout),
+                ],
                 None,
             )
-            .map_err(|(_, e)| e)?[0];
+            .map_err(|(_, e)| e)?;
 
         let command_pool = device.create_command_pool(
             &vk::CommandPoolCreateInfo::default().queue_family_index(family),
@@ -350,6 +394,16 @@ fn main() -> Result<()> {
                 .command_buffer_count(1),
         )?[0];
         device.begin_command_buffer(cb, &vk::CommandBufferBeginInfo::default())?;
+        let to_general = |image: vk::Image| {
+            vk::ImageMemoryBarrier::default()
+                .image(image)
+                .old_layout(vk::ImageLayout::UNDEFINED)
+                .new_layout(vk::ImageLayout::GENERAL)
+                .dst_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .subresource_range(color_range())
+        };
         device.cmd_pipeline_barrier(
             cb,
             vk::PipelineStageFlags::TOP_OF_PIPE,
@@ -357,16 +411,9 @@ fn main() -> Result<()> {
             vk::DependencyFlags::empty(),
             &[],
             &[],
-            &[vk::ImageMemoryBarrier::default()
-                .image(image)
-                .old_layout(vk::ImageLayout::UNDEFINED)
-                .new_layout(vk::ImageLayout::GENERAL)
-                .dst_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .subresource_range(color_range())],
+            &[to_general(first.0), to_general(second.0)],
         );
-        device.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipeline);
+        device.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipelines[0]);
         device.cmd_bind_descriptor_sets(
             cb,
             vk::PipelineBindPoint::COMPUTE,
@@ -374,6 +421,15 @@ fn main() -> Result<()> {
             0,
             &[set],
             &[],
+        );
+        device.cmd_dispatch(cb, 1, 1, 1);
+        device.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipelines[1]);
+        push.cmd_push_descriptor_set_with_template(
+            cb,
+            push_template,
+            push_pipeline_layout,
+            0,
+            std::ptr::from_ref(&pushed).cast::<c_void>(),
         );
         device.cmd_dispatch(cb, 1, 1, 1);
         device.cmd_pipeline_barrier(
@@ -396,34 +452,44 @@ fn main() -> Result<()> {
         )?;
         device.queue_wait_idle(queue)?;
 
-        let got = read_u32s(&device, &output, COUNT)?;
-        let wrong = got
-            .iter()
-            .zip(&values)
-            .filter(|(g, v)| **g != **v * SCALE + BIAS)
-            .count();
+        let mut wrong = 0;
+        for out in [&output, &output2] {
+            let got = read_u32s(&device, out, COUNT)?;
+            wrong += got
+                .iter()
+                .zip(&values)
+                .filter(|(g, v)| **g != **v * SCALE + BIAS)
+                .count();
+        }
 
         device.destroy_command_pool(command_pool, None);
-        device.destroy_pipeline(pipeline, None);
-        device.destroy_pipeline_layout(pipeline_layout, None);
+        for p in pipelines {
+            device.destroy_pipeline(p, None);
+        }
         device.destroy_shader_module(module, None);
         device.destroy_descriptor_update_template(template, None);
+        device.destroy_descriptor_update_template(push_template, None);
+        device.destroy_pipeline_layout(pipeline_layout, None);
+        device.destroy_pipeline_layout(push_pipeline_layout, None);
         device.destroy_descriptor_pool(pool, None);
         device.destroy_descriptor_set_layout(set_layout, None);
-        device.destroy_image_view(view, None);
-        device.destroy_image(image, None);
-        device.free_memory(image_memory, None);
-        for b in [&input, &output, &params] {
+        device.destroy_descriptor_set_layout(push_layout, None);
+        for (image, memory, view) in [first, second] {
+            device.destroy_image_view(view, None);
+            device.destroy_image(image, None);
+            device.free_memory(memory, None);
+        }
+        for b in [&input, &output, &output2, &params] {
             device.destroy_buffer(b.buffer, None);
             device.free_memory(b.memory, None);
         }
         device.destroy_device(None);
         instance.destroy_instance(None);
         if wrong != 0 {
-            bail!("{wrong} of {COUNT} outputs are wrong on {name}");
+            bail!("{wrong} of {} outputs are wrong on {name}", 2 * COUNT);
         }
     }
-    println!("{COUNT} outputs right on {name}");
+    println!("{} outputs right on {name}", 2 * COUNT);
     Ok(())
 }
 
