@@ -206,8 +206,10 @@ fn import(input: &Path, out: &Path) {
 
 /// GFXReconstruct captures, with the hazards framelab finds that the layer does not because
 /// of its rasterization-order rule across render passes (expected count).
-const GFXR: [(&str, usize); 9] = [
+const GFXR: [(&str, usize); 11] = [
     ("vkcube_f3", 0),
+    ("vkcube_staging", 0),
+    ("template_compute", 0),
     ("vkcube_f184", 0),
     ("vkcubepp_f3", 0),
     ("vkd3d_triangle_f1", 1),
