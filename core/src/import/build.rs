@@ -10,8 +10,9 @@ use super::commands::{
     BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, Region, RenderInstance,
     TransferCmd, Use,
 };
+use super::pipelines::{Pipelines, StorageUse};
 use super::record::Recording;
-use super::state::{Descriptor, Objects};
+use super::state::{Descriptor, Objects, storage_descriptor};
 use crate::capture::dxgi;
 use crate::capture::format::{
     Access, BarrierType, Binding, ByteRange, Clear, ColorAttachment, Copy, CopyLocation,
@@ -94,6 +95,14 @@ fn store_op(op: &str) -> StoreOp {
     } else {
         StoreOp::Store
     }
+}
+
+/// What the importer knows that a submission's command buffers are walked with.
+#[derive(Clone, Copy, Debug)]
+pub struct Known<'a> {
+    pub objects: &'a Objects,
+    pub pipelines: &'a Pipelines,
+    pub recordings: &'a HashMap<u64, Recording>,
 }
 
 impl Builder {
@@ -291,13 +300,13 @@ impl Builder {
     /// One queue submission: waits, command buffers in order, signals.
     pub fn submit(
         &mut self,
-        objects: &Objects,
-        recordings: &HashMap<u64, Recording>,
+        known: Known<'_>,
         queue: u64,
         waits: &[u64],
         command_buffers: &[u64],
         signals: &[u64],
     ) {
+        let objects = known.objects;
         self.wait(queue, waits);
         if self.emitting() {
             self.last_submit = Some(objects.at);
@@ -307,8 +316,8 @@ impl Builder {
             self.first_submit = Some(objects.at);
         }
         for cb in command_buffers {
-            match recordings.get(cb) {
-                Some(r) => self.walk(objects, recordings, queue, r, 0),
+            match known.recordings.get(cb) {
+                Some(r) => self.walk(known, queue, r, 0),
                 None => self.note("submitted command buffers the stream never recorded: skipped"),
             }
         }
@@ -382,14 +391,12 @@ impl Builder {
         self.end_frame();
     }
 
-    fn walk(
-        &mut self,
-        objects: &Objects,
-        recordings: &HashMap<u64, Recording>,
-        queue: u64,
-        recording: &Recording,
-        depth: u32,
-    ) {
+    fn walk(&mut self, known: Known<'_>, queue: u64, recording: &Recording, depth: u32) {
+        let Known {
+            objects,
+            pipelines,
+            recordings,
+        } = known;
         let mut compute: Option<usize> = None;
         let mut render: Option<(&RenderInstance, usize, Option<usize>)> = None;
         for (i, cmd) in recording.cmds.iter().enumerate() {
@@ -444,7 +451,7 @@ impl Builder {
                     }
                 }
                 Cmd::Draw(d) => match render {
-                    Some((_, _, Some(pass))) => self.draw(objects, pass, d),
+                    Some((_, _, Some(pass))) => self.draw(objects, pipelines, pass, d),
                     Some((_, _, None)) => {}
                     None => self.note("draws outside a render pass instance: skipped"),
                 },
@@ -455,7 +462,7 @@ impl Builder {
                     };
                     compute = pass;
                     if let Some(p) = pass {
-                        self.dispatch(objects, p, d);
+                        self.dispatch(objects, pipelines, p, d);
                     }
                 }
                 Cmd::Transfer(t) => self.transfer(objects, queue, t),
@@ -466,7 +473,7 @@ impl Builder {
                     }
                     for cb in list {
                         match recordings.get(cb) {
-                            Some(r) => self.walk(objects, recordings, queue, r, depth + 1),
+                            Some(r) => self.walk(known, queue, r, depth + 1),
                             None => self.note(
                                 "executed command buffers the stream never recorded: skipped",
                             ),
@@ -623,9 +630,38 @@ impl Builder {
         }
     }
 
-    /// Bindings from the descriptors a draw or dispatch can reach. Without shader code,
-    /// storage descriptors count as read-write.
-    fn bind(&mut self, objects: &Objects, pass: usize, uses: &[Use]) {
+    /// A storage binding's access: what the code of the pipeline `code` names does with
+    /// (`set`, `binding`), where the capture holds that code (a binary capture); read-write,
+    /// and a note, where it does not.
+    fn storage_access(
+        &mut self,
+        code: Option<(&Pipelines, u64)>,
+        set: u32,
+        binding: u32,
+    ) -> Access {
+        match code.and_then(|(p, pipeline)| p.storage_use(pipeline, set, binding)) {
+            Some(StorageUse {
+                writes: true,
+                reads: true,
+            }) => Access::StorageReadWrite,
+            Some(StorageUse { writes: true, .. }) => Access::StorageWrite,
+            // Read, or bound and never touched: no write to order.
+            Some(_) => Access::StorageRead,
+            None => {
+                self.note("storage descriptors counted as read-write (the stream holds no shader code to tell)");
+                Access::StorageReadWrite
+            }
+        }
+    }
+
+    /// Bindings from the descriptors a draw or dispatch with pipeline `code` can reach.
+    fn bind(
+        &mut self,
+        objects: &Objects,
+        pass: usize,
+        uses: &[Use],
+        code: Option<(&Pipelines, u64)>,
+    ) {
         for u in uses {
             let (handle, access, bytes, mips, layers) = match &u.descriptor {
                 Descriptor::Sampler { .. } => continue,
@@ -636,8 +672,8 @@ impl Builder {
                         );
                         continue;
                     };
-                    let access = if ty.contains("STORAGE") || ty == "3" {
-                        Access::StorageReadWrite
+                    let access = if storage_descriptor(ty) {
+                        self.storage_access(code, u.set, u.binding)
                     } else {
                         Access::Sampled
                     };
@@ -661,10 +697,10 @@ impl Builder {
                     range,
                     ty,
                 } => {
-                    let access = if ty.starts_with("UNIFORM") || ty == "6" || ty == "8" {
-                        Access::Uniform
+                    let access = if storage_descriptor(ty) {
+                        self.storage_access(code, u.set, u.binding)
                     } else {
-                        Access::StorageReadWrite
+                        Access::Uniform
                     };
                     let Some(b) = objects.buffers.get(buffer) else {
                         self.note("descriptors naming buffers the stream never created: skipped");
@@ -690,8 +726,8 @@ impl Builder {
                         );
                         continue;
                     };
-                    let access = if ty.starts_with("STORAGE") || ty == "5" {
-                        Access::StorageReadWrite
+                    let access = if storage_descriptor(ty) {
+                        self.storage_access(code, u.set, u.binding)
                     } else {
                         Access::StorageRead
                     };
@@ -708,9 +744,6 @@ impl Builder {
             let Some(name) = self.resource(objects, handle) else {
                 continue;
             };
-            if access == Access::StorageReadWrite {
-                self.note("storage descriptors counted as read-write (the stream holds no shader code to tell)");
-            }
             let binding = Binding {
                 resource: Some(name),
                 sampler: None,
@@ -744,9 +777,9 @@ impl Builder {
         }
     }
 
-    fn draw(&mut self, objects: &Objects, pass: usize, d: &DrawCmd) {
+    fn draw(&mut self, objects: &Objects, pipelines: &Pipelines, pass: usize, d: &DrawCmd) {
         self.draws += 1;
-        self.bind(objects, pass, &d.uses);
+        self.bind(objects, pass, &d.uses, d.pipeline.map(|p| (pipelines, p)));
         let vk_vertex: Vec<VkVertexBuffer> = d
             .vertex_buffers
             .iter()
@@ -803,9 +836,9 @@ impl Builder {
         });
     }
 
-    fn dispatch(&mut self, objects: &Objects, pass: usize, d: &DispatchCmd) {
+    fn dispatch(&mut self, objects: &Objects, pipelines: &Pipelines, pass: usize, d: &DispatchCmd) {
         self.dispatches += 1;
-        self.bind(objects, pass, &d.uses);
+        self.bind(objects, pass, &d.uses, d.pipeline.map(|p| (pipelines, p)));
         let indirect = match d.indirect {
             Some((b, offset)) => match self.resource(objects, b) {
                 Some(buffer) => Some(IndirectArgs { buffer, offset }),

@@ -152,73 +152,6 @@ fn failed(call: &Call) -> bool {
         .is_some_and(|r| r.starts_with("VK_ERROR") || (r.starts_with('-') && r.len() > 1))
 }
 
-/// What the binding table says a binary capture's shaders do: each storage binding a pass
-/// counted as read-write becomes a read, a write or both, from the SPIR-V of every pipeline the
-/// pass's draws and dispatches bound (`Pipelines::storage_use`), where the code of all of them
-/// is known. Analysis then derives barriers and culls on what the shaders really access.
-fn storage_access_from_code(
-    builder: &mut build::Builder,
-    pipelines: &pipelines::Pipelines,
-    used: &std::collections::BTreeSet<u64>,
-) {
-    use crate::capture::format::Access;
-    const NOTE: &str =
-        "storage descriptors counted as read-write (the stream holds no shader code to tell)";
-    let by_name: HashMap<String, u64> = used
-        .iter()
-        .map(|h| (pipelines::pipeline_name(*h), *h))
-        .collect();
-    // The note counts the bindings left read-write for want of code.
-    let mut unknown = 0u64;
-    for pass in &mut builder.passes {
-        let bound: Option<Vec<u64>> = pass
-            .draws
-            .iter()
-            .map(|d| d.pipeline.as_ref())
-            .chain(pass.dispatches.iter().map(|d| d.pipeline.as_ref()))
-            .map(|p| p.and_then(|n| by_name.get(n).copied()))
-            .collect();
-        let bound = bound.unwrap_or_default();
-        for (key, binding) in &mut pass.bindings {
-            if binding.access != Some(Access::StorageReadWrite) {
-                continue;
-            }
-            let slot = key
-                .strip_prefix("set")
-                .and_then(|k| k.split_once("_binding"))
-                .and_then(|(s, b)| {
-                    // `set0_binding2`, or `set0_binding2_3` for element 3 of an array.
-                    let b = b.split('_').next()?;
-                    Some((s.parse::<u32>().ok()?, b.parse::<u32>().ok()?))
-                });
-            let uses: Option<Vec<pipelines::StorageUse>> = slot.and_then(|(set, slot)| {
-                bound
-                    .iter()
-                    .map(|p| pipelines.storage_use(*p, set, slot))
-                    .collect()
-            });
-            let Some(uses) = uses.filter(|u| !u.is_empty()) else {
-                unknown += 1;
-                continue;
-            };
-            let (reads, writes) = uses
-                .iter()
-                .fold((false, false), |(r, w), u| (r || u.reads, w || u.writes));
-            binding.access = Some(match (reads, writes) {
-                (true, true) => Access::StorageReadWrite,
-                (false, true) => Access::StorageWrite,
-                // Bound and read, or bound and never touched: no write to order.
-                _ => Access::StorageRead,
-            });
-        }
-    }
-    if unknown == 0 {
-        builder.notes.remove(NOTE);
-    } else if let Some(n) = builder.notes.get_mut(NOTE) {
-        *n = unknown;
-    }
-}
-
 struct Importer {
     objects: Objects,
     pipelines: pipelines::Pipelines,
@@ -445,8 +378,11 @@ impl Importer {
                 );
             }
             self.builder.submit(
-                &self.objects,
-                &self.recordings,
+                build::Known {
+                    objects: &self.objects,
+                    pipelines: &self.pipelines,
+                    recordings: &self.recordings,
+                },
                 queue,
                 &waits,
                 &cbs,
@@ -720,8 +656,6 @@ fn finish(
     }
     let frames = imp.builder.frames_seen.max(1);
     let selected = selected_frames(file, options, frames)?;
-    let used = imp.builder.pipelines_used.clone();
-    storage_access_from_code(&mut imp.builder, &imp.pipelines, &used);
     let mut skipped = skipped_while_reading(&imp);
     let (draws, dispatches, recorded_barriers) = (
         imp.builder.draws,

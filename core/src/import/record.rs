@@ -104,170 +104,171 @@ impl Recording {
         objects: &Objects,
     ) -> Got<bool> {
         let origin = || format!("{name} #{call_index}");
-        let cmd =
-            match func {
-                CmdFunc::BindPipeline => {
-                    let point = compute_point(&args.get("pipelineBindPoint")?)?;
-                    self.bound
-                        .pipelines
-                        .insert(point, args.get("pipeline")?.handle()?);
-                    return Ok(true);
+        let cmd = match func {
+            CmdFunc::BindPipeline => {
+                let point = compute_point(&args.get("pipelineBindPoint")?)?;
+                self.bound
+                    .pipelines
+                    .insert(point, args.get("pipeline")?.handle()?);
+                return Ok(true);
+            }
+            CmdFunc::SetViewport => {
+                if let Some(v) = args.list("pViewports")?.first() {
+                    let f = |k: &str| -> Got<f32> { Ok(v.get(k)?.f64()? as f32) };
+                    self.bound.viewport = Some([
+                        f("x")?,
+                        f("y")?,
+                        f("width")?,
+                        f("height")?,
+                        f("minDepth")?,
+                        f("maxDepth")?,
+                    ]);
                 }
-                CmdFunc::SetViewport => {
-                    if let Some(v) = args.list("pViewports")?.first() {
-                        let f = |k: &str| -> Got<f32> { Ok(v.get(k)?.f64()? as f32) };
-                        self.bound.viewport = Some([
-                            f("x")?,
-                            f("y")?,
-                            f("width")?,
-                            f("height")?,
-                            f("minDepth")?,
-                            f("maxDepth")?,
-                        ]);
-                    }
-                    return Ok(true);
+                return Ok(true);
+            }
+            CmdFunc::SetScissor => {
+                if let Some(r) = args.list("pScissors")?.first() {
+                    let (o, e) = (r.get("offset")?, r.get("extent")?);
+                    self.bound.scissor = Some([
+                        o.get("x")?.i64()?,
+                        o.get("y")?.i64()?,
+                        e.get("width")?.i64()?,
+                        e.get("height")?.i64()?,
+                    ]);
                 }
-                CmdFunc::SetScissor => {
-                    if let Some(r) = args.list("pScissors")?.first() {
-                        let (o, e) = (r.get("offset")?, r.get("extent")?);
-                        self.bound.scissor = Some([
-                            o.get("x")?.i64()?,
-                            o.get("y")?.i64()?,
-                            e.get("width")?.i64()?,
-                            e.get("height")?.i64()?,
-                        ]);
-                    }
-                    return Ok(true);
+                return Ok(true);
+            }
+            CmdFunc::SetBlendConstants => {
+                let k = args.list("blendConstants")?;
+                let mut c = [0.0f32; 4];
+                for (i, v) in k.iter().take(4).enumerate() {
+                    c[i] = v.f64()? as f32;
                 }
-                CmdFunc::SetBlendConstants => {
-                    let k = args.list("blendConstants")?;
-                    let mut c = [0.0f32; 4];
-                    for (i, v) in k.iter().take(4).enumerate() {
-                        c[i] = v.f64()? as f32;
-                    }
-                    self.bound.blend_constants = Some(c);
-                    return Ok(true);
+                self.bound.blend_constants = Some(c);
+                return Ok(true);
+            }
+            CmdFunc::SetStencilReference => {
+                // VkStencilFaceFlags: front 1, back 2.
+                let faces = args.get("faceMask")?.u64()?;
+                let reference = args.get("reference")?.u32()?;
+                if faces & 1 != 0 {
+                    self.bound.stencil_reference.0 = Some(reference);
                 }
-                CmdFunc::SetStencilReference => {
-                    // VkStencilFaceFlags: front 1, back 2.
-                    let faces = args.get("faceMask")?.u64()?;
-                    let reference = args.get("reference")?.u32()?;
-                    if faces & 1 != 0 {
-                        self.bound.stencil_reference.0 = Some(reference);
-                    }
-                    if faces & 2 != 0 {
-                        self.bound.stencil_reference.1 = Some(reference);
-                    }
-                    return Ok(true);
+                if faces & 2 != 0 {
+                    self.bound.stencil_reference.1 = Some(reference);
                 }
-                CmdFunc::PushConstants => return self.push_constants(args).map(|()| true),
-                CmdFunc::BindDescriptorSets => return self.bind_sets(args, objects).map(|()| true),
-                CmdFunc::PushDescriptorSet => return self.push_set(args).map(|()| true),
-                CmdFunc::BindVertexBuffers => return self.bind_vertex_buffers(args).map(|()| true),
-                CmdFunc::BindIndexBuffer => {
-                    let b = args.get("buffer")?.handle()?;
-                    self.bound.index = if b == 0 {
-                        None
-                    } else {
-                        Some((
-                            b,
-                            args.get("offset")?.u64()?,
-                            args.get("indexType")?.name()?,
-                        ))
-                    };
-                    return Ok(true);
+                return Ok(true);
+            }
+            CmdFunc::PushConstants => return self.push_constants(args).map(|()| true),
+            CmdFunc::BindDescriptorSets => return self.bind_sets(args, objects).map(|()| true),
+            CmdFunc::PushDescriptorSet => return self.push_set(args).map(|()| true),
+            CmdFunc::BindVertexBuffers => return self.bind_vertex_buffers(args).map(|()| true),
+            CmdFunc::BindIndexBuffer => {
+                let b = args.get("buffer")?.handle()?;
+                self.bound.index = if b == 0 {
+                    None
+                } else {
+                    Some((
+                        b,
+                        args.get("offset")?.u64()?,
+                        args.get("indexType")?.name()?,
+                    ))
+                };
+                return Ok(true);
+            }
+            CmdFunc::Draw { indexed } => self.draw_call(indexed, args)?,
+            CmdFunc::DrawIndirect { indexed } => {
+                return self.draw_indirect(indexed, args, &origin()).map(|()| true);
+            }
+            CmdFunc::Dispatch => Cmd::Dispatch(Box::new(DispatchCmd {
+                groups: Some([
+                    args.get("groupCountX")?.u32()?,
+                    args.get("groupCountY")?.u32()?,
+                    args.get("groupCountZ")?.u32()?,
+                ]),
+                indirect: None,
+                uses: self.uses(true),
+                pipeline: self.bound.pipelines.get(&true).copied(),
+                state: self.state(true),
+            })),
+            CmdFunc::DispatchIndirect => Cmd::Dispatch(Box::new(DispatchCmd {
+                groups: None,
+                indirect: Some((args.get("buffer")?.handle()?, args.get("offset")?.u64()?)),
+                uses: self.uses(true),
+                pipeline: self.bound.pipelines.get(&true).copied(),
+                state: self.state(true),
+            })),
+            CmdFunc::PipelineBarrier => {
+                let src_stages = args.get("srcStageMask")?.stages()?;
+                let dst_stages = args.get("dstStageMask")?.stages()?;
+                Cmd::Barrier(barriers(args, &origin(), Some((src_stages, dst_stages)))?)
+            }
+            CmdFunc::PipelineBarrier2 => {
+                Cmd::Barrier(barriers(&args.get("pDependencyInfo")?, &origin(), None)?)
+            }
+            CmdFunc::WaitEvents2 => {
+                let mut all = Vec::new();
+                for info in args.list("pDependencyInfos")? {
+                    all.extend(barriers(&info, &origin(), None)?);
                 }
-                CmdFunc::Draw { indexed } => self.draw_call(indexed, args)?,
-                CmdFunc::DrawIndirect { indexed } => {
-                    return self.draw_indirect(indexed, args, &origin()).map(|()| true);
-                }
-                CmdFunc::Dispatch => Cmd::Dispatch(Box::new(DispatchCmd {
-                    groups: Some([
-                        args.get("groupCountX")?.u32()?,
-                        args.get("groupCountY")?.u32()?,
-                        args.get("groupCountZ")?.u32()?,
-                    ]),
-                    indirect: None,
-                    uses: self.uses(true),
-                    pipeline: self.bound.pipelines.get(&true).copied(),
-                    state: self.state(true),
-                })),
-                CmdFunc::DispatchIndirect => Cmd::Dispatch(Box::new(DispatchCmd {
-                    groups: None,
-                    indirect: Some((args.get("buffer")?.handle()?, args.get("offset")?.u64()?)),
-                    uses: self.uses(true),
-                    pipeline: self.bound.pipelines.get(&true).copied(),
-                    state: self.state(true),
-                })),
-                CmdFunc::PipelineBarrier => {
-                    let src_stages = args.get("srcStageMask")?.stages()?;
-                    let dst_stages = args.get("dstStageMask")?.stages()?;
-                    Cmd::Barrier(barriers(args, &origin(), Some((src_stages, dst_stages)))?)
-                }
-                CmdFunc::PipelineBarrier2 => {
-                    Cmd::Barrier(barriers(&args.get("pDependencyInfo")?, &origin(), None)?)
-                }
-                CmdFunc::WaitEvents2 => {
-                    let mut all = Vec::new();
-                    for info in args.list("pDependencyInfos")? {
-                        all.extend(barriers(&info, &origin(), None)?);
-                    }
-                    Cmd::Barrier(all)
-                }
-                CmdFunc::BeginRenderPass => Cmd::BeginRender(Box::new(
-                    render_pass::begin_render_pass(args, objects, origin())?,
-                )),
-                CmdFunc::NextSubpass => Cmd::NextSubpass,
-                CmdFunc::EndRender => Cmd::EndRender,
-                CmdFunc::BeginRendering => Cmd::BeginRender(Box::new(
-                    render_pass::begin_rendering(&args.get("pRenderingInfo")?)?,
-                )),
-                CmdFunc::Copy { kind, v2: false } => copy(kind, name, args)?,
-                CmdFunc::Copy { kind, v2: true } => copy(kind, name, &args.get(kind.info_key())?)?,
-                CmdFunc::ClearImage => clear_image(name, args)?,
-                CmdFunc::FillBuffer => Cmd::Transfer(Box::new(TransferCmd::Fill {
-                    update: name.contains("Update"),
-                    buffer: args.get("dstBuffer")?.handle()?,
-                })),
-                CmdFunc::ResolveImage => Cmd::Transfer(Box::new(TransferCmd::Resolve {
-                    src: args.get("srcImage")?.handle()?,
-                    dst: args.get("dstImage")?.handle()?,
-                })),
-                CmdFunc::BeginDebugLabel => {
-                    Cmd::BeginLabel(args.get("pLabelInfo")?.get("pLabelName")?.str()?.to_owned())
-                }
-                CmdFunc::BeginDebugMarker => Cmd::BeginLabel(
-                    args.get("pMarkerInfo")?
-                        .get("pMarkerName")?
-                        .str()?
-                        .to_owned(),
-                ),
-                CmdFunc::EndLabel => Cmd::EndLabel,
-                CmdFunc::ExecuteCommands => Cmd::Execute(
-                    args.list("pCommandBuffers")?
-                        .iter()
-                        .map(Arg::handle)
-                        .collect::<Got<_>>()?,
-                ),
-                // Work framelab's passes cannot hold yet: named as left out, not silently dropped.
-                CmdFunc::Blit => {
-                    return Err(Skip(
-                        "scaled blits are not imported (no pass kind for them)".to_owned(),
-                    ));
-                }
-                CmdFunc::ClearAttachments => {
-                    return Err(Skip(
-                        "clears of attachments inside a render pass are not imported".to_owned(),
-                    ));
-                }
-                CmdFunc::NotImported => {
-                    return Err(Skip("this command's work is not imported".to_owned()));
-                }
-                CmdFunc::PushDescriptorSetWithTemplate => {
-                    return self.push_template(args, objects).map(|()| true);
-                }
-                CmdFunc::Other => return Ok(false),
-            };
+                Cmd::Barrier(all)
+            }
+            CmdFunc::BeginRenderPass => {
+                let instance = render_pass::begin_render_pass(args, objects, origin())?;
+                Cmd::BeginRender(Box::new(instance))
+            }
+            CmdFunc::NextSubpass => Cmd::NextSubpass,
+            CmdFunc::EndRender => Cmd::EndRender,
+            CmdFunc::BeginRendering => {
+                let instance = render_pass::begin_rendering(&args.get("pRenderingInfo")?)?;
+                Cmd::BeginRender(Box::new(instance))
+            }
+            CmdFunc::Copy { kind, v2: false } => copy(kind, name, args)?,
+            CmdFunc::Copy { kind, v2: true } => copy(kind, name, &args.get(kind.info_key())?)?,
+            CmdFunc::ClearImage => clear_image(name, args)?,
+            CmdFunc::FillBuffer => Cmd::Transfer(Box::new(TransferCmd::Fill {
+                update: name.contains("Update"),
+                buffer: args.get("dstBuffer")?.handle()?,
+            })),
+            CmdFunc::ResolveImage => Cmd::Transfer(Box::new(TransferCmd::Resolve {
+                src: args.get("srcImage")?.handle()?,
+                dst: args.get("dstImage")?.handle()?,
+            })),
+            CmdFunc::BeginDebugLabel => {
+                Cmd::BeginLabel(args.get("pLabelInfo")?.get("pLabelName")?.str()?.to_owned())
+            }
+            CmdFunc::BeginDebugMarker => Cmd::BeginLabel(
+                args.get("pMarkerInfo")?
+                    .get("pMarkerName")?
+                    .str()?
+                    .to_owned(),
+            ),
+            CmdFunc::EndLabel => Cmd::EndLabel,
+            CmdFunc::ExecuteCommands => Cmd::Execute(
+                args.list("pCommandBuffers")?
+                    .iter()
+                    .map(Arg::handle)
+                    .collect::<Got<_>>()?,
+            ),
+            // Work framelab's passes cannot hold yet: named as left out, not silently dropped.
+            CmdFunc::Blit => {
+                return Err(Skip(
+                    "scaled blits are not imported (no pass kind for them)".to_owned(),
+                ));
+            }
+            CmdFunc::ClearAttachments => {
+                return Err(Skip(
+                    "clears of attachments inside a render pass are not imported".to_owned(),
+                ));
+            }
+            CmdFunc::NotImported => {
+                return Err(Skip("this command's work is not imported".to_owned()));
+            }
+            CmdFunc::PushDescriptorSetWithTemplate => {
+                return self.push_template(args, objects).map(|()| true);
+            }
+            CmdFunc::Other => return Ok(false),
+        };
         self.cmds.push(cmd);
         self.at.push(origin());
         Ok(true)

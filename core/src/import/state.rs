@@ -592,8 +592,6 @@ impl Objects {
     }
 }
 
-/// The descriptors one VkWriteDescriptorSet writes, by (binding, array element); a write
-/// running past its binding continues in the next one, as Vulkan specifies.
 /// One entry of a descriptor update template.
 #[derive(Clone, Debug)]
 pub struct TemplateEntry {
@@ -613,11 +611,73 @@ pub struct Template {
 /// Most elements one template entry is read for: a hostile count stops here.
 const MAX_TEMPLATE_ELEMENTS: u32 = 4096;
 
+/// Which list of a write holds a descriptor type's data: image infos (samplers included),
+/// buffer infos or texel buffer views. `None` for types that reach no resource framelab
+/// models (acceleration structures, inline uniform blocks).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Holds {
+    Images = 0,
+    Buffers = 1,
+    TexelViews = 2,
+}
+
+impl Holds {
+    /// `kind` is the type without `VK_DESCRIPTOR_TYPE_`, or its number.
+    fn of(kind: &str) -> Option<Holds> {
+        match kind {
+            "SAMPLER"
+            | "COMBINED_IMAGE_SAMPLER"
+            | "SAMPLED_IMAGE"
+            | "STORAGE_IMAGE"
+            | "INPUT_ATTACHMENT"
+            | "0"
+            | "1"
+            | "2"
+            | "3"
+            | "10" => Some(Holds::Images),
+            "UNIFORM_BUFFER"
+            | "STORAGE_BUFFER"
+            | "UNIFORM_BUFFER_DYNAMIC"
+            | "STORAGE_BUFFER_DYNAMIC"
+            | "6"
+            | "7"
+            | "8"
+            | "9" => Some(Holds::Buffers),
+            "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" | "4" | "5" => Some(Holds::TexelViews),
+            _ => None,
+        }
+    }
+
+    /// The member of a VkWriteDescriptorSet holding the list.
+    fn key(self) -> &'static str {
+        match self {
+            Holds::Images => "pImageInfo",
+            Holds::Buffers => "pBufferInfo",
+            Holds::TexelViews => "pTexelBufferView",
+        }
+    }
+}
+
+/// Whether a descriptor type lets a shader write (storage images, buffers, texel buffers).
+pub fn storage_descriptor(ty: &str) -> bool {
+    matches!(
+        ty.trim_start_matches("VK_DESCRIPTOR_TYPE_"),
+        "STORAGE_IMAGE"
+            | "STORAGE_BUFFER"
+            | "STORAGE_BUFFER_DYNAMIC"
+            | "STORAGE_TEXEL_BUFFER"
+            | "3"
+            | "5"
+            | "7"
+            | "9"
+    )
+}
+
 impl Objects {
     /// The descriptors a template's data writes. The data lists image infos, buffer infos and
     /// texel buffer views apart (as the binary capture holds them, and `gfxrecon-convert` 1.x
-    /// writes them), each group in the template's entry order; each entry takes its count
-    /// from the group of its kind, and becomes the write it stands for.
+    /// writes them), each list in the template's entry order; each entry takes its count from
+    /// the list of its kind, as the write it stands for would hold them.
     pub fn template_writes(
         &self,
         template: u64,
@@ -633,160 +693,100 @@ impl Objects {
                 "the template's data is not in the stream (gfxrecon-convert 0.9.x writes none; import the .gfxr capture)".to_owned(),
             ));
         }
-        let groups = [
-            data.list("imageInfos")?,
-            data.list("bufferInfos")?,
-            data.list("bufferViews")?,
+        // In `Holds` order.
+        let lists = [
+            (data.list("imageInfos")?, "image infos"),
+            (data.list("bufferInfos")?, "buffer infos"),
+            (data.list("bufferViews")?, "texel buffer views"),
         ];
         let mut next = [0usize; 3];
         let mut out = Vec::new();
         for e in &t.entries {
             let kind = e.ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
-            let (group, key) = match kind {
-                "SAMPLER"
-                | "COMBINED_IMAGE_SAMPLER"
-                | "SAMPLED_IMAGE"
-                | "STORAGE_IMAGE"
-                | "INPUT_ATTACHMENT"
-                | "0"
-                | "1"
-                | "2"
-                | "3"
-                | "10" => (0, "pImageInfo"),
-                "UNIFORM_BUFFER"
-                | "STORAGE_BUFFER"
-                | "UNIFORM_BUFFER_DYNAMIC"
-                | "STORAGE_BUFFER_DYNAMIC"
-                | "6"
-                | "7"
-                | "8"
-                | "9" => (1, "pBufferInfo"),
-                "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" | "4" | "5" => {
-                    (2, "pTexelBufferView")
-                }
-                // Acceleration structures and inline uniform blocks reach no resource
-                // framelab models.
-                _ => continue,
+            let Some(holds) = Holds::of(kind) else {
+                continue;
             };
+            let at = holds as usize;
+            let (list, what) = &lists[at];
             let n = e.count.min(MAX_TEMPLATE_ELEMENTS) as usize;
-            let Some(items) = groups[group].get(next[group]..next[group] + n) else {
+            let Some(items) = list.get(next[at]..next[at] + n) else {
                 return Err(Skip(format!(
-                    "the template's data holds {} {} but its entries ask for more",
-                    groups[group].len(),
-                    ["image infos", "buffer infos", "texel buffer views"][group]
+                    "the template's data holds {} {what} but its entries ask for more",
+                    list.len()
                 )));
             };
-            next[group] += n;
-            let mut write = serde_json::Map::new();
-            write.insert("dstBinding".to_owned(), e.binding.into());
-            write.insert("dstArrayElement".to_owned(), e.element.into());
-            write.insert("descriptorType".to_owned(), e.ty.clone().into());
-            write.insert(
-                key.to_owned(),
-                serde_json::Value::Array(items.iter().map(|a| a.value.clone()).collect()),
-            );
-            let write = serde_json::Value::Object(write);
-            out.extend(descriptor_writes(&Arg::root(&write))?);
+            next[at] += n;
+            out.extend(descriptors(e.binding, e.element, kind, items)?);
         }
         Ok(out)
     }
 }
 
+/// The descriptors one VkWriteDescriptorSet writes, by (binding, array element).
 pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
     let binding = w.get("dstBinding")?.u32()?;
     let first = w.get("dstArrayElement")?.u32()?;
     let ty = w.get("descriptorType")?.name()?;
-    let mut out = Vec::new();
-    let images = w.list("pImageInfo")?;
-    let buffers = w.list("pBufferInfo")?;
-    let texels = w.list("pTexelBufferView")?;
     let kind = ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
-    let is_image = matches!(
-        kind,
-        "COMBINED_IMAGE_SAMPLER"
-            | "SAMPLED_IMAGE"
-            | "STORAGE_IMAGE"
-            | "INPUT_ATTACHMENT"
-            | "1"
-            | "2"
-            | "3"
-            | "10"
-    );
-    let is_buffer = matches!(
-        kind,
-        "UNIFORM_BUFFER"
-            | "STORAGE_BUFFER"
-            | "UNIFORM_BUFFER_DYNAMIC"
-            | "STORAGE_BUFFER_DYNAMIC"
-            | "6"
-            | "7"
-            | "8"
-            | "9"
-    );
-    let is_texel = matches!(
-        kind,
-        "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" | "4" | "5"
-    );
-    if kind == "SAMPLER" || kind == "0" {
-        for (k, i) in images.iter().enumerate() {
-            let sampler = i.get("sampler")?.handle()?;
-            if sampler != 0 {
-                out.push((
-                    (binding, first.saturating_add(k as u32)),
-                    Descriptor::Sampler { sampler },
-                ));
+    match Holds::of(kind) {
+        Some(holds) => descriptors(binding, first, kind, &w.list(holds.key())?),
+        None => Ok(Vec::new()),
+    }
+}
+
+/// The descriptors of type `kind` that `items` (the list `Holds::of(kind)` names) put at
+/// `binding` from element `first` on; null handles write nothing.
+fn descriptors(
+    binding: u32,
+    first: u32,
+    kind: &str,
+    items: &[Arg<'_>],
+) -> Got<Vec<((u32, u32), Descriptor)>> {
+    let mut out = Vec::new();
+    for (k, i) in items.iter().enumerate() {
+        let at = (binding, first.saturating_add(k as u32));
+        let descriptor = match Holds::of(kind) {
+            Some(Holds::Images) if kind == "SAMPLER" || kind == "0" => {
+                let sampler = i.get("sampler")?.handle()?;
+                (sampler != 0).then_some(Descriptor::Sampler { sampler })
             }
-        }
-    } else if is_image {
-        for (k, i) in images.iter().enumerate() {
-            let view = i.get("imageView")?.handle()?;
-            let sampler = if kind == "COMBINED_IMAGE_SAMPLER" || kind == "1" {
-                i.get("sampler")?.handle()?
-            } else {
-                0
-            };
-            if view != 0 {
-                out.push((
-                    (binding, first.saturating_add(k as u32)),
-                    Descriptor::Image {
-                        view,
-                        sampler,
-                        ty: kind.to_owned(),
-                        layout: i
-                            .opt("imageLayout")
-                            .and_then(|l| ImageLayout::from_name(&l.name().ok()?)),
-                    },
-                ));
+            Some(Holds::Images) => {
+                let view = i.get("imageView")?.handle()?;
+                let sampler = if kind == "COMBINED_IMAGE_SAMPLER" || kind == "1" {
+                    i.get("sampler")?.handle()?
+                } else {
+                    0
+                };
+                (view != 0).then(|| Descriptor::Image {
+                    view,
+                    sampler,
+                    ty: kind.to_owned(),
+                    layout: i.opt("imageLayout").and_then(|l| l.layout().ok()),
+                })
             }
-        }
-    } else if is_buffer {
-        for (k, b) in buffers.iter().enumerate() {
-            let buffer = b.get("buffer")?.handle()?;
-            if buffer != 0 {
-                out.push((
-                    (binding, first.saturating_add(k as u32)),
-                    Descriptor::Buffer {
+            Some(Holds::Buffers) => {
+                let buffer = i.get("buffer")?.handle()?;
+                if buffer == 0 {
+                    None
+                } else {
+                    Some(Descriptor::Buffer {
                         buffer,
-                        offset: b.get("offset")?.u64()?,
-                        range: b.get("range")?.u64()?,
+                        offset: i.get("offset")?.u64()?,
+                        range: i.get("range")?.u64()?,
                         ty: kind.to_owned(),
-                    },
-                ));
+                    })
+                }
             }
-        }
-    } else if is_texel {
-        for (k, t) in texels.iter().enumerate() {
-            let view = t.handle()?;
-            if view != 0 {
-                out.push((
-                    (binding, first.saturating_add(k as u32)),
-                    Descriptor::TexelBuffer {
-                        view,
-                        ty: kind.to_owned(),
-                    },
-                ));
+            Some(Holds::TexelViews) => {
+                let view = i.handle()?;
+                (view != 0).then(|| Descriptor::TexelBuffer {
+                    view,
+                    ty: kind.to_owned(),
+                })
             }
-        }
+            None => None,
+        };
+        out.extend(descriptor.map(|d| (at, d)));
     }
     Ok(out)
 }

@@ -16,16 +16,11 @@ use std::collections::HashMap;
 use super::commands::{Cmd, Region, TransferCmd, Use};
 use super::contents::{Contents, packed_size};
 use super::record::Recording;
-use super::state::{Descriptor, ImageInfo, Objects};
+use super::state::{Descriptor, ImageInfo, Objects, storage_descriptor};
 use crate::capture::dxgi;
 
 /// Deepest nesting of secondary command buffers followed.
 const MAX_DEPTH: u32 = 4;
-
-/// Whether a descriptor type lets a shader write.
-fn writable(ty: &str) -> bool {
-    ty.contains("STORAGE")
-}
 
 impl Contents {
     /// Carries out what command buffer `cb`, submitted before the imported frames, did to
@@ -84,13 +79,15 @@ impl Contents {
     fn written_through(&mut self, objects: &Objects, uses: &[Use]) {
         for u in uses {
             match &u.descriptor {
-                Descriptor::Image { view, ty, .. } if writable(ty) => {
+                Descriptor::Image { view, ty, .. } if storage_descriptor(ty) => {
                     if let Some(v) = objects.views.get(view) {
                         self.gpu_wrote(v.image);
                     }
                 }
-                Descriptor::Buffer { buffer, ty, .. } if writable(ty) => self.gpu_wrote(*buffer),
-                Descriptor::TexelBuffer { view, ty } if writable(ty) => {
+                Descriptor::Buffer { buffer, ty, .. } if storage_descriptor(ty) => {
+                    self.gpu_wrote(*buffer)
+                }
+                Descriptor::TexelBuffer { view, ty } if storage_descriptor(ty) => {
                     if let Some((buffer, _, _)) = objects.buffer_views.get(view) {
                         self.gpu_wrote(*buffer);
                     }
