@@ -8,17 +8,16 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use super::commands::{
     BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, Region, RenderInstance,
-    TransferCmd, Use,
+    TransferCmd,
 };
-use super::pipelines::{Pipelines, StorageUse};
+use super::pipelines::Pipelines;
 use super::record::Recording;
-use super::state::{Descriptor, Objects, storage_descriptor};
+use super::state::Objects;
 use crate::capture::dxgi;
 use crate::capture::format::{
-    Access, BarrierType, Binding, ByteRange, Clear, ColorAttachment, Copy, CopyLocation,
-    DepthStencilAttachment, Dispatch, Draw, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range,
-    RecordedBarrier, Resolve, SplitFlag, StoreOp, VkImageView, VkIndexBuffer, VkVertexBuffer,
-    VulkanBarrier,
+    BarrierType, Clear, ColorAttachment, Copy, CopyLocation, DepthStencilAttachment, Dispatch,
+    Draw, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range, RecordedBarrier, Resolve,
+    SplitFlag, StoreOp, VkImageView, VkIndexBuffer, VkVertexBuffer, VulkanBarrier,
 };
 
 /// Deepest nesting of secondary command buffers followed.
@@ -38,12 +37,12 @@ pub struct Builder {
     /// Resource handles referenced by emitted passes, with their frozen names.
     pub names: BTreeMap<u64, String>,
     pub(super) taken: BTreeSet<String>,
-    pass_names: BTreeSet<String>,
+    pub(super) pass_names: BTreeSet<String>,
     /// Next number to try per pass-name stem, and per (pass, binding stem); bindings already
     /// on each pass. These keep naming linear in the number of passes and descriptors.
     stem_next: HashMap<String, u32>,
-    binding_next: HashMap<(usize, String), u32>,
-    binding_seen: HashMap<usize, std::collections::HashSet<String>>,
+    pub(super) binding_next: HashMap<(usize, String), u32>,
+    pub(super) binding_seen: HashMap<usize, std::collections::HashSet<String>>,
     pub queue_names: BTreeMap<u64, (String, QueueType)>,
     pub(super) pending_barriers: HashMap<u64, Vec<RecordedBarrier>>,
     /// The pass each command's work went into (`vkCmdDispatch #205` -> pass index), so a
@@ -52,7 +51,7 @@ pub struct Builder {
     pub(super) pass_of_command: HashMap<String, usize>,
     pub(super) pending_waits: HashMap<u64, Vec<String>>,
     labels: HashMap<u64, Vec<String>>,
-    last_pass_on: HashMap<u64, usize>,
+    pub(super) last_pass_on: HashMap<u64, usize>,
     /// Semaphore -> the fence of its latest queue signal and the queue that signalled it.
     semaphore_fence: HashMap<u64, (String, u64)>,
     fence_count: BTreeMap<u64, u32>,
@@ -627,153 +626,6 @@ impl Builder {
                     format: None,
                 });
             }
-        }
-    }
-
-    /// A storage binding's access: what the code of the pipeline `code` names does with
-    /// (`set`, `binding`), where the capture holds that code (a binary capture); read-write,
-    /// and a note, where it does not.
-    fn storage_access(
-        &mut self,
-        code: Option<(&Pipelines, u64)>,
-        set: u32,
-        binding: u32,
-    ) -> Access {
-        match code.and_then(|(p, pipeline)| p.storage_use(pipeline, set, binding)) {
-            Some(StorageUse {
-                writes: true,
-                reads: true,
-            }) => Access::StorageReadWrite,
-            Some(StorageUse { writes: true, .. }) => Access::StorageWrite,
-            // Read, or bound and never touched: no write to order.
-            Some(_) => Access::StorageRead,
-            None => {
-                self.note("storage descriptors counted as read-write (the stream holds no shader code to tell)");
-                Access::StorageReadWrite
-            }
-        }
-    }
-
-    /// Bindings from the descriptors a draw or dispatch with pipeline `code` can reach.
-    fn bind(
-        &mut self,
-        objects: &Objects,
-        pass: usize,
-        uses: &[Use],
-        code: Option<(&Pipelines, u64)>,
-    ) {
-        for u in uses {
-            let (handle, access, bytes, mips, layers) = match &u.descriptor {
-                Descriptor::Sampler { .. } => continue,
-                Descriptor::Image { view, ty, .. } => {
-                    let Some(v) = objects.views.get(view) else {
-                        self.note(
-                            "descriptors naming image views the stream never created: skipped",
-                        );
-                        continue;
-                    };
-                    let access = if storage_descriptor(ty) {
-                        self.storage_access(code, u.set, u.binding)
-                    } else {
-                        Access::Sampled
-                    };
-                    let img = objects.images.get(&v.image);
-                    let total = img.map_or((1, 1), |i| (i.mips, i.layers));
-                    let range = |base: u32, count: Option<u32>, all: u32| {
-                        (base != 0 || count.is_some_and(|c| c != all))
-                            .then_some(Range { base, count })
-                    };
-                    (
-                        v.image,
-                        access,
-                        None,
-                        range(v.base_mip, v.mip_count, total.0),
-                        range(v.base_layer, v.layer_count, total.1),
-                    )
-                }
-                Descriptor::Buffer {
-                    buffer,
-                    offset,
-                    range,
-                    ty,
-                } => {
-                    let access = if storage_descriptor(ty) {
-                        self.storage_access(code, u.set, u.binding)
-                    } else {
-                        Access::Uniform
-                    };
-                    let Some(b) = objects.buffers.get(buffer) else {
-                        self.note("descriptors naming buffers the stream never created: skipped");
-                        continue;
-                    };
-                    if *offset >= b.size {
-                        self.note(
-                            "buffer descriptors starting past the end of their buffer: skipped",
-                        );
-                        continue;
-                    }
-                    let size = (*range).min(b.size - offset);
-                    let bytes = (*offset != 0 || size != b.size).then_some(ByteRange {
-                        offset: *offset,
-                        size,
-                    });
-                    (*buffer, access, bytes, None, None)
-                }
-                Descriptor::TexelBuffer { view, ty } => {
-                    let Some(&(buffer, offset, range)) = objects.buffer_views.get(view) else {
-                        self.note(
-                            "descriptors naming buffer views the stream never created: skipped",
-                        );
-                        continue;
-                    };
-                    let access = if storage_descriptor(ty) {
-                        self.storage_access(code, u.set, u.binding)
-                    } else {
-                        Access::StorageRead
-                    };
-                    let size = objects.buffers.get(&buffer).map_or(0, |b| b.size);
-                    if offset >= size {
-                        continue;
-                    }
-                    let len = range.min(size - offset);
-                    let bytes =
-                        (offset != 0 || len != size).then_some(ByteRange { offset, size: len });
-                    (buffer, access, bytes, None, None)
-                }
-            };
-            let Some(name) = self.resource(objects, handle) else {
-                continue;
-            };
-            let binding = Binding {
-                resource: Some(name),
-                sampler: None,
-                access: Some(access),
-                mips,
-                layers,
-                format: None,
-                dimension: None,
-                bytes,
-            };
-            let stem = if u.element > 0 {
-                format!("set{}_binding{}_{}", u.set, u.binding, u.element)
-            } else {
-                format!("set{}_binding{}", u.set, u.binding)
-            };
-            let identity = format!(
-                "{:?}|{:?}|{:?}|{:?}|{:?}",
-                binding.resource, binding.access, binding.mips, binding.layers, binding.bytes
-            );
-            if !self.binding_seen.entry(pass).or_default().insert(identity) {
-                continue;
-            }
-            let bindings = &mut self.passes[pass].bindings;
-            let mut key = stem.clone();
-            while bindings.contains_key(&key) {
-                let k = self.binding_next.entry((pass, stem.clone())).or_insert(2);
-                key = format!("{stem}_v{k}");
-                *k += 1;
-            }
-            bindings.insert(key, binding);
         }
     }
 

@@ -94,4 +94,29 @@ impl Builder {
         });
         self.uploads.push((name, bytes));
     }
+
+    /// Drops the host writes after the imported frames' last GPU work. Nothing the import
+    /// holds reads them, and a read-back through a mapping looks the same in a capture (the
+    /// capture layer records the mapped memory when it is unmapped): kept, they would stand
+    /// as the last writers of the results the CPU reads and hide the work that made them.
+    pub fn drop_trailing_host_writes(&mut self) {
+        let mut dropped = 0;
+        while let Some(p) = self.passes.last() {
+            if p.kind != PassKind::Copy || p.copies.is_empty() || !p.copies.iter().all(|c| c.host) {
+                break;
+            }
+            let Some(p) = self.passes.pop() else { break };
+            for c in &p.copies {
+                self.uploads.retain(|(name, _)| *name != c.src.resource);
+                self.taken.remove(&c.src.resource);
+            }
+            self.pass_names.remove(&p.name);
+            dropped += 1;
+        }
+        let passes = self.passes.len();
+        self.last_pass_on.retain(|_, p| *p < passes);
+        for _ in 0..dropped {
+            self.note("host writes after the frames' last GPU work: left out (nothing in them reads the bytes; a read-back through a mapping is captured the same way)");
+        }
+    }
 }

@@ -4,6 +4,7 @@
 //! into passes in submission order with the barriers, labels and semaphores the application
 //! really used. Shader code is not in the stream, so the capture is analysed, not replayed.
 
+mod bindings;
 mod build;
 mod calls;
 mod commands;
@@ -656,6 +657,7 @@ fn finish(
     }
     let frames = imp.builder.frames_seen.max(1);
     let selected = selected_frames(file, options, frames)?;
+    imp.builder.drop_trailing_host_writes();
     let mut skipped = skipped_while_reading(&imp);
     let (draws, dispatches, recorded_barriers) = (
         imp.builder.draws,
