@@ -12,7 +12,7 @@
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
-use serde_json::Value;
+use super::value::Arg;
 
 use super::state::{ImageInfo, Objects};
 use crate::capture::dxgi;
@@ -136,13 +136,9 @@ pub(super) const MAX_BLOCK_BYTES: u64 = 4 << 30;
 /// never written. Past it, a hostile size cannot make the import hold more.
 pub(super) const ZERO_ALLOWANCE: u64 = 256 << 20;
 
-fn handle(v: &Value) -> Option<u64> {
-    v.as_u64()
-}
-
 impl Contents {
     /// A call only the binary route needs to see.
-    pub fn observe(&mut self, name: &str, args: &Value, blobs: &[(String, Vec<u8>)]) {
+    pub fn observe(&mut self, name: &str, args: &Arg<'_>, blobs: &[(String, Vec<u8>)]) {
         if self.frozen
             && !matches!(
                 name,
@@ -151,28 +147,26 @@ impl Contents {
         {
             return;
         }
+        let number = |a: &Arg<'_>, path: &[&str]| {
+            path.iter()
+                .try_fold(*a, |a, k| a.get(k).ok())
+                .and_then(|v| v.u64().ok())
+        };
         match name {
             "vkGetImageSubresourceLayout" => {
-                let sub = args.get("pSubresource");
-                let first = sub.and_then(|s| s.get("mipLevel")).and_then(Value::as_u64) == Some(0)
-                    && sub
-                        .and_then(|s| s.get("arrayLayer"))
-                        .and_then(Value::as_u64)
-                        == Some(0);
-                let layout = args.get("pLayout");
+                let first = number(args, &["pSubresource", "mipLevel"]) == Some(0)
+                    && number(args, &["pSubresource", "arrayLayer"]) == Some(0);
                 if let (true, Some(image), Some(pitch), Some(offset)) = (
                     first,
-                    args.get("image").and_then(handle),
-                    layout
-                        .and_then(|l| l.get("rowPitch"))
-                        .and_then(Value::as_u64),
-                    layout.and_then(|l| l.get("offset")).and_then(Value::as_u64),
+                    number(args, &["image"]),
+                    number(args, &["pLayout", "rowPitch"]),
+                    number(args, &["pLayout", "offset"]),
                 ) {
                     self.linear.insert(image, (pitch, offset));
                 }
             }
             "vkCreateShaderModule" => {
-                let Some(module) = args.get("pShaderModule").and_then(handle) else {
+                let Some(module) = number(args, &["pShaderModule"]) else {
                     return;
                 };
                 // Long code comes as raw bytes; a module of a few words as numbers.
@@ -181,11 +175,11 @@ impl Contents {
                     None => args
                         .get("pCreateInfo")
                         .and_then(|c| c.get("pCode"))
-                        .and_then(Value::as_array)
+                        .and_then(|c| c.items())
                         .map(|words| {
                             words
                                 .iter()
-                                .filter_map(Value::as_u64)
+                                .filter_map(|w| w.u64().ok())
                                 .flat_map(|w| (w as u32).to_le_bytes())
                                 .collect()
                         })
@@ -194,24 +188,20 @@ impl Contents {
                 self.module(module, bytes);
             }
             "vkMapMemory" => {
-                if let (Some(m), Some(o)) = (
-                    args.get("memory").and_then(handle),
-                    args.get("offset").and_then(Value::as_u64),
-                ) {
+                if let (Some(m), Some(o)) = (number(args, &["memory"]), number(args, &["offset"])) {
                     self.map_offset.insert(m, o);
                 }
             }
             "vkMapMemory2KHR" | "vkMapMemory2" => {
-                let info = args.get("pMemoryMapInfo");
                 if let (Some(m), Some(o)) = (
-                    info.and_then(|i| i.get("memory")).and_then(handle),
-                    info.and_then(|i| i.get("offset")).and_then(Value::as_u64),
+                    number(args, &["pMemoryMapInfo", "memory"]),
+                    number(args, &["pMemoryMapInfo", "offset"]),
                 ) {
                     self.map_offset.insert(m, o);
                 }
             }
             "vkFreeMemory" => {
-                if let Some(m) = args.get("memory").and_then(handle) {
+                if let Some(m) = number(args, &["memory"]) {
                     self.memory.remove(&m);
                     self.map_offset.remove(&m);
                 }

@@ -20,6 +20,7 @@ mod state;
 mod stream;
 mod sync;
 mod transfers;
+mod tree;
 mod value;
 mod vk_work;
 
@@ -184,6 +185,17 @@ impl Importer {
         e.0 += 1;
     }
 
+    /// Counts a call of a function framelab does not model (without a new key's allocation
+    /// for every call).
+    fn count_not_modelled(&mut self, name: &str) {
+        match self.not_modelled.get_mut(name) {
+            Some(n) => *n += 1,
+            None => {
+                self.not_modelled.insert(name.to_owned(), 1);
+            }
+        }
+    }
+
     fn call(&mut self, call: &Call) {
         self.calls += 1;
         if call.index > self.last_index.saturating_add(1) && self.builder.first_submit.is_none() {
@@ -205,7 +217,7 @@ impl Importer {
         let args = Arg::root(&call.args);
         match self.dispatch(call, &args) {
             Ok(true) => {}
-            Ok(false) => *self.not_modelled.entry(call.name.clone()).or_default() += 1,
+            Ok(false) => self.count_not_modelled(&call.name),
             Err(value::Skip(why)) => self.skip(format!("{}: {why}", call.name), call.line),
         }
     }

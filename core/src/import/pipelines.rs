@@ -340,7 +340,7 @@ fn stage(s: &Arg<'_>) -> Got<(PipelineStage, u64)> {
     if let Some(info) = s.opt("pSpecializationInfo") {
         // The binary capture holds the data; a JSON Lines stream only its address.
         let data: Option<Vec<u8>> = match info.opt("pData") {
-            Some(d) if d.value.is_array() => Some(
+            Some(d) if d.is_array() => Some(
                 d.items()?
                     .iter()
                     .map(|b| b.u32().map(|v| v as u8))

@@ -284,7 +284,7 @@ impl Recording {
                 u64::from(offset) + u64::from(size)
             )));
         }
-        let values = args.opt("pValues").filter(|v| v.value.is_array());
+        let values = args.opt("pValues").filter(Arg::is_array);
         let first = !self.bound.pushed;
         self.bound.pushed = true;
         let Some(values) = values else {

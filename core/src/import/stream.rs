@@ -2,11 +2,13 @@
 //! telling its two dialects apart: 0.9.x writes calls as `{"index", "vkFunc": {...}}`, 1.x as
 //! `{"index", "function": {...}}` with `meta`, `state` and `frame` marker lines besides.
 
+use std::borrow::Cow;
 use std::io::{BufRead, Read};
 
 use serde_json::Value;
 
 use super::calls::Func;
+use super::tree::Tree;
 
 /// Longest line read; a longer one is refused rather than buffered.
 pub const MAX_LINE_BYTES: u64 = 64 << 20;
@@ -18,10 +20,10 @@ pub struct Call {
     pub line: u64,
     /// The converter's block index.
     pub index: u64,
-    pub name: String,
+    pub name: Cow<'static, str>,
     /// The function `name` names, decoded once here for every later pass.
     pub func: Func,
-    pub args: Value,
+    pub args: Tree,
     /// `VK_SUCCESS` or an error code; absent for void functions.
     pub result: Option<String>,
     /// `0.9.x` for `vkFunc` lines, `1.x` for `function` lines.
@@ -144,7 +146,7 @@ fn parse_entry(text: &[u8], line: u64) -> Result<Entry, LineError> {
     }
     for (key, dialect) in [("vkFunc", "0.9.x"), ("function", "1.x")] {
         if let Some(f) = obj.remove(key) {
-            let Value::Object(mut f) = f else {
+            let Value::Object(f) = f else {
                 return Err(err(format!("`{key}` is not an object")));
             };
             let name = match f.get("name") {
@@ -157,12 +159,12 @@ fn parse_entry(text: &[u8], line: u64) -> Result<Entry, LineError> {
                 Some(v) if !v.is_null() => Some(v.to_string()),
                 _ => None,
             };
-            let args = f.remove("args").unwrap_or(Value::Null);
+            let args = Tree::from_json(f.get("args").unwrap_or(&Value::Null));
             return Ok(Entry::Call(Call {
                 line,
                 index,
                 func: Func::of(&name),
-                name,
+                name: Cow::Owned(name),
                 args,
                 result,
                 dialect,

@@ -2,8 +2,7 @@
 //! values as numbers or strings, flags as integers, hex strings or `A|B` symbols, enums as
 //! names. A value of the wrong shape is a `Skip` naming the argument, never a panic.
 
-use serde_json::Value;
-
+use super::tree::{Node, Tree};
 use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
 
 /// Why a call could not be used: the argument path and what is wrong with it.
@@ -17,33 +16,33 @@ pub type Got<T> = Result<T, Skip>;
 /// spelling a path out for every read was a large part of an import's time.
 #[derive(Clone, Copy, Debug)]
 pub struct Arg<'a> {
-    pub value: &'a Value,
-    root: &'a Value,
+    tree: &'a Tree,
+    node: usize,
 }
 
-/// The path from `from` to the value at address `to`, if it lies inside.
-fn find(from: &Value, to: *const Value, path: &mut String) -> bool {
-    if std::ptr::eq(from, to) {
+/// The path from node `from` to node `to`, if it lies inside.
+fn find(tree: &Tree, from: usize, to: usize, path: &mut String) -> bool {
+    if from == to {
         return true;
     }
     let len = path.len();
-    match from {
-        Value::Object(m) => {
-            for (k, v) in m {
+    match tree.node(from) {
+        Node::Object(run) => {
+            for k in tree.kids(run) {
                 if !path.is_empty() {
                     path.push('.');
                 }
-                path.push_str(k);
-                if find(v, to, path) {
+                path.push_str(tree.text(k.key));
+                if find(tree, k.node, to, path) {
                     return true;
                 }
                 path.truncate(len);
             }
         }
-        Value::Array(items) => {
-            for (i, v) in items.iter().enumerate() {
+        Node::Array(run) => {
+            for (i, k) in tree.kids(run).iter().enumerate() {
                 path.push_str(&format!("[{i}]"));
-                if find(v, to, path) {
+                if find(tree, k.node, to, path) {
                     return true;
                 }
                 path.truncate(len);
@@ -55,14 +54,21 @@ fn find(from: &Value, to: *const Value, path: &mut String) -> bool {
 }
 
 impl<'a> Arg<'a> {
-    pub fn root(value: &'a Value) -> Self {
-        Arg { value, root: value }
+    pub fn root(tree: &'a Tree) -> Self {
+        Arg {
+            tree,
+            node: tree.root(),
+        }
+    }
+
+    fn value(&self) -> Node {
+        self.tree.node(self.node)
     }
 
     /// The argument's path, e.g. `pCreateInfo.extent.width` or `pRegions[2].size`.
     pub fn path(&self) -> String {
         let mut path = String::new();
-        find(self.root, self.value, &mut path);
+        find(self.tree, self.tree.root(), self.node, &mut path);
         path
     }
 
@@ -77,13 +83,18 @@ impl<'a> Arg<'a> {
     }
 
     fn skip<T>(&self, what: &str) -> Got<T> {
-        let shown = match self.value {
-            Value::String(s) if s.len() > 40 => {
-                format!("\"{}...\"", &s[..s.floor_char_boundary(40)])
+        let shown = match self.value() {
+            Node::Str(t) => {
+                let s = self.tree.text(t);
+                if s.len() > 40 {
+                    format!("\"{}...\"", &s[..s.floor_char_boundary(40)])
+                } else {
+                    serde_json::Value::from(s).to_string()
+                }
             }
-            Value::Object(_) => "an object".to_owned(),
-            Value::Array(_) => "an array".to_owned(),
-            v => v.to_string(),
+            Node::Object(_) => "an object".to_owned(),
+            Node::Array(_) => "an array".to_owned(),
+            _ => self.tree.to_json(self.node).to_string(),
         };
         Err(Skip(format!(
             "`{}` is {shown}, expected {what}",
@@ -91,16 +102,16 @@ impl<'a> Arg<'a> {
         )))
     }
 
-    fn child(&self, value: &'a Value) -> Arg<'a> {
+    fn child(&self, node: usize) -> Arg<'a> {
         Arg {
-            value,
-            root: self.root,
+            tree: self.tree,
+            node,
         }
     }
 
     /// A member; missing members are an error naming them.
     pub fn get(&self, key: &str) -> Got<Arg<'a>> {
-        match self.value.get(key) {
+        match self.tree.get(self.node, key) {
             Some(v) => Ok(self.child(v)),
             None => Err(Skip(format!("`{}` is missing", self.member_path(key)))),
         }
@@ -108,17 +119,26 @@ impl<'a> Arg<'a> {
 
     /// A member that may be absent or null.
     pub fn opt(&self, key: &str) -> Option<Arg<'a>> {
-        self.value
-            .get(key)
-            .filter(|v| !v.is_null())
+        self.tree
+            .get(self.node, key)
+            .filter(|v| self.tree.node(*v) != Node::Null)
             .map(|v| self.child(v))
+    }
+
+    pub fn is_array(&self) -> bool {
+        matches!(self.value(), Node::Array(_))
     }
 
     /// The elements of an array; null or absent arrays are empty.
     pub fn items(&self) -> Got<Vec<Arg<'a>>> {
-        match self.value {
-            Value::Null => Ok(Vec::new()),
-            Value::Array(items) => Ok(items.iter().map(|v| self.child(v)).collect()),
+        match self.value() {
+            Node::Null => Ok(Vec::new()),
+            Node::Array(run) => Ok(self
+                .tree
+                .kids(run)
+                .iter()
+                .map(|k| self.child(k.node))
+                .collect()),
             _ => self.skip("an array"),
         }
     }
@@ -133,12 +153,11 @@ impl<'a> Arg<'a> {
 
     /// An unsigned integer: a JSON number, or a decimal or `0x` hex string.
     pub fn u64(&self) -> Got<u64> {
-        match self.value {
-            Value::Number(n) => match n.as_u64() {
-                Some(v) => Ok(v),
-                None => self.skip("an unsigned integer"),
-            },
-            Value::String(s) => parse_uint(s).map_or_else(|| self.skip("an unsigned integer"), Ok),
+        match self.value() {
+            Node::U64(v) => Ok(v),
+            Node::Str(t) => {
+                parse_uint(self.tree.text(t)).map_or_else(|| self.skip("an unsigned integer"), Ok)
+            }
             _ => self.skip("an unsigned integer"),
         }
     }
@@ -149,32 +168,40 @@ impl<'a> Arg<'a> {
     }
 
     pub fn i64(&self) -> Got<i64> {
-        match self.value {
-            Value::Number(n) => n.as_i64().map_or_else(|| self.skip("an integer"), Ok),
-            Value::String(s) => s.trim().parse().or_else(|_| self.skip("an integer")),
+        match self.value() {
+            Node::U64(v) => i64::try_from(v).or_else(|_| self.skip("an integer")),
+            Node::I64(v) => Ok(v),
+            Node::Str(t) => self
+                .tree
+                .text(t)
+                .trim()
+                .parse()
+                .or_else(|_| self.skip("an integer")),
             _ => self.skip("an integer"),
         }
     }
 
     pub fn f64(&self) -> Got<f64> {
-        match self.value {
-            Value::Number(n) => n.as_f64().map_or_else(|| self.skip("a number"), Ok),
+        match self.value() {
+            Node::U64(v) => Ok(v as f64),
+            Node::I64(v) => Ok(v as f64),
+            Node::F64(v) => Ok(v),
             _ => self.skip("a number"),
         }
     }
 
     pub fn str(&self) -> Got<&'a str> {
-        match self.value {
-            Value::String(s) => Ok(s),
+        match self.value() {
+            Node::Str(t) => Ok(self.tree.text(t)),
             _ => self.skip("a string"),
         }
     }
 
     /// A handle id: a number, a hex string, or null / `VK_NULL_HANDLE` (0).
     pub fn handle(&self) -> Got<u64> {
-        match self.value {
-            Value::Null => Ok(0),
-            Value::String(s) if s == "VK_NULL_HANDLE" => Ok(0),
+        match self.value() {
+            Node::Null => Ok(0),
+            Node::Str(t) if self.tree.text(t) == "VK_NULL_HANDLE" => Ok(0),
             _ => self.u64().or_else(|_| self.skip("a handle")),
         }
     }
@@ -185,11 +212,17 @@ impl<'a> Arg<'a> {
         if let Ok(v) = self.u64() {
             return Ok(v);
         }
-        let Value::String(s) = self.value else {
+        let Node::Str(t) = self.value() else {
             return self.skip("flags");
         };
         let mut mask = 0;
-        for symbol in s.split('|').map(str::trim).filter(|x| !x.is_empty()) {
+        for symbol in self
+            .tree
+            .text(t)
+            .split('|')
+            .map(str::trim)
+            .filter(|x| !x.is_empty())
+        {
             match symbol_value(symbol, table) {
                 Some(v) => mask |= v,
                 None => return Err(Skip(format!("`{}`: unknown flag {symbol}", self.path()))),
@@ -211,19 +244,33 @@ impl<'a> Arg<'a> {
 
     /// An image layout by name or value.
     pub fn layout(&self) -> Got<ImageLayout> {
-        let n = self.name()?;
-        n.parse::<u64>()
-            .ok()
-            .and_then(ImageLayout::from_value)
-            .or_else(|| ImageLayout::from_name(&n))
-            .ok_or_else(|| Skip(format!("`{}`: unknown image layout {n}", self.path())))
+        let known = match self.value() {
+            Node::U64(v) => ImageLayout::from_value(v),
+            Node::Str(t) => {
+                let n = self.tree.text(t);
+                n.parse::<u64>()
+                    .ok()
+                    .and_then(ImageLayout::from_value)
+                    .or_else(|| ImageLayout::from_name(n))
+            }
+            _ => return self.skip("an image layout"),
+        };
+        known.ok_or_else(|| {
+            Skip(format!(
+                "`{}`: unknown image layout {}",
+                self.path(),
+                self.name().unwrap_or_default()
+            ))
+        })
     }
 
     /// An enumerant's name (`VK_FORMAT_R8G8B8A8_UNORM`); numbers are given back as text.
     pub fn name(&self) -> Got<String> {
-        match self.value {
-            Value::String(s) => Ok(s.clone()),
-            Value::Number(n) => Ok(n.to_string()),
+        match self.value() {
+            Node::Str(t) => Ok(self.tree.text(t).to_owned()),
+            Node::U64(_) | Node::I64(_) | Node::F64(_) => {
+                Ok(self.tree.to_json(self.node).to_string())
+            }
             _ => self.skip("an enumerant"),
         }
     }
@@ -323,7 +370,8 @@ mod tests {
     #[test]
     fn numbers_strings_and_symbols() {
         let v = json!({"a": 18446744073709551615u64, "b": "0x00000006", "c": "VK_IMAGE_USAGE_SAMPLED_BIT|VK_IMAGE_USAGE_STORAGE_BIT", "d": [1, "x"], "h": "VK_NULL_HANDLE"});
-        let root = Arg::root(&v);
+        let tree = Tree::from_json(&v);
+        let root = Arg::root(&tree);
         assert_eq!(root.get("a").unwrap().u64(), Ok(u64::MAX));
         assert!(root.get("a").unwrap().u32().is_err());
         assert_eq!(root.get("b").unwrap().flags(IMAGE_USAGE), Ok(6));

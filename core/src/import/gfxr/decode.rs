@@ -7,8 +7,7 @@
 //! allocated for them; nesting is bounded, so no input can take memory or stack beyond its
 //! own size.
 
-use serde_json::{Map, Value};
-
+use super::super::tree::{Node, Text, Tree};
 use super::super::value::shortest;
 use super::registry::{self, CommandDef, ENUMS, STRUCTS, Ty};
 
@@ -22,11 +21,11 @@ const HAS_DATA: u32 = 0x80;
 /// Deepest nesting of structures and `pNext` chains read.
 const MAX_DEPTH: u32 = 48;
 
-/// A decoded call: its arguments by name, and its return value.
+/// A decoded call: its arguments by name (in the tree given to `decode_call`), and its
+/// return value as the JSON Lines stream writes it.
 #[derive(Debug)]
 pub struct Decoded {
-    pub args: Value,
-    pub ret: Option<Value>,
+    pub ret: Option<String>,
     /// Long arrays of bytes or 32-bit words (SPIR-V code, update data), kept as raw bytes by their path (`pCreateInfo.pCode`) instead of one
     /// JSON number per element; the arguments show `"(N bytes)"` in their place, as the JSON
     /// Lines stream shows no data there either.
@@ -39,8 +38,9 @@ pub struct Decoded {
 const BLOB_BYTES: usize = 256;
 const BLOB_BYTES_U8: usize = 4096;
 
-struct Reader<'a> {
+struct Reader<'a, 't> {
     buf: &'a [u8],
+    tree: &'t mut Tree,
     pos: usize,
     depth: u32,
     /// Where the reader is (`pCreateInfo.pStages[1].pName`), kept as parts and spelt out only
@@ -60,7 +60,7 @@ enum Part {
 
 type Res<T> = Result<T, String>;
 
-impl<'a> Reader<'a> {
+impl<'a> Reader<'a, '_> {
     fn take(&mut self, n: usize) -> Res<&'a [u8]> {
         let left = self.buf.len() - self.pos;
         if n > left {
@@ -151,7 +151,11 @@ impl<'a> Reader<'a> {
         Ok(len as usize)
     }
 
-    fn value(&mut self, ty: Ty) -> Res<Value> {
+    fn leaf(&mut self, node: Node) -> Res<usize> {
+        Ok(self.tree.leaf(node))
+    }
+
+    fn value(&mut self, ty: Ty) -> Res<usize> {
         if let Some(seek) = self.seek {
             let width = match ty {
                 Ty::U8 => 1,
@@ -164,65 +168,79 @@ impl<'a> Reader<'a> {
                 self.found = Some((self.pos, width));
             }
         }
-        Ok(match ty {
-            Ty::U8 => Value::from(self.array::<1>()?[0]),
-            Ty::U16 => Value::from(u16::from_le_bytes(self.array()?)),
-            Ty::U32 | Ty::Flags32 => Value::from(self.u32()?),
-            Ty::I32 => Value::from(i32::from_le_bytes(self.array()?)),
-            Ty::U64 | Ty::Flags64 | Ty::Handle | Ty::Address => Value::from(self.u64()?),
-            Ty::I64 => Value::from(i64::from_le_bytes(self.array()?)),
-            Ty::F32 => Value::from(shortest(f32::from_le_bytes(self.array()?))),
-            Ty::F64 => Value::from(f64::from_le_bytes(self.array()?)),
+        let scalar = match ty {
+            Ty::U8 => Node::U64(u64::from(self.array::<1>()?[0])),
+            Ty::U16 => Node::U64(u64::from(u16::from_le_bytes(self.array()?))),
+            Ty::U32 | Ty::Flags32 => Node::U64(u64::from(self.u32()?)),
+            Ty::I32 => int(i64::from(i32::from_le_bytes(self.array()?))),
+            Ty::U64 | Ty::Flags64 | Ty::Handle | Ty::Address => Node::U64(self.u64()?),
+            Ty::I64 => int(i64::from_le_bytes(self.array()?)),
+            Ty::F32 => Node::F64(shortest(f32::from_le_bytes(self.array()?))),
+            Ty::F64 => Node::F64(f64::from_le_bytes(self.array()?)),
             Ty::Enum(e) => {
                 let v = i32::from_le_bytes(self.array()?);
                 match ENUMS.get(usize::from(e)).and_then(|d| d.name_of(v)) {
-                    Some(name) => Value::from(name),
-                    None => Value::from(v),
+                    Some(name) => Node::Str(Text::Static(name)),
+                    None => int(i64::from(v)),
                 }
             }
-            Ty::Struct(s) => self.structure(s)?,
-            Ty::PNext => self.pnext()?,
-            Ty::Ptr(elem) => self.pointer(*elem)?,
-            Ty::Arr(elem) => match self.pointer(*elem)? {
-                v @ (Value::Array(_) | Value::Null) => v,
-                one => Value::Array(vec![one]),
-            },
-            Ty::Str => self.string()?,
+            _ => return self.composite(ty),
+        };
+        self.leaf(scalar)
+    }
+
+    fn composite(&mut self, ty: Ty) -> Res<usize> {
+        match ty {
+            Ty::Struct(s) => self.structure(s),
+            Ty::PNext => self.pnext(),
+            Ty::Ptr(elem) => self.pointer(*elem),
+            Ty::Arr(elem) => {
+                let v = self.pointer(*elem)?;
+                match self.tree.node(v) {
+                    Node::Array(_) | Node::Null => Ok(v),
+                    _ => {
+                        let mark = self.tree.mark();
+                        self.tree.element(v);
+                        Ok(self.tree.array(mark))
+                    }
+                }
+            }
+            Ty::Str => self.string(),
             Ty::Strs => match self.preamble()? {
                 Some((attrib, len)) if attrib & HAS_DATA != 0 => {
                     let n = self.count(len)?;
-                    let mut items = Vec::with_capacity(n);
+                    let mark = self.tree.mark();
                     for i in 0..n {
-                        items.push(self.within(Part::Index(i), Self::string)?);
+                        let item = self.within(Part::Index(i), Self::string)?;
+                        self.tree.element(item);
                     }
-                    Value::Array(items)
+                    Ok(self.tree.array(mark))
                 }
-                _ => Value::Null,
+                _ => self.leaf(Node::Null),
             },
-            Ty::Opaque => return Err(format!("{} has a type this decoder cannot read", self.at())),
-        })
+            _ => Err(format!("{} has a type this decoder cannot read", self.at())),
+        }
     }
 
-    fn string(&mut self) -> Res<Value> {
+    fn string(&mut self) -> Res<usize> {
         match self.preamble()? {
             Some((attrib, len)) if attrib & HAS_DATA != 0 => {
                 let n = self.count(len)?;
                 let bytes = self.take(n)?;
                 let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
-                Ok(Value::from(
-                    String::from_utf8_lossy(&bytes[..end]).into_owned(),
-                ))
+                let text = String::from_utf8_lossy(&bytes[..end]);
+                Ok(self.tree.string(&text))
             }
-            _ => Ok(Value::Null),
+            _ => self.leaf(Node::Null),
         }
     }
 
-    fn pointer(&mut self, elem: Ty) -> Res<Value> {
+    fn pointer(&mut self, elem: Ty) -> Res<usize> {
         let Some((attrib, len)) = self.preamble()? else {
-            return Ok(Value::Null);
+            return self.leaf(Node::Null);
         };
         if attrib & HAS_DATA == 0 {
-            return Ok(Value::Null);
+            return self.leaf(Node::Null);
         }
         if attrib & IS_ARRAY == 0 {
             return self.value(elem);
@@ -240,18 +258,19 @@ impl<'a> Reader<'a> {
         };
         if width > 0 && n * width > limit {
             let bytes = self.take(n * width)?.to_vec();
-            let shown = Value::from(format!("({} bytes)", bytes.len()));
+            let shown = self.tree.string(&format!("({} bytes)", bytes.len()));
             self.blobs.push((self.at(), bytes));
             return Ok(shown);
         }
-        let mut items = Vec::with_capacity(n);
+        let mark = self.tree.mark();
         for i in 0..n {
-            items.push(self.within(Part::Index(i), |r| r.value(elem))?);
+            let item = self.within(Part::Index(i), |r| r.value(elem))?;
+            self.tree.element(item);
         }
-        Ok(Value::Array(items))
+        Ok(self.tree.array(mark))
     }
 
-    fn structure(&mut self, index: u16) -> Res<Value> {
+    fn structure(&mut self, index: u16) -> Res<usize> {
         let def = STRUCTS
             .get(usize::from(index))
             .ok_or_else(|| format!("{}: no structure {index} in the tables", self.at()))?;
@@ -262,30 +281,31 @@ impl<'a> Reader<'a> {
                 self.at()
             ));
         }
-        let mut map = Map::new();
+        let mark = self.tree.mark();
         for m in def.members {
             let v = self.within(Part::Name(m.name), |r| r.value(m.ty))?;
-            map.insert(m.name.to_owned(), v);
+            self.tree.member(Text::Static(m.name), v);
         }
         self.depth -= 1;
+        let object = self.tree.object(mark);
         if def.name == "VkClearColorValue" {
-            return Ok(clear_color_views(map));
+            return Ok(self.clear_color_views(object));
         }
-        Ok(Value::Object(map))
+        Ok(object)
     }
 
     /// A `pNext` element: the preamble, then the structure its `sType` names (read ahead,
     /// since the structure repeats it).
-    fn pnext(&mut self) -> Res<Value> {
+    fn pnext(&mut self) -> Res<usize> {
         let attrib = self.u32()?;
         if attrib & IS_NULL != 0 {
-            return Ok(Value::Null);
+            return self.leaf(Node::Null);
         }
         if attrib & HAS_ADDRESS != 0 {
             self.u64()?;
         }
         if attrib & HAS_DATA == 0 {
-            return Ok(Value::Null);
+            return self.leaf(Node::Null);
         }
         let stype = u32::from_le_bytes(
             self.buf
@@ -297,32 +317,50 @@ impl<'a> Reader<'a> {
             .ok_or_else(|| format!("{}: a structure with unknown sType {stype}", self.at()))?;
         self.structure(index)
     }
+
+    /// A clear colour is a union GFXReconstruct writes as its four `uint32` words; it is
+    /// given back in all three of its views, as the JSON Lines stream shows it.
+    fn clear_color_views(&mut self, object: usize) -> usize {
+        let tree = &mut *self.tree;
+        let words: Vec<u32> = match tree.get(object, "uint32").map(|a| tree.node(a)) {
+            Some(Node::Array(run)) => tree
+                .kids(run)
+                .iter()
+                .filter_map(|k| match tree.node(k.node) {
+                    Node::U64(w) => Some(w as u32),
+                    _ => None,
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        let views: [(&'static str, View); 3] = [
+            ("float32", |w| Node::F64(shortest(f32::from_bits(w)))),
+            ("int32", |w| int(i64::from(w as i32))),
+            ("uint32", |w| Node::U64(u64::from(w))),
+        ];
+        let mark = tree.mark();
+        for (name, view) in views {
+            let inner = tree.mark();
+            for w in &words {
+                let n = tree.leaf(view(*w));
+                tree.element(n);
+            }
+            let a = tree.array(inner);
+            tree.member(Text::Static(name), a);
+        }
+        tree.object(mark)
+    }
 }
 
-/// A clear colour is a union GFXReconstruct writes as its four `uint32` words; it is given
-/// back in all three of its views, as the JSON Lines stream shows it.
-fn clear_color_views(map: Map<String, Value>) -> Value {
-    let words: Vec<u32> = map
-        .get("uint32")
-        .and_then(Value::as_array)
-        .map(|a| {
-            a.iter()
-                .filter_map(Value::as_u64)
-                .map(|w| w as u32)
-                .collect()
-        })
-        .unwrap_or_default();
-    let float32: Vec<Value> = words
-        .iter()
-        .map(|w| Value::from(shortest(f32::from_bits(*w))))
-        .collect();
-    let int32: Vec<Value> = words.iter().map(|w| Value::from(*w as i32)).collect();
-    let uint32: Vec<Value> = words.iter().map(|w| Value::from(*w)).collect();
-    let mut out = Map::new();
-    out.insert("float32".to_owned(), Value::Array(float32));
-    out.insert("int32".to_owned(), Value::Array(int32));
-    out.insert("uint32".to_owned(), Value::Array(uint32));
-    Value::Object(out)
+/// One view of a clear colour's words.
+type View = fn(u32) -> Node;
+
+/// An integer as `serde_json` keeps it: non-negative ones unsigned.
+fn int(v: i64) -> Node {
+    match u64::try_from(v) {
+        Ok(u) => Node::U64(u),
+        Err(_) => Node::I64(v),
+    }
 }
 
 /// Calls whose `pData` is an update template's data, which GFXReconstruct writes in a layout
@@ -339,7 +377,7 @@ const TEMPLATE_CALLS: [&str; 4] = [
 const ACCELERATION_STRUCTURES: u32 = 1_000_150_000;
 const INLINE_UNIFORM_BLOCK: u32 = 1_000_138_000;
 
-impl Reader<'_> {
+impl Reader<'_, '_> {
     /// An update template's data as GFXReconstruct writes it: the pointer's preamble, the
     /// counts of image infos, buffer infos and texel buffer views (u64 each), then each group
     /// packed (image infos as sampler, view and layout; buffer infos as buffer, offset and
@@ -348,10 +386,10 @@ impl Reader<'_> {
     /// of the parameters. Each group lists the template's entries of its kinds in entry
     /// order, every element of each; pairing them with the entries is the importer's. Given
     /// as `gfxrecon-convert` 1.x writes it (`imageInfos`, `bufferInfos`, `bufferViews`).
-    fn template_data(&mut self) -> Res<Value> {
+    fn template_data(&mut self) -> Res<usize> {
         let attrib = self.u32()?;
         if attrib & IS_NULL != 0 {
-            return Ok(Value::Null);
+            return self.leaf(Node::Null);
         }
         if attrib & HAS_ADDRESS != 0 {
             self.u64()?;
@@ -360,7 +398,7 @@ impl Reader<'_> {
             // The capture layer writes an empty array for a template it did not know.
             let len = self.u64()?;
             if len == 0 {
-                return Ok(Value::Null);
+                return self.leaf(Node::Null);
             }
             return Err(format!(
                 "{}: template data written as an array of {len}, not GFXReconstruct's layout",
@@ -368,7 +406,7 @@ impl Reader<'_> {
             ));
         }
         if attrib & HAS_DATA == 0 {
-            return Ok(Value::Null);
+            return self.leaf(Node::Null);
         }
         let counts = [self.u64()?, self.u64()?, self.u64()?];
         let needed = counts[0]
@@ -387,75 +425,94 @@ impl Reader<'_> {
             ));
         }
         let layouts = ENUMS.iter().find(|e| e.name == "VkImageLayout");
-        let mut images = Vec::with_capacity(counts[0] as usize);
+        let out = self.tree.mark();
+        let images = self.tree.mark();
         for _ in 0..counts[0] {
             let (sampler, view) = (self.u64()?, self.u64()?);
             let layout = i32::from_le_bytes(self.array()?);
-            let mut m = Map::new();
-            m.insert("sampler".to_owned(), Value::from(sampler));
-            m.insert("imageView".to_owned(), Value::from(view));
-            m.insert(
-                "imageLayout".to_owned(),
-                match layouts.and_then(|e| e.name_of(layout)) {
-                    Some(name) => Value::from(name),
-                    None => Value::from(layout),
-                },
-            );
-            images.push(Value::Object(m));
+            let layout = match layouts.and_then(|e| e.name_of(layout)) {
+                Some(name) => Node::Str(Text::Static(name)),
+                None => int(i64::from(layout)),
+            };
+            let info = self.tree.mark();
+            self.member("sampler", Node::U64(sampler));
+            self.member("imageView", Node::U64(view));
+            self.member("imageLayout", layout);
+            let info = self.tree.object(info);
+            self.tree.element(info);
         }
-        let mut buffers = Vec::with_capacity(counts[1] as usize);
+        let images = self.tree.array(images);
+        let buffers = self.tree.mark();
         for _ in 0..counts[1] {
-            let mut m = Map::new();
-            m.insert("buffer".to_owned(), Value::from(self.u64()?));
-            m.insert("offset".to_owned(), Value::from(self.u64()?));
-            m.insert("range".to_owned(), Value::from(self.u64()?));
-            buffers.push(Value::Object(m));
+            let info = self.tree.mark();
+            for name in ["buffer", "offset", "range"] {
+                let v = self.u64()?;
+                self.member(name, Node::U64(v));
+            }
+            let info = self.tree.object(info);
+            self.tree.element(info);
         }
-        let mut views = Vec::with_capacity(counts[2] as usize);
+        let buffers = self.tree.array(buffers);
+        let views = self.tree.mark();
         for _ in 0..counts[2] {
-            views.push(Value::from(self.u64()?));
+            let v = self.u64()?;
+            let v = self.leaf(Node::U64(v))?;
+            self.tree.element(v);
         }
-        let mut out = Map::new();
-        out.insert("imageInfos".to_owned(), Value::Array(images));
-        out.insert("bufferInfos".to_owned(), Value::Array(buffers));
-        out.insert("bufferViews".to_owned(), Value::Array(views));
+        let views = self.tree.array(views);
+        self.tree.member(Text::Static("imageInfos"), images);
+        self.tree.member(Text::Static("bufferInfos"), buffers);
+        self.tree.member(Text::Static("bufferViews"), views);
         while self.left() > 0 {
             let count = self.u64()?;
             let ty = self.u32()?;
-            match ty {
-                ACCELERATION_STRUCTURES => {
-                    let n = self.count(count.saturating_mul(8))? / 8;
-                    let handles = (0..n)
-                        .map(|_| self.u64().map(Value::from))
-                        .collect::<Res<Vec<_>>>()?;
-                    out.insert("accelStructViews".to_owned(), Value::Array(handles));
-                }
-                INLINE_UNIFORM_BLOCK => {
-                    let n = self.count(count)?;
-                    let bytes = self.take(n)?.iter().map(|b| Value::from(*b)).collect();
-                    out.insert("inlineUniformBlock".to_owned(), Value::Array(bytes));
-                }
+            let (name, n, width) = match ty {
+                ACCELERATION_STRUCTURES => (
+                    "accelStructViews",
+                    self.count(count.saturating_mul(8))? / 8,
+                    8,
+                ),
+                INLINE_UNIFORM_BLOCK => ("inlineUniformBlock", self.count(count)?, 1),
                 other => {
                     return Err(format!(
                         "{}: a template data section of descriptor type {other} this decoder does not know",
                         self.at()
                     ));
                 }
+            };
+            let items = self.tree.mark();
+            for _ in 0..n {
+                let v = if width == 8 {
+                    self.u64()?
+                } else {
+                    u64::from(self.array::<1>()?[0])
+                };
+                let v = self.leaf(Node::U64(v))?;
+                self.tree.element(v);
             }
+            let items = self.tree.array(items);
+            self.tree.member(Text::Static(name), items);
         }
-        Ok(Value::Object(out))
+        Ok(self.tree.object(out))
+    }
+
+    /// A scalar member of the object being built.
+    fn member(&mut self, name: &'static str, node: Node) {
+        let n = self.tree.leaf(node);
+        self.tree.member(Text::Static(name), n);
     }
 }
 
-/// Decodes `params` (the bytes after the thread id) as the parameters of `def`.
-pub fn decode_call(def: &CommandDef, params: &[u8]) -> Result<Decoded, String> {
-    decode(def, params, None).map(|(d, _)| d)
+/// Decodes `params` (the bytes after the thread id) as the parameters of `def` into `tree`
+/// (emptied first).
+pub fn decode_call(def: &CommandDef, params: &[u8], tree: &mut Tree) -> Result<Decoded, String> {
+    decode(def, params, None, tree).map(|(d, _)| d)
 }
 
 /// Where the scalar parameter at `path` (`pImageMemoryBarriers[0].oldLayout`) lies in
 /// `params`: its byte offset and width.
 pub fn locate(def: &CommandDef, params: &[u8], path: &str) -> Result<(usize, usize), String> {
-    match decode(def, params, Some(path))? {
+    match decode(def, params, Some(path), &mut Tree::default())? {
         (_, Some(found)) => Ok(found),
         (_, None) => Err(format!(
             "{} has no number at `{path}` (a path is spelt like `pImageMemoryBarriers[0].oldLayout`)",
@@ -468,9 +525,12 @@ fn decode<'a>(
     def: &CommandDef,
     params: &'a [u8],
     seek: Option<&'a str>,
+    tree: &mut Tree,
 ) -> Result<(Decoded, Option<(usize, usize)>), String> {
+    tree.clear();
     let mut r = Reader {
         buf: params,
+        tree,
         pos: 0,
         depth: 0,
         path: Vec::with_capacity(8),
@@ -478,22 +538,31 @@ fn decode<'a>(
         seek,
         found: None,
     };
-    let mut args = Map::new();
+    let args = r.tree.mark();
     for p in def.params {
         let v = if p.name == "pData" && TEMPLATE_CALLS.contains(&def.name) {
             r.within(Part::Name(p.name), Reader::template_data)?
         } else {
             r.within(Part::Name(p.name), |r| r.value(p.ty))?
         };
-        args.insert(p.name.to_owned(), v);
+        r.tree.member(Text::Static(p.name), v);
     }
+    let args = r.tree.object(args);
+    r.tree.set_root(args);
     let ret = match def.ret {
-        Some(ty) => Some(r.value(ty)?),
+        Some(ty) => {
+            let v = r.value(ty)?;
+            match r.tree.node(v) {
+                Node::Str(t) => Some(r.tree.text(t).to_owned()),
+                Node::U64(n) => Some(n.to_string()),
+                Node::I64(n) => Some(n.to_string()),
+                _ => None,
+            }
+        }
         None => None,
     };
     Ok((
         Decoded {
-            args: Value::Object(args),
             ret,
             blobs: r.blobs,
         },

@@ -17,12 +17,15 @@ pub(super) mod registry;
 #[allow(clippy::all, clippy::pedantic)]
 mod tables;
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::io::Read;
 
 use super::calls::{CmdFunc, Func};
 use super::contents::Contents;
 use super::stream::Call;
+use super::tree::Tree;
+use super::value::Arg;
 use super::{ImportError, ImportOptions, Imported, Importer};
 use blocks::{Block, Blocks, Kind};
 pub use blocks::{MAX_BLOCK_BYTES, is_gfxr};
@@ -35,6 +38,8 @@ struct Reading {
     other: BTreeMap<String, u64>,
     /// Calls whose id no table knows, by id.
     unknown_ids: BTreeMap<u32, (u64, u64)>,
+    /// The arguments of the call being imported; kept from call to call for its storage.
+    args: Tree,
 }
 
 fn located(file: &str, at: blocks::At, message: impl Into<String>) -> ImportError {
@@ -53,15 +58,6 @@ fn block_error(file: &str, e: blocks::BlockError) -> ImportError {
             file: file.to_owned(),
             message: format!("file header: {}", e.message),
         },
-    }
-}
-
-/// The result code of a call as the JSON Lines stream writes it.
-fn result_text(ret: Option<serde_json::Value>) -> Option<String> {
-    match ret? {
-        serde_json::Value::String(s) => Some(s),
-        serde_json::Value::Number(n) => Some(n.to_string()),
-        _ => None,
     }
 }
 
@@ -124,7 +120,7 @@ fn call(
     // commands) are counted without being decoded.
     if matches!(func, Func::Other | Func::Cmd(CmdFunc::Other)) && !extra {
         imp.calls += 1;
-        *imp.not_modelled.entry(def.name.to_owned()).or_default() += 1;
+        imp.count_not_modelled(def.name);
         return Ok(());
     }
     if block.body.len() < 8 {
@@ -133,29 +129,32 @@ fn call(
             block.body.len()
         ));
     }
-    match decode::decode_call(def, &block.body[8..]) {
+    let mut args = std::mem::take(&mut reading.args);
+    let mut args = match decode::decode_call(def, &block.body[8..], &mut args) {
         Ok(decoded) => {
             if extra {
-                contents.observe(def.name, &decoded.args, &decoded.blobs);
+                let root = Arg::root(&args);
+                contents.observe(def.name, &root, &decoded.blobs);
                 if func == Func::CreateShaderModule
-                    && let Some(h) = decoded.args.get("pShaderModule").and_then(|v| v.as_u64())
+                    && let Ok(h) = root.get("pShaderModule").and_then(|v| v.u64())
                     && let Some(code) = contents.modules.get(&h)
                 {
                     imp.pipelines.learn_module(h, code);
                 }
                 if func == Func::Other {
                     imp.calls += 1;
-                    *imp.not_modelled.entry(def.name.to_owned()).or_default() += 1;
+                    imp.count_not_modelled(def.name);
+                    reading.args = args;
                     return Ok(());
                 }
             }
             let call = Call {
                 line: block.at.block,
                 index: block.at.block,
-                name: def.name.to_owned(),
+                name: Cow::Borrowed(def.name),
                 func,
-                args: decoded.args,
-                result: result_text(decoded.ret),
+                args,
+                result: decoded.ret,
                 dialect: "binary",
             };
             if imp.dialect.is_none() {
@@ -165,6 +164,7 @@ fn call(
             for cb in std::mem::take(&mut imp.submitted_before) {
                 contents.submitted_before(&imp.objects, &imp.recordings, cb);
             }
+            call.args
         }
         Err(why) => {
             imp.calls += 1;
@@ -172,8 +172,11 @@ fn call(
                 format!("{}: cannot decode: {why}", def.name),
                 block.at.block,
             );
+            args
         }
-    }
+    };
+    args.clear();
+    reading.args = args;
     Ok(())
 }
 
@@ -196,6 +199,7 @@ pub fn import(
         blocks: 0,
         other: BTreeMap::new(),
         unknown_ids: BTreeMap::new(),
+        args: Tree::default(),
     };
     let mut contents = Contents::default();
     // Block index where the state snapshot of a trimmed capture ends (`u64::MAX` inside it).

@@ -19,6 +19,7 @@ use super::super::calls::Func;
 use super::super::contents::Contents;
 use super::super::gfxr::registry::{self, CommandDef};
 use super::super::stream::Call;
+use super::super::tree::Tree;
 use super::args;
 use super::members::Members;
 use super::xml::{Chunk, Node};
@@ -486,9 +487,9 @@ fn feed(imp: &mut Importer, chunk: &Chunk, def: &CommandDef, func: Func, args: V
     let call = Call {
         line: chunk.ordinal,
         index: chunk.ordinal,
-        name: def.name.to_owned(),
+        name: std::borrow::Cow::Borrowed(def.name),
         func,
-        args,
+        args: Tree::from_json(&args),
         result: None,
         dialect: "renderdoc",
     };

@@ -1,0 +1,249 @@
+//! A call's arguments as one flat tree: every value in one vector, each object's members and
+//! each array's elements in one contiguous run of another, member names borrowed from the
+//! registry tables. Decoding a binary call fills it without an allocation per value, and one
+//! tree is reused call after call; the JSON routes convert their parsed values into it, so
+//! the importer reads all three routes through the same `Arg`.
+
+use serde_json::Value;
+
+/// A text: borrowed from the tables (member and enumerant names) or held in the tree.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Text {
+    Static(&'static str),
+    Held { start: usize, len: usize },
+}
+
+/// A contiguous run of members or elements in the tree's `kids`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Run {
+    start: usize,
+    len: usize,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Node {
+    Null,
+    Bool(bool),
+    U64(u64),
+    /// Negative integers only: non-negative ones are `U64`, as `serde_json` keeps them.
+    I64(i64),
+    F64(f64),
+    Str(Text),
+    Object(Run),
+    Array(Run),
+}
+
+/// One member of an object (named) or element of an array (`key` unused).
+#[derive(Clone, Copy, Debug)]
+pub struct Kid {
+    pub key: Text,
+    pub node: usize,
+}
+
+const NO_KEY: Text = Text::Static("");
+
+#[derive(Debug, Default)]
+pub struct Tree {
+    nodes: Vec<Node>,
+    kids: Vec<Kid>,
+    text: String,
+    /// Members and elements of the objects and arrays being built, innermost last.
+    open: Vec<Kid>,
+    root: Option<usize>,
+}
+
+impl Tree {
+    /// Empties the tree, keeping its storage for the next call.
+    pub fn clear(&mut self) {
+        self.nodes.clear();
+        self.kids.clear();
+        self.text.clear();
+        self.open.clear();
+        self.root = None;
+    }
+
+    pub fn leaf(&mut self, node: Node) -> usize {
+        self.nodes.push(node);
+        self.nodes.len() - 1
+    }
+
+    pub fn hold(&mut self, s: &str) -> Text {
+        let start = self.text.len();
+        self.text.push_str(s);
+        Text::Held {
+            start,
+            len: s.len(),
+        }
+    }
+
+    pub fn string(&mut self, s: &str) -> usize {
+        let t = self.hold(s);
+        self.leaf(Node::Str(t))
+    }
+
+    /// Where the members or elements of a new object or array begin.
+    pub fn mark(&self) -> usize {
+        self.open.len()
+    }
+
+    pub fn member(&mut self, key: Text, node: usize) {
+        self.open.push(Kid { key, node });
+    }
+
+    pub fn element(&mut self, node: usize) {
+        self.open.push(Kid { key: NO_KEY, node });
+    }
+
+    fn close(&mut self, mark: usize) -> Run {
+        let start = self.kids.len();
+        self.kids.extend(self.open.drain(mark..));
+        Run {
+            start,
+            len: self.kids.len() - start,
+        }
+    }
+
+    /// The object of the members given since `mark`.
+    pub fn object(&mut self, mark: usize) -> usize {
+        let run = self.close(mark);
+        self.leaf(Node::Object(run))
+    }
+
+    /// The array of the elements given since `mark`.
+    pub fn array(&mut self, mark: usize) -> usize {
+        let run = self.close(mark);
+        self.leaf(Node::Array(run))
+    }
+
+    pub fn set_root(&mut self, node: usize) {
+        self.root = Some(node);
+    }
+
+    /// The root; an empty tree reads as null.
+    pub fn root(&self) -> usize {
+        self.root.unwrap_or(usize::MAX)
+    }
+
+    pub fn node(&self, i: usize) -> Node {
+        self.nodes.get(i).copied().unwrap_or(Node::Null)
+    }
+
+    pub fn text(&self, t: Text) -> &str {
+        match t {
+            Text::Static(s) => s,
+            Text::Held { start, len } => self.text.get(start..start + len).unwrap_or(""),
+        }
+    }
+
+    pub fn kids(&self, run: Run) -> &[Kid] {
+        self.kids.get(run.start..run.start + run.len).unwrap_or(&[])
+    }
+
+    /// Member `key` of object `i`.
+    pub fn get(&self, i: usize, key: &str) -> Option<usize> {
+        match self.node(i) {
+            Node::Object(run) => self
+                .kids(run)
+                .iter()
+                .find(|k| self.text(k.key) == key)
+                .map(|k| k.node),
+            _ => None,
+        }
+    }
+
+    /// A tree holding `value`.
+    pub fn from_json(value: &Value) -> Tree {
+        let mut t = Tree::default();
+        let root = t.put(value);
+        t.set_root(root);
+        t
+    }
+
+    fn put(&mut self, value: &Value) -> usize {
+        match value {
+            Value::Null => self.leaf(Node::Null),
+            Value::Bool(b) => self.leaf(Node::Bool(*b)),
+            Value::Number(n) => self.leaf(match (n.as_u64(), n.as_i64()) {
+                (Some(u), _) => Node::U64(u),
+                (None, Some(i)) => Node::I64(i),
+                _ => Node::F64(n.as_f64().unwrap_or(f64::NAN)),
+            }),
+            Value::String(s) => self.string(s),
+            Value::Array(items) => {
+                let mark = self.mark();
+                for v in items {
+                    let n = self.put(v);
+                    self.element(n);
+                }
+                self.array(mark)
+            }
+            Value::Object(map) => {
+                let mark = self.mark();
+                for (k, v) in map {
+                    let n = self.put(v);
+                    let key = self.hold(k);
+                    self.member(key, n);
+                }
+                self.object(mark)
+            }
+        }
+    }
+
+    /// Node `i` as JSON, members in name order as `serde_json` keeps them.
+    pub fn to_json(&self, i: usize) -> Value {
+        match self.node(i) {
+            Node::Null => Value::Null,
+            Node::Bool(b) => Value::Bool(b),
+            Node::U64(u) => Value::from(u),
+            Node::I64(v) => Value::from(v),
+            Node::F64(f) => Value::from(f),
+            Node::Str(t) => Value::from(self.text(t)),
+            Node::Array(run) => Value::Array(
+                self.kids(run)
+                    .iter()
+                    .map(|k| self.to_json(k.node))
+                    .collect(),
+            ),
+            Node::Object(run) => Value::Object(
+                self.kids(run)
+                    .iter()
+                    .map(|k| (self.text(k.key).to_owned(), self.to_json(k.node)))
+                    .collect(),
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn json_goes_in_and_comes_back_unchanged() {
+        let v = json!({"a": [1, -2, 2.5, "x", null, true], "b": {"c": {}, "d": []}, "e": u64::MAX});
+        let t = Tree::from_json(&v);
+        assert_eq!(t.to_json(t.root()), v);
+        let b = t.get(t.root(), "b").unwrap();
+        assert!(matches!(t.node(t.get(b, "d").unwrap()), Node::Array(_)));
+        assert_eq!(t.get(t.root(), "z"), None);
+        assert_eq!(Tree::default().node(Tree::default().root()), Node::Null);
+    }
+
+    #[test]
+    fn a_cleared_tree_builds_again() {
+        let mut t = Tree::from_json(&json!({"a": 1}));
+        t.clear();
+        let mark = t.mark();
+        let one = t.leaf(Node::U64(1));
+        t.member(Text::Static("k"), one);
+        let s = t.string("v");
+        let inner = t.mark();
+        t.element(s);
+        let arr = t.array(inner);
+        t.member(Text::Static("l"), arr);
+        let root = t.object(mark);
+        t.set_root(root);
+        assert_eq!(t.to_json(root), json!({"k": 1, "l": ["v"]}));
+    }
+}
