@@ -12,6 +12,12 @@ use std::io::Cursor;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use framelab_core::import::{ImportOptions, gfxr};
 
+/// The allocator the `framelab` binary uses, so the figures are the binary's
+/// (`--features system-alloc` measures with the system allocator instead).
+#[cfg(not(feature = "system-alloc"))]
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[path = "common/sync_stream.rs"]
 mod sync_stream;
 

@@ -4,14 +4,16 @@
 //! pass are attached to it, debug labels become marker groups, semaphores between submissions
 //! become fences, presents end frames.
 
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet};
+
+use super::HashMap;
 
 use super::commands::{
     BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, Region, RenderInstance,
     TransferCmd,
 };
 use super::pipelines::Pipelines;
-use super::record::Recording;
+use super::record::{Recording, Recordings};
 use super::state::Objects;
 use crate::capture::dxgi;
 use crate::capture::format::{
@@ -101,7 +103,7 @@ fn store_op(op: &str) -> StoreOp {
 pub struct Known<'a> {
     pub objects: &'a Objects,
     pub pipelines: &'a Pipelines,
-    pub recordings: &'a HashMap<u64, Recording>,
+    pub recordings: &'a Recordings,
 }
 
 impl Builder {

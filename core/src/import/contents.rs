@@ -10,7 +10,9 @@
 //! extents of each live allocation (a later write replaces what it covers), and dropped when
 //! the allocation is freed.
 
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::BTreeMap;
+
+use super::{HashMap, HashSet};
 
 use super::value::Arg;
 

@@ -24,8 +24,17 @@ mod tree;
 mod value;
 mod vk_work;
 
+/// Maps and sets keyed by handles and ids, hashed millions of times in a long capture:
+/// foldhash is several times faster than the standard SipHash on such keys, and resistance
+/// to crafted collisions buys nothing for a file the user chose to import.
+type HashMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::RandomState>;
+type HashSet<K> = std::collections::HashSet<K, foldhash::fast::RandomState>;
+
+/// Most emptied recordings kept for reuse.
+const SPARE_RECORDINGS: usize = 64;
+
 use crate::capture::vulkan::PipelineStages;
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::BTreeMap;
 use std::io::BufRead;
 
 use serde::Serialize;
@@ -33,7 +42,7 @@ use serde::Serialize;
 use crate::capture::format::RawCapture;
 use build::Builder;
 use calls::Func;
-use record::Recording;
+use record::{Recording, Recordings};
 use state::Objects;
 use stream::{Call, Entry, Lines};
 use value::{Arg, Got};
@@ -157,7 +166,11 @@ fn failed(call: &Call) -> bool {
 struct Importer {
     objects: Objects,
     pipelines: pipelines::Pipelines,
-    recordings: HashMap<u64, Recording>,
+    recordings: Recordings,
+    /// Emptied recordings of freed command buffers, for reuse. Boxed as in `recordings`,
+    /// so that one moves between the two as a pointer.
+    #[allow(clippy::vec_box)]
+    spare: Vec<Box<Recording>>,
     /// Pool -> the command buffers allocated from it and not freed, for vkResetCommandPool.
     pools: HashMap<u64, HashSet<u64>>,
     builder: Builder,
@@ -226,7 +239,11 @@ impl Importer {
         match call.func {
             Func::Cmd(cmd) => {
                 let cb = args.get("commandBuffer")?.handle()?;
-                let recording = self.recordings.entry(cb).or_default();
+                let spare = &mut self.spare;
+                let recording = self
+                    .recordings
+                    .entry(cb)
+                    .or_insert_with(|| spare.pop().unwrap_or_default());
                 return recording.record(cmd, &call.name, call.index, args, &self.objects);
             }
             Func::AllocateCommandBuffers => {
@@ -238,13 +255,13 @@ impl Importer {
             }
             Func::ResetCommandBuffer => {
                 let cb = args.get("commandBuffer")?.handle()?;
-                self.recordings.insert(cb, Recording::default());
+                self.reset_recording(cb);
             }
             Func::FreeCommandBuffers => {
                 let pool = args.get("commandPool")?.handle()?;
                 for cb in args.list("pCommandBuffers")? {
                     let cb = cb.handle()?;
-                    self.recordings.remove(&cb);
+                    self.free_recording(cb);
                     if let Some(members) = self.pools.get_mut(&pool) {
                         members.remove(&cb);
                     }
@@ -254,7 +271,7 @@ impl Importer {
             Func::DestroyCommandPool => {
                 let pool = args.get("commandPool")?.handle()?;
                 for cb in self.pools.remove(&pool).into_iter().flatten() {
-                    self.recordings.remove(&cb);
+                    self.free_recording(cb);
                 }
             }
             Func::QueueSubmit { v2 } => self.submit(args, v2)?,
@@ -274,9 +291,35 @@ impl Importer {
     fn reset_pool(&mut self, args: &Arg<'_>) -> Got<()> {
         let pool = args.get("commandPool")?.handle()?;
         for cb in self.pools.get(&pool).into_iter().flatten() {
-            self.recordings.insert(*cb, Recording::default());
+            match self.recordings.get_mut(cb) {
+                Some(r) => r.reset(),
+                None => {
+                    self.recordings.insert(*cb, Box::default());
+                }
+            }
         }
         Ok(())
+    }
+
+    /// A command buffer starts empty again; its storage is kept for what it records next,
+    /// since applications record the same buffers frame after frame.
+    fn reset_recording(&mut self, cb: u64) {
+        let spare = &mut self.spare;
+        self.recordings
+            .entry(cb)
+            .or_insert_with(|| spare.pop().unwrap_or_default())
+            .reset();
+    }
+
+    /// A freed command buffer's storage goes to the next one allocated: applications (wgpu
+    /// among them) allocate and free command buffers by the thousand.
+    fn free_recording(&mut self, cb: u64) {
+        if let Some(mut r) = self.recordings.remove(&cb)
+            && self.spare.len() < SPARE_RECORDINGS
+        {
+            r.reset();
+            self.spare.push(r);
+        }
     }
 
     fn submit(&mut self, args: &Arg<'_>, v2: bool) -> Got<()> {
@@ -614,8 +657,9 @@ impl Importer {
         Importer {
             objects: Objects::default(),
             pipelines: pipelines::Pipelines::default(),
-            recordings: HashMap::new(),
-            pools: HashMap::new(),
+            recordings: HashMap::default(),
+            spare: Vec::new(),
+            pools: HashMap::default(),
             submitted_before: Vec::new(),
             keep_submitted_before: false,
             builder: Builder::new(options.frames),

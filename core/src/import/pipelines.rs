@@ -5,7 +5,9 @@
 //! capture's `vulkan` section.
 
 use std::cell::OnceCell;
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet};
+
+use super::HashMap;
 use std::sync::Arc;
 
 use super::calls::Func;

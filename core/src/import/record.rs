@@ -43,6 +43,9 @@ struct Bound {
 /// no device offers more than 256).
 const MAX_PUSH_BYTES: u32 = 256;
 
+/// Command buffers' recordings by handle, boxed so that moving one is a pointer's copy.
+pub type Recordings = super::HashMap<u64, Box<Recording>>;
+
 #[derive(Default, Debug)]
 pub struct Recording {
     pub cmds: Vec<Cmd>,
@@ -50,6 +53,15 @@ pub struct Recording {
     /// that name the command.
     pub at: Vec<String>,
     bound: Bound,
+}
+
+impl Recording {
+    /// Empty again, keeping the storage of its lists.
+    pub fn reset(&mut self) {
+        self.cmds.clear();
+        self.at.clear();
+        self.bound = Bound::default();
+    }
 }
 
 fn compute_point(a: &Arg<'_>) -> Got<bool> {

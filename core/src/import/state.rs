@@ -3,7 +3,9 @@
 //! Objects are kept after they are destroyed, since passes recorded before may still name them;
 //! everything kept is a few words per object the stream created.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
+
+use super::HashMap;
 
 use super::calls::{Func, Object};
 use super::value::{

@@ -11,11 +11,9 @@
 //! capture wrote plus a fixed amount for zeros), so a capture that copies one small buffer
 //! into many large images cannot make the import hold more.
 
-use std::collections::HashMap;
-
 use super::commands::{Cmd, Region, TransferCmd, Use};
 use super::contents::{Contents, packed_size};
-use super::record::Recording;
+use super::record::{Recording, Recordings};
 use super::state::{Descriptor, ImageInfo, Objects, storage_descriptor};
 use crate::capture::dxgi;
 
@@ -25,24 +23,13 @@ const MAX_DEPTH: u32 = 4;
 impl Contents {
     /// Carries out what command buffer `cb`, submitted before the imported frames, did to
     /// the contents known so far.
-    pub fn submitted_before(
-        &mut self,
-        objects: &Objects,
-        recordings: &HashMap<u64, Recording>,
-        cb: u64,
-    ) {
+    pub fn submitted_before(&mut self, objects: &Objects, recordings: &Recordings, cb: u64) {
         if let Some(r) = recordings.get(&cb).filter(|_| !self.frozen) {
             self.walk(objects, recordings, r, 0);
         }
     }
 
-    fn walk(
-        &mut self,
-        objects: &Objects,
-        recordings: &HashMap<u64, Recording>,
-        r: &Recording,
-        depth: u32,
-    ) {
+    fn walk(&mut self, objects: &Objects, recordings: &Recordings, r: &Recording, depth: u32) {
         for cmd in &r.cmds {
             match cmd {
                 Cmd::Transfer(t) => self.transfer(objects, t),
@@ -336,7 +323,7 @@ mod tests {
     fn submit(contents: &mut Contents, objects: &Objects, cmd: TransferCmd) {
         let mut r = Recording::default();
         r.cmds.push(Cmd::Transfer(Box::new(cmd)));
-        let recordings = HashMap::from([(7, r)]);
+        let recordings = super::super::HashMap::from_iter([(7, Box::new(r))]);
         contents.submitted_before(objects, &recordings, 7);
     }
 

@@ -9,7 +9,9 @@
 //!   began: they become the `vkUpdateDescriptorSets` that wrote them;
 //! - device memory and image initial contents, and mapped-memory writes, go to the contents.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
+
+use super::super::HashMap;
 use std::io::{Read, Seek};
 
 use serde_json::{Map, Value, json};
@@ -64,9 +66,9 @@ impl<R: Read + Seek> Reader<R> {
         Reader {
             members,
             contents: Contents::default(),
-            set_layout: HashMap::new(),
-            layouts: HashMap::new(),
-            swapchain_images: HashMap::new(),
+            set_layout: HashMap::default(),
+            layouts: HashMap::default(),
+            swapchain_images: HashMap::default(),
             other: BTreeMap::new(),
             unknown: BTreeMap::new(),
             in_frame: false,

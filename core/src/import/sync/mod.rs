@@ -21,7 +21,9 @@
 //! Images are tracked per mip and layer, buffers whole. A finding names the command by its
 //! index in the captured stream, the resource and subresource, and both accesses.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
+
+use super::HashMap;
 
 mod queues;
 
@@ -29,7 +31,7 @@ use queues::SIGNALS_KEPT;
 
 use super::commands::{BarrierCmd, BarrierTarget, Cmd, RenderInstance, TransferCmd, Use};
 use super::pipelines::{Pipelines, StorageUse};
-use super::record::Recording;
+use super::record::{Recording, Recordings};
 use super::state::{Descriptor, Objects};
 use crate::capture::format::{HazardKind, SyncHazard};
 use crate::capture::vulkan::{AccessFlags as A, ImageLayout, PipelineStages as S};
@@ -804,7 +806,7 @@ impl Sync {
         &mut self,
         objects: &Objects,
         pipelines: &Pipelines,
-        recordings: &HashMap<u64, Recording>,
+        recordings: &Recordings,
         r: &Recording,
         depth: u32,
     ) {
@@ -888,7 +890,7 @@ impl Sync {
         &mut self,
         objects: &Objects,
         pipelines: &Pipelines,
-        recordings: &HashMap<u64, Recording>,
+        recordings: &Recordings,
         waits: &[(u64, S, Option<u64>)],
         command_buffers: &[u64],
         signals: &[(u64, Option<u64>)],
