@@ -290,12 +290,10 @@ impl Importer {
 
     fn reset_pool(&mut self, args: &Arg<'_>) -> Got<()> {
         let pool = args.get("commandPool")?.handle()?;
+        // Buffers of the pool never recorded stay unknown, as they were.
         for cb in self.pools.get(&pool).into_iter().flatten() {
-            match self.recordings.get_mut(cb) {
-                Some(r) => r.reset(),
-                None => {
-                    self.recordings.insert(*cb, Box::default());
-                }
+            if let Some(r) = self.recordings.get_mut(cb) {
+                r.reset();
             }
         }
         Ok(())

@@ -6,6 +6,8 @@
 
 use serde_json::Value;
 
+use super::gfxr::registry::ENUMS;
+
 /// A text: borrowed from the tables (member and enumerant names) or held in the tree.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Text {
@@ -31,6 +33,13 @@ pub enum Node {
     Str(Text),
     Object(Run),
     Array(Run),
+    /// An enumerant of the registry's enum `table`, as decoded: given out as its name (a
+    /// `Str`), or as a number where the table does not know it. Named only when read, since
+    /// most are never read (every structure's `sType`).
+    Enum {
+        table: u16,
+        value: i32,
+    },
 }
 
 /// One member of an object (named) or element of an array (`key` unused).
@@ -125,7 +134,19 @@ impl Tree {
     }
 
     pub fn node(&self, i: usize) -> Node {
-        self.nodes.get(i).copied().unwrap_or(Node::Null)
+        match self.nodes.get(i) {
+            Some(Node::Enum { table, value }) => {
+                match ENUMS
+                    .get(usize::from(*table))
+                    .and_then(|d| d.name_of(*value))
+                {
+                    Some(name) => Node::Str(Text::Static(name)),
+                    None => int(i64::from(*value)),
+                }
+            }
+            Some(n) => *n,
+            None => Node::Null,
+        }
     }
 
     pub fn text(&self, t: Text) -> &str {
@@ -204,6 +225,8 @@ impl Tree {
                     .map(|k| self.to_json(k.node))
                     .collect(),
             ),
+            // `node` never gives an enumerant out as such.
+            Node::Enum { value, .. } => Value::from(value),
             Node::Object(run) => Value::Object(
                 self.kids(run)
                     .iter()
@@ -211,6 +234,14 @@ impl Tree {
                     .collect(),
             ),
         }
+    }
+}
+
+/// An integer as `serde_json` keeps it: non-negative ones unsigned.
+pub fn int(v: i64) -> Node {
+    match u64::try_from(v) {
+        Ok(u) => Node::U64(u),
+        Err(_) => Node::I64(v),
     }
 }
 

@@ -7,7 +7,7 @@
 //! allocated for them; nesting is bounded, so no input can take memory or stack beyond its
 //! own size.
 
-use super::super::tree::{Node, Text, Tree};
+use super::super::tree::{Node, Text, Tree, int};
 use super::super::value::shortest;
 use super::registry::{self, CommandDef, ENUMS, STRUCTS, Ty};
 
@@ -177,13 +177,10 @@ impl<'a> Reader<'a, '_> {
             Ty::I64 => int(i64::from_le_bytes(self.array()?)),
             Ty::F32 => Node::F64(shortest(f32::from_le_bytes(self.array()?))),
             Ty::F64 => Node::F64(f64::from_le_bytes(self.array()?)),
-            Ty::Enum(e) => {
-                let v = i32::from_le_bytes(self.array()?);
-                match ENUMS.get(usize::from(e)).and_then(|d| d.name_of(v)) {
-                    Some(name) => Node::Str(Text::Static(name)),
-                    None => int(i64::from(v)),
-                }
-            }
+            Ty::Enum(table) => Node::Enum {
+                table,
+                value: i32::from_le_bytes(self.array()?),
+            },
             _ => return self.composite(ty),
         };
         self.leaf(scalar)
@@ -354,14 +351,6 @@ impl<'a> Reader<'a, '_> {
 
 /// One view of a clear colour's words.
 type View = fn(u32) -> Node;
-
-/// An integer as `serde_json` keeps it: non-negative ones unsigned.
-fn int(v: i64) -> Node {
-    match u64::try_from(v) {
-        Ok(u) => Node::U64(u),
-        Err(_) => Node::I64(v),
-    }
-}
 
 /// Calls whose `pData` is an update template's data, which GFXReconstruct writes in a layout
 /// of its own rather than as the application's bytes.

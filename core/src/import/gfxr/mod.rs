@@ -106,7 +106,9 @@ fn call(
     contents: &mut Contents,
     block: &Block,
 ) -> Result<(), String> {
-    let Some(def) = registry::command(block.id) else {
+    let Some((def, func)) = registry::command_index(block.id)
+        .and_then(|i| Some((&registry::COMMANDS[i], registry::func(i)?)))
+    else {
         let e = reading
             .unknown_ids
             .entry(block.id)
@@ -114,7 +116,6 @@ fn call(
         e.0 += 1;
         return Ok(());
     };
-    let func = Func::of(def.name);
     let extra = binary_only(def.name) || func == Func::MapMemory;
     // Calls that touch nothing framelab models (state setting and queries among the
     // commands) are counted without being decoded.

@@ -3,6 +3,10 @@
 //! registry (`vk.xml`) and GFXReconstruct's call ids by `tools/vkregistry`, so a new call or
 //! structure costs a regenerated line, not a hand-written function.
 
+use std::sync::OnceLock;
+
+use super::super::calls::Func;
+
 /// How one parameter or structure member is encoded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Ty {
@@ -94,10 +98,37 @@ pub use super::tables::{COMMANDS, ENUMS, STRUCTS, STYPES};
 
 /// The command with call id `id`, if the tables know it (`COMMANDS` is sorted by id).
 pub fn command(id: u32) -> Option<&'static CommandDef> {
-    COMMANDS
-        .binary_search_by_key(&id, |c| c.id)
-        .ok()
-        .map(|i| &COMMANDS[i])
+    command_index(id).map(|i| &COMMANDS[i])
+}
+
+/// Where in `COMMANDS` the command with call id `id` is. Looked up once per call block of
+/// a capture, so by a table indexed by id (the ids are dense) rather than a search.
+pub fn command_index(id: u32) -> Option<usize> {
+    static BY_ID: OnceLock<(u32, Vec<u16>)> = OnceLock::new();
+    let (first, slots) = BY_ID.get_or_init(|| {
+        let first = COMMANDS.first().map_or(0, |c| c.id);
+        let last = COMMANDS.last().map_or(0, |c| c.id);
+        let mut slots = vec![u16::MAX; (last - first) as usize + 1];
+        for (i, c) in COMMANDS.iter().enumerate() {
+            if let (Some(slot), Ok(i)) = (slots.get_mut((c.id - first) as usize), u16::try_from(i))
+            {
+                *slot = i;
+            }
+        }
+        (first, slots)
+    });
+    let slot = *slots.get(id.checked_sub(*first)? as usize)?;
+    (slot != u16::MAX).then_some(usize::from(slot))
+}
+
+/// What the importer makes of the command at `index` in `COMMANDS`, worked out once per
+/// command rather than by matching its name for every call.
+pub fn func(index: usize) -> Option<Func> {
+    static FUNCS: OnceLock<Vec<Func>> = OnceLock::new();
+    FUNCS
+        .get_or_init(|| COMMANDS.iter().map(|c| Func::of(c.name)).collect())
+        .get(index)
+        .copied()
 }
 
 /// The index in `STRUCTS` of the structure a `pNext` element with this `sType` value is

@@ -580,12 +580,14 @@ impl Sync {
         // capture holds (`spirv::usage`). Where the code is unknown, a storage access is
         // satisfied by a dependency that covers either access and is not taken for a write,
         // so no hazard is claimed on an access the shader may not make.
-        let storage = pipeline.and_then(|p| pipelines.storage_use(p, u.set, u.binding));
+        // Code is read only for storage bindings: reading it is most of an import of a
+        // small capture whose pipelines bind none.
+        let storage = || pipeline.and_then(|p| pipelines.storage_use(p, u.set, u.binding));
         let (access, write) = match kind {
             "STORAGE_IMAGE"
             | "STORAGE_BUFFER"
             | "STORAGE_BUFFER_DYNAMIC"
-            | "STORAGE_TEXEL_BUFFER" => match storage {
+            | "STORAGE_TEXEL_BUFFER" => match storage() {
                 // Written (and maybe read): a write, as the layer takes it.
                 Some(StorageUse { writes: true, .. }) => (A::SHADER_STORAGE_WRITE, true),
                 Some(StorageUse { reads: true, .. }) => (A::SHADER_STORAGE_READ, false),
