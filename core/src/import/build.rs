@@ -402,11 +402,10 @@ impl Builder {
         let mut render: Option<(&RenderInstance, usize, Option<usize>)> = None;
         for (i, cmd) in recording.cmds.iter().enumerate() {
             // The work of these goes into the pass last started on the queue once it is done.
-            let origin = recording.at.get(i).filter(|_| {
-                matches!(
-                    cmd,
-                    Cmd::BeginRender(_) | Cmd::Draw(_) | Cmd::Dispatch(_) | Cmd::Transfer(_)
-                )
+            let origin = recording.at.get(i).filter(|_| match cmd {
+                Cmd::BeginRender(_) | Cmd::Draw(_) | Cmd::Dispatch(_) => true,
+                Cmd::Transfer(t) => !matches!(**t, TransferCmd::Blit { .. }),
+                _ => false,
             });
             if !matches!(cmd, Cmd::Dispatch(_)) {
                 compute = None;
@@ -746,6 +745,9 @@ impl Builder {
                 self.fill(objects, queue, base, *buffer);
             }
             TransferCmd::Resolve { src, dst } => self.resolve(objects, queue, *src, *dst),
+            TransferCmd::Blit { .. } => {
+                self.note("scaled blits: not imported (no pass kind holds them)");
+            }
         }
     }
 

@@ -167,6 +167,12 @@ pub enum TransferCmd {
         src: u64,
         dst: u64,
     },
+    /// `vkCmdBlitImage`: no pass kind holds a scaled blit, but its accesses are checked and
+    /// its destination's contents made unknown when it runs before the imported frames.
+    Blit {
+        src: u64,
+        dst: u64,
+    },
 }
 
 #[derive(Clone, Debug)]

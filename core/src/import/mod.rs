@@ -12,6 +12,7 @@ mod contents;
 mod emit;
 pub mod gfxr;
 mod host_writes;
+mod packed;
 mod pipelines;
 pub mod rdc;
 mod record;

@@ -264,9 +264,11 @@ impl Recording {
             ),
             // Work framelab's passes cannot hold yet: named as left out, not silently dropped.
             CmdFunc::Blit => {
-                return Err(Skip(
-                    "scaled blits are not imported (no pass kind for them)".to_owned(),
-                ));
+                let info = args.opt("pBlitImageInfo").unwrap_or(*args);
+                Cmd::Transfer(Box::new(TransferCmd::Blit {
+                    src: info.get("srcImage")?.handle()?,
+                    dst: info.get("dstImage")?.handle()?,
+                }))
             }
             CmdFunc::ClearAttachments => {
                 return Err(Skip(

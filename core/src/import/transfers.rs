@@ -13,9 +13,9 @@
 
 use super::commands::{Cmd, Region, TransferCmd, Use};
 use super::contents::{Contents, packed_size};
+use super::packed::{Packed, TexelBox};
 use super::record::{Recording, Recordings};
 use super::state::{Descriptor, ImageInfo, Objects, storage_descriptor};
-use crate::capture::dxgi;
 
 /// Deepest nesting of secondary command buffers followed.
 const MAX_DEPTH: u32 = 4;
@@ -95,11 +95,18 @@ impl Contents {
             TransferCmd::Copy {
                 src, dst, regions, ..
             } => {
-                let done = match (objects.buffers.contains_key(src), objects.images.get(dst)) {
-                    (true, None) if objects.buffers.contains_key(dst) => {
+                let buffer = |h: &u64| objects.buffers.contains_key(h);
+                let done = match (objects.images.get(src), objects.images.get(dst)) {
+                    (None, None) if buffer(src) && buffer(dst) => {
                         self.copy_buffer(objects, *src, *dst, regions)
                     }
-                    (true, Some(img)) => self.upload(objects, *src, *dst, img, regions),
+                    (None, Some(img)) if buffer(src) => {
+                        self.upload(objects, *src, *dst, img, regions)
+                    }
+                    (Some(img), None) if buffer(dst) => {
+                        self.read_back(objects, *src, img, *dst, regions)
+                    }
+                    (Some(from), Some(to)) => self.copy_image((*src, from), (*dst, to), regions),
                     _ => false,
                 };
                 if !done {
@@ -109,6 +116,7 @@ impl Contents {
             TransferCmd::Clear { target, .. } => self.gpu_wrote(*target),
             TransferCmd::Fill { buffer, .. } => self.gpu_wrote(*buffer),
             TransferCmd::Resolve { dst, .. } => self.gpu_wrote(*dst),
+            TransferCmd::Blit { dst, .. } => self.gpu_wrote(*dst),
         }
     }
 
@@ -140,36 +148,73 @@ impl Contents {
     /// `vkCmdCopyBuffer`: each region's bytes, where known, land in the destination's memory
     /// (and its snapshot, if it has one). `false` when a region's source is not known.
     fn copy_buffer(&mut self, objects: &Objects, src: u64, dst: u64, regions: &[Region]) -> bool {
-        let Some((memory, at)) = objects.buffers.get(&dst).and_then(|b| b.bound) else {
-            return false;
-        };
         for r in regions {
             let Some(size) = r.size else { return false };
             let Some(bytes) = self.buffer_range(objects, src, r.src_offset, size) else {
                 return false;
             };
-            let Some(to) = at.checked_add(r.dst_offset) else {
-                return false;
-            };
-            if !self.spend(size) {
+            if !self.spend(size) || !self.write_buffer(objects, dst, r.dst_offset, bytes) {
                 return false;
             }
-            if let Some(d) = self.buffers.get_mut(&dst)
-                && let Some(place) = d.get_mut(r.dst_offset as usize..)
-                && place.len() >= bytes.len()
-            {
-                place[..bytes.len()].copy_from_slice(&bytes);
-            }
-            self.memory.entry(memory).or_default().write(to, bytes);
         }
         self.gpu_written.remove(&dst);
         true
     }
 
-    /// `vkCmdCopyBufferToImage` into a colour image: each region's texel blocks are placed in
-    /// the image's packed contents (levels in order, each level's layers and slices in
-    /// order). `false` for formats the import cannot place (depth, stencil, planar) or a
-    /// region outside the image or its source.
+    /// Writes `bytes` at `offset` of buffer `buffer`: into the memory it is bound to, and
+    /// its snapshot if it has one. `false` when it is bound to none.
+    fn write_buffer(
+        &mut self,
+        objects: &Objects,
+        buffer: u64,
+        offset: u64,
+        bytes: Vec<u8>,
+    ) -> bool {
+        let Some((memory, at)) = objects.buffers.get(&buffer).and_then(|b| b.bound) else {
+            return false;
+        };
+        let Some(to) = at.checked_add(offset) else {
+            return false;
+        };
+        if let Some(d) = self.buffers.get_mut(&buffer)
+            && let Some(place) = d.get_mut(offset as usize..)
+            && place.len() >= bytes.len()
+        {
+            place[..bytes.len()].copy_from_slice(&bytes);
+        }
+        self.memory.entry(memory).or_default().write(to, bytes);
+        true
+    }
+
+    /// Makes the contents of image `handle` as known now the bytes copies work on, in
+    /// `uploaded`. A source must be known (copied into before, or in the snapshot); a
+    /// destination not known starts as zeros, counted against the allowance (what no copy
+    /// writes stays as undefined as it was). `false` when neither holds.
+    fn materialise(&mut self, handle: u64, img: &ImageInfo, destination: bool) -> bool {
+        if self.uploaded.contains_key(&handle) {
+            return true;
+        }
+        let Some(size) = packed_size(img).filter(|s| *s <= super::contents::MAX_BLOCK_BYTES) else {
+            return false;
+        };
+        let known = if self.gpu_written.contains(&handle) {
+            None
+        } else {
+            self.image_snapshot(handle, img, size)
+        };
+        let start = match known {
+            Some(data) => data,
+            None if destination && self.spend(size) => vec![0; size as usize],
+            None => return false,
+        };
+        self.uploaded.insert(handle, start);
+        true
+    }
+
+    /// `vkCmdCopyBufferToImage` into a colour image: each region's texel blocks, read from
+    /// the buffer at the region's row length and image height, are placed in the image's
+    /// packed contents. `false` for formats the import cannot place (depth, stencil, planar)
+    /// or a region outside the image or its source.
     fn upload(
         &mut self,
         objects: &Objects,
@@ -178,109 +223,153 @@ impl Contents {
         img: &ImageInfo,
         regions: &[Region],
     ) -> bool {
-        let Some(f) = dxgi::lookup_vk(&img.format) else {
+        let Some(p) = Packed::of(img) else {
             return false;
         };
-        let (bw, bh, bpb) = (
-            u64::from(f.block_width.max(1)),
-            u64::from(f.block_height.max(1)),
-            u64::from(f.bits_per_element) / 8,
-        );
-        if f.depth_bits > 0 || f.stencil_bits > 0 || bpb == 0 || img.samples > 1 {
+        if !self.materialise(dst, img, true) {
             return false;
         }
-        let Some(size) = packed_size(img) else {
-            return false;
-        };
-        if !self.uploaded.contains_key(&dst) {
-            if size > super::contents::MAX_BLOCK_BYTES || !self.spend(size) {
-                return false;
-            }
-            // What is not uploaded stays as the snapshot had it, else zeros.
-            let start = self
-                .image_snapshot(dst, img, size)
-                .unwrap_or_else(|| vec![0; size as usize]);
-            self.uploaded.insert(dst, start);
-        }
-        let dim = |d: u32, m: u32| u64::from((d >> m).max(1));
         for r in regions {
-            let Some(ext) = r.extent else { return false };
-            let m = r.dst_mip;
-            if m >= img.mips {
+            let Some(b) = r.extent.map(|extent| TexelBox {
+                mip: r.dst_mip,
+                layer: r.dst_layer,
+                origin: r.dst_origin,
+                extent,
+                layers: r.layers,
+            }) else {
                 return false;
-            }
-            let mut level_at = 0u64;
-            for l in 0..m {
-                let Some(s) = f.texture_bytes(
-                    (
-                        dim(img.extent[0], l) as u32,
-                        dim(img.extent[1], l) as u32,
-                        dim(img.extent[2], l) as u32,
-                    ),
-                    img.layers.max(1),
-                    1,
-                    1,
-                ) else {
-                    return false;
-                };
-                level_at += s;
-            }
-            let (lw, lh, ld) = (
-                dim(img.extent[0], m),
-                dim(img.extent[1], m),
-                dim(img.extent[2], m),
-            );
-            let [x, y, z] = r.dst_origin.map(u64::from);
-            let [w, h, d] = ext.map(u64::from);
-            let layers = u64::from(r.layers.max(1));
-            if x + w > lw
-                || y + h > lh
-                || z + d > ld
-                || u64::from(r.dst_layer) + layers > u64::from(img.layers.max(1))
-                || x % bw != 0
-                || y % bh != 0
-            {
-                return false;
-            }
-            let dst_row = lw.div_ceil(bw) * bpb;
-            let slab = dst_row * lh.div_ceil(bh);
-            let row_texels = if r.row_texels == 0 {
-                w
-            } else {
-                u64::from(r.row_texels)
             };
-            let image_rows = if r.image_rows == 0 {
-                h
-            } else {
-                u64::from(r.image_rows)
-            };
-            let src_row = row_texels.div_ceil(bw) * bpb;
-            let slice = src_row * image_rows.div_ceil(bh);
-            let run = w.div_ceil(bw) * bpb;
-            let rows = h.div_ceil(bh);
-            let slices = layers * d;
-            let Some(source) = self.buffer_range(objects, src, r.src_offset, slices * slice) else {
+            let Some(to) = p.rows(&b) else { return false };
+            let from = p.footprint(&b, r.row_texels, r.image_rows);
+            let Some(source) = self.buffer_range(objects, src, r.src_offset, from.span()) else {
                 return false;
             };
             let Some(data) = self.uploaded.get_mut(&dst) else {
                 return false;
             };
-            for s in 0..slices {
-                let (layer, zz) = (u64::from(r.dst_layer) + s / d, z + s % d);
-                for row in 0..rows {
-                    let from = (s * slice + row * src_row) as usize;
-                    let to = (level_at
-                        + (layer * ld + zz) * slab
-                        + (y / bh + row) * dst_row
-                        + x / bw * bpb) as usize;
-                    let (Some(a), Some(b)) = (
-                        source.get(from..from + run as usize),
-                        data.get_mut(to..to + run as usize),
-                    ) else {
-                        return false;
-                    };
-                    b.copy_from_slice(a);
+            for i in 0..to.count {
+                let (Some(a), Some(b)) = (source.get(from.at(i)), data.get_mut(to.at(i))) else {
+                    return false;
+                };
+                b.copy_from_slice(a);
+            }
+        }
+        self.gpu_written.remove(&dst);
+        true
+    }
+
+    /// `vkCmdCopyImageToBuffer` from a colour image whose contents are known: each region's
+    /// texel blocks land in the buffer at the region's row length and image height.
+    fn read_back(
+        &mut self,
+        objects: &Objects,
+        src: u64,
+        img: &ImageInfo,
+        dst: u64,
+        regions: &[Region],
+    ) -> bool {
+        let Some(p) = Packed::of(img) else {
+            return false;
+        };
+        let Some(dst_size) = objects.buffers.get(&dst).map(|b| b.size) else {
+            return false;
+        };
+        if !self.materialise(src, img, false) {
+            return false;
+        }
+        for r in regions {
+            let Some(b) = r.extent.map(|extent| TexelBox {
+                mip: r.src_mip,
+                layer: r.src_layer,
+                origin: r.src_origin,
+                extent,
+                layers: r.layers,
+            }) else {
+                return false;
+            };
+            let Some(from) = p.rows(&b) else { return false };
+            let to = p.footprint(&b, r.row_texels, r.image_rows);
+            if r.dst_offset
+                .checked_add(to.span())
+                .is_none_or(|end| end > dst_size)
+                || !self.spend(from.count.saturating_mul(from.run))
+            {
+                return false;
+            }
+            let Some(data) = self.uploaded.get(&src) else {
+                return false;
+            };
+            let mut rows = Vec::new();
+            for i in 0..from.count {
+                let Some(bytes) = data.get(from.at(i)) else {
+                    return false;
+                };
+                rows.push((r.dst_offset + to.at(i).start as u64, bytes.to_vec()));
+            }
+            for (offset, bytes) in rows {
+                if !self.write_buffer(objects, dst, offset, bytes) {
+                    return false;
                 }
+            }
+        }
+        self.gpu_written.remove(&dst);
+        true
+    }
+
+    /// `vkCmdCopyImage` between colour images of the same block size whose source is known:
+    /// each region's blocks are copied one for one (all of a region read before any is
+    /// written, for a copy within one image).
+    fn copy_image(
+        &mut self,
+        (src, from_img): (u64, &ImageInfo),
+        (dst, to_img): (u64, &ImageInfo),
+        regions: &[Region],
+    ) -> bool {
+        let (Some(sp), Some(dp)) = (Packed::of(from_img), Packed::of(to_img)) else {
+            return false;
+        };
+        if !sp.same_blocks(&dp)
+            || !self.materialise(src, from_img, false)
+            || !self.materialise(dst, to_img, true)
+        {
+            return false;
+        }
+        for r in regions {
+            let Some(extent) = r.extent else { return false };
+            let boxed = |mip, layer, origin| TexelBox {
+                mip,
+                layer,
+                origin,
+                extent,
+                layers: r.layers,
+            };
+            let (Some(from), Some(to)) = (
+                sp.rows(&boxed(r.src_mip, r.src_layer, r.src_origin)),
+                dp.rows(&boxed(r.dst_mip, r.dst_layer, r.dst_origin)),
+            ) else {
+                return false;
+            };
+            if from.count != to.count || from.run != to.run {
+                return false;
+            }
+            let Some(data) = self.uploaded.get(&src) else {
+                return false;
+            };
+            let mut rows = Vec::new();
+            for i in 0..from.count {
+                let Some(bytes) = data.get(from.at(i)) else {
+                    return false;
+                };
+                rows.push(bytes.to_vec());
+            }
+            let Some(out) = self.uploaded.get_mut(&dst) else {
+                return false;
+            };
+            for (i, bytes) in (0..to.count).zip(rows) {
+                let Some(place) = out.get_mut(to.at(i)) else {
+                    return false;
+                };
+                place.copy_from_slice(&bytes);
             }
         }
         self.gpu_written.remove(&dst);
@@ -376,6 +465,152 @@ mod tests {
         // Nor is what is copied from it.
         submit(&mut c, &objects, copy(1, 2, 0, 0, 4));
         assert_eq!(c.buffer_bytes(2, &objects), None);
+    }
+
+    fn image(objects: &mut Objects, handle: u64, width: u32, height: u32) {
+        objects.images.insert(
+            handle,
+            ImageInfo {
+                format: "VK_FORMAT_R8G8B8A8_UNORM".to_owned(),
+                image_type: "VK_IMAGE_TYPE_2D".to_owned(),
+                extent: [width, height, 1],
+                mips: 1,
+                layers: 1,
+                samples: 1,
+                usage: 0,
+                create_flags: 0,
+                bound: None,
+                alignment: None,
+                swapchain: None,
+                created_at: 0,
+                destroyed_at: None,
+            },
+        );
+    }
+
+    /// A copy between a buffer or image and an image: `origin` and `extent` in texels on
+    /// the image side (the source's for a copy out of an image).
+    fn image_copy(
+        name: &str,
+        (src, dst): (u64, u64),
+        (src_origin, dst_origin): ([u32; 3], [u32; 3]),
+        extent: [u32; 3],
+        row_texels: u32,
+    ) -> TransferCmd {
+        TransferCmd::Copy {
+            name: name.to_owned(),
+            src,
+            dst,
+            regions: vec![Region {
+                src_mip: 0,
+                src_layer: 0,
+                src_origin,
+                src_offset: 0,
+                dst_mip: 0,
+                dst_layer: 0,
+                dst_origin,
+                dst_offset: 0,
+                size: None,
+                extent: Some(extent),
+                row_texels,
+                image_rows: 0,
+                layers: 1,
+            }],
+            layouts: (None, None),
+        }
+    }
+
+    #[test]
+    fn copies_out_of_and_between_images_carry_what_was_uploaded() {
+        let mut objects = Objects::default();
+        buffer(&mut objects, 1, 10, 64);
+        image(&mut objects, 2, 4, 4);
+        image(&mut objects, 3, 4, 4);
+        buffer(&mut objects, 4, 40, 16);
+        buffer(&mut objects, 5, 50, 16);
+        image(&mut objects, 6, 4, 4);
+        let mut c = Contents::default();
+        c.fill(10, 0, (0..64).collect());
+        let whole = [4, 4, 1];
+        submit(
+            &mut c,
+            &objects,
+            image_copy("copy_buffer_to_image", (1, 2), ([0; 3], [0; 3]), whole, 0),
+        );
+        assert_eq!(c.uploaded.get(&2), Some(&(0..64).collect::<Vec<u8>>()));
+        // Texels (2..4, 0..2) of image 2 to (0..2, 2..4) of image 3; the rest stays zeros.
+        submit(
+            &mut c,
+            &objects,
+            image_copy("copy_image", (2, 3), ([2, 0, 0], [0, 2, 0]), [2, 2, 1], 0),
+        );
+        let mut expected = vec![0u8; 64];
+        expected[32..40].copy_from_slice(&(8..16).collect::<Vec<u8>>());
+        expected[48..56].copy_from_slice(&(24..32).collect::<Vec<u8>>());
+        assert_eq!(c.uploaded.get(&3), Some(&expected));
+        // Read back tightly packed, the same texels again.
+        submit(
+            &mut c,
+            &objects,
+            image_copy(
+                "copy_image_to_buffer",
+                (3, 4),
+                ([0, 2, 0], [0; 3]),
+                [2, 2, 1],
+                0,
+            ),
+        );
+        let back: Vec<u8> = (8..16).chain(24..32).collect();
+        assert_eq!(c.buffer_bytes(4, &objects), Some(back));
+        // An image nothing was copied into is not known, nor what is read back from it.
+        submit(
+            &mut c,
+            &objects,
+            image_copy(
+                "copy_image_to_buffer",
+                (6, 5),
+                ([0; 3], [0; 3]),
+                [2, 2, 1],
+                0,
+            ),
+        );
+        assert_eq!(c.buffer_bytes(5, &objects), None);
+        // A region past the image makes the destination unknown rather than half-copied.
+        submit(
+            &mut c,
+            &objects,
+            image_copy("copy_image", (2, 3), ([3, 0, 0], [0; 3]), [2, 1, 1], 0),
+        );
+        assert!(c.gpu_written.contains(&3) && !c.uploaded.contains_key(&3));
+        // A blit's result is not carried out: its destination is named as earlier GPU work.
+        submit(&mut c, &objects, TransferCmd::Blit { src: 2, dst: 6 });
+        assert!(c.gpu_written.contains(&6));
+        assert!(c.uploaded.contains_key(&2));
+    }
+
+    #[test]
+    fn texel_rows_of_a_box_and_of_a_buffer_footprint() {
+        let mut objects = Objects::default();
+        image(&mut objects, 1, 8, 4);
+        let p = Packed::of(&objects.images[&1]).unwrap();
+        let b = TexelBox {
+            mip: 0,
+            layer: 0,
+            origin: [2, 1, 0],
+            extent: [3, 2, 1],
+            layers: 1,
+        };
+        let rows = p.rows(&b).unwrap();
+        assert_eq!((rows.count, rows.run), (2, 12));
+        assert_eq!((rows.at(0), rows.at(1)), (40..52, 72..84));
+        // A row length of 5 texels: rows 20 bytes apart in the buffer.
+        let f = p.footprint(&b, 5, 0);
+        assert_eq!((f.at(0), f.at(1), f.span()), (0..12, 20..32, 40));
+        let outside = TexelBox {
+            origin: [6, 0, 0],
+            ..b
+        };
+        assert!(p.rows(&outside).is_none());
     }
 
     #[test]

@@ -728,6 +728,7 @@ impl Sync {
             TransferCmd::Copy { .. } | TransferCmd::Fill { update: true, .. } => S::COPY,
             TransferCmd::Clear { .. } | TransferCmd::Fill { update: false, .. } => S::CLEAR,
             TransferCmd::Resolve { .. } => S::RESOLVE,
+            TransferCmd::Blit { .. } => S::BLIT,
         };
         let mk = |access: A, what: &str| Access {
             stage,
@@ -795,6 +796,11 @@ impl Sync {
             TransferCmd::Fill { buffer, update } => {
                 let what = if *update { "update" } else { "fill" };
                 self.access(&[Key::Buffer(*buffer)], true, &mk(A::TRANSFER_WRITE, what));
+            }
+            TransferCmd::Blit { src, dst } => {
+                let (s, d) = (buffer_or_image(*src), buffer_or_image(*dst));
+                self.access(&s, false, &mk(A::TRANSFER_READ, "blit source"));
+                self.access(&d, true, &mk(A::TRANSFER_WRITE, "blit destination"));
             }
             TransferCmd::Resolve { src, dst } => {
                 let (s, d) = (buffer_or_image(*src), buffer_or_image(*dst));
