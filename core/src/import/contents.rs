@@ -504,10 +504,16 @@ pub fn sanitize(name: &str) -> String {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
-    fn image(format: &str, extent: [u32; 3], mips: u32, layers: u32) -> ImageInfo {
+    /// A 2D image not bound to memory, for tests here and of the copies before a frame.
+    pub(in crate::import) fn image(
+        format: &str,
+        extent: [u32; 3],
+        mips: u32,
+        layers: u32,
+    ) -> ImageInfo {
         ImageInfo {
             format: format.to_owned(),
             image_type: "VK_IMAGE_TYPE_2D".to_owned(),

@@ -468,24 +468,13 @@ mod tests {
     }
 
     fn image(objects: &mut Objects, handle: u64, width: u32, height: u32) {
-        objects.images.insert(
-            handle,
-            ImageInfo {
-                format: "VK_FORMAT_R8G8B8A8_UNORM".to_owned(),
-                image_type: "VK_IMAGE_TYPE_2D".to_owned(),
-                extent: [width, height, 1],
-                mips: 1,
-                layers: 1,
-                samples: 1,
-                usage: 0,
-                create_flags: 0,
-                bound: None,
-                alignment: None,
-                swapchain: None,
-                created_at: 0,
-                destroyed_at: None,
-            },
+        let info = super::super::contents::tests::image(
+            "VK_FORMAT_R8G8B8A8_UNORM",
+            [width, height, 1],
+            1,
+            1,
         );
+        objects.images.insert(handle, info);
     }
 
     /// A copy between a buffer or image and an image: `origin` and `extent` in texels on
