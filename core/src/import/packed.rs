@@ -3,6 +3,7 @@
 //! a copy's buffer footprint lie: the addressing every copy to, from and between images
 //! carried out on imported contents shares.
 
+use super::commands::Region;
 use super::contents::MAX_BLOCK_BYTES;
 use super::state::ImageInfo;
 use crate::capture::dxgi::{self, FormatInfo};
@@ -27,6 +28,25 @@ pub(super) struct TexelBox {
     pub origin: [u32; 3],
     pub extent: [u32; 3],
     pub layers: u32,
+}
+
+impl TexelBox {
+    /// The image side of a copy region: its source's (`source`) or its destination's.
+    /// `None` for a region without an extent (buffer to buffer).
+    pub fn of(r: &Region, source: bool) -> Option<TexelBox> {
+        let (mip, layer, origin) = if source {
+            (r.src_mip, r.src_layer, r.src_origin)
+        } else {
+            (r.dst_mip, r.dst_layer, r.dst_origin)
+        };
+        Some(TexelBox {
+            mip,
+            layer,
+            origin,
+            extent: r.extent?,
+            layers: r.layers,
+        })
+    }
 }
 
 impl Packed {

@@ -13,7 +13,7 @@
 
 use super::commands::{Cmd, Region, TransferCmd, Use};
 use super::contents::{Contents, packed_size};
-use super::packed::{Packed, TexelBox};
+use super::packed::{Packed, Rows, TexelBox};
 use super::record::{Recording, Recordings};
 use super::state::{Descriptor, ImageInfo, Objects, storage_descriptor};
 
@@ -230,13 +230,7 @@ impl Contents {
             return false;
         }
         for r in regions {
-            let Some(b) = r.extent.map(|extent| TexelBox {
-                mip: r.dst_mip,
-                layer: r.dst_layer,
-                origin: r.dst_origin,
-                extent,
-                layers: r.layers,
-            }) else {
+            let Some(b) = TexelBox::of(r, false) else {
                 return false;
             };
             let Some(to) = p.rows(&b) else { return false };
@@ -278,13 +272,7 @@ impl Contents {
             return false;
         }
         for r in regions {
-            let Some(b) = r.extent.map(|extent| TexelBox {
-                mip: r.src_mip,
-                layer: r.src_layer,
-                origin: r.src_origin,
-                extent,
-                layers: r.layers,
-            }) else {
+            let Some(b) = TexelBox::of(r, true) else {
                 return false;
             };
             let Some(from) = p.rows(&b) else { return false };
@@ -296,17 +284,11 @@ impl Contents {
             {
                 return false;
             }
-            let Some(data) = self.uploaded.get(&src) else {
+            let Some(rows) = self.image_rows(src, &from) else {
                 return false;
             };
-            let mut rows = Vec::new();
-            for i in 0..from.count {
-                let Some(bytes) = data.get(from.at(i)) else {
-                    return false;
-                };
-                rows.push((r.dst_offset + to.at(i).start as u64, bytes.to_vec()));
-            }
-            for (offset, bytes) in rows {
+            for (i, bytes) in (0..to.count).zip(rows) {
+                let offset = r.dst_offset + to.at(i).start as u64;
                 if !self.write_buffer(objects, dst, offset, bytes) {
                     return false;
                 }
@@ -335,33 +317,18 @@ impl Contents {
             return false;
         }
         for r in regions {
-            let Some(extent) = r.extent else { return false };
-            let boxed = |mip, layer, origin| TexelBox {
-                mip,
-                layer,
-                origin,
-                extent,
-                layers: r.layers,
-            };
             let (Some(from), Some(to)) = (
-                sp.rows(&boxed(r.src_mip, r.src_layer, r.src_origin)),
-                dp.rows(&boxed(r.dst_mip, r.dst_layer, r.dst_origin)),
+                TexelBox::of(r, true).and_then(|b| sp.rows(&b)),
+                TexelBox::of(r, false).and_then(|b| dp.rows(&b)),
             ) else {
                 return false;
             };
             if from.count != to.count || from.run != to.run {
                 return false;
             }
-            let Some(data) = self.uploaded.get(&src) else {
+            let Some(rows) = self.image_rows(src, &from) else {
                 return false;
             };
-            let mut rows = Vec::new();
-            for i in 0..from.count {
-                let Some(bytes) = data.get(from.at(i)) else {
-                    return false;
-                };
-                rows.push(bytes.to_vec());
-            }
             let Some(out) = self.uploaded.get_mut(&dst) else {
                 return false;
             };
@@ -374,6 +341,15 @@ impl Contents {
         }
         self.gpu_written.remove(&dst);
         true
+    }
+
+    /// The bytes of each of `rows` of image `image`'s contents in `uploaded`, read before
+    /// anything is written (a copy may read and write one image).
+    fn image_rows(&self, image: u64, rows: &Rows) -> Option<Vec<Vec<u8>>> {
+        let data = self.uploaded.get(&image)?;
+        (0..rows.count)
+            .map(|i| data.get(rows.at(i)).map(<[u8]>::to_vec))
+            .collect()
     }
 
     /// Takes `bytes` from what contents may still add up to; `false` when they would pass it.
