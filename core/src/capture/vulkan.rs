@@ -6,6 +6,7 @@
 //! `_BIT`) are parsed once, when a capture is validated or imported, and spelled only when
 //! text or JSON is written; everything in between compares values.
 
+use std::borrow::Cow;
 use std::fmt;
 use std::ops::{BitAnd, BitOr, BitOrAssign, Not};
 
@@ -41,15 +42,16 @@ macro_rules! vk_flags {
                 self.0 & other.0 != 0
             }
 
-            /// The names of the bits set (in the enum's order); bits without a name as hex.
-            pub fn names(self) -> Vec<String> {
+            /// The names of the bits set (in the enum's order), borrowed from the table; bits
+            /// without a name as hex.
+            pub fn names(self) -> Vec<Cow<'static, str>> {
                 mask_names(Self::NAMES, self.0)
             }
 
             /// The set the names stand for (with or without `VK_..._` and `_BIT`, or `0x` hex);
             /// the first unknown name as the error.
-            pub fn parse<'a>(
-                names: impl IntoIterator<Item = &'a String>,
+            pub fn parse<'a, S: AsRef<str> + 'a>(
+                names: impl IntoIterator<Item = &'a S>,
             ) -> Result<Self, UnknownName<'a>> {
                 parse_mask(Self::NAMES, names).map(Self)
             }
@@ -322,18 +324,18 @@ impl fmt::Display for ImageLayout {
 }
 
 /// The names of the bits set in `mask` (in table order); bits the table lacks as hex.
-fn mask_names(table: &[(&str, u64)], mask: u64) -> Vec<String> {
+fn mask_names(table: &[(&'static str, u64)], mask: u64) -> Vec<Cow<'static, str>> {
     let mut rest = mask;
-    let mut out: Vec<String> = table
+    let mut out: Vec<Cow<'static, str>> = table
         .iter()
         .filter(|(_, v)| mask & v != 0)
         .map(|(n, v)| {
             rest &= !v;
-            (*n).to_owned()
+            Cow::Borrowed(*n)
         })
         .collect();
     if rest != 0 {
-        out.push(format!("{rest:#x}"));
+        out.push(Cow::Owned(format!("{rest:#x}")));
     }
     out
 }
@@ -344,12 +346,13 @@ fn mask_names(table: &[(&str, u64)], mask: u64) -> Vec<String> {
 #[error("unknown Vulkan name \"{0}\"")]
 pub struct UnknownName<'a>(pub &'a str);
 
-fn parse_mask<'a>(
+fn parse_mask<'a, S: AsRef<str> + 'a>(
     table: &[(&str, u64)],
-    names: impl IntoIterator<Item = &'a String>,
+    names: impl IntoIterator<Item = &'a S>,
 ) -> Result<u64, UnknownName<'a>> {
     let mut mask = 0;
     for n in names {
+        let n = n.as_ref();
         if let Some(hex) = n.strip_prefix("0x") {
             mask |= u64::from_str_radix(hex, 16).map_err(|_| UnknownName(n))?;
             continue;

@@ -139,11 +139,9 @@ impl Builder {
             } else {
                 format!("set{}_binding{}", u.set, u.binding)
             };
-            let identity = format!(
-                "{:?}|{:?}|{:?}|{:?}|{:?}",
-                binding.resource, binding.access, binding.mips, binding.layers, binding.bytes
-            );
-            if !self.binding_seen.entry(pass).or_default().insert(identity) {
+            // A resource's name stands for its handle, so the handle tells bindings apart.
+            let identity = (pass, handle, access, mips, layers, bytes);
+            if !self.binding_seen.insert(identity) {
                 continue;
             }
             let bindings = &mut self.passes[pass].bindings;

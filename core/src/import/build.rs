@@ -9,8 +9,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::HashMap;
 
 use super::commands::{
-    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, Region, RenderInstance,
-    TransferCmd,
+    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, Origin, Region,
+    RenderInstance, TransferCmd,
 };
 use super::pipelines::Pipelines;
 use super::record::{Recording, Recordings};
@@ -21,6 +21,17 @@ use crate::capture::format::{
     Draw, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range, RecordedBarrier, Resolve,
     SplitFlag, StoreOp, VkImageView, VkIndexBuffer, VkVertexBuffer, VulkanBarrier,
 };
+
+/// What tells two bindings of a pass apart: the pass, the resource's handle, the access and
+/// the part of the resource bound.
+pub(super) type BindingIdentity = (
+    usize,
+    u64,
+    crate::capture::format::Access,
+    Option<Range>,
+    Option<Range>,
+    Option<crate::capture::format::ByteRange>,
+);
 
 /// Deepest nesting of secondary command buffers followed.
 const MAX_EXECUTE_DEPTH: u32 = 4;
@@ -44,13 +55,13 @@ pub struct Builder {
     /// on each pass. These keep naming linear in the number of passes and descriptors.
     stem_next: HashMap<String, u32>,
     pub(super) binding_next: HashMap<(usize, String), u32>,
-    pub(super) binding_seen: HashMap<usize, std::collections::HashSet<String>>,
+    pub(super) binding_seen: super::HashSet<BindingIdentity>,
     pub queue_names: BTreeMap<u64, (String, QueueType)>,
     pub(super) pending_barriers: HashMap<u64, Vec<RecordedBarrier>>,
-    /// The pass each command's work went into (`vkCmdDispatch #205` -> pass index), so a
-    /// finding that names a command can be shown on its pass. Barriers are found by their
-    /// origin in the passes' own lists.
-    pub(super) pass_of_command: HashMap<String, usize>,
+    /// The pass each command's work went into, by the index of its call (`vkCmdDispatch
+    /// #205` -> 205 -> pass index), so a finding that names a command can be shown on its
+    /// pass. Barriers are found by their origin in the passes' own lists.
+    pub(super) pass_of_command: HashMap<u64, usize>,
     pub(super) pending_waits: HashMap<u64, Vec<String>>,
     labels: HashMap<u64, Vec<String>>,
     pub(super) last_pass_on: HashMap<u64, usize>,
@@ -365,7 +376,7 @@ impl Builder {
         queue: u64,
         waits: &[u64],
         images: &[(u64, u32)],
-        command: &str,
+        command: &Origin,
     ) {
         self.wait(queue, waits);
         for &(chain, index) in images {
@@ -386,7 +397,7 @@ impl Builder {
             };
             if let Some(p) = self.new_pass(objects, queue, PassKind::Present, "present") {
                 self.passes[p].present = Some(name);
-                self.pass_of_command.insert(command.to_owned(), p);
+                self.pass_of_command.insert(command.index, p);
             }
         }
         self.end_frame();
@@ -484,7 +495,7 @@ impl Builder {
             if let Some(origin) = origin.filter(|_| self.emitting())
                 && let Some(&pass) = self.last_pass_on.get(&queue)
             {
-                self.pass_of_command.insert(origin.clone(), pass);
+                self.pass_of_command.insert(origin.index, pass);
             }
         }
     }
@@ -532,13 +543,13 @@ impl Builder {
                 after: None,
                 split: SplitFlag::None,
                 vulkan: Some(VulkanBarrier {
-                    origin: b.origin.clone(),
+                    origin: b.origin.to_string(),
                     src_stages: b.src_stages.names(),
                     src_access: b.src_access.names(),
                     dst_stages: b.dst_stages.names(),
                     dst_access: b.dst_access.names(),
-                    old_layout: b.layouts.map(|l| l.0.name().to_owned()),
-                    new_layout: b.layouts.map(|l| l.1.name().to_owned()),
+                    old_layout: b.layouts.map(|l| l.0.name().into()),
+                    new_layout: b.layouts.map(|l| l.1.name().into()),
                     src_queue_family: b.families.map(|f| f.0),
                     dst_queue_family: b.families.map(|f| f.1),
                 }),

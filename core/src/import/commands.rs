@@ -3,6 +3,9 @@
 //! recording (which calls the render pass resolution) and the resolution (which makes these)
 //! share them without importing each other.
 
+use std::borrow::Cow;
+use std::fmt;
+
 use super::state::Descriptor;
 use super::value::Arg;
 use crate::capture::format::VkCommandState;
@@ -64,9 +67,56 @@ pub enum BarrierTarget {
     },
 }
 
+/// The call a recorded command or barrier came from, spelt (`vkCmdDispatch #205`) only where
+/// it is shown: the pass builder and the synchronization check meet one for every command,
+/// and show few.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Origin {
+    /// The call's index in the stream (the converter's block index).
+    pub index: u64,
+    pub name: Cow<'static, str>,
+    /// A barrier a render pass implies for one of its attachments: the attachment, and
+    /// whether it is the one into the render pass or out of it.
+    pub attachment: Option<(u32, &'static str)>,
+}
+
+impl Origin {
+    // The `Cow` itself, not its text, so that a name borrowed from the tables stays borrowed.
+    #[allow(clippy::ptr_arg)]
+    pub fn call(name: &Cow<'static, str>, index: u64) -> Self {
+        Origin {
+            index,
+            name: name.clone(),
+            attachment: None,
+        }
+    }
+
+    /// Something no call of the stream did (spelt `text`, with no index).
+    pub const fn none(text: &'static str) -> Self {
+        Origin {
+            index: u64::MAX,
+            name: Cow::Borrowed(text),
+            attachment: None,
+        }
+    }
+}
+
+impl fmt::Display for Origin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.index == u64::MAX {
+            return f.write_str(&self.name);
+        }
+        write!(f, "{} #{}", self.name, self.index)?;
+        if let Some((a, what)) = self.attachment {
+            write!(f, ": attachment {a} {what}")?;
+        }
+        Ok(())
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct BarrierCmd {
-    pub origin: String,
+    pub origin: Origin,
     pub target: BarrierTarget,
     pub src_stages: PipelineStages,
     pub dst_stages: PipelineStages,

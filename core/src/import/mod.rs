@@ -43,6 +43,7 @@ use serde::Serialize;
 use crate::capture::format::RawCapture;
 use build::Builder;
 use calls::Func;
+use commands::Origin;
 use record::{Recording, Recordings};
 use state::Objects;
 use stream::{Call, Entry, Lines};
@@ -462,7 +463,7 @@ impl Importer {
             .and_then(|images| images.get(index as usize))
             .copied();
         if let Some(image) = image.filter(|_| self.builder.emitting()) {
-            let command = format!("{} #{}", call.name, call.index);
+            let command = Origin::call(&call.name, call.index);
             self.sync
                 .acquire(&self.objects, image, (semaphore, fence), &command);
         }
@@ -517,7 +518,7 @@ impl Importer {
             .zip(&indices)
             .map(|(c, i)| Ok((c.handle()?, i.u32()?)))
             .collect::<Got<Vec<_>>>()?;
-        let command = format!("{} #{}", call.name, call.index);
+        let command = Origin::call(&call.name, call.index);
         if self.builder.emitting() {
             let swapchain_images: Vec<u64> = images
                 .iter()
@@ -726,25 +727,28 @@ fn finish(
     imp.builder.keep_alive(&imp.objects);
     let names = imp.builder.names.clone();
     let imp_checked = imp.sync.enabled();
-    let (mut hazards, hazards_dropped) = imp.sync.hazards(|h| names.get(&h).cloned());
+    let (found, hazards_dropped) = imp.sync.hazards(|h| names.get(&h).cloned());
     // Each finding on the pass its command's work, or its barrier, went into.
-    let mut pass_of: HashMap<&str, usize> = imp
-        .builder
-        .pass_of_command
-        .iter()
-        .map(|(c, p)| (c.as_str(), *p))
-        .collect();
-    for (i, pass) in imp.builder.passes.iter().enumerate() {
-        for b in &pass.barriers {
-            if let Some(v) = &b.vulkan {
-                pass_of.entry(v.origin.as_str()).or_insert(i);
+    let mut barrier_pass: HashMap<&str, usize> = HashMap::default();
+    if !found.is_empty() {
+        for (i, pass) in imp.builder.passes.iter().enumerate() {
+            for b in &pass.barriers {
+                if let Some(v) = &b.vulkan {
+                    barrier_pass.entry(v.origin.as_str()).or_insert(i);
+                }
             }
         }
     }
-    for h in &mut hazards {
-        h.pass = pass_of
-            .get(h.command.as_str())
-            .map(|&i| imp.builder.passes[i].name.clone());
+    let mut hazards = Vec::with_capacity(found.len());
+    for (origin, mut h) in found {
+        let pass = match origin.attachment {
+            None => imp.builder.pass_of_command.get(&origin.index).copied(),
+            Some(_) => None,
+        };
+        h.pass = pass
+            .or_else(|| barrier_pass.get(h.command.as_str()).copied())
+            .map(|i| imp.builder.passes[i].name.clone());
+        hazards.push(h);
     }
     if hazards_dropped > 0 {
         skipped.push(Skipped {

@@ -3,12 +3,13 @@
 //! spot (what the GPU will read), and render pass instances resolved to the views they use
 //! and the layout transitions their attachment descriptions imply.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 
 use super::calls::{CmdFunc, CopyKind};
 use super::commands::{
-    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, MAX_INDIRECT_DRAWS, Region,
-    TransferCmd, Use, clear_color,
+    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, MAX_INDIRECT_DRAWS, Origin,
+    Region, TransferCmd, Use, clear_color,
 };
 use super::render_pass;
 use super::state::{Descriptor, Objects};
@@ -51,7 +52,7 @@ pub struct Recording {
     pub cmds: Vec<Cmd>,
     /// Each command's call and its index in the stream (`vkCmdDraw #164`), for findings
     /// that name the command.
-    pub at: Vec<String>,
+    pub at: Vec<Origin>,
     bound: Bound,
 }
 
@@ -65,7 +66,7 @@ impl Recording {
 }
 
 fn compute_point(a: &Arg<'_>) -> Got<bool> {
-    let n = a.name()?;
+    let n = a.symbol()?;
     Ok(n.contains("COMPUTE") || n == "1")
 }
 
@@ -107,15 +108,17 @@ fn layer_count(a: &Arg<'_>) -> u32 {
 impl Recording {
     /// Records one `vkCmd*` call; `Ok(false)` for commands that touch no resource framelab
     /// models (state setting, queries, ...).
+    // `name` as the call holds it, so that the origins borrow a name the tables lend.
+    #[allow(clippy::ptr_arg)]
     pub fn record(
         &mut self,
         func: CmdFunc,
-        name: &str,
+        name: &Cow<'static, str>,
         call_index: u64,
         args: &Arg<'_>,
         objects: &Objects,
     ) -> Got<bool> {
-        let origin = || format!("{name} #{call_index}");
+        let origin = || Origin::call(name, call_index);
         let cmd = match func {
             CmdFunc::BindPipeline => {
                 let point = compute_point(&args.get("pipelineBindPoint")?)?;
@@ -476,7 +479,7 @@ impl Recording {
     }
 
     /// An indirect draw becomes one draw per record, each reading its own arguments.
-    fn draw_indirect(&mut self, indexed: bool, args: &Arg<'_>, origin: &str) -> Got<()> {
+    fn draw_indirect(&mut self, indexed: bool, args: &Arg<'_>, origin: &Origin) -> Got<()> {
         let buffer = args.get("buffer")?.handle()?;
         let offset = args.get("offset")?.u64()?;
         let draws = args.get("drawCount")?.u32()?;
@@ -490,7 +493,7 @@ impl Recording {
             let at = offset.saturating_add(k.saturating_mul(stride));
             self.cmds
                 .push(Cmd::Draw(Box::new(self.draw(indexed, Some((buffer, at))))));
-            self.at.push(origin.to_owned());
+            self.at.push(origin.clone());
         }
         Ok(())
     }
@@ -534,7 +537,7 @@ type Masks = (PipelineStages, PipelineStages, AccessFlags, AccessFlags);
 
 fn barriers(
     args: &Arg<'_>,
-    origin: &str,
+    origin: &Origin,
     stages: Option<(PipelineStages, PipelineStages)>,
 ) -> Got<Vec<BarrierCmd>> {
     let masks = |b: &Arg<'_>| -> Got<Masks> {
@@ -565,7 +568,7 @@ fn barriers(
     for b in args.list("pMemoryBarriers")? {
         let (ss, ds, sa, da) = masks(&b)?;
         out.push(BarrierCmd {
-            origin: origin.to_owned(),
+            origin: origin.clone(),
             target: BarrierTarget::Global,
             src_stages: ss,
             dst_stages: ds,
@@ -578,7 +581,7 @@ fn barriers(
     for b in args.list("pBufferMemoryBarriers")? {
         let (ss, ds, sa, da) = masks(&b)?;
         out.push(BarrierCmd {
-            origin: origin.to_owned(),
+            origin: origin.clone(),
             target: BarrierTarget::Buffer {
                 buffer: b.get("buffer")?.handle()?,
             },
@@ -594,7 +597,7 @@ fn barriers(
         let (ss, ds, sa, da) = masks(&b)?;
         let (mips, layers) = range(&b.get("subresourceRange")?)?;
         out.push(BarrierCmd {
-            origin: origin.to_owned(),
+            origin: origin.clone(),
             target: BarrierTarget::Image {
                 image: b.get("image")?.handle()?,
                 mips,
@@ -626,7 +629,7 @@ fn clear_image(name: &str, args: &Arg<'_>) -> Got<Cmd> {
         depth_stencil: name.contains("Depth"),
         layout: args
             .opt("imageLayout")
-            .and_then(|l| ImageLayout::from_name(&l.name().ok()?)),
+            .and_then(|l| ImageLayout::from_name(&l.symbol().ok()?)),
         target: args.get("image")?.handle()?,
         value,
         stencil,
@@ -705,7 +708,7 @@ fn copy(kind: CopyKind, name: &str, args: &Arg<'_>) -> Got<Cmd> {
     }
     let layout = |key: &str| {
         args.opt(key)
-            .and_then(|l| ImageLayout::from_name(&l.name().ok()?))
+            .and_then(|l| ImageLayout::from_name(&l.symbol().ok()?))
     };
     Ok(Cmd::Transfer(Box::new(TransferCmd::Copy {
         name: copy_pass_name(name),

@@ -4,7 +4,7 @@
 //! its start and end, as barriers.
 
 use super::commands::{
-    AttUse, BarrierCmd, BarrierTarget, DepthUse, RenderInstance, SubpassUse, clear_color,
+    AttUse, BarrierCmd, BarrierTarget, DepthUse, Origin, RenderInstance, SubpassUse, clear_color,
 };
 use super::state::{AttachmentDesc, Dependency, Objects, RenderPassInfo, SubpassDesc};
 use super::value::{Arg, Got, Skip};
@@ -78,7 +78,7 @@ fn last_use(rp: &RenderPassInfo, a: u32) -> Option<usize> {
 pub(super) fn begin_render_pass(
     args: &Arg<'_>,
     objects: &Objects,
-    origin: String,
+    origin: Origin,
 ) -> Got<RenderInstance> {
     let info = args.get("pRenderPassBegin")?;
     let rp_handle = info.get("renderPass")?.handle()?;
@@ -235,7 +235,7 @@ fn attachment_barriers(
     d: &AttachmentDesc,
     views: &Views,
     objects: &Objects,
-    origin: &str,
+    origin: &Origin,
 ) -> (Option<BarrierCmd>, Option<BarrierCmd>) {
     let (Some(first), Some(last)) = (first_use(rp, a), last_use(rp, a)) else {
         return (None, None);
@@ -268,12 +268,15 @@ fn attachment_barriers(
     let transition = |from: Option<ImageLayout>,
                       to: Option<ImageLayout>,
                       dep: &Dependency,
-                      what: &str,
+                      what: &'static str,
                       always: bool|
      -> Option<BarrierCmd> {
         let (from, to) = (from?, to?);
         (from != to || always).then(|| BarrierCmd {
-            origin: format!("{origin}: attachment {a} {what}"),
+            origin: Origin {
+                attachment: Some((a, what)),
+                ..origin.clone()
+            },
             target: target.clone(),
             src_stages: dep.src_stages,
             dst_stages: dep.dst_stages,
@@ -319,7 +322,7 @@ pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
         if let Some(l) = a
             .get("imageLayout")
             .ok()
-            .and_then(|l| ImageLayout::from_name(&l.name().ok()?))
+            .and_then(|l| ImageLayout::from_name(&l.symbol().ok()?))
         {
             layouts.push((view, Some(l), l));
         }
@@ -378,7 +381,7 @@ pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
                 .as_ref()
                 .and_then(|c| c.get("stencil").ok()?.u32().ok())
                 .unwrap_or(0),
-            read_only: ImageLayout::from_name(&d.get("imageLayout")?.name()?)
+            read_only: ImageLayout::from_name(&d.get("imageLayout")?.symbol()?)
                 .is_some_and(ImageLayout::is_read_only),
         });
     }

@@ -3,6 +3,7 @@
 //! Objects are kept after they are destroyed, since passes recorded before may still name them;
 //! everything kept is a few words per object the stream created.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 
 use super::HashMap;
@@ -111,7 +112,7 @@ pub enum Descriptor {
         view: u64,
         /// The sampler of a combined image sampler (0 for none).
         sampler: u64,
-        ty: String,
+        ty: Cow<'static, str>,
         /// The layout the descriptor says the image is in when the shader accesses it.
         layout: Option<ImageLayout>,
     },
@@ -124,11 +125,11 @@ pub enum Descriptor {
         buffer: u64,
         offset: u64,
         range: u64,
-        ty: String,
+        ty: Cow<'static, str>,
     },
     TexelBuffer {
         view: u64,
-        ty: String,
+        ty: Cow<'static, str>,
     },
 }
 
@@ -180,7 +181,7 @@ pub struct Objects {
 /// Whether a create info asks for `VK_SHARING_MODE_CONCURRENT` (by name or value).
 fn concurrent(ci: &Arg<'_>) -> bool {
     ci.opt("sharingMode").is_some_and(|m| {
-        m.u64().is_ok_and(|v| v == 1) || m.name().is_ok_and(|n| n.ends_with("CONCURRENT"))
+        m.u64().is_ok_and(|v| v == 1) || m.symbol().is_ok_and(|n| n.ends_with("CONCURRENT"))
     })
 }
 
@@ -325,7 +326,7 @@ impl Objects {
                 while let Some(n) = next {
                     if n.opt("semaphoreType").is_some_and(|t| {
                         t.u64().is_ok_and(|v| v == 1)
-                            || t.name().is_ok_and(|n| n.ends_with("TIMELINE"))
+                            || t.symbol().is_ok_and(|n| n.ends_with("TIMELINE"))
                     }) {
                         self.timeline.insert(args.get("pSemaphore")?.handle()?);
                     }
@@ -724,11 +725,35 @@ impl Objects {
     }
 }
 
+/// The descriptor types, without `VK_DESCRIPTOR_TYPE_`: every descriptor of one of these
+/// holds its type without a string of its own (a frame binds thousands).
+const DESCRIPTOR_KINDS: [&str; 11] = [
+    "SAMPLER",
+    "COMBINED_IMAGE_SAMPLER",
+    "SAMPLED_IMAGE",
+    "STORAGE_IMAGE",
+    "UNIFORM_TEXEL_BUFFER",
+    "STORAGE_TEXEL_BUFFER",
+    "UNIFORM_BUFFER",
+    "STORAGE_BUFFER",
+    "UNIFORM_BUFFER_DYNAMIC",
+    "STORAGE_BUFFER_DYNAMIC",
+    "INPUT_ATTACHMENT",
+];
+
+/// A descriptor type (without `VK_DESCRIPTOR_TYPE_`), borrowed where it is a known one.
+pub fn descriptor_kind(kind: &str) -> Cow<'static, str> {
+    DESCRIPTOR_KINDS
+        .iter()
+        .find(|k| **k == kind)
+        .map_or_else(|| Cow::Owned(kind.to_owned()), |k| Cow::Borrowed(*k))
+}
+
 /// The descriptors one VkWriteDescriptorSet writes, by (binding, array element).
 pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
     let binding = w.get("dstBinding")?.u32()?;
     let first = w.get("dstArrayElement")?.u32()?;
-    let ty = w.get("descriptorType")?.name()?;
+    let ty = w.get("descriptorType")?.symbol()?;
     let kind = ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
     match Holds::of(kind) {
         Some(holds) => descriptors(binding, first, kind, &w.list(holds.key())?),
@@ -762,7 +787,7 @@ fn descriptors(
                 (view != 0).then(|| Descriptor::Image {
                     view,
                     sampler,
-                    ty: kind.to_owned(),
+                    ty: descriptor_kind(kind),
                     layout: i.opt("imageLayout").and_then(|l| l.layout().ok()),
                 })
             }
@@ -775,7 +800,7 @@ fn descriptors(
                         buffer,
                         offset: i.get("offset")?.u64()?,
                         range: i.get("range")?.u64()?,
-                        ty: kind.to_owned(),
+                        ty: descriptor_kind(kind),
                     })
                 }
             }
@@ -783,7 +808,7 @@ fn descriptors(
                 let view = i.handle()?;
                 (view != 0).then(|| Descriptor::TexelBuffer {
                     view,
-                    ty: kind.to_owned(),
+                    ty: descriptor_kind(kind),
                 })
             }
             None => None,

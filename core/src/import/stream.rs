@@ -164,7 +164,10 @@ fn parse_entry(text: &[u8], line: u64) -> Result<Entry, LineError> {
                 line,
                 index,
                 func: Func::of(&name),
-                name: Cow::Owned(name),
+                // The registry's own name where it has one, so every origin the call's
+                // commands carry borrows it.
+                name: super::gfxr::registry::command_named(&name)
+                    .map_or(Cow::Owned(name), |c| Cow::Borrowed(c.name)),
                 args,
                 result,
                 dialect,

@@ -2,6 +2,8 @@
 //! values as numbers or strings, flags as integers, hex strings or `A|B` symbols, enums as
 //! names. A value of the wrong shape is a `Skip` naming the argument, never a panic.
 
+use std::borrow::Cow;
+
 use super::tree::{Node, Tree};
 use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
 
@@ -266,10 +268,16 @@ impl<'a> Arg<'a> {
 
     /// An enumerant's name (`VK_FORMAT_R8G8B8A8_UNORM`); numbers are given back as text.
     pub fn name(&self) -> Got<String> {
+        self.symbol().map(Cow::into_owned)
+    }
+
+    /// `name`, borrowed from the arguments where they hold it as text: for the many names
+    /// that are only compared.
+    pub fn symbol(&self) -> Got<Cow<'a, str>> {
         match self.value() {
-            Node::Str(t) => Ok(self.tree.text(t).to_owned()),
+            Node::Str(t) => Ok(Cow::Borrowed(self.tree.text(t))),
             Node::U64(_) | Node::I64(_) | Node::F64(_) => {
-                Ok(self.tree.to_json(self.node).to_string())
+                Ok(Cow::Owned(self.tree.to_json(self.node).to_string()))
             }
             _ => self.skip("an enumerant"),
         }

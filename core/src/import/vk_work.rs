@@ -53,7 +53,7 @@ impl Builder {
                 Descriptor::Image {
                     view, sampler, ty, ..
                 } => {
-                    d.descriptor_type = ty.clone();
+                    d.descriptor_type = ty.to_string();
                     let (Some(v), Some((view_type, format, aspect))) =
                         (objects.views.get(view), objects.view_kinds.get(view))
                     else {
@@ -84,7 +84,7 @@ impl Builder {
                     range,
                     ty,
                 } => {
-                    d.descriptor_type = ty.clone();
+                    d.descriptor_type = ty.to_string();
                     let Some(name) = self.resource(objects, *buffer) else {
                         continue;
                     };
@@ -93,7 +93,7 @@ impl Builder {
                     d.range = Some(*range);
                 }
                 Descriptor::TexelBuffer { view, ty } => {
-                    d.descriptor_type = ty.clone();
+                    d.descriptor_type = ty.to_string();
                     let Some(&(buffer, offset, range)) = objects.buffer_views.get(view) else {
                         continue;
                     };

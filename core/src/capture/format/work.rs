@@ -227,6 +227,10 @@ pub struct RecordedBarrier {
     pub vulkan: Option<VulkanBarrier>,
 }
 
+/// A Vulkan name: borrowed from framelab's tables when framelab wrote it (an import makes
+/// thousands), owned when read from a file.
+pub type Name = std::borrow::Cow<'static, str>;
+
 /// A Vulkan image, buffer or global memory barrier in the application's own terms: stage and
 /// access masks and image layouts, by their Vulkan names without the `VK_` prefix and `_BIT`
 /// suffix (`COLOR_ATTACHMENT_OUTPUT`, `SHADER_READ_ONLY_OPTIMAL`).
@@ -237,18 +241,18 @@ pub struct VulkanBarrier {
     /// attachment layouts implied it.
     pub origin: String,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub src_stages: Vec<String>,
+    pub src_stages: Vec<Name>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub src_access: Vec<String>,
+    pub src_access: Vec<Name>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub dst_stages: Vec<String>,
+    pub dst_stages: Vec<Name>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub dst_access: Vec<String>,
+    pub dst_access: Vec<Name>,
     /// Image barriers: the layout before and after.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub old_layout: Option<String>,
+    pub old_layout: Option<Name>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub new_layout: Option<String>,
+    pub new_layout: Option<Name>,
     /// Queue family ownership transfer, when the families differ.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub src_queue_family: Option<u32>,

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use super::Validator;
 use crate::capture::diag::{JsonPath, suggest};
 use crate::capture::format::{
-    Access, BarrierType, Copy, CopyLocation, RecordedBarrier, ResourceFlag, ResourceState,
+    Access, BarrierType, Copy, CopyLocation, Name, RecordedBarrier, ResourceFlag, ResourceState,
     SplitFlag,
 };
 use crate::capture::model::{
@@ -478,7 +478,7 @@ impl<'a> Validator<'a> {
                 suggestion,
             );
         };
-        let mut stages = |names: &Vec<String>, field: &str| {
+        let mut stages = |names: &Vec<Name>, field: &str| {
             PipelineStages::parse(names).unwrap_or_else(|bad| {
                 unknown(bad.0, PipelineStages::NAMES, field);
                 PipelineStages::EMPTY
@@ -486,7 +486,7 @@ impl<'a> Validator<'a> {
         };
         let src_stages = stages(&v.src_stages, "src_stages");
         let dst_stages = stages(&v.dst_stages, "dst_stages");
-        let mut access = |names: &Vec<String>, field: &str| {
+        let mut access = |names: &Vec<Name>, field: &str| {
             AccessFlags::parse(names).unwrap_or_else(|bad| {
                 unknown(bad.0, AccessFlags::NAMES, field);
                 AccessFlags::EMPTY
@@ -494,7 +494,7 @@ impl<'a> Validator<'a> {
         };
         let src_access = access(&v.src_access, "src_access");
         let dst_access = access(&v.dst_access, "dst_access");
-        let mut layout = |name: &Option<String>, field: &str| {
+        let mut layout = |name: &Option<Name>, field: &str| {
             let n = name.as_deref()?;
             let found = ImageLayout::from_name(n);
             if found.is_none() {

@@ -44,8 +44,11 @@ struct Reader<'a, 't> {
     pos: usize,
     depth: u32,
     /// Where the reader is (`pCreateInfo.pStages[1].pName`), kept as parts and spelt out only
-    /// for an error, since most calls never need it.
+    /// for an error, since most calls never need it; kept at all only when `track` is set.
     path: Vec<Part>,
+    /// Whether `path` is kept. A call is decoded without it first; the rare call that needs
+    /// it (an error to locate, a blob to name, a path to find) is decoded again with it.
+    track: bool,
     blobs: Vec<(String, Vec<u8>)>,
     /// A parameter path to find (`locate`), and where its bytes were found.
     seek: Option<&'a str>,
@@ -59,6 +62,9 @@ enum Part {
 }
 
 type Res<T> = Result<T, String>;
+
+/// The error that sends a call back to be decoded with its path kept (see `Reader::track`).
+const RETRACK: &str = "(decode again with the path kept)";
 
 impl<'a> Reader<'a, '_> {
     fn take(&mut self, n: usize) -> Res<&'a [u8]> {
@@ -110,7 +116,11 @@ impl<'a> Reader<'a, '_> {
     }
 
     /// `f` with `part` on the path.
+    #[inline]
     fn within<T>(&mut self, part: Part, f: impl FnOnce(&mut Self) -> Res<T>) -> Res<T> {
+        if !self.track {
+            return f(self);
+        }
         self.path.push(part);
         let r = f(self);
         self.path.pop();
@@ -254,6 +264,9 @@ impl<'a> Reader<'a, '_> {
             BLOB_BYTES
         };
         if width > 0 && n * width > limit {
+            if !self.track {
+                return Err(RETRACK.to_owned());
+            }
             let bytes = self.take(n * width)?.to_vec();
             let shown = self.tree.string(&format!("({} bytes)", bytes.len()));
             self.blobs.push((self.at(), bytes));
@@ -516,13 +529,32 @@ fn decode<'a>(
     seek: Option<&'a str>,
     tree: &mut Tree,
 ) -> Result<(Decoded, Option<(usize, usize)>), String> {
+    if seek.is_some() {
+        return decode_with(def, params, seek, tree, true);
+    }
+    decode_with(def, params, None, tree, false)
+        .or_else(|_| decode_with(def, params, None, tree, true))
+}
+
+fn decode_with<'a>(
+    def: &CommandDef,
+    params: &'a [u8],
+    seek: Option<&'a str>,
+    tree: &mut Tree,
+    track: bool,
+) -> Result<(Decoded, Option<(usize, usize)>), String> {
     tree.clear();
     let mut r = Reader {
         buf: params,
         tree,
         pos: 0,
         depth: 0,
-        path: Vec::with_capacity(8),
+        path: if track {
+            Vec::with_capacity(8)
+        } else {
+            Vec::new()
+        },
+        track,
         blobs: Vec::new(),
         seek,
         found: None,

@@ -330,3 +330,39 @@ pub fn decompress_only(reader: impl Read, len: Option<u64>) -> Result<(u64, u64)
     }
     Ok((count, bytes))
 }
+
+/// Reads and decompresses every block and decodes every call the importer would (as
+/// `import` chooses them), without importing: the second floor, for the import benchmark,
+/// which shows how much of an import is decoding and how much the importer. Returns the
+/// calls decoded.
+pub fn decode_only(reader: impl Read, len: Option<u64>) -> Result<u64, ImportError> {
+    let file = "capture";
+    let mut blocks = Blocks::new(reader, len).map_err(|e| block_error(file, e))?;
+    let compression = blocks.header.compression;
+    let mut args = Tree::default();
+    let mut decoded = 0;
+    while let Some(block) = blocks.next_block() {
+        let block = block.map_err(|e| block_error(file, e))?;
+        match block.kind {
+            Kind::MetaData => {
+                meta::read(&block, compression).map_err(|m| located(file, block.at, m))?;
+            }
+            Kind::FunctionCall => {
+                let Some((def, func)) = registry::command_index(block.id)
+                    .and_then(|i| Some((&registry::COMMANDS[i], registry::func(i)?)))
+                else {
+                    continue;
+                };
+                let modelled = !matches!(func, Func::Other | Func::Cmd(CmdFunc::Other));
+                if (modelled || binary_only(def.name) || func == Func::MapMemory)
+                    && block.body.len() >= 8
+                    && decode::decode_call(def, &block.body[8..], &mut args).is_ok()
+                {
+                    decoded += 1;
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(decoded)
+}

@@ -29,7 +29,10 @@ mod queues;
 
 use queues::SIGNALS_KEPT;
 
-use super::commands::{BarrierCmd, BarrierTarget, Cmd, RenderInstance, TransferCmd, Use};
+use std::borrow::Cow;
+use std::fmt;
+
+use super::commands::{BarrierCmd, BarrierTarget, Cmd, Origin, RenderInstance, TransferCmd, Use};
 use super::pipelines::{Pipelines, StorageUse};
 use super::record::{Recording, Recordings};
 use super::state::{Descriptor, Objects};
@@ -116,25 +119,59 @@ fn later(s: S) -> S {
 struct Access {
     stage: S,
     access: A,
-    command: String,
-    what: String,
+    command: Origin,
+    what: What,
+}
+
+/// The command a recording lacks an origin for (none does: every command records one).
+static UNKNOWN: Origin = Origin::none("(command)");
+
+/// What an access is, spelt only for a finding: the check makes one for every command and
+/// descriptor, and reports few.
+#[derive(Clone, Debug)]
+enum What {
+    Text(&'static str),
+    /// A use in a layout (`descriptor in` `SHADER_READ_ONLY_OPTIMAL`).
+    InLayout(&'static str, ImageLayout),
+    Transition(ImageLayout, ImageLayout),
+    /// A descriptor a draw or dispatch reaches, with its type without `VK_DESCRIPTOR_TYPE_`.
+    Binding {
+        set: u32,
+        binding: u32,
+        kind: Cow<'static, str>,
+    },
+    Spelt(String),
+}
+
+impl fmt::Display for What {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            What::Text(t) => f.write_str(t),
+            What::InLayout(what, l) => write!(f, "{what} {l}"),
+            What::Transition(from, to) => write!(f, "layout transition {from} -> {to}"),
+            What::Binding { set, binding, kind } => {
+                write!(f, "set {set} binding {binding} ({kind})")
+            }
+            What::Spelt(s) => f.write_str(s),
+        }
+    }
 }
 
 impl Access {
     /// What happens at no pipeline stage: a layout transition, the presentation engine's
     /// read, a layout a command expects.
-    fn event(command: &str, what: String) -> Self {
+    fn event(command: &Origin, what: What) -> Self {
         Access {
             stage: S::EMPTY,
             access: A::EMPTY,
-            command: command.to_owned(),
+            command: command.clone(),
             what,
         }
     }
 
     fn describe(&self) -> String {
         if self.stage.is_empty() {
-            return self.what.clone();
+            return self.what.to_string();
         }
         format!("{}/{} ({})", self.stage, self.access, self.what)
     }
@@ -165,7 +202,7 @@ struct State {
     reads: Vec<Read>,
     /// An image subresource's layout and the command that put it there; `None` until the
     /// imported frames set it (what the capture's snapshot left is not checked).
-    layout: Option<(ImageLayout, String)>,
+    layout: Option<(ImageLayout, Origin)>,
     /// The queue family that last used it (an exclusive resource's owner), and a release
     /// to another family not yet acquired.
     owner: Option<u32>,
@@ -202,7 +239,7 @@ impl Dep {
 #[derive(Debug, Default)]
 pub struct Sync {
     states: HashMap<Key, State>,
-    found: BTreeMap<(String, u64, HazardKind), (Key, Access, Access)>,
+    found: BTreeMap<(Origin, u64, HazardKind), (Key, Access, Access)>,
     dropped: u64,
     /// Submissions so far: each access carries the one it was made in.
     seq: u32,
@@ -421,12 +458,19 @@ impl Sync {
         }
     }
 
-    fn note(&mut self, command: &str, key: Key, kind: HazardKind, access: Access, prior: Access) {
+    fn note(
+        &mut self,
+        command: &Origin,
+        key: Key,
+        kind: HazardKind,
+        access: Access,
+        prior: Access,
+    ) {
         let id = match key {
             Key::Buffer(b) => b,
             Key::Image { image, .. } => image,
         };
-        let k = (command.to_owned(), id, kind);
+        let k = (command.clone(), id, kind);
         if self.found.contains_key(&k) {
             return;
         }
@@ -467,12 +511,12 @@ impl Sync {
     }
 
     /// A draw's or dispatch's indirect arguments, read at the draw-indirect stage.
-    fn indirect(&mut self, buffer: u64, command: &str) {
+    fn indirect(&mut self, buffer: u64, command: &Origin) {
         let a = Access {
             stage: S::DRAW_INDIRECT,
             access: A::INDIRECT_COMMAND_READ,
-            command: command.to_owned(),
-            what: "indirect arguments".to_owned(),
+            command: command.clone(),
+            what: What::Text("indirect arguments"),
         };
         self.access(&[Key::Buffer(buffer)], false, &a);
     }
@@ -488,14 +532,14 @@ impl Sync {
         for key in keys {
             if let Some((from, to)) = b.layouts {
                 if check_old && from != ImageLayout::Undefined {
-                    self.expect_layout(key, from, &b.origin, &format!("old layout {from}"));
+                    self.expect_layout(key, from, &b.origin, What::InLayout("old layout", from));
                 }
                 self.states.entry(key).or_default().layout = Some((to, b.origin.clone()));
             }
             let st = self.states.entry(key).or_default();
             match transition {
                 Some((from, to)) => {
-                    let a = Access::event(&b.origin, format!("layout transition {from} -> {to}"));
+                    let a = Access::event(&b.origin, What::Transition(from, to));
                     for (kind, prior) in st.transition(&d, a.clone(), self.seq) {
                         self.note(&b.origin, key, kind, a.clone(), prior);
                     }
@@ -507,34 +551,39 @@ impl Sync {
 
     /// A use of `key` in `layout` by `command`: a finding when the subresource is known to
     /// be in another.
-    fn expect_layout(&mut self, key: Key, layout: ImageLayout, command: &str, what: &str) {
-        let Some((current, by)) = self.states.get(&key).and_then(|s| s.layout.clone()) else {
+    fn expect_layout(&mut self, key: Key, layout: ImageLayout, command: &Origin, what: What) {
+        let Some((current, by)) = self.states.get(&key).and_then(|s| s.layout.as_ref()) else {
             return;
         };
-        if current == layout {
+        if *current == layout {
             return;
         }
-        let access = Access::event(command, what.to_owned());
-        let prior = Access::event(&by, format!("layout {current}"));
+        let prior = Access::event(by, What::InLayout("layout", *current));
+        let access = Access::event(command, what);
         self.note(command, key, HazardKind::LayoutMismatch, access, prior);
     }
 
     /// A render pass's attachments at its start: each in the layout the render pass
     /// declares (`initialLayout`; dynamic rendering: the attachment's own).
-    fn expect_layouts(&mut self, objects: &Objects, ri: &RenderInstance, command: &str) {
+    fn expect_layouts(&mut self, objects: &Objects, ri: &RenderInstance, command: &Origin) {
         for (view, initial, _) in &ri.layouts {
             let Some(initial) = initial else { continue };
             for key in Self::view_keys(objects, *view) {
-                self.expect_layout(key, *initial, command, &format!("attachment in {initial}"));
+                self.expect_layout(
+                    key,
+                    *initial,
+                    command,
+                    What::InLayout("attachment in", *initial),
+                );
             }
         }
     }
 
     /// A render pass's attachments at its end, in their final layouts.
-    fn leave_layouts(&mut self, objects: &Objects, ri: &RenderInstance, command: &str) {
+    fn leave_layouts(&mut self, objects: &Objects, ri: &RenderInstance, command: &Origin) {
         for (view, _, last) in &ri.layouts {
             for key in Self::view_keys(objects, *view) {
-                self.states.entry(key).or_default().layout = Some((*last, command.to_owned()));
+                self.states.entry(key).or_default().layout = Some((*last, command.clone()));
             }
         }
     }
@@ -546,7 +595,7 @@ impl Sync {
         pipeline: Option<u64>,
         u: &Use,
         compute: bool,
-        command: &str,
+        command: &Origin,
     ) {
         let flags = pipeline
             .and_then(|p| pipelines.binding_stages(p, u.set, u.binding))
@@ -559,23 +608,28 @@ impl Sync {
                 let keys = Self::view_keys(objects, *view);
                 if let Some(l) = layout {
                     for &key in &keys {
-                        self.expect_layout(key, *l, command, &format!("descriptor in {l}"));
+                        self.expect_layout(key, *l, command, What::InLayout("descriptor in", *l));
                     }
                 }
-                (keys, ty.as_str())
+                (keys, ty)
             }
-            Descriptor::Buffer { buffer, ty, .. } => (vec![Key::Buffer(*buffer)], ty.as_str()),
+            Descriptor::Buffer { buffer, ty, .. } => (vec![Key::Buffer(*buffer)], ty),
             Descriptor::TexelBuffer { view, ty } => (
                 objects
                     .buffer_views
                     .get(view)
                     .map(|(b, _, _)| vec![Key::Buffer(*b)])
                     .unwrap_or_default(),
-                ty.as_str(),
+                ty,
             ),
             Descriptor::Sampler { .. } => return,
         };
         let kind = ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
+        let kind_held = if kind.len() == ty.len() {
+            ty.clone()
+        } else {
+            super::state::descriptor_kind(kind)
+        };
         // Whether a shader reads or writes a storage binding is in its code, which a binary
         // capture holds (`spirv::usage`). Where the code is unknown, a storage access is
         // satisfied by a dependency that covers either access and is not taken for a write,
@@ -603,14 +657,18 @@ impl Sync {
             let a = Access {
                 stage,
                 access,
-                command: command.to_owned(),
-                what: format!("set {} binding {} ({kind})", u.set, u.binding),
+                command: command.clone(),
+                what: What::Binding {
+                    set: u.set,
+                    binding: u.binding,
+                    kind: kind_held.clone(),
+                },
             };
             self.access(&keys, write, &a);
         }
     }
 
-    fn load_ops(&mut self, objects: &Objects, ri: &RenderInstance, command: &str) {
+    fn load_ops(&mut self, objects: &Objects, ri: &RenderInstance, command: &Origin) {
         let Some(first) = ri.subpasses.first() else {
             return;
         };
@@ -625,8 +683,8 @@ impl Sync {
             let a = Access {
                 stage: S::COLOR_ATTACHMENT_OUTPUT,
                 access,
-                command: command.to_owned(),
-                what: format!("load op {load}"),
+                command: command.clone(),
+                what: What::Spelt(format!("load op {load}")),
             };
             self.access(&keys, write, &a);
         }
@@ -642,8 +700,8 @@ impl Sync {
                 let a = Access {
                     stage: S::EARLY_FRAGMENT_TESTS,
                     access,
-                    command: command.to_owned(),
-                    what: format!("depth load op {load}"),
+                    command: command.clone(),
+                    what: What::Spelt(format!("depth load op {load}")),
                 };
                 self.access(&keys, write, &a);
             }
@@ -652,7 +710,7 @@ impl Sync {
 
     /// Store operations write at the end of the render pass, ordered after the pass's own
     /// accesses by the render pass itself.
-    fn store_ops(&mut self, objects: &Objects, ri: &RenderInstance, command: &str) {
+    fn store_ops(&mut self, objects: &Objects, ri: &RenderInstance, command: &Origin) {
         let Some(last) = ri.subpasses.last() else {
             return;
         };
@@ -698,11 +756,11 @@ impl Sync {
                     access: Access {
                         stage,
                         access,
-                        command: command.to_owned(),
+                        command: command.clone(),
                         what: if store == "RESOLVE" {
-                            "resolve".to_owned()
+                            What::Text("resolve")
                         } else {
-                            format!("store op {store}")
+                            What::Spelt(format!("store op {store}"))
                         },
                     },
                     seq: self.seq,
@@ -714,7 +772,7 @@ impl Sync {
         }
     }
 
-    fn transfer(&mut self, objects: &Objects, t: &TransferCmd, command: &str) {
+    fn transfer(&mut self, objects: &Objects, t: &TransferCmd, command: &Origin) {
         let buffer_or_image = |h: u64| -> Vec<Key> {
             if objects.images.contains_key(&h) {
                 Self::image_keys(objects, h, (0, None), (0, None))
@@ -730,11 +788,11 @@ impl Sync {
             TransferCmd::Resolve { .. } => S::RESOLVE,
             TransferCmd::Blit { .. } => S::BLIT,
         };
-        let mk = |access: A, what: &str| Access {
+        let mk = |access: A, what: &'static str| Access {
             stage,
             access,
-            command: command.to_owned(),
-            what: what.to_owned(),
+            command: command.clone(),
+            what: What::Text(what),
         };
         match t {
             TransferCmd::Copy {
@@ -762,14 +820,15 @@ impl Sync {
                 };
                 let s = keys(*src, &|r| (r.src_mip, r.src_layer));
                 let d = keys(*dst, &|r| (r.dst_mip, r.dst_layer));
-                for (keys, layout, side) in
-                    [(&s, layouts.0, "source"), (&d, layouts.1, "destination")]
-                {
+                for (keys, layout, side) in [
+                    (&s, layouts.0, "copy source in"),
+                    (&d, layouts.1, "copy destination in"),
+                ] {
                     if let Some(l) =
                         layout.filter(|_| matches!(keys.first(), Some(Key::Image { .. })))
                     {
                         for &key in keys {
-                            self.expect_layout(key, l, command, &format!("copy {side} in {l}"));
+                            self.expect_layout(key, l, command, What::InLayout(side, l));
                         }
                     }
                 }
@@ -788,7 +847,7 @@ impl Sync {
                     .collect();
                 if let Some(l) = layout {
                     for &key in &keys {
-                        self.expect_layout(key, *l, command, &format!("clear in {l}"));
+                        self.expect_layout(key, *l, command, What::InLayout("clear in", *l));
                     }
                 }
                 self.access(&keys, true, &mk(A::TRANSFER_WRITE, "clear"));
@@ -818,9 +877,9 @@ impl Sync {
         r: &Recording,
         depth: u32,
     ) {
-        let mut render: Option<(&RenderInstance, &str)> = None;
+        let mut render: Option<(&RenderInstance, &Origin)> = None;
         for (i, cmd) in r.cmds.iter().enumerate() {
-            let command = r.at.get(i).map_or("(command)", String::as_str);
+            let command = r.at.get(i).unwrap_or(&UNKNOWN);
             match cmd {
                 Cmd::Barrier(bs) => {
                     for b in bs {
@@ -848,21 +907,21 @@ impl Sync {
                     for u in &d.uses {
                         self.descriptor(objects, pipelines, d.pipeline, u, false, command);
                     }
-                    let read = |access: A, what: &str| Access {
+                    let read = |access: A, what: What| Access {
                         stage: S::VERTEX_INPUT,
                         access,
-                        command: command.to_owned(),
-                        what: what.to_owned(),
+                        command: command.clone(),
+                        what,
                     };
                     for (binding, buffer, _) in &d.vertex_buffers {
                         let a = read(
                             A::VERTEX_ATTRIBUTE_READ,
-                            &format!("vertex buffer {binding}"),
+                            What::Spelt(format!("vertex buffer {binding}")),
                         );
                         self.access(&[Key::Buffer(*buffer)], false, &a);
                     }
                     if let Some((buffer, _, _)) = &d.index_buffer {
-                        let a = read(A::INDEX_READ, "index buffer");
+                        let a = read(A::INDEX_READ, What::Text("index buffer"));
                         self.access(&[Key::Buffer(*buffer)], false, &a);
                     }
                     if let Some((buffer, _)) = d.indirect {
@@ -931,9 +990,13 @@ impl Sync {
         }
     }
 
-    /// The findings, in the order of the stream, with resources named by `name`.
-    pub fn hazards(&self, name: impl Fn(u64) -> Option<String>) -> (Vec<SyncHazard>, u64) {
-        let mut out: Vec<(u64, SyncHazard)> = self
+    /// The findings, in the order of the stream, with resources named by `name`, each with
+    /// the command it names.
+    pub fn hazards(
+        &self,
+        name: impl Fn(u64) -> Option<String>,
+    ) -> (Vec<(Origin, SyncHazard)>, u64) {
+        let mut out: Vec<(Origin, SyncHazard)> = self
             .found
             .iter()
             .map(|((command, id, kind), (key, access, prior))| {
@@ -941,28 +1004,28 @@ impl Sync {
                     Key::Image { mip, layer, .. } => (Some(*mip), Some(*layer)),
                     Key::Buffer(_) => (None, None),
                 };
-                let at = command
-                    .rsplit_once('#')
-                    .and_then(|(_, n)| n.split(':').next()?.trim().parse().ok())
-                    .unwrap_or(u64::MAX);
                 (
-                    at,
+                    command.clone(),
                     SyncHazard {
                         kind: *kind,
-                        command: command.clone(),
+                        command: command.to_string(),
                         resource: name(*id).unwrap_or_else(|| format!("object {id}")),
                         mip,
                         layer,
                         access: access.describe(),
                         prior: prior.describe(),
-                        prior_command: prior.command.clone(),
+                        prior_command: prior.command.to_string(),
                         pass: None,
                     },
                 )
             })
             .collect();
-        out.sort_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.resource.cmp(&b.1.resource)));
-        (out.into_iter().map(|(_, h)| h).collect(), self.dropped)
+        out.sort_by(|a, b| {
+            (a.0.index)
+                .cmp(&b.0.index)
+                .then_with(|| a.1.resource.cmp(&b.1.resource))
+        });
+        (out, self.dropped)
     }
 }
 

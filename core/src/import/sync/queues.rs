@@ -2,7 +2,7 @@
 //! (binary and timeline), image acquires and presents, host waits on fences, semaphores and
 //! idle queues, and queue family ownership transfers.
 
-use super::{A, Access, BarrierCmd, HazardKind, Key, Objects, Read, S, Sync, later};
+use super::{A, Access, BarrierCmd, HazardKind, Key, Objects, Origin, Read, S, Sync, What, later};
 
 /// Signals kept per semaphore: a wait looks for the one that satisfies it among these.
 pub(super) const SIGNALS_KEPT: usize = 64;
@@ -40,10 +40,13 @@ impl Sync {
         let st = self.states.entry(key).or_default();
         let previous = st.owner.replace(family);
         if let Some(owner) = previous.filter(|o| *o != family && !write) {
-            let by = st.write.as_ref().map_or("", |w| w.access.command.as_str());
-            let prior = Access::event(by, format!("owned by queue family {owner}"));
+            let by = st
+                .write
+                .as_ref()
+                .map_or(Origin::none(""), |w| w.access.command.clone());
+            let prior = Access::event(&by, What::Spelt(format!("owned by queue family {owner}")));
             let mut access = a.clone();
-            access.what = format!("{} on queue family {family}", access.what);
+            access.what = What::Spelt(format!("{} on queue family {family}", access.what));
             self.note(
                 &a.command,
                 key,
@@ -148,7 +151,7 @@ impl Sync {
 
     /// `vkAcquireNextImageKHR` handed `image` over: the presentation engine read it until
     /// now, and only the acquire's semaphore (waited on) or fence orders that read.
-    pub fn acquire(&mut self, objects: &Objects, image: u64, sync: (u64, u64), command: &str) {
+    pub fn acquire(&mut self, objects: &Objects, image: u64, sync: (u64, u64), command: &Origin) {
         if !self.enabled {
             return;
         }
@@ -157,7 +160,7 @@ impl Sync {
             let st = self.states.entry(key).or_default();
             st.write = None;
             st.reads = vec![Read {
-                access: Access::event(command, "presentation engine read (acquire)".to_owned()),
+                access: Access::event(command, What::Text("presentation engine read (acquire)")),
                 seq: self.seq,
                 exec: S::EMPTY,
             }];
@@ -174,7 +177,7 @@ impl Sync {
     /// `vkQueuePresentKHR` of `images` after waiting on `waits`: the presentation engine
     /// reads each image, which needs the image's last write submitted no later than a
     /// waited semaphore's signal.
-    pub fn present(&mut self, objects: &Objects, waits: &[u64], images: &[u64], command: &str) {
+    pub fn present(&mut self, objects: &Objects, waits: &[u64], images: &[u64], command: &Origin) {
         if !self.enabled {
             return;
         }
@@ -185,7 +188,8 @@ impl Sync {
                     continue;
                 };
                 if covered.is_none_or(|c| w.seq > c) {
-                    let a = Access::event(command, "presentation engine read (present)".to_owned());
+                    let a =
+                        Access::event(command, What::Text("presentation engine read (present)"));
                     self.note(command, key, HazardKind::PresentAfterWrite, a, w.access);
                 }
             }

@@ -18,8 +18,8 @@ fn acc(stage: S, access: A) -> Access {
     Access {
         stage,
         access,
-        command: "cmd".to_owned(),
-        what: String::new(),
+        command: Origin::none("cmd"),
+        what: What::Text(""),
     }
 }
 
@@ -130,14 +130,14 @@ fn a_layout_transition_is_a_write_its_barrier_must_make_visible() {
 fn across_families(release_and_acquire: bool) -> Vec<HazardKind> {
     let objects = Objects::default();
     let mut sync = Sync::new(true);
-    let at = |command: &str, stage: S, access: A| Access {
+    let at = |command: &'static str, stage: S, access: A| Access {
         stage,
         access,
-        command: command.to_owned(),
-        what: String::new(),
+        command: Origin::none(command),
+        what: What::Text(""),
     };
     let transfer = |family_side: bool| BarrierCmd {
-        origin: if family_side { "release" } else { "acquire" }.to_owned(),
+        origin: Origin::none(if family_side { "release" } else { "acquire" }),
         target: BarrierTarget::Buffer { buffer: 1 },
         src_stages: S::TRANSFER,
         dst_stages: S::COMPUTE_SHADER,
