@@ -163,10 +163,15 @@ impl Tree {
     /// Member `key` of object `i`.
     pub fn get(&self, i: usize, key: &str) -> Option<usize> {
         match self.node(i) {
+            // Length and last byte first: most members differ there (`srcStageMask`,
+            // `srcAccessMask`), which spares a comparison call per member passed over.
             Node::Object(run) => self
                 .kids(run)
                 .iter()
-                .find(|k| self.text(k.key) == key)
+                .find(|k| {
+                    let t = self.text(k.key);
+                    t.len() == key.len() && t.as_bytes().last() == key.as_bytes().last() && t == key
+                })
                 .map(|k| k.node),
             _ => None,
         }
