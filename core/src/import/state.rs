@@ -180,19 +180,21 @@ pub struct Objects {
 
 /// Whether a create info asks for `VK_SHARING_MODE_CONCURRENT` (by name or value).
 fn concurrent(ci: &Arg<'_>) -> bool {
+    // Read as text (a number comes back as its digits), so that neither spelling takes the
+    // error path of the other.
     ci.opt("sharingMode").is_some_and(|m| {
-        m.u64().is_ok_and(|v| v == 1) || m.symbol().is_ok_and(|n| n.ends_with("CONCURRENT"))
+        m.symbol()
+            .is_ok_and(|n| n == "1" || n.ends_with("CONCURRENT"))
     })
 }
 
+/// A sample count, by name (`VK_SAMPLE_COUNT_4_BIT`) or value.
 fn samples(a: &Arg<'_>) -> Got<u32> {
-    if let Ok(v) = a.u32() {
-        return Ok(v.max(1));
-    }
-    let name = a.str()?;
+    let name = a.symbol()?;
     name.trim_start_matches("VK_SAMPLE_COUNT_")
         .trim_end_matches("_BIT")
-        .parse()
+        .parse::<u32>()
+        .map(|v| v.max(1))
         .map_err(|_| Skip(format!("`{}`: unknown sample count {name}", a.path())))
 }
 
@@ -325,8 +327,8 @@ impl Objects {
                 let mut next = args.get("pCreateInfo")?.opt("pNext");
                 while let Some(n) = next {
                     if n.opt("semaphoreType").is_some_and(|t| {
-                        t.u64().is_ok_and(|v| v == 1)
-                            || t.symbol().is_ok_and(|n| n.ends_with("TIMELINE"))
+                        t.symbol()
+                            .is_ok_and(|n| n == "1" || n.ends_with("TIMELINE"))
                     }) {
                         self.timeline.insert(args.get("pSemaphore")?.handle()?);
                     }
