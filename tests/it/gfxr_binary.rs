@@ -983,3 +983,37 @@ fn a_sparse_capture_is_refused_at_once() {
     assert!(started.elapsed() < std::time::Duration::from_secs(20));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The import benchmark's two floors read what an import reads: every block of the file,
+/// and every call the importer models decoded, without a call failing to decode.
+#[test]
+fn the_benchmark_floors_read_what_the_import_reads() {
+    use framelab_core::import::{ImportOptions, gfxr};
+    use std::io::Cursor;
+    let bytes = std::fs::read(gfxr_fixture("vkcube_f3.gfxr")).unwrap();
+    let len = Some(bytes.len() as u64);
+    let (blocks, decompressed) = gfxr::decompress_only(Cursor::new(&bytes), len).unwrap();
+    let decoded = gfxr::decode_only(Cursor::new(&bytes), len).unwrap();
+    let imported = gfxr::import(
+        Cursor::new(&bytes),
+        len,
+        "vkcube_f3.gfxr",
+        "vkcube_f3",
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    let s = &imported.summary;
+    assert_eq!(blocks, s.lines);
+    assert!(decompressed > bytes.len() as u64, "{decompressed}");
+    let not_modelled: u64 = s.not_modelled.values().sum();
+    // Decoded: every modelled call, and the few unmodelled ones only the binary route reads.
+    assert!(
+        decoded >= s.calls - not_modelled && decoded < s.calls,
+        "decoded {decoded} of {} calls ({not_modelled} not modelled)",
+        s.calls
+    );
+    let truncated = &bytes[..bytes.len() - 7];
+    let cut = Some(truncated.len() as u64);
+    assert!(gfxr::decompress_only(Cursor::new(truncated), cut).is_err());
+    assert!(gfxr::decode_only(Cursor::new(truncated), cut).is_err());
+}

@@ -99,6 +99,14 @@ fn binary_only(name: &str) -> bool {
     )
 }
 
+/// Whether the call named `name` is decoded. Calls that touch nothing framelab models (state
+/// setting and queries among the commands) are counted without being decoded.
+fn is_decoded(name: &str, func: Func) -> bool {
+    !matches!(func, Func::Other | Func::Cmd(CmdFunc::Other))
+        || binary_only(name)
+        || func == Func::MapMemory
+}
+
 /// One function call block: decoded and given to the importer, or counted.
 fn call(
     imp: &mut Importer,
@@ -117,9 +125,7 @@ fn call(
         return Ok(());
     };
     let extra = binary_only(def.name) || func == Func::MapMemory;
-    // Calls that touch nothing framelab models (state setting and queries among the
-    // commands) are counted without being decoded.
-    if matches!(func, Func::Other | Func::Cmd(CmdFunc::Other)) && !extra {
+    if !is_decoded(def.name, func) {
         imp.calls += 1;
         imp.count_not_modelled(def.name);
         return Ok(());
@@ -353,8 +359,7 @@ pub fn decode_only(reader: impl Read, len: Option<u64>) -> Result<u64, ImportErr
                 else {
                     continue;
                 };
-                let modelled = !matches!(func, Func::Other | Func::Cmd(CmdFunc::Other));
-                if (modelled || binary_only(def.name) || func == Func::MapMemory)
+                if is_decoded(def.name, func)
                     && block.body.len() >= 8
                     && decode::decode_call(def, &block.body[8..], &mut args).is_ok()
                 {
