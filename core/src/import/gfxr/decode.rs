@@ -298,7 +298,7 @@ impl<'a> Reader<'a, '_> {
         }
         self.depth -= 1;
         let object = self.tree.object(mark);
-        if def.members.len() == 3 && def.name == "VkClearColorValue" {
+        if def.name == "VkClearColorValue" {
             return Ok(self.clear_color_views(object));
         }
         Ok(object)
