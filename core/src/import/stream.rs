@@ -25,7 +25,7 @@ pub struct Call {
     pub func: Func,
     pub args: Tree,
     /// `VK_SUCCESS` or an error code; absent for void functions.
-    pub result: Option<String>,
+    pub result: Option<Cow<'static, str>>,
     /// `0.9.x` for `vkFunc` lines, `1.x` for `function` lines.
     pub dialect: &'static str,
 }
@@ -155,8 +155,8 @@ fn parse_entry(text: &[u8], line: u64) -> Result<Entry, LineError> {
             };
             let index = obj.get("index").and_then(Value::as_u64).unwrap_or(0);
             let result = match f.get("return") {
-                Some(Value::String(s)) => Some(s.clone()),
-                Some(v) if !v.is_null() => Some(v.to_string()),
+                Some(Value::String(s)) => Some(Cow::Owned(s.clone())),
+                Some(v) if !v.is_null() => Some(Cow::Owned(v.to_string())),
                 _ => None,
             };
             let args = Tree::from_json(f.get("args").unwrap_or(&Value::Null));

@@ -7,6 +7,8 @@
 //! allocated for them; nesting is bounded, so no input can take memory or stack beyond its
 //! own size.
 
+use std::borrow::Cow;
+
 use super::super::tree::{Node, Text, Tree, int};
 use super::super::value::shortest;
 use super::registry::{self, CommandDef, ENUMS, STRUCTS, Ty};
@@ -25,7 +27,8 @@ const MAX_DEPTH: u32 = 48;
 /// return value as the JSON Lines stream writes it.
 #[derive(Debug)]
 pub struct Decoded {
-    pub ret: Option<String>,
+    /// Borrowed from the tables where it is an enumerant (`VK_SUCCESS`), as it mostly is.
+    pub ret: Option<Cow<'static, str>>,
     /// Long arrays of bytes or 32-bit words (SPIR-V code, update data), kept as raw bytes by their path (`pCreateInfo.pCode`) instead of one
     /// JSON number per element; the arguments show `"(N bytes)"` in their place, as the JSON
     /// Lines stream shows no data there either.
@@ -574,9 +577,10 @@ fn decode_with<'a>(
         Some(ty) => {
             let v = r.value(ty)?;
             match r.tree.node(v) {
-                Node::Str(t) => Some(r.tree.text(t).to_owned()),
-                Node::U64(n) => Some(n.to_string()),
-                Node::I64(n) => Some(n.to_string()),
+                Node::Str(Text::Static(name)) => Some(Cow::Borrowed(name)),
+                Node::Str(t) => Some(Cow::Owned(r.tree.text(t).to_owned())),
+                Node::U64(n) => Some(Cow::Owned(n.to_string())),
+                Node::I64(n) => Some(Cow::Owned(n.to_string())),
                 _ => None,
             }
         }
