@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use crate::common::{framelab, gfxr_fixture, json, stderr, stdout};
+use crate::common::{Scratch, framelab, gfxr_fixture, json, stderr, stdout};
 
 /// Binary captures with their JSON Lines conversion beside them (`<name>.jsonl`) and the
 /// modules `gfxrecon-extract` pulled from them (`extracted/<name>/`).
@@ -61,11 +61,8 @@ fn same(a: &Value, b: &Value, path: &str) -> Result<(), String> {
     }
 }
 
-fn temp_dir(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("framelab-gfxr-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn temp_dir(tag: &str) -> Scratch {
+    Scratch::new(&format!("framelab-gfxr-{tag}"))
 }
 
 /// Imports `input` to `out` with `--json`; the summary.
@@ -981,7 +978,6 @@ fn a_sparse_capture_is_refused_at_once() {
     );
     // Generous for a loaded CI machine; reading the file would take minutes.
     assert!(started.elapsed() < std::time::Duration::from_secs(20));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// The import benchmark's two floors read what an import reads: every block of the file,
