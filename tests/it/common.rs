@@ -3,16 +3,20 @@
 use std::path::PathBuf;
 use std::process::Output;
 
-/// A test's own folder under the system's temporary one, emptied when made and removed when
-/// the test is done with it (passing or not), so runs do not pile up side files.
+/// A folder made (empty) for a test and removed when the test is done with it, passed or
+/// not, so runs do not pile up side files.
 pub struct Scratch(PathBuf);
 
 impl Scratch {
-    pub fn new(name: &str) -> Scratch {
-        let dir = std::env::temp_dir().join(format!("{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Scratch(dir)
+    pub fn new(path: PathBuf) -> Scratch {
+        let _ = std::fs::remove_dir_all(&path);
+        std::fs::create_dir_all(&path).unwrap();
+        Scratch(path)
+    }
+
+    /// `<name>-<process id>` in the system's temporary folder.
+    pub fn temp(name: &str) -> Scratch {
+        Scratch::new(std::env::temp_dir().join(format!("{name}-{}", std::process::id())))
     }
 }
 

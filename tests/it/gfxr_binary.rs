@@ -62,7 +62,7 @@ fn same(a: &Value, b: &Value, path: &str) -> Result<(), String> {
 }
 
 fn temp_dir(tag: &str) -> Scratch {
-    Scratch::new(&format!("framelab-gfxr-{tag}"))
+    Scratch::temp(&format!("framelab-gfxr-{tag}"))
 }
 
 /// Imports `input` to `out` with `--json`; the summary.

@@ -9,7 +9,7 @@ use std::process::{Command, Stdio};
 
 use serde_json::{Value, json};
 
-use crate::common::{framelab, json, repo};
+use crate::common::{Scratch, framelab, json, repo};
 
 const DAY: &str = "captures/night_city/main_street_day.json";
 const EXAMPLE: &str = "captures/example/frame.json";
@@ -54,9 +54,7 @@ fn error(answer: &Value) -> &str {
 
 #[test]
 fn an_independent_client_gets_what_the_command_line_prints() {
-    let images = Scratch::new(
-        std::env::temp_dir().join(format!("framelab-mcp-test-{}", std::process::id())),
-    );
+    let images = Scratch::temp("framelab-mcp-test");
     // capture_program writes where the client says, inside its roots: a folder in the
     // repository's (ignored) target folder; vkcube gets a virtual X server.
     let captures = Scratch::new(repo().join(format!("target/mcp-capture-{}", std::process::id())));
@@ -208,30 +206,6 @@ fn an_independent_client_gets_what_the_command_line_prints() {
         info["passes"]
     );
     assert!(error(&s["capture_outside"]).contains("outside the client's roots"));
-}
-
-/// A folder made for a test and removed when it ends, passed or not.
-struct Scratch(std::path::PathBuf);
-
-impl Scratch {
-    fn new(path: std::path::PathBuf) -> Scratch {
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).unwrap();
-        Scratch(path)
-    }
-}
-
-impl std::ops::Deref for Scratch {
-    type Target = std::path::Path;
-    fn deref(&self) -> &std::path::Path {
-        &self.0
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
 }
 
 /// `texture` answers: the PNG equals what `replay --after` exports, a second request for the

@@ -10,16 +10,21 @@ use super::state::{Descriptor, Objects, storage_descriptor};
 use crate::capture::format::{Access, Binding, ByteRange, Range};
 
 impl Builder {
-    /// A storage binding's access: what the code of the pipeline `code` names does with
-    /// (`set`, `binding`), where the capture holds that code (a binary capture); read-write,
-    /// and a note, where it does not.
-    fn storage_access(
+    /// The access of the descriptor `u` of type `ty`: `otherwise` for all but storage
+    /// descriptors; for those, what the code of the pipeline `code` names does with the
+    /// binding, where the capture holds that code (a binary capture); read-write, and a note,
+    /// where it does not.
+    fn access(
         &mut self,
         code: Option<(&Pipelines, u64)>,
-        set: u32,
-        binding: u32,
+        u: &Use,
+        ty: &str,
+        otherwise: Access,
     ) -> Access {
-        match code.and_then(|(p, pipeline)| p.storage_use(pipeline, set, binding)) {
+        if !storage_descriptor(ty) {
+            return otherwise;
+        }
+        match code.and_then(|(p, pipeline)| p.storage_use(pipeline, u.set, u.binding)) {
             Some(StorageUse {
                 writes: true,
                 reads: true,
@@ -52,11 +57,7 @@ impl Builder {
                         );
                         continue;
                     };
-                    let access = if storage_descriptor(ty) {
-                        self.storage_access(code, u.set, u.binding)
-                    } else {
-                        Access::Sampled
-                    };
+                    let access = self.access(code, u, ty, Access::Sampled);
                     let img = objects.images.get(&v.image);
                     let total = img.map_or((1, 1), |i| (i.mips, i.layers));
                     let range = |base: u32, count: Option<u32>, all: u32| {
@@ -77,11 +78,7 @@ impl Builder {
                     range,
                     ty,
                 } => {
-                    let access = if storage_descriptor(ty) {
-                        self.storage_access(code, u.set, u.binding)
-                    } else {
-                        Access::Uniform
-                    };
+                    let access = self.access(code, u, ty, Access::Uniform);
                     let Some(b) = objects.buffers.get(buffer) else {
                         self.note("descriptors naming buffers the stream never created: skipped");
                         continue;
@@ -106,11 +103,7 @@ impl Builder {
                         );
                         continue;
                     };
-                    let access = if storage_descriptor(ty) {
-                        self.storage_access(code, u.set, u.binding)
-                    } else {
-                        Access::StorageRead
-                    };
+                    let access = self.access(code, u, ty, Access::StorageRead);
                     let size = objects.buffers.get(&buffer).map_or(0, |b| b.size);
                     if offset >= size {
                         continue;

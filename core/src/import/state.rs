@@ -5,8 +5,10 @@
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;
+use std::sync::OnceLock;
 
 use super::HashMap;
+use super::gfxr::registry;
 
 use super::calls::{Func, Object};
 use super::value::{
@@ -727,25 +729,20 @@ impl Objects {
     }
 }
 
-/// The descriptor types, without `VK_DESCRIPTOR_TYPE_`: every descriptor of one of these
-/// holds its type without a string of its own (a frame binds thousands).
-const DESCRIPTOR_KINDS: [&str; 11] = [
-    "SAMPLER",
-    "COMBINED_IMAGE_SAMPLER",
-    "SAMPLED_IMAGE",
-    "STORAGE_IMAGE",
-    "UNIFORM_TEXEL_BUFFER",
-    "STORAGE_TEXEL_BUFFER",
-    "UNIFORM_BUFFER",
-    "STORAGE_BUFFER",
-    "UNIFORM_BUFFER_DYNAMIC",
-    "STORAGE_BUFFER_DYNAMIC",
-    "INPUT_ATTACHMENT",
-];
-
-/// A descriptor type (without `VK_DESCRIPTOR_TYPE_`), borrowed where it is a known one.
+/// A descriptor type without `VK_DESCRIPTOR_TYPE_` (or its value), borrowed from the
+/// registry's `VkDescriptorType` where it names one: a frame binds thousands of descriptors,
+/// each holding its type.
 pub fn descriptor_kind(kind: &str) -> Cow<'static, str> {
-    DESCRIPTOR_KINDS
+    static TYPES: OnceLock<Vec<&'static str>> = OnceLock::new();
+    TYPES
+        .get_or_init(|| {
+            registry::enum_named("VkDescriptorType").map_or_else(Vec::new, |e| {
+                e.values
+                    .iter()
+                    .filter_map(|(_, n)| n.strip_prefix("VK_DESCRIPTOR_TYPE_"))
+                    .collect()
+            })
+        })
         .iter()
         .find(|k| **k == kind)
         .map_or_else(|| Cow::Owned(kind.to_owned()), |k| Cow::Borrowed(*k))

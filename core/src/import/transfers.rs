@@ -392,28 +392,42 @@ mod tests {
         contents.submitted_before(objects, &recordings, 7);
     }
 
-    fn copy(src: u64, dst: u64, src_offset: u64, dst_offset: u64, size: u64) -> TransferCmd {
+    /// A copy `name` of one region, `region` given on top of a region of nothing: first mip
+    /// and layer, no offsets.
+    fn one_region(name: &str, (src, dst): (u64, u64), region: Region) -> TransferCmd {
         TransferCmd::Copy {
-            name: "copy_buffer".to_owned(),
+            name: name.to_owned(),
             src,
             dst,
-            regions: vec![Region {
-                src_mip: 0,
-                src_layer: 0,
-                src_origin: [0; 3],
-                src_offset,
-                dst_mip: 0,
-                dst_layer: 0,
-                dst_origin: [0; 3],
-                dst_offset,
-                size: Some(size),
-                extent: None,
-                row_texels: 0,
-                image_rows: 0,
-                layers: 1,
-            }],
+            regions: vec![region],
             layouts: (None, None),
         }
+    }
+
+    const NO_REGION: Region = Region {
+        src_mip: 0,
+        src_layer: 0,
+        src_origin: [0; 3],
+        src_offset: 0,
+        dst_mip: 0,
+        dst_layer: 0,
+        dst_origin: [0; 3],
+        dst_offset: 0,
+        size: None,
+        extent: None,
+        row_texels: 0,
+        image_rows: 0,
+        layers: 1,
+    };
+
+    fn copy(src: u64, dst: u64, src_offset: u64, dst_offset: u64, size: u64) -> TransferCmd {
+        let region = Region {
+            src_offset,
+            dst_offset,
+            size: Some(size),
+            ..NO_REGION
+        };
+        one_region("copy_buffer", (src, dst), region)
     }
 
     #[test]
@@ -457,32 +471,19 @@ mod tests {
     /// the image side (the source's for a copy out of an image).
     fn image_copy(
         name: &str,
-        (src, dst): (u64, u64),
+        ends: (u64, u64),
         (src_origin, dst_origin): ([u32; 3], [u32; 3]),
         extent: [u32; 3],
         row_texels: u32,
     ) -> TransferCmd {
-        TransferCmd::Copy {
-            name: name.to_owned(),
-            src,
-            dst,
-            regions: vec![Region {
-                src_mip: 0,
-                src_layer: 0,
-                src_origin,
-                src_offset: 0,
-                dst_mip: 0,
-                dst_layer: 0,
-                dst_origin,
-                dst_offset: 0,
-                size: None,
-                extent: Some(extent),
-                row_texels,
-                image_rows: 0,
-                layers: 1,
-            }],
-            layouts: (None, None),
-        }
+        let region = Region {
+            src_origin,
+            dst_origin,
+            extent: Some(extent),
+            row_texels,
+            ..NO_REGION
+        };
+        one_region(name, ends, region)
     }
 
     #[test]

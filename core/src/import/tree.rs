@@ -163,8 +163,8 @@ impl Tree {
     /// Member `key` of object `i`.
     pub fn get(&self, i: usize, key: &str) -> Option<usize> {
         match self.node(i) {
-            // Length and last byte first: most members differ there (`srcStageMask`,
-            // `srcAccessMask`), which spares a comparison call per member passed over.
+            // Length and last byte first: few members of one structure share both, so most
+            // members passed over cost no comparison call.
             Node::Object(run) => self
                 .kids(run)
                 .iter()

@@ -11,7 +11,7 @@ use std::borrow::Cow;
 
 use super::super::tree::{Node, Text, Tree, int};
 use super::super::value::shortest;
-use super::registry::{self, CommandDef, ENUMS, STRUCTS, Ty};
+use super::registry::{self, CommandDef, STRUCTS, Ty};
 
 const IS_NULL: u32 = 0x1;
 const IS_ARRAY: u32 = 0x4;
@@ -429,7 +429,7 @@ impl Reader<'_, '_> {
                 self.left()
             ));
         }
-        let layouts = ENUMS.iter().find(|e| e.name == "VkImageLayout");
+        let layouts = registry::enum_named("VkImageLayout");
         let out = self.tree.mark();
         let images = self.tree.mark();
         for _ in 0..counts[0] {

@@ -140,6 +140,11 @@ pub fn struct_index_of_stype(stype: u32) -> Option<u16> {
         .map(|i| STYPES[i].1)
 }
 
+/// The enumeration named `name` (`VkDescriptorType`), if the tables know it.
+pub fn enum_named(name: &str) -> Option<&'static EnumDef> {
+    ENUMS.iter().find(|e| e.name == name)
+}
+
 /// The command named `name` (`vkCreateImage`), if the tables know it.
 pub fn command_named(name: &str) -> Option<&'static CommandDef> {
     static BY_NAME: std::sync::OnceLock<std::collections::HashMap<&'static str, usize>> =
