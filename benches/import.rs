@@ -8,7 +8,8 @@
 //!
 //! `FRAMELAB_IMPORT_TABLE=1 cargo bench --bench import` instead prints one line per fixture
 //! of `tests/fixtures/gfxr` (and the stream), the three measured in turn, best of five
-//! rounds each: the whole table in one run.
+//! rounds each: the whole table in one run. Any other value than `1` keeps only the
+//! captures whose name contains it (`FRAMELAB_IMPORT_TABLE=vkd3d`).
 
 #![allow(clippy::expect_used)]
 
@@ -67,7 +68,7 @@ fn best(rounds: u32, n: u32, mut f: impl FnMut()) -> Duration {
 }
 
 /// Every fixture, one line each: decompress, decode and import side by side.
-fn table() {
+fn table(only: &str) {
     let mut files: Vec<PathBuf> = std::fs::read_dir(fixtures())
         .expect("fixtures")
         .filter_map(|e| Some(e.ok()?.path()))
@@ -75,6 +76,12 @@ fn table() {
         .collect();
     files.sort();
     files.push(sync_stream::stream());
+    if only != "1" {
+        files.retain(|p| {
+            p.file_stem()
+                .is_some_and(|s| s.to_string_lossy().contains(only))
+        });
+    }
     println!("| capture | KB | decompress | decode | import | import / decompress |");
     println!("| --- | --- | --- | --- | --- | --- |");
     for path in files {
@@ -103,8 +110,8 @@ fn table() {
 }
 
 fn bench(c: &mut Criterion) {
-    if std::env::var_os("FRAMELAB_IMPORT_TABLE").is_some() {
-        table();
+    if let Ok(only) = std::env::var("FRAMELAB_IMPORT_TABLE") {
+        table(&only);
         return;
     }
     let mut group = c.benchmark_group("import");

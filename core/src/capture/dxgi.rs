@@ -7,7 +7,7 @@
 //! derived from the DXGI name, which is regular for all colour and depth formats; block-compressed,
 //! video and palette formats, which the name does not describe, are given explicitly.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::fmt;
 use std::sync::LazyLock;
 
@@ -665,18 +665,33 @@ fn build_vulkan_only() -> Vec<FormatInfo> {
 
 static VULKAN_TABLE: LazyLock<Vec<FormatInfo>> = LazyLock::new(build_vulkan_only);
 
-/// The format a `VK_FORMAT_*` name stands for: its DXGI twin where one exists, else the
-/// Vulkan-only entry of that name.
+/// Every format by its upper-case `VK_FORMAT_*` name, for `lookup_vk`: an import looks a
+/// format up at every use of an image, too often for a scan of the tables.
+static BY_VK_NAME: LazyLock<HashMap<String, &'static FormatInfo>> = LazyLock::new(|| {
+    let mut by_name = HashMap::new();
+    // The first DXGI twin in numeric order, then the Vulkan-only entries.
+    for f in TABLE.iter() {
+        if let Some(v) = f.vk_format {
+            by_name.entry(v.to_ascii_uppercase()).or_insert(f);
+        }
+    }
+    for f in VULKAN_TABLE.iter() {
+        by_name.entry(f.name.to_ascii_uppercase()).or_insert(f);
+    }
+    by_name
+});
+
+/// The format a `VK_FORMAT_*` name (any case) stands for: its DXGI twin where one exists,
+/// else the Vulkan-only entry of that name.
 pub fn lookup_vk(name: &str) -> Option<&'static FormatInfo> {
     let name = name.trim();
-    TABLE
-        .iter()
-        .find(|f| f.vk_format.is_some_and(|v| v.eq_ignore_ascii_case(name)))
-        .or_else(|| {
-            VULKAN_TABLE
-                .iter()
-                .find(|f| f.name.eq_ignore_ascii_case(name))
-        })
+    match BY_VK_NAME.get(name) {
+        Some(f) => Some(f),
+        None if name.bytes().any(|b| b.is_ascii_lowercase()) => {
+            BY_VK_NAME.get(&name.to_ascii_uppercase()).copied()
+        }
+        None => None,
+    }
 }
 
 /// A format by its DXGI name (with or without `DXGI_FORMAT_`) or by its `VK_FORMAT_*` name.
@@ -728,6 +743,24 @@ mod tests {
         // 0..=115, 130..=132 and 189..=191 in dxgiformat.h
         assert_eq!(values.len(), 116 + 3 + 3);
         assert_eq!(by_value(41).map(|f| f.name), Some("R32_FLOAT"));
+    }
+
+    #[test]
+    fn vulkan_names_find_the_first_dxgi_twin_then_vulkan_only_formats() {
+        for f in all() {
+            let Some(vk) = f.vk_format else { continue };
+            let first = all().iter().find(|g| g.vk_format == Some(vk));
+            assert_eq!(lookup_vk(vk).map(|g| g.name), first.map(|g| g.name), "{vk}");
+            let lower = format!(" {} ", vk.to_ascii_lowercase());
+            assert_eq!(lookup_vk(&lower).map(|g| g.name), first.map(|g| g.name));
+        }
+        assert_eq!(
+            lookup_vk("VK_FORMAT_R8G8B8A8_UNORM").map(|f| f.name),
+            Some("R8G8B8A8_UNORM")
+        );
+        let only = lookup_vk("vk_format_r4g4_unorm_pack8").map(|f| f.name);
+        assert_eq!(only, Some("VK_FORMAT_R4G4_UNORM_PACK8"));
+        assert!(lookup_vk("VK_FORMAT_NOT_A_FORMAT").is_none());
     }
 
     #[test]
