@@ -685,13 +685,10 @@ static BY_VK_NAME: LazyLock<HashMap<String, &'static FormatInfo>> = LazyLock::ne
 /// else the Vulkan-only entry of that name.
 pub fn lookup_vk(name: &str) -> Option<&'static FormatInfo> {
     let name = name.trim();
-    match BY_VK_NAME.get(name) {
-        Some(f) => Some(f),
-        None if name.bytes().any(|b| b.is_ascii_lowercase()) => {
-            BY_VK_NAME.get(&name.to_ascii_uppercase()).copied()
-        }
-        None => None,
-    }
+    BY_VK_NAME
+        .get(name)
+        .or_else(|| BY_VK_NAME.get(&name.to_ascii_uppercase()))
+        .copied()
 }
 
 /// A format by its DXGI name (with or without `DXGI_FORMAT_`) or by its `VK_FORMAT_*` name.
