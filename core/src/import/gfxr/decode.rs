@@ -64,7 +64,21 @@ enum Part {
     Index(usize),
 }
 
-type Res<T> = Result<T, String>;
+/// Why a call could not be decoded. Boxed so that every result on the path each value takes
+/// is two words, returned in registers rather than through memory (a `Box<str>` would be
+/// two words itself, making the result three).
+#[derive(Debug)]
+#[allow(clippy::box_collection)]
+struct Fail(Box<String>);
+
+impl From<String> for Fail {
+    #[cold]
+    fn from(message: String) -> Self {
+        Fail(Box::new(message))
+    }
+}
+
+type Res<T> = Result<T, Fail>;
 
 /// The error that sends a call back to be decoded with its path kept (see `Reader::track`).
 const RETRACK: &str = "(decode again with the path kept)";
@@ -77,7 +91,8 @@ impl<'a> Reader<'a, '_> {
                 "{} needs {n} bytes at parameter byte {}, {left} left",
                 self.at(),
                 self.pos
-            ));
+            )
+            .into());
         }
         let s = &self.buf[self.pos..self.pos + n];
         self.pos += n;
@@ -159,7 +174,8 @@ impl<'a> Reader<'a, '_> {
                 "{} says {len} elements, but only {} bytes are left",
                 self.at(),
                 self.left()
-            ));
+            )
+            .into());
         }
         Ok(len as usize)
     }
@@ -228,7 +244,7 @@ impl<'a> Reader<'a, '_> {
                 }
                 _ => self.leaf(Node::Null),
             },
-            _ => Err(format!("{} has a type this decoder cannot read", self.at())),
+            _ => Err(format!("{} has a type this decoder cannot read", self.at()).into()),
         }
     }
 
@@ -268,7 +284,7 @@ impl<'a> Reader<'a, '_> {
         };
         if width > 0 && n * width > limit {
             if !self.track {
-                return Err(RETRACK.to_owned());
+                return Err(RETRACK.to_owned().into());
             }
             let bytes = self.take(n * width)?.to_vec();
             let shown = self.tree.string(&format!("({} bytes)", bytes.len()));
@@ -289,10 +305,7 @@ impl<'a> Reader<'a, '_> {
             .ok_or_else(|| format!("{}: no structure {index} in the tables", self.at()))?;
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(format!(
-                "{}: structures nested deeper than {MAX_DEPTH}",
-                self.at()
-            ));
+            return Err(format!("{}: structures nested deeper than {MAX_DEPTH}", self.at()).into());
         }
         let mark = self.tree.mark();
         for m in def.members {
@@ -408,7 +421,8 @@ impl Reader<'_, '_> {
             return Err(format!(
                 "{}: template data written as an array of {len}, not GFXReconstruct's layout",
                 self.at()
-            ));
+            )
+            .into());
         }
         if attrib & HAS_DATA == 0 {
             return self.leaf(Node::Null);
@@ -427,7 +441,7 @@ impl Reader<'_, '_> {
                 counts[1],
                 counts[2],
                 self.left()
-            ));
+            ).into());
         }
         let layouts = registry::enum_named("VkImageLayout");
         let out = self.tree.mark();
@@ -482,7 +496,7 @@ impl Reader<'_, '_> {
                     return Err(format!(
                         "{}: a template data section of descriptor type {other} this decoder does not know",
                         self.at()
-                    ));
+                    ).into());
                 }
             };
             let items = self.tree.mark();
@@ -532,11 +546,13 @@ fn decode<'a>(
     seek: Option<&'a str>,
     tree: &mut Tree,
 ) -> Result<(Decoded, Option<(usize, usize)>), String> {
-    if seek.is_some() {
-        return decode_with(def, params, seek, tree, true);
-    }
-    decode_with(def, params, None, tree, false)
-        .or_else(|_| decode_with(def, params, None, tree, true))
+    let tracked = if seek.is_some() {
+        decode_with(def, params, seek, tree, true)
+    } else {
+        decode_with(def, params, None, tree, false)
+            .or_else(|_| decode_with(def, params, None, tree, true))
+    };
+    tracked.map_err(|f| *f.0)
 }
 
 fn decode_with<'a>(
@@ -545,7 +561,7 @@ fn decode_with<'a>(
     seek: Option<&'a str>,
     tree: &mut Tree,
     track: bool,
-) -> Result<(Decoded, Option<(usize, usize)>), String> {
+) -> Res<(Decoded, Option<(usize, usize)>)> {
     tree.clear();
     let mut r = Reader {
         buf: params,
