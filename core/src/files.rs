@@ -203,10 +203,10 @@ pub fn read_to_string(path: &Path, limit: Limit) -> Result<String, FileError> {
 mod tests {
     use super::*;
 
+    /// A file of its own in the temporary folder (each test removes it), with no folder left
+    /// behind.
     fn temp(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("framelab-files-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir.join(name)
+        std::env::temp_dir().join(format!("framelab-files-{}-{name}", std::process::id()))
     }
 
     #[test]

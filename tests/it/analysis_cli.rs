@@ -1,7 +1,7 @@
 //! `framelab graph` and `framelab analyze` end to end: snapshots of the JSON reports on small
 //! captures, culling, cycles, DOT/SVG output, and the Night City capture.
 
-use crate::common::{framelab, json, stderr, stdout};
+use crate::common::{Scratch, framelab, json, stderr, stdout};
 
 #[test]
 fn analyze_json_snapshot_example() {
@@ -114,8 +114,7 @@ fn cycles_are_errors_naming_passes_and_resources() {
 
 #[test]
 fn graph_writes_dot_with_queue_colours_and_clusters() {
-    let dir = std::env::temp_dir().join(format!("framelab-dot-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-dot");
     let file = dir.join("frame.dot");
     let out = framelab(&[
         "graph",
@@ -159,7 +158,6 @@ fn graph_writes_dot_with_queue_colours_and_clusters() {
             stderr(&out)
         );
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Both Night City captures: the seed's dead passes culled by day (the night has only the
@@ -263,9 +261,7 @@ fn denied_lints_fail_analyze() {
 /// g10..=g79: the first 64 are listed in order, the other 6 counted.
 #[test]
 fn async_overlaps_are_the_unordered_range_and_long_lists_are_counted() {
-    let dir = std::env::temp_dir().join(format!("framelab-overlaps-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-overlaps");
     std::fs::copy(
         crate::common::repo().join("tests/fixtures/compute.wgsl"),
         dir.join("compute.wgsl"),
@@ -315,5 +311,4 @@ fn async_overlaps_are_the_unordered_range_and_long_lists_are_counted() {
     assert_eq!(sim["more"], 6);
     let text = stdout(&framelab(&["analyze", path.to_str().unwrap()]));
     assert!(text.contains("g73 and 6 more"), "{text}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }

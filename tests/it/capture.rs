@@ -4,7 +4,7 @@
 
 use std::process::Command;
 
-use crate::common::{json, repo, start_display, stderr};
+use crate::common::{Scratch, json, repo, start_display, stderr};
 
 fn capture(display: &str, dir: &std::path::Path, args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_framelab"))
@@ -19,9 +19,7 @@ fn capture(display: &str, dir: &std::path::Path, args: &[&str]) -> std::process:
 #[test]
 fn vkcube_frame_three_is_taken_stopped_and_imported() {
     let display = start_display();
-    let dir = std::env::temp_dir().join(format!("framelab-capture-test-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-capture-test");
     let out = capture(
         &display.name,
         &dir,
@@ -86,5 +84,4 @@ fn vkcube_frame_three_is_taken_stopped_and_imported() {
         .filter(|n| n.starts_with(".framelab-capture"))
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
-    std::fs::remove_dir_all(dir).unwrap();
 }

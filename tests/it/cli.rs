@@ -1,7 +1,7 @@
 //! End-to-end tests of the `framelab` command on the bundled captures: exit codes, the info
 //! report against the Night City manifest, scaling, the committed schema, and robustness.
 
-use crate::common::{framelab, json, repo, stderr, stdout};
+use crate::common::{Scratch, framelab, json, repo, stderr, stdout};
 
 #[test]
 fn bundled_captures_are_valid() {
@@ -335,8 +335,7 @@ fn usage_errors_exit_2_and_input_errors_exit_1() {
 
 #[test]
 fn garbage_input_never_panics() {
-    let dir = std::env::temp_dir().join(format!("framelab-garbage-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-garbage");
     let inputs: [&[u8]; 8] = [
         b"",
         b"\xff\xfe\x00garbage",
@@ -361,7 +360,6 @@ fn garbage_input_never_panics() {
             assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
         }
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Device-opening commands print nothing of their own on stderr when all is well; on a headless
@@ -394,8 +392,7 @@ fn very_long_names_print_in_tables() {
     let long = format!("simulate_{}", "x".repeat(70_000));
     capture["passes"][0]["name"] = serde_json::Value::String(long.clone());
     capture["passes"][0]["markers"] = serde_json::json!([format!("group_{}", "y".repeat(70_000))]);
-    let dir = std::env::temp_dir().join(format!("framelab-long-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-long");
     std::fs::copy(
         repo().join("tests/fixtures/compute.wgsl"),
         dir.join("compute.wgsl"),
@@ -415,7 +412,6 @@ fn very_long_names_print_in_tables() {
             "{command}"
         );
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Every command's help carries an example and a description for each argument; `--version`
@@ -479,8 +475,7 @@ fn help_version_completions_and_plain_errors() {
 /// (reading a FIFO would block forever).
 #[test]
 fn side_files_must_be_regular_files() {
-    let dir = std::env::temp_dir().join(format!("framelab-fifo-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = Scratch::temp("framelab-fifo");
     std::fs::create_dir_all(dir.join("shaders")).unwrap();
     let example = repo().join("captures/example");
     std::fs::copy(example.join("frame.json"), dir.join("frame.json")).unwrap();
@@ -504,7 +499,6 @@ fn side_files_must_be_regular_files() {
     let out = framelab(&["validate", dir.join("frame.json").to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("is a directory, not a regular file"), "{err}");
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Runs `framelab` under a 4 GB address-space limit and a 60 s clock, so that a regression that
@@ -526,9 +520,7 @@ fn framelab_bounded(args: &[&str]) -> std::process::Output {
 /// reading it (a FIFO would block, `/dev/zero` and the sparse file would exhaust memory).
 #[test]
 fn captures_that_are_not_regular_files_or_too_large_are_refused_unread() {
-    let dir = std::env::temp_dir().join(format!("framelab-bounded-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-bounded");
     let fifo = dir.join("pipe.json");
     let made = std::process::Command::new("mkfifo")
         .arg(&fifo)
@@ -572,15 +564,13 @@ fn captures_that_are_not_regular_files_or_too_large_are_refused_unread() {
     for (file, message) in &cases {
         every_reader_refuses(file, message);
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// A shader the capture names that is a sparse file of 64 GiB is refused by its size, with the
 /// shader limit, and not read.
 #[test]
 fn a_shader_over_its_limit_is_refused_unread() {
-    let dir = std::env::temp_dir().join(format!("framelab-big-wgsl-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = Scratch::temp("framelab-big-wgsl");
     std::fs::create_dir_all(dir.join("shaders")).unwrap();
     let example = repo().join("captures/example");
     std::fs::copy(example.join("frame.json"), dir.join("frame.json")).unwrap();
@@ -599,15 +589,12 @@ fn a_shader_over_its_limit_is_refused_unread() {
         bloom.display()
     );
     every_reader_refuses(capture, &message);
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// `import` reads its stream line by line, but only from a regular file.
 #[test]
 fn import_refuses_a_named_pipe_and_a_device() {
-    let dir = std::env::temp_dir().join(format!("framelab-import-fifo-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-import-fifo");
     let fifo = dir.join("app.jsonl");
     let made = std::process::Command::new("mkfifo")
         .arg(&fifo)
@@ -628,7 +615,6 @@ fn import_refuses_a_named_pipe_and_a_device() {
         );
         assert!(!out_file.exists());
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// `validate`, `info`, `analyze`, `graph` and `diff --structure` (the file on either side) each

@@ -14,9 +14,13 @@ impl Scratch {
         Scratch(path)
     }
 
-    /// `<name>-<process id>` in the system's temporary folder.
+    /// `<name>-<process id>-<n>` in the system's temporary folder: a folder of its own on
+    /// every call, so tests running side by side (or one run a case at a time) never remove
+    /// each other's files.
     pub fn temp(name: &str) -> Scratch {
-        Scratch::new(std::env::temp_dir().join(format!("{name}-{}", std::process::id())))
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        Scratch::new(std::env::temp_dir().join(format!("{name}-{}-{n}", std::process::id())))
     }
 }
 

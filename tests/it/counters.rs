@@ -2,17 +2,14 @@
 //! counts agree with the work the pass submitted, two replays count the same, and `diff --work`
 //! names a pass that does more work and fails the gate for it.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde_json::Value;
 
-use crate::common::{framelab, stderr, stdout};
+use crate::common::{Scratch, framelab, stderr, stdout};
 
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("framelab-counters-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn temp(name: &str) -> Scratch {
+    Scratch::temp(&format!("framelab-counters-{name}"))
 }
 
 /// Replays `capture` with counters and returns its timing report.
@@ -146,7 +143,6 @@ fn counters_agree_with_the_work_each_pass_submitted() {
         .collect();
     // Pass, draws and dispatches, then vertex and clipper invocations.
     assert_eq!(row[1..4], ["1", "3", "1"], "{text}");
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Every bundled capture, replayed twice, counts the same work in every frame.
@@ -201,7 +197,6 @@ fn two_replays_of_each_bundled_capture_count_the_same() {
             assert_eq!(x, y, "{capture}: pass {name} counted differently");
         }
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// The example against itself does the same work; with its bloom threshold pass drawn eight
@@ -352,7 +347,6 @@ fn the_work_diff_names_the_pass_that_does_more() {
         Some(2),
         "--fail-on-increase needs --work"
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// A dispatch that covers a texture runs one thread per texel (rounded up to its workgroup) at
@@ -378,5 +372,4 @@ fn a_covering_dispatch_shrinks_with_the_scale() {
     assert_eq!(threads(&covered, "1", "cover1"), (230_400, 230_400));
     assert_eq!(threads(example, "0.25", "fixed025"), (230_400, 230_400));
     assert_eq!(threads(&covered, "0.25", "cover025"), (15_360, 15_360));
-    std::fs::remove_dir_all(dir).unwrap();
 }

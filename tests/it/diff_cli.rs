@@ -1,9 +1,7 @@
 //! `framelab diff` end to end: the text, JSON and Markdown outputs on fixed reports, the exit
 //! codes of the gate, refused inputs, and real comparisons replayed on the available adapter.
 
-use std::path::PathBuf;
-
-use crate::common::{framelab, json, repo, stderr, stdout};
+use crate::common::{Scratch, framelab, json, repo, stderr, stdout};
 
 const A: &str = "tests/fixtures/timing/a.json";
 const B: &str = "tests/fixtures/timing/b.json";
@@ -52,11 +50,8 @@ fn the_gate_follows_fail_on_regression() {
     assert_eq!(framelab(&["diff", A, A]).status.code(), Some(0));
 }
 
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("framelab-diff-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn temp(name: &str) -> Scratch {
+    Scratch::temp(&format!("framelab-diff-{name}"))
 }
 
 #[test]
@@ -84,7 +79,6 @@ fn bad_inputs_exit_2_and_say_why() {
         "{}",
         stderr(&out)
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// The example replayed against itself passes the gate; with its bloom threshold pass drawn
@@ -151,7 +145,6 @@ fn replayed_captures_are_compared_interleaved() {
         .map(|g| g.as_f64().unwrap())
         .collect();
     assert!(gbps[1] < gbps[0], "{bloom}");
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -170,7 +163,6 @@ fn plot_draws_every_pass_into_an_svg() {
         text.contains("#C81E1E") && text.contains("#1E8C3C"),
         "{text}"
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 const EXAMPLE: &str = "captures/example/frame.json";

@@ -7,7 +7,7 @@
 //! `tests/fuzz_corpus/` and replayed first. Besides the example, mutations start from the
 //! captures of each class of frames a driver rejects.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use framelab_core::analysis::report::AnalyzeOptions;
 use framelab_core::capture::Options;
@@ -15,7 +15,7 @@ use framelab_core::pipeline::{Loaded, Validated};
 use proptest::prelude::*;
 use serde_json::Value;
 
-use crate::common::repo;
+use crate::common::{Scratch, repo};
 
 /// Loads, validates and (when valid) analyses `file`; panics only if framelab does.
 fn run_entry_point(file: &Path) {
@@ -133,8 +133,8 @@ fn apply(v: &mut Value, m: &Mutation) {
 
 /// A scratch copy of the example's folder (so side files resolve) for mutated captures, with
 /// the invalid corpus's shaders beside it for the captures taken from there.
-fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("framelab-fuzz-{}", std::process::id()));
+fn scratch() -> Scratch {
+    let dir = Scratch::temp("framelab-fuzz");
     let shaders = dir.join("shaders");
     std::fs::create_dir_all(&shaders).unwrap();
     for e in std::fs::read_dir(repo().join("captures/example/shaders")).unwrap() {
@@ -220,8 +220,7 @@ fn run_import(bytes: &[u8], name: &str) {
     let Ok(imported) = import(bytes, name, &ImportOptions::default()) else {
         return;
     };
-    let dir = std::env::temp_dir().join(format!("framelab-fuzz-import-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-fuzz-import");
     let path = dir.join("imported.json");
     if let Ok(v) = Loaded::from_raw(&path, imported.capture).validate(&Options::default()) {
         let _ = v.clone().analyse(AnalyzeOptions { cull: true });

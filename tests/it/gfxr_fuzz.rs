@@ -13,7 +13,7 @@ use framelab_core::import::{ImportOptions, gfxr};
 use framelab_core::pipeline::Loaded;
 use proptest::prelude::*;
 
-use crate::common::repo;
+use crate::common::{Scratch, repo};
 
 /// Imports `bytes` as a binary capture and, when that works, validates and analyses it;
 /// panics only if framelab does.
@@ -27,8 +27,7 @@ fn run_import(bytes: &[u8], name: &str) {
     ) else {
         return;
     };
-    let dir = std::env::temp_dir().join(format!("framelab-fuzz-gfxr-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-fuzz-gfxr");
     if let Ok(v) =
         Loaded::from_raw(&dir.join("fuzz.json"), imported.capture).validate(&Options::default())
     {

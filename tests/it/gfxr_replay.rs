@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::common::{framelab, gfxr_fixture, stderr};
+use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
 const REPLAYED: [&str; 9] = [
@@ -22,11 +22,8 @@ const REPLAYED: [&str; 9] = [
     "framelab_inspect_f3",
 ];
 
-fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("framelab-gfxr-replay-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn temp(name: &str) -> Scratch {
+    Scratch::temp(&format!("framelab-gfxr-replay-{name}"))
 }
 
 /// The frame imported from whole captures (trimmed ones hold one): `vkcube_staging`'s last,
@@ -67,7 +64,6 @@ fn real_frames_replay_to_the_image_they_presented() {
         if let Err(e) = crate::golden::within(name, &image, &reference) {
             failures.push(e);
         }
-        std::fs::remove_dir_all(dir).unwrap();
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
@@ -80,7 +76,6 @@ fn real_frames_are_clean_under_the_validation_layer() {
     let mut captures = REPLAYED.to_vec();
     captures.push("template_compute");
     crate::common::replays_clean_under_validation_layer(&dir, &captures, import);
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// `tools/template-compute` (descriptors written through update templates, into a set and
@@ -126,7 +121,6 @@ fn frames_bound_through_update_templates_compute_what_the_program_did() {
             "{file}: {wrong} of 256 texels differ from the shader's result"
         );
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// What wgpu cannot bind stops the replay before anything is created, naming the pass, the
@@ -157,7 +151,6 @@ fn what_the_replay_cannot_do_is_named() {
     ] {
         assert!(err.contains(part), "missing {part:?} in:\n{err}");
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// A module damaged inside (an OpLoad reading an id nothing defines, the file still SPIR-V
@@ -197,5 +190,4 @@ fn a_damaged_module_never_reaches_the_driver() {
     for part in ["pass \"render_pass\"", "draw 0", "module_38", "%65535"] {
         assert!(err.contains(part), "missing {part:?} in:\n{err}");
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }

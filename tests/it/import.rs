@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use framelab_core::capture::dxgi;
 use serde_json::Value;
 
-use crate::common::{framelab, gfxr_fixture, json, stderr, stdout};
+use crate::common::{Scratch, framelab, gfxr_fixture, json, stderr, stdout};
 
 const STREAMS: [&str; 6] = [
     "vkd3d_triangle.jsonl",
@@ -146,10 +146,10 @@ fn counts(path: &Path) -> Counts {
     c
 }
 
-/// Imports a fixture through the command line into a scratch folder; the capture as JSON.
-fn import_cli(name: &str, extra: &[&str]) -> (Value, PathBuf) {
-    let dir = std::env::temp_dir().join(format!("framelab-import-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+/// Imports a fixture through the command line into a scratch folder; the capture as JSON, its
+/// file, and the folder (removed when dropped).
+fn import_cli(name: &str, extra: &[&str]) -> (Value, PathBuf, Scratch) {
+    let dir = Scratch::temp("framelab-import");
     let out = dir.join(name.replace(".jsonl", &format!("{}.json", extra.join("_"))));
     let input = gfxr_fixture(name);
     let mut args = vec![
@@ -165,7 +165,7 @@ fn import_cli(name: &str, extra: &[&str]) -> (Value, PathBuf) {
     let summary = json(&o);
     assert_eq!(summary["file"], input.to_str().unwrap());
     let capture: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    (capture, out)
+    (capture, out, dir)
 }
 
 fn passes(c: &Value) -> &Vec<Value> {
@@ -180,7 +180,7 @@ fn kind_count(c: &Value, kind: &str) -> usize {
 fn every_stream_imports_as_it_was_recorded() {
     for name in STREAMS {
         let expected = counts(&gfxr_fixture(name));
-        let (c, out) = import_cli(name, &[]);
+        let (c, out, _dir) = import_cli(name, &[]);
         let ps = passes(&c);
         let draws: usize = ps
             .iter()
@@ -243,7 +243,7 @@ fn every_stream_imports_as_it_was_recorded() {
 
 #[test]
 fn formats_barriers_and_placements_are_the_streams() {
-    let (c, _) = import_cli("wgpu30_egui_kittest.jsonl", &[]);
+    let (c, _, _) = import_cli("wgpu30_egui_kittest.jsonl", &[]);
     let res: BTreeMap<&str, &Value> = c["resources"]
         .as_array()
         .unwrap()
@@ -310,7 +310,7 @@ fn a_missing_barrier_is_reported_in_vulkan_terms() {
     // nothing orders the first pass's store with the second's load. It then presents
     // waiting on no semaphore, so nothing orders the transition to PRESENT_SRC_KHR before
     // the presentation engine's read.
-    let (_, out) = import_cli("vkd3d_triangle.jsonl", &[]);
+    let (_, out, _dir) = import_cli("vkd3d_triangle.jsonl", &[]);
     let o = framelab(&["analyze", out.to_str().unwrap(), "--json"]);
     let lints = json(&o)["lints"].as_array().unwrap().clone();
     let missing: Vec<&Value> = lints.iter().filter(|l| l["code"] == "FL020").collect();
@@ -347,7 +347,7 @@ fn a_missing_barrier_is_reported_in_vulkan_terms() {
         "wgpu30_egui_kittest.jsonl",
         "framelab_example_replay.jsonl",
     ] {
-        let (_, out) = import_cli(clean, &[]);
+        let (_, out, _dir) = import_cli(clean, &[]);
         let o = framelab(&["analyze", out.to_str().unwrap(), "--json"]);
         let lints = json(&o)["lints"].as_array().unwrap().clone();
         assert!(
@@ -362,7 +362,7 @@ fn a_missing_barrier_is_reported_in_vulkan_terms() {
 
 #[test]
 fn the_1x_dialect_with_frames_queues_and_semaphores() {
-    let (c, _) = import_cli("v1_dynamic_rendering.jsonl", &[]);
+    let (c, _, _) = import_cli("v1_dynamic_rendering.jsonl", &[]);
     let names: Vec<&str> = passes(&c)
         .iter()
         .map(|p| p["name"].as_str().unwrap())
@@ -409,7 +409,7 @@ fn the_1x_dialect_with_frames_queues_and_semaphores() {
     );
     assert_eq!(density["placement"]["placed"]["offset"], 524288);
 
-    let (one, _) = import_cli("v1_dynamic_rendering.jsonl", &["--frame", "1"]);
+    let (one, _, _) = import_cli("v1_dynamic_rendering.jsonl", &["--frame", "1"]);
     let names: Vec<&str> = passes(&one)
         .iter()
         .map(|p| p["name"].as_str().unwrap())
@@ -435,7 +435,7 @@ fn the_1x_dialect_with_frames_queues_and_semaphores() {
 fn the_example_capture_survives_a_round_trip_through_gfxreconstruct() {
     // The fixture is `framelab replay captures/example/frame.json --scale 0.25 --frames 1`
     // captured by GFXReconstruct 0.9.18 on lavapipe and converted to JSON Lines.
-    let (c, out) = import_cli("framelab_example_replay.jsonl", &[]);
+    let (c, out, _dir) = import_cli("framelab_example_replay.jsonl", &[]);
     let imported = json(&framelab(&["info", out.to_str().unwrap(), "--json"]));
     let original = json(&framelab(&[
         "info",
@@ -530,7 +530,7 @@ fn the_example_capture_survives_a_round_trip_through_gfxreconstruct() {
 
 #[test]
 fn imported_captures_are_analysed_not_replayed() {
-    let (_, out) = import_cli("vkcube_lavapipe.jsonl", &[]);
+    let (_, out, _dir) = import_cli("vkcube_lavapipe.jsonl", &[]);
     let o = framelab(&["replay", out.to_str().unwrap(), "--scale", "0.25"]);
     assert_eq!(o.status.code(), Some(1));
     let e = stderr(&o);
@@ -556,8 +556,7 @@ fn imported_captures_are_analysed_not_replayed() {
 
 #[test]
 fn unreadable_streams_are_located_and_write_nothing() {
-    let dir = std::env::temp_dir().join(format!("framelab-import-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-import-bad");
     let text = std::fs::read_to_string(gfxr_fixture("vkd3d_triangle.jsonl")).unwrap();
     let mut lines: Vec<&str> = text.lines().collect();
     let truncated = &lines[40][..lines[40].len() / 2].to_owned();
@@ -605,8 +604,7 @@ fn unreadable_streams_are_located_and_write_nothing() {
 
 #[test]
 fn edits_that_cannot_land_are_named_and_write_nothing() {
-    let dir = std::env::temp_dir().join(format!("framelab-edit-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-edit");
     let source = gfxr_fixture("vkd3d_gears_f2.gfxr");
     let out = dir.join("out.gfxr");
     let edit = |set: &str| {
@@ -660,5 +658,4 @@ fn edits_that_cannot_land_are_named_and_write_nothing() {
         [serde_json::json!(["BOTTOM_OF_PIPE"])],
         "the barrier at block 176"
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }

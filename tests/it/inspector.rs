@@ -20,7 +20,7 @@ use framelab_ui::headless;
 use framelab_ui::project::{self as inspect, Reports};
 use framelab_ui::worker::SaveAs;
 
-use crate::common::{exr_image, framelab, repo, stderr};
+use crate::common::{Scratch, exr_image, framelab, repo, stderr};
 use crate::golden::ui_snapshot_options;
 
 /// Tests name passes and resources as a user would; the model itself is keyed by id.
@@ -448,10 +448,9 @@ fn pixel_history_lists_the_pass_and_draws_that_wrote_a_texel() {
 }
 
 /// The example copied into a temporary folder with its ground tinted red and its tonemap pass
-/// renamed.
-fn changed_example() -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("framelab-against-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+/// renamed; the folder, holding it as `frame.json`.
+fn changed_example() -> Scratch {
+    let dir = Scratch::temp("framelab-against");
     let mut capture = crate::common::example_copy(&dir);
     for p in capture["passes"].as_array_mut().unwrap() {
         if p["name"] == "scene" {
@@ -461,9 +460,8 @@ fn changed_example() -> std::path::PathBuf {
             p["name"] = serde_json::json!("tonemap_aces");
         }
     }
-    let path = dir.join("frame.json");
-    std::fs::write(&path, capture.to_string()).unwrap();
-    path
+    std::fs::write(dir.join("frame.json"), capture.to_string()).unwrap();
+    dir
 }
 
 #[test]
@@ -478,7 +476,7 @@ fn the_image_diff_pairs_passes_and_measures_flip() {
     let changed = changed_example();
     let (a, b) = (
         load(&repo().join("captures/example/frame.json")),
-        load(&changed),
+        load(&changed.join("frame.json")),
     );
     let pairs = framelab_core::structure::pass_pairs(&a.capture, &b.capture);
     let open =
@@ -518,7 +516,6 @@ fn the_image_diff_pairs_passes_and_measures_flip() {
     h.state_mut().show_pane(Pane::ImageDiff);
     h.run_steps(3);
     assert!(h.query_by_label_contains("FLIP mean").is_some());
-    let _ = std::fs::remove_dir_all(changed.parent().unwrap());
 }
 
 #[test]
@@ -539,8 +536,7 @@ fn read_back_values_match_the_export() {
         .clone()
         .unwrap();
 
-    let out = std::env::temp_dir().join(format!("framelab-inspect-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
+    let out = Scratch::temp("framelab-inspect");
     let run = framelab(&[
         "replay",
         "captures/example/frame.json",
@@ -576,7 +572,6 @@ fn read_back_values_match_the_export() {
             );
         }
     }
-    std::fs::remove_dir_all(out).unwrap();
 }
 
 /// The text of the node whose label contains `text` (egui labels carry it as the value).
@@ -665,8 +660,7 @@ fn buffers_stencil_and_saving_a_view() {
     h.state_mut()
         .open_resource(model.resource_named("scene_color").unwrap());
     settle(&mut h);
-    let dir = std::env::temp_dir().join(format!("framelab-save-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-save");
     h.state_mut().save_path = dir.join("scene").display().to_string();
     h.get_by_label("EXR").click();
     settle(&mut h);
@@ -695,7 +689,6 @@ fn buffers_stencil_and_saving_a_view() {
     // The sky's clear colour, sRGB-encoded for display as the viewer shows it.
     let sky = png.get_pixel(0, 0);
     assert!(sky[2] > sky[0] && sky[0] > 20, "{sky:?}");
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Every docked panel against its blessed image, with timings from a report compared
@@ -876,9 +869,7 @@ fn untrusted_report_times_stay_on_the_timeline_unmeasured() {
 /// with.
 #[test]
 fn an_imported_frame_opens_on_its_presented_image_with_its_pipelines() {
-    let dir = std::env::temp_dir().join("framelab-inspector-imported");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-inspector-imported");
     let capture = dir.join("gears.json");
     let out = crate::common::framelab(&[
         "import",
@@ -907,7 +898,6 @@ fn an_imported_frame_opens_on_its_presented_image_with_its_pipelines() {
         "work names each draw's pipeline"
     );
     drop(h);
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// The frames the inspector times are counted: the pass details show a pass's counters, and

@@ -5,7 +5,7 @@
 
 use std::collections::BTreeSet;
 
-use crate::common::{framelab, json, repo, stderr};
+use crate::common::{Scratch, framelab, json, repo, stderr};
 
 #[derive(serde::Deserialize)]
 struct Case {
@@ -129,11 +129,8 @@ fn validation_reports_all_errors_at_once() {
         codes.contains(&"unknown-format") && codes.contains(&"unknown-queue"),
         "{codes:?}"
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
-fn tempdir() -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("framelab-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn tempdir() -> Scratch {
+    Scratch::temp("framelab-test")
 }

@@ -381,8 +381,7 @@ fn buffers(t: &Value) {
 /// `timings`: the report `replay --timings` writes, for the same frames.
 fn timings(s: &Value) {
     let report = ok(&s["timings"], "timings");
-    let dir = std::env::temp_dir().join(format!("framelab-mcp-t-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-mcp-t");
     let file = dir.join("t.json");
     let out = framelab(&[
         "replay",
@@ -477,7 +476,6 @@ fn timings(s: &Value) {
             .iter()
             .all(Value::is_null)
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// `framelab mcp` with its stdin and stdout piped to the test.

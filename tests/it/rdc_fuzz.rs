@@ -6,7 +6,6 @@
 //! and (by the reader's limits) no unbounded memory.
 
 use std::io::Cursor;
-use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use framelab_core::analysis::report::AnalyzeOptions;
@@ -15,7 +14,7 @@ use framelab_core::import::{ImportOptions, rdc};
 use framelab_core::pipeline::Loaded;
 use proptest::prelude::*;
 
-use crate::common::repo;
+use crate::common::{Scratch, repo};
 
 const SEEDS: [&str; 2] = ["vkcube_frame183", "mpv_testsrc_f73"];
 
@@ -23,9 +22,8 @@ const SEEDS: [&str; 2] = ["vkcube_frame183", "mpv_testsrc_f73"];
 fn conversions() -> &'static Vec<(Vec<u8>, Vec<u8>)> {
     static DONE: OnceLock<Vec<(Vec<u8>, Vec<u8>)>> = OnceLock::new();
     DONE.get_or_init(|| {
-        let dir: PathBuf =
-            std::env::temp_dir().join(format!("framelab-rdc-fuzz-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        // The conversions are read into memory; their folder goes when they are.
+        let dir = Scratch::temp("framelab-rdc-fuzz");
         SEEDS
             .iter()
             .map(|name| {
@@ -60,8 +58,7 @@ fn run_import(xml: &[u8], zip: &[u8]) {
     ) else {
         return;
     };
-    let dir = std::env::temp_dir().join(format!("framelab-fuzz-rdc-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-fuzz-rdc");
     if let Ok(v) =
         Loaded::from_raw(&dir.join("fuzz.json"), imported.capture).validate(&Options::default())
     {

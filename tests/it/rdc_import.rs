@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use crate::common::{framelab, gfxr_fixture, json, repo, stderr};
+use crate::common::{Scratch, framelab, gfxr_fixture, json, repo, stderr};
 
 /// RenderDoc captures, each with `<name>.rdc.renderdoc.json` and `<name>.rdc.ref.png`.
 const CAPTURES: [&str; 4] = [
@@ -24,11 +24,8 @@ fn fixture(name: &str) -> PathBuf {
     repo().join("tests/fixtures/rdc").join(name)
 }
 
-fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("framelab-rdc-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn temp(name: &str) -> Scratch {
+    Scratch::temp(&format!("framelab-rdc-{name}"))
 }
 
 /// Imports `input` into `dir/<stem>.json` with `--json`, returning the capture's path and the
@@ -209,7 +206,6 @@ fn renderdoc_frames_import_as_renderdoc_lists_them() {
             listed_barriers,
             "{name}: barriers"
         );
-        std::fs::remove_dir_all(dir).unwrap();
     }
 }
 
@@ -229,7 +225,6 @@ fn renderdoc_frames_replay_to_the_image_renderdoc_presented() {
             .unwrap()
             .to_rgba8();
         within_tolerance(name, &image, &reference);
-        std::fs::remove_dir_all(dir).unwrap();
     }
 }
 
@@ -239,7 +234,6 @@ fn renderdoc_frames_are_clean_under_the_validation_layer() {
     crate::common::replays_clean_under_validation_layer(&dir, &CAPTURES, |name, dir| {
         import(&fixture(&format!("{name}.rdc")), dir, name).0
     });
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// A resource as both tools can name it: what it is, not the handle a tool gave it.
@@ -348,7 +342,6 @@ fn renderdoc_and_gfxreconstruct_captures_of_one_frame_agree() {
         !text.contains("pass added") && !text.contains("pass removed"),
         "{text}"
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// The imported frame works with every command: analyse, replay after a pass, inspect.
@@ -389,7 +382,6 @@ fn an_imported_renderdoc_frame_is_analysed_replayed_and_inspected() {
     assert!(inspect.status.success(), "{}", stderr(&inspect));
     let img = image::open(&shot).unwrap().to_rgba8();
     assert!(img.width() > 400 && img.height() > 300);
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// A converter standing in for renderdoccmd: a shell script that does `body` with the
@@ -579,5 +571,4 @@ fn bad_renderdoc_input_is_refused_with_a_located_error() {
             parts,
         );
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }

@@ -5,13 +5,10 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::common::{exr_image, framelab, repo, stderr};
+use crate::common::{Scratch, exr_image, framelab, repo, stderr};
 
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("framelab-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn temp(name: &str) -> Scratch {
+    Scratch::temp(&format!("framelab-{name}"))
 }
 
 fn png(path: &Path) -> image::DynamicImage {
@@ -150,7 +147,6 @@ fn every_pass_kind_replays_with_exact_values() {
             "gap or overlap: {frame0:?}"
         );
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -173,7 +169,6 @@ fn example_frame_matches_its_golden() {
         &out.join("ldr.png"),
         &repo().join("tests/goldens/example_ldr_scale0.25.png"),
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -204,7 +199,6 @@ fn after_exports_an_earlier_point_of_the_frame() {
         .clone();
     assert_eq!(packed["max"].as_f64(), Some(0.0));
     assert_eq!(manifest["after"], "clear_target");
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -236,7 +230,6 @@ fn shader_errors_name_file_line_and_column() {
         "the source line is shown: {err}"
     );
     assert!(!err.contains("panicked"), "{err}");
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -271,7 +264,6 @@ fn export_refuses_to_replace_a_foreign_folder() {
     ]);
     assert_eq!(run.status.code(), Some(1));
     assert!(dir.join("precious.txt").exists());
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -315,7 +307,6 @@ fn a_missing_device_feature_names_the_pass() {
             && message.contains("test adapter"),
         "{message}"
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// A history resource read (previous frame) and written (this frame) in one pass: after N
@@ -344,7 +335,6 @@ fn history_resources_ping_pong_between_frames() {
             (Some(f64::from(frames)), Some(f64::from(4 * frames))),
             "{frames} frames"
         );
-        std::fs::remove_dir_all(dir).unwrap();
     }
 }
 
@@ -385,7 +375,6 @@ fn unused_textures_without_contents_are_noted_not_fatal() {
         stderr(&run)
     );
     assert!(out.join("target.png").exists());
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Replays a Night City capture at quarter resolution for `frames` frames into `out` and
@@ -537,7 +526,6 @@ fn night_city_frames_have_content_history_and_match_their_goldens() {
             "{capture}: the second frame looks like the first (FLIP mean {:.4})",
             moved.mean
         );
-        std::fs::remove_dir_all(dir).unwrap();
     }
 }
 
@@ -614,7 +602,6 @@ fn export_never_replaces_files_it_did_not_write() {
         "mine"
     );
     assert!(out.join("manifest.json").is_file());
-    std::fs::remove_dir_all(out).unwrap();
 }
 
 /// Both bundled captures (and the example's synchronous twin) replay two frames under the
@@ -644,7 +631,6 @@ fn bundled_captures_are_clean_under_the_validation_layer() {
             ],
         );
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -686,7 +672,6 @@ fn block_compressed_textures_export_decoded_by_the_gpu() {
         (169..=171).contains(&grey[0]) && grey[0] == grey[1] && grey[1] == grey[2],
         "{grey:?}"
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// A capture of `passes` clears over a few small textures, written to `dir`.
@@ -734,5 +719,4 @@ fn frames_with_more_stamps_than_a_query_set_holds_are_timed_whole() {
             .collect();
         assert!(untimed.is_empty(), "untimed: {untimed:?}");
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }

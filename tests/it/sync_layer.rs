@@ -11,12 +11,12 @@
 //! instances; the specification guarantees rasterization order within a subpass only.
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 use serde_json::Value;
 
-use crate::common::{Display, framelab, gfxr_fixture, repo, start_display, stderr};
+use crate::common::{Display, Scratch, framelab, gfxr_fixture, repo, start_display, stderr};
 
 /// (command, hazard kind, access, earlier access, earlier command), in the layer's words.
 type Finding = (String, String, String, String, String);
@@ -187,11 +187,8 @@ fn framelab_findings(capture: &Path) -> (BTreeSet<Finding>, BTreeSet<Finding>) {
     (all, across)
 }
 
-fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("framelab-sync-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn temp(name: &str) -> Scratch {
+    Scratch::temp(&format!("framelab-sync-{name}"))
 }
 
 fn import(input: &Path, out: &Path) {
@@ -280,7 +277,6 @@ fn hazards_on_real_frames_are_the_validation_layers() {
     // The mpv frames do have a hazard, which both report: loadOp LOAD reads the attachment
     // after a layout transition whose barrier made it visible to writes only.
     assert!(!layer_of["mpv_testsrc_f5"].is_empty());
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -473,5 +469,4 @@ fn planted_hazards_are_flagged_by_framelab_and_the_layer_at_the_same_command() {
             }
         }
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }

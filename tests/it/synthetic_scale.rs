@@ -5,6 +5,8 @@ use framelab_core::analysis::model::Units;
 use framelab_core::analysis::{barriers, graph, memory};
 use framelab_testkit::synthetic;
 
+use crate::common::Scratch;
+
 #[test]
 fn large_synthetic_frame_analyses() {
     let model = synthetic::frame(10_000, 50_000, 7);
@@ -21,8 +23,7 @@ fn large_synthetic_frame_analyses() {
 
 #[test]
 fn synthetic_capture_is_valid() {
-    let dir = std::env::temp_dir().join(format!("framelab-synth-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::temp("framelab-synth");
     std::fs::copy(
         concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/compute.wgsl"),
         dir.join("compute.wgsl"),
@@ -31,7 +32,6 @@ fn synthetic_capture_is_valid() {
     let path = dir.join("large.json");
     std::fs::write(&path, synthetic::capture_json(2_000, 2_000, 3)).unwrap();
     let result = framelab_core::pipeline::Validated::load(&path, &Default::default());
-    std::fs::remove_dir_all(&dir).unwrap();
     let v = result.unwrap_or_else(|e| {
         panic!(
             "{:#?}",
