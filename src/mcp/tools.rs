@@ -549,7 +549,7 @@ impl Framelab {
             .layouts
             .first()
             .map(|choice| decode_rows(choice, offset, &read.bytes));
-        let hex: String = read.bytes.iter().map(|b| format!("{b:02x}")).collect();
+        let hex = hex::encode(&read.bytes);
         answer(json!({
             "resource": a.resource,
             "after_pass": a.after_pass,

@@ -65,18 +65,6 @@ impl Recording {
     }
 }
 
-/// Bytes as lower-case hex, two digits each: a draw's push constants, written with every
-/// draw that has them.
-fn hex(bytes: &[u8]) -> String {
-    const DIGITS: &[u8; 16] = b"0123456789abcdef";
-    let mut s = String::with_capacity(bytes.len() * 2);
-    for b in bytes {
-        s.push(char::from(DIGITS[usize::from(b >> 4)]));
-        s.push(char::from(DIGITS[usize::from(b & 15)]));
-    }
-    s
-}
-
 fn compute_point(a: &Arg<'_>) -> Got<bool> {
     let n = a.symbol()?;
     Ok(n.contains("COMPUTE") || n == "1")
@@ -357,7 +345,7 @@ impl Recording {
                     (None, None) => None,
                 }
             },
-            push_constants: self.bound.push.as_ref().map(|p| hex(p)),
+            push_constants: self.bound.push.as_ref().map(hex::encode),
             descriptors: Vec::new(),
             vertex_buffers: Vec::new(),
             index_buffer: None,

@@ -629,28 +629,19 @@ enum Holds {
 }
 
 impl Holds {
-    /// `kind` is the type without `VK_DESCRIPTOR_TYPE_`, or its number.
+    /// `kind` is the type as `descriptor_kind` gives it.
     fn of(kind: &str) -> Option<Holds> {
         match kind {
             "SAMPLER"
             | "COMBINED_IMAGE_SAMPLER"
             | "SAMPLED_IMAGE"
             | "STORAGE_IMAGE"
-            | "INPUT_ATTACHMENT"
-            | "0"
-            | "1"
-            | "2"
-            | "3"
-            | "10" => Some(Holds::Images),
+            | "INPUT_ATTACHMENT" => Some(Holds::Images),
             "UNIFORM_BUFFER"
             | "STORAGE_BUFFER"
             | "UNIFORM_BUFFER_DYNAMIC"
-            | "STORAGE_BUFFER_DYNAMIC"
-            | "6"
-            | "7"
-            | "8"
-            | "9" => Some(Holds::Buffers),
-            "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" | "4" | "5" => Some(Holds::TexelViews),
+            | "STORAGE_BUFFER_DYNAMIC" => Some(Holds::Buffers),
+            "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" => Some(Holds::TexelViews),
             _ => None,
         }
     }
@@ -665,18 +656,12 @@ impl Holds {
     }
 }
 
-/// Whether a descriptor type lets a shader write (storage images, buffers, texel buffers).
-pub fn storage_descriptor(ty: &str) -> bool {
+/// Whether a descriptor type (as `descriptor_kind` gives it) lets a shader write: storage
+/// images, buffers and texel buffers.
+pub fn storage_descriptor(kind: &str) -> bool {
     matches!(
-        ty.trim_start_matches("VK_DESCRIPTOR_TYPE_"),
-        "STORAGE_IMAGE"
-            | "STORAGE_BUFFER"
-            | "STORAGE_BUFFER_DYNAMIC"
-            | "STORAGE_TEXEL_BUFFER"
-            | "3"
-            | "5"
-            | "7"
-            | "9"
+        kind,
+        "STORAGE_IMAGE" | "STORAGE_BUFFER" | "STORAGE_BUFFER_DYNAMIC" | "STORAGE_TEXEL_BUFFER"
     )
 }
 
@@ -709,8 +694,8 @@ impl Objects {
         let mut next = [0usize; 3];
         let mut out = Vec::new();
         for e in &t.entries {
-            let kind = e.ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
-            let Some(holds) = Holds::of(kind) else {
+            let kind = descriptor_kind(&e.ty);
+            let Some(holds) = Holds::of(&kind) else {
                 continue;
             };
             let at = holds as usize;
@@ -723,62 +708,67 @@ impl Objects {
                 )));
             };
             next[at] += n;
-            out.extend(descriptors(e.binding, e.element, kind, items)?);
+            out.extend(descriptors(e.binding, e.element, &kind, items)?);
         }
         Ok(out)
     }
 }
 
-/// A descriptor type without `VK_DESCRIPTOR_TYPE_` (or its value), borrowed from the
-/// registry's `VkDescriptorType` where it names one: a frame binds thousands of descriptors,
-/// each holding its type.
-pub fn descriptor_kind(kind: &str) -> Cow<'static, str> {
-    static TYPES: OnceLock<Vec<&'static str>> = OnceLock::new();
-    TYPES
-        .get_or_init(|| {
-            registry::enum_named("VkDescriptorType").map_or_else(Vec::new, |e| {
-                e.values
-                    .iter()
-                    .filter_map(|(_, n)| n.strip_prefix("VK_DESCRIPTOR_TYPE_"))
-                    .collect()
-            })
+/// A descriptor type as every descriptor holds it and everything that reads one compares it:
+/// without `VK_DESCRIPTOR_TYPE_`, a value given as a number named, and borrowed from the
+/// registry's `VkDescriptorType` where it is one (a frame binds thousands of descriptors).
+/// A type the registry does not know stays as it was spelt.
+pub fn descriptor_kind(ty: &str) -> Cow<'static, str> {
+    static TYPES: OnceLock<Vec<(i32, &'static str)>> = OnceLock::new();
+    let types = TYPES.get_or_init(|| {
+        registry::enum_named("VkDescriptorType").map_or_else(Vec::new, |e| {
+            e.values
+                .iter()
+                .filter_map(|(v, n)| Some((*v, n.strip_prefix("VK_DESCRIPTOR_TYPE_")?)))
+                .collect()
         })
+    });
+    let kind = ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
+    let value = kind.parse::<i32>().ok();
+    types
         .iter()
-        .find(|k| **k == kind)
-        .map_or_else(|| Cow::Owned(kind.to_owned()), |k| Cow::Borrowed(*k))
+        .find(|(v, n)| *n == kind || Some(*v) == value)
+        .map_or_else(|| Cow::Owned(kind.to_owned()), |(_, n)| Cow::Borrowed(*n))
 }
 
 /// The descriptors one VkWriteDescriptorSet writes, by (binding, array element).
 pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
     let binding = w.get("dstBinding")?.u32()?;
     let first = w.get("dstArrayElement")?.u32()?;
-    let ty = w.get("descriptorType")?.symbol()?;
-    let kind = ty.trim_start_matches("VK_DESCRIPTOR_TYPE_");
-    match Holds::of(kind) {
-        Some(holds) => descriptors(binding, first, kind, &w.list(holds.key())?),
+    let kind = descriptor_kind(&w.get("descriptorType")?.symbol()?);
+    match Holds::of(&kind) {
+        Some(holds) => descriptors(binding, first, &kind, &w.list(holds.key())?),
         None => Ok(Vec::new()),
     }
 }
 
 /// The descriptors of type `kind` that `items` (the list `Holds::of(kind)` names) put at
 /// `binding` from element `first` on; null handles write nothing.
+// The `Cow` itself, not its text, so that a type borrowed from the tables stays borrowed in
+// every descriptor.
+#[allow(clippy::ptr_arg)]
 fn descriptors(
     binding: u32,
     first: u32,
-    kind: &str,
+    kind: &Cow<'static, str>,
     items: &[Arg<'_>],
 ) -> Got<Vec<((u32, u32), Descriptor)>> {
     let mut out = Vec::new();
     for (k, i) in items.iter().enumerate() {
         let at = (binding, first.saturating_add(k as u32));
         let descriptor = match Holds::of(kind) {
-            Some(Holds::Images) if kind == "SAMPLER" || kind == "0" => {
+            Some(Holds::Images) if kind == "SAMPLER" => {
                 let sampler = i.get("sampler")?.handle()?;
                 (sampler != 0).then_some(Descriptor::Sampler { sampler })
             }
             Some(Holds::Images) => {
                 let view = i.get("imageView")?.handle()?;
-                let sampler = if kind == "COMBINED_IMAGE_SAMPLER" || kind == "1" {
+                let sampler = if kind == "COMBINED_IMAGE_SAMPLER" {
                     i.get("sampler")?.handle()?
                 } else {
                     0
@@ -786,7 +776,7 @@ fn descriptors(
                 (view != 0).then(|| Descriptor::Image {
                     view,
                     sampler,
-                    ty: descriptor_kind(kind),
+                    ty: kind.clone(),
                     layout: i.opt("imageLayout").and_then(|l| l.layout().ok()),
                 })
             }
@@ -799,7 +789,7 @@ fn descriptors(
                         buffer,
                         offset: i.get("offset")?.u64()?,
                         range: i.get("range")?.u64()?,
-                        ty: descriptor_kind(kind),
+                        ty: kind.clone(),
                     })
                 }
             }
@@ -807,7 +797,7 @@ fn descriptors(
                 let view = i.handle()?;
                 (view != 0).then(|| Descriptor::TexelBuffer {
                     view,
-                    ty: descriptor_kind(kind),
+                    ty: kind.clone(),
                 })
             }
             None => None,
@@ -884,4 +874,25 @@ fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
         subpasses,
         dependencies,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn descriptor_types_are_held_by_name_however_the_stream_spells_them() {
+        for spelt in ["VK_DESCRIPTOR_TYPE_STORAGE_BUFFER", "STORAGE_BUFFER", "7"] {
+            let kind = descriptor_kind(spelt);
+            assert_eq!(kind, "STORAGE_BUFFER", "{spelt}");
+            assert!(matches!(kind, Cow::Borrowed(_)), "{spelt}");
+            assert!(storage_descriptor(&kind));
+            assert!(matches!(Holds::of(&kind), Some(Holds::Buffers)));
+        }
+        assert_eq!(descriptor_kind("1"), "COMBINED_IMAGE_SAMPLER");
+        assert!(!storage_descriptor(&descriptor_kind("6")));
+        // Not in the registry: kept as spelt, holding nothing framelab reads.
+        assert_eq!(descriptor_kind("VK_DESCRIPTOR_TYPE_MADE_UP"), "MADE_UP");
+        assert!(Holds::of(&descriptor_kind("12345")).is_none());
+    }
 }

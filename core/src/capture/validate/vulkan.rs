@@ -604,14 +604,8 @@ impl Validator<'_> {
 
 /// Push-constant bytes from their hex spelling; `None` for text that is not whole hex bytes
 /// (validation reports it).
-fn hex_bytes(hex: &str) -> Option<Vec<u8>> {
-    if !hex.len().is_multiple_of(2) {
-        return None;
-    }
-    (0..hex.len())
-        .step_by(2)
-        .map(|i| u8::from_str_radix(hex.get(i..i + 2)?, 16).ok())
-        .collect()
+fn hex_bytes(text: &str) -> Option<Vec<u8>> {
+    hex::decode(text).ok()
 }
 
 #[cfg(test)]

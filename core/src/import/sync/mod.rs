@@ -37,7 +37,7 @@ use std::fmt;
 use super::commands::{BarrierCmd, BarrierTarget, Cmd, Origin, RenderInstance, TransferCmd, Use};
 use super::pipelines::{Pipelines, StorageUse};
 use super::record::{Recording, Recordings};
-use super::state::{Descriptor, Objects};
+use super::state::{Descriptor, Objects, storage_descriptor};
 use crate::capture::format::{HazardKind, SyncHazard};
 use crate::capture::vulkan::{AccessFlags as A, ImageLayout, PipelineStages as S};
 
@@ -525,8 +525,6 @@ impl Sync {
             ),
             Descriptor::Sampler { .. } => return,
         };
-        // Held without `VK_DESCRIPTOR_TYPE_` (`state::descriptor_kind`).
-        let kind: &str = ty;
         // Whether a shader reads or writes a storage binding is in its code, which a binary
         // capture holds (`spirv::usage`). Where the code is unknown, a storage access is
         // satisfied by a dependency that covers either access and is not taken for a write,
@@ -534,11 +532,8 @@ impl Sync {
         // Code is read only for storage bindings: reading it is most of an import of a
         // small capture whose pipelines bind none.
         let storage = || pipeline.and_then(|p| pipelines.storage_use(p, u.set, u.binding));
-        let (access, write) = match kind {
-            "STORAGE_IMAGE"
-            | "STORAGE_BUFFER"
-            | "STORAGE_BUFFER_DYNAMIC"
-            | "STORAGE_TEXEL_BUFFER" => match storage() {
+        let (access, write) = match ty.as_ref() {
+            kind if storage_descriptor(kind) => match storage() {
                 // Written (and maybe read): a write, as the layer takes it.
                 Some(StorageUse { writes: true, .. }) => (A::SHADER_STORAGE_WRITE, true),
                 Some(StorageUse { reads: true, .. }) => (A::SHADER_STORAGE_READ, false),
