@@ -1,6 +1,11 @@
 //! Writing files so that an interrupted or failed run never leaves a half-written one: the
 //! content goes to a hidden temporary name in the same folder, which is renamed over the
 //! destination only once it is complete. Every file framelab writes goes through here.
+//!
+//! A rename replaces whatever has the name, so the destination is looked at first: a symbolic
+//! link is followed (the file it points to is written and the link stays a link), a character
+//! device (`/dev/null`) is written in place, and anything else but a regular file there (a
+//! folder, a named pipe, which would block until read) is refused rather than replaced.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -25,16 +30,80 @@ fn temporary(path: &Path) -> PathBuf {
     dir.join(format!(".{name}.{}.tmp", std::process::id()))
 }
 
-/// Lets `write` create the file at a temporary path, then renames it to `path`. Whatever
+/// Links followed at most before a destination counts as a loop.
+const MAX_LINKS: usize = 40;
+
+fn refused(path: &Path, message: impl Into<String>) -> WriteError {
+    WriteError {
+        path: path.display().to_string(),
+        message: message.into(),
+    }
+}
+
+/// A character device (`/dev/null`, a terminal) is written in place: there is nothing to
+/// replace atomically, and renaming over it would put a file where the device was.
+pub fn is_char_device(meta: &std::fs::Metadata) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        meta.file_type().is_char_device()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = meta;
+        false
+    }
+}
+
+/// Where writing `path` lands: `path` itself, or the file its symbolic links lead to. An error
+/// names `path` when something other than a regular file is there, or the links loop.
+pub fn destination(path: &Path) -> Result<PathBuf, WriteError> {
+    let mut at = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        let meta = match std::fs::symlink_metadata(&at) {
+            Ok(meta) => meta,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(at),
+            Err(e) => return Err(refused(path, e.to_string())),
+        };
+        if meta.is_file() || is_char_device(&meta) {
+            return Ok(at);
+        }
+        if !meta.file_type().is_symlink() {
+            return Err(refused(
+                path,
+                format!(
+                    "it is {}; framelab writes only regular files",
+                    crate::files::kind(&meta.file_type())
+                ),
+            ));
+        }
+        let target = std::fs::read_link(&at).map_err(|e| refused(path, e.to_string()))?;
+        at = match at.parent() {
+            Some(dir) if target.is_relative() => dir.join(target),
+            _ => target,
+        };
+    }
+    Err(refused(
+        path,
+        format!("more than {MAX_LINKS} symbolic links lead from it (a loop?)"),
+    ))
+}
+
+/// Lets `write` create the file at a temporary path, then renames it to `path` (to the file a
+/// symbolic link at `path` leads to). Whatever
 /// `write` fails with is kept as the message: callers write through encoders with error
 /// types of their own.
 pub fn write_with<E: std::fmt::Display>(
     path: &Path,
     write: impl FnOnce(&Path) -> Result<(), E>,
 ) -> Result<(), WriteError> {
-    let tmp = temporary(path);
+    let target = destination(path)?;
+    if std::fs::metadata(&target).is_ok_and(|m| is_char_device(&m)) {
+        return write(&target).map_err(|e| refused(path, e.to_string()));
+    }
+    let tmp = temporary(&target);
     let failure = match write(&tmp) {
-        Ok(()) => std::fs::rename(&tmp, path).err().map(|e| e.to_string()),
+        Ok(()) => std::fs::rename(&tmp, &target).err().map(|e| e.to_string()),
         Err(e) => Some(e.to_string()),
     };
     match failure {
@@ -52,7 +121,13 @@ pub fn write_with<E: std::fmt::Display>(
 /// Writes `bytes` to `path`, synced to disk before the rename.
 pub fn write(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
     write_with(path, |tmp| {
-        std::fs::File::create(tmp).and_then(|mut f| f.write_all(bytes).and_then(|()| f.sync_all()))
+        let mut f = std::fs::File::create(tmp)?;
+        f.write_all(bytes)?;
+        // A device has nothing to sync (and says so with an error).
+        if f.metadata()?.is_file() {
+            f.sync_all()?;
+        }
+        Ok::<(), std::io::Error>(())
     })
 }
 
@@ -76,6 +151,47 @@ mod tests {
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
         write(&path, b"new").unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"new");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_link_is_written_through_a_device_in_place_and_a_pipe_or_folder_is_refused() {
+        let dir = std::env::temp_dir().join(format!("framelab-atomic-dest-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("real")).unwrap();
+        std::fs::write(dir.join("real/target.json"), b"old").unwrap();
+        std::os::unix::fs::symlink("real/target.json", dir.join("link.json")).unwrap();
+        write(&dir.join("link.json"), b"new").unwrap();
+        assert!(
+            std::fs::symlink_metadata(dir.join("link.json"))
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(std::fs::read(dir.join("real/target.json")).unwrap(), b"new");
+        // A dangling link makes the file it names.
+        std::os::unix::fs::symlink("real/made.json", dir.join("dangling.json")).unwrap();
+        write(&dir.join("dangling.json"), b"made").unwrap();
+        assert_eq!(std::fs::read(dir.join("real/made.json")).unwrap(), b"made");
+        std::os::unix::fs::symlink("loop.json", dir.join("loop.json")).unwrap();
+        let e = write(&dir.join("loop.json"), b"x").unwrap_err();
+        assert!(e.message.contains("symbolic links"), "{e}");
+        write(Path::new("/dev/null"), b"gone").unwrap();
+        assert!(is_char_device(&std::fs::metadata("/dev/null").unwrap()));
+        let e = write(&dir.join("real"), b"x").unwrap_err();
+        assert!(e.to_string().contains("it is a directory"), "{e}");
+        let fifo = dir.join("pipe.json");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.unwrap().success(), "mkfifo (coreutils) makes the pipe");
+        let e = write(&fifo, b"x").unwrap_err();
+        assert!(e.to_string().contains("named pipe"), "{e}");
+        use std::os::unix::fs::FileTypeExt;
+        assert!(
+            std::fs::symlink_metadata(&fifo)
+                .unwrap()
+                .file_type()
+                .is_fifo()
+        );
         std::fs::remove_dir_all(dir).unwrap();
     }
 }

@@ -15,6 +15,26 @@ pub enum OutputError {
     NoGraphviz(String),
     #[error("Graphviz's `dot` failed: {0}")]
     Graphviz(String),
+    #[error("{output} is also what this command reads; choose another output")]
+    IsInput { output: String },
+}
+
+/// Checks, before any work, that each output can be written (nothing but a regular file or a
+/// link to one is there) and is none of the command's inputs, which writing it would destroy.
+pub fn check_outputs(outputs: &[&Path], inputs: &[&Path]) -> Result<(), OutputError> {
+    let inputs: Vec<_> = inputs
+        .iter()
+        .filter_map(|p| p.canonicalize().ok())
+        .collect();
+    for out in outputs {
+        let at = crate::atomic::destination(out)?;
+        if at.canonicalize().is_ok_and(|c| inputs.contains(&c)) {
+            return Err(OutputError::IsInput {
+                output: out.display().to_string(),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Writes `bytes` to `path` via a temporary file and a rename (`crate::atomic`, the

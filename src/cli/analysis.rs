@@ -17,6 +17,8 @@ pub fn graph(
     json: bool,
     svg: Option<PathBuf>,
 ) -> anyhow::Result<ExitCode> {
+    let outputs: Vec<&Path> = dot.iter().chain(&svg).map(PathBuf::as_path).collect();
+    framelab_core::output::check_outputs(&outputs, &[path])?;
     let Some(analysed) = analysed(path, false, 1.0) else {
         return Ok(ExitCode::from(1));
     };

@@ -200,6 +200,12 @@ fn work(args: &DiffArgs) -> anyhow::Result<bool> {
 }
 
 pub fn run(args: &DiffArgs) -> ExitCode {
+    if let Some(plot) = &args.plot
+        && let Err(e) = framelab_core::output::check_outputs(&[plot], &[&args.a, &args.b])
+    {
+        let _ = writeln!(std::io::stderr(), "error: {e}");
+        return ExitCode::from(2);
+    }
     if args.work {
         return match work(args) {
             Ok(true) => ExitCode::SUCCESS,

@@ -41,6 +41,9 @@ pub fn run(
     frames: Option<(u32, u32)>,
     json: bool,
 ) -> anyhow::Result<ExitCode> {
+    // Side files go beside the file the capture lands in, where its relative paths lead.
+    framelab_core::output::check_outputs(&[out], &[input])?;
+    let out = &framelab_core::atomic::destination(out)?;
     // Read line by line, so no size limit; but only a regular file (a named pipe would block,
     // a device never end).
     let file = files::open(input).map_err(|e| match e {
@@ -83,6 +86,11 @@ pub fn run(
     if imported.side_files.is_empty() {
         check(&imported.capture, out, out, &name)?;
         framelab_core::output::write_atomically(out, text.as_bytes())?;
+    } else if std::fs::metadata(out).is_ok_and(|m| framelab_core::atomic::is_char_device(&m)) {
+        anyhow::bail!(
+            "{} is a device, and the capture imported from {name} has side files to go beside it; choose a file",
+            out.display()
+        );
     } else {
         write_with_side_files(&imported, out, &text, &name)?;
     }
@@ -146,6 +154,9 @@ fn write_with_side_files(
             }
         }
         check(&imported.capture, &staging.join(file_name), out, name)?;
+        for folder in &folders {
+            replaceable(&dir.join(folder))?;
+        }
         for folder in folders {
             let target = dir.join(&folder);
             if target.is_dir() {
@@ -162,6 +173,55 @@ fn write_with_side_files(
     result
 }
 
+/// Whether the side folder `folder` may be replaced by a new import's: absent, or holding only
+/// files of the kind an import writes there (an import replaces the whole folder, so anything
+/// else in it would be lost).
+fn replaceable(folder: &Path) -> anyhow::Result<()> {
+    let Ok(meta) = std::fs::symlink_metadata(folder) else {
+        return Ok(());
+    };
+    if !meta.is_dir() {
+        anyhow::bail!(
+            "{} is in the way of the import's side files: it is {}",
+            folder.display(),
+            files::kind(&meta.file_type())
+        );
+    }
+    let written = match folder.extension().and_then(|e| e.to_str()) {
+        Some("shaders") => "spv",
+        _ => "bin",
+    };
+    let mut foreign = Vec::new();
+    for entry in
+        std::fs::read_dir(folder).with_context(|| format!("reading {}", folder.display()))?
+    {
+        let entry = entry.with_context(|| format!("reading {}", folder.display()))?;
+        let path = entry.path();
+        let ours = entry.file_type().is_ok_and(|t| t.is_file())
+            && path.extension().is_some_and(|e| e == written);
+        if !ours {
+            foreign.push(entry.file_name().to_string_lossy().into_owned());
+        }
+    }
+    if foreign.is_empty() {
+        return Ok(());
+    }
+    foreign.sort();
+    anyhow::bail!(
+        "{} holds {} entr{} an import does not write ({}{}); an import replaces the whole folder, so choose another -o or move them",
+        folder.display(),
+        foreign.len(),
+        if foreign.len() == 1 { "y" } else { "ies" },
+        foreign
+            .iter()
+            .take(5)
+            .cloned()
+            .collect::<Vec<_>>()
+            .join(", "),
+        if foreign.len() > 5 { ", ..." } else { "" }
+    )
+}
+
 fn render(s: &Summary, out: &Path) -> String {
     let mut t = String::new();
     let unit = match s.dialect.as_str() {
@@ -174,8 +234,13 @@ fn render(s: &Summary, out: &Path) -> String {
     } else {
         format!("frames {}-{}", s.frames_imported.0, s.frames_imported.1)
     };
+    let read = if s.stopped_after_selection {
+        format!("read up to the end of frame {}: ", s.frames_imported.1)
+    } else {
+        String::new()
+    };
     t += &format!(
-        "{}: {} ({} dialect), {} {unit}s, {} calls, {} frame(s)\n",
+        "{}: {} ({} dialect), {read}{} {unit}s, {} calls, {} frame(s)\n",
         s.file, s.tool, s.dialect, s.lines, s.calls, s.frames_in_stream
     );
     let kinds: Vec<String> = s

@@ -182,6 +182,13 @@ pub fn replay(
 }
 
 pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<ExitCode> {
+    let outputs: Vec<&Path> = options
+        .timings
+        .iter()
+        .chain(&options.trace)
+        .map(|p| p.as_path())
+        .collect();
+    framelab_core::output::check_outputs(&outputs, &[path])?;
     let bar = if quiet {
         indicatif::ProgressBar::hidden()
     } else {

@@ -640,3 +640,83 @@ fn every_reader_refuses(file: &str, message: &str) {
         assert!(err.contains(message), "{args:?}: {err}");
     }
 }
+
+/// An output is written where it says, or refused before any work: never over one of the
+/// command's inputs, never by replacing a pipe, and through a link to the file it leads to.
+#[test]
+fn outputs_never_replace_inputs_pipes_or_links() {
+    let dir = Scratch::temp("framelab-outputs");
+    let capture = dir.join("m.json");
+    std::fs::copy(repo().join("tests/fixtures/minimal.json"), &capture).unwrap();
+    std::fs::copy(
+        repo().join("tests/fixtures/compute.wgsl"),
+        dir.join("compute.wgsl"),
+    )
+    .unwrap();
+    let original = std::fs::read(&capture).unwrap();
+    let c = capture.to_str().unwrap();
+    for args in [
+        vec!["graph", c, "--dot", c],
+        vec!["replay", c, "--timings", c],
+        vec!["replay", c, "--trace", c],
+    ] {
+        let o = framelab(&args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("is also what this command reads"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+        assert_eq!(std::fs::read(&capture).unwrap(), original, "{args:?}");
+    }
+    let a = repo().join("tests/fixtures/timing/a.json");
+    let b = dir.join("b.json");
+    std::fs::copy(repo().join("tests/fixtures/timing/b.json"), &b).unwrap();
+    let o = framelab(&[
+        "diff",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--plot",
+        b.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("is also what this command reads"),
+        "{}",
+        stderr(&o)
+    );
+
+    let pipe = dir.join("pipe.dot");
+    assert!(
+        std::process::Command::new("mkfifo")
+            .arg(&pipe)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let o = framelab(&["graph", c, "--dot", pipe.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("it is a named pipe"), "{}", stderr(&o));
+    use std::os::unix::fs::FileTypeExt;
+    assert!(
+        std::fs::symlink_metadata(&pipe)
+            .unwrap()
+            .file_type()
+            .is_fifo()
+    );
+
+    std::os::unix::fs::symlink("graph.dot", dir.join("link.dot")).unwrap();
+    let o = framelab(&["graph", c, "--dot", dir.join("link.dot").to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        std::fs::symlink_metadata(dir.join("link.dot"))
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert!(
+        std::fs::read_to_string(dir.join("graph.dot"))
+            .unwrap()
+            .starts_with("digraph")
+    );
+}

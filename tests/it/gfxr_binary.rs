@@ -61,7 +61,7 @@ fn same(a: &Value, b: &Value, path: &str) -> Result<(), String> {
     }
 }
 
-fn temp_dir(tag: &str) -> Scratch {
+pub(crate) fn temp_dir(tag: &str) -> Scratch {
     Scratch::temp(&format!("framelab-gfxr-{tag}"))
 }
 
@@ -615,7 +615,7 @@ fn binary_imports_replay_and_json_lines_imports_say_why_not() {
 }
 
 /// A copy of a fixture with `edit` applied, written to `dir`.
-fn edited(dir: &Path, name: &str, edit: impl FnOnce(&mut Vec<u8>)) -> PathBuf {
+pub(crate) fn edited(dir: &Path, name: &str, edit: impl FnOnce(&mut Vec<u8>)) -> PathBuf {
     let mut bytes = std::fs::read(gfxr_fixture(name)).unwrap();
     edit(&mut bytes);
     let path = dir.join(format!("edited_{name}"));
@@ -624,7 +624,7 @@ fn edited(dir: &Path, name: &str, edit: impl FnOnce(&mut Vec<u8>)) -> PathBuf {
 }
 
 /// Byte offsets of every block header after the file header.
-fn block_offsets(bytes: &[u8]) -> Vec<usize> {
+pub(crate) fn block_offsets(bytes: &[u8]) -> Vec<usize> {
     let options = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
     let mut at = 16 + 8 * options;
     let mut out = Vec::new();
@@ -637,7 +637,7 @@ fn block_offsets(bytes: &[u8]) -> Vec<usize> {
 }
 
 /// Runs an import that must fail: its message, after checking nothing was written.
-fn refused(input: &Path, dir: &Path) -> String {
+pub(crate) fn refused(input: &Path, dir: &Path) -> String {
     let out = dir.join("refused.json");
     let o = framelab(&[
         "import",

@@ -20,6 +20,7 @@ mod fuzz;
 mod fuzz_files;
 mod gfxr_binary;
 mod gfxr_fuzz;
+mod gfxr_limits;
 mod gfxr_replay;
 mod import;
 mod inspector;

@@ -101,6 +101,9 @@ pub struct Summary {
     pub calls: u64,
     /// Frames the stream holds (up to the last one read when a selection ended reading).
     pub frames_in_stream: u32,
+    /// Whether reading stopped after the selected frames, before the end of the file: `lines`,
+    /// `calls` and `frames_in_stream` then count only what was read.
+    pub stopped_after_selection: bool,
     pub frames_imported: (u32, u32),
     pub passes: usize,
     pub passes_by_kind: BTreeMap<String, usize>,
@@ -581,25 +584,29 @@ fn read_stream(reader: impl BufRead, file: &str, imp: &mut Importer) -> Result<R
     Ok(read)
 }
 
-/// The frames imported: the selection, clipped to the frames the stream holds.
+/// The frames imported: the selection, which must lie within the frames the stream holds.
 fn selected_frames(
     file: &str,
     options: &ImportOptions,
     frames: u32,
 ) -> Result<(u32, u32), ImportError> {
-    if let Some((a, _)) = options.frames
-        && a >= frames
-    {
-        return Err(ImportError::Stream {
+    // A selection past the last frame is only known once the whole stream is read.
+    match options.frames {
+        Some((a, b)) if b >= frames => Err(ImportError::Stream {
             file: file.to_owned(),
             message: format!(
-                "frame {a} was asked for, but the stream holds {frames} frame(s) (0..{})",
+                "{} asked for, but the stream holds {frames} frame(s) (0..{})",
+                if a == b {
+                    format!("frame {a} was")
+                } else {
+                    format!("frames {a}-{b} were")
+                },
                 frames - 1
             ),
-        });
+        }),
+        Some(selected) => Ok(selected),
+        None => Ok((0, frames - 1)),
     }
-    let selected = options.frames.unwrap_or((0, frames - 1));
-    Ok((selected.0, selected.1.min(frames - 1)))
 }
 
 /// What was left out while reading (with the line it first happened on), then while building.
@@ -708,6 +715,8 @@ fn finish(
     options: &ImportOptions,
     extras: Option<Extras<'_>>,
 ) -> Result<Imported, ImportError> {
+    // Reading ends early only once the selection is done.
+    let stopped_after_selection = imp.builder.done();
     if imp.submitted_in_frame {
         imp.builder.end_frame();
     }
@@ -898,6 +907,7 @@ fn finish(
         lines: read.lines,
         calls: imp.calls,
         frames_in_stream: frames,
+        stopped_after_selection,
         frames_imported: selected,
         passes: capture.passes.len(),
         passes_by_kind,

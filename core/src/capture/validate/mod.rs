@@ -89,7 +89,10 @@ pub fn validate(
     path: &Path,
     options: &Options,
 ) -> Result<Validated, CaptureError> {
-    let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    // Side files lie beside the capture file itself, which a link may lead elsewhere (where an
+    // import through the link put them).
+    let real = crate::atomic::destination(path).unwrap_or_else(|_| path.to_path_buf());
+    let base_dir = real.parent().map(Path::to_path_buf).unwrap_or_default();
     let base_dir = if base_dir.as_os_str().is_empty() {
         PathBuf::from(".")
     } else {

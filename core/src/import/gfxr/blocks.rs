@@ -14,6 +14,10 @@ pub const MAX_BLOCK_BYTES: u64 = 4 << 30;
 /// Most file options a header may list.
 const MAX_OPTIONS: u32 = 64;
 const COMPRESSED_BIT: u32 = 0x8000_0000;
+/// Most bytes a call's compressed parameters may claim: the largest any Vulkan call carries
+/// (shader code, pipeline cache data) are megabytes, and a few bytes of zstd may claim
+/// gigabytes. Contents (meta-data commands) are held to the objects they fill instead.
+pub const MAX_CALL_BYTES: u64 = 256 << 20;
 
 /// Where something went wrong: the block's number (0-based, counted as `gfxrecon-convert`
 /// counts its `index`, so the two can be set side by side) and the byte offset of its header
@@ -318,6 +322,15 @@ impl<R: Read> Blocks<R> {
                     ));
                 }
                 let size = u64_at(data, fixed - 8);
+                if size > MAX_CALL_BYTES {
+                    return Err(err(
+                        at,
+                        format!(
+                            "compressed call parameters say {size} bytes, over the {} MiB a call may carry",
+                            MAX_CALL_BYTES >> 20
+                        ),
+                    ));
+                }
                 let mut body = data[4..fixed - 8].to_vec();
                 let params = compress::decompress(compression, &data[fixed..], size)
                     .map_err(|e| err(at, e))?;

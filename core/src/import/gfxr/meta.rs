@@ -5,6 +5,30 @@
 use super::blocks::Block;
 use super::compress::{self, Compression};
 
+/// What a compressed payload is about to fill, for the importer to check against what the
+/// capture made room for before the payload is decompressed: a few kilobytes may claim
+/// gigabytes, and only the objects the capture created say whether that is true.
+#[derive(Clone, Copy, Debug)]
+pub enum Fills {
+    /// `size` bytes at `offset` in device memory `memory`.
+    Memory {
+        memory: u64,
+        offset: u64,
+        size: u64,
+    },
+    Buffer {
+        buffer: u64,
+        size: u64,
+    },
+    Image {
+        image: u64,
+        size: u64,
+    },
+}
+
+/// The importer's answer to a `Fills`: why the payload cannot be, if it cannot.
+pub type Room<'a> = &'a dyn Fn(Fills) -> Result<(), String>;
+
 /// A meta-data command framelab uses.
 #[derive(Debug)]
 pub enum Meta {
@@ -111,9 +135,21 @@ impl Fields<'_> {
     }
 
     /// The payload after the fixed fields: `size` bytes, decompressed when the block is.
-    fn payload(&mut self, block: &Block, how: Compression, size: u64) -> Result<Vec<u8>, String> {
+    fn payload(
+        &mut self,
+        block: &Block,
+        how: Compression,
+        fills: Fills,
+        room: Room<'_>,
+    ) -> Result<Vec<u8>, String> {
+        let size = match fills {
+            Fills::Memory { size, .. } | Fills::Buffer { size, .. } | Fills::Image { size, .. } => {
+                size
+            }
+        };
         let rest = &self.body[self.pos..];
         if block.compressed {
+            room(fills)?;
             return compress::decompress(how, rest, size);
         }
         if rest.len() as u64 != size {
@@ -127,7 +163,7 @@ impl Fields<'_> {
 }
 
 /// Reads a meta-data block.
-pub fn read(block: &Block, how: Compression) -> Result<Meta, String> {
+pub fn read(block: &Block, how: Compression, room: Room<'_>) -> Result<Meta, String> {
     let mut f = Fields {
         body: &block.body,
         pos: 0,
@@ -139,10 +175,15 @@ pub fn read(block: &Block, how: Compression) -> Result<Meta, String> {
             let memory = f.u64()?;
             let offset = f.u64()?;
             let size = f.u64()?;
+            let fills = Fills::Memory {
+                memory,
+                offset,
+                size,
+            };
             Meta::FillMemory {
                 memory,
                 offset,
-                data: f.payload(block, how, size)?,
+                data: f.payload(block, how, fills, room)?,
             }
         }
         7 => {
@@ -151,7 +192,7 @@ pub fn read(block: &Block, how: Compression) -> Result<Meta, String> {
             let size = f.u64()?;
             Meta::InitBuffer {
                 buffer,
-                data: f.payload(block, how, size)?,
+                data: f.payload(block, how, Fills::Buffer { buffer, size }, room)?,
             }
         }
         8 => {
@@ -180,7 +221,7 @@ pub fn read(block: &Block, how: Compression) -> Result<Meta, String> {
             let data = if size == 0 {
                 Vec::new()
             } else {
-                f.payload(block, how, size)?
+                f.payload(block, how, Fills::Image { image, size }, room)?
             };
             Meta::InitImage {
                 image,

@@ -23,13 +23,14 @@ use std::io::Read;
 
 use super::calls::{CmdFunc, Func};
 use super::contents::Contents;
+use super::state::Objects;
 use super::stream::Call;
 use super::tree::Tree;
 use super::value::Arg;
 use super::{ImportError, ImportOptions, Imported, Importer};
 use blocks::{Block, Blocks, Kind};
 pub use blocks::{MAX_BLOCK_BYTES, is_gfxr};
-use meta::Meta;
+use meta::{Fills, Meta};
 
 /// What reading the blocks gathered besides the importer's own state.
 struct Reading {
@@ -85,6 +86,55 @@ impl Reading {
             self.tool = format!("GFXReconstruct {version}");
         }
     }
+}
+
+/// Whether the capture made room for a compressed payload before it is decompressed: memory
+/// is filled within its allocation, and a resource's contents fit in the device memory the
+/// capture has allocated, so a small block cannot claim gigabytes nothing backs.
+fn room(objects: &Objects, fills: Fills) -> Result<(), String> {
+    let allocated = || objects.memories.values().map(|m| m.size).sum::<u64>();
+    let (what, size, known) = match fills {
+        Fills::Memory {
+            memory,
+            offset,
+            size,
+        } => {
+            let Some(m) = objects.memories.get(&memory) else {
+                return Err(format!(
+                    "fills {size} bytes of memory {memory:#x}, which the capture never allocated"
+                ));
+            };
+            if offset.checked_add(size).is_none_or(|end| end > m.size) {
+                return Err(format!(
+                    "fills {size} bytes at offset {offset} of memory {memory:#x}, which holds {} bytes",
+                    m.size
+                ));
+            }
+            return Ok(());
+        }
+        Fills::Buffer { buffer, size } => (
+            format!("buffer {buffer:#x}"),
+            size,
+            objects.buffers.contains_key(&buffer),
+        ),
+        Fills::Image { image, size } => (
+            format!("image {image:#x}"),
+            size,
+            objects.images.contains_key(&image),
+        ),
+    };
+    if !known {
+        return Err(format!(
+            "holds {size} bytes of contents for {what}, which the capture never created"
+        ));
+    }
+    let all = allocated();
+    if size > all {
+        return Err(format!(
+            "holds {size} bytes of contents for {what}, more than the {all} bytes of device memory the capture allocated"
+        ));
+    }
+    Ok(())
 }
 
 /// Calls the importer does not model but the binary route reads for what only it holds.
@@ -221,7 +271,9 @@ pub fn import(
                     .map_err(|m| located(file, at, m))?;
             }
             Kind::MetaData => {
-                let meta = meta::read(&block, compression).map_err(|m| located(file, at, m))?;
+                let room = |fills| room(&imp.objects, fills);
+                let meta =
+                    meta::read(&block, compression, &room).map_err(|m| located(file, at, m))?;
                 reading.count(format!("(meta-data: {})", meta.name()));
                 match meta {
                     // Written while the imported frames run: their work reads it from here on.
@@ -330,7 +382,8 @@ pub fn decompress_only(reader: impl Read, len: Option<u64>) -> Result<(u64, u64)
         count += 1;
         bytes += block.body.len() as u64;
         if block.kind == Kind::MetaData {
-            let meta = meta::read(&block, compression).map_err(|m| located(file, block.at, m))?;
+            let meta = meta::read(&block, compression, &|_| Ok(()))
+                .map_err(|m| located(file, block.at, m))?;
             bytes += meta.payload_len();
         }
     }
@@ -351,7 +404,8 @@ pub fn decode_only(reader: impl Read, len: Option<u64>) -> Result<u64, ImportErr
         let block = block.map_err(|e| block_error(file, e))?;
         match block.kind {
             Kind::MetaData => {
-                meta::read(&block, compression).map_err(|m| located(file, block.at, m))?;
+                meta::read(&block, compression, &|_| Ok(()))
+                    .map_err(|m| located(file, block.at, m))?;
             }
             Kind::FunctionCall => {
                 let Some((def, func)) = registry::command_index(block.id)
