@@ -72,6 +72,24 @@ fn bad_inputs_exit_2_and_say_why() {
     let out = framelab(&["diff", A, "captures/example/frame.json"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("not one of each"), "{}", stderr(&out));
+    // Frame counts the samples do not back: refused at once, never walked.
+    for (field, value, says) in [
+        (
+            "frames",
+            4_294_967_295u64,
+            "more than the 100000 a replay or a diff times",
+        ),
+        ("frames", 40, "samples, but the report says 40 frames"),
+        ("warmup", 1000, "warmup 1000 is more than its"),
+    ] {
+        let mut r: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(repo().join(A)).unwrap()).unwrap();
+        r[field] = serde_json::json!(value);
+        std::fs::write(&half, r.to_string()).unwrap();
+        let out = framelab(&["diff", A, half.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{field}");
+        assert!(stderr(&out).contains(says), "{field}: {}", stderr(&out));
+    }
     let out = framelab(&["diff", A, "no/such/report.json"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(

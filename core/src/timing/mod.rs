@@ -150,6 +150,8 @@ pub enum ReadError {
         #[source]
         source: serde_json::Error,
     },
+    #[error("{path}: {message}")]
+    Inconsistent { path: String, message: String },
     #[error(
         "{path}: timing report format_version {found} is newer than this framelab reads ({supported})"
     )]
@@ -159,6 +161,10 @@ pub enum ReadError {
         supported: u32,
     },
 }
+
+/// The most frames a report may hold: more than `replay --frames` or `diff --frames` ever
+/// time, and a bound on what reading and comparing one costs.
+pub const MAX_FRAMES: u32 = 100_000;
 
 impl TimingReport {
     /// Parses a report written by `framelab replay --timings`; `path` names it in errors.
@@ -185,7 +191,41 @@ impl TimingReport {
                 supported: FORMAT_VERSION,
             });
         }
+        report
+            .consistent()
+            .map_err(|message| ReadError::Inconsistent {
+                path: path.to_owned(),
+                message,
+            })?;
         Ok(report)
+    }
+
+    /// Whether the declared frame counts agree with the samples: every per-frame list holds
+    /// one sample a frame, so no reader walks frames the report does not have.
+    fn consistent(&self) -> Result<(), String> {
+        if self.frames > MAX_FRAMES {
+            return Err(format!(
+                "{} frames, more than the {MAX_FRAMES} a replay or a diff times",
+                self.frames
+            ));
+        }
+        if self.warmup > self.frames {
+            return Err(format!(
+                "warmup {} is more than its {} frames",
+                self.warmup, self.frames
+            ));
+        }
+        for (i, p) in self.passes.iter().enumerate() {
+            for (what, n) in [("gpu_ns", p.gpu_ns.len()), ("cpu_ns", p.cpu_ns.len())] {
+                if n as u64 != u64::from(self.frames) {
+                    return Err(format!(
+                        "passes[{i}] ({}) has {n} {what} samples, but the report says {} frames",
+                        p.name, self.frames
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Pretty JSON with a trailing newline, as written to disk.
