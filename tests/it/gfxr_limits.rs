@@ -154,3 +154,31 @@ fn frames_past_the_end_are_refused_and_a_partial_read_says_so() {
     assert_eq!(whole["stopped_after_selection"], false);
     assert_eq!(whole["frames_in_stream"], 3);
 }
+
+/// `template_compute` records three barriers: two before its dispatches, and a compute-to-host
+/// barrier after them that no pass follows. The summary counts the two and names the third.
+#[test]
+fn a_barrier_after_the_last_pass_is_named_not_lost() {
+    let dir = temp_dir("trailing");
+    let o = import(
+        &gfxr_fixture("template_compute.gfxr"),
+        &dir.join("t.json"),
+        &["--json"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = json(&o);
+    assert_eq!(s["recorded_barriers"], 2);
+    let trailing: Vec<&serde_json::Value> = s["skipped"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|k| {
+            k["what"]
+                .as_str()
+                .unwrap()
+                .starts_with("barriers after the last pass")
+        })
+        .collect();
+    assert_eq!(trailing.len(), 1, "{}", s["skipped"]);
+    assert_eq!(trailing[0]["count"], 1);
+}

@@ -135,6 +135,16 @@ impl Builder {
         self.selection.is_some_and(|(_, b)| self.frame > b)
     }
 
+    /// Barriers recorded after the last pass on their queue precede nothing in the imported
+    /// frames: said, rather than lost without a word.
+    pub fn note_trailing_barriers(&mut self) {
+        let n: usize = self.pending_barriers.values().map(Vec::len).sum();
+        if n > 0 {
+            let why = "barriers after the last pass on their queue (no imported pass follows them): left out";
+            *self.notes.entry(why.to_owned()).or_default() += n as u64;
+        }
+    }
+
     pub fn note(&mut self, why: impl Into<String>) {
         *self.notes.entry(why.into()).or_default() += 1;
     }

@@ -723,6 +723,7 @@ fn finish(
     let frames = imp.builder.frames_seen.max(1);
     let selected = selected_frames(file, options, frames)?;
     imp.builder.drop_trailing_host_writes();
+    imp.builder.note_trailing_barriers();
     let mut skipped = skipped_while_reading(&imp);
     let (draws, dispatches, recorded_barriers) = (
         imp.builder.draws,
