@@ -182,3 +182,48 @@ fn a_barrier_after_the_last_pass_is_named_not_lost() {
     assert_eq!(trailing.len(), 1, "{}", s["skipped"]);
     assert_eq!(trailing[0]["count"], 1);
 }
+
+/// One submission listing the same command buffer 70,000 times (the vkd3d triangle's upload
+/// buffer, which records barriers and clears): a few bytes a repetition in the stream. The
+/// import stops at its pass ceiling, says so, and writes a capture framelab still reads.
+#[test]
+fn a_command_buffer_submitted_over_and_over_stops_at_the_pass_ceiling() {
+    let dir = temp_dir("resubmitted");
+    let text = std::fs::read_to_string(gfxr_fixture("vkd3d_triangle.jsonl")).unwrap();
+    let n = 70_000;
+    let many = vec!["16"; n].join(",");
+    let mut replaced = 0;
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if l.contains("\"vkQueueSubmit\"") && l.contains("\"pCommandBuffers\":[16]") {
+                replaced += 1;
+                l.replace(
+                    "\"pCommandBuffers\":[16]",
+                    &format!("\"pCommandBuffers\":[{many}]"),
+                )
+                .replace(
+                    "\"commandBufferCount\":1",
+                    &format!("\"commandBufferCount\":{n}"),
+                )
+            } else {
+                l.to_owned()
+            }
+        })
+        .collect();
+    assert_eq!(replaced, 1, "the triangle's upload submission");
+    let stream = dir.join("resubmitted.jsonl");
+    std::fs::write(&stream, lines.join("\n") + "\n").unwrap();
+    let out = dir.join("r.json");
+    let o = import(&stream, &out, &["--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = json(&o);
+    assert_eq!(s["passes"], 65_536);
+    let skipped = s["skipped"].to_string();
+    assert!(
+        skipped.contains("passes beyond the limit of 65536"),
+        "{skipped}"
+    );
+    let o = framelab(&["info", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}

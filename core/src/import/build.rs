@@ -36,8 +36,13 @@ pub(super) type BindingIdentity = (
 /// Deepest nesting of secondary command buffers followed.
 const MAX_EXECUTE_DEPTH: u32 = 4;
 
-/// Most passes one import produces.
-pub const MAX_PASSES: usize = 1 << 20;
+/// Most passes one import produces: a real frame has hundreds to a few thousand (the
+/// 37,000-call benchmark stream 1,440), and one submission may list a command buffer any
+/// number of times, so without a ceiling a few bytes of stream make a capture larger than
+/// framelab reads (256 MiB).
+pub const MAX_PASSES: usize = 1 << 16;
+/// Most recorded barriers waiting on one queue for the pass they precede.
+const MAX_PENDING_BARRIERS: usize = 1 << 16;
 
 #[derive(Debug, Default)]
 pub struct Builder {
@@ -269,6 +274,7 @@ impl Builder {
             self.note(format!(
                 "passes beyond the limit of {MAX_PASSES}: not imported"
             ));
+            self.pending_barriers.remove(&queue);
             return None;
         }
         let labels = self.labels.get(&queue).cloned().unwrap_or_default();
@@ -440,17 +446,11 @@ impl Builder {
                 }
                 Cmd::Barrier(bs) => {
                     let converted = self.barriers(objects, bs);
-                    self.pending_barriers
-                        .entry(queue)
-                        .or_default()
-                        .extend(converted);
+                    self.pend(queue, converted);
                 }
                 Cmd::BeginRender(ri) => {
                     let converted = self.barriers(objects, &ri.begin_barriers);
-                    self.pending_barriers
-                        .entry(queue)
-                        .or_default()
-                        .extend(converted);
+                    self.pend(queue, converted);
                     let pass = self.raster(objects, queue, ri, 0);
                     render = Some((ri, 0, pass));
                 }
@@ -465,10 +465,7 @@ impl Builder {
                     if let Some((ri, sub, pass)) = render.take() {
                         self.resolves(objects, queue, ri, sub, pass);
                         let converted = self.barriers(objects, &ri.end_barriers);
-                        self.pending_barriers
-                            .entry(queue)
-                            .or_default()
-                            .extend(converted);
+                        self.pend(queue, converted);
                     }
                 }
                 Cmd::Draw(d) => match render {
@@ -507,6 +504,20 @@ impl Builder {
             {
                 self.pass_of_command.insert(origin.index, pass);
             }
+        }
+    }
+
+    /// Barriers wait on their queue for the next pass, up to a ceiling (a command buffer
+    /// submitted over and over with barriers and no pass would grow the list without end).
+    fn pend(&mut self, queue: u64, barriers: Vec<RecordedBarrier>) {
+        let pending = self.pending_barriers.entry(queue).or_default();
+        let room = MAX_PENDING_BARRIERS.saturating_sub(pending.len());
+        let over = barriers.len().saturating_sub(room);
+        pending.extend(barriers.into_iter().take(room));
+        if over > 0 {
+            let why =
+                format!("barriers beyond {MAX_PENDING_BARRIERS} waiting for one pass: left out");
+            *self.notes.entry(why).or_default() += over as u64;
         }
     }
 
