@@ -74,7 +74,7 @@ fn real_frames_replay_to_the_image_they_presented() {
 fn real_frames_are_clean_under_the_validation_layer() {
     let dir = temp("validation-layer");
     let mut captures = REPLAYED.to_vec();
-    captures.push("template_compute");
+    captures.extend(["template_compute", "write_after_read"]);
     crate::common::replays_clean_under_validation_layer(&dir, &captures, import);
 }
 
@@ -189,5 +189,56 @@ fn a_damaged_module_never_reaches_the_driver() {
     let err = stderr(&out);
     for part in ["pass \"render_pass\"", "draw 0", "module_38", "%65535"] {
         assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+}
+
+/// `write_after_read` was captured from framelab's own replay of
+/// `sources/write_after_read.json`, where wgpu uploaded each 4x4 R32 texture with rows 128
+/// bytes apart (`bufferRowLength` 32): closer than the 256 wgpu asks of a copy it is given. The
+/// imported frame replays anyway, each image texel for texel what the source capture's replay
+/// exports.
+#[test]
+fn rows_closer_than_wgpu_takes_are_copied_row_by_row() {
+    let dir = temp("write_after_read");
+    let capture = import("write_after_read", &dir);
+    let text = std::fs::read_to_string(&capture).unwrap();
+    assert!(
+        text.contains("\"bytes_per_row\": 128"),
+        "the capture still copies rows 128 bytes apart"
+    );
+    let imported = crate::common::replay_one_frame(&capture, &dir.join("imported"));
+    let source = crate::common::repo().join("tests/fixtures/gfxr/sources/write_after_read.json");
+    let out = dir.join("source");
+    let run = framelab(&[
+        "replay",
+        source.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let original: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let images = |m: &serde_json::Value, at: &Path| -> Vec<image::DynamicImage> {
+        m["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| image::open(at.join(f["file"].as_str().unwrap())).unwrap())
+            .collect()
+    };
+    let (a, b) = (
+        images(&imported, &dir.join("imported")),
+        images(&original, &dir.join("source")),
+    );
+    assert_eq!(a.len(), 3);
+    assert_eq!(a.len(), b.len());
+    for (i, (x, y)) in a.iter().zip(&b).enumerate() {
+        assert_eq!(
+            x.as_bytes(),
+            y.as_bytes(),
+            "image {i} differs from the source's"
+        );
     }
 }

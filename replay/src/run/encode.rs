@@ -3,7 +3,7 @@
 //! object of their own get their timestamps written on the encoder where the adapter allows.
 
 use framelab_core::plan::{
-    ClearOp, ColorTarget, ComputeOp, CopyEnd, CopyOp, DepthTarget, PassOp, RasterOp,
+    ClearOp, ColorTarget, ComputeOp, CopyEnd, CopyOp, DepthTarget, PassOp, RasterOp, TextureSpec,
 };
 
 use super::create::{extent, texel};
@@ -406,25 +406,23 @@ impl Session {
                     layer,
                     origin,
                 },
-            ) => {
-                encoder.copy_buffer_to_texture(
-                    buffer_layout(
-                        buf(*buffer),
-                        *offset,
-                        *bytes_per_row,
-                        &self.plan.textures[*texture],
-                        c.extent,
-                    ),
-                    texel(
-                        tex(*texture),
-                        &self.plan.textures[*texture],
-                        *mip,
-                        *layer,
-                        *origin,
-                    ),
-                    extent(c.extent),
-                );
-            }
+            ) => buffer_texture_copy(
+                encoder,
+                true,
+                BufferSide {
+                    buffer: buf(*buffer),
+                    offset: *offset,
+                    bytes_per_row: *bytes_per_row,
+                },
+                TextureSide {
+                    texture: tex(*texture),
+                    spec: &self.plan.textures[*texture],
+                    mip: *mip,
+                    layer: *layer,
+                    origin: *origin,
+                },
+                c.extent,
+            ),
             (
                 CopyEnd::Texture {
                     texture,
@@ -437,25 +435,23 @@ impl Session {
                     offset,
                     bytes_per_row,
                 },
-            ) => {
-                encoder.copy_texture_to_buffer(
-                    texel(
-                        tex(*texture),
-                        &self.plan.textures[*texture],
-                        *mip,
-                        *layer,
-                        *origin,
-                    ),
-                    buffer_layout(
-                        buf(*buffer),
-                        *offset,
-                        *bytes_per_row,
-                        &self.plan.textures[*texture],
-                        c.extent,
-                    ),
-                    extent(c.extent),
-                );
-            }
+            ) => buffer_texture_copy(
+                encoder,
+                false,
+                BufferSide {
+                    buffer: buf(*buffer),
+                    offset: *offset,
+                    bytes_per_row: *bytes_per_row,
+                },
+                TextureSide {
+                    texture: tex(*texture),
+                    spec: &self.plan.textures[*texture],
+                    mip: *mip,
+                    layer: *layer,
+                    origin: *origin,
+                },
+                c.extent,
+            ),
         }
     }
 
@@ -673,6 +669,91 @@ impl Session {
                 }
                 Ok(())
             }
+        }
+    }
+}
+
+/// The buffer end of a buffer-texture copy.
+struct BufferSide<'a> {
+    buffer: &'a wgpu::Buffer,
+    offset: u64,
+    bytes_per_row: Option<u32>,
+}
+
+/// The texture end of a buffer-texture copy.
+struct TextureSide<'a> {
+    texture: &'a wgpu::Texture,
+    spec: &'a TextureSpec,
+    mip: u32,
+    layer: u32,
+    origin: [u32; 3],
+}
+
+/// One buffer-texture copy (`to_texture`, or back) of extent `e`. wgpu wants a buffer's rows
+/// 256 bytes apart; Vulkan lets them lie closer (`bufferRowLength`), so such a copy goes one
+/// block row at a time: a single row needs no row pitch, and its offset only the texel block's
+/// alignment, which Vulkan demands too.
+fn buffer_texture_copy(
+    encoder: &mut wgpu::CommandEncoder,
+    to_texture: bool,
+    b: BufferSide<'_>,
+    t: TextureSide<'_>,
+    e: [u32; 3],
+) {
+    let mut copy = |buffer: wgpu::TexelCopyBufferInfo<'_>,
+                    texture: wgpu::TexelCopyTextureInfo<'_>,
+                    size: wgpu::Extent3d| {
+        if to_texture {
+            encoder.copy_buffer_to_texture(buffer, texture, size);
+        } else {
+            encoder.copy_texture_to_buffer(texture, buffer, size);
+        }
+    };
+    let (_, bh) = t.spec.format.block_dimensions();
+    let height = e[1].max(1);
+    let (rows, images) = (height.div_ceil(bh), e[2].max(1));
+    let Some(pitch) = b
+        .bytes_per_row
+        .filter(|p| p % wgpu::COPY_BYTES_PER_ROW_ALIGNMENT != 0 && (rows > 1 || images > 1))
+    else {
+        copy(
+            buffer_layout(b.buffer, b.offset, b.bytes_per_row, t.spec, e),
+            texel(t.texture, t.spec, t.mip, t.layer, t.origin),
+            extent(e),
+        );
+        return;
+    };
+    let is_3d = t.spec.dimension == wgpu::TextureDimension::D3;
+    for z in 0..images {
+        for r in 0..rows {
+            let row = u64::from(z) * u64::from(rows) + u64::from(r);
+            let (layer, oz) = if is_3d {
+                (t.layer, t.origin[2] + z)
+            } else {
+                (t.layer + z, t.origin[2])
+            };
+            copy(
+                wgpu::TexelCopyBufferInfo {
+                    buffer: b.buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: b.offset + row * u64::from(pitch),
+                        bytes_per_row: None,
+                        rows_per_image: None,
+                    },
+                },
+                texel(
+                    t.texture,
+                    t.spec,
+                    t.mip,
+                    layer,
+                    [t.origin[0], t.origin[1] + r * bh, oz],
+                ),
+                wgpu::Extent3d {
+                    width: e[0].max(1),
+                    height: bh.min(height.saturating_sub(r * bh)).max(1),
+                    depth_or_array_layers: 1,
+                },
+            );
         }
     }
 }
