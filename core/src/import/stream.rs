@@ -10,8 +10,10 @@ use serde_json::Value;
 use super::calls::Func;
 use super::tree::Tree;
 
-/// Longest line read; a longer one is refused rather than buffered.
-pub const MAX_LINE_BYTES: u64 = 64 << 20;
+/// Longest line read; a longer one is refused rather than buffered. Parsed, a line of numbers
+/// takes about 75 times its size (a JSON value, then a tree node, per number); the longest
+/// line of any bundled stream is 6.6 KB.
+pub const MAX_LINE_BYTES: u64 = 16 << 20;
 
 /// One API call of the stream.
 #[derive(Debug)]
