@@ -783,7 +783,17 @@ fn the_vulkan_section_is_validated() {
     let out = dir.join("cube.json");
     import(&gfxr_fixture("vkcube_f3.gfxr"), &out);
     let good: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    let cases: [Broken; 5] = [
+    let cases: [Broken; 7] = [
+        (
+            "mips",
+            |c| c["vulkan"]["image_views"][0]["base_mip"] = 4_294_967_295u32.into(),
+            "reaches mip levels 4294967295..4294967296 of \"image_24\", which has 1",
+        ),
+        (
+            "layers",
+            |c| c["vulkan"]["image_views"][0]["layers"] = 7.into(),
+            "reaches layers 0..7 of \"image_24\", which has 1",
+        ),
         (
             "entry",
             |c| c["vulkan"]["pipelines"][0]["stages"][1]["entry"] = "mian".into(),

@@ -9,7 +9,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::{JsonPath, Validator};
 use std::sync::Arc;
 
-use crate::capture::format::{PassKind, VkCommandState, VulkanObjects};
+use crate::capture::format::{
+    MipLevels, PassKind, Resource, ResourceKind, VkCommandState, VkImageView, VulkanObjects,
+};
 use crate::capture::model::ResourceId;
 use crate::capture::vk_model::*;
 use crate::files;
@@ -175,10 +177,18 @@ impl Validator<'_> {
             "image view",
         );
         for (i, v) in vk.image_views.iter().enumerate() {
-            if !resources.contains(v.image.as_str()) {
-                let p = root.field("image_views").index(i).field("image");
-                self.diags
-                    .error("vulkan", &p, format!("no resource \"{}\"", v.image));
+            let path = root.field("image_views").index(i);
+            match raw.resources.iter().find(|r| r.name == v.image) {
+                None => self.diags.error(
+                    "vulkan",
+                    &path.field("image"),
+                    format!("no resource \"{}\"", v.image),
+                ),
+                Some(r) => {
+                    if let Some(why) = view_outside(v, r) {
+                        self.diags.error("vulkan", &path, why);
+                    }
+                }
             }
         }
         self.check_descriptors(&resources, &views, &samplers);
@@ -604,6 +614,40 @@ impl Validator<'_> {
 
 /// Push-constant bytes from their hex spelling; `None` for text that is not whole hex bytes
 /// (validation reports it).
+/// Why view `v` reaches past the mip levels or layers of `r`, where the capture states them.
+fn view_outside(v: &VkImageView, r: &Resource) -> Option<String> {
+    let range = |what: &str, base: u32, count: Option<u32>, total: u32| {
+        let end = u64::from(base) + u64::from(count.unwrap_or(1).max(1));
+        (end > u64::from(total)).then(|| {
+            format!(
+                "view \"{}\" reaches {what} {base}..{end} of \"{}\", which has {total}",
+                v.name, r.name
+            )
+        })
+    };
+    let mips = match r.mip_levels {
+        Some(MipLevels::Count(n)) => range("mip levels", v.base_mip, v.mips, n),
+        None => range("mip levels", v.base_mip, v.mips, 1),
+        Some(MipLevels::Chain(_)) => None,
+    };
+    let layers = match r.kind {
+        ResourceKind::Texture3D | ResourceKind::Buffer => None,
+        ResourceKind::TextureCube => range(
+            "layers",
+            v.base_layer,
+            v.layers,
+            r.array_layers.unwrap_or(6),
+        ),
+        _ => range(
+            "layers",
+            v.base_layer,
+            v.layers,
+            r.array_layers.unwrap_or(1),
+        ),
+    };
+    mips.or(layers)
+}
+
 fn hex_bytes(text: &str) -> Option<Vec<u8>> {
     hex::decode(text).ok()
 }
