@@ -783,7 +783,23 @@ fn the_vulkan_section_is_validated() {
     let out = dir.join("cube.json");
     import(&gfxr_fixture("vkcube_f3.gfxr"), &out);
     let good: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    let cases: [Broken; 7] = [
+    let cases: [Broken; 9] = [
+        (
+            "offset",
+            |c| {
+                c["passes"][0]["draws"][0]["vulkan_state"]["descriptors"][0]["offset"] =
+                    u64::MAX.into()
+            },
+            "binds bytes 18446744073709551615..18446744073709551615 of \"buffer_28\", which holds",
+        ),
+        (
+            "set",
+            |c| {
+                c["passes"][0]["draws"][0]["vulkan_state"]["descriptors"][0]["set"] =
+                    4_294_967_295u32.into()
+            },
+            "set 4294967295 is past the 32 sets any device binds",
+        ),
         (
             "mips",
             |c| c["vulkan"]["image_views"][0]["base_mip"] = 4_294_967_295u32.into(),

@@ -10,7 +10,8 @@ use super::{JsonPath, Validator};
 use std::sync::Arc;
 
 use crate::capture::format::{
-    MipLevels, PassKind, Resource, ResourceKind, VkCommandState, VkImageView, VulkanObjects,
+    MipLevels, PassKind, Resource, ResourceKind, VkCommandState, VkDescriptor, VkImageView,
+    VulkanObjects,
 };
 use crate::capture::model::ResourceId;
 use crate::capture::vk_model::*;
@@ -471,6 +472,12 @@ impl Validator<'_> {
         samplers: &BTreeSet<&str>,
     ) {
         let raw = self.raw;
+        let buffer_sizes: BTreeMap<&str, u64> = raw
+            .resources
+            .iter()
+            .filter(|r| r.kind == ResourceKind::Buffer)
+            .filter_map(|r| Some((r.name.as_str(), r.size?)))
+            .collect();
         for (i, pass) in raw.passes.iter().enumerate() {
             let path = self.root.field("passes").index(i);
             let states = pass
@@ -537,6 +544,9 @@ impl Validator<'_> {
                         (d.view.as_deref(), views, "view", "image view"),
                         (d.sampler.as_deref(), samplers, "sampler", "sampler"),
                     ];
+                    if let Some(why) = descriptor_outside(d, &buffer_sizes) {
+                        self.diags.error("vulkan", &dp, why);
+                    }
                     for (name, known, field, kind) in checks {
                         if let Some(n) = name
                             && !known.contains(n)
@@ -614,6 +624,32 @@ impl Validator<'_> {
 
 /// Push-constant bytes from their hex spelling; `None` for text that is not whole hex bytes
 /// (validation reports it).
+/// No device binds more descriptor sets than this (`maxBoundDescriptorSets` is 4-32).
+const MAX_SETS: u32 = 32;
+
+/// Why descriptor `d` cannot be: a set no device binds, or bytes past its buffer's end
+/// (`range` may be `VK_WHOLE_SIZE`, `u64::MAX`: the rest of the buffer).
+fn descriptor_outside(d: &VkDescriptor, buffer_sizes: &BTreeMap<&str, u64>) -> Option<String> {
+    if d.set >= MAX_SETS {
+        return Some(format!(
+            "set {} is past the {MAX_SETS} sets any device binds",
+            d.set
+        ));
+    }
+    let size = *buffer_sizes.get(d.resource.as_deref()?)?;
+    let offset = d.offset.unwrap_or(0);
+    let end = match d.range {
+        Some(u64::MAX) | None => offset,
+        Some(r) => offset.saturating_add(r),
+    };
+    (offset > size || end > size).then(|| {
+        format!(
+            "binds bytes {offset}..{end} of \"{}\", which holds {size}",
+            d.resource.as_deref().unwrap_or_default()
+        )
+    })
+}
+
 /// Why view `v` reaches past the mip levels or layers of `r`, where the capture states them.
 fn view_outside(v: &VkImageView, r: &Resource) -> Option<String> {
     let range = |what: &str, base: u32, count: Option<u32>, total: u32| {
