@@ -394,65 +394,56 @@ impl Session {
                     extent(c.extent),
                 );
             }
-            (
-                CopyEnd::Buffer {
-                    buffer,
-                    offset,
-                    bytes_per_row,
-                },
-                CopyEnd::Texture {
-                    texture,
-                    mip,
-                    layer,
-                    origin,
-                },
-            ) => buffer_texture_copy(
-                encoder,
-                true,
-                BufferSide {
-                    buffer: buf(*buffer),
-                    offset: *offset,
-                    bytes_per_row: *bytes_per_row,
-                },
-                TextureSide {
-                    texture: tex(*texture),
-                    spec: &self.plan.textures[*texture],
-                    mip: *mip,
-                    layer: *layer,
-                    origin: *origin,
-                },
-                c.extent,
-            ),
-            (
-                CopyEnd::Texture {
-                    texture,
-                    mip,
-                    layer,
-                    origin,
-                },
-                CopyEnd::Buffer {
-                    buffer,
-                    offset,
-                    bytes_per_row,
-                },
-            ) => buffer_texture_copy(
-                encoder,
-                false,
-                BufferSide {
-                    buffer: buf(*buffer),
-                    offset: *offset,
-                    bytes_per_row: *bytes_per_row,
-                },
-                TextureSide {
-                    texture: tex(*texture),
-                    spec: &self.plan.textures[*texture],
-                    mip: *mip,
-                    layer: *layer,
-                    origin: *origin,
-                },
-                c.extent,
-            ),
+            (CopyEnd::Buffer { .. }, CopyEnd::Texture { .. }) => {
+                if let Some((b, t)) = self.copy_sides(&c.src, &c.dst, parity) {
+                    buffer_texture_copy(encoder, true, b, t, c.extent);
+                }
+            }
+            (CopyEnd::Texture { .. }, CopyEnd::Buffer { .. }) => {
+                if let Some((b, t)) = self.copy_sides(&c.dst, &c.src, parity) {
+                    buffer_texture_copy(encoder, false, b, t, c.extent);
+                }
+            }
         }
+    }
+
+    /// The two ends of a buffer-texture copy, whichever way it goes.
+    fn copy_sides(
+        &self,
+        buffer_end: &CopyEnd,
+        texture_end: &CopyEnd,
+        parity: usize,
+    ) -> Option<(BufferSide<'_>, TextureSide<'_>)> {
+        let (
+            CopyEnd::Buffer {
+                buffer,
+                offset,
+                bytes_per_row,
+            },
+            CopyEnd::Texture {
+                texture,
+                mip,
+                layer,
+                origin,
+            },
+        ) = (buffer_end, texture_end)
+        else {
+            return None;
+        };
+        Some((
+            BufferSide {
+                buffer: self.buf_at(*buffer, parity),
+                offset: *offset,
+                bytes_per_row: *bytes_per_row,
+            },
+            TextureSide {
+                texture: self.tex_at(*texture, parity),
+                spec: &self.plan.textures[*texture],
+                mip: *mip,
+                layer: *layer,
+                origin: *origin,
+            },
+        ))
     }
 
     fn encode_resolve(
