@@ -108,6 +108,70 @@ fn reject(line: &[u8]) -> Option<serde_json::Value> {
     None
 }
 
+/// What becomes of a well-formed message.
+#[derive(Debug, PartialEq)]
+enum Gate {
+    Forward,
+    Reply(serde_json::Value),
+    Drop,
+}
+
+/// Holds the session to its protocol before the engine sees a message: until `initialize`
+/// (which the engine must see first, or it stops the session), a request is answered
+/// "not initialized" (a `ping` is answered, as the protocol allows), and a notification or
+/// a response is dropped; afterwards, a `tools/call` whose params are not a tool name with
+/// object arguments gets the invalid-params error instead of the engine's "method not found".
+fn gate(line: &[u8], initialized: &mut bool) -> Gate {
+    let Ok(value) = serde_json::from_slice::<serde_json::Value>(line) else {
+        return Gate::Forward;
+    };
+    let method = value.get("method").and_then(serde_json::Value::as_str);
+    let id = value.get("id").cloned();
+    let reply = |id: serde_json::Value, code: i64, message: &str| {
+        Gate::Reply(serde_json::json!({
+            "jsonrpc": "2.0",
+            "id": id,
+            "error": {"code": code, "message": message},
+        }))
+    };
+    if !*initialized {
+        return match (method, id) {
+            (Some("initialize"), Some(_)) => {
+                *initialized = true;
+                Gate::Forward
+            }
+            (Some("ping"), Some(id)) => Gate::Reply(serde_json::json!({
+                "jsonrpc": "2.0",
+                "id": id,
+                "result": {},
+            })),
+            (Some(_), Some(id)) => reply(
+                id,
+                -32002,
+                "the session is not initialized: send \"initialize\" first",
+            ),
+            _ => Gate::Drop,
+        };
+    }
+    if method == Some("tools/call")
+        && let Some(id) = id
+    {
+        let params = value.get("params");
+        let named = params
+            .and_then(|p| p.get("name"))
+            .is_some_and(serde_json::Value::is_string);
+        let arguments = params.and_then(|p| p.get("arguments"));
+        if !named || arguments.is_some_and(|a| !a.is_object() && !a.is_null()) {
+            return reply(
+                id,
+                -32602,
+                "invalid params: tools/call takes {\"name\": a tool's name, \"arguments\": an object}",
+            );
+        }
+    }
+    Gate::Forward
+}
+
 /// Copies the client's lines to `engine`, answering bad ones through `out`; ends (closing
 /// the engine's input) when the client closes its end.
 pub async fn read_client(
@@ -115,6 +179,7 @@ pub async fn read_client(
     mut engine: DuplexStream,
     out: mpsc::Sender<Vec<u8>>,
 ) -> std::io::Result<()> {
+    let mut initialized = false;
     while let Some(line) = next_line(&mut input).await? {
         let problem = match &line {
             Line::TooLong(n) => Some(serde_json::json!({
@@ -126,19 +191,23 @@ pub async fn read_client(
             })),
             Line::Text(text) => reject(text),
         };
-        match (problem, line) {
-            (Some(error), _) => {
+        let gated = match (&problem, &line) {
+            (None, Line::Text(text)) => gate(text, &mut initialized),
+            _ => Gate::Forward,
+        };
+        match (problem, gated, line) {
+            (Some(error), _, _) | (None, Gate::Reply(error), _) => {
                 let mut text = error.to_string().into_bytes();
                 text.push(b'\n');
                 if out.send(text).await.is_err() {
                     break;
                 }
             }
-            (None, Line::Text(mut text)) => {
+            (None, Gate::Forward, Line::Text(mut text)) => {
                 text.push(b'\n');
                 engine.write_all(&text).await?;
             }
-            (None, Line::TooLong(_)) => {}
+            (None, Gate::Forward | Gate::Drop, _) => {}
         }
     }
     engine.shutdown().await
@@ -173,6 +242,50 @@ pub async fn write_lines(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn nothing_reaches_the_engine_before_initialize_and_tool_calls_are_shaped() {
+        let mut started = false;
+        let mut at = |line: &str| gate(line.as_bytes(), &mut started);
+        let code = |g: Gate| match g {
+            Gate::Reply(v) => v["error"]["code"].as_i64(),
+            _ => None,
+        };
+        assert_eq!(
+            code(at(r#"{"jsonrpc":"2.0","id":1,"method":"tools/list"}"#)),
+            Some(-32002)
+        );
+        assert_eq!(
+            at(r#"{"jsonrpc":"2.0","method":"notifications/initialized"}"#),
+            Gate::Drop
+        );
+        assert_eq!(at(r#"{"jsonrpc":"2.0","id":5,"result":{}}"#), Gate::Drop);
+        assert_eq!(
+            at(r#"{"jsonrpc":"2.0","id":2,"method":"ping"}"#),
+            Gate::Reply(serde_json::json!({"jsonrpc": "2.0", "id": 2, "result": {}}))
+        );
+        assert_eq!(
+            at(r#"{"jsonrpc":"2.0","id":3,"method":"initialize","params":{}}"#),
+            Gate::Forward
+        );
+        assert_eq!(
+            at(r#"{"jsonrpc":"2.0","method":"notifications/initialized"}"#),
+            Gate::Forward
+        );
+        for bad in [
+            r#"{"jsonrpc":"2.0","id":4,"method":"tools/call"}"#,
+            r#"{"jsonrpc":"2.0","id":4,"method":"tools/call","params":{"name":"info","arguments":"str"}}"#,
+            r#"{"jsonrpc":"2.0","id":4,"method":"tools/call","params":{"arguments":{}}}"#,
+        ] {
+            assert_eq!(code(at(bad)), Some(-32602), "{bad}");
+        }
+        assert_eq!(
+            at(
+                r#"{"jsonrpc":"2.0","id":4,"method":"tools/call","params":{"name":"info","arguments":{}}}"#
+            ),
+            Gate::Forward
+        );
+    }
 
     #[test]
     fn bad_lines_get_the_errors_json_rpc_names() {
