@@ -30,13 +30,10 @@ pub enum StageError {
     /// Reading, parsing or validating the capture (`Loaded::read`, `Loaded::validate`).
     #[error(transparent)]
     Capture(#[from] CaptureError),
-    /// The pass graph has a cycle (`Validated::analyse`).
-    #[error("{}: {source}", path.display())]
-    Cycle {
-        path: PathBuf,
-        #[source]
-        source: CycleError,
-    },
+    /// The pass graph has a cycle (`Validated::analyse`). The message is the cycle's own,
+    /// so it is not also given as a source (a chain of causes would print it twice).
+    #[error("{}: {cycle}", path.display())]
+    Cycle { path: PathBuf, cycle: CycleError },
     /// The capture cannot be replayed at all (an import without shaders or contents).
     #[error("{why}")]
     NotReplayable { path: PathBuf, why: String },
@@ -159,10 +156,10 @@ impl Validated {
     /// The analysis `analyse` derives, leaving this stage as it is (to analyse it again, with
     /// other options or in a benchmark).
     pub fn analysis(&self, options: AnalyzeOptions) -> Result<Analysis, StageError> {
-        crate::analysis::report::analyze(&self.capture, options).map_err(|source| {
+        crate::analysis::report::analyze(&self.capture, options).map_err(|cycle| {
             StageError::Cycle {
                 path: self.path.clone(),
-                source,
+                cycle,
             }
         })
     }

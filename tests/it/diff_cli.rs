@@ -258,4 +258,14 @@ fn structure_diff_refuses_timing_reports() {
     );
     let both = framelab(&["diff", "--structure", EXAMPLE, SYNC, "--plot", "x.svg"]);
     assert_eq!(both.status.code(), Some(2));
+    // A capture whose pass graph has a cycle is named once, with the cycle.
+    let cycle = "tests/fixtures/cycle.json";
+    let out = framelab(&["diff", "--structure", cycle, cycle]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        stderr(&out).matches("the pass graph has a cycle").count(),
+        1,
+        "{}",
+        stderr(&out)
+    );
 }
