@@ -42,7 +42,7 @@ fn refused(path: &Path, message: impl Into<String>) -> WriteError {
 
 /// A character device (`/dev/null`, a terminal) is written in place: there is nothing to
 /// replace atomically, and renaming over it would put a file where the device was.
-pub fn is_char_device(meta: &std::fs::Metadata) -> bool {
+fn is_char_device(meta: &std::fs::Metadata) -> bool {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt;
@@ -55,18 +55,35 @@ pub fn is_char_device(meta: &std::fs::Metadata) -> bool {
     }
 }
 
-/// Where writing `path` lands: `path` itself, or the file its symbolic links lead to. An error
-/// names `path` when something other than a regular file is there, or the links loop.
-pub fn destination(path: &Path) -> Result<PathBuf, WriteError> {
+/// Where writing a path lands.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Destination {
+    /// The path itself, or the file its symbolic links lead to (which need not exist yet).
+    pub path: PathBuf,
+    /// A character device, written in place.
+    pub device: bool,
+}
+
+/// Where writing `path` lands. An error names `path` when something other than a regular
+/// file or a character device is there, or the links loop.
+pub fn destination(path: &Path) -> Result<Destination, WriteError> {
     let mut at = path.to_path_buf();
     for _ in 0..MAX_LINKS {
         let meta = match std::fs::symlink_metadata(&at) {
             Ok(meta) => meta,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(at),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                return Ok(Destination {
+                    path: at,
+                    device: false,
+                });
+            }
             Err(e) => return Err(refused(path, e.to_string())),
         };
         if meta.is_file() || is_char_device(&meta) {
-            return Ok(at);
+            return Ok(Destination {
+                path: at,
+                device: !meta.is_file(),
+            });
         }
         if !meta.file_type().is_symlink() {
             return Err(refused(
@@ -97,8 +114,11 @@ pub fn write_with<E: std::fmt::Display>(
     path: &Path,
     write: impl FnOnce(&Path) -> Result<(), E>,
 ) -> Result<(), WriteError> {
-    let target = destination(path)?;
-    if std::fs::metadata(&target).is_ok_and(|m| is_char_device(&m)) {
+    let Destination {
+        path: target,
+        device,
+    } = destination(path)?;
+    if device {
         return write(&target).map_err(|e| refused(path, e.to_string()));
     }
     let tmp = temporary(&target);
@@ -135,10 +155,27 @@ pub fn write(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
 mod tests {
     use super::*;
 
+    /// A scratch folder of this test process, removed when the test ends, passed or not.
+    struct Scratch(PathBuf);
+
+    impl Scratch {
+        fn new(name: &str) -> Scratch {
+            let dir = std::env::temp_dir().join(format!("framelab-{name}-{}", std::process::id()));
+            std::fs::create_dir_all(&dir).unwrap();
+            Scratch(dir)
+        }
+    }
+
+    impl Drop for Scratch {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+
     #[test]
     fn a_failed_write_leaves_neither_file_nor_temporary() {
-        let dir = std::env::temp_dir().join(format!("framelab-atomic-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let scratch = Scratch::new("atomic");
+        let dir = &scratch.0;
         let path = dir.join("out.bin");
         std::fs::write(&path, b"old").unwrap();
         let err = write_with(&path, |tmp| {
@@ -148,16 +185,16 @@ mod tests {
         .unwrap_err();
         assert!(err.to_string().contains("disk full"), "{err}");
         assert_eq!(std::fs::read(&path).unwrap(), b"old");
-        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+        assert_eq!(std::fs::read_dir(dir).unwrap().count(), 1);
         write(&path, b"new").unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"new");
-        std::fs::remove_dir_all(dir).unwrap();
     }
 
     #[cfg(unix)]
     #[test]
     fn a_link_is_written_through_a_device_in_place_and_a_pipe_or_folder_is_refused() {
-        let dir = std::env::temp_dir().join(format!("framelab-atomic-dest-{}", std::process::id()));
+        let scratch = Scratch::new("atomic-dest");
+        let dir = &scratch.0;
         std::fs::create_dir_all(dir.join("real")).unwrap();
         std::fs::write(dir.join("real/target.json"), b"old").unwrap();
         std::os::unix::fs::symlink("real/target.json", dir.join("link.json")).unwrap();
@@ -177,6 +214,7 @@ mod tests {
         let e = write(&dir.join("loop.json"), b"x").unwrap_err();
         assert!(e.message.contains("symbolic links"), "{e}");
         write(Path::new("/dev/null"), b"gone").unwrap();
+        assert!(destination(Path::new("/dev/null")).unwrap().device);
         assert!(is_char_device(&std::fs::metadata("/dev/null").unwrap()));
         let e = write(&dir.join("real"), b"x").unwrap_err();
         assert!(e.to_string().contains("it is a directory"), "{e}");
@@ -192,6 +230,5 @@ mod tests {
                 .file_type()
                 .is_fifo()
         );
-        std::fs::remove_dir_all(dir).unwrap();
     }
 }

@@ -19,20 +19,31 @@ pub enum OutputError {
     IsInput { output: String },
 }
 
-/// Checks, before any work, that each output can be written (nothing but a regular file or a
-/// link to one is there) and is none of the command's inputs, which writing it would destroy.
+/// Checks, before any work, that `output` can be written (a regular file, a link to one or a
+/// device, or nothing yet) and is none of the command's inputs, which writing it would
+/// destroy; where it lands.
+pub fn check_output(
+    output: &Path,
+    inputs: &[&Path],
+) -> Result<crate::atomic::Destination, OutputError> {
+    let at = crate::atomic::destination(output)?;
+    let same = |input: &&Path| {
+        input
+            .canonicalize()
+            .is_ok_and(|i| at.path.canonicalize().is_ok_and(|o| o == i))
+    };
+    if inputs.iter().any(same) {
+        return Err(OutputError::IsInput {
+            output: output.display().to_string(),
+        });
+    }
+    Ok(at)
+}
+
+/// `check_output` for each of a command's outputs.
 pub fn check_outputs(outputs: &[&Path], inputs: &[&Path]) -> Result<(), OutputError> {
-    let inputs: Vec<_> = inputs
-        .iter()
-        .filter_map(|p| p.canonicalize().ok())
-        .collect();
-    for out in outputs {
-        let at = crate::atomic::destination(out)?;
-        if at.canonicalize().is_ok_and(|c| inputs.contains(&c)) {
-            return Err(OutputError::IsInput {
-                output: out.display().to_string(),
-            });
-        }
+    for output in outputs {
+        check_output(output, inputs)?;
     }
     Ok(())
 }

@@ -201,7 +201,7 @@ fn work(args: &DiffArgs) -> anyhow::Result<bool> {
 
 pub fn run(args: &DiffArgs) -> ExitCode {
     if let Some(plot) = &args.plot
-        && let Err(e) = framelab_core::output::check_outputs(&[plot], &[&args.a, &args.b])
+        && let Err(e) = framelab_core::output::check_output(plot, &[&args.a, &args.b])
     {
         let _ = writeln!(std::io::stderr(), "error: {e}");
         return ExitCode::from(2);

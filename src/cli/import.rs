@@ -42,8 +42,8 @@ pub fn run(
     json: bool,
 ) -> anyhow::Result<ExitCode> {
     // Side files go beside the file the capture lands in, where its relative paths lead.
-    framelab_core::output::check_outputs(&[out], &[input])?;
-    let out = &framelab_core::atomic::destination(out)?;
+    let at = framelab_core::output::check_output(out, &[input])?;
+    let out = &at.path;
     // Read line by line, so no size limit; but only a regular file (a named pipe would block,
     // a device never end).
     let file = files::open(input).map_err(|e| match e {
@@ -86,7 +86,7 @@ pub fn run(
     if imported.side_files.is_empty() {
         check(&imported.capture, out, out, &name)?;
         framelab_core::output::write_atomically(out, text.as_bytes())?;
-    } else if std::fs::metadata(out).is_ok_and(|m| framelab_core::atomic::is_char_device(&m)) {
+    } else if at.device {
         anyhow::bail!(
             "{} is a device, and the capture imported from {name} has side files to go beside it; choose a file",
             out.display()
@@ -208,17 +208,11 @@ fn replaceable(folder: &Path) -> anyhow::Result<()> {
     }
     foreign.sort();
     anyhow::bail!(
-        "{} holds {} entr{} an import does not write ({}{}); an import replaces the whole folder, so choose another -o or move them",
+        "{} holds {} entr{} an import does not write ({}); an import replaces the whole folder, so choose another -o or move them",
         folder.display(),
         foreign.len(),
         if foreign.len() == 1 { "y" } else { "ies" },
-        foreign
-            .iter()
-            .take(5)
-            .cloned()
-            .collect::<Vec<_>>()
-            .join(", "),
-        if foreign.len() > 5 { ", ..." } else { "" }
+        super::first_few(&foreign),
     )
 }
 

@@ -382,13 +382,11 @@ fn check_out(out: &Path) -> anyhow::Result<()> {
     };
     let foreign: Vec<&String> = entries.iter().filter(|e| !listed.contains(*e)).collect();
     if !foreign.is_empty() {
-        let shown: Vec<&str> = foreign.iter().take(5).map(|s| s.as_str()).collect();
         bail!(
-            "{} holds {} file(s) the earlier export did not write ({}{}); framelab replaces the whole folder, so choose another --out or move them",
+            "{} holds {} file(s) the earlier export did not write ({}); framelab replaces the whole folder, so choose another --out or move them",
             out.display(),
             foreign.len(),
-            shown.join(", "),
-            if foreign.len() > 5 { ", ..." } else { "" }
+            super::first_few(&foreign),
         );
     }
     Ok(())

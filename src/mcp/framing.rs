@@ -54,17 +54,22 @@ async fn next_line(input: &mut (impl AsyncBufRead + Unpin)) -> std::io::Result<O
     }
 }
 
-/// The JSON-RPC error for a line that cannot be handed to the engine, if any.
-fn reject(line: &[u8]) -> Option<serde_json::Value> {
-    let error = |id: serde_json::Value, code: i64, message: String| {
-        Some(serde_json::json!({
-            "jsonrpc": "2.0",
-            "id": id,
-            "error": {"code": code, "message": message},
-        }))
-    };
+/// A JSON-RPC error answering the message `id`.
+fn error_reply(id: serde_json::Value, code: i64, message: impl Into<String>) -> serde_json::Value {
+    serde_json::json!({
+        "jsonrpc": "2.0",
+        "id": id,
+        "error": {"code": code, "message": message.into()},
+    })
+}
+
+/// A line as a JSON-RPC message (`None` for a blank line), or, for a line that cannot be handed
+/// to the engine, the JSON-RPC error that answers it.
+fn parse(line: &[u8]) -> Result<Option<serde_json::Value>, serde_json::Value> {
+    let error =
+        |id: serde_json::Value, code: i64, message: String| Err(error_reply(id, code, message));
     if line.iter().all(u8::is_ascii_whitespace) {
-        return None;
+        return Ok(None);
     }
     let value: serde_json::Value = match serde_json::from_slice(line) {
         Ok(v) => v,
@@ -105,10 +110,10 @@ fn reject(line: &[u8]) -> Option<serde_json::Value> {
             "invalid request: \"id\" must be a string or an integer".to_owned(),
         );
     }
-    None
+    Ok(Some(value))
 }
 
-/// What becomes of a well-formed message.
+/// What becomes of a line.
 #[derive(Debug, PartialEq)]
 enum Gate {
     Forward,
@@ -121,19 +126,10 @@ enum Gate {
 /// "not initialized" (a `ping` is answered, as the protocol allows), and a notification or
 /// a response is dropped; afterwards, a `tools/call` whose params are not a tool name with
 /// object arguments gets the invalid-params error instead of the engine's "method not found".
-fn gate(line: &[u8], initialized: &mut bool) -> Gate {
-    let Ok(value) = serde_json::from_slice::<serde_json::Value>(line) else {
-        return Gate::Forward;
-    };
+fn gate(value: &serde_json::Value, initialized: &mut bool) -> Gate {
     let method = value.get("method").and_then(serde_json::Value::as_str);
     let id = value.get("id").cloned();
-    let reply = |id: serde_json::Value, code: i64, message: &str| {
-        Gate::Reply(serde_json::json!({
-            "jsonrpc": "2.0",
-            "id": id,
-            "error": {"code": code, "message": message},
-        }))
-    };
+    let reply = |id, code, message: &str| Gate::Reply(error_reply(id, code, message));
     if !*initialized {
         return match (method, id) {
             (Some("initialize"), Some(_)) => {
@@ -181,33 +177,33 @@ pub async fn read_client(
 ) -> std::io::Result<()> {
     let mut initialized = false;
     while let Some(line) = next_line(&mut input).await? {
-        let problem = match &line {
-            Line::TooLong(n) => Some(serde_json::json!({
-                "jsonrpc": "2.0",
-                "id": null,
-                "error": {"code": -32600, "message": format!(
+        let gated = match &line {
+            Line::TooLong(n) => Gate::Reply(error_reply(
+                serde_json::Value::Null,
+                -32600,
+                format!(
                     "invalid request: a message of {n} bytes is over the {MAX_LINE}-byte limit"
-                )},
-            })),
-            Line::Text(text) => reject(text),
+                ),
+            )),
+            Line::Text(text) => match parse(text) {
+                Ok(Some(message)) => gate(&message, &mut initialized),
+                Ok(None) => Gate::Forward,
+                Err(error) => Gate::Reply(error),
+            },
         };
-        let gated = match (&problem, &line) {
-            (None, Line::Text(text)) => gate(text, &mut initialized),
-            _ => Gate::Forward,
-        };
-        match (problem, gated, line) {
-            (Some(error), _, _) | (None, Gate::Reply(error), _) => {
+        match (gated, line) {
+            (Gate::Reply(error), _) => {
                 let mut text = error.to_string().into_bytes();
                 text.push(b'\n');
                 if out.send(text).await.is_err() {
                     break;
                 }
             }
-            (None, Gate::Forward, Line::Text(mut text)) => {
+            (Gate::Forward, Line::Text(mut text)) => {
                 text.push(b'\n');
                 engine.write_all(&text).await?;
             }
-            (None, Gate::Forward | Gate::Drop, _) => {}
+            (Gate::Forward | Gate::Drop, _) => {}
         }
     }
     engine.shutdown().await
@@ -246,7 +242,7 @@ mod tests {
     #[test]
     fn nothing_reaches_the_engine_before_initialize_and_tool_calls_are_shaped() {
         let mut started = false;
-        let mut at = |line: &str| gate(line.as_bytes(), &mut started);
+        let mut at = |line: &str| gate(&serde_json::from_str(line).unwrap(), &mut started);
         let code = |g: Gate| match g {
             Gate::Reply(v) => v["error"]["code"].as_i64(),
             _ => None,
@@ -289,7 +285,11 @@ mod tests {
 
     #[test]
     fn bad_lines_get_the_errors_json_rpc_names() {
-        let code = |line: &str| reject(line.as_bytes()).map(|e| e["error"]["code"].clone());
+        let code = |line: &str| {
+            parse(line.as_bytes())
+                .err()
+                .map(|e| e["error"]["code"].clone())
+        };
         assert_eq!(code("this is not json"), Some((-32700).into()));
         assert_eq!(code("[1, 2]"), Some((-32600).into()));
         assert_eq!(
@@ -307,7 +307,9 @@ mod tests {
         );
         assert_eq!(code("   "), None);
         // The id of a request that is otherwise wrong is kept, so the client can match it.
-        let e = reject(br#"{"jsonrpc":"2.0","id":7}"#).unwrap_or_default();
+        let e = parse(br#"{"jsonrpc":"2.0","id":7}"#)
+            .err()
+            .unwrap_or_default();
         assert_eq!(e["id"], 7);
     }
 

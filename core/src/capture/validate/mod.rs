@@ -91,7 +91,7 @@ pub fn validate(
 ) -> Result<Validated, CaptureError> {
     // Side files lie beside the capture file itself, which a link may lead elsewhere (where an
     // import through the link put them).
-    let real = crate::atomic::destination(path).unwrap_or_else(|_| path.to_path_buf());
+    let real = crate::atomic::destination(path).map_or_else(|_| path.to_path_buf(), |d| d.path);
     let base_dir = real.parent().map(Path::to_path_buf).unwrap_or_default();
     let base_dir = if base_dir.as_os_str().is_empty() {
         PathBuf::from(".")

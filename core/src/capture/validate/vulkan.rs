@@ -179,7 +179,11 @@ impl Validator<'_> {
         );
         for (i, v) in vk.image_views.iter().enumerate() {
             let path = root.field("image_views").index(i);
-            match raw.resources.iter().find(|r| r.name == v.image) {
+            match self
+                .resources
+                .get(&v.image)
+                .map(|r| &raw.resources[r as usize])
+            {
                 None => self.diags.error(
                     "vulkan",
                     &path.field("image"),

@@ -17,7 +17,7 @@ const COMPRESSED_BIT: u32 = 0x8000_0000;
 /// Most bytes a call's compressed parameters may claim: the largest any Vulkan call carries
 /// (shader code, pipeline cache data) are megabytes, and a few bytes of zstd may claim
 /// gigabytes. Contents (meta-data commands) are held to the objects they fill instead.
-pub const MAX_CALL_BYTES: u64 = 256 << 20;
+const MAX_CALL_BYTES: u64 = 256 << 20;
 
 /// Where something went wrong: the block's number (0-based, counted as `gfxrecon-convert`
 /// counts its `index`, so the two can be set side by side) and the byte offset of its header

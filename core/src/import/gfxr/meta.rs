@@ -26,6 +26,17 @@ pub enum Fills {
     },
 }
 
+impl Fills {
+    /// The bytes the payload says it decompresses to.
+    pub fn size(self) -> u64 {
+        match self {
+            Fills::Memory { size, .. } | Fills::Buffer { size, .. } | Fills::Image { size, .. } => {
+                size
+            }
+        }
+    }
+}
+
 /// The importer's answer to a `Fills`: why the payload cannot be, if it cannot.
 pub type Room<'a> = &'a dyn Fn(Fills) -> Result<(), String>;
 
@@ -142,11 +153,7 @@ impl Fields<'_> {
         fills: Fills,
         room: Room<'_>,
     ) -> Result<Vec<u8>, String> {
-        let size = match fills {
-            Fills::Memory { size, .. } | Fills::Buffer { size, .. } | Fills::Image { size, .. } => {
-                size
-            }
-        };
+        let size = fills.size();
         let rest = &self.body[self.pos..];
         if block.compressed {
             room(fills)?;

@@ -89,49 +89,56 @@ impl Reading {
 }
 
 /// Whether the capture made room for a compressed payload before it is decompressed: memory
-/// is filled within its allocation, and a resource's contents fit in the device memory the
-/// capture has allocated, so a small block cannot claim gigabytes nothing backs.
+/// is filled within its allocation, and a resource's contents fit in the memory bound to it
+/// (or, not bound yet, in all the memory allocated), so a small block cannot claim gigabytes
+/// nothing backs.
 fn room(objects: &Objects, fills: Fills) -> Result<(), String> {
-    let allocated = || objects.memories.values().map(|m| m.size).sum::<u64>();
-    let (what, size, known) = match fills {
-        Fills::Memory {
-            memory,
-            offset,
-            size,
-        } => {
+    let (what, bound) = match fills {
+        Fills::Memory { memory, offset, .. } => {
             let Some(m) = objects.memories.get(&memory) else {
                 return Err(format!(
-                    "fills {size} bytes of memory {memory:#x}, which the capture never allocated"
+                    "fills {} bytes of memory {memory:#x}, which the capture never allocated",
+                    fills.size()
                 ));
             };
-            if offset.checked_add(size).is_none_or(|end| end > m.size) {
+            if offset
+                .checked_add(fills.size())
+                .is_none_or(|end| end > m.size)
+            {
                 return Err(format!(
-                    "fills {size} bytes at offset {offset} of memory {memory:#x}, which holds {} bytes",
+                    "fills {} bytes at offset {offset} of memory {memory:#x}, which holds {} bytes",
+                    fills.size(),
                     m.size
                 ));
             }
             return Ok(());
         }
-        Fills::Buffer { buffer, size } => (
+        Fills::Buffer { buffer, .. } => (
             format!("buffer {buffer:#x}"),
-            size,
-            objects.buffers.contains_key(&buffer),
+            objects.buffers.get(&buffer).map(|b| b.bound),
         ),
-        Fills::Image { image, size } => (
+        Fills::Image { image, .. } => (
             format!("image {image:#x}"),
-            size,
-            objects.images.contains_key(&image),
+            objects.images.get(&image).map(|i| i.bound),
         ),
     };
-    if !known {
+    let size = fills.size();
+    let Some(bound) = bound else {
         return Err(format!(
             "holds {size} bytes of contents for {what}, which the capture never created"
         ));
-    }
-    let all = allocated();
-    if size > all {
+    };
+    let (holds, there) =
+        match bound.and_then(|(m, at)| Some(objects.memories.get(&m)?.size.saturating_sub(at))) {
+            Some(n) => (n, "the memory bound to it"),
+            None => (
+                objects.memories.values().map(|m| m.size).sum(),
+                "all the device memory the capture allocated",
+            ),
+        };
+    if size > holds {
         return Err(format!(
-            "holds {size} bytes of contents for {what}, more than the {all} bytes of device memory the capture allocated"
+            "holds {size} bytes of contents for {what}, more than the {holds} bytes of {there}"
         ));
     }
     Ok(())
@@ -424,4 +431,60 @@ pub fn decode_only(reader: impl Read, len: Option<u64>) -> Result<u64, ImportErr
         }
     }
     Ok(decoded)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::import::state::{BufferInfo, MemoryInfo};
+
+    #[test]
+    fn a_payload_fits_what_holds_it_or_is_refused_before_it_is_decompressed() {
+        let mut objects = Objects::default();
+        objects.memories.insert(
+            1,
+            MemoryInfo {
+                size: 4096,
+                type_index: 0,
+            },
+        );
+        let buffer = |bound| BufferInfo {
+            created_at: 0,
+            destroyed_at: None,
+            size: 1024,
+            usage: 0,
+            bound,
+            alignment: None,
+        };
+        objects.buffers.insert(2, buffer(Some((1, 1024))));
+        objects.buffers.insert(3, buffer(None));
+        let fill = |offset, size| Fills::Memory {
+            memory: 1,
+            offset,
+            size,
+        };
+        assert!(room(&objects, fill(0, 4096)).is_ok());
+        let e = room(&objects, fill(4000, 100)).unwrap_err();
+        assert!(
+            e.contains("at offset 4000 of memory 0x1, which holds 4096"),
+            "{e}"
+        );
+        assert!(room(&objects, fill(u64::MAX, 2)).is_err());
+        let into = |buffer, size| room(&objects, Fills::Buffer { buffer, size });
+        // Bound at 1024: 3072 bytes of memory are its to fill.
+        assert!(into(2, 3072).is_ok());
+        let e = into(2, 3073).unwrap_err();
+        assert!(
+            e.contains("more than the 3072 bytes of the memory bound to it"),
+            "{e}"
+        );
+        // Not bound yet: all the memory allocated.
+        let e = into(3, 1 << 30).unwrap_err();
+        assert!(e.contains("4096 bytes of all the device memory"), "{e}");
+        let e = into(9, 1).unwrap_err();
+        assert!(
+            e.contains("buffer 0x9, which the capture never created"),
+            "{e}"
+        );
+    }
 }
