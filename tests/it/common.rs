@@ -120,9 +120,12 @@ pub fn assert_clean_under_validation_layer(dir: &std::path::Path, args: &[&str])
     assert!(messages.is_empty(), "{args:?}:\n{messages}");
 }
 
-/// Replays one frame of a real capture into `out`, which must succeed and name the path its
-/// shaders took; the export manifest.
-pub fn replay_one_frame(capture: &std::path::Path, out: &std::path::Path) -> serde_json::Value {
+/// Replays one frame of `capture` into `out`, which must succeed: the export manifest and
+/// what the replay said on stderr.
+pub fn replay_export(
+    capture: &std::path::Path,
+    out: &std::path::Path,
+) -> (serde_json::Value, String) {
     let run = framelab(&[
         "replay",
         capture.to_str().unwrap(),
@@ -132,13 +135,26 @@ pub fn replay_one_frame(capture: &std::path::Path, out: &std::path::Path) -> ser
         out.to_str().unwrap(),
     ]);
     assert!(run.status.success(), "{}", stderr(&run));
-    let notes = stderr(&run);
+    let manifest =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    (manifest, stderr(&run))
+}
+
+/// Replays one frame of a real capture into `out`, which must succeed and name the path its
+/// shaders took; the export manifest.
+pub fn replay_one_frame(capture: &std::path::Path, out: &std::path::Path) -> serde_json::Value {
+    let (manifest, notes) = replay_export(capture, out);
     assert!(
         notes.contains(" path"),
         "{}: the replay names no shader path:\n{notes}",
         capture.display()
     );
-    serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap()
+    manifest
+}
+
+/// Whether `path` is a symbolic link (not what it leads to).
+pub fn is_symlink(path: &std::path::Path) -> bool {
+    std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
 }
 
 /// Replays one frame of `capture` into `out` and returns the image the frame presented (the

@@ -208,18 +208,7 @@ fn rows_closer_than_wgpu_takes_are_copied_row_by_row() {
     );
     let imported = crate::common::replay_one_frame(&capture, &dir.join("imported"));
     let source = crate::common::repo().join("tests/fixtures/gfxr/sources/write_after_read.json");
-    let out = dir.join("source");
-    let run = framelab(&[
-        "replay",
-        source.to_str().unwrap(),
-        "--frames",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let original: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let (original, _) = crate::common::replay_export(&source, &dir.join("source"));
     let images = |m: &serde_json::Value, at: &Path| -> Vec<image::DynamicImage> {
         m["files"]
             .as_array()
