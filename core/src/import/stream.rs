@@ -3,15 +3,17 @@
 //! `{"index", "function": {...}}` with `meta`, `state` and `frame` marker lines besides.
 
 use std::borrow::Cow;
+use std::fmt;
 use std::io::{BufRead, Read};
 
-use serde_json::Value;
+use serde::de::{self, DeserializeSeed, Deserializer, IgnoredAny, MapAccess, Visitor};
+use serde_json::error::Category;
 
 use super::calls::Func;
-use super::tree::Tree;
+use super::tree::{Node, Put, Tree};
 
-/// Longest line read; a longer one is refused rather than buffered. Parsed, a line of numbers
-/// takes about 75 times its size (a JSON value, then a tree node, per number); the longest
+/// Longest line read; a longer one is refused rather than buffered. Parsed, a call's line of
+/// numbers takes about 70 times its size (a tree node and an element per number); the longest
 /// line of any bundled stream is 6.6 KB.
 pub const MAX_LINE_BYTES: u64 = 16 << 20;
 
@@ -122,74 +124,158 @@ fn trim_ascii(b: &[u8]) -> &[u8] {
     &b[start..end.max(start)]
 }
 
+/// The members of a line the importer reads, put into one tree as they are parsed; every
+/// other member is skipped without being built, so a line costs only what is kept of it.
+#[derive(Default)]
+struct Members {
+    header: Option<usize>,
+    func: Option<(&'static str, usize)>,
+    frame: Option<usize>,
+    index: Option<usize>,
+    /// The first other member's name, which says what the line is.
+    other: Option<String>,
+}
+
+struct LineSeed<'t>(&'t mut Tree);
+
+impl<'de> DeserializeSeed<'de> for LineSeed<'_> {
+    type Value = Members;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Members, D::Error> {
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de> Visitor<'de> for LineSeed<'_> {
+    type Value = Members;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a JSON object per line")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Members, A::Error> {
+        let mut m = Members::default();
+        while let Some(key) = map.next_key::<Cow<'de, str>>()? {
+            let slot = match key.as_ref() {
+                "header" => &mut m.header,
+                "frame" => &mut m.frame,
+                "index" => &mut m.index,
+                "vkFunc" | "function" => {
+                    if let Some((first, _)) = m.func {
+                        return Err(de::Error::custom(format_args!(
+                            "`{first}` and `{key}` in one line"
+                        )));
+                    }
+                    let name = if key == "vkFunc" {
+                        "vkFunc"
+                    } else {
+                        "function"
+                    };
+                    m.func = Some((name, map.next_value_seed(Put(self.0))?));
+                    continue;
+                }
+                _ => {
+                    map.next_value::<IgnoredAny>()?;
+                    if m.other.is_none() {
+                        m.other = Some(key.into_owned());
+                    }
+                    continue;
+                }
+            };
+            if slot.is_some() {
+                return Err(de::Error::custom(format_args!(
+                    "member `{key}` given twice"
+                )));
+            }
+            *slot = Some(map.next_value_seed(Put(self.0))?);
+        }
+        Ok(m)
+    }
+}
+
 fn parse_entry(text: &[u8], line: u64) -> Result<Entry, LineError> {
     let err = |message: String| LineError { line, message };
-    let value: Value = serde_json::from_slice(text).map_err(|e| {
-        err(if e.is_eof() {
-            format!("truncated JSON ({e})")
-        } else {
-            format!("not JSON: {e}")
+    let mut tree = Tree::default();
+    let mut de = serde_json::Deserializer::from_slice(text);
+    let parsed = LineSeed(&mut tree)
+        .deserialize(&mut de)
+        .and_then(|m| de.end().map(|()| m));
+    let m = parsed.map_err(|e| {
+        err(match e.classify() {
+            Category::Eof => format!("truncated JSON ({e})"),
+            Category::Data if !text.starts_with(b"{") => {
+                "expected a JSON object per line".to_owned()
+            }
+            Category::Data => e.to_string(),
+            Category::Syntax | Category::Io => format!("not JSON: {e}"),
         })
     })?;
-    let Value::Object(mut obj) = value else {
-        return Err(err("expected a JSON object per line".to_owned()));
+    let str_at = |tree: &Tree, node: Option<usize>, key: &str| -> Option<String> {
+        match tree.node(tree.get(node?, key)?) {
+            Node::Str(t) => Some(tree.text(t).to_owned()),
+            _ => None,
+        }
     };
-    if let Some(h) = obj.get("header") {
-        let field = |k: &str| {
-            h.get(k)
-                .and_then(Value::as_str)
-                .unwrap_or("unknown")
-                .to_owned()
-        };
+    if let Some(h) = m.header {
+        let field = |k: &str| str_at(&tree, Some(h), k).unwrap_or_else(|| "unknown".to_owned());
         return Ok(Entry::Header {
             gfxr_version: field("gfxrecon-version"),
             json_version: field("json-version"),
         });
     }
-    for (key, dialect) in [("vkFunc", "0.9.x"), ("function", "1.x")] {
-        if let Some(f) = obj.remove(key) {
-            let Value::Object(f) = f else {
-                return Err(err(format!("`{key}` is not an object")));
-            };
-            let name = match f.get("name") {
-                Some(Value::String(s)) => s.clone(),
-                _ => return Err(err(format!("`{key}.name` is missing or not a string"))),
-            };
-            let index = obj.get("index").and_then(Value::as_u64).unwrap_or(0);
-            let result = match f.get("return") {
-                Some(Value::String(s)) => Some(Cow::Owned(s.clone())),
-                Some(v) if !v.is_null() => Some(Cow::Owned(v.to_string())),
-                _ => None,
-            };
-            let args = Tree::from_json(f.get("args").unwrap_or(&Value::Null));
-            return Ok(Entry::Call(Call {
-                line,
-                index,
-                func: Func::of(&name),
-                // The registry's own name where it has one, so every origin the call's
-                // commands carry borrows it.
-                name: super::gfxr::registry::command_named(&name)
-                    .map_or(Cow::Owned(name), |c| Cow::Borrowed(c.name)),
-                args,
-                result,
-                dialect,
-            }));
+    if let Some((key, f)) = m.func {
+        let dialect = if key == "vkFunc" { "0.9.x" } else { "1.x" };
+        if !matches!(tree.node(f), Node::Object(_)) {
+            return Err(err(format!("`{key}` is not an object")));
         }
+        let Some(name) = str_at(&tree, Some(f), "name") else {
+            return Err(err(format!("`{key}.name` is missing or not a string")));
+        };
+        let index = match m.index.map(|i| tree.node(i)) {
+            Some(Node::U64(i)) => i,
+            _ => 0,
+        };
+        let result = match tree.get(f, "return").map(|r| tree.node(r)) {
+            Some(Node::Str(t)) => Some(Cow::Owned(tree.text(t).to_owned())),
+            Some(Node::Null) | None => None,
+            Some(_) => tree
+                .get(f, "return")
+                .map(|r| Cow::Owned(tree.to_json(r).to_string())),
+        };
+        let args = match tree.get(f, "args") {
+            Some(a) => a,
+            None => tree.leaf(Node::Null),
+        };
+        tree.set_root(args);
+        return Ok(Entry::Call(Call {
+            line,
+            index,
+            func: Func::of(&name),
+            // The registry's own name where it has one, so every origin the call's
+            // commands carry borrows it.
+            name: super::gfxr::registry::command_named(&name)
+                .map_or(Cow::Owned(name), |c| Cow::Borrowed(c.name)),
+            args: tree,
+            result,
+            dialect,
+        }));
     }
-    if let Some(frame) = obj.get("frame") {
-        let end = frame.get("marker_type").and_then(Value::as_str) == Some("EndMarker");
+    if let Some(frame) = m.frame {
+        let end = str_at(&tree, Some(frame), "marker_type").as_deref() == Some("EndMarker");
         return Ok(if end {
             Entry::FrameEnd
         } else {
             Entry::Other("frame marker".to_owned())
         });
     }
-    let kind = obj
-        .keys()
-        .find(|k| *k != "index")
-        .cloned()
-        .unwrap_or_else(|| "empty object".to_owned());
-    Ok(Entry::Other(kind))
+    Ok(Entry::Other(m.other.unwrap_or_else(|| {
+        if m.index.is_some() {
+            "index only"
+        } else {
+            "empty object"
+        }
+        .to_owned()
+    })))
 }
 
 #[cfg(test)]
@@ -226,6 +312,33 @@ mod tests {
             matches!(&got[4], Err(e) if e.line == 6 && e.message.starts_with("truncated JSON"))
         );
         assert!(matches!(&got[5], Err(e) if e.line == 7 && e.message.contains("object")));
+    }
+
+    #[test]
+    fn only_what_is_read_is_kept_and_repeats_are_refused() {
+        let got = entries(concat!(
+            "{\"index\":1,\"meta\":{\"name\":\"FillMemoryCommand\",\"data\":[1,2,3]}}\n",
+            "{\"index\":2,\"vkFunc\":{\"args\":{\"vertexCount\":3},\"name\":\"vkCmdDraw\"}}\n",
+            "{\"index\":3,\"vkFunc\":{\"name\":\"vkCmdDraw\",\"args\":{\"a\":1,\"a\":2}}}\n",
+            "{\"index\":4,\"vkFunc\":{\"name\":\"a\"},\"function\":{\"name\":\"b\"}}\n",
+            "{\"index\":5,\"index\":6}\n",
+            "{\"index\":7,\"function\":[1]}\n",
+        ));
+        assert!(matches!(&got[0], Ok(Entry::Other(k)) if k == "meta"));
+        // The call's tree reads from its arguments, wherever they stand in the line.
+        let Ok(Entry::Call(c)) = &got[1] else {
+            panic!("{:?}", got[1])
+        };
+        let count = c.args.get(c.args.root(), "vertexCount").unwrap();
+        assert_eq!(c.args.node(count), Node::U64(3));
+        assert!(
+            matches!(&got[2], Err(e) if e.line == 3 && e.message.contains("member `a` given twice"))
+        );
+        assert!(
+            matches!(&got[3], Err(e) if e.line == 4 && e.message.contains("`vkFunc` and `function` in one line"))
+        );
+        assert!(matches!(&got[4], Err(e) if e.message.contains("member `index` given twice")));
+        assert!(matches!(&got[5], Err(e) if e.message == "`function` is not an object"));
     }
 
     #[test]

@@ -2,8 +2,12 @@
 //! each array's elements in one contiguous run of another, member names borrowed from the
 //! registry tables. Decoding a binary call fills it without an allocation per value, and one
 //! tree is reused call after call; the JSON routes convert their parsed values into it, so
-//! the importer reads all three routes through the same `Arg`.
+//! the importer reads all three routes through the same `Arg`. JSON text goes straight in
+//! through [`Put`], without a `serde_json::Value` on the way, so a line costs its tree only.
 
+use std::fmt;
+
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_json::Value;
 
 use super::gfxr::registry::ENUMS;
@@ -215,6 +219,18 @@ impl Tree {
         }
     }
 
+    /// The first member name that object run `run` repeats; sorted rather than compared
+    /// pairwise, so an object of a million members costs no more than sorting them.
+    fn repeated(&self, run: Run) -> Option<&str> {
+        let kids = self.kids(run);
+        if kids.len() < 2 {
+            return None;
+        }
+        let mut names: Vec<&str> = kids.iter().map(|k| self.text(k.key)).collect();
+        names.sort_unstable();
+        names.windows(2).find(|w| w[0] == w[1]).map(|w| w[0])
+    }
+
     /// Node `i` as JSON, members in name order as `serde_json` keeps them.
     pub fn to_json(&self, i: usize) -> Value {
         match self.node(i) {
@@ -242,6 +258,105 @@ impl Tree {
     }
 }
 
+/// Puts one JSON value, read from a `serde_json` deserializer, into the tree, giving its node.
+/// Numbers are kept as `serde_json` keeps them; an object that names a member twice is
+/// refused (a `serde_json::Value` would have kept the last silently).
+pub struct Put<'t>(pub &'t mut Tree);
+
+impl<'de> DeserializeSeed<'de> for Put<'_> {
+    type Value = usize;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<usize, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for Put<'_> {
+    type Value = usize;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a JSON value")
+    }
+
+    fn visit_bool<E>(self, v: bool) -> Result<usize, E> {
+        Ok(self.0.leaf(Node::Bool(v)))
+    }
+
+    fn visit_u64<E>(self, v: u64) -> Result<usize, E> {
+        Ok(self.0.leaf(Node::U64(v)))
+    }
+
+    fn visit_i64<E>(self, v: i64) -> Result<usize, E> {
+        Ok(self.0.leaf(int(v)))
+    }
+
+    fn visit_f64<E>(self, v: f64) -> Result<usize, E> {
+        Ok(self.0.leaf(Node::F64(v)))
+    }
+
+    fn visit_str<E>(self, v: &str) -> Result<usize, E> {
+        Ok(self.0.string(v))
+    }
+
+    fn visit_unit<E>(self) -> Result<usize, E> {
+        Ok(self.0.leaf(Node::Null))
+    }
+
+    fn visit_none<E>(self) -> Result<usize, E> {
+        Ok(self.0.leaf(Node::Null))
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<usize, A::Error> {
+        let tree = self.0;
+        let mark = tree.mark();
+        while let Some(n) = seq.next_element_seed(Put(tree))? {
+            tree.element(n);
+        }
+        Ok(tree.array(mark))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<usize, A::Error> {
+        let tree = self.0;
+        let mark = tree.mark();
+        while let Some(key) = map.next_key_seed(Key(tree))? {
+            let n = map.next_value_seed(Put(tree))?;
+            tree.member(key, n);
+        }
+        let node = tree.object(mark);
+        if let Node::Object(run) = tree.node(node)
+            && let Some(name) = tree.repeated(run)
+        {
+            return Err(de::Error::custom(format_args!(
+                "member `{name}` given twice in one object"
+            )));
+        }
+        Ok(node)
+    }
+}
+
+/// A member name, held in the tree's text.
+struct Key<'t>(&'t mut Tree);
+
+impl<'de> DeserializeSeed<'de> for Key<'_> {
+    type Value = Text;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Text, D::Error> {
+        d.deserialize_str(self)
+    }
+}
+
+impl<'de> Visitor<'de> for Key<'_> {
+    type Value = Text;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a member name")
+    }
+
+    fn visit_str<E>(self, v: &str) -> Result<Text, E> {
+        Ok(self.0.hold(v))
+    }
+}
+
 /// An integer as `serde_json` keeps it: non-negative ones unsigned.
 pub fn int(v: i64) -> Node {
     match u64::try_from(v) {
@@ -264,6 +379,46 @@ mod tests {
         assert!(matches!(t.node(t.get(b, "d").unwrap()), Node::Array(_)));
         assert_eq!(t.get(t.root(), "z"), None);
         assert_eq!(Tree::default().node(Tree::default().root()), Node::Null);
+    }
+
+    fn parsed(text: &str) -> Result<(Tree, usize), serde_json::Error> {
+        let mut t = Tree::default();
+        let mut de = serde_json::Deserializer::from_str(text);
+        let root = Put(&mut t).deserialize(&mut de)?;
+        de.end()?;
+        t.set_root(root);
+        Ok((t, root))
+    }
+
+    #[test]
+    fn json_text_goes_in_as_through_a_value() {
+        let text = r#"{"z": [1, -2, 2.5, "x\u00e9", null, true, 18446744073709551615],
+            "b": {"c": {}, "d": []}, "a": -9223372036854775808}"#;
+        let (t, root) = parsed(text).unwrap();
+        let v: Value = serde_json::from_str(text).unwrap();
+        assert_eq!(t.to_json(root), v);
+        assert!(matches!(
+            t.node(t.get(root, "a").unwrap()),
+            Node::I64(i64::MIN)
+        ));
+        assert_eq!(
+            t.text(match t.node(t.get(root, "z").unwrap()) {
+                Node::Array(run) => match t.node(t.kids(run)[3].node) {
+                    Node::Str(s) => s,
+                    n => panic!("{n:?}"),
+                },
+                n => panic!("{n:?}"),
+            }),
+            "x\u{e9}"
+        );
+    }
+
+    #[test]
+    fn a_member_given_twice_is_refused() {
+        let e = parsed(r#"{"a": {"k": 1, "j": 2, "k": 3}}"#).unwrap_err();
+        assert!(e.to_string().contains("member `k` given twice"), "{e}");
+        assert!(parsed(r#"[{"k": 1}, {"k": 2}]"#).is_ok());
+        assert!(parsed("[1, 2").unwrap_err().is_eof());
     }
 
     #[test]
