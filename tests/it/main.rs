@@ -33,3 +33,4 @@ mod replay_gpu;
 mod scenes;
 mod sync_layer;
 mod synthetic_scale;
+mod vk_section;

@@ -17,6 +17,7 @@ mod heaps;
 mod passes;
 mod resources;
 mod shaders;
+mod vk_values;
 mod vulkan;
 mod work;
 
@@ -208,6 +209,7 @@ impl<'a> Validator<'a> {
         let descriptor_heaps = self.check_descriptor_heaps();
         self.check_samplers();
         self.check_vulkan();
+        self.check_vk_values();
         let queues: Vec<QueueDesc> = self
             .raw
             .queues

@@ -626,8 +626,6 @@ impl Validator<'_> {
     }
 }
 
-/// Push-constant bytes from their hex spelling; `None` for text that is not whole hex bytes
-/// (validation reports it).
 /// No device binds more descriptor sets than this (`maxBoundDescriptorSets` is 4-32).
 const MAX_SETS: u32 = 32;
 
@@ -688,6 +686,8 @@ fn view_outside(v: &VkImageView, r: &Resource) -> Option<String> {
     mips.or(layers)
 }
 
+/// Push-constant bytes from their hex spelling; `None` for text that is not whole hex bytes
+/// (validation reports it).
 fn hex_bytes(text: &str) -> Option<Vec<u8>> {
     hex::decode(text).ok()
 }
