@@ -142,6 +142,14 @@ impl Validated {
         Loaded::read(path)?.validate(options)
     }
 
+    /// Whether the pass graph can be ordered (it has no cycle), as `analyse` would find.
+    pub fn check_order(&self) -> Result<(), StageError> {
+        crate::analysis::check_order(&self.capture).map_err(|cycle| StageError::Cycle {
+            path: self.path.clone(),
+            cycle,
+        })
+    }
+
     /// Builds the pass DAG and everything derived from it.
     pub fn analyse(self, options: AnalyzeOptions) -> Result<Analysed, StageError> {
         let analysis = self.analysis(options)?;

@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
 
-use framelab_core::capture::{CaptureError, Options, Severity};
+use framelab_core::capture::{CaptureError, Diagnostic, Options, Severity};
 use framelab_core::pipeline::{StageError, Validated};
 
 use super::{print_diagnostics, print_stdout};
@@ -12,7 +12,23 @@ use super::{print_diagnostics, print_stdout};
 pub fn run(path: &Path, json: bool) -> ExitCode {
     let result = Validated::load(path, &Options::default());
     let (valid, diagnostics, summary) = match &result {
-        Ok(v) => (true, v.warnings.clone(), None),
+        // A capture whose passes cannot be ordered is invalid here too, not only to `analyze`.
+        Ok(v) => match v.check_order() {
+            Ok(()) => (true, v.warnings.clone(), None),
+            Err(StageError::Cycle { cycle, .. }) => {
+                let mut all = v.warnings.clone();
+                all.push(Diagnostic {
+                    severity: Severity::Error,
+                    code: "cycle",
+                    path: "$.passes".to_owned(),
+                    message: cycle.to_string(),
+                    suggestion: None,
+                });
+                let errors = format!("{}: 1 error(s) in capture", path.display());
+                (false, all, Some(errors))
+            }
+            Err(e) => (false, e.diagnostics(), Some(e.to_string())),
+        },
         Err(e) => (false, e.diagnostics(), Some(e.to_string())),
     };
     if json {

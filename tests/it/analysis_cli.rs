@@ -110,6 +110,19 @@ fn cycles_are_errors_naming_passes_and_resources() {
             .code(),
         Some(1)
     );
+    // `validate` refuses what `analyze` cannot order, with the same cycle, as an error at
+    // `$.passes` (JSON too), so a capture it accepts is one every later command can take.
+    let v = framelab(&["validate", "tests/fixtures/cycle.json"]);
+    assert_eq!(v.status.code(), Some(1));
+    assert!(
+        stderr(&v).contains("error[cycle] $.passes: the pass graph has a cycle: render_shadow -> copy_shadow -> render_shadow"),
+        "{}",
+        stderr(&v)
+    );
+    let j = framelab(&["validate", "--json", "tests/fixtures/cycle.json"]);
+    let report: serde_json::Value = serde_json::from_slice(&j.stdout).unwrap();
+    assert_eq!(report["valid"], false);
+    assert_eq!(report["diagnostics"][0]["code"], "cycle");
 }
 
 #[test]

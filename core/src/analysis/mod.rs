@@ -53,6 +53,20 @@ fn parallel() -> bool {
     std::thread::available_parallelism().is_ok_and(|n| n.get() > 1)
 }
 
+/// Whether the frame can be ordered at all, without deriving anything from the order: the
+/// graph is built only when a fence points backwards, since otherwise the recorded order
+/// stands (see `graph::recorded_order`). `validate` asks this, so a capture it accepts is
+/// one `analyze` can order.
+pub fn check_order(capture: &crate::capture::model::Capture) -> Result<(), graph::CycleError> {
+    let model = model::from_capture(capture);
+    if graph::recorded_order(&model).is_some() {
+        return Ok(());
+    }
+    let units = model::Units::new(&model);
+    let g = graph::build(&model, &units);
+    graph::topological_order(&model, &g).map(drop)
+}
+
 /// Builds the pass graph, orders it and derives barriers (and the memory plan when asked).
 ///
 /// When the recorded order is the order (no fence points backwards, see
