@@ -1,4 +1,29 @@
-//! Plain-text helpers shared by every report: byte sizes for people and padded tables.
+//! Plain-text helpers shared by every report: byte sizes for people, padded tables, and text
+//! from an input made safe for a terminal.
+
+use std::borrow::Cow;
+
+/// `text` with every control character but newline and tab written as an escape (`\u{1b}`):
+/// a name or message taken from an input could otherwise move, recolour or erase what a
+/// terminal shows.
+pub fn printable(text: &str) -> Cow<'_, str> {
+    if !text.chars().any(is_hidden) {
+        return Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if is_hidden(c) {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
+}
+
+fn is_hidden(c: char) -> bool {
+    c.is_control() && c != '\n' && c != '\t'
+}
 
 /// Pads columns to their widest cell.
 pub fn table(headers: &[&str], rows: &[Vec<String>]) -> String {
@@ -52,6 +77,13 @@ pub fn human_bytes(b: u64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn control_characters_are_escaped_for_terminals() {
+        assert!(matches!(printable("plain\tline\n"), Cow::Borrowed(_)));
+        assert_eq!(printable("a\u{1b}[2Jb\u{7}\r"), "a\\u{1b}[2Jb\\u{7}\\r");
+        assert_eq!(printable("\u{9b}é"), "\\u{9b}é");
+    }
 
     #[test]
     fn tables_pad_to_the_widest_cell() {

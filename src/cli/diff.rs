@@ -7,6 +7,7 @@
 //! `--work` compares the passes' work counters (`replay --counters`): exact counts, one frame
 //! each, exit 1 when a counter grew past `--fail-on-increase`.
 
+use framelab_core::text::printable;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -203,7 +204,7 @@ pub fn run(args: &DiffArgs) -> ExitCode {
     if let Some(plot) = &args.plot
         && let Err(e) = framelab_core::output::check_output(plot, &[&args.a, &args.b])
     {
-        let _ = writeln!(std::io::stderr(), "error: {e}");
+        let _ = writeln!(std::io::stderr(), "error: {}", printable(&e.to_string()));
         return ExitCode::from(2);
     }
     if args.work {
@@ -211,7 +212,7 @@ pub fn run(args: &DiffArgs) -> ExitCode {
             Ok(true) => ExitCode::SUCCESS,
             Ok(false) => ExitCode::from(1),
             Err(e) => {
-                let _ = writeln!(std::io::stderr(), "error: {e:#}");
+                let _ = writeln!(std::io::stderr(), "error: {}", printable(&format!("{e:#}")));
                 ExitCode::from(2)
             }
         };
@@ -220,7 +221,7 @@ pub fn run(args: &DiffArgs) -> ExitCode {
         return match structure(args) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
-                let _ = writeln!(std::io::stderr(), "error: {e:#}");
+                let _ = writeln!(std::io::stderr(), "error: {}", printable(&format!("{e:#}")));
                 ExitCode::from(2)
             }
         };
@@ -228,7 +229,7 @@ pub fn run(args: &DiffArgs) -> ExitCode {
     let (a, b) = match inputs(args) {
         Ok(reports) => reports,
         Err(e) => {
-            let _ = writeln!(std::io::stderr(), "error: {e:#}");
+            let _ = writeln!(std::io::stderr(), "error: {}", printable(&format!("{e:#}")));
             return ExitCode::from(2);
         }
     };
@@ -240,7 +241,7 @@ pub fn run(args: &DiffArgs) -> ExitCode {
     let report = match diff(&a, &b, &options) {
         Ok(r) => r,
         Err(e) => {
-            let _ = writeln!(std::io::stderr(), "error: {e}");
+            let _ = writeln!(std::io::stderr(), "error: {}", printable(&e.to_string()));
             return ExitCode::from(2);
         }
     };
@@ -262,12 +263,12 @@ pub fn run(args: &DiffArgs) -> ExitCode {
                 )?)
             });
         if let Err(e) = written {
-            let _ = writeln!(std::io::stderr(), "error: {e:#}");
+            let _ = writeln!(std::io::stderr(), "error: {}", printable(&format!("{e:#}")));
             return ExitCode::from(2);
         }
     }
     if let Err(e) = print_stdout(&text) {
-        let _ = writeln!(std::io::stderr(), "error: {e:#}");
+        let _ = writeln!(std::io::stderr(), "error: {}", printable(&format!("{e:#}")));
         return ExitCode::from(2);
     }
     if report.fails(args.fail_on_regression.unwrap_or(args.threshold)) {

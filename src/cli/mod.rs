@@ -12,6 +12,7 @@ mod replay;
 mod stages;
 mod validate;
 
+use framelab_core::text::printable;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -245,7 +246,12 @@ pub fn main() -> ExitCode {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            let _ = writeln!(std::io::stderr(), "{}: {e:#}", error_label());
+            let _ = writeln!(
+                std::io::stderr(),
+                "{}: {}",
+                error_label(),
+                printable(&format!("{e:#}"))
+            );
             ExitCode::from(1)
         }
     }
@@ -386,7 +392,7 @@ pub(crate) fn print_stdout(text: &str) -> anyhow::Result<()> {
 pub(crate) fn print_diagnostics(diagnostics: &[Diagnostic], file: &std::path::Path) {
     let mut err = std::io::stderr().lock();
     for d in diagnostics {
-        let _ = writeln!(err, "{}: {d}", file.display());
+        let _ = writeln!(err, "{}", printable(&format!("{}: {d}", file.display())));
     }
 }
 

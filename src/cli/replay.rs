@@ -4,6 +4,7 @@
 //! graphics, compute and copy queues run in DAG order on it; the reports keep each pass's
 //! capture queue. Names given on the command line are resolved to ids before the device opens.
 
+use framelab_core::text::printable;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -203,9 +204,9 @@ pub fn run(path: &Path, options: &ReplayOptions, quiet: bool) -> anyhow::Result<
     let say = |text: String| {
         if quiet {
         } else if bar.is_hidden() {
-            let _ = writeln!(std::io::stderr(), "{text}");
+            let _ = writeln!(std::io::stderr(), "{}", printable(&text));
         } else {
-            bar.println(text);
+            bar.println(printable(&text));
         }
     };
     let report = replay(path, options, |event| match event {

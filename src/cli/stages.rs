@@ -4,6 +4,7 @@
 //! `graph`) print each diagnostic on its own line and exit 1; the commands that go on to a
 //! device (`replay`, `diff`, `inspect`) report one error.
 
+use framelab_core::text::printable;
 use std::io::Write;
 use std::path::Path;
 
@@ -38,7 +39,7 @@ fn print_stage_error(e: &StageError, path: &Path) {
     if let StageError::Capture(CaptureError::Invalid { diagnostics, .. }) = e {
         super::print_diagnostics(diagnostics, path);
     }
-    let _ = writeln!(std::io::stderr(), "{e}");
+    let _ = writeln!(std::io::stderr(), "{}", printable(&e.to_string()));
 }
 
 /// A valid capture for an analysis command, or `None` once its problems are printed.

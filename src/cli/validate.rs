@@ -1,5 +1,6 @@
 //! `framelab validate`: every problem of a capture at once, as text on stderr or JSON on stdout.
 
+use framelab_core::text::printable;
 use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
@@ -49,7 +50,7 @@ pub fn run(path: &Path, json: bool) -> ExitCode {
             Err(_) => {}
         }
         if let Some(summary) = summary {
-            let _ = writeln!(std::io::stderr(), "{summary}");
+            let _ = writeln!(std::io::stderr(), "{}", printable(&summary));
         } else {
             let c = result.as_ref().map(|v| &v.capture);
             if let Ok(c) = c {

@@ -659,3 +659,82 @@ fn edits_that_cannot_land_are_named_and_write_nothing() {
         "the barrier at block 176"
     );
 }
+
+#[test]
+fn debug_names_are_cleaned_and_never_make_names_collide() {
+    // The 1.x fixture edited: its second frame signals a second semaphore, both named alike by
+    // the application; its image "hdr_color" renamed with terminal escapes in the name.
+    let dir = Scratch::temp("framelab-import-names");
+    let text = std::fs::read_to_string(gfxr_fixture("v1_dynamic_rendering.jsonl")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    let create = lines
+        .iter()
+        .position(|l| l.contains("\"vkCreateSemaphore\""))
+        .unwrap();
+    let second = lines[create].replace("\"pSemaphore\":50", "\"pSemaphore\":51");
+    let submits: Vec<usize> = (0..lines.len())
+        .filter(|&i| lines[i].contains("\"semaphore\":50"))
+        .collect();
+    assert_eq!(submits.len(), 4, "two signals and two waits");
+    for &i in &submits[2..] {
+        lines[i] = lines[i].replace("\"semaphore\":50", "\"semaphore\":51");
+    }
+    let name = |handle: u64, object: &str, name: &str| {
+        serde_json::json!({"index": 0, "function": {"name": "vkSetDebugUtilsObjectNameEXT",
+            "thread": 1, "return": "VK_SUCCESS", "args": {"device": 3, "pNameInfo": {
+            "sType": "VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT", "pNext": null,
+            "objectType": object, "objectHandle": handle, "pObjectName": name}}}})
+        .to_string()
+    };
+    let added = [
+        second,
+        name(50, "VK_OBJECT_TYPE_SEMAPHORE", "relay"),
+        name(51, "VK_OBJECT_TYPE_SEMAPHORE", "relay"),
+        name(11, "VK_OBJECT_TYPE_IMAGE", "\u{1b}[2Jhdr\u{7}"),
+    ];
+    lines.splice(create + 1..create + 1, added);
+    let input = dir.join("names.jsonl");
+    std::fs::write(&input, lines.join("\n") + "\n").unwrap();
+    let out = dir.join("names.json");
+    let o = framelab(&[
+        "import",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let c: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let fences: Vec<&str> = c["fences"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(fences, ["relay#1", "relay@51#1"]);
+    assert!(
+        c["resources"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|r| r["name"] == "\u{fffd}[2Jhdr\u{fffd}"),
+        "{}",
+        c["resources"]
+    );
+
+    // A capture written with such a name is refused, the name shown escaped.
+    let mut raw = c.clone();
+    raw["resources"][0]["name"] = "\u{1b}[31mred".into();
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, serde_json::to_string(&raw).unwrap()).unwrap();
+    let o = framelab(&["validate", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(
+        e.contains("resources[0] name \"\\u{1b}[31mred\" holds a control character"),
+        "{e}"
+    );
+    assert!(
+        !e.contains('\u{1b}'),
+        "a raw escape reached the terminal: {e:?}"
+    );
+}

@@ -73,6 +73,10 @@ pub struct Builder {
     /// Semaphore -> the fence of its latest queue signal and the queue that signalled it.
     semaphore_fence: HashMap<u64, (String, u64)>,
     fence_count: BTreeMap<u64, u32>,
+    /// Each signalled semaphore's stem for its fences, unique among semaphores: two an
+    /// application gave the same debug name must not signal the same fence.
+    fence_stem: HashMap<u64, String>,
+    fence_stems: super::HashSet<String>,
     pub fences: BTreeSet<String>,
     pub waited: BTreeSet<String>,
     /// Why things were skipped, with how often.
@@ -232,6 +236,26 @@ impl Builder {
         Some(name)
     }
 
+    /// The stem of semaphore `sem`'s fences: its debug name, or `semaphore_<handle>`, with the
+    /// handle added where another semaphore already has that stem.
+    fn fence_stem(&mut self, objects: &Objects, sem: u64) -> String {
+        if let Some(stem) = self.fence_stem.get(&sem) {
+            return stem.clone();
+        }
+        let name = match objects.names.get(&sem) {
+            Some(n) => n.clone(),
+            None => format!("semaphore_{sem}"),
+        };
+        let stem = if self.fence_stems.contains(&name) {
+            format!("{name}@{sem}")
+        } else {
+            name
+        };
+        self.fence_stems.insert(stem.clone());
+        self.fence_stem.insert(sem, stem.clone());
+        stem
+    }
+
     fn queue(&mut self, objects: &Objects, queue: u64) -> String {
         if let Some((n, _)) = self.queue_names.get(&queue) {
             return n.clone();
@@ -356,13 +380,12 @@ impl Builder {
             if !self.emitting() {
                 continue;
             }
-            let k = self.fence_count.entry(*sem).or_default();
-            *k += 1;
-            let base = objects
-                .names
-                .get(sem)
-                .cloned()
-                .unwrap_or_else(|| format!("semaphore_{sem}"));
+            let k = *self
+                .fence_count
+                .entry(*sem)
+                .and_modify(|k| *k += 1)
+                .or_insert(1);
+            let base = self.fence_stem(objects, *sem);
             let fence = format!("{base}#{k}");
             self.passes[pass].signal.push(fence.clone());
             self.fences.insert(fence.clone());

@@ -17,6 +17,10 @@ use super::value::{
 };
 use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
 
+/// The longest debug name kept, in characters: names label every pass, barrier and file of
+/// the capture, and a longer one says nothing more.
+const MAX_NAME: usize = 256;
+
 #[derive(Clone, Debug)]
 pub struct ImageInfo {
     pub format: String,
@@ -341,15 +345,16 @@ impl Objects {
             Func::SetDebugUtilsObjectName => {
                 let info = args.get("pNameInfo")?;
                 let handle = info.get("objectHandle")?.handle()?;
-                if let Some(n) = info.opt("pObjectName") {
-                    self.names.insert(handle, n.str()?.to_owned());
-                }
+                let name = match info.opt("pObjectName") {
+                    Some(n) => n.str()?,
+                    None => "",
+                };
+                self.name(handle, name);
             }
             Func::DebugMarkerSetObjectName => {
                 let info = args.get("pNameInfo")?;
                 let handle = info.get("object")?.handle()?;
-                self.names
-                    .insert(handle, info.get("pObjectName")?.str()?.to_owned());
+                self.name(handle, info.get("pObjectName")?.str()?);
             }
             Func::Destroy(Object::Image) => {
                 if let Some(i) = self.images.get_mut(&args.get("image")?.handle()?) {
@@ -371,6 +376,22 @@ impl Objects {
             _ => return Ok(false),
         }
         Ok(true)
+    }
+
+    /// An object's debug name as the application gave it, with control characters replaced
+    /// (the capture format refuses them) and at most `MAX_NAME` characters; an empty name
+    /// removes the object's name, as it does in Vulkan.
+    fn name(&mut self, handle: u64, name: &str) {
+        let clean: String = name
+            .chars()
+            .take(MAX_NAME)
+            .map(|c| if c.is_control() { '\u{fffd}' } else { c })
+            .collect();
+        if clean.trim().is_empty() {
+            self.names.remove(&handle);
+        } else {
+            self.names.insert(handle, clean);
+        }
     }
 
     fn queue_families(&mut self, args: &Arg<'_>) -> Got<()> {

@@ -178,7 +178,10 @@ pub enum StencilOp {
 
 /// Blend state of one render target: a preset or explicit factors.
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "expected a blend preset (\"opaque\", \"alpha\", \"premultiplied_alpha\", \"additive\", \"multiply\") or {\"color\": {...}, \"alpha\": {...}}"
+)]
 pub enum Blend {
     Preset(BlendPreset),
     Custom {

@@ -99,7 +99,10 @@ impl ResourceKind {
 /// A texture dimension: absolute texels, or relative to the output resolution (`"full"`,
 /// `"half"`, `"quarter"`, `{ "scale": 0.125 }`, optionally rounded up to a multiple).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "expected a texel count, \"full\", \"half\", \"quarter\" or {\"scale\": fraction, \"multiple_of\": n}"
+)]
 pub enum Extent {
     Texels(u64),
     Named(RelativeSize),
@@ -121,7 +124,10 @@ pub enum RelativeSize {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "expected a mip level count or \"full\" (the whole chain)"
+)]
 pub enum MipLevels {
     Count(u32),
     Chain(FullChain),
@@ -211,7 +217,7 @@ pub enum InitialContents {
 
 /// A number or a small vector of numbers.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
-#[serde(untagged)]
+#[serde(untagged, expecting = "expected a number or an array of numbers")]
 pub enum ParamValue {
     Scalar(f64),
     Vector(Vec<f64>),

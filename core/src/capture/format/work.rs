@@ -287,7 +287,10 @@ pub enum SplitFlag {
 
 /// One resource state or a combination of read states.
 #[derive(Clone, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "expected a resource state name (e.g. \"RENDER_TARGET\") or an array of read states"
+)]
 pub enum States {
     One(ResourceState),
     Many(Vec<ResourceState>),

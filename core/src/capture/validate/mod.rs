@@ -381,6 +381,17 @@ impl<'a> Validator<'a> {
                     diags.error("name", &path, format!("{section}[{i}] has an empty name"));
                     continue;
                 }
+                // Names are shown in terminals, tables, graphs and file names.
+                if n.chars().any(char::is_control) {
+                    diags.error(
+                        "name",
+                        &path,
+                        format!(
+                            "{section}[{i}] name \"{}\" holds a control character",
+                            crate::text::printable(n)
+                        ),
+                    );
+                }
                 if let Some(first) = names.map.insert(n, i as u32) {
                     diags.error(
                         "duplicate-name",
