@@ -76,8 +76,15 @@ fn as_report(path: &Path) -> anyhow::Result<Option<TimingReport>> {
         what: "a capture or timing report",
         bytes: files::CAPTURE.bytes.max(files::TIMING_REPORT.bytes),
     };
-    let text = files::read_to_string(path, limit)?;
-    let value: serde_json::Value = serde_json::from_str(&text)
+    let bytes = files::read(path, limit)?;
+    if let Some(what) = framelab_core::capture::load::foreign(&bytes) {
+        anyhow::bail!(
+            "{}: {what}, not a framelab capture or timing report; bring it in first with `framelab import {} -o <capture.json>`",
+            path.display(),
+            path.display()
+        );
+    }
+    let value: serde_json::Value = serde_json::from_slice(&bytes)
         .map_err(|e| anyhow::anyhow!("{}: not JSON: {e}", path.display()))?;
     if value.get("capture_sha256").is_some() && value.get("backend").is_some() {
         Ok(Some(TimingReport::from_value(
@@ -245,12 +252,15 @@ pub fn run(args: &DiffArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    let color = !args.json
+        && !args.markdown
+        && std::io::stdout().is_terminal()
+        && std::env::var_os("NO_COLOR").is_none();
     let text = if args.json {
         serde_json::to_string_pretty(&report).unwrap_or_default() + "\n"
     } else if args.markdown {
         render::markdown(&report)
     } else {
-        let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
         render::text(&report, color)
     };
     if let Some(file) = &args.plot {
@@ -267,7 +277,12 @@ pub fn run(args: &DiffArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     }
-    if let Err(e) = print_stdout(&text) {
+    let printed = if color {
+        super::print_stdout_styled(&text)
+    } else {
+        print_stdout(&text)
+    };
+    if let Err(e) = printed {
         let _ = writeln!(std::io::stderr(), "error: {}", printable(&format!("{e:#}")));
         return ExitCode::from(2);
     }

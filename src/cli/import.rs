@@ -58,6 +58,8 @@ pub fn run(
     let head = reader
         .fill_buf()
         .map_err(|e| anyhow::anyhow!("cannot read {name}: {e}"))?;
+    // A byte-order mark before a JSON Lines stream is an editor's, not the stream's.
+    let head = head.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(head);
     let options = ImportOptions {
         frames,
         ..ImportOptions::default()
@@ -66,6 +68,9 @@ pub fn run(
         || "imported".to_owned(),
         |s| s.to_string_lossy().into_owned(),
     );
+    if let Some(why) = not_a_stream(head) {
+        anyhow::bail!("{name}: {why}");
+    }
     let imported = if gfxr::is_gfxr(head) {
         gfxr::import(reader, len, &name, &stem, &options)?
     } else if rdc::is_rdc(head) {
@@ -83,6 +88,15 @@ pub fn run(
         import(reader, &name, &options)?
     };
     let text = serde_json::to_string_pretty(&imported.capture)? + "\n";
+    // A capture framelab could not read back is not written.
+    let limit = framelab_core::files::CAPTURE.bytes;
+    if text.len() as u64 > limit {
+        anyhow::bail!(
+            "{name}: the imported capture would be {}, over the {} framelab reads; import fewer frames (--frame N or --frames A-B)",
+            framelab_core::text::human_bytes(text.len() as u64),
+            framelab_core::text::human_bytes(limit)
+        );
+    }
     if imported.side_files.is_empty() {
         check(&imported.capture, out, out, &name)?;
         framelab_core::output::write_atomically(out, text.as_bytes())?;
@@ -233,9 +247,15 @@ fn render(s: &Summary, out: &Path) -> String {
     } else {
         String::new()
     };
+    // The binary route's tool line says "binary" already.
+    let dialect = if s.dialect == "binary" {
+        String::new()
+    } else {
+        format!(" ({} dialect)", s.dialect)
+    };
     t += &format!(
-        "{}: {} ({} dialect), {read}{} {unit}s, {} calls, {} frame(s)\n",
-        s.file, s.tool, s.dialect, s.lines, s.calls, s.frames_in_stream
+        "{}: {}{dialect}, {read}{} {unit}s, {} calls, {} frame(s)\n",
+        s.file, s.tool, s.lines, s.calls, s.frames_in_stream
     );
     let kinds: Vec<String> = s
         .passes_by_kind
@@ -269,18 +289,28 @@ fn render(s: &Summary, out: &Path) -> String {
             c.resources, c.bytes, c.memory_writes
         );
     }
-    if !s.skipped.is_empty() {
+    if s.sync_hazards > 0 {
+        t += &format!(
+            "  {} synchronization hazard(s) found in the imported frames (`framelab analyze` lists them as FL020)\n",
+            s.sync_hazards
+        );
+    }
+    if !s.skipped.is_empty() || !s.not_modelled.is_empty() {
         t += "left out or approximated:\n";
         for k in &s.skipped {
             let at = k
                 .first_line
                 .map(|l| format!(" (first at {unit} {l})"))
                 .unwrap_or_default();
-            t += &format!("  {}x {}{at}\n", k.count, k.what);
+            // A count only where something happened more than once: a note met once may
+            // itself list several names.
+            let times = if k.count > 1 {
+                format!("{}x ", k.count)
+            } else {
+                String::new()
+            };
+            t += &format!("  {times}{}{at}\n", k.what);
         }
-    }
-    if let Some(why) = &s.not_replayable {
-        t += &format!("not replayable yet: {why}\n");
     }
     if !s.not_modelled.is_empty() {
         let total: u64 = s.not_modelled.values().sum();
@@ -297,6 +327,9 @@ fn render(s: &Summary, out: &Path) -> String {
             shown.join(", "),
             if top.len() > 6 { ", ..." } else { "" }
         );
+    }
+    if let Some(why) = &s.not_replayable {
+        t += &format!("not replayable yet: {why}\n");
     }
     t
 }
@@ -325,4 +358,23 @@ pub fn edit(capture: &Path, out: &Path, edits: &[FieldEdit]) -> anyhow::Result<E
         out.display()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// Why the file's first bytes cannot begin any capture `import` reads, where that can be told
+/// before reading on: an empty file, a framelab capture (which needs no import), or a JSON
+/// document spread over lines (a JSON Lines stream has one object per line).
+fn not_a_stream(head: &[u8]) -> Option<&'static str> {
+    let text = head.trim_ascii_start();
+    if text.is_empty() {
+        return Some("the file is empty");
+    }
+    let window = &text[..text.len().min(4096)];
+    if window.windows(16).any(|w| w == b"\"format_version\"") {
+        return Some(
+            "already a framelab capture (it has `format_version`): validate, analyze, replay and inspect read it as it is",
+        );
+    }
+    let first = text.split(|&b| b == b'\n').next().unwrap_or_default();
+    matches!(first.trim_ascii(), b"{" | b"[")
+        .then_some("a JSON document over several lines, not a JSON Lines stream (gfxrecon-convert writes one object per line)")
 }

@@ -380,8 +380,16 @@ pub(crate) fn first_few<S: AsRef<str>>(names: &[S]) -> String {
     text
 }
 
-/// Writes to stdout, treating a closed pipe (`| head`) as success rather than a panic.
+/// Writes to stdout, treating a closed pipe (`| head`) as success rather than a panic; a
+/// control character that came from an input is written as an escape (JSON output has none
+/// left to escape).
 pub(crate) fn print_stdout(text: &str) -> anyhow::Result<()> {
+    print_stdout_styled(&printable(text))
+}
+
+/// Writes text whose escape sequences framelab put there itself (a coloured diff of inputs
+/// checked for control characters when read).
+pub(crate) fn print_stdout_styled(text: &str) -> anyhow::Result<()> {
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),

@@ -26,7 +26,8 @@ fn device_error(e: StageError) -> anyhow::Error {
         StageError::Capture(CaptureError::Read { path, source }) => {
             anyhow::Error::new(source).context(format!("reading {}", path.display()))
         }
-        StageError::Capture(e) => {
+        // Only an invalid capture has more to say than its error's one line.
+        StageError::Capture(e @ CaptureError::Invalid { .. }) => {
             let details: Vec<String> = e.diagnostics().iter().map(|d| d.to_string()).collect();
             anyhow::anyhow!("{e}\n{}", details.join("\n"))
         }
@@ -43,8 +44,10 @@ fn print_stage_error(e: &StageError, path: &Path) {
 }
 
 /// A valid capture for an analysis command, or `None` once its problems are printed.
+/// A capture whose passes cannot be ordered is refused here too, as `validate` refuses it.
 pub fn validated(path: &Path, scale: f64) -> Option<Validated> {
     Validated::load(path, &options(scale))
+        .and_then(|v| v.check_order().map(|()| v))
         .map_err(|e| print_stage_error(&e, path))
         .ok()
 }

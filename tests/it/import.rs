@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use framelab_core::capture::dxgi;
 use serde_json::Value;
 
-use crate::common::{Scratch, framelab, gfxr_fixture, json, stderr, stdout};
+use crate::common::{Scratch, framelab, gfxr_fixture, json, repo, stderr, stdout};
 
 const STREAMS: [&str; 6] = [
     "vkd3d_triangle.jsonl",
@@ -561,9 +561,19 @@ fn unreadable_streams_are_located_and_write_nothing() {
     let mut lines: Vec<&str> = text.lines().collect();
     let truncated = &lines[40][..lines[40].len() / 2].to_owned();
     lines[40] = truncated;
-    let cases: [(&str, String, &str); 4] = [
+    let cases: [(&str, String, &str); 6] = [
         ("truncated.jsonl", lines.join("\n"), ":41: truncated JSON"),
-        ("empty.jsonl", String::new(), "no API calls"),
+        ("empty.jsonl", String::new(), "the file is empty"),
+        (
+            "capture.jsonl",
+            std::fs::read_to_string(repo().join("captures/example/frame.json")).unwrap(),
+            "already a framelab capture (it has `format_version`)",
+        ),
+        (
+            "document.jsonl",
+            "{\n  \"a\": 1\n}\n".to_owned(),
+            "a JSON document over several lines, not a JSON Lines stream",
+        ),
         (
             "not_lines.jsonl",
             "[1, 2, 3]\n".to_owned(),
@@ -737,4 +747,171 @@ fn debug_names_are_cleaned_and_never_make_names_collide() {
         !e.contains('\u{1b}'),
         "a raw escape reached the terminal: {e:?}"
     );
+}
+
+/// vkcube's stream with `edit` applied to its lines, imported: the summary as JSON.
+fn import_edited(tag: &str, edit: impl FnOnce(&mut Vec<String>)) -> Value {
+    let dir = Scratch::temp(&format!("framelab-import-{tag}"));
+    let text = std::fs::read_to_string(gfxr_fixture("vkcube_f3.jsonl")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    edit(&mut lines);
+    let input = dir.join(format!("{tag}.jsonl"));
+    std::fs::write(&input, lines.join("\n") + "\n").unwrap();
+    let out = dir.join(format!("{tag}.json"));
+    let o = framelab(&[
+        "import",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{tag}: {}", stderr(&o));
+    json(&o)
+}
+
+/// The index of the line recording vkCmdDraw into command buffer `cb`.
+fn draw_line(lines: &[String], cb: u64) -> usize {
+    let key = format!("\"commandBuffer\":{cb},");
+    lines
+        .iter()
+        .position(|l| l.contains("\"vkCmdDraw\"") && l.contains(&key))
+        .unwrap()
+}
+
+fn left_out(summary: &Value, what: &str) -> bool {
+    summary["skipped"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|k| k["what"].as_str().unwrap().contains(what))
+}
+
+#[test]
+fn what_a_few_lines_ask_to_walk_or_emit_is_bounded() {
+    // Each of vkcube's three command buffers executes the next a hundred times in place of
+    // its draw (the third the second again): about 10^8 commands at four levels, which
+    // took minutes to walk. The submission is sized first and left out, at once.
+    let nested = import_edited("nested", |lines| {
+        for (cb, next) in [(41, 42), (42, 43), (43, 42)] {
+            let at = draw_line(lines, cb);
+            let list = vec![next.to_string(); 100].join(",");
+            lines[at] = format!(
+                "{{\"index\":900,\"vkFunc\":{{\"name\":\"vkCmdExecuteCommands\",\"args\":{{\"commandBuffer\":{cb},\"commandBufferCount\":100,\"pCommandBuffers\":[{list}]}}}}}}"
+            );
+        }
+    });
+    assert!(
+        left_out(&nested, "submissions of over 1048576 commands"),
+        "{nested}"
+    );
+    // One command buffer of 200 draws submitted 1,000 times: 200,000 draws, of which the
+    // import keeps 131,072 and names the rest.
+    let repeated = import_edited("repeated", |lines| {
+        let at = draw_line(lines, 41);
+        let draw = lines[at].clone();
+        lines.splice(at..=at, std::iter::repeat_n(draw, 200));
+        let submit = lines
+            .iter()
+            .position(|l| l.contains("\"vkQueueSubmit\""))
+            .unwrap();
+        let list = vec!["41"; 1000].join(",");
+        lines[submit] = lines[submit].replace(
+            "\"commandBufferCount\":1,\"pCommandBuffers\":[41]",
+            &format!("\"commandBufferCount\":1000,\"pCommandBuffers\":[{list}]"),
+        );
+        assert!(lines[submit].contains("[41,41"));
+    });
+    let draws = repeated["draws"].as_u64().unwrap();
+    assert!((131_000..=131_072).contains(&draws), "{draws}");
+    assert!(
+        left_out(&repeated, "beyond the limit of 131072: not imported"),
+        "{repeated}"
+    );
+}
+
+#[test]
+fn captures_of_other_tools_are_named_not_parsed() {
+    let gfxr = gfxr_fixture("vkcube_f3.gfxr");
+    let jsonl = gfxr_fixture("vkcube_f3.jsonl");
+    for (cmd, file, code, what) in [
+        (
+            "validate",
+            &gfxr,
+            1,
+            "a GFXReconstruct capture (.gfxr), not a framelab capture",
+        ),
+        (
+            "replay",
+            &gfxr,
+            1,
+            "a GFXReconstruct capture (.gfxr), not a framelab capture",
+        ),
+        (
+            "info",
+            &jsonl,
+            1,
+            "a GFXReconstruct JSON Lines stream (gfxrecon-convert), not a framelab capture",
+        ),
+        ("diff", &jsonl, 2, "not a framelab capture or timing report"),
+    ] {
+        let f = file.to_str().unwrap();
+        let o = if cmd == "diff" {
+            framelab(&[cmd, f, f])
+        } else {
+            framelab(&[cmd, f])
+        };
+        assert_eq!(o.status.code(), Some(code), "{cmd}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains(what) && e.contains("framelab import"),
+            "{cmd}: {e}"
+        );
+    }
+}
+
+#[test]
+fn debug_labels_are_cleaned_and_an_empty_one_names_nothing() {
+    let label = |name: &str| {
+        serde_json::json!({"index": 901, "vkFunc": {"name": "vkCmdBeginDebugUtilsLabelEXT",
+            "args": {"commandBuffer": 41, "pLabelInfo": {
+            "sType": "VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT", "pNext": null,
+            "pLabelName": name, "color": [0.0, 0.0, 0.0, 0.0]}}}})
+        .to_string()
+    };
+    let end = "{\"index\":902,\"vkFunc\":{\"name\":\"vkCmdEndDebugUtilsLabelEXT\",\"args\":{\"commandBuffer\":41}}}";
+    let dir = Scratch::temp("framelab-import-labels");
+    let text = std::fs::read_to_string(gfxr_fixture("vkcube_f3.jsonl")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    let key = "\"commandBuffer\":41,";
+    let begin = lines
+        .iter()
+        .position(|l| l.contains("\"vkCmdBeginRenderPass\"") && l.contains(key))
+        .unwrap();
+    let finish = lines
+        .iter()
+        .position(|l| l.contains("\"vkCmdEndRenderPass\"") && l.contains("\"commandBuffer\":41}"))
+        .unwrap();
+    lines.splice(finish + 1..finish + 1, [end.to_owned(), end.to_owned()]);
+    lines.splice(begin..begin, [label("\u{1b}[2Jsky"), label(" ")]);
+    let input = dir.join("labels.jsonl");
+    std::fs::write(&input, lines.join("\n") + "\n").unwrap();
+    let out = dir.join("labels.json");
+    let o = framelab(&[
+        "import",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let c: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let pass = passes(&c)
+        .iter()
+        .find(|p| p["name"] == "\u{fffd}[2Jsky")
+        .unwrap_or_else(|| panic!("{}", c["passes"]));
+    assert_eq!(
+        pass["markers"],
+        serde_json::json!(["frame 0", "\u{fffd}[2Jsky"])
+    );
+    let v = framelab(&["validate", out.to_str().unwrap()]);
+    assert!(v.status.success(), "{}", stderr(&v));
 }

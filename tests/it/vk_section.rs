@@ -15,7 +15,7 @@ fn the_vulkan_section_is_validated() {
     let out = dir.join("cube.json");
     import(&gfxr_fixture("vkcube_f3.gfxr"), &out);
     let good: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    let cases: [Broken; 19] = [
+    let cases: [Broken; 20] = [
         (
             "offset",
             |c| {
@@ -71,6 +71,11 @@ fn the_vulkan_section_is_validated() {
             "no image view \"view_9\"",
         ),
         (
+            "mips0",
+            |c| c["vulkan"]["image_views"][0]["mips"] = 0.into(),
+            "takes 0 mip levels",
+        ),
+        (
             "viewport",
             |c| c["passes"][0]["draws"][0]["vulkan_state"]["viewport"][2] = 1e39.into(),
             "vulkan_state.viewport: viewport value 2 is not a finite number (inf)",
@@ -101,7 +106,7 @@ fn the_vulkan_section_is_validated() {
                 c["vulkan"]["pipeline_layouts"][0]["push_constants"] =
                     serde_json::json!([{"stages": 1, "offset": 0, "size": 4_294_967_292u32}])
             },
-            "push-constant range 0..4294967292 reaches past 4096 bytes",
+            "push-constant range 0..4294967292 reaches past 256 bytes",
         ),
         (
             "push_words",

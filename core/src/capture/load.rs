@@ -51,6 +51,14 @@ pub enum CaptureError {
         found: u64,
         supported: u32,
     },
+    /// A capture of another tool, which `framelab import` reads: said as such, since its bytes
+    /// would otherwise be reported as broken JSON.
+    #[error(
+        "{}: {what}, not a framelab capture; bring it in first with `framelab import {} -o <capture.json>`",
+        path.display(),
+        path.display()
+    )]
+    NeedsImport { path: PathBuf, what: &'static str },
     #[error("{}: {} error(s) in capture", path.display(), count_errors(diagnostics))]
     Invalid {
         path: PathBuf,
@@ -80,6 +88,11 @@ impl CaptureError {
         };
         match self {
             CaptureError::Read { source, .. } => one("read", "$".into(), source.to_string()),
+            CaptureError::NeedsImport { what, .. } => one(
+                "needs-import",
+                "$".into(),
+                format!("{what}: run `framelab import` on it first"),
+            ),
             CaptureError::File(e) => one("read", "$".into(), e.to_string()),
             CaptureError::Syntax {
                 line,
@@ -153,8 +166,37 @@ fn without_bom(bytes: &[u8]) -> Result<&[u8], EncodingError> {
     }
 }
 
+/// What another tool's capture is, told by its first bytes or its first line: GFXReconstruct's
+/// and RenderDoc's files start with their four-character codes, and a JSON Lines stream's
+/// first line is one object with a `header` or a call.
+pub fn foreign(bytes: &[u8]) -> Option<&'static str> {
+    if bytes.starts_with(b"GFXR") {
+        return Some("a GFXReconstruct capture (.gfxr)");
+    }
+    if bytes.starts_with(b"RDOC") {
+        return Some("a RenderDoc capture (.rdc)");
+    }
+    // Only a first line that is not the whole file, and short: a capture written on one line
+    // is not parsed twice.
+    let first = bytes.split(|&b| b == b'\n').next()?;
+    if first.len() >= bytes.trim_ascii_end().len() || first.len() > 1 << 20 {
+        return None;
+    }
+    let line: serde_json::Map<String, serde_json::Value> = serde_json::from_slice(first).ok()?;
+    ["header", "vkFunc", "function", "meta"]
+        .iter()
+        .any(|k| line.contains_key(*k))
+        .then_some("a GFXReconstruct JSON Lines stream (gfxrecon-convert)")
+}
+
 /// Parses capture bytes. `path` is only used in messages.
 pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawCapture, CaptureError> {
+    if let Some(what) = foreign(bytes) {
+        return Err(CaptureError::NeedsImport {
+            path: path.to_owned(),
+            what,
+        });
+    }
     let bytes = without_bom(bytes).map_err(|problem| CaptureError::Encoding {
         path: path.to_owned(),
         problem,

@@ -6,6 +6,10 @@
 //! `_BIT`) are parsed once, when a capture is validated or imported, and spelled only when
 //! text or JSON is written; everything in between compares values.
 
+/// The most push-constant bytes any device takes (`maxPushConstantsSize` is at least 128;
+/// none framelab replays on offers more than 256): imports and validation hold to it.
+pub const MAX_PUSH_CONSTANT_BYTES: u32 = 256;
+
 use std::borrow::Cow;
 use std::fmt;
 use std::ops::{BitAnd, BitOr, BitOrAssign, Not};

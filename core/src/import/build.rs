@@ -13,7 +13,7 @@ use super::commands::{
     RenderInstance, TransferCmd,
 };
 use super::pipelines::Pipelines;
-use super::record::{Recording, Recordings};
+use super::record::{MAX_EXECUTE_DEPTH, Recording, Recordings};
 use super::state::Objects;
 use crate::capture::dxgi;
 use crate::capture::format::{
@@ -33,8 +33,10 @@ pub(super) type BindingIdentity = (
     Option<crate::capture::format::ByteRange>,
 );
 
-/// Deepest nesting of secondary command buffers followed.
-const MAX_EXECUTE_DEPTH: u32 = 4;
+/// Most draws, dispatches, copies and recorded barriers one import emits: a real frame has
+/// tens of thousands; each takes about a kilobyte of the capture, which framelab reads up
+/// to 256 MiB.
+pub const MAX_WORK: u64 = 1 << 17;
 
 /// Most passes one import produces: a real frame has hundreds to a few thousand (the
 /// 37,000-call benchmark stream 1,440), and one submission may list a command buffer any
@@ -82,6 +84,8 @@ pub struct Builder {
     /// Why things were skipped, with how often.
     pub notes: BTreeMap<String, u64>,
     pub recorded_barriers: u64,
+    /// Draws, dispatches, copies and recorded barriers emitted so far (`MAX_WORK`).
+    work: u64,
     /// Block index of the first submission whose passes are imported.
     pub first_submit: Option<u64>,
     pub draws: u64,
@@ -302,6 +306,11 @@ impl Builder {
             return None;
         }
         let labels = self.labels.get(&queue).cloned().unwrap_or_default();
+        // An empty label names nothing: the innermost one with a name names the pass.
+        let labels: Vec<String> = labels
+            .into_iter()
+            .filter(|l| !l.trim().is_empty())
+            .collect();
         let stem = labels.last().map_or(base, String::as_str).to_owned();
         let stem = if self.frame > 0 {
             format!("{stem} (frame {})", self.frame)
@@ -460,6 +469,9 @@ impl Builder {
             if !matches!(cmd, Cmd::Dispatch(_)) {
                 compute = None;
             }
+            if self.emitting() && !self.fits(cmd) {
+                continue;
+            }
             match cmd {
                 Cmd::BeginLabel(l) => self.labels.entry(queue).or_default().push(l.clone()),
                 Cmd::EndLabel => {
@@ -528,6 +540,23 @@ impl Builder {
                 self.pass_of_command.insert(origin.index, pass);
             }
         }
+    }
+
+    /// Whether `cmd`'s work still fits in the import (`MAX_WORK`); noted where it does not.
+    fn fits(&mut self, cmd: &Cmd) -> bool {
+        let n = match cmd {
+            Cmd::Draw(_) | Cmd::Dispatch(_) | Cmd::Transfer(_) => 1,
+            Cmd::Barrier(bs) => bs.len() as u64,
+            _ => return true,
+        };
+        if self.work.saturating_add(n) > MAX_WORK {
+            self.note(format!(
+                "draws, dispatches, copies and barriers beyond the limit of {MAX_WORK}: not imported"
+            ));
+            return false;
+        }
+        self.work += n;
+        true
     }
 
     /// Barriers wait on their queue for the next pass, up to a ceiling (a command buffer

@@ -416,7 +416,8 @@ impl Contents {
         let mut notes = Vec::new();
         if !unknown.is_empty() {
             notes.push(format!(
-                "contents from before the frame that the capture does not hold (earlier GPU work): {}",
+                "contents of {} resource(s) from before the frame that the capture does not hold (earlier GPU work, or never written): {}",
+                unknown.len(),
                 unknown.join(", ")
             ));
         }

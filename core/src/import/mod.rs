@@ -195,7 +195,16 @@ struct Importer {
     /// `keep_submitted_before` is set, as the binary route drains it after every call.
     submitted_before: Vec<u64>,
     keep_submitted_before: bool,
+    /// Commands the submissions so far asked to walk (`MAX_WALKED`).
+    walked: u64,
 }
+
+/// Most commands one submission may ask to walk, secondary command buffers expanded: a real
+/// frame's submissions hold thousands to a few hundred thousand.
+const MAX_SUBMIT_COMMANDS: u64 = 1 << 20;
+/// Most commands all submissions of one import may ask to walk (every frame's before the
+/// imported ones included): a few seconds of walking.
+const MAX_WALKED: u64 = 1 << 26;
 
 impl Importer {
     fn skip(&mut self, what: String, line: u64) {
@@ -408,6 +417,17 @@ impl Importer {
                 &signals,
                 values("pSignalSemaphoreValues", "pSignalSemaphoreInfos"),
             );
+            // Walked three times over (passes, synchronization, earlier transfers), with
+            // secondary command buffers expanded: sized first, so that a few kilobytes of
+            // nested vkCmdExecuteCommands cannot ask for billions of steps.
+            let walk = record::expanded(&self.recordings, &cbs);
+            if walk > MAX_SUBMIT_COMMANDS || self.walked.saturating_add(walk) > MAX_WALKED {
+                self.builder.note(format!(
+                    "submissions of over {MAX_SUBMIT_COMMANDS} commands (secondary command buffers expanded), or past {MAX_WALKED} in all: not walked"
+                ));
+                continue;
+            }
+            self.walked += walk;
             self.submitted_in_frame |= !cbs.is_empty();
             if self.keep_submitted_before && !self.builder.emitting() {
                 self.submitted_before.extend(&cbs);
@@ -669,6 +689,7 @@ impl Importer {
             pools: HashMap::default(),
             submitted_before: Vec::new(),
             keep_submitted_before: false,
+            walked: 0,
             builder: Builder::new(options.frames),
             submitted_in_frame: false,
             skipped: BTreeMap::new(),

@@ -12,6 +12,7 @@ use super::commands::{
     Region, TransferCmd, Use, clear_color,
 };
 use super::render_pass;
+use super::state::debug_text;
 use super::state::{Descriptor, Objects};
 use super::value::{ASPECTS, Arg, Got, Skip};
 use crate::capture::format::VkCommandState;
@@ -40,12 +41,49 @@ struct Bound {
     pushed: bool,
 }
 
-/// Most push-constant bytes a device may take (`maxPushConstantsSize` is at least 128;
-/// no device offers more than 256).
-const MAX_PUSH_BYTES: u32 = 256;
+use crate::capture::vulkan::MAX_PUSH_CONSTANT_BYTES as MAX_PUSH_BYTES;
 
 /// Command buffers' recordings by handle, boxed so that moving one is a pointer's copy.
 pub type Recordings = super::HashMap<u64, Box<Recording>>;
+
+/// Deepest nesting of secondary command buffers any walk of a submission follows.
+pub const MAX_EXECUTE_DEPTH: u32 = 4;
+
+/// How many commands walking `cbs` visits, secondary command buffers expanded where they
+/// are executed (to `MAX_EXECUTE_DEPTH`), counted without walking: each recording is sized
+/// once per depth, so a command buffer executing another a thousand times at each of four
+/// levels is told to be a trillion commands in a few thousand steps.
+pub fn expanded(recordings: &Recordings, cbs: &[u64]) -> u64 {
+    fn size(
+        recordings: &Recordings,
+        cb: u64,
+        depth: u32,
+        memo: &mut super::HashMap<(u64, u32), u64>,
+    ) -> u64 {
+        if let Some(&n) = memo.get(&(cb, depth)) {
+            return n;
+        }
+        let Some(r) = recordings.get(&cb) else {
+            return 0;
+        };
+        let mut n = r.cmds.len() as u64;
+        if depth < MAX_EXECUTE_DEPTH {
+            for cmd in &r.cmds {
+                if let Cmd::Execute(list) = cmd {
+                    for &sub in list {
+                        n = n.saturating_add(size(recordings, sub, depth + 1, memo));
+                    }
+                }
+            }
+        }
+        memo.insert((cb, depth), n);
+        n
+    }
+    let mut memo = super::HashMap::default();
+    cbs.iter().fold(0u64, |n, &cb| {
+        n.saturating_add(size(recordings, cb, 0, &mut memo))
+    })
+}
 
 #[derive(Default, Debug)]
 pub struct Recording {
@@ -249,15 +287,12 @@ impl Recording {
                 src: args.get("srcImage")?.handle()?,
                 dst: args.get("dstImage")?.handle()?,
             })),
-            CmdFunc::BeginDebugLabel => {
-                Cmd::BeginLabel(args.get("pLabelInfo")?.get("pLabelName")?.str()?.to_owned())
-            }
-            CmdFunc::BeginDebugMarker => Cmd::BeginLabel(
-                args.get("pMarkerInfo")?
-                    .get("pMarkerName")?
-                    .str()?
-                    .to_owned(),
-            ),
+            CmdFunc::BeginDebugLabel => Cmd::BeginLabel(debug_text(
+                args.get("pLabelInfo")?.get("pLabelName")?.str()?,
+            )),
+            CmdFunc::BeginDebugMarker => Cmd::BeginLabel(debug_text(
+                args.get("pMarkerInfo")?.get("pMarkerName")?.str()?,
+            )),
             CmdFunc::EndLabel => Cmd::EndLabel,
             CmdFunc::ExecuteCommands => Cmd::Execute(
                 args.list("pCommandBuffers")?

@@ -21,6 +21,15 @@ use crate::capture::vulkan::{AccessFlags, ImageLayout, PipelineStages};
 /// the capture, and a longer one says nothing more.
 const MAX_NAME: usize = 256;
 
+/// A debug name or label as the application gave it, made fit to name things in a capture:
+/// control characters replaced, at most `MAX_NAME` characters.
+pub fn debug_text(text: &str) -> String {
+    text.chars()
+        .take(MAX_NAME)
+        .map(|c| if c.is_control() { '\u{fffd}' } else { c })
+        .collect()
+}
+
 #[derive(Clone, Debug)]
 pub struct ImageInfo {
     pub format: String,
@@ -378,15 +387,10 @@ impl Objects {
         Ok(true)
     }
 
-    /// An object's debug name as the application gave it, with control characters replaced
-    /// (the capture format refuses them) and at most `MAX_NAME` characters; an empty name
-    /// removes the object's name, as it does in Vulkan.
+    /// An object's debug name, cleaned by `debug_text` (the capture format refuses control
+    /// characters); an empty name removes the object's name, as it does in Vulkan.
     fn name(&mut self, handle: u64, name: &str) {
-        let clean: String = name
-            .chars()
-            .take(MAX_NAME)
-            .map(|c| if c.is_control() { '\u{fffd}' } else { c })
-            .collect();
+        let clean = debug_text(name);
         if clean.trim().is_empty() {
             self.names.remove(&handle);
         } else {

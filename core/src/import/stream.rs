@@ -81,7 +81,8 @@ impl<R: BufRead> Lines<R> {
                 .read_until(b'\n', &mut self.buf);
             match read {
                 Ok(0) => return None,
-                Ok(n) if n as u64 > MAX_LINE_BYTES => {
+                // The limit is on the line, not on its newline.
+                Ok(n) if n as u64 > MAX_LINE_BYTES && !self.buf.ends_with(b"\n") => {
                     return Some(Err(LineError {
                         line,
                         message: format!(
@@ -98,7 +99,12 @@ impl<R: BufRead> Lines<R> {
                     }));
                 }
             }
-            let text = trim_ascii(&self.buf);
+            // Editors may start a file with a UTF-8 byte-order mark.
+            let body = match (line, self.buf.strip_prefix(b"\xEF\xBB\xBF")) {
+                (1, Some(rest)) => rest,
+                _ => &self.buf[..],
+            };
+            let text = trim_ascii(body);
             if text.is_empty() {
                 continue;
             }
@@ -201,13 +207,20 @@ fn parse_entry(text: &[u8], line: u64) -> Result<Entry, LineError> {
         .deserialize(&mut de)
         .and_then(|m| de.end().map(|()| m));
     let m = parsed.map_err(|e| {
+        // serde_json counts lines within the one it was given: only the column says more.
+        let what = e.to_string();
+        let what = what
+            .rsplit_once(" at line ")
+            .map_or(what.as_str(), |(m, _)| m)
+            .to_owned();
+        let at = e.column();
         err(match e.classify() {
-            Category::Eof => format!("truncated JSON ({e})"),
+            Category::Eof => format!("truncated JSON ({what}, column {at})"),
             Category::Data if !text.starts_with(b"{") => {
                 "expected a JSON object per line".to_owned()
             }
-            Category::Data => e.to_string(),
-            Category::Syntax | Category::Io => format!("not JSON: {e}"),
+            Category::Data => format!("{what}, column {at}"),
+            Category::Syntax | Category::Io => format!("not JSON: {what}, column {at}"),
         })
     })?;
     let str_at = |tree: &Tree, node: Option<usize>, key: &str| -> Option<String> {

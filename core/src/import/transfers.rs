@@ -17,9 +17,6 @@ use super::packed::{Packed, Rows, TexelBox};
 use super::record::{Recording, Recordings};
 use super::state::{Descriptor, ImageInfo, Objects, storage_descriptor};
 
-/// Deepest nesting of secondary command buffers followed.
-const MAX_DEPTH: u32 = 4;
-
 impl Contents {
     /// Carries out what command buffer `cb`, submitted before the imported frames, did to
     /// the contents known so far.
@@ -50,7 +47,7 @@ impl Contents {
                         }
                     }
                 }
-                Cmd::Execute(secondaries) if depth < MAX_DEPTH => {
+                Cmd::Execute(secondaries) if depth < super::record::MAX_EXECUTE_DEPTH => {
                     for cb in secondaries {
                         if let Some(s) = recordings.get(cb) {
                             self.walk(objects, recordings, s, depth + 1);

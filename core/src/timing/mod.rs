@@ -162,6 +162,33 @@ pub enum ReadError {
     },
 }
 
+/// Whether a string (or member name) under `v` holds a control character; `at` is left at
+/// the first one's JSON path.
+fn hidden_text(v: &serde_json::Value, at: &mut String) -> bool {
+    use serde_json::Value;
+    let len = at.len();
+    let bad = |s: &str| s.chars().any(char::is_control);
+    let found = match v {
+        Value::String(s) => bad(s),
+        Value::Array(items) => items.iter().enumerate().any(|(i, x)| {
+            at.truncate(len);
+            at.push_str(&format!("[{i}]"));
+            hidden_text(x, at)
+        }),
+        Value::Object(map) => map.iter().any(|(k, x)| {
+            at.truncate(len);
+            at.push('.');
+            at.push_str(&crate::text::printable(k));
+            bad(k) || hidden_text(x, at)
+        }),
+        _ => false,
+    };
+    if !found {
+        at.truncate(len);
+    }
+    found
+}
+
 /// The most frames a report may hold: more than `replay --frames` or `diff --frames` ever
 /// time, and a bound on what reading and comparing one costs.
 pub const MAX_FRAMES: u32 = 100_000;
@@ -179,6 +206,14 @@ impl TimingReport {
     /// A report from JSON already parsed (a caller that looked at it first need not parse
     /// it again).
     pub fn from_value(path: &str, value: serde_json::Value) -> Result<TimingReport, ReadError> {
+        // Its names are printed, coloured, to terminals: none may carry a control character.
+        let mut at = String::from("$");
+        if hidden_text(&value, &mut at) {
+            return Err(ReadError::Inconsistent {
+                path: path.to_owned(),
+                message: format!("{at} holds a control character"),
+            });
+        }
         let report: TimingReport =
             serde_json::from_value(value).map_err(|source| ReadError::Parse {
                 path: path.to_owned(),

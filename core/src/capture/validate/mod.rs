@@ -286,6 +286,15 @@ impl<'a> Validator<'a> {
         if raw.name.trim().is_empty() {
             self.diags
                 .error("name", &self.root.field("name"), "capture name is empty");
+        } else if raw.name.chars().any(char::is_control) {
+            self.diags.error(
+                "name",
+                &self.root.field("name"),
+                format!(
+                    "capture name \"{}\" holds a control character",
+                    crate::text::printable(&raw.name)
+                ),
+            );
         }
         if !matches!(raw.adapter.resource_heap_tier, 1 | 2) {
             self.diags.error(

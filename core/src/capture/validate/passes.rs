@@ -52,6 +52,19 @@ impl<'a> Validator<'a> {
                 ok = false;
                 continue;
             }
+            // Markers are shown as a pass's path in tables, graphs and diffs.
+            for (k, m) in p.markers.iter().enumerate() {
+                if m.chars().any(char::is_control) {
+                    self.diags.error(
+                        "name",
+                        &path.field("markers").index(k),
+                        format!(
+                            "marker \"{}\" holds a control character",
+                            crate::text::printable(m)
+                        ),
+                    );
+                }
+            }
             match self.check_pass(i, p, &path, resources.as_deref(), heaps, meshes.as_deref()) {
                 Some(mut pass) => {
                     if let Some(id) = pass.shader.as_ref().map(|s| s.id) {

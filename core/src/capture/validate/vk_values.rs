@@ -8,9 +8,7 @@
 use super::{JsonPath, Validator};
 use crate::capture::format::{GraphicsState, Pipeline, PipelineLayout, VkCommandState};
 
-/// The most push-constant bytes a layout may declare: more than any device offers
-/// (`maxPushConstantsSize` is 128 at least, 256 on most devices, 4096 on the largest).
-const MAX_PUSH_BYTES: u32 = 4096;
+use crate::capture::vulkan::MAX_PUSH_CONSTANT_BYTES as MAX_PUSH_BYTES;
 
 /// Why viewport `[x, y, width, height, min depth, max depth]` cannot be, if it cannot.
 fn viewport_fault(v: &[f32]) -> Option<String> {
@@ -44,10 +42,14 @@ const VIEWPORT_BOUND: f32 = 65536.0;
 /// which a frame may use but replay cannot.
 fn depth_fault(v: &[f32; 6]) -> Option<String> {
     let (min, max) = (v[4], v[5]);
-    (!(0.0..=1.0).contains(&min) || !(0.0..=1.0).contains(&max)).then(|| {
-        format!(
+    if !(0.0..=1.0).contains(&min) || !(0.0..=1.0).contains(&max) {
+        return Some(format!(
             "viewport depth range {min}..{max} is outside 0..1 (VK_EXT_depth_range_unrestricted); replay cannot reproduce it"
-        )
+        ));
+    }
+    // Vulkan lets the range run backwards (depth reversed); wgpu does not.
+    (min > max).then(|| {
+        format!("viewport depth range {min}..{max} runs backwards; replay cannot reproduce it")
     })
 }
 
@@ -119,7 +121,7 @@ impl Validator<'_> {
                 ))
             } else if end > u64::from(MAX_PUSH_BYTES) {
                 Some(format!(
-                    "push-constant range {}..{end} reaches past {MAX_PUSH_BYTES} bytes, more than any device offers",
+                    "push-constant range {}..{end} reaches past {MAX_PUSH_BYTES} bytes, more than any device takes",
                     r.offset
                 ))
             } else {
@@ -254,7 +256,12 @@ mod tests {
                 .unwrap()
                 .contains("0..5")
         );
-        assert_eq!(depth_fault(&[0.0, 0.0, 1.0, 1.0, 1.0, 0.0]), None);
+        assert!(
+            depth_fault(&[0.0, 0.0, 1.0, 1.0, 1.0, 0.0])
+                .unwrap()
+                .contains("backwards")
+        );
+        assert_eq!(depth_fault(&[0.0, 0.0, 1.0, 1.0, 0.0, 1.0]), None);
         assert_eq!(scissor_fault(&[0, 0, 64, 64]), None);
         assert!(
             scissor_fault(&[-1, 0, 64, 64])

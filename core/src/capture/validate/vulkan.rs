@@ -654,6 +654,12 @@ fn descriptor_outside(d: &VkDescriptor, buffer_sizes: &BTreeMap<&str, u64>) -> O
 
 /// Why view `v` reaches past the mip levels or layers of `r`, where the capture states them.
 fn view_outside(v: &VkImageView, r: &Resource) -> Option<String> {
+    // Vulkan's `levelCount` and `layerCount` are never 0.
+    for (what, count) in [("mip levels", v.mips), ("layers", v.layers)] {
+        if count == Some(0) {
+            return Some(format!("view \"{}\" takes 0 {what}", v.name));
+        }
+    }
     let range = |what: &str, base: u32, count: Option<u32>, total: u32| {
         let end = u64::from(base) + u64::from(count.unwrap_or(1).max(1));
         (end > u64::from(total)).then(|| {

@@ -281,7 +281,11 @@ pub fn import(
                 let room = |fills| room(&imp.objects, fills);
                 let meta =
                     meta::read(&block, compression, &room).map_err(|m| located(file, at, m))?;
-                reading.count(format!("(meta-data: {})", meta.name()));
+                // Contents and memory types are reported as what they became, not as
+                // blocks that model nothing.
+                if matches!(meta, Meta::Other(_)) {
+                    reading.count(format!("(meta-data: {})", meta.name()));
+                }
                 match meta {
                     // Written while the imported frames run: their work reads it from here on.
                     Meta::FillMemory {

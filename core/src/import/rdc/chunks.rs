@@ -112,9 +112,9 @@ impl<R: Read + Seek> Reader<R> {
             "Internal::Coherent Mapped Memory Write"
             | "vkFlushMappedMemoryRanges"
             | "vkUnmapMemory" => {
+                // Reported as the contents it wrote, not as a chunk that models nothing.
                 self.mapped_write(imp, chunk)?;
                 if name.starts_with("Internal") {
-                    self.count(format!("({name})"));
                     return Ok(());
                 }
             }
@@ -344,7 +344,6 @@ impl<R: Read + Seek> Reader<R> {
             .and_then(|t| t.string.clone())
             .unwrap_or_default();
         let id = handle_of(root.child("id")).ok_or("initial contents without an id")?;
-        self.count(format!("(initial contents: {kind})"));
         match kind.as_str() {
             "eResDeviceMemory" => {
                 if root.child("IsSparse").is_some_and(|s| s.text == "true") {

@@ -829,7 +829,7 @@ impl Sync {
                     }
                 }
                 Cmd::Transfer(t) => self.transfer(objects, t, command),
-                Cmd::Execute(list) if depth < 4 => {
+                Cmd::Execute(list) if depth < crate::import::record::MAX_EXECUTE_DEPTH => {
                     for cb in list {
                         if let Some(sub) = recordings.get(cb) {
                             self.walk(objects, pipelines, recordings, sub, depth + 1);
