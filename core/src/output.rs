@@ -17,11 +17,18 @@ pub enum OutputError {
     Graphviz(String),
     #[error("{output} is also what this command reads; choose another output")]
     IsInput { output: String },
+    #[error("cannot create the folder {folder} for {output}: {source}")]
+    Folder {
+        folder: String,
+        output: String,
+        #[source]
+        source: std::io::Error,
+    },
 }
 
 /// Checks, before any work, that `output` can be written (a regular file, a link to one or a
 /// device, or nothing yet) and is none of the command's inputs, which writing it would
-/// destroy; where it lands.
+/// destroy, and makes its folder where there is none yet; where it lands.
 pub fn check_output(
     output: &Path,
     inputs: &[&Path],
@@ -36,6 +43,17 @@ pub fn check_output(
         return Err(OutputError::IsInput {
             output: output.display().to_string(),
         });
+    }
+    // Made now, as `import -o` and `replay --out` make theirs, so that a missing folder is
+    // not found only after the work.
+    if let Some(parent) = at.path.parent().filter(|p| !p.as_os_str().is_empty())
+        && !parent.is_dir()
+    {
+        std::fs::create_dir_all(parent).map_err(|source| OutputError::Folder {
+            folder: parent.display().to_string(),
+            output: output.display().to_string(),
+            source,
+        })?;
     }
     Ok(at)
 }

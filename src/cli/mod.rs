@@ -181,15 +181,17 @@ enum Command {
         #[arg(long)]
         root: Vec<PathBuf>,
     },
-    /// Turn a GFXReconstruct capture into a framelab capture: passes, resources, heaps and
-    /// the barriers the application recorded. A binary capture (`.gfxr`, recognised by its
-    /// file header) also brings its SPIR-V shaders and memory contents, written as side
-    /// files beside the output; a JSON Lines stream (gfxrecon-convert) holds neither, so its
-    /// import is for validate, analyze, graph and diff --structure only.
+    /// Turn a GFXReconstruct or RenderDoc capture into a framelab capture: passes,
+    /// resources, heaps and the barriers the application recorded. A binary capture
+    /// (`.gfxr`, or RenderDoc's `.rdc` read through renderdoccmd; each recognised by its file
+    /// header) also brings its SPIR-V shaders and memory contents, written as side files
+    /// beside the output; a JSON Lines stream (gfxrecon-convert) holds neither, so its import
+    /// is for validate, analyze, graph and diff --structure only.
     ///
     /// Example: framelab import app.gfxr -o app.json --frame 1
     Import {
-        /// The capture: a binary `.gfxr`, or JSON Lines from gfxrecon-convert.
+        /// The capture: a binary `.gfxr`, a RenderDoc `.rdc`, or JSON Lines from
+        /// gfxrecon-convert.
         stream: PathBuf,
         /// Where to write the capture (JSON); written only if it validates.
         #[arg(short, long)]

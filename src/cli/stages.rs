@@ -46,10 +46,23 @@ fn print_stage_error(e: &StageError, path: &Path) {
 /// A valid capture for an analysis command, or `None` once its problems are printed.
 /// A capture whose passes cannot be ordered is refused here too, as `validate` refuses it.
 pub fn validated(path: &Path, scale: f64) -> Option<Validated> {
-    Validated::load(path, &options(scale))
+    let v = Validated::load(path, &options(scale))
         .and_then(|v| v.check_order().map(|()| v))
         .map_err(|e| print_stage_error(&e, path))
-        .ok()
+        .ok()?;
+    note_scale(&v.capture, scale);
+    Some(v)
+}
+
+/// An imported frame has the application's sizes in texels, which no scale changes: said,
+/// so that `--scale` is not taken to have made it smaller.
+fn note_scale(capture: &framelab_core::capture::Capture, scale: f64) {
+    if scale != 1.0 && capture.origin.is_some() {
+        let _ = writeln!(
+            std::io::stderr(),
+            "note: --scale {scale} changes no size here: an imported frame keeps the application's own, in texels"
+        );
+    }
 }
 
 /// An analysed capture for an analysis command, or `None` once its problems are printed.
@@ -62,10 +75,11 @@ pub fn analysed(path: &Path, cull: bool, scale: f64) -> Option<Analysed> {
 
 /// An analysed capture for a device command, its bytes hashed for the timing report.
 pub fn analysed_for_device(path: &Path, scale: f64, cull: bool) -> anyhow::Result<Analysed> {
-    Loaded::read_hashed(path)
+    let v = Loaded::read_hashed(path)
         .and_then(|l| l.validate(&options(scale)))
-        .and_then(|v| v.analyse(AnalyzeOptions { cull }))
-        .map_err(device_error)
+        .map_err(device_error)?;
+    note_scale(&v.capture, scale);
+    v.analyse(AnalyzeOptions { cull }).map_err(device_error)
 }
 
 /// An analysed capture to replay: one that cannot be (an import) is refused before any device

@@ -535,7 +535,7 @@ fn imported_captures_are_analysed_not_replayed() {
     assert_eq!(o.status.code(), Some(1));
     let e = stderr(&o);
     assert!(
-        e.contains("imported by GFXReconstruct 0.9.18")
+        e.contains("captured by GFXReconstruct 0.9.18")
             && e.contains("no shader code")
             && e.contains("not replayed"),
         "{e}"

@@ -59,10 +59,10 @@ impl Capture {
         let origin = self.origin.as_ref()?;
         let reason = origin.not_replayable.as_ref()?;
         Some(format!(
-            "\"{}\" was imported by {} from {}: {reason}. It can be validated, analysed, inspected as a graph and diffed, but not replayed",
+            "\"{}\" was imported from {}, captured by {}: {reason}. It can be validated, analysed, inspected as a graph and compared with `diff --structure`, but not replayed or timed; importing the binary capture (.gfxr) instead brings what replay needs",
             self.source.display(),
-            origin.tool,
-            origin.file
+            origin.file,
+            origin.tool
         ))
     }
     pub fn resource(&self, id: ResourceId) -> &ResourceDesc {
