@@ -673,7 +673,11 @@ fn outputs_never_replace_inputs_pipes_or_links() {
     let dot = dir.join("new/deeper/g.dot");
     let o = framelab(&["graph", c, "--dot", dot.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(std::fs::read_to_string(&dot).unwrap().starts_with("digraph"));
+    assert!(
+        std::fs::read_to_string(&dot)
+            .unwrap()
+            .starts_with("digraph")
+    );
     let a = repo().join("tests/fixtures/timing/a.json");
     let b = dir.join("b.json");
     std::fs::copy(repo().join("tests/fixtures/timing/b.json"), &b).unwrap();

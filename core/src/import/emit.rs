@@ -199,6 +199,8 @@ struct Heaps<'a> {
     arch: MemoryArchitecture,
     by_memory: BTreeMap<u64, Heap>,
     guessed_alignment: bool,
+    /// Whether a memory's type was not among those the stream gave (noted once).
+    unknown_types: bool,
     notes: Vec<String>,
 }
 
@@ -220,6 +222,13 @@ impl Heaps<'_> {
             .memory_type_flags
             .get(mem.type_index as usize)
             .copied();
+        if flags.is_none() && !self.unknown_types {
+            // A trimmed capture's JSON Lines stream holds no vkGetPhysicalDeviceMemoryProperties.
+            self.unknown_types = true;
+            self.notes.push(
+                "memory types the stream does not give (no memory properties in it): its memory taken as DEFAULT heaps".to_owned(),
+            );
+        }
         let (heap_type, page, pool) = heap_kind(flags, self.arch);
         // Vulkan gives each placement's alignment in its memory requirements; without them
         // the offset itself is the best evidence.
@@ -275,6 +284,7 @@ fn resources(b: &Builder, objects: &Objects, hidden_blocks: bool) -> Made {
         arch: architecture(objects),
         by_memory: BTreeMap::new(),
         guessed_alignment: false,
+        unknown_types: false,
         notes: Vec::new(),
     };
     let mut resources = Vec::new();
