@@ -915,3 +915,29 @@ fn debug_labels_are_cleaned_and_an_empty_one_names_nothing() {
     let v = framelab(&["validate", out.to_str().unwrap()]);
     assert!(v.status.success(), "{}", stderr(&v));
 }
+
+#[test]
+fn notes_count_only_the_imported_frames() {
+    // vkcube's whole run waits on its acquire semaphore once a frame: importing its third
+    // frame notes one wait, not the three frames' (and more) read before it.
+    let dir = Scratch::temp("framelab-import-notes");
+    let out = dir.join("third.json");
+    let o = framelab(&[
+        "import",
+        gfxr_fixture("vkcube_whole.gfxr").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--frame",
+        "2",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = json(&o);
+    let waits = summary["skipped"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|k| k["what"].as_str().unwrap().contains("no queue signal"))
+        .unwrap_or_else(|| panic!("{summary}"));
+    assert_eq!(waits["count"], 1, "{summary}");
+}

@@ -405,6 +405,13 @@ impl Builder {
     /// Semaphore waits become fence waits of the next pass on `queue`, when another queue
     /// signalled them (on the same queue, submission order already orders the work).
     fn wait(&mut self, queue: u64, waits: &[u64]) {
+        // Waits of frames not imported are neither fences nor worth a note.
+        if !self.emitting() {
+            for sem in waits {
+                self.semaphore_fence.remove(sem);
+            }
+            return;
+        }
         for sem in waits {
             match self.semaphore_fence.remove(sem) {
                 Some((f, from)) if from != queue => {
