@@ -674,7 +674,6 @@ fn edits_that_cannot_land_are_named_and_write_nothing() {
 fn debug_names_are_cleaned_and_never_make_names_collide() {
     // The 1.x fixture edited: its second frame signals a second semaphore, both named alike by
     // the application; its image "hdr_color" renamed with terminal escapes in the name.
-    let dir = Scratch::temp("framelab-import-names");
     let text = std::fs::read_to_string(gfxr_fixture("v1_dynamic_rendering.jsonl")).unwrap();
     let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
     let create = lines
@@ -703,17 +702,7 @@ fn debug_names_are_cleaned_and_never_make_names_collide() {
         name(11, "VK_OBJECT_TYPE_IMAGE", "\u{1b}[2Jhdr\u{7}"),
     ];
     lines.splice(create + 1..create + 1, added);
-    let input = dir.join("names.jsonl");
-    std::fs::write(&input, lines.join("\n") + "\n").unwrap();
-    let out = dir.join("names.json");
-    let o = framelab(&[
-        "import",
-        input.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let c: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let (_, c, dir) = import_lines("names", &lines);
     let fences: Vec<&str> = c["fences"]
         .as_array()
         .unwrap()
@@ -749,24 +738,24 @@ fn debug_names_are_cleaned_and_never_make_names_collide() {
     );
 }
 
-/// vkcube's stream with `edit` applied to its lines, imported: the summary as JSON.
-fn import_edited(tag: &str, edit: impl FnOnce(&mut Vec<String>)) -> Value {
+/// `lines` written as a stream and imported in a scratch folder (kept while the result is):
+/// the summary and the capture as JSON.
+fn import_lines(tag: &str, lines: &[String]) -> (Value, Value, Scratch) {
     let dir = Scratch::temp(&format!("framelab-import-{tag}"));
-    let text = std::fs::read_to_string(gfxr_fixture("vkcube_f3.jsonl")).unwrap();
-    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
-    edit(&mut lines);
     let input = dir.join(format!("{tag}.jsonl"));
     std::fs::write(&input, lines.join("\n") + "\n").unwrap();
     let out = dir.join(format!("{tag}.json"));
-    let o = framelab(&[
-        "import",
-        input.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--json",
-    ]);
-    assert!(o.status.success(), "{tag}: {}", stderr(&o));
-    json(&o)
+    let summary = crate::gfxr_binary::import(&input, &out);
+    let capture = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    (summary, capture, dir)
+}
+
+/// vkcube's stream with `edit` applied to its lines, imported: the summary as JSON.
+fn import_edited(tag: &str, edit: impl FnOnce(&mut Vec<String>)) -> Value {
+    let text = std::fs::read_to_string(gfxr_fixture("vkcube_f3.jsonl")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    edit(&mut lines);
+    import_lines(tag, &lines).0
 }
 
 /// The index of the line recording vkCmdDraw into command buffer `cb`.
@@ -879,7 +868,6 @@ fn debug_labels_are_cleaned_and_an_empty_one_names_nothing() {
         .to_string()
     };
     let end = "{\"index\":902,\"vkFunc\":{\"name\":\"vkCmdEndDebugUtilsLabelEXT\",\"args\":{\"commandBuffer\":41}}}";
-    let dir = Scratch::temp("framelab-import-labels");
     let text = std::fs::read_to_string(gfxr_fixture("vkcube_f3.jsonl")).unwrap();
     let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
     let key = "\"commandBuffer\":41,";
@@ -893,17 +881,7 @@ fn debug_labels_are_cleaned_and_an_empty_one_names_nothing() {
         .unwrap();
     lines.splice(finish + 1..finish + 1, [end.to_owned(), end.to_owned()]);
     lines.splice(begin..begin, [label("\u{1b}[2Jsky"), label(" ")]);
-    let input = dir.join("labels.jsonl");
-    std::fs::write(&input, lines.join("\n") + "\n").unwrap();
-    let out = dir.join("labels.json");
-    let o = framelab(&[
-        "import",
-        input.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let c: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let (_, c, dir) = import_lines("labels", &lines);
     let pass = passes(&c)
         .iter()
         .find(|p| p["name"] == "\u{fffd}[2Jsky")
@@ -912,7 +890,7 @@ fn debug_labels_are_cleaned_and_an_empty_one_names_nothing() {
         pass["markers"],
         serde_json::json!(["frame 0", "\u{fffd}[2Jsky"])
     );
-    let v = framelab(&["validate", out.to_str().unwrap()]);
+    let v = framelab(&["validate", dir.join("labels.json").to_str().unwrap()]);
     assert!(v.status.success(), "{}", stderr(&v));
 }
 
