@@ -7,12 +7,22 @@ use std::borrow::Cow;
 /// a name or message taken from an input could otherwise move, recolour or erase what a
 /// terminal shows.
 pub fn printable(text: &str) -> Cow<'_, str> {
-    if !text.chars().any(is_hidden) {
+    escaped(text, is_hidden)
+}
+
+/// `text` for one line of a report: as `printable`, and a newline or tab written as an
+/// escape too, so a name read from an input cannot begin a line of its own.
+pub fn one_line(text: &str) -> Cow<'_, str> {
+    escaped(text, char::is_control)
+}
+
+fn escaped(text: &str, hidden: fn(char) -> bool) -> Cow<'_, str> {
+    if !text.chars().any(hidden) {
         return Cow::Borrowed(text);
     }
     let mut out = String::with_capacity(text.len() + 8);
     for c in text.chars() {
-        if is_hidden(c) {
+        if hidden(c) {
             out.extend(c.escape_default());
         } else {
             out.push(c);
@@ -83,6 +93,8 @@ mod tests {
         assert!(matches!(printable("plain\tline\n"), Cow::Borrowed(_)));
         assert_eq!(printable("a\u{1b}[2Jb\u{7}\r"), "a\\u{1b}[2Jb\\u{7}\\r");
         assert_eq!(printable("\u{9b}é"), "\\u{9b}é");
+        assert_eq!(one_line("vkX\nerror: forged\t"), "vkX\\nerror: forged\\t");
+        assert!(matches!(one_line("vkCmdDraw"), Cow::Borrowed(_)));
     }
 
     #[test]

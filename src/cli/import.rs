@@ -2,6 +2,7 @@
 //! written (atomically) so that an import either gives a capture every command accepts or
 //! nothing, and a summary of what was found and what was left out.
 
+use framelab_core::text::one_line;
 use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 use std::process::ExitCode;
@@ -255,7 +256,11 @@ fn render(s: &Summary, out: &Path) -> String {
     };
     t += &format!(
         "{}: {}{dialect}, {read}{} {unit}s, {} calls, {} frame(s)\n",
-        s.file, s.tool, s.lines, s.calls, s.frames_in_stream
+        one_line(&s.file),
+        one_line(&s.tool),
+        s.lines,
+        s.calls,
+        s.frames_in_stream
     );
     let kinds: Vec<String> = s
         .passes_by_kind
@@ -309,7 +314,7 @@ fn render(s: &Summary, out: &Path) -> String {
             } else {
                 String::new()
             };
-            t += &format!("  {times}{}{at}\n", k.what);
+            t += &format!("  {times}{}{at}\n", one_line(&k.what));
         }
     }
     if !s.not_modelled.is_empty() {
@@ -319,7 +324,7 @@ fn render(s: &Summary, out: &Path) -> String {
         let shown: Vec<String> = top
             .iter()
             .take(6)
-            .map(|(n, c)| format!("{n} {c}"))
+            .map(|(n, c)| format!("{} {c}", one_line(n)))
             .collect();
         t += &format!(
             "  {total} calls of {} functions create or record nothing framelab models ({}{})\n",

@@ -919,3 +919,32 @@ fn notes_count_only_the_imported_frames() {
         .unwrap_or_else(|| panic!("{summary}"));
     assert_eq!(waits["count"], 1, "{summary}");
 }
+
+#[test]
+fn a_name_from_the_stream_stays_on_its_line() {
+    // The stream's header names the tool: here with a line of its own and an escape in it.
+    let dir = Scratch::temp("framelab-import-oneline");
+    let text = std::fs::read_to_string(gfxr_fixture("vkcube_f3.jsonl")).unwrap();
+    let (header, rest) = text.split_once('\n').unwrap();
+    assert!(header.contains("\"gfxrecon-version\""), "{header}");
+    let forged = "{\"header\":{\"json-version\":\"0.8.0\",\"gfxrecon-version\":\"0.9\\nerror: forged\\u001b[2J\"}}";
+    let input = dir.join("forged.jsonl");
+    std::fs::write(&input, format!("{forged}\n{rest}")).unwrap();
+    let out = dir.join("forged.json");
+    let o = framelab(&[
+        "import",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = stdout(&o);
+    assert!(
+        summary.contains("0.9\\nerror: forged\\u{1b}[2J"),
+        "{summary}"
+    );
+    assert!(
+        !summary.lines().any(|l| l.starts_with("error: forged")),
+        "{summary}"
+    );
+}
