@@ -78,11 +78,11 @@ fn as_report(path: &Path) -> anyhow::Result<Option<TimingReport>> {
     };
     let bytes = files::read(path, limit)?;
     if let Some(what) = framelab_core::capture::load::foreign(&bytes) {
-        anyhow::bail!(
-            "{}: {what}, not a framelab capture or timing report; bring it in first with `framelab import {} -o <capture.json>`",
-            path.display(),
-            path.display()
-        );
+        return Err(framelab_core::capture::CaptureError::NeedsImport {
+            path: path.to_owned(),
+            what,
+        }
+        .into());
     }
     let value: serde_json::Value = serde_json::from_slice(&bytes)
         .map_err(|e| anyhow::anyhow!("{}: not JSON: {e}", path.display()))?;
@@ -207,37 +207,35 @@ fn work(args: &DiffArgs) -> anyhow::Result<bool> {
     Ok(offenders.is_empty())
 }
 
+/// Reports `e` and gives diff's exit code for an error (1 means a regression).
+fn failed(e: impl std::fmt::Display) -> ExitCode {
+    let _ = writeln!(std::io::stderr(), "error: {}", printable(&format!("{e:#}")));
+    ExitCode::from(2)
+}
+
 pub fn run(args: &DiffArgs) -> ExitCode {
     if let Some(plot) = &args.plot
         && let Err(e) = framelab_core::output::check_output(plot, &[&args.a, &args.b])
     {
-        let _ = writeln!(std::io::stderr(), "error: {}", printable(&e.to_string()));
-        return ExitCode::from(2);
+        return failed(e);
     }
     if args.work {
         return match work(args) {
             Ok(true) => ExitCode::SUCCESS,
             Ok(false) => ExitCode::from(1),
-            Err(e) => {
-                let _ = writeln!(std::io::stderr(), "error: {}", printable(&format!("{e:#}")));
-                ExitCode::from(2)
-            }
+            Err(e) => failed(e),
         };
     }
     if args.structure {
         return match structure(args) {
             Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                let _ = writeln!(std::io::stderr(), "error: {}", printable(&format!("{e:#}")));
-                ExitCode::from(2)
-            }
+            Err(e) => failed(e),
         };
     }
     let (a, b) = match inputs(args) {
         Ok(reports) => reports,
         Err(e) => {
-            let _ = writeln!(std::io::stderr(), "error: {}", printable(&format!("{e:#}")));
-            return ExitCode::from(2);
+            return failed(e);
         }
     };
     let options = DiffOptions {
@@ -248,8 +246,7 @@ pub fn run(args: &DiffArgs) -> ExitCode {
     let report = match diff(&a, &b, &options) {
         Ok(r) => r,
         Err(e) => {
-            let _ = writeln!(std::io::stderr(), "error: {}", printable(&e.to_string()));
-            return ExitCode::from(2);
+            return failed(e);
         }
     };
     let color = !args.json
@@ -273,8 +270,7 @@ pub fn run(args: &DiffArgs) -> ExitCode {
                 )?)
             });
         if let Err(e) = written {
-            let _ = writeln!(std::io::stderr(), "error: {}", printable(&format!("{e:#}")));
-            return ExitCode::from(2);
+            return failed(e);
         }
     }
     let printed = if color {

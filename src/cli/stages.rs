@@ -43,14 +43,22 @@ fn print_stage_error(e: &StageError, path: &Path) {
     let _ = writeln!(std::io::stderr(), "{}", printable(&e.to_string()));
 }
 
-/// A valid capture for an analysis command, or `None` once its problems are printed.
-/// A capture whose passes cannot be ordered is refused here too, as `validate` refuses it.
-pub fn validated(path: &Path, scale: f64) -> Option<Validated> {
+/// A valid capture, or `None` once its problems are printed.
+fn loaded(path: &Path, scale: f64) -> Option<Validated> {
     let v = Validated::load(path, &options(scale))
-        .and_then(|v| v.check_order().map(|()| v))
         .map_err(|e| print_stage_error(&e, path))
         .ok()?;
     note_scale(&v.capture, scale);
+    Some(v)
+}
+
+/// A valid capture for an analysis command, or `None` once its problems are printed. A
+/// capture whose passes cannot be ordered is refused here too, as `validate` refuses it.
+pub fn validated(path: &Path, scale: f64) -> Option<Validated> {
+    let v = loaded(path, scale)?;
+    v.check_order()
+        .map_err(|e| print_stage_error(&e, path))
+        .ok()?;
     Some(v)
 }
 
@@ -66,8 +74,9 @@ fn note_scale(capture: &framelab_core::capture::Capture, scale: f64) {
 }
 
 /// An analysed capture for an analysis command, or `None` once its problems are printed.
+/// Analysis finds a cycle itself, so the order is not checked first.
 pub fn analysed(path: &Path, cull: bool, scale: f64) -> Option<Analysed> {
-    validated(path, scale)?
+    loaded(path, scale)?
         .analyse(AnalyzeOptions { cull })
         .map_err(|e| print_stage_error(&e, path))
         .ok()

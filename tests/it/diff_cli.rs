@@ -90,6 +90,18 @@ fn bad_inputs_exit_2_and_say_why() {
         assert_eq!(out.status.code(), Some(2), "{field}");
         assert!(stderr(&out).contains(says), "{field}: {}", stderr(&out));
     }
+    // A name that would recolour or clear the terminal is refused where it stands.
+    let mut r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(repo().join(A)).unwrap()).unwrap();
+    r["passes"][1]["name"] = serde_json::json!("bloom\u{1b}[2J");
+    std::fs::write(&half, r.to_string()).unwrap();
+    let out = framelab(&["diff", A, half.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("$.passes[1].name holds a control character"),
+        "{}",
+        stderr(&out)
+    );
     let out = framelab(&["diff", A, "no/such/report.json"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(

@@ -841,7 +841,12 @@ fn captures_of_other_tools_are_named_not_parsed() {
             1,
             "a GFXReconstruct JSON Lines stream (gfxrecon-convert), not a framelab capture",
         ),
-        ("diff", &jsonl, 2, "not a framelab capture or timing report"),
+        (
+            "diff",
+            &jsonl,
+            2,
+            "a GFXReconstruct JSON Lines stream (gfxrecon-convert), not a framelab capture",
+        ),
     ] {
         let f = file.to_str().unwrap();
         let o = if cmd == "diff" {

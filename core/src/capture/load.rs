@@ -170,10 +170,10 @@ fn without_bom(bytes: &[u8]) -> Result<&[u8], EncodingError> {
 /// and RenderDoc's files start with their four-character codes, and a JSON Lines stream's
 /// first line is one object with a `header` or a call.
 pub fn foreign(bytes: &[u8]) -> Option<&'static str> {
-    if bytes.starts_with(b"GFXR") {
+    if crate::import::gfxr::is_gfxr(bytes) {
         return Some("a GFXReconstruct capture (.gfxr)");
     }
-    if bytes.starts_with(b"RDOC") {
+    if crate::import::rdc::is_rdc(bytes) {
         return Some("a RenderDoc capture (.rdc)");
     }
     // Only a first line that is not the whole file, and short: a capture written on one line

@@ -153,13 +153,20 @@ impl Builder {
     pub fn note_trailing_barriers(&mut self) {
         let n: usize = self.pending_barriers.values().map(Vec::len).sum();
         if n > 0 {
-            let why = "barriers after the last pass on their queue (no imported pass follows them): left out";
-            *self.notes.entry(why.to_owned()).or_default() += n as u64;
+            self.note_n(
+                "barriers after the last pass on their queue (no imported pass follows them): left out",
+                n as u64,
+            );
         }
     }
 
     pub fn note(&mut self, why: impl Into<String>) {
-        *self.notes.entry(why.into()).or_default() += 1;
+        self.note_n(why, 1);
+    }
+
+    /// `why` noted `n` times at once.
+    fn note_n(&mut self, why: impl Into<String>, n: u64) {
+        *self.notes.entry(why.into()).or_default() += n;
     }
 
     /// The frame ends (a present, or a converter's frame marker after work).
@@ -405,11 +412,9 @@ impl Builder {
     /// Semaphore waits become fence waits of the next pass on `queue`, when another queue
     /// signalled them (on the same queue, submission order already orders the work).
     fn wait(&mut self, queue: u64, waits: &[u64]) {
-        // Waits of frames not imported are neither fences nor worth a note.
+        // Waits of frames not imported are neither fences nor worth a note (their signals
+        // were not kept either).
         if !self.emitting() {
-            for sem in waits {
-                self.semaphore_fence.remove(sem);
-            }
             return;
         }
         for sem in waits {
@@ -574,9 +579,10 @@ impl Builder {
         let over = barriers.len().saturating_sub(room);
         pending.extend(barriers.into_iter().take(room));
         if over > 0 {
-            let why =
-                format!("barriers beyond {MAX_PENDING_BARRIERS} waiting for one pass: left out");
-            *self.notes.entry(why).or_default() += over as u64;
+            self.note_n(
+                format!("barriers beyond {MAX_PENDING_BARRIERS} waiting for one pass: left out"),
+                over as u64,
+            );
         }
     }
 

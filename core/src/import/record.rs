@@ -12,11 +12,11 @@ use super::commands::{
     Region, TransferCmd, Use, clear_color,
 };
 use super::render_pass;
-use super::state::debug_text;
-use super::state::{Descriptor, Objects};
+use super::state::{Descriptor, Objects, debug_text};
 use super::value::{ASPECTS, Arg, Got, Skip};
 use crate::capture::format::VkCommandState;
 use crate::capture::vulkan::ImageLayout;
+use crate::capture::vulkan::MAX_PUSH_CONSTANT_BYTES;
 use crate::capture::vulkan::{AccessFlags, PipelineStages};
 
 /// Bindings in effect while recording one command buffer.
@@ -40,8 +40,6 @@ struct Bound {
     push: Option<Vec<u8>>,
     pushed: bool,
 }
-
-use crate::capture::vulkan::MAX_PUSH_CONSTANT_BYTES as MAX_PUSH_BYTES;
 
 /// Command buffers' recordings by handle, boxed so that moving one is a pointer's copy.
 pub type Recordings = super::HashMap<u64, Box<Recording>>;
@@ -67,16 +65,22 @@ pub fn expanded(recordings: &Recordings, cbs: &[u64]) -> u64 {
             return 0;
         };
         let mut n = r.cmds.len() as u64;
+        let mut nested = false;
         if depth < MAX_EXECUTE_DEPTH {
             for cmd in &r.cmds {
                 if let Cmd::Execute(list) = cmd {
+                    nested = true;
                     for &sub in list {
                         n = n.saturating_add(size(recordings, sub, depth + 1, memo));
                     }
                 }
             }
         }
-        memo.insert((cb, depth), n);
+        // Only what executes others is worth remembering: a plain recording is sized by its
+        // length, and a submission of plain ones allocates nothing.
+        if nested {
+            memo.insert((cb, depth), n);
+        }
         n
     }
     let mut memo = super::HashMap::default();
@@ -330,9 +334,9 @@ impl Recording {
     fn push_constants(&mut self, args: &Arg<'_>) -> Got<()> {
         let offset = args.get("offset")?.u32()?;
         let size = args.get("size")?.u32()?;
-        if offset.saturating_add(size) > MAX_PUSH_BYTES {
+        if offset.saturating_add(size) > MAX_PUSH_CONSTANT_BYTES {
             return Err(Skip(format!(
-                "push constants at {offset}..{} are past the {MAX_PUSH_BYTES} bytes any device takes",
+                "push constants at {offset}..{} are past the {MAX_PUSH_CONSTANT_BYTES} bytes any device takes",
                 u64::from(offset) + u64::from(size)
             )));
         }
@@ -352,7 +356,7 @@ impl Recording {
             self.bound.push = Some(Vec::new());
         }
         if let Some(push) = &mut self.bound.push {
-            let end = (offset as usize + bytes.len()).min(MAX_PUSH_BYTES as usize);
+            let end = (offset as usize + bytes.len()).min(MAX_PUSH_CONSTANT_BYTES as usize);
             if push.len() < end {
                 push.resize(end, 0);
             }

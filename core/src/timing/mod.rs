@@ -162,31 +162,27 @@ pub enum ReadError {
     },
 }
 
-/// Whether a string (or member name) under `v` holds a control character; `at` is left at
-/// the first one's JSON path.
-fn hidden_text(v: &serde_json::Value, at: &mut String) -> bool {
+/// The JSON path (below `$`) of the first string or member name under `v` holding a
+/// control character; spelt only once one is found, so a report of many samples costs a scan.
+fn hidden_text(v: &serde_json::Value) -> Option<String> {
     use serde_json::Value;
-    let len = at.len();
     let bad = |s: &str| s.chars().any(char::is_control);
-    let found = match v {
-        Value::String(s) => bad(s),
-        Value::Array(items) => items.iter().enumerate().any(|(i, x)| {
-            at.truncate(len);
-            at.push_str(&format!("[{i}]"));
-            hidden_text(x, at)
+    match v {
+        Value::String(s) => bad(s).then(String::new),
+        Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .find_map(|(i, x)| Some(format!("[{i}]{}", hidden_text(x)?))),
+        Value::Object(map) => map.iter().find_map(|(k, x)| {
+            let below = if bad(k) {
+                String::new()
+            } else {
+                hidden_text(x)?
+            };
+            Some(format!(".{}{below}", crate::text::printable(k)))
         }),
-        Value::Object(map) => map.iter().any(|(k, x)| {
-            at.truncate(len);
-            at.push('.');
-            at.push_str(&crate::text::printable(k));
-            bad(k) || hidden_text(x, at)
-        }),
-        _ => false,
-    };
-    if !found {
-        at.truncate(len);
+        _ => None,
     }
-    found
 }
 
 /// The most frames a report may hold: more than `replay --frames` or `diff --frames` ever
@@ -207,11 +203,10 @@ impl TimingReport {
     /// it again).
     pub fn from_value(path: &str, value: serde_json::Value) -> Result<TimingReport, ReadError> {
         // Its names are printed, coloured, to terminals: none may carry a control character.
-        let mut at = String::from("$");
-        if hidden_text(&value, &mut at) {
+        if let Some(at) = hidden_text(&value) {
             return Err(ReadError::Inconsistent {
                 path: path.to_owned(),
-                message: format!("{at} holds a control character"),
+                message: format!("${at} holds a control character"),
             });
         }
         let report: TimingReport =

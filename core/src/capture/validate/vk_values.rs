@@ -8,7 +8,7 @@
 use super::{JsonPath, Validator};
 use crate::capture::format::{GraphicsState, Pipeline, PipelineLayout, VkCommandState};
 
-use crate::capture::vulkan::MAX_PUSH_CONSTANT_BYTES as MAX_PUSH_BYTES;
+use crate::capture::vulkan::MAX_PUSH_CONSTANT_BYTES;
 
 /// Why viewport `[x, y, width, height, min depth, max depth]` cannot be, if it cannot.
 fn viewport_fault(v: &[f32]) -> Option<String> {
@@ -119,9 +119,9 @@ impl Validator<'_> {
                     "push-constant range {}..{end} is not whole 4-byte words",
                     r.offset
                 ))
-            } else if end > u64::from(MAX_PUSH_BYTES) {
+            } else if end > u64::from(MAX_PUSH_CONSTANT_BYTES) {
                 Some(format!(
-                    "push-constant range {}..{end} reaches past {MAX_PUSH_BYTES} bytes, more than any device takes",
+                    "push-constant range {}..{end} reaches past {MAX_PUSH_CONSTANT_BYTES} bytes, more than any device takes",
                     r.offset
                 ))
             } else {

@@ -93,21 +93,17 @@ impl Reading {
 /// (or, not bound yet, in all the memory allocated), so a small block cannot claim gigabytes
 /// nothing backs.
 fn room(objects: &Objects, fills: Fills) -> Result<(), String> {
+    let size = fills.size();
     let (what, bound) = match fills {
         Fills::Memory { memory, offset, .. } => {
             let Some(m) = objects.memories.get(&memory) else {
                 return Err(format!(
-                    "fills {} bytes of memory {memory:#x}, which the capture never allocated",
-                    fills.size()
+                    "fills {size} bytes of memory {memory:#x}, which the capture never allocated"
                 ));
             };
-            if offset
-                .checked_add(fills.size())
-                .is_none_or(|end| end > m.size)
-            {
+            if offset.checked_add(size).is_none_or(|end| end > m.size) {
                 return Err(format!(
-                    "fills {} bytes at offset {offset} of memory {memory:#x}, which holds {} bytes",
-                    fills.size(),
+                    "fills {size} bytes at offset {offset} of memory {memory:#x}, which holds {} bytes",
                     m.size
                 ));
             }
@@ -122,7 +118,6 @@ fn room(objects: &Objects, fills: Fills) -> Result<(), String> {
             objects.images.get(&image).map(|i| i.bound),
         ),
     };
-    let size = fills.size();
     let Some(bound) = bound else {
         return Err(format!(
             "holds {size} bytes of contents for {what}, which the capture never created"
