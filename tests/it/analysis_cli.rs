@@ -325,3 +325,46 @@ fn async_overlaps_are_the_unordered_range_and_long_lists_are_counted() {
     let text = stdout(&framelab(&["analyze", path.to_str().unwrap()]));
     assert!(text.contains("g73 and 6 more"), "{text}");
 }
+
+/// A frame imported from a Vulkan program is reported in Vulkan's terms, its idle swapchain
+/// images are not "unused", and with no pass timed the critical path is its longest chain.
+#[test]
+fn an_imported_vulkan_frame_is_reported_in_vulkan_terms() {
+    let dir = Scratch::temp("framelab-analyze-vulkan");
+    let capture = dir.join("vkcube.json");
+    let fixture = crate::common::gfxr_fixture("vkcube_f3.gfxr");
+    let out = framelab(&[
+        "import",
+        fixture.to_str().unwrap(),
+        "-o",
+        capture.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let capture = capture.to_str().unwrap();
+    let text = stdout(&framelab(&["analyze", capture]));
+    assert!(
+        text.contains("PRESENT_SRC_KHR -> COLOR_ATTACHMENT_OPTIMAL; BOTTOM_OF_PIPE / NONE"),
+        "{text}"
+    );
+    assert!(!text.contains("PRESENT -> RENDER_TARGET"), "{text}");
+    assert!(
+        text.contains("longest chain of dependent passes, 2 of 2)\n  render_pass -> present"),
+        "{text}"
+    );
+    let r = json(&framelab(&["analyze", "--json", capture]));
+    let unused: Vec<&str> = r["lints"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|l| l["code"] == "FL013")
+        .map(|l| l["resource"].as_str().unwrap())
+        .collect();
+    // vkcube keeps a uniform buffer per swapchain image and uses one a frame: those are
+    // reported; the swapchain images it does not present this frame are not.
+    assert_eq!(unused, ["buffer_30", "buffer_32"]);
+    assert_eq!(
+        r["critical_path"]["passes"],
+        serde_json::json!(["render_pass", "present"])
+    );
+    assert_eq!(r["critical_path"]["length_ns"], 0);
+}

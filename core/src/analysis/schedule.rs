@@ -133,9 +133,13 @@ pub fn schedule(
                 .collect(),
         });
     }
-    // Longest path, node-weighted, over all ordering constraints.
+    // Longest path, node-weighted, over all ordering constraints. With no pass timed at all,
+    // every pass weighs one, so the path is the longest chain of dependent passes rather than
+    // whichever pass comes last among equals; its length in time stays zero.
     let n = model.passes.len();
+    let untimed = times.iter().all(Option::is_none);
     let weight = |p: usize| times.get(p).copied().flatten().unwrap_or(0);
+    let rank = |p: usize| if untimed { 1 } else { weight(p) };
     let mut dist = vec![0u64; n];
     let mut via: Vec<Option<MPass>> = vec![None; n];
     let preds = predecessors(model, graph, fences);
@@ -145,7 +149,7 @@ pub fn schedule(
             .copied()
             .max_by_key(|&a| (dist[a.index()], std::cmp::Reverse(a)));
         // Recorded times come from the capture: saturate rather than overflow.
-        dist[p.index()] = weight(p.index()).saturating_add(best.map_or(0, |a| dist[a.index()]));
+        dist[p.index()] = rank(p.index()).saturating_add(best.map_or(0, |a| dist[a.index()]));
         via[p.index()] = best;
     }
     let end = (0..n).max_by_key(|&p| (dist[p], std::cmp::Reverse(p)));
@@ -159,7 +163,11 @@ pub fn schedule(
     Schedule {
         critical_path: CriticalPath {
             timing_source: timing_source.to_owned(),
-            length_ns: end.map_or(0, |p| dist[p]),
+            length_ns: if untimed {
+                0
+            } else {
+                end.map_or(0, |p| dist[p])
+            },
             serial_ns: (0..n).map(weight).fold(0, u64::saturating_add),
             passes,
         },

@@ -156,6 +156,8 @@ pub struct ResourceDesc {
     pub initial: InitialDesc,
     pub history: bool,
     pub output: bool,
+    /// A swapchain's image, which the frame may leave idle.
+    pub swapchain: bool,
 }
 
 impl ResourceDesc {

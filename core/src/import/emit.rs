@@ -127,6 +127,7 @@ fn image_resource(img: &ImageInfo, name: &str, before_capture: bool) -> Resource
         initial: before_capture.then_some(InitialContents::BeforeCapture {}),
         history: false,
         output: false,
+        swapchain: img.swapchain.is_some(),
     }
 }
 
@@ -190,6 +191,7 @@ fn plain_buffer(name: &str, size: u64) -> Resource {
         initial: None,
         history: false,
         output: false,
+        swapchain: false,
     }
 }
 

@@ -289,11 +289,6 @@ fn state(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
 }
 
 fn derived(b: &BarrierReport, side: BarrierSide) -> Barrier {
-    let v = &b.vulkan;
-    let layouts = match (v.old_layout, v.new_layout) {
-        (Some(o), Some(n)) => format!("{o} -> {n}; "),
-        _ => String::new(),
-    };
     Barrier {
         side,
         source: BarrierSource::Derived,
@@ -313,13 +308,7 @@ fn derived(b: &BarrierReport, side: BarrierSide) -> Barrier {
             Some(before) => format!("{before} -> {}", b.resource),
             None => format!("{} -> {}", b.before, b.after),
         },
-        vulkan: format!(
-            "{layouts}{} / {} -> {} / {}",
-            v.src_stages.join("|"),
-            v.src_access.join("|"),
-            v.dst_stages.join("|"),
-            v.dst_access.join("|")
-        ),
+        vulkan: b.vulkan.describe(),
     }
 }
 

@@ -326,6 +326,9 @@ impl<'a> Linter<'a> {
         for r in &capture.resources {
             let uses: Vec<Access> = self.uses_of(r.id).map(|(_, a)| a.access).collect();
             if uses.is_empty() {
+                if r.swapchain {
+                    continue;
+                }
                 out.push(lint(
                     LintKind::UnusedResource,
                     format!("\"{}\" is declared but no pass uses it", r.name),

@@ -148,6 +148,10 @@ pub struct Report {
     pub lints: Vec<LintReport>,
     pub critical_path: schedule::CriticalPath,
     pub async_compute: Vec<schedule::Overlap>,
+    /// The frame came from a Vulkan program: the text speaks layouts, stages and accesses
+    /// (the JSON gives both vocabularies on every barrier).
+    #[serde(skip)]
+    pub vulkan_terms: bool,
 }
 
 #[derive(Debug, Serialize)]
@@ -186,6 +190,31 @@ pub struct VulkanReport {
     pub src_access: Vec<&'static str>,
     pub dst_stages: Vec<&'static str>,
     pub dst_access: Vec<&'static str>,
+}
+
+impl VulkanReport {
+    /// The barrier as a Vulkan user reads it: `old -> new` layouts (images), then each side's
+    /// stages / accesses; an empty access mask is `NONE`, as Vulkan spells it.
+    pub fn describe(&self) -> String {
+        let join = |v: &[&str]| {
+            if v.is_empty() {
+                "NONE".to_owned()
+            } else {
+                v.join("|")
+            }
+        };
+        let layouts = match (self.old_layout, self.new_layout) {
+            (Some(o), Some(n)) => format!("{o} -> {n}; "),
+            _ => String::new(),
+        };
+        format!(
+            "{layouts}{} / {} -> {} / {}",
+            join(&self.src_stages),
+            join(&self.src_access),
+            join(&self.dst_stages),
+            join(&self.dst_access)
+        )
+    }
 }
 
 #[derive(Debug, Clone, Serialize, PartialEq, Eq, PartialOrd, Ord)]
@@ -421,6 +450,10 @@ pub fn report(capture: &Capture, a: &Analysis) -> Report {
         lints: lint_reports(capture, &a.lints),
         critical_path: a.schedule.critical_path.clone(),
         async_compute: a.schedule.async_compute.clone(),
+        vulkan_terms: capture
+            .origin
+            .as_ref()
+            .is_some_and(|o| o.api == crate::capture::format::Api::Vulkan),
     }
 }
 

@@ -52,7 +52,11 @@ pub fn render_text(r: &Report) -> String {
                 "kind",
                 "resource",
                 "subresource",
-                "states",
+                if r.vulkan_terms {
+                    "layouts; stages / access"
+                } else {
+                    "states"
+                },
                 "queue",
                 "placement"
             ],
@@ -80,14 +84,25 @@ pub fn render_text(r: &Report) -> String {
     memory(&mut out, r);
     lints(&mut out, r);
     let cp = &r.critical_path;
-    let _ = writeln!(
-        out,
-        "Critical path ({} timings): {:.3} ms of {:.3} ms serial\n  {}",
-        cp.timing_source,
-        cp.length_ns as f64 / 1e6,
-        cp.serial_ns as f64 / 1e6,
-        cp.passes.join(" -> ")
-    );
+    if cp.timing_source == "none" {
+        let _ = writeln!(
+            out,
+            "Critical path (no pass times in the capture: the longest chain of dependent \
+             passes, {} of {})\n  {}",
+            cp.passes.len(),
+            r.order.len(),
+            cp.passes.join(" -> ")
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "Critical path ({} timings): {:.3} ms of {:.3} ms serial\n  {}",
+            cp.timing_source,
+            cp.length_ns as f64 / 1e6,
+            cp.serial_ns as f64 / 1e6,
+            cp.passes.join(" -> ")
+        );
+    }
     for o in &r.async_compute {
         let _ = writeln!(
             out,
@@ -127,6 +142,7 @@ fn barrier_rows(r: &Report) -> Vec<Vec<String>> {
                     x.resource_before.as_deref().unwrap_or("?"),
                     x.resource
                 ),
+                _ if r.vulkan_terms => x.vulkan.describe(),
                 _ => format!("{} -> {}", x.before, x.after),
             };
             let mut note = x.placement.clone();

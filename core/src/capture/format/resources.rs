@@ -63,6 +63,10 @@ pub struct Resource {
     /// culling.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub output: bool,
+    /// One of a swapchain's images: the presentation engine owns it, so a frame that leaves it
+    /// idle (it presents another) is not told the image is unused.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub swapchain: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize, Serialize, JsonSchema)]

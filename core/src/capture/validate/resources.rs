@@ -190,6 +190,7 @@ impl<'a> Validator<'a> {
             initial,
             history: r.history,
             output: r.output,
+            swapchain: r.swapchain,
         })
     }
 
