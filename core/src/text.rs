@@ -11,10 +11,22 @@ pub fn printable(text: &str) -> Cow<'_, str> {
 }
 
 /// `text` for one line of a report: as `printable`, and a newline or tab written as an
-/// escape too, so a name read from an input cannot begin a line of its own.
+/// escape too, so a name read from an input cannot begin a line of its own. Past
+/// `ONE_LINE_CHARS` characters the rest is counted, not shown: an input's megabyte-long
+/// name would otherwise be the whole report.
 pub fn one_line(text: &str) -> Cow<'_, str> {
-    escaped(text, char::is_control)
+    match text.char_indices().nth(ONE_LINE_CHARS) {
+        None => escaped(text, char::is_control),
+        Some((cut, _)) => Cow::Owned(format!(
+            "{}... ({} more bytes)",
+            escaped(&text[..cut], char::is_control),
+            text.len() - cut
+        )),
+    }
 }
+
+/// The most characters of an input's text a one-line report shows.
+pub const ONE_LINE_CHARS: usize = 200;
 
 fn escaped(text: &str, hidden: fn(char) -> bool) -> Cow<'_, str> {
     if !text.chars().any(hidden) {
@@ -95,6 +107,10 @@ mod tests {
         assert_eq!(printable("\u{9b}é"), "\\u{9b}é");
         assert_eq!(one_line("vkX\nerror: forged\t"), "vkX\\nerror: forged\\t");
         assert!(matches!(one_line("vkCmdDraw"), Cow::Borrowed(_)));
+        let long = format!("vk{}", "é".repeat(1000));
+        let shown = one_line(&long);
+        assert!(shown.starts_with("vkéé"), "{shown}");
+        assert!(shown.ends_with("é... (1604 more bytes)"), "{shown}");
     }
 
     #[test]

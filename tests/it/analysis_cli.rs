@@ -367,4 +367,17 @@ fn an_imported_vulkan_frame_is_reported_in_vulkan_terms() {
         serde_json::json!(["render_pass", "present"])
     );
     assert_eq!(r["critical_path"]["length_ns"], 0);
+    // Its sizes are the application's: `--scale` changes none, and says so.
+    let info = framelab(&["info", "--json", capture, "--scale", "0.25"]);
+    assert!(
+        stderr(&info).contains("--scale 0.25 changes no size here"),
+        "{}",
+        stderr(&info)
+    );
+    let info = json(&info);
+    assert_eq!(
+        (&info["width"], &info["height"]),
+        (&500.into(), &500.into())
+    );
+    assert_eq!(info["scale"], 1.0);
 }

@@ -196,6 +196,17 @@ impl<'a> Validator<'a> {
         }
     }
 
+    /// The scale sizes are resolved at: an imported frame keeps the application's sizes, so
+    /// its output resolution is the application's whatever `--scale` says (a range check
+    /// still refuses a scale that is no scale at all).
+    fn scale(&self) -> f64 {
+        if self.raw.source.is_some() {
+            1.0
+        } else {
+            self.options.scale
+        }
+    }
+
     fn run(&mut self, path: &Path) -> Option<Capture> {
         self.check_top_level();
         if self.diags.has_errors() && !(self.options.scale.is_finite() && self.options.scale > 0.0)
@@ -231,7 +242,7 @@ impl<'a> Validator<'a> {
             description: self.raw.description.clone(),
             source: path.to_owned(),
             base_dir: self.base_dir.clone(),
-            scale: self.options.scale,
+            scale: self.scale(),
             width: self.width,
             height: self.height,
             adapter: self.raw.adapter.clone(),
@@ -268,6 +279,7 @@ impl<'a> Validator<'a> {
             self.diags
                 .error("resolution", &path, "resolution must be at least 1x1");
         }
+        let scale = self.scale();
         let scaled =
             |v: u32| ((f64::from(v) * scale).round() as u64).clamp(1, u64::from(u32::MAX)) as u32;
         self.width = scaled(raw.resolution.width.max(1));
