@@ -331,16 +331,8 @@ fn async_overlaps_are_the_unordered_range_and_long_lists_are_counted() {
 #[test]
 fn an_imported_vulkan_frame_is_reported_in_vulkan_terms() {
     let dir = Scratch::temp("framelab-analyze-vulkan");
-    let capture = dir.join("vkcube.json");
-    let fixture = crate::common::gfxr_fixture("vkcube_f3.gfxr");
-    let out = framelab(&[
-        "import",
-        fixture.to_str().unwrap(),
-        "-o",
-        capture.to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let capture = capture.to_str().unwrap();
+    let capture = imported(&dir, "vkcube_f3");
+    let capture = capture.as_str();
     let text = stdout(&framelab(&["analyze", capture]));
     assert!(
         text.contains("PRESENT_SRC_KHR -> COLOR_ATTACHMENT_OPTIMAL; BOTTOM_OF_PIPE / NONE"),
@@ -380,4 +372,74 @@ fn an_imported_vulkan_frame_is_reported_in_vulkan_terms() {
         (&500.into(), &500.into())
     );
     assert_eq!(info["scale"], 1.0);
+}
+
+/// `tests/fixtures/gfxr/<name>.gfxr` imported into `dir`: the capture's path.
+fn imported(dir: &std::path::Path, name: &str) -> String {
+    let capture = dir.join(format!("{name}.json"));
+    let fixture = crate::common::gfxr_fixture(&format!("{name}.gfxr"));
+    let out = framelab(&[
+        "import",
+        fixture.to_str().unwrap(),
+        "-o",
+        capture.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    capture.to_str().unwrap().to_owned()
+}
+
+/// Advice on an imported frame names Vulkan's usage flags and layouts, never D3D12's flags,
+/// states or heaps.
+#[test]
+fn lints_on_an_imported_frame_give_vulkan_advice() {
+    let dir = Scratch::temp("framelab-lints-vulkan");
+    let mut messages = Vec::new();
+    for name in ["vkd3d_triangle_f1", "vkd3d_gears_f2", "mpv_testsrc_f5"] {
+        let r = json(&framelab(&["analyze", "--json", &imported(&dir, name)]));
+        for l in r["lints"].as_array().unwrap() {
+            messages.push(format!(
+                "{name} {} {}",
+                l["code"],
+                l["message"].as_str().unwrap()
+            ));
+        }
+    }
+    let has = |code: &str, text: &str| {
+        messages
+            .iter()
+            .any(|m| m.contains(code) && m.contains(text))
+    };
+    assert!(
+        has(
+            "FL001",
+            "\"image_13\" was created with STORAGE usage but is never bound as a storage image"
+        ),
+        "{messages:#?}"
+    );
+    assert!(
+        has(
+            "FL001",
+            "\"buffer_67\" was created with STORAGE usage but is never bound as a storage buffer"
+        ),
+        "{messages:#?}"
+    );
+    assert!(
+        has(
+            "FL009",
+            "in a writable layout but never writes it: a read-only depth layout (DEPTH_STENCIL_READ_ONLY_OPTIMAL)"
+        ),
+        "{messages:#?}"
+    );
+    for d3d12 in [
+        "ALLOW_",
+        "DEPTH_READ",
+        "UPLOAD heap",
+        "DEFAULT heap",
+        "read_only",
+    ] {
+        assert!(
+            !messages.iter().any(|m| m.contains(d3d12)),
+            "{d3d12}: {messages:#?}"
+        );
+    }
 }

@@ -295,6 +295,15 @@ struct Linter<'a> {
 }
 
 impl<'a> Linter<'a> {
+    /// The frame came from a Vulkan program: advice names usage flags, layouts and memory
+    /// properties, not D3D12's flags, states and heaps.
+    fn vulkan_terms(&self) -> bool {
+        self.capture
+            .origin
+            .as_ref()
+            .is_some_and(|o| o.api == crate::capture::format::Api::Vulkan)
+    }
+
     /// The capture pass a model pass is.
     fn capture_pass(&self, p: MPass) -> &'a PassDesc {
         self.capture.pass(self.model.passes[p.index()].id)
@@ -360,8 +369,30 @@ impl<'a> Linter<'a> {
             ];
             for (flag, code, used, how) in checks {
                 if r.has_flag(flag) && !used {
-                    let flag_name = flag.name();
-                    out.push(lint(code, format!("\"{}\" has {flag_name} but is never {how}; removing the flag can enable compression", r.name), None, Some(r.id)));
+                    let message = if self.vulkan_terms() {
+                        let (usage, how) = match flag {
+                            ResourceFlag::AllowRenderTarget => ("COLOR_ATTACHMENT", how),
+                            ResourceFlag::AllowDepthStencil => ("DEPTH_STENCIL_ATTACHMENT", how),
+                            _ if r.is_texture() => ("STORAGE", "bound as a storage image"),
+                            _ => ("STORAGE", "bound as a storage buffer"),
+                        };
+                        let why = if r.is_texture() {
+                            "fewer usage flags let the driver pick a better layout"
+                        } else {
+                            "the usage flag can go"
+                        };
+                        format!(
+                            "\"{}\" was created with {usage} usage but is never {how}; {why}",
+                            r.name
+                        )
+                    } else {
+                        format!(
+                            "\"{}\" has {} but is never {how}; removing the flag can enable compression",
+                            r.name,
+                            flag.name()
+                        )
+                    };
+                    out.push(lint(code, message, None, Some(r.id)));
                 }
             }
         }
@@ -573,7 +604,23 @@ impl<'a> Linter<'a> {
                 });
                 if !d.read_only && access.is_some_and(|a| a.access == Access::DepthRead) {
                     let name = &capture.resource(d.resource).name;
-                    out.push(lint(LintKind::DepthCouldBeReadOnly, format!("\"{}\" binds \"{name}\" writable but never writes it: bind it read_only so it stays in DEPTH_READ", pass.name), Some(pass.id), Some(d.resource)));
+                    let message = if self.vulkan_terms() {
+                        format!(
+                            "\"{}\" attaches \"{name}\" in a writable layout but never writes it: a read-only depth layout (DEPTH_STENCIL_READ_ONLY_OPTIMAL) lets other passes sample it meanwhile",
+                            pass.name
+                        )
+                    } else {
+                        format!(
+                            "\"{}\" binds \"{name}\" writable but never writes it: bind it read_only so it stays in DEPTH_READ",
+                            pass.name
+                        )
+                    };
+                    out.push(lint(
+                        LintKind::DepthCouldBeReadOnly,
+                        message,
+                        Some(pass.id),
+                        Some(d.resource),
+                    ));
                 }
             }
         }
@@ -727,7 +774,21 @@ impl<'a> Linter<'a> {
                     .map(|(p, _)| p.id.0)
                     .collect();
                 if readers.len() >= 2 {
-                    out.push(lint(LintKind::UploadHeapReadOften, format!("\"{}\" lives in an UPLOAD heap and {} passes read it across the bus; copy it to a DEFAULT heap once", r.name, readers.len()), None, Some(r.id)));
+                    let (from, to) = if self.vulkan_terms() {
+                        ("host-visible memory", "DEVICE_LOCAL memory")
+                    } else {
+                        ("an UPLOAD heap", "a DEFAULT heap")
+                    };
+                    out.push(lint(
+                        LintKind::UploadHeapReadOften,
+                        format!(
+                            "\"{}\" lives in {from} and {} passes read it across the bus; copy it to {to} once",
+                            r.name,
+                            readers.len()
+                        ),
+                        None,
+                        Some(r.id),
+                    ));
                 }
             }
         }
