@@ -188,6 +188,13 @@ fn by_name<T: Serialize>(a: &[T], b: &[T], name: impl Fn(&T) -> &str) -> NamedCh
         .filter(|n| !ia.contains_key(*n))
         .map(|n| (*n).to_owned())
         .collect();
+    // Names with numbers (an import's `buffer_7`, `buffer_71`, `buffer_9`) in natural order.
+    out.added
+        .sort_by(|x, y| alphanumeric_sort::compare_str(x, y));
+    out.removed
+        .sort_by(|x, y| alphanumeric_sort::compare_str(x, y));
+    out.changed
+        .sort_by(|x, y| alphanumeric_sort::compare_str(&x.name, &y.name));
     out
 }
 
@@ -357,6 +364,33 @@ mod tests {
             reads: vec!["depth".into()],
             writes: writes.iter().map(|w| (*w).to_owned()).collect(),
         }
+    }
+
+    #[test]
+    fn named_items_are_listed_in_natural_order() {
+        #[derive(Serialize)]
+        struct Item {
+            name: &'static str,
+            size: u32,
+        }
+        let item = |name, size| Item { name, size };
+        let a = [
+            item("buffer_9", 1),
+            item("buffer_71", 1),
+            item("buffer_7", 1),
+        ];
+        let b = [item("image_10", 1), item("image_2", 1), item("buffer_9", 2)];
+        let d = by_name(&a, &b, |i| i.name);
+        assert_eq!(d.removed, ["buffer_7", "buffer_71"]);
+        assert_eq!(d.added, ["image_2", "image_10"]);
+        let a = [item("image_10", 1), item("image_2", 1)];
+        let b = [item("image_10", 2), item("image_2", 2)];
+        let changed: Vec<String> = by_name(&a, &b, |i| i.name)
+            .changed
+            .into_iter()
+            .map(|c| c.name)
+            .collect();
+        assert_eq!(changed, ["image_2", "image_10"]);
     }
 
     #[test]
