@@ -29,6 +29,9 @@ pub struct Inspection {
     pub compare: Option<Compare>,
     /// The resource the frame presents (the last present pass's), opened first.
     pub presented: Option<usize>,
+    /// The frame came from a Vulkan program: barrier tables give Vulkan's layouts, stages and
+    /// accesses alone, since its D3D12 states are framelab's translation, not the program's.
+    pub vulkan_terms: bool,
 }
 
 /// A dependency between two passes.

@@ -31,15 +31,21 @@ fn barriers(
         return None;
     }
     let mut open = None;
+    // A Vulkan program's frame drops the D3D12 column: its states are only a translation.
+    let headers: &[&str] = if model.vulkan_terms {
+        &["source", "kind", "resource", "range", "Vulkan"]
+    } else {
+        &["source", "kind", "resource", "range", "D3D12", "Vulkan"]
+    };
     TableBuilder::new(ui)
         .id_salt(("barriers", side == BarrierSide::Before))
         .striped(true)
-        .columns(Column::auto(), 5)
+        .columns(Column::auto(), headers.len() - 1)
         .column(Column::remainder())
         .header(18.0, |mut h| {
-            for t in ["source", "kind", "resource", "range", "D3D12", "Vulkan"] {
+            for t in headers {
                 h.col(|ui| {
-                    ui.strong(t);
+                    ui.strong(*t);
                 });
             }
         })
@@ -50,15 +56,17 @@ fn barriers(
                         BarrierSource::Derived => "derived",
                         BarrierSource::Recorded => "recorded",
                     };
+                    let states = (!model.vulkan_terms).then_some(b.states.as_str());
                     for (i, text) in [
-                        source,
-                        &b.kind,
-                        &b.resource,
-                        &b.subresource,
-                        &b.states,
-                        &b.vulkan,
+                        Some(source),
+                        Some(&b.kind),
+                        Some(&b.resource),
+                        Some(&b.subresource),
+                        states,
+                        Some(&b.vulkan),
                     ]
                     .into_iter()
+                    .flatten()
                     .enumerate()
                     {
                         row.col(|ui| match by_name(model, text).filter(|_| i == 2) {
@@ -66,6 +74,11 @@ fn barriers(
                                 if resource_link(ui, model, r) {
                                     open = Some(r);
                                 }
+                            }
+                            // The Vulkan column is the long one: clipped by a narrow
+                            // panel, whole on hover.
+                            None if i == headers.len() - 1 => {
+                                ui.label(text).on_hover_text(text);
                             }
                             None => {
                                 ui.label(text);

@@ -718,6 +718,10 @@ fn model(
         timings: None,
         compare: None,
         presented: None,
+        vulkan_terms: c
+            .origin
+            .as_ref()
+            .is_some_and(|o| o.api == framelab_core::capture::format::Api::Vulkan),
     };
     m.presented = order
         .iter()

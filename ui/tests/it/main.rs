@@ -36,7 +36,7 @@ fn pass(id: u32, name: &str, queue: usize, markers: &[&str]) -> Pass {
             resource: "color".to_owned(),
             subresource: "all".to_owned(),
             states: "RENDER_TARGET -> PIXEL_SHADER_RESOURCE".to_owned(),
-            vulkan: String::new(),
+            vulkan: "COLOR_ATTACHMENT_OPTIMAL -> SHADER_READ_ONLY_OPTIMAL; ...".to_owned(),
         }],
         lints: Vec::new(),
         inputs: Vec::new(),
@@ -101,11 +101,16 @@ fn model() -> Inspection {
         timings: None,
         compare: None,
         presented: None,
+        vulkan_terms: false,
     }
 }
 
 fn open() -> Harness<'static, Inspector> {
-    let app = Inspector::new(model(), None);
+    open_model(model())
+}
+
+fn open_model(model: Inspection) -> Harness<'static, Inspector> {
+    let app = Inspector::new(model, None);
     let mut h = Harness::builder()
         .with_size(egui::Vec2::new(1400.0, 900.0))
         .build_ui_state(|ui, app: &mut Inspector| app.ui(ui), app);
@@ -122,6 +127,26 @@ fn a_fresh_inspector_shows_the_last_pass_and_says_it_does_not_replay() {
     assert!(h.query_by_label("raster on gfx, not timed").is_some());
     assert!(
         h.query_by_label_contains("RENDER_TARGET -> PIXEL_SHADER_RESOURCE")
+            .is_some()
+    );
+}
+
+#[test]
+fn a_vulkan_programs_barriers_are_shown_in_vulkan_terms_alone() {
+    let h = open();
+    assert!(h.query_by_label("D3D12").is_some());
+    let h = open_model(Inspection {
+        vulkan_terms: true,
+        ..model()
+    });
+    assert!(h.query_by_label("D3D12").is_none());
+    assert!(h.query_by_label("Vulkan").is_some());
+    assert!(
+        h.query_by_label_contains("RENDER_TARGET -> PIXEL_SHADER_RESOURCE")
+            .is_none()
+    );
+    assert!(
+        h.query_by_label_contains("COLOR_ATTACHMENT_OPTIMAL -> SHADER_READ_ONLY_OPTIMAL")
             .is_some()
     );
 }
