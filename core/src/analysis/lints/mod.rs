@@ -13,7 +13,7 @@ mod vulkan;
 use super::barriers::BarrierPlan;
 use super::graph::{EdgeKind, PassGraph};
 use super::model::{FrameModel, MPass, MResource};
-use crate::capture::format::{Access, DescriptorHeapType, ResourceFlag};
+use crate::capture::format::{Access, DescriptorHeapType, LoadOp, ResourceFlag};
 use crate::capture::model::{BindingTarget, Capture, PassDesc, PassId, ResourceAccess, ResourceId};
 use recorded::compare_recorded;
 
@@ -602,11 +602,20 @@ impl<'a> Linter<'a> {
                     a.resource == d.resource
                         && matches!(a.access, Access::DepthRead | Access::DepthWrite)
                 });
-                if !d.read_only && access.is_some_and(|a| a.access == Access::DepthRead) {
+                // A Vulkan attachment in a writable layout is written by its store operation,
+                // so what tells is whether any draw writes depth or stencil.
+                let only_tested = if self.vulkan_terms() {
+                    d.depth_load != LoadOp::Clear
+                        && d.stencil_load != LoadOp::Clear
+                        && !pass.draws.iter().any(|w| self.vk_draw_may_write_depth(w))
+                } else {
+                    access.is_some_and(|a| a.access == Access::DepthRead)
+                };
+                if !d.read_only && only_tested {
                     let name = &capture.resource(d.resource).name;
                     let message = if self.vulkan_terms() {
                         format!(
-                            "\"{}\" attaches \"{name}\" in a writable layout but never writes it: a read-only depth layout (DEPTH_STENCIL_READ_ONLY_OPTIMAL) lets other passes sample it meanwhile",
+                            "\"{}\" attaches \"{name}\" in a writable layout but no draw writes it: a read-only depth layout (DEPTH_STENCIL_READ_ONLY_OPTIMAL) lets other passes sample it meanwhile",
                             pass.name
                         )
                     } else {
@@ -624,6 +633,39 @@ impl<'a> Linter<'a> {
                 }
             }
         }
+    }
+
+    /// Whether an imported draw's pipeline may write depth or stencil: depth writes with the
+    /// depth test on, stencil writes with the stencil test on, or either left to dynamic
+    /// state (whose values the capture does not keep). A draw with no pipeline known may.
+    fn vk_draw_may_write_depth(&self, draw: &crate::capture::model::DrawDesc) -> bool {
+        let pipeline = draw.vk.as_ref().and_then(|w| {
+            self.capture
+                .vulkan
+                .as_ref()
+                .and_then(|m| m.pipelines.get(w.pipeline))
+        });
+        let Some(g) = pipeline.and_then(|p| p.graphics.as_deref()) else {
+            return true;
+        };
+        let dynamic = g.dynamic_states.iter().any(|s| {
+            s.contains("DEPTH_WRITE_ENABLE")
+                || s.contains("DEPTH_TEST_ENABLE")
+                || s.contains("STENCIL_OP")
+                || s.contains("STENCIL_TEST_ENABLE")
+                || s.contains("STENCIL_WRITE_MASK")
+        });
+        let Some(ds) = &g.depth_stencil else {
+            return dynamic;
+        };
+        let stencil_writes = ds.stencil_test
+            && [&ds.front, &ds.back].into_iter().flatten().any(|f| {
+                f.write_mask != 0
+                    && [&f.fail_op, &f.pass_op, &f.depth_fail_op]
+                        .iter()
+                        .any(|op| !op.ends_with("KEEP"))
+            });
+        dynamic || (ds.depth_test && ds.depth_write) || stencil_writes
     }
 
     /// Descriptor heaps.

@@ -610,7 +610,10 @@ impl<'a> Validator<'a> {
                     [f.pass, f.fail, f.depth_fail].iter().any(|op| *op != StencilOp::Keep)
                 })
             });
-            let writes = !d.read_only && (state.depth_write || stencil_writes || d.depth_load == LoadOp::Clear || d.stencil_load == LoadOp::Clear);
+            // In a Vulkan render pass the store operation is itself a write access (STORE and
+            // DONT_CARE both write the attachment), so an attachment in a writable layout is
+            // written whatever the draws do; FL009 says when its draws never write it.
+            let writes = !d.read_only && (state.depth_write || stencil_writes || d.depth_load == LoadOp::Clear || d.stencil_load == LoadOp::Clear || self.vulkan());
             let range = self.single_subresource(r, d.mip, d.layer, &dpath);
             accesses.push(ResourceAccess {
                 resource: r.id,
