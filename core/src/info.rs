@@ -69,6 +69,7 @@ pub struct ResourceInfo {
     pub flags: Vec<&'static str>,
     pub history: bool,
     pub output: bool,
+    pub swapchain: bool,
 }
 
 #[derive(Debug, Serialize)]
@@ -156,6 +157,7 @@ pub fn report(capture: &Capture) -> InfoReport {
                 flags: r.flags.iter().map(|f: &ResourceFlag| f.name()).collect(),
                 history: r.history,
                 output: r.output,
+                swapchain: r.swapchain,
             }
         })
         .collect();

@@ -7,7 +7,7 @@ use std::borrow::Cow;
 /// a name or message taken from an input could otherwise move, recolour or erase what a
 /// terminal shows.
 pub fn printable(text: &str) -> Cow<'_, str> {
-    escaped(text, is_hidden)
+    escaped(text, |c| is_hidden(c) && c != '\n' && c != '\t')
 }
 
 /// `text` for one line of a report: as `printable`, and a newline or tab written as an
@@ -15,14 +15,36 @@ pub fn printable(text: &str) -> Cow<'_, str> {
 /// `ONE_LINE_CHARS` characters the rest is counted, not shown: an input's megabyte-long
 /// name would otherwise be the whole report.
 pub fn one_line(text: &str) -> Cow<'_, str> {
-    match text.char_indices().nth(ONE_LINE_CHARS) {
-        None => escaped(text, char::is_control),
-        Some((cut, _)) => Cow::Owned(format!(
+    one_line_within(text, ONE_LINE_CHARS)
+}
+
+/// `one_line` for a longer text of framelab's own that quotes inputs (a note listing names):
+/// cut after `max` characters.
+pub fn one_line_within(text: &str, max: usize) -> Cow<'_, str> {
+    match cut(text, max) {
+        Cow::Borrowed(t) => escaped(t, is_hidden),
+        Cow::Owned(t) => Cow::Owned(escaped(&t, is_hidden).into_owned()),
+    }
+}
+
+/// `text` cut after `max` characters, the rest counted: `abc... (12 more bytes)`.
+pub fn cut(text: &str, max: usize) -> Cow<'_, str> {
+    match text.char_indices().nth(max) {
+        None => Cow::Borrowed(text),
+        Some((at, _)) => Cow::Owned(format!(
             "{}... ({} more bytes)",
-            escaped(&text[..cut], char::is_control),
-            text.len() - cut
+            &text[..at],
+            text.len() - at
         )),
     }
+}
+
+/// `a, b, c and 4 more`: at most `max` names of a list a report gives in one line.
+pub fn listed(names: &[String], max: usize) -> String {
+    if names.len() <= max {
+        return names.join(", ");
+    }
+    format!("{} and {} more", names[..max].join(", "), names.len() - max)
 }
 
 /// The most characters of an input's text a one-line report shows.
@@ -43,16 +65,24 @@ fn escaped(text: &str, hidden: fn(char) -> bool) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
+/// Control characters, and the invisible ones that reorder or hide text (bidirectional
+/// overrides and isolates, zero-width spaces and joiners, the byte-order mark): a name holding
+/// them could show as another name.
 fn is_hidden(c: char) -> bool {
-    c.is_control() && c != '\n' && c != '\t'
+    c.is_control()
+        || matches!(c, '\u{200B}'..='\u{200F}' | '\u{202A}'..='\u{202E}' | '\u{2060}'..='\u{2064}' | '\u{2066}'..='\u{2069}' | '\u{FEFF}')
 }
 
-/// Pads columns to their widest cell.
+/// The widest a column is padded to: a longer cell overflows its row rather than widening
+/// every row (one long name must not multiply the report by the number of rows).
+pub const MAX_COLUMN: usize = 160;
+
+/// Pads columns to their widest cell, at most `MAX_COLUMN` characters.
 pub fn table(headers: &[&str], rows: &[Vec<String>]) -> String {
     let mut widths: Vec<usize> = headers.iter().map(|h| h.len()).collect();
     for row in rows {
         for (w, cell) in widths.iter_mut().zip(row) {
-            *w = (*w).max(cell.chars().count());
+            *w = (*w).max(cell.chars().count().min(MAX_COLUMN));
         }
     }
     let mut out = String::new();
@@ -108,6 +138,18 @@ mod tests {
         assert_eq!(one_line("vkX\nerror: forged\t"), "vkX\\nerror: forged\\t");
         assert!(matches!(one_line("vkCmdDraw"), Cow::Borrowed(_)));
         let long = format!("vk{}", "é".repeat(1000));
+        assert_eq!(one_line("a\u{202E}b\u{200B}"), "a\\u{202e}b\\u{200b}");
+        assert_eq!(printable("x\ny\u{2066}"), "x\ny\\u{2066}");
+        let rows = vec![
+            vec!["a".to_owned(), "x".repeat(10_000), "z".to_owned()],
+            vec!["b".to_owned(), "y".to_owned(), "z".to_owned()],
+        ];
+        let t = table(&["k", "v", "w"], &rows);
+        assert!(t.len() < 10_000 + 4 * MAX_COLUMN, "{}", t.len());
+        assert!(t.contains(&format!("b  y{}  z", " ".repeat(MAX_COLUMN - 1))));
+        let names: Vec<String> = (0..10).map(|i| format!("n{i}")).collect();
+        assert_eq!(listed(&names[..3], 4), "n0, n1, n2");
+        assert_eq!(listed(&names, 4), "n0, n1, n2, n3 and 6 more");
         let shown = one_line(&long);
         assert!(shown.starts_with("vkéé"), "{shown}");
         assert!(shown.ends_with("é... (1604 more bytes)"), "{shown}");
@@ -123,14 +165,15 @@ mod tests {
     }
 
     #[test]
-    fn cells_longer_than_a_format_width_are_padded() {
+    fn a_cell_longer_than_a_column_overflows_its_row_alone() {
         let long = "n".repeat(70_000);
         let t = table(
             &["a", "b"],
             &[vec![long.clone(), "x".into()], vec!["y".into(), "z".into()]],
         );
         let lines: Vec<&str> = t.lines().collect();
+        assert_eq!(lines[1].len(), MAX_COLUMN + 3);
         assert_eq!(lines[2], format!("{long}  x"));
-        assert_eq!(lines[3].len(), 70_000 + 3);
+        assert_eq!(lines[3].len(), MAX_COLUMN + 3);
     }
 }

@@ -2,7 +2,7 @@
 //! written (atomically) so that an import either gives a capture every command accepts or
 //! nothing, and a summary of what was found and what was left out.
 
-use framelab_core::text::one_line;
+use framelab_core::text::{one_line, one_line_within};
 use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 use std::process::ExitCode;
@@ -268,25 +268,33 @@ fn render(s: &Summary, out: &Path) -> String {
         .map(|(k, n)| format!("{n} {k}"))
         .collect();
     t += &format!(
-        "imported {frames} to {}: {} passes ({}), {} draws, {} dispatches\n",
+        "imported {frames} to {}: {} ({}), {}, {}\n",
         out.display(),
-        s.passes,
+        count(s.passes, "pass", "passes"),
         kinds.join(", "),
-        s.draws,
-        s.dispatches
+        count(s.draws, "draw", "draws"),
+        count(s.dispatches, "dispatch", "dispatches")
     );
     t += &format!(
-        "  {} images, {} buffers in {} heaps, {} queues, {} recorded barriers, {} fences\n",
-        s.images, s.buffers, s.heaps, s.queues, s.recorded_barriers, s.fences
+        "  {}, {} in {}, {}, {}, {} (from semaphores between queues)\n",
+        count(s.images, "image", "images"),
+        count(s.buffers, "buffer", "buffers"),
+        count(s.heaps, "heap", "heaps"),
+        count(s.queues, "queue", "queues"),
+        count(s.recorded_barriers, "recorded barrier", "recorded barriers"),
+        count(s.fences, "fence", "fences")
     );
     if s.pipelines > 0 {
         t += &format!(
-            "  {} Vulkan pipelines bound by the draws and dispatches\n",
-            s.pipelines
+            "  {} bound by the draws and dispatches\n",
+            count(s.pipelines, "Vulkan pipeline", "Vulkan pipelines")
         );
     }
     if let Some(n) = s.shader_modules {
-        t += &format!("  {n} SPIR-V shader modules\n");
+        t += &format!(
+            "  {}\n",
+            count(n, "SPIR-V shader module", "SPIR-V shader modules")
+        );
     }
     if let Some(c) = &s.contents {
         t += &format!(
@@ -314,7 +322,9 @@ fn render(s: &Summary, out: &Path) -> String {
             } else {
                 String::new()
             };
-            t += &format!("  {times}{}{at}\n", one_line(&k.what));
+            // A note is framelab's sentence quoting names from the stream (each at most
+            // 256 characters): cut only where a note is far longer than any should be.
+            t += &format!("  {times}{}{at}\n", one_line_within(&k.what, 1_000));
         }
     }
     if !s.not_modelled.is_empty() {
@@ -382,4 +392,10 @@ fn not_a_stream(head: &[u8]) -> Option<&'static str> {
     let first = text.split(|&b| b == b'\n').next().unwrap_or_default();
     matches!(first.trim_ascii(), b"{" | b"[")
         .then_some("a JSON document over several lines, not a JSON Lines stream (gfxrecon-convert writes one object per line)")
+}
+
+/// `1 pass`, `2 passes`.
+fn count(n: impl TryInto<u64>, one: &str, many: &str) -> String {
+    let n: u64 = n.try_into().unwrap_or(u64::MAX);
+    format!("{n} {}", if n == 1 { one } else { many })
 }

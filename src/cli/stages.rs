@@ -68,7 +68,8 @@ fn note_scale(capture: &framelab_core::capture::Capture, scale: f64) {
     if scale != 1.0 && capture.origin.is_some() {
         let _ = writeln!(
             std::io::stderr(),
-            "note: --scale {scale} changes no size here: an imported frame keeps the application's own, in texels"
+            "note: {}: --scale {scale} changes no size here: an imported frame keeps the application's own (scale 1)",
+            printable(&capture.source.display().to_string())
         );
     }
 }

@@ -67,6 +67,7 @@ pub fn frame(passes: usize, resources: usize, seed: u64) -> FrameModel {
                 },
                 history: false,
                 output: rng.below(200) == 0,
+                swapchain: false,
                 initialised: rng.below(100) == 0,
                 initial_state: State::COMMON,
                 previous_of: None,

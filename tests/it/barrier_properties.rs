@@ -110,6 +110,7 @@ fn random_frame(seed: u64) -> FrameModel {
                 },
                 history: false,
                 output: rng.below(4) == 0,
+                swapchain: false,
                 initialised: rng.below(2) == 0,
                 initial_state: State::COMMON,
                 previous_of: None,

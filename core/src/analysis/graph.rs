@@ -446,6 +446,7 @@ mod tests {
             category: ResourceCategory::RtDsTexture,
             history: false,
             output: false,
+            swapchain: false,
             initialised: false,
             initial_state: State::COMMON,
             previous_of: None,

@@ -354,7 +354,8 @@ pub fn plan(model: &FrameModel, order: &[MPass]) -> MemoryPlan {
     let mut unaliased: [Option<u64>; 4] = [None; 4];
     let mut placed: Vec<Placed> = Vec::with_capacity(model.resources.len());
     for (i, r) in model.resources.iter().enumerate() {
-        let persistent = r.history || r.previous_of.is_some() || r.initialised || r.output;
+        let persistent =
+            r.history || r.previous_of.is_some() || r.initialised || r.output || r.swapchain;
         let pool = pool_of(r.heap_type, r.category);
         *unaliased[pool / 3].get_or_insert(0) += r.aligned_bytes;
         let lifetime = lifetimes[i];
@@ -366,12 +367,13 @@ pub fn plan(model: &FrameModel, order: &[MPass]) -> MemoryPlan {
             lifetime,
             persistent,
         });
-        let Some(l) = lifetime else { continue };
-        // Persistent resources hold their memory for the whole frame (and across frames).
-        let (first, last) = if persistent {
-            (0, end)
-        } else {
-            (l.first, l.last)
+        // Persistent resources hold their memory for the whole frame (and across frames),
+        // used or not: an idle swapchain image or an unread buffer of contents still takes
+        // its bytes. Transient ones no pass uses take none.
+        let (first, last) = match lifetime {
+            _ if persistent => (0, end),
+            Some(l) => (l.first, l.last),
+            None => continue,
         };
         pools[pool].push(Item {
             id: MResource::new(i),

@@ -294,6 +294,8 @@ pub struct ModelResource {
     /// previous frame.
     pub history: bool,
     pub output: bool,
+    /// A swapchain's image: the presentation engine holds its memory across frames.
+    pub swapchain: bool,
     /// Has initial contents, so it is live from the start of the frame.
     pub initialised: bool,
     /// State at the start of the frame.
@@ -430,6 +432,7 @@ pub fn from_capture(capture: &Capture) -> FrameModel {
                 category: r.category(),
                 history: r.history,
                 output: r.output,
+                swapchain: r.swapchain,
                 initialised: r.initial != InitialDesc::Undefined,
                 initial_state: match heap_type {
                     HeapType::Upload => State::VERTEX_AND_CONSTANT_BUFFER
@@ -593,6 +596,7 @@ mod tests {
             category: ResourceCategory::Buffer,
             history: true,
             output: false,
+            swapchain: false,
             initialised: false,
             initial_state: State::COMMON,
             previous_of: None,

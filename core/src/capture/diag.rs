@@ -129,6 +129,9 @@ impl fmt::Display for JsonPath {
 }
 
 /// Collects diagnostics during validation.
+/// The most characters of one diagnostic's message (or suggestion).
+pub const MAX_MESSAGE_CHARS: usize = 2_000;
+
 #[derive(Debug, Default)]
 pub struct Diagnostics {
     items: Vec<Diagnostic>,
@@ -158,12 +161,14 @@ impl Diagnostics {
         message: String,
         suggestion: Option<String>,
     ) {
+        // Messages quote names and values from the capture; a megabyte-long one is cut
+        // here, once for every message, rather than echoed whole.
         self.items.push(Diagnostic {
             severity,
             code,
             path: path.0.clone(),
-            message,
-            suggestion,
+            message: crate::text::cut(&message, MAX_MESSAGE_CHARS).into_owned(),
+            suggestion: suggestion.map(|s| crate::text::cut(&s, MAX_MESSAGE_CHARS).into_owned()),
         });
     }
     pub fn error_count(&self) -> usize {
@@ -183,6 +188,20 @@ impl Diagnostics {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_message_quoting_a_huge_name_is_cut() {
+        let mut d = Diagnostics::default();
+        let name = "n".repeat(1_000_000);
+        d.error("x", &JsonPath::root(), format!("unknown fence \"{name}\""));
+        let m = &d.into_vec()[0].message;
+        assert!(m.len() < MAX_MESSAGE_CHARS + 40, "{}", m.len());
+        assert!(
+            m.ends_with("... (998016 more bytes)"),
+            "{}",
+            &m[m.len() - 40..]
+        );
+    }
 
     #[test]
     fn suggestions_stop_when_the_budget_is_spent() {

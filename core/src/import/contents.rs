@@ -413,24 +413,26 @@ impl Contents {
                 }
             }
         }
+        // Names a note lists: a frame may leave hundreds of resources unfilled.
+        const LISTED: usize = 8;
         let mut notes = Vec::new();
         if !unknown.is_empty() {
             notes.push(format!(
                 "contents of {} resource(s) from before the frame that the capture does not hold (earlier GPU work, or never written): {}",
                 unknown.len(),
-                unknown.join(", ")
+                crate::text::listed(&unknown, LISTED)
             ));
         }
         if !over_budget.is_empty() {
             notes.push(format!(
                 "contents larger than everything the capture wrote (left out): {}",
-                over_budget.join(", ")
+                crate::text::listed(&over_budget, LISTED)
             ));
         }
         if !wrong_size.is_empty() {
             notes.push(format!(
                 "snapshot contents whose size is not the resource's packed size (left out): {}",
-                wrong_size.join(", ")
+                crate::text::listed(&wrong_size, LISTED)
             ));
         }
         (files, notes)

@@ -586,7 +586,12 @@ fn read_stream(reader: impl BufRead, file: &str, imp: &mut Importer) -> Result<R
                 gfxr_version,
                 json_version,
             } => {
-                read.tool = format!("GFXReconstruct {gfxr_version} (JSON {json_version})");
+                // Versions are the stream's own words: cleaned and cut like a debug name.
+                read.tool = format!(
+                    "GFXReconstruct {} (JSON {})",
+                    state::debug_text(&gfxr_version),
+                    state::debug_text(&json_version)
+                );
             }
             Entry::Call(call) => {
                 if imp.dialect.is_none() {

@@ -94,6 +94,8 @@ pub struct Counts {
 pub struct Side {
     pub capture: String,
     pub source: String,
+    /// The scale its sizes were resolved at: `--scale`, or 1 for an imported frame.
+    pub scale: f64,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -326,12 +328,14 @@ fn counts(a: &InfoReport, b: &InfoReport, ca: &Capture, cb: &Capture) -> Counts 
     }
 }
 
-/// The structural diff of B against A (both resolved at the same scale).
+/// The structural diff of B against A (each resolved at the scale given, an imported frame at
+/// its own sizes).
 pub fn diff(a: Frame<'_>, b: Frame<'_>) -> StructureDiff {
     let (ia, ib) = (info::report(a.capture), info::report(b.capture));
     let side = |f: Frame<'_>| Side {
         capture: f.capture.name.clone(),
         source: f.capture.source.display().to_string(),
+        scale: f.capture.scale,
     };
     StructureDiff {
         format_version: STRUCTURE_FORMAT_VERSION,

@@ -134,9 +134,14 @@ const MEMORY_HEADERS: [&str; 4] = ["heap type", "unaliased", "aliased", "lower b
 const CHANGE_HEADERS: [&str; 3] = ["what", "name", "change"];
 
 fn heading(d: &StructureDiff) -> String {
+    let scale = if d.a.scale == d.b.scale {
+        format!("scale {}", d.a.scale)
+    } else {
+        format!("scale {} (A) and {} (B)", d.a.scale, d.b.scale)
+    };
     format!(
-        "{} ({}) against {} ({}), scale {}",
-        d.a.capture, d.a.source, d.b.capture, d.b.source, d.scale
+        "{} ({}) against {} ({}), {scale}",
+        d.a.capture, d.a.source, d.b.capture, d.b.source
     )
 }
 

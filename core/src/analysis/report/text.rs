@@ -84,23 +84,22 @@ pub fn render_text(r: &Report) -> String {
     memory(&mut out, r);
     lints(&mut out, r);
     let cp = &r.critical_path;
-    if cp.timing_source == "none" {
+    let path = path_text(&cp.passes);
+    if cp.timing_source == "none" || cp.length_ns == 0 {
         let _ = writeln!(
             out,
             "Critical path (no pass times in the capture: the longest chain of dependent \
-             passes, {} of {})\n  {}",
+             passes, {} of {})\n  {path}",
             cp.passes.len(),
             r.order.len(),
-            cp.passes.join(" -> ")
         );
     } else {
         let _ = writeln!(
             out,
-            "Critical path ({} timings): {:.3} ms of {:.3} ms serial\n  {}",
+            "Critical path ({} timings): {:.3} ms of {:.3} ms serial\n  {path}",
             cp.timing_source,
             cp.length_ns as f64 / 1e6,
             cp.serial_ns as f64 / 1e6,
-            cp.passes.join(" -> ")
         );
     }
     for o in &r.async_compute {
@@ -116,6 +115,21 @@ pub fn render_text(r: &Report) -> String {
         );
     }
     out
+}
+
+/// The passes of a path on one line; a long one (a single queue's whole frame) shows its
+/// ends and counts the middle (`--json` lists every pass).
+fn path_text(passes: &[String]) -> String {
+    const ENDS: usize = 4;
+    if passes.len() <= 3 * ENDS {
+        return passes.join(" -> ");
+    }
+    format!(
+        "{} -> ... {} more ... -> {}",
+        passes[..ENDS].join(" -> "),
+        passes.len() - 2 * ENDS,
+        passes[passes.len() - ENDS..].join(" -> ")
+    )
 }
 
 /// One row per barrier: boundary, kind, resource, subresource, states, queue, placement.

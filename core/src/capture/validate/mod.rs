@@ -304,7 +304,7 @@ impl<'a> Validator<'a> {
                 &self.root.field("name"),
                 format!(
                     "capture name \"{}\" holds a control character",
-                    crate::text::printable(&raw.name)
+                    crate::text::one_line(&raw.name)
                 ),
             );
         }
@@ -409,7 +409,7 @@ impl<'a> Validator<'a> {
                         &path,
                         format!(
                             "{section}[{i}] name \"{}\" holds a control character",
-                            crate::text::printable(n)
+                            crate::text::one_line(n)
                         ),
                     );
                 }

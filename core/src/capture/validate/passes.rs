@@ -60,7 +60,7 @@ impl<'a> Validator<'a> {
                         &path.field("markers").index(k),
                         format!(
                             "marker \"{}\" holds a control character",
-                            crate::text::printable(m)
+                            crate::text::one_line(m)
                         ),
                     );
                 }

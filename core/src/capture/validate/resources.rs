@@ -165,6 +165,9 @@ impl<'a> Validator<'a> {
                 format!("\"{}\" is both history and output", r.name),
             );
         }
+        if r.swapchain {
+            self.check_swapchain_image(r, path);
+        }
         if self.diags.error_count() > errors_before {
             return None;
         }
@@ -962,5 +965,36 @@ impl<'a> Validator<'a> {
             }
         }
         Some(placement)
+    }
+}
+
+impl Validator<'_> {
+    /// A swapchain image is a 2D texture the presentation engine owns: no other frame copy,
+    /// no contents framelab makes for it (a presented image comes from the frame or before it).
+    fn check_swapchain_image(&mut self, r: &Resource, path: &JsonPath) {
+        let why = if !matches!(
+            r.kind,
+            ResourceKind::Texture2D | ResourceKind::Texture2DArray
+        ) {
+            Some("only a 2D texture (or 2D array) can be a swapchain image")
+        } else if r.history {
+            Some("a swapchain image cannot be history: the presentation engine owns it")
+        } else if matches!(
+            r.initial,
+            Some(InitialContents::File { .. } | InitialContents::Generator { .. })
+        ) {
+            Some(
+                "a swapchain image's contents come from the frame or from before it (`before_capture`), not a file or generator",
+            )
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            self.diags.error(
+                "resource-flags",
+                &path.field("swapchain"),
+                format!("\"{}\": {why}", r.name),
+            );
+        }
     }
 }

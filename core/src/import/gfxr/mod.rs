@@ -83,7 +83,10 @@ impl Reading {
             && let Ok(v) = serde_json::from_slice::<serde_json::Value>(data)
             && let Some(version) = v.get("gfxrecon-version").and_then(|x| x.as_str())
         {
-            self.tool = format!("GFXReconstruct {version}");
+            self.tool = format!(
+                "GFXReconstruct {}",
+                crate::import::state::debug_text(version)
+            );
         }
     }
 }
