@@ -15,7 +15,7 @@ use framelab_core::files::{self, FileError};
 use framelab_core::import::gfxr::edit::FieldEdit;
 use framelab_core::import::{ImportOptions, Imported, Summary, gfxr, import, rdc};
 
-use super::{print_diagnostics, print_stdout};
+use super::{count, print_diagnostics, print_stdout};
 
 /// `N` or `A-B` (0-based, inclusive).
 pub(crate) fn parse_frames(text: &str) -> Result<(u32, u32), String> {
@@ -392,10 +392,4 @@ fn not_a_stream(head: &[u8]) -> Option<&'static str> {
     let first = text.split(|&b| b == b'\n').next().unwrap_or_default();
     matches!(first.trim_ascii(), b"{" | b"[")
         .then_some("a JSON document over several lines, not a JSON Lines stream (gfxrecon-convert writes one object per line)")
-}
-
-/// `1 pass`, `2 passes`.
-fn count(n: impl TryInto<u64>, one: &str, many: &str) -> String {
-    let n: u64 = n.try_into().unwrap_or(u64::MAX);
-    format!("{n} {}", if n == 1 { one } else { many })
 }

@@ -427,3 +427,9 @@ pub(crate) fn parse_percent(text: &str) -> Result<f64, String> {
         Err(format!("a percentage must be in [0, 1000], not {v}"))
     }
 }
+
+/// `1 pass`, `2 passes`.
+pub(crate) fn count(n: impl TryInto<u64>, one: &str, many: &str) -> String {
+    let n: u64 = n.try_into().unwrap_or(u64::MAX);
+    format!("{n} {}", if n == 1 { one } else { many })
+}

@@ -55,12 +55,12 @@ pub fn run(path: &Path, json: bool) -> ExitCode {
             let c = result.as_ref().map(|v| &v.capture);
             if let Ok(c) = c {
                 let _ = print_stdout(&format!(
-                    "{}: valid ({} resources, {} passes, {} queues, {} warnings)\n",
+                    "{}: valid ({}, {}, {}, {})\n",
                     path.display(),
-                    c.resources.len(),
-                    c.passes.len(),
-                    c.queues.len(),
-                    diagnostics.len()
+                    super::count(c.resources.len(), "resource", "resources"),
+                    super::count(c.passes.len(), "pass", "passes"),
+                    super::count(c.queues.len(), "queue", "queues"),
+                    super::count(diagnostics.len(), "warning", "warnings")
                 ));
             }
         }

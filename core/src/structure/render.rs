@@ -21,8 +21,13 @@ fn show(v: &Value) -> String {
 fn change(c: &Change) -> String {
     match (&c.a, &c.b) {
         (Value::Array(a), Value::Array(b)) => {
-            let plus: Vec<String> = b.iter().filter(|x| !a.contains(x)).map(show).collect();
-            let minus: Vec<String> = a.iter().filter(|x| !b.contains(x)).map(show).collect();
+            // Names in natural order (`buffer_7` before `buffer_17`), additions then removals.
+            let sorted = |mut v: Vec<String>| {
+                v.sort_by(|x, y| alphanumeric_sort::compare_str(x, y));
+                v
+            };
+            let plus = sorted(b.iter().filter(|x| !a.contains(x)).map(show).collect());
+            let minus = sorted(a.iter().filter(|x| !b.contains(x)).map(show).collect());
             let mut parts = Vec::new();
             if !plus.is_empty() {
                 parts.push(format!("+{}", plus.join(", +")));
@@ -34,7 +39,7 @@ fn change(c: &Change) -> String {
                 // Same items, another order.
                 parts.push(format!("{} -> {}", show(&c.a), show(&c.b)));
             }
-            format!("{} {}", c.field, parts.join(" "))
+            format!("{} {}", c.field, parts.join(", "))
         }
         _ => format!("{} {} -> {}", c.field, show(&c.a), show(&c.b)),
     }
@@ -184,4 +189,23 @@ pub fn markdown(d: &StructureDiff) -> String {
         markdown_table(&COUNT_HEADERS, &count_rows(d)),
         markdown_table(&MEMORY_HEADERS, &memory_rows(d)),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_list_change_gives_additions_then_removals_in_natural_order() {
+        let list = |v: &[&str]| Value::Array(v.iter().map(|s| Value::from(*s)).collect());
+        let c = Change {
+            field: "writes".into(),
+            a: list(&["buffer_17", "image_11", "buffer_7", "kept"]),
+            b: list(&["kept", "image_48", "image_9"]),
+        };
+        assert_eq!(
+            change(&c),
+            "writes +image_9, +image_48, -buffer_7, -buffer_17, -image_11"
+        );
+    }
 }

@@ -661,7 +661,8 @@ impl<'a> Validator<'a> {
                     "at most 8 colour attachments",
                 );
             }
-            if p.draws.is_empty() {
+            // An application's render pass may only clear (its load operations are the work).
+            if p.draws.is_empty() && !self.vulkan() {
                 self.diags.warning(
                     "no-draws",
                     &path.field("draws"),
