@@ -463,3 +463,31 @@ fn lints_on_an_imported_frame_give_vulkan_advice() {
         );
     }
 }
+
+/// Queue-family ownership transfers are in the text as in `--json`.
+#[test]
+fn queue_ownership_transfers_are_listed_in_the_text() {
+    let dir = Scratch::temp("framelab-analyze-transfers");
+    let capture = dir.join("v1.json");
+    let stream = crate::common::gfxr_fixture("v1_dynamic_rendering.jsonl");
+    let out = framelab(&[
+        "import",
+        stream.to_str().unwrap(),
+        "-o",
+        capture.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let capture = capture.to_str().unwrap();
+    let r = json(&framelab(&["analyze", "--json", capture]));
+    let n = r["queue_transfers"].as_array().unwrap().len();
+    assert!(n > 0, "{r}");
+    let text = stdout(&framelab(&["analyze", capture]));
+    assert!(
+        text.contains(&format!("Queue ownership transfers ({n})")),
+        "{text}"
+    );
+    assert!(
+        text.contains("density   all          compute -> graphics  density            render_pass"),
+        "{text}"
+    );
+}

@@ -81,6 +81,36 @@ pub fn render_text(r: &Report) -> String {
             table(&["signal after", "wait before", "source"], &f)
         );
     }
+    if !r.queue_transfers.is_empty() {
+        let t: Vec<Vec<String>> = r
+            .queue_transfers
+            .iter()
+            .map(|t| {
+                vec![
+                    t.resource.clone(),
+                    subresource_text(&t.subresource),
+                    format!("{} -> {}", t.from_queue, t.to_queue),
+                    t.release_after.clone(),
+                    t.acquire_before.clone(),
+                ]
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "Queue ownership transfers ({})\n{}",
+            t.len(),
+            table(
+                &[
+                    "resource",
+                    "subresource",
+                    "queues",
+                    "release after",
+                    "acquire before"
+                ],
+                &t
+            )
+        );
+    }
     memory(&mut out, r);
     lints(&mut out, r);
     let cp = &r.critical_path;
@@ -117,6 +147,18 @@ pub fn render_text(r: &Report) -> String {
     out
 }
 
+/// `all`, `mips 0+1 layers 0+6` or `bytes 0+256`.
+fn subresource_text(s: &SubresourceReport) -> String {
+    match s {
+        SubresourceReport::All(_) => "all".to_owned(),
+        SubresourceReport::Texture { mips, layers } => format!(
+            "mips {}+{} layers {}+{}",
+            mips[0], mips[1], layers[0], layers[1]
+        ),
+        SubresourceReport::Bytes { bytes } => format!("bytes {}+{}", bytes[0], bytes[1]),
+    }
+}
+
 /// The passes of a path on one line; a long one (a single queue's whole frame) shows its
 /// ends and counts the middle (`--json` lists every pass).
 fn path_text(passes: &[String]) -> String {
@@ -137,14 +179,7 @@ fn barrier_rows(r: &Report) -> Vec<Vec<String>> {
     let mut rows = Vec::new();
     for b in &r.barriers {
         for x in &b.barriers {
-            let sub = match &x.subresource {
-                SubresourceReport::All(_) => "all".to_owned(),
-                SubresourceReport::Texture { mips, layers } => format!(
-                    "mips {}+{} layers {}+{}",
-                    mips[0], mips[1], layers[0], layers[1]
-                ),
-                SubresourceReport::Bytes { bytes } => format!("bytes {}+{}", bytes[0], bytes[1]),
-            };
+            let sub = subresource_text(&x.subresource);
             let kind = match x.kind {
                 BarrierKind::Transition => "transition",
                 BarrierKind::Uav => "uav",
