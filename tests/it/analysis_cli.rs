@@ -359,6 +359,13 @@ fn an_imported_vulkan_frame_is_reported_in_vulkan_terms() {
         serde_json::json!(["render_pass", "present"])
     );
     assert_eq!(r["critical_path"]["length_ns"], 0);
+    // Its buffers take the alignment Vulkan reported (64 bytes), not D3D12's 64 KiB: what
+    // the host-visible memory holds unaliased is what `info` counts in it.
+    let info = json(&framelab(&["info", "--json", capture]));
+    assert_eq!(
+        r["memory"]["heap_types"]["CUSTOM"]["unaliased_bytes"],
+        info["totals"]["CUSTOM"]["bytes"]
+    );
     // Its sizes are the application's: `--scale` changes none, and says so.
     let info = framelab(&["info", "--json", capture, "--scale", "0.25"]);
     assert!(

@@ -155,8 +155,16 @@ impl<'a> Validator<'a> {
         } else {
             PLACEMENT_ALIGNMENT
         };
-        let aligned_bytes = bytes.div_ceil(alignment).saturating_mul(alignment);
         let placement = self.check_placement(r, path, heaps, bytes, alignment, samples, &flags);
+        // The alignment the API reported (a Vulkan buffer's may be 64 bytes) is what the
+        // resource takes in memory; D3D12's when none was reported.
+        let alignment = match &r.placement {
+            Some(Placement::Placed {
+                alignment: Some(a), ..
+            }) if a.is_power_of_two() => *a,
+            _ => alignment,
+        };
+        let aligned_bytes = bytes.div_ceil(alignment).saturating_mul(alignment);
         let initial = self.initial_contents(r, path, bytes);
         if r.history && r.output {
             self.diags.warning(
