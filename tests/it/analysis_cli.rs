@@ -331,7 +331,7 @@ fn async_overlaps_are_the_unordered_range_and_long_lists_are_counted() {
 #[test]
 fn an_imported_vulkan_frame_is_reported_in_vulkan_terms() {
     let dir = Scratch::temp("framelab-analyze-vulkan");
-    let capture = imported(&dir, "vkcube_f3");
+    let capture = imported(&dir, "vkcube_f3.gfxr");
     let capture = capture.as_str();
     let text = stdout(&framelab(&["analyze", capture]));
     assert!(
@@ -381,10 +381,12 @@ fn an_imported_vulkan_frame_is_reported_in_vulkan_terms() {
     assert_eq!(info["scale"], 1.0);
 }
 
-/// `tests/fixtures/gfxr/<name>.gfxr` imported into `dir`: the capture's path.
-fn imported(dir: &std::path::Path, name: &str) -> String {
-    let capture = dir.join(format!("{name}.json"));
-    let fixture = crate::common::gfxr_fixture(&format!("{name}.gfxr"));
+/// `tests/fixtures/gfxr/<file>` (a `.gfxr` capture or a JSON Lines stream) imported into
+/// `dir`: the capture's path.
+fn imported(dir: &std::path::Path, file: &str) -> String {
+    let stem = file.rsplit_once('.').map_or(file, |(s, _)| s);
+    let capture = dir.join(format!("{stem}.json"));
+    let fixture = crate::common::gfxr_fixture(file);
     let out = framelab(&[
         "import",
         fixture.to_str().unwrap(),
@@ -402,7 +404,11 @@ fn lints_on_an_imported_frame_give_vulkan_advice() {
     let dir = Scratch::temp("framelab-lints-vulkan");
     let mut messages = Vec::new();
     for name in ["vkd3d_triangle_f1", "vkd3d_gears_f2", "mpv_testsrc_f5"] {
-        let r = json(&framelab(&["analyze", "--json", &imported(&dir, name)]));
+        let r = json(&framelab(&[
+            "analyze",
+            "--json",
+            &imported(&dir, &format!("{name}.gfxr")),
+        ]));
         for l in r["lints"].as_array().unwrap() {
             messages.push(format!(
                 "{name} {} {}",
@@ -475,16 +481,8 @@ fn lints_on_an_imported_frame_give_vulkan_advice() {
 #[test]
 fn queue_ownership_transfers_are_listed_in_the_text() {
     let dir = Scratch::temp("framelab-analyze-transfers");
-    let capture = dir.join("v1.json");
-    let stream = crate::common::gfxr_fixture("v1_dynamic_rendering.jsonl");
-    let out = framelab(&[
-        "import",
-        stream.to_str().unwrap(),
-        "-o",
-        capture.to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let capture = capture.to_str().unwrap();
+    let capture = imported(&dir, "v1_dynamic_rendering.jsonl");
+    let capture = capture.as_str();
     let r = json(&framelab(&["analyze", "--json", capture]));
     let n = r["queue_transfers"].as_array().unwrap().len();
     assert!(n > 0, "{r}");

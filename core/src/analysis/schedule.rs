@@ -134,8 +134,9 @@ pub fn schedule(
         });
     }
     // Longest path, node-weighted, over all ordering constraints. With no pass timed at all
-    // (or every time zero), every pass weighs one, so the path is the longest chain of dependent passes rather than
-    // whichever pass comes last among equals; its length in time stays zero.
+    // (or every time zero), every pass weighs one, so the path is the longest chain of
+    // dependent passes rather than whichever pass comes last among equals; its length in
+    // time stays zero.
     let n = model.passes.len();
     let untimed = times.iter().all(|t| t.unwrap_or(0) == 0);
     let weight = |p: usize| times.get(p).copied().flatten().unwrap_or(0);

@@ -128,10 +128,10 @@ impl fmt::Display for JsonPath {
     }
 }
 
-/// Collects diagnostics during validation.
 /// The most characters of one diagnostic's message (or suggestion).
 pub const MAX_MESSAGE_CHARS: usize = 2_000;
 
+/// Collects diagnostics during validation.
 #[derive(Debug, Default)]
 pub struct Diagnostics {
     items: Vec<Diagnostic>,

@@ -54,6 +54,13 @@ pub struct Capture {
 }
 
 impl Capture {
+    /// Imported from a Vulkan program (see `CaptureSource::is_vulkan`).
+    pub fn from_vulkan_program(&self) -> bool {
+        self.origin
+            .as_ref()
+            .is_some_and(super::format::CaptureSource::is_vulkan)
+    }
+
     /// Why this capture cannot be replayed, as a message naming its origin; `None` when it can.
     pub fn not_replayable(&self) -> Option<String> {
         let origin = self.origin.as_ref()?;

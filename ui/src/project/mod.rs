@@ -21,7 +21,7 @@ use framelab_replay::wgpu;
 use serde::Serialize;
 
 use framelab_core::analysis::model::{MPass, MResource};
-use framelab_core::analysis::report::{self, Analysis, BarrierReport, SubresourceReport};
+use framelab_core::analysis::report::{self, Analysis, BarrierReport};
 use framelab_core::capture::model::{
     BindingTarget, Capture, PassDesc, PassId, ResourceId, Subresources,
 };
@@ -294,16 +294,7 @@ fn derived(b: &BarrierReport, side: BarrierSide) -> Barrier {
         source: BarrierSource::Derived,
         kind: spelled(&b.kind),
         resource: b.resource.clone(),
-        subresource: match &b.subresource {
-            SubresourceReport::All(_) => "all".to_owned(),
-            SubresourceReport::Texture { mips, layers } => {
-                format!(
-                    "mips {}+{} layers {}+{}",
-                    mips[0], mips[1], layers[0], layers[1]
-                )
-            }
-            SubresourceReport::Bytes { bytes } => format!("bytes {}+{}", bytes[0], bytes[1]),
-        },
+        subresource: b.subresource.describe(),
         states: match &b.resource_before {
             Some(before) => format!("{before} -> {}", b.resource),
             None => format!("{} -> {}", b.before, b.after),
@@ -718,10 +709,7 @@ fn model(
         timings: None,
         compare: None,
         presented: None,
-        vulkan_terms: c
-            .origin
-            .as_ref()
-            .is_some_and(|o| o.api == framelab_core::capture::format::Api::Vulkan),
+        vulkan_terms: c.from_vulkan_program(),
     };
     m.presented = order
         .iter()

@@ -298,10 +298,7 @@ impl<'a> Linter<'a> {
     /// The frame came from a Vulkan program: advice names usage flags, layouts and memory
     /// properties, not D3D12's flags, states and heaps.
     fn vulkan_terms(&self) -> bool {
-        self.capture
-            .origin
-            .as_ref()
-            .is_some_and(|o| o.api == crate::capture::format::Api::Vulkan)
+        self.capture.from_vulkan_program()
     }
 
     /// The capture pass a model pass is.

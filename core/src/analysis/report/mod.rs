@@ -225,6 +225,20 @@ pub enum SubresourceReport {
     Bytes { bytes: [u64; 2] },
 }
 
+impl SubresourceReport {
+    /// `all`, `mips 0+1 layers 0+6` or `bytes 0+256`, as tables show it.
+    pub fn describe(&self) -> String {
+        match self {
+            SubresourceReport::All(_) => "all".to_owned(),
+            SubresourceReport::Texture { mips, layers } => format!(
+                "mips {}+{} layers {}+{}",
+                mips[0], mips[1], layers[0], layers[1]
+            ),
+            SubresourceReport::Bytes { bytes } => format!("bytes {}+{}", bytes[0], bytes[1]),
+        }
+    }
+}
+
 #[derive(Debug, Serialize)]
 pub struct FenceReport {
     pub signal_after: String,
@@ -450,10 +464,7 @@ pub fn report(capture: &Capture, a: &Analysis) -> Report {
         lints: lint_reports(capture, &a.lints),
         critical_path: a.schedule.critical_path.clone(),
         async_compute: a.schedule.async_compute.clone(),
-        vulkan_terms: capture
-            .origin
-            .as_ref()
-            .is_some_and(|o| o.api == crate::capture::format::Api::Vulkan),
+        vulkan_terms: capture.from_vulkan_program(),
     }
 }
 

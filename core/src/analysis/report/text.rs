@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use super::{Report, SubresourceReport, ratio};
+use super::{Report, ratio};
 use crate::analysis::barriers::BarrierKind;
 use crate::analysis::lints::LintSeverity;
 use crate::text::{human_bytes, table};
@@ -88,7 +88,7 @@ pub fn render_text(r: &Report) -> String {
             .map(|t| {
                 vec![
                     t.resource.clone(),
-                    subresource_text(&t.subresource),
+                    t.subresource.describe(),
                     format!("{} -> {}", t.from_queue, t.to_queue),
                     t.release_after.clone(),
                     t.acquire_before.clone(),
@@ -115,7 +115,8 @@ pub fn render_text(r: &Report) -> String {
     lints(&mut out, r);
     let cp = &r.critical_path;
     let path = path_text(&cp.passes);
-    if cp.timing_source == "none" || cp.length_ns == 0 {
+    // Zero only when no pass is timed (the schedule then weighs every pass one).
+    if cp.length_ns == 0 {
         let _ = writeln!(
             out,
             "Critical path (no pass times in the capture: the longest chain of dependent \
@@ -147,18 +148,6 @@ pub fn render_text(r: &Report) -> String {
     out
 }
 
-/// `all`, `mips 0+1 layers 0+6` or `bytes 0+256`.
-fn subresource_text(s: &SubresourceReport) -> String {
-    match s {
-        SubresourceReport::All(_) => "all".to_owned(),
-        SubresourceReport::Texture { mips, layers } => format!(
-            "mips {}+{} layers {}+{}",
-            mips[0], mips[1], layers[0], layers[1]
-        ),
-        SubresourceReport::Bytes { bytes } => format!("bytes {}+{}", bytes[0], bytes[1]),
-    }
-}
-
 /// The passes of a path on one line; a long one (a single queue's whole frame) shows its
 /// ends and counts the middle (`--json` lists every pass).
 fn path_text(passes: &[String]) -> String {
@@ -179,7 +168,7 @@ fn barrier_rows(r: &Report) -> Vec<Vec<String>> {
     let mut rows = Vec::new();
     for b in &r.barriers {
         for x in &b.barriers {
-            let sub = subresource_text(&x.subresource);
+            let sub = x.subresource.describe();
             let kind = match x.kind {
                 BarrierKind::Transition => "transition",
                 BarrierKind::Uav => "uav",

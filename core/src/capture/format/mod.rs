@@ -103,6 +103,14 @@ pub struct CaptureSource {
     pub sync_hazards: Option<Vec<SyncHazard>>,
 }
 
+impl CaptureSource {
+    /// Recorded from a Vulkan program: its own terms (layouts, stages, usage flags) are the
+    /// ones to report in, and its render passes follow Vulkan's rules.
+    pub fn is_vulkan(&self) -> bool {
+        self.api == Api::Vulkan
+    }
+}
+
 /// A pair of accesses to one resource that no dependency orders, as the Khronos
 /// synchronization validation names them.
 #[derive(

@@ -15,6 +15,7 @@ mod descriptors;
 mod hazards;
 mod heaps;
 mod passes;
+mod placement;
 mod resources;
 mod shaders;
 mod vk_values;
@@ -476,7 +477,7 @@ impl<'a> Validator<'a> {
         self.raw
             .source
             .as_ref()
-            .is_some_and(|s| s.api == crate::capture::format::Api::Vulkan)
+            .is_some_and(crate::capture::format::CaptureSource::is_vulkan)
     }
 
     /// Whether the capture says it cannot be replayed (an import without shader code).

@@ -1,21 +1,18 @@
-//! Resources: resolved extents, formats, mips, flags, initial contents and placement in heaps.
+//! Resources: resolved extents, formats, mips, flags and initial contents (their placement
+//! in heaps is `placement`).
 
 use std::collections::BTreeSet;
 
-use super::{
-    MSAA_PLACEMENT_ALIGNMENT, PLACEMENT_ALIGNMENT, Validator, describe_allows, is_depth_family,
-};
+use super::{MSAA_PLACEMENT_ALIGNMENT, PLACEMENT_ALIGNMENT, Validator, is_depth_family};
 use crate::capture::diag::JsonPath;
 use crate::capture::dxgi::FormatInfo;
 use crate::capture::format::{
-    BufferKind, Extent, HeapType, InitialContents, MipLevels, Placement, RelativeSize, Resource,
+    BufferKind, Extent, InitialContents, MipLevels, Placement, RelativeSize, Resource,
     ResourceFlag, ResourceKind,
 };
 use crate::capture::generators;
 use crate::capture::generators::{Content, Seeded};
-use crate::capture::model::{
-    HeapDesc, HeapId, InitialDesc, PlacementDesc, ResourceCategory, ResourceDesc, ResourceId,
-};
+use crate::capture::model::{HeapDesc, InitialDesc, ResourceDesc, ResourceId};
 use crate::capture::support::Support;
 use crate::text::human_bytes;
 
@@ -150,20 +147,17 @@ impl<'a> Validator<'a> {
         };
         let samples = dims.samples;
 
-        let alignment = if samples > 1 {
-            MSAA_PLACEMENT_ALIGNMENT
-        } else {
-            PLACEMENT_ALIGNMENT
-        };
-        let placement = self.check_placement(r, path, heaps, bytes, alignment, samples, &flags);
         // The alignment the API reported (a Vulkan buffer's may be 64 bytes) is what the
-        // resource takes in memory; D3D12's when none was reported.
+        // resource is placed at and takes in memory; D3D12's when none was reported (or one
+        // that is no power of two, which `check_placement` refuses).
         let alignment = match &r.placement {
             Some(Placement::Placed {
                 alignment: Some(a), ..
             }) if a.is_power_of_two() => *a,
-            _ => alignment,
+            _ if samples > 1 => MSAA_PLACEMENT_ALIGNMENT,
+            _ => PLACEMENT_ALIGNMENT,
         };
+        let placement = self.check_placement(r, path, heaps, bytes, alignment, samples, &flags);
         let aligned_bytes = bytes.div_ceil(alignment).saturating_mul(alignment);
         let initial = self.initial_contents(r, path, bytes);
         if r.history && r.output {
@@ -821,158 +815,6 @@ impl<'a> Validator<'a> {
                 }
             }
         }
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn check_placement(
-        &mut self,
-        r: &Resource,
-        path: &JsonPath,
-        heaps: &[HeapDesc],
-        bytes: u64,
-        alignment: u64,
-        samples: u32,
-        flags: &BTreeSet<ResourceFlag>,
-    ) -> Option<PlacementDesc> {
-        let ppath = path.field("placement");
-        let placement = match &r.placement {
-            None => PlacementDesc::Committed {
-                heap_type: HeapType::Default,
-            },
-            Some(Placement::Committed { heap_type }) => {
-                if *heap_type == HeapType::Custom {
-                    self.diags.error("placement", &ppath.field("committed").field("heap_type"), "committed resources use DEFAULT, UPLOAD or READBACK; put CUSTOM resources in a named heap");
-                }
-                PlacementDesc::Committed {
-                    heap_type: *heap_type,
-                }
-            }
-            Some(Placement::Reserved) => {
-                if r.kind == ResourceKind::Texture3D && samples > 1 {
-                    self.diags.error(
-                        "placement",
-                        &ppath,
-                        "reserved MSAA 3D textures do not exist",
-                    );
-                }
-                PlacementDesc::Reserved
-            }
-            Some(Placement::Placed {
-                heap,
-                offset,
-                alignment: reported,
-            }) => {
-                let hpath = ppath.field("placed").field("heap");
-                let id = self.lookup("heap", heap, &hpath)?;
-                let h = &heaps[id as usize];
-                let opath = ppath.field("placed").field("offset");
-                let alignment = match *reported {
-                    Some(a) if a.is_power_of_two() => a,
-                    Some(a) => {
-                        self.diags.error(
-                            "placement-alignment",
-                            &ppath.field("placed").field("alignment"),
-                            format!("alignment {a} of \"{}\" is not a power of two", r.name),
-                        );
-                        alignment
-                    }
-                    None => alignment,
-                };
-                if offset % alignment != 0 {
-                    self.diags.error("placement-alignment", &opath, format!(
-                        "\"{}\" is placed at offset {offset}, which is not a multiple of its alignment {alignment}{}",
-                        r.name, if samples > 1 { " (multisampled resources need 4 MiB)" } else { "" }
-                    ));
-                }
-                if h.alignment < alignment {
-                    self.diags.error(
-                        "placement-alignment",
-                        &hpath,
-                        format!(
-                            "heap \"{}\" is aligned to {} but \"{}\" needs {alignment}",
-                            h.name, h.alignment, r.name
-                        ),
-                    );
-                }
-                let end = offset.checked_add(bytes);
-                if end.is_none_or(|e| e > h.size) {
-                    self.diags.error(
-                        "placement-bounds",
-                        &opath,
-                        format!(
-                            "\"{}\" ({} at offset {offset}) does not fit in heap \"{}\" of {}",
-                            r.name,
-                            human_bytes(bytes),
-                            h.name,
-                            human_bytes(h.size)
-                        ),
-                    );
-                }
-                let category = if !r.kind.is_texture() {
-                    ResourceCategory::Buffer
-                } else if flags.contains(&ResourceFlag::AllowRenderTarget)
-                    || flags.contains(&ResourceFlag::AllowDepthStencil)
-                {
-                    ResourceCategory::RtDsTexture
-                } else {
-                    ResourceCategory::OtherTexture
-                };
-                if !h.allows.allows(category) {
-                    self.diags.error(
-                        "placement-heap-flags",
-                        &hpath,
-                        format!(
-                            "heap \"{}\" does not allow {} (its flags allow {}), but \"{}\" is one",
-                            h.name,
-                            category.describe(),
-                            describe_allows(h.allows),
-                            r.name
-                        ),
-                    );
-                }
-                PlacementDesc::Placed {
-                    heap: HeapId(id),
-                    offset: *offset,
-                }
-            }
-        };
-        let heap_type = match &placement {
-            PlacementDesc::Committed { heap_type } => *heap_type,
-            PlacementDesc::Placed { heap, .. } => heaps[heap.index()].heap_type,
-            PlacementDesc::Reserved => HeapType::Default,
-        };
-        if matches!(heap_type, HeapType::Upload | HeapType::Readback) {
-            if r.kind.is_texture() {
-                self.diags.error("placement-heap-type", &ppath, format!(
-                    "texture \"{}\" is in an {} heap; UPLOAD and READBACK heaps hold buffers (copy textures through them)", r.name, heap_type.name()
-                ));
-            }
-            let bad: Vec<&str> = flags
-                .iter()
-                .filter(|f| {
-                    matches!(
-                        f,
-                        ResourceFlag::AllowUnorderedAccess
-                            | ResourceFlag::AllowRenderTarget
-                            | ResourceFlag::AllowDepthStencil
-                    )
-                })
-                .map(|f| f.name())
-                .collect();
-            if !bad.is_empty() {
-                self.diags.error(
-                    "placement-heap-type",
-                    &path.field("flags"),
-                    format!(
-                        "\"{}\" in an {} heap cannot have {}",
-                        r.name,
-                        heap_type.name(),
-                        bad.join(", ")
-                    ),
-                );
-            }
-        }
-        Some(placement)
     }
 }
 
