@@ -13,6 +13,7 @@
 pub mod analysis;
 pub mod atomic;
 pub mod capture;
+pub mod coverage;
 pub mod files;
 pub mod import;
 pub mod info;

@@ -57,6 +57,9 @@ pub struct SamplerSpec {
     pub lod: (f32, f32),
     pub compare: Option<wgpu_types::CompareFunction>,
     pub anisotropy: u16,
+    /// What a clamp-to-border address reads outside the texture (needs the adapter's
+    /// `ADDRESS_MODE_CLAMP_TO_BORDER`).
+    pub border: Option<wgpu_types::SamplerBorderColor>,
 }
 
 #[derive(Debug, Clone)]

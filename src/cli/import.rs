@@ -113,9 +113,26 @@ pub fn run(
         print_stdout(&(serde_json::to_string_pretty(&imported.summary)? + "\n"))?;
     } else {
         print_stdout(&render(&imported.summary, out))?;
+        if imported.summary.not_replayable.is_none() {
+            print_stdout(&format!("replays: {}\n", replay_verdict(out)))?;
+        }
     }
     let _ = std::io::stderr().flush();
     Ok(ExitCode::SUCCESS)
+}
+
+/// Whether the written capture lowers to a replay plan on a device with every feature
+/// framelab asks for: "yes", or "no" with the pass, the draw and the class that stop it, so
+/// what replay cannot do is said at import and not first at `replay`.
+fn replay_verdict(out: &Path) -> String {
+    let lowered = framelab_core::pipeline::Loaded::read_hashed(out)
+        .and_then(|l| l.validate(&Options::default()))
+        .and_then(|v| v.analyse(framelab_core::analysis::report::AnalyzeOptions { cull: false }))
+        .and_then(|a| a.lower(framelab_core::lower::wanted_features(), "any adapter"));
+    match lowered {
+        Ok(_) => "yes (on an adapter with the features framelab asks for)".to_owned(),
+        Err(e) => format!("no — {}", one_line(&e.to_string())),
+    }
 }
 
 /// Validates the capture as it would be written at `at`; messages name `out`.

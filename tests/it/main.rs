@@ -33,4 +33,5 @@ mod replay_gpu;
 mod scenes;
 mod sync_layer;
 mod synthetic_scale;
+mod vk_classes;
 mod vk_section;

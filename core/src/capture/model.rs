@@ -65,8 +65,14 @@ impl Capture {
     pub fn not_replayable(&self) -> Option<String> {
         let origin = self.origin.as_ref()?;
         let reason = origin.not_replayable.as_ref()?;
+        // Only a JSON Lines stream lacks what its binary capture has.
+        let advice = if origin.file.ends_with(".jsonl") || origin.file.ends_with(".json") {
+            "; importing the binary capture (.gfxr) instead brings what replay needs"
+        } else {
+            ""
+        };
         Some(format!(
-            "\"{}\" was imported from {}, captured by {}: {reason}. It can be validated, analysed, inspected as a graph and compared with `diff --structure`, but not replayed or timed; importing the binary capture (.gfxr) instead brings what replay needs",
+            "\"{}\" was imported from {}, captured by {}: {reason}. It can be validated, analysed, inspected as a graph and compared with `diff --structure`, but not replayed or timed{advice}",
             self.source.display(),
             origin.file,
             origin.tool

@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use super::format::{GraphicsState, LayoutBinding, VkSampler};
+use super::format::{GraphicsState, LayoutBinding, VkDynamicValues, VkSampler};
 use super::ids::ResourceId;
 
 #[derive(Clone, Debug, Default)]
@@ -89,6 +89,8 @@ pub struct VkWork {
     pub blend_constants: Option<[f32; 4]>,
     /// (front, back).
     pub stencil_reference: Option<[u32; 2]>,
+    /// The other dynamic state set before the draw.
+    pub dynamic: Option<Box<VkDynamicValues>>,
     /// Push-constant bytes from offset 0; `None` where the source held no values.
     pub push_constants: Option<Vec<u8>>,
     pub descriptors: Vec<VkBound>,

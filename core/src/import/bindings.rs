@@ -48,6 +48,13 @@ impl Builder {
         code: Option<(&Pipelines, u64)>,
     ) {
         for u in uses {
+            // Only a descriptor the pipeline's code names is accessed (Vulkan's static use):
+            // one left in a bound set is no read, no write and no feedback loop.
+            if let Some((p, pipeline)) = code
+                && p.used_stages(pipeline, u.set, u.binding) == Some(0)
+            {
+                continue;
+            }
             let (handle, access, bytes, mips, layers) = match &u.descriptor {
                 Descriptor::Sampler { .. } => continue,
                 Descriptor::Image { view, ty, .. } => {

@@ -83,6 +83,9 @@ pub struct Builder {
     pub waited: BTreeSet<String>,
     /// Why things were skipped, with how often.
     pub notes: BTreeMap<String, u64>,
+    /// Work of the imported frames the replay cannot reproduce, with how often: a frame with
+    /// any is imported for analysis and refused by `replay`.
+    pub refused: BTreeMap<String, u64>,
     pub recorded_barriers: u64,
     /// Draws, dispatches, copies and recorded barriers emitted so far (`MAX_WORK`).
     work: u64,
@@ -385,8 +388,12 @@ impl Builder {
         }
         for cb in command_buffers {
             match known.recordings.get(cb) {
-                Some(r) => self.walk(known, queue, r, 0),
-                None => self.note("submitted command buffers the stream never recorded: skipped"),
+                Some(r) => self.walk(known, queue, r, 0, None),
+                None => self.refuse(
+                    queue,
+                    None,
+                    "submitted command buffers the stream never recorded (their work is not in the capture)",
+                ),
             }
         }
         for sem in signals {
@@ -463,14 +470,24 @@ impl Builder {
         self.end_frame();
     }
 
-    fn walk(&mut self, known: Known<'_>, queue: u64, recording: &Recording, depth: u32) {
+    /// Walks one command buffer's commands into passes. A secondary command buffer executed
+    /// inside a render pass instance continues it (`inherited`: the instance, the subpass and
+    /// its pass), as `VK_COMMAND_BUFFER_USAGE_RENDER_PASS_CONTINUE_BIT` says.
+    fn walk<'a>(
+        &mut self,
+        known: Known<'a>,
+        queue: u64,
+        recording: &'a Recording,
+        depth: u32,
+        inherited: Option<(&'a RenderInstance, usize, Option<usize>)>,
+    ) {
         let Known {
             objects,
             pipelines,
             recordings,
         } = known;
         let mut compute: Option<usize> = None;
-        let mut render: Option<(&RenderInstance, usize, Option<usize>)> = None;
+        let mut render = inherited;
         for (i, cmd) in recording.cmds.iter().enumerate() {
             // The work of these goes into the pass last started on the queue once it is done.
             let origin = recording.at.get(i).filter(|_| match cmd {
@@ -518,8 +535,24 @@ impl Builder {
                 Cmd::Draw(d) => match render {
                     Some((_, _, Some(pass))) => self.draw(objects, pipelines, pass, d),
                     Some((_, _, None)) => {}
-                    None => self.note("draws outside a render pass instance: skipped"),
+                    None => self.refuse(
+                        queue,
+                        recording.at.get(i),
+                        "draws outside a render pass instance",
+                    ),
                 },
+                Cmd::Refused(name) => {
+                    let why = match crate::coverage::command(name) {
+                        Some(crate::coverage::Verdict::Refused(why)) => why,
+                        _ => "not in the coverage table",
+                    };
+                    let pass = render.and_then(|r| r.2);
+                    self.refuse_in(
+                        pass.or(self.last_pass_on.get(&queue).copied()),
+                        recording.at.get(i),
+                        &format!("{name}: {why}"),
+                    );
+                }
                 Cmd::Dispatch(d) => {
                     let pass = match compute {
                         Some(p) => Some(p),
@@ -533,14 +566,20 @@ impl Builder {
                 Cmd::Transfer(t) => self.transfer(objects, queue, t),
                 Cmd::Execute(list) => {
                     if depth >= MAX_EXECUTE_DEPTH {
-                        self.note("secondary command buffers nested too deep: skipped");
+                        self.refuse(
+                            queue,
+                            recording.at.get(i),
+                            "secondary command buffers nested too deep",
+                        );
                         continue;
                     }
                     for cb in list {
                         match recordings.get(cb) {
-                            Some(r) => self.walk(known, queue, r, depth + 1),
-                            None => self.note(
-                                "executed command buffers the stream never recorded: skipped",
+                            Some(r) => self.walk(known, queue, r, depth + 1, render),
+                            None => self.refuse(
+                                queue,
+                                recording.at.get(i),
+                                "executed command buffers the stream never recorded (their work is not in the capture)",
                             ),
                         }
                     }
@@ -552,6 +591,29 @@ impl Builder {
                 self.pass_of_command.insert(origin.index, pass);
             }
         }
+    }
+
+    /// Work of the imported frames the replay cannot reproduce: the frame does not replay,
+    /// and `refused` says why, naming the command and the pass it was in (or the latest pass
+    /// on `queue`).
+    fn refuse(&mut self, queue: u64, at: Option<&Origin>, what: &str) {
+        let pass = self.last_pass_on.get(&queue).copied();
+        self.refuse_in(pass, at, what);
+    }
+
+    fn refuse_in(&mut self, pass: Option<usize>, at: Option<&Origin>, what: &str) {
+        if !self.emitting() {
+            return;
+        }
+        let place = match pass {
+            Some(p) => format!(" in or after pass \"{}\"", self.passes[p].name),
+            None => " before the first pass".to_owned(),
+        };
+        let call = at.map(|o| format!(" ({o})")).unwrap_or_default();
+        *self
+            .refused
+            .entry(format!("{what}{call}{place}"))
+            .or_default() += 1;
     }
 
     /// Whether `cmd`'s work still fits in the import (`MAX_WORK`); noted where it does not.

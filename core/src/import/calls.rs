@@ -6,6 +6,8 @@
 //! that needs them reads them, so that a malformed argument is reported (and the call left
 //! out) exactly where it matters.
 
+use crate::coverage::Verdict;
+
 /// An image or a buffer: the calls that come in both flavours.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Object {
@@ -169,11 +171,67 @@ pub enum CmdFunc {
     ExecuteCommands,
     /// Scaled blits: no pass kind holds them.
     Blit,
-    ClearAttachments,
-    /// Work framelab's passes cannot hold (indirect counts, mesh tasks, ray tracing, ...).
-    NotImported,
-    /// State setting, queries and the like: touches no resource framelab models.
+    /// A `vkCmdSet*` of dynamic state the draws' pipeline variants are baked from.
+    SetState(SetState),
+    /// Work the replay cannot reproduce (`coverage::command` says why): kept in the recording,
+    /// so a frame that runs it is refused with its pass named.
+    Refused,
+    /// Queries, markers and the like: changes nothing the replay reproduces
+    /// (`coverage::command` says why).
     Other,
+}
+
+/// The `vkCmdSet*` calls whose values are kept for the draws after them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetState {
+    DepthBias,
+    DepthBiasEnable,
+    LineWidth,
+    DepthBounds,
+    DepthBoundsTestEnable,
+    StencilCompareMask,
+    StencilWriteMask,
+    StencilOp,
+    CullMode,
+    FrontFace,
+    PrimitiveTopology,
+    PrimitiveRestartEnable,
+    RasterizerDiscardEnable,
+    DepthTestEnable,
+    DepthWriteEnable,
+    DepthCompareOp,
+    StencilTestEnable,
+    ColorWriteEnable,
+    LogicOp,
+}
+
+impl SetState {
+    fn of(short: &str) -> Option<SetState> {
+        use SetState as S;
+        let base = short.strip_suffix("EXT").unwrap_or(short);
+        Some(match base {
+            "DepthBias" => S::DepthBias,
+            "DepthBiasEnable" => S::DepthBiasEnable,
+            "LineWidth" => S::LineWidth,
+            "DepthBounds" => S::DepthBounds,
+            "DepthBoundsTestEnable" => S::DepthBoundsTestEnable,
+            "StencilCompareMask" => S::StencilCompareMask,
+            "StencilWriteMask" => S::StencilWriteMask,
+            "StencilOp" => S::StencilOp,
+            "CullMode" => S::CullMode,
+            "FrontFace" => S::FrontFace,
+            "PrimitiveTopology" => S::PrimitiveTopology,
+            "PrimitiveRestartEnable" => S::PrimitiveRestartEnable,
+            "RasterizerDiscardEnable" => S::RasterizerDiscardEnable,
+            "DepthTestEnable" => S::DepthTestEnable,
+            "DepthWriteEnable" => S::DepthWriteEnable,
+            "DepthCompareOp" => S::DepthCompareOp,
+            "StencilTestEnable" => S::StencilTestEnable,
+            "ColorWriteEnable" => S::ColorWriteEnable,
+            "LogicOp" => S::LogicOp,
+            _ => return None,
+        })
+    }
 }
 
 impl Func {
@@ -277,16 +335,6 @@ impl CmdFunc {
                 C::PushDescriptorSetWithTemplate
             }
             "vkCmdBlitImage" | "vkCmdBlitImage2" | "vkCmdBlitImage2KHR" => C::Blit,
-            "vkCmdClearAttachments" => C::ClearAttachments,
-            "vkCmdDrawIndirectCount"
-            | "vkCmdDrawIndirectCountKHR"
-            | "vkCmdDrawIndexedIndirectCount"
-            | "vkCmdDrawIndexedIndirectCountKHR"
-            | "vkCmdDrawMeshTasksEXT"
-            | "vkCmdDrawMeshTasksIndirectEXT"
-            | "vkCmdTraceRaysKHR"
-            | "vkCmdBuildAccelerationStructuresKHR"
-            | "vkCmdCopyQueryPoolResults" => C::NotImported,
             "vkCmdBindVertexBuffers" | "vkCmdBindVertexBuffers2" | "vkCmdBindVertexBuffers2EXT" => {
                 C::BindVertexBuffers
             }
@@ -331,7 +379,17 @@ impl CmdFunc {
             "vkCmdDebugMarkerBeginEXT" => C::BeginDebugMarker,
             "vkCmdEndDebugUtilsLabelEXT" | "vkCmdDebugMarkerEndEXT" => C::EndLabel,
             "vkCmdExecuteCommands" => C::ExecuteCommands,
-            _ => C::Other,
+            _ => {
+                if let Some(set) = name.strip_prefix("vkCmdSet").and_then(SetState::of) {
+                    return C::SetState(set);
+                }
+                // Everything else by the coverage table: a command it does not know is
+                // refused rather than assumed harmless.
+                match crate::coverage::command(name) {
+                    Some(Verdict::Refused(_)) | None => C::Refused,
+                    Some(_) => C::Other,
+                }
+            }
         }
     }
 }
@@ -361,7 +419,20 @@ mod tests {
             Func::of("vkCmdSetViewport"),
             Func::Cmd(CmdFunc::SetViewport)
         );
-        assert_eq!(Func::of("vkCmdSetLineWidth"), Func::Cmd(CmdFunc::Other));
+        assert_eq!(
+            Func::of("vkCmdSetLineWidth"),
+            Func::Cmd(CmdFunc::SetState(SetState::LineWidth))
+        );
+        assert_eq!(
+            Func::of("vkCmdSetCullModeEXT"),
+            Func::Cmd(CmdFunc::SetState(SetState::CullMode))
+        );
+        assert_eq!(Func::of("vkCmdWriteTimestamp2"), Func::Cmd(CmdFunc::Other));
+        assert_eq!(
+            Func::of("vkCmdClearAttachments"),
+            Func::Cmd(CmdFunc::Refused)
+        );
+        assert_eq!(Func::of("vkCmdFutureThing"), Func::Cmd(CmdFunc::Refused));
         assert_eq!(Func::of("vkCreateSampler"), Func::CreateSampler);
         assert_eq!(Func::of("vkCreateFence"), Func::Other);
     }

@@ -237,6 +237,9 @@ pub enum Cmd {
     BeginLabel(String),
     EndLabel,
     Execute(Vec<u64>),
+    /// A command the replay cannot reproduce, by its function's name (`coverage::command`
+    /// says why).
+    Refused(Box<str>),
 }
 
 /// A clear value as `[r, g, b, a]`; whichever of the float, uint or int members is present.

@@ -733,6 +733,30 @@ pub fn import(
     finish(imp, read, file, options, None)
 }
 
+/// Why the imported frames do not replay, from the work the builder refused: each kind with
+/// its command and pass, the first few of them.
+fn refusal(refused: &BTreeMap<String, u64>) -> Option<String> {
+    const SHOWN: usize = 6;
+    if refused.is_empty() {
+        return None;
+    }
+    let mut parts: Vec<String> = refused
+        .iter()
+        .take(SHOWN)
+        .map(|(what, n)| match n {
+            1 => what.clone(),
+            n => format!("{what} ({n} times)"),
+        })
+        .collect();
+    if refused.len() > SHOWN {
+        parts.push(format!("and {} more", refused.len() - SHOWN));
+    }
+    Some(format!(
+        "the frames run work the replay cannot reproduce: {}",
+        parts.join("; ")
+    ))
+}
+
 /// The capture and summary from everything the importer gathered.
 fn finish(
     mut imp: Importer,
@@ -751,6 +775,7 @@ fn finish(
     imp.builder.drop_trailing_host_writes();
     imp.builder.note_trailing_barriers();
     let mut skipped = skipped_while_reading(&imp);
+    let refused = refusal(&imp.builder.refused);
     let (draws, dispatches, recorded_barriers) = (
         imp.builder.draws,
         imp.builder.dispatches,
@@ -907,10 +932,19 @@ fn finish(
             count: 1,
             first_line: None,
         }));
-        // The binary capture holds the code and the contents: the frame replays.
+        // The binary capture holds the code and the contents: the frame replays, unless it
+        // runs work the replay cannot reproduce.
         if let Some(source) = &mut capture.source {
             source.not_replayable = None;
         }
+    }
+    if let Some(why) = refused
+        && let Some(source) = &mut capture.source
+    {
+        source.not_replayable = Some(match source.not_replayable.take() {
+            Some(first) => format!("{first}; and {why}"),
+            None => why,
+        });
     }
     let not_replayable = capture
         .source

@@ -49,42 +49,55 @@ pub struct Pipelines {
 #[derive(Debug)]
 struct Learned {
     code: Arc<[u8]>,
-    bindings: OnceCell<Vec<(u32, u32, bool, bool)>>,
+    /// `None` where the code does not parse.
+    bindings: OnceCell<Option<Vec<Bound>>>,
+}
+
+/// One descriptor variable of a module: where it is bound, whether it is a storage kind,
+/// what the code does with it, and whether the code names it at all (static use).
+#[derive(Debug, Clone, Copy)]
+struct Bound {
+    set: u32,
+    binding: u32,
+    storage: bool,
+    reads: bool,
+    writes: bool,
+    used: bool,
 }
 
 impl Learned {
-    /// The module's storage bindings: what its instructions do with each, within what its
-    /// NonWritable and NonReadable decorations allow. Code that does not parse teaches
-    /// nothing (its bindings stay read-write for the check).
-    fn bindings(&self) -> &[(u32, u32, bool, bool)] {
-        self.bindings.get_or_init(|| {
-            let Ok(words) = crate::spirv::words(&self.code) else {
-                return Vec::new();
-            };
-            let Ok((reflection, usage)) = crate::spirv::reflect_and_usage(&words) else {
-                return Vec::new();
-            };
-            use crate::spirv::ResourceKind as K;
-            reflection
-                .resources
-                .iter()
-                .filter(|r| {
-                    matches!(
-                        r.kind,
-                        K::StorageBuffer | K::StorageImage(_) | K::StorageTexelBuffer(_)
-                    )
-                })
-                .map(|r| {
-                    let u = usage.get(&(r.set, r.binding)).copied().unwrap_or_default();
-                    (
-                        r.set,
-                        r.binding,
-                        u.reads && !r.non_readable,
-                        u.writes && !r.non_writable,
-                    )
-                })
-                .collect()
-        })
+    /// The module's descriptor variables: whether its code names each, and what its
+    /// instructions do with each, within what its NonWritable and NonReadable decorations
+    /// allow. Code that does not parse teaches nothing (`None`: its storage bindings stay
+    /// read-write for the check, and every binding counts as used).
+    fn bindings(&self) -> Option<&[Bound]> {
+        self.bindings
+            .get_or_init(|| {
+                let words = crate::spirv::words(&self.code).ok()?;
+                let (reflection, usage) = crate::spirv::reflect_and_usage(&words).ok()?;
+                use crate::spirv::ResourceKind as K;
+                reflection
+                    .resources
+                    .iter()
+                    .map(|r| {
+                        let u = usage.get(&(r.set, r.binding)).copied().unwrap_or_default();
+                        let storage = matches!(
+                            r.kind,
+                            K::StorageBuffer | K::StorageImage(_) | K::StorageTexelBuffer(_)
+                        );
+                        Bound {
+                            set: r.set,
+                            binding: r.binding,
+                            storage,
+                            reads: u.reads && !r.non_readable,
+                            writes: u.writes && !r.non_writable,
+                            used: u.used,
+                        }
+                    })
+                    .collect::<Vec<_>>()
+                    .into()
+            })
+            .as_deref()
     }
 }
 
@@ -93,6 +106,20 @@ impl Learned {
 pub struct StorageUse {
     pub reads: bool,
     pub writes: bool,
+}
+
+/// The `VkShaderStageFlagBits` value of a `VK_SHADER_STAGE_*_BIT` name (0 for one the
+/// importer does not know).
+fn stage_bit(name: &str) -> u32 {
+    match name.strip_prefix("VK_SHADER_STAGE_").unwrap_or(name) {
+        "VERTEX_BIT" => 0x1,
+        "TESSELLATION_CONTROL_BIT" => 0x2,
+        "TESSELLATION_EVALUATION_BIT" => 0x4,
+        "GEOMETRY_BIT" => 0x8,
+        "FRAGMENT_BIT" => 0x10,
+        "COMPUTE_BIT" => 0x20,
+        _ => 0,
+    }
 }
 
 pub fn module_name(h: u64) -> String {
@@ -143,14 +170,33 @@ impl Pipelines {
         };
         for m in &made.modules {
             let learned = self.learned.get(*self.storage.get(m)?)?;
-            for (s, b, reads, writes) in learned.bindings() {
-                if (*s, *b) == (set, binding) {
-                    out.reads |= reads;
-                    out.writes |= writes;
+            for b in learned.bindings().unwrap_or_default() {
+                if b.storage && (b.set, b.binding) == (set, binding) {
+                    out.reads |= b.reads;
+                    out.writes |= b.writes;
                 }
             }
         }
         Some(out)
+    }
+
+    /// The `VkShaderStageFlags` of the stages of pipeline `pipeline` whose code statically
+    /// uses binding (`set`, `binding`) (0: none does): `None` when the code of one of its
+    /// modules is not known or does not parse. A module is taken whole, every entry point.
+    pub fn used_stages(&self, pipeline: u64, set: u32, binding: u32) -> Option<u32> {
+        let made = self.pipelines.get(&pipeline)?;
+        let mut stages = 0;
+        for (stage, m) in made.pipeline.stages.iter().zip(&made.modules) {
+            let learned = self.learned.get(*self.storage.get(m)?)?;
+            if learned
+                .bindings()?
+                .iter()
+                .any(|b| b.used && (b.set, b.binding) == (set, binding))
+            {
+                stages |= stage_bit(&stage.stage);
+            }
+        }
+        Some(stages)
     }
 
     /// The `VkShaderStageFlags` of binding `binding` of set `set` in pipeline `pipeline`'s
@@ -434,6 +480,18 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
         subpass: ci.get("subpass")?.u32()?,
         ..GraphicsState::default()
     };
+    // Read first: a state the draws may switch on needs the pipeline's values kept even
+    // where the pipeline itself has it off.
+    if let Some(d) = ci.opt("pDynamicState") {
+        for s in d.list("pDynamicStates")? {
+            g.dynamic_states.push(s.name()?);
+        }
+    }
+    let dynamic = |state: &str| g.dynamic_states.iter().any(|s| s.ends_with(state));
+    let (bias_switched, stencil_switched) = (
+        dynamic("_DEPTH_BIAS_ENABLE"),
+        dynamic("_STENCIL_TEST_ENABLE"),
+    );
     if let Some(v) = ci.opt("pVertexInputState") {
         for b in v.list("pVertexBindingDescriptions")? {
             g.vertex_bindings.push(VertexBinding {
@@ -462,7 +520,7 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
         g.depth_clamp = boolean(&r, "depthClampEnable")?;
         g.rasterizer_discard = boolean(&r, "rasterizerDiscardEnable")?;
         g.line_width = float(&r, "lineWidth")?;
-        if boolean(&r, "depthBiasEnable")? {
+        if boolean(&r, "depthBiasEnable")? || bias_switched {
             g.depth_bias = Some([
                 float(&r, "depthBiasConstantFactor")?,
                 float(&r, "depthBiasClamp")?,
@@ -475,6 +533,7 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
     }
     if let Some(d) = ci.opt("pDepthStencilState") {
         let stencil = boolean(&d, "stencilTestEnable")?;
+        let faces = stencil || stencil_switched;
         g.depth_stencil = Some(DepthStencilVk {
             depth_test: boolean(&d, "depthTestEnable")?,
             depth_write: boolean(&d, "depthWriteEnable")?,
@@ -485,12 +544,12 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
                 None
             },
             stencil_test: stencil,
-            front: if stencil {
+            front: if faces {
                 Some(stencil_face(&d.get("front")?)?)
             } else {
                 None
             },
-            back: if stencil {
+            back: if faces {
                 Some(stencil_face(&d.get("back")?)?)
             } else {
                 None
@@ -535,11 +594,6 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
                 e.get("width")?.i64()?,
                 e.get("height")?.i64()?,
             ]);
-        }
-    }
-    if let Some(d) = ci.opt("pDynamicState") {
-        for s in d.list("pDynamicStates")? {
-            g.dynamic_states.push(s.name()?);
         }
     }
     Ok(g)

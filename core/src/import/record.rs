@@ -6,6 +6,7 @@
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 
+use super::calls::SetState;
 use super::calls::{CmdFunc, CopyKind};
 use super::commands::{
     BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, MAX_INDIRECT_DRAWS, Origin,
@@ -14,7 +15,7 @@ use super::commands::{
 use super::render_pass;
 use super::state::{Descriptor, Objects, debug_text};
 use super::value::{ASPECTS, Arg, Got, Skip};
-use crate::capture::format::VkCommandState;
+use crate::capture::format::{VkCommandState, VkDynamicValues, VkStencilOps};
 use crate::capture::vulkan::ImageLayout;
 use crate::capture::vulkan::MAX_PUSH_CONSTANT_BYTES;
 use crate::capture::vulkan::{AccessFlags, PipelineStages};
@@ -35,6 +36,8 @@ struct Bound {
     blend_constants: Option<[f32; 4]>,
     /// (front, back) references.
     stencil_reference: (Option<u32>, Option<u32>),
+    /// The other dynamic state set so far.
+    dynamic: VkDynamicValues,
     /// Push-constant bytes written so far; `None` once a push's values were not in the
     /// source.
     push: Option<Vec<u8>>,
@@ -312,14 +315,9 @@ impl Recording {
                     dst: info.get("dstImage")?.handle()?,
                 }))
             }
-            CmdFunc::ClearAttachments => {
-                return Err(Skip(
-                    "clears of attachments inside a render pass are not imported".to_owned(),
-                ));
-            }
-            CmdFunc::NotImported => {
-                return Err(Skip("this command's work is not imported".to_owned()));
-            }
+            CmdFunc::SetState(set) => return self.set_state(set, args).map(|()| true),
+            // Kept, so that the frame that runs it is refused with its pass named.
+            CmdFunc::Refused => Cmd::Refused(name.as_ref().into()),
             CmdFunc::PushDescriptorSetWithTemplate => {
                 return self.push_template(args, objects).map(|()| true);
             }
@@ -384,6 +382,8 @@ impl Recording {
                     (None, None) => None,
                 }
             },
+            dynamic: (!compute && !self.bound.dynamic.is_empty())
+                .then(|| Box::new(self.bound.dynamic.clone())),
             push_constants: self.bound.push.as_ref().map(hex::encode),
             descriptors: Vec::new(),
             vertex_buffers: Vec::new(),
@@ -391,8 +391,112 @@ impl Recording {
         }
     }
 
+    /// A `vkCmdSet*` of dynamic state: its values, for the draws after it.
+    fn set_state(&mut self, set: SetState, args: &Arg<'_>) -> Got<()> {
+        let d = &mut self.bound.dynamic;
+        let flag = |key: &str| -> Got<bool> { Ok(args.get(key)?.u64()? != 0) };
+        let float = |key: &str| -> Got<f32> { Ok(args.get(key)?.f64()? as f32) };
+        // VkStencilFaceFlags: front 1, back 2; a face not named keeps its value.
+        let faces = |old: Option<[u32; 2]>, value: u32, mask: u64| {
+            let [f, b] = old.unwrap_or([value, value]);
+            Some([
+                if mask & 1 != 0 { value } else { f },
+                if mask & 2 != 0 { value } else { b },
+            ])
+        };
+        match set {
+            SetState::DepthBias => {
+                d.depth_bias = Some([
+                    float("depthBiasConstantFactor")?,
+                    float("depthBiasClamp")?,
+                    float("depthBiasSlopeFactor")?,
+                ]);
+            }
+            SetState::DepthBiasEnable => d.depth_bias_enable = Some(flag("depthBiasEnable")?),
+            SetState::LineWidth => d.line_width = Some(float("lineWidth")?),
+            SetState::DepthBounds => {
+                d.depth_bounds = Some([float("minDepthBounds")?, float("maxDepthBounds")?]);
+            }
+            SetState::DepthBoundsTestEnable => {
+                d.depth_bounds_test_enable = Some(flag("depthBoundsTestEnable")?);
+            }
+            SetState::StencilCompareMask => {
+                let mask = args.get("faceMask")?.u64()?;
+                d.stencil_compare_mask = faces(
+                    d.stencil_compare_mask,
+                    args.get("compareMask")?.u32()?,
+                    mask,
+                );
+            }
+            SetState::StencilWriteMask => {
+                let mask = args.get("faceMask")?.u64()?;
+                d.stencil_write_mask =
+                    faces(d.stencil_write_mask, args.get("writeMask")?.u32()?, mask);
+            }
+            SetState::StencilOp => {
+                let mask = args.get("faceMask")?.u64()?;
+                let ops = VkStencilOps {
+                    fail_op: args.get("failOp")?.name()?,
+                    pass_op: args.get("passOp")?.name()?,
+                    depth_fail_op: args.get("depthFailOp")?.name()?,
+                    compare_op: args.get("compareOp")?.name()?,
+                };
+                let [f, b] = d
+                    .stencil_op
+                    .take()
+                    .unwrap_or_else(|| [ops.clone(), ops.clone()]);
+                d.stencil_op = Some([
+                    if mask & 1 != 0 { ops.clone() } else { f },
+                    if mask & 2 != 0 { ops } else { b },
+                ]);
+            }
+            SetState::CullMode => d.cull_mode = Some(args.get("cullMode")?.u32()?),
+            SetState::FrontFace => d.front_face = Some(args.get("frontFace")?.name()?),
+            SetState::PrimitiveTopology => {
+                d.topology = Some(args.get("primitiveTopology")?.name()?);
+            }
+            SetState::PrimitiveRestartEnable => {
+                d.primitive_restart_enable = Some(flag("primitiveRestartEnable")?);
+            }
+            SetState::RasterizerDiscardEnable => {
+                d.rasterizer_discard_enable = Some(flag("rasterizerDiscardEnable")?);
+            }
+            SetState::DepthTestEnable => d.depth_test_enable = Some(flag("depthTestEnable")?),
+            SetState::DepthWriteEnable => d.depth_write_enable = Some(flag("depthWriteEnable")?),
+            SetState::DepthCompareOp => {
+                d.depth_compare_op = Some(args.get("depthCompareOp")?.name()?);
+            }
+            SetState::StencilTestEnable => {
+                d.stencil_test_enable = Some(flag("stencilTestEnable")?);
+            }
+            SetState::ColorWriteEnable => {
+                d.color_write_enable = Some(
+                    args.list("pColorWriteEnables")?
+                        .iter()
+                        .map(|v| v.u64().map(|v| v != 0))
+                        .collect::<Got<_>>()?,
+                );
+            }
+            SetState::LogicOp => d.logic_op = Some(args.get("logicOp")?.name()?),
+        }
+        Ok(())
+    }
+
     fn bind_vertex_buffers(&mut self, args: &Arg<'_>) -> Got<()> {
         let first = args.get("firstBinding")?.u32()?;
+        // `vkCmdBindVertexBuffers2` with strides: VK_DYNAMIC_STATE_VERTEX_INPUT_BINDING_STRIDE.
+        if let Some(strides) = args.opt("pStrides").filter(Arg::is_array) {
+            for (k, stride) in strides.items()?.iter().enumerate() {
+                let slot = u64::from(first.saturating_add(k as u32));
+                let stride = stride.u64()?;
+                let list = &mut self.bound.dynamic.vertex_strides;
+                match list.iter_mut().find(|s| s[0] == slot) {
+                    Some(s) => s[1] = stride,
+                    None => list.push([slot, stride]),
+                }
+            }
+            self.bound.dynamic.vertex_strides.sort_unstable();
+        }
         let offsets = args.list("pOffsets")?;
         for (k, b) in args.list("pBuffers")?.iter().enumerate() {
             let buffer = b.handle()?;

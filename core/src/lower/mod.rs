@@ -44,6 +44,8 @@ pub fn wanted_features() -> Features {
         | Features::IMMEDIATES
         | Features::DEPTH_CLIP_CONTROL
         | Features::CLEAR_TEXTURE
+        // Imported samplers that clamp to a border colour.
+        | Features::ADDRESS_MODE_CLAMP_TO_BORDER
 }
 
 #[derive(Debug, thiserror::Error)]

@@ -198,5 +198,6 @@ pub(super) fn sampler(s: &cf::Sampler) -> SamplerSpec {
         lod: (s.lod_min, s.lod_max),
         compare: s.compare.map(compare),
         anisotropy: s.max_anisotropy,
+        border: None,
     }
 }

@@ -9,6 +9,7 @@
 
 mod index;
 mod ops;
+mod params;
 mod reflect;
 mod rewrite;
 #[cfg(test)]

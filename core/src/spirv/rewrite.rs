@@ -27,7 +27,11 @@ pub fn rewrite(
     entry: &str,
     opts: &RewriteOptions,
 ) -> Result<Vec<u32>, SpirvError> {
-    let loaded = index::load(words)?;
+    let mut loaded = index::load(words)?;
+    let combined = super::params::combined_vars(&loaded.module);
+    if !combined.is_empty() {
+        super::params::inline_sampler_params(&mut loaded.module, &combined)?;
+    }
     let plan = plan(&loaded, model, entry, opts)?;
     let mut module = loaded.module;
     apply(&mut module, plan)?;

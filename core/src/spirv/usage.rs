@@ -21,6 +21,10 @@ use super::index::{self, Index};
 pub struct Usage {
     pub reads: bool,
     pub writes: bool,
+    /// The code names the variable at all: the specification's static use, which is what
+    /// makes a bound descriptor an access (a feedback loop, a hazard) rather than a binding
+    /// left in a set.
+    pub used: bool,
 }
 
 /// Per (set, binding): what the module's code does with the variables bound there.
@@ -51,6 +55,7 @@ pub(super) fn usage_loaded(
     let mut root: HashMap<Word, Word> = binding_of.keys().map(|&v| (v, v)).collect();
     // Per variable: (loaded, stored, image read, image written).
     let mut seen: HashMap<Word, [bool; 4]> = HashMap::new();
+    let mut named: std::collections::HashSet<Word> = std::collections::HashSet::new();
     let id = |operands: &[Operand], i: usize| match operands.get(i) {
         Some(Operand::IdRef(x)) => Some(*x),
         _ => None,
@@ -62,6 +67,13 @@ pub(super) fn usage_loaded(
         .flat_map(|b| &b.instructions)
     {
         let ops = &inst.operands;
+        for op in ops {
+            if let Operand::IdRef(x) = op
+                && binding_of.contains_key(x)
+            {
+                named.insert(*x);
+            }
+        }
         let mut mark = |operand: usize, what: &[usize]| {
             if let Some(var) = id(ops, operand).and_then(|x| root.get(&x).copied()) {
                 let s = seen.entry(var).or_default();
@@ -141,16 +153,19 @@ pub(super) fn usage_loaded(
             Usage {
                 reads: image_read,
                 writes: image_written,
+                used: false,
             }
         } else {
             Usage {
                 reads: loaded,
                 writes: stored,
+                used: false,
             }
         };
         let e: &mut Usage = out.entry(at).or_default();
         e.reads |= u.reads;
         e.writes |= u.writes;
+        e.used |= named.contains(&var);
     }
     Ok(out)
 }

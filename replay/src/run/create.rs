@@ -172,8 +172,23 @@ pub(super) fn buffers(
     Ok(buffers)
 }
 
-pub(super) fn samplers(device: &wgpu::Device, plan: &Plan) -> Vec<wgpu::Sampler> {
-    plan.samplers
+/// Every sampler of the plan; one that clamps to a border colour on an adapter without
+/// wgpu's `ADDRESS_MODE_CLAMP_TO_BORDER` is refused by name before anything is created.
+pub(super) fn samplers(
+    device: &wgpu::Device,
+    plan: &Plan,
+) -> Result<Vec<wgpu::Sampler>, ReplayError> {
+    let border = wgpu::Features::ADDRESS_MODE_CLAMP_TO_BORDER;
+    if let Some(s) = plan.samplers.iter().find(|s| s.border.is_some())
+        && !device.features().contains(border)
+    {
+        return Err(ReplayError::Setup {
+            what: format!("sampler \"{}\"", s.name),
+            message: "it clamps to a border colour, and this adapter lacks wgpu's ADDRESS_MODE_CLAMP_TO_BORDER".to_owned(),
+        });
+    }
+    Ok(plan
+        .samplers
         .iter()
         .map(|s| {
             device.create_sampler(&wgpu::SamplerDescriptor {
@@ -188,10 +203,10 @@ pub(super) fn samplers(device: &wgpu::Device, plan: &Plan) -> Vec<wgpu::Sampler>
                 lod_max_clamp: s.lod.1,
                 compare: s.compare,
                 anisotropy_clamp: s.anisotropy.max(1),
-                border_color: None,
+                border_color: s.border,
             })
         })
-        .collect()
+        .collect())
 }
 
 pub(super) fn meshes(device: &wgpu::Device, queue: &wgpu::Queue, plan: &Plan) -> Vec<GpuMesh> {

@@ -88,6 +88,7 @@ impl Session {
                 .encode_compute(&pass.name, c, prepared, parity, encoder, (stamps, stat))
                 .map_err(err)?,
             (PassOp::VkRaster(r), Prepared::VkWork(groups)) => {
+                self.shadows_in(groups, encoder);
                 let rp = self.begin_render(
                     &pass.name,
                     &r.color,
@@ -97,13 +98,16 @@ impl Session {
                     stamps,
                 );
                 self.encode_vk_raster(&pass.name, r, groups, rp, stat);
+                self.shadows_out(groups, encoder);
             }
             (PassOp::VkCompute(c), Prepared::VkWork(groups)) => {
+                self.shadows_in(groups, encoder);
                 let cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some(&pass.name),
                     timestamp_writes: compute_stamps(stamps),
                 });
                 self.encode_vk_compute(c, groups, cp, stat);
+                self.shadows_out(groups, encoder);
             }
             (PassOp::Copy(copies), _) => {
                 stamp_encoder(encoder, false);

@@ -165,7 +165,7 @@ impl Session {
         let queue = ctx.queue.clone();
         let textures = create::textures(&device, &queue, &plan)?;
         let buffers = create::buffers(&device, &queue, &plan)?;
-        let samplers = create::samplers(&device, &plan);
+        let samplers = create::samplers(&device, &plan)?;
         let meshes = create::meshes(&device, &queue, &plan);
         let modules = create::modules(&device, &plan)?;
         let timestamps = stamps::Timestamps::create(&device, plan.passes.len());

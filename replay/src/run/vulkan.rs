@@ -28,6 +28,23 @@ pub(super) struct VkObjects {
     pub(super) groups: Vec<wgpu::BindGroup>,
     group_index: HashMap<VkGroup, usize>,
     pub(super) paths: Vec<(String, ShaderPath)>,
+    /// Buffer ranges bound at offsets below wgpu's alignment, copied into buffers of their
+    /// own (`Shadow`); the shadows each group binds, parallel to `groups`.
+    shadows: Vec<Shadow>,
+    shadow_index: HashMap<(usize, u64, u64), usize>,
+    group_shadows: Vec<Vec<usize>>,
+}
+
+/// A buffer range a Vulkan program bound at an offset its device allowed and wgpu does not
+/// (Vulkan devices align uniform offsets to as little as 16 bytes; wgpu asks 32 or more): the
+/// range is copied into a buffer of its own before each pass that binds it, bound there at
+/// offset 0, and copied back after the pass where the shader may write it.
+struct Shadow {
+    source: usize,
+    offset: u64,
+    size: u64,
+    writable: bool,
+    buffer: wgpu::Buffer,
 }
 
 /// Shader modules made so far, per path.
@@ -293,13 +310,23 @@ impl Session {
                 _ => None,
             })
             .collect();
+        let shadowed = self.vk_shadows(g);
         let entries: Vec<wgpu::BindGroupEntry<'_>> = g
             .entries
             .iter()
             .zip(&views)
-            .map(|((binding, r), view)| wgpu::BindGroupEntry {
+            .zip(&shadowed)
+            .map(|(((binding, r), view), shadow)| wgpu::BindGroupEntry {
                 binding: *binding,
-                resource: match (r, view) {
+                resource: match (r, view, shadow) {
+                    (VkResource::Buffer { .. }, _, Some(i)) => {
+                        let s = &self.vk.shadows[*i];
+                        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                            buffer: &s.buffer,
+                            offset: 0,
+                            size: wgpu::BufferSize::new(s.size),
+                        })
+                    }
                     (
                         VkResource::Buffer {
                             buffer,
@@ -307,18 +334,19 @@ impl Session {
                             size,
                         },
                         _,
+                        None,
                     ) => wgpu::BindingResource::Buffer(wgpu::BufferBinding {
                         buffer: &self.buffers[*buffer][0],
                         offset: *offset,
                         size: size.and_then(wgpu::BufferSize::new),
                     }),
-                    (VkResource::Sampler(s), _) => {
+                    (VkResource::Sampler(s), _, _) => {
                         wgpu::BindingResource::Sampler(&self.samplers[*s])
                     }
-                    (VkResource::Texture { .. }, Some(view)) => {
+                    (VkResource::Texture { .. }, Some(view), _) => {
                         wgpu::BindingResource::TextureView(view)
                     }
-                    (VkResource::Texture { texture, .. }, None) => {
+                    (VkResource::Texture { texture, .. }, None, _) => {
                         // Unreachable: a view was made above for every texture.
                         wgpu::BindingResource::Sampler(&self.samplers[*texture])
                     }
@@ -337,9 +365,127 @@ impl Session {
             });
         }
         self.vk.groups.push(group);
+        self.vk
+            .group_shadows
+            .push(shadowed.into_iter().flatten().collect());
         let i = self.vk.groups.len() - 1;
         self.vk.group_index.insert(g.clone(), i);
         Ok(i)
+    }
+
+    /// For each entry of `g`, the shadow it is bound through, made on first use: buffer
+    /// ranges at offsets below the device's alignment for their binding type.
+    fn vk_shadows(&mut self, g: &VkGroup) -> Vec<Option<usize>> {
+        let limits = self.device.limits();
+        let layout = &self.plan.vk.group_layouts[g.layout];
+        let mut out = Vec::with_capacity(g.entries.len());
+        for (binding, r) in &g.entries {
+            let VkResource::Buffer {
+                buffer,
+                offset,
+                size,
+            } = r
+            else {
+                out.push(None);
+                continue;
+            };
+            let ty = layout.iter().find(|e| e.binding == *binding).map(|e| e.ty);
+            let (align, writable) = match ty {
+                Some(wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    ..
+                }) => (limits.min_uniform_buffer_offset_alignment, false),
+                Some(wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only },
+                    ..
+                }) => (limits.min_storage_buffer_offset_alignment, !read_only),
+                _ => (1, false),
+            };
+            if offset % u64::from(align.max(1)) == 0 {
+                out.push(None);
+                continue;
+            }
+            // Whole words, within the source (its size is padded to words).
+            let total = self.buffers[*buffer][0].size();
+            let size = size
+                .unwrap_or(total.saturating_sub(*offset))
+                .div_ceil(4)
+                .saturating_mul(4)
+                .min(total.saturating_sub(*offset) / 4 * 4)
+                .max(4);
+            let key = (*buffer, *offset, size);
+            let index = match self.vk.shadow_index.get(&key) {
+                Some(&i) => {
+                    self.vk.shadows[i].writable |= writable;
+                    i
+                }
+                None => {
+                    let shadow = self.device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some(&self.plan.buffers[*buffer].name),
+                        size,
+                        usage: wgpu::BufferUsages::UNIFORM
+                            | wgpu::BufferUsages::STORAGE
+                            | wgpu::BufferUsages::COPY_DST
+                            | wgpu::BufferUsages::COPY_SRC,
+                        mapped_at_creation: false,
+                    });
+                    self.vk.shadows.push(Shadow {
+                        source: *buffer,
+                        offset: *offset,
+                        size,
+                        writable,
+                        buffer: shadow,
+                    });
+                    self.vk.shadow_index.insert(key, self.vk.shadows.len() - 1);
+                    self.vk.shadows.len() - 1
+                }
+            };
+            out.push(Some(index));
+        }
+        out
+    }
+
+    /// The shadows the groups of a pass bind, each once.
+    fn pass_shadows(&self, groups: &WorkGroups) -> Vec<usize> {
+        let mut all: Vec<usize> = groups
+            .iter()
+            .flatten()
+            .flatten()
+            .flat_map(|&g| self.vk.group_shadows[g].iter().copied())
+            .collect();
+        all.sort_unstable();
+        all.dedup();
+        all
+    }
+
+    /// Fills the shadows a pass binds from their sources, before the pass.
+    pub(super) fn shadows_in(&self, groups: &WorkGroups, encoder: &mut wgpu::CommandEncoder) {
+        for i in self.pass_shadows(groups) {
+            let s = &self.vk.shadows[i];
+            encoder.copy_buffer_to_buffer(
+                &self.buffers[s.source][0],
+                s.offset,
+                &s.buffer,
+                0,
+                s.size,
+            );
+        }
+    }
+
+    /// Writes back the shadows a pass may have written, after the pass.
+    pub(super) fn shadows_out(&self, groups: &WorkGroups, encoder: &mut wgpu::CommandEncoder) {
+        for i in self.pass_shadows(groups) {
+            let s = &self.vk.shadows[i];
+            if s.writable {
+                encoder.copy_buffer_to_buffer(
+                    &s.buffer,
+                    0,
+                    &self.buffers[s.source][0],
+                    s.offset,
+                    s.size,
+                );
+            }
+        }
     }
 
     pub(super) fn encode_vk_raster(

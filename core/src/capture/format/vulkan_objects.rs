@@ -223,7 +223,9 @@ pub struct GraphicsState {
     pub depth_clamp: bool,
     #[serde(default)]
     pub rasterizer_discard: bool,
-    /// (constant factor, clamp, slope factor) when depth bias is enabled.
+    /// (constant factor, clamp, slope factor) when depth bias is enabled, or when the draws
+    /// switch it (`VK_DYNAMIC_STATE_DEPTH_BIAS_ENABLE`). Likewise `depth_stencil`'s faces
+    /// are kept where the draws switch the stencil test.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth_bias: Option<[f32; 3]>,
     pub line_width: f32,
@@ -331,6 +333,9 @@ pub struct VkCommandState {
     /// `vkCmdSetStencilReference`: (front, back).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stencil_reference: Option<[u32; 2]>,
+    /// The other dynamic state the command buffer set before the draw.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dynamic: Option<Box<VkDynamicValues>>,
     /// The push-constant bytes from offset 0 up to the last byte written, as hex (bytes never
     /// written are zero). Absent where the source holds no values (a JSON Lines stream gives
     /// only `pValues`' address).
@@ -345,6 +350,91 @@ pub struct VkCommandState {
     /// The index buffer bound (indexed draws).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub index_buffer: Option<VkIndexBuffer>,
+}
+
+/// Fixed-function state a draw ran with where its pipeline declares it dynamic, beyond
+/// viewport, scissor, blend constants and stencil reference: each member is what the last
+/// `vkCmdSet*` call of its kind in the command buffer set, absent where none was made. The
+/// replay bakes what the pipeline declares dynamic into a pipeline variant per value.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkDynamicValues {
+    /// `vkCmdSetDepthBias`: (constant factor, clamp, slope factor).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_bias: Option<[f32; 3]>,
+    /// `vkCmdSetDepthBiasEnable`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_bias_enable: Option<bool>,
+    /// `vkCmdSetLineWidth`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line_width: Option<f32>,
+    /// `vkCmdSetDepthBounds`: (min, max).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_bounds: Option<[f32; 2]>,
+    /// `vkCmdSetDepthBoundsTestEnable`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_bounds_test_enable: Option<bool>,
+    /// `vkCmdSetStencilCompareMask`: (front, back).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stencil_compare_mask: Option<[u32; 2]>,
+    /// `vkCmdSetStencilWriteMask`: (front, back).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stencil_write_mask: Option<[u32; 2]>,
+    /// `vkCmdSetStencilOp`: (front, back).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stencil_op: Option<[VkStencilOps; 2]>,
+    /// `vkCmdSetCullMode`: `VkCullModeFlags`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cull_mode: Option<u32>,
+    /// `vkCmdSetFrontFace`: `VK_FRONT_FACE_*`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub front_face: Option<String>,
+    /// `vkCmdSetPrimitiveTopology`: `VK_PRIMITIVE_TOPOLOGY_*`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub topology: Option<String>,
+    /// `vkCmdSetPrimitiveRestartEnable`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub primitive_restart_enable: Option<bool>,
+    /// `vkCmdSetRasterizerDiscardEnable`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rasterizer_discard_enable: Option<bool>,
+    /// `vkCmdSetDepthTestEnable`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_test_enable: Option<bool>,
+    /// `vkCmdSetDepthWriteEnable`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_write_enable: Option<bool>,
+    /// `vkCmdSetDepthCompareOp`: `VK_COMPARE_OP_*`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_compare_op: Option<String>,
+    /// `vkCmdSetStencilTestEnable`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stencil_test_enable: Option<bool>,
+    /// `vkCmdSetColorWriteEnableEXT`, per colour attachment.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub color_write_enable: Option<Vec<bool>>,
+    /// `vkCmdSetLogicOpEXT`: `VK_LOGIC_OP_*`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub logic_op: Option<String>,
+    /// `vkCmdBindVertexBuffers2`'s strides: (binding, stride).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vertex_strides: Vec<[u64; 2]>,
+}
+
+impl VkDynamicValues {
+    pub fn is_empty(&self) -> bool {
+        *self == VkDynamicValues::default()
+    }
+}
+
+/// One face's `vkCmdSetStencilOp`.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkStencilOps {
+    pub fail_op: String,
+    pub pass_op: String,
+    pub depth_fail_op: String,
+    pub compare_op: String,
 }
 
 /// A `vkCmdBindVertexBuffers` binding.

@@ -409,6 +409,7 @@ impl Validator<'_> {
             scissor: state.scissor,
             blend_constants: state.blend_constants,
             stencil_reference: state.stencil_reference,
+            dynamic: state.dynamic.clone(),
             push_constants: state.push_constants.as_deref().and_then(hex_bytes),
             descriptors,
             vertex_buffers: state

@@ -12,10 +12,10 @@ mod compress;
 mod decode;
 pub mod edit;
 mod meta;
-pub(super) mod registry;
+pub(crate) mod registry;
 #[rustfmt::skip]
 #[allow(clippy::all, clippy::pedantic)]
-mod tables;
+pub(crate) mod tables;
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;

@@ -498,9 +498,18 @@ impl Sync {
         compute: bool,
         command: &Origin,
     ) {
-        let flags = pipeline
+        // An access happens at the stages whose code statically uses the binding, within
+        // the set layout's stage flags; where the code is unknown, at every stage the
+        // layout names.
+        let declared = pipeline
             .and_then(|p| pipelines.binding_stages(p, u.set, u.binding))
             .unwrap_or(0);
+        let flags = match pipeline.and_then(|p| pipelines.used_stages(p, u.set, u.binding)) {
+            Some(0) => return,
+            Some(used) if declared != 0 => used & declared,
+            Some(used) => used,
+            None => declared,
+        };
         let stages = shader_stages(flags, compute);
         let (keys, ty) = match &u.descriptor {
             Descriptor::Image {
@@ -836,7 +845,11 @@ impl Sync {
                         }
                     }
                 }
-                Cmd::NextSubpass | Cmd::BeginLabel(_) | Cmd::EndLabel | Cmd::Execute(_) => {}
+                Cmd::NextSubpass
+                | Cmd::BeginLabel(_)
+                | Cmd::EndLabel
+                | Cmd::Execute(_)
+                | Cmd::Refused(_) => {}
             }
         }
     }

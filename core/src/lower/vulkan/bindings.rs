@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 
 use wgpu_types as wgpu;
 
-use super::{Fail, VkProblem, stage_of};
+use super::{Fail, VkProblem, stage_of, states};
 use crate::capture::model::*;
 use crate::capture::vk_model::*;
 use crate::lower::Lowering;
@@ -265,15 +265,31 @@ impl<'c> Lowering<'c> {
                     .and_then(|d| d.sampler)
                     .or(immutable)
                     .ok_or_else(missing)?;
+                // A separate sampler meets its views in the shader: any view may be mipped.
+                self.vk_bias(s, None)?;
                 vec![self.vk_sampler_entry(wb, u.stages, s)?]
             }
             "SAMPLED_IMAGE" | "COMBINED_IMAGE_SAMPLER" => {
                 let d = d.ok_or_else(missing)?;
                 let view = d.view.ok_or_else(missing)?;
                 let (ty, resource) = self.vk_texture(p, view, &u.var, false)?;
+                let levels = match &resource {
+                    VkResource::Texture {
+                        texture,
+                        base_mip,
+                        mips,
+                        ..
+                    } => mips.unwrap_or(
+                        self.plan.textures[*texture]
+                            .mip_levels
+                            .saturating_sub(*base_mip),
+                    ),
+                    _ => u32::MAX,
+                };
                 let mut out = vec![(entry(wb, ty), resource)];
                 if ty_is_combined(&lb.descriptor_type) {
                     let s = d.sampler.or(immutable).ok_or_else(missing)?;
+                    self.vk_bias(s, Some(levels))?;
                     out.push(self.vk_sampler_entry(wb + 1, u.stages, s)?);
                 }
                 out
@@ -294,6 +310,27 @@ impl<'c> Lowering<'c> {
                 .into());
             }
         })
+    }
+
+    /// Refuses sampler `s`'s LOD bias where it would change what is read through a view of
+    /// `levels` mip levels (`None`: not known here).
+    fn vk_bias(&self, s: usize, levels: Option<u32>) -> Result<(), Fail> {
+        let sampler = &self.vk_model()?.samplers[s];
+        if states::bias_is_moot(sampler, levels.unwrap_or(u32::MAX)) {
+            return Ok(());
+        }
+        Err(VkProblem::Unsupported {
+            feature: format!(
+                "sampler {} with LOD bias {} ({}; wgpu has no LOD bias)",
+                sampler.name,
+                sampler.mip_lod_bias,
+                match levels {
+                    Some(n) => format!("reading a view of {n} mip levels"),
+                    None => "a separate sampler, whose views are not known".to_owned(),
+                }
+            ),
+        }
+        .into())
     }
 
     fn vk_sampler_entry(

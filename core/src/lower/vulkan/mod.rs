@@ -10,6 +10,7 @@
 //! `b` take wgpu binding `2b`, `Role::SplitSampler` takes `2b + 1`.
 
 mod bindings;
+mod dynamic;
 mod shaders;
 mod states;
 
@@ -61,6 +62,8 @@ struct PipelineKey {
     strip_index: Option<wgpu::IndexFormat>,
     /// Uniform texel buffers' formats, which the rewritten shaders read in.
     texel_formats: Vec<(u32, u32, rspirv::spirv::ImageFormat)>,
+    /// The dynamic state baked into this variant (`dynamic::Baked::key`).
+    baked: Option<String>,
 }
 
 /// The wgpu stage and SPIR-V execution model of a `VK_SHADER_STAGE_*_BIT`.
@@ -159,21 +162,8 @@ impl<'c> Lowering<'c> {
         let g = pipe.graphics.as_deref().ok_or_else(|| {
             VkProblem::Missing(format!("pipeline {} has no graphics state", pipe.name))
         })?;
-        for s in &g.dynamic_states {
-            let name = s.strip_prefix("VK_DYNAMIC_STATE_").unwrap_or(s);
-            if !matches!(
-                name,
-                "VIEWPORT" | "SCISSOR" | "BLEND_CONSTANTS" | "STENCIL_REFERENCE"
-            ) {
-                return Err(VkProblem::Unsupported {
-                    feature: format!(
-                        "dynamic state {s} of pipeline {} (the capture keeps viewport, scissor, blend constants and stencil reference)",
-                        pipe.name
-                    ),
-                }
-                .into());
-            }
-        }
+        let baked = dynamic::bake(pipe, g, work.dynamic.as_deref())?;
+        let g = &*baked.state;
         // Vulkan's viewport may have a negative height (the application flips y itself):
         // then its clip space is already wgpu's, and the shader is left as it is.
         let viewport = match work.viewport {
@@ -234,6 +224,7 @@ impl<'c> Lowering<'c> {
             depth,
             strip_index: index.map(|i| i.2),
             texel_formats: sets.texel_formats.clone(),
+            baked: baked.key.clone(),
         };
         let pipeline = match self.vk.pipelines.get(&key) {
             Some(&i) => i,
@@ -292,6 +283,7 @@ impl<'c> Lowering<'c> {
             depth: None,
             strip_index: None,
             texel_formats: sets.texel_formats.clone(),
+            baked: None,
         };
         let pipeline = match self.vk.pipelines.get(&key) {
             Some(&i) => i,

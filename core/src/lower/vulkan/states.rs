@@ -100,9 +100,12 @@ pub(super) fn primitive(
             feature: "rasterizer discard".to_owned(),
         });
     }
-    if g.line_width != 1.0 {
+    // The width is read only where lines are rasterized.
+    let lines =
+        matches!(topology, T::LineList | T::LineStrip) || polygon_mode == wgpu::PolygonMode::Line;
+    if lines && g.line_width != 1.0 {
         return Err(VkProblem::Unsupported {
-            feature: format!("line width {}", g.line_width),
+            feature: format!("line width {} (wgpu draws 1-pixel lines)", g.line_width),
         });
     }
     let strips = matches!(topology, T::LineStrip | T::TriangleStrip);
@@ -165,12 +168,23 @@ pub(super) fn depth_stencil(
         }
         _ => wgpu::StencilState::default(),
     };
-    let bias = match g.depth_bias {
-        Some([constant, clamp, slope]) => wgpu::DepthBiasState {
-            constant: constant as i32,
-            slope_scale: slope,
-            clamp,
-        },
+    // Vulkan biases polygons only: a line or point topology draws unbiased.
+    let polygons = g.topology.contains("TRIANGLE");
+    let bias = match g.depth_bias.filter(|_| polygons) {
+        Some([constant, clamp, slope]) => {
+            if constant.fract() != 0.0 || constant.abs() > i32::MAX as f32 {
+                return Err(VkProblem::Unsupported {
+                    feature: format!(
+                        "depth bias constant factor {constant} (wgpu takes a whole number)"
+                    ),
+                });
+            }
+            wgpu::DepthBiasState {
+                constant: constant as i32,
+                slope_scale: slope,
+                clamp,
+            }
+        }
         None => wgpu::DepthBiasState::default(),
     };
     Ok(wgpu::DepthStencilState {
@@ -307,7 +321,16 @@ pub(super) fn vertex_format(name: &str) -> Result<wgpu::VertexFormat, VkProblem>
     })
 }
 
-/// A Vulkan sampler at wgpu level.
+/// Whether sampler `s`'s LOD bias changes nothing read through a view of `levels` mip
+/// levels: with one level reachable the bias moves no level, and with the same filter up
+/// and down it picks no other filter. wgpu has no LOD bias, so elsewhere it is refused.
+pub(super) fn bias_is_moot(s: &VkSampler, levels: u32) -> bool {
+    let one_level = levels <= 1 || s.max_lod <= s.min_lod;
+    s.mip_lod_bias == 0.0 || (one_level && s.mag_filter == s.min_filter)
+}
+
+/// A Vulkan sampler at wgpu level (its LOD bias is checked where it meets a view:
+/// `bias_is_moot`).
 pub(super) fn sampler(s: &VkSampler) -> Result<SamplerSpec, VkProblem> {
     let filter = |n: &str| match strip(n, "VK_FILTER_") {
         "NEAREST" => Ok(wgpu::FilterMode::Nearest),
@@ -318,7 +341,11 @@ pub(super) fn sampler(s: &VkSampler) -> Result<SamplerSpec, VkProblem> {
         "REPEAT" => Ok(wgpu::AddressMode::Repeat),
         "MIRRORED_REPEAT" => Ok(wgpu::AddressMode::MirrorRepeat),
         "CLAMP_TO_EDGE" => Ok(wgpu::AddressMode::ClampToEdge),
-        _ => Err(unsupported("address mode", n)),
+        "CLAMP_TO_BORDER" => Ok(wgpu::AddressMode::ClampToBorder),
+        _ => Err(unsupported(
+            &format!("sampler {} with address mode", s.name),
+            n,
+        )),
     };
     if s.unnormalized_coordinates {
         return Err(VkProblem::Unsupported {
@@ -330,18 +357,32 @@ pub(super) fn sampler(s: &VkSampler) -> Result<SamplerSpec, VkProblem> {
         "LINEAR" => wgpu::MipmapFilterMode::Linear,
         _ => return Err(unsupported("mipmap mode", &s.mipmap_mode)),
     };
-    if s.mip_lod_bias != 0.0 {
-        return Err(VkProblem::Unsupported {
-            feature: format!("sampler {} with LOD bias {}", s.name, s.mip_lod_bias),
-        });
-    }
+    let address = [
+        address(&s.address_mode_u)?,
+        address(&s.address_mode_v)?,
+        address(&s.address_mode_w)?,
+    ];
+    // The border colour is read only where an address clamps to it.
+    let border = if address.contains(&wgpu::AddressMode::ClampToBorder) {
+        use wgpu::SamplerBorderColor as B;
+        Some(match strip(&s.border_color, "VK_BORDER_COLOR_") {
+            "FLOAT_TRANSPARENT_BLACK" | "INT_TRANSPARENT_BLACK" => B::TransparentBlack,
+            "FLOAT_OPAQUE_BLACK" => B::OpaqueBlack,
+            "FLOAT_OPAQUE_WHITE" => B::OpaqueWhite,
+            _ => {
+                return Err(unsupported(
+                    &format!("sampler {} with border colour", s.name),
+                    &s.border_color,
+                ));
+            }
+        })
+    } else {
+        None
+    };
     Ok(SamplerSpec {
         name: s.name.clone(),
-        address: [
-            address(&s.address_mode_u)?,
-            address(&s.address_mode_v)?,
-            address(&s.address_mode_w)?,
-        ],
+        address,
+        border,
         mag: filter(&s.mag_filter)?,
         min: filter(&s.min_filter)?,
         mip,

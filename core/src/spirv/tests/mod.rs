@@ -131,6 +131,12 @@ struct Shape {
     version_1_4: bool,
     /// DescriptorSet and Binding come through a decoration group.
     grouped: bool,
+    /// Sampled in a function that takes the sampler as a parameter (glslang's `sampler2D`
+    /// argument), called from main.
+    via_function: bool,
+    /// A second variable at set 1 binding 4: with `via_function`, passed by a second call;
+    /// without, declared and never used.
+    second_call: bool,
 }
 
 fn combined_sampler_module(shape: Shape) -> Vec<u32> {
@@ -184,10 +190,43 @@ fn combined_sampler_module(shape: Shape) -> Vec<u32> {
     let elem_ptr = b.type_pointer(None, StorageClass::UniformConstant, sampled);
     let zero = b.constant_bit32(uint, 0);
 
+    let other = shape.second_call.then(|| {
+        let v = b.variable(ptr, None, StorageClass::UniformConstant, None);
+        b.decorate(v, Decoration::DescriptorSet, [Operand::LiteralBit32(1)]);
+        b.decorate(v, Decoration::Binding, [Operand::LiteralBit32(4)]);
+        v
+    });
+    let helper = shape.via_function.then(|| {
+        let helper_ty = b.type_function(vec4, [ptr]);
+        let h = b
+            .begin_function(vec4, None, FunctionControl::NONE, helper_ty)
+            .unwrap();
+        let param = b.function_parameter(ptr).unwrap();
+        b.begin_block(None).unwrap();
+        let joined = b.load(sampled, None, param, None, []).unwrap();
+        let texel = b
+            .image_sample_implicit_lod(vec4, None, joined, coord, None, [])
+            .unwrap();
+        b.ret_value(texel).unwrap();
+        b.end_function().unwrap();
+        h
+    });
     let f = b
         .begin_function(void, None, FunctionControl::NONE, fn_ty)
         .unwrap();
     b.begin_block(None).unwrap();
+    if let Some(h) = helper {
+        let texel = b.function_call(vec4, None, h, [tex]).unwrap();
+        if let Some(v) = other {
+            b.function_call(vec4, None, h, [v]).unwrap();
+        }
+        b.store(color, texel, None, []).unwrap();
+        b.ret().unwrap();
+        b.end_function().unwrap();
+        b.entry_point(ExecutionModel::Fragment, f, "main", vec![color]);
+        b.execution_mode(f, ExecutionMode::OriginUpperLeft, []);
+        return b.module().assemble();
+    }
     let source = if shape.array || shape.spec_array {
         b.access_chain(elem_ptr, None, tex, [zero]).unwrap()
     } else {

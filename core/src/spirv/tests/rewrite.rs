@@ -319,3 +319,39 @@ fn texel_buffer_reads_become_word_loads_and_specialization_applies() {
             .any(|i| i.class.opcode == Op::SpecConstant)
     );
 }
+
+/// A combined image sampler sampled in a function that takes it as a parameter: the
+/// parameter is removed, the function loads the split variables itself, and the module
+/// keeps no use of the combined variable.
+#[test]
+fn combined_sampler_passed_to_a_function_is_split_there() {
+    let words = combined_sampler_module(Shape {
+        via_function: true,
+        ..Shape::default()
+    });
+    let out = rewrite(&words, ExecutionModel::Fragment, "main", &opts(false)).unwrap();
+    let module = load(&out);
+    let r = reflect(&out).unwrap();
+    assert_eq!(
+        binding_of(&r, 1, 6),
+        vec![&ResourceKind::SampledImage(TEXTURE_2D)]
+    );
+    assert_eq!(
+        binding_of(&r, 1, 7),
+        vec![&ResourceKind::Sampler { comparison: false }]
+    );
+    assert!(binding_of(&r, 1, 3).is_empty(), "no combined variable left");
+    assert_eq!(count_op(&module, Op::SampledImage), 1);
+    assert!(
+        module.functions.iter().all(|f| f.parameters.is_empty()),
+        "the sampler parameter is gone"
+    );
+    let calls = module
+        .functions
+        .iter()
+        .flat_map(|f| f.all_inst_iter())
+        .filter(|i| i.class.opcode == Op::FunctionCall)
+        .collect::<Vec<_>>();
+    assert_eq!(calls.len(), 1);
+    assert_eq!(calls[0].operands.len(), 1, "the call passes nothing");
+}

@@ -78,6 +78,10 @@ fn rewritten_fixtures_pass_spirv_val() {
             version_1_4: true,
             ..Shape::default()
         },
+        Shape {
+            via_function: true,
+            ..Shape::default()
+        },
     ] {
         modules.push((format!("built {shape:?}"), combined_sampler_module(shape)));
     }

@@ -1,0 +1,497 @@
+//! Classes of Vulkan a real frame may use, member by member, on small synthetic edits of a
+//! real program's capture: dynamic state baked into pipeline variants, sampler fields,
+//! secondary command buffers inside a render pass, and commands the replay cannot reproduce
+//! refused with their pass named. The coverage table is held against the registry.
+
+use std::path::{Path, PathBuf};
+
+use serde_json::{Value, json};
+
+use crate::common::{Scratch, framelab, gfxr_fixture, stderr, stdout};
+
+fn temp(name: &str) -> Scratch {
+    Scratch::temp(&format!("framelab-vk-classes-{name}"))
+}
+
+/// vkcube's third frame imported from its binary capture into `dir`.
+fn vkcube(dir: &Path) -> PathBuf {
+    let capture = dir.join("vkcube.json");
+    let fixture = gfxr_fixture("vkcube_f3.gfxr");
+    let out = framelab(&[
+        "import",
+        fixture.to_str().unwrap(),
+        "-o",
+        capture.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    capture
+}
+
+fn edit(capture: &Path, change: impl FnOnce(&mut Value)) {
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(capture).unwrap()).unwrap();
+    change(&mut v);
+    std::fs::write(capture, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+}
+
+/// The one draw of vkcube's frame and its pipeline's graphics state.
+fn draw_and_state(v: &mut Value) -> (&mut Value, &mut Value) {
+    let Value::Object(root) = v else {
+        panic!("a capture is an object")
+    };
+    let mut pipelines = None;
+    let mut passes = None;
+    for (k, val) in root.iter_mut() {
+        match k.as_str() {
+            "vulkan" => pipelines = Some(&mut val["pipelines"][0]["graphics"]),
+            "passes" => passes = Some(val),
+            _ => {}
+        }
+    }
+    let draw = passes
+        .unwrap()
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|p| p["draws"].as_array().is_some_and(|d| !d.is_empty()))
+        .map(|p| &mut p["draws"][0])
+        .unwrap();
+    (&mut draw["vulkan_state"], pipelines.unwrap())
+}
+
+fn replay_fails(capture: &Path) -> String {
+    let out = framelab(&["replay", capture.to_str().unwrap(), "--frames", "1"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    stderr(&out)
+}
+
+fn reference() -> image::RgbaImage {
+    image::open(gfxr_fixture("vkcube_f3.ref.png"))
+        .unwrap()
+        .to_rgba8()
+}
+
+/// Every dynamic state vkcube's pipeline has fixed, declared dynamic instead with the same
+/// values set by the command buffer: the baked variant draws the same image. Set otherwise
+/// (front faces culled), the image changes; never set, or of a class wgpu has no twin for,
+/// the replay is refused naming the state, the pass and the draw.
+#[test]
+fn dynamic_state_is_baked_into_pipeline_variants() {
+    let dir = temp("dynamic");
+    let capture = vkcube(&dir);
+    let same = json!({
+        "cull_mode": 2,
+        "front_face": "VK_FRONT_FACE_COUNTER_CLOCKWISE",
+        "topology": "VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST",
+        "primitive_restart_enable": false,
+        "rasterizer_discard_enable": false,
+        "depth_test_enable": true,
+        "depth_write_enable": true,
+        "depth_compare_op": "VK_COMPARE_OP_LESS_OR_EQUAL",
+        "depth_bounds_test_enable": false,
+        "stencil_test_enable": false,
+        "depth_bias_enable": false,
+        "line_width": 4.0,
+        "color_write_enable": [true],
+    });
+    edit(&capture, |v| {
+        let (draw, g) = draw_and_state(v);
+        let states = g["dynamic_states"].as_array_mut().unwrap();
+        for s in [
+            "CULL_MODE",
+            "FRONT_FACE",
+            "PRIMITIVE_TOPOLOGY",
+            "PRIMITIVE_RESTART_ENABLE",
+            "RASTERIZER_DISCARD_ENABLE",
+            "DEPTH_TEST_ENABLE",
+            "DEPTH_WRITE_ENABLE",
+            "DEPTH_COMPARE_OP",
+            "DEPTH_BOUNDS_TEST_ENABLE",
+            "DEPTH_BOUNDS",
+            "STENCIL_TEST_ENABLE",
+            "DEPTH_BIAS_ENABLE",
+            "DEPTH_BIAS",
+            "LINE_WIDTH",
+            "COLOR_WRITE_ENABLE_EXT",
+        ] {
+            states.push(json!(format!("VK_DYNAMIC_STATE_{s}")));
+        }
+        // The pipeline's own values say otherwise: only the draw's count.
+        g["cull_mode"] = json!(0);
+        g["depth_stencil"]["depth_test"] = json!(false);
+        draw["dynamic"] = same.clone();
+    });
+    let image = crate::common::replay_presented(&capture, &dir.join("same"));
+    crate::golden::within("vkcube with dynamic state", &image, &reference()).unwrap();
+
+    // Front faces culled and the depth test off: the cube is drawn inside out.
+    edit(&capture, |v| {
+        let (draw, _) = draw_and_state(v);
+        draw["dynamic"]["cull_mode"] = json!(1);
+        draw["dynamic"]["depth_test_enable"] = json!(false);
+    });
+    let image = crate::common::replay_presented(&capture, &dir.join("front"));
+    assert!(
+        crate::golden::within("vkcube culled inside out", &image, &reference()).is_err(),
+        "the draw's cull mode and depth test reached the pipeline"
+    );
+
+    edit(&capture, |v| {
+        let (draw, _) = draw_and_state(v);
+        draw["dynamic"].as_object_mut().unwrap().remove("cull_mode");
+    });
+    let err = replay_fails(&capture);
+    for part in [
+        "draw 0",
+        "pipeline_40",
+        "dynamic cull mode the draw never set",
+    ] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+
+    edit(&capture, |v| {
+        let (draw, g) = draw_and_state(v);
+        draw["dynamic"] = same.clone();
+        g["dynamic_states"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!("VK_DYNAMIC_STATE_POLYGON_MODE_EXT"));
+    });
+    let err = replay_fails(&capture);
+    for part in [
+        "pass \"render_pass\"",
+        "draw 0",
+        "VK_DYNAMIC_STATE_POLYGON_MODE_EXT",
+        "pipeline_40",
+    ] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+}
+
+/// A depth bias the draw switches on must be a whole number for wgpu: a fraction is refused
+/// with its value rather than rounded.
+#[test]
+fn a_fractional_depth_bias_is_refused_not_rounded() {
+    let dir = temp("bias");
+    let capture = vkcube(&dir);
+    edit(&capture, |v| {
+        let (draw, g) = draw_and_state(v);
+        let states = g["dynamic_states"].as_array_mut().unwrap();
+        states.push(json!("VK_DYNAMIC_STATE_DEPTH_BIAS"));
+        states.push(json!("VK_DYNAMIC_STATE_DEPTH_BIAS_ENABLE"));
+        draw["dynamic"] = json!({"depth_bias": [0.5, 0.0, 1.0], "depth_bias_enable": true});
+    });
+    let err = replay_fails(&capture);
+    assert!(
+        err.contains("depth bias constant factor 0.5"),
+        "missing the bias in:\n{err}"
+    );
+}
+
+/// Sampler fields: a LOD bias on a view of one mip level sampled with one filter up and down
+/// changes nothing and replays to the program's image; with a different minification filter
+/// it would, and is refused naming the sampler. A clamp-to-border sampler replays through
+/// wgpu's border feature; an integer opaque border colour is refused by name.
+#[test]
+fn sampler_fields_replay_or_are_refused_by_name() {
+    let dir = temp("sampler");
+    let capture = vkcube(&dir);
+    edit(&capture, |v| {
+        let s = &mut v["vulkan"]["samplers"][0];
+        s["mip_lod_bias"] = json!(-0.5);
+        for k in ["address_mode_u", "address_mode_v", "address_mode_w"] {
+            s[k] = json!("VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER");
+        }
+    });
+    let image = crate::common::replay_presented(&capture, &dir.join("moot"));
+    crate::golden::within("vkcube, biased and bordered", &image, &reference()).unwrap();
+
+    edit(&capture, |v| {
+        v["vulkan"]["samplers"][0]["border_color"] = json!("VK_BORDER_COLOR_INT_OPAQUE_BLACK");
+    });
+    let err = replay_fails(&capture);
+    for part in ["sampler_26", "VK_BORDER_COLOR_INT_OPAQUE_BLACK", "draw 0"] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+
+    edit(&capture, |v| {
+        let s = &mut v["vulkan"]["samplers"][0];
+        s["border_color"] = json!("VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE");
+        s["min_filter"] = json!("VK_FILTER_LINEAR");
+    });
+    let err = replay_fails(&capture);
+    for part in ["sampler_26", "LOD bias -0.5", "draw 0"] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+}
+
+/// vkcube's JSON Lines stream, its lines edited by `change`, imported; the capture and what
+/// `import` printed.
+fn import_stream(dir: &Path, change: impl FnOnce(Vec<String>) -> Vec<String>) -> (Value, String) {
+    let text = std::fs::read_to_string(gfxr_fixture("vkcube_f3.jsonl")).unwrap();
+    let lines = change(text.lines().map(str::to_owned).collect());
+    let stream = dir.join("edited.jsonl");
+    std::fs::write(&stream, lines.join("\n") + "\n").unwrap();
+    let capture = dir.join("edited.json");
+    let out = framelab(&[
+        "import",
+        stream.to_str().unwrap(),
+        "-o",
+        capture.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = serde_json::from_str(&std::fs::read_to_string(&capture).unwrap()).unwrap();
+    (v, stdout(&out) + &stderr(&out))
+}
+
+/// The command buffer of a line, and its function's name.
+fn call_of(line: &str) -> Option<(u64, String)> {
+    let v: Value = serde_json::from_str(line).ok()?;
+    let f = &v["vkFunc"];
+    Some((
+        f["args"]["commandBuffer"].as_u64()?,
+        f["name"].as_str()?.to_owned(),
+    ))
+}
+
+/// A `vkCmd*` line of command buffer `cb` with `args`.
+fn cmd_line(index: u64, name: &str, cb: u64, mut args: Value) -> String {
+    args["commandBuffer"] = json!(cb);
+    json!({"index": index, "vkFunc": {"name": name, "args": args}}).to_string()
+}
+
+fn draws(v: &Value) -> Vec<&Value> {
+    v["passes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|p| p["draws"].as_array().into_iter().flatten())
+        .collect()
+}
+
+/// Each `vkCmdSet*` of dynamic state before a draw reaches the draw's state in the capture.
+#[test]
+fn dynamic_state_calls_reach_the_draws() {
+    let dir = temp("set-calls");
+    let (v, _) = import_stream(&dir, |lines| {
+        let mut out = Vec::new();
+        for line in lines {
+            if let Some((cb, name)) = call_of(&line)
+                && name == "vkCmdDraw"
+            {
+                out.push(cmd_line(1, "vkCmdSetCullMode", cb, json!({"cullMode": 1})));
+                out.push(cmd_line(
+                    1,
+                    "vkCmdSetDepthBias",
+                    cb,
+                    json!({"depthBiasConstantFactor": 2.0, "depthBiasClamp": 0.0, "depthBiasSlopeFactor": 1.5}),
+                ));
+                out.push(cmd_line(
+                    1,
+                    "vkCmdSetStencilCompareMask",
+                    cb,
+                    json!({"faceMask": 2, "compareMask": 15}),
+                ));
+                out.push(cmd_line(
+                    1,
+                    "vkCmdSetStencilOpEXT",
+                    cb,
+                    json!({"faceMask": 3, "failOp": "VK_STENCIL_OP_KEEP", "passOp": "VK_STENCIL_OP_REPLACE", "depthFailOp": "VK_STENCIL_OP_ZERO", "compareOp": "VK_COMPARE_OP_EQUAL"}),
+                ));
+            }
+            out.push(line);
+        }
+        out
+    });
+    let draws = draws(&v);
+    assert!(!draws.is_empty());
+    for d in draws {
+        let dynamic = &d["vulkan_state"]["dynamic"];
+        assert_eq!(dynamic["cull_mode"], json!(1), "{d}");
+        assert_eq!(dynamic["depth_bias"], json!([2.0, 0.0, 1.5]), "{d}");
+        // The back face only: the front keeps the value it would have had (the same).
+        assert_eq!(dynamic["stencil_compare_mask"], json!([15, 15]), "{d}");
+        assert_eq!(
+            dynamic["stencil_op"][1]["pass_op"],
+            json!("VK_STENCIL_OP_REPLACE")
+        );
+    }
+}
+
+/// The draws of each render pass moved into a secondary command buffer executed inside it
+/// (`VK_SUBPASS_CONTENTS_SECONDARY_COMMAND_BUFFERS`): imported into the same passes, with
+/// the same draws, as the program recorded them inline.
+#[test]
+fn secondary_command_buffers_continue_their_render_pass() {
+    let dir = temp("secondary");
+    let (inline, _) = import_stream(&dir, |lines| lines);
+    let (nested, said) = import_stream(&dir, |lines| {
+        let mut out = Vec::new();
+        let mut inside = std::collections::BTreeSet::new();
+        for line in lines {
+            let Some((cb, name)) = call_of(&line) else {
+                out.push(line);
+                continue;
+            };
+            let secondary = cb + 1_000_000;
+            match name.as_str() {
+                "vkCmdBeginRenderPass" => {
+                    inside.insert(cb);
+                    out.push(line.replace(
+                        "VK_SUBPASS_CONTENTS_INLINE",
+                        "VK_SUBPASS_CONTENTS_SECONDARY_COMMAND_BUFFERS",
+                    ));
+                }
+                "vkCmdEndRenderPass" => {
+                    inside.remove(&cb);
+                    out.push(cmd_line(
+                        1,
+                        "vkCmdExecuteCommands",
+                        cb,
+                        json!({"commandBufferCount": 1, "pCommandBuffers": [secondary]}),
+                    ));
+                    out.push(line);
+                }
+                _ if inside.contains(&cb) => out.push(line.replace(
+                    &format!("\"commandBuffer\":{cb}"),
+                    &format!("\"commandBuffer\":{secondary}"),
+                )),
+                _ => out.push(line),
+            }
+        }
+        out
+    });
+    assert!(!said.contains("outside a render pass"), "{said}");
+    let (a, b) = (draws(&inline), draws(&nested));
+    assert!(!a.is_empty());
+    assert_eq!(a, b, "the same draws, in the same passes");
+    let names = |v: &Value| -> Vec<Value> {
+        v["passes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["name"].clone())
+            .collect()
+    };
+    assert_eq!(names(&inline), names(&nested));
+}
+
+/// Work the replay cannot reproduce, met in an imported frame, makes the frame refuse to
+/// replay with the command and the pass named: here a clear of attachment rectangles inside
+/// the render pass, and draws recorded outside any render pass.
+#[test]
+fn work_the_replay_cannot_do_is_refused_with_its_pass() {
+    let dir = temp("refused");
+    let (v, said) = import_stream(&dir, |lines| {
+        let mut out = Vec::new();
+        for line in lines {
+            let call = call_of(&line);
+            out.push(line);
+            if let Some((cb, name)) = call
+                && name == "vkCmdBeginRenderPass"
+            {
+                out.push(cmd_line(
+                    7,
+                    "vkCmdClearAttachments",
+                    cb,
+                    json!({"attachmentCount": 0, "pAttachments": [], "rectCount": 0, "pRects": []}),
+                ));
+            }
+        }
+        out
+    });
+    let why = v["source"]["not_replayable"].as_str().unwrap_or_default();
+    for part in [
+        "vkCmdClearAttachments",
+        "clears of rectangles inside a render pass",
+        "vkCmdClearAttachments #7",
+        "pass \"render_pass\"",
+    ] {
+        assert!(why.contains(part), "missing {part:?} in {why:?}");
+        assert!(said.contains(part), "missing {part:?} in:\n{said}");
+    }
+
+    let (v, _) = import_stream(&dir, |lines| {
+        lines
+            .into_iter()
+            .filter(|l| {
+                !call_of(l)
+                    .is_some_and(|(_, n)| n == "vkCmdBeginRenderPass" || n == "vkCmdEndRenderPass")
+            })
+            .collect()
+    });
+    let why = v["source"]["not_replayable"].as_str().unwrap_or_default();
+    assert!(
+        why.contains("draws outside a render pass instance (vkCmdDraw #"),
+        "{why:?}"
+    );
+}
+
+/// Every member of every class the registry names has a row in the coverage table, and
+/// `docs/coverage.md` is the table as `coverage::markdown` writes it.
+#[test]
+fn the_coverage_table_covers_the_registry() {
+    use framelab_core::coverage;
+    for class in &coverage::CLASSES {
+        let members = coverage::registry_members(class);
+        assert!(
+            members.len() >= 4,
+            "{}: the registry has its members",
+            class.title
+        );
+        let missing: Vec<&str> = members
+            .iter()
+            .copied()
+            .filter(|m| (class.verdict)(m).is_none())
+            .collect();
+        assert!(
+            missing.is_empty(),
+            "{}: no row for {missing:?}",
+            class.title
+        );
+    }
+    let readme = std::fs::read_to_string(crate::common::repo().join("README.md")).unwrap();
+    assert!(
+        readme.contains(&coverage::summary()),
+        "the README's coverage summary is out of date; it is:\n{}",
+        coverage::summary()
+    );
+    let doc = std::fs::read_to_string(crate::common::repo().join("docs/coverage.md")).unwrap();
+    let table = coverage::markdown();
+    assert!(
+        doc.contains(&table),
+        "docs/coverage.md is out of date: regenerate it with `framelab coverage > docs/coverage.md`"
+    );
+}
+
+/// A uniform buffer bound at an offset the program's device allowed (16-byte steps) and
+/// wgpu's alignment does not: vkcube's matrices moved 48 bytes into their buffer behind bytes
+/// that would draw nothing, and the descriptor's offset moved with them. The replay copies
+/// the range into a buffer of its own and draws the program's image.
+#[test]
+fn buffers_bound_below_wgpu_alignment_are_rebased() {
+    let dir = temp("rebased");
+    let capture = vkcube(&dir);
+    let contents = dir.join("vkcube.contents/buffer_28.bin");
+    let mut bytes: Vec<u8> = std::iter::repeat_n(1.0e9f32.to_le_bytes(), 12)
+        .flatten()
+        .collect();
+    bytes.extend(std::fs::read(&contents).unwrap());
+    std::fs::write(&contents, &bytes).unwrap();
+    edit(&capture, |v| {
+        for r in v["resources"].as_array_mut().unwrap() {
+            if r["name"] == "buffer_28" {
+                r["size"] = json!(bytes.len());
+            }
+        }
+        let (draw, _) = draw_and_state(v);
+        let uniform = draw["descriptors"]
+            .as_array_mut()
+            .unwrap()
+            .iter_mut()
+            .find(|d| d["descriptor_type"] == "UNIFORM_BUFFER")
+            .unwrap();
+        uniform["offset"] = json!(48);
+    });
+    let image = crate::common::replay_presented(&capture, &dir.join("out"));
+    crate::golden::within("vkcube, matrices at offset 48", &image, &reference()).unwrap();
+}
