@@ -53,7 +53,7 @@ pub fn dynamic_state(name: &str) -> Option<Verdict> {
         ),
         "BLEND_CONSTANTS" | "STENCIL_REFERENCE" => PER_DRAW,
         "DEPTH_BIAS" | "DEPTH_BIAS_ENABLE" => Verdict::Emulated(
-            "baked into a pipeline variant per value; a constant factor that is not a whole number is refused (wgpu takes an integer)",
+            "baked into a pipeline variant per value; a constant factor that is not a whole number is taken as the nearest one, with a note (wgpu takes whole numbers: each biased depth moves by under one resolvable step)",
         ),
         "LINE_WIDTH" => Verdict::Emulated(
             "no effect on triangles filled; lines wider than 1 are refused (wgpu draws 1-pixel lines)",
@@ -385,7 +385,7 @@ pub fn sampler_field(name: &str) -> Option<Verdict> {
             "read only where an address mode clamps to the border; see that table",
         ),
         "mipLodBias" => Verdict::Emulated(
-            "no effect where every view the sampler reads has one mip level and the sampler filters alike up and down; otherwise refused (wgpu has no LOD bias)",
+            "wgpu has no LOD bias: added to every sample taken through the sampler by a SPIR-V rewrite (a Bias operand, or added to the shader's own bias or Lod), except where it changes nothing (one mip level, one filter up and down); samples with explicit gradients are refused",
         ),
         "unnormalizedCoordinates" => {
             Verdict::Refused("unnormalized coordinates: wgpu samples with normalized ones")

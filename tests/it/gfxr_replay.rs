@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 9] = [
+const REPLAYED: [&str; 10] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -20,6 +20,7 @@ const REPLAYED: [&str; 9] = [
     "mpv_testsrc_f5",
     "mpv_hq_f5",
     "framelab_inspect_f3",
+    "warzone_menu_f120",
 ];
 
 fn temp(name: &str) -> Scratch {

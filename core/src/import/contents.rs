@@ -439,10 +439,13 @@ impl Contents {
     }
 }
 
-/// A snapshot the driver padded, packed. Lavapipe lays out each level of an optimal image as
-/// tightly packed rows with the height rounded up (to 16 rows: a 4x4 texture's level holds
-/// 16 rows, a 300-row depth buffer 304), so each layer's slab of a level is cut to its own
-/// rows. `None` where a level's size is not whole padded slabs of the level's rows.
+/// A snapshot the driver padded, packed. GFXReconstruct's snapshot of an optimal image gives
+/// each level a size that may exceed its texels; two layouts are known, tried in order for
+/// each level: each layer's slab of equal size, its rows tightly packed and its height
+/// rounded up (lavapipe: a 300-row depth buffer's slab holds 304); or the level's texels
+/// tightly packed from its start and the level padded at its end (lavapipe's snapshots of
+/// small textures: a 197x13 RGBA8 level of 10,244 bytes comes in 13,312). `None` where a
+/// level is smaller than its texels or fits neither.
 fn unpad(img: &ImageInfo, level_sizes: &[u64], mut data: Vec<u8>) -> Option<Vec<u8>> {
     let f = dxgi::lookup_vk(&img.format)?;
     let (block, bytes) = (
@@ -459,19 +462,25 @@ fn unpad(img: &ImageInfo, level_sizes: &[u64], mut data: Vec<u8>) -> Option<Vec<
         let row = dim(img.extent[0]).div_ceil(block) * bytes;
         let rows = dim(img.extent[1]).div_ceil(block);
         let slabs = dim(img.extent[2]) * u64::from(img.layers.max(1));
-        let slab = size.checked_div(slabs)?;
-        if row == 0 || size % slabs != 0 || slab % row != 0 || slab / row < rows {
+        let keep = rows.checked_mul(row)?;
+        if row == 0 || size < keep.checked_mul(slabs)? {
             return None;
         }
+        let slab = size / slabs;
+        // Slabs of whole padded rows, or one tight run of them all.
+        let stride = if size % slabs == 0 && slab % row == 0 {
+            slab
+        } else {
+            keep
+        };
         let end = from.checked_add(size as usize)?;
         if end > data.len() {
             return None;
         }
-        let keep = (rows * row) as usize;
         for s in 0..slabs as usize {
-            let at = from + s * slab as usize;
-            data.copy_within(at..at + keep, to);
-            to += keep;
+            let at = from + s * stride as usize;
+            data.copy_within(at..at + keep as usize, to);
+            to += keep as usize;
         }
         from = end;
     }
@@ -551,9 +560,21 @@ pub(super) mod tests {
         let packed = unpad(&img, &[512], two.clone()).unwrap();
         assert_eq!(packed.len(), 128);
         assert_eq!(packed[64], 2);
-        // Sizes that are not whole padded slabs are refused.
-        assert!(unpad(&img, &[500], two.clone()).is_none());
+        // A size that is not whole padded slabs: the texels tightly packed from the start.
+        assert_eq!(unpad(&img, &[500], two.clone()).unwrap(), two[..128]);
+        // Smaller than the texels, or levels the image does not have: refused.
+        assert!(unpad(&img, &[100], two.clone()).is_none());
         assert!(unpad(&img, &[512, 4], two).is_none());
+    }
+
+    /// Lavapipe's snapshot of Warzone 2100's 197x13 RGBA8 text label: 13,312 bytes, the
+    /// 10,244 of its texels tightly packed first (rows 788 bytes apart, as the text reads).
+    #[test]
+    fn a_level_padded_at_its_end_keeps_its_tight_rows() {
+        let data: Vec<u8> = (0..13_312u32).map(|i| (i % 251) as u8).collect();
+        let img = image("VK_FORMAT_R8G8B8A8_UNORM", [197, 13, 1], 1, 1);
+        let packed = unpad(&img, &[13_312], data.clone()).unwrap();
+        assert_eq!(packed, data[..197 * 13 * 4]);
     }
 
     #[test]

@@ -7,6 +7,7 @@
 //! renumbered, gl_Position's y negated for wgpu's flipped viewport). `usage` says which
 //! bindings the code reads and writes, for the synchronization check.
 
+mod bias;
 mod index;
 mod ops;
 mod params;
@@ -201,6 +202,9 @@ pub struct RewriteOptions<'a> {
     /// The format of each uniform texel buffer, as (set, binding, format): the shader does not
     /// state it (the buffer view does), and its reads are unpacked in it.
     pub texel_formats: &'a [(u32, u32, ImageFormat)],
+    /// The LOD bias of the sampler bound at each (set, binding, bias): added to every sample
+    /// taken through it (`bias`), since wgpu's samplers have none.
+    pub lod_bias: &'a [(u32, u32, f32)],
 }
 
 impl fmt::Debug for RewriteOptions<'_> {

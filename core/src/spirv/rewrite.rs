@@ -32,6 +32,7 @@ pub fn rewrite(
     if !combined.is_empty() {
         super::params::inline_sampler_params(&mut loaded.module, &combined)?;
     }
+    super::bias::add_lod_bias(&mut loaded.module, opts.lod_bias)?;
     let plan = plan(&loaded, model, entry, opts)?;
     let mut module = loaded.module;
     apply(&mut module, plan)?;

@@ -36,9 +36,10 @@ pub(super) struct VkObjects {
 }
 
 /// A buffer range a Vulkan program bound at an offset its device allowed and wgpu does not
-/// (Vulkan devices align uniform offsets to as little as 16 bytes; wgpu asks 32 or more): the
-/// range is copied into a buffer of its own before each pass that binds it, bound there at
-/// offset 0, and copied back after the pass where the shader may write it.
+/// (Vulkan devices align uniform offsets to as little as 16 bytes; wgpu asks 32 or more), or
+/// that runs past its buffer's end (a uniform block rounded up to its whole size): the range
+/// is copied into a buffer of its own before each pass that binds it, bound there at offset
+/// 0, and copied back after the pass where the shader may write it.
 struct Shadow {
     source: usize,
     offset: u64,
@@ -401,18 +402,19 @@ impl Session {
                 }) => (limits.min_storage_buffer_offset_alignment, !read_only),
                 _ => (1, false),
             };
-            if offset % u64::from(align.max(1)) == 0 {
-                out.push(None);
-                continue;
-            }
-            // Whole words, within the source (its size is padded to words).
+            // Whole words (the source's size is padded to words); a range past the source's
+            // end (a uniform block rounded up to its whole size) gets zeros there.
             let total = self.buffers[*buffer][0].size();
             let size = size
                 .unwrap_or(total.saturating_sub(*offset))
                 .div_ceil(4)
                 .saturating_mul(4)
-                .min(total.saturating_sub(*offset) / 4 * 4)
                 .max(4);
+            let past_end = offset.saturating_add(size) > total;
+            if offset % u64::from(align.max(1)) == 0 && !past_end {
+                out.push(None);
+                continue;
+            }
             let key = (*buffer, *offset, size);
             let index = match self.vk.shadow_index.get(&key) {
                 Some(&i) => {
@@ -462,27 +464,37 @@ impl Session {
     pub(super) fn shadows_in(&self, groups: &WorkGroups, encoder: &mut wgpu::CommandEncoder) {
         for i in self.pass_shadows(groups) {
             let s = &self.vk.shadows[i];
-            encoder.copy_buffer_to_buffer(
-                &self.buffers[s.source][0],
-                s.offset,
-                &s.buffer,
-                0,
-                s.size,
-            );
+            let n = self.shadowed_bytes(s);
+            if n > 0 {
+                encoder.copy_buffer_to_buffer(
+                    &self.buffers[s.source][0],
+                    s.offset,
+                    &s.buffer,
+                    0,
+                    n,
+                );
+            }
         }
+    }
+
+    /// Bytes of a shadow its source holds: all of it, or up to the source's end.
+    fn shadowed_bytes(&self, s: &Shadow) -> u64 {
+        let total = self.buffers[s.source][0].size();
+        s.size.min(total.saturating_sub(s.offset) / 4 * 4)
     }
 
     /// Writes back the shadows a pass may have written, after the pass.
     pub(super) fn shadows_out(&self, groups: &WorkGroups, encoder: &mut wgpu::CommandEncoder) {
         for i in self.pass_shadows(groups) {
             let s = &self.vk.shadows[i];
-            if s.writable {
+            let n = self.shadowed_bytes(s);
+            if s.writable && n > 0 {
                 encoder.copy_buffer_to_buffer(
                     &s.buffer,
                     0,
                     &self.buffers[s.source][0],
                     s.offset,
-                    s.size,
+                    n,
                 );
             }
         }

@@ -22,6 +22,9 @@ pub(super) type SetBindings = BTreeMap<u32, Vec<u32>>;
 pub(super) struct Bound {
     pub sets: SetBindings,
     pub texel_formats: Vec<(u32, u32, rspirv::spirv::ImageFormat)>,
+    /// The LOD bias (as bits) of the sampler at each (set, binding) where it changes what is
+    /// read: the rewrite adds it to the shader's samples.
+    pub lod_bias: Vec<(u32, u32, u32)>,
 }
 
 /// The SPIR-V image format a texel buffer view of `VK_FORMAT_*` reads in, where the rewrite
@@ -94,6 +97,7 @@ impl<'c> Lowering<'c> {
         let layout = &model.pipeline_layouts[pipe.layout];
         let mut per_set: BTreeMap<u32, Vec<Entry>> = BTreeMap::new();
         let mut texel_formats = Vec::new();
+        let mut lod_bias = Vec::new();
         for (&(set, binding), u) in &used {
             let lb = layout
                 .sets
@@ -138,7 +142,10 @@ impl<'c> Lowering<'c> {
                     }
                 }
             }
-            let entries = self.vk_entries(p, work, (set, binding), u, lb)?;
+            let (entries, bias) = self.vk_entries(p, work, (set, binding), u, lb)?;
+            if let Some(bias) = bias {
+                lod_bias.push((set, binding, bias.to_bits()));
+            }
             per_set.entry(set).or_default().extend(entries);
         }
         let last = per_set.keys().next_back().map_or(0, |&s| s as usize + 1);
@@ -172,11 +179,13 @@ impl<'c> Lowering<'c> {
             Bound {
                 sets,
                 texel_formats,
+                lod_bias,
             },
         ))
     }
 
-    /// The wgpu entries (one, or a texture and a sampler) of one used descriptor.
+    /// The wgpu entries (one, or a texture and a sampler) of one used descriptor, and the LOD
+    /// bias of its sampler where the shader must add it.
     fn vk_entries(
         &mut self,
         p: &PassDesc,
@@ -184,7 +193,8 @@ impl<'c> Lowering<'c> {
         (set, binding): (u32, u32),
         u: &Used,
         (lb, immutable): (&crate::capture::format::LayoutBinding, Option<usize>),
-    ) -> Result<Vec<Entry>, Fail> {
+    ) -> Result<(Vec<Entry>, Option<f32>), Fail> {
+        let mut bias = None;
         let ty = lb
             .descriptor_type
             .strip_prefix("VK_DESCRIPTOR_TYPE_")
@@ -206,7 +216,7 @@ impl<'c> Lowering<'c> {
             count: None,
         };
         let wb = binding * 2;
-        Ok(match ty {
+        let entries = match ty {
             "UNIFORM_BUFFER"
             | "UNIFORM_BUFFER_DYNAMIC"
             | "STORAGE_BUFFER"
@@ -232,7 +242,16 @@ impl<'c> Lowering<'c> {
                     VkResource::Buffer {
                         buffer,
                         offset: d.offset.unwrap_or(0),
-                        size: d.range.filter(|&r| r != u64::MAX),
+                        // A uniform block's size is whole 16-byte steps (std140) where a
+                        // program may bind only to its last member's end; wgpu asks for the
+                        // whole block (the replay pads past the buffer's end).
+                        size: d.range.filter(|&r| r != u64::MAX).map(|r| {
+                            if matches!(kind, wgpu::BufferBindingType::Uniform) {
+                                r.div_ceil(16) * 16
+                            } else {
+                                r
+                            }
+                        }),
                     },
                 )]
             }
@@ -266,7 +285,7 @@ impl<'c> Lowering<'c> {
                     .or(immutable)
                     .ok_or_else(missing)?;
                 // A separate sampler meets its views in the shader: any view may be mipped.
-                self.vk_bias(s, None)?;
+                bias = self.vk_bias(s, None);
                 vec![self.vk_sampler_entry(wb, u.stages, s)?]
             }
             "SAMPLED_IMAGE" | "COMBINED_IMAGE_SAMPLER" => {
@@ -289,7 +308,7 @@ impl<'c> Lowering<'c> {
                 let mut out = vec![(entry(wb, ty), resource)];
                 if ty_is_combined(&lb.descriptor_type) {
                     let s = d.sampler.or(immutable).ok_or_else(missing)?;
-                    self.vk_bias(s, Some(levels))?;
+                    bias = self.vk_bias(s, Some(levels));
                     out.push(self.vk_sampler_entry(wb + 1, u.stages, s)?);
                 }
                 out
@@ -309,28 +328,15 @@ impl<'c> Lowering<'c> {
                 }
                 .into());
             }
-        })
+        };
+        Ok((entries, bias))
     }
 
-    /// Refuses sampler `s`'s LOD bias where it would change what is read through a view of
-    /// `levels` mip levels (`None`: not known here).
-    fn vk_bias(&self, s: usize, levels: Option<u32>) -> Result<(), Fail> {
-        let sampler = &self.vk_model()?.samplers[s];
-        if states::bias_is_moot(sampler, levels.unwrap_or(u32::MAX)) {
-            return Ok(());
-        }
-        Err(VkProblem::Unsupported {
-            feature: format!(
-                "sampler {} with LOD bias {} ({}; wgpu has no LOD bias)",
-                sampler.name,
-                sampler.mip_lod_bias,
-                match levels {
-                    Some(n) => format!("reading a view of {n} mip levels"),
-                    None => "a separate sampler, whose views are not known".to_owned(),
-                }
-            ),
-        }
-        .into())
+    /// Sampler `s`'s LOD bias where it would change what is read through a view of `levels`
+    /// mip levels (`None`: not known here): the shader then adds it (`spirv::bias`).
+    fn vk_bias(&self, s: usize, levels: Option<u32>) -> Option<f32> {
+        let sampler = &self.vk_model().ok()?.samplers[s];
+        (!states::bias_is_moot(sampler, levels.unwrap_or(u32::MAX))).then_some(sampler.mip_lod_bias)
     }
 
     fn vk_sampler_entry(

@@ -62,6 +62,8 @@ struct PipelineKey {
     strip_index: Option<wgpu::IndexFormat>,
     /// Uniform texel buffers' formats, which the rewritten shaders read in.
     texel_formats: Vec<(u32, u32, rspirv::spirv::ImageFormat)>,
+    /// Samplers' LOD bias the rewritten shaders add (set, binding, bits).
+    lod_bias: Vec<(u32, u32, u32)>,
     /// The dynamic state baked into this variant (`dynamic::Baked::key`).
     baked: Option<String>,
 }
@@ -224,6 +226,7 @@ impl<'c> Lowering<'c> {
             depth,
             strip_index: index.map(|i| i.2),
             texel_formats: sets.texel_formats.clone(),
+            lod_bias: sets.lod_bias.clone(),
             baked: baked.key.clone(),
         };
         let pipeline = match self.vk.pipelines.get(&key) {
@@ -283,6 +286,7 @@ impl<'c> Lowering<'c> {
             depth: None,
             strip_index: None,
             texel_formats: sets.texel_formats.clone(),
+            lod_bias: sets.lod_bias.clone(),
             baked: None,
         };
         let pipeline = match self.vk.pipelines.get(&key) {
@@ -295,7 +299,7 @@ impl<'c> Lowering<'c> {
                     .ok_or_else(|| {
                         VkProblem::Missing(format!("pipeline {} has no compute stage", pipe.name))
                     })?;
-                let shader = self.vk_shader(pipe, stage, false, &sets.sets, &sets.texel_formats)?;
+                let shader = self.vk_shader(pipe, stage, false, &sets)?;
                 let layout = &model.pipeline_layouts[pipe.layout];
                 self.plan.vk.pipelines.push(VkPipelineSpec {
                     name: pipe.name.clone(),
@@ -389,7 +393,7 @@ impl<'c> Lowering<'c> {
         let mut fragment = None;
         for stage in &pipe.stages {
             let (s, _) = stage_of(&stage.stage)?;
-            let shader = self.vk_shader(pipe, stage, key.flip, &sets.sets, &sets.texel_formats)?;
+            let shader = self.vk_shader(pipe, stage, key.flip, sets)?;
             if s == wgpu::ShaderStages::VERTEX {
                 vertex = Some(shader);
             } else if s == wgpu::ShaderStages::FRAGMENT {
@@ -445,6 +449,14 @@ impl<'c> Lowering<'c> {
             .map(|(i, &f)| states::color_target(f, g.blend.get(i)).map(Some))
             .collect::<Result<Vec<_>, _>>()?;
         let layout = &model.pipeline_layouts[pipe.layout];
+        if key.depth.is_some()
+            && let Some(note) = states::bias_rounding(g)
+        {
+            let note = format!("pipeline {}: {note}", pipe.name);
+            if !self.notes.contains(&note) {
+                self.notes.push(note);
+            }
+        }
         Ok(VkPipelineSpec {
             name: pipe.name.clone(),
             groups: key.groups.clone(),

@@ -11,7 +11,6 @@
 use rspirv::spirv::ImageFormat;
 use wgpu_types as wgpu;
 
-use super::bindings::SetBindings;
 use super::{Fail, VkProblem, stage_of};
 use crate::capture::vk_model::{VkPipeline, VkStage};
 use crate::lower::Lowering;
@@ -28,6 +27,8 @@ pub(super) struct ShaderKey {
     sets: Vec<(u32, Vec<u32>)>,
     specialization: Vec<(u32, u32, Option<u64>)>,
     texel_formats: Vec<(u32, u32, ImageFormat)>,
+    /// Samplers' LOD bias by (set, binding), as bits.
+    lod_bias: Vec<(u32, u32, u32)>,
 }
 
 /// wgpu's binding for Vulkan binding `b` in the role asked.
@@ -64,9 +65,14 @@ impl<'c> Lowering<'c> {
         pipe: &VkPipeline,
         stage: &VkStage,
         flip: bool,
-        sets: &SetBindings,
-        texel_formats: &[(u32, u32, ImageFormat)],
+        bound: &super::bindings::Bound,
     ) -> Result<usize, Fail> {
+        let (sets, texel_formats) = (&bound.sets, &bound.texel_formats[..]);
+        let lod_bias: Vec<(u32, u32, f32)> = bound
+            .lod_bias
+            .iter()
+            .map(|&(s, b, bits)| (s, b, f32::from_bits(bits)))
+            .collect();
         let key = ShaderKey {
             module: stage.module,
             entry: stage.entry.clone(),
@@ -75,6 +81,7 @@ impl<'c> Lowering<'c> {
             sets: sets.iter().map(|(s, b)| (*s, b.clone())).collect(),
             specialization: stage.specialization.clone(),
             texel_formats: texel_formats.to_vec(),
+            lod_bias: bound.lod_bias.clone(),
         };
         if let Some(&i) = self.vk.shaders.get(&key) {
             return Ok(i);
@@ -123,6 +130,7 @@ impl<'c> Lowering<'c> {
                 binding: &used,
                 specialization: &specialization,
                 texel_formats,
+                lod_bias: &lod_bias,
             },
         )
         .map_err(spirv_error)?;
@@ -142,6 +150,7 @@ impl<'c> Lowering<'c> {
                 binding: &rank,
                 specialization: &specialization,
                 texel_formats,
+                lod_bias: &lod_bias,
             },
         )
         .map_err(spirv_error)?;

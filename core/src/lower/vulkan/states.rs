@@ -124,6 +124,20 @@ pub(super) fn primitive(
     })
 }
 
+/// Where wgpu cannot take a draw's depth bias constant factor as Vulkan gave it (wgpu's is a
+/// whole number of the format's resolvable steps), what it takes instead, said as a note:
+/// the nearest whole number, which moves each biased depth by under one resolvable step.
+pub(super) fn bias_rounding(g: &GraphicsState) -> Option<String> {
+    let [constant, ..] = g.depth_bias.filter(|_| g.topology.contains("TRIANGLE"))?;
+    (constant.is_finite() && constant.fract() != 0.0).then(|| {
+        format!(
+            "depth bias constant factor {constant} taken as {} (wgpu takes whole numbers of the depth format's resolvable step; each biased depth moves by {:.2} of a step)",
+            constant.round(),
+            (constant - constant.round()).abs()
+        )
+    })
+}
+
 /// Depth and stencil for a pass whose depth target has `format`. A pipeline without depth
 /// state in a pass with a depth target neither tests nor writes, which wgpu says as
 /// `Always` and no writes.
@@ -172,15 +186,13 @@ pub(super) fn depth_stencil(
     let polygons = g.topology.contains("TRIANGLE");
     let bias = match g.depth_bias.filter(|_| polygons) {
         Some([constant, clamp, slope]) => {
-            if constant.fract() != 0.0 || constant.abs() > i32::MAX as f32 {
+            if !constant.is_finite() || constant.abs() > 1.0e6 {
                 return Err(VkProblem::Unsupported {
-                    feature: format!(
-                        "depth bias constant factor {constant} (wgpu takes a whole number)"
-                    ),
+                    feature: format!("depth bias constant factor {constant}"),
                 });
             }
             wgpu::DepthBiasState {
-                constant: constant as i32,
+                constant: constant.round() as i32,
                 slope_scale: slope,
                 clamp,
             }

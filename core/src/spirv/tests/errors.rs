@@ -58,6 +58,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             binding: &|_, _, _| None,
             specialization: &[],
             texel_formats: &[],
+            lod_bias: &[],
         },
     )
     .unwrap_err();
@@ -78,6 +79,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             binding: &|_, b, role| (role != Role::SplitSampler).then_some(b),
             specialization: &[],
             texel_formats: &[],
+            lod_bias: &[],
         },
     )
     .unwrap_err();

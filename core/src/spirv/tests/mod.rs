@@ -66,6 +66,7 @@ fn opts(flip_y: bool) -> RewriteOptions<'static> {
         binding: &doubled,
         specialization: &[],
         texel_formats: &[],
+        lod_bias: &[],
     }
 }
 

@@ -78,6 +78,7 @@ fn renumbers_every_binding() {
             binding: &|_, b, _| Some(b + 10),
             specialization: &[],
             texel_formats: &[],
+            lod_bias: &[],
         },
     )
     .unwrap();
@@ -166,6 +167,7 @@ fn flips_a_position_variable() {
             binding: &|_, b, _| Some(b),
             specialization: &[],
             texel_formats: &[],
+            lod_bias: &[],
         },
     )
     .unwrap();
@@ -278,6 +280,7 @@ fn texel_buffer_reads_become_word_loads_and_specialization_applies() {
             binding: &doubled,
             specialization: &spec,
             texel_formats: &[],
+            lod_bias: &[],
         },
     )
     .unwrap();
@@ -354,4 +357,46 @@ fn combined_sampler_passed_to_a_function_is_split_there() {
         .collect::<Vec<_>>();
     assert_eq!(calls.len(), 1);
     assert_eq!(calls[0].operands.len(), 1, "the call passes nothing");
+}
+
+/// A sampler's LOD bias reaches the samples taken through it: an implicit-LOD sample gets a
+/// Bias image operand holding the bias; a module with no biased binding is left alone.
+#[test]
+fn sampler_lod_bias_becomes_a_bias_operand() {
+    let words = combined_sampler_module(Shape::default());
+    let biased = RewriteOptions {
+        lod_bias: &[(1, 3, -0.5)],
+        ..opts(false)
+    };
+    let out = rewrite(&words, ExecutionModel::Fragment, "main", &biased).unwrap();
+    let module = load(&out);
+    let sample = module
+        .functions
+        .iter()
+        .flat_map(|f| f.all_inst_iter())
+        .find(|i| i.class.opcode == Op::ImageSampleImplicitLod)
+        .unwrap();
+    assert_eq!(
+        sample.operands.get(2),
+        Some(&Operand::ImageOperands(rspirv::spirv::ImageOperands::BIAS))
+    );
+    let Some(Operand::IdRef(c)) = sample.operands.get(3) else {
+        panic!("no bias argument: {sample:?}")
+    };
+    let constant = module
+        .types_global_values
+        .iter()
+        .find(|i| i.result_id == Some(*c))
+        .unwrap();
+    assert_eq!(
+        constant.operands,
+        vec![Operand::LiteralBit32((-0.5f32).to_bits())]
+    );
+    let elsewhere = RewriteOptions {
+        lod_bias: &[(1, 4, -0.5)],
+        ..opts(false)
+    };
+    let out = rewrite(&words, ExecutionModel::Fragment, "main", &elsewhere).unwrap();
+    let plain = rewrite(&words, ExecutionModel::Fragment, "main", &opts(false)).unwrap();
+    assert_eq!(out, plain, "a bias at another binding changes nothing");
 }
