@@ -229,7 +229,11 @@ fn sampler_fields_replay_or_are_refused_by_name() {
     let (up, down) = (biased(8.0, "up"), biased(-8.0, "down"));
     // Bilinear against nearest on a magnified texture: thousands of pixels, subtly (lavapipe
     // is deterministic: without the bias in the shader, not one would differ).
-    let differing = up.pixels().zip(down.pixels()).filter(|(a, b)| a != b).count();
+    let differing = up
+        .pixels()
+        .zip(down.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
     assert!(
         differing > 1000,
         "the sampler's bias reached the shader's samples: {differing} pixels differ"

@@ -194,7 +194,9 @@ pub(super) fn depth_stencil(
             wgpu::DepthBiasState {
                 constant: constant.round() as i32,
                 slope_scale: slope,
-                clamp,
+                // Depths end in [0, 1]: a clamp of 1 or more in size changes no depth, and a
+                // clamp needs a device feature wgpu's Vulkan backend does not turn on.
+                clamp: if clamp.abs() >= 1.0 { 0.0 } else { clamp },
             }
         }
         None => wgpu::DepthBiasState::default(),
