@@ -289,6 +289,21 @@ pub struct DepthStencilVk {
     pub back: Option<StencilFaceVk>,
 }
 
+impl DepthStencilVk {
+    /// What a pipeline without depth-stencil state does: neither tests nor writes.
+    pub fn off() -> Self {
+        DepthStencilVk {
+            depth_test: false,
+            depth_write: false,
+            depth_compare: "VK_COMPARE_OP_ALWAYS".to_owned(),
+            depth_bounds: None,
+            stencil_test: false,
+            front: None,
+            back: None,
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StencilFaceVk {

@@ -164,15 +164,7 @@ fn depth_stencil(
     if !touches.iter().any(|s| has(s)) {
         return Ok(());
     }
-    let ds = e.depth_stencil.get_or_insert_with(|| DepthStencilVk {
-        depth_test: false,
-        depth_write: false,
-        depth_compare: "VK_COMPARE_OP_ALWAYS".to_owned(),
-        depth_bounds: None,
-        stencil_test: false,
-        front: None,
-        back: None,
-    });
+    let ds = e.depth_stencil.get_or_insert_with(DepthStencilVk::off);
     if has("DEPTH_TEST_ENABLE") {
         ds.depth_test = v
             .depth_test_enable

@@ -145,15 +145,7 @@ pub(super) fn depth_stencil(
     g: &GraphicsState,
     format: wgpu::TextureFormat,
 ) -> Result<wgpu::DepthStencilState, VkProblem> {
-    let off = DepthStencilVk {
-        depth_test: false,
-        depth_write: false,
-        depth_compare: "VK_COMPARE_OP_ALWAYS".to_owned(),
-        depth_bounds: None,
-        stencil_test: false,
-        front: None,
-        back: None,
-    };
+    let off = DepthStencilVk::off();
     let d = g.depth_stencil.as_ref().unwrap_or(&off);
     if d.depth_bounds.is_some() {
         return Err(VkProblem::Unsupported {
