@@ -131,7 +131,7 @@ fn replay_verdict(out: &Path) -> String {
         .and_then(|a| a.lower(framelab_core::lower::wanted_features(), "any adapter"));
     match lowered {
         Ok(_) => "yes (on an adapter with the features framelab asks for)".to_owned(),
-        Err(e) => format!("no — {}", one_line(&e.to_string())),
+        Err(e) => format!("no — {}", one_line_within(&e.to_string(), 600)),
     }
 }
 

@@ -512,3 +512,61 @@ fn buffers_bound_below_wgpu_alignment_are_rebased() {
     let image = crate::common::replay_presented(&capture, &dir.join("out"));
     crate::golden::within("vkcube, matrices at offset 48", &image, &reference()).unwrap();
 }
+
+/// What the replay cannot do is said at import, with the pass, the draw and the class, and
+/// `replay` refuses it (exit 1) before writing anything: vkcube's pipeline edited in its
+/// binary capture to declare a dynamic polygon mode. Unedited, the import says it replays.
+#[test]
+fn the_import_says_whether_the_frame_replays() {
+    let dir = temp("verdict");
+    let plain = framelab(&[
+        "import",
+        gfxr_fixture("vkcube_f3.gfxr").to_str().unwrap(),
+        "-o",
+        dir.join("plain.json").to_str().unwrap(),
+    ]);
+    assert!(
+        stdout(&plain).contains("replays: yes"),
+        "{}",
+        stdout(&plain)
+    );
+
+    let edited = dir.join("edited.gfxr");
+    let run = framelab(&[
+        "edit",
+        gfxr_fixture("vkcube_f3.gfxr").to_str().unwrap(),
+        "-o",
+        edited.to_str().unwrap(),
+        "--set",
+        "73:pCreateInfos[0].pDynamicState.pDynamicStates[1]=VK_DYNAMIC_STATE_POLYGON_MODE_EXT",
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let capture = dir.join("edited.json");
+    let run = framelab(&[
+        "import",
+        edited.to_str().unwrap(),
+        "-o",
+        capture.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let said = stdout(&run);
+    for part in [
+        "replays: no",
+        "pass \"render_pass\", draw 0",
+        "VK_DYNAMIC_STATE_POLYGON_MODE_EXT",
+        "pipeline_40",
+    ] {
+        assert!(said.contains(part), "missing {part:?} in:\n{said}");
+    }
+    let out = dir.join("out");
+    let run = framelab(&[
+        "replay",
+        capture.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(1), "{}", stderr(&run));
+    assert!(!out.join("manifest.json").exists(), "nothing half-written");
+}
