@@ -905,7 +905,11 @@ impl Builder {
             }
             TransferCmd::Resolve { src, dst } => self.resolve(objects, queue, *src, *dst),
             TransferCmd::Blit { .. } => {
-                self.note("scaled blits: not imported (no pass kind holds them)");
+                self.refuse(
+                    queue,
+                    None,
+                    "vkCmdBlitImage: blits are not replayed yet (no pass kind holds a scaled copy)",
+                );
             }
         }
     }

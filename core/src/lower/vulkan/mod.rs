@@ -449,8 +449,10 @@ impl<'c> Lowering<'c> {
             .map(|(i, &f)| states::color_target(f, g.blend.get(i)).map(Some))
             .collect::<Result<Vec<_>, _>>()?;
         let layout = &model.pipeline_layouts[pipe.layout];
-        if key.depth.is_some()
-            && let Some(note) = states::bias_rounding(g)
+        let bias = key.depth.and_then(|_| states::bias_rounding(g));
+        for note in bias
+            .into_iter()
+            .chain(states::restart_note(g, key.strip_index))
         {
             let note = format!("pipeline {}: {note}", pipe.name);
             if !self.notes.contains(&note) {

@@ -108,19 +108,33 @@ pub(super) fn primitive(
             feature: format!("line width {} (wgpu draws 1-pixel lines)", g.line_width),
         });
     }
+    // wgpu draws indexed strips only with restart on (`restart_note` says when that is not
+    // what Vulkan did).
     let strips = matches!(topology, T::LineStrip | T::TriangleStrip);
     Ok(wgpu::PrimitiveState {
         topology,
-        strip_index_format: if strips && g.primitive_restart {
-            strip_index
-        } else {
-            None
-        },
+        strip_index_format: if strips { strip_index } else { None },
         front_face,
         cull_mode,
         unclipped_depth: g.depth_clamp,
         polygon_mode,
         conservative: false,
+    })
+}
+
+/// Where an indexed strip draws with primitive restart off: wgpu has no such draw, so it
+/// draws with restart on, which is the same unless an index is the all-ones value (a 16-bit
+/// index of 65535 names a vertex in Vulkan and restarts the strip in wgpu): said as a note.
+pub(super) fn restart_note(
+    g: &GraphicsState,
+    strip_index: Option<wgpu::IndexFormat>,
+) -> Option<String> {
+    let strips = g.topology.ends_with("_STRIP");
+    (strips && strip_index.is_some() && !g.primitive_restart).then(|| {
+        format!(
+            "indexed {} drawn with primitive restart on (wgpu's only indexed strip): the same unless an index is all ones",
+            g.topology.trim_start_matches("VK_PRIMITIVE_TOPOLOGY_").to_lowercase()
+        )
     })
 }
 
