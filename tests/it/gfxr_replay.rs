@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 10] = [
+const REPLAYED: [&str; 12] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -21,6 +21,8 @@ const REPLAYED: [&str; 10] = [
     "mpv_hq_f5",
     "framelab_inspect_f3",
     "warzone_menu_f120",
+    "qtquick_f30",
+    "mpv_testsrc2_f30",
 ];
 
 fn temp(name: &str) -> Scratch {
