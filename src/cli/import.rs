@@ -114,7 +114,10 @@ pub fn run(
     } else {
         print_stdout(&render(&imported.summary, out))?;
         if imported.summary.not_replayable.is_none() {
-            print_stdout(&format!("replays: {}\n", replay_verdict(out)))?;
+            print_stdout(&format!(
+                "replays: {}\n",
+                replay_verdict(out, imported.capture)
+            ))?;
         }
     }
     let _ = std::io::stderr().flush();
@@ -124,9 +127,10 @@ pub fn run(
 /// Whether the written capture lowers to a replay plan on a device with every feature
 /// framelab asks for: "yes", or "no" with the pass, the draw and the class that stop it, so
 /// what replay cannot do is said at import and not first at `replay`.
-fn replay_verdict(out: &Path) -> String {
-    let lowered = framelab_core::pipeline::Loaded::read_hashed(out)
-        .and_then(|l| l.validate(&Options::default()))
+fn replay_verdict(out: &Path, capture: RawCapture) -> String {
+    // The capture in memory, its side files now beside `out` where its paths lead.
+    let lowered = framelab_core::pipeline::Loaded::from_raw(out, capture)
+        .validate(&Options::default())
         .and_then(|v| v.analyse(framelab_core::analysis::report::AnalyzeOptions { cull: false }))
         .and_then(|a| a.lower(framelab_core::lower::wanted_features(), "any adapter"));
     match lowered {

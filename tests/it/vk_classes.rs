@@ -13,17 +13,22 @@ fn temp(name: &str) -> Scratch {
     Scratch::temp(&format!("framelab-vk-classes-{name}"))
 }
 
-/// vkcube's third frame imported from its binary capture into `dir`.
-fn vkcube(dir: &Path) -> PathBuf {
-    let capture = dir.join("vkcube.json");
-    let fixture = gfxr_fixture("vkcube_f3.gfxr");
+/// Imports `source` to `capture`, which must succeed; what the import printed.
+fn import(source: &Path, capture: &Path) -> String {
     let out = framelab(&[
         "import",
-        fixture.to_str().unwrap(),
+        source.to_str().unwrap(),
         "-o",
         capture.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
+    stdout(&out)
+}
+
+/// vkcube's third frame imported from its binary capture into `dir`.
+fn vkcube(dir: &Path) -> PathBuf {
+    let capture = dir.join("vkcube.json");
+    import(&gfxr_fixture("vkcube_f3.gfxr"), &capture);
     capture
 }
 
@@ -58,10 +63,21 @@ fn draw_and_state(v: &mut Value) -> (&mut Value, &mut Value) {
     (&mut draw["vulkan_state"], pipelines.unwrap())
 }
 
+/// Replays `capture`, which must be refused (exit 1) with nothing written to its export
+/// folder; what the replay said.
 fn replay_fails(capture: &Path) -> String {
-    let out = framelab(&["replay", capture.to_str().unwrap(), "--frames", "1"]);
-    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
-    stderr(&out)
+    let out = capture.with_extension("refused");
+    let run = framelab(&[
+        "replay",
+        capture.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(1), "{}", stderr(&run));
+    assert!(!out.join("manifest.json").exists(), "nothing half-written");
+    stderr(&run)
 }
 
 fn reference() -> image::RgbaImage {
@@ -249,15 +265,9 @@ fn import_stream(dir: &Path, change: impl FnOnce(Vec<String>) -> Vec<String>) ->
     let stream = dir.join("edited.jsonl");
     std::fs::write(&stream, lines.join("\n") + "\n").unwrap();
     let capture = dir.join("edited.json");
-    let out = framelab(&[
-        "import",
-        stream.to_str().unwrap(),
-        "-o",
-        capture.to_str().unwrap(),
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
+    let said = import(&stream, &capture);
     let v = serde_json::from_str(&std::fs::read_to_string(&capture).unwrap()).unwrap();
-    (v, stdout(&out) + &stderr(&out))
+    (v, said)
 }
 
 /// The command buffer of a line, and its function's name.
@@ -519,17 +529,8 @@ fn buffers_bound_below_wgpu_alignment_are_rebased() {
 #[test]
 fn the_import_says_whether_the_frame_replays() {
     let dir = temp("verdict");
-    let plain = framelab(&[
-        "import",
-        gfxr_fixture("vkcube_f3.gfxr").to_str().unwrap(),
-        "-o",
-        dir.join("plain.json").to_str().unwrap(),
-    ]);
-    assert!(
-        stdout(&plain).contains("replays: yes"),
-        "{}",
-        stdout(&plain)
-    );
+    let said = import(&gfxr_fixture("vkcube_f3.gfxr"), &dir.join("plain.json"));
+    assert!(said.contains("replays: yes"), "{said}");
 
     let edited = dir.join("edited.gfxr");
     let run = framelab(&[
@@ -542,14 +543,7 @@ fn the_import_says_whether_the_frame_replays() {
     ]);
     assert!(run.status.success(), "{}", stderr(&run));
     let capture = dir.join("edited.json");
-    let run = framelab(&[
-        "import",
-        edited.to_str().unwrap(),
-        "-o",
-        capture.to_str().unwrap(),
-    ]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let said = stdout(&run);
+    let said = import(&edited, &capture);
     for part in [
         "replays: no",
         "pass \"render_pass\", draw 0",
@@ -558,15 +552,5 @@ fn the_import_says_whether_the_frame_replays() {
     ] {
         assert!(said.contains(part), "missing {part:?} in:\n{said}");
     }
-    let out = dir.join("out");
-    let run = framelab(&[
-        "replay",
-        capture.to_str().unwrap(),
-        "--frames",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(run.status.code(), Some(1), "{}", stderr(&run));
-    assert!(!out.join("manifest.json").exists(), "nothing half-written");
+    replay_fails(&capture);
 }

@@ -134,11 +134,13 @@ pub fn pipeline_name(h: u64) -> String {
     format!("pipeline_{h}")
 }
 
-fn boolean(a: &Arg<'_>, key: &str) -> Got<bool> {
+/// A `VkBool32` member.
+pub(super) fn boolean(a: &Arg<'_>, key: &str) -> Got<bool> {
     Ok(a.get(key)?.u64()? != 0)
 }
 
-fn float(a: &Arg<'_>, key: &str) -> Got<f32> {
+/// A `float` member.
+pub(super) fn float(a: &Arg<'_>, key: &str) -> Got<f32> {
     Ok(a.get(key)?.f64()? as f32)
 }
 

@@ -394,8 +394,8 @@ impl Recording {
     /// A `vkCmdSet*` of dynamic state: its values, for the draws after it.
     fn set_state(&mut self, set: SetState, args: &Arg<'_>) -> Got<()> {
         let d = &mut self.bound.dynamic;
-        let flag = |key: &str| -> Got<bool> { Ok(args.get(key)?.u64()? != 0) };
-        let float = |key: &str| -> Got<f32> { Ok(args.get(key)?.f64()? as f32) };
+        let flag = |key: &str| super::pipelines::boolean(args, key);
+        let float = |key: &str| super::pipelines::float(args, key);
         // VkStencilFaceFlags: front 1, back 2; a face not named keeps its value.
         let faces = |old: Option<[u32; 2]>, value: u32, mask: u64| {
             let [f, b] = old.unwrap_or([value, value]);

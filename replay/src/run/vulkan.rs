@@ -449,6 +449,10 @@ impl Session {
 
     /// The shadows the groups of a pass bind, each once.
     fn pass_shadows(&self, groups: &WorkGroups) -> Vec<usize> {
+        // Most frames have none: nothing to walk each frame.
+        if self.vk.shadows.is_empty() {
+            return Vec::new();
+        }
         let mut all: Vec<usize> = groups
             .iter()
             .flatten()
