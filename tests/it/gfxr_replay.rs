@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 12] = [
+const REPLAYED: [&str; 13] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -23,6 +23,7 @@ const REPLAYED: [&str; 12] = [
     "warzone_menu_f120",
     "qtquick_f30",
     "mpv_testsrc2_f30",
+    "vkbasalt_f100",
 ];
 
 fn temp(name: &str) -> Scratch {

@@ -96,6 +96,9 @@ pub(super) fn load(words: &[u32]) -> Result<Loaded, SpirvError> {
         return Err(SpirvError::BadMagic { found: magic });
     }
     check_stream(words)?;
+    let split = super::specop::split_spec_ops(words)?;
+    let original = |at: usize| split.as_ref().map_or(at, |s| s.original(at));
+    let words = split.as_ref().map_or(words, |s| s.words.as_slice());
     let mut tracking = Tracking {
         inner: Loader::new(),
         words,
@@ -111,16 +114,20 @@ pub(super) fn load(words: &[u32]) -> Result<Loaded, SpirvError> {
             _ => tracking.next,
         };
         return Err(SpirvError::Malformed {
-            at_word,
+            at_word: original(at_word),
             detail: state.to_string(),
         });
     }
     let Tracking {
         inner,
-        offsets,
-        entry_offsets,
+        mut offsets,
+        mut entry_offsets,
         ..
     } = tracking;
+    if split.is_some() {
+        offsets.values_mut().for_each(|at| *at = original(*at));
+        entry_offsets.iter_mut().for_each(|at| *at = original(*at));
+    }
     let mut module = inner.module();
     // rspirv stamps its own generator on the header; the module still comes from the
     // application's compiler, and tools key workarounds on that.

@@ -13,6 +13,7 @@ mod ops;
 mod params;
 mod reflect;
 mod rewrite;
+mod specop;
 #[cfg(test)]
 mod tests;
 mod texel;

@@ -164,7 +164,31 @@ pub(super) fn inline_sampler_params(
             });
         }
     }
-    retype(module, &removed)
+    let retyped = retype(module, &removed)?;
+    forget(module, &source.keys().copied().collect());
+    Ok(retyped)
+}
+
+/// Drops the names and decorations of removed parameters: a debug name or a decoration
+/// (compilers mark parameters `RelaxedPrecision`) naming an id nothing defines any more makes
+/// the module invalid.
+fn forget(module: &mut Module, gone: &HashSet<Word>) {
+    let names = |i: &Instruction| !matches!(i.operands.first(), Some(Operand::IdRef(t)) if gone.contains(t));
+    module.debug_names.retain(names);
+    module
+        .annotations
+        .retain(|i| i.class.opcode == Op::GroupDecorate || names(i));
+    for inst in module
+        .annotations
+        .iter_mut()
+        .filter(|i| i.class.opcode == Op::GroupDecorate)
+    {
+        // Operand 0 is the group; the rest are targets.
+        let mut first = true;
+        inst.operands.retain(|o| {
+            std::mem::take(&mut first) || !matches!(o, Operand::IdRef(t) if gone.contains(t))
+        });
+    }
 }
 
 /// The variable each candidate parameter carries, found to a fixed point over the calls.

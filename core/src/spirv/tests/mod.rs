@@ -302,5 +302,6 @@ mod errors;
 /// specialization constants it was given become plain constants without SpecId.
 mod reflect;
 mod rewrite;
+mod specop;
 mod usage;
 mod validators;

@@ -86,6 +86,10 @@ fn rewritten_fixtures_pass_spirv_val() {
         modules.push((format!("built {shape:?}"), combined_sampler_module(shape)));
     }
     modules.push(("built geometry".to_owned(), geometry_module()));
+    modules.push((
+        "built spec-constant operations".to_owned(),
+        super::specop::spec_module(false).words,
+    ));
     for (name, words) in modules {
         let r = reflect(&words).unwrap();
         for e in &r.entry_points {
