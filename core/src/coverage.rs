@@ -298,9 +298,9 @@ pub fn command(name: &str) -> Option<Verdict> {
         | (_, "DrawIndirectCountAMD" | "DrawIndexedIndirectCountAMD") => Verdict::Refused(
             "a draw count read from a buffer on the GPU (wgpu's multi-draw-indirect-count is not used yet)",
         ),
-        (_, "DrawMultiEXT" | "DrawMultiIndexedEXT") => {
-            Verdict::Refused("multi-draw lists are not imported yet")
-        }
+        (_, "DrawMultiEXT" | "DrawMultiIndexedEXT") => Verdict::Emulated(
+            "one draw per list entry, with the call's instances (and `pVertexOffset` for every indexed entry where given)",
+        ),
         (_, "DrawIndirectByteCountEXT")
         | (_, "BeginTransformFeedbackEXT" | "EndTransformFeedbackEXT")
         | (_, "BindTransformFeedbackBuffersEXT") => {
@@ -371,16 +371,17 @@ pub fn sampler_field(name: &str) -> Option<Verdict> {
         "sType" | "pNext" | "flags" => {
             Verdict::NoEffect("structure bookkeeping; no flag changes what a sample returns")
         }
-        "magFilter" | "minFilter" | "mipmapMode" | "minLod" | "maxLod" | "compareOp" => {
-            Verdict::Native
-        }
+        "magFilter" | "minFilter" | "mipmapMode" | "compareOp" => Verdict::Native,
+        "minLod" | "maxLod" => Verdict::Emulated(
+            "wgpu's LOD clamps, with a negative bound taken as 0 (the same levels and filter: Vulkan magnifies at LOD 0 or less)",
+        ),
         "compareEnable" => Verdict::Native,
         "addressModeU" | "addressModeV" | "addressModeW" => {
             Verdict::Emulated("per address mode; see that table")
         }
-        "anisotropyEnable" | "maxAnisotropy" => {
-            Verdict::Emulated("wgpu's anisotropy clamp, 1 to 16")
-        }
+        "anisotropyEnable" | "maxAnisotropy" => Verdict::Emulated(
+            "wgpu's anisotropy clamp, 1 to 16; 1 where a filter is nearest (wgpu filters anisotropically only with all filters linear)",
+        ),
         "borderColor" => Verdict::Emulated(
             "read only where an address mode clamps to the border; see that table",
         ),

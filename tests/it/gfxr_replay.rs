@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 13] = [
+const REPLAYED: [&str; 17] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -24,6 +24,10 @@ const REPLAYED: [&str; 13] = [
     "qtquick_f30",
     "mpv_testsrc2_f30",
     "vkbasalt_f100",
+    "mangohud_f30",
+    "qt6quick_f30",
+    "gtk4_f30",
+    "gtk4_whole",
 ];
 
 fn temp(name: &str) -> Scratch {
@@ -35,6 +39,8 @@ fn temp(name: &str) -> Scratch {
 fn frame_of(name: &str) -> &'static [&'static str] {
     match name {
         "vkcube_staging" => &["--frame", "2"],
+        // The 30th frame, as the trimmed `gtk4_f30` holds one (of another run).
+        "gtk4_whole" => &["--frame", "29"],
         _ => &[],
     }
 }
@@ -234,4 +240,41 @@ fn rows_closer_than_wgpu_takes_are_copied_row_by_row() {
             "image {i} differs from the source's"
         );
     }
+}
+
+/// zink's frame (OpenGL ES on Vulkan): its draws are `vkCmdDrawMultiEXT` lists, imported as
+/// one draw per entry, and its pipelines take their vertex input from
+/// `vkCmdSetVertexInputEXT`, which the replay does not do: the import says so with the pass,
+/// the draw and the state, and `replay` exits 1 writing nothing.
+#[test]
+fn a_frame_with_dynamic_vertex_input_is_refused_by_name() {
+    let dir = temp("zink");
+    let capture = import("zink_es2gears_f30", &dir);
+    let out = framelab(&[
+        "import",
+        gfxr_fixture("zink_es2gears_f30.gfxr").to_str().unwrap(),
+        "-o",
+        dir.join("again.json").to_str().unwrap(),
+    ]);
+    let said = format!("{}{}", String::from_utf8_lossy(&out.stdout), stderr(&out));
+    for part in [
+        "3 draws",
+        "replays: no",
+        "pass \"render_pass\", draw 0",
+        "VK_DYNAMIC_STATE_VERTEX_INPUT_EXT",
+    ] {
+        assert!(said.contains(part), "missing {part:?} in:\n{said}");
+    }
+    let frames = dir.join("out");
+    let out = framelab(&[
+        "replay",
+        capture.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--out",
+        frames.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stderr(&out).contains("VK_DYNAMIC_STATE_VERTEX_INPUT_EXT"));
+    assert!(!frames.join("manifest.json").exists());
 }

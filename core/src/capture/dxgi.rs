@@ -90,7 +90,11 @@ impl FormatInfo {
     /// A depth/stencil *storage* format (D16, D24S8, D32, D32S8), as opposed to the typeless
     /// families and the read views (R24_UNORM_X8_TYPELESS, ...) which carry no depth aspect.
     pub fn is_depth_format(&self) -> bool {
-        self.name.starts_with('D') && self.is_depth_stencil()
+        // Vulkan-only entries keep their `VK_FORMAT_` name; X8_D24 pads its depth, S8 has
+        // stencil alone.
+        let bare = self.name.trim_start_matches("VK_FORMAT_");
+        (bare.starts_with('D') || bare.starts_with("X8_D") || bare.starts_with("S8"))
+            && self.is_depth_stencil()
     }
     /// A format with depth or stencil bits, or a typeless family holding nothing else
     /// (R24G8, R32G8X24): D3D12 and Vulkan allow these only on 1D and 2D textures (arrays and
@@ -740,6 +744,26 @@ mod tests {
         // 0..=115, 130..=132 and 189..=191 in dxgiformat.h
         assert_eq!(values.len(), 116 + 3 + 3);
         assert_eq!(by_value(41).map(|f| f.name), Some("R32_FLOAT"));
+    }
+
+    /// Every VkFormat with a depth or stencil aspect (vk.xml's formats with a `D` or `S`
+    /// component), with its depth and stencil bits.
+    #[test]
+    fn every_vulkan_depth_stencil_format_is_one() {
+        for (name, depth, stencil) in [
+            ("VK_FORMAT_D16_UNORM", 16, 0),
+            ("VK_FORMAT_X8_D24_UNORM_PACK32", 24, 0),
+            ("VK_FORMAT_D32_SFLOAT", 32, 0),
+            ("VK_FORMAT_S8_UINT", 0, 8),
+            ("VK_FORMAT_D16_UNORM_S8_UINT", 16, 8),
+            ("VK_FORMAT_D24_UNORM_S8_UINT", 24, 8),
+            ("VK_FORMAT_D32_SFLOAT_S8_UINT", 32, 8),
+        ] {
+            let f = lookup_vk(name).unwrap_or_else(|| panic!("{name}"));
+            assert!(f.is_depth_format(), "{name}");
+            assert_eq!((f.depth_bits, f.stencil_bits), (depth, stencil), "{name}");
+        }
+        assert!(!lookup_vk("VK_FORMAT_R32_SFLOAT").unwrap().is_depth_format());
     }
 
     #[test]

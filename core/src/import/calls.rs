@@ -146,6 +146,10 @@ pub enum CmdFunc {
     DrawIndirect {
         indexed: bool,
     },
+    /// `vkCmdDrawMultiEXT` / `vkCmdDrawMultiIndexedEXT`: a list of draws in one call.
+    DrawMulti {
+        indexed: bool,
+    },
     Dispatch,
     DispatchIndirect,
     /// `vkCmdPipelineBarrier` or `vkCmdWaitEvents`: stage masks on the call.
@@ -345,6 +349,8 @@ impl CmdFunc {
             "vkCmdDrawIndexed" => C::Draw { indexed: true },
             "vkCmdDrawIndirect" => C::DrawIndirect { indexed: false },
             "vkCmdDrawIndexedIndirect" => C::DrawIndirect { indexed: true },
+            "vkCmdDrawMultiEXT" => C::DrawMulti { indexed: false },
+            "vkCmdDrawMultiIndexedEXT" => C::DrawMulti { indexed: true },
             "vkCmdDispatch" | "vkCmdDispatchBase" | "vkCmdDispatchBaseKHR" => C::Dispatch,
             "vkCmdDispatchIndirect" => C::DispatchIndirect,
             "vkCmdPipelineBarrier" | "vkCmdWaitEvents" => C::PipelineBarrier,

@@ -240,6 +240,9 @@ impl Recording {
             CmdFunc::DrawIndirect { indexed } => {
                 return self.draw_indirect(indexed, args, &origin()).map(|()| true);
             }
+            CmdFunc::DrawMulti { indexed } => {
+                return self.draw_multi(indexed, args, &origin()).map(|()| true);
+            }
             CmdFunc::Dispatch => Cmd::Dispatch(Box::new(DispatchCmd {
                 groups: Some([
                     args.get("groupCountX")?.u32()?,
@@ -632,6 +635,71 @@ impl Recording {
             let at = offset.saturating_add(k.saturating_mul(stride));
             self.cmds
                 .push(Cmd::Draw(Box::new(self.draw(indexed, Some((buffer, at))))));
+            self.at.push(origin.clone());
+        }
+        Ok(())
+    }
+
+    /// A multi-draw list (`VK_EXT_multi_draw`) becomes one draw per entry, each with the call's
+    /// instances; an indexed list's `pVertexOffset`, when given, is every entry's vertex offset.
+    fn draw_multi(&mut self, indexed: bool, args: &Arg<'_>, origin: &Origin) -> Got<()> {
+        let draws = args.get("drawCount")?.u32()?;
+        if draws > MAX_INDIRECT_DRAWS {
+            return Err(Skip(format!(
+                "`drawCount` {draws} is over the {MAX_INDIRECT_DRAWS} draws one multi-draw call is expanded into"
+            )));
+        }
+        let entries = args.list(if indexed { "pIndexInfo" } else { "pVertexInfo" })?;
+        if entries.len() != draws as usize {
+            return Err(Skip(format!(
+                "`drawCount` is {draws} but the capture holds {} entries",
+                entries.len()
+            )));
+        }
+        let instances = args.get("instanceCount")?.u32()?;
+        let first_instance = args.get("firstInstance")?.u32()?;
+        let offset_of = |a: Arg<'_>| -> Got<i32> {
+            let a = if a.is_array() {
+                a.items()?
+                    .into_iter()
+                    .next()
+                    .ok_or_else(|| Skip("`pVertexOffset` is an empty array".to_owned()))?
+            } else {
+                a
+            };
+            i32::try_from(a.i64()?).map_err(|_| Skip("`vertexOffset` out of range".to_owned()))
+        };
+        let shared = match args.opt("pVertexOffset").filter(|_| indexed) {
+            Some(a) => Some(offset_of(a)?),
+            None => None,
+        };
+        for e in entries {
+            let (count, first, base_vertex) = if indexed {
+                let base = match shared {
+                    Some(v) => v,
+                    None => offset_of(e.get("vertexOffset")?)?,
+                };
+                (
+                    e.get("indexCount")?.u32()?,
+                    e.get("firstIndex")?.u32()?,
+                    base,
+                )
+            } else {
+                (
+                    e.get("vertexCount")?.u32()?,
+                    e.get("firstVertex")?.u32()?,
+                    0,
+                )
+            };
+            let draw = self.draw(indexed, None);
+            self.cmds.push(Cmd::Draw(Box::new(DrawCmd {
+                count,
+                instances,
+                first,
+                base_vertex,
+                first_instance,
+                ..draw
+            })));
             self.at.push(origin.clone());
         }
         Ok(())

@@ -65,6 +65,9 @@ fn direct(name: &str) -> Option<TextureFormat> {
         "D32_FLOAT" => F::Depth32Float,
         "D24_UNORM_S8_UINT" => F::Depth24PlusStencil8,
         "D32_FLOAT_S8X24_UINT" => F::Depth32FloatStencil8,
+        // Depth24Plus is WebGPU's "24 bits of depth or more, no stencil".
+        "VK_FORMAT_X8_D24_UNORM_PACK32" => F::Depth24Plus,
+        "VK_FORMAT_S8_UINT" => F::Stencil8,
         "R16G16B16A16_UNORM" => F::Rgba16Unorm,
         "R16G16B16A16_SNORM" => F::Rgba16Snorm,
         "R16G16B16A16_UINT" => F::Rgba16Uint,

@@ -406,8 +406,32 @@ pub(super) fn sampler(s: &VkSampler) -> Result<SamplerSpec, VkProblem> {
         mag: filter(&s.mag_filter)?,
         min: filter(&s.min_filter)?,
         mip,
-        lod: (s.min_lod, s.max_lod.max(s.min_lod)),
+        lod: lod_clamp(s.min_lod, s.max_lod),
         compare: s.compare_op.as_deref().map(compare).transpose()?,
         anisotropy: s.max_anisotropy.map_or(1, |a| a.clamp(1.0, 16.0) as u16),
     })
+    .map(|mut spec| {
+        // wgpu filters anisotropically only with every filter linear; Vulkan leaves
+        // anisotropy with a nearest filter to the implementation.
+        if (spec.mag, spec.min, spec.mip)
+            != (
+                wgpu::FilterMode::Linear,
+                wgpu::FilterMode::Linear,
+                wgpu::MipmapFilterMode::Linear,
+            )
+        {
+            spec.anisotropy = 1;
+        }
+        spec
+    })
+}
+
+/// Vulkan's `minLod`/`maxLod` as wgpu's clamps, which must be at least 0 and in order. A
+/// negative bound (ImGui's samplers say -1000) changes nothing: Vulkan clamps the computed
+/// LOD into [minLod, maxLod], magnifies at LOD 0 or less and reads level 0 there, exactly
+/// as with the bound at 0.
+fn lod_clamp(min: f32, max: f32) -> (f32, f32) {
+    let finite = |x: f32, or: f32| if x.is_nan() { or } else { x };
+    let min = finite(min, 0.0).max(0.0);
+    (min, finite(max, 1000.0).max(min))
 }
