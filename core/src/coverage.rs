@@ -263,8 +263,8 @@ pub fn command(name: &str) -> Option<Verdict> {
         ("FillBuffer" | "UpdateBuffer", _) => {
             Verdict::Emulated("a copy pass writing the bytes the program wrote")
         }
-        ("BlitImage", _) => Verdict::Refused(
-            "blits are not replayed yet: no pass kind holds a scaled, filtered copy",
+        ("BlitImage", _) => Verdict::Emulated(
+            "a blit pass, drawn: each destination texel centre mapped to the source by the specification's formula, read nearest or bilinear with clamp-to-edge (cubic filters, 3D regions, depth, stencil and integer formats refused)",
         ),
         ("ResolveImage", _) => Verdict::Emulated("a resolve pass"),
         ("PipelineBarrier", _) | ("WaitEvents", _) => SYNC_ONLY,

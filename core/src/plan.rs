@@ -109,6 +109,8 @@ pub enum PassOp {
     Raster(RasterOp),
     Compute(ComputeOp),
     Copy(Vec<CopyOp>),
+    /// Scaled, filtered copies, each drawn into its destination region.
+    Blit(Vec<BlitOp>),
     Clear(Vec<ClearOp>),
     Resolve {
         src: usize,
@@ -245,6 +247,22 @@ pub enum CopyEnd {
         offset: u64,
         bytes_per_row: Option<u32>,
     },
+}
+
+/// A blit at wgpu level: both sides 2D subresources of colour textures, the destination
+/// renderable, the source filterable where `linear`.
+#[derive(Debug, Clone)]
+pub struct BlitOp {
+    pub src: usize,
+    pub src_mip: u32,
+    pub src_layer: u32,
+    /// The corner the mapping starts from, then the opposite one, in texels.
+    pub src_corners: [[u32; 2]; 2],
+    pub dst: usize,
+    pub dst_mip: u32,
+    pub dst_layer: u32,
+    pub dst_corners: [[u32; 2]; 2],
+    pub linear: bool,
 }
 
 #[derive(Debug, Clone)]

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 17] = [
+const REPLAYED: [&str; 18] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -28,6 +28,7 @@ const REPLAYED: [&str; 17] = [
     "qt6quick_f30",
     "gtk4_f30",
     "gtk4_whole",
+    "gstreamer_f30",
 ];
 
 fn temp(name: &str) -> Scratch {
@@ -277,4 +278,88 @@ fn a_frame_with_dynamic_vertex_input_is_refused_by_name() {
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     assert!(stderr(&out).contains("VK_DYNAMIC_STATE_VERTEX_INPUT_EXT"));
     assert!(!frames.join("manifest.json").exists());
+}
+
+/// Edits the one blit of GStreamer's frame (its sink blits the converted frame into the
+/// swapchain image) and returns the capture's path.
+fn edited_blit(dir: &Path, edit: impl Fn(&mut serde_json::Value)) -> PathBuf {
+    let capture = import("gstreamer_f30", dir);
+    let mut c: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&capture).unwrap()).unwrap();
+    let blit = c["passes"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|p| p["kind"] == "blit")
+        .expect("a blit pass");
+    edit(&mut blit["blits"][0]);
+    std::fs::write(&capture, serde_json::to_string_pretty(&c).unwrap()).unwrap();
+    capture
+}
+
+/// A blit is drawn by Vulkan's formula: corners in reverse mirror the image exactly (each
+/// destination texel centre lands on a source texel centre), and a linear blit to half size
+/// lands each centre on the corner four source texels share, so it is their average. The
+/// reference is GStreamer's own 1:1 blit, which replays pixel-identical.
+#[test]
+fn blits_mirror_and_filter_as_vulkan_specifies() {
+    let reference = image::open(gfxr_fixture("gstreamer_f30.ref.png"))
+        .unwrap()
+        .to_rgba8();
+    let (w, h) = reference.dimensions();
+    let dir = temp("blit-mirror");
+    let capture = edited_blit(&dir, |b| {
+        b["dst"]["corners"] = serde_json::json!([[w, h], [0, 0]]);
+    });
+    let mirrored = crate::common::replay_presented(&capture, &dir.join("out"));
+    let mut off = 0;
+    for (x, y, p) in mirrored.enumerate_pixels() {
+        let q = reference.get_pixel(w - 1 - x, h - 1 - y);
+        off += usize::from(p.0[..3] != q.0[..3]);
+    }
+    assert_eq!(off, 0, "{off} pixels are not the reference mirrored");
+
+    let dir = temp("blit-half");
+    let capture = edited_blit(&dir, |b| {
+        b["dst"]["corners"] = serde_json::json!([[0, 0], [w / 2, h / 2]]);
+        b["filter"] = serde_json::json!("linear");
+    });
+    let half = crate::common::replay_presented(&capture, &dir.join("out"));
+    let mut worst = 0;
+    for y in 0..h / 2 {
+        for x in 0..w / 2 {
+            for c in 0..3 {
+                let sum: u32 = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                    .iter()
+                    .map(|(dx, dy)| u32::from(reference.get_pixel(2 * x + dx, 2 * y + dy).0[c]))
+                    .sum();
+                let got = i64::from(half.get_pixel(x, y).0[c]);
+                worst = worst.max((got - i64::from(sum) / 4).abs());
+            }
+        }
+    }
+    // Bilinear weights of 1/4 in 8-bit arithmetic round either way.
+    assert!(
+        worst <= 1,
+        "a texel is {worst}/255 from the average of its four"
+    );
+}
+
+/// A blit whose corner lies outside its mip is refused at validation with its JSON path.
+#[test]
+fn a_blit_outside_its_mip_is_refused_with_its_path() {
+    let dir = temp("blit-outside");
+    let capture = edited_blit(&dir, |b| {
+        b["dst"]["corners"] = serde_json::json!([[0, 0], [321, 240]]);
+    });
+    let out = framelab(&["validate", capture.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let err = stderr(&out);
+    for part in [
+        "error[blit]",
+        ".blits[0].dst.corners[1]",
+        "outside mip 0 of \"swapchain_0\" (320x240)",
+    ] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
 }

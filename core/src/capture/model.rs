@@ -393,6 +393,7 @@ pub enum AccessSource {
     DrawMesh(usize),
     Indirect(usize),
     Copy(usize),
+    Blit(usize),
     Clear(usize),
     Resolve,
     GenerateMips,
@@ -521,6 +522,22 @@ pub struct CopyDesc {
     pub host: bool,
 }
 
+/// A validated blit: both sides 2D subresources, corners inside their mips.
+#[derive(Clone, Debug)]
+pub struct BlitDesc {
+    pub src: BlitSide,
+    pub dst: BlitSide,
+    pub linear: bool,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct BlitSide {
+    pub resource: ResourceId,
+    pub mip: u32,
+    pub layer: u32,
+    pub corners: [[u32; 2]; 2],
+}
+
 #[derive(Clone, Debug)]
 pub struct ClearDesc {
     pub resource: ResourceId,
@@ -571,6 +588,7 @@ pub struct PassDesc {
     pub dispatches: Vec<DispatchDesc>,
     pub copies: Vec<CopyDesc>,
     pub clears: Vec<ClearDesc>,
+    pub blits: Vec<BlitDesc>,
     pub resolve: Option<(ResourceId, ResourceId)>,
     pub generate_mips: Option<(ResourceId, Subresources)>,
     pub present: Option<ResourceId>,

@@ -352,6 +352,7 @@ impl Builder {
             dispatches: Vec::new(),
             copies: Vec::new(),
             clears: Vec::new(),
+            blits: Vec::new(),
             resolve: None,
             generate_mips: None,
             present: None,
@@ -742,13 +743,17 @@ impl Builder {
                 self.fill(objects, queue, base, *buffer);
             }
             TransferCmd::Resolve { src, dst } => self.resolve(objects, queue, *src, *dst),
-            TransferCmd::Blit { .. } => {
-                self.refuse(
-                    queue,
-                    None,
-                    "vkCmdBlitImage: blits are not replayed yet (no pass kind holds a scaled copy)",
-                );
-            }
+            TransferCmd::Blit {
+                src,
+                dst,
+                regions,
+                linear,
+                refused,
+                ..
+            } => match refused {
+                Some(why) => self.refuse(queue, None, why),
+                None => self.blit(objects, queue, (*src, *dst), regions, *linear),
+            },
         }
     }
 
@@ -860,6 +865,41 @@ impl Builder {
                 stencil: 0,
                 mips: None,
                 layers: None,
+            });
+        }
+    }
+
+    /// A blit pass with one blit per region and layer.
+    fn blit(
+        &mut self,
+        objects: &Objects,
+        queue: u64,
+        (src, dst): (u64, u64),
+        regions: &[super::commands::BlitRegionCmd],
+        linear: bool,
+    ) {
+        let (Some(s), Some(d)) = (self.resource(objects, src), self.resource(objects, dst)) else {
+            return;
+        };
+        let Some(p) = self.new_pass(objects, queue, PassKind::Blit, "blit_image") else {
+            return;
+        };
+        use crate::capture::format::{Blit, BlitFilter, BlitRegion};
+        let side = |resource: &str, (mip, layer, corners): (u32, u32, [[u32; 2]; 2])| BlitRegion {
+            resource: resource.to_owned(),
+            mip,
+            layer,
+            corners,
+        };
+        for r in regions {
+            self.passes[p].blits.push(Blit {
+                src: side(&s, r.src),
+                dst: side(&d, r.dst),
+                filter: if linear {
+                    BlitFilter::Linear
+                } else {
+                    BlitFilter::Nearest
+                },
             });
         }
     }

@@ -187,6 +187,14 @@ pub struct Region {
     pub layers: u32,
 }
 
+/// One layer of a blit: mip, layer and the two corners (`srcOffsets` / `dstOffsets`, x and y)
+/// of each side.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BlitRegionCmd {
+    pub src: (u32, u32, [[u32; 2]; 2]),
+    pub dst: (u32, u32, [[u32; 2]; 2]),
+}
+
 #[derive(Clone, Debug)]
 pub enum TransferCmd {
     Copy {
@@ -217,11 +225,15 @@ pub enum TransferCmd {
         src: u64,
         dst: u64,
     },
-    /// `vkCmdBlitImage`: no pass kind holds a scaled blit, but its accesses are checked and
-    /// its destination's contents made unknown when it runs before the imported frames.
+    /// `vkCmdBlitImage` / `vkCmdBlitImage2`: one region per layer blitted.
     Blit {
         src: u64,
         dst: u64,
+        regions: Vec<BlitRegionCmd>,
+        linear: bool,
+        layouts: (Option<ImageLayout>, Option<ImageLayout>),
+        /// Why the replay cannot do it (a cubic filter, a 3D region), named at the build.
+        refused: Option<String>,
     },
 }
 

@@ -9,8 +9,8 @@ use std::collections::BTreeMap;
 use super::calls::SetState;
 use super::calls::{CmdFunc, CopyKind};
 use super::commands::{
-    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, MAX_INDIRECT_DRAWS, Origin,
-    Region, TransferCmd, Use, clear_color,
+    BarrierCmd, BarrierTarget, BlitRegionCmd, Cmd, DispatchCmd, DrawCmd, LevelRange,
+    MAX_INDIRECT_DRAWS, Origin, Region, TransferCmd, Use, clear_color,
 };
 use super::render_pass;
 use super::state::{Descriptor, Objects, debug_text};
@@ -310,14 +310,7 @@ impl Recording {
                     .map(Arg::handle)
                     .collect::<Got<_>>()?,
             ),
-            // Work framelab's passes cannot hold yet: named as left out, not silently dropped.
-            CmdFunc::Blit => {
-                let info = args.opt("pBlitImageInfo").unwrap_or(*args);
-                Cmd::Transfer(Box::new(TransferCmd::Blit {
-                    src: info.get("srcImage")?.handle()?,
-                    dst: info.get("dstImage")?.handle()?,
-                }))
-            }
+            CmdFunc::Blit => blit(args.opt("pBlitImageInfo").unwrap_or(*args))?,
             CmdFunc::SetState(set) => return self.set_state(set, args).map(|()| true),
             // Kept, so that the frame that runs it is refused with its pass named.
             CmdFunc::Refused => Cmd::Refused(name.as_ref().into()),
@@ -925,6 +918,86 @@ fn copy(kind: CopyKind, name: &str, args: &Arg<'_>) -> Got<Cmd> {
         layouts: (layout("srcImageLayout"), layout("dstImageLayout")),
     })))
 }
+
+/// A blit with one region per layer; what a draw cannot reproduce (a cubic filter, a region
+/// spanning 3D slices, unequal layer counts) is kept as the reason it is refused.
+fn blit(info: Arg<'_>) -> Got<Cmd> {
+    let filter = info.get("filter")?.symbol()?;
+    let mut refused = None;
+    let linear = match filter.as_ref() {
+        "VK_FILTER_NEAREST" => false,
+        "VK_FILTER_LINEAR" => true,
+        other => {
+            refused = Some(format!(
+                "vkCmdBlitImage with {other}: wgpu samples only nearest and linear"
+            ));
+            false
+        }
+    };
+    let mut regions = Vec::new();
+    for r in info.list("pRegions")? {
+        let side = |sub: &str, offsets: &str| -> Got<(u32, u32, u32, [[u32; 2]; 2], [u32; 2])> {
+            let s = r.get(sub)?;
+            let (mip, layer) = subresource(&s)?;
+            let corners = r.get(offsets)?.items()?;
+            let [a, b] = corners.as_slice() else {
+                return Err(Skip(format!(
+                    "`{offsets}` holds {} offsets, not 2",
+                    corners.len()
+                )));
+            };
+            let (a, b) = (offset3(a)?, offset3(b)?);
+            Ok((
+                mip,
+                layer,
+                layer_count(&s),
+                [[a[0], a[1]], [b[0], b[1]]],
+                [a[2], b[2]],
+            ))
+        };
+        let (sm, sl, sn, sc, sz) = side("srcSubresource", "srcOffsets")?;
+        let (dm, dl, dn, dc, dz) = side("dstSubresource", "dstOffsets")?;
+        if sn != dn {
+            refused.get_or_insert(format!("vkCmdBlitImage of {sn} layers into {dn}"));
+        }
+        if [sz, dz]
+            .iter()
+            .any(|z| z[0].abs_diff(z[1]) != 1 || z[0].max(z[1]) != 1)
+        {
+            refused.get_or_insert(
+                "vkCmdBlitImage between 3D regions: blits are drawn one 2D slice at a time"
+                    .to_owned(),
+            );
+        }
+        if sn.min(dn) > MAX_BLIT_LAYERS {
+            return Err(Skip(format!(
+                "a blit region of {sn} layers (over {MAX_BLIT_LAYERS})"
+            )));
+        }
+        for k in 0..sn.min(dn) {
+            regions.push(BlitRegionCmd {
+                src: (sm, sl.saturating_add(k), sc),
+                dst: (dm, dl.saturating_add(k), dc),
+            });
+        }
+    }
+    let layout = |key: &str| {
+        info.opt(key)
+            .and_then(|l| ImageLayout::from_name(&l.symbol().ok()?))
+    };
+    Ok(Cmd::Transfer(Box::new(TransferCmd::Blit {
+        src: info.get("srcImage")?.handle()?,
+        dst: info.get("dstImage")?.handle()?,
+        regions,
+        linear,
+        layouts: (layout("srcImageLayout"), layout("dstImageLayout")),
+        refused,
+    })))
+}
+
+/// Layers one blit region may cover (each becomes a draw); an array texture has at most 2048
+/// on any device framelab replays on.
+const MAX_BLIT_LAYERS: u32 = 2048;
 
 /// The pass a copy call becomes is named after it: `vkCmdCopyBufferToImage2KHR` ->
 /// `copy_buffer_to_image`.

@@ -546,7 +546,18 @@ mod tests {
         );
         assert!(c.gpu_written.contains(&3) && !c.uploaded.contains_key(&3));
         // A blit's result is not carried out: its destination is named as earlier GPU work.
-        submit(&mut c, &objects, TransferCmd::Blit { src: 2, dst: 6 });
+        submit(
+            &mut c,
+            &objects,
+            TransferCmd::Blit {
+                src: 2,
+                dst: 6,
+                regions: Vec::new(),
+                linear: false,
+                layouts: (None, None),
+                refused: None,
+            },
+        );
         assert!(c.gpu_written.contains(&6));
         assert!(c.uploaded.contains_key(&2));
     }

@@ -147,6 +147,8 @@ pub enum PassError {
     NotCreated { resource: String },
     #[error("{0}")]
     ViewFormat(formats::FormatError),
+    #[error("blit {index}: {why}")]
+    Blit { index: usize, why: String },
 }
 
 /// A lowered frame: the plan, the plan index of each capture resource and the capture pass of

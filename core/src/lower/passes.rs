@@ -64,6 +64,7 @@ impl<'c> Lowering<'c> {
             PassKind::Raster => self.raster(p, shader.unwrap_or(0), bindings)?,
             PassKind::Compute => self.compute(p, shader.unwrap_or(0), bindings)?,
             PassKind::Copy => self.copies(p)?,
+            PassKind::Blit => self.blits(p)?,
             PassKind::Clear => self.clears(p)?,
             PassKind::Resolve => {
                 let (s, d) = p
@@ -374,6 +375,73 @@ impl<'c> Lowering<'c> {
             });
         }
         Ok(PassOp::Copy(copies))
+    }
+
+    /// Blits, drawn by the replay: refused where a draw cannot do what the blit does (depth,
+    /// stencil and integer formats, 1D textures, a destination wgpu cannot render to, linear
+    /// filtering of a format wgpu does not filter).
+    fn blits(&self, p: &PassDesc) -> Result<PassOp, LowerError> {
+        let mut blits = Vec::new();
+        for (index, b) in p.blits.iter().enumerate() {
+            let refuse = |why: String| pass_error(p, PassError::Blit { index, why });
+            let (src, dst) = (self.tex(p, b.src.resource)?, self.tex(p, b.dst.resource)?);
+            for (side, t) in [(&b.src, src), (&b.dst, dst)] {
+                let spec = &self.plan.textures[t];
+                let r = self.capture.resource(side.resource);
+                if spec.format.is_depth_stencil_format() {
+                    return Err(refuse(format!(
+                        "\"{}\" is {:?}: depth and stencil blits are not replayed (a draw writes no stencil, and depth only through the depth attachment)",
+                        r.name, spec.format
+                    )));
+                }
+                if matches!(
+                    spec.format.sample_type(None, None),
+                    Some(wgpu::TextureSampleType::Uint | wgpu::TextureSampleType::Sint)
+                ) {
+                    return Err(refuse(format!(
+                        "\"{}\" is {:?}: integer-format blits are not replayed yet",
+                        r.name, spec.format
+                    )));
+                }
+                if spec.dimension != wgpu::TextureDimension::D2 {
+                    return Err(refuse(format!(
+                        "\"{}\" is not a 2D texture: wgpu renders only into 2D views",
+                        r.name
+                    )));
+                }
+            }
+            let (sf, df) = (
+                self.plan.textures[src].format,
+                self.plan.textures[dst].format,
+            );
+            if !df
+                .guaranteed_format_features(Features::all())
+                .allowed_usages
+                .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+            {
+                return Err(refuse(format!("{df:?} cannot be rendered to")));
+            }
+            if b.linear
+                && sf.sample_type(None, None)
+                    != Some(wgpu::TextureSampleType::Float { filterable: true })
+            {
+                return Err(refuse(format!(
+                    "{sf:?} cannot be filtered linearly in wgpu"
+                )));
+            }
+            blits.push(BlitOp {
+                src,
+                src_mip: b.src.mip,
+                src_layer: b.src.layer,
+                src_corners: b.src.corners,
+                dst,
+                dst_mip: b.dst.mip,
+                dst_layer: b.dst.layer,
+                dst_corners: b.dst.corners,
+                linear: b.linear,
+            });
+        }
+        Ok(PassOp::Blit(blits))
     }
 
     fn clears(&self, p: &PassDesc) -> Result<PassOp, LowerError> {

@@ -45,6 +45,15 @@ impl<'c> Usage<'c> {
             for c in &p.color_attachments {
                 u.first_view.entry(c.resource).or_insert(c.format);
             }
+            // A blit is drawn: its source is sampled and its destination rendered to.
+            for b in &p.blits {
+                if let Some(t) = u.textures.get_mut(&b.src.resource) {
+                    *t |= wgpu::TextureUsages::TEXTURE_BINDING;
+                }
+                if let Some(t) = u.textures.get_mut(&b.dst.resource) {
+                    *t |= wgpu::TextureUsages::RENDER_ATTACHMENT;
+                }
+            }
             if let Some((r, _)) = p.generate_mips
                 && let Some(t) = u.textures.get_mut(&r)
             {

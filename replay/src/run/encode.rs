@@ -116,6 +116,12 @@ impl Session {
                 }
                 stamp_encoder(encoder, true);
             }
+            (PassOp::Blit(blits), Prepared::Blit(prepared)) => {
+                stamp_encoder(encoder, false);
+                self.encode_blits(&pass.name, blits, prepared, parity, encoder)
+                    .map_err(err)?;
+                stamp_encoder(encoder, true);
+            }
             (PassOp::Clear(clears), _) => {
                 stamp_encoder(encoder, false);
                 for c in clears {

@@ -9,6 +9,7 @@
 //! Resources marked `history` have two copies that swap every frame.
 
 mod bindings;
+mod blit;
 mod counters;
 mod create;
 mod encode;
@@ -91,6 +92,8 @@ enum Prepared {
     },
     /// An imported pass: the bind groups of each draw or dispatch.
     VkWork(vulkan::WorkGroups),
+    /// A blit pass: each blit's mapping.
+    Blit(Vec<blit::PreparedBlit>),
     Other,
 }
 
@@ -112,6 +115,7 @@ pub struct Session {
     modules: Vec<Module>,
     prepared: Vec<Prepared>,
     mip_pipelines: BTreeMap<String, (wgpu::RenderPipeline, wgpu::Sampler)>,
+    blits: blit::BlitPipelines,
     timestamps: Option<stamps::Timestamps>,
     /// The queries the last submitted frame writes.
     stamp_plan: stamps::StampPlan,
@@ -185,6 +189,7 @@ impl Session {
             modules,
             prepared: Vec::new(),
             mip_pipelines: BTreeMap::new(),
+            blits: Default::default(),
             timestamps,
             stamp_plan: Default::default(),
             timestamp_period,

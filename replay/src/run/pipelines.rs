@@ -86,6 +86,7 @@ impl Session {
             PassOp::VkCompute(c) => Prepared::VkWork(
                 self.vk_work_groups(&name, c.dispatches.iter().map(|d| &d.groups[..]).collect())?,
             ),
+            PassOp::Blit(blits) => Prepared::Blit(self.prepare_blits(blits)),
             PassOp::GenerateMips { texture, .. } => {
                 let format = self.plan.textures[*texture].format;
                 self.mip_pipeline(format);

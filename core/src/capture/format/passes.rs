@@ -6,7 +6,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::{
-    Blend, Clear, Copy, DepthStencilAttachment, Dispatch, Draw, GenerateMips, ParamValue,
+    Blend, Blit, Clear, Copy, DepthStencilAttachment, Dispatch, Draw, GenerateMips, ParamValue,
     RecordedBarrier, RecordedTiming, RenderState, Resolve, ResourceKind,
 };
 
@@ -43,6 +43,9 @@ pub struct Pass {
     pub copies: Vec<Copy>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub clears: Vec<Clear>,
+    /// For blit passes: scaled, filtered copies, in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub blits: Vec<Blit>,
     /// For resolve passes: the multisampled source and single-sampled destination.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resolve: Option<Resolve>,
@@ -77,6 +80,7 @@ pub enum PassKind {
     Raster,
     Compute,
     Copy,
+    Blit,
     Clear,
     Resolve,
     GenerateMips,
@@ -89,6 +93,7 @@ impl PassKind {
             PassKind::Raster => "raster",
             PassKind::Compute => "compute",
             PassKind::Copy => "copy",
+            PassKind::Blit => "blit",
             PassKind::Clear => "clear",
             PassKind::Resolve => "resolve",
             PassKind::GenerateMips => "generate_mips",

@@ -162,6 +162,42 @@ pub struct CopyLocation {
     pub bytes_per_row: Option<u32>,
 }
 
+/// A scaled, filtered copy between regions of two textures (Vulkan's `vkCmdBlitImage`): each
+/// destination texel centre maps linearly from the destination corners to the source corners
+/// and the source is read there, clamped to its edge; a region whose corners run backwards on an
+/// axis mirrors it. Formats convert as sampling and rendering would (sRGB decoded, then encoded).
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Blit {
+    pub src: BlitRegion,
+    pub dst: BlitRegion,
+    #[serde(default)]
+    pub filter: BlitFilter,
+}
+
+/// One side of a blit: a 2D subresource and two opposite corners in its texels.
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BlitRegion {
+    pub resource: String,
+    #[serde(default)]
+    pub mip: u32,
+    #[serde(default)]
+    pub layer: u32,
+    /// `[x, y]` of the corner the mapping starts from, then of the opposite corner, in texels
+    /// of the mip (0 to its width or height).
+    pub corners: [[u32; 2]; 2],
+}
+
+/// How a blit reads between source texels.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum BlitFilter {
+    #[default]
+    Nearest,
+    Linear,
+}
+
 /// A clear of a whole resource range (ClearRenderTargetView / ClearUnorderedAccessView...).
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]

@@ -10,6 +10,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::{Component, Path, PathBuf};
 
 mod bindings;
+mod blits;
 mod copies;
 mod descriptors;
 mod hazards;

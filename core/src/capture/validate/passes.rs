@@ -210,6 +210,7 @@ impl<'a> Validator<'a> {
         }
 
         let clears = self.pass_clears(p, path, resources, &mut accesses, &cx);
+        let blits = self.pass_blits(p, path, resources, &mut accesses);
 
         let resolve = self.pass_resolve(p, path, resources, &mut accesses);
         let generate_mips = self.pass_mips(p, path, resources, &mut accesses);
@@ -276,6 +277,7 @@ impl<'a> Validator<'a> {
             dispatches,
             copies,
             clears,
+            blits,
             resolve,
             generate_mips,
             present,
@@ -291,7 +293,7 @@ impl<'a> Validator<'a> {
     /// Fields that belong to another pass kind.
     fn check_pass_fields(&mut self, p: &Pass, path: &JsonPath) {
         let name = &p.name;
-        let present_fields: [(&str, bool); 10] = [
+        let present_fields: [(&str, bool); 11] = [
             ("shader", p.shader.is_some()),
             ("color_attachments", !p.color_attachments.is_empty()),
             ("depth_stencil", p.depth_stencil.is_some()),
@@ -300,6 +302,7 @@ impl<'a> Validator<'a> {
             ("dispatches", !p.dispatches.is_empty()),
             ("copies", !p.copies.is_empty()),
             ("clears", !p.clears.is_empty()),
+            ("blits", !p.blits.is_empty()),
             ("resolve", p.resolve.is_some()),
             ("present", p.present.is_some()),
         ];
@@ -313,6 +316,7 @@ impl<'a> Validator<'a> {
             ],
             PassKind::Compute => &["shader", "dispatches"],
             PassKind::Copy => &["copies"],
+            PassKind::Blit => &["blits"],
             PassKind::Clear => &["clears"],
             PassKind::Resolve => &["resolve"],
             PassKind::GenerateMips => &[],
@@ -378,6 +382,10 @@ impl<'a> Validator<'a> {
             PassKind::Present => (
                 need(true, false),
                 "presents (only a graphics queue presents)",
+            ),
+            PassKind::Blit => (
+                need(true, false),
+                "blits (vkCmdBlitImage runs on a graphics queue)",
             ),
             PassKind::GenerateMips => (need(false, true), "mip generation (it runs shaders)"),
             PassKind::Clear => (false, ""),

@@ -27,8 +27,7 @@ impl Builder {
         for (i, cmd) in recording.cmds.iter().enumerate() {
             // The work of these goes into the pass last started on the queue once it is done.
             let origin = recording.at.get(i).filter(|_| match cmd {
-                Cmd::BeginRender(_) | Cmd::Draw(_) | Cmd::Dispatch(_) => true,
-                Cmd::Transfer(t) => !matches!(**t, TransferCmd::Blit { .. }),
+                Cmd::BeginRender(_) | Cmd::Draw(_) | Cmd::Dispatch(_) | Cmd::Transfer(_) => true,
                 _ => false,
             });
             if !matches!(cmd, Cmd::Dispatch(_)) {

@@ -757,8 +757,38 @@ impl Sync {
                 let what = if *update { "update" } else { "fill" };
                 self.access(&[Key::Buffer(*buffer)], true, &mk(A::TRANSFER_WRITE, what));
             }
-            TransferCmd::Blit { src, dst } => {
-                let (s, d) = (buffer_or_image(*src), buffer_or_image(*dst));
+            TransferCmd::Blit {
+                src,
+                dst,
+                regions,
+                layouts,
+                ..
+            } => {
+                let keys =
+                    |h: u64, pick: &dyn Fn(&super::commands::BlitRegionCmd) -> (u32, u32)| {
+                        let mut k: Vec<Key> = regions
+                            .iter()
+                            .flat_map(|r| {
+                                let (m, l) = pick(r);
+                                Self::image_keys(objects, h, (m, Some(1)), (l, Some(1)))
+                            })
+                            .collect();
+                        k.sort_unstable();
+                        k.dedup();
+                        k
+                    };
+                let s = keys(*src, &|r| (r.src.0, r.src.1));
+                let d = keys(*dst, &|r| (r.dst.0, r.dst.1));
+                for (keys, layout, side) in [
+                    (&s, layouts.0, "blit source in"),
+                    (&d, layouts.1, "blit destination in"),
+                ] {
+                    if let Some(l) = layout {
+                        for &key in keys {
+                            self.expect_layout(key, l, command, What::InLayout(side, l));
+                        }
+                    }
+                }
                 self.access(&s, false, &mk(A::TRANSFER_READ, "blit source"));
                 self.access(&d, true, &mk(A::TRANSFER_WRITE, "blit destination"));
             }
