@@ -5,9 +5,10 @@
 #
 #   scripts/warzone_frames.sh target/release/framelab [OUT_DIR]
 #
-# Two frames: the main menu (frame 120) and a moment of an unattended skirmish on
-# Sk-HighGround (`--skirmish=highground.json --autogame`, frame 120: about 50 frames into
-# play). The in-play capture is 49 MB, too large for the repository (the menu is there as
+# Three frames: the main menu (frame 120) and a moment of an unattended skirmish on each of
+# two maps, Sk-HighGround (`--skirmish=highground.json --autogame`) and the maze of the game's
+# own `miza.json` test (`--skirmish=miza.json --autogame`), frame 120 of each: about 50 frames
+# into play. The in-play capture is 49 MB, too large for the repository (the menu is there as
 # `tests/fixtures/gfxr/warzone_menu_f120.gfxr`); on lavapipe with two cores the skirmish takes
 # about six minutes to reach its frame. Prints, per frame, the pixels that differ and those
 # that differ by more than 16 of 255 in some channel, and exits non-zero past the replay
@@ -67,7 +68,9 @@ check() { # name
 
 capture menu
 capture play --skirmish=highground.json --autogame
+capture play_miza --skirmish=miza.json --autogame
 status=0
 check menu || status=1
 check play || status=1
+check play_miza || status=1
 exit "$status"
