@@ -126,6 +126,10 @@ pub enum HazardKind {
     /// A swapchain image presented before its last write is ordered before the present
     /// (no waited semaphore was signalled after it).
     PresentAfterWrite,
+    /// A swapchain image written while the presentation engine may still read it: its
+    /// acquire's semaphore and fence are not waited on before the write, and only they order
+    /// the presentation engine's reads of its last present before the device's work.
+    WriteAfterPresent,
     /// An exclusive resource read on a queue family other than the one that used it last,
     /// with no release and acquire between them.
     OwnershipTransferMissing,
@@ -139,6 +143,7 @@ impl HazardKind {
             HazardKind::WriteAfterWrite => "WRITE_AFTER_WRITE",
             HazardKind::LayoutMismatch => "LAYOUT_MISMATCH",
             HazardKind::PresentAfterWrite => "PRESENT_AFTER_WRITE",
+            HazardKind::WriteAfterPresent => "WRITE_AFTER_PRESENT",
             HazardKind::OwnershipTransferMissing => "OWNERSHIP_TRANSFER_MISSING",
         }
     }

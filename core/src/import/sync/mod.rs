@@ -90,6 +90,9 @@ impl fmt::Display for What {
     }
 }
 
+/// How an acquire's read is named (and recognised).
+pub(super) const ACQUIRE_READ: &str = "presentation engine read (acquire)";
+
 impl Access {
     /// What happens at no pipeline stage: a layout transition, the presentation engine's
     /// read, a layout a command expects.
@@ -367,6 +370,7 @@ impl Sync {
         access: Access,
         prior: Access,
     ) {
+        let (kind, prior) = self.unwaited_acquire(key, kind, prior);
         let id = match key {
             Key::Buffer(b) => b,
             Key::Image { image, .. } => image,
@@ -395,6 +399,26 @@ impl Sync {
                 self.note(&a.command, key, kind, a.clone(), prior);
             }
         }
+    }
+
+    /// A write after an acquire whose semaphore and fence nothing has waited on yet is a
+    /// write after the image's last present: the acquire orders nothing, so the presentation
+    /// engine may still be reading what was presented (the validation layer's
+    /// WRITE_AFTER_PRESENT too). Other hazards pass unchanged.
+    fn unwaited_acquire(&self, key: Key, kind: HazardKind, prior: Access) -> (HazardKind, Access) {
+        let acquired = matches!(prior.what, What::Text(t) if t == ACQUIRE_READ);
+        let unwaited = self
+            .acquire_semaphores
+            .values()
+            .any(|keys| keys.contains(&key))
+            || self.acquire_fences.values().any(|keys| keys.contains(&key));
+        if kind == HazardKind::WriteAfterRead && acquired && unwaited {
+            let what = What::Text(
+                "presentation engine read (its last present; the acquire's semaphore and fence are not waited on)",
+            );
+            return (HazardKind::WriteAfterPresent, Access { what, ..prior });
+        }
+        (kind, prior)
     }
 
     /// What a barrier covers: its buffer, its image's subresources, or (a global memory
@@ -828,8 +852,17 @@ impl Sync {
                 Cmd::EndRender => {
                     if let Some((ri, _)) = render.take() {
                         self.store_ops(objects, ri, command);
+                        // The transitions into finalLayout happen as the instance ends: they
+                        // are the end command's (the layer names vkCmdEndRenderPass too).
                         for b in &ri.end_barriers {
-                            self.barrier(objects, b, false);
+                            let at_end = BarrierCmd {
+                                origin: Origin {
+                                    attachment: b.origin.attachment,
+                                    ..command.clone()
+                                },
+                                ..b.clone()
+                            };
+                            self.barrier(objects, &at_end, false);
                         }
                         self.leave_layouts(objects, ri, command);
                     }

@@ -160,7 +160,7 @@ impl Sync {
             let st = self.states.entry(key).or_default();
             st.write = None;
             st.reads = vec![Read {
-                access: Access::event(command, What::Text("presentation engine read (acquire)")),
+                access: Access::event(command, What::Text(super::ACQUIRE_READ)),
                 seq: self.seq,
                 exec: S::EMPTY,
             }];
