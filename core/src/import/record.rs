@@ -919,6 +919,10 @@ fn copy(kind: CopyKind, name: &str, args: &Arg<'_>) -> Got<Cmd> {
     })))
 }
 
+/// One side of a blit region as recorded: mip, first layer, layer count, the corners' x and
+/// y, and their z.
+type BlitSide = (u32, u32, u32, [[u32; 2]; 2], [u32; 2]);
+
 /// A blit with one region per layer; what a draw cannot reproduce (a cubic filter, a region
 /// spanning 3D slices, unequal layer counts) is kept as the reason it is refused.
 fn blit(info: Arg<'_>) -> Got<Cmd> {
@@ -936,7 +940,7 @@ fn blit(info: Arg<'_>) -> Got<Cmd> {
     };
     let mut regions = Vec::new();
     for r in info.list("pRegions")? {
-        let side = |sub: &str, offsets: &str| -> Got<(u32, u32, u32, [[u32; 2]; 2], [u32; 2])> {
+        let side = |sub: &str, offsets: &str| -> Got<BlitSide> {
             let s = r.get(sub)?;
             let (mip, layer) = subresource(&s)?;
             let corners = r.get(offsets)?.items()?;

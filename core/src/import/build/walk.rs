@@ -26,9 +26,11 @@ impl Builder {
         let mut render = inherited;
         for (i, cmd) in recording.cmds.iter().enumerate() {
             // The work of these goes into the pass last started on the queue once it is done.
-            let origin = recording.at.get(i).filter(|_| match cmd {
-                Cmd::BeginRender(_) | Cmd::Draw(_) | Cmd::Dispatch(_) | Cmd::Transfer(_) => true,
-                _ => false,
+            let origin = recording.at.get(i).filter(|_| {
+                matches!(
+                    cmd,
+                    Cmd::BeginRender(_) | Cmd::Draw(_) | Cmd::Dispatch(_) | Cmd::Transfer(_)
+                )
             });
             if !matches!(cmd, Cmd::Dispatch(_)) {
                 compute = None;
