@@ -316,6 +316,20 @@ impl State {
 
 impl Sync {
     /// The mips and layers of `image` a range names (`None` counts: to the end).
+    /// The keys of single subresources (mip, layer) of `image`, sorted, each once.
+    fn subresource_keys(
+        objects: &Objects,
+        image: u64,
+        subresources: impl Iterator<Item = (u32, u32)>,
+    ) -> Vec<Key> {
+        let mut k: Vec<Key> = subresources
+            .flat_map(|(m, l)| Self::image_keys(objects, image, (m, Some(1)), (l, Some(1))))
+            .collect();
+        k.sort_unstable();
+        k.dedup();
+        k
+    }
+
     fn image_keys(
         objects: &Objects,
         image: u64,
@@ -729,16 +743,7 @@ impl Sync {
             } => {
                 let keys = |h: u64, pick: &dyn Fn(&super::commands::Region) -> (u32, u32)| {
                     if objects.images.contains_key(&h) {
-                        let mut k: Vec<Key> = regions
-                            .iter()
-                            .flat_map(|r| {
-                                let (m, l) = pick(r);
-                                Self::image_keys(objects, h, (m, Some(1)), (l, Some(1)))
-                            })
-                            .collect();
-                        k.sort_unstable();
-                        k.dedup();
-                        k
+                        Self::subresource_keys(objects, h, regions.iter().map(pick))
                     } else {
                         vec![Key::Buffer(h)]
                     }
@@ -790,16 +795,7 @@ impl Sync {
             } => {
                 let keys =
                     |h: u64, pick: &dyn Fn(&super::commands::BlitRegionCmd) -> (u32, u32)| {
-                        let mut k: Vec<Key> = regions
-                            .iter()
-                            .flat_map(|r| {
-                                let (m, l) = pick(r);
-                                Self::image_keys(objects, h, (m, Some(1)), (l, Some(1)))
-                            })
-                            .collect();
-                        k.sort_unstable();
-                        k.dedup();
-                        k
+                        Self::subresource_keys(objects, h, regions.iter().map(pick))
                     };
                 let s = keys(*src, &|r| (r.src.0, r.src.1));
                 let d = keys(*dst, &|r| (r.dst.0, r.dst.1));
