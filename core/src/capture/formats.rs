@@ -92,6 +92,11 @@ pub enum NoWebGpuFormat {
     Packed422,
     #[error("video, palette and opaque formats are not textures framelab can replay")]
     VideoPaletteOrOpaque,
+    /// A VkFormat with no DXGI twin and no WebGPU format of the same bits.
+    #[error(
+        "this Vulkan format has no WebGPU twin of the same bits (24- and 48-bit RGB, 64-bit channels, D16 with stencil, ETC2, EAC and ASTC are not replayed)"
+    )]
+    VulkanOnly,
 }
 
 impl NoWebGpuFormat {
@@ -109,6 +114,7 @@ impl NoWebGpuFormat {
                 NoWebGpuFormat::XChannel
             }
             "R10G10B10_XR_BIAS_A2_UNORM" => NoWebGpuFormat::XrBias,
+            n if n.starts_with("VK_FORMAT_") => NoWebGpuFormat::VulkanOnly,
             "R8G8_B8G8_UNORM" | "G8R8_G8B8_UNORM" => NoWebGpuFormat::Packed422,
             _ => NoWebGpuFormat::VideoPaletteOrOpaque,
         }
@@ -144,6 +150,15 @@ pub fn not_renderable(info: &FormatInfo) -> Option<NotRenderable> {
 mod tests {
     use super::*;
     use crate::capture::dxgi::{all, lookup};
+
+    #[test]
+    fn vulkan_only_formats_say_so() {
+        assert_eq!(
+            webgpu_gap("VK_FORMAT_D16_UNORM_S8_UINT"),
+            Some(NoWebGpuFormat::VulkanOnly)
+        );
+        assert_eq!(webgpu_gap("VK_FORMAT_X8_D24_UNORM_PACK32"), None);
+    }
 
     #[test]
     fn every_twin_is_a_dxgi_format() {

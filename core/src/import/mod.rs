@@ -20,6 +20,7 @@ mod render_pass;
 mod state;
 mod stream;
 mod sync;
+mod transfer_calls;
 mod transfers;
 mod tree;
 mod value;

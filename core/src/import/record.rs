@@ -6,17 +6,17 @@
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 
+use super::calls::CmdFunc;
 use super::calls::SetState;
-use super::calls::{CmdFunc, CopyKind};
 use super::commands::{
-    BarrierCmd, BarrierTarget, BlitRegionCmd, Cmd, DispatchCmd, DrawCmd, LevelRange,
-    MAX_INDIRECT_DRAWS, Origin, Region, TransferCmd, Use, clear_color,
+    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, MAX_INDIRECT_DRAWS, Origin,
+    TransferCmd, Use,
 };
 use super::render_pass;
 use super::state::{Descriptor, Objects, debug_text};
+use super::transfer_calls::{blit, clear_image, copy};
 use super::value::{ASPECTS, Arg, Got, Skip};
 use crate::capture::format::{VkCommandState, VkDynamicValues, VkStencilOps};
-use crate::capture::vulkan::ImageLayout;
 use crate::capture::vulkan::MAX_PUSH_CONSTANT_BYTES;
 use crate::capture::vulkan::{AccessFlags, PipelineStages};
 
@@ -115,7 +115,7 @@ fn compute_point(a: &Arg<'_>) -> Got<bool> {
     Ok(n.contains("COMPUTE") || n == "1")
 }
 
-fn range(r: &Arg<'_>) -> Got<(LevelRange, LevelRange)> {
+pub(super) fn range(r: &Arg<'_>) -> Got<(LevelRange, LevelRange)> {
     let count = |a: Arg<'_>| -> Got<Option<u32>> {
         let v = a.u64()?;
         Ok((v < u64::from(u32::MAX)).then_some(v as u32))
@@ -130,11 +130,11 @@ fn range(r: &Arg<'_>) -> Got<(LevelRange, LevelRange)> {
     ))
 }
 
-fn offset3(a: &Arg<'_>) -> Got<[u32; 3]> {
+pub(super) fn offset3(a: &Arg<'_>) -> Got<[u32; 3]> {
     Ok([a.get("x")?.u32()?, a.get("y")?.u32()?, a.get("z")?.u32()?])
 }
 
-fn extent3(a: &Arg<'_>) -> Got<[u32; 3]> {
+pub(super) fn extent3(a: &Arg<'_>) -> Got<[u32; 3]> {
     Ok([
         a.get("width")?.u32()?,
         a.get("height")?.u32()?,
@@ -142,11 +142,11 @@ fn extent3(a: &Arg<'_>) -> Got<[u32; 3]> {
     ])
 }
 
-fn subresource(a: &Arg<'_>) -> Got<(u32, u32)> {
+pub(super) fn subresource(a: &Arg<'_>) -> Got<(u32, u32)> {
     Ok((a.get("mipLevel")?.u32()?, a.get("baseArrayLayer")?.u32()?))
 }
 
-fn layer_count(a: &Arg<'_>) -> u32 {
+pub(super) fn layer_count(a: &Arg<'_>) -> u32 {
     a.opt("layerCount").and_then(|c| c.u32().ok()).unwrap_or(1)
 }
 
@@ -812,210 +812,4 @@ fn barriers(
         });
     }
     Ok(out)
-}
-
-fn clear_image(name: &str, args: &Arg<'_>) -> Got<Cmd> {
-    let (value, stencil) = match args.opt("pColor") {
-        Some(c) => (clear_color(&c), 0),
-        None => {
-            let ds = args.get("pDepthStencil")?;
-            (
-                [ds.get("depth")?.f64()?, 0.0, 0.0, 0.0],
-                ds.get("stencil")?.u32()?,
-            )
-        }
-    };
-    Ok(Cmd::Transfer(Box::new(TransferCmd::Clear {
-        depth_stencil: name.contains("Depth"),
-        layout: args
-            .opt("imageLayout")
-            .and_then(|l| ImageLayout::from_name(&l.symbol().ok()?)),
-        target: args.get("image")?.handle()?,
-        value,
-        stencil,
-        ranges: args
-            .list("pRanges")?
-            .iter()
-            .map(range)
-            .collect::<Got<_>>()?,
-    })))
-}
-
-fn copy(kind: CopyKind, name: &str, args: &Arg<'_>) -> Got<Cmd> {
-    let (src_key, dst_key) = kind.keys();
-    let src = args.get(src_key)?.handle()?;
-    let dst = args.get(dst_key)?.handle()?;
-    let mut regions = Vec::new();
-    for r in args.list("pRegions")? {
-        let region = match kind {
-            CopyKind::BufferToBuffer => Region {
-                src_mip: 0,
-                src_layer: 0,
-                src_origin: [0; 3],
-                src_offset: r.get("srcOffset")?.u64()?,
-                dst_mip: 0,
-                dst_layer: 0,
-                dst_origin: [0; 3],
-                dst_offset: r.get("dstOffset")?.u64()?,
-                size: Some(r.get("size")?.u64()?),
-                extent: None,
-                row_texels: 0,
-                image_rows: 0,
-                layers: 1,
-            },
-            CopyKind::ImageToImage => {
-                let (sm, sl) = subresource(&r.get("srcSubresource")?)?;
-                let (dm, dl) = subresource(&r.get("dstSubresource")?)?;
-                Region {
-                    src_mip: sm,
-                    src_layer: sl,
-                    src_origin: offset3(&r.get("srcOffset")?)?,
-                    src_offset: 0,
-                    dst_mip: dm,
-                    dst_layer: dl,
-                    dst_origin: offset3(&r.get("dstOffset")?)?,
-                    dst_offset: 0,
-                    size: None,
-                    extent: Some(extent3(&r.get("extent")?)?),
-                    row_texels: 0,
-                    image_rows: 0,
-                    layers: layer_count(&r.get("dstSubresource")?),
-                }
-            }
-            CopyKind::BufferToImage | CopyKind::ImageToBuffer => {
-                let (m, l) = subresource(&r.get("imageSubresource")?)?;
-                let origin = offset3(&r.get("imageOffset")?)?;
-                let offset = r.get("bufferOffset")?.u64()?;
-                let to_image = kind == CopyKind::BufferToImage;
-                Region {
-                    src_mip: if to_image { 0 } else { m },
-                    src_layer: if to_image { 0 } else { l },
-                    src_origin: if to_image { [0; 3] } else { origin },
-                    src_offset: if to_image { offset } else { 0 },
-                    dst_mip: if to_image { m } else { 0 },
-                    dst_layer: if to_image { l } else { 0 },
-                    dst_origin: if to_image { origin } else { [0; 3] },
-                    dst_offset: if to_image { 0 } else { offset },
-                    size: None,
-                    extent: Some(extent3(&r.get("imageExtent")?)?),
-                    row_texels: r.get("bufferRowLength")?.u32()?,
-                    image_rows: r.opt("bufferImageHeight").map_or(Ok(0), |h| h.u32())?,
-                    layers: layer_count(&r.get("imageSubresource")?),
-                }
-            }
-        };
-        regions.push(region);
-    }
-    let layout = |key: &str| {
-        args.opt(key)
-            .and_then(|l| ImageLayout::from_name(&l.symbol().ok()?))
-    };
-    Ok(Cmd::Transfer(Box::new(TransferCmd::Copy {
-        name: copy_pass_name(name),
-        src,
-        dst,
-        regions,
-        layouts: (layout("srcImageLayout"), layout("dstImageLayout")),
-    })))
-}
-
-/// One side of a blit region as recorded: mip, first layer, layer count, the corners' x and
-/// y, and their z.
-type BlitSide = (u32, u32, u32, [[u32; 2]; 2], [u32; 2]);
-
-/// A blit with one region per layer; what a draw cannot reproduce (a cubic filter, a region
-/// spanning 3D slices, unequal layer counts) is kept as the reason it is refused.
-fn blit(info: Arg<'_>) -> Got<Cmd> {
-    let filter = info.get("filter")?.symbol()?;
-    let mut refused = None;
-    let linear = match filter.as_ref() {
-        "VK_FILTER_NEAREST" => false,
-        "VK_FILTER_LINEAR" => true,
-        other => {
-            refused = Some(format!(
-                "vkCmdBlitImage with {other}: wgpu samples only nearest and linear"
-            ));
-            false
-        }
-    };
-    let mut regions = Vec::new();
-    for r in info.list("pRegions")? {
-        let side = |sub: &str, offsets: &str| -> Got<BlitSide> {
-            let s = r.get(sub)?;
-            let (mip, layer) = subresource(&s)?;
-            let corners = r.get(offsets)?.items()?;
-            let [a, b] = corners.as_slice() else {
-                return Err(Skip(format!(
-                    "`{offsets}` holds {} offsets, not 2",
-                    corners.len()
-                )));
-            };
-            let (a, b) = (offset3(a)?, offset3(b)?);
-            Ok((
-                mip,
-                layer,
-                layer_count(&s),
-                [[a[0], a[1]], [b[0], b[1]]],
-                [a[2], b[2]],
-            ))
-        };
-        let (sm, sl, sn, sc, sz) = side("srcSubresource", "srcOffsets")?;
-        let (dm, dl, dn, dc, dz) = side("dstSubresource", "dstOffsets")?;
-        if sn != dn {
-            refused.get_or_insert(format!("vkCmdBlitImage of {sn} layers into {dn}"));
-        }
-        if [sz, dz]
-            .iter()
-            .any(|z| z[0].abs_diff(z[1]) != 1 || z[0].max(z[1]) != 1)
-        {
-            refused.get_or_insert(
-                "vkCmdBlitImage between 3D regions: blits are drawn one 2D slice at a time"
-                    .to_owned(),
-            );
-        }
-        if sn.min(dn) > MAX_BLIT_LAYERS {
-            return Err(Skip(format!(
-                "a blit region of {sn} layers (over {MAX_BLIT_LAYERS})"
-            )));
-        }
-        for k in 0..sn.min(dn) {
-            regions.push(BlitRegionCmd {
-                src: (sm, sl.saturating_add(k), sc),
-                dst: (dm, dl.saturating_add(k), dc),
-            });
-        }
-    }
-    let layout = |key: &str| {
-        info.opt(key)
-            .and_then(|l| ImageLayout::from_name(&l.symbol().ok()?))
-    };
-    Ok(Cmd::Transfer(Box::new(TransferCmd::Blit {
-        src: info.get("srcImage")?.handle()?,
-        dst: info.get("dstImage")?.handle()?,
-        regions,
-        linear,
-        layouts: (layout("srcImageLayout"), layout("dstImageLayout")),
-        refused,
-    })))
-}
-
-/// Layers one blit region may cover (each becomes a draw); an array texture has at most 2048
-/// on any device framelab replays on.
-const MAX_BLIT_LAYERS: u32 = 2048;
-
-/// The pass a copy call becomes is named after it: `vkCmdCopyBufferToImage2KHR` ->
-/// `copy_buffer_to_image`.
-fn copy_pass_name(call: &str) -> String {
-    let base = call
-        .trim_start_matches("vkCmd")
-        .trim_end_matches("KHR")
-        .trim_end_matches('2');
-    let mut out = String::new();
-    for (i, c) in base.chars().enumerate() {
-        if c.is_ascii_uppercase() && i > 0 {
-            out.push('_');
-        }
-        out.push(c.to_ascii_lowercase());
-    }
-    out
 }

@@ -129,27 +129,13 @@ impl Session {
             bind_group_layouts: &[Some(&layouts[usize::from(linear)])],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("blit"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some(if linear { "linear" } else { "nearest" }),
-                compilation_options: Default::default(),
-                targets: &[Some(format.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = super::pipelines::fullscreen_pipeline(
+            device,
+            "blit",
+            (module, if linear { "linear" } else { "nearest" }),
+            Some(&layout),
+            format,
+        );
         self.blits.pipelines.insert(key, pipeline);
         if linear && self.blits.sampler.is_none() {
             self.blits.sampler = Some(device.create_sampler(&wgpu::SamplerDescriptor {
@@ -229,22 +215,7 @@ impl Session {
                 layout: &pipeline.get_bind_group_layout(0),
                 entries: &entries,
             });
-            let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(name),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &dst,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut rp = super::encode::one_target(encoder, name, &dst, wgpu::LoadOp::Load);
             rp.set_pipeline(pipeline);
             rp.set_bind_group(0, &group, &[]);
             rp.set_scissor_rect(x, y, w, h);

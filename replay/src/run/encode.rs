@@ -30,6 +30,32 @@ fn compute_stamps(stamps: Stamps<'_>) -> Option<wgpu::ComputePassTimestampWrites
     })
 }
 
+/// A render pass over one colour target, stored, with no depth, timestamps or queries: the
+/// passes the replay draws itself (mip generation, blits).
+pub(super) fn one_target<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<wgpu::Color>,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load,
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
 /// Why one pass could not be recorded; the session reports it as that pass's error.
 #[derive(Debug, thiserror::Error)]
 pub(super) enum EncodeError {
@@ -523,22 +549,12 @@ impl Session {
                         })
                     })
                     .clone();
-                let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("mip"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &dst,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: None,
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+                let mut rp = one_target(
+                    encoder,
+                    "mip",
+                    &dst,
+                    wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                );
                 rp.set_pipeline(pipeline);
                 rp.set_bind_group(0, &bg, &[]);
                 rp.draw(0..3, 0..1);

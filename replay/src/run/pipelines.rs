@@ -337,29 +337,13 @@ impl Session {
                 label: Some("mip generation"),
                 source: wgpu::ShaderSource::Wgsl(MIP_SHADER.into()),
             });
-        let pipeline = self
-            .device
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("mip generation"),
-                layout: None,
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: None,
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(format.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
+        let pipeline = fullscreen_pipeline(
+            &self.device,
+            "mip generation",
+            (&module, "fs"),
+            None,
+            format,
+        );
         let sampler = self.device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("mip generation"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -368,4 +352,36 @@ impl Session {
         });
         self.mip_pipelines.insert(key, (pipeline, sampler));
     }
+}
+
+/// A pipeline drawing one full-target triangle (vertex entry `vs`, no vertex buffers) into one
+/// colour target of `format`, with `fragment` of `module`: mip generation and blits.
+pub(super) fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    (module, fragment): (&wgpu::ShaderModule, &str),
+    layout: Option<&wgpu::PipelineLayout>,
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout,
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fragment),
+            compilation_options: Default::default(),
+            targets: &[Some(format.into())],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }
