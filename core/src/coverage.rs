@@ -290,9 +290,9 @@ pub fn command(name: &str) -> Option<Verdict> {
         ("CopyQueryPoolResults", _) => Verdict::NoEffect(
             "query results are the capturing device's timings and counts, which no other device reproduces: the destination keeps the contents it had (wgpu resolves its timestamps this way, into buffers only the host reads)",
         ),
-        ("ClearAttachments", _) => {
-            Verdict::Refused("clears of rectangles inside a render pass are not replayed yet")
-        }
+        ("ClearAttachments", _) => Verdict::Emulated(
+            "a draw of each rectangle inside the render pass, writing the clear value to the attachments named and nothing else (colour blending off, depth and stencil tests always pass; clears of other than the first layer, and of integer colour attachments, refused)",
+        ),
         (_, "DrawIndirectCount" | "DrawIndexedIndirectCount")
         | (_, "DrawIndirectCountKHR" | "DrawIndexedIndirectCountKHR")
         | (_, "DrawIndirectCountAMD" | "DrawIndexedIndirectCountAMD") => Verdict::Refused(

@@ -125,6 +125,25 @@ pub struct VkRasterOp {
     pub color: Vec<ColorTarget>,
     pub depth: Option<DepthTarget>,
     pub draws: Vec<VkDrawOp>,
+    /// Attachment rectangles cleared between the draws, in order.
+    pub clears: Vec<VkClearOp>,
+    /// The attachments' width and height.
+    pub extent: [u32; 2],
+    /// The attachments' sample count.
+    pub samples: u32,
+}
+
+/// A `vkCmdClearAttachments`, drawn before draw `before` (after the last where it is the draw
+/// count): each rectangle covered with the values, through the scissor.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VkClearOp {
+    pub before: usize,
+    /// Per colour target, the value it is cleared to; `None` where it keeps its contents.
+    pub colors: Vec<Option<[f64; 4]>>,
+    pub depth: Option<f32>,
+    pub stencil: Option<u32>,
+    /// `[x, y, width, height]`, clipped to the attachments.
+    pub rects: Vec<[u32; 4]>,
 }
 
 #[derive(Debug, Clone)]

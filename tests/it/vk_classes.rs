@@ -403,8 +403,8 @@ fn secondary_command_buffers_continue_their_render_pass() {
 }
 
 /// Work the replay cannot reproduce, met in an imported frame, makes the frame refuse to
-/// replay with the command and the pass named: here a clear of attachment rectangles inside
-/// the render pass, and draws recorded outside any render pass.
+/// replay with the command and the pass named: here a draw count read from a buffer, a clear
+/// of attachment layers beyond the first, and draws recorded outside any render pass.
 #[test]
 fn work_the_replay_cannot_do_is_refused_with_its_pass() {
     let dir = temp("refused");
@@ -416,11 +416,15 @@ fn work_the_replay_cannot_do_is_refused_with_its_pass() {
             if let Some((cb, name)) = call
                 && name == "vkCmdBeginRenderPass"
             {
+                out.push(cmd_line(7, "vkCmdDrawIndirectCount", cb, json!({})));
                 out.push(cmd_line(
-                    7,
+                    8,
                     "vkCmdClearAttachments",
                     cb,
-                    json!({"attachmentCount": 0, "pAttachments": [], "rectCount": 0, "pRects": []}),
+                    clear_args(
+                        &[(1, 0)],
+                        json!([{"rect": rect(0, 0, 8, 8), "baseArrayLayer": 1, "layerCount": 1}]),
+                    ),
                 ));
             }
         }
@@ -428,10 +432,12 @@ fn work_the_replay_cannot_do_is_refused_with_its_pass() {
     });
     let why = v["source"]["not_replayable"].as_str().unwrap_or_default();
     for part in [
-        "vkCmdClearAttachments",
-        "clears of rectangles inside a render pass",
-        "vkCmdClearAttachments #7",
+        "vkCmdDrawIndirectCount",
+        "a draw count read from a buffer on the GPU",
+        "vkCmdDrawIndirectCount #7",
         "pass \"render_pass\"",
+        "vkCmdClearAttachments: clears of layers other than the first",
+        "vkCmdClearAttachments #8",
     ] {
         assert!(why.contains(part), "missing {part:?} in {why:?}");
         assert!(said.contains(part), "missing {part:?} in:\n{said}");
@@ -450,6 +456,152 @@ fn work_the_replay_cannot_do_is_refused_with_its_pass() {
     assert!(
         why.contains("draws outside a render pass instance (vkCmdDraw #"),
         "{why:?}"
+    );
+}
+
+fn rect(x: i64, y: i64, w: u64, h: u64) -> Value {
+    json!({"offset": {"x": x, "y": y}, "extent": {"width": w, "height": h}})
+}
+
+/// `vkCmdClearAttachments` arguments: (aspect mask, colour attachment) pairs, each cleared to
+/// a value of its own, and the rectangles.
+fn clear_args(attachments: &[(u64, u64)], rects: Value) -> Value {
+    let list: Vec<Value> = attachments
+        .iter()
+        .enumerate()
+        .map(|(k, &(aspects, slot))| {
+            let f = 0.25 * k as f64;
+            json!({
+                "aspectMask": aspects,
+                "colorAttachment": slot,
+                "clearValue": {
+                    "color": {"float32": [1.0, f, 0.0, 1.0], "int32": [0, 0, 0, 0], "uint32": [0, 0, 0, 0]},
+                    "depthStencil": {"depth": 0.5, "stencil": 3},
+                },
+            })
+        })
+        .collect();
+    json!({
+        "attachmentCount": list.len(),
+        "pAttachments": list,
+        "rectCount": rects.as_array().map_or(0, Vec::len),
+        "pRects": rects,
+    })
+}
+
+/// A `vkCmdClearAttachments` between vkcube's draws reaches its pass: the colour attachment
+/// by the pass's own index, the depth value (vkcube's depth format has no stencil, so the
+/// stencil aspect is dropped), each rectangle, and the draw it comes before.
+#[test]
+fn attachment_clears_reach_their_pass() {
+    let dir = temp("clear-import");
+    let (v, said) = import_stream(&dir, |lines| {
+        let mut out = Vec::new();
+        for line in lines {
+            let call = call_of(&line);
+            if let Some((cb, name)) = &call
+                && name == "vkCmdEndRenderPass"
+            {
+                out.push(cmd_line(
+                    9,
+                    "vkCmdClearAttachments",
+                    *cb,
+                    clear_args(
+                        &[(1, 0), (2 | 4, 0)],
+                        json!([{"rect": rect(4, 8, 16, 32), "baseArrayLayer": 0, "layerCount": 1}]),
+                    ),
+                ));
+            }
+            out.push(line);
+        }
+        out
+    });
+    // The stream holds no shader code, which is all that keeps it from replaying.
+    let why = v["source"]["not_replayable"].as_str().unwrap_or_default();
+    assert!(!why.contains("Clear"), "{why}\n{said}");
+    let pass = v["passes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["attachment_clears"].is_array())
+        .expect("a pass with the clear");
+    let draws = pass["draws"].as_array().unwrap().len();
+    assert_eq!(
+        pass["attachment_clears"],
+        json!([{
+            "before_draw": draws,
+            "colors": [{"attachment": 0, "value": [1.0, 0.0, 0.0, 1.0]}],
+            "depth": 0.5,
+            "rects": [[4, 8, 16, 32]],
+        }])
+    );
+}
+
+/// vkcube's pass with a rectangle cleared to red across the cube's left edge: after the
+/// cube's draw the whole rectangle is red; before it, the cube covers the red where it lies;
+/// before it with the depth cleared to 0 as well, the cube fails its depth test there and the
+/// rectangle stays red. Outside the rectangle the image is vkcube's own. A clear of an
+/// attachment the pass lacks is refused before anything is replayed.
+#[test]
+fn attachment_clears_are_drawn_between_the_draws() {
+    let dir = temp("clear-rects");
+    let capture = vkcube(&dir);
+    let reference = reference();
+    let [x0, y0, w, h] = [40u32, 200, 200, 100];
+    let set = |before: u32, depth: Option<f32>, attachment: u32| {
+        edit(&capture, |v| {
+            let pass = v["passes"]
+                .as_array_mut()
+                .unwrap()
+                .iter_mut()
+                .find(|p| p["draws"].as_array().is_some_and(|d| !d.is_empty()))
+                .unwrap();
+            pass["attachment_clears"] = json!([{
+                "before_draw": before,
+                "colors": [{"attachment": attachment, "value": [1.0, 0.0, 0.0, 1.0]}],
+                "depth": depth,
+                "rects": [[x0, y0, w, h]],
+            }]);
+        });
+    };
+    let near = |a: &image::Rgba<u8>, b: [u8; 3]| (0..3).all(|c| a[c].abs_diff(b[c]) <= 3);
+    let rgb = |p: &image::Rgba<u8>| [p[0], p[1], p[2]];
+    let inside = |x: u32, y: u32| (x0..x0 + w).contains(&x) && (y0..y0 + h).contains(&y);
+    let check = |name: &str, expect_red: &dyn Fn(u32, u32) -> bool| {
+        let image = crate::common::replay_presented(&capture, &dir.join(name));
+        let mut wrong = 0u32;
+        for (x, y, p) in image.enumerate_pixels() {
+            let want = if inside(x, y) && expect_red(x, y) {
+                [255, 0, 0]
+            } else {
+                rgb(reference.get_pixel(x, y))
+            };
+            if !near(p, want) {
+                wrong += 1;
+            }
+        }
+        // Edges of the cube rasterised a little differently from the reference's driver.
+        assert!(
+            wrong < 200,
+            "{name}: {wrong} pixels are not what the clear makes"
+        );
+    };
+    // Where the reference shows vkcube's grey background, not the cube.
+    let background = |x: u32, y: u32| near(reference.get_pixel(x, y), [51, 51, 51]);
+    assert!((x0..x0 + w).any(|x| background(x, y0)) && (x0..x0 + w).any(|x| !background(x, y0)));
+
+    set(1, None, 0);
+    check("after", &|_, _| true);
+    set(0, None, 0);
+    check("before", &|x, y| background(x, y));
+    set(0, Some(0.0), 0);
+    check("before-depth", &|_, _| true);
+
+    set(1, None, 3);
+    let err = replay_fails(&capture);
+    assert!(
+        err.contains("colour attachment 3 of a pass with 1"),
+        "{err}"
     );
 }
 

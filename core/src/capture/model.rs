@@ -538,6 +538,19 @@ pub struct BlitSide {
     pub corners: [[u32; 2]; 2],
 }
 
+/// A validated attachment clear: colour attachments by index into the pass's, with values;
+/// rectangles inside the attachments.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AttachmentClearDesc {
+    /// The draw it comes before (the draw count: after the last).
+    pub before_draw: usize,
+    pub colors: Vec<(usize, [f64; 4])>,
+    pub depth: Option<f32>,
+    pub stencil: Option<u32>,
+    /// `[x, y, width, height]`.
+    pub rects: Vec<[u32; 4]>,
+}
+
 #[derive(Clone, Debug)]
 pub struct ClearDesc {
     pub resource: ResourceId,
@@ -585,6 +598,7 @@ pub struct PassDesc {
     pub depth_stencil: Option<DepthStencilDesc>,
     pub state: RenderState,
     pub draws: Vec<DrawDesc>,
+    pub attachment_clears: Vec<AttachmentClearDesc>,
     pub dispatches: Vec<DispatchDesc>,
     pub copies: Vec<CopyDesc>,
     pub clears: Vec<ClearDesc>,

@@ -22,6 +22,7 @@ use crate::capture::format::{
     SplitFlag, StoreOp, VkImageView, VkIndexBuffer, VkVertexBuffer, VulkanBarrier,
 };
 
+mod attachment_clears;
 mod walk;
 /// What tells two bindings of a pass apart: the pass, the resource's handle, the access and
 /// the part of the resource bound.
@@ -349,6 +350,7 @@ impl Builder {
             depth_stencil: None,
             state: None,
             draws: Vec::new(),
+            attachment_clears: Vec::new(),
             dispatches: Vec::new(),
             copies: Vec::new(),
             clears: Vec::new(),

@@ -167,6 +167,8 @@ pub enum CmdFunc {
         v2: bool,
     },
     ClearImage,
+    /// Rectangles of the render pass's attachments cleared between draws.
+    ClearAttachments,
     FillBuffer,
     ResolveImage,
     BeginDebugLabel,
@@ -379,6 +381,7 @@ impl CmdFunc {
             }
             "vkCmdCopyImage2" | "vkCmdCopyImage2KHR" => copy(K::ImageToImage, true),
             "vkCmdClearColorImage" | "vkCmdClearDepthStencilImage" => C::ClearImage,
+            "vkCmdClearAttachments" => C::ClearAttachments,
             "vkCmdFillBuffer" | "vkCmdUpdateBuffer" => C::FillBuffer,
             "vkCmdResolveImage" => C::ResolveImage,
             "vkCmdBeginDebugUtilsLabelEXT" => C::BeginDebugLabel,
@@ -436,6 +439,10 @@ mod tests {
         assert_eq!(Func::of("vkCmdWriteTimestamp2"), Func::Cmd(CmdFunc::Other));
         assert_eq!(
             Func::of("vkCmdClearAttachments"),
+            Func::Cmd(CmdFunc::ClearAttachments)
+        );
+        assert_eq!(
+            Func::of("vkCmdDrawIndirectCount"),
             Func::Cmd(CmdFunc::Refused)
         );
         assert_eq!(Func::of("vkCmdFutureThing"), Func::Cmd(CmdFunc::Refused));

@@ -129,6 +129,9 @@ pub struct BarrierCmd {
 #[derive(Clone, Debug)]
 pub struct AttUse {
     pub view: u64,
+    /// Its index among the subpass's colour attachments, counting unused ones (what
+    /// `vkCmdClearAttachments` names).
+    pub slot: u32,
     pub load: String,
     pub store: String,
     pub clear: [f64; 4],
@@ -237,6 +240,16 @@ pub enum TransferCmd {
     },
 }
 
+/// A `vkCmdClearAttachments`: colour attachments by their subpass index with values, the
+/// depth and stencil values, and rectangles (`[x, y, width, height]`, base layer, layers).
+#[derive(Clone, Debug, Default)]
+pub struct AttachmentClearCmd {
+    pub colors: Vec<(u32, [f64; 4])>,
+    pub depth: Option<f32>,
+    pub stencil: Option<u32>,
+    pub rects: Vec<([i64; 4], u32, u32)>,
+}
+
 #[derive(Clone, Debug)]
 pub enum Cmd {
     BeginRender(Box<RenderInstance>),
@@ -249,6 +262,8 @@ pub enum Cmd {
     BeginLabel(String),
     EndLabel,
     Execute(Vec<u64>),
+    /// `vkCmdClearAttachments`.
+    ClearAttachments(Box<AttachmentClearCmd>),
     /// A command the replay cannot reproduce, by its function's name (`coverage::command`
     /// says why).
     Refused(Box<str>),

@@ -14,7 +14,7 @@ use super::commands::{
 };
 use super::render_pass;
 use super::state::{Descriptor, Objects, debug_text};
-use super::transfer_calls::{blit, clear_image, copy};
+use super::transfer_calls::{blit, clear_attachments, clear_image, copy};
 use super::value::{ASPECTS, Arg, Got, Skip};
 use crate::capture::format::{VkCommandState, VkDynamicValues, VkStencilOps};
 use crate::capture::vulkan::MAX_PUSH_CONSTANT_BYTES;
@@ -289,6 +289,7 @@ impl Recording {
             CmdFunc::Copy { kind, v2: false } => copy(kind, name, args)?,
             CmdFunc::Copy { kind, v2: true } => copy(kind, name, &args.get(kind.info_key())?)?,
             CmdFunc::ClearImage => clear_image(name, args)?,
+            CmdFunc::ClearAttachments => clear_attachments(args)?,
             CmdFunc::FillBuffer => Cmd::Transfer(Box::new(TransferCmd::Fill {
                 update: name.contains("Update"),
                 buffer: args.get("dstBuffer")?.handle()?,

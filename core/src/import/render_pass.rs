@@ -170,7 +170,7 @@ fn subpass_use(
         ))
     };
     let mut sub = SubpassUse::default();
-    for &(a, _) in &s.colors {
+    for (k, &(a, _)) in s.colors.iter().enumerate() {
         if a as usize >= rp.attachments.len() {
             return Err(lacks(a));
         }
@@ -178,6 +178,7 @@ fn subpass_use(
         let clear = clears.get(a as usize).map(clear_color).unwrap_or_default();
         sub.colors.push(AttUse {
             view: views.get(a)?,
+            slot: s.color_slots.get(k).copied().unwrap_or(k as u32),
             load,
             store,
             clear,
@@ -206,8 +207,11 @@ fn subpass_use(
             read_only: layout.is_some_and(ImageLayout::is_read_only),
         });
     }
+    // A resolve attachment resolves the colour attachment at its own position in the lists.
     for (k, &(a, _)) in s.resolves.iter().enumerate() {
-        if let Some(&(src, _)) = s.colors.get(k) {
+        let slot = s.resolve_slots.get(k).copied().unwrap_or(k as u32);
+        let color = s.color_slots.iter().position(|&c| c == slot);
+        if let Some(&(src, _)) = color.and_then(|c| s.colors.get(c)) {
             sub.resolves.push((views.get(src)?, views.get(a)?));
         }
     }
@@ -327,7 +331,7 @@ pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
             layouts.push((view, Some(l), l));
         }
     };
-    for c in info.list("pColorAttachments")? {
+    for (slot, c) in info.list("pColorAttachments")?.iter().enumerate() {
         let view = c.get("imageView")?.handle()?;
         if view == 0 {
             continue;
@@ -335,6 +339,7 @@ pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
         expect(view, &c);
         sub.colors.push(AttUse {
             view,
+            slot: slot as u32,
             load: c.get("loadOp")?.name()?,
             store: c.get("storeOp")?.name()?,
             clear: c

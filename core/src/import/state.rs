@@ -92,6 +92,10 @@ pub struct AttachmentDesc {
 #[derive(Clone, Debug, Default)]
 pub struct SubpassDesc {
     pub colors: Vec<(u32, Option<ImageLayout>)>,
+    /// Each of `colors`' index in `pColorAttachments`, unused entries counted.
+    pub color_slots: Vec<u32>,
+    /// Each of `resolves`' index in `pResolveAttachments`: the colour attachment it resolves.
+    pub resolve_slots: Vec<u32>,
     pub resolves: Vec<(u32, Option<ImageLayout>)>,
     pub depth: Option<(u32, Option<ImageLayout>)>,
     pub inputs: Vec<(u32, Option<ImageLayout>)>,
@@ -853,6 +857,20 @@ fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
         })
         .collect::<Got<Vec<_>>>()?;
     type Ref = (u32, Option<ImageLayout>);
+    // The positions of the attachment references that name an attachment (not UNUSED).
+    let used_slots = |sp: &Arg<'_>, key: &str| -> Vec<u32> {
+        sp.list(key)
+            .unwrap_or_default()
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| {
+                r.get("attachment")
+                    .and_then(|a| a.u32())
+                    .is_ok_and(|a| a != u32::MAX)
+            })
+            .map(|(k, _)| k as u32)
+            .collect()
+    };
     let refs = |sp: &Arg<'_>, key: &str| -> Got<Vec<Ref>> {
         sp.list(key)?
             .iter()
@@ -866,6 +884,8 @@ fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
         .map(|sp| {
             Ok(SubpassDesc {
                 colors: refs(sp, "pColorAttachments")?,
+                color_slots: used_slots(sp, "pColorAttachments"),
+                resolve_slots: used_slots(sp, "pResolveAttachments"),
                 resolves: refs(sp, "pResolveAttachments")?,
                 depth: match sp.opt("pDepthStencilAttachment") {
                     Some(d) => {

@@ -3,9 +3,9 @@
 //! build turns into a pass.
 
 use super::calls::CopyKind;
-use super::commands::{BlitRegionCmd, Cmd, Region, TransferCmd, clear_color};
+use super::commands::{AttachmentClearCmd, BlitRegionCmd, Cmd, Region, TransferCmd, clear_color};
 use super::record::{extent3, layer_count, offset3, range, subresource};
-use super::value::{Arg, Got, Skip};
+use super::value::{ASPECTS, Arg, Got, Skip};
 use crate::capture::vulkan::ImageLayout;
 
 pub(super) fn clear_image(name: &str, args: &Arg<'_>) -> Got<Cmd> {
@@ -33,6 +33,44 @@ pub(super) fn clear_image(name: &str, args: &Arg<'_>) -> Got<Cmd> {
             .map(range)
             .collect::<Got<_>>()?,
     })))
+}
+
+/// `vkCmdClearAttachments`: each attachment by its aspect (a colour attachment by its index
+/// in the subpass), and each rectangle with its layers.
+pub(super) fn clear_attachments(args: &Arg<'_>) -> Got<Cmd> {
+    let mut clear = AttachmentClearCmd::default();
+    for a in args.list("pAttachments")? {
+        let aspects = a.get("aspectMask")?.flags(ASPECTS)?;
+        let value = a.get("clearValue")?;
+        if aspects & 0x1 != 0 {
+            let slot = a.get("colorAttachment")?.u32()?;
+            clear.colors.push((slot, clear_color(&value)));
+        }
+        let ds = value.opt("depthStencil");
+        if aspects & 0x2 != 0 {
+            let ds = ds.ok_or_else(|| Skip("a depth clear without `depthStencil`".to_owned()))?;
+            clear.depth = Some(ds.get("depth")?.f64()? as f32);
+        }
+        if aspects & 0x4 != 0 {
+            let ds = ds.ok_or_else(|| Skip("a stencil clear without `depthStencil`".to_owned()))?;
+            clear.stencil = Some(ds.get("stencil")?.u32()?);
+        }
+    }
+    for r in args.list("pRects")? {
+        let rect = r.get("rect")?;
+        let (offset, extent) = (rect.get("offset")?, rect.get("extent")?);
+        clear.rects.push((
+            [
+                offset.get("x")?.i64()?,
+                offset.get("y")?.i64()?,
+                extent.get("width")?.i64()?,
+                extent.get("height")?.i64()?,
+            ],
+            r.get("baseArrayLayer")?.u32()?,
+            r.get("layerCount")?.u32()?,
+        ));
+    }
+    Ok(Cmd::ClearAttachments(Box::new(clear)))
 }
 
 pub(super) fn copy(kind: CopyKind, name: &str, args: &Arg<'_>) -> Got<Cmd> {

@@ -10,6 +10,7 @@
 
 mod bindings;
 mod blit;
+mod clear_rects;
 mod counters;
 mod create;
 mod encode;
@@ -116,6 +117,7 @@ pub struct Session {
     prepared: Vec<Prepared>,
     mip_pipelines: BTreeMap<String, (wgpu::RenderPipeline, wgpu::Sampler)>,
     blits: blit::BlitPipelines,
+    clear_rects: clear_rects::ClearPipelines,
     timestamps: Option<stamps::Timestamps>,
     /// The queries the last submitted frame writes.
     stamp_plan: stamps::StampPlan,
@@ -190,6 +192,7 @@ impl Session {
             prepared: Vec::new(),
             mip_pipelines: BTreeMap::new(),
             blits: Default::default(),
+            clear_rects: Default::default(),
             timestamps,
             stamp_plan: Default::default(),
             timestamp_period,
@@ -202,6 +205,7 @@ impl Session {
             step_limit: Default::default(),
         };
         session.create_vk()?;
+        session.create_clear_pipelines()?;
         for i in 0..session.plan.passes.len() {
             let p = session.prepare(i)?;
             session.prepared.push(p);

@@ -516,7 +516,12 @@ impl Session {
             rp.begin_pipeline_statistics_query(set, q);
         }
         let buf = |b: usize| &self.buffers[b][0];
-        for (d, sets) in r.draws.iter().zip(groups).take(self.steps()) {
+        let mut restore = super::clear_rects::Restore::default();
+        let mut clears = r.clears.iter().peekable();
+        for (i, (d, sets)) in r.draws.iter().zip(groups).take(self.steps()).enumerate() {
+            while let Some(c) = clears.next_if(|c| c.before <= i) {
+                self.encode_attachment_clear(r, c, &mut rp, &restore);
+            }
             let VkGpuPipeline::Render(pipeline) = &self.vk.pipelines[d.pipeline] else {
                 continue;
             };
@@ -531,9 +536,11 @@ impl Session {
             }
             if let Some([x, y, w, h, min, max]) = d.viewport {
                 rp.set_viewport(x, y, w, h, min, max);
+                restore.viewport = d.viewport;
             }
             if let Some([x, y, w, h]) = d.scissor {
                 rp.set_scissor_rect(x, y, w, h);
+                restore.scissor = d.scissor;
             }
             if !d.immediates.is_empty() {
                 rp.set_immediates(0, &d.immediates);
@@ -543,6 +550,7 @@ impl Session {
             }
             if let Some(s) = d.stencil_reference {
                 rp.set_stencil_reference(s);
+                restore.stencil_reference = Some(s);
             }
             match (d.index, d.indirect) {
                 (Some((ib, offset, format)), Some((b, at))) => {
@@ -562,6 +570,12 @@ impl Session {
                     d.first..d.first.saturating_add(d.count),
                     d.first_instance..d.first_instance.saturating_add(d.instances),
                 ),
+            }
+        }
+        // Clears after the last draw (or after the step the inspector stopped at).
+        if self.steps() >= r.draws.len() {
+            for c in clears {
+                self.encode_attachment_clear(r, c, &mut rp, &restore);
             }
         }
         if stat.is_some() {

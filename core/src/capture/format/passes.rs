@@ -6,8 +6,8 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::{
-    Blend, Blit, Clear, Copy, DepthStencilAttachment, Dispatch, Draw, GenerateMips, ParamValue,
-    RecordedBarrier, RecordedTiming, RenderState, Resolve, ResourceKind,
+    AttachmentClear, Blend, Blit, Clear, Copy, DepthStencilAttachment, Dispatch, Draw,
+    GenerateMips, ParamValue, RecordedBarrier, RecordedTiming, RenderState, Resolve, ResourceKind,
 };
 
 /// One pass: a unit of GPU work on one queue with its declared resource accesses.
@@ -37,6 +37,10 @@ pub struct Pass {
     pub state: Option<RenderState>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub draws: Vec<Draw>,
+    /// For imported raster passes: rectangles of the pass's own attachments set to a value
+    /// between its draws (`vkCmdClearAttachments`), in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub attachment_clears: Vec<AttachmentClear>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub dispatches: Vec<Dispatch>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

@@ -198,6 +198,35 @@ pub enum BlitFilter {
     Linear,
 }
 
+/// Rectangles of a raster pass's attachments cleared between two of its draws
+/// (`vkCmdClearAttachments`): the colour attachments named and the depth or stencil aspect
+/// take their values inside each rectangle, whatever the draws' state; nothing else changes.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AttachmentClear {
+    /// The draw this clear comes before; the pass's draw count for a clear after its last.
+    pub before_draw: u32,
+    /// Colour attachments cleared: index into the pass's `color_attachments`, and the value.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub colors: Vec<AttachmentClearColor>,
+    /// Depth value the depth aspect is cleared to (0 to 1), when cleared.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth: Option<f32>,
+    /// Stencil value the stencil aspect is cleared to, when cleared.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stencil: Option<u32>,
+    /// `[x, y, width, height]` in the attachments' pixels.
+    pub rects: Vec<[u32; 4]>,
+}
+
+/// One colour attachment an attachment clear sets, with its value.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AttachmentClearColor {
+    pub attachment: u32,
+    pub value: [f64; 4],
+}
+
 /// A clear of a whole resource range (ClearRenderTargetView / ClearUnorderedAccessView...).
 #[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]

@@ -9,6 +9,7 @@
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Component, Path, PathBuf};
 
+mod attachment_clears;
 mod bindings;
 mod blits;
 mod copies;

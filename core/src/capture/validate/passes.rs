@@ -190,6 +190,13 @@ impl<'a> Validator<'a> {
             self.pass_depth_stencil(p, path, resources, &mut accesses, &cx, attachment_size);
 
         let draws = self.pass_draws(p, path, resources, &mut accesses, &cx);
+        let attachment_clears = self.pass_attachment_clears(
+            p,
+            path,
+            &colors,
+            depth_stencil.as_ref(),
+            attachment_size.map(|(w, h, _)| (w, h)),
+        );
         self.check_feedback(p, path, resources, &accesses, &bindings);
         self.check_view_hazards(p, path, resources, &accesses, &bindings);
         self.check_sample_counts(p, path, resources, &accesses);
@@ -274,6 +281,7 @@ impl<'a> Validator<'a> {
             depth_stencil,
             state,
             draws,
+            attachment_clears,
             dispatches,
             copies,
             clears,

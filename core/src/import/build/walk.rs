@@ -29,7 +29,11 @@ impl Builder {
             let origin = recording.at.get(i).filter(|_| {
                 matches!(
                     cmd,
-                    Cmd::BeginRender(_) | Cmd::Draw(_) | Cmd::Dispatch(_) | Cmd::Transfer(_)
+                    Cmd::BeginRender(_)
+                        | Cmd::Draw(_)
+                        | Cmd::ClearAttachments(_)
+                        | Cmd::Dispatch(_)
+                        | Cmd::Transfer(_)
                 )
             });
             if !matches!(cmd, Cmd::Dispatch(_)) {
@@ -76,6 +80,23 @@ impl Builder {
                         queue,
                         recording.at.get(i),
                         "draws outside a render pass instance",
+                    ),
+                },
+                Cmd::ClearAttachments(c) => match render {
+                    Some((ri, sub, Some(pass))) => {
+                        if let Err(why) = self.attachment_clear(objects, (ri, sub, pass), c) {
+                            self.refuse_in(
+                                Some(pass),
+                                recording.at.get(i),
+                                &format!("vkCmdClearAttachments: {why}"),
+                            );
+                        }
+                    }
+                    Some((_, _, None)) => {}
+                    None => self.refuse(
+                        queue,
+                        recording.at.get(i),
+                        "attachment clears outside a render pass instance",
                     ),
                 },
                 Cmd::Refused(name) => {
@@ -156,7 +177,7 @@ impl Builder {
     /// Whether `cmd`'s work still fits in the import (`MAX_WORK`); noted where it does not.
     fn fits(&mut self, cmd: &Cmd) -> bool {
         let n = match cmd {
-            Cmd::Draw(_) | Cmd::Dispatch(_) | Cmd::Transfer(_) => 1,
+            Cmd::Draw(_) | Cmd::ClearAttachments(_) | Cmd::Dispatch(_) | Cmd::Transfer(_) => 1,
             Cmd::Barrier(bs) => bs.len() as u64,
             _ => return true,
         };

@@ -904,7 +904,10 @@ impl Sync {
                         }
                     }
                 }
-                Cmd::NextSubpass
+                // Like the draws' own attachment writes, a clear of attachment rectangles is
+                // ordered after the instance's load operations by the render pass itself.
+                Cmd::ClearAttachments(_)
+                | Cmd::NextSubpass
                 | Cmd::BeginLabel(_)
                 | Cmd::EndLabel
                 | Cmd::Execute(_)

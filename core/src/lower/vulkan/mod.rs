@@ -10,6 +10,7 @@
 //! `b` take wgpu binding `2b`, `Role::SplitSampler` takes `2b + 1`.
 
 mod bindings;
+mod clears;
 mod dynamic;
 mod shaders;
 mod states;
@@ -128,10 +129,26 @@ impl<'c> Lowering<'c> {
                 })?;
             draws.push(op);
         }
+        let mut clears = Vec::new();
+        for (i, c) in p.attachment_clears.iter().enumerate() {
+            let op = clears::clear_op(c, &color, depth.as_ref(), size).map_err(|problem| {
+                let work = format!("attachment clear {i} (before draw {})", c.before_draw);
+                vk_error(p, work, problem)
+            })?;
+            clears.push(op);
+        }
+        let samples = color
+            .first()
+            .map(|c| c.texture)
+            .or(depth.as_ref().map(|d| d.texture))
+            .map_or(1, |t| self.plan.textures[t].samples);
         Ok(PassOp::VkRaster(VkRasterOp {
             color,
             depth,
             draws,
+            clears,
+            extent: [size.0, size.1],
+            samples,
         }))
     }
 

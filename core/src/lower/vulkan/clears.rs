@@ -1,0 +1,63 @@
+//! Attachment clears of an imported render pass (`vkCmdClearAttachments`) at wgpu level: a
+//! value per colour target, the depth and stencil values, rectangles clipped to the targets.
+//! What a draw cannot write is refused: integer colour targets (the capture keeps a clear
+//! value as numbers, not as the union member the program filled) and read-only depth.
+
+use wgpu_types as wgpu;
+
+use super::VkProblem;
+use crate::capture::model::AttachmentClearDesc;
+use crate::plan::{ColorTarget, DepthTarget, VkClearOp};
+
+/// `c` for a pass with targets `color` and `depth`, `extent` in pixels.
+pub(super) fn clear_op(
+    c: &AttachmentClearDesc,
+    color: &[ColorTarget],
+    depth: Option<&DepthTarget>,
+    extent: (u32, u32),
+) -> Result<VkClearOp, VkProblem> {
+    let mut colors = vec![None; color.len()];
+    for &(i, value) in &c.colors {
+        let Some(target) = color.get(i) else {
+            return Err(VkProblem::Missing(format!(
+                "colour attachment {i} of a pass with {}",
+                color.len()
+            )));
+        };
+        if matches!(
+            target.format.sample_type(None, None),
+            Some(wgpu::TextureSampleType::Uint | wgpu::TextureSampleType::Sint)
+        ) {
+            return Err(VkProblem::Unsupported {
+                feature: format!(
+                    "vkCmdClearAttachments of the integer colour attachment {i} ({:?})",
+                    target.format
+                ),
+            });
+        }
+        colors[i] = Some(value);
+    }
+    if (c.depth.is_some() || c.stencil.is_some()) && depth.is_none_or(|d| d.read_only) {
+        return Err(VkProblem::Unsupported {
+            feature: "vkCmdClearAttachments of a read-only or absent depth/stencil attachment"
+                .to_owned(),
+        });
+    }
+    let (w, h) = extent;
+    let rects = c
+        .rects
+        .iter()
+        .filter_map(|&[x, y, rw, rh]| {
+            let (x, y) = (x.min(w), y.min(h));
+            let (rw, rh) = (rw.min(w - x), rh.min(h - y));
+            (rw > 0 && rh > 0).then_some([x, y, rw, rh])
+        })
+        .collect();
+    Ok(VkClearOp {
+        before: c.before_draw,
+        colors,
+        depth: c.depth,
+        stencil: c.stencil,
+        rects,
+    })
+}
