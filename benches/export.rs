@@ -26,6 +26,7 @@ fn image(format: wgpu::TextureFormat, kind: ValueKind) -> (TextureSpec, DecodedI
         mip_levels: 1,
         samples: 1,
         usage: wgpu::TextureUsages::empty(),
+        view_formats: Vec::new(),
         initial: None,
         history: false,
         cube: false,

@@ -30,6 +30,8 @@ pub struct TextureSpec {
     pub mip_levels: u32,
     pub samples: u32,
     pub usage: wgpu_types::TextureUsages,
+    /// Formats its views take besides `format` (its sRGB twin).
+    pub view_formats: Vec<wgpu_types::TextureFormat>,
     /// Contents per mip (every layer, or the 3D volume, of that mip), tightly packed.
     pub initial: Option<Vec<Vec<u8>>>,
     /// Two copies swapped between frames; reads marked `previous_frame` see the other one.

@@ -96,6 +96,7 @@ pub fn decompress(
         usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
         initial: None,
         history: false,
+        view_formats: Vec::new(),
         ..spec.clone()
     };
     let out = device.create_texture(&wgpu::TextureDescriptor {

@@ -564,6 +564,7 @@ mod tests {
             mip_levels: mips,
             samples: 1,
             usage: wgpu::TextureUsages::empty(),
+            view_formats: Vec::new(),
             initial: None,
             history: false,
             cube: false,

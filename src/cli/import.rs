@@ -329,6 +329,12 @@ fn render(s: &Summary, out: &Path) -> String {
             s.sync_hazards
         );
     }
+    if s.valid_usage > 0 {
+        t += &format!(
+            "  {} valid-usage error(s) found in the calls (`framelab analyze` lists them as FL025 with their VUIDs)\n",
+            s.valid_usage
+        );
+    }
     if !s.skipped.is_empty() || !s.not_modelled.is_empty() {
         t += "left out or approximated:\n";
         for k in &s.skipped {

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 18] = [
+const REPLAYED: [&str; 21] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -29,6 +29,9 @@ const REPLAYED: [&str; 18] = [
     "gtk4_f30",
     "gtk4_whole",
     "gstreamer_f30",
+    "qt6_msaa_f30",
+    "qt6_quick3d_f30",
+    "vkbasalt_all_f30",
 ];
 
 fn temp(name: &str) -> Scratch {

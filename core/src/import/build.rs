@@ -23,6 +23,16 @@ use crate::capture::format::{
 };
 
 mod attachment_clears;
+
+/// The format of `view` where it differs from its image's (an sRGB view of a UNORM image
+/// renders encoding, a UNORM view of an sRGB one does not), as the capture names formats.
+fn view_format(objects: &Objects, view: u64) -> Option<String> {
+    let (_, format, _) = objects.view_kinds.get(&view)?;
+    let image = objects.images.get(&objects.views.get(&view)?.image)?;
+    (*format != image.format)
+        .then(|| dxgi::lookup_vk(format).map(|f| f.name.to_owned()))
+        .flatten()
+}
 mod walk;
 /// What tells two bindings of a pass apart: the pass, the resource's handle, the access and
 /// the part of the resource bound.
@@ -570,11 +580,12 @@ impl Builder {
             let Some((name, mip, layer, ..)) = self.view(objects, c.view) else {
                 continue;
             };
+            let format = view_format(objects, c.view);
             self.passes[pass].color_attachments.push(ColorAttachment {
                 resource: name,
                 mip,
                 layer,
-                format: None,
+                format,
                 load: load_op(&c.load),
                 store: store_op(&c.store),
                 clear: c.clear,

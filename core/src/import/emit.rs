@@ -441,6 +441,7 @@ pub fn emit(
                 "GFXReconstruct's JSON holds no shader code (only each module's size and a pointer), so the passes have nothing to run".to_owned(),
             ),
             sync_hazards: None,
+            valid_usage: None,
         }),
     };
     Emitted {

@@ -23,6 +23,7 @@ mod sync;
 mod transfer_calls;
 mod transfers;
 mod tree;
+mod valid_usage;
 mod value;
 mod vk_work;
 
@@ -117,6 +118,8 @@ pub struct Summary {
     pub recorded_barriers: u64,
     /// Synchronization hazards found in the imported command stream.
     pub sync_hazards: usize,
+    /// Valid-usage findings (`CaptureSource::valid_usage`).
+    pub valid_usage: usize,
     pub fences: usize,
     pub skipped: Vec<Skipped>,
     /// Calls of functions that create or record nothing framelab models, by name.
@@ -198,7 +201,13 @@ struct Importer {
     keep_submitted_before: bool,
     /// Commands the submissions so far asked to walk (`MAX_WALKED`).
     walked: u64,
+    /// Valid-usage statements the calls break (`valid_usage`), at most `MAX_FINDINGS`.
+    valid_usage: Vec<crate::capture::format::ValidUsageFinding>,
 }
+
+/// Most valid-usage findings one import keeps: a program that breaks a rule in every call
+/// would otherwise list millions.
+const MAX_FINDINGS: usize = 10_000;
 
 /// Most commands one submission may ask to walk, secondary command buffers expanded: a real
 /// frame's submissions hold thousands to a few hundred thousand.
@@ -298,6 +307,16 @@ impl Importer {
             | Func::CreateDescriptorSetLayout
             | Func::CreatePipelineLayout
             | Func::CreatePipelines { .. } => return self.pipelines.apply(call.func, args),
+            Func::CreateRenderPass => {
+                if self.sync.enabled() && self.valid_usage.len() < MAX_FINDINGS {
+                    let command = format!("{} #{}", call.name, call.index);
+                    let v2 = call.name.contains('2');
+                    // A call too malformed to check is skipped by `objects.apply` below.
+                    let found = valid_usage::render_pass(&command, v2, args).unwrap_or_default();
+                    self.valid_usage.extend(found);
+                }
+                return self.objects.apply(call.func, args);
+            }
             other => return self.objects.apply(other, args),
         }
         Ok(true)
@@ -454,7 +473,10 @@ impl Importer {
                     &cbs,
                     &timed_signals,
                     fence,
-                    self.objects.queues.get(&queue).map(|(family, _)| *family),
+                    (
+                        queue,
+                        self.objects.queues.get(&queue).map(|(family, _)| *family),
+                    ),
                 );
             }
             self.builder.submit(
@@ -705,6 +727,7 @@ impl Importer {
             last_index: 0,
             hidden_blocks: false,
             sync: sync::Sync::new(!options.skip_sync_check),
+            valid_usage: Vec::new(),
         }
     }
 
@@ -819,6 +842,9 @@ fn finish(
             first_line: None,
         });
     }
+    let mut valid_usage = std::mem::take(&mut imp.valid_usage);
+    valid_usage.truncate(MAX_FINDINGS);
+    let valid_usage_count = valid_usage.len();
     let pipelines_used = std::mem::take(&mut imp.builder.pipelines_used);
     let uploads = std::mem::take(&mut imp.builder.uploads);
     let views_used = std::mem::take(&mut imp.builder.views_used);
@@ -897,6 +923,7 @@ fn finish(
     let hazard_count = hazards.len();
     if let Some(source) = &mut capture.source {
         source.sync_hazards = imp_checked.then_some(hazards);
+        source.valid_usage = imp_checked.then(|| std::mem::take(&mut valid_usage));
     }
     let mut side_files = Vec::new();
     let (mut shader_modules, mut contents) = (None, None);
@@ -981,6 +1008,7 @@ fn finish(
         queues: capture.queues.len(),
         recorded_barriers,
         sync_hazards: hazard_count,
+        valid_usage: valid_usage_count,
         fences: capture.fences.len(),
         skipped,
         not_modelled,

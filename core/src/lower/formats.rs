@@ -110,7 +110,7 @@ pub enum FormatError {
 }
 
 /// The wgpu twin of the DXGI format `name`, or why WebGPU has none.
-fn twin(name: &'static str) -> Result<TextureFormat, FormatError> {
+pub fn twin(name: &'static str) -> Result<TextureFormat, FormatError> {
     direct(name).ok_or_else(|| FormatError::NoWebGpuFormat {
         format: name,
         reason: NoWebGpuFormat::of(name),

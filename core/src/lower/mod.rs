@@ -5,6 +5,7 @@
 //! becomes the wgpu-level operation it describes (`passes`). Reads of a `history` resource
 //! before the frame writes it are marked as previous-frame reads.
 
+mod cross_pass;
 pub mod formats;
 pub mod frame;
 pub mod generate;
@@ -219,6 +220,8 @@ pub fn lower(
     for p in &passes {
         l.pass(p)?;
     }
+    cross_pass::gather(&mut l.plan);
+    cross_pass::keep_resolved(&mut l.plan);
     for (pass, needed) in &l.pass_features {
         let missing = *needed - available;
         if !missing.is_empty() {

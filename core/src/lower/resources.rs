@@ -28,7 +28,14 @@ impl<'c> Lowering<'c> {
             (r.initial != InitialDesc::Undefined)
                 .then_some(wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST)
         });
-        let Some(usage) = usage else { return Ok(()) };
+        let Some(mut usage) = usage else {
+            return Ok(());
+        };
+        // wgpu makes a multisampled texture only to render into, also one the frame never
+        // draws to (a program's spare per-swapchain-image target).
+        if r.samples > 1 {
+            usage |= wgpu::TextureUsages::RENDER_ATTACHMENT;
+        }
         let Some(info) = r.format else { return Ok(()) };
         let first_user = self.usage.first_user.get(&r.id).copied();
         let lowered = match formats::lower(
@@ -118,6 +125,7 @@ impl<'c> Lowering<'c> {
             mip_levels: r.mip_levels,
             samples: r.samples,
             usage,
+            view_formats: Vec::new(),
             initial,
             history: r.history,
             cube: r.kind == ResourceKind::TextureCube,

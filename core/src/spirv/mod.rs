@@ -123,6 +123,9 @@ pub struct ResourceVar {
     pub id: u32,
     /// Its OpName, when it has a non-empty one.
     pub name: Option<String>,
+    /// For a uniform or storage buffer, the bytes its block's fixed part spans (the furthest
+    /// member's end): what the shader may read, however little the program binds.
+    pub block_size: Option<u64>,
 }
 
 #[derive(Debug, Clone, PartialEq, Eq)]

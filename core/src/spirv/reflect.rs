@@ -205,11 +205,26 @@ fn resource(
     } else {
         (false, false)
     };
+    // A block the sizer cannot lay out (a malformed matrix member) has no size here; the
+    // bound range is then taken as it is.
+    let block_size = matches!(
+        kind,
+        ResourceKind::UniformBuffer | ResourceKind::StorageBuffer
+    )
+    .then(|| {
+        let mut sizer = Sizer {
+            index,
+            known: HashMap::new(),
+        };
+        sizer.size(ty, Layout::default(), 0).ok()
+    })
+    .flatten();
     Ok(ResourceVar {
         set,
         binding,
         count,
         kind,
+        block_size,
         non_writable: members_non_writable || index.has_decoration(var, Decoration::NonWritable),
         non_readable: members_non_readable || index.has_decoration(var, Decoration::NonReadable),
         id: var,

@@ -114,7 +114,7 @@ pub(super) fn textures(
                 dimension: t.dimension,
                 format: t.format,
                 usage: t.usage,
-                view_formats: &[],
+                view_formats: &t.view_formats,
             })
         };
         let a = make("");

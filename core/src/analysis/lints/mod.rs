@@ -70,11 +70,13 @@ pub enum LintKind {
     BarrierCouldSplit,
     /// a recorded transition names a before-state the resource is not in
     BarrierWrongBeforeState,
+    /// a call breaks a valid-usage statement of the specification (its VUID given)
+    ValidUsage,
 }
 
 impl LintKind {
     /// Every lint, in code order (the catalogue reports list).
-    pub const ALL: [LintKind; 21] = [
+    pub const ALL: [LintKind; 22] = [
         LintKind::UnusedUavFlag,
         LintKind::UnusedRenderTargetFlag,
         LintKind::UnusedDepthStencilFlag,
@@ -96,6 +98,7 @@ impl LintKind {
         LintKind::BarrierOverBroad,
         LintKind::BarrierCouldSplit,
         LintKind::BarrierWrongBeforeState,
+        LintKind::ValidUsage,
     ];
 
     fn row(self) -> (&'static str, &'static str, LintSeverity, &'static str) {
@@ -226,6 +229,12 @@ impl LintKind {
                 LintSeverity::Error,
                 "a recorded transition names a before-state the resource is not in",
             ),
+            LintKind::ValidUsage => (
+                "FL025",
+                "valid-usage",
+                LintSeverity::Error,
+                "a call breaks a valid-usage statement of the specification (its VUID given)",
+            ),
         }
     }
     /// Stable code, e.g. `FL001`.
@@ -252,6 +261,8 @@ pub struct Lint {
     pub message: String,
     pub pass: Option<PassId>,
     pub resource: Option<ResourceId>,
+    /// The specification's valid-usage ID the finding breaks, where it has one.
+    pub vuid: Option<String>,
 }
 
 fn lint(
@@ -265,6 +276,7 @@ fn lint(
         message,
         pass,
         resource,
+        vuid: None,
     }
 }
 

@@ -304,10 +304,50 @@ pub(super) fn compare_vulkan(
                 .as_ref()
                 .and_then(|name| capture.passes.iter().find(|p| &p.name == name))
                 .map(|p| p.id);
-            out.push(lint(kind, message, pass, resource));
+            let mut l = lint(kind, message, pass, resource);
+            if h.kind == HazardKind::LayoutMismatch {
+                l.vuid = layout_vuid(&h.command, &h.access);
+                if let Some(v) = &l.vuid {
+                    l.message = format!("{v}: {}", l.message);
+                }
+            }
+            out.push(l);
+        }
+    }
+    // The valid-usage statements the stream's calls break, found at import.
+    if let Some(found) = capture.origin.as_ref().and_then(|o| o.valid_usage.as_ref()) {
+        for f in found {
+            let mut l = lint(
+                LintKind::ValidUsage,
+                format!("{}: {}: {}", f.command, f.vuid, f.detail),
+                None,
+                None,
+            );
+            l.vuid = Some(f.vuid.clone());
+            out.push(l);
         }
     }
     out
+}
+
+/// The valid-usage ID a use in the wrong layout breaks: a barrier's old layout, a render
+/// pass's initial layout, a descriptor's layout (the sync check's `access` says which).
+fn layout_vuid(command: &str, access: &str) -> Option<String> {
+    let call = command.split(" #").next().unwrap_or(command);
+    let vuid = if access.starts_with("old layout") {
+        if call.ends_with('2') || call.ends_with("2KHR") {
+            "VUID-VkImageMemoryBarrier2-oldLayout-01197"
+        } else {
+            "VUID-VkImageMemoryBarrier-oldLayout-01197"
+        }
+    } else if access.starts_with("attachment in") && call.starts_with("vkCmdBeginRenderPass") {
+        "VUID-vkCmdBeginRenderPass-initialLayout-00900"
+    } else if access.starts_with("descriptor in") {
+        "VUID-VkDescriptorImageInfo-imageLayout-00344"
+    } else {
+        return None;
+    };
+    Some(vuid.to_owned())
 }
 
 /// The pass-level comparison of the barriers each resource's uses need with those recorded.

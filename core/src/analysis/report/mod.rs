@@ -126,6 +126,9 @@ pub struct LintReport {
     pub message: String,
     pub pass: Option<String>,
     pub resource: Option<String>,
+    /// The specification's valid-usage ID, where the finding breaks one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vuid: Option<String>,
 }
 
 /// The lints of `a` with names from `capture`, sorted and without repeats.
@@ -378,6 +381,7 @@ pub fn lint_report(capture: &Capture, l: &Lint) -> LintReport {
         message: l.message.clone(),
         pass: l.pass.map(|p| capture.pass(p).name.clone()),
         resource: l.resource.map(|r| capture.resource(r).name.clone()),
+        vuid: l.vuid.clone(),
     }
 }
 

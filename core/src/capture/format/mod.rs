@@ -101,6 +101,25 @@ pub struct CaptureSource {
     /// checked. `analyze` reports each as `FL020 barrier-missing`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sync_hazards: Option<Vec<SyncHazard>>,
+    /// Valid-usage statements of the specification the stream's calls break, found at import
+    /// from the calls alone; absent where the stream was not checked. `analyze` reports each
+    /// as `FL025 valid-usage` with its VUID.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub valid_usage: Option<Vec<ValidUsageFinding>>,
+}
+
+/// One valid-usage statement a call breaks: its VUID as the specification numbers it, the
+/// call (by name and index in the stream) and what in it breaks the rule.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ValidUsageFinding {
+    /// `VUID-VkAttachmentDescription-format-06699`.
+    pub vuid: String,
+    /// `vkCreateRenderPass #12`.
+    pub command: String,
+    /// The member and values that break it: `pAttachments[0] (VK_FORMAT_D24_UNORM_S8_UINT):
+    /// loadOp VK_ATTACHMENT_LOAD_OP_LOAD with initialLayout VK_IMAGE_LAYOUT_UNDEFINED`.
+    pub detail: String,
 }
 
 impl CaptureSource {

@@ -359,7 +359,11 @@ impl<'a> Validator<'a> {
             return Some(resource_format);
         };
         let f = self.lookup_format(view, path)?;
-        if !dxgi::view_compatible(resource_format, f) {
+        // A Vulkan image made with VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT (or a swapchain's) is
+        // viewed as its sRGB or linear twin without being typeless.
+        let twins = |a: &FormatInfo, b: &FormatInfo| a.name.strip_suffix("_SRGB") == Some(b.name);
+        let vulkan_twin = self.vulkan() && (twins(f, resource_format) || twins(resource_format, f));
+        if !dxgi::view_compatible(resource_format, f) && !vulkan_twin {
             self.diags.error("view-format", path, format!(
                 "view format {} is not compatible with \"{}\" ({}); only typeless resources can be viewed in another format of their family",
                 f.name, r.name, resource_format.name

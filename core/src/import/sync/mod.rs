@@ -118,6 +118,8 @@ struct Write {
     access: Access,
     /// The submission it was made in (host waits retire what they waited for).
     seq: u32,
+    /// The queue it was made on.
+    queue: u64,
     /// Stages ordered after the write (execution dependencies, chained).
     exec: S,
     /// Scopes the write has been made visible to.
@@ -191,6 +193,8 @@ pub struct Sync {
     enabled: bool,
     /// The queue family of the submission being walked, when the stream says.
     family: Option<u32>,
+    /// The queue of the submission being walked.
+    queue: u64,
     /// Resources any queue family may use (`VK_SHARING_MODE_CONCURRENT`).
     concurrent: std::collections::HashSet<u64>,
 }
@@ -237,7 +241,7 @@ impl State {
     /// reads, the last write must be visible to it. (Reads ordered after the last write
     /// carry its ordering; the validation layer checks a write the same way, so one missing
     /// dependency is one finding.)
-    fn write(&mut self, a: Access, seq: u32) -> Vec<(HazardKind, Access)> {
+    fn write(&mut self, a: Access, seq: u32, queue: u64) -> Vec<(HazardKind, Access)> {
         let mut hazards: Vec<(HazardKind, Access)> = self
             .reads
             .iter()
@@ -257,6 +261,7 @@ impl State {
         self.write = Some(Write {
             access: a,
             seq,
+            queue,
             exec: S::EMPTY,
             visible: Vec::new(),
         });
@@ -287,7 +292,13 @@ impl State {
 
     /// A layout transition: a write ordered after what the first scopes reach, visible to
     /// the second. Like any write it must follow the reads, or without them the last write.
-    fn transition(&mut self, d: &Dep, a: Access, seq: u32) -> Vec<(HazardKind, Access)> {
+    fn transition(
+        &mut self,
+        d: &Dep,
+        a: Access,
+        seq: u32,
+        queue: u64,
+    ) -> Vec<(HazardKind, Access)> {
         let mut hazards: Vec<(HazardKind, Access)> = self
             .reads
             .iter()
@@ -299,13 +310,18 @@ impl State {
             let exec = d.src.intersects(w.access.stage) || w.exec.intersects(d.src);
             let available = d.src_access.intersects(w.access.access)
                 || w.visible.iter().any(|(s, _)| s.intersects(d.src));
-            if !(exec && available) && self.reads.is_empty() {
+            // Layout transitions on one queue happen in submission order with respect to
+            // each other (the validation layer's rule for sequential transitions too): a
+            // transition after a transition is a hazard only across queues.
+            let sequential = matches!(w.access.what, What::Transition(..)) && w.queue == queue;
+            if !(exec && available) && !sequential && self.reads.is_empty() {
                 hazards.push((HazardKind::WriteAfterWrite, w.access.clone()));
             }
         }
         self.write = Some(Write {
             access: a,
             seq,
+            queue,
             exec: d.dst,
             visible: vec![(d.dst, d.dst_access)],
         });
@@ -405,7 +421,7 @@ impl Sync {
             self.own(key, write, a);
             let st = self.states.entry(key).or_default();
             let hazards = if write {
-                st.write(a.clone(), self.seq)
+                st.write(a.clone(), self.seq, self.queue)
             } else {
                 st.read(a.clone(), self.seq).into_iter().collect()
             };
@@ -479,7 +495,7 @@ impl Sync {
             match transition {
                 Some((from, to)) => {
                     let a = Access::event(&b.origin, What::Transition(from, to));
-                    for (kind, prior) in st.transition(&d, a.clone(), self.seq) {
+                    for (kind, prior) in st.transition(&d, a.clone(), self.seq, self.queue) {
                         self.note(&b.origin, key, kind, a.clone(), prior);
                     }
                 }
@@ -692,6 +708,7 @@ impl Sync {
             for key in Self::view_keys(objects, view) {
                 let st = self.states.entry(key).or_default();
                 st.write = Some(Write {
+                    queue: self.queue,
                     access: Access {
                         stage,
                         access,
@@ -929,12 +946,13 @@ impl Sync {
         command_buffers: &[u64],
         signals: &[(u64, Option<u64>)],
         fence: u64,
-        family: Option<u32>,
+        (queue, family): (u64, Option<u32>),
     ) {
         if !self.enabled {
             return;
         }
         self.family = family;
+        self.queue = queue;
         self.concurrent.clone_from(&objects.concurrent);
         for &(semaphore, mask, value) in waits {
             self.semaphore_wait(semaphore, mask, value);

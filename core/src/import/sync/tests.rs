@@ -26,7 +26,10 @@ fn acc(stage: S, access: A) -> Access {
 #[test]
 fn a_write_needs_a_memory_dependency_to_be_read() {
     let mut st = State::default();
-    assert!(st.write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0).is_empty());
+    assert!(
+        st.write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0, 0)
+            .is_empty()
+    );
     // No barrier: the read sees nothing.
     let mut unordered = st.clone();
     let h = unordered.read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ), 0);
@@ -57,7 +60,7 @@ fn a_write_needs_a_memory_dependency_to_be_read() {
     );
     // A later write must wait for that read; the read, ordered after the first write,
     // orders the two writes.
-    let h = st.clone().write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0);
+    let h = st.clone().write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0, 0);
     let kinds: Vec<HazardKind> = h.iter().map(|h| h.0).collect();
     assert_eq!(kinds, [HazardKind::WriteAfterRead]);
 }
@@ -75,7 +78,7 @@ fn a_write_unordered_with_the_read_before_it_is_a_write_after_read() {
         dst_access: A::SHADER_READ.expand(),
     };
     assert!(
-        st.transition(&to_reads, acc(S::EMPTY, A::EMPTY), 0)
+        st.transition(&to_reads, acc(S::EMPTY, A::EMPTY), 0, 0)
             .is_empty()
     );
     assert!(
@@ -91,7 +94,7 @@ fn a_write_unordered_with_the_read_before_it_is_a_write_after_read() {
     let mut unordered = st.clone();
     unordered.depend(&weak);
     let kinds: Vec<HazardKind> = unordered
-        .write(acc(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE), 0)
+        .write(acc(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE), 0, 0)
         .iter()
         .map(|h| h.0)
         .collect();
@@ -103,7 +106,7 @@ fn a_write_unordered_with_the_read_before_it_is_a_write_after_read() {
         ..weak
     });
     assert!(
-        st.write(acc(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE), 0)
+        st.write(acc(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE), 0, 0)
             .is_empty()
     );
 }
@@ -117,12 +120,46 @@ fn a_layout_transition_is_a_write_its_barrier_must_make_visible() {
         dst: later(S::COLOR_ATTACHMENT_OUTPUT),
         dst_access: A::COLOR_ATTACHMENT_WRITE,
     };
-    st.write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0);
-    assert!(st.transition(&d, acc(S::EMPTY, A::EMPTY), 0).is_empty());
+    st.write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0, 0);
+    assert!(st.transition(&d, acc(S::EMPTY, A::EMPTY), 0, 0).is_empty());
     // loadOp LOAD reads the attachment: the barrier made the transition visible to
     // writes only (mpv's frames).
     let h = st.read(acc(S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_READ), 0);
     assert_eq!(h.map(|h| h.0), Some(HazardKind::ReadAfterWrite));
+}
+
+/// Two layout transitions with nothing ordering them (a render pass's initial transition
+/// under its implicit external dependency after a barrier's): on one queue they happen in
+/// submission order, as the validation layer has it; across queues the second is a hazard.
+#[test]
+fn sequential_layout_transitions_on_one_queue_are_ordered() {
+    let unordered = Dep {
+        src: S::EMPTY,
+        src_access: A::EMPTY,
+        dst: later(S::COLOR_ATTACHMENT_OUTPUT),
+        dst_access: A::COLOR_ATTACHMENT_WRITE,
+    };
+    let transition = || Access {
+        what: What::Transition(
+            ImageLayout::ShaderReadOnlyOptimal,
+            ImageLayout::ColorAttachmentOptimal,
+        ),
+        ..acc(S::EMPTY, A::EMPTY)
+    };
+    let mut st = State::default();
+    assert!(st.transition(&unordered, transition(), 0, 7).is_empty());
+    assert!(
+        st.clone()
+            .transition(&unordered, transition(), 0, 7)
+            .is_empty()
+    );
+    let h = st.transition(&unordered, transition(), 0, 8);
+    assert_eq!(h.first().map(|h| h.0), Some(HazardKind::WriteAfterWrite));
+    // A transition after an ordinary write still needs the write in its barrier's scope.
+    let mut st = State::default();
+    st.write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0, 7);
+    let h = st.transition(&unordered, transition(), 0, 7);
+    assert_eq!(h.first().map(|h| h.0), Some(HazardKind::WriteAfterWrite));
 }
 
 /// A buffer written on queue family 0 and read on family 1, each in its own submission,

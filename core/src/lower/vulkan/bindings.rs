@@ -86,6 +86,7 @@ impl<'c> Lowering<'c> {
                         u.stages |= s;
                         u.var.non_writable &= var.non_writable;
                         u.var.non_readable &= var.non_readable;
+                        u.var.block_size = u.var.block_size.max(var.block_size);
                     })
                     .or_insert_with(|| Used {
                         var: var.clone(),
@@ -243,9 +244,12 @@ impl<'c> Lowering<'c> {
                         buffer,
                         offset: d.offset.unwrap_or(0),
                         // A uniform block's size is whole 16-byte steps (std140) where a
-                        // program may bind only to its last member's end; wgpu asks for the
-                        // whole block (the replay pads past the buffer's end).
+                        // program may bind only to its last member's end, or less than the
+                        // block where the shader reads only the start (Vulkan asks only that
+                        // reads stay inside the range); wgpu asks for the whole block. The
+                        // replay pads past the buffer's end.
                         size: d.range.filter(|&r| r != u64::MAX).map(|r| {
+                            let r = r.max(u.var.block_size.unwrap_or(0));
                             if matches!(kind, wgpu::BufferBindingType::Uniform) {
                                 r.div_ceil(16) * 16
                             } else {

@@ -515,8 +515,22 @@ impl<'c> Lowering<'c> {
         let info = crate::capture::dxgi::lookup_vk(vk).ok_or_else(|| VkProblem::Unsupported {
             feature: format!("view format {vk}"),
         })?;
-        formats::view_format(self.plan.textures[t].format, Some(info))
-            .map_err(|e| super::passes::pass_error(p, PassError::ViewFormat(e)).into())
+        let texture = &self.plan.textures[t];
+        let view = formats::twin(info.name)
+            .map_err(|e| super::passes::pass_error(p, PassError::ViewFormat(e)))?;
+        // A Vulkan view may reinterpret a mutable-format image's bits in any format of its
+        // size class; wgpu views a texture only in its own format or its sRGB twin (listed at
+        // its creation, `view_formats`). Anything else would read other numbers: refused.
+        if view.remove_srgb_suffix() == texture.format.remove_srgb_suffix() {
+            return Ok(view);
+        }
+        Err(VkProblem::Unsupported {
+            feature: format!(
+                "a {vk} view of \"{}\" ({:?}): wgpu views a texture only in its own format or its sRGB twin",
+                texture.name, texture.format
+            ),
+        }
+        .into())
     }
 }
 

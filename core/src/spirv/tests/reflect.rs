@@ -25,6 +25,7 @@ fn reflects_vkcube_vertex_shader() {
             non_readable: false,
             id: r.resources[0].id,
             name: Some("ubuf".to_owned()),
+            block_size: Some(1216),
         }]
     );
     assert_eq!(r.push_constant_size, 0);
