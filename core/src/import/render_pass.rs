@@ -336,7 +336,7 @@ pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
         if view == 0 {
             continue;
         }
-        expect(view, &c);
+        expect(view, c);
         sub.colors.push(AttUse {
             view,
             slot: slot as u32,

@@ -96,7 +96,7 @@ impl Validator<'_> {
         }
         let format = depth.map(|d| d.format);
         if let Some(v) = c.depth {
-            if !format.is_some_and(|f| f.depth_bits > 0) {
+            if format.is_none_or(|f| f.depth_bits == 0) {
                 self.diags.error(
                     "attachment-clear",
                     &path.field("depth"),
@@ -110,7 +110,7 @@ impl Validator<'_> {
                 );
             }
         }
-        if c.stencil.is_some() && !format.is_some_and(|f| f.stencil_bits > 0) {
+        if c.stencil.is_some() && format.is_none_or(|f| f.stencil_bits == 0) {
             self.diags.error(
                 "attachment-clear",
                 &path.field("stencil"),

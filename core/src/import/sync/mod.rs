@@ -314,7 +314,7 @@ impl State {
             // each other (the validation layer's rule for sequential transitions too): a
             // transition after a transition is a hazard only across queues.
             let sequential = matches!(w.access.what, What::Transition(..)) && w.queue == queue;
-            if !(exec && available) && !sequential && self.reads.is_empty() {
+            if !(sequential || exec && available) && self.reads.is_empty() {
                 hazards.push((HazardKind::WriteAfterWrite, w.access.clone()));
             }
         }
