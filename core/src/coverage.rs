@@ -89,30 +89,52 @@ pub fn dynamic_state(name: &str) -> Option<Verdict> {
         "RAY_TRACING_PIPELINE_STACK_SIZE_KHR" => {
             Verdict::NoEffect("only ray tracing pipelines read it, and they are refused")
         }
-        "VERTEX_INPUT_EXT"
-        | "PATCH_CONTROL_POINTS_EXT"
-        | "TESSELLATION_DOMAIN_ORIGIN_EXT"
-        | "DEPTH_CLAMP_ENABLE_EXT"
-        | "POLYGON_MODE_EXT"
-        | "RASTERIZATION_SAMPLES_EXT"
-        | "SAMPLE_MASK_EXT"
-        | "ALPHA_TO_COVERAGE_ENABLE_EXT"
-        | "ALPHA_TO_ONE_ENABLE_EXT"
-        | "LOGIC_OP_ENABLE_EXT"
-        | "COLOR_BLEND_ENABLE_EXT"
-        | "COLOR_BLEND_EQUATION_EXT"
-        | "COLOR_WRITE_MASK_EXT"
+        "VERTEX_INPUT_EXT" => Verdict::Emulated(
+            "the bindings and attributes set before each draw replace the pipeline's in a variant per value; an instance divisor other than 1 is refused (wgpu steps every instance)",
+        ),
+        "POLYGON_MODE_EXT" | "DEPTH_CLAMP_ENABLE_EXT" | "RASTERIZATION_SAMPLES_EXT" => BAKED,
+        "COLOR_BLEND_ENABLE_EXT" | "COLOR_BLEND_EQUATION_EXT" | "COLOR_WRITE_MASK_EXT" => {
+            Verdict::Emulated(
+                "baked into the colour targets' blend states per value, attachment by attachment",
+            )
+        }
+        "LOGIC_OP_ENABLE_EXT" => Verdict::Emulated(
+            "baked while off; a draw with logic ops on is refused (wgpu has none)",
+        ),
+        "DEPTH_CLIP_ENABLE_EXT" => Verdict::Emulated(
+            "baked where clipping is the opposite of clamping (wgpu's unclipped depth clamps); clipping and clamping both on, or both off, is refused",
+        ),
+        "DEPTH_CLIP_NEGATIVE_ONE_TO_ONE_EXT" => Verdict::Emulated(
+            "OpenGL's depth range (-w to w) mapped to Vulkan's in the vertex shader: z becomes (z + w) / 2 before each return",
+        ),
+        "SAMPLE_MASK_EXT" => Verdict::Emulated(
+            "baked while every sample is in the mask; a mask leaving samples out is refused",
+        ),
+        "ALPHA_TO_COVERAGE_ENABLE_EXT" | "ALPHA_TO_ONE_ENABLE_EXT" => {
+            Verdict::Emulated("baked while off; a draw switching it on is refused")
+        }
+        "PROVOKING_VERTEX_MODE_EXT" => Verdict::Emulated(
+            "no effect unless the fragment shader reads a flat input: the last vertex's values there are refused (wgpu takes the first's)",
+        ),
+        "LINE_RASTERIZATION_MODE_EXT" => Verdict::Emulated(
+            "no effect on triangles filled; lines drawn in another mode than the default are refused",
+        ),
+        "LINE_STIPPLE_ENABLE_EXT" => {
+            Verdict::Emulated("baked while off; stippled lines are refused (wgpu has none)")
+        }
+        "LINE_STIPPLE_EXT" => {
+            Verdict::Emulated("no effect while line stipple is off; stippled lines are refused")
+        }
+        "PATCH_CONTROL_POINTS_EXT" => {
+            Verdict::NoEffect("only tessellation reads it, and tessellation stages are refused")
+        }
+        "TESSELLATION_DOMAIN_ORIGIN_EXT"
         | "RASTERIZATION_STREAM_EXT"
         | "CONSERVATIVE_RASTERIZATION_MODE_EXT"
         | "EXTRA_PRIMITIVE_OVERESTIMATION_SIZE_EXT"
-        | "DEPTH_CLIP_ENABLE_EXT"
         | "SAMPLE_LOCATIONS_ENABLE_EXT"
-        | "COLOR_BLEND_ADVANCED_EXT"
-        | "PROVOKING_VERTEX_MODE_EXT"
-        | "LINE_RASTERIZATION_MODE_EXT"
-        | "LINE_STIPPLE_ENABLE_EXT"
-        | "DEPTH_CLIP_NEGATIVE_ONE_TO_ONE_EXT" => Verdict::Refused(
-            "extended dynamic state 3 and vertex input: the import does not record these values yet",
+        | "COLOR_BLEND_ADVANCED_EXT" => Verdict::Refused(
+            "tessellation, transform feedback streams, conservative rasterization, sample locations and advanced blending: wgpu has none",
         ),
         "VIEWPORT_W_SCALING_NV"
         | "DISCARD_RECTANGLE_EXT"
@@ -121,7 +143,6 @@ pub fn dynamic_state(name: &str) -> Option<Verdict> {
         | "VIEWPORT_COARSE_SAMPLE_ORDER_NV"
         | "EXCLUSIVE_SCISSOR_NV"
         | "FRAGMENT_SHADING_RATE_KHR"
-        | "LINE_STIPPLE_EXT"
         | "VIEWPORT_W_SCALING_ENABLE_NV"
         | "VIEWPORT_SWIZZLE_NV"
         | "COVERAGE_TO_COLOR_ENABLE_NV"

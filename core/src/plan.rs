@@ -182,7 +182,10 @@ pub struct DepthTarget {
     pub depth_store: bool,
     pub stencil_clear: Option<u32>,
     pub stencil_store: bool,
+    /// The depth aspect is read-only.
     pub read_only: bool,
+    /// The stencil aspect is read-only.
+    pub stencil_read_only: bool,
 }
 
 #[derive(Debug, Clone)]

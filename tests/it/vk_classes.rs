@@ -706,3 +706,142 @@ fn the_import_says_whether_the_frame_replays() {
     }
     replay_fails(&capture);
 }
+
+/// vkcube's pipeline with the extended-dynamic-state-3 and vertex-input states declared
+/// dynamic and set by the draw to what the pipeline had: the baked variant draws the same
+/// image. Every colour channel masked off by the draw, the cube is gone; a state wgpu has no
+/// twin for switched on (alpha to one), or a dynamic state the draw never set, is refused
+/// naming it, the pass and the draw.
+#[test]
+fn extended_dynamic_state_is_baked_into_pipeline_variants() {
+    let dir = temp("extended");
+    let capture = vkcube(&dir);
+    let same = json!({
+        "vertex_input": {"bindings": [], "attributes": []},
+        "polygon_mode": "VK_POLYGON_MODE_FILL",
+        "depth_clamp_enable": false,
+        "depth_clip_enable": true,
+        "depth_clip_negative_one_to_one": false,
+        "alpha_to_coverage_enable": false,
+        "alpha_to_one_enable": false,
+        "rasterization_samples": "VK_SAMPLE_COUNT_1_BIT",
+        "sample_mask": [4294967295u32],
+        "color_blend_enable": [false],
+        "color_write_mask": [15],
+        "logic_op_enable": false,
+        "provoking_vertex_mode": "VK_PROVOKING_VERTEX_MODE_LAST_VERTEX_EXT",
+        "line_rasterization_mode": "VK_LINE_RASTERIZATION_MODE_BRESENHAM_EXT",
+        "line_stipple_enable": false,
+        "patch_control_points": 3,
+    });
+    edit(&capture, |v| {
+        let (draw, g) = draw_and_state(v);
+        let states = g["dynamic_states"].as_array_mut().unwrap();
+        for s in [
+            "VERTEX_INPUT_EXT",
+            "POLYGON_MODE_EXT",
+            "DEPTH_CLAMP_ENABLE_EXT",
+            "DEPTH_CLIP_ENABLE_EXT",
+            "DEPTH_CLIP_NEGATIVE_ONE_TO_ONE_EXT",
+            "ALPHA_TO_COVERAGE_ENABLE_EXT",
+            "ALPHA_TO_ONE_ENABLE_EXT",
+            "RASTERIZATION_SAMPLES_EXT",
+            "SAMPLE_MASK_EXT",
+            "COLOR_BLEND_ENABLE_EXT",
+            "COLOR_WRITE_MASK_EXT",
+            "LOGIC_OP_ENABLE_EXT",
+            "PROVOKING_VERTEX_MODE_EXT",
+            "LINE_RASTERIZATION_MODE_EXT",
+            "LINE_STIPPLE_ENABLE_EXT",
+            "LINE_STIPPLE_EXT",
+            "PATCH_CONTROL_POINTS_EXT",
+        ] {
+            states.push(json!(format!("VK_DYNAMIC_STATE_{s}")));
+        }
+        // The pipeline's own values say otherwise: only the draw's count.
+        g["polygon_mode"] = json!("VK_POLYGON_MODE_LINE");
+        g["blend"][0]["write_mask"] = json!(0);
+        draw["dynamic"] = json!({"extended": same.clone()});
+    });
+    let image = crate::common::replay_presented(&capture, &dir.join("same"));
+    crate::golden::within("vkcube with extended dynamic state", &image, &reference()).unwrap();
+
+    edit(&capture, |v| {
+        let (draw, _) = draw_and_state(v);
+        draw["dynamic"]["extended"]["color_write_mask"] = json!([0]);
+    });
+    let image = crate::common::replay_presented(&capture, &dir.join("masked"));
+    assert!(
+        crate::golden::within("vkcube masked off", &image, &reference()).is_err(),
+        "the draw's colour write mask reached the pipeline"
+    );
+
+    edit(&capture, |v| {
+        let (draw, _) = draw_and_state(v);
+        draw["dynamic"]["extended"] = same.clone();
+        draw["dynamic"]["extended"]["alpha_to_one_enable"] = json!(true);
+    });
+    let err = replay_fails(&capture);
+    for part in ["pass \"render_pass\"", "draw 0", "alpha to one"] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+
+    edit(&capture, |v| {
+        let (draw, _) = draw_and_state(v);
+        draw["dynamic"]["extended"] = same.clone();
+        draw["dynamic"]["extended"]
+            .as_object_mut()
+            .unwrap()
+            .remove("polygon_mode");
+    });
+    let err = replay_fails(&capture);
+    assert!(
+        err.contains("dynamic polygon mode the draw never set"),
+        "{err}"
+    );
+}
+
+/// A sampled view whose components are swizzled (zink reads a luminance-alpha atlas through
+/// R, R, R, G) would be read as stored by wgpu, which has no view swizzle: refused naming the
+/// view; a swizzle that is not four of R, G, B, A, 0 and 1 does not validate.
+#[test]
+fn swizzled_views_are_refused_by_name() {
+    let dir = temp("swizzle");
+    let capture = vkcube(&dir);
+    edit(&capture, |v| {
+        v["vulkan"]["image_views"][0]["swizzle"] = json!("RRRG");
+    });
+    let err = replay_fails(&capture);
+    for part in ["draw 0", "components swizzled", "view_27"] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+    edit(&capture, |v| {
+        v["vulkan"]["image_views"][0]["swizzle"] = json!("RRX");
+    });
+    let err = replay_fails(&capture);
+    assert!(err.contains("image_views[0].swizzle"), "{err}");
+}
+
+/// vkcube's texture view pointed at the image the pass renders to: Vulkan lets a subpass
+/// read its own attachment (framebuffer fetch through an input attachment), so the frame
+/// still imports and validates, and the replay refuses it naming the attachment and draw.
+#[test]
+fn a_pass_reading_its_own_attachment_is_refused_by_name() {
+    let dir = temp("feedback");
+    let capture = vkcube(&dir);
+    edit(&capture, |v| {
+        let view = &mut v["vulkan"]["image_views"][0];
+        view["image"] = json!("swapchain_0");
+        view["format"] = json!("VK_FORMAT_B8G8R8A8_UNORM");
+        let (draw, _) = draw_and_state(v);
+        for d in draw["descriptors"].as_array_mut().unwrap() {
+            if d["view"] == json!("view_27") {
+                d["resource"] = json!("swapchain_0");
+            }
+        }
+    });
+    let err = replay_fails(&capture);
+    for part in ["draw 0", "colour attachment 0", "framebuffer fetch"] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+}

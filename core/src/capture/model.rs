@@ -469,6 +469,7 @@ pub struct DepthStencilDesc {
     pub stencil_store: StoreOp,
     pub stencil_clear: u32,
     pub read_only: bool,
+    pub stencil_read_only: bool,
 }
 
 #[derive(Clone, Debug)]

@@ -41,6 +41,34 @@ pub struct VkView {
     pub mips: Option<u32>,
     pub base_layer: u32,
     pub layers: Option<u32>,
+    /// What each of R, G, B and A reads, where not the identity.
+    pub swizzle: Option<[Component; 4]>,
+}
+
+/// One channel of a view's component mapping.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Component {
+    R,
+    G,
+    B,
+    A,
+    Zero,
+    One,
+}
+
+impl Component {
+    /// From its letter in a view's `swizzle` (`R`, `G`, `B`, `A`, `0`, `1`).
+    pub fn of(c: char) -> Option<Component> {
+        Some(match c {
+            'R' => Component::R,
+            'G' => Component::G,
+            'B' => Component::B,
+            'A' => Component::A,
+            '0' => Component::Zero,
+            '1' => Component::One,
+            _ => return None,
+        })
+    }
 }
 
 #[derive(Clone, Debug)]

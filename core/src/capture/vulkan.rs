@@ -301,6 +301,20 @@ impl ImageLayout {
         self.name().contains("READ_ONLY")
     }
 
+    /// Whether a depth/stencil attachment in this layout may not write its stencil aspect:
+    /// read-only for it (`DEPTH_ATTACHMENT_STENCIL_READ_ONLY_OPTIMAL`, the read-only layouts)
+    /// where `DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL` leaves the stencil writable.
+    pub fn stencil_read_only(self) -> bool {
+        let n = self.name();
+        n.contains("READ_ONLY") && !n.contains("STENCIL_ATTACHMENT")
+    }
+
+    /// Whether a depth/stencil attachment in this layout may not write its depth aspect.
+    pub fn depth_read_only(self) -> bool {
+        let n = self.name();
+        n.contains("READ_ONLY") && !n.starts_with("DEPTH_ATTACHMENT")
+    }
+
     /// Whether an image in this layout serves a use that needs `needed`: the same layout,
     /// GENERAL (for anything but presenting), or one of the `*2` catch-all layouts.
     pub fn serves(self, needed: Self) -> bool {
@@ -399,6 +413,24 @@ pub fn bare_name(name: &str) -> &str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The layouts that keep one aspect of a depth/stencil attachment writable.
+    #[test]
+    fn depth_and_stencil_are_read_only_apart() {
+        use ImageLayout as L;
+        let aspects = |l: L| (l.depth_read_only(), l.stencil_read_only());
+        assert_eq!(aspects(L::DepthStencilAttachmentOptimal), (false, false));
+        assert_eq!(aspects(L::DepthStencilReadOnlyOptimal), (true, true));
+        assert_eq!(
+            aspects(L::DepthReadOnlyStencilAttachmentOptimal),
+            (true, false)
+        );
+        assert_eq!(
+            aspects(L::DepthAttachmentStencilReadOnlyOptimal),
+            (false, true)
+        );
+        assert_eq!(aspects(L::General), (false, false));
+    }
 
     #[test]
     fn masks_round_trip_through_names() {

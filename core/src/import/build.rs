@@ -608,6 +608,8 @@ impl Builder {
                 stencil_store: store_op(&d.stencil_store),
                 stencil_clear: d.stencil_clear,
                 read_only: d.read_only,
+                stencil_read_only: (d.stencil_read_only != d.read_only)
+                    .then_some(d.stencil_read_only),
             });
         }
         Some(pass)

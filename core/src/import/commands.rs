@@ -146,7 +146,10 @@ pub struct DepthUse {
     pub stencil_store: String,
     pub depth_clear: f64,
     pub stencil_clear: u32,
+    /// The depth aspect is read-only in the subpass's layout.
     pub read_only: bool,
+    /// The stencil aspect is read-only in the subpass's layout.
+    pub stencil_read_only: bool,
 }
 
 /// The attachments of one subpass (or of one dynamic rendering instance).

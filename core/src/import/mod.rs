@@ -10,6 +10,7 @@ mod calls;
 mod commands;
 mod contents;
 mod emit;
+mod extended_state;
 pub mod gfxr;
 mod host_writes;
 mod packed;

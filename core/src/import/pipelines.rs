@@ -522,6 +522,14 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
         g.depth_clamp = boolean(&r, "depthClampEnable")?;
         g.rasterizer_discard = boolean(&r, "rasterizerDiscardEnable")?;
         g.line_width = float(&r, "lineWidth")?;
+        // `VkPipelineRasterizationProvokingVertexStateCreateInfoEXT`.
+        let mut next = r.opt("pNext");
+        while let Some(n) = next {
+            if let Some(m) = n.opt("provokingVertexMode") {
+                g.provoking_vertex_last = m.name()?.contains("LAST_VERTEX");
+            }
+            next = n.opt("pNext");
+        }
         if boolean(&r, "depthBiasEnable")? || bias_switched {
             g.depth_bias = Some([
                 float(&r, "depthBiasConstantFactor")?,
@@ -580,6 +588,14 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
         }
     }
     if let Some(v) = ci.opt("pViewportState") {
+        // OpenGL's depth range (`VkPipelineViewportDepthClipControlCreateInfoEXT`).
+        let mut next = v.opt("pNext");
+        while let Some(n) = next {
+            if n.opt("negativeOneToOne").is_some() {
+                g.depth_negative_one_to_one = boolean(&n, "negativeOneToOne")?;
+            }
+            next = n.opt("pNext");
+        }
         for vp in v.list("pViewports")? {
             g.viewports.push([
                 float(&vp, "x")?,

@@ -475,6 +475,7 @@ impl Recording {
                 );
             }
             SetState::LogicOp => d.logic_op = Some(args.get("logicOp")?.name()?),
+            other => super::extended_state::set(d.extended.get_or_insert_default(), other, args)?,
         }
         Ok(())
     }

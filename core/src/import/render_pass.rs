@@ -204,7 +204,8 @@ fn subpass_use(
                 .as_ref()
                 .and_then(|d| d.get("stencil").ok()?.u32().ok())
                 .unwrap_or(0),
-            read_only: layout.is_some_and(ImageLayout::is_read_only),
+            read_only: layout.is_some_and(ImageLayout::depth_read_only),
+            stencil_read_only: layout.is_some_and(ImageLayout::stencil_read_only),
         });
     }
     // A resolve attachment resolves the colour attachment at its own position in the lists.
@@ -387,7 +388,9 @@ pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
                 .and_then(|c| c.get("stencil").ok()?.u32().ok())
                 .unwrap_or(0),
             read_only: ImageLayout::from_name(&d.get("imageLayout")?.symbol()?)
-                .is_some_and(ImageLayout::is_read_only),
+                .is_some_and(ImageLayout::depth_read_only),
+            stencil_read_only: ImageLayout::from_name(&d.get("imageLayout")?.symbol()?)
+                .is_some_and(ImageLayout::stencil_read_only),
         });
     }
 

@@ -176,6 +176,8 @@ pub struct Objects {
     pub views: HashMap<u64, ViewInfo>,
     /// Image view -> (view type, format, aspect mask), for the replay's views.
     pub view_kinds: HashMap<u64, (String, String, u64)>,
+    /// Views whose components are not the identity, as `RRRG` (`0`, `1` for the constants).
+    pub view_swizzles: HashMap<u64, String>,
     /// Texel buffer views -> (buffer, offset, range).
     pub buffer_views: HashMap<u64, (u64, u64, u64)>,
     /// Buffer view -> its `VK_FORMAT_*` (a uniform texel buffer's texels are read in it).
@@ -505,6 +507,12 @@ impl Objects {
         let range = ci.get("subresourceRange")?;
         let aspect = range.get("aspectMask")?.flags(ASPECTS)?;
         let view = args.get("pView")?.handle()?;
+        let swizzle = swizzle(&ci)?;
+        if swizzle != "RGBA" {
+            self.view_swizzles.insert(view, swizzle);
+        } else {
+            self.view_swizzles.remove(&view);
+        }
         self.view_kinds.insert(
             view,
             (
@@ -832,6 +840,29 @@ fn descriptors(
             None => None,
         };
         out.extend(descriptor.map(|d| (at, d)));
+    }
+    Ok(out)
+}
+
+/// A view's `components` as four letters: the channel each of R, G, B and A reads (`0` and `1`
+/// for the constants); `RGBA` is the identity.
+fn swizzle(ci: &Arg<'_>) -> Got<String> {
+    let Some(c) = ci.opt("components") else {
+        return Ok("RGBA".to_owned());
+    };
+    let mut out = String::new();
+    for (own, key) in ['R', 'G', 'B', 'A'].into_iter().zip(["r", "g", "b", "a"]) {
+        let name = c.get(key)?.name()?;
+        out.push(match name.trim_start_matches("VK_COMPONENT_SWIZZLE_") {
+            "R" => 'R',
+            "G" => 'G',
+            "B" => 'B',
+            "A" => 'A',
+            "ZERO" => '0',
+            "ONE" => '1',
+            // IDENTITY (and any value the registry adds later) reads the channel's own.
+            _ => own,
+        });
     }
     Ok(out)
 }

@@ -73,6 +73,7 @@ impl Builder {
                         mips: v.mip_count,
                         base_layer: v.base_layer,
                         layers: v.layer_count,
+                        swizzle: objects.view_swizzles.get(view).cloned(),
                     });
                     d.resource = Some(image);
                     d.view = Some(name);

@@ -264,6 +264,7 @@ impl<'c> Lowering<'c> {
             stencil_clear: (d.stencil_load == LoadOp::Clear).then_some(d.stencil_clear),
             stencil_store: d.stencil_store == StoreOp::Store,
             read_only: d.read_only,
+            stencil_read_only: d.stencil_read_only,
         }))
     }
 

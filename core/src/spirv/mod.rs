@@ -9,6 +9,7 @@
 
 mod bias;
 mod index;
+mod layout;
 mod ops;
 mod params;
 mod reflect;
@@ -23,6 +24,7 @@ use std::fmt;
 
 use rspirv::spirv::{Capability, Dim, ExecutionModel, ImageFormat};
 
+pub use layout::uniform_block_beyond_std140;
 pub use reflect::reflect;
 pub use rewrite::rewrite;
 pub use usage::{Usage, usage};
@@ -209,6 +211,9 @@ pub struct RewriteOptions<'a> {
     /// The LOD bias of the sampler bound at each (set, binding, bias): added to every sample
     /// taken through it (`bias`), since wgpu's samplers have none.
     pub lod_bias: &'a [(u32, u32, f32)],
+    /// Map the position's depth from OpenGL's clip range (-w to w) to Vulkan's (0 to w) in the
+    /// entry point that writes the final position, as `flip_y` finds it.
+    pub gl_depth: bool,
 }
 
 impl fmt::Debug for RewriteOptions<'_> {
@@ -217,4 +222,51 @@ impl fmt::Debug for RewriteOptions<'_> {
             .field("flip_y", &self.flip_y)
             .finish_non_exhaustive()
     }
+}
+
+/// Whether the module decorates anything `Flat` (a fragment shader's flat inputs, whose value
+/// the provoking vertex decides). A module that does not parse counts as having some.
+pub fn has_flat(words: &[u32]) -> bool {
+    let Ok(loaded) = index::load(words) else {
+        return true;
+    };
+    loaded.module.annotations.iter().any(|i| {
+        i.operands.iter().any(|o| {
+            matches!(
+                o,
+                rspirv::dr::Operand::Decoration(rspirv::spirv::Decoration::Flat)
+            )
+        })
+    })
+}
+
+/// Whether any function of the module uses a PushConstant variable (declaring one, and
+/// listing it in an entry point's interface, reads nothing). A module that does not parse
+/// counts as reading.
+pub fn reads_push_constants(words: &[u32]) -> bool {
+    use rspirv::dr::Operand;
+    let Ok(loaded) = index::load(words) else {
+        return true;
+    };
+    let module = &loaded.module;
+    let blocks: Vec<u32> = module
+        .types_global_values
+        .iter()
+        .filter(|i| {
+            i.class.opcode == rspirv::spirv::Op::Variable
+                && i.operands.first()
+                    == Some(&Operand::StorageClass(
+                        rspirv::spirv::StorageClass::PushConstant,
+                    ))
+        })
+        .filter_map(|i| i.result_id)
+        .collect();
+    !blocks.is_empty()
+        && module.functions.iter().any(|f| {
+            f.all_inst_iter().any(|i| {
+                i.operands
+                    .iter()
+                    .any(|o| matches!(o, Operand::IdRef(id) if blocks.contains(id)))
+            })
+        })
 }

@@ -85,6 +85,10 @@ struct Flip {
     /// Negate before each OpReturn of this function, or (None, geometry shaders) before each
     /// vertex is emitted: the outputs are undefined after an emit, so each emit gets its own.
     returns_of: Option<Word>,
+    /// Negate y (`RewriteOptions::flip_y`).
+    negate_y: bool,
+    /// Map OpenGL's depth, -w to w, to Vulkan's 0 to w (`RewriteOptions::gl_depth`).
+    gl_depth: bool,
 }
 
 fn plan(
@@ -196,9 +200,13 @@ fn plan(
         model,
         ExecutionModel::Vertex | ExecutionModel::TessellationEvaluation | ExecutionModel::Geometry
     );
-    let flip = if opts.flip_y && flips {
+    let flip = if (opts.flip_y || opts.gl_depth) && flips {
         let returns_of = (model != ExecutionModel::Geometry).then_some(function);
-        find_position(&index, entry_inst, returns_of)?
+        find_position(&index, entry_inst, returns_of)?.map(|f| Flip {
+            negate_y: opts.flip_y,
+            gl_depth: opts.gl_depth,
+            ..f
+        })
     } else {
         None
     };
@@ -334,6 +342,8 @@ fn find_position(
             vec4: vec4_id,
             float,
             returns_of,
+            negate_y: true,
+            gl_depth: false,
         }));
     }
     Ok(None)
@@ -650,6 +660,18 @@ fn flip_y(module: &mut Module, flip: &Flip, ids: &mut Ids) -> Result<(), SpirvEr
         }
         None => None,
     };
+    let half = if flip.gl_depth {
+        let c = ids.fresh()?;
+        added.push(inst(
+            Op::Constant,
+            Some(flip.float),
+            Some(c),
+            vec![Operand::LiteralBit32(0.5f32.to_bits())],
+        ));
+        Some(c)
+    } else {
+        None
+    };
     module.types_global_values.extend(added);
 
     for function in &mut module.functions {
@@ -668,7 +690,7 @@ fn flip_y(module: &mut Module, flip: &Flip, ids: &mut Ids) -> Result<(), SpirvEr
                     None => matches!(i.class.opcode, Op::EmitVertex | Op::EmitStreamVertex),
                 };
                 if here {
-                    negate_y(&mut out, flip, chain, ids)?;
+                    negate_y(&mut out, flip, chain, half, ids)?;
                 }
                 out.push(i);
             }
@@ -678,11 +700,13 @@ fn flip_y(module: &mut Module, flip: &Flip, ids: &mut Ids) -> Result<(), SpirvEr
     Ok(())
 }
 
-/// Appends: pointer to gl_Position, load, extract y, negate, insert, store.
+/// Appends: pointer to gl_Position, load, extract y, negate, insert; with `half` (the
+/// constant 0.5), extract z and w, z = (z + w) * 0.5, insert; store.
 fn negate_y(
     out: &mut Vec<Instruction>,
     flip: &Flip,
     chain: Option<(Word, Word)>,
+    half: Option<Word>,
     ids: &mut Ids,
 ) -> Result<(), SpirvError> {
     let position = match chain {
@@ -698,40 +722,70 @@ fn negate_y(
         }
         None => flip.var,
     };
-    let (value, y, negated, flipped) = (ids.fresh()?, ids.fresh()?, ids.fresh()?, ids.fresh()?);
+    let mut value = ids.fresh()?;
     out.push(inst(
         Op::Load,
         Some(flip.vec4),
         Some(value),
         vec![Operand::IdRef(position)],
     ));
-    out.push(inst(
-        Op::CompositeExtract,
-        Some(flip.float),
-        Some(y),
-        vec![Operand::IdRef(value), Operand::LiteralBit32(1)],
-    ));
-    out.push(inst(
-        Op::FNegate,
-        Some(flip.float),
-        Some(negated),
-        vec![Operand::IdRef(y)],
-    ));
-    out.push(inst(
-        Op::CompositeInsert,
-        Some(flip.vec4),
-        Some(flipped),
-        vec![
-            Operand::IdRef(negated),
-            Operand::IdRef(value),
-            Operand::LiteralBit32(1),
-        ],
-    ));
+    let extract = |out: &mut Vec<Instruction>, from: Word, c: u32, ids: &mut Ids| {
+        let id = ids.fresh()?;
+        out.push(inst(
+            Op::CompositeExtract,
+            Some(flip.float),
+            Some(id),
+            vec![Operand::IdRef(from), Operand::LiteralBit32(c)],
+        ));
+        Ok::<Word, SpirvError>(id)
+    };
+    let insert = |out: &mut Vec<Instruction>, into: Word, c: u32, part: Word, ids: &mut Ids| {
+        let id = ids.fresh()?;
+        out.push(inst(
+            Op::CompositeInsert,
+            Some(flip.vec4),
+            Some(id),
+            vec![
+                Operand::IdRef(part),
+                Operand::IdRef(into),
+                Operand::LiteralBit32(c),
+            ],
+        ));
+        Ok::<Word, SpirvError>(id)
+    };
+    let binary = |out: &mut Vec<Instruction>, op: Op, a: Word, b: Word, ids: &mut Ids| {
+        let id = ids.fresh()?;
+        out.push(inst(
+            op,
+            Some(flip.float),
+            Some(id),
+            vec![Operand::IdRef(a), Operand::IdRef(b)],
+        ));
+        Ok::<Word, SpirvError>(id)
+    };
+    if flip.negate_y {
+        let y = extract(out, value, 1, ids)?;
+        let negated = ids.fresh()?;
+        out.push(inst(
+            Op::FNegate,
+            Some(flip.float),
+            Some(negated),
+            vec![Operand::IdRef(y)],
+        ));
+        value = insert(out, value, 1, negated, ids)?;
+    }
+    if let Some(half) = half {
+        let z = extract(out, value, 2, ids)?;
+        let w = extract(out, value, 3, ids)?;
+        let sum = binary(out, Op::FAdd, z, w, ids)?;
+        let mapped = binary(out, Op::FMul, sum, half, ids)?;
+        value = insert(out, value, 2, mapped, ids)?;
+    }
     out.push(inst(
         Op::Store,
         None,
         None,
-        vec![Operand::IdRef(position), Operand::IdRef(flipped)],
+        vec![Operand::IdRef(position), Operand::IdRef(value)],
     ));
     Ok(())
 }

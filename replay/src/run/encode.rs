@@ -308,9 +308,10 @@ impl Session {
             .collect();
         let depth_attachment = depth.zip(depth_view.as_ref()).map(|(d, view)| {
             let stencil = d.format.has_stencil_aspect();
+            // A format without depth (Stencil8) takes no depth operations at all.
             wgpu::RenderPassDepthStencilAttachment {
                 view,
-                depth_ops: if d.read_only {
+                depth_ops: if d.read_only || !d.format.has_depth_aspect() {
                     None
                 } else {
                     Some(wgpu::Operations {
@@ -324,7 +325,7 @@ impl Session {
                         },
                     })
                 },
-                stencil_ops: (stencil && !d.read_only).then(|| wgpu::Operations {
+                stencil_ops: (stencil && !d.stencil_read_only).then(|| wgpu::Operations {
                     load: d
                         .stencil_clear
                         .map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
@@ -616,10 +617,12 @@ impl Session {
                             depth_stencil_attachment: depth.then(|| {
                                 wgpu::RenderPassDepthStencilAttachment {
                                     view: &view,
-                                    depth_ops: Some(wgpu::Operations {
-                                        load: wgpu::LoadOp::Clear(value[0] as f32),
-                                        store: wgpu::StoreOp::Store,
-                                    }),
+                                    depth_ops: format.has_depth_aspect().then_some(
+                                        wgpu::Operations {
+                                            load: wgpu::LoadOp::Clear(value[0] as f32),
+                                            store: wgpu::StoreOp::Store,
+                                        },
+                                    ),
                                     stencil_ops: format.has_stencil_aspect().then_some(
                                         wgpu::Operations {
                                             load: wgpu::LoadOp::Clear(*stencil),

@@ -32,6 +32,11 @@ pub struct DepthStencilAttachment {
     /// Depth is bound read-only (D3D12 DEPTH_READ): tested, never written.
     #[serde(default)]
     pub read_only: bool,
+    /// Where the stencil aspect's access differs from the depth's: Vulkan's
+    /// `DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL` (stencil written, depth only tested) and
+    /// the reverse. Absent: as `read_only`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stencil_read_only: Option<bool>,
 }
 
 pub(crate) fn one_f64() -> f64 {

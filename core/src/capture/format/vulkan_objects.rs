@@ -88,6 +88,10 @@ pub struct VkImageView {
     /// Absent: every layer from `base_layer`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layers: Option<u32>,
+    /// The channel each of R, G, B and A reads (`RRRG`; `0` and `1` for the constants), where
+    /// the view's `components` are not the identity.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub swizzle: Option<String>,
 }
 
 /// A descriptor a draw or dispatch could reach: in set `set`, at `binding` and array
@@ -251,6 +255,14 @@ pub struct GraphicsState {
     /// The subpass of the render pass the pipeline was made for.
     #[serde(default)]
     pub subpass: u32,
+    /// Clip-space depth from -w to w, as OpenGL has it
+    /// (`VkPipelineViewportDepthClipControlCreateInfoEXT::negativeOneToOne`, or its dynamic
+    /// state): the replay maps it to Vulkan's 0 to w in the last vertex stage.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub depth_negative_one_to_one: bool,
+    /// Flat inputs take the last vertex's values (`VK_PROVOKING_VERTEX_MODE_LAST_VERTEX_EXT`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub provoking_vertex_last: bool,
 }
 
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
@@ -434,6 +446,91 @@ pub struct VkDynamicValues {
     /// `vkCmdBindVertexBuffers2`'s strides: (binding, stride).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub vertex_strides: Vec<[u64; 2]>,
+    /// Extended dynamic state 3 and vertex input (`VK_EXT_extended_dynamic_state3`,
+    /// `VK_EXT_vertex_input_dynamic_state`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extended: Option<Box<VkExtendedDynamicValues>>,
+}
+
+/// The values of `vkCmdSetVertexInputEXT` and the extended-dynamic-state-3 setters; each is
+/// what the last call of its kind set, absent where none was made. Per-attachment values are
+/// indexed by colour attachment (`null` where no call named it).
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkExtendedDynamicValues {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertex_input: Option<VkVertexInput>,
+    /// `VK_POLYGON_MODE_*`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub polygon_mode: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_clamp_enable: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_clip_enable: Option<bool>,
+    /// OpenGL's clip-space depth, -w to w, instead of Vulkan's 0 to w.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_clip_negative_one_to_one: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_to_coverage_enable: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_to_one_enable: Option<bool>,
+    /// `VK_SAMPLE_COUNT_*_BIT`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rasterization_samples: Option<String>,
+    /// `vkCmdSetSampleMaskEXT`'s words.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sample_mask: Option<Vec<u32>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub color_blend_enable: Vec<Option<bool>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub color_blend_equation: Vec<Option<VkBlendEquation>>,
+    /// `VkColorComponentFlags`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub color_write_mask: Vec<Option<u32>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub logic_op_enable: Option<bool>,
+    /// `VK_PROVOKING_VERTEX_MODE_*`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub provoking_vertex_mode: Option<String>,
+    /// `VK_LINE_RASTERIZATION_MODE_*`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line_rasterization_mode: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line_stipple_enable: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub patch_control_points: Option<u32>,
+}
+
+/// `vkCmdSetVertexInputEXT`: the vertex buffer bindings and attributes, replacing the
+/// pipeline's.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkVertexInput {
+    pub bindings: Vec<VkVertexBindingDivisor>,
+    pub attributes: Vec<VertexAttributeVk>,
+}
+
+/// A vertex binding as `vkCmdSetVertexInputEXT` gives it, with its instance divisor.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkVertexBindingDivisor {
+    pub binding: u32,
+    pub stride: u32,
+    /// `VK_VERTEX_INPUT_RATE_*`.
+    pub input_rate: String,
+    pub divisor: u32,
+}
+
+/// One colour attachment's `vkCmdSetColorBlendEquationEXT`.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VkBlendEquation {
+    pub src_color: String,
+    pub dst_color: String,
+    pub color_op: String,
+    pub src_alpha: String,
+    pub dst_alpha: String,
+    pub alpha_op: String,
 }
 
 impl VkDynamicValues {

@@ -59,14 +59,26 @@ impl Validator<'_> {
                     AccessSource::ColorAttachment(i) => format!("colour attachment {i}"),
                     _ => "the depth-stencil attachment it writes".to_owned(),
                 };
-                self.diags.error(
-                    "feedback-loop",
-                    &path.field("bindings").field(variable),
-                    format!(
-                        "pass \"{}\" binds \"{name}\" as `{variable}` while it is {what}: a subresource cannot be read and rendered to in one pass (use a read-only depth attachment, or another mip or layer)",
-                        p.name
-                    ),
+                let message = format!(
+                    "pass \"{}\" binds \"{name}\" as `{variable}` while it is {what}: a subresource cannot be read and rendered to in one pass (use a read-only depth attachment, or another mip or layer)",
+                    p.name
                 );
+                // Vulkan lets a subpass read its own attachments (input attachments, feedback
+                // loop layouts): an imported frame that does is kept, and the replay refuses it
+                // by name.
+                if self.vulkan() {
+                    self.diags.warning(
+                        "feedback-loop",
+                        &path.field("bindings").field(variable),
+                        message,
+                    );
+                } else {
+                    self.diags.error(
+                        "feedback-loop",
+                        &path.field("bindings").field(variable),
+                        message,
+                    );
+                }
             }
         }
     }

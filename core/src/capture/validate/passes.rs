@@ -629,7 +629,7 @@ impl<'a> Validator<'a> {
             // In a Vulkan render pass the store operation is itself a write access (STORE and
             // DONT_CARE both write the attachment), so an attachment in a writable layout is
             // written whatever the draws do; FL009 says when its draws never write it.
-            let writes = !d.read_only && (state.depth_write || stencil_writes || d.depth_load == LoadOp::Clear || d.stencil_load == LoadOp::Clear || self.vulkan());
+            let writes = !(d.read_only && d.stencil_read_only.unwrap_or(d.read_only)) && (state.depth_write || stencil_writes || d.depth_load == LoadOp::Clear || d.stencil_load == LoadOp::Clear || self.vulkan());
             let range = self.single_subresource(r, d.mip, d.layer, &dpath);
             accesses.push(ResourceAccess {
                 resource: r.id,
@@ -653,6 +653,7 @@ impl<'a> Validator<'a> {
                 stencil_store: d.stencil_store,
                 stencil_clear: d.stencil_clear,
                 read_only: d.read_only,
+                stencil_read_only: d.stencil_read_only.unwrap_or(d.read_only),
             })
         });
         if p.kind == PassKind::Raster {

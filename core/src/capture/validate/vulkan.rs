@@ -179,6 +179,15 @@ impl Validator<'_> {
         );
         for (i, v) in vk.image_views.iter().enumerate() {
             let path = root.field("image_views").index(i);
+            if let Some(text) = &v.swizzle
+                && swizzle(text).is_none()
+            {
+                self.diags.error(
+                    "vulkan",
+                    &path.field("swizzle"),
+                    format!("swizzle {text:?} is not four of R, G, B, A, 0 and 1"),
+                );
+            }
             match self
                 .resources
                 .get(&v.image)
@@ -305,6 +314,7 @@ impl Validator<'_> {
                         mips: v.mips,
                         base_layer: v.base_layer,
                         layers: v.layers,
+                        swizzle: v.swizzle.as_deref().and_then(swizzle),
                     })
                 })
                 .collect(),
@@ -697,6 +707,16 @@ fn view_outside(v: &VkImageView, r: &Resource) -> Option<String> {
 /// (validation reports it).
 fn hex_bytes(text: &str) -> Option<Vec<u8>> {
     hex::decode(text).ok()
+}
+
+/// A view's `swizzle` as four components; `None` for text that is not four of `RGBA01`
+/// (reported by `check_views`).
+fn swizzle(text: &str) -> Option<[crate::capture::vk_model::Component; 4]> {
+    let c: Vec<_> = text
+        .chars()
+        .map(crate::capture::vk_model::Component::of)
+        .collect::<Option<_>>()?;
+    c.try_into().ok()
 }
 
 #[cfg(test)]

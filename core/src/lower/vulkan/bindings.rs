@@ -377,6 +377,16 @@ impl<'c> Lowering<'c> {
     ) -> Result<(wgpu::BindingType, VkResource), Fail> {
         let model = self.vk_model()?;
         let view = &model.views[v];
+        // wgpu's views read their channels as they are.
+        if let Some(sw) = view.swizzle {
+            return Err(VkProblem::Unsupported {
+                feature: format!(
+                    "a view with its components swizzled ({sw:?}, view {}): wgpu views have no swizzle",
+                    view.name
+                ),
+            }
+            .into());
+        }
         let texture = self.tex(p, view.image)?;
         let spec = &self.plan.textures[texture];
         let dimension = match view

@@ -37,7 +37,9 @@ pub(super) fn clear_op(
         }
         colors[i] = Some(value);
     }
-    if (c.depth.is_some() || c.stencil.is_some()) && depth.is_none_or(|d| d.read_only) {
+    if c.depth.is_some() && depth.is_none_or(|d| d.read_only)
+        || c.stencil.is_some() && depth.is_none_or(|d| d.stencil_read_only)
+    {
         return Err(VkProblem::Unsupported {
             feature: "vkCmdClearAttachments of a read-only or absent depth/stencil attachment"
                 .to_owned(),

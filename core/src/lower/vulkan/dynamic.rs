@@ -7,6 +7,7 @@
 use std::borrow::Cow;
 
 use super::VkProblem;
+use super::extended::{EXTENDED, extended};
 use crate::capture::format::{DepthStencilVk, GraphicsState, StencilFaceVk, VkDynamicValues};
 use crate::capture::vk_model::VkPipeline;
 use crate::coverage::{self, Verdict};
@@ -109,6 +110,15 @@ pub(super) fn bake<'g>(
     } else {
         g.depth_bias
     };
+    if let Some(x) = v.extended.as_deref() {
+        extended(&declared, &mut e, x, &missing)?;
+    } else if declared.iter().any(|s| EXTENDED.contains(s)) {
+        let s = declared
+            .iter()
+            .find(|s| EXTENDED.contains(s))
+            .unwrap_or(&"");
+        return Err(missing(&format!("state VK_DYNAMIC_STATE_{s}")));
+    }
     if has("VERTEX_INPUT_BINDING_STRIDE") {
         for b in &mut e.vertex_bindings {
             let stride = v

@@ -12,6 +12,7 @@
 mod bindings;
 mod clears;
 mod dynamic;
+mod extended;
 mod shaders;
 mod states;
 
@@ -84,6 +85,55 @@ fn stage_of(stage: &str) -> Result<(wgpu::ShaderStages, rspirv::spirv::Execution
     })
 }
 
+/// A texture a draw binds that is also an attachment the pass writes: Vulkan lets a subpass
+/// read its own attachment (an input attachment, "framebuffer fetch"; a feedback-loop
+/// layout), wgpu does not read and render one subresource in a pass.
+fn feedback(
+    groups: &[Option<VkGroup>],
+    color: &[ColorTarget],
+    depth: Option<&DepthTarget>,
+) -> Option<String> {
+    let within =
+        |x: u32, base: u32, count: Option<u32>| x >= base && count.is_none_or(|n| x - base < n);
+    for (set, g) in groups.iter().enumerate() {
+        let Some(g) = g else { continue };
+        for (binding, r) in &g.entries {
+            let VkResource::Texture {
+                texture,
+                base_mip,
+                mips,
+                base_layer,
+                layers,
+                ..
+            } = r
+            else {
+                continue;
+            };
+            let seen = |t: usize, mip: u32, layer: u32| {
+                t == *texture
+                    && within(mip, *base_mip, *mips)
+                    && within(layer, *base_layer, *layers)
+            };
+            let attachment = color
+                .iter()
+                .position(|c| seen(c.texture, c.mip, c.layer))
+                .map(|k| format!("colour attachment {k}"))
+                .or_else(|| {
+                    depth
+                        .filter(|d| !(d.read_only && d.stencil_read_only))
+                        .filter(|d| seen(d.texture, d.mip, d.layer))
+                        .map(|_| "the depth/stencil attachment".to_owned())
+                });
+            if let Some(a) = attachment {
+                return Some(format!(
+                    "{a} read through set {set} (wgpu binding {binding}) in the pass that renders to it (framebuffer fetch or a feedback loop: wgpu cannot read and render one subresource in a pass)"
+                ));
+            }
+        }
+    }
+    None
+}
+
 fn vk_error(p: &PassDesc, work: String, problem: VkProblem) -> LowerError {
     LowerError::Vulkan {
         pass: p.name.clone(),
@@ -128,6 +178,15 @@ impl<'c> Lowering<'c> {
                     Fail::Lower(e) => e,
                 })?;
             draws.push(op);
+        }
+        for (i, op) in draws.iter().enumerate() {
+            if let Some(feature) = feedback(&op.groups, &color, depth.as_ref()) {
+                return Err(vk_error(
+                    p,
+                    format!("draw {i}"),
+                    VkProblem::Unsupported { feature },
+                ));
+            }
         }
         let mut clears = Vec::new();
         for (i, c) in p.attachment_clears.iter().enumerate() {
@@ -316,7 +375,7 @@ impl<'c> Lowering<'c> {
                     .ok_or_else(|| {
                         VkProblem::Missing(format!("pipeline {} has no compute stage", pipe.name))
                     })?;
-                let shader = self.vk_shader(pipe, stage, false, &sets)?;
+                let shader = self.vk_shader(pipe, stage, (false, false), &sets)?;
                 let layout = &model.pipeline_layouts[pipe.layout];
                 self.plan.vk.pipelines.push(VkPipelineSpec {
                     name: pipe.name.clone(),
@@ -388,12 +447,26 @@ impl<'c> Lowering<'c> {
         if size == 0 {
             return Ok(Vec::new());
         }
-        let mut bytes = work.push_constants.clone().ok_or_else(|| {
-            VkProblem::Missing(format!(
-                "pipeline {} takes {} bytes of push constants and the capture holds no values",
-                pipe.name, layout.push_size
-            ))
-        })?;
+        let model = self.vk_model()?;
+        // A layout may declare push constants no stage reads (Mesa's zink declares them on
+        // every pipeline); then there is nothing to give but the bytes wgpu asks for.
+        let read = pipe.stages.iter().any(|s| {
+            model.modules[s.module]
+                .words
+                .as_deref()
+                .is_none_or(|w| crate::spirv::reads_push_constants(w))
+        });
+        let mut bytes = match work.push_constants.clone() {
+            Some(bytes) => bytes,
+            None if !read => Vec::new(),
+            None => {
+                return Err(VkProblem::Missing(format!(
+                    "pipeline {} reads {} bytes of push constants and the capture holds no values",
+                    pipe.name, layout.push_size
+                ))
+                .into());
+            }
+        };
         bytes.resize(size, 0);
         Ok(bytes)
     }
@@ -410,11 +483,26 @@ impl<'c> Lowering<'c> {
         let mut fragment = None;
         for stage in &pipe.stages {
             let (s, _) = stage_of(&stage.stage)?;
-            let shader = self.vk_shader(pipe, stage, key.flip, sets)?;
+            let shader =
+                self.vk_shader(pipe, stage, (key.flip, g.depth_negative_one_to_one), sets)?;
             if s == wgpu::ShaderStages::VERTEX {
                 vertex = Some(shader);
             } else if s == wgpu::ShaderStages::FRAGMENT {
                 fragment = Some(shader);
+                // The provoking vertex decides only what flat inputs read.
+                let words = model.modules[stage.module]
+                    .words
+                    .as_deref()
+                    .map_or(&[][..], |w| &w[..]);
+                if g.provoking_vertex_last && crate::spirv::has_flat(words) {
+                    return Err(VkProblem::Unsupported {
+                        feature: format!(
+                            "flat inputs from the last vertex (VK_PROVOKING_VERTEX_MODE_LAST_VERTEX_EXT) in pipeline {}: wgpu takes the first's",
+                            pipe.name
+                        ),
+                    }
+                    .into());
+                }
             }
         }
         let vertex = vertex.ok_or_else(|| {

@@ -24,6 +24,8 @@ pub(super) struct ShaderKey {
     entry: String,
     stage: String,
     flip: bool,
+    /// OpenGL's depth range mapped to Vulkan's (`RewriteOptions::gl_depth`).
+    gl_depth: bool,
     sets: Vec<(u32, Vec<u32>)>,
     specialization: Vec<(u32, u32, Option<u64>)>,
     texel_formats: Vec<(u32, u32, ImageFormat)>,
@@ -64,7 +66,7 @@ impl<'c> Lowering<'c> {
         &mut self,
         pipe: &VkPipeline,
         stage: &VkStage,
-        flip: bool,
+        (flip, gl_depth): (bool, bool),
         bound: &super::bindings::Bound,
     ) -> Result<usize, Fail> {
         let (sets, texel_formats) = (&bound.sets, &bound.texel_formats[..]);
@@ -78,6 +80,7 @@ impl<'c> Lowering<'c> {
             entry: stage.entry.clone(),
             stage: stage.stage.clone(),
             flip,
+            gl_depth,
             sets: sets.iter().map(|(s, b)| (*s, b.clone())).collect(),
             specialization: stage.specialization.clone(),
             texel_formats: texel_formats.to_vec(),
@@ -112,7 +115,18 @@ impl<'c> Lowering<'c> {
         let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
             module: module.name.clone(),
         })?;
+        // wgpu's device takes uniform blocks by std140's rules only: a driver would read a
+        // tighter block right, and the validation layer would call the module invalid.
+        if let Some(problem) = crate::spirv::uniform_block_beyond_std140(words) {
+            return Err(VkProblem::Unsupported {
+                feature: format!(
+                    "a uniform block laid out beyond std140 (shader {name}: {problem}; std430 or scalar layout needs device features wgpu does not enable)"
+                ),
+            }
+            .into());
+        }
         let flip = flip && wgpu_stage == wgpu::ShaderStages::VERTEX;
+        let gl_depth = gl_depth && wgpu_stage == wgpu::ShaderStages::VERTEX;
         let used = |set: u32, b: u32, role: Role| -> Option<u32> {
             let w = wgpu_binding(b, role);
             sets.get(&set)?.contains(&w).then_some(w)
@@ -131,6 +145,7 @@ impl<'c> Lowering<'c> {
                 specialization: &specialization,
                 texel_formats,
                 lod_bias: &lod_bias,
+                gl_depth,
             },
         )
         .map_err(spirv_error)?;
@@ -151,6 +166,7 @@ impl<'c> Lowering<'c> {
                 specialization: &specialization,
                 texel_formats,
                 lod_bias: &lod_bias,
+                gl_depth,
             },
         )
         .map_err(spirv_error)?;

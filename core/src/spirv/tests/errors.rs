@@ -59,6 +59,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             specialization: &[],
             texel_formats: &[],
             lod_bias: &[],
+            gl_depth: false,
         },
     )
     .unwrap_err();
@@ -80,6 +81,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             specialization: &[],
             texel_formats: &[],
             lod_bias: &[],
+            gl_depth: false,
         },
     )
     .unwrap_err();

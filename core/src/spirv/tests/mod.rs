@@ -67,6 +67,7 @@ fn opts(flip_y: bool) -> RewriteOptions<'static> {
         specialization: &[],
         texel_formats: &[],
         lod_bias: &[],
+        gl_depth: false,
     }
 }
 

@@ -79,6 +79,7 @@ fn renumbers_every_binding() {
             specialization: &[],
             texel_formats: &[],
             lod_bias: &[],
+            gl_depth: false,
         },
     )
     .unwrap();
@@ -155,6 +156,63 @@ fn flips_gl_position_in_a_per_vertex_block() {
     assert_eq!(count_op(&load(&input), Op::FNegate), 0);
 }
 
+/// OpenGL's clip-space depth (-w to w, zink's `negativeOneToOne`) becomes Vulkan's (0 to w)
+/// before the return: z and w extracted, (z + w) * 0.5 inserted as z and stored, after the y
+/// flip when there is one and alone when there is not.
+#[test]
+fn maps_opengl_depth_before_the_return() {
+    let input = fixture("vkcube_f3/sh37");
+    for flip_y in [true, false] {
+        let out = rewrite(
+            &input,
+            ExecutionModel::Vertex,
+            "main",
+            &RewriteOptions {
+                gl_depth: true,
+                ..opts(flip_y)
+            },
+        )
+        .unwrap();
+        let module = load(&out);
+        let main = entry_function(&module, "main");
+        let insts: Vec<_> = main.all_inst_iter().collect();
+        let ret = insts
+            .iter()
+            .position(|i| i.class.opcode == Op::Return)
+            .unwrap();
+        let ops: Vec<Op> = insts[ret - 6..ret].iter().map(|i| i.class.opcode).collect();
+        assert_eq!(
+            ops,
+            [
+                Op::CompositeExtract,
+                Op::CompositeExtract,
+                Op::FAdd,
+                Op::FMul,
+                Op::CompositeInsert,
+                Op::Store,
+            ]
+        );
+        let z = insts[ret - 6];
+        let w = insts[ret - 5];
+        assert_eq!(z.operands[1], Operand::LiteralBit32(2));
+        assert_eq!(w.operands[1], Operand::LiteralBit32(3));
+        let mul = insts[ret - 3];
+        assert_eq!(mul.class.opcode, Op::FMul);
+        let Operand::IdRef(half) = mul.operands[1] else {
+            panic!("a constant operand")
+        };
+        let half = module
+            .types_global_values
+            .iter()
+            .find(|i| i.result_id == Some(half))
+            .expect("the constant");
+        assert_eq!(half.operands[0], Operand::LiteralBit32(0.5f32.to_bits()));
+        let insert = insts[ret - 2];
+        assert_eq!(insert.operands[2], Operand::LiteralBit32(2));
+        assert_eq!(count_op(&module, Op::FNegate), usize::from(flip_y));
+    }
+}
+
 #[test]
 fn flips_a_position_variable() {
     // naga declares the position as its own Output variable decorated BuiltIn Position.
@@ -168,6 +226,7 @@ fn flips_a_position_variable() {
             specialization: &[],
             texel_formats: &[],
             lod_bias: &[],
+            gl_depth: false,
         },
     )
     .unwrap();
@@ -281,6 +340,7 @@ fn texel_buffer_reads_become_word_loads_and_specialization_applies() {
             specialization: &spec,
             texel_formats: &[],
             lod_bias: &[],
+            gl_depth: false,
         },
     )
     .unwrap();
