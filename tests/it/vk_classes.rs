@@ -845,3 +845,62 @@ fn a_pass_reading_its_own_attachment_is_refused_by_name() {
         assert!(err.contains(part), "missing {part:?} in:\n{err}");
     }
 }
+
+/// A compressed texture's whole mip chain uploaded as a Vulkan program does it (Warzone 2100's
+/// BC7 terrain pages): one copy per mip with tightly packed rows, the mips smaller than a block
+/// copied with their own size (2x2, 1x1) and one row of blocks at a pitch wgpu cannot align.
+/// wgpu takes whole blocks and no pitch for one row: the replay gives it that, and the frame
+/// replays.
+#[test]
+fn compressed_mip_tails_upload_as_vulkan_copies_them() {
+    let dir = temp("bc-mips");
+    let capture = vkcube(&dir);
+    let contents = dir.join("bc_upload.bin");
+    // Four BC7 blocks for mip 0 (8x8), one each for mips 1, 2 and 3: mode 6, all one colour.
+    let block: [u8; 16] = [
+        0x40, 0xfe, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0xff, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x00,
+    ];
+    std::fs::write(&contents, block.repeat(7)).unwrap();
+    edit(&capture, |v| {
+        let resources = v["resources"].as_array_mut().unwrap();
+        resources.push(json!({
+            "name": "bc_page", "kind": "texture_2d", "format": "BC7_UNORM",
+            "width": 8, "height": 8, "mip_levels": 4,
+            "initial": {"before_capture": {}},
+        }));
+        resources.push(json!({
+            "name": "bc_upload", "kind": "buffer", "size": 112,
+            "initial": {"file": {"path": "bc_upload.bin"}},
+        }));
+        let queue = v["passes"][0]["queue"].clone();
+        let copy = |mip: u32, offset: u64, side: u32, pitch: u32| {
+            json!({
+                "src": {"resource": "bc_upload", "offset": offset, "bytes_per_row": pitch},
+                "dst": {"resource": "bc_page", "mip": mip},
+                "extent": [side, side, 1],
+            })
+        };
+        v["passes"].as_array_mut().unwrap().insert(
+            0,
+            json!({
+                "name": "upload_bc_page", "queue": queue, "kind": "copy",
+                "copies": [copy(0, 0, 8, 32), copy(1, 64, 4, 16), copy(2, 80, 2, 16), copy(3, 96, 1, 16)],
+            }),
+        );
+    });
+    // The replay runs every copy (a copy wgpu refused would stop it with exit 1); the page,
+    // never sampled, is not decoded for export.
+    let out = dir.join("out");
+    crate::common::replay_presented(&capture, &out);
+    let manifest: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    assert!(
+        manifest["skipped"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|s| s["resource"] == json!("bc_page")),
+        "{manifest}"
+    );
+}

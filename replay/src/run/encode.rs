@@ -729,17 +729,27 @@ fn buffer_texture_copy(
             encoder.copy_texture_to_buffer(texture, buffer, size);
         }
     };
-    let (_, bh) = t.spec.format.block_dimensions();
-    let height = e[1].max(1);
+    // Vulkan copies a compressed mip smaller than a block (a 2x2 BC7 mip) with its own size;
+    // wgpu takes whole blocks, which is what the mip holds.
+    let (bw, bh) = t.spec.format.block_dimensions();
+    let e = [e[0].max(1).next_multiple_of(bw), e[1].max(1), e[2]];
+    let height = e[1].next_multiple_of(bh);
     let (rows, images) = (height.div_ceil(bh), e[2].max(1));
     let Some(pitch) = b
         .bytes_per_row
         .filter(|p| p % wgpu::COPY_BYTES_PER_ROW_ALIGNMENT != 0 && (rows > 1 || images > 1))
     else {
+        // One row of blocks needs no row pitch, and wgpu refuses one it cannot align.
+        let single = rows <= 1 && images <= 1;
+        let mut layout = buffer_layout(b.buffer, b.offset, b.bytes_per_row, t.spec, e);
+        if single {
+            layout.layout.bytes_per_row = None;
+            layout.layout.rows_per_image = None;
+        }
         copy(
-            buffer_layout(b.buffer, b.offset, b.bytes_per_row, t.spec, e),
+            layout,
             texel(t.texture, t.spec, t.mip, t.layer, t.origin),
-            extent(e),
+            extent([e[0], height, e[2]]),
         );
         return;
     };
@@ -769,8 +779,8 @@ fn buffer_texture_copy(
                     [t.origin[0], t.origin[1] + r * bh, oz],
                 ),
                 wgpu::Extent3d {
-                    width: e[0].max(1),
-                    height: bh.min(height.saturating_sub(r * bh)).max(1),
+                    width: e[0],
+                    height: bh,
                     depth_or_array_layers: 1,
                 },
             );
