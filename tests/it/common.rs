@@ -273,9 +273,14 @@ impl Drop for Display {
 }
 
 pub fn start_display() -> Display {
+    // Tests start displays at once: each call begins at a number of its own, so that two never
+    // race for one number (the loser's Xvfb would exit, and it would take the winner's socket
+    // for its own and stop the winner's server when done).
+    static CALLS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+    let first = CALLS.fetch_add(11, std::sync::atomic::Ordering::SeqCst);
     // Every number of the range is tried: sockets of servers killed earlier stay behind.
     for n in 0..200 {
-        let number = 60 + (std::process::id() + n) % 200;
+        let number = 60 + (std::process::id() + first + n) % 200;
         if std::path::Path::new(&format!("/tmp/.X11-unix/X{number}")).exists() {
             continue;
         }

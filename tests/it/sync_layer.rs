@@ -34,7 +34,9 @@ fn wsi(capture: &Path) -> &'static [&'static str] {
 
 /// The layer's synchronization findings on `capture` replayed by gfxrecon-replay.
 fn layer_findings(capture: &Path, display: &Display, dir: &Path) -> BTreeSet<Finding> {
-    let log = crate::common::layer_settings(
+    let log = replay_under_layer(
+        capture,
+        display,
         dir,
         "sync_log.txt",
         &[
@@ -43,22 +45,6 @@ fn layer_findings(capture: &Path, display: &Display, dir: &Path) -> BTreeSet<Fin
             // submitted: off by default in this layer.
             "VALIDATION_CHECK_ENABLE_SYNCHRONIZATION_VALIDATION_QUEUE_SUBMIT",
         ],
-    );
-    let out = Command::new("timeout")
-        .args(["300", "gfxrecon-replay"])
-        .args(wsi(capture))
-        .arg("--use-captured-swapchain-indices")
-        .arg(capture)
-        .env("DISPLAY", &display.name)
-        .env("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation")
-        .env("VK_LAYER_SETTINGS_PATH", dir)
-        .output()
-        .expect("gfxrecon-replay (apt-get install gfxreconstruct)");
-    assert!(
-        out.status.success(),
-        "{}: gfxrecon-replay failed: {}",
-        capture.display(),
-        String::from_utf8_lossy(&out.stdout)
     );
     let text = std::fs::read_to_string(&log).unwrap_or_else(|e| {
         panic!("the validation layer wrote no log ({e}): is vulkan-validationlayers installed?")
@@ -570,23 +556,13 @@ fn layer_vuids(
     display: &Display,
     dir: &Path,
 ) -> BTreeSet<(String, String, String)> {
-    let log = crate::common::layer_settings(dir, "vuid_log.txt", &[]);
-    let out = Command::new("timeout")
-        .args(["300", "gfxrecon-replay"])
-        .args(wsi(capture))
-        .arg("--use-captured-swapchain-indices")
-        .arg(capture)
-        .env("DISPLAY", &display.name)
-        .env("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation")
-        .env("VK_LAYER_SETTINGS_PATH", dir)
-        .output()
-        .expect("gfxrecon-replay (apt-get install gfxreconstruct)");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stdout)
-    );
-    vuids_in_log(&log)
+    vuids_in_log(&replay_under_layer(
+        capture,
+        display,
+        dir,
+        "vuid_log.txt",
+        &[],
+    ))
 }
 
 /// The valid-usage messages of the classes framelab checks in a layer's log.
@@ -664,4 +640,33 @@ fn planted_valid_usage_errors_are_flagged_by_framelab_and_the_layer() {
         .cloned()
         .collect();
     assert_eq!(ours, layer, "framelab (left) and the layer (right)");
+}
+
+/// Replays `capture` with `gfxrecon-replay` under the Khronos validation layer with `enables`,
+/// which must succeed; the layer's log.
+fn replay_under_layer(
+    capture: &Path,
+    display: &Display,
+    dir: &Path,
+    log: &str,
+    enables: &[&str],
+) -> std::path::PathBuf {
+    let log = crate::common::layer_settings(dir, log, enables);
+    let out = Command::new("timeout")
+        .args(["300", "gfxrecon-replay"])
+        .args(wsi(capture))
+        .arg("--use-captured-swapchain-indices")
+        .arg(capture)
+        .env("DISPLAY", &display.name)
+        .env("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation")
+        .env("VK_LAYER_SETTINGS_PATH", dir)
+        .output()
+        .expect("gfxrecon-replay (apt-get install gfxreconstruct)");
+    assert!(
+        out.status.success(),
+        "{}: gfxrecon-replay failed: {}",
+        capture.display(),
+        String::from_utf8_lossy(&out.stdout)
+    );
+    log
 }
