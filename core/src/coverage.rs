@@ -107,12 +107,12 @@ pub fn dynamic_state(name: &str) -> Option<Verdict> {
         "DEPTH_CLIP_NEGATIVE_ONE_TO_ONE_EXT" => Verdict::Emulated(
             "OpenGL's depth range (-w to w) mapped to Vulkan's in the vertex shader: z becomes (z + w) / 2 before each return",
         ),
-        "SAMPLE_MASK_EXT" => Verdict::Emulated(
-            "baked while every sample is in the mask; a mask leaving samples out is refused",
-        ),
-        "ALPHA_TO_COVERAGE_ENABLE_EXT" | "ALPHA_TO_ONE_ENABLE_EXT" => {
-            Verdict::Emulated("baked while off; a draw switching it on is refused")
+        "SAMPLE_MASK_EXT" | "ALPHA_TO_COVERAGE_ENABLE_EXT" => {
+            Verdict::Emulated("baked into the pipeline variant's multisample state per value")
         }
+        "ALPHA_TO_ONE_ENABLE_EXT" => Verdict::Emulated(
+            "baked while off; alpha to one on, dynamic or in the pipeline, is refused (wgpu has none)",
+        ),
         "PROVOKING_VERTEX_MODE_EXT" => Verdict::Emulated(
             "no effect unless the fragment shader reads a flat input: the last vertex's values there are refused (wgpu takes the first's)",
         ),

@@ -79,6 +79,9 @@ pub struct VkRenderPipeline {
     pub depth_stencil: Option<wgpu_types::DepthStencilState>,
     pub targets: Vec<Option<wgpu_types::ColorTargetState>>,
     pub samples: u32,
+    pub alpha_to_coverage: bool,
+    /// Which samples the draws write (wgpu's multisample mask).
+    pub sample_mask: u64,
 }
 
 #[derive(Debug, Clone)]

@@ -709,7 +709,8 @@ fn the_import_says_whether_the_frame_replays() {
 
 /// vkcube's pipeline with the extended-dynamic-state-3 and vertex-input states declared
 /// dynamic and set by the draw to what the pipeline had: the baked variant draws the same
-/// image. Every colour channel masked off by the draw, the cube is gone; a state wgpu has no
+/// image. Every colour channel masked off by the draw, or every sample, the cube is gone; a
+/// state wgpu has no
 /// twin for switched on (alpha to one), or a dynamic state the draw never set, is refused
 /// naming it, the pass and the draw.
 #[test]
@@ -774,6 +775,18 @@ fn extended_dynamic_state_is_baked_into_pipeline_variants() {
     assert!(
         crate::golden::within("vkcube masked off", &image, &reference()).is_err(),
         "the draw's colour write mask reached the pipeline"
+    );
+
+    // An empty sample mask writes no sample: the cube is gone too.
+    edit(&capture, |v| {
+        let (draw, _) = draw_and_state(v);
+        draw["dynamic"]["extended"] = same.clone();
+        draw["dynamic"]["extended"]["sample_mask"] = json!([0]);
+    });
+    let image = crate::common::replay_presented(&capture, &dir.join("no-samples"));
+    assert!(
+        crate::golden::within("vkcube with no samples", &image, &reference()).is_err(),
+        "the draw's sample mask reached the pipeline"
     );
 
     edit(&capture, |v| {

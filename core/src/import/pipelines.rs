@@ -540,6 +540,11 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
     }
     if let Some(m) = ci.opt("pMultisampleState") {
         g.samples = m.get("rasterizationSamples")?.name()?;
+        g.alpha_to_coverage = boolean(&m, "alphaToCoverageEnable")?;
+        g.alpha_to_one = boolean(&m, "alphaToOneEnable")?;
+        if let Some(first) = m.list("pSampleMask")?.first() {
+            g.sample_mask = Some(first.u32()?);
+        }
     }
     if let Some(d) = ci.opt("pDepthStencilState") {
         let stencil = boolean(&d, "stencilTestEnable")?;

@@ -11,11 +11,12 @@ use framelab_core::plan::{VkClearOp, VkRasterOp};
 
 use super::{ReplayError, Session, close, scope};
 
-/// The pipelines clears draw with, by their shader and states (a pipeline per distinct
-/// clear, made before the frame).
+/// The pipelines clears draw with (one per distinct shader and states, made before the
+/// frame), and the one each clear takes, by pass and clear index.
 #[derive(Default)]
 pub(super) struct ClearPipelines {
-    pipelines: HashMap<String, wgpu::RenderPipeline>,
+    pipelines: Vec<wgpu::RenderPipeline>,
+    of: HashMap<(usize, usize), usize>,
 }
 
 /// What a clear's pipeline is made from; `key` names it.
@@ -120,21 +121,29 @@ impl ClearDesc {
 impl Session {
     /// The pipelines of every attachment clear in the plan, made before the frame.
     pub(super) fn create_clear_pipelines(&mut self) -> Result<(), ReplayError> {
-        let ops: Vec<(&str, &VkRasterOp, &VkClearOp)> = self
+        let ops: Vec<((usize, usize), &str, &VkRasterOp, &VkClearOp)> = self
             .plan
             .passes
             .iter()
-            .filter_map(|p| match &p.op {
-                framelab_core::plan::PassOp::VkRaster(r) => Some((p.name.as_str(), r)),
+            .enumerate()
+            .filter_map(|(i, p)| match &p.op {
+                framelab_core::plan::PassOp::VkRaster(r) => Some((i, p.name.as_str(), r)),
                 _ => None,
             })
-            .flat_map(|(name, r)| r.clears.iter().map(move |c| (name, r, c)))
+            .flat_map(|(i, name, r)| {
+                r.clears
+                    .iter()
+                    .enumerate()
+                    .map(move |(k, c)| ((i, k), name, r, c))
+            })
             .collect();
-        let mut made = HashMap::new();
-        for (pass, r, c) in ops {
+        let mut made: HashMap<String, usize> = HashMap::new();
+        let (mut pipelines, mut of) = (Vec::new(), HashMap::new());
+        for (at, pass, r, c) in ops {
             let desc = ClearDesc::of(r, c);
             let key = desc.key();
-            if made.contains_key(&key) {
+            if let Some(&p) = made.get(&key) {
+                of.insert(at, p);
                 continue;
             }
             let scopes = scope(&self.device);
@@ -177,22 +186,30 @@ impl Session {
                     message: format!("making the pipeline of an attachment clear: {message}"),
                 });
             }
-            made.insert(key, pipeline);
+            made.insert(key, pipelines.len());
+            of.insert(at, pipelines.len());
+            pipelines.push(pipeline);
         }
-        self.clear_rects.pipelines = made;
+        self.clear_rects = ClearPipelines { pipelines, of };
         Ok(())
     }
 
-    /// Draws clear `c` of pass `r` into the open render pass `rp`, then puts back the
-    /// viewport, scissor and stencil reference the pass's draws had set (`restore`).
+    /// Draws clear `k` of pass `pass` (`r`) into the open render pass `rp`, then puts back
+    /// the viewport, scissor and stencil reference the pass's draws had set (`restore`).
     pub(super) fn encode_attachment_clear(
         &self,
+        (pass, k): (usize, usize),
         r: &VkRasterOp,
-        c: &VkClearOp,
         rp: &mut wgpu::RenderPass<'_>,
         restore: &Restore,
     ) {
-        let Some(pipeline) = self.clear_rects.pipelines.get(&ClearDesc::of(r, c).key()) else {
+        let c = &r.clears[k];
+        let Some(pipeline) = self
+            .clear_rects
+            .of
+            .get(&(pass, k))
+            .map(|&p| &self.clear_rects.pipelines[p])
+        else {
             return;
         };
         let [w, h] = r.extent;

@@ -123,7 +123,7 @@ impl Session {
                     encoder,
                     stamps,
                 );
-                self.encode_vk_raster(&pass.name, r, groups, rp, stat);
+                self.encode_vk_raster((i, &pass.name), r, groups, rp, stat);
                 self.shadows_out(groups, encoder);
             }
             (PassOp::VkCompute(c), Prepared::VkWork(groups)) => {

@@ -244,8 +244,8 @@ impl Session {
                         depth_stencil: r.depth_stencil.clone(),
                         multisample: wgpu::MultisampleState {
                             count: r.samples,
-                            mask: !0,
-                            alpha_to_coverage_enabled: false,
+                            mask: r.sample_mask,
+                            alpha_to_coverage_enabled: r.alpha_to_coverage,
                         },
                         fragment,
                         multiview_mask: None,
@@ -506,7 +506,7 @@ impl Session {
 
     pub(super) fn encode_vk_raster(
         &self,
-        name: &str,
+        (pass, name): (usize, &str),
         r: &VkRasterOp,
         groups: &WorkGroups,
         mut rp: wgpu::RenderPass<'_>,
@@ -517,10 +517,10 @@ impl Session {
         }
         let buf = |b: usize| &self.buffers[b][0];
         let mut restore = super::clear_rects::Restore::default();
-        let mut clears = r.clears.iter().peekable();
+        let mut clears = r.clears.iter().enumerate().peekable();
         for (i, (d, sets)) in r.draws.iter().zip(groups).take(self.steps()).enumerate() {
-            while let Some(c) = clears.next_if(|c| c.before <= i) {
-                self.encode_attachment_clear(r, c, &mut rp, &restore);
+            while let Some((k, _)) = clears.next_if(|(_, c)| c.before <= i) {
+                self.encode_attachment_clear((pass, k), r, &mut rp, &restore);
             }
             let VkGpuPipeline::Render(pipeline) = &self.vk.pipelines[d.pipeline] else {
                 continue;
@@ -574,8 +574,8 @@ impl Session {
         }
         // Clears after the last draw (or after the step the inspector stopped at).
         if self.steps() >= r.draws.len() {
-            for c in clears {
-                self.encode_attachment_clear(r, c, &mut rp, &restore);
+            for (k, _) in clears {
+                self.encode_attachment_clear((pass, k), r, &mut rp, &restore);
             }
         }
         if stat.is_some() {

@@ -263,6 +263,15 @@ pub struct GraphicsState {
     /// Flat inputs take the last vertex's values (`VK_PROVOKING_VERTEX_MODE_LAST_VERTEX_EXT`).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub provoking_vertex_last: bool,
+    /// `alphaToCoverageEnable`.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub alpha_to_coverage: bool,
+    /// `alphaToOneEnable`.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub alpha_to_one: bool,
+    /// `pSampleMask`'s first word, where the pipeline gives one (all samples otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sample_mask: Option<u32>,
 }
 
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]

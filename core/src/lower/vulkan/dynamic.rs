@@ -112,11 +112,7 @@ pub(super) fn bake<'g>(
     };
     if let Some(x) = v.extended.as_deref() {
         extended(&declared, &mut e, x, &missing)?;
-    } else if declared.iter().any(|s| EXTENDED.contains(s)) {
-        let s = declared
-            .iter()
-            .find(|s| EXTENDED.contains(s))
-            .unwrap_or(&"");
+    } else if let Some(s) = declared.iter().find(|s| EXTENDED.contains(s)) {
         return Err(missing(&format!("state VK_DYNAMIC_STATE_{s}")));
     }
     if has("VERTEX_INPUT_BINDING_STRIDE") {

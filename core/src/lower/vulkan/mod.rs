@@ -547,6 +547,12 @@ impl<'c> Lowering<'c> {
             }
             .into());
         }
+        if g.alpha_to_one {
+            return Err(VkProblem::Unsupported {
+                feature: format!("alpha to one (pipeline {}): wgpu has none", pipe.name),
+            }
+            .into());
+        }
         let targets = key
             .targets
             .iter()
@@ -576,6 +582,8 @@ impl<'c> Lowering<'c> {
                 depth_stencil: key.depth.map(|f| states::depth_stencil(g, f)).transpose()?,
                 targets,
                 samples,
+                alpha_to_coverage: g.alpha_to_coverage,
+                sample_mask: g.sample_mask.map_or(!0, u64::from),
             })),
         })
     }
