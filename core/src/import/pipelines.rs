@@ -542,8 +542,18 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
         g.samples = m.get("rasterizationSamples")?.name()?;
         g.alpha_to_coverage = boolean(&m, "alphaToCoverageEnable")?;
         g.alpha_to_one = boolean(&m, "alphaToOneEnable")?;
+        // A mask with every sample of the count in it is no mask (a JSON Lines stream gives
+        // only its address, so both routes agree on it).
+        let count: u32 = g
+            .samples
+            .trim_start_matches("VK_SAMPLE_COUNT_")
+            .trim_end_matches("_BIT")
+            .parse()
+            .unwrap_or(1);
+        let every = u32::MAX >> (32 - count.clamp(1, 32));
         if let Some(first) = m.list("pSampleMask")?.first() {
-            g.sample_mask = Some(first.u32()?);
+            let mask = first.u32()?;
+            g.sample_mask = (mask & every != every).then_some(mask);
         }
     }
     if let Some(d) = ci.opt("pDepthStencilState") {
