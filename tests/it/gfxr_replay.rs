@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 21] = [
+const REPLAYED: [&str; 24] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -32,6 +32,9 @@ const REPLAYED: [&str; 21] = [
     "qt6_msaa_f30",
     "qt6_quick3d_f30",
     "vkbasalt_all_f30",
+    "chromium_angle_f60",
+    "vkmark_effect2d_f30",
+    "sdl_testvulkan_f30",
 ];
 
 fn temp(name: &str) -> Scratch {

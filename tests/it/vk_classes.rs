@@ -917,3 +917,52 @@ fn compressed_mip_tails_upload_as_vulkan_copies_them() {
         "{manifest}"
     );
 }
+
+/// The one draw of vkcube's frame.
+fn the_draw(v: &mut Value) -> &mut Value {
+    v["passes"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|p| p["draws"].as_array().is_some_and(|d| !d.is_empty()))
+        .map(|p| &mut p["draws"][0])
+        .unwrap()
+}
+
+/// Triangle fans, which wgpu has none of, are drawn as an indexed list of the same
+/// triangles: a fan of three vertices is the list's first triangle, pixel for pixel (and
+/// not the whole cube). The provoking vertex decides only flat inputs: vkcube's fragment
+/// shader has none, so with the last vertex provoking its frame is still the reference.
+/// (Flat inputs from the last vertex, indexed and in strips, replay in ANGLE's frame,
+/// `chromium_angle_f60`, among the real programs.)
+#[test]
+fn fans_and_the_last_provoking_vertex_draw_as_lists() {
+    let dir = temp("fans");
+    let capture = vkcube(&dir);
+    let last = dir.join("last.json");
+    std::fs::copy(&capture, &last).unwrap();
+    edit(&last, |v| {
+        let (_, g) = draw_and_state(v);
+        g["provoking_vertex_last"] = json!(true);
+    });
+    let image = crate::common::replay_presented(&last, &dir.join("last"));
+    crate::golden::within("vkcube, last vertex provoking", &image, &reference()).unwrap();
+
+    let shape = |name: &str, topology: &str| {
+        let path = dir.join(format!("{name}.json"));
+        std::fs::copy(&capture, &path).unwrap();
+        edit(&path, |v| {
+            the_draw(v)["count"] = json!(3);
+            let (_, g) = draw_and_state(v);
+            g["topology"] = json!(topology);
+        });
+        crate::common::replay_presented(&path, &dir.join(name))
+    };
+    let list = shape("list", "VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST");
+    let fan = shape("fan", "VK_PRIMITIVE_TOPOLOGY_TRIANGLE_FAN");
+    assert!(
+        list == fan,
+        "a fan of three vertices draws the list's triangle"
+    );
+    assert!(list != image, "one triangle is not the cube");
+}

@@ -45,8 +45,9 @@ pub fn wanted_features() -> Features {
         | Features::IMMEDIATES
         | Features::DEPTH_CLIP_CONTROL
         | Features::CLEAR_TEXTURE
-        // Imported samplers that clamp to a border colour.
+        // Imported samplers that clamp to a border colour, and dual-source blending.
         | Features::ADDRESS_MODE_CLAMP_TO_BORDER
+        | Features::DUAL_SOURCE_BLENDING
 }
 
 #[derive(Debug, thiserror::Error)]

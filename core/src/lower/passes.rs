@@ -458,9 +458,7 @@ impl<'c> Lowering<'c> {
             }
             let t = self.tex(p, c.resource)?;
             let (base_mip, mips, base_layer, layers) = range_of(r, &c.range);
-            let attachment = r.has_flag(cf::ResourceFlag::AllowRenderTarget)
-                || r.has_flag(cf::ResourceFlag::AllowDepthStencil);
-            clears.push(if attachment {
+            clears.push(if super::usage::clears_by_drawing(r) {
                 ClearOp::Attachment {
                     texture: t,
                     format: self.plan.textures[t].format,

@@ -54,6 +54,14 @@ impl<'c> Usage<'c> {
                     *t |= wgpu::TextureUsages::RENDER_ATTACHMENT;
                 }
             }
+            // A clear of a render or depth target is drawn: a render pass that clears it.
+            for c in &p.clears {
+                if clears_by_drawing(capture.resource(c.resource))
+                    && let Some(t) = u.textures.get_mut(&c.resource)
+                {
+                    *t |= wgpu::TextureUsages::RENDER_ATTACHMENT;
+                }
+            }
             if let Some((r, _)) = p.generate_mips
                 && let Some(t) = u.textures.get_mut(&r)
             {
@@ -105,4 +113,10 @@ impl<'c> Usage<'c> {
             _ => {}
         }
     }
+}
+
+/// Whether a clear of `r` is a render pass that clears it (a render or depth target) rather
+/// than a texture clear.
+pub(super) fn clears_by_drawing(r: &ResourceDesc) -> bool {
+    r.has_flag(ResourceFlag::AllowRenderTarget) || r.has_flag(ResourceFlag::AllowDepthStencil)
 }

@@ -18,6 +18,7 @@ mod specop;
 #[cfg(test)]
 mod tests;
 mod texel;
+mod unused;
 mod usage;
 
 use std::fmt;

@@ -33,6 +33,11 @@ pub fn rewrite(
         super::params::inline_sampler_params(&mut loaded.module, &combined)?;
     }
     super::bias::add_lod_bias(&mut loaded.module, opts.lod_bias)?;
+    super::unused::drop_unbound(&mut loaded.module, |set, binding| {
+        [Role::Whole, Role::SplitImage]
+            .into_iter()
+            .any(|role| (opts.binding)(set, binding, role).is_some())
+    });
     let plan = plan(&loaded, model, entry, opts)?;
     let mut module = loaded.module;
     apply(&mut module, plan)?;

@@ -52,7 +52,7 @@ struct Used {
 type Entry = (wgpu::BindGroupLayoutEntry, VkResource);
 
 impl<'c> Lowering<'c> {
-    /// The reflection of module `m`, read once.
+    /// The reflection of module `m`, read once: the descriptors its code uses.
     pub(super) fn vk_reflect(&mut self, m: usize) -> Result<&crate::spirv::Reflection, Fail> {
         if !self.vk.reflections.contains_key(&m) {
             let model = self.vk_model()?;
@@ -60,10 +60,15 @@ impl<'c> Lowering<'c> {
             let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
                 module: module.name.clone(),
             })?;
-            let r = crate::spirv::reflect(words).map_err(|error| VkProblem::Spirv {
-                shader: module.name.clone(),
-                error,
-            })?;
+            let (mut r, usages) =
+                crate::spirv::reflect_and_usage(words).map_err(|error| VkProblem::Spirv {
+                    shader: module.name.clone(),
+                    error,
+                })?;
+            // A descriptor the code never names is no binding of the draw's: Vulkan lets the
+            // set hold anything there, and the rewrite removes the variable.
+            r.resources
+                .retain(|v| usages.get(&(v.set, v.binding)).is_none_or(|u| u.used));
             self.vk.reflections.insert(m, r);
         }
         Ok(&self.vk.reflections[&m])

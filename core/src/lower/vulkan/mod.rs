@@ -13,6 +13,7 @@ mod bindings;
 mod clears;
 mod dynamic;
 mod extended;
+mod provoking;
 mod shaders;
 mod states;
 
@@ -52,6 +53,10 @@ pub(super) struct VkLowering {
     shaders: HashMap<shaders::ShaderKey, usize>,
     pipelines: HashMap<PipelineKey, usize>,
     samplers: BTreeMap<usize, usize>,
+    /// Whether each shader module decorates anything flat (by module index).
+    flat_modules: BTreeMap<usize, bool>,
+    /// What the frame's passes write (`provoking::written`), found on first need.
+    written: Option<provoking::Written>,
 }
 
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -68,6 +73,8 @@ struct PipelineKey {
     lod_bias: Vec<(u32, u32, u32)>,
     /// The dynamic state baked into this variant (`dynamic::Baked::key`).
     baked: Option<String>,
+    /// Drawn as a rearranged triangle list (`provoking`).
+    listed: bool,
 }
 
 /// The wgpu stage and SPIR-V execution model of a `VK_SHADER_STAGE_*_BIT`.
@@ -290,7 +297,21 @@ impl<'c> Lowering<'c> {
                 ))
             })
             .transpose()?;
+        // Flat inputs from the last vertex, and fans, are drawn as a rearranged list.
+        let last = g.provoking_vertex_last && self.fragment_has_flat(pipe);
+        let listed = if last || g.topology.ends_with("TRIANGLE_FAN") {
+            Some(self.as_triangle_list(p, d, work, g, last)?)
+        } else {
+            None
+        };
+        let (index, first, count, base_vertex) = match &listed {
+            Some(l) => (Some(l.index), l.first, l.count, l.base_vertex),
+            None => (index, d.first, d.count.unwrap_or(0), d.base_vertex),
+        };
         let (groups, sets) = self.vk_groups(p, pipe, work)?;
+        if g.blend.iter().any(states::uses_second_source) {
+            *self.pass_features.entry(&p.name).or_default() |= wgpu::Features::DUAL_SOURCE_BLENDING;
+        }
         let key = PipelineKey {
             pipeline: work.pipeline,
             flip,
@@ -300,10 +321,11 @@ impl<'c> Lowering<'c> {
                 .collect(),
             targets: targets.to_vec(),
             depth,
-            strip_index: index.map(|i| i.2),
+            strip_index: index.map(|i| i.2).filter(|_| listed.is_none()),
             texel_formats: sets.texel_formats.clone(),
             lod_bias: sets.lod_bias.clone(),
             baked: baked.key.clone(),
+            listed: listed.is_some(),
         };
         let pipeline = match self.vk.pipelines.get(&key) {
             Some(&i) => i,
@@ -335,11 +357,11 @@ impl<'c> Lowering<'c> {
                     .map(f64::from)
             }),
             stencil_reference: self.stencil_reference(pipe, g, work)?,
-            count: d.count.unwrap_or(0),
+            count,
             instances: d.instances,
-            first: d.first,
+            first,
             first_instance: d.first_instance,
-            base_vertex: d.base_vertex,
+            base_vertex,
             indirect: self.indirect(p, d.indirect)?,
         })
     }
@@ -364,6 +386,7 @@ impl<'c> Lowering<'c> {
             texel_formats: sets.texel_formats.clone(),
             lod_bias: sets.lod_bias.clone(),
             baked: None,
+            listed: false,
         };
         let pipeline = match self.vk.pipelines.get(&key) {
             Some(&i) => i,
@@ -471,6 +494,75 @@ impl<'c> Lowering<'c> {
         Ok(bytes)
     }
 
+    /// Whether `pipe`'s fragment shader has flat inputs, whose value the provoking vertex
+    /// decides. A module that does not parse counts as having some.
+    fn fragment_has_flat(&mut self, pipe: &VkPipeline) -> bool {
+        let Ok(model) = self.vk_model() else {
+            return true;
+        };
+        let mut flat = false;
+        for stage in &pipe.stages {
+            if !stage.stage.contains("FRAGMENT") {
+                continue;
+            }
+            let words = model.modules[stage.module]
+                .words
+                .as_deref()
+                .map_or(&[][..], |w| &w[..]);
+            flat |= *self
+                .vk
+                .flat_modules
+                .entry(stage.module)
+                .or_insert_with(|| crate::spirv::has_flat(words));
+        }
+        flat
+    }
+
+    /// Draw `d` as an indexed triangle list, each triangle from its provoking vertex
+    /// (`provoking`); `last`: the last vertex provokes.
+    fn as_triangle_list(
+        &mut self,
+        p: &'c PassDesc,
+        d: &DrawDesc,
+        work: &VkWork,
+        g: &crate::capture::format::GraphicsState,
+        last: bool,
+    ) -> Result<provoking::Listed, Fail> {
+        let written = self
+            .vk
+            .written
+            .get_or_insert_with(|| provoking::written(self.capture));
+        let indices = match work.index_buffer {
+            Some((b, offset, wide)) => {
+                let size = if wide { 4 } else { 2 };
+                let start = offset.saturating_add(u64::from(d.first) * size);
+                let end = start.saturating_add(u64::from(d.count.unwrap_or(0)) * size);
+                let held = !written.overlaps(b, start, end);
+                let plan = self.buf(p, b)?;
+                let bytes = self.plan.buffers[plan].initial.as_deref().filter(|_| held);
+                Some((bytes, offset, wide))
+            }
+            None => None,
+        };
+        let draw = provoking::Draw {
+            topology: &g.topology,
+            primitive_restart: g.primitive_restart,
+            count: d.count.unwrap_or(0),
+            first: d.first,
+            base_vertex: d.base_vertex,
+            indirect: d.indirect.is_some(),
+            indices,
+        };
+        let (indices, base_vertex) = provoking::list_indices(&draw, last)?;
+        let name = format!("{}: indices as a triangle list", p.name);
+        Ok(provoking::index_buffer(
+            &mut self.plan.buffers,
+            name,
+            &indices,
+            base_vertex,
+        ))
+    }
+
     fn vk_render_pipeline(
         &mut self,
         pipe: &VkPipeline,
@@ -479,6 +571,17 @@ impl<'c> Lowering<'c> {
         sets: &bindings::Bound,
     ) -> Result<VkPipelineSpec, Fail> {
         let model = self.vk_model()?;
+        let listed;
+        let g = if key.listed {
+            listed = crate::capture::format::GraphicsState {
+                topology: "VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST".to_owned(),
+                primitive_restart: false,
+                ..g.clone()
+            };
+            &listed
+        } else {
+            g
+        };
         let mut vertex = None;
         let mut fragment = None;
         for stage in &pipe.stages {
@@ -489,20 +592,6 @@ impl<'c> Lowering<'c> {
                 vertex = Some(shader);
             } else if s == wgpu::ShaderStages::FRAGMENT {
                 fragment = Some(shader);
-                // The provoking vertex decides only what flat inputs read.
-                let words = model.modules[stage.module]
-                    .words
-                    .as_deref()
-                    .map_or(&[][..], |w| &w[..]);
-                if g.provoking_vertex_last && crate::spirv::has_flat(words) {
-                    return Err(VkProblem::Unsupported {
-                        feature: format!(
-                            "flat inputs from the last vertex (VK_PROVOKING_VERTEX_MODE_LAST_VERTEX_EXT) in pipeline {}: wgpu takes the first's",
-                            pipe.name
-                        ),
-                    }
-                    .into());
-                }
             }
         }
         let vertex = vertex.ok_or_else(|| {

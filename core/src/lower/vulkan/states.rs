@@ -232,6 +232,12 @@ fn blend_factor(name: &str) -> Result<wgpu::BlendFactor, VkProblem> {
         "CONSTANT_COLOR" | "CONSTANT_ALPHA" => F::Constant,
         "ONE_MINUS_CONSTANT_COLOR" | "ONE_MINUS_CONSTANT_ALPHA" => F::OneMinusConstant,
         "SRC_ALPHA_SATURATE" => F::SrcAlphaSaturated,
+        // The fragment shader's second output (`Index` 1 in SPIR-V): wgpu's
+        // DUAL_SOURCE_BLENDING, asked for by the pass (`uses_second_source`).
+        "SRC1_COLOR" => F::Src1,
+        "ONE_MINUS_SRC1_COLOR" => F::OneMinusSrc1,
+        "SRC1_ALPHA" => F::Src1Alpha,
+        "ONE_MINUS_SRC1_ALPHA" => F::OneMinusSrc1Alpha,
         _ => return Err(unsupported("blend factor", name)),
     })
 }
@@ -254,6 +260,14 @@ pub(super) fn uses_constant(b: &BlendAttachment) -> bool {
         && [&b.src_color, &b.dst_color, &b.src_alpha, &b.dst_alpha]
             .iter()
             .any(|f| f.contains("CONSTANT"))
+}
+
+/// Whether the blend reads the fragment shader's second output (dual-source blending).
+pub(super) fn uses_second_source(b: &BlendAttachment) -> bool {
+    b.enable
+        && [&b.src_color, &b.dst_color, &b.src_alpha, &b.dst_alpha]
+            .iter()
+            .any(|f| f.contains("SRC1"))
 }
 
 /// One colour target's blend and write mask.
