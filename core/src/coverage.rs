@@ -114,7 +114,7 @@ pub fn dynamic_state(name: &str) -> Option<Verdict> {
             "baked while off; alpha to one on, dynamic or in the pipeline, is refused (wgpu has none)",
         ),
         "PROVOKING_VERTEX_MODE_EXT" => Verdict::Emulated(
-            "no effect unless the fragment shader reads a flat input: the last vertex's values there are refused (wgpu takes the first's)",
+            "no effect unless the fragment shader reads a flat input; there, each triangle of a list, strip or fan is drawn from a rearranged index list that starts it at its last vertex (wgpu takes the first's); lines, indirect draws and indices written during the frame are refused",
         ),
         "LINE_RASTERIZATION_MODE_EXT" => Verdict::Emulated(
             "no effect on triangles filled; lines drawn in another mode than the default are refused",
@@ -401,7 +401,7 @@ pub fn sampler_field(name: &str) -> Option<Verdict> {
             Verdict::Emulated("per address mode; see that table")
         }
         "anisotropyEnable" | "maxAnisotropy" => Verdict::Emulated(
-            "wgpu's anisotropy clamp, 1 to 16; 1 where a filter is nearest (wgpu filters anisotropically only with all filters linear)",
+            "wgpu's anisotropy clamp, 1 to 16, with every filter linear (wgpu filters anisotropically only so); where the sampler says nearest, which Vulkan leaves to the implementation, a note says so (lavapipe filters linearly too)",
         ),
         "borderColor" => Verdict::Emulated(
             "read only where an address mode clamps to the border; see that table",

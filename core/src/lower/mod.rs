@@ -48,6 +48,13 @@ pub fn wanted_features() -> Features {
         // Imported samplers that clamp to a border colour, and dual-source blending.
         | Features::ADDRESS_MODE_CLAMP_TO_BORDER
         | Features::DUAL_SOURCE_BLENDING
+        // What imported modules' SPIR-V capabilities need (`vulkan::capabilities`).
+        | Features::CLIP_DISTANCES
+        | Features::SHADER_F64
+        | Features::SHADER_INT64
+        | Features::SHADER_I16
+        | Features::SHADER_F16
+        | Features::SHADER_DRAW_INDEX
 }
 
 #[derive(Debug, thiserror::Error)]

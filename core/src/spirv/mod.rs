@@ -8,6 +8,7 @@
 //! bindings the code reads and writes, for the synchronization check.
 
 mod bias;
+mod demote;
 mod index;
 mod layout;
 mod ops;
@@ -15,6 +16,7 @@ mod params;
 mod reflect;
 mod rewrite;
 mod specop;
+mod swizzle;
 #[cfg(test)]
 mod tests;
 mod texel;
@@ -28,6 +30,7 @@ use rspirv::spirv::{Capability, Dim, ExecutionModel, ImageFormat};
 pub use layout::uniform_block_beyond_std140;
 pub use reflect::reflect;
 pub use rewrite::rewrite;
+pub use swizzle::{ONE as SWIZZLE_ONE, ZERO as SWIZZLE_ZERO};
 pub use usage::{Usage, usage};
 
 /// Why a module could not be read, reflected or rewritten.
@@ -215,6 +218,10 @@ pub struct RewriteOptions<'a> {
     /// Map the position's depth from OpenGL's clip range (-w to w) to Vulkan's (0 to w) in the
     /// entry point that writes the final position, as `flip_y` finds it.
     pub gl_depth: bool,
+    /// The component swizzle of the view bound at each (set, binding), as codes (0 to 3 a
+    /// channel, [`SWIZZLE_ZERO`], [`SWIZZLE_ONE`]): applied to every texel read through it
+    /// (`swizzle`), since wgpu's views have none.
+    pub swizzles: &'a [(u32, u32, [u8; 4])],
 }
 
 impl fmt::Debug for RewriteOptions<'_> {

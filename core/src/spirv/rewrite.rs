@@ -33,6 +33,8 @@ pub fn rewrite(
         super::params::inline_sampler_params(&mut loaded.module, &combined)?;
     }
     super::bias::add_lod_bias(&mut loaded.module, opts.lod_bias)?;
+    super::swizzle::apply_swizzles(&mut loaded.module, opts.swizzles)?;
+    super::demote::demote_as_kill(&mut loaded.module)?;
     super::unused::drop_unbound(&mut loaded.module, |set, binding| {
         [Role::Whole, Role::SplitImage]
             .into_iter()

@@ -25,6 +25,9 @@ pub(super) struct Bound {
     /// The LOD bias (as bits) of the sampler at each (set, binding) where it changes what is
     /// read: the rewrite adds it to the shader's samples.
     pub lod_bias: Vec<(u32, u32, u32)>,
+    /// The component swizzle of the sampled view at each (set, binding) where it is not the
+    /// identity, as `spirv::RewriteOptions::swizzles` codes: the rewrite applies it.
+    pub swizzles: Vec<(u32, u32, [u8; 4])>,
 }
 
 /// The SPIR-V image format a texel buffer view of `VK_FORMAT_*` reads in, where the rewrite
@@ -104,6 +107,7 @@ impl<'c> Lowering<'c> {
         let mut per_set: BTreeMap<u32, Vec<Entry>> = BTreeMap::new();
         let mut texel_formats = Vec::new();
         let mut lod_bias = Vec::new();
+        let mut swizzles = Vec::new();
         for (&(set, binding), u) in &used {
             let lb = layout
                 .sets
@@ -152,6 +156,9 @@ impl<'c> Lowering<'c> {
             if let Some(bias) = bias {
                 lod_bias.push((set, binding, bias.to_bits()));
             }
+            if let Some(sw) = sampled_swizzle(model, work, (set, binding), &lb.0.descriptor_type) {
+                swizzles.push((set, binding, sw));
+            }
             per_set.entry(set).or_default().extend(entries);
         }
         let last = per_set.keys().next_back().map_or(0, |&s| s as usize + 1);
@@ -186,6 +193,7 @@ impl<'c> Lowering<'c> {
                 sets,
                 texel_formats,
                 lod_bias,
+                swizzles,
             },
         ))
     }
@@ -382,8 +390,9 @@ impl<'c> Lowering<'c> {
     ) -> Result<(wgpu::BindingType, VkResource), Fail> {
         let model = self.vk_model()?;
         let view = &model.views[v];
-        // wgpu's views read their channels as they are.
-        if let Some(sw) = view.swizzle {
+        // A sampled view's swizzle is applied in the shader (`sampled_swizzle`); a storage
+        // view must have none (VUID-VkWriteDescriptorSet-descriptorType-00336).
+        if let Some(sw) = view.swizzle.filter(|_| storage) {
             return Err(VkProblem::Unsupported {
                 feature: format!(
                     "a view with its components swizzled ({sw:?}, view {}): wgpu views have no swizzle",
@@ -480,6 +489,32 @@ impl<'c> Lowering<'c> {
         };
         Ok((ty, resource))
     }
+}
+
+/// The swizzle of the view a draw samples at (set, binding), where not the identity, as
+/// `spirv::RewriteOptions::swizzles` codes.
+fn sampled_swizzle(
+    model: &VkModel,
+    work: &VkWork,
+    (set, binding): (u32, u32),
+    descriptor_type: &str,
+) -> Option<[u8; 4]> {
+    if !descriptor_type.ends_with("SAMPLED_IMAGE") && !ty_is_combined(descriptor_type) {
+        return None;
+    }
+    let d = work
+        .descriptors
+        .iter()
+        .find(|d| d.set == set && d.binding == binding && d.element == 0)?;
+    let sw = model.views[d.view?].swizzle?;
+    Some(sw.map(|c| match c {
+        Component::R => 0,
+        Component::G => 1,
+        Component::B => 2,
+        Component::A => 3,
+        Component::Zero => crate::spirv::SWIZZLE_ZERO,
+        Component::One => crate::spirv::SWIZZLE_ONE,
+    }))
 }
 
 fn ty_is_combined(descriptor_type: &str) -> bool {

@@ -10,6 +10,7 @@
 //! `b` take wgpu binding `2b`, `Role::SplitSampler` takes `2b + 1`.
 
 mod bindings;
+mod capabilities;
 mod clears;
 mod dynamic;
 mod extended;
@@ -71,6 +72,8 @@ struct PipelineKey {
     texel_formats: Vec<(u32, u32, rspirv::spirv::ImageFormat)>,
     /// Samplers' LOD bias the rewritten shaders add (set, binding, bits).
     lod_bias: Vec<(u32, u32, u32)>,
+    /// Sampled views' swizzles the rewritten shaders apply (set, binding, codes).
+    swizzles: Vec<(u32, u32, [u8; 4])>,
     /// The dynamic state baked into this variant (`dynamic::Baked::key`).
     baked: Option<String>,
     /// Drawn as a rearranged triangle list (`provoking`).
@@ -324,6 +327,7 @@ impl<'c> Lowering<'c> {
             strip_index: index.map(|i| i.2).filter(|_| listed.is_none()),
             texel_formats: sets.texel_formats.clone(),
             lod_bias: sets.lod_bias.clone(),
+            swizzles: sets.swizzles.clone(),
             baked: baked.key.clone(),
             listed: listed.is_some(),
         };
@@ -385,6 +389,7 @@ impl<'c> Lowering<'c> {
             strip_index: None,
             texel_formats: sets.texel_formats.clone(),
             lod_bias: sets.lod_bias.clone(),
+            swizzles: sets.swizzles.clone(),
             baked: None,
             listed: false,
         };
@@ -684,6 +689,9 @@ impl<'c> Lowering<'c> {
         }
         let model = self.vk_model()?;
         let spec = states::sampler(&model.samplers[s])?;
+        if let Some(note) = states::anisotropic_nearest(&model.samplers[s]) {
+            self.notes.push(note);
+        }
         self.plan.samplers.push(spec);
         let i = self.plan.samplers.len() - 1;
         self.vk.samplers.insert(s, i);

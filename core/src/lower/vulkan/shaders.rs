@@ -31,6 +31,8 @@ pub(super) struct ShaderKey {
     texel_formats: Vec<(u32, u32, ImageFormat)>,
     /// Samplers' LOD bias by (set, binding), as bits.
     lod_bias: Vec<(u32, u32, u32)>,
+    /// Sampled views' swizzles by (set, binding).
+    swizzles: Vec<(u32, u32, [u8; 4])>,
 }
 
 /// wgpu's binding for Vulkan binding `b` in the role asked.
@@ -85,6 +87,7 @@ impl<'c> Lowering<'c> {
             specialization: stage.specialization.clone(),
             texel_formats: texel_formats.to_vec(),
             lod_bias: bound.lod_bias.clone(),
+            swizzles: bound.swizzles.clone(),
         };
         if let Some(&i) = self.vk.shaders.get(&key) {
             return Ok(i);
@@ -146,6 +149,7 @@ impl<'c> Lowering<'c> {
                 texel_formats,
                 lod_bias: &lod_bias,
                 gl_depth,
+                swizzles: &bound.swizzles,
             },
         )
         .map_err(spirv_error)?;
@@ -167,6 +171,7 @@ impl<'c> Lowering<'c> {
                 texel_formats,
                 lod_bias: &lod_bias,
                 gl_depth,
+                swizzles: &bound.swizzles,
             },
         )
         .map_err(spirv_error)?;
@@ -187,11 +192,44 @@ impl<'c> Lowering<'c> {
             }
             .into());
         }
+        if self
+            .vk_reflect(stage.module)?
+            .capabilities
+            .contains(&rspirv::spirv::Capability::DemoteToHelperInvocation)
+        {
+            let note = format!(
+                "shader {name}: demote to helper invocation taken as OpKill (wgpu's device has no demote): a pixel's neighbours in its quad may take other derivatives after it discards"
+            );
+            if !self.notes.contains(&note) {
+                self.notes.push(note);
+            }
+        }
+        // naga writes what its own translation needs; a module handed over as it is must
+        // not declare what the device was not made for.
+        let naga = naga_accepts(&naga_words).then_some(naga_words);
+        if naga.is_none() {
+            let needed = super::capabilities::features_for(&after.capabilities).map_err(
+                |(c, what)| VkProblem::Unsupported {
+                    feature: format!(
+                        "SPIR-V capability {c:?} (shader {name}), which needs {what}: wgpu's device does not turn it on"
+                    ),
+                },
+            )?;
+            let missing = needed - self.available;
+            if !missing.is_empty() {
+                return Err(VkProblem::Unsupported {
+                    feature: format!(
+                        "a SPIR-V capability of shader {name} that needs wgpu's {missing:?}, which the adapter lacks"
+                    ),
+                }
+                .into());
+            }
+        }
         self.plan.vk.shaders.push(SpirvShader {
             name,
             entry: stage.entry.clone(),
             stage: wgpu_stage,
-            naga: naga_accepts(&naga_words).then_some(naga_words),
+            naga,
             passthrough,
             workgroup: [1, 1, 1],
         });

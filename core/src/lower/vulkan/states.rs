@@ -425,18 +425,29 @@ pub(super) fn sampler(s: &VkSampler) -> Result<SamplerSpec, VkProblem> {
         anisotropy: s.max_anisotropy.map_or(1, |a| a.clamp(1.0, 16.0) as u16),
     })
     .map(|mut spec| {
-        // wgpu filters anisotropically only with every filter linear; Vulkan leaves
-        // anisotropy with a nearest filter to the implementation.
-        if (spec.mag, spec.min, spec.mip)
-            != (
-                wgpu::FilterMode::Linear,
-                wgpu::FilterMode::Linear,
-                wgpu::MipmapFilterMode::Linear,
-            )
-        {
-            spec.anisotropy = 1;
+        // Vulkan leaves the anisotropic filtering scheme to the implementation ("should
+        // consider" the filters); wgpu filters anisotropically only with every filter linear,
+        // which is what lavapipe does with nearest filters too (`anisotropic_nearest`).
+        if spec.anisotropy > 1 {
+            spec.mag = wgpu::FilterMode::Linear;
+            spec.min = wgpu::FilterMode::Linear;
+            spec.mip = wgpu::MipmapFilterMode::Linear;
         }
         spec
+    })
+}
+
+/// Where sampler `s` filters anisotropically with a nearest filter, what the replay does,
+/// said as a note: the specification leaves the scheme to the implementation.
+pub(super) fn anisotropic_nearest(s: &VkSampler) -> Option<String> {
+    let nearest = [&s.mag_filter, &s.min_filter, &s.mipmap_mode]
+        .iter()
+        .any(|f| f.ends_with("NEAREST"));
+    (s.max_anisotropy.is_some_and(|a| a > 1.0) && nearest).then(|| {
+        format!(
+            "sampler {}: anisotropic filtering with a nearest filter is left to the implementation; replayed with every filter linear (as lavapipe filters it)",
+            s.name
+        )
     })
 }
 

@@ -60,6 +60,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             texel_formats: &[],
             lod_bias: &[],
             gl_depth: false,
+            swizzles: &[],
         },
     )
     .unwrap_err();
@@ -82,6 +83,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             texel_formats: &[],
             lod_bias: &[],
             gl_depth: false,
+            swizzles: &[],
         },
     )
     .unwrap_err();

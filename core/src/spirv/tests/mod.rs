@@ -68,6 +68,7 @@ fn opts(flip_y: bool) -> RewriteOptions<'static> {
         texel_formats: &[],
         lod_bias: &[],
         gl_depth: false,
+        swizzles: &[],
     }
 }
 
@@ -297,6 +298,7 @@ fn geometry_module() -> Vec<u32> {
     b.module().assemble()
 }
 
+mod demote;
 mod errors;
 /// mpv's upload shader: its R8 storage texel buffer becomes a read-only storage buffer of
 /// words at the same set and binding, read by no OpImageRead any more, and the three

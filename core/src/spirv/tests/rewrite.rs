@@ -80,6 +80,7 @@ fn renumbers_every_binding() {
             texel_formats: &[],
             lod_bias: &[],
             gl_depth: false,
+            swizzles: &[],
         },
     )
     .unwrap();
@@ -169,6 +170,7 @@ fn maps_opengl_depth_before_the_return() {
             "main",
             &RewriteOptions {
                 gl_depth: true,
+                swizzles: &[],
                 ..opts(flip_y)
             },
         )
@@ -227,6 +229,7 @@ fn flips_a_position_variable() {
             texel_formats: &[],
             lod_bias: &[],
             gl_depth: false,
+            swizzles: &[],
         },
     )
     .unwrap();
@@ -341,6 +344,7 @@ fn texel_buffer_reads_become_word_loads_and_specialization_applies() {
             texel_formats: &[],
             lod_bias: &[],
             gl_depth: false,
+            swizzles: &[],
         },
     )
     .unwrap();

@@ -86,6 +86,7 @@ fn rewritten_fixtures_pass_spirv_val() {
         modules.push((format!("built {shape:?}"), combined_sampler_module(shape)));
     }
     modules.push(("built geometry".to_owned(), geometry_module()));
+    modules.push(("built demote".to_owned(), super::demote::demote_module()));
     modules.push((
         "built spec-constant operations".to_owned(),
         super::specop::spec_module(false).words,
