@@ -187,6 +187,40 @@ pub fn read(path: &Path, limit: Limit) -> Result<Vec<u8>, FileError> {
     Ok(bytes)
 }
 
+/// Reads `wanted` bytes (at most `limit.bytes`) from `offset` of a regular file that holds
+/// them there (a file of many resources' contents); fewer is an error naming what is missing.
+pub fn read_range(
+    path: &Path,
+    offset: u64,
+    wanted: u64,
+    limit: Limit,
+) -> Result<Vec<u8>, FileError> {
+    use std::io::{Seek, SeekFrom};
+    if wanted > limit.bytes {
+        return Err(FileError::TooLarge {
+            path: path.to_owned(),
+            size: wanted,
+            limit: limit.bytes,
+            what: limit.what,
+        });
+    }
+    let mut file = open(path)?;
+    let len = file.metadata().map_err(io(path))?.len();
+    if offset.checked_add(wanted).is_none_or(|end| end > len) {
+        return Err(FileError::Io {
+            path: path.to_owned(),
+            error: std::io::Error::new(
+                std::io::ErrorKind::UnexpectedEof,
+                format!("it holds {len} bytes, and {wanted} are wanted from byte {offset}"),
+            ),
+        });
+    }
+    file.seek(SeekFrom::Start(offset)).map_err(io(path))?;
+    let mut bytes = vec![0; usize::try_from(wanted).unwrap_or(usize::MAX)];
+    file.read_exact(&mut bytes).map_err(io(path))?;
+    Ok(bytes)
+}
+
 /// Reads a regular file of at most `limit.bytes` bytes of UTF-8 text whole.
 pub fn read_to_string(path: &Path, limit: Limit) -> Result<String, FileError> {
     String::from_utf8(read(path, limit)?).map_err(|_| FileError::Io {

@@ -183,7 +183,7 @@ fn write_with_side_files(
                 std::fs::create_dir_all(parent)
                     .with_context(|| format!("cannot create {}", parent.display()))?;
             }
-            std::fs::write(&path, &f.bytes)
+            f.write(&path)
                 .with_context(|| format!("cannot write {}", path.display()))?;
             if let Some(top) = Path::new(&f.path).components().next() {
                 folders.insert(top.as_os_str().to_owned());

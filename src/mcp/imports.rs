@@ -62,17 +62,22 @@ pub fn import_to(path: &Path, capture: &Path) -> Result<(), String> {
         import(reader, &name, &options)
     }
     .map_err(|e| e.to_string())?;
-    let write = |p: &Path, bytes: &[u8]| -> Result<(), String> {
-        if let Some(parent) = p.parent() {
-            std::fs::create_dir_all(parent)
-                .map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
+    let parent = |p: &Path| -> Result<(), String> {
+        match p.parent() {
+            Some(parent) => std::fs::create_dir_all(parent)
+                .map_err(|e| format!("cannot create {}: {e}", parent.display())),
+            None => Ok(()),
         }
-        std::fs::write(p, bytes).map_err(|e| format!("cannot write {}: {e}", p.display()))
     };
     for f in &imported.side_files {
-        write(&dir.join(&f.path), &f.bytes)?;
+        let p = dir.join(&f.path);
+        parent(&p)?;
+        f.write(&p)
+            .map_err(|e| format!("cannot write {}: {e}", p.display()))?;
     }
     let text = serde_json::to_string_pretty(&imported.capture)
         .map_err(|e| format!("the imported capture does not serialise: {e}"))?;
-    write(capture, text.as_bytes())
+    parent(capture)?;
+    std::fs::write(capture, text.as_bytes())
+        .map_err(|e| format!("cannot write {}: {e}", capture.display()))
 }

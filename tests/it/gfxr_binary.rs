@@ -423,10 +423,17 @@ fn vkcube_texture(capture: &str, extra: &[&str]) -> Vec<u8> {
         .iter()
         .find(|r| r["format"] == "R8G8B8A8_UNORM" && r["width"] == 256 && r["height"] == 256)
         .expect("vkcube's 256x256 texture");
-    let path = texture["initial"]["file"]["path"]
-        .as_str()
-        .expect("a contents file");
-    std::fs::read(dir.join(path)).unwrap()
+    let file = &texture["initial"]["file"];
+    let path = file["path"].as_str().expect("a contents file");
+    let offset = file["offset"].as_u64().unwrap_or(0) as usize;
+    let size = texture_bytes(texture);
+    std::fs::read(dir.join(path)).unwrap()[offset..offset + size].to_vec()
+}
+
+/// A 2D texture's bytes: one mip of four-byte texels.
+fn texture_bytes(texture: &Value) -> usize {
+    let dim = |k: &str| texture[k].as_u64().unwrap() as usize;
+    dim("width") * dim("height") * 4
 }
 
 #[test]
@@ -454,6 +461,48 @@ fn the_vkcube_texture_is_the_logo_the_program_loads() {
             "{capture}: {differing} texels differ from lunarg.ppm"
         );
     }
+}
+
+/// A frame's contents are one file, each resource at its offset; an offset whose bytes the
+/// file does not hold is refused by validation, naming the field, and by nothing later.
+#[test]
+fn contents_share_one_file_and_a_range_past_it_is_refused() {
+    let dir = temp_dir("pack");
+    let out = dir.join("vkcube.json");
+    let run = framelab(&[
+        "import",
+        gfxr_fixture("vkcube_f3.gfxr").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let files: Vec<_> = std::fs::read_dir(dir.join("vkcube.contents"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(files, ["contents.bin"], "one file for every resource");
+    let mut capture: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let (index, resource) = capture["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+        .find(|(_, r)| r["initial"]["file"]["offset"].is_u64())
+        .map(|(i, r)| (i, r.clone()))
+        .expect("a resource in the pack");
+    let len = std::fs::metadata(dir.join("vkcube.contents/contents.bin"))
+        .unwrap()
+        .len();
+    capture["resources"][index]["initial"]["file"]["offset"] =
+        serde_json::json!(len - resource["size"].as_u64().unwrap_or(1) + 1);
+    std::fs::write(&out, serde_json::to_string(&capture).unwrap()).unwrap();
+    let run = framelab(&["validate", out.to_str().unwrap()]);
+    assert!(!run.status.success());
+    let said = stderr(&run) + &crate::common::stdout(&run);
+    assert!(
+        said.contains(&format!("resources[{index}].initial.file.offset")),
+        "{said}"
+    );
 }
 
 /// `tools/template-compute` writes its four descriptors (two storage buffers, a 16-byte

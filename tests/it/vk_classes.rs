@@ -645,21 +645,35 @@ fn the_coverage_table_covers_the_registry() {
 /// A uniform buffer bound at an offset the program's device allowed (16-byte steps) and
 /// wgpu's alignment does not: vkcube's matrices moved 48 bytes into their buffer behind bytes
 /// that would draw nothing, and the descriptor's offset moved with them. The replay copies
-/// the range into a buffer of its own and draws the program's image.
+/// the range into a buffer of its own and draws the program's image. (The new contents are
+/// a file of the buffer's own, as captures written before contents shared one file had.)
 #[test]
 fn buffers_bound_below_wgpu_alignment_are_rebased() {
     let dir = temp("rebased");
     let capture = vkcube(&dir);
-    let contents = dir.join("vkcube.contents/buffer_28.bin");
+    let frame: Value = serde_json::from_str(&std::fs::read_to_string(&capture).unwrap()).unwrap();
+    let buffer = frame["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["name"] == "buffer_28")
+        .unwrap();
+    let (file, offset, size) = (
+        buffer["initial"]["file"]["path"].as_str().unwrap(),
+        buffer["initial"]["file"]["offset"].as_u64().unwrap() as usize,
+        buffer["size"].as_u64().unwrap() as usize,
+    );
+    let pack = std::fs::read(dir.join(file)).unwrap();
     let mut bytes: Vec<u8> = std::iter::repeat_n(1.0e9f32.to_le_bytes(), 12)
         .flatten()
         .collect();
-    bytes.extend(std::fs::read(&contents).unwrap());
-    std::fs::write(&contents, &bytes).unwrap();
+    bytes.extend(&pack[offset..offset + size]);
+    std::fs::write(dir.join("vkcube.contents/buffer_28.bin"), &bytes).unwrap();
     edit(&capture, |v| {
         for r in v["resources"].as_array_mut().unwrap() {
             if r["name"] == "buffer_28" {
                 r["size"] = json!(bytes.len());
+                r["initial"] = json!({"file": {"path": "vkcube.contents/buffer_28.bin"}});
             }
         }
         let (draw, _) = draw_and_state(v);

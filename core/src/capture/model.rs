@@ -223,7 +223,8 @@ pub enum InitialDesc {
     Undefined,
     /// Contents from before the captured frames (imported captures); not in the capture.
     BeforeCapture,
-    File(PathBuf),
+    /// The resource's bytes in a file, from `offset` (the whole file where `None`).
+    File(PathBuf, Option<u64>),
     Generator(Seeded<Content>),
 }
 

@@ -20,11 +20,95 @@ use super::state::{ImageInfo, Objects};
 use crate::capture::dxgi;
 use crate::capture::format::{InitialContents, RawCapture};
 
-/// A file the import writes beside the capture, by its path relative to it.
+/// A file the import writes beside the capture, by its path relative to it: its bytes are
+/// the parts one after another (a contents pack is written without joining them first).
 #[derive(Clone, Debug)]
 pub struct SideFile {
     pub path: String,
-    pub bytes: Vec<u8>,
+    pub parts: Vec<Vec<u8>>,
+}
+
+impl SideFile {
+    pub fn one(path: String, bytes: Vec<u8>) -> SideFile {
+        SideFile {
+            path,
+            parts: vec![bytes],
+        }
+    }
+
+    pub fn len(&self) -> u64 {
+        self.parts.iter().map(|p| p.len() as u64).sum()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.parts.iter().all(Vec::is_empty)
+    }
+
+    /// Writes the file at `path` (created or truncated).
+    pub fn write(&self, path: &std::path::Path) -> std::io::Result<()> {
+        use std::io::Write;
+        let mut file = std::fs::File::create(path)?;
+        for part in &self.parts {
+            file.write_all(part)?;
+        }
+        file.flush()
+    }
+}
+
+/// The contents of a frame's resources in one file (`contents.bin` in the side folder), each
+/// at its offset: one file written once instead of one per resource (a game's frame holds
+/// thousands). Resources whose bytes are the same share them.
+#[derive(Debug)]
+pub struct Pack {
+    pub path: String,
+    parts: Vec<Vec<u8>>,
+    len: u64,
+    /// (offset, part) of what is in the pack, by length and a hash of its ends (`key`); the
+    /// bytes are compared whole before one is shared.
+    seen: HashMap<(usize, u64), Vec<(u64, usize)>>,
+}
+
+impl Pack {
+    pub fn new(dir: &str) -> Pack {
+        Pack {
+            path: format!("{dir}/contents.bin"),
+            parts: Vec::new(),
+            len: 0,
+            seen: HashMap::default(),
+        }
+    }
+
+    /// Where `data` is in the pack, added unless the same bytes are there already.
+    pub fn add(&mut self, data: Vec<u8>) -> u64 {
+        let key = (data.len(), ends_hash(&data));
+        let candidates = self.seen.entry(key).or_default();
+        if let Some(&(at, _)) = candidates.iter().find(|(_, p)| self.parts[*p] == data) {
+            return at;
+        }
+        let at = self.len;
+        candidates.push((at, self.parts.len()));
+        self.len += data.len() as u64;
+        self.parts.push(data);
+        at
+    }
+
+    /// The pack as a side file, or nothing where no resource had contents.
+    pub fn into_side_file(self) -> Option<SideFile> {
+        (self.len > 0).then_some(SideFile {
+            path: self.path,
+            parts: self.parts,
+        })
+    }
+}
+
+/// A hash of the first and last 256 bytes: enough to tell most contents apart without
+/// reading them whole (equal keys are compared byte for byte).
+fn ends_hash(data: &[u8]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    data[..data.len().min(256)].hash(&mut h);
+    data[data.len().saturating_sub(256)..].hash(&mut h);
+    h.finish()
 }
 
 /// The non-overlapping byte extents written to one allocation, by offset.
@@ -359,17 +443,17 @@ impl Contents {
         Some(out)
     }
 
-    /// Gives each resource whose contents are known a side file under `dir` (relative to the
-    /// capture), and returns the files and notes on what stays unknown.
+    /// Gives each resource whose contents are known its bytes in `pack`, and returns how
+    /// many resources and bytes that was and notes on what stays unknown.
     pub fn attach(
         &mut self,
         names: &BTreeMap<u64, String>,
         objects: &Objects,
         capture: &mut RawCapture,
-        dir: &str,
-    ) -> (Vec<SideFile>, Vec<String>) {
+        pack: &mut Pack,
+    ) -> ((usize, u64), Vec<String>) {
         let by_name: HashMap<&str, u64> = names.iter().map(|(h, n)| (n.as_str(), *h)).collect();
-        let mut files = Vec::new();
+        let (mut filled, mut filled_bytes) = (0usize, 0u64);
         let mut unknown = Vec::new();
         let mut wrong_size = Vec::new();
         let mut over_budget = Vec::new();
@@ -401,9 +485,13 @@ impl Contents {
             }
             match bytes {
                 Some(bytes) if Some(bytes.len() as u64) == size => {
-                    let path = format!("{dir}/{}.bin", sanitize(&r.name));
-                    r.initial = Some(InitialContents::File { path: path.clone() });
-                    files.push(SideFile { path, bytes });
+                    filled += 1;
+                    filled_bytes += bytes.len() as u64;
+                    let offset = pack.add(bytes);
+                    r.initial = Some(InitialContents::File {
+                        path: pack.path.clone(),
+                        offset: Some(offset),
+                    });
                 }
                 Some(bytes) => wrong_size.push(format!("{} ({} bytes)", r.name, bytes.len())),
                 None => {
@@ -435,7 +523,7 @@ impl Contents {
                 crate::text::listed(&wrong_size, LISTED)
             ));
         }
-        (files, notes)
+        ((filled, filled_bytes), notes)
     }
 }
 
@@ -502,19 +590,6 @@ pub(super) fn packed_size(img: &ImageInfo) -> Option<u64> {
     )
 }
 
-/// A resource name as a file name: letters, digits, `-`, `_` and `.` kept, the rest `_`.
-pub fn sanitize(name: &str) -> String {
-    name.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
-}
-
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
@@ -575,6 +650,23 @@ pub(super) mod tests {
         let img = image("VK_FORMAT_R8G8B8A8_UNORM", [197, 13, 1], 1, 1);
         let packed = unpad(&img, &[13_312], data.clone()).unwrap();
         assert_eq!(packed, data[..197 * 13 * 4]);
+    }
+
+    #[test]
+    fn a_pack_shares_the_same_bytes_and_keeps_the_rest_apart() {
+        let mut p = Pack::new("frame.contents");
+        assert_eq!(p.add(vec![1; 300]), 0);
+        assert_eq!(p.add(vec![2; 10]), 300);
+        // Same length and ends, another middle: its own bytes.
+        let mut other = vec![1; 300];
+        other[150] = 9;
+        assert_eq!(p.add(other), 310);
+        assert_eq!(p.add(vec![1; 300]), 0, "equal bytes are shared");
+        assert_eq!(p.add(vec![2; 10]), 300);
+        let file = p.into_side_file().unwrap();
+        assert_eq!(file.path, "frame.contents/contents.bin");
+        assert_eq!(file.len(), 610);
+        assert!(Pack::new("x").into_side_file().is_none());
     }
 
     #[test]

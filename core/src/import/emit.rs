@@ -159,12 +159,14 @@ fn buffer_resource(
     }
 }
 
-/// The buffer holding bytes the host wrote during the frame, read by its `host_write` pass.
-pub fn upload_buffer(name: &str, size: u64, path: &str) -> Resource {
+/// The buffer holding bytes the host wrote during the frame, read by its `host_write` pass:
+/// `size` bytes at `offset` of the contents file `path`.
+pub fn upload_buffer(name: &str, size: u64, (path, offset): (&str, u64)) -> Resource {
     Resource {
         flags: Vec::new(),
         initial: Some(InitialContents::File {
             path: path.to_owned(),
+            offset: Some(offset),
         }),
         output: false,
         ..plain_buffer(name, size)

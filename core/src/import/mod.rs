@@ -929,32 +929,30 @@ fn finish(
     let mut side_files = Vec::new();
     let (mut shader_modules, mut contents) = (None, None);
     if let Some(x) = extras {
-        let (files, notes) = x.contents.attach(
-            &names,
-            &imp.objects,
-            &mut capture,
-            &format!("{}.contents", x.stem),
-        );
+        let mut pack = contents::Pack::new(&format!("{}.contents", x.stem));
+        let ((resources, bytes), notes) =
+            x.contents
+                .attach(&names, &imp.objects, &mut capture, &mut pack);
         contents = Some(ContentsSummary {
-            resources: files.len(),
-            bytes: files.iter().map(|f| f.bytes.len() as u64).sum(),
+            resources,
+            bytes,
             memory_writes: x.contents.fills,
         });
-        side_files = files;
         for (name, bytes) in uploads {
-            let path = format!("{}.contents/{name}.bin", x.stem);
+            let size = bytes.len() as u64;
+            let offset = pack.add(bytes);
             capture
                 .resources
-                .push(emit::upload_buffer(&name, bytes.len() as u64, &path));
-            side_files.push(SideFile { path, bytes });
+                .push(emit::upload_buffer(&name, size, (&pack.path, offset)));
         }
+        side_files.extend(pack.into_side_file());
         let modules = std::mem::take(&mut x.contents.modules);
         shader_modules = Some(modules.len());
         for (handle, bytes) in modules {
-            side_files.push(SideFile {
-                path: format!("{}.shaders/module_{handle}.spv", x.stem),
+            side_files.push(SideFile::one(
+                format!("{}.shaders/module_{handle}.spv", x.stem),
                 bytes,
-            });
+            ));
         }
         skipped.extend(notes.into_iter().map(|what| Skipped {
             what,

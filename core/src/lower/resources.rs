@@ -95,7 +95,7 @@ impl<'c> Lowering<'c> {
             // wgpu copies into no depth format but Depth16Unorm (and no stencil): an imported
             // frame's depth snapshot is left out, said in a note, and the texture starts
             // cleared, as the render passes that use one nearly always begin by clearing it.
-            InitialDesc::File(_)
+            InitialDesc::File(..)
                 if lowered.format.is_depth_stencil_format()
                     && lowered.format != wgpu::TextureFormat::Depth16Unorm
                     && self.capture.vulkan.is_some() =>
@@ -106,7 +106,9 @@ impl<'c> Lowering<'c> {
                 ));
                 None
             }
-            InitialDesc::File(path) => Some(texture_file(r, info, path).map_err(contents_err)?),
+            InitialDesc::File(path, offset) => {
+                Some(texture_file(r, info, (path, *offset)).map_err(contents_err)?)
+            }
         };
         self.texture_of.insert(r.id, self.plan.textures.len());
         self.plan.textures.push(TextureSpec {
@@ -137,17 +139,18 @@ impl<'c> Lowering<'c> {
         let Some(&usage) = self.usage.buffers.get(&r.id) else {
             return Ok(());
         };
-        let initial =
-            match &r.initial {
-                InitialDesc::Undefined | InitialDesc::BeforeCapture => None,
-                InitialDesc::Generator(contents) => Some(generate::buffer(contents, r.bytes)),
-                InitialDesc::File(path) => Some(read_side_file(path, r.bytes).map_err(
-                    |problem| LowerError::Contents {
+        let initial = match &r.initial {
+            InitialDesc::Undefined | InitialDesc::BeforeCapture => None,
+            InitialDesc::Generator(contents) => Some(generate::buffer(contents, r.bytes)),
+            InitialDesc::File(path, offset) => {
+                Some(read_side_file((path, *offset), r.bytes).map_err(|problem| {
+                    LowerError::Contents {
                         resource: r.name.clone(),
                         problem,
-                    },
-                )?),
-            };
+                    }
+                })?)
+            }
+        };
         self.buffer_of.insert(r.id, self.plan.buffers.len());
         self.plan.buffers.push(BufferSpec {
             name: r.name.clone(),
@@ -160,9 +163,18 @@ impl<'c> Lowering<'c> {
     }
 }
 
-/// A side file of contents, of at most the `declared` bytes the capture gives it.
-fn read_side_file(path: &std::path::Path, declared: u64) -> Result<Vec<u8>, ContentsError> {
-    crate::files::read(path, crate::files::side_file(declared)).map_err(|e| match e {
+/// A side file of contents, of at most the `declared` bytes the capture gives it; or, from
+/// `offset` in a file of many resources' contents, exactly those bytes.
+fn read_side_file(
+    (path, offset): (&std::path::Path, Option<u64>),
+    declared: u64,
+) -> Result<Vec<u8>, ContentsError> {
+    let limit = crate::files::side_file(declared);
+    match offset {
+        None => crate::files::read(path, limit),
+        Some(offset) => crate::files::read_range(path, offset, declared, limit),
+    }
+    .map_err(|e| match e {
         crate::files::FileError::Io { path, error } => ContentsError::Read { path, error },
         e => ContentsError::File(e),
     })
@@ -172,7 +184,7 @@ fn read_side_file(path: &std::path::Path, declared: u64) -> Result<Vec<u8>, Cont
 fn texture_file(
     r: &ResourceDesc,
     info: &FormatInfo,
-    path: &std::path::Path,
+    (path, offset): (&std::path::Path, Option<u64>),
 ) -> Result<Vec<Vec<u8>>, ContentsError> {
     let volume = r.kind == ResourceKind::Texture3D;
     let mip_bytes = |m: u32| {
@@ -182,12 +194,16 @@ fn texture_file(
             .saturating_mul(u64::from(d))
             .saturating_mul(if volume { 1 } else { u64::from(r.array_layers) })
     };
-    // Validation holds the file to the resource's size; the mips are what is cut from it.
-    let declared = (0..r.mip_levels)
-        .map(mip_bytes)
-        .fold(0u64, u64::saturating_add)
-        .max(r.bytes);
-    let bytes = read_side_file(path, declared)?;
+    // Validation holds the file (or its range) to the resource's size; the mips are what is
+    // cut from it.
+    let declared = match offset {
+        Some(_) => r.bytes,
+        None => (0..r.mip_levels)
+            .map(mip_bytes)
+            .fold(0u64, u64::saturating_add)
+            .max(r.bytes),
+    };
+    let bytes = read_side_file((path, offset), declared)?;
     let mut mips = Vec::new();
     let mut offset = 0usize;
     for m in 0..r.mip_levels {

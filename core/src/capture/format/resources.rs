@@ -204,7 +204,14 @@ pub(crate) fn default_heap_type() -> HeapType {
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum InitialContents {
     /// Raw bytes from a file next to the capture (tightly packed subresources, mip-major).
-    File { path: String },
+    File {
+        path: String,
+        /// Where the resource's bytes start in the file, which then holds other resources'
+        /// contents too (an import writes one file for all of a frame's); absent, the file is
+        /// the resource's alone.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        offset: Option<u64>,
+    },
     /// Contents from before the captured frames that the capture does not hold: written
     /// through mapped memory, by earlier frames, or restored from a trimmed capture's state
     /// snapshot. Imported captures only; nothing to replay from.

@@ -767,23 +767,21 @@ impl<'a> Validator<'a> {
                 }
                 InitialDesc::BeforeCapture
             }
-            Some(InitialContents::File { path: rel }) => {
-                match self.side_file(rel, &path.field("initial").field("file").field("path")) {
+            Some(InitialContents::File { path: rel, offset }) => {
+                let at = path.field("initial").field("file").field("path");
+                match self.side_file(rel, &at) {
                     Some(p) => {
-                        if let Ok(meta) = std::fs::metadata(&p)
-                            && meta.len() != bytes
-                        {
-                            self.diags.error(
-                                "side-file",
-                                &path.field("initial").field("file").field("path"),
-                                format!(
-                                    "\"{rel}\" has {} bytes; resource \"{}\" needs exactly {bytes}",
-                                    meta.len(),
-                                    r.name
-                                ),
+                        if let Ok(meta) = std::fs::metadata(&p) {
+                            let file = path.field("initial").field("file");
+                            self.check_side_file_size(
+                                rel,
+                                meta.len(),
+                                (*offset, bytes),
+                                &r.name,
+                                &file,
                             );
                         }
-                        InitialDesc::File(p)
+                        InitialDesc::File(p, *offset)
                     }
                     None => InitialDesc::Undefined,
                 }
@@ -819,6 +817,33 @@ impl<'a> Validator<'a> {
 }
 
 impl Validator<'_> {
+    /// A side file of `len` bytes holds a resource of `bytes`: exactly, or from `offset` on
+    /// where the file holds others' contents too.
+    fn check_side_file_size(
+        &mut self,
+        rel: &str,
+        len: u64,
+        (offset, bytes): (Option<u64>, u64),
+        name: &str,
+        file: &JsonPath,
+    ) {
+        match offset {
+            None if len != bytes => self.diags.error(
+                "side-file",
+                &file.field("path"),
+                format!("\"{rel}\" has {len} bytes; resource \"{name}\" needs exactly {bytes}"),
+            ),
+            Some(o) if o.checked_add(bytes).is_none_or(|end| end > len) => self.diags.error(
+                "side-file",
+                &file.field("offset"),
+                format!(
+                    "\"{rel}\" has {len} bytes; resource \"{name}\" needs {bytes} from byte {o}"
+                ),
+            ),
+            _ => {}
+        }
+    }
+
     /// A swapchain image is a 2D texture the presentation engine owns: no other frame copy,
     /// no contents framelab makes for it (a presented image comes from the frame or before it).
     fn check_swapchain_image(&mut self, r: &Resource, path: &JsonPath) {
