@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 24] = [
+const REPLAYED: [&str; 25] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -35,6 +35,7 @@ const REPLAYED: [&str; 24] = [
     "chromium_angle_f60",
     "vkmark_effect2d_f30",
     "sdl_testvulkan_f30",
+    "vkbasalt_reshade_f30",
 ];
 
 fn temp(name: &str) -> Scratch {

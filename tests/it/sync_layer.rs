@@ -26,8 +26,15 @@ type Finding = (String, String, String, String, String);
 fn wsi(capture: &Path) -> &'static [&'static str] {
     let name = capture.file_stem().and_then(|s| s.to_str()).unwrap_or("");
     match name {
-        "qtquick_f30" | "qt6quick_f30" | "mpv_testsrc2_f30" | "gtk4_f30" | "gstreamer_f30"
-        | "qt6_msaa_f30" | "qt6_quick3d_f30" | "vkbasalt_all_f30" => &["--wsi", "xlib"],
+        "qtquick_f30"
+        | "qt6quick_f30"
+        | "mpv_testsrc2_f30"
+        | "gtk4_f30"
+        | "gstreamer_f30"
+        | "qt6_msaa_f30"
+        | "qt6_quick3d_f30"
+        | "vkbasalt_all_f30"
+        | "vkbasalt_reshade_f30" => &["--wsi", "xlib"],
         _ => &[],
     }
 }
@@ -242,7 +249,7 @@ fn import(input: &Path, out: &Path) {
 /// GFXReconstruct captures, with the hazards framelab finds that the layer does not because
 /// of its ordering rule where the specification has none (expected count): rasterization
 /// order across render passes.
-const GFXR: [(&str, usize); 23] = [
+const GFXR: [(&str, usize); 27] = [
     ("vkcube_f3", 0),
     ("vkcube_staging", 0),
     ("template_compute", 0),
@@ -266,6 +273,10 @@ const GFXR: [(&str, usize); 23] = [
     ("qt6_msaa_f30", 0),
     ("qt6_quick3d_f30", 0),
     ("vkbasalt_all_f30", 0),
+    ("chromium_angle_f60", 0),
+    ("vkmark_effect2d_f30", 0),
+    ("sdl_testvulkan_f30", 0),
+    ("vkbasalt_reshade_f30", 1),
 ];
 
 /// RenderDoc captures and the GFXReconstruct capture of the same program the layer ran on.

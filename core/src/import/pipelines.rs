@@ -49,8 +49,8 @@ pub struct Pipelines {
 #[derive(Debug)]
 struct Learned {
     code: Arc<[u8]>,
-    /// `None` where the code does not parse.
-    bindings: OnceCell<Option<Vec<Bound>>>,
+    /// By entry point name; `None` where the code does not parse.
+    bindings: OnceCell<Option<BTreeMap<String, Vec<Bound>>>>,
 }
 
 /// One descriptor variable of a module: where it is bound, whether it is a storage kind,
@@ -70,34 +70,45 @@ impl Learned {
     /// instructions do with each, within what its NonWritable and NonReadable decorations
     /// allow. Code that does not parse teaches nothing (`None`: its storage bindings stay
     /// read-write for the check, and every binding counts as used).
-    fn bindings(&self) -> Option<&[Bound]> {
+    /// Static use is per entry point (`entry`): the functions it reaches.
+    fn bindings(&self, entry: &str) -> Option<&[Bound]> {
         self.bindings
             .get_or_init(|| {
                 let words = crate::spirv::words(&self.code).ok()?;
-                let (reflection, usage) = crate::spirv::reflect_and_usage(&words).ok()?;
+                let reflection = crate::spirv::reflect(&words).ok()?;
+                let by_entry = crate::spirv::usage_by_entry(&words).ok()?;
                 use crate::spirv::ResourceKind as K;
-                reflection
-                    .resources
-                    .iter()
-                    .map(|r| {
-                        let u = usage.get(&(r.set, r.binding)).copied().unwrap_or_default();
-                        let storage = matches!(
-                            r.kind,
-                            K::StorageBuffer | K::StorageImage(_) | K::StorageTexelBuffer(_)
-                        );
-                        Bound {
-                            set: r.set,
-                            binding: r.binding,
-                            storage,
-                            reads: u.reads && !r.non_readable,
-                            writes: u.writes && !r.non_writable,
-                            used: u.used,
-                        }
-                    })
-                    .collect::<Vec<_>>()
-                    .into()
+                let bound = |usage: &BTreeMap<(u32, u32), crate::spirv::Usage>| {
+                    reflection
+                        .resources
+                        .iter()
+                        .map(|r| {
+                            let u = usage.get(&(r.set, r.binding)).copied().unwrap_or_default();
+                            let storage = matches!(
+                                r.kind,
+                                K::StorageBuffer | K::StorageImage(_) | K::StorageTexelBuffer(_)
+                            );
+                            Bound {
+                                set: r.set,
+                                binding: r.binding,
+                                storage,
+                                reads: u.reads && !r.non_readable,
+                                writes: u.writes && !r.non_writable,
+                                used: u.used,
+                            }
+                        })
+                        .collect::<Vec<_>>()
+                };
+                Some(
+                    by_entry
+                        .iter()
+                        .map(|(name, usage)| (name.clone(), bound(usage)))
+                        .collect(),
+                )
             })
-            .as_deref()
+            .as_ref()?
+            .get(entry)
+            .map(Vec::as_slice)
     }
 }
 
@@ -170,9 +181,9 @@ impl Pipelines {
             reads: false,
             writes: false,
         };
-        for m in &made.modules {
+        for (stage, m) in made.pipeline.stages.iter().zip(&made.modules) {
             let learned = self.learned.get(*self.storage.get(m)?)?;
-            for b in learned.bindings().unwrap_or_default() {
+            for b in learned.bindings(&stage.entry).unwrap_or_default() {
                 if b.storage && (b.set, b.binding) == (set, binding) {
                     out.reads |= b.reads;
                     out.writes |= b.writes;
@@ -184,14 +195,15 @@ impl Pipelines {
 
     /// The `VkShaderStageFlags` of the stages of pipeline `pipeline` whose code statically
     /// uses binding (`set`, `binding`) (0: none does): `None` when the code of one of its
-    /// modules is not known or does not parse. A module is taken whole, every entry point.
+    /// modules is not known or does not parse. A stage's entry point is taken with the
+    /// functions it calls, not the module's other entry points.
     pub fn used_stages(&self, pipeline: u64, set: u32, binding: u32) -> Option<u32> {
         let made = self.pipelines.get(&pipeline)?;
         let mut stages = 0;
         for (stage, m) in made.pipeline.stages.iter().zip(&made.modules) {
             let learned = self.learned.get(*self.storage.get(m)?)?;
             if learned
-                .bindings()?
+                .bindings(&stage.entry)?
                 .iter()
                 .any(|b| b.used && (b.set, b.binding) == (set, binding))
             {

@@ -9,6 +9,7 @@
 
 mod bias;
 mod demote;
+mod entry;
 mod index;
 mod layout;
 mod ops;
@@ -31,7 +32,7 @@ pub use layout::uniform_block_beyond_std140;
 pub use reflect::reflect;
 pub use rewrite::rewrite;
 pub use swizzle::{ONE as SWIZZLE_ONE, ZERO as SWIZZLE_ZERO};
-pub use usage::{Usage, usage};
+pub use usage::{Usage, usage, usage_by_entry};
 
 /// Why a module could not be read, reflected or rewritten.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -63,7 +64,7 @@ pub fn reflect_and_usage(words: &[u32]) -> Result<(Reflection, Usages), SpirvErr
     let loaded = index::load(words)?;
     Ok((
         reflect::reflect_loaded(&loaded)?,
-        usage::usage_loaded(&loaded)?,
+        usage::usage_loaded(&loaded, None)?,
     ))
 }
 

@@ -28,6 +28,7 @@ pub fn rewrite(
     opts: &RewriteOptions,
 ) -> Result<Vec<u32>, SpirvError> {
     let mut loaded = index::load(words)?;
+    super::entry::keep_entry(&mut loaded.module, model, entry);
     let combined = super::params::combined_vars(&loaded.module);
     if !combined.is_empty() {
         super::params::inline_sampler_params(&mut loaded.module, &combined)?;

@@ -29,13 +29,66 @@ pub struct Usage {
 
 /// Per (set, binding): what the module's code does with the variables bound there.
 pub fn usage(words: &[u32]) -> Result<BTreeMap<(u32, u32), Usage>, SpirvError> {
-    usage_loaded(&index::load(words)?)
+    usage_loaded(&index::load(words)?, None)
 }
 
-/// [`usage`] of a module already loaded.
+/// [`usage`] per entry point name: what the functions each entry point reaches (through
+/// calls) do, the specification's static use being per entry point. A module whose passes
+/// are entry points of one module (vkBasalt's ReShade effects) binds everything to every pass
+/// while each pass reads a few.
+pub fn usage_by_entry(
+    words: &[u32],
+) -> Result<BTreeMap<String, BTreeMap<(u32, u32), Usage>>, SpirvError> {
+    let loaded = index::load(words)?;
+    let names: std::collections::BTreeSet<String> = loaded
+        .module
+        .entry_points
+        .iter()
+        .filter_map(|e| super::reflect::entry_point_parts(e).map(|(_, _, n)| n.to_owned()))
+        .collect();
+    names
+        .into_iter()
+        .map(|n| Ok((n.clone(), usage_loaded(&loaded, Some(&n))?)))
+        .collect()
+}
+
+/// The functions entry points named `entry` reach through calls, themselves included.
+fn reached(module: &rspirv::dr::Module, entry: &str) -> std::collections::HashSet<Word> {
+    let mut out: std::collections::HashSet<Word> = module
+        .entry_points
+        .iter()
+        .filter_map(super::reflect::entry_point_parts)
+        .filter(|(_, _, n)| *n == entry)
+        .map(|(_, f, _)| f)
+        .collect();
+    let mut todo: Vec<Word> = out.iter().copied().collect();
+    while let Some(f) = todo.pop() {
+        let Some(function) = module
+            .functions
+            .iter()
+            .find(|x| x.def.as_ref().and_then(|d| d.result_id) == Some(f))
+        else {
+            continue;
+        };
+        for i in function.all_inst_iter() {
+            if i.class.opcode == Op::FunctionCall
+                && let Some(Operand::IdRef(callee)) = i.operands.first()
+                && out.insert(*callee)
+            {
+                todo.push(*callee);
+            }
+        }
+    }
+    out
+}
+
+/// [`usage`] of a module already loaded, of the functions entry points named `entry` reach
+/// (every function where `None`).
 pub(super) fn usage_loaded(
     loaded: &index::Loaded,
+    entry: Option<&str>,
 ) -> Result<BTreeMap<(u32, u32), Usage>, SpirvError> {
+    let reach = entry.map(|e| reached(&loaded.module, e));
     let index = Index::new(loaded);
     let module = &loaded.module;
     let mut binding_of: HashMap<Word, (u32, u32)> = HashMap::new();
@@ -63,6 +116,14 @@ pub(super) fn usage_loaded(
     for inst in module
         .functions
         .iter()
+        .filter(|f| {
+            reach.as_ref().is_none_or(|r| {
+                f.def
+                    .as_ref()
+                    .and_then(|d| d.result_id)
+                    .is_some_and(|id| r.contains(&id))
+            })
+        })
         .flat_map(|f| &f.blocks)
         .flat_map(|b| &b.instructions)
     {

@@ -55,26 +55,35 @@ struct Used {
 type Entry = (wgpu::BindGroupLayoutEntry, VkResource);
 
 impl<'c> Lowering<'c> {
-    /// The reflection of module `m`, read once: the descriptors its code uses.
-    pub(super) fn vk_reflect(&mut self, m: usize) -> Result<&crate::spirv::Reflection, Fail> {
-        if !self.vk.reflections.contains_key(&m) {
+    /// The reflection of module `m` for entry point `entry`, read once: the descriptors the
+    /// functions it reaches use.
+    pub(super) fn vk_reflect(
+        &mut self,
+        m: usize,
+        entry: &str,
+    ) -> Result<&crate::spirv::Reflection, Fail> {
+        let key = (m, entry.to_owned());
+        if !self.vk.reflections.contains_key(&key) {
             let model = self.vk_model()?;
             let module = &model.modules[m];
             let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
                 module: module.name.clone(),
             })?;
-            let (mut r, usages) =
-                crate::spirv::reflect_and_usage(words).map_err(|error| VkProblem::Spirv {
-                    shader: module.name.clone(),
-                    error,
-                })?;
-            // A descriptor the code never names is no binding of the draw's: Vulkan lets the
-            // set hold anything there, and the rewrite removes the variable.
-            r.resources
-                .retain(|v| usages.get(&(v.set, v.binding)).is_none_or(|u| u.used));
-            self.vk.reflections.insert(m, r);
+            let spirv = |error| VkProblem::Spirv {
+                shader: module.name.clone(),
+                error,
+            };
+            let mut r = crate::spirv::reflect(words).map_err(spirv)?;
+            let usages = crate::spirv::usage_by_entry(words).map_err(spirv)?;
+            // A descriptor the entry point's code never names is no binding of the draw's:
+            // Vulkan lets the set hold anything there, and the rewrite removes the variable.
+            if let Some(usages) = usages.get(entry) {
+                r.resources
+                    .retain(|v| usages.get(&(v.set, v.binding)).is_none_or(|u| u.used));
+            }
+            self.vk.reflections.insert(key.clone(), r);
         }
-        Ok(&self.vk.reflections[&m])
+        Ok(&self.vk.reflections[&key])
     }
 
     pub(super) fn vk_groups(
@@ -88,7 +97,7 @@ impl<'c> Lowering<'c> {
         for stage in &pipe.stages {
             let (s, _) = stage_of(&stage.stage)?;
             let shader = model.modules[stage.module].name.clone();
-            for var in &self.vk_reflect(stage.module)?.resources {
+            for var in &self.vk_reflect(stage.module, &stage.entry)?.resources {
                 used.entry((var.set, var.binding))
                     .and_modify(|u| {
                         u.stages |= s;

@@ -50,7 +50,7 @@ pub enum VkProblem {
 /// What the lowering of imported passes shares between draws.
 #[derive(Default)]
 pub(super) struct VkLowering {
-    reflections: BTreeMap<usize, Reflection>,
+    reflections: BTreeMap<(usize, String), Reflection>,
     shaders: HashMap<shaders::ShaderKey, usize>,
     pipelines: HashMap<PipelineKey, usize>,
     samplers: BTreeMap<usize, usize>,

@@ -193,7 +193,7 @@ impl<'c> Lowering<'c> {
             .into());
         }
         if self
-            .vk_reflect(stage.module)?
+            .vk_reflect(stage.module, &stage.entry)?
             .capabilities
             .contains(&rspirv::spirv::Capability::DemoteToHelperInvocation)
         {
