@@ -11,7 +11,7 @@
 use std::collections::HashMap;
 
 use rspirv::dr::{Instruction, Module, Operand};
-use rspirv::spirv::{Decoration, ImageOperands, Op, Word};
+use rspirv::spirv::{ImageOperands, Op, Word};
 
 use super::SpirvError;
 use super::index::{first_free_id, id_ref};
@@ -58,66 +58,17 @@ pub(super) fn add_lod_bias(
         return Ok(());
     }
     // Variable -> its bias, from its DescriptorSet and Binding decorations.
-    let mut at: HashMap<Word, (Option<u32>, Option<u32>)> = HashMap::new();
-    for i in &module.annotations {
-        if let [
-            Operand::IdRef(t),
-            Operand::Decoration(d),
-            Operand::LiteralBit32(v),
-        ] = i.operands.as_slice()
-        {
-            match d {
-                Decoration::DescriptorSet => at.entry(*t).or_default().0 = Some(*v),
-                Decoration::Binding => at.entry(*t).or_default().1 = Some(*v),
-                _ => {}
-            }
-        }
-    }
-    let bias_of: HashMap<Word, f32> = at
-        .into_iter()
-        .filter_map(|(var, (s, b))| {
-            let (s, b) = (s?, b?);
-            biases
-                .iter()
-                .find(|(bs, bb, _)| (*bs, *bb) == (s, b))
-                .map(|(_, _, bias)| (var, *bias))
-        })
-        .collect();
+    let bias_of: HashMap<Word, f32> = super::carry::variables_at(module, |s, b| {
+        biases
+            .iter()
+            .find(|(bs, bb, _)| (*bs, *bb) == (s, b))
+            .map(|(_, _, bias)| *bias)
+    });
     if bias_of.is_empty() {
         return Ok(());
     }
-    // Every id carrying a biased sampler on: loads of it, copies, and the sampled images
-    // made with it (OpSampledImage's operand 1 is the sampler).
-    let mut root: HashMap<Word, Word> = bias_of.keys().map(|&v| (v, v)).collect();
-    let insts = |m: &Module| -> Vec<(Op, Vec<Operand>, Option<Word>)> {
-        m.functions
-            .iter()
-            .flat_map(|f| f.all_inst_iter())
-            .map(|i| (i.class.opcode, i.operands.clone(), i.result_id))
-            .collect()
-    };
-    let all = insts(module);
-    // Definitions may come after uses in layout order (loops): repeat until nothing is new.
-    loop {
-        let before = root.len();
-        for (op, ops, result) in &all {
-            let from = match op {
-                Op::Load | Op::CopyObject | Op::AccessChain | Op::InBoundsAccessChain => {
-                    id_ref(ops.first())
-                }
-                Op::SampledImage => id_ref(ops.get(1)),
-                _ => None,
-            };
-            if let (Some(from), Some(result)) = (from, result)
-                && let Some(&var) = root.get(&from)
-            {
-                root.insert(*result, var);
-            }
-        }
-        if root.len() == before {
-            break;
-        }
-    }
+    // Every id carrying a biased sampler on (OpSampledImage's operand 1 is the sampler).
+    let root = super::carry::carried(module, &bias_of, 1);
     let mut ids = Ids {
         next: first_free_id(module).ok_or(SpirvError::IdsExhausted { bound: u32::MAX })?,
     };

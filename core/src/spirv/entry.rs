@@ -24,25 +24,7 @@ pub(super) fn keep_entry(module: &mut Module, model: ExecutionModel, entry: &str
     else {
         return;
     };
-    let mut reached: HashSet<Word> = HashSet::from([kept]);
-    let mut todo = vec![kept];
-    while let Some(f) = todo.pop() {
-        let Some(function) = module
-            .functions
-            .iter()
-            .find(|x| x.def.as_ref().and_then(|d| d.result_id) == Some(f))
-        else {
-            continue;
-        };
-        for i in function.all_inst_iter() {
-            if i.class.opcode == Op::FunctionCall
-                && let Some(Operand::IdRef(callee)) = i.operands.first()
-                && reached.insert(*callee)
-            {
-                todo.push(*callee);
-            }
-        }
-    }
+    let reached = reached(module, HashSet::from([kept]));
     let removed: HashSet<Word> = module
         .functions
         .iter()
@@ -73,4 +55,28 @@ pub(super) fn keep_entry(module: &mut Module, model: ExecutionModel, entry: &str
         .retain(|i| matches!(i.operands.first(), Some(Operand::IdRef(f)) if *f == kept));
     module.annotations.retain(|i| !targets_removed(i));
     module.debug_names.retain(|i| !targets_removed(i));
+}
+
+/// The functions `roots` reach through calls, themselves included.
+pub(super) fn reached(module: &Module, roots: HashSet<Word>) -> HashSet<Word> {
+    let mut out = roots;
+    let mut todo: Vec<Word> = out.iter().copied().collect();
+    while let Some(f) = todo.pop() {
+        let Some(function) = module
+            .functions
+            .iter()
+            .find(|x| x.def.as_ref().and_then(|d| d.result_id) == Some(f))
+        else {
+            continue;
+        };
+        for i in function.all_inst_iter() {
+            if i.class.opcode == Op::FunctionCall
+                && let Some(Operand::IdRef(callee)) = i.operands.first()
+                && out.insert(*callee)
+            {
+                todo.push(*callee);
+            }
+        }
+    }
+    out
 }

@@ -8,6 +8,7 @@
 //! bindings the code reads and writes, for the synchronization check.
 
 mod bias;
+mod carry;
 mod demote;
 mod entry;
 mod index;

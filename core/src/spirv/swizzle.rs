@@ -12,7 +12,7 @@
 use std::collections::HashMap;
 
 use rspirv::dr::{Instruction, Module, Operand};
-use rspirv::spirv::{Decoration, Op, Word};
+use rspirv::spirv::{Op, Word};
 
 use super::SpirvError;
 use super::index::{first_free_id, id_ref};
@@ -75,66 +75,18 @@ pub(super) fn apply_swizzles(
     if swizzles.is_empty() {
         return Ok(());
     }
-    let mut at: HashMap<Word, (Option<u32>, Option<u32>)> = HashMap::new();
-    for i in &module.annotations {
-        if let [
-            Operand::IdRef(t),
-            Operand::Decoration(d),
-            Operand::LiteralBit32(v),
-        ] = i.operands.as_slice()
-        {
-            match d {
-                Decoration::DescriptorSet => at.entry(*t).or_default().0 = Some(*v),
-                Decoration::Binding => at.entry(*t).or_default().1 = Some(*v),
-                _ => {}
-            }
-        }
-    }
-    let swizzle_of: HashMap<Word, [u8; 4]> = at
-        .into_iter()
-        .filter_map(|(var, (s, b))| {
-            let (s, b) = (s?, b?);
-            swizzles
-                .iter()
-                .find(|(ss, sb, _)| (*ss, *sb) == (s, b))
-                .map(|(_, _, sw)| (var, *sw))
-        })
-        .collect();
+    let swizzle_of: HashMap<Word, [u8; 4]> = super::carry::variables_at(module, |s, b| {
+        swizzles
+            .iter()
+            .find(|(ss, sb, _)| (*ss, *sb) == (s, b))
+            .map(|(_, _, sw)| *sw)
+    });
     if swizzle_of.is_empty() {
         return Ok(());
     }
-    // Every id carrying a swizzled image on: loads, copies, access chains, the sampled
-    // images made with it (OpSampledImage's operand 0 is the image) and images taken back
-    // out of them.
-    let mut root: HashMap<Word, Word> = swizzle_of.keys().map(|&v| (v, v)).collect();
-    let all: Vec<(Op, Vec<Operand>, Option<Word>)> = module
-        .functions
-        .iter()
-        .flat_map(|f| f.all_inst_iter())
-        .map(|i| (i.class.opcode, i.operands.clone(), i.result_id))
-        .collect();
-    loop {
-        let before = root.len();
-        for (op, ops, result) in &all {
-            let from = match op {
-                Op::Load
-                | Op::CopyObject
-                | Op::AccessChain
-                | Op::InBoundsAccessChain
-                | Op::SampledImage
-                | Op::Image => id_ref(ops.first()),
-                _ => None,
-            };
-            if let (Some(from), Some(result)) = (from, result)
-                && let Some(&var) = root.get(&from)
-            {
-                root.insert(*result, var);
-            }
-        }
-        if root.len() == before {
-            break;
-        }
-    }
+    // Every id carrying a swizzled image on (OpSampledImage's operand 0 is the image, and
+    // images are taken back out of sampled images).
+    let root = super::carry::carried(module, &swizzle_of, 0);
     let globals: HashMap<Word, Instruction> = module
         .types_global_values
         .iter()

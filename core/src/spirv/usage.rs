@@ -36,9 +36,7 @@ pub fn usage(words: &[u32]) -> Result<BTreeMap<(u32, u32), Usage>, SpirvError> {
 /// calls) do, the specification's static use being per entry point. A module whose passes
 /// are entry points of one module (vkBasalt's ReShade effects) binds everything to every pass
 /// while each pass reads a few.
-pub fn usage_by_entry(
-    words: &[u32],
-) -> Result<BTreeMap<String, BTreeMap<(u32, u32), Usage>>, SpirvError> {
+pub fn usage_by_entry(words: &[u32]) -> Result<BTreeMap<String, super::Usages>, SpirvError> {
     let loaded = index::load(words)?;
     let names: std::collections::BTreeSet<String> = loaded
         .module
@@ -52,43 +50,23 @@ pub fn usage_by_entry(
         .collect()
 }
 
-/// The functions entry points named `entry` reach through calls, themselves included.
-fn reached(module: &rspirv::dr::Module, entry: &str) -> std::collections::HashSet<Word> {
-    let mut out: std::collections::HashSet<Word> = module
-        .entry_points
-        .iter()
-        .filter_map(super::reflect::entry_point_parts)
-        .filter(|(_, _, n)| *n == entry)
-        .map(|(_, f, _)| f)
-        .collect();
-    let mut todo: Vec<Word> = out.iter().copied().collect();
-    while let Some(f) = todo.pop() {
-        let Some(function) = module
-            .functions
-            .iter()
-            .find(|x| x.def.as_ref().and_then(|d| d.result_id) == Some(f))
-        else {
-            continue;
-        };
-        for i in function.all_inst_iter() {
-            if i.class.opcode == Op::FunctionCall
-                && let Some(Operand::IdRef(callee)) = i.operands.first()
-                && out.insert(*callee)
-            {
-                todo.push(*callee);
-            }
-        }
-    }
-    out
-}
-
 /// [`usage`] of a module already loaded, of the functions entry points named `entry` reach
 /// (every function where `None`).
 pub(super) fn usage_loaded(
     loaded: &index::Loaded,
     entry: Option<&str>,
 ) -> Result<BTreeMap<(u32, u32), Usage>, SpirvError> {
-    let reach = entry.map(|e| reached(&loaded.module, e));
+    let reach = entry.map(|e| {
+        let roots = loaded
+            .module
+            .entry_points
+            .iter()
+            .filter_map(super::reflect::entry_point_parts)
+            .filter(|(_, _, n)| *n == e)
+            .map(|(_, f, _)| f)
+            .collect();
+        super::entry::reached(&loaded.module, roots)
+    });
     let index = Index::new(loaded);
     let module = &loaded.module;
     let mut binding_of: HashMap<Word, (u32, u32)> = HashMap::new();
