@@ -1045,3 +1045,37 @@ fn anisotropy_with_nearest_filters_is_linear_and_said() {
     let plain = crate::common::replay_presented(&capture, &dir.join("plain"));
     assert!(nearest != plain, "the filter changed");
 }
+
+/// A SPIR-V capability the device wgpu makes does not have is refused by name, with the
+/// shader and the Vulkan feature it needs, before the driver sees the module: vkcube's
+/// fragment shader edited to declare `SparseResidency` (shaderResourceResidency, which wgpu
+/// never turns on; naga refuses the module, so it would go to the driver as it is).
+#[test]
+fn a_capability_wgpu_does_not_turn_on_is_refused_by_name() {
+    let dir = temp("capability");
+    let capture = vkcube(&dir);
+    let module = dir.join("vkcube.shaders/module_38.spv");
+    let mut words: Vec<u32> = std::fs::read(&module)
+        .unwrap()
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    // After the header, the first instruction is `OpCapability Shader`: `SparseResidency`
+    // (41) after it.
+    assert_eq!(words[5], 0x0002_0011, "OpCapability first");
+    words.splice(7..7, [0x0002_0011, 41]);
+    let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+    std::fs::write(&module, &bytes).unwrap();
+    edit(&capture, |v| {
+        v["vulkan"]["shader_modules"][1]["size"] = json!(bytes.len());
+    });
+    let err = replay_fails(&capture);
+    for part in [
+        "SPIR-V capability SparseResidency",
+        "module_38",
+        "shaderResourceResidency",
+        "draw 0",
+    ] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+}
