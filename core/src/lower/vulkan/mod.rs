@@ -539,9 +539,8 @@ impl<'c> Lowering<'c> {
             .get_or_insert_with(|| provoking::written(self.capture));
         let indices = match work.index_buffer {
             Some((b, offset, wide)) => {
-                let size = if wide { 4 } else { 2 };
-                let start = offset.saturating_add(u64::from(d.first) * size);
-                let end = start.saturating_add(u64::from(d.count.unwrap_or(0)) * size);
+                let (start, end) =
+                    provoking::index_bytes(offset, d.first, d.count.unwrap_or(0), wide);
                 let held = !written.overlaps(b, start, end);
                 let plan = self.buf(p, b)?;
                 let bytes = self.plan.buffers[plan].initial.as_deref().filter(|_| held);

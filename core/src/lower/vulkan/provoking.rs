@@ -133,6 +133,13 @@ fn triangles(shape: Shape, v: &[u32], last: bool, out: &mut Vec<u32>) {
     }
 }
 
+/// The bytes `count` indices from index `first` take in an index buffer bound at `offset`.
+pub(super) fn index_bytes(offset: u64, first: u32, count: u32, wide: bool) -> (u64, u64) {
+    let size = if wide { 4 } else { 2 };
+    let start = offset.saturating_add(u64::from(first) * size);
+    (start, start.saturating_add(u64::from(count) * size))
+}
+
 /// `count` indices from index `first` at byte `offset` of `bytes`.
 fn read_indices(
     bytes: &[u8],
@@ -141,9 +148,7 @@ fn read_indices(
     count: u32,
     wide: bool,
 ) -> Result<Vec<u32>, VkProblem> {
-    let size = if wide { 4 } else { 2 };
-    let start = offset.saturating_add(u64::from(first) * size);
-    let end = start.saturating_add(u64::from(count) * size);
+    let (start, end) = index_bytes(offset, first, count, wide);
     let range = usize::try_from(start)
         .ok()
         .zip(usize::try_from(end).ok())
