@@ -117,7 +117,7 @@ pub fn dynamic_state(name: &str) -> Option<Verdict> {
             "no effect unless the fragment shader reads a flat input; there, each triangle of a list, strip or fan is drawn from a rearranged index list that starts it at its last vertex (wgpu takes the first's); lines, indirect draws and indices written during the frame are refused",
         ),
         "LINE_RASTERIZATION_MODE_EXT" => Verdict::Emulated(
-            "no effect on triangles filled; lines drawn in another mode than the default are refused",
+            "no effect on triangles filled; Bresenham and rectangular lines drawn in the driver's default mode, with a note; smooth lines refused (wgpu has none)",
         ),
         "LINE_STIPPLE_ENABLE_EXT" => {
             Verdict::Emulated("baked while off; stippled lines are refused (wgpu has none)")
@@ -419,12 +419,16 @@ pub fn sampler_field(name: &str) -> Option<Verdict> {
 /// Every `VK_DESCRIPTOR_TYPE_*`.
 pub fn descriptor_type(name: &str) -> Option<Verdict> {
     Some(match name.strip_prefix("VK_DESCRIPTOR_TYPE_")? {
-        "SAMPLER" | "SAMPLED_IMAGE" | "STORAGE_IMAGE" | "UNIFORM_BUFFER" | "STORAGE_BUFFER" => {
-            Verdict::Native
-        }
-        "UNIFORM_BUFFER_DYNAMIC" | "STORAGE_BUFFER_DYNAMIC" => {
+        "SAMPLER" | "SAMPLED_IMAGE" | "STORAGE_IMAGE" | "STORAGE_BUFFER" => Verdict::Native,
+        "UNIFORM_BUFFER" => Verdict::Emulated(
+            "native for std140 blocks; a block laid out by std430 (zink's word arrays) is bound as a read-only storage buffer, the SPIR-V moved to the StorageBuffer class; scalar layout past std430 is refused",
+        ),
+        "STORAGE_BUFFER_DYNAMIC" => {
             Verdict::Emulated("the dynamic offset is added to the binding's offset at import")
         }
+        "UNIFORM_BUFFER_DYNAMIC" => Verdict::Emulated(
+            "the dynamic offset is added to the binding's offset at import; std430 blocks as for uniform buffers",
+        ),
         "COMBINED_IMAGE_SAMPLER" => Verdict::Emulated(
             "split into a texture and a sampler binding, the SPIR-V rewritten to match",
         ),

@@ -186,6 +186,11 @@ pub struct DepthTarget {
     pub read_only: bool,
     /// The stencil aspect is read-only.
     pub stencil_read_only: bool,
+    /// The pass also reads the texture through a binding (`cross_pass::mark_sampled_depth`):
+    /// its read-only aspects must be attached read-only. Otherwise they are attached as
+    /// writable and left unwritten (the pipelines write no depth there), since a read-only
+    /// attachment that stores its contents is a write the barriers before it do not cover.
+    pub sampled: bool,
 }
 
 #[derive(Debug, Clone)]

@@ -249,7 +249,7 @@ fn import(input: &Path, out: &Path) {
 /// GFXReconstruct captures, with the hazards framelab finds that the layer does not because
 /// of its ordering rule where the specification has none (expected count): rasterization
 /// order across render passes.
-const GFXR: [(&str, usize); 27] = [
+const GFXR: [(&str, usize); 28] = [
     ("vkcube_f3", 0),
     ("vkcube_staging", 0),
     ("template_compute", 0),
@@ -277,6 +277,7 @@ const GFXR: [(&str, usize); 27] = [
     ("vkmark_effect2d_f30", 0),
     ("sdl_testvulkan_f30", 0),
     ("vkbasalt_reshade_f30", 1),
+    ("glmark2_zink_ideas_f30", 0),
 ];
 
 /// RenderDoc captures and the GFXReconstruct capture of the same program the layer ran on.

@@ -534,11 +534,17 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
         g.depth_clamp = boolean(&r, "depthClampEnable")?;
         g.rasterizer_discard = boolean(&r, "rasterizerDiscardEnable")?;
         g.line_width = float(&r, "lineWidth")?;
-        // `VkPipelineRasterizationProvokingVertexStateCreateInfoEXT`.
+        // `VkPipelineRasterizationProvokingVertexStateCreateInfoEXT` and
+        // `VkPipelineRasterizationLineStateCreateInfoEXT`.
         let mut next = r.opt("pNext");
         while let Some(n) = next {
             if let Some(m) = n.opt("provokingVertexMode") {
                 g.provoking_vertex_last = m.name()?.contains("LAST_VERTEX");
+            }
+            if let Some(m) = n.opt("lineRasterizationMode") {
+                let m = m.name()?;
+                g.line_rasterization_mode = (!m.ends_with("DEFAULT_EXT")).then_some(m);
+                g.line_stipple = boolean(&n, "stippledLineEnable")?;
             }
             next = n.opt("pNext");
         }

@@ -75,6 +75,34 @@ pub(super) fn gather(plan: &mut Plan) {
     }
 }
 
+/// Marks each depth target its own pass also reads through a binding (`DepthTarget::sampled`).
+pub(super) fn mark_sampled_depth(plan: &mut Plan) {
+    let in_groups = |gs: &[Option<VkGroup>], t: usize| {
+        gs.iter().flatten().any(|g| {
+            g.entries
+                .iter()
+                .any(|(_, r)| matches!(r, VkResource::Texture { texture, .. } if *texture == t))
+        })
+    };
+    for pass in &mut plan.passes {
+        match &mut pass.op {
+            PassOp::Raster(r) => {
+                if let Some(d) = r.depth.as_mut() {
+                    d.sampled = r.bindings.iter().any(|b| {
+                        matches!(b.target, BindTarget::Texture { texture, .. } if texture == d.texture)
+                    });
+                }
+            }
+            PassOp::VkRaster(r) => {
+                if let Some(d) = r.depth.as_mut() {
+                    d.sampled = r.draws.iter().any(|dr| in_groups(&dr.groups, d.texture));
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
 /// Keeps the multisampled contents a resolve pass reads. A Vulkan subpass resolves its
 /// attachments as it ends and may discard the multisampled ones (`storeOp` DONT_CARE, the
 /// usual way); the import makes that resolve a pass of its own after the render pass, so the

@@ -230,6 +230,7 @@ pub fn lower(
     }
     cross_pass::gather(&mut l.plan);
     cross_pass::keep_resolved(&mut l.plan);
+    cross_pass::mark_sampled_depth(&mut l.plan);
     for (pass, needed) in &l.pass_features {
         let missing = *needed - available;
         if !missing.is_empty() {

@@ -265,6 +265,7 @@ impl<'c> Lowering<'c> {
             stencil_store: d.stencil_store == StoreOp::Store,
             read_only: d.read_only,
             stencil_read_only: d.stencil_read_only,
+            sampled: false,
         }))
     }
 

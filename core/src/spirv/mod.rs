@@ -12,12 +12,17 @@ mod carry;
 mod demote;
 mod entry;
 mod index;
+mod indexing;
 mod layout;
+mod memory_model;
 mod ops;
+mod outputs;
 mod params;
+mod reclass;
 mod reflect;
 mod rewrite;
 mod specop;
+mod storage;
 mod swizzle;
 #[cfg(test)]
 mod tests;
@@ -29,7 +34,7 @@ use std::fmt;
 
 use rspirv::spirv::{Capability, Dim, ExecutionModel, ImageFormat};
 
-pub use layout::uniform_block_beyond_std140;
+pub use layout::{BeyondStd140, uniform_blocks_beyond_std140};
 pub use reflect::reflect;
 pub use rewrite::rewrite;
 pub use swizzle::{ONE as SWIZZLE_ONE, ZERO as SWIZZLE_ZERO};
@@ -224,6 +229,12 @@ pub struct RewriteOptions<'a> {
     /// channel, [`SWIZZLE_ZERO`], [`SWIZZLE_ONE`]): applied to every texel read through it
     /// (`swizzle`), since wgpu's views have none.
     pub swizzles: &'a [(u32, u32, [u8; 4])],
+    /// The uniform blocks, by (set, binding), to read as read-only storage blocks
+    /// (`storage`): laid out past std140, which wgpu's uniform bindings keep.
+    pub storage_blocks: &'a [(u32, u32)],
+    /// The fragment output locations with a colour attachment, a bit each (`outputs`): the
+    /// others become private variables. `None` leaves every output.
+    pub attached_outputs: Option<u32>,
 }
 
 impl fmt::Debug for RewriteOptions<'_> {

@@ -36,11 +36,17 @@ pub fn rewrite(
     super::bias::add_lod_bias(&mut loaded.module, opts.lod_bias)?;
     super::swizzle::apply_swizzles(&mut loaded.module, opts.swizzles)?;
     super::demote::demote_as_kill(&mut loaded.module)?;
+    super::memory_model::as_glsl450(&mut loaded.module)?;
+    super::storage::uniform_as_storage(&mut loaded.module, opts.storage_blocks)?;
+    if let Some(attached) = opts.attached_outputs {
+        super::outputs::unattached_private(&mut loaded.module, model, attached)?;
+    }
     super::unused::drop_unbound(&mut loaded.module, |set, binding| {
         [Role::Whole, Role::SplitImage]
             .into_iter()
             .any(|role| (opts.binding)(set, binding, role).is_some())
     });
+    super::indexing::drop_needless_dynamic_indexing(&mut loaded.module);
     let plan = plan(&loaded, model, entry, opts)?;
     let mut module = loaded.module;
     apply(&mut module, plan)?;

@@ -311,7 +311,7 @@ impl Session {
             // A format without depth (Stencil8) takes no depth operations at all.
             wgpu::RenderPassDepthStencilAttachment {
                 view,
-                depth_ops: if d.read_only || !d.format.has_depth_aspect() {
+                depth_ops: if d.read_only && d.sampled || !d.format.has_depth_aspect() {
                     None
                 } else {
                     Some(wgpu::Operations {
@@ -325,15 +325,17 @@ impl Session {
                         },
                     })
                 },
-                stencil_ops: (stencil && !d.stencil_read_only).then(|| wgpu::Operations {
-                    load: d
-                        .stencil_clear
-                        .map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
-                    store: if d.stencil_store {
-                        wgpu::StoreOp::Store
-                    } else {
-                        wgpu::StoreOp::Discard
-                    },
+                stencil_ops: (stencil && !(d.stencil_read_only && d.sampled)).then(|| {
+                    wgpu::Operations {
+                        load: d
+                            .stencil_clear
+                            .map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+                        store: if d.stencil_store {
+                            wgpu::StoreOp::Store
+                        } else {
+                            wgpu::StoreOp::Discard
+                        },
+                    }
                 }),
             }
         });

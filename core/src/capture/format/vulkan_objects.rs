@@ -272,6 +272,13 @@ pub struct GraphicsState {
     /// `pSampleMask`'s first word, where the pipeline gives one (all samples otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sample_mask: Option<u32>,
+    /// `VK_LINE_RASTERIZATION_MODE_*` other than the default, where the pipeline
+    /// (`VkPipelineRasterizationLineStateCreateInfoEXT`) or its dynamic state gives one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line_rasterization_mode: Option<String>,
+    /// `stippledLineEnable`, from the same structure or its dynamic state.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub line_stipple: bool,
 }
 
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]

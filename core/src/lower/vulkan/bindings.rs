@@ -28,6 +28,9 @@ pub(super) struct Bound {
     /// The component swizzle of the sampled view at each (set, binding) where it is not the
     /// identity, as `spirv::RewriteOptions::swizzles` codes: the rewrite applies it.
     pub swizzles: Vec<(u32, u32, [u8; 4])>,
+    /// The uniform blocks laid out past std140, bound as read-only storage buffers: the
+    /// rewrite reads them as storage blocks (`spirv::RewriteOptions::storage_blocks`).
+    pub storage_blocks: Vec<(u32, u32)>,
 }
 
 /// The SPIR-V image format a texel buffer view of `VK_FORMAT_*` reads in, where the rewrite
@@ -50,6 +53,8 @@ struct Used {
     var: ResourceVar,
     stages: wgpu::ShaderStages,
     shader: String,
+    /// A uniform block some stage lays out past std140: bound as a read-only storage buffer.
+    as_storage: bool,
 }
 
 type Entry = (wgpu::BindGroupLayoutEntry, VkResource);
@@ -109,7 +114,22 @@ impl<'c> Lowering<'c> {
                         var: var.clone(),
                         stages: s,
                         shader: shader.clone(),
+                        as_storage: false,
                     });
+            }
+            for b in self.vk_beyond_std140(stage.module)? {
+                if let Some(u) = used.get_mut(&(b.set, b.binding)) {
+                    if let Some(why) = &b.beyond_std430 {
+                        return Err(VkProblem::Unsupported {
+                            feature: format!(
+                                "a uniform block in scalar layout (set {} binding {} of shader {shader}: {}, and {why}; a storage buffer reads by std430's rules, and scalar layout needs a device feature wgpu does not enable)",
+                                b.set, b.binding, b.problem
+                            ),
+                        }
+                        .into());
+                    }
+                    u.as_storage = true;
+                }
             }
         }
         let layout = &model.pipeline_layouts[pipe.layout];
@@ -117,7 +137,11 @@ impl<'c> Lowering<'c> {
         let mut texel_formats = Vec::new();
         let mut lod_bias = Vec::new();
         let mut swizzles = Vec::new();
+        let mut storage_blocks = Vec::new();
         for (&(set, binding), u) in &used {
+            if u.as_storage {
+                storage_blocks.push((set, binding));
+            }
             let lb = layout
                 .sets
                 .get(set as usize)
@@ -203,8 +227,23 @@ impl<'c> Lowering<'c> {
                 texel_formats,
                 lod_bias,
                 swizzles,
+                storage_blocks,
             },
         ))
+    }
+
+    /// The uniform blocks of module `m` laid out past std140, found once.
+    fn vk_beyond_std140(&mut self, m: usize) -> Result<Vec<crate::spirv::BeyondStd140>, Fail> {
+        if !self.vk.beyond_std140.contains_key(&m) {
+            let model = self.vk_model()?;
+            let module = &model.modules[m];
+            let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
+                module: module.name.clone(),
+            })?;
+            let found = crate::spirv::uniform_blocks_beyond_std140(words);
+            self.vk.beyond_std140.insert(m, found);
+        }
+        Ok(self.vk.beyond_std140[&m].clone())
     }
 
     /// The wgpu entries (one, or a texture and a sampler) of one used descriptor, and the LOD
@@ -246,13 +285,16 @@ impl<'c> Lowering<'c> {
             | "STORAGE_BUFFER_DYNAMIC" => {
                 let d = d.ok_or_else(missing)?;
                 let buffer = self.buf(p, d.resource.ok_or_else(missing)?)?;
-                let kind = if ty.starts_with("UNIFORM") {
+                let kind = if ty.starts_with("UNIFORM") && !u.as_storage {
                     wgpu::BufferBindingType::Uniform
                 } else {
                     wgpu::BufferBindingType::Storage {
-                        read_only: u.var.non_writable,
+                        read_only: u.var.non_writable || u.as_storage,
                     }
                 };
+                if u.as_storage {
+                    self.plan.buffers[buffer].usage |= wgpu::BufferUsages::STORAGE;
+                }
                 vec![(
                     entry(
                         wb,

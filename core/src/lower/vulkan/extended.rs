@@ -184,16 +184,15 @@ pub(super) fn extended(
             .as_ref()
             .is_some_and(|m| m.contains("LAST_VERTEX"));
     }
-    let lines = e.topology.contains("LINE") || e.polygon_mode.ends_with("_LINE");
-    if has("LINE_RASTERIZATION_MODE_EXT")
-        && lines
-        && let Some(mode) = &x.line_rasterization_mode
-        && !mode.ends_with("DEFAULT_EXT")
-    {
-        refuse(format!("lines drawn in {mode} (wgpu draws its own)"))?;
+    // What lines these give is `states::lines`' to judge, with the pipeline's own.
+    if has("LINE_RASTERIZATION_MODE_EXT") {
+        e.line_rasterization_mode = x
+            .line_rasterization_mode
+            .clone()
+            .filter(|m| !m.ends_with("DEFAULT_EXT"));
     }
-    if has("LINE_STIPPLE_ENABLE_EXT") && lines && x.line_stipple_enable == Some(true) {
-        refuse("stippled lines (wgpu has none)".to_owned())?;
+    if has("LINE_STIPPLE_ENABLE_EXT") {
+        e.line_stipple = x.line_stipple_enable == Some(true);
     }
     Ok(())
 }

@@ -58,6 +58,8 @@ pub(super) struct VkLowering {
     flat_modules: BTreeMap<usize, bool>,
     /// What the frame's passes write (`provoking::written`), found on first need.
     written: Option<provoking::Written>,
+    /// Each shader module's uniform blocks laid out past std140 (by module index).
+    beyond_std140: BTreeMap<usize, Vec<crate::spirv::BeyondStd140>>,
 }
 
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -403,7 +405,7 @@ impl<'c> Lowering<'c> {
                     .ok_or_else(|| {
                         VkProblem::Missing(format!("pipeline {} has no compute stage", pipe.name))
                     })?;
-                let shader = self.vk_shader(pipe, stage, (false, false), &sets)?;
+                let shader = self.vk_shader(pipe, stage, (false, false), &sets, None)?;
                 let layout = &model.pipeline_layouts[pipe.layout];
                 self.plan.vk.pipelines.push(VkPipelineSpec {
                     name: pipe.name.clone(),
@@ -588,10 +590,20 @@ impl<'c> Lowering<'c> {
         };
         let mut vertex = None;
         let mut fragment = None;
+        // Attachment i takes the output at location i.
+        let attached = u32::try_from(key.targets.len())
+            .ok()
+            .and_then(|n| 1u32.checked_shl(n))
+            .map_or(u32::MAX, |bit| bit - 1);
         for stage in &pipe.stages {
             let (s, _) = stage_of(&stage.stage)?;
-            let shader =
-                self.vk_shader(pipe, stage, (key.flip, g.depth_negative_one_to_one), sets)?;
+            let shader = self.vk_shader(
+                pipe,
+                stage,
+                (key.flip, g.depth_negative_one_to_one),
+                sets,
+                Some(attached),
+            )?;
             if s == wgpu::ShaderStages::VERTEX {
                 vertex = Some(shader);
             } else if s == wgpu::ShaderStages::FRAGMENT {
@@ -657,6 +669,7 @@ impl<'c> Lowering<'c> {
         for note in bias
             .into_iter()
             .chain(states::restart_note(g, key.strip_index))
+            .chain(states::lines(g)?)
         {
             let note = format!("pipeline {}: {note}", pipe.name);
             if !self.notes.contains(&note) {

@@ -33,6 +33,10 @@ pub(super) struct ShaderKey {
     lod_bias: Vec<(u32, u32, u32)>,
     /// Sampled views' swizzles by (set, binding).
     swizzles: Vec<(u32, u32, [u8; 4])>,
+    /// Uniform blocks read as storage blocks, by (set, binding).
+    storage_blocks: Vec<(u32, u32)>,
+    /// Fragment output locations with an attachment (`RewriteOptions::attached_outputs`).
+    outputs: Option<u32>,
 }
 
 /// wgpu's binding for Vulkan binding `b` in the role asked.
@@ -70,6 +74,7 @@ impl<'c> Lowering<'c> {
         stage: &VkStage,
         (flip, gl_depth): (bool, bool),
         bound: &super::bindings::Bound,
+        attached: Option<u32>,
     ) -> Result<usize, Fail> {
         let (sets, texel_formats) = (&bound.sets, &bound.texel_formats[..]);
         let lod_bias: Vec<(u32, u32, f32)> = bound
@@ -77,6 +82,8 @@ impl<'c> Lowering<'c> {
             .iter()
             .map(|&(s, b, bits)| (s, b, f32::from_bits(bits)))
             .collect();
+        // Only a fragment stage's outputs meet the attachments.
+        let outputs = attached.filter(|_| stage.stage == "VK_SHADER_STAGE_FRAGMENT_BIT");
         let key = ShaderKey {
             module: stage.module,
             entry: stage.entry.clone(),
@@ -88,6 +95,8 @@ impl<'c> Lowering<'c> {
             texel_formats: texel_formats.to_vec(),
             lod_bias: bound.lod_bias.clone(),
             swizzles: bound.swizzles.clone(),
+            storage_blocks: bound.storage_blocks.clone(),
+            outputs,
         };
         if let Some(&i) = self.vk.shaders.get(&key) {
             return Ok(i);
@@ -118,16 +127,6 @@ impl<'c> Lowering<'c> {
         let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
             module: module.name.clone(),
         })?;
-        // wgpu's device takes uniform blocks by std140's rules only: a driver would read a
-        // tighter block right, and the validation layer would call the module invalid.
-        if let Some(problem) = crate::spirv::uniform_block_beyond_std140(words) {
-            return Err(VkProblem::Unsupported {
-                feature: format!(
-                    "a uniform block laid out beyond std140 (shader {name}: {problem}; std430 or scalar layout needs device features wgpu does not enable)"
-                ),
-            }
-            .into());
-        }
         let flip = flip && wgpu_stage == wgpu::ShaderStages::VERTEX;
         let gl_depth = gl_depth && wgpu_stage == wgpu::ShaderStages::VERTEX;
         let used = |set: u32, b: u32, role: Role| -> Option<u32> {
@@ -150,6 +149,8 @@ impl<'c> Lowering<'c> {
                 lod_bias: &lod_bias,
                 gl_depth,
                 swizzles: &bound.swizzles,
+                storage_blocks: &bound.storage_blocks,
+                attached_outputs: outputs,
             },
         )
         .map_err(spirv_error)?;
@@ -172,6 +173,8 @@ impl<'c> Lowering<'c> {
                 lod_bias: &lod_bias,
                 gl_depth,
                 swizzles: &bound.swizzles,
+                storage_blocks: &bound.storage_blocks,
+                attached_outputs: outputs,
             },
         )
         .map_err(spirv_error)?;

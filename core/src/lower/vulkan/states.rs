@@ -101,9 +101,7 @@ pub(super) fn primitive(
         });
     }
     // The width is read only where lines are rasterized.
-    let lines =
-        matches!(topology, T::LineList | T::LineStrip) || polygon_mode == wgpu::PolygonMode::Line;
-    if lines && g.line_width != 1.0 {
+    if draws_lines(g) && g.line_width != 1.0 {
         return Err(VkProblem::Unsupported {
             feature: format!("line width {} (wgpu draws 1-pixel lines)", g.line_width),
         });
@@ -120,6 +118,36 @@ pub(super) fn primitive(
         polygon_mode,
         conservative: false,
     })
+}
+
+/// Whether the pipeline rasterizes lines: a line topology, or polygons drawn as lines.
+fn draws_lines(g: &GraphicsState) -> bool {
+    g.topology.contains("_LINE_") || g.polygon_mode.ends_with("_LINE")
+}
+
+/// What the pipeline's line rasterization mode does to its lines: nothing where it draws none
+/// or the mode is the default; Bresenham and rectangular lines of one pixel are drawn as
+/// wgpu's (the driver's default mode, which the specification lets be either), said in a
+/// note since pixels at a line's ends and along its edges may differ; smooth and stippled
+/// lines, which wgpu has no way to draw, are refused.
+pub(super) fn lines(g: &GraphicsState) -> Result<Option<String>, VkProblem> {
+    if !draws_lines(g) {
+        return Ok(None);
+    }
+    if g.line_stipple {
+        return Err(VkProblem::Unsupported {
+            feature: "stippled lines (wgpu has none)".to_owned(),
+        });
+    }
+    match g.line_rasterization_mode.as_deref() {
+        None => Ok(None),
+        Some(m) if m.contains("SMOOTH") => Err(VkProblem::Unsupported {
+            feature: format!("lines drawn in {m} (antialiased lines: wgpu has none)"),
+        }),
+        Some(m) => Ok(Some(format!(
+            "lines drawn in {m} are drawn in the driver's default mode: pixels at their ends and edges may differ"
+        ))),
+    }
 }
 
 /// Where an indexed strip draws with primitive restart off: wgpu has no such draw, so it

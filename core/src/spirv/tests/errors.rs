@@ -61,6 +61,8 @@ fn binding_missing_from_the_layout_is_an_error() {
             lod_bias: &[],
             gl_depth: false,
             swizzles: &[],
+            storage_blocks: &[],
+            attached_outputs: None,
         },
     )
     .unwrap_err();
@@ -84,6 +86,8 @@ fn binding_missing_from_the_layout_is_an_error() {
             lod_bias: &[],
             gl_depth: false,
             swizzles: &[],
+            storage_blocks: &[],
+            attached_outputs: None,
         },
     )
     .unwrap_err();

@@ -69,6 +69,8 @@ fn opts(flip_y: bool) -> RewriteOptions<'static> {
         lod_bias: &[],
         gl_depth: false,
         swizzles: &[],
+        storage_blocks: &[],
+        attached_outputs: None,
     }
 }
 
@@ -308,3 +310,4 @@ mod rewrite;
 mod specop;
 mod usage;
 mod validators;
+mod zink;

@@ -81,6 +81,8 @@ fn renumbers_every_binding() {
             lod_bias: &[],
             gl_depth: false,
             swizzles: &[],
+            storage_blocks: &[],
+            attached_outputs: None,
         },
     )
     .unwrap();
@@ -171,6 +173,8 @@ fn maps_opengl_depth_before_the_return() {
             &RewriteOptions {
                 gl_depth: true,
                 swizzles: &[],
+                storage_blocks: &[],
+                attached_outputs: None,
                 ..opts(flip_y)
             },
         )
@@ -230,6 +234,8 @@ fn flips_a_position_variable() {
             lod_bias: &[],
             gl_depth: false,
             swizzles: &[],
+            storage_blocks: &[],
+            attached_outputs: None,
         },
     )
     .unwrap();
@@ -345,6 +351,8 @@ fn texel_buffer_reads_become_word_loads_and_specialization_applies() {
             lod_bias: &[],
             gl_depth: false,
             swizzles: &[],
+            storage_blocks: &[],
+            attached_outputs: None,
         },
     )
     .unwrap();

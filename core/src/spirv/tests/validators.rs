@@ -4,7 +4,7 @@ use super::*;
 
 // ---- naga -------------------------------------------------------------------------------------
 
-fn naga_accepts(words: &[u32]) -> Result<(), String> {
+pub(super) fn naga_accepts(words: &[u32]) -> Result<(), String> {
     let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
     let module = naga::front::spv::parse_u8_slice(&bytes, &naga::front::spv::Options::default())
         .map_err(|e| format!("parse: {e:?}"))?;
@@ -102,26 +102,9 @@ fn rewritten_fixtures_pass_spirv_val() {
                     name.replace(['/', ' '], "_"),
                     e.name
                 ));
-                std::fs::write(&file, without_wgsl_source(&out)).unwrap();
-                let env = match load(&out).header.as_ref().unwrap().version() {
-                    (1, 0) => "vulkan1.0",
-                    (1, 1..=3) => "vulkan1.1",
-                    (1, 4) => "vulkan1.1spv1.4",
-                    (1, 5) => "vulkan1.2",
-                    _ => "vulkan1.3",
-                };
-                let result = std::process::Command::new("spirv-val")
-                    .args(["--target-env", env])
-                    .arg(&file)
-                    .output()
-                    .expect("spirv-val (SPIRV-Tools) must be installed for this test");
                 checked += 1;
-                if !result.status.success() {
-                    failures.push(format!(
-                        "{name} {} flip_y={flip_y}: {}",
-                        e.name,
-                        String::from_utf8_lossy(&result.stderr)
-                    ));
+                if let Err(why) = validate_at(&file, &out) {
+                    failures.push(format!("{name} {} flip_y={flip_y}: {why}", e.name));
                 }
             }
         }
@@ -135,6 +118,40 @@ fn rewritten_fixtures_pass_spirv_val() {
         dir.display()
     );
     assert!(checked >= 80, "{checked}");
+}
+
+/// SPIRV-Tools' validator on `words`, written to `file`, for the Vulkan version its SPIR-V
+/// version needs; its message where it refuses them.
+fn validate_at(file: &std::path::Path, words: &[u32]) -> Result<(), String> {
+    std::fs::write(file, without_wgsl_source(words)).unwrap();
+    let env = match load(words).header.as_ref().unwrap().version() {
+        (1, 0) => "vulkan1.0",
+        (1, 1..=3) => "vulkan1.1",
+        (1, 4) => "vulkan1.1spv1.4",
+        (1, 5) => "vulkan1.2",
+        _ => "vulkan1.3",
+    };
+    let result = std::process::Command::new("spirv-val")
+        .args(["--target-env", env])
+        .arg(file)
+        .output()
+        .expect("spirv-val (SPIRV-Tools) must be installed for this test");
+    if result.status.success() {
+        Ok(())
+    } else {
+        Err(String::from_utf8_lossy(&result.stderr).into_owned())
+    }
+}
+
+/// [`validate_at`] in a file of its own, removed afterwards.
+pub(super) fn spirv_val(words: &[u32], name: &str) -> Result<(), String> {
+    let file = std::env::temp_dir().join(format!(
+        "framelab-spirv-val-{name}-{}.spv",
+        std::process::id()
+    ));
+    let result = validate_at(&file, words);
+    let _ = std::fs::remove_file(&file);
+    result
 }
 
 /// naga writes `OpSource WGSL`, which SPIRV-Tools before 2023.2 does not know; the source

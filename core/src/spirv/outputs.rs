@@ -1,0 +1,83 @@
+//! Fragment outputs with no colour attachment. Vulkan discards what a fragment shader writes to
+//! a location the subpass has no attachment for (the validation layer warns,
+//! `UNASSIGNED-CoreValidation-Shader-OutputNotConsumed`); Mesa's zink declares all eight
+//! `gl_FragData` in every OpenGL fragment shader. Each such output becomes a private variable:
+//! the code that writes it stays, nothing leaves the shader, and the module declares only the
+//! outputs the pipeline renders.
+
+use rspirv::dr::{Module, Operand};
+use rspirv::spirv::{Decoration, ExecutionModel, Op, StorageClass, Word};
+
+use super::SpirvError;
+
+/// The first SPIR-V version whose entry points list every global variable they use (1.4).
+const INTERFACE_LISTS_ALL: u32 = 0x0001_0400;
+
+/// Makes each fragment output whose location is not in `attached` (a bit per location) a
+/// private variable. Other execution models are left.
+pub(super) fn unattached_private(
+    module: &mut Module,
+    model: ExecutionModel,
+    attached: u32,
+) -> Result<(), SpirvError> {
+    if model != ExecutionModel::Fragment {
+        return Ok(());
+    }
+    let outputs: Vec<Word> = module
+        .types_global_values
+        .iter()
+        .filter(|i| {
+            i.class.opcode == Op::Variable
+                && i.operands.first() == Some(&Operand::StorageClass(StorageClass::Output))
+        })
+        .filter_map(|i| i.result_id)
+        .collect();
+    let mut unattached: Vec<Word> = module
+        .annotations
+        .iter()
+        .filter_map(|i| match (i.class.opcode, i.operands.as_slice()) {
+            (
+                Op::Decorate,
+                [
+                    Operand::IdRef(t),
+                    Operand::Decoration(Decoration::Location),
+                    Operand::LiteralBit32(location),
+                ],
+            ) if outputs.contains(t) && (*location >= 32 || attached & (1 << location) == 0) => {
+                Some(*t)
+            }
+            _ => None,
+        })
+        .collect();
+    unattached.sort_unstable();
+    unattached.dedup();
+    if unattached.is_empty() {
+        return Ok(());
+    }
+    super::reclass::reclass(
+        module,
+        &unattached,
+        StorageClass::Output,
+        StorageClass::Private,
+    )?
+    .map_err(|(var, op, n)| SpirvError::Unsupported {
+        feature: "use of a fragment output with no attachment",
+        detail: format!("output %{var} is used through a pointer by Op{op:?} (operand {n})"),
+    })?;
+    module.annotations.retain(|i| {
+        !matches!(
+            i.operands.as_slice(),
+            [Operand::IdRef(t), Operand::Decoration(
+                Decoration::Location | Decoration::Index | Decoration::Component
+            ), ..] if unattached.contains(t)
+        )
+    });
+    let version = module.header.as_ref().map_or(0, |h| h.version);
+    if version < INTERFACE_LISTS_ALL {
+        for e in &mut module.entry_points {
+            e.operands
+                .retain(|o| !matches!(o, Operand::IdRef(v) if unattached.contains(v)));
+        }
+    }
+    Ok(())
+}
