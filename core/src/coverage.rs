@@ -1,6 +1,6 @@
 //! What the replay of a real Vulkan frame does with each member of each class of Vulkan a
 //! program can use: every `vkCmd*` command, every dynamic state, every sampler address mode
-//! and border colour, every descriptor type. A member is replayed natively, emulated (the
+//! and border colour, every descriptor type, every image format. A member is replayed natively, emulated (the
 //! text says how), has no effect on what the replay reproduces (the text says why), or is
 //! refused at import and by `replay` with the pass and draw named.
 //!
@@ -448,6 +448,37 @@ pub fn descriptor_type(name: &str) -> Option<Verdict> {
     })
 }
 
+/// Every `VK_FORMAT_*` an image can be made in: every one is imported (with its DXGI twin or
+/// under its Vulkan name), and the lowering replays it in the wgpu format with the same bits,
+/// holds it rearranged, or refuses it with the family's reason.
+pub fn format(name: &str) -> Option<Verdict> {
+    use crate::lower::formats::{FormatError, Repack, twin};
+    if name == "VK_FORMAT_UNDEFINED" {
+        return Some(Verdict::NoEffect(
+            "no image is made in it: a view or description that says it takes another's format",
+        ));
+    }
+    let info = crate::capture::dxgi::lookup_vk(name)?;
+    Some(match twin(info.name) {
+        Ok(_) => match Repack::of(info.name) {
+            Some(Repack::SwapRb10) => Verdict::Emulated(
+                "held as wgpu's RGB10A2 with red and blue exchanged in its contents; a copy between it and a buffer is refused",
+            ),
+            Some(Repack::SwapRb8) => Verdict::Emulated(
+                "held as wgpu's RGBA8 with red and blue exchanged in its contents; a copy between it and a buffer is refused",
+            ),
+            None if name.starts_with("VK_FORMAT_BC") => Verdict::Emulated(
+                "native where the adapter has BC compression (wgpu's TEXTURE_COMPRESSION_BC, asked for by the pass)",
+            ),
+            None => Verdict::Native,
+        },
+        Err(FormatError::NoWebGpuFormat { reason, .. }) => Verdict::Refused(reason.text()),
+        Err(FormatError::NoTypedView { .. }) => {
+            Verdict::Refused("a typeless format needs a typed view")
+        }
+    })
+}
+
 /// One class of the table: its title, the registry's name for it, and its verdicts.
 pub struct Class {
     pub title: &'static str,
@@ -464,7 +495,7 @@ impl std::fmt::Debug for Class {
 }
 
 /// Every class the table covers.
-pub const CLASSES: [Class; 6] = [
+pub const CLASSES: [Class; 7] = [
     Class {
         title: "Commands",
         registry: "vkCmd",
@@ -494,6 +525,11 @@ pub const CLASSES: [Class; 6] = [
         title: "Descriptor types",
         registry: "VkDescriptorType",
         verdict: descriptor_type,
+    },
+    Class {
+        title: "Image formats",
+        registry: "VkFormat",
+        verdict: format,
     },
 ];
 

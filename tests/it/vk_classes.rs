@@ -1079,3 +1079,83 @@ fn a_capability_wgpu_does_not_turn_on_is_refused_by_name() {
         assert!(err.contains(part), "missing {part:?} in:\n{err}");
     }
 }
+
+/// A format wgpu has only in another channel order (`A2R10G10B10`, ReShade's `RGB10A2` as
+/// vkBasalt makes it) is held in wgpu's (`Rgb10a2Unorm`) with red and blue exchanged on the
+/// way in: a texel the capture wrote red reads red. A copy between such a texture and a
+/// buffer, whose bytes are the capture's, is refused with the copy and the texture named.
+#[test]
+fn formats_held_in_another_channel_order_read_as_the_capture_wrote_them() {
+    let dir = temp("a2r10");
+    let capture = vkcube(&dir);
+    // Texel 0 red, texel 1 blue, both opaque: A in bits 30-31, R in 20-29, B in 0-9.
+    let red: u32 = 3 << 30 | 1023 << 20;
+    let blue: u32 = 3 << 30 | 1023;
+    let bytes: Vec<u8> = [red, blue].iter().flat_map(|w| w.to_le_bytes()).collect();
+    std::fs::write(dir.join("a2r10.bin"), &bytes).unwrap();
+    std::fs::write(dir.join("upload.bin"), &bytes).unwrap();
+    edit(&capture, |v| {
+        v["resources"].as_array_mut().unwrap().extend([
+            json!({
+                "name": "a2r10_page", "kind": "texture_2d",
+                "format": "VK_FORMAT_A2R10G10B10_UNORM_PACK32",
+                "width": 2, "height": 1,
+                "initial": {"file": {"path": "a2r10.bin"}},
+            }),
+            json!({
+                "name": "upload", "kind": "buffer", "size": 8,
+                "initial": {"file": {"path": "upload.bin"}},
+            }),
+        ]);
+    });
+    let out = dir.join("out");
+    crate::common::replay_presented(&capture, &out);
+    let manifest: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let file = manifest["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["resource"] == json!("a2r10_page"))
+        .unwrap_or_else(|| panic!("a2r10_page not exported: {manifest}"))["file"]
+        .as_str()
+        .unwrap()
+        .to_owned();
+    let page = image::open(out.join(file)).unwrap().to_rgba8();
+    assert_eq!(page.get_pixel(0, 0).0, [255, 0, 0, 255]);
+    assert_eq!(page.get_pixel(1, 0).0, [0, 0, 255, 255]);
+
+    edit(&capture, |v| {
+        let queue = v["passes"][0]["queue"].clone();
+        v["passes"].as_array_mut().unwrap().insert(
+            0,
+            json!({
+                "name": "upload_page", "queue": queue, "kind": "copy",
+                "copies": [{
+                    "src": {"resource": "upload", "offset": 0, "bytes_per_row": 256},
+                    "dst": {"resource": "a2r10_page"},
+                    "extent": [2, 1, 1],
+                }],
+            }),
+        );
+    });
+    let run = framelab(&[
+        "replay",
+        capture.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--out",
+        dir.join("refused").to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(1), "{}", stderr(&run));
+    let err = stderr(&run);
+    for part in [
+        "upload_page",
+        "copy 0: a copy between a buffer and \"a2r10_page\"",
+        "VK_FORMAT_A2R10G10B10_UNORM_PACK32",
+        "red and blue exchanged",
+    ] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+    assert!(!dir.join("refused").join("manifest.json").exists());
+}

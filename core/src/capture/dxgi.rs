@@ -599,13 +599,113 @@ const VULKAN_ONLY: &[(&str, u32, u32, u32)] = &[
     ("VK_FORMAT_ASTC_8x8_SRGB_BLOCK", 128, 8, 8),
 ];
 
+/// (bits per element, block width, block height, layout) of a registry `VK_FORMAT_*` name
+/// the tables above do not list, read from the name as the specification spells formats:
+/// compressed blocks by family, multi-planar and 4:2:2 video formats as planar, `_PACKn` and
+/// `_kPACKn` at their packed size, the rest as the sum of their channels' bits.
+fn derived_size(bare: &str) -> (u32, u32, u32, Layout) {
+    let digits = |s: &str| s.parse::<u32>().unwrap_or(0);
+    if bare.contains("PLANE") {
+        // The average bits per texel over the planes: 4:2:0 has half a texel of chroma.
+        let depth = if bare.starts_with("G8") { 8 } else { 16 };
+        let per = if bare.contains("_420") {
+            3
+        } else if bare.contains("_422") {
+            4
+        } else {
+            6
+        };
+        return (depth * per / 2, 1, 1, Layout::Planar);
+    }
+    if bare.contains("_422_") {
+        let depth = if bare.contains('8') && !bare.contains("16") && !bare.contains('X') {
+            8
+        } else {
+            16
+        };
+        return (depth * 4, 2, 1, Layout::Linear);
+    }
+    if let Some(rest) = bare.strip_prefix("ASTC_") {
+        let (w, h) = rest
+            .split('_')
+            .next()
+            .and_then(|d| d.split_once('x'))
+            .map_or((4, 4), |(w, h)| (digits(w), digits(h)));
+        return (128, w, h, Layout::BlockCompressed);
+    }
+    if bare.starts_with("PVRTC") {
+        let w = if bare.contains("2BPP") { 8 } else { 4 };
+        return (64, w, 4, Layout::BlockCompressed);
+    }
+    if bare.ends_with("_BLOCK") {
+        let half = bare.starts_with("BC1")
+            || bare.starts_with("BC4")
+            || bare.starts_with("EAC_R11_")
+            || bare.starts_with("ETC2_R8G8B8_")
+            || bare.starts_with("ETC2_R8G8B8A1");
+        return (if half { 64 } else { 128 }, 4, 4, Layout::BlockCompressed);
+    }
+    for (suffix, bits) in [
+        ("_4PACK16", 64),
+        ("_3PACK16", 48),
+        ("_2PACK16", 32),
+        ("_PACK32", 32),
+        ("_PACK16", 16),
+        ("_PACK8", 8),
+    ] {
+        if bare.ends_with(suffix) {
+            return (bits, 1, 1, Layout::Linear);
+        }
+    }
+    let channels: u32 = bare
+        .split('_')
+        .next()
+        .and_then(channel_bits)
+        .map_or(0, |c| c.iter().map(|(_, b)| b).sum());
+    (channels, 1, 1, Layout::Linear)
+}
+
+/// Every registry `VK_FORMAT_*` with neither a DXGI twin nor a row in `VULKAN_ONLY`, derived
+/// from its name (`derived_size`), so that an image of any format is imported with it.
+fn registry_rest() -> Vec<(&'static str, u32, u32, u32)> {
+    let twins: std::collections::HashSet<&str> = TABLE.iter().filter_map(|f| f.vk_format).collect();
+    crate::import::gfxr::tables::ENUMS
+        .iter()
+        .find(|e| e.name == "VkFormat")
+        .map(|e| e.values)
+        .unwrap_or_default()
+        .iter()
+        .map(|(_, n)| *n)
+        .filter(|n| {
+            *n != "VK_FORMAT_UNDEFINED"
+                && !twins.contains(n)
+                && !VULKAN_ONLY.iter().any(|(v, ..)| v == n)
+        })
+        .map(|n| {
+            let (bits, bw, bh, _) = derived_size(n.trim_start_matches("VK_FORMAT_"));
+            (n, bits, bw, bh)
+        })
+        .collect()
+}
+
 fn build_vulkan_only() -> Vec<FormatInfo> {
     VULKAN_ONLY
         .iter()
-        .map(|&(name, bits, bw, bh)| {
+        .copied()
+        .chain(registry_rest())
+        .map(|(name, bits, bw, bh)| {
             let bare = name.trim_start_matches("VK_FORMAT_");
-            let compressed = bw > 1;
-            let numeric = if bare.contains("SNORM") {
+            let (_, _, _, layout) = derived_size(bare);
+            let compressed = layout == Layout::BlockCompressed;
+            let numeric = if bare.contains("SCALED")
+                || bare.contains("_422")
+                || layout == Layout::Planar
+                || bare.contains("S10_5")
+            {
+                // Scaled integers read as floats, video and fixed-point formats: no number a
+                // replayed shader reads as framelab represents channels.
+                Numeric::Other
+            } else if bare.contains("SNORM") {
                 Numeric::Snorm
             } else if bare.contains("SINT") {
                 Numeric::Sint
@@ -630,13 +730,24 @@ fn build_vulkan_only() -> Vec<FormatInfo> {
             } else {
                 let mut spelled = bare
                     .replace("SFLOAT", "FLOAT")
-                    .replace("_PACK8", "")
-                    .replace("_PACK16", "")
-                    .replace("_PACK32", "");
+                    .replace("USCALED", "UINT")
+                    .replace("SSCALED", "SINT");
+                for pack in [
+                    "_4PACK16", "_3PACK16", "_2PACK16", "_PACK8", "_PACK16", "_PACK32",
+                ] {
+                    spelled = spelled.replace(pack, "");
+                }
                 if let Some(head) = spelled.strip_suffix("_SRGB") {
                     spelled = format!("{head}_UNORM");
                 }
-                channels_from_name(&spelled).unwrap_or_default()
+                let mut channels = channels_from_name(&spelled).unwrap_or_default();
+                if numeric == Numeric::Other {
+                    channels.iter_mut().for_each(|c| c.numeric = Numeric::Other);
+                    if channels.is_empty() {
+                        channels.push(ch('X', 0, Numeric::Other));
+                    }
+                }
+                channels
             };
             let bits_of = |c: char| {
                 channels
@@ -648,11 +759,7 @@ fn build_vulkan_only() -> Vec<FormatInfo> {
             FormatInfo {
                 name,
                 value: 0,
-                layout: if compressed {
-                    Layout::BlockCompressed
-                } else {
-                    Layout::Linear
-                },
+                layout,
                 bits_per_element: bits,
                 block_width: bw,
                 block_height: bh,
@@ -782,6 +889,22 @@ mod tests {
         let only = lookup_vk("vk_format_r4g4_unorm_pack8").map(|f| f.name);
         assert_eq!(only, Some("VK_FORMAT_R4G4_UNORM_PACK8"));
         assert!(lookup_vk("VK_FORMAT_NOT_A_FORMAT").is_none());
+    }
+
+    /// Every `VK_FORMAT_*` of the registry is represented: an image of any format is imported
+    /// with it, and the lowering says whether and how it replays.
+    #[test]
+    fn every_registry_format_is_represented() {
+        let names = crate::import::gfxr::tables::ENUMS
+            .iter()
+            .find(|e| e.name == "VkFormat")
+            .expect("VkFormat in the registry")
+            .values
+            .iter()
+            .map(|(_, n)| *n)
+            .filter(|n| *n != "VK_FORMAT_UNDEFINED");
+        let missing: Vec<&str> = names.filter(|n| lookup_vk(n).is_none()).collect();
+        assert!(missing.is_empty(), "{} missing: {missing:?}", missing.len());
     }
 
     #[test]

@@ -45,6 +45,16 @@ const WEBGPU_TWINS: &[&str] = &[
     "D24_UNORM_S8_UINT",
     "D32_FLOAT_S8X24_UINT",
     "VK_FORMAT_X8_D24_UNORM_PACK32",
+    "VK_FORMAT_A8B8G8R8_UNORM_PACK32",
+    "VK_FORMAT_A8B8G8R8_SRGB_PACK32",
+    "VK_FORMAT_A8B8G8R8_SNORM_PACK32",
+    "VK_FORMAT_A8B8G8R8_UINT_PACK32",
+    "VK_FORMAT_A8B8G8R8_SINT_PACK32",
+    "VK_FORMAT_A2R10G10B10_UNORM_PACK32",
+    "VK_FORMAT_A2R10G10B10_UINT_PACK32",
+    "VK_FORMAT_B8G8R8A8_SNORM",
+    "VK_FORMAT_B8G8R8A8_UINT",
+    "VK_FORMAT_B8G8R8A8_SINT",
     "VK_FORMAT_S8_UINT",
     "R16G16B16A16_UNORM",
     "R16G16B16A16_SNORM",
@@ -73,33 +83,76 @@ const WEBGPU_TWINS: &[&str] = &[
     "BC7_UNORM_SRGB",
 ];
 
-/// Why WebGPU has no texture format for a DXGI format.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+/// Why WebGPU has no texture format for a DXGI or Vulkan format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NoWebGpuFormat {
-    #[error("96-bit RGB textures do not exist in WebGPU")]
     Rgb96,
-    #[error("16-bit packed BGR formats do not exist in WebGPU")]
     PackedBgr16,
-    #[error("alpha-only A8 does not exist in WebGPU")]
     AlphaOnly,
-    #[error("1-bit formats do not exist in WebGPU")]
     OneBit,
-    #[error("X-channel formats do not exist in WebGPU (use B8G8R8A8)")]
     XChannel,
-    #[error("the XR-bias format does not exist in WebGPU")]
     XrBias,
-    #[error("packed 4:2:2 formats are not renderable in WebGPU")]
     Packed422,
-    #[error("video, palette and opaque formats are not textures framelab can replay")]
     VideoPaletteOrOpaque,
-    /// A VkFormat with no DXGI twin and no WebGPU format of the same bits.
-    #[error(
-        "this Vulkan format has no WebGPU twin of the same bits (24- and 48-bit RGB, 64-bit channels, D16 with stencil, ETC2, EAC and ASTC are not replayed)"
-    )]
+    /// Three channels of 8 or 16 bits (`R8G8B8`, `R16G16B16`).
+    Rgb24Or48,
+    /// Channels of 64 bits.
+    Wide64,
+    /// Scaled integers, read as floats (`USCALED`, `SSCALED`).
+    Scaled,
+    /// Signed 10-bit channels with a 2-bit alpha.
+    Signed1010102,
+    /// One- and two-channel sRGB.
+    NarrowSrgb,
+    /// 10- or 12-bit channels padded to 16 (`R10X6`, `R12X4`).
+    Padded,
+    /// ETC2, EAC and ASTC.
+    MobileCompressed,
+    Pvrtc,
+    DepthWithStencil16,
+    /// A Vulkan format with no DXGI twin that no family above covers.
     VulkanOnly,
 }
 
 impl NoWebGpuFormat {
+    /// The reason, as said wherever a format is refused (and in the coverage table).
+    pub fn text(self) -> &'static str {
+        match self {
+            NoWebGpuFormat::Rgb96 => "96-bit RGB textures do not exist in WebGPU",
+            NoWebGpuFormat::PackedBgr16 => "packed 8- and 16-bit formats do not exist in WebGPU",
+            NoWebGpuFormat::AlphaOnly => "alpha-only A8 does not exist in WebGPU",
+            NoWebGpuFormat::OneBit => "1-bit formats do not exist in WebGPU",
+            NoWebGpuFormat::XChannel => "X-channel formats do not exist in WebGPU (use B8G8R8A8)",
+            NoWebGpuFormat::XrBias => "the XR-bias format does not exist in WebGPU",
+            NoWebGpuFormat::Packed422 => "packed 4:2:2 formats are not renderable in WebGPU",
+            NoWebGpuFormat::VideoPaletteOrOpaque => {
+                "video, palette and opaque formats are not textures framelab can replay"
+            }
+            NoWebGpuFormat::Rgb24Or48 => {
+                "three-channel 8- and 16-bit formats do not exist in WebGPU"
+            }
+            NoWebGpuFormat::Wide64 => "64-bit channels do not exist in WebGPU textures",
+            NoWebGpuFormat::Scaled => {
+                "scaled integer formats (integers read as floats) do not exist in WebGPU"
+            }
+            NoWebGpuFormat::Signed1010102 => {
+                "signed 10-bit formats with 2-bit alpha do not exist in WebGPU"
+            }
+            NoWebGpuFormat::NarrowSrgb => {
+                "one- and two-channel sRGB formats do not exist in WebGPU"
+            }
+            NoWebGpuFormat::Padded => {
+                "formats padded to 16 bits a channel (10X6, 12X4) do not exist in WebGPU"
+            }
+            NoWebGpuFormat::MobileCompressed => {
+                "ETC2, EAC and ASTC textures are not replayed (wgpu has them only as adapter features)"
+            }
+            NoWebGpuFormat::Pvrtc => "PVRTC compression does not exist in WebGPU",
+            NoWebGpuFormat::DepthWithStencil16 => "D16 with stencil does not exist in WebGPU",
+            NoWebGpuFormat::VulkanOnly => "this Vulkan format has no WebGPU twin of the same bits",
+        }
+    }
+
     /// The reason WebGPU lacks the format `name`, judged by its family; for a name the
     /// families below do not cover, the catch-all for video, palette and opaque formats.
     pub fn of(name: &str) -> NoWebGpuFormat {
@@ -114,12 +167,47 @@ impl NoWebGpuFormat {
                 NoWebGpuFormat::XChannel
             }
             "R10G10B10_XR_BIAS_A2_UNORM" => NoWebGpuFormat::XrBias,
-            n if n.starts_with("VK_FORMAT_") => NoWebGpuFormat::VulkanOnly,
+            n if n.starts_with("VK_FORMAT_") => Self::of_vulkan(&n["VK_FORMAT_".len()..]),
             "R8G8_B8G8_UNORM" | "G8R8_G8B8_UNORM" => NoWebGpuFormat::Packed422,
             _ => NoWebGpuFormat::VideoPaletteOrOpaque,
         }
     }
+
+    /// The family of a Vulkan-only format, by its name without `VK_FORMAT_`.
+    fn of_vulkan(bare: &str) -> NoWebGpuFormat {
+        use NoWebGpuFormat as N;
+        let head = bare.split('_').next().unwrap_or_default();
+        match bare {
+            b if b.contains("PLANE") || b.contains("_422") => N::VideoPaletteOrOpaque,
+            b if b.starts_with("PVRTC") => N::Pvrtc,
+            b if b.starts_with("ETC2") || b.starts_with("EAC") || b.starts_with("ASTC") => {
+                N::MobileCompressed
+            }
+            b if b.contains("SCALED") => N::Scaled,
+            b if b.contains('X')
+                && (b.contains("X6") || b.contains("X4"))
+                && !b.starts_with("X8") =>
+            {
+                N::Padded
+            }
+            "D16_UNORM_S8_UINT" => N::DepthWithStencil16,
+            b if b.contains("64") => N::Wide64,
+            b if b.starts_with("A2") => N::Signed1010102,
+            "R8_SRGB" | "R8G8_SRGB" => N::NarrowSrgb,
+            b if b.ends_with("_PACK16") || b.ends_with("_PACK8") => N::PackedBgr16,
+            _ if matches!(head, "R8G8B8" | "B8G8R8" | "R16G16B16") => N::Rgb24Or48,
+            _ => N::VulkanOnly,
+        }
+    }
 }
+
+impl std::fmt::Display for NoWebGpuFormat {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.text())
+    }
+}
+
+impl std::error::Error for NoWebGpuFormat {}
 
 /// Why WebGPU has no texture format for the DXGI format `name`, if it has none.
 pub fn webgpu_gap(name: &str) -> Option<NoWebGpuFormat> {
@@ -155,8 +243,21 @@ mod tests {
     fn vulkan_only_formats_say_so() {
         assert_eq!(
             webgpu_gap("VK_FORMAT_D16_UNORM_S8_UINT"),
-            Some(NoWebGpuFormat::VulkanOnly)
+            Some(NoWebGpuFormat::DepthWithStencil16)
         );
+        assert_eq!(
+            webgpu_gap("VK_FORMAT_A2B10G10R10_SNORM_PACK32"),
+            Some(NoWebGpuFormat::Signed1010102)
+        );
+        assert_eq!(
+            webgpu_gap("VK_FORMAT_R16G16B16A16_USCALED"),
+            Some(NoWebGpuFormat::Scaled)
+        );
+        assert_eq!(
+            webgpu_gap("VK_FORMAT_R8G8B8_UNORM"),
+            Some(NoWebGpuFormat::Rgb24Or48)
+        );
+        assert_eq!(webgpu_gap("VK_FORMAT_A2R10G10B10_UNORM_PACK32"), None);
         assert_eq!(webgpu_gap("VK_FORMAT_X8_D24_UNORM_PACK32"), None);
     }
 

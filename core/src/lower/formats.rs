@@ -24,6 +24,8 @@ pub struct Lowered {
     pub features: Features,
     /// A stated approximation (e.g. the depth fallback), for the replay log.
     pub note: Option<&'static str>,
+    /// How the texture's bytes are rearranged from the capture's, where they are.
+    pub repack: Option<Repack>,
 }
 
 fn direct(name: &str) -> Option<TextureFormat> {
@@ -65,6 +67,18 @@ fn direct(name: &str) -> Option<TextureFormat> {
         "D32_FLOAT" => F::Depth32Float,
         "D24_UNORM_S8_UINT" => F::Depth24PlusStencil8,
         "D32_FLOAT_S8X24_UINT" => F::Depth32FloatStencil8,
+        // Packed 32-bit words with A in the high byte: the same bytes as RGBA8, in order.
+        "VK_FORMAT_A8B8G8R8_UNORM_PACK32" => F::Rgba8Unorm,
+        "VK_FORMAT_A8B8G8R8_SRGB_PACK32" => F::Rgba8UnormSrgb,
+        "VK_FORMAT_A8B8G8R8_SNORM_PACK32" => F::Rgba8Snorm,
+        "VK_FORMAT_A8B8G8R8_UINT_PACK32" => F::Rgba8Uint,
+        "VK_FORMAT_A8B8G8R8_SINT_PACK32" => F::Rgba8Sint,
+        // Formats held with red and blue exchanged (`repack`).
+        "VK_FORMAT_A2R10G10B10_UNORM_PACK32" => F::Rgb10a2Unorm,
+        "VK_FORMAT_A2R10G10B10_UINT_PACK32" => F::Rgb10a2Uint,
+        "VK_FORMAT_B8G8R8A8_SNORM" => F::Rgba8Snorm,
+        "VK_FORMAT_B8G8R8A8_UINT" => F::Rgba8Uint,
+        "VK_FORMAT_B8G8R8A8_SINT" => F::Rgba8Sint,
         // Depth24Plus is WebGPU's "24 bits of depth or more, no stencil".
         "VK_FORMAT_X8_D24_UNORM_PACK32" => F::Depth24Plus,
         "VK_FORMAT_S8_UINT" => F::Stencil8,
@@ -95,6 +109,62 @@ fn direct(name: &str) -> Option<TextureFormat> {
         "BC7_UNORM_SRGB" => F::Bc7RgbaUnormSrgb,
         _ => return None,
     })
+}
+
+/// How a format held in another wgpu format has its bytes rearranged: the replay holds the
+/// channels as their names say, so the capture's bytes are rearranged on the way in, and a
+/// copy between such a texture and a buffer (whose bytes would be the capture's) is refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Repack {
+    /// 32-bit words of 10-bit R, G, B and 2-bit A, R in the high bits (`A2R10G10B10`), held
+    /// with R in the low bits (`Rgb10a2*`).
+    SwapRb10,
+    /// Bytes B, G, R, A held as R, G, B, A (`B8G8R8A8` integer and snorm formats, which wgpu
+    /// has only in RGBA order).
+    SwapRb8,
+}
+
+impl Repack {
+    /// The repack of the format `name` (a DXGI or `VK_FORMAT_*` name), if it has one.
+    pub fn of(name: &str) -> Option<Repack> {
+        match name {
+            "VK_FORMAT_A2R10G10B10_UNORM_PACK32" | "VK_FORMAT_A2R10G10B10_UINT_PACK32" => {
+                Some(Repack::SwapRb10)
+            }
+            "VK_FORMAT_B8G8R8A8_SNORM" | "VK_FORMAT_B8G8R8A8_UINT" | "VK_FORMAT_B8G8R8A8_SINT" => {
+                Some(Repack::SwapRb8)
+            }
+            _ => None,
+        }
+    }
+
+    /// Rearranges `bytes` (whole texels) in place; its own inverse.
+    pub fn apply(self, bytes: &mut [u8]) {
+        match self {
+            Repack::SwapRb10 => {
+                for word in bytes.chunks_exact_mut(4) {
+                    let w = u32::from_le_bytes([word[0], word[1], word[2], word[3]]);
+                    let low = w & 0x3ff;
+                    let high = (w >> 20) & 0x3ff;
+                    let w = (w & !(0x3ff | (0x3ff << 20))) | (low << 20) | high;
+                    word.copy_from_slice(&w.to_le_bytes());
+                }
+            }
+            Repack::SwapRb8 => {
+                for texel in bytes.chunks_exact_mut(4) {
+                    texel.swap(0, 2);
+                }
+            }
+        }
+    }
+
+    /// What the replay holds, for notes and errors.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Repack::SwapRb10 => "held as RGB10A2 with red and blue exchanged",
+            Repack::SwapRb8 => "held as RGBA8 with red and blue exchanged",
+        }
+    }
 }
 
 /// Why a resource's format cannot be lowered.
@@ -163,12 +233,14 @@ pub fn lower(
             note: Some(
                 "Depth32FloatStencil8 unavailable: using Depth24PlusStencil8 (less depth precision)",
             ),
+            repack: None,
         });
     }
     Ok(Lowered {
         format,
         features: features_of(format),
         note: None,
+        repack: Repack::of(name),
     })
 }
 

@@ -158,6 +158,15 @@ pub enum PassError {
     ViewFormat(formats::FormatError),
     #[error("blit {index}: {why}")]
     Blit { index: usize, why: String },
+    #[error(
+        "copy {index}: a copy between a buffer and \"{resource}\" ({format}, {how}): the buffer's bytes are the capture's layout"
+    )]
+    RepackedCopy {
+        index: usize,
+        resource: String,
+        format: &'static str,
+        how: &'static str,
+    },
 }
 
 /// A lowered frame: the plan, the plan index of each capture resource and the capture pass of
@@ -184,6 +193,8 @@ struct Lowering<'c> {
     /// Optional device features each pass needs (by pass name, so errors name it).
     pass_features: BTreeMap<&'c str, Features>,
     shader_index: BTreeMap<ShaderId, usize>,
+    /// Textures held with their bytes rearranged (`formats::Repack`), by plan index.
+    repacked: BTreeMap<usize, (&'static str, formats::Repack)>,
     vk: vulkan::VkLowering,
 }
 
@@ -216,6 +227,7 @@ pub fn lower(
         notes: Vec::new(),
         pass_features: BTreeMap::new(),
         shader_index: BTreeMap::new(),
+        repacked: BTreeMap::new(),
         vk: vulkan::VkLowering::default(),
     };
     for r in &capture.resources {

@@ -350,6 +350,37 @@ impl<'c> Lowering<'c> {
         })
     }
 
+    /// Refuses a copy between a buffer and a texture held with its bytes rearranged
+    /// (`formats::Repack`): the buffer holds, or is to hold, the capture's bytes.
+    fn copy_keeps_bytes(
+        &self,
+        p: &PassDesc,
+        index: usize,
+        src: &CopyEnd,
+        dst: &CopyEnd,
+    ) -> Result<(), LowerError> {
+        let repacked = |e: &CopyEnd| match e {
+            CopyEnd::Texture { texture, .. } => self.repacked.get(texture).map(|r| (*texture, *r)),
+            CopyEnd::Buffer { .. } => None,
+        };
+        let buffer = |e: &CopyEnd| matches!(e, CopyEnd::Buffer { .. });
+        let held = match (repacked(src), repacked(dst)) {
+            (Some(t), _) if buffer(dst) => t,
+            (_, Some(t)) if buffer(src) => t,
+            _ => return Ok(()),
+        };
+        let (texture, (format, repack)) = held;
+        Err(pass_error(
+            p,
+            PassError::RepackedCopy {
+                index,
+                resource: self.plan.textures[texture].name.clone(),
+                format,
+                how: repack.describe(),
+            },
+        ))
+    }
+
     fn copies(&self, p: &PassDesc) -> Result<PassOp, LowerError> {
         let mut copies = Vec::new();
         for c in &p.copies {
@@ -369,9 +400,11 @@ impl<'c> Lowering<'c> {
                 .size
                 .or(c.dst.size)
                 .unwrap_or(src_r.bytes.saturating_sub(c.src.offset));
+            let (src, dst) = (self.copy_end(p, &c.src)?, self.copy_end(p, &c.dst)?);
+            self.copy_keeps_bytes(p, copies.len(), &src, &dst)?;
             copies.push(CopyOp {
-                src: self.copy_end(p, &c.src)?,
-                dst: self.copy_end(p, &c.dst)?,
+                src,
+                dst,
                 extent,
                 bytes,
             });

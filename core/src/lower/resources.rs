@@ -107,9 +107,17 @@ impl<'c> Lowering<'c> {
                 None
             }
             InitialDesc::File(path, offset) => {
-                Some(texture_file(r, info, (path, *offset)).map_err(contents_err)?)
+                let mut mips = texture_file(r, info, (path, *offset)).map_err(contents_err)?;
+                if let Some(repack) = lowered.repack {
+                    mips.iter_mut().for_each(|m| repack.apply(m));
+                }
+                Some(mips)
             }
         };
+        if let Some(repack) = lowered.repack {
+            self.repacked
+                .insert(self.plan.textures.len(), (info.name, repack));
+        }
         self.texture_of.insert(r.id, self.plan.textures.len());
         self.plan.textures.push(TextureSpec {
             name: r.name.clone(),
