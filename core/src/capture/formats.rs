@@ -88,6 +88,8 @@ const WEBGPU_TWINS: &[&str] = &[
 pub enum NoWebGpuFormat {
     Rgb96,
     PackedBgr16,
+    /// Vulkan's packed 8- and 16-bit formats, in any channel order.
+    PackedSmall,
     AlphaOnly,
     OneBit,
     XChannel,
@@ -119,7 +121,8 @@ impl NoWebGpuFormat {
     pub fn text(self) -> &'static str {
         match self {
             NoWebGpuFormat::Rgb96 => "96-bit RGB textures do not exist in WebGPU",
-            NoWebGpuFormat::PackedBgr16 => "packed 8- and 16-bit formats do not exist in WebGPU",
+            NoWebGpuFormat::PackedBgr16 => "16-bit packed BGR formats do not exist in WebGPU",
+            NoWebGpuFormat::PackedSmall => "packed 8- and 16-bit formats do not exist in WebGPU",
             NoWebGpuFormat::AlphaOnly => "alpha-only A8 does not exist in WebGPU",
             NoWebGpuFormat::OneBit => "1-bit formats do not exist in WebGPU",
             NoWebGpuFormat::XChannel => "X-channel formats do not exist in WebGPU (use B8G8R8A8)",
@@ -194,7 +197,7 @@ impl NoWebGpuFormat {
             b if b.contains("64") => N::Wide64,
             b if b.starts_with("A2") => N::Signed1010102,
             "R8_SRGB" | "R8G8_SRGB" => N::NarrowSrgb,
-            b if b.ends_with("_PACK16") || b.ends_with("_PACK8") => N::PackedBgr16,
+            b if b.ends_with("_PACK16") || b.ends_with("_PACK8") => N::PackedSmall,
             _ if matches!(head, "R8G8B8" | "B8G8R8" | "R16G16B16") => N::Rgb24Or48,
             _ => N::VulkanOnly,
         }
