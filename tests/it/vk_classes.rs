@@ -1083,7 +1083,8 @@ fn a_capability_wgpu_does_not_turn_on_is_refused_by_name() {
 /// A format wgpu has only in another channel order (`A2R10G10B10`, ReShade's `RGB10A2` as
 /// vkBasalt makes it) is held in wgpu's (`Rgb10a2Unorm`) with red and blue exchanged on the
 /// way in: a texel the capture wrote red reads red. A copy between such a texture and a
-/// buffer, whose bytes are the capture's, is refused with the copy and the texture named.
+/// buffer, or a texture held as its format says (`A2B10G10R10`, the same wgpu format), would
+/// move bytes laid out otherwise: refused with the copy and the texture named.
 #[test]
 fn formats_held_in_another_channel_order_read_as_the_capture_wrote_them() {
     let dir = temp("a2r10");
@@ -1106,12 +1107,16 @@ fn formats_held_in_another_channel_order_read_as_the_capture_wrote_them() {
                 "name": "upload", "kind": "buffer", "size": 8,
                 "initial": {"file": {"path": "upload.bin"}},
             }),
+            json!({
+                "name": "a2b10_page", "kind": "texture_2d",
+                "format": "VK_FORMAT_A2B10G10R10_UNORM_PACK32",
+                "width": 2, "height": 1,
+                "initial": {"file": {"path": "a2r10.bin"}},
+            }),
         ]);
     });
     let out = dir.join("out");
-    crate::common::replay_presented(&capture, &out);
-    let manifest: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let (manifest, _) = crate::common::replay_export(&capture, &out);
     let file = manifest["files"]
         .as_array()
         .unwrap()
@@ -1125,37 +1130,37 @@ fn formats_held_in_another_channel_order_read_as_the_capture_wrote_them() {
     assert_eq!(page.get_pixel(0, 0).0, [255, 0, 0, 255]);
     assert_eq!(page.get_pixel(1, 0).0, [0, 0, 255, 255]);
 
-    edit(&capture, |v| {
-        let queue = v["passes"][0]["queue"].clone();
-        v["passes"].as_array_mut().unwrap().insert(
-            0,
-            json!({
-                "name": "upload_page", "queue": queue, "kind": "copy",
-                "copies": [{
-                    "src": {"resource": "upload", "offset": 0, "bytes_per_row": 256},
-                    "dst": {"resource": "a2r10_page"},
-                    "extent": [2, 1, 1],
-                }],
-            }),
-        );
-    });
-    let run = framelab(&[
-        "replay",
-        capture.to_str().unwrap(),
-        "--frames",
-        "1",
-        "--out",
-        dir.join("refused").to_str().unwrap(),
-    ]);
-    assert_eq!(run.status.code(), Some(1), "{}", stderr(&run));
-    let err = stderr(&run);
-    for part in [
-        "upload_page",
-        "copy 0: a copy between a buffer and \"a2r10_page\"",
-        "VK_FORMAT_A2R10G10B10_UNORM_PACK32",
-        "red and blue exchanged",
+    for (src, dst, pitch) in [
+        ("upload", "a2r10_page", Some(256)),
+        ("a2r10_page", "a2b10_page", None),
     ] {
-        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+        let copied = dir.join(format!("{src}-{dst}.json"));
+        std::fs::copy(&capture, &copied).unwrap();
+        edit(&copied, |v| {
+            let queue = v["passes"][0]["queue"].clone();
+            let mut from = json!({"resource": src});
+            if let Some(pitch) = pitch {
+                from["offset"] = json!(0);
+                from["bytes_per_row"] = json!(pitch);
+            }
+            v["passes"].as_array_mut().unwrap().insert(
+                0,
+                json!({
+                    "name": "copy_page", "queue": queue, "kind": "copy",
+                    "copies": [{"src": from, "dst": {"resource": dst}, "extent": [2, 1, 1]}],
+                }),
+            );
+        });
+        let err = replay_fails(&copied);
+        for part in [
+            "copy_page",
+            "copy 0: \"a2r10_page\" (VK_FORMAT_A2R10G10B10_UNORM_PACK32)",
+            "red and blue exchanged",
+        ] {
+            assert!(
+                err.contains(part),
+                "{src} -> {dst}: missing {part:?} in:\n{err}"
+            );
+        }
     }
-    assert!(!dir.join("refused").join("manifest.json").exists());
 }

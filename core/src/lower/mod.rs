@@ -159,7 +159,7 @@ pub enum PassError {
     #[error("blit {index}: {why}")]
     Blit { index: usize, why: String },
     #[error(
-        "copy {index}: a copy between a buffer and \"{resource}\" ({format}, {how}): the buffer's bytes are the capture's layout"
+        "copy {index}: \"{resource}\" ({format}) is {how}, and the other end of the copy is not: a copy moves the capture's bytes as they are"
     )]
     RepackedCopy {
         index: usize,

@@ -350,8 +350,9 @@ impl<'c> Lowering<'c> {
         })
     }
 
-    /// Refuses a copy between a buffer and a texture held with its bytes rearranged
-    /// (`formats::Repack`): the buffer holds, or is to hold, the capture's bytes.
+    /// Refuses a copy whose two ends hold their bytes differently (`formats::Repack`): a copy
+    /// moves the capture's bytes as they are, so a texture held rearranged may meet only one
+    /// held the same way (a buffer holds the capture's bytes).
     fn copy_keeps_bytes(
         &self,
         p: &PassDesc,
@@ -359,17 +360,20 @@ impl<'c> Lowering<'c> {
         src: &CopyEnd,
         dst: &CopyEnd,
     ) -> Result<(), LowerError> {
-        let repacked = |e: &CopyEnd| match e {
-            CopyEnd::Texture { texture, .. } => self.repacked.get(texture).map(|r| (*texture, *r)),
+        let held = |e: &CopyEnd| match e {
+            CopyEnd::Texture { texture, .. } => self
+                .repacked
+                .get(texture)
+                .map(|&(format, r)| (*texture, format, r)),
             CopyEnd::Buffer { .. } => None,
         };
-        let buffer = |e: &CopyEnd| matches!(e, CopyEnd::Buffer { .. });
-        let held = match (repacked(src), repacked(dst)) {
-            (Some(t), _) if buffer(dst) => t,
-            (_, Some(t)) if buffer(src) => t,
-            _ => return Ok(()),
+        let (a, b) = (held(src), held(dst));
+        if a.map(|h| h.2) == b.map(|h| h.2) {
+            return Ok(());
+        }
+        let Some((texture, format, repack)) = a.or(b) else {
+            return Ok(());
         };
-        let (texture, (format, repack)) = held;
         Err(pass_error(
             p,
             PassError::RepackedCopy {
