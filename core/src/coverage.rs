@@ -421,7 +421,7 @@ pub fn descriptor_type(name: &str) -> Option<Verdict> {
     Some(match name.strip_prefix("VK_DESCRIPTOR_TYPE_")? {
         "SAMPLER" | "SAMPLED_IMAGE" | "STORAGE_IMAGE" | "STORAGE_BUFFER" => Verdict::Native,
         "UNIFORM_BUFFER" => Verdict::Emulated(
-            "native for std140 blocks; a block laid out by std430 (zink's word arrays) is bound as a read-only storage buffer, the SPIR-V moved to the StorageBuffer class; scalar layout past std430 is refused",
+            "native for std140 blocks; a std430 block's arrays of 32-bit scalars (zink's word arrays) are widened in the SPIR-V to arrays of 4-vectors at stride 16, the same bytes, so it stays a uniform block; another std430 block is bound as a read-only storage buffer, the SPIR-V moved to the StorageBuffer class; scalar layout past std430 is refused",
         ),
         "STORAGE_BUFFER_DYNAMIC" => {
             Verdict::Emulated("the dynamic offset is added to the binding's offset at import")

@@ -23,6 +23,9 @@ pub struct BeyondStd140 {
     /// stride a multiple of its type's base alignment), where it does: scalar layout, which
     /// no binding wgpu makes reads.
     pub beyond_std430: Option<String>,
+    /// Where the block's widened arrays end, where its only breaks are arrays of 32-bit
+    /// scalars that `std140` widens to vectors in place (the block then stays uniform).
+    pub widened_end: Option<u64>,
 }
 
 /// The module's uniform blocks that break std140's 16-byte rule for arrays and structs, in
@@ -50,6 +53,14 @@ pub fn uniform_blocks_beyond_std140(words: &[u32]) -> Vec<BeyondStd140> {
             continue;
         };
         let Some(id) = var.result_id else { continue };
+        let widened_end = super::std140::plan(&loaded.module, id)
+            .ok()
+            .flatten()
+            .filter(|w| {
+                let skip: Vec<u32> = w.members().collect();
+                members_problem(&index, block_id, 0, &skip).is_none()
+            })
+            .map(|w| w.end);
         out.push(BeyondStd140 {
             set: index
                 .decoration_literal(id, Decoration::DescriptorSet)
@@ -59,6 +70,7 @@ pub fn uniform_blocks_beyond_std140(words: &[u32]) -> Vec<BeyondStd140> {
                 .unwrap_or(0),
             problem,
             beyond_std430: align430(&index, block_id, 0).err(),
+            widened_end,
         });
     }
     out
@@ -161,43 +173,50 @@ fn walk(index: &Index, ty: Word, depth: usize) -> Option<String> {
             }
             walk(index, id_ref(inst.operands.first())?, depth + 1)
         }
-        Op::TypeStruct => {
-            for (m, member) in inst.operands.iter().enumerate() {
-                let member = id_ref(Some(member))?;
-                let m = u32::try_from(m).ok()?;
-                let opcode = index.globals.get(&member).map(|t| t.class.opcode);
-                let decoration = |d| {
-                    index
-                        .member_decoration(ty, m, d)
-                        .and_then(|ops| literal(ops.first()))
-                };
-                let offset = decoration(Decoration::Offset);
-                let aggregate = matches!(
-                    opcode,
-                    Some(Op::TypeArray | Op::TypeRuntimeArray | Op::TypeStruct | Op::TypeMatrix)
-                );
-                if aggregate && offset.is_some_and(|o| o % 16 != 0) {
-                    return Some(format!(
-                        "has an array, struct or matrix member at offset {}",
-                        offset.unwrap_or(0)
-                    ));
-                }
-                if let Some(stride) = decoration(Decoration::MatrixStride)
-                    && stride % 16 != 0
-                {
-                    return Some(format!("has a matrix with stride {stride}"));
-                }
-                if let Some(problem) = offset.and_then(|o| vector_placement(index, member, o)) {
-                    return Some(problem);
-                }
-                if let Some(problem) = walk(index, member, depth + 1) {
-                    return Some(problem);
-                }
-            }
-            None
-        }
+        Op::TypeStruct => members_problem(index, ty, depth, &[]),
         _ => None,
     }
+}
+
+/// The first break of std140 in the members of struct `ty`, the members in `skip` left out.
+fn members_problem(index: &Index, ty: Word, depth: usize, skip: &[u32]) -> Option<String> {
+    let inst = index.globals.get(&ty)?;
+    for (m, member) in inst.operands.iter().enumerate() {
+        let member = id_ref(Some(member))?;
+        let m = u32::try_from(m).ok()?;
+        if skip.contains(&m) {
+            continue;
+        }
+        let opcode = index.globals.get(&member).map(|t| t.class.opcode);
+        let decoration = |d| {
+            index
+                .member_decoration(ty, m, d)
+                .and_then(|ops| literal(ops.first()))
+        };
+        let offset = decoration(Decoration::Offset);
+        let aggregate = matches!(
+            opcode,
+            Some(Op::TypeArray | Op::TypeRuntimeArray | Op::TypeStruct | Op::TypeMatrix)
+        );
+        if aggregate && offset.is_some_and(|o| o % 16 != 0) {
+            return Some(format!(
+                "has an array, struct or matrix member at offset {}",
+                offset.unwrap_or(0)
+            ));
+        }
+        if let Some(stride) = decoration(Decoration::MatrixStride)
+            && stride % 16 != 0
+        {
+            return Some(format!("has a matrix with stride {stride}"));
+        }
+        if let Some(problem) = offset.and_then(|o| vector_placement(index, member, o)) {
+            return Some(problem);
+        }
+        if let Some(problem) = walk(index, member, depth + 1) {
+            return Some(problem);
+        }
+    }
+    None
 }
 
 /// Where a vector member at `offset` breaks the relaxed rule both layouts share (Vulkan 1.1's

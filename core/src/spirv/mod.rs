@@ -22,6 +22,7 @@ mod reclass;
 mod reflect;
 mod rewrite;
 mod specop;
+mod std140;
 mod storage;
 mod swizzle;
 #[cfg(test)]
@@ -232,6 +233,9 @@ pub struct RewriteOptions<'a> {
     /// The uniform blocks, by (set, binding), to read as read-only storage blocks
     /// (`storage`): laid out past std140, which wgpu's uniform bindings keep.
     pub storage_blocks: &'a [(u32, u32)],
+    /// The uniform blocks, by (set, binding), whose arrays of 32-bit scalars at stride 4 are
+    /// widened to arrays of 4-vectors (`std140`), so that they stay uniform blocks.
+    pub std140_blocks: &'a [(u32, u32)],
     /// The fragment output locations with a colour attachment, a bit each (`outputs`): the
     /// others become private variables. `None` leaves every output.
     pub attached_outputs: Option<u32>,

@@ -1,8 +1,9 @@
 //! Uniform blocks read as storage blocks. wgpu's device binds uniform buffers by std140's
 //! rules only; a block laid out more tightly (std430, as Mesa's zink packs every OpenGL
 //! uniform block into an array of 32-bit words) reads the same bytes, by the same explicit
-//! offsets and strides, as a read-only storage buffer, whose rules are std430's. Each block
-//! the lowering names moves to the `StorageBuffer` storage class with every pointer into it,
+//! offsets and strides, as a read-only storage buffer, whose rules are std430's. This is the
+//! fallback for blocks `std140` cannot widen in place (a storage read may be left undone in
+//! helper invocations, which a uniform read never is). Each block the lowering names moves to the `StorageBuffer` storage class with every pointer into it,
 //! and is decorated `NonWritable`.
 //!
 //! A pointer into such a block that leaves the access chains and loads (passed to a function,

@@ -31,6 +31,9 @@ pub(super) struct Bound {
     /// The uniform blocks laid out past std140, bound as read-only storage buffers: the
     /// rewrite reads them as storage blocks (`spirv::RewriteOptions::storage_blocks`).
     pub storage_blocks: Vec<(u32, u32)>,
+    /// The uniform blocks whose only breaks of std140 are arrays of 32-bit scalars: the rewrite
+    /// widens those to vectors (`spirv::RewriteOptions::std140_blocks`) and they stay uniform.
+    pub std140_blocks: Vec<(u32, u32)>,
 }
 
 /// The SPIR-V image format a texel buffer view of `VK_FORMAT_*` reads in, where the rewrite
@@ -55,6 +58,8 @@ struct Used {
     shader: String,
     /// A uniform block some stage lays out past std140: bound as a read-only storage buffer.
     as_storage: bool,
+    /// A uniform block whose scalar arrays every stage's rewrite widens to std140 instead.
+    widen: bool,
 }
 
 type Entry = (wgpu::BindGroupLayoutEntry, VkResource);
@@ -115,10 +120,16 @@ impl<'c> Lowering<'c> {
                         stages: s,
                         shader: shader.clone(),
                         as_storage: false,
+                        widen: false,
                     });
             }
             for b in self.vk_beyond_std140(stage.module)? {
                 if let Some(u) = used.get_mut(&(b.set, b.binding)) {
+                    if let Some(end) = b.widened_end {
+                        u.var.block_size = u.var.block_size.max(Some(end));
+                        u.widen = true;
+                        continue;
+                    }
                     if let Some(why) = &b.beyond_std430 {
                         return Err(VkProblem::Unsupported {
                             feature: format!(
@@ -138,9 +149,14 @@ impl<'c> Lowering<'c> {
         let mut lod_bias = Vec::new();
         let mut swizzles = Vec::new();
         let mut storage_blocks = Vec::new();
-        for (&(set, binding), u) in &used {
+        let mut std140_blocks = Vec::new();
+        for (&(set, binding), u) in used.iter_mut() {
+            // One stage that cannot widen the block makes it a storage buffer for all.
+            u.widen &= !u.as_storage;
             if u.as_storage {
                 storage_blocks.push((set, binding));
+            } else if u.widen {
+                std140_blocks.push((set, binding));
             }
             let lb = layout
                 .sets
@@ -228,6 +244,7 @@ impl<'c> Lowering<'c> {
                 lod_bias,
                 swizzles,
                 storage_blocks,
+                std140_blocks,
             },
         ))
     }

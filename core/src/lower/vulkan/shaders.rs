@@ -35,6 +35,8 @@ pub(super) struct ShaderKey {
     swizzles: Vec<(u32, u32, [u8; 4])>,
     /// Uniform blocks read as storage blocks, by (set, binding).
     storage_blocks: Vec<(u32, u32)>,
+    /// Uniform blocks whose scalar arrays are widened to std140, by (set, binding).
+    std140_blocks: Vec<(u32, u32)>,
     /// Fragment output locations with an attachment (`RewriteOptions::attached_outputs`).
     outputs: Option<u32>,
 }
@@ -96,6 +98,7 @@ impl<'c> Lowering<'c> {
             lod_bias: bound.lod_bias.clone(),
             swizzles: bound.swizzles.clone(),
             storage_blocks: bound.storage_blocks.clone(),
+            std140_blocks: bound.std140_blocks.clone(),
             outputs,
         };
         if let Some(&i) = self.vk.shaders.get(&key) {
@@ -150,6 +153,7 @@ impl<'c> Lowering<'c> {
                 gl_depth,
                 swizzles: &bound.swizzles,
                 storage_blocks: &bound.storage_blocks,
+                std140_blocks: &bound.std140_blocks,
                 attached_outputs: outputs,
             },
         )
@@ -174,6 +178,7 @@ impl<'c> Lowering<'c> {
                 gl_depth,
                 swizzles: &bound.swizzles,
                 storage_blocks: &bound.storage_blocks,
+                std140_blocks: &bound.std140_blocks,
                 attached_outputs: outputs,
             },
         )

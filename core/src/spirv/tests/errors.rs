@@ -62,6 +62,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             gl_depth: false,
             swizzles: &[],
             storage_blocks: &[],
+            std140_blocks: &[],
             attached_outputs: None,
         },
     )
@@ -87,6 +88,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             gl_depth: false,
             swizzles: &[],
             storage_blocks: &[],
+            std140_blocks: &[],
             attached_outputs: None,
         },
     )

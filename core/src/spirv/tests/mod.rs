@@ -70,6 +70,7 @@ fn opts(flip_y: bool) -> RewriteOptions<'static> {
         gl_depth: false,
         swizzles: &[],
         storage_blocks: &[],
+        std140_blocks: &[],
         attached_outputs: None,
     }
 }

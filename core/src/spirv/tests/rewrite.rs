@@ -82,6 +82,7 @@ fn renumbers_every_binding() {
             gl_depth: false,
             swizzles: &[],
             storage_blocks: &[],
+            std140_blocks: &[],
             attached_outputs: None,
         },
     )
@@ -174,6 +175,7 @@ fn maps_opengl_depth_before_the_return() {
                 gl_depth: true,
                 swizzles: &[],
                 storage_blocks: &[],
+                std140_blocks: &[],
                 attached_outputs: None,
                 ..opts(flip_y)
             },
@@ -235,6 +237,7 @@ fn flips_a_position_variable() {
             gl_depth: false,
             swizzles: &[],
             storage_blocks: &[],
+            std140_blocks: &[],
             attached_outputs: None,
         },
     )
@@ -352,6 +355,7 @@ fn texel_buffer_reads_become_word_loads_and_specialization_applies() {
             gl_depth: false,
             swizzles: &[],
             storage_blocks: &[],
+            std140_blocks: &[],
             attached_outputs: None,
         },
     )

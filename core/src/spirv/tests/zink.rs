@@ -14,6 +14,11 @@ struct Extra {
     make_available: bool,
     /// A load marked `NonPrivatePointer`.
     non_private: bool,
+    /// A second read of the block, at the word the first one read (an index known only when
+    /// the shader runs).
+    dynamic: bool,
+    /// A load of the whole array of words.
+    whole: bool,
 }
 
 /// A fragment shader writing word 1 of the uniform block at set 0 binding 0 as its colour.
@@ -80,6 +85,19 @@ fn zink_module(extra: Extra) -> Vec<u32> {
         )
         .unwrap();
     }
+    let word = if extra.dynamic {
+        let at = b
+            .access_chain(word_ptr, None, ubo, [zero, zero, word])
+            .unwrap();
+        b.load(uint, None, at, None, []).unwrap()
+    } else {
+        word
+    };
+    if extra.whole {
+        let words_ptr = b.type_pointer(None, StorageClass::Uniform, words);
+        let all = b.access_chain(words_ptr, None, ubo, [zero, zero]).unwrap();
+        b.load(words, None, all, None, []).unwrap();
+    }
     let value = b.bitcast(float, None, word).unwrap();
     let rgba = b
         .composite_construct(vec4, None, [value, value, value, value])
@@ -95,6 +113,7 @@ fn zink_module(extra: Extra) -> Vec<u32> {
 fn storage_opts() -> RewriteOptions<'static> {
     RewriteOptions {
         storage_blocks: &[(0, 0)],
+        std140_blocks: &[],
         ..opts(false)
     }
 }
@@ -128,6 +147,89 @@ fn a_word_packed_uniform_block_is_past_std140_and_within_std430() {
     assert_eq!((b.set, b.binding), (0, 0));
     assert!(b.problem.contains("stride 4"), "{}", b.problem);
     assert_eq!(b.beyond_std430, None);
+    // Four words make one vector of four at a stride of 16.
+    assert_eq!(b.widened_end, Some(16));
+}
+
+/// The words become vectors of four at a stride of 16 (std140, which every uniform binding
+/// reads), and the block stays a uniform block: no storage read, which a driver may leave
+/// undone in helper invocations and so break the derivatives of what is made from it.
+#[test]
+fn a_word_packed_uniform_block_is_widened_to_std140_and_stays_uniform() {
+    let out = rewrite(
+        &zink_module(Extra {
+            dynamic: true,
+            ..Extra::default()
+        }),
+        ExecutionModel::Fragment,
+        "main",
+        &RewriteOptions {
+            std140_blocks: &[(0, 0)],
+            ..opts(false)
+        },
+    )
+    .unwrap();
+    let m = load(&out);
+    let classes = storage_class_of_variables(&m);
+    assert!(classes.contains(&StorageClass::Uniform), "{classes:?}");
+    assert!(
+        !classes.contains(&StorageClass::StorageBuffer),
+        "{classes:?}"
+    );
+    let stride16: Vec<Word> = m
+        .annotations
+        .iter()
+        .filter(|i| {
+            i.operands.get(1) == Some(&Operand::Decoration(Decoration::ArrayStride))
+                && i.operands.get(2) == Some(&Operand::LiteralBit32(16))
+        })
+        .filter_map(|i| match i.operands[0] {
+            Operand::IdRef(id) => Some(id),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(stride16.len(), 1, "one array of vectors");
+    // Word 1 is component 1 of vector 0; the word read at run time is split by shift and mask.
+    let chains: Vec<usize> = m
+        .all_inst_iter()
+        .filter(|i| i.class.opcode == Op::AccessChain)
+        .map(|i| i.operands.len())
+        .collect();
+    assert_eq!(chains, vec![5, 5], "base and four indices each: {chains:?}");
+    let ops: Vec<Op> = m.all_inst_iter().map(|i| i.class.opcode).collect();
+    assert!(ops.contains(&Op::ShiftRightLogical) && ops.contains(&Op::BitwiseAnd));
+    // spirv-val's Vulkan rules for uniform blocks (std140, relaxed) without scalar layout:
+    // the module before widening fails them.
+    super::validators::spirv_val(&out, "zink-std140").unwrap();
+    assert!(super::validators::spirv_val(&zink_module(Extra::default()), "zink-std430").is_err());
+    super::validators::naga_accepts(&out).unwrap();
+}
+
+/// An array loaded whole cannot be widened in place: the block is read as a storage block.
+#[test]
+fn a_block_whose_array_is_loaded_whole_is_not_widened() {
+    let module = zink_module(Extra {
+        whole: true,
+        ..Extra::default()
+    });
+    let found = uniform_blocks_beyond_std140(&module);
+    assert_eq!(found[0].widened_end, None);
+    let err = rewrite(
+        &module,
+        ExecutionModel::Fragment,
+        "main",
+        &RewriteOptions {
+            std140_blocks: &[(0, 0)],
+            ..opts(false)
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("set 0 binding 0") && err.contains("OpLoad"),
+        "{err}"
+    );
+    rewrite(&module, ExecutionModel::Fragment, "main", &storage_opts()).unwrap();
 }
 
 #[test]
