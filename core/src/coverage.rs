@@ -435,7 +435,9 @@ pub fn descriptor_type(name: &str) -> Option<Verdict> {
         "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" => Verdict::Emulated(
             "where the code only reads it, in a format the rewrite unpacks: a read-only storage buffer of words, each texel read rewritten into a load and unpack; a written texel buffer is refused",
         ),
-        "INPUT_ATTACHMENT" => Verdict::Refused("input attachments are not replayed yet"),
+        "INPUT_ATTACHMENT" => Verdict::Emulated(
+            "bound as a texture of the attachment's view, each subpassLoad rewritten to a fetch at the fragment's own position (OpImageFetch at ivec2(gl_FragCoord.xy)); an attachment the same subpass renders to (framebuffer fetch) is refused as a feedback loop",
+        ),
         "INLINE_UNIFORM_BLOCK" => Verdict::Refused("inline uniform blocks are not imported yet"),
         "ACCELERATION_STRUCTURE_KHR" | "ACCELERATION_STRUCTURE_NV" => {
             Verdict::Refused("ray tracing: wgpu's ray queries are not used")

@@ -1164,3 +1164,78 @@ fn formats_held_in_another_channel_order_read_as_the_capture_wrote_them() {
         }
     }
 }
+
+/// vkcube's fragment shader replaced by one that writes `subpassLoad` of an input attachment
+/// at set 0 binding 1 (`tests/fixtures/subpass/subpass_load.spvasm`), the attachment being
+/// vkcube's texture, which an earlier subpass would have written: every pixel the cube covers
+/// is the texture's texel at the same position (black past the texture's 256x256, where a
+/// fetch is out of bounds). The same input attachment pointed at the image the pass renders
+/// to (framebuffer fetch) is refused by name.
+#[test]
+fn input_attachments_are_read_at_the_fragments_position() {
+    let dir = temp("input-attachment");
+    let capture = vkcube(&dir);
+    let original = crate::common::replay_presented(&capture, &dir.join("original"));
+    let spv = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/subpass/subpass_load.spv");
+    let shaders = dir.join("vkcube.shaders");
+    std::fs::copy(&spv, shaders.join("module_38.spv")).unwrap();
+    let size = std::fs::metadata(&spv).unwrap().len();
+    edit(&capture, |v| {
+        let binding = &mut v["vulkan"]["set_layouts"][0]["bindings"][1];
+        binding["descriptor_type"] = json!("VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT");
+        for m in v["vulkan"]["shader_modules"].as_array_mut().unwrap() {
+            if m["name"] == json!("module_38") {
+                m["size"] = json!(size);
+            }
+        }
+        let (draw, _) = draw_and_state(v);
+        for d in draw["descriptors"].as_array_mut().unwrap() {
+            if d["binding"] == json!(1) {
+                d["descriptor_type"] = json!("INPUT_ATTACHMENT");
+                d.as_object_mut().unwrap().remove("sampler");
+            }
+        }
+    });
+    let out = dir.join("read");
+    let image = crate::common::replay_presented(&capture, &out);
+    let texture = image::open(out.join("image_24.png")).unwrap().to_rgba8();
+    let background = *original.get_pixel(0, 0);
+    let (mut inside, mut outside, mut wrong) = (0, 0, 0);
+    for (x, y, p) in original.enumerate_pixels() {
+        if *p == background {
+            continue;
+        }
+        let got = image.get_pixel(x, y);
+        let want = if x < texture.width() && y < texture.height() {
+            inside += 1;
+            *texture.get_pixel(x, y)
+        } else {
+            outside += 1;
+            image::Rgba([0, 0, 0, got[3]])
+        };
+        if got.0[..3] != want.0[..3] {
+            wrong += 1;
+        }
+    }
+    assert!(inside > 10_000 && outside > 10_000, "{inside} {outside}");
+    assert_eq!(
+        wrong, 0,
+        "{wrong} covered pixels are not the texel at their position"
+    );
+
+    edit(&capture, |v| {
+        let view = &mut v["vulkan"]["image_views"][0];
+        view["image"] = json!("swapchain_0");
+        view["format"] = json!("VK_FORMAT_B8G8R8A8_UNORM");
+        let (draw, _) = draw_and_state(v);
+        for d in draw["descriptors"].as_array_mut().unwrap() {
+            if d["view"] == json!("view_27") {
+                d["resource"] = json!("swapchain_0");
+            }
+        }
+    });
+    let err = replay_fails(&capture);
+    for part in ["draw 0", "colour attachment 0", "framebuffer fetch"] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+}

@@ -24,6 +24,7 @@ mod rewrite;
 mod specop;
 mod std140;
 mod storage;
+mod subpass;
 mod swizzle;
 #[cfg(test)]
 mod tests;

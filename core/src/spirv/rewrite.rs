@@ -33,6 +33,7 @@ pub fn rewrite(
     if !combined.is_empty() {
         super::params::inline_sampler_params(&mut loaded.module, &combined)?;
     }
+    super::subpass::subpass_as_texture(&mut loaded.module)?;
     super::bias::add_lod_bias(&mut loaded.module, opts.lod_bias)?;
     super::swizzle::apply_swizzles(&mut loaded.module, opts.swizzles)?;
     super::demote::demote_as_kill(&mut loaded.module)?;

@@ -201,6 +201,20 @@ impl<'c> Lowering<'c> {
                     }
                 }
             }
+            if let Some(takes) = descriptor_types_of(&u.var.kind) {
+                let declared =
+                    lb.0.descriptor_type
+                        .strip_prefix("VK_DESCRIPTOR_TYPE_")
+                        .unwrap_or(&lb.0.descriptor_type);
+                if !takes.contains(&declared) {
+                    return Err(VkProblem::Missing(format!(
+                        "shader {} reads set {set} binding {binding} as {}, which a {declared} descriptor of the set layout is not (VUID-VkGraphicsPipelineCreateInfo-layout-07990)",
+                        u.shader,
+                        takes.join(" or ")
+                    ))
+                    .into());
+                }
+            }
             let (entries, bias) = self.vk_entries(p, work, (set, binding), u, lb)?;
             if let Some(bias) = bias {
                 lod_bias.push((set, binding, bias.to_bits()));
@@ -373,7 +387,9 @@ impl<'c> Lowering<'c> {
                 bias = self.vk_bias(s, None);
                 vec![self.vk_sampler_entry(wb, u.stages, s)?]
             }
-            "SAMPLED_IMAGE" | "COMBINED_IMAGE_SAMPLER" => {
+            // An input attachment is read as a texture at the fragment's position
+            // (`spirv::subpass`): the subpass that wrote it is a render pass of its own.
+            "SAMPLED_IMAGE" | "COMBINED_IMAGE_SAMPLER" | "INPUT_ATTACHMENT" => {
                 let d = d.ok_or_else(missing)?;
                 let view = d.view.ok_or_else(missing)?;
                 let (ty, resource) = self.vk_texture(p, view, &u.var, false)?;
@@ -583,6 +599,20 @@ fn sampled_swizzle(
         Component::Zero => crate::spirv::SWIZZLE_ZERO,
         Component::One => crate::spirv::SWIZZLE_ONE,
     }))
+}
+
+/// The descriptor types (without `VK_DESCRIPTOR_TYPE_`) that a shader variable of `kind` may
+/// be bound to, by the specification's table of shader resources and descriptor types;
+/// `None` where the lowering checks the kind elsewhere.
+fn descriptor_types_of(kind: &ResourceKind) -> Option<&'static [&'static str]> {
+    Some(match kind {
+        ResourceKind::CombinedImageSampler(_) => &["COMBINED_IMAGE_SAMPLER"],
+        ResourceKind::SampledImage(_) => &["SAMPLED_IMAGE", "COMBINED_IMAGE_SAMPLER"],
+        ResourceKind::Sampler { .. } => &["SAMPLER", "COMBINED_IMAGE_SAMPLER"],
+        ResourceKind::StorageImage(_) => &["STORAGE_IMAGE"],
+        ResourceKind::InputAttachment { .. } => &["INPUT_ATTACHMENT"],
+        _ => return None,
+    })
 }
 
 fn ty_is_combined(descriptor_type: &str) -> bool {

@@ -309,6 +309,7 @@ mod errors;
 mod reflect;
 mod rewrite;
 mod specop;
+mod subpass;
 mod usage;
 mod validators;
 mod zink;
