@@ -213,9 +213,12 @@ impl Sync {
 }
 
 impl State {
-    /// `a` reads: after a write it must be visible to it.
+    /// `a` reads: after a write it must be visible to it, unless the read is ordered after
+    /// another read of the write (the validation layer's rule: that read was checked against
+    /// the write, and one missing dependency is one finding).
     fn read(&mut self, a: Access, seq: u32) -> Option<(HazardKind, Access)> {
-        let hazard = self.write.as_ref().and_then(|w| {
+        let after_read = self.reads.iter().any(|r| r.exec.intersects(a.stage));
+        let hazard = self.write.as_ref().filter(|_| !after_read).and_then(|w| {
             let seen = w
                 .visible
                 .iter()
@@ -267,6 +270,21 @@ impl State {
         });
         self.reads.clear();
         hazards
+    }
+
+    /// The execution dependency of a barrier on another resource: execution dependencies
+    /// are not limited to a barrier's resources, its memory dependency is.
+    fn order(&mut self, d: &Dep) {
+        if let Some(w) = &mut self.write
+            && (d.src.intersects(w.access.stage) || w.exec.intersects(d.src))
+        {
+            w.exec |= d.dst;
+        }
+        for r in &mut self.reads {
+            if d.src.intersects(r.access.stage) || r.exec.intersects(d.src) {
+                r.exec |= d.dst;
+            }
+        }
     }
 
     /// A memory dependency without a layout transition.
@@ -483,6 +501,14 @@ impl Sync {
         }
         let d = Dep::of(b);
         let keys = self.barrier_keys(objects, &b.target);
+        if !matches!(b.target, BarrierTarget::Global) {
+            let own: std::collections::HashSet<Key> = keys.iter().copied().collect();
+            for (key, st) in &mut self.states {
+                if !own.contains(key) {
+                    st.order(&d);
+                }
+            }
+        }
         let transition = b.layouts.filter(|(from, to)| from != to);
         for key in keys {
             if let Some((from, to)) = b.layouts {

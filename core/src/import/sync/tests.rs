@@ -235,3 +235,43 @@ fn a_timeline_wait_is_for_the_first_signal_of_its_value() {
         "a binary semaphore's last signal"
     );
 }
+
+/// zink's glmark2 terrain: a transition made visible to fragment-shader reads, a fragment read
+/// of it, a barrier on another image whose first scope reaches that read (colour output is
+/// logically after the fragment shader) and whose second is the vertex shader, then a vertex
+/// read. The other image's barrier orders the vertex read after the fragment read (execution
+/// dependencies are not limited to a barrier's resources), and a read ordered after a read of
+/// the write is not checked against the write again, as the validation layer does.
+#[test]
+fn a_read_ordered_after_a_read_of_the_write_is_no_hazard() {
+    let mut st = State::default();
+    let transition = Dep {
+        src: earlier(S::COLOR_ATTACHMENT_OUTPUT),
+        src_access: A::COLOR_ATTACHMENT_WRITE,
+        dst: later(S::FRAGMENT_SHADER),
+        dst_access: A::SHADER_READ.expand(),
+    };
+    st.transition(
+        &transition,
+        Access::event(&Origin::none("barrier"), What::Text("transition")),
+        0,
+        0,
+    );
+    let vertex = acc(S::VERTEX_SHADER, A::SHADER_SAMPLED_READ);
+    // Straight after the transition, a vertex read is not in its second scope.
+    assert!(st.clone().read(vertex.clone(), 0).is_some());
+    assert!(
+        st.read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ), 0)
+            .is_none()
+    );
+    let other_image = Dep {
+        src: earlier(S::COLOR_ATTACHMENT_OUTPUT),
+        src_access: A::COLOR_ATTACHMENT_WRITE,
+        dst: later(S::VERTEX_SHADER),
+        dst_access: A::SHADER_READ.expand(),
+    };
+    // Without the barrier the vertex read is not ordered after the fragment read.
+    assert!(st.clone().read(vertex.clone(), 0).is_some());
+    st.order(&other_image);
+    assert!(st.read(vertex, 0).is_none());
+}
