@@ -139,13 +139,16 @@ impl Sync {
     }
 
     /// A host wait saw submissions up to `upto` complete: their accesses are over (the
-    /// validation layer retires them too).
+    /// validation layer retires them too). The presentation engine's read of an acquired
+    /// image is no queue's work: only the acquire's own fence or semaphore orders it.
     pub(super) fn retire(&mut self, upto: u32) {
         for st in self.states.values_mut() {
             if st.write.as_ref().is_some_and(|w| w.seq <= upto) {
                 st.write = None;
             }
-            st.reads.retain(|r| r.seq > upto);
+            st.reads.retain(|r| {
+                r.seq > upto || matches!(r.access.what, What::Text(t) if t == super::ACQUIRE_READ)
+            });
         }
     }
 

@@ -275,3 +275,54 @@ fn a_read_ordered_after_a_read_of_the_write_is_no_hazard() {
     st.order(&other_image);
     assert!(st.read(vertex, 0).is_none());
 }
+
+/// mpv's gpu-next renderer waits on a fence of an earlier submission after acquiring the next
+/// swapchain image: that wait retires the queue's accesses, not the presentation engine's read
+/// of the acquired image, which only the acquire's semaphore or fence orders. The layout
+/// transition after it (from `TOP_OF_PIPE`, before the semaphore's wait stage) is then still a
+/// write after that read, as the validation layer reports.
+#[test]
+fn a_host_wait_on_queue_work_does_not_retire_an_acquire() {
+    let mut sync = Sync::new(true);
+    let key = Key::Image {
+        image: 1,
+        mip: 0,
+        layer: 0,
+    };
+    let acquire = Read {
+        access: Access::event(&Origin::none("acquire"), What::Text(ACQUIRE_READ)),
+        seq: 0,
+        exec: S::EMPTY,
+    };
+    let shader = Read {
+        access: acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
+        seq: 0,
+        exec: S::EMPTY,
+    };
+    sync.states.insert(
+        key,
+        State {
+            reads: vec![acquire, shader],
+            ..State::default()
+        },
+    );
+    sync.retire(3);
+    let st = &sync.states[&key];
+    assert_eq!(st.reads.len(), 1);
+    let transition = Dep {
+        src: earlier(S::TOP_OF_PIPE),
+        src_access: A::EMPTY,
+        dst: later(S::COLOR_ATTACHMENT_OUTPUT),
+        dst_access: A::COLOR_ATTACHMENT_WRITE,
+    };
+    let found = sync.states.get_mut(&key).unwrap().transition(
+        &transition,
+        Access::event(&Origin::none("barrier"), What::Text("transition")),
+        1,
+        0,
+    );
+    assert_eq!(
+        found.iter().map(|h| h.0).collect::<Vec<_>>(),
+        [HazardKind::WriteAfterRead]
+    );
+}
