@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 28] = [
+const REPLAYED: [&str; 29] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -38,6 +38,7 @@ const REPLAYED: [&str; 28] = [
     "vkbasalt_reshade_f30",
     "zink_es2gears_f30",
     "glmark2_zink_ideas_f30",
+    "mpv_gpunext_f30",
     "vkbasalt_rgb10a2_f30",
 ];
 
