@@ -409,9 +409,9 @@ pub fn sampler_field(name: &str) -> Option<Verdict> {
         "mipLodBias" => Verdict::Emulated(
             "wgpu has no LOD bias: added to every sample taken through the sampler by a SPIR-V rewrite (a Bias operand, or added to the shader's own bias or Lod), except where it changes nothing (one mip level, one filter up and down); samples with explicit gradients are refused",
         ),
-        "unnormalizedCoordinates" => {
-            Verdict::Refused("unnormalized coordinates: wgpu samples with normalized ones")
-        }
+        "unnormalizedCoordinates" => Verdict::Emulated(
+            "wgpu samples with normalized coordinates: each sample through the sampler has its coordinate divided by the image's level-0 size in the shader (OpImageQuerySizeLod); any sample Vulkan does not allow such a sampler is refused by name",
+        ),
         _ => return None,
     })
 }

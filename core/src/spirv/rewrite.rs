@@ -35,6 +35,7 @@ pub fn rewrite(
     }
     super::subpass::subpass_as_texture(&mut loaded.module)?;
     super::bias::add_lod_bias(&mut loaded.module, opts.lod_bias)?;
+    super::unnormalized::normalize_coordinates(&mut loaded.module, opts.unnormalized)?;
     super::swizzle::apply_swizzles(&mut loaded.module, opts.swizzles)?;
     super::demote::demote_as_kill(&mut loaded.module)?;
     super::memory_model::as_glsl450(&mut loaded.module)?;

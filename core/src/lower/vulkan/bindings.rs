@@ -34,6 +34,9 @@ pub(super) struct Bound {
     /// The uniform blocks whose only breaks of std140 are arrays of 32-bit scalars: the rewrite
     /// widens those to vectors (`spirv::RewriteOptions::std140_blocks`) and they stay uniform.
     pub std140_blocks: Vec<(u32, u32)>,
+    /// The samplers that take unnormalized coordinates (`spirv::RewriteOptions::unnormalized`):
+    /// wgpu's take normalized ones, so the rewrite divides each sample's coordinate.
+    pub unnormalized: Vec<(u32, u32)>,
 }
 
 /// The SPIR-V image format a texel buffer view of `VK_FORMAT_*` reads in, where the rewrite
@@ -147,6 +150,7 @@ impl<'c> Lowering<'c> {
         let mut per_set: BTreeMap<u32, Vec<Entry>> = BTreeMap::new();
         let mut texel_formats = Vec::new();
         let mut lod_bias = Vec::new();
+        let mut unnormalized = Vec::new();
         let mut swizzles = Vec::new();
         let mut storage_blocks = Vec::new();
         let mut std140_blocks = Vec::new();
@@ -219,6 +223,18 @@ impl<'c> Lowering<'c> {
             if let Some(bias) = bias {
                 lod_bias.push((set, binding, bias.to_bits()));
             }
+            let sampler = work
+                .descriptors
+                .iter()
+                .find(|d| d.set == set && d.binding == binding && d.element == 0)
+                .and_then(|d| d.sampler)
+                .or(lb.1);
+            let samples = entries
+                .iter()
+                .any(|(_, r)| matches!(r, VkResource::Sampler(_)));
+            if samples && sampler.is_some_and(|s| model.samplers[s].unnormalized_coordinates) {
+                unnormalized.push((set, binding));
+            }
             if let Some(sw) = sampled_swizzle(model, work, (set, binding), &lb.0.descriptor_type) {
                 swizzles.push((set, binding, sw));
             }
@@ -259,6 +275,7 @@ impl<'c> Lowering<'c> {
                 swizzles,
                 storage_blocks,
                 std140_blocks,
+                unnormalized,
             },
         ))
     }

@@ -37,6 +37,8 @@ pub(super) struct ShaderKey {
     storage_blocks: Vec<(u32, u32)>,
     /// Uniform blocks whose scalar arrays are widened to std140, by (set, binding).
     std140_blocks: Vec<(u32, u32)>,
+    /// Samplers taking unnormalized coordinates, by (set, binding).
+    unnormalized: Vec<(u32, u32)>,
     /// Fragment output locations with an attachment (`RewriteOptions::attached_outputs`).
     outputs: Option<u32>,
 }
@@ -99,6 +101,7 @@ impl<'c> Lowering<'c> {
             swizzles: bound.swizzles.clone(),
             storage_blocks: bound.storage_blocks.clone(),
             std140_blocks: bound.std140_blocks.clone(),
+            unnormalized: bound.unnormalized.clone(),
             outputs,
         };
         if let Some(&i) = self.vk.shaders.get(&key) {
@@ -154,6 +157,7 @@ impl<'c> Lowering<'c> {
                 swizzles: &bound.swizzles,
                 storage_blocks: &bound.storage_blocks,
                 std140_blocks: &bound.std140_blocks,
+                unnormalized: &bound.unnormalized,
                 attached_outputs: outputs,
             },
         )
@@ -179,6 +183,7 @@ impl<'c> Lowering<'c> {
                 swizzles: &bound.swizzles,
                 storage_blocks: &bound.storage_blocks,
                 std140_blocks: &bound.std140_blocks,
+                unnormalized: &bound.unnormalized,
                 attached_outputs: outputs,
             },
         )

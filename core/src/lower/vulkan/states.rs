@@ -409,11 +409,8 @@ pub(super) fn sampler(s: &VkSampler) -> Result<SamplerSpec, VkProblem> {
             n,
         )),
     };
-    if s.unnormalized_coordinates {
-        return Err(VkProblem::Unsupported {
-            feature: format!("sampler {} with unnormalized coordinates", s.name),
-        });
-    }
+    // Unnormalized coordinates are divided by the image's size in the shader
+    // (`spirv::unnormalized`): the sampler itself takes normalized ones.
     let mip = match strip(&s.mipmap_mode, "VK_SAMPLER_MIPMAP_MODE_") {
         "NEAREST" => wgpu::MipmapFilterMode::Nearest,
         "LINEAR" => wgpu::MipmapFilterMode::Linear,

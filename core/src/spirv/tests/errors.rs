@@ -63,6 +63,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             swizzles: &[],
             storage_blocks: &[],
             std140_blocks: &[],
+            unnormalized: &[],
             attached_outputs: None,
         },
     )
@@ -89,6 +90,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             swizzles: &[],
             storage_blocks: &[],
             std140_blocks: &[],
+            unnormalized: &[],
             attached_outputs: None,
         },
     )

@@ -71,6 +71,7 @@ fn opts(flip_y: bool) -> RewriteOptions<'static> {
         swizzles: &[],
         storage_blocks: &[],
         std140_blocks: &[],
+        unnormalized: &[],
         attached_outputs: None,
     }
 }
@@ -310,6 +311,7 @@ mod reflect;
 mod rewrite;
 mod specop;
 mod subpass;
+mod unnormalized;
 mod usage;
 mod validators;
 mod zink;

@@ -83,6 +83,7 @@ fn renumbers_every_binding() {
             swizzles: &[],
             storage_blocks: &[],
             std140_blocks: &[],
+            unnormalized: &[],
             attached_outputs: None,
         },
     )
@@ -176,6 +177,7 @@ fn maps_opengl_depth_before_the_return() {
                 swizzles: &[],
                 storage_blocks: &[],
                 std140_blocks: &[],
+                unnormalized: &[],
                 attached_outputs: None,
                 ..opts(flip_y)
             },
@@ -238,6 +240,7 @@ fn flips_a_position_variable() {
             swizzles: &[],
             storage_blocks: &[],
             std140_blocks: &[],
+            unnormalized: &[],
             attached_outputs: None,
         },
     )
@@ -356,6 +359,7 @@ fn texel_buffer_reads_become_word_loads_and_specialization_applies() {
             swizzles: &[],
             storage_blocks: &[],
             std140_blocks: &[],
+            unnormalized: &[],
             attached_outputs: None,
         },
     )

@@ -114,6 +114,7 @@ fn storage_opts() -> RewriteOptions<'static> {
     RewriteOptions {
         storage_blocks: &[(0, 0)],
         std140_blocks: &[],
+        unnormalized: &[],
         ..opts(false)
     }
 }

@@ -1,0 +1,208 @@
+//! Samplers with unnormalized coordinates, in the shader: wgpu's samplers always take
+//! coordinates in [0, 1], where Vulkan's `unnormalizedCoordinates` takes them in texels. Each
+//! sample through such a sampler has its coordinate divided by the size of the image's level
+//! 0 (`OpImageQuerySizeLod`), which the sampler then multiplies back; Vulkan allows such a
+//! sampler only level 0, one filter, clamping addresses and the plain explicit-LOD samples
+//! of 1D and 2D images, so nothing else changes. Any other instruction sampling through it
+//! is refused by name.
+//!
+//! Runs on the module as captured, before the split renumbers bindings.
+
+use std::collections::HashMap;
+
+use rspirv::dr::{Instruction, Module, Operand};
+use rspirv::spirv::{Capability, Op, Word};
+
+use super::SpirvError;
+use super::index::{first_free_id, id_ref};
+use super::ops::{Ids, inst, type_id};
+
+fn unsupported(detail: String) -> SpirvError {
+    SpirvError::Unsupported {
+        feature: "a sample through a sampler with unnormalized coordinates",
+        detail,
+    }
+}
+
+/// Whether `op` samples through a sampler (and so must be one the rewrite takes).
+fn samples(op: Op) -> bool {
+    matches!(
+        op,
+        Op::ImageSampleImplicitLod
+            | Op::ImageSampleExplicitLod
+            | Op::ImageSampleDrefImplicitLod
+            | Op::ImageSampleDrefExplicitLod
+            | Op::ImageSampleProjImplicitLod
+            | Op::ImageSampleProjExplicitLod
+            | Op::ImageSampleProjDrefImplicitLod
+            | Op::ImageSampleProjDrefExplicitLod
+            | Op::ImageGather
+            | Op::ImageDrefGather
+            | Op::ImageSparseSampleImplicitLod
+            | Op::ImageSparseSampleExplicitLod
+            | Op::ImageSparseSampleDrefImplicitLod
+            | Op::ImageSparseSampleDrefExplicitLod
+            | Op::ImageSparseSampleProjImplicitLod
+            | Op::ImageSparseSampleProjExplicitLod
+            | Op::ImageSparseSampleProjDrefImplicitLod
+            | Op::ImageSparseSampleProjDrefExplicitLod
+            | Op::ImageSparseGather
+            | Op::ImageSparseDrefGather
+    )
+}
+
+/// Divides the coordinate of every sample taken through the samplers at `at` ((set, binding),
+/// combined or separate) by its image's size.
+pub(super) fn normalize_coordinates(
+    module: &mut Module,
+    at: &[(u32, u32)],
+) -> Result<(), SpirvError> {
+    if at.is_empty() {
+        return Ok(());
+    }
+    let vars: HashMap<Word, ()> =
+        super::carry::variables_at(module, |s, b| at.contains(&(s, b)).then_some(()));
+    if vars.is_empty() {
+        return Ok(());
+    }
+    // Every id carrying one of the samplers on (OpSampledImage's operand 1 is the sampler).
+    let root = super::carry::carried(module, &vars, 1);
+    let globals: HashMap<Word, Instruction> = module
+        .types_global_values
+        .iter()
+        .filter_map(|i| Some((i.result_id?, i.clone())))
+        .collect();
+    let types: HashMap<Word, Word> = module
+        .functions
+        .iter()
+        .flat_map(|f| f.all_inst_iter())
+        .filter_map(|i| Some((i.result_id?, i.result_type?)))
+        .collect();
+    let mut ids = Ids {
+        next: first_free_id(module).ok_or(SpirvError::IdsExhausted { bound: u32::MAX })?,
+    };
+    let mut added: Vec<Instruction> = Vec::new();
+    let int = type_id(
+        module,
+        &mut added,
+        &mut ids,
+        Op::TypeInt,
+        vec![Operand::LiteralBit32(32), Operand::LiteralBit32(1)],
+    )?;
+    let zero = ids.fresh()?;
+    added.push(inst(
+        Op::Constant,
+        Some(int),
+        Some(zero),
+        vec![Operand::LiteralBit32(0)],
+    ));
+    let mut touched = false;
+    let mut functions = std::mem::take(&mut module.functions);
+    for f in &mut functions {
+        for block in &mut f.blocks {
+            let mut out = Vec::with_capacity(block.instructions.len());
+            for mut s in std::mem::take(&mut block.instructions) {
+                let through = samples(s.class.opcode)
+                    && id_ref(s.operands.first()).is_some_and(|x| root.contains_key(&x));
+                if !through {
+                    out.push(s);
+                    continue;
+                }
+                let what = format!("%{} (Op{:?})", s.result_id.unwrap_or(0), s.class.opcode);
+                if !matches!(
+                    s.class.opcode,
+                    Op::ImageSampleExplicitLod | Op::ImageSparseSampleExplicitLod
+                ) {
+                    return Err(unsupported(format!(
+                        "{what}: Vulkan allows such a sampler only plain explicit-LOD samples"
+                    )));
+                }
+                let (Some(sampled), Some(coord)) =
+                    (id_ref(s.operands.first()), id_ref(s.operands.get(1)))
+                else {
+                    return Err(unsupported(format!("{what} has no image or coordinate")));
+                };
+                // The coordinate's type: a float for 1D, a vector of two floats for 2D.
+                let coord_ty = types
+                    .get(&coord)
+                    .copied()
+                    .or_else(|| globals.get(&coord).and_then(|c| c.result_type))
+                    .ok_or_else(|| unsupported(format!("{what}: untyped coordinate")))?;
+                let size_ty = match globals.get(&coord_ty).map(|t| t.class.opcode) {
+                    Some(Op::TypeFloat) => int,
+                    Some(Op::TypeVector)
+                        if globals[&coord_ty].operands.get(1)
+                            == Some(&Operand::LiteralBit32(2)) =>
+                    {
+                        type_id(
+                            module,
+                            &mut added,
+                            &mut ids,
+                            Op::TypeVector,
+                            vec![Operand::IdRef(int), Operand::LiteralBit32(2)],
+                        )?
+                    }
+                    _ => {
+                        return Err(unsupported(format!(
+                            "{what} samples with a coordinate of more than two components"
+                        )));
+                    }
+                };
+                // The image of the sampled image, its level 0's size, as floats.
+                let sampled_ty = types
+                    .get(&sampled)
+                    .and_then(|t| globals.get(t))
+                    .filter(|t| t.class.opcode == Op::TypeSampledImage)
+                    .and_then(|t| id_ref(t.operands.first()))
+                    .ok_or_else(|| unsupported(format!("{what}: not a sampled image")))?;
+                let (image, size, fsize, normalized) =
+                    (ids.fresh()?, ids.fresh()?, ids.fresh()?, ids.fresh()?);
+                out.push(inst(
+                    Op::Image,
+                    Some(sampled_ty),
+                    Some(image),
+                    vec![Operand::IdRef(sampled)],
+                ));
+                out.push(inst(
+                    Op::ImageQuerySizeLod,
+                    Some(size_ty),
+                    Some(size),
+                    vec![Operand::IdRef(image), Operand::IdRef(zero)],
+                ));
+                out.push(inst(
+                    Op::ConvertSToF,
+                    Some(coord_ty),
+                    Some(fsize),
+                    vec![Operand::IdRef(size)],
+                ));
+                out.push(inst(
+                    Op::FDiv,
+                    Some(coord_ty),
+                    Some(normalized),
+                    vec![Operand::IdRef(coord), Operand::IdRef(fsize)],
+                ));
+                s.operands[1] = Operand::IdRef(normalized);
+                out.push(s);
+                touched = true;
+            }
+            block.instructions = out;
+        }
+    }
+    module.functions = functions;
+    if touched {
+        module.types_global_values.extend(added);
+        let has_query = module
+            .capabilities
+            .iter()
+            .any(|c| c.operands.first() == Some(&Operand::Capability(Capability::ImageQuery)));
+        if !has_query {
+            module.capabilities.push(inst(
+                Op::Capability,
+                None,
+                None,
+                vec![Operand::Capability(Capability::ImageQuery)],
+            ));
+        }
+    }
+    Ok(())
+}
