@@ -35,3 +35,4 @@ mod sync_layer;
 mod synthetic_scale;
 mod vk_classes;
 mod vk_section;
+mod vk_shaders;

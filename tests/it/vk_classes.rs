@@ -9,7 +9,7 @@ use serde_json::{Value, json};
 
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr, stdout};
 
-fn temp(name: &str) -> Scratch {
+pub(crate) fn temp(name: &str) -> Scratch {
     Scratch::temp(&format!("framelab-vk-classes-{name}"))
 }
 
@@ -26,20 +26,20 @@ fn import(source: &Path, capture: &Path) -> String {
 }
 
 /// vkcube's third frame imported from its binary capture into `dir`.
-fn vkcube(dir: &Path) -> PathBuf {
+pub(crate) fn vkcube(dir: &Path) -> PathBuf {
     let capture = dir.join("vkcube.json");
     import(&gfxr_fixture("vkcube_f3.gfxr"), &capture);
     capture
 }
 
-fn edit(capture: &Path, change: impl FnOnce(&mut Value)) {
+pub(crate) fn edit(capture: &Path, change: impl FnOnce(&mut Value)) {
     let mut v: Value = serde_json::from_str(&std::fs::read_to_string(capture).unwrap()).unwrap();
     change(&mut v);
     std::fs::write(capture, serde_json::to_string_pretty(&v).unwrap()).unwrap();
 }
 
 /// The one draw of vkcube's frame and its pipeline's graphics state.
-fn draw_and_state(v: &mut Value) -> (&mut Value, &mut Value) {
+pub(crate) fn draw_and_state(v: &mut Value) -> (&mut Value, &mut Value) {
     let Value::Object(root) = v else {
         panic!("a capture is an object")
     };
@@ -65,7 +65,7 @@ fn draw_and_state(v: &mut Value) -> (&mut Value, &mut Value) {
 
 /// Replays `capture`, which must be refused (exit 1) with nothing written to its export
 /// folder; what the replay said.
-fn replay_fails(capture: &Path) -> String {
+pub(crate) fn replay_fails(capture: &Path) -> String {
     let out = capture.with_extension("refused");
     let run = framelab(&[
         "replay",
@@ -1163,146 +1163,4 @@ fn formats_held_in_another_channel_order_read_as_the_capture_wrote_them() {
             );
         }
     }
-}
-
-/// vkcube's fragment shader replaced by one that writes `subpassLoad` of an input attachment
-/// at set 0 binding 1 (`tests/fixtures/subpass/subpass_load.spvasm`), the attachment being
-/// vkcube's texture, which an earlier subpass would have written: every pixel the cube covers
-/// is the texture's texel at the same position (black past the texture's 256x256, where a
-/// fetch is out of bounds). The same input attachment pointed at the image the pass renders
-/// to (framebuffer fetch) is refused by name.
-#[test]
-fn input_attachments_are_read_at_the_fragments_position() {
-    let dir = temp("input-attachment");
-    let capture = vkcube(&dir);
-    let original = crate::common::replay_presented(&capture, &dir.join("original"));
-    let spv = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/subpass/subpass_load.spv");
-    let shaders = dir.join("vkcube.shaders");
-    std::fs::copy(&spv, shaders.join("module_38.spv")).unwrap();
-    let size = std::fs::metadata(&spv).unwrap().len();
-    edit(&capture, |v| {
-        let binding = &mut v["vulkan"]["set_layouts"][0]["bindings"][1];
-        binding["descriptor_type"] = json!("VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT");
-        for m in v["vulkan"]["shader_modules"].as_array_mut().unwrap() {
-            if m["name"] == json!("module_38") {
-                m["size"] = json!(size);
-            }
-        }
-        let (draw, _) = draw_and_state(v);
-        for d in draw["descriptors"].as_array_mut().unwrap() {
-            if d["binding"] == json!(1) {
-                d["descriptor_type"] = json!("INPUT_ATTACHMENT");
-                d.as_object_mut().unwrap().remove("sampler");
-            }
-        }
-    });
-    let (inside, outside, wrong) = texels_at_pixels(&capture, &original, &dir.join("read"), false);
-    assert!(inside > 10_000 && outside > 10_000, "{inside} {outside}");
-    assert_eq!(
-        wrong, 0,
-        "{wrong} covered pixels are not the texel at their position"
-    );
-
-    edit(&capture, |v| {
-        let view = &mut v["vulkan"]["image_views"][0];
-        view["image"] = json!("swapchain_0");
-        view["format"] = json!("VK_FORMAT_B8G8R8A8_UNORM");
-        let (draw, _) = draw_and_state(v);
-        for d in draw["descriptors"].as_array_mut().unwrap() {
-            if d["view"] == json!("view_27") {
-                d["resource"] = json!("swapchain_0");
-            }
-        }
-    });
-    let err = replay_fails(&capture);
-    for part in ["draw 0", "colour attachment 0", "framebuffer fetch"] {
-        assert!(err.contains(part), "missing {part:?} in:\n{err}");
-    }
-}
-
-/// Replays `capture` into `out` and compares every pixel vkcube's cube covers in `original`
-/// with vkcube's texture (`image_24`) at the same position: past the texture's edge, black
-/// (an out-of-bounds fetch) or, `clamped`, the edge texel. (pixels inside, outside, wrong).
-fn texels_at_pixels(
-    capture: &Path,
-    original: &image::RgbaImage,
-    out: &Path,
-    clamped: bool,
-) -> (usize, usize, usize) {
-    let image = crate::common::replay_presented(capture, out);
-    let texture = image::open(out.join("image_24.png")).unwrap().to_rgba8();
-    let background = *original.get_pixel(0, 0);
-    let (mut inside, mut outside, mut wrong) = (0, 0, 0);
-    for (x, y, p) in original.enumerate_pixels() {
-        if *p == background {
-            continue;
-        }
-        let got = image.get_pixel(x, y);
-        let (w, h) = (texture.width(), texture.height());
-        let want = if x < w && y < h {
-            inside += 1;
-            *texture.get_pixel(x, y)
-        } else {
-            outside += 1;
-            if clamped {
-                *texture.get_pixel(x.min(w - 1), y.min(h - 1))
-            } else {
-                image::Rgba([0, 0, 0, got[3]])
-            }
-        };
-        if got.0[..3] != want.0[..3] {
-            wrong += 1;
-        }
-    }
-    (inside, outside, wrong)
-}
-
-/// vkcube's fragment shader replaced by one that samples its texture at
-/// `gl_FragCoord.xy`, level 0 (`tests/fixtures/subpass/unnormalized.spvasm`), through a sampler
-/// of unnormalized coordinates (nearest, clamped to the edge, as Vulkan requires of one): every
-/// pixel the cube covers is the texel at its position, the edge texel past the texture. The
-/// original shader's implicit-LOD sample through such a sampler, which Vulkan does not allow,
-/// is refused by name.
-#[test]
-fn unnormalized_sampler_coordinates_are_texels() {
-    let dir = temp("unnormalized");
-    let capture = vkcube(&dir);
-    let original = crate::common::replay_presented(&capture, &dir.join("original"));
-    edit(&capture, |v| {
-        let s = &mut v["vulkan"]["samplers"][0];
-        s["unnormalized_coordinates"] = json!(true);
-        for k in ["mag_filter", "min_filter"] {
-            s[k] = json!("VK_FILTER_NEAREST");
-        }
-        s["mipmap_mode"] = json!("VK_SAMPLER_MIPMAP_MODE_NEAREST");
-        s["min_lod"] = json!(0.0);
-        s["max_lod"] = json!(0.0);
-        for k in ["address_mode_u", "address_mode_v", "address_mode_w"] {
-            s[k] = json!("VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE");
-        }
-    });
-    let err = replay_fails(&capture);
-    for part in [
-        "draw 0",
-        "unnormalized coordinates",
-        "ImageSampleImplicitLod",
-    ] {
-        assert!(err.contains(part), "missing {part:?} in:\n{err}");
-    }
-    let spv = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/subpass/unnormalized.spv");
-    std::fs::copy(&spv, dir.join("vkcube.shaders/module_38.spv")).unwrap();
-    let size = std::fs::metadata(&spv).unwrap().len();
-    edit(&capture, |v| {
-        for m in v["vulkan"]["shader_modules"].as_array_mut().unwrap() {
-            if m["name"] == json!("module_38") {
-                m["size"] = json!(size);
-            }
-        }
-    });
-    let (inside, outside, wrong) = texels_at_pixels(&capture, &original, &dir.join("read"), true);
-    assert!(inside > 10_000 && outside > 10_000, "{inside} {outside}");
-    assert_eq!(
-        wrong, 0,
-        "{wrong} covered pixels are not the texel at their position"
-    );
 }
