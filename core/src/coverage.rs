@@ -102,7 +102,7 @@ pub fn dynamic_state(name: &str) -> Option<Verdict> {
             "baked while off; a draw with logic ops on is refused (wgpu has none)",
         ),
         "DEPTH_CLIP_ENABLE_EXT" => Verdict::Emulated(
-            "baked where clipping is the opposite of clamping (wgpu's unclipped depth clamps); clipping and clamping both on, or both off, is refused",
+            "baked: clipping opposite to clamping as it is (wgpu's unclipped depth clamps); both on as clipped (what survives the clip is in range); both off as unclipped where the clamp changes nothing (no depth attachment, or a fixed-point one, whose test clamps, with the depth range [0, 1]), refused into a floating-point one",
         ),
         "DEPTH_CLIP_NEGATIVE_ONE_TO_ONE_EXT" => Verdict::Emulated(
             "OpenGL's depth range (-w to w) mapped to Vulkan's in the vertex shader: z becomes (z + w) / 2 before each return",

@@ -803,6 +803,48 @@ fn extended_dynamic_state_is_baked_into_pipeline_variants() {
         "the draw's sample mask reached the pipeline"
     );
 
+    // Depth clipped and clamped is clipped; neither is wgpu's unclipped (clamped) depth where
+    // the clamp changes nothing: vkcube's D16 attachment clamps at the test anyway.
+    for (clip, clamp) in [(true, true), (false, false)] {
+        edit(&capture, |v| {
+            let (draw, _) = draw_and_state(v);
+            draw["dynamic"]["extended"] = same.clone();
+            draw["dynamic"]["extended"]["depth_clip_enable"] = json!(clip);
+            draw["dynamic"]["extended"]["depth_clamp_enable"] = json!(clamp);
+        });
+        let image = crate::common::replay_presented(&capture, &dir.join(format!("clip-{clip}")));
+        crate::golden::within("vkcube, depth clip and clamp alike", &image, &reference()).unwrap();
+    }
+    // Into a floating-point depth attachment, unclamped depths would stay out of range.
+    let mut depth = Value::Null;
+    edit(&capture, |v| {
+        for r in v["resources"].as_array_mut().unwrap() {
+            if r["name"] == json!("image_21") {
+                depth = r.clone();
+                r["format"] = json!("D32_FLOAT");
+                // Twice the bytes: its own memory, and no snapshot of the D16 contents.
+                let r = r.as_object_mut().unwrap();
+                r.remove("placement");
+                r.remove("initial");
+            }
+        }
+    });
+    let err = replay_fails(&capture);
+    for part in [
+        "draw 0",
+        "depth clipping off with depth clamping off",
+        "floating-point",
+    ] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
+    edit(&capture, |v| {
+        for r in v["resources"].as_array_mut().unwrap() {
+            if r["name"] == json!("image_21") {
+                *r = depth.clone();
+            }
+        }
+    });
+
     edit(&capture, |v| {
         let (draw, _) = draw_and_state(v);
         draw["dynamic"]["extended"] = same.clone();

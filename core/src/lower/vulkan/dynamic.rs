@@ -36,6 +36,7 @@ pub(super) fn bake<'g>(
     pipe: &VkPipeline,
     g: &'g GraphicsState,
     values: Option<&VkDynamicValues>,
+    clamp_moot: bool,
 ) -> Result<Baked<'g>, VkProblem> {
     let mut declared = Vec::new();
     for s in &g.dynamic_states {
@@ -111,7 +112,7 @@ pub(super) fn bake<'g>(
         g.depth_bias
     };
     if let Some(x) = v.extended.as_deref() {
-        extended(&declared, &mut e, x, &missing)?;
+        extended(&declared, &mut e, x, &missing, clamp_moot)?;
     } else if let Some(s) = declared.iter().find(|s| EXTENDED.contains(s)) {
         return Err(missing(&format!("state VK_DYNAMIC_STATE_{s}")));
     }

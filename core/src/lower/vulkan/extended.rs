@@ -57,6 +57,7 @@ pub(super) fn extended(
     e: &mut GraphicsState,
     x: &VkExtendedDynamicValues,
     missing: &dyn Fn(&str) -> VkProblem,
+    clamp_moot: bool,
 ) -> Result<(), VkProblem> {
     let has = |s: &str| declared.contains(&s);
     if has("VERTEX_INPUT_EXT") {
@@ -97,16 +98,25 @@ pub(super) fn extended(
             .ok_or_else(|| missing("depth clamp enable"))?;
     }
     // Vulkan clips depth unless it clamps (`depthClipEnable` may say otherwise); wgpu ties
-    // the two: its unclipped depth is clamped depth.
+    // the two: its unclipped depth is clamped depth. Clipped and clamped is clipped: what
+    // survives the clip is already in range. Neither clipped nor clamped is wgpu's unclipped
+    // depth where the clamp changes nothing (`clamp_moot`: no depth attachment, or a
+    // fixed-point one, whose test clamps to [0, 1] anyway, with the viewport's depth range
+    // [0, 1]); a floating-point attachment would keep depths outside it.
     if has("DEPTH_CLIP_ENABLE_EXT")
         && let Some(clip) = x.depth_clip_enable
         && clip == e.depth_clamp
     {
-        refuse(format!(
-            "depth clipping {} with depth clamping {} (wgpu clips exactly where it does not clamp)",
-            on(clip),
-            on(e.depth_clamp)
-        ))?;
+        if clip {
+            e.depth_clamp = false;
+        } else if clamp_moot {
+            e.depth_clamp = true;
+        } else {
+            refuse(
+                "depth clipping off with depth clamping off into a floating-point depth attachment or a depth range other than [0, 1] (wgpu clamps the depth it does not clip)"
+                    .to_owned(),
+            )?;
+        }
     }
     if has("DEPTH_CLIP_NEGATIVE_ONE_TO_ONE_EXT") {
         e.depth_negative_one_to_one = x
@@ -195,8 +205,4 @@ pub(super) fn extended(
         e.line_stipple = x.line_stipple_enable == Some(true);
     }
     Ok(())
-}
-
-fn on(b: bool) -> &'static str {
-    if b { "on" } else { "off" }
 }

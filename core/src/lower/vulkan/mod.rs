@@ -252,7 +252,13 @@ impl<'c> Lowering<'c> {
         let g = pipe.graphics.as_deref().ok_or_else(|| {
             VkProblem::Missing(format!("pipeline {} has no graphics state", pipe.name))
         })?;
-        let baked = dynamic::bake(pipe, g, work.dynamic.as_deref())?;
+        // Where clamping depth changes nothing (`extended`): no depth attachment, or a
+        // fixed-point one, and the depth range [0, 1].
+        let clamp_moot = !matches!(
+            depth,
+            Some(wgpu::TextureFormat::Depth32Float | wgpu::TextureFormat::Depth32FloatStencil8)
+        ) && work.viewport.is_none_or(|v| v[4] == 0.0 && v[5] == 1.0);
+        let baked = dynamic::bake(pipe, g, work.dynamic.as_deref(), clamp_moot)?;
         let g = &*baked.state;
         // Vulkan's viewport may have a negative height (the application flips y itself):
         // then its clip space is already wgpu's, and the shader is left as it is.
