@@ -877,7 +877,13 @@ fn extended_dynamic_state_is_baked_into_pipeline_variants() {
 fn a_pass_reading_its_own_attachment_is_refused_by_name() {
     let dir = temp("feedback");
     let capture = vkcube(&dir);
-    edit(&capture, |v| {
+    read_the_pass_target(&capture);
+}
+
+/// vkcube's texture view pointed at the swapchain image its pass renders to: the replay
+/// refuses the frame naming the attachment and the draw.
+pub(crate) fn read_the_pass_target(capture: &Path) {
+    edit(capture, |v| {
         let view = &mut v["vulkan"]["image_views"][0];
         view["image"] = json!("swapchain_0");
         view["format"] = json!("VK_FORMAT_B8G8R8A8_UNORM");
@@ -888,7 +894,7 @@ fn a_pass_reading_its_own_attachment_is_refused_by_name() {
             }
         }
     });
-    let err = replay_fails(&capture);
+    let err = replay_fails(capture);
     for part in ["draw 0", "colour attachment 0", "framebuffer fetch"] {
         assert!(err.contains(part), "missing {part:?} in:\n{err}");
     }

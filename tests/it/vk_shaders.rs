@@ -7,7 +7,7 @@ use std::path::Path;
 
 use serde_json::json;
 
-use crate::vk_classes::{draw_and_state, edit, replay_fails, temp, vkcube};
+use crate::vk_classes::{draw_and_state, edit, read_the_pass_target, replay_fails, temp, vkcube};
 
 /// vkcube's fragment shader replaced by one that writes `subpassLoad` of an input attachment
 /// at set 0 binding 1 (`tests/fixtures/subpass/subpass_load.spvasm`), the attachment being
@@ -47,21 +47,7 @@ fn input_attachments_are_read_at_the_fragments_position() {
         "{wrong} covered pixels are not the texel at their position"
     );
 
-    edit(&capture, |v| {
-        let view = &mut v["vulkan"]["image_views"][0];
-        view["image"] = json!("swapchain_0");
-        view["format"] = json!("VK_FORMAT_B8G8R8A8_UNORM");
-        let (draw, _) = draw_and_state(v);
-        for d in draw["descriptors"].as_array_mut().unwrap() {
-            if d["view"] == json!("view_27") {
-                d["resource"] = json!("swapchain_0");
-            }
-        }
-    });
-    let err = replay_fails(&capture);
-    for part in ["draw 0", "colour attachment 0", "framebuffer fetch"] {
-        assert!(err.contains(part), "missing {part:?} in:\n{err}");
-    }
+    read_the_pass_target(&capture);
 }
 
 /// Replays `capture` into `out` and compares every pixel vkcube's cube covers in `original`

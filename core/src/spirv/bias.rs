@@ -15,7 +15,7 @@ use rspirv::spirv::{ImageOperands, Op, Word};
 
 use super::SpirvError;
 use super::index::{first_free_id, id_ref};
-use super::ops::{Ids, inst, type_id};
+use super::ops::{Ids, float32, inst};
 
 fn unsupported(detail: String) -> SpirvError {
     SpirvError::Unsupported {
@@ -73,13 +73,7 @@ pub(super) fn add_lod_bias(
         next: first_free_id(module).ok_or(SpirvError::IdsExhausted { bound: u32::MAX })?,
     };
     let mut added: Vec<Instruction> = Vec::new();
-    let float = type_id(
-        module,
-        &mut added,
-        &mut ids,
-        Op::TypeFloat,
-        vec![Operand::LiteralBit32(32)],
-    )?;
+    let float = float32(module, &mut added, &mut ids)?;
     let mut constants: HashMap<u32, Word> = HashMap::new();
     let mut constant = |bias: f32, ids: &mut Ids, added: &mut Vec<Instruction>| {
         if let Some(&c) = constants.get(&bias.to_bits()) {

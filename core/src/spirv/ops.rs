@@ -52,3 +52,39 @@ pub(super) fn type_id(
     added.push(inst(op, None, Some(id), operands));
     Ok(id)
 }
+
+/// The 32-bit integer type (`signed`), found or added.
+pub(super) fn int32(
+    module: &Module,
+    added: &mut Vec<Instruction>,
+    ids: &mut Ids,
+    signed: bool,
+) -> Result<Word, SpirvError> {
+    let operands = vec![
+        Operand::LiteralBit32(32),
+        Operand::LiteralBit32(u32::from(signed)),
+    ];
+    type_id(module, added, ids, rspirv::spirv::Op::TypeInt, operands)
+}
+
+/// The 32-bit float type, found or added.
+pub(super) fn float32(
+    module: &Module,
+    added: &mut Vec<Instruction>,
+    ids: &mut Ids,
+) -> Result<Word, SpirvError> {
+    let operands = vec![Operand::LiteralBit32(32)];
+    type_id(module, added, ids, rspirv::spirv::Op::TypeFloat, operands)
+}
+
+/// The vector of `n` `component`s, found or added.
+pub(super) fn vector(
+    module: &Module,
+    added: &mut Vec<Instruction>,
+    ids: &mut Ids,
+    component: Word,
+    n: u32,
+) -> Result<Word, SpirvError> {
+    let operands = vec![Operand::IdRef(component), Operand::LiteralBit32(n)];
+    type_id(module, added, ids, rspirv::spirv::Op::TypeVector, operands)
+}

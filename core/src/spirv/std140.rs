@@ -23,7 +23,7 @@ use rspirv::spirv::{Decoration, Op, StorageClass, Word};
 use super::SpirvError;
 use super::carry::variables_at;
 use super::index::{first_free_id, id_ref, literal};
-use super::ops::{Ids, inst, type_id};
+use super::ops::{Ids, inst, int32, type_id, vector};
 
 /// How a uniform block variable is widened.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -296,13 +296,7 @@ fn apply(
     };
     let mut added: Vec<Instruction> = Vec::new();
     let mut annotations: Vec<Instruction> = Vec::new();
-    let uint = type_id(
-        module,
-        &mut added,
-        &mut ids,
-        Op::TypeInt,
-        vec![Operand::LiteralBit32(32), Operand::LiteralBit32(0)],
-    )?;
+    let uint = int32(module, &mut added, &mut ids, false)?;
     let old_members: Vec<Word> = module
         .types_global_values
         .iter()
@@ -312,13 +306,7 @@ fn apply(
     let mut new_members = old_members.clone();
     let mut arrays: HashMap<u32, Word> = HashMap::new();
     for &(m, scalar, n) in &w.members {
-        let vec4 = type_id(
-            module,
-            &mut added,
-            &mut ids,
-            Op::TypeVector,
-            vec![Operand::IdRef(scalar), Operand::LiteralBit32(4)],
-        )?;
+        let vec4 = vector(module, &mut added, &mut ids, scalar, 4)?;
         let len = constant(module, &mut added, &mut ids, uint, n.div_ceil(4))?;
         let array = ids.fresh()?;
         added.push(inst(

@@ -19,7 +19,7 @@ use rspirv::spirv::{
 
 use super::SpirvError;
 use super::index::{first_free_id, id_ref};
-use super::ops::{Ids, inst, type_id};
+use super::ops::{Ids, float32, inst, int32, type_id, vector};
 
 fn unsupported(detail: String) -> SpirvError {
     SpirvError::Unsupported {
@@ -107,41 +107,11 @@ pub(super) fn subpass_as_texture(module: &mut Module) -> Result<(), SpirvError> 
         .collect();
     let carried = super::carry::carried(module, &vars, 0);
     let fragcoord = frag_coord(module, &mut added, &mut ids)?;
-    let int = type_id(
-        module,
-        &mut added,
-        &mut ids,
-        Op::TypeInt,
-        vec![Operand::LiteralBit32(32), Operand::LiteralBit32(1)],
-    )?;
-    let ivec2 = type_id(
-        module,
-        &mut added,
-        &mut ids,
-        Op::TypeVector,
-        vec![Operand::IdRef(int), Operand::LiteralBit32(2)],
-    )?;
-    let float = type_id(
-        module,
-        &mut added,
-        &mut ids,
-        Op::TypeFloat,
-        vec![Operand::LiteralBit32(32)],
-    )?;
-    let vec2 = type_id(
-        module,
-        &mut added,
-        &mut ids,
-        Op::TypeVector,
-        vec![Operand::IdRef(float), Operand::LiteralBit32(2)],
-    )?;
-    let vec4 = type_id(
-        module,
-        &mut added,
-        &mut ids,
-        Op::TypeVector,
-        vec![Operand::IdRef(float), Operand::LiteralBit32(4)],
-    )?;
+    let int = int32(module, &mut added, &mut ids, true)?;
+    let ivec2 = vector(module, &mut added, &mut ids, int, 2)?;
+    let float = float32(module, &mut added, &mut ids)?;
+    let vec2 = vector(module, &mut added, &mut ids, float, 2)?;
+    let vec4 = vector(module, &mut added, &mut ids, float, 4)?;
     let zero = ids.fresh()?;
     added.push(inst(
         Op::Constant,
@@ -323,20 +293,8 @@ fn frag_coord(
     if let Some(v) = existing {
         return Ok(v);
     }
-    let float = type_id(
-        module,
-        added,
-        ids,
-        Op::TypeFloat,
-        vec![Operand::LiteralBit32(32)],
-    )?;
-    let vec4 = type_id(
-        module,
-        added,
-        ids,
-        Op::TypeVector,
-        vec![Operand::IdRef(float), Operand::LiteralBit32(4)],
-    )?;
+    let float = float32(module, added, ids)?;
+    let vec4 = vector(module, added, ids, float, 4)?;
     let ptr = type_id(
         module,
         added,

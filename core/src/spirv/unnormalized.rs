@@ -15,7 +15,7 @@ use rspirv::spirv::{Capability, Op, Word};
 
 use super::SpirvError;
 use super::index::{first_free_id, id_ref};
-use super::ops::{Ids, inst, type_id};
+use super::ops::{Ids, inst, int32, vector};
 
 fn unsupported(detail: String) -> SpirvError {
     SpirvError::Unsupported {
@@ -82,13 +82,7 @@ pub(super) fn normalize_coordinates(
         next: first_free_id(module).ok_or(SpirvError::IdsExhausted { bound: u32::MAX })?,
     };
     let mut added: Vec<Instruction> = Vec::new();
-    let int = type_id(
-        module,
-        &mut added,
-        &mut ids,
-        Op::TypeInt,
-        vec![Operand::LiteralBit32(32), Operand::LiteralBit32(1)],
-    )?;
+    let int = int32(module, &mut added, &mut ids, true)?;
     let zero = ids.fresh()?;
     added.push(inst(
         Op::Constant,
@@ -134,13 +128,7 @@ pub(super) fn normalize_coordinates(
                         if globals[&coord_ty].operands.get(1)
                             == Some(&Operand::LiteralBit32(2)) =>
                     {
-                        type_id(
-                            module,
-                            &mut added,
-                            &mut ids,
-                            Op::TypeVector,
-                            vec![Operand::IdRef(int), Operand::LiteralBit32(2)],
-                        )?
+                        vector(module, &mut added, &mut ids, int, 2)?
                     }
                     _ => {
                         return Err(unsupported(format!(
