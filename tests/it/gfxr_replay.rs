@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 29] = [
+const REPLAYED: [&str; 30] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -39,6 +39,7 @@ const REPLAYED: [&str; 29] = [
     "zink_es2gears_f30",
     "glmark2_zink_ideas_f30",
     "mpv_gpunext_f30",
+    "vlc_zink_f40",
     "vkbasalt_rgb10a2_f30",
 ];
 

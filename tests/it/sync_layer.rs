@@ -36,7 +36,8 @@ fn wsi(capture: &Path) -> &'static [&'static str] {
         | "vkbasalt_all_f30"
         | "vkbasalt_reshade_f30"
         | "vkbasalt_rgb10a2_f30"
-        | "mpv_gpunext_f30" => &["--wsi", "xlib"],
+        | "mpv_gpunext_f30"
+        | "vlc_zink_f40" => &["--wsi", "xlib"],
         _ => &[],
     }
 }
@@ -251,7 +252,7 @@ fn import(input: &Path, out: &Path) {
 /// GFXReconstruct captures, with the hazards framelab finds that the layer does not because
 /// of its ordering rule where the specification has none (expected count): rasterization
 /// order across render passes.
-const GFXR: [(&str, usize); 30] = [
+const GFXR: [(&str, usize); 31] = [
     ("vkcube_f3", 0),
     ("vkcube_staging", 0),
     ("template_compute", 0),
@@ -282,6 +283,7 @@ const GFXR: [(&str, usize); 30] = [
     ("glmark2_zink_ideas_f30", 0),
     ("vkbasalt_rgb10a2_f30", 1),
     ("mpv_gpunext_f30", 0),
+    ("vlc_zink_f40", 0),
 ];
 
 /// RenderDoc captures and the GFXReconstruct capture of the same program the layer ran on.

@@ -1212,3 +1212,34 @@ fn formats_held_in_another_channel_order_read_as_the_capture_wrote_them() {
         }
     }
 }
+
+/// A framebuffer of two layers (layered rendering: a shader's `gl_Layer` picks the layer each
+/// primitive goes to) is refused at import with the count and the pass, since the replay
+/// renders one layer of each attachment; with one layer the same frame is not.
+#[test]
+fn layered_rendering_is_refused_at_import() {
+    let dir = temp("layered");
+    let layered = |layers: u32| {
+        let (v, _) = import_stream(&dir, |lines| {
+            lines
+                .into_iter()
+                .map(|l| {
+                    if l.contains("\"vkCreateFramebuffer\"") {
+                        l.replace("\"layers\":1", &format!("\"layers\":{layers}"))
+                    } else {
+                        l
+                    }
+                })
+                .collect()
+        });
+        v["source"]["not_replayable"]
+            .as_str()
+            .unwrap_or("")
+            .to_owned()
+    };
+    let why = layered(2);
+    for part in ["layered rendering (2 framebuffer layers", "render_pass"] {
+        assert!(why.contains(part), "missing {part:?} in: {why}");
+    }
+    assert!(!layered(1).contains("layered"), "{}", layered(1));
+}

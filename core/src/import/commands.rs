@@ -169,6 +169,9 @@ pub struct RenderInstance {
     /// Each attachment view with the layout the render pass expects it in at its start
     /// (`initialLayout`; `None` for `UNDEFINED`, which accepts any) and leaves it in.
     pub layouts: Vec<(u64, Option<ImageLayout>, ImageLayout)>,
+    /// The framebuffer's (or `VkRenderingInfo`'s) layers: more than one is layered rendering,
+    /// which the replay, rendering one layer of each attachment, refuses.
+    pub layers: u32,
 }
 
 #[derive(Clone, Debug)]

@@ -87,12 +87,12 @@ pub(super) fn begin_render_pass(
         .render_passes
         .get(&rp_handle)
         .ok_or_else(|| Skip(format!("render pass {rp_handle} was never created")))?;
-    let mut views = objects
+    let framebuffer = objects
         .framebuffers
         .get(&fb_handle)
-        .ok_or_else(|| Skip(format!("framebuffer {fb_handle} was never created")))?
-        .attachments
-        .clone();
+        .ok_or_else(|| Skip(format!("framebuffer {fb_handle} was never created")))?;
+    let layers = framebuffer.layers;
+    let mut views = framebuffer.attachments.clone();
     // Imageless framebuffers take their views from VkRenderPassAttachmentBeginInfo.
     let mut next = info.opt("pNext");
     while let Some(n) = next {
@@ -137,6 +137,7 @@ pub(super) fn begin_render_pass(
         begin_barriers,
         end_barriers,
         layouts,
+        layers,
     })
 }
 
@@ -399,5 +400,9 @@ pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
         begin_barriers: Vec::new(),
         end_barriers: Vec::new(),
         layouts,
+        layers: info
+            .opt("layerCount")
+            .and_then(|l| l.u32().ok())
+            .unwrap_or(1),
     })
 }

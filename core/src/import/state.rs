@@ -122,6 +122,7 @@ pub struct RenderPassInfo {
 #[derive(Clone, Debug)]
 pub struct FramebufferInfo {
     pub attachments: Vec<u64>,
+    pub layers: u32,
 }
 
 /// One descriptor written to a set.
@@ -301,9 +302,13 @@ impl Objects {
                     .iter()
                     .map(Arg::handle)
                     .collect::<Got<_>>()?;
+                let layers = ci.opt("layers").and_then(|l| l.u32().ok()).unwrap_or(1);
                 self.framebuffers.insert(
                     args.get("pFramebuffer")?.handle()?,
-                    FramebufferInfo { attachments },
+                    FramebufferInfo {
+                        attachments,
+                        layers,
+                    },
                 );
             }
             Func::AllocateDescriptorSets => {

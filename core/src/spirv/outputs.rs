@@ -4,9 +4,15 @@
 //! `gl_FragData` in every OpenGL fragment shader. Each such output becomes a private variable:
 //! the code that writes it stays, nothing leaves the shader, and the module declares only the
 //! outputs the pipeline renders.
+//!
+//! Likewise the layer and viewport index a pre-rasterization stage writes (`gl_Layer`,
+//! `gl_ViewportIndex`; zink's blit and clear vertex shaders write the instance as the layer):
+//! the replay renders one layer of each attachment through one viewport, and the import
+//! refuses layered rendering, so the only value Vulkan defines for them is 0, the one used
+//! without them. They become private variables, and the capabilities only they needed go.
 
 use rspirv::dr::{Module, Operand};
-use rspirv::spirv::{Decoration, ExecutionModel, Op, StorageClass, Word};
+use rspirv::spirv::{BuiltIn, Capability, Decoration, ExecutionModel, Op, StorageClass, Word};
 
 use super::SpirvError;
 
@@ -78,6 +84,73 @@ pub(super) fn unattached_private(
             e.operands
                 .retain(|o| !matches!(o, Operand::IdRef(v) if unattached.contains(v)));
         }
+    }
+    Ok(())
+}
+
+/// Makes every `Layer` and `ViewportIndex` output variable a private one and drops the
+/// capabilities that declared them (`ShaderLayer`, `ShaderViewportIndex`,
+/// `ShaderViewportIndexLayerEXT`) once nothing else is decorated so.
+pub(super) fn layer_outputs_private(module: &mut Module) -> Result<(), SpirvError> {
+    let outputs: Vec<Word> = module
+        .types_global_values
+        .iter()
+        .filter(|i| {
+            i.class.opcode == Op::Variable
+                && i.operands.first() == Some(&Operand::StorageClass(StorageClass::Output))
+        })
+        .filter_map(|i| i.result_id)
+        .collect();
+    let layered =
+        |o: &Operand| matches!(o, Operand::BuiltIn(BuiltIn::Layer | BuiltIn::ViewportIndex));
+    let mut vars: Vec<Word> = module
+        .annotations
+        .iter()
+        .filter_map(|i| match i.operands.as_slice() {
+            [
+                Operand::IdRef(t),
+                Operand::Decoration(Decoration::BuiltIn),
+                b,
+            ] if layered(b) && outputs.contains(t) => Some(*t),
+            _ => None,
+        })
+        .collect();
+    vars.sort_unstable();
+    vars.dedup();
+    if vars.is_empty() {
+        return Ok(());
+    }
+    super::reclass::reclass(module, &vars, StorageClass::Output, StorageClass::Private)?.map_err(
+        |(var, op, n)| SpirvError::Unsupported {
+            feature: "use of a layer or viewport index output",
+            detail: format!("output %{var} is used through a pointer by Op{op:?} (operand {n})"),
+        },
+    )?;
+    module
+        .annotations
+        .retain(|i| !matches!(i.operands.as_slice(), [Operand::IdRef(t), ..] if vars.contains(t)));
+    let version = module.header.as_ref().map_or(0, |h| h.version);
+    if version < INTERFACE_LISTS_ALL {
+        for e in &mut module.entry_points {
+            e.operands
+                .retain(|o| !matches!(o, Operand::IdRef(v) if vars.contains(v)));
+        }
+    }
+    let still = module
+        .annotations
+        .iter()
+        .any(|i| i.operands.iter().any(layered));
+    if !still {
+        module.capabilities.retain(|c| {
+            !matches!(
+                c.operands.first(),
+                Some(Operand::Capability(
+                    Capability::ShaderLayer
+                        | Capability::ShaderViewportIndex
+                        | Capability::ShaderViewportIndexLayerEXT
+                ))
+            )
+        });
     }
     Ok(())
 }

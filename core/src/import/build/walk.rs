@@ -57,6 +57,16 @@ impl Builder {
                     let converted = self.barriers(objects, &ri.begin_barriers);
                     self.pend(queue, converted);
                     let pass = self.raster(objects, queue, ri, 0);
+                    if ri.layers > 1 {
+                        self.refuse(
+                            queue,
+                            recording.at.get(i),
+                            &format!(
+                                "layered rendering ({} framebuffer layers; the replay renders one layer of each attachment)",
+                                ri.layers
+                            ),
+                        );
+                    }
                     render = Some((ri, 0, pass));
                 }
                 Cmd::NextSubpass => {

@@ -370,3 +370,63 @@ fn a_scalar_block_is_past_std430_too() {
     assert_eq!(found[0].problem, "has a 12-byte vector at offset 8");
     assert_eq!(why, "has a 12-byte vector at offset 8");
 }
+
+/// A vertex shader writing `gl_Layer` (zink's blit and clear shaders write the instance there):
+/// the replay renders one layer, so the output becomes private and `ShaderLayer` goes; the
+/// module passes spirv-val and naga.
+#[test]
+fn a_layer_output_becomes_private() {
+    let mut b = Builder::new();
+    b.set_version(1, 5);
+    b.capability(Capability::Shader);
+    b.capability(Capability::ShaderLayer);
+    b.memory_model(AddressingModel::Logical, MemoryModel::GLSL450);
+    let void = b.type_void();
+    let fn_ty = b.type_function(void, []);
+    let int = b.type_int(32, 1);
+    let float = b.type_float(32, None);
+    let vec4 = b.type_vector(float, 4);
+    let zero = b.constant_bit32(int, 0);
+    let fzero = b.constant_bit32(float, 0);
+    let origin = b.constant_composite(vec4, [fzero, fzero, fzero, fzero]);
+    let int_out = b.type_pointer(None, StorageClass::Output, int);
+    let layer = b.variable(int_out, None, StorageClass::Output, None);
+    b.decorate(
+        layer,
+        Decoration::BuiltIn,
+        [Operand::BuiltIn(rspirv::spirv::BuiltIn::Layer)],
+    );
+    let vec_out = b.type_pointer(None, StorageClass::Output, vec4);
+    let position = b.variable(vec_out, None, StorageClass::Output, None);
+    b.decorate(
+        position,
+        Decoration::BuiltIn,
+        [Operand::BuiltIn(rspirv::spirv::BuiltIn::Position)],
+    );
+    let f = b
+        .begin_function(void, None, FunctionControl::NONE, fn_ty)
+        .unwrap();
+    b.begin_block(None).unwrap();
+    b.store(position, origin, None, []).unwrap();
+    b.store(layer, zero, None, []).unwrap();
+    b.ret().unwrap();
+    b.end_function().unwrap();
+    b.entry_point(ExecutionModel::Vertex, f, "main", [layer, position]);
+    let out = rewrite(
+        &b.module().assemble(),
+        ExecutionModel::Vertex,
+        "main",
+        &opts(false),
+    )
+    .unwrap();
+    let m = load(&out);
+    assert!(!capabilities(&m).contains(&Capability::ShaderLayer));
+    assert!(
+        !m.annotations
+            .iter()
+            .any(|a| a.operands.get(2) == Some(&Operand::BuiltIn(rspirv::spirv::BuiltIn::Layer)))
+    );
+    assert!(storage_class_of_variables(&m).contains(&StorageClass::Private));
+    super::validators::spirv_val(&out, "layer").unwrap();
+    super::validators::naga_accepts(&out).unwrap();
+}
