@@ -436,3 +436,13 @@ pub(super) fn first_free_id(module: &Module) -> Option<Word> {
     }
     max.checked_add(1)
 }
+
+/// The result type of every value the module's functions compute, by id.
+pub(super) fn result_types(module: &Module) -> HashMap<Word, Word> {
+    module
+        .functions
+        .iter()
+        .flat_map(|f| f.all_inst_iter())
+        .filter_map(|i| Some((i.result_id?, i.result_type?)))
+        .collect()
+}

@@ -53,7 +53,7 @@ pub fn uniform_blocks_beyond_std140(words: &[u32]) -> Vec<BeyondStd140> {
             continue;
         };
         let Some(id) = var.result_id else { continue };
-        let widened_end = super::std140::plan(&loaded.module, id)
+        let widened_end = super::std140::plan(&loaded, id)
             .ok()
             .flatten()
             .filter(|w| {

@@ -29,15 +29,7 @@ pub(super) fn unattached_private(
     if model != ExecutionModel::Fragment {
         return Ok(());
     }
-    let outputs: Vec<Word> = module
-        .types_global_values
-        .iter()
-        .filter(|i| {
-            i.class.opcode == Op::Variable
-                && i.operands.first() == Some(&Operand::StorageClass(StorageClass::Output))
-        })
-        .filter_map(|i| i.result_id)
-        .collect();
+    let outputs = output_variables(module);
     let mut unattached: Vec<Word> = module
         .annotations
         .iter()
@@ -78,13 +70,7 @@ pub(super) fn unattached_private(
             ), ..] if unattached.contains(t)
         )
     });
-    let version = module.header.as_ref().map_or(0, |h| h.version);
-    if version < INTERFACE_LISTS_ALL {
-        for e in &mut module.entry_points {
-            e.operands
-                .retain(|o| !matches!(o, Operand::IdRef(v) if unattached.contains(v)));
-        }
-    }
+    leave_interfaces(module, &unattached);
     Ok(())
 }
 
@@ -92,15 +78,7 @@ pub(super) fn unattached_private(
 /// capabilities that declared them (`ShaderLayer`, `ShaderViewportIndex`,
 /// `ShaderViewportIndexLayerEXT`) once nothing else is decorated so.
 pub(super) fn layer_outputs_private(module: &mut Module) -> Result<(), SpirvError> {
-    let outputs: Vec<Word> = module
-        .types_global_values
-        .iter()
-        .filter(|i| {
-            i.class.opcode == Op::Variable
-                && i.operands.first() == Some(&Operand::StorageClass(StorageClass::Output))
-        })
-        .filter_map(|i| i.result_id)
-        .collect();
+    let outputs = output_variables(module);
     let layered =
         |o: &Operand| matches!(o, Operand::BuiltIn(BuiltIn::Layer | BuiltIn::ViewportIndex));
     let mut vars: Vec<Word> = module
@@ -129,13 +107,7 @@ pub(super) fn layer_outputs_private(module: &mut Module) -> Result<(), SpirvErro
     module
         .annotations
         .retain(|i| !matches!(i.operands.as_slice(), [Operand::IdRef(t), ..] if vars.contains(t)));
-    let version = module.header.as_ref().map_or(0, |h| h.version);
-    if version < INTERFACE_LISTS_ALL {
-        for e in &mut module.entry_points {
-            e.operands
-                .retain(|o| !matches!(o, Operand::IdRef(v) if vars.contains(v)));
-        }
-    }
+    leave_interfaces(module, &vars);
     let still = module
         .annotations
         .iter()
@@ -153,4 +125,29 @@ pub(super) fn layer_outputs_private(module: &mut Module) -> Result<(), SpirvErro
         });
     }
     Ok(())
+}
+
+/// The module's output variables.
+fn output_variables(module: &Module) -> Vec<Word> {
+    module
+        .types_global_values
+        .iter()
+        .filter(|i| {
+            i.class.opcode == Op::Variable
+                && i.operands.first() == Some(&Operand::StorageClass(StorageClass::Output))
+        })
+        .filter_map(|i| i.result_id)
+        .collect()
+}
+
+/// Takes `vars`, no longer outputs, off the entry points' interfaces where the module's SPIR-V
+/// version lists only inputs and outputs there (before 1.4).
+fn leave_interfaces(module: &mut Module, vars: &[Word]) {
+    let version = module.header.as_ref().map_or(0, |h| h.version);
+    if version < INTERFACE_LISTS_ALL {
+        for e in &mut module.entry_points {
+            e.operands
+                .retain(|o| !matches!(o, Operand::IdRef(v) if vars.contains(v)));
+        }
+    }
 }

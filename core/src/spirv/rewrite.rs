@@ -39,7 +39,7 @@ pub fn rewrite(
     super::swizzle::apply_swizzles(&mut loaded.module, opts.swizzles)?;
     super::demote::demote_as_kill(&mut loaded.module)?;
     super::memory_model::as_glsl450(&mut loaded.module)?;
-    super::std140::widen_uniform_blocks(&mut loaded.module, opts.std140_blocks)?;
+    super::std140::widen_uniform_blocks(&mut loaded, opts.std140_blocks)?;
     super::storage::uniform_as_storage(&mut loaded.module, opts.storage_blocks)?;
     super::outputs::layer_outputs_private(&mut loaded.module)?;
     if let Some(attached) = opts.attached_outputs {

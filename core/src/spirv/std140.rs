@@ -22,7 +22,7 @@ use rspirv::spirv::{Decoration, Op, StorageClass, Word};
 
 use super::SpirvError;
 use super::carry::variables_at;
-use super::index::{first_free_id, id_ref, literal};
+use super::index::{Index, Loaded, first_free_id, id_ref, literal};
 use super::ops::{Ids, inst, int32, type_id, vector};
 
 /// How a uniform block variable is widened.
@@ -35,6 +35,8 @@ pub(super) struct Widening {
     members: Vec<(u32, Word, u32)>,
     /// Where the widened members end, in bytes from the block's start.
     pub(super) end: u64,
+    /// Every pointer into the variable that the widening retypes, with where it points.
+    pointers: HashMap<Word, At>,
 }
 
 impl Widening {
@@ -54,88 +56,45 @@ enum At {
     Array(u32),
 }
 
-struct Globals<'m> {
-    defs: HashMap<Word, &'m Instruction>,
+/// A global's opcode and operands.
+fn op<'m>(index: &Index<'m>, id: Word) -> Option<(Op, &'m [Operand])> {
+    index
+        .globals
+        .get(&id)
+        .map(|i| (i.class.opcode, i.operands.as_slice()))
 }
 
-impl<'m> Globals<'m> {
-    fn new(module: &'m Module) -> Self {
-        Self {
-            defs: module
-                .types_global_values
-                .iter()
-                .filter_map(|i| Some((i.result_id?, i)))
-                .collect(),
-        }
+/// The value of a 32-bit integer constant.
+fn constant_value(index: &Index, id: Word) -> Option<u32> {
+    match op(index, id)? {
+        (Op::Constant, ops) => literal(ops.first()),
+        _ => None,
     }
-
-    fn op(&self, id: Word) -> Option<(Op, &'m [Operand])> {
-        self.defs
-            .get(&id)
-            .map(|i| (i.class.opcode, i.operands.as_slice()))
-    }
-
-    /// The value of a 32-bit integer constant.
-    fn constant(&self, id: Word) -> Option<u32> {
-        match self.op(id)? {
-            (Op::Constant, ops) => literal(ops.first()),
-            _ => None,
-        }
-    }
-}
-
-fn decorations(module: &Module, id: Word, d: Decoration) -> Option<u32> {
-    module
-        .annotations
-        .iter()
-        .find_map(|i| match i.operands.as_slice() {
-            [
-                Operand::IdRef(t),
-                Operand::Decoration(x),
-                Operand::LiteralBit32(v),
-                ..,
-            ] if *t == id && *x == d => Some(*v),
-            _ => None,
-        })
-}
-
-fn member_offset(module: &Module, ty: Word, member: u32) -> Option<u32> {
-    module
-        .annotations
-        .iter()
-        .find_map(|i| match i.operands.as_slice() {
-            [
-                Operand::IdRef(t),
-                Operand::LiteralBit32(m),
-                Operand::Decoration(Decoration::Offset),
-                Operand::LiteralBit32(v),
-            ] if *t == ty && *m == member => Some(*v),
-            _ => None,
-        })
 }
 
 /// How the uniform block variable `var` would be widened (`None`: it has no array to widen),
 /// or why it cannot be (an array that would overlap the next member, a pointer used otherwise
 /// than by access chains to elements).
-pub(super) fn plan(module: &Module, var: Word) -> Result<Option<Widening>, String> {
-    let g = Globals::new(module);
+pub(super) fn plan(loaded: &Loaded, var: Word) -> Result<Option<Widening>, String> {
+    let index = Index::new(loaded);
+    let g = &index;
     let ptr = g
-        .defs
+        .globals
         .get(&var)
         .and_then(|v| v.result_type)
         .ok_or("not a variable")?;
     let Some((Op::TypePointer, [Operand::StorageClass(StorageClass::Uniform), pointee])) =
-        g.op(ptr)
+        op(g, ptr)
     else {
         return Err("not a uniform variable".into());
     };
     let mut block = id_ref(Some(pointee)).ok_or("no pointee")?;
     let mut outer = None;
-    if let Some((Op::TypeArray, [Operand::IdRef(element), Operand::IdRef(len)])) = g.op(block) {
+    if let Some((Op::TypeArray, [Operand::IdRef(element), Operand::IdRef(len)])) = op(g, block) {
         outer = Some(*len);
         block = *element;
     }
-    let Some((Op::TypeStruct, members)) = g.op(block) else {
+    let Some((Op::TypeStruct, members)) = op(g, block) else {
         return Err("not a block".into());
     };
     let mut widen = Vec::new();
@@ -143,21 +102,23 @@ pub(super) fn plan(module: &Module, var: Word) -> Result<Option<Widening>, Strin
     for (m, ty) in members.iter().enumerate() {
         let m = u32::try_from(m).map_err(|_| "too many members")?;
         let ty = id_ref(Some(ty)).ok_or("a member with no type")?;
-        let offset = member_offset(module, block, m).ok_or("a member with no offset")?;
+        let offset = g
+            .member_decoration(block, m, Decoration::Offset)
+            .and_then(|ops| literal(ops.first()))
+            .ok_or("a member with no offset")?;
         offsets.push(offset);
-        let Some((Op::TypeArray, [Operand::IdRef(element), Operand::IdRef(len)])) = g.op(ty) else {
+        let Some((Op::TypeArray, [Operand::IdRef(element), Operand::IdRef(len)])) = op(g, ty)
+        else {
             continue;
         };
         let scalar32 = matches!(
-            g.op(*element),
+            op(g, *element),
             Some((Op::TypeInt | Op::TypeFloat, [Operand::LiteralBit32(32), ..]))
         );
-        if !scalar32 || decorations(module, ty, Decoration::ArrayStride) != Some(4) {
+        if !scalar32 || g.decoration_literal(ty, Decoration::ArrayStride) != Some(4) {
             continue;
         }
-        let n = g
-            .constant(*len)
-            .ok_or("an array whose length is not a constant")?;
+        let n = constant_value(g, *len).ok_or("an array whose length is not a constant")?;
         if offset % 16 != 0 {
             return Err(format!("an array at offset {offset}, not on 16 bytes"));
         }
@@ -181,13 +142,14 @@ pub(super) fn plan(module: &Module, var: Word) -> Result<Option<Widening>, Strin
         }
         end = end.max(stop);
     }
-    let w = Widening {
+    let mut w = Widening {
         outer,
         block,
         members: widen,
         end,
+        pointers: HashMap::new(),
     };
-    pointers(module, var, &w, &g)?;
+    w.pointers = pointers(&loaded.module, var, &w, g)?;
     Ok(Some(w))
 }
 
@@ -197,7 +159,7 @@ fn pointers(
     module: &Module,
     var: Word,
     w: &Widening,
-    g: &Globals,
+    g: &Index,
 ) -> Result<HashMap<Word, At>, String> {
     let mut at: HashMap<Word, At> = HashMap::from([(var, At::Root)]);
     // Blocks are laid out with each after its dominators, so a pointer is defined before
@@ -236,14 +198,14 @@ fn pointers(
 
 /// Where an access chain from `start` through `indices` ends: `None` past the widened part
 /// (an element, or a member left as it is).
-fn walk(start: At, indices: &[Operand], w: &Widening, g: &Globals) -> Result<Option<At>, String> {
+fn walk(start: At, indices: &[Operand], w: &Widening, g: &Index) -> Result<Option<At>, String> {
     let mut at = Some(start);
     for index in indices {
         at = match at {
             Some(At::Root) if w.outer.is_some() => Some(At::Block),
             Some(At::Root | At::Block) => {
                 let m = id_ref(Some(index))
-                    .and_then(|i| g.constant(i))
+                    .and_then(|i| constant_value(g, i))
                     .ok_or("a struct member chosen by a value that is not a constant")?;
                 w.members().any(|x| x == m).then_some(At::Array(m))
             }
@@ -258,13 +220,15 @@ fn walk(start: At, indices: &[Operand], w: &Widening, g: &Globals) -> Result<Opt
 /// Widens the uniform blocks at each (set, binding) of `blocks`; an error where one cannot be
 /// (the lowering asks only for blocks `plan` accepted).
 pub(super) fn widen_uniform_blocks(
-    module: &mut Module,
+    loaded: &mut Loaded,
     blocks: &[(u32, u32)],
 ) -> Result<(), SpirvError> {
     if blocks.is_empty() {
         return Ok(());
     }
-    let at = variables_at(module, |s, b| blocks.contains(&(s, b)).then_some((s, b)));
+    let at = variables_at(&loaded.module, |s, b| {
+        blocks.contains(&(s, b)).then_some((s, b))
+    });
     let mut vars: Vec<(Word, (u32, u32))> = at.into_iter().collect();
     vars.sort_unstable();
     for (var, (set, binding)) in vars {
@@ -273,24 +237,17 @@ pub(super) fn widen_uniform_blocks(
             detail: format!("the uniform block at set {set} binding {binding}: {detail}"),
         };
         // Another stage's module may hold the block as std140 already.
-        let Some(w) = plan(module, var).map_err(refuse)? else {
+        let Some(w) = plan(loaded, var).map_err(refuse)? else {
             continue;
         };
-        let g = Globals::new(module);
-        let at = pointers(module, var, &w, &g).map_err(refuse)?;
-        drop(g);
-        apply(module, var, &w, &at)?;
+        apply(&mut loaded.module, var, &w)?;
     }
     Ok(())
 }
 
 /// Adds the widened types and retypes the variable and every chain into it.
-fn apply(
-    module: &mut Module,
-    var: Word,
-    w: &Widening,
-    at: &HashMap<Word, At>,
-) -> Result<(), SpirvError> {
+fn apply(module: &mut Module, var: Word, w: &Widening) -> Result<(), SpirvError> {
+    let at = &w.pointers;
     let mut ids = Ids {
         next: first_free_id(module).ok_or(SpirvError::IdsExhausted { bound: u32::MAX })?,
     };
@@ -407,12 +364,7 @@ fn apply(
             Some((i.result_id?, (i.result_type, value)))
         })
         .collect();
-    let local_types: HashMap<Word, Word> = module
-        .functions
-        .iter()
-        .flat_map(|f| f.all_inst_iter())
-        .filter_map(|i| Some((i.result_id?, i.result_type?)))
-        .collect();
+    let local_types = super::index::result_types(module);
     let mut functions = std::mem::take(&mut module.functions);
     for f in &mut functions {
         for b in &mut f.blocks {

@@ -130,12 +130,7 @@ pub(super) fn subpass_as_texture(module: &mut Module) -> Result<(), SpirvError> 
             (replaced[&t], multisampled)
         })
         .collect();
-    let image_type_of: HashMap<Word, Word> = module
-        .functions
-        .iter()
-        .flat_map(|f| f.all_inst_iter())
-        .filter_map(|i| Some((i.result_id?, i.result_type?)))
-        .collect();
+    let image_type_of = super::index::result_types(module);
     for f in &mut module.functions {
         for b in &mut f.blocks {
             let mut out = Vec::with_capacity(b.instructions.len());

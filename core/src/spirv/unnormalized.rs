@@ -72,12 +72,7 @@ pub(super) fn normalize_coordinates(
         .iter()
         .filter_map(|i| Some((i.result_id?, i.clone())))
         .collect();
-    let types: HashMap<Word, Word> = module
-        .functions
-        .iter()
-        .flat_map(|f| f.all_inst_iter())
-        .filter_map(|i| Some((i.result_id?, i.result_type?)))
-        .collect();
+    let types = super::index::result_types(module);
     let mut ids = Ids {
         next: first_free_id(module).ok_or(SpirvError::IdsExhausted { bound: u32::MAX })?,
     };
