@@ -97,7 +97,12 @@ fn real_frames_replay_to_the_image_they_presented() {
 fn real_frames_are_clean_under_the_validation_layer() {
     let dir = temp("validation-layer");
     let mut captures = REPLAYED.to_vec();
-    captures.extend(["template_compute", "write_after_read"]);
+    captures.extend([
+        "template_compute",
+        "write_after_read",
+        "ffmpeg_chain",
+        "ffmpeg_overlay",
+    ]);
     crate::common::replays_clean_under_validation_layer(&dir, &captures, import);
 }
 
@@ -143,6 +148,53 @@ fn frames_bound_through_update_templates_compute_what_the_program_did() {
             wrong, 0,
             "{file}: {wrong} of 256 texels differ from the shader's result"
         );
+    }
+}
+
+/// FFmpeg 5.1's Vulkan filters (compute, no swapchain; each capture holds two video frames): each keeps a descriptor array of one image per plane and indexes it
+/// with constants, through a function's parameter (gblur by value, chromaber through a
+/// pointer) or from a loop over the planes (overlay), which the replay splits into one binding
+/// per plane. The planes of the second video frame are, byte for byte, the ones FFmpeg itself
+/// wrote out (`-f rawvideo`, the reference PNGs).
+#[test]
+fn media_filters_write_the_planes_ffmpeg_wrote() {
+    for (name, planes) in [
+        (
+            "ffmpeg_chain",
+            [("image_235", "y"), ("image_237", "u"), ("image_239", "v")],
+        ),
+        (
+            "ffmpeg_overlay",
+            [("image_147", "y"), ("image_149", "u"), ("image_151", "v")],
+        ),
+    ] {
+        let dir = temp(name);
+        let capture = import(name, &dir);
+        let out = dir.join("out");
+        let m = crate::common::replay_one_frame(&capture, &out);
+        for (resource, plane) in planes {
+            let file = m["files"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|f| f["resource"] == resource)
+                .and_then(|f| f["file"].as_str())
+                .unwrap_or_else(|| panic!("{name}: {resource} not exported"));
+            let ours = image::open(out.join(file)).unwrap().to_rgba8();
+            let theirs = image::open(gfxr_fixture(&format!("{name}.ref.{plane}.png")))
+                .unwrap()
+                .to_luma8();
+            assert_eq!(ours.dimensions(), theirs.dimensions(), "{name} {plane}");
+            let differing = ours
+                .pixels()
+                .zip(theirs.pixels())
+                .filter(|(a, b)| a.0[0] != b.0[0])
+                .count();
+            assert_eq!(
+                differing, 0,
+                "{name}: {differing} texels of plane {plane} differ"
+            );
+        }
     }
 }
 

@@ -7,11 +7,14 @@
 //! renumbered, gl_Position's y negated for wgpu's flipped viewport). `usage` says which
 //! bindings the code reads and writes, for the synchronization check.
 
+mod arrays;
 mod bias;
 mod carry;
 mod demote;
+mod dispatch;
 mod entry;
 mod index;
+mod index_params;
 mod indexing;
 mod layout;
 mod memory_model;
@@ -37,6 +40,7 @@ use std::fmt;
 
 use rspirv::spirv::{Capability, Dim, ExecutionModel, ImageFormat};
 
+pub use arrays::{binding_element, element_binding, split_descriptor_arrays};
 pub use layout::{BeyondStd140, uniform_blocks_beyond_std140};
 pub use reflect::reflect;
 pub use rewrite::rewrite;

@@ -37,6 +37,17 @@ pub(super) struct Bound {
     /// The samplers that take unnormalized coordinates (`spirv::RewriteOptions::unnormalized`):
     /// wgpu's take normalized ones, so the rewrite divides each sample's coordinate.
     pub unnormalized: Vec<(u32, u32)>,
+    /// The wgpu binding (before the doubling that makes room for split samplers) of each
+    /// element past the first of a split descriptor array, by (set, binding the split gave):
+    /// numbered on past the set layout's highest binding, in order.
+    pub elements: BTreeMap<(u32, u32), u32>,
+}
+
+/// The number that stands for Vulkan binding `b` of `set` in wgpu's bindings (doubled, and
+/// one more for a split sampler): itself, or where `b` is an element of a split descriptor
+/// array past the first, its number in `elements`.
+pub(super) fn wgpu_base(elements: &BTreeMap<(u32, u32), u32>, set: u32, b: u32) -> u32 {
+    elements.get(&(set, b)).copied().unwrap_or(b)
 }
 
 /// The SPIR-V image format a texel buffer view of `VK_FORMAT_*` reads in, where the rewrite
@@ -77,17 +88,14 @@ impl<'c> Lowering<'c> {
     ) -> Result<&crate::spirv::Reflection, Fail> {
         let key = (m, entry.to_owned());
         if !self.vk.reflections.contains_key(&key) {
-            let model = self.vk_model()?;
-            let module = &model.modules[m];
-            let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
-                module: module.name.clone(),
-            })?;
+            let words = self.vk_words(m)?;
+            let name = &self.vk_model()?.modules[m].name;
             let spirv = |error| VkProblem::Spirv {
-                shader: module.name.clone(),
+                shader: name.clone(),
                 error,
             };
-            let mut r = crate::spirv::reflect(words).map_err(spirv)?;
-            let usages = crate::spirv::usage_by_entry(words).map_err(spirv)?;
+            let mut r = crate::spirv::reflect(&words).map_err(spirv)?;
+            let usages = crate::spirv::usage_by_entry(&words).map_err(spirv)?;
             // A descriptor the entry point's code never names is no binding of the draw's:
             // Vulkan lets the set hold anything there, and the rewrite removes the variable.
             if let Some(usages) = usages.get(entry) {
@@ -97,6 +105,30 @@ impl<'c> Lowering<'c> {
             self.vk.reflections.insert(key.clone(), r);
         }
         Ok(&self.vk.reflections[&key])
+    }
+
+    /// Module `m`'s words as the lowering reads them: with its descriptor arrays split into
+    /// one variable per element (`spirv::arrays`), each element's binding made by
+    /// `spirv::element_binding`.
+    pub(super) fn vk_words(&mut self, m: usize) -> Result<std::sync::Arc<Vec<u32>>, Fail> {
+        let model = self.vk_model()?;
+        let module = &model.modules[m];
+        let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
+            module: module.name.clone(),
+        })?;
+        let split = match self.vk.split_words.entry(m) {
+            std::collections::btree_map::Entry::Occupied(e) => e.get().clone(),
+            std::collections::btree_map::Entry::Vacant(e) => {
+                let split = crate::spirv::split_descriptor_arrays(words).map_err(|error| {
+                    VkProblem::Spirv {
+                        shader: module.name.clone(),
+                        error,
+                    }
+                })?;
+                e.insert(split.map(std::sync::Arc::new)).clone()
+            }
+        };
+        Ok(split.unwrap_or_else(|| words.clone()))
     }
 
     pub(super) fn vk_groups(
@@ -154,13 +186,16 @@ impl<'c> Lowering<'c> {
         let mut swizzles = Vec::new();
         let mut storage_blocks = Vec::new();
         let mut std140_blocks = Vec::new();
-        for (&(set, binding), u) in used.iter_mut() {
+        let mut elements = BTreeMap::new();
+        for (&(set, split_binding), u) in used.iter_mut() {
+            // An element of a split array (`spirv::arrays`) is that array's descriptor there.
+            let (binding, element) = crate::spirv::binding_element(split_binding);
             // One stage that cannot widen the block makes it a storage buffer for all.
             u.widen &= !u.as_storage;
             if u.as_storage {
-                storage_blocks.push((set, binding));
+                storage_blocks.push((set, split_binding));
             } else if u.widen {
-                std140_blocks.push((set, binding));
+                std140_blocks.push((set, split_binding));
             }
             let lb = layout
                 .sets
@@ -168,7 +203,7 @@ impl<'c> Lowering<'c> {
                 .map(|&s| &model.set_layouts[s])
                 .and_then(|l| {
                     let i = l.bindings.iter().position(|b| b.binding == binding)?;
-                    Some((&l.bindings[i], l.immutable[i].first().copied()))
+                    Some((&l.bindings[i], l.immutable[i].get(element as usize).copied()))
                 })
                 .ok_or_else(|| {
                     VkProblem::Missing(format!(
@@ -179,20 +214,47 @@ impl<'c> Lowering<'c> {
             if u.var.count.is_some_and(|n| n != 1) {
                 return Err(VkProblem::Unsupported {
                     feature: format!(
-                        "a descriptor array (set {set} binding {binding}) in shader {}",
+                        "a descriptor array of unbounded length (set {set} binding {binding}) in shader {}",
                         u.shader
                     ),
                 }
                 .into());
             }
+            if element >= lb.0.count {
+                return Err(VkProblem::Missing(format!(
+                    "shader {} uses element {element} of set {set} binding {binding}, which the set layout gives {} descriptors",
+                    u.shader, lb.0.count
+                ))
+                .into());
+            }
+            let base = if element == 0 {
+                binding
+            } else {
+                let highest = layout
+                    .sets
+                    .get(set as usize)
+                    .and_then(|&s| {
+                        model.set_layouts[s]
+                            .bindings
+                            .iter()
+                            .map(|b| b.binding)
+                            .max()
+                    })
+                    .unwrap_or(0);
+                let before = elements.range((set, 0)..(set, split_binding)).count() as u32;
+                let base = highest + 1 + before;
+                elements.insert((set, split_binding), base);
+                base
+            };
+            let at = |d: &&VkBound| d.set == set && d.binding == binding && d.element == element;
             if matches!(u.var.kind, ResourceKind::UniformTexelBuffer) {
                 let view = work
                     .descriptors
                     .iter()
-                    .find(|d| d.set == set && d.binding == binding && d.element == 0)
+                    .find(at)
                     .and_then(|d| d.format.as_deref());
                 match view.and_then(texel_format) {
-                    Some(f) => texel_formats.push((set, binding, f)),
+                    Some(f) => texel_formats.push((set, split_binding, f)),
                     None => {
                         return Err(VkProblem::Unsupported {
                             feature: format!(
@@ -219,24 +281,20 @@ impl<'c> Lowering<'c> {
                     .into());
                 }
             }
-            let (entries, bias) = self.vk_entries(p, work, (set, binding), u, lb)?;
+            let d = work.descriptors.iter().find(at);
+            let (entries, bias) = self.vk_entries(p, d, (set, binding, base), u, lb)?;
             if let Some(bias) = bias {
-                lod_bias.push((set, binding, bias.to_bits()));
+                lod_bias.push((set, split_binding, bias.to_bits()));
             }
-            let sampler = work
-                .descriptors
-                .iter()
-                .find(|d| d.set == set && d.binding == binding && d.element == 0)
-                .and_then(|d| d.sampler)
-                .or(lb.1);
+            let sampler = d.and_then(|d| d.sampler).or(lb.1);
             let samples = entries
                 .iter()
                 .any(|(_, r)| matches!(r, VkResource::Sampler(_)));
             if samples && sampler.is_some_and(|s| model.samplers[s].unnormalized_coordinates) {
-                unnormalized.push((set, binding));
+                unnormalized.push((set, split_binding));
             }
-            if let Some(sw) = sampled_swizzle(model, work, (set, binding), &lb.0.descriptor_type) {
-                swizzles.push((set, binding, sw));
+            if let Some(sw) = sampled_swizzle(model, d, &lb.0.descriptor_type) {
+                swizzles.push((set, split_binding, sw));
             }
             per_set.entry(set).or_default().extend(entries);
         }
@@ -276,6 +334,7 @@ impl<'c> Lowering<'c> {
                 storage_blocks,
                 std140_blocks,
                 unnormalized,
+                elements,
             },
         ))
     }
@@ -283,12 +342,8 @@ impl<'c> Lowering<'c> {
     /// The uniform blocks of module `m` laid out past std140, found once.
     fn vk_beyond_std140(&mut self, m: usize) -> Result<Vec<crate::spirv::BeyondStd140>, Fail> {
         if !self.vk.beyond_std140.contains_key(&m) {
-            let model = self.vk_model()?;
-            let module = &model.modules[m];
-            let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
-                module: module.name.clone(),
-            })?;
-            let found = crate::spirv::uniform_blocks_beyond_std140(words);
+            let words = self.vk_words(m)?;
+            let found = crate::spirv::uniform_blocks_beyond_std140(&words);
             self.vk.beyond_std140.insert(m, found);
         }
         Ok(self.vk.beyond_std140[&m].clone())
@@ -299,8 +354,8 @@ impl<'c> Lowering<'c> {
     fn vk_entries(
         &mut self,
         p: &PassDesc,
-        work: &VkWork,
-        (set, binding): (u32, u32),
+        d: Option<&VkBound>,
+        (set, binding, base): (u32, u32, u32),
         u: &Used,
         (lb, immutable): (&crate::capture::format::LayoutBinding, Option<usize>),
     ) -> Result<(Vec<Entry>, Option<f32>), Fail> {
@@ -309,10 +364,6 @@ impl<'c> Lowering<'c> {
             .descriptor_type
             .strip_prefix("VK_DESCRIPTOR_TYPE_")
             .unwrap_or(&lb.descriptor_type);
-        let d = work
-            .descriptors
-            .iter()
-            .find(|d| d.set == set && d.binding == binding && d.element == 0);
         let missing = || {
             VkProblem::Missing(format!(
                 "shader {} uses set {set} binding {binding} ({ty}), and the draw has nothing bound there",
@@ -325,7 +376,7 @@ impl<'c> Lowering<'c> {
             ty,
             count: None,
         };
-        let wb = binding * 2;
+        let wb = base * 2;
         let entries = match ty {
             "UNIFORM_BUFFER"
             | "UNIFORM_BUFFER_DYNAMIC"
@@ -592,21 +643,13 @@ impl<'c> Lowering<'c> {
     }
 }
 
-/// The swizzle of the view a draw samples at (set, binding), where not the identity, as
+/// The swizzle of the view descriptor `d` samples, where not the identity, as
 /// `spirv::RewriteOptions::swizzles` codes.
-fn sampled_swizzle(
-    model: &VkModel,
-    work: &VkWork,
-    (set, binding): (u32, u32),
-    descriptor_type: &str,
-) -> Option<[u8; 4]> {
+fn sampled_swizzle(model: &VkModel, d: Option<&VkBound>, descriptor_type: &str) -> Option<[u8; 4]> {
     if !descriptor_type.ends_with("SAMPLED_IMAGE") && !ty_is_combined(descriptor_type) {
         return None;
     }
-    let d = work
-        .descriptors
-        .iter()
-        .find(|d| d.set == set && d.binding == binding && d.element == 0)?;
+    let d = d?;
     let sw = model.views[d.view?].swizzle?;
     Some(sw.map(|c| match c {
         Component::R => 0,

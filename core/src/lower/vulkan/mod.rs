@@ -60,6 +60,9 @@ pub(super) struct VkLowering {
     written: Option<provoking::Written>,
     /// Each shader module's uniform blocks laid out past std140 (by module index).
     beyond_std140: BTreeMap<usize, Vec<crate::spirv::BeyondStd140>>,
+    /// Each shader module's words with its descriptor arrays split (`spirv::arrays`), where
+    /// it has any (by module index).
+    split_words: BTreeMap<usize, Option<std::sync::Arc<Vec<u32>>>>,
 }
 
 #[derive(Clone, PartialEq, Eq, Hash)]

@@ -43,7 +43,7 @@ pub(super) struct ShaderKey {
     outputs: Option<u32>,
 }
 
-/// wgpu's binding for Vulkan binding `b` in the role asked.
+/// wgpu's binding for the number `b` stands for (`bindings::wgpu_base`) in the role asked.
 fn wgpu_binding(b: u32, role: Role) -> u32 {
     match role {
         Role::Whole | Role::SplitImage => b * 2,
@@ -130,21 +130,20 @@ impl<'c> Lowering<'c> {
                 )))
                 })
                 .collect::<Result<_, _>>()?;
-        let words = module.words.as_ref().ok_or_else(|| VkProblem::NoCode {
-            module: module.name.clone(),
-        })?;
         let flip = flip && wgpu_stage == wgpu::ShaderStages::VERTEX;
         let gl_depth = gl_depth && wgpu_stage == wgpu::ShaderStages::VERTEX;
+        let base = |set: u32, b: u32| super::bindings::wgpu_base(&bound.elements, set, b);
         let used = |set: u32, b: u32, role: Role| -> Option<u32> {
-            let w = wgpu_binding(b, role);
+            let w = wgpu_binding(base(set, b), role);
             sets.get(&set)?.contains(&w).then_some(w)
         };
         let spirv_error = |error| VkProblem::Spirv {
             shader: name.clone(),
             error,
         };
+        let words = self.vk_words(stage.module)?;
         let naga_words = crate::spirv::rewrite(
-            words,
+            &words,
             execution_model,
             &stage.entry,
             &RewriteOptions {
@@ -163,14 +162,14 @@ impl<'c> Lowering<'c> {
         )
         .map_err(spirv_error)?;
         let rank = |set: u32, b: u32, role: Role| -> Option<u32> {
-            let w = wgpu_binding(b, role);
+            let w = wgpu_binding(base(set, b), role);
             sets.get(&set)?
                 .iter()
                 .position(|&x| x == w)
                 .map(|r| r as u32)
         };
         let passthrough = crate::spirv::rewrite(
-            words,
+            &words,
             execution_model,
             &stage.entry,
             &RewriteOptions {

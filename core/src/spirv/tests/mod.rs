@@ -302,6 +302,7 @@ fn geometry_module() -> Vec<u32> {
     b.module().assemble()
 }
 
+mod arrays;
 mod demote;
 mod errors;
 /// mpv's upload shader: its R8 storage texel buffer becomes a read-only storage buffer of
