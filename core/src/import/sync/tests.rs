@@ -326,3 +326,41 @@ fn a_host_wait_on_queue_work_does_not_retire_an_acquire() {
         [HazardKind::WriteAfterRead]
     );
 }
+
+/// FFmpeg's filters: a compute write in one submission, then a submission that waits on the
+/// timeline semaphore the first signalled, at `TOP_OF_PIPE` (in a second scope: all
+/// commands), and transitions the image from `TOP_OF_PIPE`. Everything the waiting batch
+/// records follows the wait, its layout transitions included, so the transition is ordered
+/// after the write; without the wait it is a write after write.
+#[test]
+fn a_timeline_wait_orders_the_layout_transitions_after_it() {
+    let transition_after = |wait: bool| {
+        let mut sync = Sync::new(true);
+        let key = Key::Image {
+            image: 1,
+            mip: 0,
+            layer: 0,
+        };
+        let mut st = State::default();
+        st.write(acc(S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE), 1, 7);
+        sync.states.insert(key, st);
+        sync.signalled.insert(9, vec![(Some(2), 1)]);
+        if wait {
+            sync.semaphore_wait(9, S::TOP_OF_PIPE, Some(2));
+        }
+        let from_top = Dep {
+            src: earlier(S::TOP_OF_PIPE),
+            src_access: A::EMPTY,
+            dst: later(S::TRANSFER),
+            dst_access: A::TRANSFER_READ,
+        };
+        let transition = Access::event(&Origin::none("barrier"), What::Text("transition"));
+        let st = sync.states.get_mut(&key).unwrap();
+        st.transition(&from_top, transition, 2, 7)
+            .iter()
+            .map(|h| h.0)
+            .collect::<Vec<_>>()
+    };
+    assert!(transition_after(true).is_empty());
+    assert_eq!(transition_after(false), [HazardKind::WriteAfterWrite]);
+}
