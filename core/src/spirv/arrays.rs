@@ -309,8 +309,10 @@ fn declare_elements(
         {
             let mut d = d.clone();
             d.operands[0] = Operand::IdRef(var);
-            if d.operands.get(1) == Some(&Operand::Decoration(Decoration::Binding)) {
-                d.operands[2] = Operand::LiteralBit32(element_binding(a.binding, k));
+            if d.operands.get(1) == Some(&Operand::Decoration(Decoration::Binding))
+                && let Some(b) = d.operands.get_mut(2)
+            {
+                *b = Operand::LiteralBit32(element_binding(a.binding, k));
             }
             annotations.push(d);
         }

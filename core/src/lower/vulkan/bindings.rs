@@ -242,7 +242,15 @@ impl<'c> Lowering<'c> {
                     })
                     .unwrap_or(0);
                 let before = elements.range((set, 0)..(set, split_binding)).count() as u32;
-                let base = highest + 1 + before;
+                let base = highest
+                    .checked_add(1 + before)
+                    .filter(|b| b.checked_mul(2).is_some_and(|w| w < u32::MAX))
+                    .ok_or_else(|| VkProblem::Unsupported {
+                        feature: format!(
+                            "element {element} of set {set} binding {binding} in shader {}: the set layout's bindings leave no number for it",
+                            u.shader
+                        ),
+                    })?;
                 elements.insert((set, split_binding), base);
                 base
             };

@@ -203,10 +203,29 @@ fn damaged_modules_never_panic() {
             ExecutionModel::Fragment,
         ),
         ("geometry", geometry, ExecutionModel::Geometry),
+        // Arrays split through value and pointer parameters, and a loop's switch.
+        (
+            "ffmpeg_filters/avgblur_h",
+            fixture("ffmpeg_filters/avgblur_h"),
+            ExecutionModel::GLCompute,
+        ),
+        (
+            "ffmpeg_filters/chromaber",
+            fixture("ffmpeg_filters/chromaber"),
+            ExecutionModel::GLCompute,
+        ),
+        (
+            "ffmpeg_filters/overlay",
+            fixture("ffmpeg_filters/overlay"),
+            ExecutionModel::GLCompute,
+        ),
     ];
     let run = |words: &[u32], model| {
         let _ = reflect(words);
         let _ = rewrite(words, model, "main", &opts(true));
+        if let Ok(Some(split)) = split_descriptor_arrays(words) {
+            let _ = rewrite(&split, model, "main", &opts(true));
+        }
     };
     let mut variants = 0;
     for (name, words, model) in &inputs {
@@ -230,5 +249,5 @@ fn damaged_modules_never_panic() {
             variants += 1;
         }
     }
-    assert_eq!(variants, 6000);
+    assert_eq!(variants, 1500 * inputs.len());
 }
