@@ -275,10 +275,20 @@ pub struct BlitOp {
     pub linear: bool,
 }
 
+/// Where a 16-bit packed format keeps each channel: (shift, bits) of R, G, B and A in the
+/// texel's word; 0 bits for a channel it lacks (`lower::packed16`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Packed16 {
+    pub fields: [(u8, u8); 4],
+}
+
 #[derive(Debug, Clone)]
 pub struct CopyOp {
     pub src: CopyEnd,
     pub dst: CopyEnd,
+    /// A copy from a buffer into a texture held as RGBA8 for a 16-bit packed format: drawn,
+    /// each texel unpacked from the buffer's words in this layout.
+    pub unpack: Option<Packed16>,
     /// Texel extent for texture copies; byte count for buffer-to-buffer copies in `[0]`.
     pub extent: [u32; 3],
     pub bytes: u64,

@@ -446,3 +446,91 @@ fn a_blit_outside_its_mip_is_refused_with_its_path() {
         assert!(err.contains(part), "missing {part:?} in:\n{err}");
     }
 }
+
+/// vkcube's first frame (`--use_staging`: the logo copied from a buffer into the texture)
+/// edited so that the texture is `B5G6R5_UNORM_PACK16` and the buffer holds the logo as
+/// 16-bit words: the copy is drawn, each texel unpacked from the buffer's words. Read through
+/// an `R5G6B5` view (the same bit fields, red and blue named the other way), the cube shows the
+/// logo within the 5- and 6-bit steps (a few 255ths from the original replay); read through a
+/// view of the image's own format, red and blue trade places.
+#[test]
+fn a_16_bit_packed_texture_copied_from_a_buffer_is_unpacked() {
+    let dir = temp("packed16");
+    let original = dir.join("vkcube.json");
+    let fixture = gfxr_fixture("vkcube_staging.gfxr");
+    let args = [
+        "import",
+        fixture.to_str().unwrap(),
+        "-o",
+        original.to_str().unwrap(),
+    ];
+    let out = framelab(&[&args[..], &["--frame", "0"]].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let reference = crate::common::replay_presented(&original, &dir.join("out"));
+    let text = std::fs::read_to_string(&original).unwrap();
+    let frame: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let staging = frame["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["name"] == "buffer_24")
+        .expect("the staging buffer");
+    let file = &staging["initial"]["file"];
+    let logo = std::fs::read(dir.join(file["path"].as_str().unwrap())).unwrap();
+    // Red in the top five bits, as an R5G6B5 view reads them.
+    let mut words: Vec<u8> = logo[..256 * 256 * 4]
+        .chunks_exact(4)
+        .flat_map(|p| {
+            let c = |v: u8, bits: u32| u16::from(v) * ((1 << bits) - 1) / 255;
+            ((c(p[0], 5) << 11) | (c(p[1], 6) << 5) | c(p[2], 5)).to_le_bytes()
+        })
+        .collect();
+    // The buffer keeps its size; the copy reads its first half.
+    words.resize(256 * 256 * 4, 0);
+    std::fs::write(dir.join("packed.bin"), &words).unwrap();
+    let edited = |view: &str| {
+        let mut f = frame.clone();
+        for r in f["resources"].as_array_mut().unwrap() {
+            if r["name"] == "buffer_24" {
+                r["initial"]["file"] = serde_json::json!({ "path": "packed.bin", "offset": 0 });
+            }
+            if r["name"] == "image_26" {
+                r["format"] = "VK_FORMAT_B5G6R5_UNORM_PACK16".into();
+            }
+        }
+        for p in f["passes"].as_array_mut().unwrap() {
+            let copies = p.get_mut("copies").and_then(|c| c.as_array_mut());
+            for c in copies.into_iter().flatten() {
+                if c["dst"]["resource"] == "image_26" {
+                    c["src"]["bytes_per_row"] = 512.into();
+                }
+            }
+        }
+        for v in f["vulkan"]["image_views"].as_array_mut().unwrap() {
+            if v["image"] == "image_26" {
+                v["format"] = view.into();
+            }
+        }
+        let path = dir.join(format!("{view}.json"));
+        std::fs::write(&path, serde_json::to_string(&f).unwrap()).unwrap();
+        crate::common::replay_presented(&path, &dir.join(format!("out-{view}")))
+    };
+    let compare = |image: &image::RgbaImage| {
+        let mut worst = 0;
+        let mut changed = 0;
+        for (a, b) in image.pixels().zip(reference.pixels()) {
+            let d = (0..3).map(|i| a.0[i].abs_diff(b.0[i])).max().unwrap();
+            worst = worst.max(d);
+            changed += usize::from(d > 0);
+        }
+        (worst, changed)
+    };
+    let (worst, changed) = compare(&edited("VK_FORMAT_R5G6B5_UNORM_PACK16"));
+    assert!(
+        changed > 1000,
+        "the logo went through 5- and 6-bit steps: {changed}"
+    );
+    assert!(worst <= 8, "within the steps of 5 bits: {worst}");
+    let (worst, _) = compare(&edited("VK_FORMAT_B5G6R5_UNORM_PACK16"));
+    assert!(worst > 64, "red and blue trade places: {worst}");
+}

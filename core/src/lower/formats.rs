@@ -8,7 +8,9 @@
 //!   Depth24PlusStencil8, R32G8X24_TYPELESS -> Depth32FloatStencil8, falling back to
 //!   Depth24PlusStencil8 without that feature), otherwise the format of their first typed view.
 //!   Views of a depth format read its depth aspect (R16_UNORM on a D16 target samples the depth).
-//! - **Unsupported**, with the reason `capture::formats` gives (validation gives the same): 96-bit RGB, packed 16-bit BGR formats, A8, R1, shared-
+//! - **Held otherwise** (`Repack`): channels in an order wgpu lacks, exchanged in the contents;
+//!   16-bit packed formats as RGBA8, unpacked (`packed16`).
+//! - **Unsupported**, with the reason `capture::formats` gives (validation gives the same): 96-bit RGB, A8, R1, shared-
 //!   exponent and XR-bias variants wgpu lacks, video and palette formats.
 
 use wgpu_types::{Features, TextureFormat};
@@ -73,6 +75,22 @@ fn direct(name: &str) -> Option<TextureFormat> {
         "VK_FORMAT_A8B8G8R8_SNORM_PACK32" => F::Rgba8Snorm,
         "VK_FORMAT_A8B8G8R8_UINT_PACK32" => F::Rgba8Uint,
         "VK_FORMAT_A8B8G8R8_SINT_PACK32" => F::Rgba8Sint,
+        // 16-bit packed formats held as RGBA8 (`repack`, `packed16`).
+        "B5G6R5_UNORM"
+        | "B5G5R5A1_UNORM"
+        | "B4G4R4A4_UNORM"
+        | "A4B4G4R4_UNORM"
+        | "VK_FORMAT_R5G6B5_UNORM_PACK16"
+        | "VK_FORMAT_B5G6R5_UNORM_PACK16"
+        | "VK_FORMAT_R4G4B4A4_UNORM_PACK16"
+        | "VK_FORMAT_B4G4R4A4_UNORM_PACK16"
+        | "VK_FORMAT_A4R4G4B4_UNORM_PACK16"
+        | "VK_FORMAT_A4B4G4R4_UNORM_PACK16"
+        | "VK_FORMAT_R5G5B5A1_UNORM_PACK16"
+        | "VK_FORMAT_B5G5R5A1_UNORM_PACK16"
+        | "VK_FORMAT_A1R5G5B5_UNORM_PACK16"
+        | "VK_FORMAT_A1B5G5R5_UNORM_PACK16"
+        | "VK_FORMAT_A1B5G5R5_UNORM_PACK16_KHR" => F::Rgba8Unorm,
         // Formats held with red and blue exchanged (`repack`).
         "VK_FORMAT_A2R10G10B10_UNORM_PACK32" => F::Rgb10a2Unorm,
         "VK_FORMAT_A2R10G10B10_UINT_PACK32" => F::Rgb10a2Uint,
@@ -122,6 +140,8 @@ pub enum Repack {
     /// Bytes B, G, R, A held as R, G, B, A (`B8G8R8A8` integer and snorm formats, which wgpu
     /// has only in RGBA order).
     SwapRb8,
+    /// 16-bit texels of 4-, 5- or 6-bit channels held as RGBA8 (`packed16`): twice the bytes.
+    Unpack16(crate::plan::Packed16),
 }
 
 impl Repack {
@@ -134,13 +154,15 @@ impl Repack {
             "VK_FORMAT_B8G8R8A8_SNORM" | "VK_FORMAT_B8G8R8A8_UINT" | "VK_FORMAT_B8G8R8A8_SINT" => {
                 Some(Repack::SwapRb8)
             }
-            _ => None,
+            _ => super::packed16::layout(name).map(Repack::Unpack16),
         }
     }
 
-    /// Rearranges `bytes` (whole texels) in place; its own inverse.
-    pub fn apply(self, bytes: &mut [u8]) {
+    /// Rearranges `bytes` (whole texels) as the replay holds them; the in-place swaps are
+    /// their own inverse.
+    pub fn apply(self, bytes: &mut Vec<u8>) {
         match self {
+            Repack::Unpack16(layout) => *bytes = super::packed16::unpack_bytes(layout, bytes),
             Repack::SwapRb10 => {
                 for word in bytes.chunks_exact_mut(4) {
                     let w = u32::from_le_bytes([word[0], word[1], word[2], word[3]]);
@@ -163,6 +185,7 @@ impl Repack {
         match self {
             Repack::SwapRb10 => "held as RGB10A2 with red and blue exchanged",
             Repack::SwapRb8 => "held as RGBA8 with red and blue exchanged",
+            Repack::Unpack16(_) => "held as RGBA8, each 4-, 5- or 6-bit channel widened",
         }
     }
 }

@@ -10,6 +10,7 @@ pub mod formats;
 pub mod frame;
 pub mod generate;
 mod meshes;
+pub mod packed16;
 mod passes;
 mod resources;
 mod states;

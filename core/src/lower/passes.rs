@@ -352,14 +352,16 @@ impl<'c> Lowering<'c> {
 
     /// Refuses a copy whose two ends hold their bytes differently (`formats::Repack`): a copy
     /// moves the capture's bytes as they are, so a texture held rearranged may meet only one
-    /// held the same way (a buffer holds the capture's bytes).
+    /// held the same way (a buffer holds the capture's bytes). A copy from a buffer into a
+    /// texture held as RGBA8 for a 16-bit packed format is drawn instead, unpacking each
+    /// texel: its layout is returned.
     fn copy_keeps_bytes(
         &self,
         p: &PassDesc,
         index: usize,
         src: &CopyEnd,
         dst: &CopyEnd,
-    ) -> Result<(), LowerError> {
+    ) -> Result<Option<crate::plan::Packed16>, LowerError> {
         let held = |e: &CopyEnd| match e {
             CopyEnd::Texture { texture, .. } => self
                 .repacked
@@ -369,10 +371,16 @@ impl<'c> Lowering<'c> {
         };
         let (a, b) = (held(src), held(dst));
         if a.map(|h| h.2) == b.map(|h| h.2) {
-            return Ok(());
+            return Ok(None);
+        }
+        if let (CopyEnd::Buffer { .. }, None, Some((t, _, formats::Repack::Unpack16(layout)))) =
+            (src, a, b)
+            && self.plan.textures[t].dimension == wgpu::TextureDimension::D2
+        {
+            return Ok(Some(layout));
         }
         let Some((texture, format, repack)) = a.or(b) else {
-            return Ok(());
+            return Ok(None);
         };
         Err(pass_error(
             p,
@@ -405,10 +413,11 @@ impl<'c> Lowering<'c> {
                 .or(c.dst.size)
                 .unwrap_or(src_r.bytes.saturating_sub(c.src.offset));
             let (src, dst) = (self.copy_end(p, &c.src)?, self.copy_end(p, &c.dst)?);
-            self.copy_keeps_bytes(p, copies.len(), &src, &dst)?;
+            let unpack = self.copy_keeps_bytes(p, copies.len(), &src, &dst)?;
             copies.push(CopyOp {
                 src,
                 dst,
+                unpack,
                 extent,
                 bytes,
             });

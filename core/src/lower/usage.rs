@@ -54,6 +54,27 @@ impl<'c> Usage<'c> {
                     *t |= wgpu::TextureUsages::RENDER_ATTACHMENT;
                 }
             }
+            // A copy from a buffer into a 16-bit packed image is drawn (`packed16`): the
+            // buffer is read as storage, the image rendered to.
+            for c in &p.copies {
+                let (src, dst) = (
+                    capture.resource(c.src.resource),
+                    capture.resource(c.dst.resource),
+                );
+                if !src.is_texture()
+                    && dst.is_texture()
+                    && dst
+                        .format
+                        .is_some_and(|f| super::packed16::layout(f.name).is_some())
+                {
+                    if let Some(b) = u.buffers.get_mut(&src.id) {
+                        *b |= wgpu::BufferUsages::STORAGE;
+                    }
+                    if let Some(t) = u.textures.get_mut(&dst.id) {
+                        *t |= wgpu::TextureUsages::RENDER_ATTACHMENT;
+                    }
+                }
+            }
             // A clear of a render or depth target is drawn: a render pass that clears it.
             for c in &p.clears {
                 if clears_by_drawing(capture.resource(c.resource))

@@ -396,6 +396,10 @@ impl Session {
     }
 
     fn encode_copy(&self, c: &CopyOp, parity: usize, encoder: &mut wgpu::CommandEncoder) {
+        if let Some(layout) = c.unpack {
+            self.encode_unpack(c, layout, parity, encoder);
+            return;
+        }
         let tex = |t: usize| self.tex_at(t, parity);
         let buf = |b: usize| self.buf_at(b, parity);
         match (&c.src, &c.dst) {

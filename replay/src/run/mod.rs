@@ -17,6 +17,7 @@ mod encode;
 mod frame;
 mod pipelines;
 mod stamps;
+mod unpack;
 mod vulkan;
 mod work;
 
@@ -117,6 +118,7 @@ pub struct Session {
     prepared: Vec<Prepared>,
     mip_pipelines: BTreeMap<String, (wgpu::RenderPipeline, wgpu::Sampler)>,
     blits: blit::BlitPipelines,
+    unpacks: unpack::UnpackPipeline,
     clear_rects: clear_rects::ClearPipelines,
     timestamps: Option<stamps::Timestamps>,
     /// The queries the last submitted frame writes.
@@ -192,6 +194,7 @@ impl Session {
             prepared: Vec::new(),
             mip_pipelines: BTreeMap::new(),
             blits: Default::default(),
+            unpacks: Default::default(),
             clear_rects: Default::default(),
             timestamps,
             stamp_plan: Default::default(),

@@ -87,6 +87,10 @@ impl Session {
                 self.vk_work_groups(&name, c.dispatches.iter().map(|d| &d.groups[..]).collect())?,
             ),
             PassOp::Blit(blits) => Prepared::Blit(self.prepare_blits(blits)),
+            PassOp::Copy(copies) if copies.iter().any(|c| c.unpack.is_some()) => {
+                self.unpack_pipeline();
+                Prepared::Other
+            }
             PassOp::GenerateMips { texture, .. } => {
                 let format = self.plan.textures[*texture].format;
                 self.mip_pipeline(format);

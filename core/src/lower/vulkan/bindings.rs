@@ -301,7 +301,10 @@ impl<'c> Lowering<'c> {
             if samples && sampler.is_some_and(|s| model.samplers[s].unnormalized_coordinates) {
                 unnormalized.push((set, split_binding));
             }
-            if let Some(sw) = sampled_swizzle(model, d, &lb.0.descriptor_type) {
+            let permutation = d
+                .and_then(|d| d.view)
+                .and_then(|v| self.vk_view_permutation(v));
+            if let Some(sw) = sampled_swizzle(model, d, &lb.0.descriptor_type, permutation) {
                 swizzles.push((set, split_binding, sw));
             }
             per_set.entry(set).or_default().extend(entries);
@@ -596,6 +599,15 @@ impl<'c> Lowering<'c> {
         } else {
             Some(self.vk_view_format(p, texture, &view.format)?)
         };
+        if storage && self.vk_view_permutation(v).is_some() {
+            return Err(VkProblem::Unsupported {
+                feature: format!(
+                    "a storage image through view {} ({}), whose 16-bit layout orders the image's channels otherwise",
+                    view.name, view.format
+                ),
+            }
+            .into());
+        }
         let resource = VkResource::Texture {
             texture,
             format,
@@ -653,20 +665,37 @@ impl<'c> Lowering<'c> {
 
 /// The swizzle of the view descriptor `d` samples, where not the identity, as
 /// `spirv::RewriteOptions::swizzles` codes.
-fn sampled_swizzle(model: &VkModel, d: Option<&VkBound>, descriptor_type: &str) -> Option<[u8; 4]> {
+fn sampled_swizzle(
+    model: &VkModel,
+    d: Option<&VkBound>,
+    descriptor_type: &str,
+    permutation: Option<[u8; 4]>,
+) -> Option<[u8; 4]> {
     if !descriptor_type.ends_with("SAMPLED_IMAGE") && !ty_is_combined(descriptor_type) {
         return None;
     }
     let d = d?;
-    let sw = model.views[d.view?].swizzle?;
-    Some(sw.map(|c| match c {
-        Component::R => 0,
-        Component::G => 1,
-        Component::B => 2,
-        Component::A => 3,
-        Component::Zero => crate::spirv::SWIZZLE_ZERO,
-        Component::One => crate::spirv::SWIZZLE_ONE,
-    }))
+    let sw = model.views[d.view?].swizzle;
+    if sw.is_none() && permutation.is_none() {
+        return None;
+    }
+    // The view's channels are the image's permuted (`lower::packed16`); its swizzle picks
+    // among the view's.
+    let through = |c: u8| match permutation {
+        Some(p) if c < 4 => p[c as usize],
+        _ => c,
+    };
+    let codes = sw.map_or([0, 1, 2, 3], |sw| {
+        sw.map(|c| match c {
+            Component::R => 0,
+            Component::G => 1,
+            Component::B => 2,
+            Component::A => 3,
+            Component::Zero => crate::spirv::SWIZZLE_ZERO,
+            Component::One => crate::spirv::SWIZZLE_ONE,
+        })
+    });
+    Some(codes.map(through))
 }
 
 /// The descriptor types (without `VK_DESCRIPTOR_TYPE_`) that a shader variable of `kind` may

@@ -720,6 +720,19 @@ impl<'c> Lowering<'c> {
     }
 
     /// The wgpu format a `VK_FORMAT_*` view of texture `t` reads through.
+    /// How view `v` of a 16-bit packed image held as RGBA8 reads the image's channels, where
+    /// its layout orders the same bit fields otherwise (`packed16::view_permutation`).
+    pub(super) fn vk_view_permutation(&self, v: usize) -> Option<[u8; 4]> {
+        let model = self.vk_model().ok()?;
+        let view = &model.views[v];
+        let image = self.capture.resource(view.image).format?.name;
+        let (held, seen) = (
+            super::packed16::layout(image)?,
+            super::packed16::layout(&view.format)?,
+        );
+        (held != seen).then(|| super::packed16::view_permutation(held, seen))?
+    }
+
     fn vk_view_format(
         &self,
         p: &PassDesc,
@@ -732,6 +745,21 @@ impl<'c> Lowering<'c> {
         let texture = &self.plan.textures[t];
         let view = formats::twin(info.name)
             .map_err(|e| super::passes::pass_error(p, PassError::ViewFormat(e)))?;
+        // A 16-bit packed image held as RGBA8 is viewed in a layout of its own bit fields
+        // (read through a swizzle, `vk_view_permutation`) or not at all.
+        if let Some(&(image, formats::Repack::Unpack16(held))) = self.repacked.get(&t)
+            && let Some(layout) = super::packed16::layout(info.name)
+            && layout != held
+            && super::packed16::view_permutation(held, layout).is_none()
+        {
+            return Err(VkProblem::Unsupported {
+                feature: format!(
+                    "a {vk} view of \"{}\" ({image}): its bit fields are not the image's",
+                    texture.name
+                ),
+            }
+            .into());
+        }
         // A Vulkan view may reinterpret a mutable-format image's bits in any format of its
         // size class; wgpu views a texture only in its own format or its sRGB twin (listed at
         // its creation, `view_formats`). Anything else would read other numbers: refused.
