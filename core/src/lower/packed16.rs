@@ -77,9 +77,9 @@ mod tests {
     fn channels_are_read_where_each_format_keeps_them() {
         // R5G6B5: red 31 at the top, green 0, blue 1.
         let rgb = layout("VK_FORMAT_R5G6B5_UNORM_PACK16").unwrap();
-        assert_eq!(unpack(rgb, 0b11111_000000_00001), [255, 0, 8, 255]);
+        assert_eq!(unpack(rgb, (31 << 11) | 1), [255, 0, 8, 255]);
         let bgr = layout("VK_FORMAT_B5G6R5_UNORM_PACK16").unwrap();
-        assert_eq!(unpack(bgr, 0b11111_000000_00001), [8, 0, 255, 255]);
+        assert_eq!(unpack(bgr, (31 << 11) | 1), [8, 0, 255, 255]);
         // DXGI's B5G6R5 is Vulkan's R5G6B5.
         assert_eq!(layout("B5G6R5_UNORM"), Some(rgb));
         let argb = layout("VK_FORMAT_A1R5G5B5_UNORM_PACK16").unwrap();
