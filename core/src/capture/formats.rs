@@ -235,6 +235,10 @@ pub enum NotRenderable {
     NoWebGpuFormat(#[from] NoWebGpuFormat),
     #[error("shared-exponent formats cannot be rendered to")]
     SharedExponent,
+    #[error(
+        "16-bit packed BGR formats do not exist in WebGPU: the replay holds them as RGBA8 to read, and would not render at their 4 to 6 bits a channel"
+    )]
+    Packed16,
 }
 
 /// Why a colour format cannot be rendered to on any GPU, if it cannot: WebGPU has no such
@@ -244,6 +248,9 @@ pub enum NotRenderable {
 pub fn not_renderable(info: &FormatInfo) -> Option<NotRenderable> {
     if let Some(gap) = webgpu_gap(info.name) {
         return Some(NotRenderable::NoWebGpuFormat(gap));
+    }
+    if crate::lower::packed16::layout(info.name).is_some() {
+        return Some(NotRenderable::Packed16);
     }
     (info.numeric() == Some(Numeric::SharedExp)).then_some(NotRenderable::SharedExponent)
 }

@@ -118,18 +118,7 @@ impl<'c> Lowering<'c> {
             self.repacked
                 .insert(self.plan.textures.len(), (info.name, repack));
         }
-        let rendered = || {
-            self.capture
-                .passes
-                .iter()
-                .any(|p| p.color_attachments.iter().any(|c| c.resource == r.id))
-        };
-        if matches!(lowered.repack, Some(formats::Repack::Unpack16(_))) && rendered() {
-            self.notes.push(format!(
-                "\"{}\" ({}): rendered to as RGBA8, it keeps 8 bits a channel where the program's image keeps 4 to 6",
-                r.name, info.name
-            ));
-        }
+
         self.texture_of.insert(r.id, self.plan.textures.len());
         self.plan.textures.push(TextureSpec {
             name: r.name.clone(),

@@ -95,19 +95,21 @@ pub(super) fn layer_outputs_private(module: &mut Module) -> Result<(), SpirvErro
         .collect();
     vars.sort_unstable();
     vars.dedup();
-    if vars.is_empty() {
-        return Ok(());
+    if !vars.is_empty() {
+        super::reclass::reclass(module, &vars, StorageClass::Output, StorageClass::Private)?
+            .map_err(|(var, op, n)| SpirvError::Unsupported {
+                feature: "use of a layer or viewport index output",
+                detail: format!(
+                    "output %{var} is used through a pointer by Op{op:?} (operand {n})"
+                ),
+            })?;
+        module.annotations.retain(
+            |i| !matches!(i.operands.as_slice(), [Operand::IdRef(t), ..] if vars.contains(t)),
+        );
+        leave_interfaces(module, &vars);
     }
-    super::reclass::reclass(module, &vars, StorageClass::Output, StorageClass::Private)?.map_err(
-        |(var, op, n)| SpirvError::Unsupported {
-            feature: "use of a layer or viewport index output",
-            detail: format!("output %{var} is used through a pointer by Op{op:?} (operand {n})"),
-        },
-    )?;
-    module
-        .annotations
-        .retain(|i| !matches!(i.operands.as_slice(), [Operand::IdRef(t), ..] if vars.contains(t)));
-    leave_interfaces(module, &vars);
+    // The capabilities go where nothing is left that needs them, also where nothing ever did
+    // (zink declares `ShaderLayer` on vertex shaders that write no layer).
     let still = module
         .annotations
         .iter()

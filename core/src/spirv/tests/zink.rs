@@ -430,3 +430,13 @@ fn a_layer_output_becomes_private() {
     super::validators::spirv_val(&out, "layer").unwrap();
     super::validators::naga_accepts(&out).unwrap();
 }
+
+/// Qt 5 Quick's OpenGL renderer through zink: the vertex shader declares `ShaderLayer` and
+/// writes no layer. The capability, which needs a device feature wgpu does not turn on, goes.
+#[test]
+fn a_layer_capability_nothing_uses_is_dropped() {
+    let words = fixture("qt5_gl_zink/vertex");
+    assert!(capabilities(&load(&words)).contains(&Capability::ShaderLayer));
+    let out = rewrite(&words, ExecutionModel::Vertex, "main", &opts(true)).unwrap();
+    assert!(!capabilities(&load(&out)).contains(&Capability::ShaderLayer));
+}
