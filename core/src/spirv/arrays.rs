@@ -167,12 +167,7 @@ pub(super) fn is_chain(i: &Instruction) -> bool {
 
 /// The 32-bit integer constants, by id, with their values.
 pub(super) fn int_constants(module: &Module) -> HashMap<Word, u32> {
-    let ints: HashSet<Word> = module
-        .types_global_values
-        .iter()
-        .filter(|t| t.class.opcode == Op::TypeInt && literal(t.operands.first()) == Some(32))
-        .filter_map(|t| t.result_id)
-        .collect();
+    let ints: HashSet<Word> = super::ops::int32_types(module).into_iter().collect();
     module
         .types_global_values
         .iter()
@@ -316,15 +311,7 @@ fn declare_elements(
             }
             annotations.push(d);
         }
-        names.push(inst(
-            Op::Name,
-            None,
-            None,
-            vec![
-                Operand::IdRef(var),
-                Operand::LiteralString(format!("{}_{k}", a.name)),
-            ],
-        ));
+        names.push(super::ops::name(var, format!("{}_{k}", a.name)));
     }
     let gone =
         |i: &Instruction| id_ref(i.operands.first()).is_some_and(|t| arrays.contains_key(&t));

@@ -48,12 +48,7 @@ impl<'m> Facts<'m> {
         f: &'m Function,
         constants: &'m HashMap<Word, u32>,
     ) -> Self {
-        let pointers: HashSet<Word> = module
-            .types_global_values
-            .iter()
-            .filter(|t| t.class.opcode == Op::TypePointer)
-            .filter_map(|t| t.result_id)
-            .collect();
+        let pointers = global_ids(module, Op::TypePointer);
         let params = f
             .parameters
             .iter()
@@ -134,6 +129,16 @@ impl<'m> Facts<'m> {
             v => v,
         }
     }
+}
+
+/// The ids of the module's global instructions of opcode `op` (its pointer types, say).
+fn global_ids(module: &Module, op: Op) -> HashSet<Word> {
+    module
+        .types_global_values
+        .iter()
+        .filter(|t| t.class.opcode == op)
+        .filter_map(|t| t.result_id)
+        .collect()
 }
 
 /// How deep a value is followed through loads and stores.
@@ -404,12 +409,7 @@ fn apply(
     clones: &BTreeMap<CloneKey, Word>,
     ids: &mut Ids,
 ) -> Result<(), SpirvError> {
-    let voids: HashSet<Word> = module
-        .types_global_values
-        .iter()
-        .filter(|t| t.class.opcode == Op::TypeVoid)
-        .filter_map(|t| t.result_id)
-        .collect();
+    let voids = global_ids(module, Op::TypeVoid);
     // Last first, so that splitting a block leaves the places of the others.
     actions.sort_by_key(|a| std::cmp::Reverse(a.0));
     for ((fi, bi, ii), action) in actions {
@@ -527,12 +527,7 @@ fn clone_function(
     given: &[(usize, Word)],
     ids: &mut Ids,
 ) -> Result<(Function, Vec<Instruction>), SpirvError> {
-    let pointers: HashSet<Word> = module
-        .types_global_values
-        .iter()
-        .filter(|t| t.class.opcode == Op::TypePointer)
-        .filter_map(|t| t.result_id)
-        .collect();
+    let pointers = global_ids(module, Op::TypePointer);
     let mut subst: HashMap<Word, Word> = HashMap::new();
     let mut locals: Vec<Instruction> = Vec::new();
     for &(pos, constant) in given {

@@ -53,6 +53,28 @@ pub(super) fn type_id(
     Ok(id)
 }
 
+/// An `OpName` giving `id` the debug name `text`.
+pub(super) fn name(id: Word, text: String) -> Instruction {
+    inst(
+        Op::Name,
+        None,
+        None,
+        vec![Operand::IdRef(id), Operand::LiteralString(text)],
+    )
+}
+
+/// The module's 32-bit integer types of either signedness, in the order it declares them.
+pub(super) fn int32_types(module: &Module) -> Vec<Word> {
+    module
+        .types_global_values
+        .iter()
+        .filter(|i| {
+            i.class.opcode == Op::TypeInt && super::index::literal(i.operands.first()) == Some(32)
+        })
+        .filter_map(|i| i.result_id)
+        .collect()
+}
+
 /// The 32-bit integer type (`signed`), found or added.
 pub(super) fn int32(
     module: &Module,

@@ -506,15 +506,7 @@ fn split(module: &mut Module, splits: &[Split], ids: &mut Ids) -> Result<(), Spi
                 ));
             }
             if let Some(name) = &s.name {
-                names.push(inst(
-                    Op::Name,
-                    None,
-                    None,
-                    vec![
-                        Operand::IdRef(var),
-                        Operand::LiteralString(format!("{name}_{suffix}")),
-                    ],
-                ));
+                names.push(super::ops::name(var, format!("{name}_{suffix}")));
             }
         }
         made.insert(
@@ -816,12 +808,7 @@ fn int_constant(
     ids: &mut Ids,
     value: u32,
 ) -> Result<Word, SpirvError> {
-    let int32: Vec<Word> = module
-        .types_global_values
-        .iter()
-        .filter(|i| i.class.opcode == Op::TypeInt && literal(i.operands.first()) == Some(32))
-        .filter_map(|i| i.result_id)
-        .collect();
+    let int32 = super::ops::int32_types(module);
     let existing = module.types_global_values.iter().find(|i| {
         i.class.opcode == Op::Constant
             && i.result_type.is_some_and(|ty| int32.contains(&ty))
