@@ -458,6 +458,12 @@ impl<'c> Lowering<'c> {
                     )));
                 }
             }
+            // Drawn into RGBA8, a 16-bit packed destination would keep 8 bits a channel.
+            if let Some(&(format, formats::Repack::Unpack16(_))) = self.repacked.get(&dst) {
+                return Err(refuse(format!(
+                    "the destination is {format}, held as RGBA8: a blit drawn into it would not keep its 4 to 6 bits a channel"
+                )));
+            }
             let (sf, df) = (
                 self.plan.textures[src].format,
                 self.plan.textures[dst].format,
