@@ -3,9 +3,10 @@
 //! This crate knows wgpu and images; it knows nothing of the capture's JSON, DXGI format names
 //! or D3D12 heaps. It runs the `framelab_core::plan::Plan` that the core lowers from a
 //! validated capture (`run`), reads textures back and decodes them (`decode`, `decompress`),
-//! writes them as images (`export`), and ends the core's staged journey with the one stage
+//! writes them as images (`export`), compares two sessions' textures (`compare`), and ends the core's staged journey with the one stage
 //! that needs a device (`replaying`).
 
+pub mod compare;
 pub mod decode;
 pub mod decompress;
 pub mod device;

@@ -11,6 +11,7 @@ mod inspect;
 mod replay;
 mod stages;
 mod validate;
+mod what_if;
 
 use framelab_core::text::printable;
 use std::io::Write;
@@ -159,6 +160,13 @@ enum Command {
     ///
     /// Example: framelab diff before.json after.json --fail-on-regression 5 --markdown
     Diff(diff::DiffArgs),
+    /// Change a frame and see what the change does: apply lint fixes, cull passes, drop
+    /// recorded barriers or change formats; the variant is checked first (exit 1 on an error
+    /// it introduces, before anything runs), then both replay interleaved on one device and
+    /// their time, work, memory and every texture are compared.
+    ///
+    /// Example: framelab what-if frame.json --fix FL005 --frames 10 --out whatif/
+    WhatIf(Box<what_if::WhatIfArgs>),
     /// Open the inspector: events, every texture as of any pass, resources, pass details with
     /// derived and recorded barriers, and a timeline scaled by GPU time.
     ///
@@ -332,6 +340,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             replay::run(&capture, &options, quiet)
         }
         Command::Diff(args) => Ok(diff::run(&args)),
+        Command::WhatIf(args) => Ok(what_if::run(&args)),
         Command::Inspect(args) => inspect::run(&args),
         Command::Mcp { root } => crate::mcp::run(&root),
         Command::Capture(args) => capture::run(&args),

@@ -21,7 +21,7 @@ fn options(scale: f64) -> Options {
 }
 
 /// A stage's error as the device commands report it.
-fn device_error(e: StageError) -> anyhow::Error {
+pub(super) fn device_error(e: StageError) -> anyhow::Error {
     match e {
         StageError::Capture(CaptureError::Read { path, source }) => {
             anyhow::Error::new(source).context(format!("reading {}", path.display()))

@@ -20,25 +20,12 @@ pub struct Comparison {
     pub map: image::RgbImage,
 }
 
-fn flip_image(i: &image::RgbaImage) -> nv_flip::FlipImageRgb8 {
-    let rgb = image::DynamicImage::ImageRgba8(i.clone()).to_rgb8();
-    nv_flip::FlipImageRgb8::with_data(i.width(), i.height(), rgb.as_raw())
-}
-
 pub fn compare(a: &image::RgbaImage, b: &image::RgbaImage) -> Comparison {
-    assert_eq!(a.dimensions(), b.dimensions(), "image sizes differ");
-    let error = nv_flip::flip(
-        flip_image(b),
-        flip_image(a),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    let mut pool = nv_flip::FlipPool::from_image(&error);
-    let map = error.apply_color_lut(&nv_flip::magma_lut());
+    let f = framelab_replay::compare::flip(b, a).expect("image sizes differ");
     Comparison {
-        mean: f64::from(pool.mean()),
-        p99: f64::from(pool.get_percentile(0.99, false)),
-        map: image::RgbImage::from_raw(a.width(), a.height(), map.to_vec())
-            .expect("FLIP map is width x height RGB"),
+        mean: f.mean,
+        p99: f.p99,
+        map: f.map,
     }
 }
 

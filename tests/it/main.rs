@@ -36,3 +36,4 @@ mod synthetic_scale;
 mod vk_classes;
 mod vk_section;
 mod vk_shaders;
+mod what_if;

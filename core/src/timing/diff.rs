@@ -1,9 +1,11 @@
 //! Comparing two timing reports pass by pass: which passes match (queue, marker path, name and
 //! occurrence; a pass whose name changed but whose kind, queue and written resources did not is
 //! a rename), then for every matched pass, every queue, every marker group and the frame total,
-//! the ratio of medians B/A with a bootstrap interval, a Mann-Whitney test, Holm-Bonferroni
-//! adjustment over all rows, and a verdict that needs significance, an interval wholly beyond
-//! the threshold, and a difference the timestamps can resolve.
+//! the ratio of medians B/A with a bootstrap interval, a Mann-Whitney test, and a verdict that
+//! needs significance, an interval wholly beyond the threshold, and a difference the timestamps
+//! can resolve. The frame total is the primary outcome and is tested on its own; the
+//! Holm-Bonferroni adjustment runs within each family of secondary rows (the queues and marker
+//! groups, the passes), so a frame that halved its cost is not held back by 150 pass rows.
 
 use std::collections::BTreeMap;
 
@@ -12,7 +14,7 @@ use serde::Serialize;
 pub use crate::matching::Matching;
 use crate::matching::match_items;
 
-use super::stats::{holm, mann_whitney, median, ratio_interval, samples_needed};
+use super::stats::{holm, mann_whitney, median, rank_test_floor, ratio_interval, samples_needed};
 use super::{PassTiming, TimingReport};
 
 /// The version of the diff's JSON shape.
@@ -342,16 +344,17 @@ pub fn diff(a: &TimingReport, b: &TimingReport, o: &DiffOptions) -> Result<DiffR
         .iter()
         .map(|r| mann_whitney(&r.a, &r.b).map(|t| t.p))
         .collect();
-    let tested: Vec<f64> = tests.iter().flatten().copied().collect();
-    let mut adjusted = holm(&tested).into_iter();
+    let (adjusted, family_sizes) = adjust_by_family(&pending, &tests);
     let tick = f64::from(a.timestamp_period_ns.max(b.timestamp_period_ns)).max(1.0);
     let mut rows: Vec<Row> = pending
         .into_iter()
         .zip(tests)
+        .zip(adjusted.into_iter().zip(family_sizes))
         .enumerate()
-        .map(|(k, (r, p))| {
-            let p_adjusted = p.map(|_| adjusted.next().unwrap_or(1.0));
-            row(r, p, p_adjusted, tick, o, k as u64)
+        .map(|(k, ((r, p), (p_adjusted, m)))| {
+            // The row's share of the family's error rate at worst (Holm's first step).
+            let alpha = ALPHA / m.max(1) as f64;
+            row(r, p, p_adjusted, alpha, tick, o, k as u64)
         })
         .collect();
     rows.sort_by(|x, y| {
@@ -372,11 +375,42 @@ pub fn diff(a: &TimingReport, b: &TimingReport, o: &DiffOptions) -> Result<DiffR
     })
 }
 
-/// The statistics and verdict of one row.
+/// The family a row's test is corrected within: the frame total alone (the primary outcome),
+/// the queues and marker groups, the passes.
+fn family(kind: RowKind) -> usize {
+    match kind {
+        RowKind::Total => 0,
+        RowKind::Queue | RowKind::Marker => 1,
+        RowKind::Pass => 2,
+    }
+}
+
+/// Holm-adjusted p-values within each row's family, and the number of tests in that family.
+fn adjust_by_family(pending: &[Pending], tests: &[Option<f64>]) -> (Vec<Option<f64>>, Vec<usize>) {
+    let mut adjusted = vec![None; tests.len()];
+    let mut sizes = vec![0; tests.len()];
+    for f in 0..3 {
+        let members: Vec<usize> = (0..tests.len())
+            .filter(|&i| family(pending[i].kind) == f && tests[i].is_some())
+            .collect();
+        let ps: Vec<f64> = members.iter().filter_map(|&i| tests[i]).collect();
+        for (&i, q) in members.iter().zip(holm(&ps)) {
+            adjusted[i] = Some(q);
+        }
+        for i in (0..tests.len()).filter(|&i| family(pending[i].kind) == f) {
+            sizes[i] = members.len();
+        }
+    }
+    (adjusted, sizes)
+}
+
+/// The statistics and verdict of one row; `alpha` is the level its test must reach within
+/// its family, which the frames it needs are counted for.
 fn row(
     r: Pending,
     p: Option<f64>,
     p_adjusted: Option<f64>,
+    alpha: f64,
     tick: f64,
     o: &DiffOptions,
     k: u64,
@@ -401,7 +435,7 @@ fn row(
                 Verdict::Unchanged
             } else {
                 Verdict::Inconclusive {
-                    needed: needed(&r.a, &r.b, ma, mb, o.threshold_pct),
+                    needed: needed(&r.a, &r.b, ma, mb, o.threshold_pct, alpha),
                 }
             }
         }
@@ -430,17 +464,26 @@ fn row(
 
 /// Samples per side that would settle the row: the observed change must be told apart from the
 /// threshold (beyond it: a regression or an improvement; within it: unchanged), so the effect
-/// to resolve is the change's distance from the threshold, against the observed spread. `None`
-/// where that distance is nil or more samples would not help (the row already has them: the
-/// row is held back by the correction for many comparisons).
-fn needed(a: &[f64], b: &[f64], ma: f64, mb: f64, threshold_pct: f64) -> Option<usize> {
+/// to resolve is the change's distance from the threshold, against the observed spread, at the
+/// level `alpha` the row's test must reach within its family; and never fewer than the rank
+/// test needs to reach that level at all. `None` where that distance is nil or the row already
+/// has the samples.
+fn needed(a: &[f64], b: &[f64], ma: f64, mb: f64, threshold_pct: f64, alpha: f64) -> Option<usize> {
     let spread = |xs: &[f64], m: f64| {
         let dev: Vec<f64> = xs.iter().map(|x| (x - m).abs()).collect();
         1.4826 * median(&dev)
     };
     let sigma = (spread(a, ma) + spread(b, mb)) / 2.0;
     let distance = ((mb - ma).abs() - threshold_pct / 100.0 * ma).abs();
-    samples_needed(distance / sigma, ALPHA).filter(|&n| n > a.len().min(b.len()))
+    let by_effect = if sigma > 0.0 {
+        samples_needed(distance / sigma, alpha)?
+    } else if distance > 0.0 {
+        // No spread at all: any sample resolves the change, once the test can reach alpha.
+        0
+    } else {
+        return None;
+    };
+    Some(by_effect.max(rank_test_floor(alpha))).filter(|&n| n > a.len().min(b.len()))
 }
 
 #[cfg(test)]
@@ -530,16 +573,16 @@ mod tests {
         let a: Vec<f64> = (0..12).map(|i| 100.0 + f64::from(i % 5) - 2.0).collect();
         let b: Vec<f64> = a.iter().map(|x| x * 1.035).collect();
         let (ma, mb) = (median(&a), median(&b));
-        let near = needed(&a, &b, ma, mb, 3.0).unwrap();
+        let near = needed(&a, &b, ma, mb, 3.0, ALPHA).unwrap();
         // Against the bare 3.5% shift far fewer frames would seem enough.
-        let naive = needed(&a, &b, ma, mb, 0.0);
+        let naive = needed(&a, &b, ma, mb, 0.0, ALPHA);
         assert!(
             near > 12 && naive.is_none_or(|n| n < near),
             "{near} {naive:?}"
         );
         // A change already resolved by the samples at hand asks for no more.
         let far: Vec<f64> = a.iter().map(|x| x * 1.5).collect();
-        assert_eq!(needed(&a, &far, ma, median(&far), 3.0), None);
+        assert_eq!(needed(&a, &far, ma, median(&far), 3.0, ALPHA), None);
     }
 
     #[test]
@@ -569,6 +612,41 @@ mod tests {
         );
         assert!(false_alarms <= 50, "{false_alarms} false alarms in 1000");
         assert!(found >= 190, "found {found} of 200");
+    }
+
+    #[test]
+    fn a_halved_frame_is_decided_on_five_frames_a_side() {
+        // Night City's shape: ~130 passes, every one about half as costly in B, 5 frames each.
+        let mut rng = StdRng::seed_from_u64(54);
+        let side = |rng: &mut StdRng, scale: f64| {
+            report(
+                (0..130)
+                    .map(|i| {
+                        let m = (30_000.0 + 4_000.0 * i as f64) * scale;
+                        pass(
+                            &format!("p{i}"),
+                            "gfx",
+                            "raster",
+                            &[],
+                            noisy(rng, m, 0.02, 5),
+                        )
+                    })
+                    .collect(),
+            )
+        };
+        let (a, b) = (side(&mut rng, 1.0), side(&mut rng, 0.48));
+        let d = diff(&a, &b, &light()).unwrap();
+        let total = &d.rows[0];
+        assert_eq!(total.kind, RowKind::Total);
+        // The primary outcome is tested alone: p is not multiplied by the pass rows.
+        assert_eq!(total.p, total.p_adjusted);
+        assert_eq!(total.verdict, Verdict::Improvement, "{total:?}");
+        // A pass row cannot reach 0.05 / 130 with five frames: it says how many would.
+        let pass_row = d.rows.iter().find(|r| r.name == "p100").unwrap();
+        match pass_row.verdict {
+            Verdict::Inconclusive { needed: Some(n) } => assert!(n > 5, "{n}"),
+            v => panic!("{v:?}"),
+        }
     }
 
     #[test]

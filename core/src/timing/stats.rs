@@ -240,6 +240,21 @@ pub fn samples_needed(effect: f64, alpha: f64) -> Option<usize> {
     Some((t_test / (3.0 / std::f64::consts::PI)).ceil() as usize)
 }
 
+/// The fewest samples per side at which the two-sided Mann-Whitney test (as `mann_whitney`
+/// computes it) can reach a p below `alpha` at all: with every value of one sample below every
+/// value of the other. Five frames a side can reach 0.05, not 0.05 / 130.
+pub fn rank_test_floor(alpha: f64) -> usize {
+    let normal = Normal::standard();
+    (1..=100_000usize)
+        .find(|&n| {
+            let nf = n as f64;
+            let (mu, variance) = (nf * nf / 2.0, nf * nf * (2.0 * nf + 1.0) / 12.0);
+            let z = (mu - 0.5).max(0.0) / variance.sqrt();
+            2.0 * normal.sf(z) < alpha
+        })
+        .unwrap_or(100_000)
+}
+
 #[cfg(test)]
 mod tests {
     #[test]
@@ -300,6 +315,20 @@ mod tests {
         };
         assert_eq!(mean_gpu_ms(&untimed, 0), None);
         assert_eq!(gpu_ms_median_min(&untimed, 0), None);
+    }
+
+    #[test]
+    fn the_rank_test_floor_is_where_complete_separation_first_reaches_alpha() {
+        let floor = rank_test_floor(0.05);
+        let separated = |n: usize| {
+            let x: Vec<f64> = (0..n).map(|i| i as f64).collect();
+            let y: Vec<f64> = (0..n).map(|i| (100 + i) as f64).collect();
+            mann_whitney(&x, &y).unwrap().p
+        };
+        assert!(separated(floor) < 0.05 && separated(floor - 1) >= 0.05);
+        // 4 a side reach 0.05; a family of 130 asks for more.
+        assert_eq!(floor, 4);
+        assert!(rank_test_floor(0.05 / 130.0) > 6);
     }
 
     #[test]

@@ -7,8 +7,11 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use serde::Serialize;
 
+mod fix;
 mod recorded;
 mod vulkan;
+
+pub use fix::Fix;
 
 use super::barriers::BarrierPlan;
 use super::graph::{EdgeKind, PassGraph};
@@ -263,6 +266,8 @@ pub struct Lint {
     pub resource: Option<ResourceId>,
     /// The specification's valid-usage ID the finding breaks, where it has one.
     pub vuid: Option<String>,
+    /// The change to the frame the advice amounts to, where it is one.
+    pub fix: Option<Fix>,
 }
 
 fn lint(
@@ -277,6 +282,7 @@ fn lint(
         pass,
         resource,
         vuid: None,
+        fix: None,
     }
 }
 
@@ -401,7 +407,12 @@ impl<'a> Linter<'a> {
                             flag.name()
                         )
                     };
-                    out.push(lint(code, message, None, Some(r.id)));
+                    let mut l = lint(code, message, None, Some(r.id));
+                    l.fix = Some(Fix::RemoveFlag {
+                        resource: r.id,
+                        flag,
+                    });
+                    out.push(l);
                 }
             }
         }
@@ -448,12 +459,9 @@ impl<'a> Linter<'a> {
             } else {
                 format!("\"{}\" writes nothing", pass.name)
             };
-            out.push(lint(
-                LintKind::PassWithoutEffect,
-                message,
-                Some(pass.id),
-                None,
-            ));
+            let mut l = lint(LintKind::PassWithoutEffect, message, Some(pass.id), None);
+            l.fix = Some(Fix::CullPass { pass: pass.id });
+            out.push(l);
         }
     }
 

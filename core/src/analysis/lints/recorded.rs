@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use super::{Lint, LintKind, lint};
+use super::{Fix, Lint, LintKind, lint};
 use crate::analysis::barriers::{Barrier, BarrierKind, BarrierPlan};
 use crate::analysis::model::{FrameModel, MPass, MResource, State};
 use crate::capture::format::{BarrierType, ResourceState, SplitFlag};
@@ -178,7 +178,7 @@ pub(super) fn compare_recorded(
         for (i, r) in recorded.iter().enumerate() {
             if !used[i] && r.barrier_type != BarrierType::Aliasing {
                 let res = r.resource.map(|x| capture.resource(x).name.clone());
-                out.push(lint(
+                let mut l = lint(
                     LintKind::BarrierRedundant,
                     format!(
                         "\"{}\" records a {:?} barrier on {} that the frame does not need",
@@ -190,7 +190,17 @@ pub(super) fn compare_recorded(
                     .replace("Uav", "UAV"),
                     Some(pass.id),
                     r.resource,
-                ));
+                );
+                // Its place in the pass's own list, which the fix names.
+                l.fix = pass
+                    .barriers
+                    .iter()
+                    .position(|b| std::ptr::eq(b, *r))
+                    .map(|index| Fix::DropBarrier {
+                        pass: pass.id,
+                        index,
+                    });
+                out.push(l);
             }
         }
     }

@@ -129,6 +129,10 @@ pub struct LintReport {
     /// The specification's valid-usage ID, where the finding breaks one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vuid: Option<String>,
+    /// The change to the frame that fixes it (`what-if --fix CODE` applies it), where the
+    /// advice is one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fix: Option<String>,
 }
 
 /// The lints of `a` with names from `capture`, sorted and without repeats.
@@ -382,6 +386,7 @@ pub fn lint_report(capture: &Capture, l: &Lint) -> LintReport {
         pass: l.pass.map(|p| capture.pass(p).name.clone()),
         resource: l.resource.map(|r| capture.resource(r).name.clone()),
         vuid: l.vuid.clone(),
+        fix: l.fix.map(|f| f.describe(capture)),
     }
 }
 

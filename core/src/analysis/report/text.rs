@@ -257,7 +257,11 @@ fn lints(out: &mut String, r: &Report) {
                 l.code.to_owned(),
                 sev.to_owned(),
                 l.name.to_owned(),
-                l.message.clone(),
+                match &l.fix {
+                    // What `what-if --fix CODE` would change.
+                    Some(fix) => format!("{} (fixable: {fix})", l.message),
+                    None => l.message.clone(),
+                },
             ]
         })
         .collect();

@@ -1,0 +1,328 @@
+//! The edits a what-if takes, parsed from their command-line spelling, and applied to the serde
+//! form of a capture (so the variant is validated and analysed as any capture is). Edits name
+//! passes and resources as the capture does; a lint's fixes are taken from the frame's own
+//! analysis. Every edit that cannot apply is an error naming it: nothing is applied in part.
+
+use std::collections::BTreeSet;
+
+use crate::analysis::lints::{Fix, Lint, LintKind};
+use crate::capture::format::{RawCapture, ResourceFlag, ResourceKind};
+use crate::capture::model::Capture;
+
+/// One change to a frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Edit {
+    /// Apply the fixes of every finding of a lint (`FL005`), or of those about one pass or
+    /// resource (`FL005:ssao`).
+    Fix { code: String, at: Option<String> },
+    /// Drop a pass.
+    Cull { pass: String },
+    /// Drop a pass's recorded barrier, by its place in the pass's list (from 0).
+    DropBarrier { pass: String, index: usize },
+    /// Give a resource another format (DXGI's name, as the capture spells formats).
+    Format { resource: String, format: String },
+}
+
+/// Why an edit cannot be made.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum EditError {
+    #[error("{edit}: {why}")]
+    Syntax { edit: String, why: &'static str },
+    #[error("--fix {code}: no lint has that code (the README's table of lints lists them)")]
+    UnknownLint { code: String },
+    #[error("--fix {code}: {}", nothing_to_fix(.at, *.unfixable))]
+    NothingToFix {
+        code: String,
+        at: Option<String>,
+        unfixable: usize,
+    },
+    #[error("{edit}: the capture has no pass \"{pass}\"")]
+    UnknownPass { edit: String, pass: String },
+    #[error("{edit}: the capture has no resource \"{resource}\"")]
+    UnknownResource { edit: String, resource: String },
+    #[error("{edit}: pass \"{pass}\" records {count} barriers (0..{count})")]
+    NoSuchBarrier {
+        edit: String,
+        pass: String,
+        count: usize,
+    },
+    #[error(
+        "{edit}: \"{format}\" is not a format framelab knows (DXGI's names, e.g. R11G11B10_FLOAT)"
+    )]
+    UnknownFormat { edit: String, format: String },
+    #[error("{edit}: \"{resource}\" is a buffer: only a texture's format can change")]
+    NotATexture { edit: String, resource: String },
+}
+
+fn nothing_to_fix(at: &Option<String>, unfixable: usize) -> String {
+    let place = at
+        .as_ref()
+        .map_or(String::new(), |a| format!(" about \"{a}\""));
+    if unfixable == 0 {
+        format!("the frame has no such finding{place}")
+    } else {
+        format!("{unfixable} finding(s){place}, none with a change to the frame as its fix")
+    }
+}
+
+/// `NAME=VALUE` split at the first `=`.
+fn pair<'a>(edit: &str, s: &'a str) -> Result<(&'a str, &'a str), EditError> {
+    match s.split_once('=') {
+        Some((a, b)) if !a.is_empty() && !b.is_empty() => Ok((a, b)),
+        _ => Err(EditError::Syntax {
+            edit: edit.to_owned(),
+            why: "expected NAME=VALUE",
+        }),
+    }
+}
+
+impl Edit {
+    /// `--fix CODE[:WHERE]`.
+    pub fn fix(s: &str) -> Result<Edit, EditError> {
+        let (code, at) = match s.split_once(':') {
+            Some((c, a)) => (c, Some(a.to_owned())),
+            None => (s, None),
+        };
+        let code = code.to_ascii_uppercase();
+        if !LintKind::ALL.iter().any(|k| k.code() == code) {
+            return Err(EditError::UnknownLint { code });
+        }
+        Ok(Edit::Fix { code, at })
+    }
+
+    /// `--cull PASS`.
+    pub fn cull(s: &str) -> Result<Edit, EditError> {
+        if s.is_empty() {
+            return Err(EditError::Syntax {
+                edit: "--cull".into(),
+                why: "expected a pass name",
+            });
+        }
+        Ok(Edit::Cull { pass: s.to_owned() })
+    }
+
+    /// `--drop-barrier PASS:N`.
+    pub fn drop_barrier(s: &str) -> Result<Edit, EditError> {
+        let edit = format!("--drop-barrier {s}");
+        let (pass, index) = s
+            .rsplit_once(':')
+            .and_then(|(p, n)| Some((p, n.parse::<usize>().ok()?)))
+            .filter(|(p, _)| !p.is_empty())
+            .ok_or(EditError::Syntax {
+                edit,
+                why: "expected PASS:N, N the barrier's place in the pass's list from 0",
+            })?;
+        Ok(Edit::DropBarrier {
+            pass: pass.to_owned(),
+            index,
+        })
+    }
+
+    /// `--format RESOURCE=FORMAT`.
+    pub fn format(s: &str) -> Result<Edit, EditError> {
+        let (resource, format) = pair(&format!("--format {s}"), s)?;
+        Ok(Edit::Format {
+            resource: resource.to_owned(),
+            format: format.to_ascii_uppercase(),
+        })
+    }
+
+    /// The edit as the command line spells it.
+    pub fn spelling(&self) -> String {
+        match self {
+            Edit::Fix { code, at: None } => format!("--fix {code}"),
+            Edit::Fix { code, at: Some(a) } => format!("--fix {code}:{a}"),
+            Edit::Cull { pass } => format!("--cull {pass}"),
+            Edit::DropBarrier { pass, index } => format!("--drop-barrier {pass}:{index}"),
+            Edit::Format { resource, format } => format!("--format {resource}={format}"),
+        }
+    }
+}
+
+/// A change by names, once the edits and fixes are resolved.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Change {
+    RemoveFlag {
+        resource: String,
+        flag: ResourceFlag,
+    },
+    Cull {
+        pass: String,
+    },
+    DropBarrier {
+        pass: String,
+        index: usize,
+    },
+    Format {
+        resource: String,
+        format: String,
+    },
+}
+
+/// The fixes of a lint's findings (about `at`, when given), by names.
+fn fixes(
+    capture: &Capture,
+    lints: &[Lint],
+    code: &str,
+    at: Option<&str>,
+) -> Result<Vec<Change>, EditError> {
+    let about = |l: &Lint| {
+        at.is_none_or(|a| {
+            l.pass.is_some_and(|p| capture.pass(p).name == a)
+                || l.resource.is_some_and(|r| capture.resource(r).name == a)
+        })
+    };
+    let found: Vec<&Lint> = lints
+        .iter()
+        .filter(|l| l.kind.code() == code && about(l))
+        .collect();
+    let changes: Vec<Change> = found
+        .iter()
+        .filter_map(|l| l.fix)
+        .map(|f| match f {
+            Fix::RemoveFlag { resource, flag } => Change::RemoveFlag {
+                resource: capture.resource(resource).name.clone(),
+                flag,
+            },
+            Fix::CullPass { pass } => Change::Cull {
+                pass: capture.pass(pass).name.clone(),
+            },
+            Fix::DropBarrier { pass, index } => Change::DropBarrier {
+                pass: capture.pass(pass).name.clone(),
+                index,
+            },
+        })
+        .collect();
+    if changes.is_empty() {
+        return Err(EditError::NothingToFix {
+            code: code.to_owned(),
+            at: at.map(str::to_owned),
+            unfixable: found.len(),
+        });
+    }
+    Ok(changes)
+}
+
+/// The variant of `raw` the edits make, and each change made, in words. `capture` and `lints`
+/// are the frame's own validation and analysis, where fixes come from.
+pub fn apply(
+    raw: &RawCapture,
+    capture: &Capture,
+    lints: &[Lint],
+    edits: &[Edit],
+) -> Result<(RawCapture, Vec<String>), EditError> {
+    let mut changes = BTreeSet::new();
+    for e in edits {
+        match e {
+            Edit::Fix { code, at } => changes.extend(fixes(capture, lints, code, at.as_deref())?),
+            Edit::Cull { pass } => {
+                changes.insert(Change::Cull { pass: pass.clone() });
+            }
+            Edit::DropBarrier { pass, index } => {
+                changes.insert(Change::DropBarrier {
+                    pass: pass.clone(),
+                    index: *index,
+                });
+            }
+            Edit::Format { resource, format } => {
+                changes.insert(Change::Format {
+                    resource: resource.clone(),
+                    format: format.clone(),
+                });
+            }
+        }
+    }
+    let mut out = raw.clone();
+    let mut said = Vec::new();
+    // Barriers first, from the highest place down, so each index means what it meant in the
+    // frame as captured; culls last, so a barrier of a culled pass is still found.
+    let mut ordered: Vec<&Change> = changes.iter().collect();
+    ordered.sort_by_key(|c| match c {
+        Change::DropBarrier { index, .. } => (0, usize::MAX - index),
+        Change::RemoveFlag { .. } | Change::Format { .. } => (1, 0),
+        Change::Cull { .. } => (2, 0),
+    });
+    for c in ordered {
+        said.push(change(&mut out, c, edits)?);
+    }
+    Ok((out, said))
+}
+
+/// The spelling of the edit a change came from, for its error.
+fn origin(edits: &[Edit], c: &Change) -> String {
+    let direct = edits.iter().find(|e| match (e, c) {
+        (Edit::Cull { pass }, Change::Cull { pass: p }) => pass == p,
+        (Edit::DropBarrier { pass, index }, Change::DropBarrier { pass: p, index: i }) => {
+            pass == p && index == i
+        }
+        (Edit::Format { resource, .. }, Change::Format { resource: r, .. }) => resource == r,
+        _ => false,
+    });
+    direct.map_or_else(|| "--fix".to_owned(), Edit::spelling)
+}
+
+/// Makes one change; what it did, in words.
+fn change(raw: &mut RawCapture, c: &Change, edits: &[Edit]) -> Result<String, EditError> {
+    let edit = || origin(edits, c);
+    let pass_index = |raw: &RawCapture, pass: &str| {
+        raw.passes
+            .iter()
+            .position(|p| p.name == pass)
+            .ok_or_else(|| EditError::UnknownPass {
+                edit: edit(),
+                pass: pass.to_owned(),
+            })
+    };
+    let resource_index = |raw: &RawCapture, resource: &str| {
+        raw.resources
+            .iter()
+            .position(|r| r.name == resource)
+            .ok_or_else(|| EditError::UnknownResource {
+                edit: edit(),
+                resource: resource.to_owned(),
+            })
+    };
+    match c {
+        Change::Cull { pass } => {
+            let i = pass_index(raw, pass)?;
+            raw.passes.remove(i);
+            Ok(format!("culled pass \"{pass}\""))
+        }
+        Change::DropBarrier { pass, index } => {
+            let i = pass_index(raw, pass)?;
+            let barriers = &mut raw.passes[i].barriers;
+            if *index >= barriers.len() {
+                return Err(EditError::NoSuchBarrier {
+                    edit: edit(),
+                    pass: pass.clone(),
+                    count: barriers.len(),
+                });
+            }
+            barriers.remove(*index);
+            Ok(format!("dropped barrier {index} of pass \"{pass}\""))
+        }
+        Change::RemoveFlag { resource, flag } => {
+            let i = resource_index(raw, resource)?;
+            raw.resources[i].flags.retain(|f| f != flag);
+            Ok(format!("removed {} from \"{resource}\"", flag.name()))
+        }
+        Change::Format { resource, format } => {
+            let i = resource_index(raw, resource)?;
+            if crate::capture::dxgi::lookup(format).is_none() {
+                return Err(EditError::UnknownFormat {
+                    edit: edit(),
+                    format: format.clone(),
+                });
+            }
+            let r = &mut raw.resources[i];
+            if matches!(r.kind, ResourceKind::Buffer) {
+                return Err(EditError::NotATexture {
+                    edit: edit(),
+                    resource: resource.clone(),
+                });
+            }
+            let before = r.format.replace(format.clone()).unwrap_or_default();
+            Ok(format!("\"{resource}\" {before} -> {format}"))
+        }
+    }
+}

@@ -1,0 +1,158 @@
+//! `framelab what-if` end to end on the example frame with recorded barriers: a safe fix
+//! replayed with images identical, a format change measured and its changed images named, a
+//! barrier the frame needs refused statically at its pass before anything runs, and bad edits
+//! refused with exit 2 and nothing written.
+
+use crate::common::{Scratch, framelab, json, stderr};
+
+const SYNC: &str = "captures/example/frame_sync.json";
+
+fn row<'a>(report: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {
+    report["timing"]["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["name"] == name)
+        .unwrap()
+}
+
+#[test]
+fn a_redundant_barrier_dropped_is_safe_and_changes_no_image() {
+    let o = framelab(&[
+        "what-if", SYNC, "--fix", "FL021", "--frames", "2", "--warmup", "0", "--scale", "0.25",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let r = json(&o);
+    assert_eq!(r["safe"], true);
+    assert_eq!(r["changes"][0], "dropped barrier 3 of pass \"scene\"");
+    assert_eq!(r["static"]["resolved"][0]["code"], "FL021");
+    assert!(r["static"]["introduced"].as_array().unwrap().is_empty());
+    let compared = r["textures_compared"].as_u64().unwrap();
+    assert!(compared >= 5, "{r}");
+    assert_eq!(r["textures_identical"].as_u64().unwrap(), compared);
+    assert_eq!(r["presented"], "ldr");
+    let summary = r["summary"].as_str().unwrap();
+    assert!(
+        summary.starts_with("safe; ") && summary.ends_with("images identical"),
+        "{summary}"
+    );
+    assert_eq!(row(&r, "frame total")["samples"][0], 2);
+}
+
+#[test]
+fn a_smaller_format_moves_fewer_bytes_and_its_images_are_measured() {
+    let dir = Scratch::temp("what_if_format");
+    let out = dir.join("out");
+    let o = framelab(&[
+        "what-if",
+        SYNC,
+        "--format",
+        "bloom=R11G11B10_FLOAT",
+        "--frames",
+        "2",
+        "--warmup",
+        "0",
+        "--scale",
+        "0.25",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let r = json(&o);
+    assert_eq!(
+        r["changes"][0],
+        "\"bloom\" R16G16B16A16_FLOAT -> R11G11B10_FLOAT"
+    );
+    // bloom_mips reads and writes only bloom: eight bytes a texel become four.
+    let bytes = &row(&r, "bloom_mips")["bytes_moved"];
+    assert_eq!(bytes[0].as_u64().unwrap(), 2 * bytes[1].as_u64().unwrap());
+    let changed = r["changed"].as_array().unwrap();
+    let bloom = changed.iter().find(|c| c["name"] == "bloom").unwrap();
+    assert_eq!(bloom["state"], "changed");
+    assert_eq!(bloom["first_written_by"], "bright_pass");
+    let flip = bloom["flip_mean"].as_f64().unwrap();
+    assert!(flip > 0.0 && flip < 0.05, "{flip}");
+    // The presented image takes bloom in: changed, and said so first.
+    assert!(changed.iter().any(|c| c["name"] == "ldr"));
+    let summary = r["summary"].as_str().unwrap();
+    assert!(
+        summary.contains("final image changed: FLIP mean"),
+        "{summary}"
+    );
+    for f in [
+        "what_if.json",
+        "bloom.a.png",
+        "bloom.b.png",
+        "bloom.flip.png",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let map = image::open(out.join("bloom.flip.png")).unwrap();
+    let a = image::open(out.join("bloom.a.png")).unwrap();
+    assert_eq!((map.width(), map.height()), (a.width(), a.height()));
+}
+
+#[test]
+fn a_barrier_the_frame_needs_is_refused_before_anything_runs() {
+    let o = framelab(&["what-if", SYNC, "--drop-barrier", "simulate:0", "--json"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let r = json(&o);
+    assert_eq!(r["safe"], false);
+    let introduced = r["static"]["introduced"].as_array().unwrap();
+    assert_eq!(introduced.len(), 1, "{r}");
+    assert_eq!(introduced[0]["code"], "FL020");
+    assert_eq!(introduced[0]["pass"], "simulate");
+    assert_eq!(introduced[0]["resource"], "particles");
+    // Nothing was replayed.
+    assert!(r.get("timing").is_none());
+    assert!(r["summary"].as_str().unwrap().starts_with("unsafe"));
+}
+
+#[test]
+fn bad_edits_exit_2_naming_them_and_write_nothing() {
+    let dir = Scratch::temp("what_if_bad");
+    let out = dir.join("out");
+    let out_s = out.to_str().unwrap();
+    let cases: [(&[&str], &str); 7] = [
+        (
+            &["--cull", "nope"],
+            "--cull nope: the capture has no pass \"nope\"",
+        ),
+        (
+            &["--drop-barrier", "scene:9"],
+            "pass \"scene\" records 4 barriers",
+        ),
+        (
+            &["--format", "particles=R32_FLOAT"],
+            "\"particles\" is a buffer",
+        ),
+        (
+            &["--format", "bloom=R9_NOPE"],
+            "not a format framelab knows",
+        ),
+        (&["--fix", "FL005"], "the frame has no such finding"),
+        (&["--fix", "FL004"], "none with a change to the frame"),
+        (
+            &["--format", "depth=R8G8B8A8_UNORM"],
+            "the edited frame is not a valid capture",
+        ),
+    ];
+    for (edit, said) in cases {
+        let mut args = vec!["what-if", SYNC, "--out", out_s];
+        args.extend_from_slice(edit);
+        let o = framelab(&args);
+        assert_eq!(o.status.code(), Some(2), "{edit:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(said), "{edit:?}: {}", stderr(&o));
+        assert!(!out.exists(), "{edit:?} wrote {}", out.display());
+    }
+    // Malformed edits and no edit at all are usage errors too.
+    for args in [
+        &["what-if", SYNC, "--drop-barrier", "scene"][..],
+        &["what-if", SYNC, "--fix", "FL999"],
+        &["what-if", SYNC],
+    ] {
+        assert_eq!(framelab(args).status.code(), Some(2), "{args:?}");
+    }
+}
