@@ -36,15 +36,16 @@ pub(crate) fn parse_frames(text: &str) -> Result<(u32, u32), String> {
     }
 }
 
-pub fn run(
+/// Imports `input` into `out` and the side files beside it, written only if the capture
+/// validates; the import and the path written (a device path resolved).
+pub(super) fn import_to(
     input: &Path,
     out: &Path,
     frames: Option<(u32, u32)>,
-    json: bool,
-) -> anyhow::Result<ExitCode> {
+) -> anyhow::Result<(Imported, std::path::PathBuf)> {
     // Side files go beside the file the capture lands in, where its relative paths lead.
     let at = framelab_core::output::check_output(out, &[input])?;
-    let out = &at.path;
+    let out = &at.path.clone();
     // Read line by line, so no size limit; but only a regular file (a named pipe would block,
     // a device never end).
     let file = files::open(input).map_err(|e| match e {
@@ -109,6 +110,17 @@ pub fn run(
     } else {
         write_with_side_files(&imported, out, &text, &name)?;
     }
+    Ok((imported, at.path))
+}
+
+pub fn run(
+    input: &Path,
+    out: &Path,
+    frames: Option<(u32, u32)>,
+    json: bool,
+) -> anyhow::Result<ExitCode> {
+    let (imported, out) = import_to(input, out, frames)?;
+    let out = &out;
     if json {
         print_stdout(&(serde_json::to_string_pretty(&imported.summary)? + "\n"))?;
     } else {

@@ -42,6 +42,13 @@ pub struct WhatIfArgs {
     /// Give a texture another format (DXGI's name).
     #[arg(long, value_name = "RESOURCE=FORMAT", value_parser = Edit::format)]
     pub format: Vec<Edit>,
+    /// On a GFXReconstruct capture: set a number in one call, as `framelab edit` does
+    /// (BLOCK:PATH=VALUE); the stream and its edited copy are both imported and compared.
+    #[arg(long = "set", value_name = "BLOCK:PATH=VALUE")]
+    pub set: Vec<framelab_core::import::gfxr::edit::FieldEdit>,
+    /// On a GFXReconstruct capture: the frame to import (0-based).
+    #[arg(long, value_parser = super::import::parse_frames)]
+    pub frame: Option<(u32, u32)>,
     /// Measured frames per side.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(2..=100000))]
     pub frames: u32,
@@ -130,15 +137,91 @@ fn analyse(loaded: Loaded, scale: f64) -> Result<Analysed, Usage> {
         .map_err(stages::device_error)?)
 }
 
+/// A folder of this run's own, removed when dropped.
+struct Scratch(PathBuf);
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// The captures to compare: the frame, and where the edits start from (the frame itself, or
+/// the import of a GFXReconstruct capture's edited stream).
+struct Inputs {
+    frame: PathBuf,
+    edited: Option<PathBuf>,
+    _scratch: Option<Scratch>,
+}
+
+/// The capture as given, or for a `.gfxr` the imports of it and of its copy with the `--set`
+/// edits made, in a scratch folder.
+fn inputs(args: &WhatIfArgs) -> Result<Inputs, Usage> {
+    let mut head = [0u8; 4];
+    let is_gfxr = std::fs::File::open(&args.capture)
+        .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut head))
+        .is_ok()
+        && framelab_core::import::gfxr::is_gfxr(&head);
+    if !is_gfxr {
+        if !args.set.is_empty() || args.frame.is_some() {
+            return Err(Usage(anyhow::anyhow!(
+                "--set and --frame edit and import a GFXReconstruct capture; {} is not one",
+                args.capture.display()
+            )));
+        }
+        return Ok(Inputs {
+            frame: args.capture.clone(),
+            edited: None,
+            _scratch: None,
+        });
+    }
+    let dir = std::env::temp_dir().join(format!("framelab-what-if-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let scratch = Scratch(dir.clone());
+    let bytes = std::fs::read(&args.capture)
+        .with_context(|| format!("reading {}", args.capture.display()))?;
+    let edited = framelab_core::import::gfxr::edit::apply(&bytes, &args.set)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.capture.display()))?;
+    let stream = dir.join("edited.gfxr");
+    std::fs::write(&stream, edited).with_context(|| format!("writing {}", stream.display()))?;
+    let (a, b) = (
+        dir.join("frame").join("frame.json"),
+        dir.join("edited").join("edited.json"),
+    );
+    for (from, to) in [(&args.capture, &a), (&stream, &b)] {
+        if let Some(parent) = to.parent() {
+            std::fs::create_dir_all(parent)?;
+        }
+        super::import::import_to(from, to, args.frame)
+            .with_context(|| format!("importing {}", from.display()))?;
+    }
+    Ok(Inputs {
+        frame: a,
+        edited: Some(b),
+        _scratch: Some(scratch),
+    })
+}
+
 /// The frame and its variant, analysed, with the changes made in words.
-fn frames(args: &WhatIfArgs, edits: &[Edit]) -> Result<(Analysed, Analysed, Vec<String>), Usage> {
-    let loaded = Loaded::read_hashed(&args.capture).map_err(stages::device_error)?;
-    let raw = loaded.raw.clone();
+fn frames(
+    args: &WhatIfArgs,
+    inputs: &Inputs,
+    edits: &[Edit],
+) -> Result<(Analysed, Analysed, Vec<String>), Usage> {
+    let loaded = Loaded::read_hashed(&inputs.frame).map_err(stages::device_error)?;
+    let mut raw = loaded.raw.clone();
     let frame = analyse(loaded, args.scale)?;
+    let mut said: Vec<String> = args.set.iter().map(|e| format!("set {e}")).collect();
+    if let Some(edited) = &inputs.edited {
+        raw = Loaded::read(edited).map_err(stages::device_error)?.raw;
+    }
     let (edited, changes) = apply(&raw, &frame.capture, &frame.analysis.lints, edits)?;
-    let variant = analyse(Loaded::from_raw(&args.capture, edited), args.scale)
+    said.extend(changes);
+    let at = inputs.edited.as_ref().unwrap_or(&inputs.frame);
+    let variant = analyse(Loaded::from_raw(at, edited), args.scale)
         .map_err(|Usage(e)| Usage(e.context("the edited frame is not a valid capture")))?;
-    Ok((frame, variant, changes))
+    Ok((frame, variant, said))
 }
 
 /// Each resource the frame writes, with the first pass (in its order) that writes it: where a
@@ -422,10 +505,10 @@ fn failed(e: &anyhow::Error, code: u8) -> ExitCode {
 
 pub fn run(args: &WhatIfArgs) -> ExitCode {
     let edits = args.edits();
-    if edits.is_empty() {
+    if edits.is_empty() && args.set.is_empty() {
         return failed(
             &anyhow::anyhow!(
-                "what-if needs at least one edit (--fix, --cull, --drop-barrier, --format)"
+                "what-if needs at least one edit (--fix, --cull, --drop-barrier, --format, --set)"
             ),
             2,
         );
@@ -435,7 +518,11 @@ pub fn run(args: &WhatIfArgs) -> ExitCode {
     {
         return failed(&e.into(), 2);
     }
-    let (a, b, changes) = match frames(args, &edits) {
+    let inputs = match inputs(args) {
+        Ok(i) => i,
+        Err(Usage(e)) => return failed(&e, 2),
+    };
+    let (a, b, changes) = match frames(args, &inputs, &edits) {
         Ok(x) => x,
         Err(Usage(e)) => return failed(&e, 2),
     };
@@ -447,7 +534,12 @@ pub fn run(args: &WhatIfArgs) -> ExitCode {
     let (ma, mb) = (memory(&a), memory(&b));
     let mut report = Report {
         capture: args.capture.display().to_string(),
-        edits: edits.iter().map(Edit::spelling).collect(),
+        edits: args
+            .set
+            .iter()
+            .map(|e| format!("--set {e}"))
+            .chain(edits.iter().map(Edit::spelling))
+            .collect(),
         changes,
         verdict: &verdict,
         safe: verdict.safe(),

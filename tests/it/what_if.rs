@@ -156,3 +156,81 @@ fn bad_edits_exit_2_naming_them_and_write_nothing() {
         assert_eq!(framelab(args).status.code(), Some(2), "{args:?}");
     }
 }
+
+#[test]
+fn an_edited_real_stream_is_judged_at_the_command_the_layer_names() {
+    // The planted write-after-write of the synchronization tests: vkd3d-gears' transition to
+    // PRESENT_SRC_KHR no longer makes the render pass's store available. The Khronos layer
+    // reports WRITE_AFTER_WRITE at vkCmdPipelineBarrier #176 on that stream.
+    let gears = crate::common::gfxr_fixture("vkd3d_gears_f2.gfxr");
+    let gears = gears.to_str().unwrap();
+    let o = framelab(&[
+        "what-if",
+        gears,
+        "--set",
+        "176:pImageMemoryBarriers[0].srcAccessMask=0",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let r = json(&o);
+    let introduced = r["static"]["introduced"].as_array().unwrap();
+    assert_eq!(introduced.len(), 1, "{r}");
+    let message = introduced[0]["message"].as_str().unwrap();
+    assert!(
+        message
+            .starts_with("vkCmdPipelineBarrier #176: WRITE_AFTER_WRITE hazard on \"swapchain_0\""),
+        "{message}"
+    );
+    // Widening the same barrier's source accesses is safe: both replay, images identical.
+    let o = framelab(&[
+        "what-if",
+        gears,
+        "--set",
+        "176:pImageMemoryBarriers[0].srcAccessMask=0x180",
+        "--frames",
+        "2",
+        "--warmup",
+        "0",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let r = json(&o);
+    assert_eq!(r["safe"], true);
+    assert!(r["textures_compared"].as_u64().unwrap() >= 3, "{r}");
+    assert_eq!(r["textures_identical"], r["textures_compared"]);
+    // --set belongs to GFXReconstruct captures only.
+    let o = framelab(&["what-if", SYNC, "--set", "1:x=0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("is not one"), "{}", stderr(&o));
+}
+
+#[test]
+fn every_fixable_finding_of_the_example_frame_fixed_at_once_is_safe() {
+    let o = framelab(&[
+        "what-if",
+        "captures/example/frame.json",
+        "--fix",
+        "all",
+        "--frames",
+        "2",
+        "--warmup",
+        "0",
+        "--scale",
+        "0.25",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let r = json(&o);
+    assert_eq!(r["safe"], true);
+    assert!(!r["changes"].as_array().unwrap().is_empty());
+    // Removing a flag nothing uses changes no image.
+    assert_eq!(r["textures_identical"], r["textures_compared"], "{r}");
+    let after = framelab(&["analyze", "captures/example/frame.json", "--json"]);
+    assert!(
+        json(&after)["lints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|l| l.get("fix").is_some())
+    );
+}

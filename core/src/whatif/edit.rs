@@ -9,11 +9,14 @@ use crate::analysis::lints::{Fix, Lint, LintKind};
 use crate::capture::format::{RawCapture, ResourceFlag, ResourceKind};
 use crate::capture::model::Capture;
 
+/// `--fix all`: every finding that has a fix.
+const ALL: &str = "ALL";
+
 /// One change to a frame.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Edit {
     /// Apply the fixes of every finding of a lint (`FL005`), or of those about one pass or
-    /// resource (`FL005:ssao`).
+    /// resource (`FL005:ssao`); `all` applies every fixable finding's.
     Fix { code: String, at: Option<String> },
     /// Drop a pass.
     Cull { pass: String },
@@ -84,7 +87,7 @@ impl Edit {
             None => (s, None),
         };
         let code = code.to_ascii_uppercase();
-        if !LintKind::ALL.iter().any(|k| k.code() == code) {
+        if code != ALL && !LintKind::ALL.iter().any(|k| k.code() == code) {
             return Err(EditError::UnknownLint { code });
         }
         Ok(Edit::Fix { code, at })
@@ -174,7 +177,7 @@ fn fixes(
     };
     let found: Vec<&Lint> = lints
         .iter()
-        .filter(|l| l.kind.code() == code && about(l))
+        .filter(|l| (l.kind.code() == code || (code == ALL && l.fix.is_some())) && about(l))
         .collect();
     let changes: Vec<Change> = found
         .iter()

@@ -138,3 +138,18 @@ fn bad_edits_are_refused_by_name() {
     ));
     assert!(matches!(Edit::cull(""), Err(EditError::Syntax { .. })));
 }
+
+#[test]
+fn every_fixable_finding_fixed_at_once_is_safe_and_leaves_none() {
+    let (a, b, said) = variant(&[Edit::fix("all").unwrap()]).unwrap();
+    let fixable = a.analysis.lints.iter().filter(|l| l.fix.is_some()).count();
+    assert!(fixable >= 2, "{fixable}");
+    assert_eq!(said.len(), fixable, "{said:?}");
+    let v = static_verdict(&a.capture, &a.analysis.lints, &b.capture, &b.analysis.lints);
+    assert!(v.safe(), "{:?}", v.introduced);
+    assert!(
+        b.analysis.lints.iter().all(|l| l.fix.is_none()),
+        "{:?}",
+        b.analysis.lints
+    );
+}

@@ -23,6 +23,13 @@ pub struct FieldEdit {
     pub value: u64,
 }
 
+impl std::fmt::Display for FieldEdit {
+    /// As it is written on the command line (the value as a number).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}={}", self.block, self.path, self.value)
+    }
+}
+
 impl std::str::FromStr for FieldEdit {
     type Err = String;
 
