@@ -560,6 +560,14 @@ pub fn run(args: &WhatIfArgs) -> ExitCode {
         return finish(args, &report, 1);
     }
     let writers = first_writers(&a);
+    // The frame's output, where it presents none (a frame that renders into its swapchain
+    // image and marks it an output).
+    let output = a
+        .capture
+        .resources
+        .iter()
+        .find(|r| r.output && r.is_texture())
+        .map(|r| r.name.clone());
     let measured = measure(args, a, b);
     let Measured {
         timing,
@@ -572,7 +580,7 @@ pub fn run(args: &WhatIfArgs) -> ExitCode {
     };
     report.timing = Some(&timing);
     report.work = work.as_ref();
-    report.presented = presented;
+    report.presented = presented.or(output);
     report.textures_compared = textures.len();
     for t in &textures {
         match t.state {
