@@ -151,3 +151,22 @@ impl Replaying {
         }
     }
 }
+
+/// Runs frames `frames` of two replays on one device in turn, A B, B A, A B, ...: whatever
+/// running second costs or saves (caches warm, clocks ramped) falls on both alike.
+pub fn interleaved(
+    a: &mut Replaying,
+    b: &mut Replaying,
+    frames: std::ops::Range<u32>,
+) -> Result<(), ReplayError> {
+    for f in frames {
+        if f % 2 == 0 {
+            a.frame(f, None)?;
+            b.frame(f, None)?;
+        } else {
+            b.frame(f, None)?;
+            a.frame(f, None)?;
+        }
+    }
+    Ok(())
+}

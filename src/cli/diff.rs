@@ -116,16 +116,7 @@ fn replay_both(args: &DiffArgs) -> anyhow::Result<(TimingReport, TimingReport)> 
         rb.frame(0, None)?;
         return Ok((ra.report(0), rb.report(0)));
     }
-    // A B, B A, A B, ...: whatever running second costs or saves falls on both alike.
-    for f in 0..args.warmup + args.frames {
-        if f % 2 == 0 {
-            ra.frame(f, None)?;
-            rb.frame(f, None)?;
-        } else {
-            rb.frame(f, None)?;
-            ra.frame(f, None)?;
-        }
-    }
+    framelab_replay::replaying::interleaved(&mut ra, &mut rb, 0..args.warmup + args.frames)?;
     Ok((ra.report(args.warmup), rb.report(args.warmup)))
 }
 

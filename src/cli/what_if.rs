@@ -272,16 +272,11 @@ fn measure(args: &WhatIfArgs, a: Analysed, b: Analysed) -> anyhow::Result<Measur
         rb.session.set_counting(false);
         skip = 1;
     }
-    // A B, B A, ...: whatever running second costs or saves falls on both alike.
-    for f in skip..skip + args.warmup + args.frames {
-        if f % 2 == 0 {
-            ra.frame(f, None)?;
-            rb.frame(f, None)?;
-        } else {
-            rb.frame(f, None)?;
-            ra.frame(f, None)?;
-        }
-    }
+    framelab_replay::replaying::interleaved(
+        &mut ra,
+        &mut rb,
+        skip..skip + args.warmup + args.frames,
+    )?;
     let options = DiffOptions {
         threshold_pct: args.threshold,
         ..DiffOptions::default()

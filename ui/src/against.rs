@@ -2,7 +2,7 @@
 //! first by its own worker on its own device. For the current pass, the pass the structural
 //! diff pairs with it there (so renamed and moved passes still meet) shows the texture of the
 //! same name with the same controls, and the two images as shown are compared with FLIP
-//! (NVIDIA's perceptual error metric, through the `nv-flip` crate) on a thread of its own; the
+//! (NVIDIA's perceptual error metric, `framelab_replay::compare::flip`) on a thread of its own; the
 //! error map is drawn with FLIP's magma colours.
 
 use std::sync::Arc;
@@ -141,16 +141,10 @@ impl Against {
     }
 }
 
-fn flip_image(i: &egui::ColorImage) -> nv_flip::FlipImageRgb8 {
-    let rgb: Vec<u8> = i
-        .pixels
-        .iter()
-        .flat_map(|c| {
-            let [r, g, b, _] = c.to_array();
-            [r, g, b]
-        })
-        .collect();
-    nv_flip::FlipImageRgb8::with_data(i.size[0] as u32, i.size[1] as u32, &rgb)
+/// An egui image as the `image` crate holds it.
+fn rgba(i: &egui::ColorImage) -> image::RgbaImage {
+    let bytes: Vec<u8> = i.pixels.iter().flat_map(|c| c.to_array()).collect();
+    image::RgbaImage::from_raw(i.size[0] as u32, i.size[1] as u32, bytes).unwrap_or_default()
 }
 
 /// FLIP of `test` against `reference` (both as shown, gamma-encoded), or why not.
@@ -158,27 +152,24 @@ pub(crate) fn flip(
     reference: &egui::ColorImage,
     test: &egui::ColorImage,
 ) -> Result<FlipOutput, String> {
-    if reference.size != test.size {
-        return Err(format!(
+    let size_error = || {
+        format!(
             "the images differ in size ({}x{} here, {}x{} there): FLIP compares equal sizes",
             reference.size[0], reference.size[1], test.size[0], test.size[1]
-        ));
+        )
+    };
+    if reference.size != test.size {
+        return Err(size_error());
     }
-    let error = nv_flip::flip(
-        flip_image(reference),
-        flip_image(test),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    let mut pool = nv_flip::FlipPool::from_image(&error);
-    let map = error.apply_color_lut(&nv_flip::magma_lut());
-    let rgba: Vec<u8> = map
-        .to_vec()
-        .chunks_exact(3)
-        .flat_map(|c| [c[0], c[1], c[2], 255])
+    let f = framelab_replay::compare::flip(&rgba(reference), &rgba(test)).ok_or_else(size_error)?;
+    let map: Vec<u8> = f
+        .map
+        .pixels()
+        .flat_map(|p| [p[0], p[1], p[2], 255])
         .collect();
     Ok((
-        pool.mean(),
-        pool.get_percentile(0.99, false),
-        egui::ColorImage::from_rgba_unmultiplied(reference.size, &rgba),
+        f.mean as f32,
+        f.p99 as f32,
+        egui::ColorImage::from_rgba_unmultiplied(reference.size, &map),
     ))
 }
