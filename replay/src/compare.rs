@@ -1,14 +1,18 @@
-//! Comparing two sessions' textures after the same frame: every texture the two plans name
+//! Comparing two sessions' textures after the same frame, or after each pass of it (the first
+//! pass whose outputs differ is where a change starts): every texture the two plans name
 //! alike is read back whole (every mip and layer) and its values compared exactly; a changed
 //! one gets FLIP (NVIDIA's perceptual error metric, through `nv-flip`) of its first
 //! subresource as shown, with the error map in FLIP's magma colours. A what-if says with it
 //! whether an edit changed any image and by how much.
 
+use std::collections::{BTreeMap, BTreeSet};
+
 use serde::Serialize;
 
 use crate::decode::{self, DecodedImage};
 use crate::export::display_rgba8;
-use crate::run::Session;
+use crate::replaying::Replaying;
+use crate::run::{ReplayError, Session};
 
 /// FLIP of `test` against `reference`: mean, 99th percentile and the error map.
 #[derive(Debug, Clone)]
@@ -140,18 +144,103 @@ fn compare_one(
 /// name order; textures of one plan only are left out (the caller's structural diff names
 /// them).
 pub fn compare_textures(a: &Session, b: &Session) -> Vec<TextureComparison> {
-    let index = |s: &Session| -> std::collections::BTreeMap<String, usize> {
-        s.plan
-            .textures
-            .iter()
-            .enumerate()
-            .map(|(i, t)| (t.name.clone(), i))
-            .collect()
-    };
-    let (na, nb) = (index(a), index(b));
+    let (na, nb) = (texture_index(a), texture_index(b));
     let stems = crate::export::unique_stems(&a.plan.textures);
     na.iter()
         .filter_map(|(name, &ia)| Some((name, ia, *nb.get(name)?)))
         .map(|(name, ia, ib)| compare_one((name, &stems[ia]), a, ia, b, ib))
+        .collect()
+}
+
+/// The textures one pass writes, compared after it on both sides, where any differs.
+#[derive(Debug, Clone, Serialize)]
+pub struct PassComparison {
+    /// The pass, as the capture names it.
+    pub pass: String,
+    /// Each texture the pass writes that differs after it.
+    pub changed: Vec<TextureComparison>,
+}
+
+/// The plan passes of a replay by the capture pass's name, in plan order: a pass of `a` meets
+/// the one of `b` with its name and occurrence.
+fn passes_by_name(r: &Replaying) -> BTreeMap<String, Vec<usize>> {
+    let mut out: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    for (k, &id) in r.pass_ids.iter().enumerate() {
+        out.entry(r.capture().pass(id).name.clone())
+            .or_default()
+            .push(k);
+    }
+    out
+}
+
+/// The names of the textures plan pass `k` writes.
+fn written_by(r: &Replaying, k: usize) -> BTreeSet<String> {
+    let c = r.capture();
+    c.pass(r.pass_ids[k])
+        .accesses
+        .iter()
+        .filter(|x| x.writes)
+        .map(|x| c.resource(x.resource).name.clone())
+        .collect()
+}
+
+/// Runs frame `f` of both replays stopped after each pass of `a` that `b` has too (by name and
+/// occurrence), and compares the textures that pass writes on both sides: the passes whose
+/// outputs differ, in `a`'s order. Each stop replays the frame from its start, so this costs
+/// about half as many frames as there are passes, on each side; the frames are not timed.
+pub fn after_each_pass(
+    a: &mut Replaying,
+    b: &mut Replaying,
+    f: u32,
+) -> Result<Vec<PassComparison>, ReplayError> {
+    let theirs = passes_by_name(b);
+    let mut seen: BTreeMap<String, usize> = BTreeMap::new();
+    let (index_a, index_b) = (texture_index(&a.session), texture_index(&b.session));
+    let stems = crate::export::unique_stems(&a.session.plan.textures);
+    let mut out = Vec::new();
+    for k in 0..a.pass_ids.len() {
+        let name = a.capture().pass(a.pass_ids[k]).name.clone();
+        let occurrence = seen.entry(name.clone()).or_default();
+        let there = theirs
+            .get(&name)
+            .and_then(|ks| ks.get(*occurrence))
+            .copied();
+        *occurrence += 1;
+        let Some(kb) = there else { continue };
+        let written: Vec<(String, usize, usize)> = written_by(a, k)
+            .into_iter()
+            .filter_map(|t| {
+                let (ia, ib) = (*index_a.get(&t)?, *index_b.get(&t)?);
+                Some((t, ia, ib))
+            })
+            .collect();
+        if written.is_empty() {
+            continue;
+        }
+        let (ca, cb) = (a.constants(f), b.constants(f));
+        a.session.run_frame(&ca, Some(k))?;
+        b.session.run_frame(&cb, Some(kb))?;
+        let changed: Vec<TextureComparison> = written
+            .iter()
+            .map(|(t, ia, ib)| compare_one((t, &stems[*ia]), &a.session, *ia, &b.session, *ib))
+            .filter(|c| !matches!(c.state, TextureState::Identical))
+            .collect();
+        if !changed.is_empty() {
+            out.push(PassComparison {
+                pass: name,
+                changed,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The plan's textures by name.
+fn texture_index(s: &Session) -> BTreeMap<String, usize> {
+    s.plan
+        .textures
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (t.name.clone(), i))
         .collect()
 }

@@ -3,8 +3,9 @@
 //! This crate knows wgpu and images; it knows nothing of the capture's JSON, DXGI format names
 //! or D3D12 heaps. It runs the `framelab_core::plan::Plan` that the core lowers from a
 //! validated capture (`run`), reads textures back and decodes them (`decode`, `decompress`),
-//! writes them as images (`export`), compares two sessions' textures (`compare`), and ends the core's staged journey with the one stage
-//! that needs a device (`replaying`).
+//! writes them as images (`export`), compares two sessions' textures (`compare`), measures a
+//! frame and its variant side by side (`what_if`), and ends the core's staged journey with the
+//! one stage that needs a device (`replaying`).
 
 pub mod compare;
 pub mod decode;
@@ -14,6 +15,7 @@ pub mod export;
 pub mod readback;
 pub mod replaying;
 pub mod run;
+pub mod what_if;
 
 pub use device::{AdapterSummary, DeviceError, Faults, GpuContext, list_adapters, open_device};
 pub use readback::{ReadbackError, read_buffer, read_buffer_range};

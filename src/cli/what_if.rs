@@ -1,27 +1,22 @@
-//! `framelab what-if`: a frame changed by edits (a lint's fix, a pass culled, a recorded
-//! barrier dropped, a format changed), judged statically first (exit 1, before anything runs,
-//! on an error the edits introduce), then replayed beside the frame on one device, interleaved
-//! frame by frame as `diff` replays two captures, and reported: time with the diff's
-//! statistics, work counters where the adapter counts, bytes moved and memory, and every
-//! texture compared after the last frame (FLIP of each changed one). Exit 2 on a bad edit or
-//! input, nothing written.
+//! `framelab what-if`: the edits parsed, a GFXReconstruct capture and its edited copy imported
+//! (`--set`), the frame and its variant made (`framelab_core::whatif`), judged and measured
+//! (`framelab_replay::what_if`), and the report printed as text or JSON, with `--out` holding
+//! it and the changed textures' images. Exit 1 on an error the edits introduce (before anything
+//! runs) or a replay that fails, 2 on a bad edit or input, nothing written.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context;
-use serde::Serialize;
 
-use framelab_core::analysis::report::{AnalyzeOptions, LintReport};
+use framelab_core::analysis::report::LintReport;
 use framelab_core::capture::Options;
-use framelab_core::pipeline::{Analysed, Loaded};
+use framelab_core::pipeline::Loaded;
 use framelab_core::text::printable;
-use framelab_core::timing::diff::{DiffOptions, DiffReport, RowKind, Verdict, diff};
-use framelab_core::timing::work_diff::{WorkDiff, work_diff};
-use framelab_core::whatif::{Edit, StaticVerdict, apply, static_verdict};
-use framelab_replay::Replaying;
-use framelab_replay::compare::{TextureComparison, TextureState, compare_textures};
+use framelab_core::whatif::{Edit, Pair, VariantError, variant};
+use framelab_replay::compare::{PassComparison, TextureComparison, TextureState};
+use framelab_replay::what_if::{self, Changed, WhatIf, judge, measure};
 
 use super::{parse_percent, parse_scale, print_stdout, stages};
 
@@ -64,6 +59,10 @@ pub struct WhatIfArgs {
     /// Mean FLIP at or below which a changed image is within tolerance.
     #[arg(long, default_value_t = 0.01)]
     pub tolerance: f64,
+    /// Compare the textures after the last frame only, not also after every pass (each pass
+    /// compared replays the frame up to it on both sides).
+    #[arg(long)]
+    pub final_only: bool,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -85,38 +84,6 @@ impl WhatIfArgs {
     }
 }
 
-/// A texture that changed, with the first pass (in the frame's order) that writes it.
-#[derive(Debug, Serialize)]
-struct Changed<'a> {
-    #[serde(flatten)]
-    texture: &'a TextureComparison,
-    first_written_by: Option<String>,
-}
-
-/// Everything a what-if found.
-#[derive(Debug, Serialize)]
-struct Report<'a> {
-    capture: String,
-    edits: Vec<String>,
-    changes: Vec<String>,
-    #[serde(rename = "static")]
-    verdict: &'a StaticVerdict,
-    safe: bool,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    timing: Option<&'a DiffReport>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    work: Option<&'a WorkDiff>,
-    /// Memory the frame's resources take, unaliased and with aliasing, before and after.
-    memory_bytes: Option<[[u64; 2]; 2]>,
-    textures_compared: usize,
-    textures_identical: usize,
-    changed: Vec<Changed<'a>>,
-    not_compared: Vec<&'a TextureComparison>,
-    presented: Option<String>,
-    tolerance: f64,
-    summary: String,
-}
-
 /// Bad input or a bad edit: exit 2.
 struct Usage(anyhow::Error);
 
@@ -124,17 +91,6 @@ impl<E: Into<anyhow::Error>> From<E> for Usage {
     fn from(e: E) -> Self {
         Usage(e.into())
     }
-}
-
-fn analyse(loaded: Loaded, scale: f64) -> Result<Analysed, Usage> {
-    let v = loaded
-        .validate(&Options {
-            scale,
-            ..Options::default()
-        })
-        .map_err(stages::device_error)?;
-    Ok(v.analyse(AnalyzeOptions { cull: false })
-        .map_err(stages::device_error)?)
 }
 
 /// A folder of this run's own, removed when dropped.
@@ -203,184 +159,27 @@ fn inputs(args: &WhatIfArgs) -> Result<Inputs, Usage> {
     })
 }
 
-/// The frame and its variant, analysed, with the changes made in words.
-fn frames(
-    args: &WhatIfArgs,
-    inputs: &Inputs,
-    edits: &[Edit],
-) -> Result<(Analysed, Analysed, Vec<String>), Usage> {
+/// The frame and its variant, validated and analysed, with the changes made in words.
+fn frames(args: &WhatIfArgs, inputs: &Inputs, edits: &[Edit]) -> Result<Pair, Usage> {
     let loaded = Loaded::read_hashed(&inputs.frame).map_err(stages::device_error)?;
-    let mut raw = loaded.raw.clone();
-    let frame = analyse(loaded, args.scale)?;
-    let mut said: Vec<String> = args.set.iter().map(|e| format!("set {e}")).collect();
-    if let Some(edited) = &inputs.edited {
-        raw = Loaded::read(edited).map_err(stages::device_error)?.raw;
-    }
-    let (edited, changes) = apply(&raw, &frame.capture, &frame.analysis.lints, edits)?;
-    said.extend(changes);
-    let at = inputs.edited.as_ref().unwrap_or(&inputs.frame);
-    let variant = analyse(Loaded::from_raw(at, edited), args.scale)
-        .map_err(|Usage(e)| Usage(e.context("the edited frame is not a valid capture")))?;
-    Ok((frame, variant, said))
-}
-
-/// Each resource the frame writes, with the first pass (in its order) that writes it: where a
-/// change to that texture starts.
-fn first_writers(a: &Analysed) -> std::collections::BTreeMap<String, String> {
-    let c = &a.capture;
-    let mut out = std::collections::BTreeMap::new();
-    for &p in &a.analysis.order {
-        let pass = c.pass(p);
-        for x in pass.accesses.iter().filter(|x| x.writes) {
-            out.entry(c.resource(x.resource).name.clone())
-                .or_insert_with(|| pass.name.clone());
+    let start = match &inputs.edited {
+        Some(edited) => Some(Loaded::read(edited).map_err(stages::device_error)?),
+        None => None,
+    };
+    let options = Options {
+        scale: args.scale,
+        ..Options::default()
+    };
+    let mut pair = variant(loaded, start, edits, &options).map_err(|e| match e {
+        VariantError::Frame(e) => Usage(stages::device_error(e)),
+        VariantError::Invalid(e) => {
+            Usage(stages::device_error(e).context("the edited frame is not a valid capture"))
         }
-    }
-    out
-}
-
-/// What the replays measured.
-struct Measured {
-    timing: DiffReport,
-    /// Where the adapter counts pipeline statistics.
-    work: Option<WorkDiff>,
-    textures: Vec<TextureComparison>,
-    /// The texture the frame presents.
-    presented: Option<String>,
-}
-
-/// Replays both, interleaved; the timing diff, the work diff and the textures compared.
-fn measure(args: &WhatIfArgs, a: Analysed, b: Analysed) -> anyhow::Result<Measured> {
-    let ctx = framelab_replay::open_device(
-        args.adapter.as_deref(),
-        framelab_core::lower::wanted_features(),
-    )?;
-    let (a, b) = (
-        a.replayable().map_err(stages::device_error)?,
-        b.replayable().map_err(stages::device_error)?,
-    );
-    let mut ra = Replaying::start(&ctx, stages::lower(a, &ctx)?)?;
-    let mut rb = Replaying::start(&ctx, stages::lower(b, &ctx)?)?;
-    // One counted frame each first, where the adapter counts; then the timed frames.
-    let mut skip = 0;
-    let mut work = None;
-    if ra.session.set_counting(true) && rb.session.set_counting(true) {
-        ra.frame(0, None)?;
-        rb.frame(0, None)?;
-        work = Some(work_diff(&ra.report(0), &rb.report(0))?);
-        ra.session.set_counting(false);
-        rb.session.set_counting(false);
-        skip = 1;
-    }
-    framelab_replay::replaying::interleaved(
-        &mut ra,
-        &mut rb,
-        skip..skip + args.warmup + args.frames,
-    )?;
-    let options = DiffOptions {
-        threshold_pct: args.threshold,
-        ..DiffOptions::default()
-    };
-    let timing = diff(
-        &ra.report(skip + args.warmup),
-        &rb.report(skip + args.warmup),
-        &options,
-    )?;
-    let textures = compare_textures(&ra.session, &rb.session);
-    let presented = ra
-        .session
-        .plan
-        .passes
-        .iter()
-        .rev()
-        .find_map(|p| match p.op {
-            framelab_core::plan::PassOp::Present { texture } => {
-                Some(ra.session.plan.textures[texture].name.clone())
-            }
-            _ => None,
-        });
-    Ok(Measured {
-        timing,
-        work,
-        textures,
-        presented,
-    })
-}
-
-/// "12.4% faster (p=0.003)" and the like, from the frame total.
-fn time_phrase(t: &DiffReport) -> String {
-    let Some(total) = t.rows.iter().find(|r| r.kind == RowKind::Total) else {
-        return "time not measured".into();
-    };
-    let (amount, way) = (
-        total.change_pct.abs(),
-        if total.change_pct < 0.0 {
-            "faster"
-        } else {
-            "slower"
-        },
-    );
-    let p = total
-        .p_adjusted
-        .map_or(String::new(), |p| format!("p={p:.3}"));
-    match total.verdict {
-        Verdict::Improvement | Verdict::Regression => format!("{amount:.1}% {way} ({p})"),
-        Verdict::Unchanged => format!("time unchanged (within ±{}%)", t.threshold_pct),
-        Verdict::Inconclusive { needed } => {
-            let more = needed.map_or(String::new(), |n| {
-                format!("; ~{n} frames a side would decide")
-            });
-            format!("{amount:.1}% {way} (not significant, {p}{more})")
-        }
-        Verdict::Untimed => "time not measured (the adapter times none of the passes)".into(),
-    }
-}
-
-/// "images identical" or what changed, the presented image first.
-fn image_phrase(changed: &[Changed<'_>], presented: Option<&str>, tolerance: f64) -> String {
-    if changed.is_empty() {
-        return "images identical".into();
-    }
-    let judged = |t: &TextureComparison| match t.state {
-        TextureState::Changed {
-            flip_mean: Some(m), ..
-        } => format!(
-            "FLIP mean {m:.4} ({} tolerance {tolerance})",
-            if m <= tolerance { "within" } else { "over" }
-        ),
-        TextureState::Reshaped => "its size or subresources changed".into(),
-        _ => "changed".into(),
-    };
-    let shown = presented.and_then(|p| changed.iter().find(|c| c.texture.name == p));
-    let others = changed.len() - usize::from(shown.is_some());
-    let mut s = match shown {
-        Some(c) => format!("final image changed: {}", judged(c.texture)),
-        None if presented.is_some() => "final image identical".into(),
-        None => String::new(),
-    };
-    if others > 0 {
-        if !s.is_empty() {
-            s.push_str("; ");
-        }
-        let worst = changed
-            .iter()
-            .filter(|c| Some(c.texture.name.as_str()) != presented)
-            .max_by(|x, y| flip_of(x.texture).total_cmp(&flip_of(y.texture)))
-            .map(|c| format!(", the most \"{}\": {}", c.texture.name, judged(c.texture)))
-            .unwrap_or_default();
-        s.push_str(&format!("{others} other texture(s) changed{worst}"));
-    }
-    s
-}
-
-fn flip_of(t: &TextureComparison) -> f64 {
-    match t.state {
-        TextureState::Changed {
-            flip_mean: Some(m), ..
-        } => m,
-        TextureState::Reshaped => f64::INFINITY,
-        _ => 0.0,
-    }
+        e => Usage(e.into()),
+    })?;
+    let set = args.set.iter().map(|e| format!("set {e}"));
+    pair.changes = set.chain(pair.changes).collect();
+    Ok(pair)
 }
 
 /// A texture's comparison in words.
@@ -402,7 +201,7 @@ fn lint_line(l: &LintReport) -> String {
     format!("  {}  {}  {}", l.code, l.name, l.message)
 }
 
-fn text(r: &Report<'_>) -> String {
+fn text(r: &WhatIf) -> String {
     let mut s = format!("what-if on {}: {}\n", r.capture, r.edits.join(" "));
     for c in &r.changes {
         s.push_str(&format!("  {c}\n"));
@@ -421,15 +220,16 @@ fn text(r: &Report<'_>) -> String {
             s.push_str(&format!("{}\n", lint_line(l)));
         }
     }
-    if let Some(t) = r.timing {
+    if let Some(t) = &r.timing {
         s.push('\n');
         s.push_str(&framelab_core::timing::render::text(t, false));
     }
-    if let Some(w) = r.work {
+    if let Some(w) = &r.work {
         s.push('\n');
         s.push_str(&framelab_core::timing::work_diff::text(w));
     }
-    if let Some([[ua, ub], [aa, ab]]) = r.memory_bytes {
+    let [[ua, ub], [aa, ab]] = r.memory_bytes;
+    {
         let mb = |b: u64| b as f64 / 1e6;
         s.push_str(&format!(
             "\nmemory: {:.2} -> {:.2} MB unaliased, {:.2} -> {:.2} MB aliased\n",
@@ -459,26 +259,70 @@ fn text(r: &Report<'_>) -> String {
             ));
         }
     }
+    if let Some(passes) = &r.passes_changed {
+        s.push_str(&format!(
+            "compared after every pass: {} pass(es) whose outputs differ\n",
+            passes.len()
+        ));
+        for p in passes {
+            let what: Vec<String> = p
+                .changed
+                .iter()
+                .map(|t| format!("{} ({})", t.name, state_text(&t.state)))
+                .collect();
+            s.push_str(&format!("  after \"{}\": {}\n", p.pass, what.join("; ")));
+        }
+    }
     s.push_str(&format!("\n{}\n", r.summary));
     s
 }
 
+/// Both images of a changed texture and their FLIP map, into `dir`.
+fn save_images(dir: &Path, t: &TextureComparison) -> anyhow::Result<()> {
+    let stem = &t.stem;
+    if let Some((a, b, map)) = &t.images {
+        a.save(dir.join(format!("{stem}.a.png")))?;
+        b.save(dir.join(format!("{stem}.b.png")))?;
+        if let Some(map) = map {
+            map.save(dir.join(format!("{stem}.flip.png")))?;
+        }
+    }
+    Ok(())
+}
+
 /// Writes the report and the changed textures' images into `out`, atomically (a staging
 /// folder renamed at the end).
-fn write_out(out: &Path, json: &str, changed: &[Changed<'_>]) -> anyhow::Result<()> {
+fn write_out(
+    out: &Path,
+    json: &str,
+    changed: &[Changed],
+    passes: &[PassComparison],
+) -> anyhow::Result<()> {
     let staging = framelab_replay::export::staging_dir(out);
     let _ = std::fs::remove_dir_all(&staging);
     std::fs::create_dir_all(&staging).with_context(|| format!("creating {}", staging.display()))?;
     let written = (|| -> anyhow::Result<()> {
         std::fs::write(staging.join("what_if.json"), json)?;
         for c in changed {
-            let stem = &c.texture.stem;
-            if let Some((a, b, map)) = &c.texture.images {
-                a.save(staging.join(format!("{stem}.a.png")))?;
-                b.save(staging.join(format!("{stem}.b.png")))?;
-                if let Some(map) = map {
-                    map.save(staging.join(format!("{stem}.flip.png")))?;
-                }
+            save_images(&staging, &c.texture)?;
+        }
+        // After each pass whose outputs differ: passes/NNN_name/, in the frame's order.
+        for (n, p) in passes.iter().enumerate() {
+            let name: String = p
+                .pass
+                .chars()
+                .map(|c| {
+                    if c.is_ascii_alphanumeric() || c == '-' {
+                        c
+                    } else {
+                        '_'
+                    }
+                })
+                .collect();
+            let dir = staging.join("passes").join(format!("{n:03}_{name}"));
+            std::fs::create_dir_all(&dir)?;
+            for t in &p.changed {
+                save_images(&dir, t)?;
             }
         }
         Ok(())
@@ -517,89 +361,54 @@ pub fn run(args: &WhatIfArgs) -> ExitCode {
         Ok(i) => i,
         Err(Usage(e)) => return failed(&e, 2),
     };
-    let (a, b, changes) = match frames(args, &inputs, &edits) {
+    let pair = match frames(args, &inputs, &edits) {
         Ok(x) => x,
         Err(Usage(e)) => return failed(&e, 2),
     };
-    let verdict = static_verdict(&a.capture, &a.analysis.lints, &b.capture, &b.analysis.lints);
-    let memory = |x: &Analysed| {
-        let t = &x.analysis.memory.total;
-        [t.unaliased_bytes, t.aliased_bytes]
-    };
-    let (ma, mb) = (memory(&a), memory(&b));
-    let mut report = Report {
-        capture: args.capture.display().to_string(),
-        edits: args
-            .set
-            .iter()
-            .map(|e| format!("--set {e}"))
-            .chain(edits.iter().map(Edit::spelling))
-            .collect(),
-        changes,
-        verdict: &verdict,
-        safe: verdict.safe(),
-        timing: None,
-        work: None,
-        memory_bytes: Some([[ma[0], mb[0]], [ma[1], mb[1]]]),
-        textures_compared: 0,
-        textures_identical: 0,
-        changed: Vec::new(),
-        not_compared: Vec::new(),
-        presented: None,
-        tolerance: args.tolerance,
-        summary: String::new(),
-    };
+    let given = args
+        .set
+        .iter()
+        .map(|e| format!("--set {e}"))
+        .chain(edits.iter().map(Edit::spelling))
+        .collect();
+    let mut report = judge(
+        &pair,
+        args.capture.display().to_string(),
+        given,
+        args.tolerance,
+    );
     if !report.safe {
-        let n = verdict.errors().count();
-        report.summary = format!("unsafe: {n} error(s) introduced; nothing was replayed");
         return finish(args, &report, 1);
     }
-    let writers = first_writers(&a);
-    // The frame's output, where it presents none (a frame that renders into its swapchain
-    // image and marks it an output).
-    let output = a
-        .capture
-        .resources
-        .iter()
-        .find(|r| r.output && r.is_texture())
-        .map(|r| r.name.clone());
-    let measured = measure(args, a, b);
-    let Measured {
-        timing,
-        work,
-        textures,
-        presented,
-    } = match measured {
-        Ok(m) => m,
-        Err(e) => return failed(&e, 1),
+    let options = what_if::Options {
+        frames: args.frames,
+        warmup: args.warmup,
+        threshold_pct: args.threshold,
+        tolerance: args.tolerance,
+        final_only: args.final_only,
     };
-    report.timing = Some(&timing);
-    report.work = work.as_ref();
-    report.presented = presented.or(output);
-    report.textures_compared = textures.len();
-    for t in &textures {
-        match t.state {
-            TextureState::Identical => report.textures_identical += 1,
-            TextureState::NotCompared { .. } => report.not_compared.push(t),
-            _ => report.changed.push(Changed {
-                texture: t,
-                first_written_by: writers.get(&t.name).cloned(),
-            }),
-        }
+    let measured = framelab_replay::open_device(
+        args.adapter.as_deref(),
+        framelab_core::lower::wanted_features(),
+    )
+    .map_err(anyhow::Error::from)
+    .and_then(|ctx| Ok(measure(&mut report, &ctx, pair, &options)?));
+    match measured {
+        Ok(()) => finish(args, &report, 0),
+        Err(e) => failed(&e, 1),
     }
-    report.summary = format!(
-        "safe; {}; {}",
-        time_phrase(&timing),
-        image_phrase(&report.changed, report.presented.as_deref(), args.tolerance)
-    );
-    finish(args, &report, 0)
 }
 
 /// Prints the report (and writes `--out`); `code` is the exit code when that works.
-fn finish(args: &WhatIfArgs, report: &Report<'_>, code: u8) -> ExitCode {
+fn finish(args: &WhatIfArgs, report: &WhatIf, code: u8) -> ExitCode {
     let json = serde_json::to_string_pretty(report).unwrap_or_default() + "\n";
     if let Some(out) = &args.out
-        && let Err(e) = write_out(out, &json, &report.changed)
+        && let Err(e) = write_out(
+            out,
+            &json,
+            &report.changed,
+            report.passes_changed.as_deref().unwrap_or_default(),
+        )
     {
         return failed(&e, 2);
     }

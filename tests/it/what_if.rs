@@ -32,6 +32,8 @@ fn a_redundant_barrier_dropped_is_safe_and_changes_no_image() {
     assert!(compared >= 5, "{r}");
     assert_eq!(r["textures_identical"].as_u64().unwrap(), compared);
     assert_eq!(r["presented"], "ldr");
+    // Compared after every pass too: none differs.
+    assert_eq!(r["passes_changed"].as_array().unwrap().len(), 0);
     let summary = r["summary"].as_str().unwrap();
     assert!(
         summary.starts_with("safe; ") && summary.ends_with("images identical"),
@@ -218,11 +220,14 @@ fn every_fixable_finding_of_the_example_frame_fixed_at_once_is_safe() {
         "--scale",
         "0.25",
         "--json",
+        "--final-only",
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let r = json(&o);
     assert_eq!(r["safe"], true);
     assert!(!r["changes"].as_array().unwrap().is_empty());
+    // --final-only compares after the last frame only.
+    assert!(r.get("passes_changed").is_none());
     // Removing a flag nothing uses changes no image.
     assert_eq!(r["textures_identical"], r["textures_compared"], "{r}");
     let after = framelab(&["analyze", "captures/example/frame.json", "--json"]);
