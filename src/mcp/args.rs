@@ -167,3 +167,29 @@ pub struct CaptureArgs {
 pub struct CloseArgs {
     pub capture: String,
 }
+
+#[derive(Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct WhatIfArgs {
+    /// A capture id from open_capture.
+    pub capture: String,
+    /// Apply the fixes of a lint's findings: `FL005`, `FL005:ssao` (those about one pass or
+    /// resource), or `all` (every fixable finding; `analyze` gives each finding's `fix`).
+    #[serde(default)]
+    pub fix: Vec<String>,
+    /// Passes to drop.
+    #[serde(default)]
+    pub cull: Vec<String>,
+    /// Recorded barriers to drop, as `PASS:N` (N from 0 in the pass's list).
+    #[serde(default)]
+    pub drop_barrier: Vec<String>,
+    /// Texture formats to change, as `RESOURCE=FORMAT` (DXGI's names).
+    #[serde(default)]
+    pub format: Vec<String>,
+    /// Measured frames per side (default 5, 2..=100).
+    pub frames: Option<u32>,
+    /// Compare textures after the last frame only, not also after every pass (default false).
+    pub final_only: Option<bool>,
+    /// Longest side of the images returned (default 512).
+    pub max_size: Option<u32>,
+}

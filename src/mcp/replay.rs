@@ -1,11 +1,12 @@
-//! The replay behind `texture`, `read_texels` and `timings`: one worker thread per opened
+//! The replay behind `texture`, `read_texels`, `timings` and `what_if`: one worker thread per opened
 //! capture, started on the first request, owning a device and a `Replaying` session (its
 //! objects live on one thread). The
 //! worker holds frame 0 open at the last pass it was asked for, so a request for that pass
 //! or a later one continues from there instead of replaying from the start; an earlier pass
 //! begins the frame again. A timing run takes a session of its own, so the held frame stays
 //! where it was. The worker reports each pass or frame done (for progress notifications) and
-//! stops between them when the request is cancelled.
+//! stops between them when the request is cancelled. A what-if runs on a device of its own,
+//! for the frame and its variant side by side.
 
 use std::path::PathBuf;
 use std::sync::{Arc, mpsc};
@@ -381,4 +382,30 @@ fn read_buffer(h: &mut Held, r: &BufferRequest) -> Result<BufferBytes, String> {
         size,
         layouts,
     })
+}
+
+/// A what-if on a capture file, on a device of its own: the frame and its variant made,
+/// judged, and measured where safe (`framelab_replay::what_if`, as `framelab what-if`).
+pub fn what_if(
+    path: &std::path::Path,
+    scale: f64,
+    edits: &[framelab_core::whatif::Edit],
+    options: &framelab_replay::what_if::Options,
+) -> Result<framelab_replay::what_if::WhatIf, String> {
+    use framelab_replay::what_if::{judge, measure};
+    let loaded = Loaded::read_hashed(path).map_err(|e| e.to_string())?;
+    let capture_options = Options {
+        scale,
+        ..Options::default()
+    };
+    let pair = framelab_core::whatif::variant(loaded, None, edits, &capture_options)
+        .map_err(|e| e.to_string())?;
+    let given = edits.iter().map(|e| e.spelling()).collect();
+    let mut report = judge(&pair, path.display().to_string(), given, options.tolerance);
+    if report.safe {
+        let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
+            .map_err(|e| e.to_string())?;
+        measure(&mut report, &ctx, pair, options).map_err(|e| e.to_string())?;
+    }
+    Ok(report)
 }

@@ -591,6 +591,80 @@ impl Framelab {
     }
 
     #[tool(
+        description = "What if the frame were changed: apply edits to an opened capture (a lint's fixes, `fix: [\"FL005\"]` or `[\"all\"]`; `cull` passes; `drop_barrier` `PASS:N`; `format` `RESOURCE=FORMAT`), as `framelab what-if --json` does. The variant is checked first: an error the edits introduce (a missing barrier, a hazard, a read of what nothing wrote) is answered with `safe: false` and nothing runs. Otherwise both frames replay here interleaved, and the answer holds the timing diff, the work diff, memory, every texture compared after the last frame and after every pass (the first pass whose outputs differ), and one summary line; each changed texture comes back as two PNGs, the variant's image and the FLIP error map. A bad edit is a tool error naming it.",
+        input_schema = schema_for_type::<WhatIfArgs>()
+    )]
+    async fn what_if(&self, object: JsonObject) -> Answer {
+        use framelab_core::whatif::Edit;
+        let a: WhatIfArgs = take!(args("what_if", object));
+        let frames = a.frames.unwrap_or(5);
+        if !(2..=MAX_FRAMES).contains(&frames) {
+            return refuse(format!("frames {frames} is outside 2..={MAX_FRAMES}"));
+        }
+        let max_size = a.max_size.unwrap_or(512);
+        if max_size == 0 || max_size > MAX_IMAGE_SIDE {
+            return refuse(format!(
+                "max_size {max_size} is outside 1..={MAX_IMAGE_SIDE}"
+            ));
+        }
+        let parsed: Result<Vec<Edit>, _> = (a.fix.iter().map(|x| Edit::fix(x)))
+            .chain(a.cull.iter().map(|x| Edit::cull(x)))
+            .chain(a.drop_barrier.iter().map(|x| Edit::drop_barrier(x)))
+            .chain(a.format.iter().map(|x| Edit::format(x)))
+            .collect();
+        let edits = take!(parsed.map_err(|e| e.to_string()));
+        if edits.is_empty() {
+            return refuse("what_if needs at least one edit (fix, cull, drop_barrier, format)");
+        }
+        let (path, scale) = {
+            let store = self.store();
+            let o = take!(store.get(&a.capture));
+            (o.path.clone(), o.scale)
+        };
+        let options = framelab_replay::what_if::Options {
+            frames,
+            warmup: 1,
+            threshold_pct: 3.0,
+            tolerance: 0.01,
+            final_only: a.final_only.unwrap_or(false),
+        };
+        // Loading and replaying take a while: off the protocol's threads, on a device of
+        // its own.
+        let ran = tokio::task::spawn_blocking(move || {
+            super::replay::what_if(&path, scale, &edits, &options)
+        })
+        .await;
+        let report = take!(take!(ran.map_err(|e| format!("what_if stopped: {e}"))));
+        let mut content = vec![ContentBlock::text(report.summary.clone())];
+        for c in &report.changed {
+            let Some((_, b, map)) = &c.texture.images else {
+                continue;
+            };
+            let mut shown = vec![b.clone()];
+            shown.extend(
+                map.iter()
+                    .map(|m| image::DynamicImage::ImageRgb8(m.clone()).to_rgba8()),
+            );
+            for img in shown {
+                let mut png = Vec::new();
+                take!(
+                    fit(img, max_size)
+                        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+                        .map_err(|e| format!("encoding the PNG: {e}"))
+                );
+                use base64::Engine as _;
+                let data = base64::engine::general_purpose::STANDARD.encode(&png);
+                content.push(ContentBlock::image(data, "image/png"));
+            }
+        }
+        let mut result = CallToolResult::success(content);
+        result.structured_content = Some(take!(
+            serde_json::to_value(&report).map_err(|e| e.to_string())
+        ));
+        Ok(result)
+    }
+
+    #[tool(
         description = "Run a Vulkan program under GFXReconstruct's capture layer, take frame `frame`, stop the program, import the capture into `dir` (as `framelab capture` does) and open it: returns what open_capture returns.",
         input_schema = schema_for_type::<CaptureArgs>()
     )]

@@ -75,7 +75,8 @@ fn an_independent_client_gets_what_the_command_line_prints() {
             "read_buffer",
             "read_texels",
             "texture",
-            "timings"
+            "timings",
+            "what_if"
         ])
     );
     // Every tool describes its input with a JSON Schema naming its fields.
@@ -444,6 +445,26 @@ fn timings(s: &Value) {
     let out = framelab(&["diff", EXAMPLE, SYNC, "--work", "--json"]);
     assert_eq!(out.status.code(), Some(0), "{out:?}");
     assert_eq!(ok(&s["diff_work"], "diff work"), &json(&out));
+    // what_if: the command line's edits and verdicts, each changed texture as two PNGs.
+    let what = ok(&s["what_if"], "what_if");
+    assert_eq!(what["safe"], true);
+    assert_eq!(
+        what["changes"][0],
+        "\"bloom\" R16G16B16A16_FLOAT -> R11G11B10_FLOAT"
+    );
+    let changed = what["changed"].as_array().unwrap();
+    assert!(changed.iter().any(|c| c["name"] == "bloom"), "{what}");
+    assert_eq!(
+        s["what_if"]["images"].as_array().unwrap().len(),
+        2 * changed.len()
+    );
+    assert_eq!(what["passes_changed"][0]["pass"], "bright_pass");
+    let unsafe_edit = ok(&s["what_if_unsafe"], "what_if unsafe");
+    assert_eq!(unsafe_edit["safe"], false);
+    assert_eq!(unsafe_edit["static"]["introduced"][0]["code"], "FL020");
+    assert!(unsafe_edit.get("timing").is_none());
+    let bad = s["what_if_bad"]["error"].as_str().unwrap();
+    assert!(bad.contains("no pass \"nope\""), "{bad}");
     let counted = ok(&s["timings_counted"], "timings with counters");
     let out = framelab(&[
         "replay",
@@ -543,7 +564,7 @@ fn malformed_messages_get_json_rpc_errors_and_closing_stdin_exits_zero() {
     assert_eq!(answers[2]["id"], 2);
     assert_eq!(answers[3]["error"]["code"], -32600);
     assert_eq!(answers[4]["id"], 3);
-    assert_eq!(answers[4]["result"]["tools"].as_array().unwrap().len(), 12);
+    assert_eq!(answers[4]["result"]["tools"].as_array().unwrap().len(), 13);
     assert_eq!(answers[5]["id"], 4);
     assert!(answers[5].get("error").is_some() || answers[5]["result"]["isError"] == true);
     assert_eq!(answers[6]["result"]["structuredContent"]["capture"], "c1");
@@ -632,6 +653,7 @@ fn fuzz_line(rng: &mut Rng, id: u64) -> (String, bool) {
         "analyze",
         "diff",
         "close_capture",
+        "what_if",
         "no_such_tool",
     ];
     const KEYS: &[&str] = &[
@@ -692,6 +714,12 @@ fn fuzz_line(rng: &mut Rng, id: u64) -> (String, bool) {
                 "analyze" => json!({"capture": capture, "cull": rng.below(2) == 0}),
                 "diff" => json!({"a": "c1", "b": capture, "mode": "structure"}),
                 "close_capture" => json!({"capture": format!("c{}", 3 + rng.below(10))}),
+                // Edits that name nothing: refused before anything replays.
+                "what_if" => json!({
+                    "capture": capture,
+                    "cull": [*rng.pick(&["nope", "", "scene "])],
+                    "drop_barrier": [*rng.pick(&["scene:99", "tonemap:7", "x"])],
+                }),
                 "texture" => json!({
                     "capture": "c1",
                     "resource": *rng.pick(&["ldr", "bloom", "scene_color", "depth"]),
@@ -808,7 +836,7 @@ fn ten_thousand_hostile_requests_leave_the_server_answering() {
     assert!(answered(false) > 1000, "{} tool errors", answered(false));
     assert_eq!(
         final_answer["result"]["tools"].as_array().unwrap().len(),
-        12
+        13
     );
     let peak_kb: u64 = status
         .lines()

@@ -144,6 +144,12 @@ async def main():
             out["diff_structure_frames"] = await call("diff", a=e, b=s2, mode="structure", frames=3)
             out["diff_work"] = await call("diff", a=e, b=s2, mode="work")
             out["timings_counted"] = await call("timings", capture=e, frames=1, counters=True)
+            # What if bloom were R11G11B10_FLOAT; a barrier dropped; an edit naming nothing.
+            what = await session.call_tool("what_if", {"capture": s, "format": ["bloom=R11G11B10_FLOAT"], "frames": 2})
+            out["what_if"] = outcome(what)
+            out["what_if"]["images"] = [c.mime_type for c in what.content if c.type == "image"]
+            out["what_if_unsafe"] = await call("what_if", capture=s, drop_barrier=["simulate:0"])
+            out["what_if_bad"] = await call("what_if", capture=s, cull=["nope"])
             # A frame of a running program, taken into a folder inside the roots.
             if len(sys.argv) > 4:
                 out["capture_program"] = await call("capture_program", program="vkcube", frame=3, dir=sys.argv[4], timeout=120)
