@@ -37,6 +37,12 @@ pub struct WhatIfArgs {
     /// Give a texture another format (DXGI's name).
     #[arg(long, value_name = "RESOURCE=FORMAT", value_parser = Edit::format)]
     pub format: Vec<Edit>,
+    /// Run a pass on another queue (which then needs fences where it meets the others' work).
+    #[arg(long, value_name = "PASS=QUEUE", value_parser = Edit::queue)]
+    pub queue: Vec<Edit>,
+    /// Multiply a texture's width and height by F (relative sizes stay relative).
+    #[arg(long = "scale-resource", value_name = "RESOURCE=F", value_parser = Edit::scale_resource)]
+    pub scale_resource: Vec<Edit>,
     /// On a GFXReconstruct capture: set a number in one call, as `framelab edit` does
     /// (BLOCK:PATH=VALUE); the stream and its edited copy are both imported and compared.
     #[arg(long = "set", value_name = "BLOCK:PATH=VALUE")]
@@ -76,11 +82,18 @@ pub struct WhatIfArgs {
 
 impl WhatIfArgs {
     fn edits(&self) -> Vec<Edit> {
-        [&self.fix, &self.cull, &self.drop_barrier, &self.format]
-            .into_iter()
-            .flatten()
-            .cloned()
-            .collect()
+        [
+            &self.fix,
+            &self.cull,
+            &self.drop_barrier,
+            &self.format,
+            &self.queue,
+            &self.scale_resource,
+        ]
+        .into_iter()
+        .flatten()
+        .cloned()
+        .collect()
     }
 }
 
@@ -347,7 +360,7 @@ pub fn run(args: &WhatIfArgs) -> ExitCode {
     if edits.is_empty() && args.set.is_empty() {
         return failed(
             &anyhow::anyhow!(
-                "what-if needs at least one edit (--fix, --cull, --drop-barrier, --format, --set)"
+                "what-if needs at least one edit (--fix, --cull, --drop-barrier, --format, --queue, --scale-resource, --set)"
             ),
             2,
         );

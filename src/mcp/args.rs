@@ -186,6 +186,12 @@ pub struct WhatIfArgs {
     /// Texture formats to change, as `RESOURCE=FORMAT` (DXGI's names).
     #[serde(default)]
     pub format: Vec<String>,
+    /// Passes to move to another queue, as `PASS=QUEUE`.
+    #[serde(default)]
+    pub queue: Vec<String>,
+    /// Textures to resize, as `RESOURCE=F` (width and height times F).
+    #[serde(default)]
+    pub scale_resource: Vec<String>,
     /// Measured frames per side (default 5, 2..=100).
     pub frames: Option<u32>,
     /// Compare textures after the last frame only, not also after every pass (default false).

@@ -239,3 +239,57 @@ fn every_fixable_finding_of_the_example_frame_fixed_at_once_is_safe() {
             .any(|l| l.get("fix").is_some())
     );
 }
+
+#[test]
+fn a_pass_moved_to_the_async_queue_needs_fences_and_a_smaller_texture_is_reshaped() {
+    let o = framelab(&["what-if", SYNC, "--queue", "simulate=async", "--json"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let r = json(&o);
+    let errors: Vec<&serde_json::Value> = r["static"]["introduced"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|l| l["severity"] == "error")
+        .collect();
+    assert!(
+        !errors.is_empty() && errors.iter().all(|l| l["code"] == "FL014"),
+        "{r}"
+    );
+    let o = framelab(&[
+        "what-if",
+        SYNC,
+        "--scale-resource",
+        "bloom=0.5",
+        "--frames",
+        "2",
+        "--warmup",
+        "0",
+        "--scale",
+        "0.25",
+        "--final-only",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let r = json(&o);
+    let bloom = r["changed"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == "bloom")
+        .unwrap();
+    assert_eq!(bloom["state"], "reshaped");
+    // A quarter of the texels: about a quarter of the bytes bloom_mips moves (each mip's size
+    // rounds up on its own).
+    let row = r["timing"]["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|x| x["name"] == "bloom_mips")
+        .unwrap();
+    let (a, b) = (
+        row["bytes_moved"][0].as_u64().unwrap(),
+        row["bytes_moved"][1].as_u64().unwrap(),
+    );
+    let ratio = (4 * b) as f64 / a as f64;
+    assert!((0.97..1.03).contains(&ratio), "{a} {b}");
+}

@@ -6,7 +6,7 @@
 use std::collections::BTreeSet;
 
 use crate::analysis::lints::{Fix, Lint, LintKind};
-use crate::capture::format::{RawCapture, ResourceFlag, ResourceKind};
+use crate::capture::format::{Extent, RawCapture, RelativeSize, ResourceFlag, ResourceKind};
 use crate::capture::model::Capture;
 
 /// `--fix all`: every finding that has a fix.
@@ -24,6 +24,10 @@ pub enum Edit {
     DropBarrier { pass: String, index: usize },
     /// Give a resource another format (DXGI's name, as the capture spells formats).
     Format { resource: String, format: String },
+    /// Run a pass on another queue (the async compute queue, say).
+    Queue { pass: String, queue: String },
+    /// Multiply a texture's width and height by a factor.
+    ScaleResource { resource: String, factor: f64 },
 }
 
 /// Why an edit cannot be made.
@@ -53,8 +57,10 @@ pub enum EditError {
         "{edit}: \"{format}\" is not a format framelab knows (DXGI's names, e.g. R11G11B10_FLOAT)"
     )]
     UnknownFormat { edit: String, format: String },
-    #[error("{edit}: \"{resource}\" is a buffer: only a texture's format can change")]
+    #[error("{edit}: \"{resource}\" is a buffer: only a texture's format or size can change")]
     NotATexture { edit: String, resource: String },
+    #[error("{edit}: the capture has no queue \"{queue}\"")]
+    UnknownQueue { edit: String, queue: String },
 }
 
 fn nothing_to_fix(at: &Option<String>, unfixable: usize) -> String {
@@ -130,6 +136,33 @@ impl Edit {
         })
     }
 
+    /// `--queue PASS=QUEUE`.
+    pub fn queue(s: &str) -> Result<Edit, EditError> {
+        let (pass, queue) = pair(&format!("--queue {s}"), s)?;
+        Ok(Edit::Queue {
+            pass: pass.to_owned(),
+            queue: queue.to_owned(),
+        })
+    }
+
+    /// `--scale-resource RESOURCE=F`, F in (0, 16].
+    pub fn scale_resource(s: &str) -> Result<Edit, EditError> {
+        let edit = format!("--scale-resource {s}");
+        let (resource, factor) = pair(&edit, s)?;
+        let factor = factor
+            .parse::<f64>()
+            .ok()
+            .filter(|f| f.is_finite() && *f > 0.0 && *f <= 16.0)
+            .ok_or(EditError::Syntax {
+                edit,
+                why: "the factor is a number above 0 and at most 16",
+            })?;
+        Ok(Edit::ScaleResource {
+            resource: resource.to_owned(),
+            factor,
+        })
+    }
+
     /// The edit as the command line spells it.
     pub fn spelling(&self) -> String {
         match self {
@@ -138,6 +171,10 @@ impl Edit {
             Edit::Cull { pass } => format!("--cull {pass}"),
             Edit::DropBarrier { pass, index } => format!("--drop-barrier {pass}:{index}"),
             Edit::Format { resource, format } => format!("--format {resource}={format}"),
+            Edit::Queue { pass, queue } => format!("--queue {pass}={queue}"),
+            Edit::ScaleResource { resource, factor } => {
+                format!("--scale-resource {resource}={factor}")
+            }
         }
     }
 }
@@ -159,6 +196,15 @@ enum Change {
     Format {
         resource: String,
         format: String,
+    },
+    Queue {
+        pass: String,
+        queue: String,
+    },
+    /// The factor as its bits (a float has no order of its own).
+    Scale {
+        resource: String,
+        factor_bits: u64,
     },
 }
 
@@ -233,6 +279,18 @@ pub fn apply(
                     format: format.clone(),
                 });
             }
+            Edit::Queue { pass, queue } => {
+                changes.insert(Change::Queue {
+                    pass: pass.clone(),
+                    queue: queue.clone(),
+                });
+            }
+            Edit::ScaleResource { resource, factor } => {
+                changes.insert(Change::Scale {
+                    resource: resource.clone(),
+                    factor_bits: factor.to_bits(),
+                });
+            }
         }
     }
     let mut out = raw.clone();
@@ -242,7 +300,10 @@ pub fn apply(
     let mut ordered: Vec<&Change> = changes.iter().collect();
     ordered.sort_by_key(|c| match c {
         Change::DropBarrier { index, .. } => (0, usize::MAX - index),
-        Change::RemoveFlag { .. } | Change::Format { .. } => (1, 0),
+        Change::RemoveFlag { .. }
+        | Change::Format { .. }
+        | Change::Queue { .. }
+        | Change::Scale { .. } => (1, 0),
         Change::Cull { .. } => (2, 0),
     });
     for c in ordered {
@@ -258,7 +319,11 @@ fn origin(edits: &[Edit], c: &Change) -> String {
         (Edit::DropBarrier { pass, index }, Change::DropBarrier { pass: p, index: i }) => {
             pass == p && index == i
         }
-        (Edit::Format { resource, .. }, Change::Format { resource: r, .. }) => resource == r,
+        (Edit::Format { resource, .. }, Change::Format { resource: r, .. })
+        | (Edit::ScaleResource { resource, .. }, Change::Scale { resource: r, .. }) => {
+            resource == r
+        }
+        (Edit::Queue { pass, .. }, Change::Queue { pass: p, .. }) => pass == p,
         _ => false,
     });
     direct.map_or_else(|| "--fix".to_owned(), Edit::spelling)
@@ -327,5 +392,54 @@ fn change(raw: &mut RawCapture, c: &Change, edits: &[Edit]) -> Result<String, Ed
             let before = r.format.replace(format.clone()).unwrap_or_default();
             Ok(format!("\"{resource}\" {before} -> {format}"))
         }
+        Change::Queue { pass, queue } => {
+            let i = pass_index(raw, pass)?;
+            if !raw.queues.iter().any(|q| &q.name == queue) {
+                return Err(EditError::UnknownQueue {
+                    edit: edit(),
+                    queue: queue.clone(),
+                });
+            }
+            let before = std::mem::replace(&mut raw.passes[i].queue, queue.clone());
+            Ok(format!(
+                "pass \"{pass}\" moved from queue {before} to {queue}"
+            ))
+        }
+        Change::Scale {
+            resource,
+            factor_bits,
+        } => {
+            let i = resource_index(raw, resource)?;
+            let factor = f64::from_bits(*factor_bits);
+            let r = &mut raw.resources[i];
+            if matches!(r.kind, ResourceKind::Buffer) {
+                return Err(EditError::NotATexture {
+                    edit: edit(),
+                    resource: resource.clone(),
+                });
+            }
+            for e in [&mut r.width, &mut r.height].into_iter().flatten() {
+                *e = scaled(e, factor);
+            }
+            Ok(format!(
+                "\"{resource}\" width and height scaled by {factor}"
+            ))
+        }
+    }
+}
+
+/// An extent multiplied by `factor`: texels rounded (at least one), a relative size kept
+/// relative.
+fn scaled(e: &Extent, factor: f64) -> Extent {
+    let relative = |scale: f64, multiple_of| Extent::Scaled {
+        scale: scale * factor,
+        multiple_of,
+    };
+    match *e {
+        Extent::Texels(n) => Extent::Texels(((n as f64 * factor).round() as u64).max(1)),
+        Extent::Named(RelativeSize::Full) => relative(1.0, None),
+        Extent::Named(RelativeSize::Half) => relative(0.5, None),
+        Extent::Named(RelativeSize::Quarter) => relative(0.25, None),
+        Extent::Scaled { scale, multiple_of } => relative(scale, multiple_of),
     }
 }

@@ -153,3 +153,46 @@ fn every_fixable_finding_fixed_at_once_is_safe_and_leaves_none() {
         b.analysis.lints
     );
 }
+
+#[test]
+fn moving_a_pass_to_another_queue_without_fences_is_unsafe() {
+    // The particle simulation reads what reset_args wrote on the graphics queue, and the scene
+    // draws from what it writes: on the async queue nothing orders either.
+    let (v, said) = verdict(&[Edit::queue("simulate=async").unwrap()]);
+    assert_eq!(said, ["pass \"simulate\" moved from queue gfx to async"]);
+    assert!(!v.safe());
+    assert!(v.errors().all(|l| l.code == "FL014"), "{:?}", v.introduced);
+    let err = variant(&[Edit::queue("simulate=nowhere").unwrap()])
+        .err()
+        .unwrap()
+        .to_string();
+    assert_eq!(
+        err,
+        "--queue simulate=nowhere: the capture has no queue \"nowhere\""
+    );
+}
+
+#[test]
+fn a_texture_scaled_keeps_relative_sizes_relative() {
+    let (a, b, said) = variant(&[Edit::scale_resource("bloom=0.5").unwrap()]).unwrap();
+    assert_eq!(said, ["\"bloom\" width and height scaled by 0.5"]);
+    let size = |x: &Analysed| {
+        let r = x
+            .capture
+            .resources
+            .iter()
+            .find(|r| r.name == "bloom")
+            .unwrap();
+        (r.width, r.height)
+    };
+    let ((wa, ha), (wb, hb)) = (size(&a), size(&b));
+    assert_eq!((wb, hb), (wa.div_ceil(2), ha.div_ceil(2)));
+    assert!(matches!(
+        Edit::scale_resource("bloom=0"),
+        Err(EditError::Syntax { .. })
+    ));
+    assert!(matches!(
+        Edit::scale_resource("bloom=x"),
+        Err(EditError::Syntax { .. })
+    ));
+}
