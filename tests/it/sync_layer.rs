@@ -621,21 +621,66 @@ fn layer_vuids(
     ))
 }
 
-/// The valid-usage messages of the classes framelab checks in a layer's log.
+/// The VUIDs of the classes framelab checks from the calls (`import/valid_usage.rs`): load
+/// operations from `UNDEFINED`, descriptors and layout transitions against image usage.
+fn checked_class(vuid: &str) -> bool {
+    vuid.starts_with("VUID-VkAttachmentDescription")
+        || vuid.starts_with("VUID-VkWriteDescriptorSet-descriptorType-0033")
+        || [
+            "VUID-vkCmdCopyImage-srcImage-00126",
+            "VUID-vkCmdCopyImage-dstImage-00131",
+            "VUID-vkCmdBlitImage-srcImage-00219",
+            "VUID-vkCmdBlitImage-dstImage-00224",
+            "VUID-vkCmdCopyBufferToImage-dstImage-00177",
+            "VUID-vkCmdCopyImageToBuffer-srcImage-00186",
+            "VUID-vkCmdClearColorImage-image-00002",
+        ]
+        .contains(&vuid)
+        || [
+            "01208", "01209", "01210", "01211", "01212", "01213", "01658", "01659",
+        ]
+        .iter()
+        .any(|n| {
+            vuid == format!("VUID-VkImageMemoryBarrier-oldLayout-{n}")
+                || vuid == format!("VUID-VkImageMemoryBarrier2-oldLayout-{n}")
+        })
+}
+
+/// The valid-usage messages of the classes framelab checks in a layer's log, as (call, VUID,
+/// the member named: `pAttachments[0]`, `pDescriptorWrites[0]`,
+/// `pImageMemoryBarriers[0].newLayout`).
 fn vuids_in_log(log: &Path) -> BTreeSet<(String, String, String)> {
     let text = std::fs::read_to_string(log).expect("the validation layer wrote no log");
     text.lines()
-        .filter(|l| l.starts_with("VUID-VkAttachmentDescription"))
-        .map(|l| {
+        .filter(|l| l.starts_with("VUID-"))
+        .filter_map(|l| {
             let vuid = l.split('(').next().unwrap_or("").to_owned();
+            if !checked_class(&vuid) {
+                return None;
+            }
+            // A command's own rule names the command and the argument; its message may not.
+            if let Some(rest) = vuid.strip_prefix("VUID-vkCmd") {
+                let mut parts = rest.split('-');
+                let call = format!("vkCmd{}", parts.next().unwrap_or(""));
+                let member = parts.next().unwrap_or("").to_owned();
+                return Some((call, vuid, member));
+            }
             let said = l.rsplit_once("| ").map_or("", |(_, s)| s);
-            let call = said.split(':').next().unwrap_or("").to_owned();
-            let attachment = said
-                .split_whitespace()
-                .find_map(|w| w.strip_prefix("pCreateInfo->"))
+            let call = said
+                .split(|c: char| c == '(' || c == ':' || c == ' ')
+                .next()
                 .unwrap_or("")
                 .to_owned();
-            (call, vuid, attachment)
+            let member = said
+                .split_whitespace()
+                .map(|w| {
+                    w.trim_start_matches("pCreateInfo->")
+                        .trim_start_matches('.')
+                })
+                .find(|w| w.starts_with('p') && w.contains('['))
+                .unwrap_or("")
+                .to_owned();
+            Some((call, vuid, member))
         })
         .collect()
 }
@@ -653,6 +698,7 @@ fn framelab_vuids(capture: &Path) -> BTreeSet<(String, String, String)> {
                 .split_whitespace()
                 .next()
                 .unwrap_or("")
+                .trim_end_matches(':')
                 .to_owned();
             (call(&s("command")), s("vuid"), attachment)
         })
@@ -691,6 +737,97 @@ fn planted_valid_usage_errors_are_flagged_by_framelab_and_the_layer() {
         "pAttachments[0]".to_owned(),
     );
     assert_eq!(ours, BTreeSet::from([expected]));
+    let layer: BTreeSet<_> = layer_vuids(&planted, &display, &dir)
+        .difference(&layer_vuids(&source, &display, &dir))
+        .cloned()
+        .collect();
+    assert_eq!(ours, layer, "framelab (left) and the layer (right)");
+}
+
+/// vkcube's texture (the whole capture, which records its setup) created without `VK_IMAGE_USAGE_SAMPLED_BIT` (its usage set to
+/// `COLOR_ATTACHMENT` with `framelab edit`): framelab and the layer both report the combined
+/// image sampler descriptors written of it (`VUID-VkWriteDescriptorSet-descriptorType-00337`,
+/// one per swapchain image's set) and its transition from `PREINITIALIZED` to
+/// `SHADER_READ_ONLY_OPTIMAL` (`VUID-VkImageMemoryBarrier-oldLayout-01211`), at the same calls
+/// and members. (On a trimmed capture the transition is gfxrecon-replay's own, restoring the
+/// image's layout, and the stream holds no barrier.)
+#[test]
+fn image_usage_against_its_use_is_flagged_by_framelab_and_the_layer() {
+    let dir = temp("planted-usage");
+    let display = start_display();
+    let source = gfxr_fixture("vkcube_whole.gfxr");
+    let planted = dir.join("vkcube_not_sampled.gfxr");
+    let run = framelab(&[
+        "edit",
+        source.to_str().unwrap(),
+        "-o",
+        planted.to_str().unwrap(),
+        "--set",
+        "50:pCreateInfo.usage=16",
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let (before, after) = (dir.join("before.json"), dir.join("after.json"));
+    import(&source, &before);
+    import(&planted, &after);
+    assert!(framelab_vuids(&before).is_empty());
+    let ours = framelab_vuids(&after);
+    let vuids: BTreeSet<&str> = ours.iter().map(|(_, v, _)| v.as_str()).collect();
+    assert_eq!(
+        vuids,
+        BTreeSet::from([
+            "VUID-VkImageMemoryBarrier-oldLayout-01211",
+            "VUID-VkWriteDescriptorSet-descriptorType-00337"
+        ])
+    );
+    let layer: BTreeSet<_> = layer_vuids(&planted, &display, &dir)
+        .difference(&layer_vuids(&source, &display, &dir))
+        .cloned()
+        .collect();
+    assert_eq!(ours, layer, "framelab (left) and the layer (right)");
+}
+
+/// vkcube `--use_staging`'s texture created without `VK_IMAGE_USAGE_TRANSFER_DST_BIT` (usage
+/// `SAMPLED` only): framelab and the layer both report the copy into it
+/// (`VUID-vkCmdCopyBufferToImage-dstImage-00177`) and both transitions through
+/// `TRANSFER_DST_OPTIMAL` (`VUID-VkImageMemoryBarrier-oldLayout-01213`, its new layout at the
+/// first barrier, its old one at the second).
+#[test]
+fn a_copy_into_an_image_without_transfer_usage_is_flagged_by_framelab_and_the_layer() {
+    let dir = temp("planted-transfer");
+    let display = start_display();
+    let source = gfxr_fixture("vkcube_staging.gfxr");
+    let planted = dir.join("vkcube_no_transfer_dst.gfxr");
+    let run = framelab(&[
+        "edit",
+        source.to_str().unwrap(),
+        "-o",
+        planted.to_str().unwrap(),
+        "--set",
+        "57:pCreateInfo.usage=4",
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let (before, after) = (dir.join("before.json"), dir.join("after.json"));
+    import(&source, &before);
+    import(&planted, &after);
+    assert!(framelab_vuids(&before).is_empty());
+    let ours = framelab_vuids(&after);
+    let barrier = |member: &str| {
+        (
+            "vkCmdPipelineBarrier".to_owned(),
+            "VUID-VkImageMemoryBarrier-oldLayout-01213".to_owned(),
+            format!("pImageMemoryBarriers[0].{member}"),
+        )
+    };
+    let expected = BTreeSet::from([
+        barrier("newLayout"),
+        barrier("oldLayout"),
+        (
+            "vkCmdCopyBufferToImage".to_owned(),
+            "VUID-vkCmdCopyBufferToImage-dstImage-00177".to_owned(),
+            "dstImage".to_owned(),
+        ),
+    ]);
+    assert_eq!(ours, expected);
     let layer: BTreeSet<_> = layer_vuids(&planted, &display, &dir)
         .difference(&layer_vuids(&source, &display, &dir))
         .cloned()

@@ -46,7 +46,7 @@ use serde::Serialize;
 
 use crate::capture::format::RawCapture;
 use build::Builder;
-use calls::Func;
+use calls::{CmdFunc, Func};
 use commands::Origin;
 use record::{Recording, Recordings};
 use state::Objects;
@@ -264,6 +264,21 @@ impl Importer {
     fn dispatch(&mut self, call: &Call, args: &Arg<'_>) -> Got<bool> {
         match call.func {
             Func::Cmd(cmd) => {
+                if self.checks_valid_usage() {
+                    let command = format!("{} #{}", call.name, call.index);
+                    let found = match cmd {
+                        CmdFunc::PipelineBarrier | CmdFunc::PipelineBarrier2 => {
+                            let v2 = matches!(cmd, CmdFunc::PipelineBarrier2);
+                            valid_usage::barrier_usage(&command, v2, args, &self.objects)
+                        }
+                        CmdFunc::PushDescriptorSet => {
+                            valid_usage::descriptor_usage(&command, args, &self.objects)
+                        }
+                        _ => valid_usage::transfer_usage(&call.name, &command, args, &self.objects),
+                    };
+                    // A call too malformed to check is skipped by the recording below.
+                    self.valid_usage.extend(found.unwrap_or_default());
+                }
                 let cb = args.get("commandBuffer")?.handle()?;
                 let spare = &mut self.spare;
                 let recording = self
@@ -309,8 +324,14 @@ impl Importer {
             | Func::CreateDescriptorSetLayout
             | Func::CreatePipelineLayout
             | Func::CreatePipelines { .. } => return self.pipelines.apply(call.func, args),
+            Func::UpdateDescriptorSets if self.checks_valid_usage() => {
+                let command = format!("{} #{}", call.name, call.index);
+                let found = valid_usage::descriptor_usage(&command, args, &self.objects);
+                self.valid_usage.extend(found.unwrap_or_default());
+                return self.objects.apply(call.func, args);
+            }
             Func::CreateRenderPass => {
-                if self.sync.enabled() && self.valid_usage.len() < MAX_FINDINGS {
+                if self.checks_valid_usage() {
                     let command = format!("{} #{}", call.name, call.index);
                     let v2 = call.name.contains('2');
                     // A call too malformed to check is skipped by `objects.apply` below.
@@ -322,6 +343,12 @@ impl Importer {
             other => return self.objects.apply(other, args),
         }
         Ok(true)
+    }
+
+    /// Whether calls are checked for valid usage: with the synchronization check, and until
+    /// a frame has given `MAX_FINDINGS` of them.
+    fn checks_valid_usage(&self) -> bool {
+        self.sync.enabled() && self.valid_usage.len() < MAX_FINDINGS
     }
 
     fn reset_pool(&mut self, args: &Arg<'_>) -> Got<()> {

@@ -4,12 +4,17 @@
 //!
 //! Checked here: a render pass that loads an attachment whose initial layout is `UNDEFINED`
 //! (its contents are undefined at the load; garbage on some GPUs), for the colour or depth
-//! aspect (`loadOp`) and the stencil aspect (`stencilLoadOp`). Layouts at use (a barrier's old
+//! aspect (`loadOp`) and the stencil aspect (`stencilLoadOp`); and an image's usage flags
+//! against its use: image descriptors written of it (sampled, storage, input attachment),
+//! layout transitions from or to a layout its usage does not allow, and transfer commands
+//! (copies, blits, colour clears) that read or write it without `TRANSFER_SRC`/`TRANSFER_DST`. Layouts at use (a barrier's old
 //! layout, a render pass's initial layout, a descriptor's layout) are checked with the
 //! synchronization rules, which track the layouts (`sync`).
 
+use super::state::{Objects, descriptor_kind};
 use super::value::{Arg, Got};
 use crate::capture::format::ValidUsageFinding;
+use crate::capture::vulkan::ImageLayout;
 
 const UNDEFINED: &str = "VK_IMAGE_LAYOUT_UNDEFINED";
 const LOAD: &str = "VK_ATTACHMENT_LOAD_OP_LOAD";
@@ -49,6 +54,258 @@ pub fn render_pass(command: &str, v2: bool, args: &Arg<'_>) -> Got<Vec<ValidUsag
                     ),
                 });
             }
+        }
+    }
+    Ok(out)
+}
+
+/// `VkImageUsageFlagBits` a use needs.
+const TRANSFER_SRC: u64 = 0x1;
+const TRANSFER_DST: u64 = 0x2;
+const SAMPLED: u64 = 0x4;
+const STORAGE: u64 = 0x8;
+const COLOR_ATTACHMENT: u64 = 0x10;
+const DEPTH_STENCIL_ATTACHMENT: u64 = 0x20;
+const INPUT_ATTACHMENT: u64 = 0x80;
+
+/// What a descriptor type needs of its image's usage: the bits (any of them), their names and
+/// the number of `VUID-VkWriteDescriptorSet-descriptorType-*` that says so.
+fn descriptor_needs(kind: &str) -> Option<(u64, &'static str, &'static str)> {
+    match kind {
+        "SAMPLED_IMAGE" | "COMBINED_IMAGE_SAMPLER" => {
+            Some((SAMPLED, "VK_IMAGE_USAGE_SAMPLED_BIT", "00337"))
+        }
+        "INPUT_ATTACHMENT" => Some((
+            INPUT_ATTACHMENT,
+            "VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT",
+            "00338",
+        )),
+        "STORAGE_IMAGE" => Some((STORAGE, "VK_IMAGE_USAGE_STORAGE_BIT", "00339")),
+        _ => None,
+    }
+}
+
+/// The image descriptors `vkUpdateDescriptorSets` or `vkCmdPushDescriptorSetKHR` call
+/// `command` writes whose image was created without the usage their type needs.
+pub fn descriptor_usage(
+    command: &str,
+    args: &Arg<'_>,
+    objects: &Objects,
+) -> Got<Vec<ValidUsageFinding>> {
+    let mut out = Vec::new();
+    for (i, w) in args.list("pDescriptorWrites")?.iter().enumerate() {
+        let kind = descriptor_kind(&w.get("descriptorType")?.symbol()?);
+        let Some((bits, names, number)) = descriptor_needs(&kind) else {
+            continue;
+        };
+        for (j, info) in w.list("pImageInfo")?.iter().enumerate() {
+            let view = info.get("imageView")?.handle()?;
+            let Some(image) = objects
+                .views
+                .get(&view)
+                .and_then(|v| objects.images.get(&v.image))
+            else {
+                continue;
+            };
+            if image.usage & bits == 0 {
+                out.push(ValidUsageFinding {
+                    vuid: format!("VUID-VkWriteDescriptorSet-descriptorType-{number}"),
+                    command: command.to_owned(),
+                    detail: format!(
+                        "pDescriptorWrites[{i}] (pImageInfo[{j}]): a {kind} descriptor of an image created without {names} (usage {:#x})",
+                        image.usage
+                    ),
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// What a layout needs of an image's usage in a layout transition: the bits (any of them),
+/// their names and the number of `VUID-VkImageMemoryBarrier(2)-oldLayout-*` that says so.
+fn layout_needs(layout: ImageLayout) -> Option<(u64, &'static str, &'static str)> {
+    const DS: &str = "VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT";
+    Some(match layout {
+        ImageLayout::ColorAttachmentOptimal => (
+            COLOR_ATTACHMENT,
+            "VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT",
+            "01208",
+        ),
+        ImageLayout::DepthStencilAttachmentOptimal => (DEPTH_STENCIL_ATTACHMENT, DS, "01209"),
+        ImageLayout::DepthStencilReadOnlyOptimal => (DEPTH_STENCIL_ATTACHMENT, DS, "01210"),
+        ImageLayout::ShaderReadOnlyOptimal => (
+            SAMPLED | INPUT_ATTACHMENT,
+            "VK_IMAGE_USAGE_SAMPLED_BIT or VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT",
+            "01211",
+        ),
+        ImageLayout::TransferSrcOptimal => {
+            (TRANSFER_SRC, "VK_IMAGE_USAGE_TRANSFER_SRC_BIT", "01212")
+        }
+        ImageLayout::TransferDstOptimal => {
+            (TRANSFER_DST, "VK_IMAGE_USAGE_TRANSFER_DST_BIT", "01213")
+        }
+        ImageLayout::DepthReadOnlyStencilAttachmentOptimal => {
+            (DEPTH_STENCIL_ATTACHMENT, DS, "01658")
+        }
+        ImageLayout::DepthAttachmentStencilReadOnlyOptimal => {
+            (DEPTH_STENCIL_ATTACHMENT, DS, "01659")
+        }
+        _ => return None,
+    })
+}
+
+/// The image barriers of `vkCmdPipelineBarrier` (`v2`: `vkCmdPipelineBarrier2`) call
+/// `command` that transition an image from or to a layout its usage does not allow.
+pub fn barrier_usage(
+    command: &str,
+    v2: bool,
+    args: &Arg<'_>,
+    objects: &Objects,
+) -> Got<Vec<ValidUsageFinding>> {
+    let (barriers, structure) = if v2 {
+        (
+            args.get("pDependencyInfo")?.list("pImageMemoryBarriers")?,
+            "VkImageMemoryBarrier2",
+        )
+    } else {
+        (args.list("pImageMemoryBarriers")?, "VkImageMemoryBarrier")
+    };
+    let mut out = Vec::new();
+    for (i, b) in barriers.iter().enumerate() {
+        let (old, new) = (b.get("oldLayout")?.layout()?, b.get("newLayout")?.layout()?);
+        let ownership =
+            b.get("srcQueueFamilyIndex")?.u64()? != b.get("dstQueueFamilyIndex")?.u64()?;
+        // The rule holds for a layout transition or a queue family ownership transfer.
+        if old == new && !ownership {
+            continue;
+        }
+        let Some(image) = objects.images.get(&b.get("image")?.handle()?) else {
+            continue;
+        };
+        for (member, layout) in [("oldLayout", old), ("newLayout", new)] {
+            let Some((bits, names, number)) = layout_needs(layout) else {
+                continue;
+            };
+            if image.usage & bits == 0 {
+                out.push(ValidUsageFinding {
+                    vuid: format!("VUID-{structure}-oldLayout-{number}"),
+                    command: command.to_owned(),
+                    detail: format!(
+                        "pImageMemoryBarriers[{i}].{member} {}: the image was created without {names} (usage {:#x})",
+                        layout.name(),
+                        image.usage
+                    ),
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The images a transfer command (its name `call`) reads or writes: the argument (inside
+/// `info`, the `*Info2` structure, for the `2` commands), the usage bit it needs and the VUID.
+fn transfer_images(
+    call: &str,
+) -> Option<(
+    Option<&'static str>,
+    &'static [(&'static str, u64, &'static str)],
+)> {
+    const COPY: &[(&str, u64, &str)] = &[
+        ("srcImage", TRANSFER_SRC, "vkCmdCopyImage-srcImage-00126"),
+        ("dstImage", TRANSFER_DST, "vkCmdCopyImage-dstImage-00131"),
+    ];
+    const COPY2: &[(&str, u64, &str)] = &[
+        ("srcImage", TRANSFER_SRC, "VkCopyImageInfo2-srcImage-00126"),
+        ("dstImage", TRANSFER_DST, "VkCopyImageInfo2-dstImage-00131"),
+    ];
+    const BLIT: &[(&str, u64, &str)] = &[
+        ("srcImage", TRANSFER_SRC, "vkCmdBlitImage-srcImage-00219"),
+        ("dstImage", TRANSFER_DST, "vkCmdBlitImage-dstImage-00224"),
+    ];
+    const BLIT2: &[(&str, u64, &str)] = &[
+        ("srcImage", TRANSFER_SRC, "VkBlitImageInfo2-srcImage-00219"),
+        ("dstImage", TRANSFER_DST, "VkBlitImageInfo2-dstImage-00224"),
+    ];
+    Some(match call {
+        "vkCmdCopyImage" => (None, COPY),
+        "vkCmdCopyImage2" | "vkCmdCopyImage2KHR" => (Some("pCopyImageInfo"), COPY2),
+        "vkCmdBlitImage" => (None, BLIT),
+        "vkCmdBlitImage2" | "vkCmdBlitImage2KHR" => (Some("pBlitImageInfo"), BLIT2),
+        "vkCmdCopyBufferToImage" => (
+            None,
+            &[(
+                "dstImage",
+                TRANSFER_DST,
+                "vkCmdCopyBufferToImage-dstImage-00177",
+            )],
+        ),
+        "vkCmdCopyBufferToImage2" | "vkCmdCopyBufferToImage2KHR" => (
+            Some("pCopyBufferToImageInfo"),
+            &[(
+                "dstImage",
+                TRANSFER_DST,
+                "VkCopyBufferToImageInfo2-dstImage-00177",
+            )],
+        ),
+        "vkCmdCopyImageToBuffer" => (
+            None,
+            &[(
+                "srcImage",
+                TRANSFER_SRC,
+                "vkCmdCopyImageToBuffer-srcImage-00186",
+            )],
+        ),
+        "vkCmdCopyImageToBuffer2" | "vkCmdCopyImageToBuffer2KHR" => (
+            Some("pCopyImageToBufferInfo"),
+            &[(
+                "srcImage",
+                TRANSFER_SRC,
+                "VkCopyImageToBufferInfo2-srcImage-00186",
+            )],
+        ),
+        "vkCmdClearColorImage" => (
+            None,
+            &[("image", TRANSFER_DST, "vkCmdClearColorImage-image-00002")],
+        ),
+        _ => return None,
+    })
+}
+
+/// The images transfer command `command` (named `call`) reads or writes without the
+/// `TRANSFER_SRC` or `TRANSFER_DST` usage it needs.
+pub fn transfer_usage(
+    call: &str,
+    command: &str,
+    args: &Arg<'_>,
+    objects: &Objects,
+) -> Got<Vec<ValidUsageFinding>> {
+    let mut out = Vec::new();
+    let Some((info, images)) = transfer_images(call) else {
+        return Ok(out);
+    };
+    let holder = match info {
+        Some(key) => args.get(key)?,
+        None => *args,
+    };
+    for &(member, bit, vuid) in images {
+        let Some(image) = objects.images.get(&holder.get(member)?.handle()?) else {
+            continue;
+        };
+        if image.usage & bit == 0 {
+            let name = if bit == TRANSFER_SRC {
+                "VK_IMAGE_USAGE_TRANSFER_SRC_BIT"
+            } else {
+                "VK_IMAGE_USAGE_TRANSFER_DST_BIT"
+            };
+            out.push(ValidUsageFinding {
+                vuid: format!("VUID-{vuid}"),
+                command: command.to_owned(),
+                detail: format!(
+                    "{member}: the image was created without {name} (usage {:#x})",
+                    image.usage
+                ),
+            });
         }
     }
     Ok(out)
