@@ -203,27 +203,26 @@ pub fn barrier_usage(
     Ok(out)
 }
 
+/// An image argument of a transfer command: its name, the usage bit it needs, and the VUID
+/// (without `VUID-`) that says so.
+type ImageArgument = (&'static str, u64, &'static str);
+
 /// The images a transfer command (its name `call`) reads or writes: the argument (inside
 /// `info`, the `*Info2` structure, for the `2` commands), the usage bit it needs and the VUID.
-fn transfer_images(
-    call: &str,
-) -> Option<(
-    Option<&'static str>,
-    &'static [(&'static str, u64, &'static str)],
-)> {
-    const COPY: &[(&str, u64, &str)] = &[
+fn transfer_images(call: &str) -> Option<(Option<&'static str>, &'static [ImageArgument])> {
+    const COPY: &[ImageArgument] = &[
         ("srcImage", TRANSFER_SRC, "vkCmdCopyImage-srcImage-00126"),
         ("dstImage", TRANSFER_DST, "vkCmdCopyImage-dstImage-00131"),
     ];
-    const COPY2: &[(&str, u64, &str)] = &[
+    const COPY2: &[ImageArgument] = &[
         ("srcImage", TRANSFER_SRC, "VkCopyImageInfo2-srcImage-00126"),
         ("dstImage", TRANSFER_DST, "VkCopyImageInfo2-dstImage-00131"),
     ];
-    const BLIT: &[(&str, u64, &str)] = &[
+    const BLIT: &[ImageArgument] = &[
         ("srcImage", TRANSFER_SRC, "vkCmdBlitImage-srcImage-00219"),
         ("dstImage", TRANSFER_DST, "vkCmdBlitImage-dstImage-00224"),
     ];
-    const BLIT2: &[(&str, u64, &str)] = &[
+    const BLIT2: &[ImageArgument] = &[
         ("srcImage", TRANSFER_SRC, "VkBlitImageInfo2-srcImage-00219"),
         ("dstImage", TRANSFER_DST, "VkBlitImageInfo2-dstImage-00224"),
     ];
