@@ -666,11 +666,7 @@ fn vuids_in_log(log: &Path) -> BTreeSet<(String, String, String)> {
                 return Some((call, vuid, member));
             }
             let said = l.rsplit_once("| ").map_or("", |(_, s)| s);
-            let call = said
-                .split(|c: char| c == '(' || c == ':' || c == ' ')
-                .next()
-                .unwrap_or("")
-                .to_owned();
+            let call = said.split(['(', ':', ' ']).next().unwrap_or("").to_owned();
             let member = said
                 .split_whitespace()
                 .map(|w| {
