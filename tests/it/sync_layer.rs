@@ -626,6 +626,23 @@ fn layer_vuids(
 fn checked_class(vuid: &str) -> bool {
     vuid.starts_with("VUID-VkAttachmentDescription")
         || vuid.starts_with("VUID-VkWriteDescriptorSet-descriptorType-0033")
+        || vuid.starts_with("VUID-vkCmdBeginRenderPass-initialLayout-0089")
+        || [
+            "VUID-vkCmdBeginRenderPass-initialLayout-01758",
+            "VUID-vkCmdBeginRenderPass2-initialLayout-03094",
+            "VUID-vkCmdBeginRenderPass2-initialLayout-03096",
+            "VUID-vkCmdBeginRenderPass2-initialLayout-03097",
+            "VUID-vkCmdBeginRenderPass2-initialLayout-03098",
+            "VUID-vkCmdBeginRenderPass2-initialLayout-03099",
+            "VUID-vkCmdBeginRenderPass2-initialLayout-03100",
+        ]
+        .contains(&vuid)
+        || [
+            "VUID-VkFramebufferCreateInfo-pAttachments-00877",
+            "VUID-VkFramebufferCreateInfo-pAttachments-00879",
+            "VUID-VkFramebufferCreateInfo-pAttachments-02633",
+        ]
+        .contains(&vuid)
         || [
             "VUID-vkCmdCopyImage-srcImage-00126",
             "VUID-vkCmdCopyImage-dstImage-00131",
@@ -658,6 +675,18 @@ fn vuids_in_log(log: &Path) -> BTreeSet<(String, String, String)> {
             if !checked_class(&vuid) {
                 return None;
             }
+            // The layer names a render pass's attachment as `attachment N`.
+            let said = l.rsplit_once("| ").map_or("", |(_, s)| s);
+            if let Some(rest) = vuid.strip_prefix("VUID-vkCmdBeginRenderPass") {
+                let call = format!(
+                    "vkCmdBeginRenderPass{}",
+                    rest.split('-').next().unwrap_or("")
+                );
+                let n = said
+                    .split_once("for attachment ")
+                    .map_or("", |(_, rest)| rest.split(' ').next().unwrap_or(""));
+                return Some((call, vuid, format!("pAttachments[{n}]")));
+            }
             // A command's own rule names the command and the argument; its message may not.
             if let Some(rest) = vuid.strip_prefix("VUID-vkCmd") {
                 let mut parts = rest.split('-');
@@ -666,6 +695,18 @@ fn vuids_in_log(log: &Path) -> BTreeSet<(String, String, String)> {
                 return Some((call, vuid, member));
             }
             let said = l.rsplit_once("| ").map_or("", |(_, s)| s);
+            // The layer names a framebuffer's attachment as `Attachment (N)`.
+            if vuid.starts_with("VUID-VkFramebufferCreateInfo") {
+                let n = said
+                    .split_once("Attachment (")
+                    .and_then(|(_, rest)| rest.split_once(')'))
+                    .map_or("", |(n, _)| n);
+                return Some((
+                    "vkCreateFramebuffer".to_owned(),
+                    vuid,
+                    format!("pAttachments[{n}]"),
+                ));
+            }
             let call = said.split(['(', ':', ' ']).next().unwrap_or("").to_owned();
             let member = said
                 .split_whitespace()
@@ -821,6 +862,51 @@ fn a_copy_into_an_image_without_transfer_usage_is_flagged_by_framelab_and_the_la
             "vkCmdCopyBufferToImage".to_owned(),
             "VUID-vkCmdCopyBufferToImage-dstImage-00177".to_owned(),
             "dstImage".to_owned(),
+        ),
+    ]);
+    assert_eq!(ours, expected);
+    let layer: BTreeSet<_> = layer_vuids(&planted, &display, &dir)
+        .difference(&layer_vuids(&source, &display, &dir))
+        .cloned()
+        .collect();
+    assert_eq!(ours, layer, "framelab (left) and the layer (right)");
+}
+
+/// vkcube's depth image created without `VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT` (usage
+/// `SAMPLED`, the whole capture, which makes its framebuffers): framelab and the layer both
+/// report each framebuffer made of it (`VUID-VkFramebufferCreateInfo-pAttachments-02633`,
+/// attachment 1), and each render pass begun on them, which puts that attachment in
+/// `DEPTH_STENCIL_ATTACHMENT_OPTIMAL` (`VUID-vkCmdBeginRenderPass-initialLayout-00896`).
+#[test]
+fn an_attachment_without_attachment_usage_is_flagged_by_framelab_and_the_layer() {
+    let dir = temp("planted-framebuffer");
+    let display = start_display();
+    let source = gfxr_fixture("vkcube_whole.gfxr");
+    let planted = dir.join("vkcube_depth_not_attachment.gfxr");
+    let run = framelab(&[
+        "edit",
+        source.to_str().unwrap(),
+        "-o",
+        planted.to_str().unwrap(),
+        "--set",
+        "44:pCreateInfo.usage=4",
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let (before, after) = (dir.join("before.json"), dir.join("after.json"));
+    import(&source, &before);
+    import(&planted, &after);
+    assert!(framelab_vuids(&before).is_empty());
+    let ours = framelab_vuids(&after);
+    let expected = BTreeSet::from([
+        (
+            "vkCreateFramebuffer".to_owned(),
+            "VUID-VkFramebufferCreateInfo-pAttachments-02633".to_owned(),
+            "pAttachments[1]".to_owned(),
+        ),
+        (
+            "vkCmdBeginRenderPass".to_owned(),
+            "VUID-vkCmdBeginRenderPass-initialLayout-00896".to_owned(),
+            "pAttachments[1]".to_owned(),
         ),
     ]);
     assert_eq!(ours, expected);

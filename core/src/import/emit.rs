@@ -453,3 +453,58 @@ pub fn emit(
         notes: made.notes,
     }
 }
+
+/// Gives each resource the flags the frame's use of it implies where its creation did not:
+/// a Vulkan image used as a colour or depth attachment, or bound for storage, without that
+/// usage (a valid-usage error, reported with its VUID, that drivers run anyway). The capture
+/// describes what the frame does, so it still validates and replays.
+pub fn flags_from_use(capture: &mut RawCapture) {
+    let mut needs: BTreeMap<&str, BTreeSet<ResourceFlag>> = BTreeMap::new();
+    let mut sampled: BTreeSet<&str> = BTreeSet::new();
+    let textures: BTreeSet<&str> = capture
+        .resources
+        .iter()
+        .filter(|r| r.kind.is_texture())
+        .map(|r| r.name.as_str())
+        .collect();
+    for p in &capture.passes {
+        for a in &p.color_attachments {
+            needs
+                .entry(&a.resource)
+                .or_default()
+                .insert(ResourceFlag::AllowRenderTarget);
+        }
+        if let Some(d) = &p.depth_stencil {
+            needs
+                .entry(&d.resource)
+                .or_default()
+                .insert(ResourceFlag::AllowDepthStencil);
+        }
+        for b in p.bindings.values() {
+            let (Some(r), Some(access)) = (b.resource.as_deref(), b.access) else {
+                continue;
+            };
+            if access.is_unordered(textures.contains(r)) {
+                needs
+                    .entry(r)
+                    .or_default()
+                    .insert(ResourceFlag::AllowUnorderedAccess);
+            } else if access == Access::Sampled {
+                sampled.insert(r);
+            }
+        }
+    }
+    let needs: BTreeMap<String, BTreeSet<ResourceFlag>> =
+        needs.into_iter().map(|(k, v)| (k.to_owned(), v)).collect();
+    let sampled: BTreeSet<String> = sampled.into_iter().map(str::to_owned).collect();
+    for r in &mut capture.resources {
+        for &flag in needs.get(&r.name).into_iter().flatten() {
+            if !r.flags.contains(&flag) {
+                r.flags.push(flag);
+            }
+        }
+        if sampled.contains(&r.name) {
+            r.flags.retain(|f| *f != ResourceFlag::DenyShaderResource);
+        }
+    }
+}

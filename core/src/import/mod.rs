@@ -274,6 +274,10 @@ impl Importer {
                         CmdFunc::PushDescriptorSet => {
                             valid_usage::descriptor_usage(&command, args, &self.objects)
                         }
+                        CmdFunc::BeginRenderPass => {
+                            let v2 = call.name.contains('2');
+                            valid_usage::begin_usage(&command, v2, args, &self.objects)
+                        }
                         _ => valid_usage::transfer_usage(&call.name, &command, args, &self.objects),
                     };
                     // A call too malformed to check is skipped by the recording below.
@@ -327,6 +331,12 @@ impl Importer {
             Func::UpdateDescriptorSets if self.checks_valid_usage() => {
                 let command = format!("{} #{}", call.name, call.index);
                 let found = valid_usage::descriptor_usage(&command, args, &self.objects);
+                self.valid_usage.extend(found.unwrap_or_default());
+                return self.objects.apply(call.func, args);
+            }
+            Func::CreateFramebuffer if self.checks_valid_usage() => {
+                let command = format!("{} #{}", call.name, call.index);
+                let found = valid_usage::framebuffer_usage(&command, args, &self.objects);
                 self.valid_usage.extend(found.unwrap_or_default());
                 return self.objects.apply(call.func, args);
             }
@@ -779,6 +789,7 @@ fn finish(
         .source
         .as_ref()
         .and_then(|s| s.not_replayable.clone());
+    emit::flags_from_use(&mut capture);
     if capture.passes.is_empty() {
         return Err(nothing_submitted(
             file, selected, frames, imp.calls, &skipped,

@@ -6,8 +6,10 @@
 //! (its contents are undefined at the load; garbage on some GPUs), for the colour or depth
 //! aspect (`loadOp`) and the stencil aspect (`stencilLoadOp`); and an image's usage flags
 //! against its use: image descriptors written of it (sampled, storage, input attachment),
-//! layout transitions from or to a layout its usage does not allow, and transfer commands
-//! (copies, blits, colour clears) that read or write it without `TRANSFER_SRC`/`TRANSFER_DST`. Layouts at use (a barrier's old
+//! layout transitions from or to a layout its usage does not allow, transfer commands (copies,
+//! blits, colour clears) that read or write it without `TRANSFER_SRC`/`TRANSFER_DST`,
+//! framebuffers whose render pass uses it as an attachment of a kind its usage lacks, and
+//! render passes begun that put it in a layout its usage does not allow. Layouts at use (a barrier's old
 //! layout, a render pass's initial layout, a descriptor's layout) are checked with the
 //! synchronization rules, which track the layouts (`sync`).
 
@@ -302,6 +304,185 @@ pub fn transfer_usage(
                 command: command.to_owned(),
                 detail: format!(
                     "{member}: the image was created without {name} (usage {:#x})",
+                    image.usage
+                ),
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// `vkCreateFramebuffer` call `command`: each attachment its render pass uses as a colour or
+/// resolve attachment (`VUID-VkFramebufferCreateInfo-pAttachments-00877`), depth/stencil
+/// attachment (`-02633`) or input attachment (`-00879`) whose image was created without that
+/// usage. An imageless framebuffer names no views here.
+pub fn framebuffer_usage(
+    command: &str,
+    args: &Arg<'_>,
+    objects: &Objects,
+) -> Got<Vec<ValidUsageFinding>> {
+    const IMAGELESS: u64 = 0x1;
+    let ci = args.get("pCreateInfo")?;
+    let mut out = Vec::new();
+    if ci.get("flags")?.u64()? & IMAGELESS != 0 {
+        return Ok(out);
+    }
+    let Some(pass) = objects.render_passes.get(&ci.get("renderPass")?.handle()?) else {
+        return Ok(out);
+    };
+    const COLOR: (u64, &str, &str) = (
+        COLOR_ATTACHMENT,
+        "VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT",
+        "00877",
+    );
+    const DEPTH: (u64, &str, &str) = (
+        DEPTH_STENCIL_ATTACHMENT,
+        "VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT",
+        "02633",
+    );
+    const INPUT: (u64, &str, &str) = (
+        INPUT_ATTACHMENT,
+        "VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT",
+        "00879",
+    );
+    // Each attachment with every role a subpass gives it, once.
+    let mut roles = std::collections::BTreeSet::new();
+    for s in &pass.subpasses {
+        let colors = s.colors.iter().chain(&s.resolves).map(|&(a, _)| (a, COLOR));
+        let depth = s.depth.iter().map(|&(a, _)| (a, DEPTH));
+        let inputs = s.inputs.iter().map(|&(a, _)| (a, INPUT));
+        roles.extend(colors.chain(depth).chain(inputs));
+    }
+    let views = ci.list("pAttachments")?;
+    for (a, (bits, names, number)) in roles {
+        let Some(view) = views.get(a as usize) else {
+            continue;
+        };
+        let Some(image) = objects
+            .views
+            .get(&view.handle()?)
+            .and_then(|v| objects.images.get(&v.image))
+        else {
+            continue;
+        };
+        if image.usage & bits == 0 {
+            out.push(ValidUsageFinding {
+                vuid: format!("VUID-VkFramebufferCreateInfo-pAttachments-{number}"),
+                command: command.to_owned(),
+                detail: format!(
+                    "pAttachments[{a}]: the render pass uses it as an attachment that needs {names}, which its image was created without (usage {:#x})",
+                    image.usage
+                ),
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// What a layout in a render pass (an attachment's initial or final layout, or a subpass's
+/// reference) needs of its framebuffer image's usage at `vkCmdBeginRenderPass` (`v2`: the
+/// `2` command): the bits (any of them), their names and the VUID number.
+fn begin_layout_needs(layout: ImageLayout, v2: bool) -> Option<(u64, &'static str, &'static str)> {
+    const DS: &str = "VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT";
+    let pick = |one: &'static str, two: &'static str| if v2 { two } else { one };
+    Some(match layout {
+        ImageLayout::ColorAttachmentOptimal => (
+            COLOR_ATTACHMENT,
+            "VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT",
+            pick("00895", "03094"),
+        ),
+        ImageLayout::DepthStencilAttachmentOptimal | ImageLayout::DepthStencilReadOnlyOptimal => {
+            (DEPTH_STENCIL_ATTACHMENT, DS, pick("00896", "03096"))
+        }
+        ImageLayout::ShaderReadOnlyOptimal => (
+            SAMPLED | INPUT_ATTACHMENT,
+            "VK_IMAGE_USAGE_SAMPLED_BIT or VK_IMAGE_USAGE_INPUT_ATTACHMENT_BIT",
+            pick("00897", "03097"),
+        ),
+        ImageLayout::TransferSrcOptimal => (
+            TRANSFER_SRC,
+            "VK_IMAGE_USAGE_TRANSFER_SRC_BIT",
+            pick("00898", "03098"),
+        ),
+        ImageLayout::TransferDstOptimal => (
+            TRANSFER_DST,
+            "VK_IMAGE_USAGE_TRANSFER_DST_BIT",
+            pick("00899", "03099"),
+        ),
+        ImageLayout::DepthReadOnlyStencilAttachmentOptimal
+        | ImageLayout::DepthAttachmentStencilReadOnlyOptimal => {
+            (DEPTH_STENCIL_ATTACHMENT, DS, pick("01758", "03100"))
+        }
+        _ => return None,
+    })
+}
+
+/// `vkCmdBeginRenderPass` (`v2`: `vkCmdBeginRenderPass2`) call `command`: each framebuffer
+/// attachment whose render pass puts it in a layout (initial, final, or a subpass's reference)
+/// that its image's usage does not allow. An imageless framebuffer's views come with the
+/// begin, and are not checked here.
+pub fn begin_usage(
+    command: &str,
+    v2: bool,
+    args: &Arg<'_>,
+    objects: &Objects,
+) -> Got<Vec<ValidUsageFinding>> {
+    let begin = args.get("pRenderPassBegin")?;
+    let mut out = Vec::new();
+    let (Some(pass), Some(framebuffer)) = (
+        objects
+            .render_passes
+            .get(&begin.get("renderPass")?.handle()?),
+        objects
+            .framebuffers
+            .get(&begin.get("framebuffer")?.handle()?),
+    ) else {
+        return Ok(out);
+    };
+    // Every layout each attachment is given, once per rule it breaks.
+    let mut layouts: Vec<(u32, ImageLayout)> = Vec::new();
+    for (a, d) in pass.attachments.iter().enumerate() {
+        layouts.extend(
+            [d.initial, d.final_layout]
+                .into_iter()
+                .flatten()
+                .map(|l| (a as u32, l)),
+        );
+    }
+    for s in &pass.subpasses {
+        let refs = s
+            .colors
+            .iter()
+            .chain(&s.resolves)
+            .chain(&s.depth)
+            .chain(&s.inputs);
+        layouts.extend(refs.filter_map(|&(a, l)| Some((a, l?))));
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    let structure = if v2 {
+        "vkCmdBeginRenderPass2"
+    } else {
+        "vkCmdBeginRenderPass"
+    };
+    for (a, layout) in layouts {
+        let Some((bits, names, number)) = begin_layout_needs(layout, v2) else {
+            continue;
+        };
+        let Some(image) = framebuffer
+            .attachments
+            .get(a as usize)
+            .and_then(|view| objects.views.get(view))
+            .and_then(|v| objects.images.get(&v.image))
+        else {
+            continue;
+        };
+        if image.usage & bits == 0 && seen.insert((a, number)) {
+            out.push(ValidUsageFinding {
+                vuid: format!("VUID-{structure}-initialLayout-{number}"),
+                command: command.to_owned(),
+                detail: format!(
+                    "pAttachments[{a}]: the render pass puts it in {} but its image was created without {names} (usage {:#x})",
+                    layout.name(),
                     image.usage
                 ),
             });
