@@ -742,6 +742,37 @@ fn framelab_vuids(capture: &Path) -> BTreeSet<(String, String, String)> {
         .collect()
 }
 
+/// Valid-usage findings as (call, VUID, the member named).
+type Vuids = BTreeSet<(String, String, String)>;
+
+/// A real stream (`fixture`) with one number set by `framelab edit` (`set`): framelab's
+/// valid-usage findings on its import, and the layer's messages of the classes framelab checks
+/// on it that the original stream does not give. framelab finds nothing on the original.
+fn planted_vuids(name: &str, fixture: &str, set: &str) -> (Vuids, Vuids) {
+    let dir = temp(name);
+    let display = start_display();
+    let source = gfxr_fixture(fixture);
+    let planted = dir.join("planted.gfxr");
+    let run = framelab(&[
+        "edit",
+        source.to_str().unwrap(),
+        "-o",
+        planted.to_str().unwrap(),
+        "--set",
+        set,
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let (before, after) = (dir.join("before.json"), dir.join("after.json"));
+    import(&source, &before);
+    import(&planted, &after);
+    assert!(framelab_vuids(&before).is_empty());
+    let layer = layer_vuids(&planted, &display, &dir)
+        .difference(&layer_vuids(&source, &display, &dir))
+        .cloned()
+        .collect();
+    (framelab_vuids(&after), layer)
+}
+
 /// A render pass made to load its colour attachment from `UNDEFINED` (vkcube's, its `loadOp`
 /// set to LOAD with `framelab edit`, a fresh stream made by the test): framelab and the layer
 /// both report VUID-VkAttachmentDescription-format-06699 at vkCreateRenderPass, for that
@@ -750,34 +781,17 @@ fn framelab_vuids(capture: &Path) -> BTreeSet<(String, String, String)> {
 /// to restore depth contents; the difference leaves them out.)
 #[test]
 fn planted_valid_usage_errors_are_flagged_by_framelab_and_the_layer() {
-    let dir = temp("planted-vuid");
-    let display = start_display();
-    let source = gfxr_fixture("vkcube_f3.gfxr");
-    let planted = dir.join("vkcube_load_undefined.gfxr");
-    let run = framelab(&[
-        "edit",
-        source.to_str().unwrap(),
-        "-o",
-        planted.to_str().unwrap(),
-        "--set",
+    let (ours, layer) = planted_vuids(
+        "planted-vuid",
+        "vkcube_f3.gfxr",
         "64:pCreateInfo.pAttachments[0].loadOp=0",
-    ]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let (before, after) = (dir.join("before.json"), dir.join("after.json"));
-    import(&source, &before);
-    import(&planted, &after);
-    assert!(framelab_vuids(&before).is_empty());
-    let ours = framelab_vuids(&after);
+    );
     let expected = (
         "vkCreateRenderPass".to_owned(),
         "VUID-VkAttachmentDescription-format-06699".to_owned(),
         "pAttachments[0]".to_owned(),
     );
     assert_eq!(ours, BTreeSet::from([expected]));
-    let layer: BTreeSet<_> = layer_vuids(&planted, &display, &dir)
-        .difference(&layer_vuids(&source, &display, &dir))
-        .cloned()
-        .collect();
     assert_eq!(ours, layer, "framelab (left) and the layer (right)");
 }
 
@@ -790,24 +804,11 @@ fn planted_valid_usage_errors_are_flagged_by_framelab_and_the_layer() {
 /// image's layout, and the stream holds no barrier.)
 #[test]
 fn image_usage_against_its_use_is_flagged_by_framelab_and_the_layer() {
-    let dir = temp("planted-usage");
-    let display = start_display();
-    let source = gfxr_fixture("vkcube_whole.gfxr");
-    let planted = dir.join("vkcube_not_sampled.gfxr");
-    let run = framelab(&[
-        "edit",
-        source.to_str().unwrap(),
-        "-o",
-        planted.to_str().unwrap(),
-        "--set",
+    let (ours, layer) = planted_vuids(
+        "planted-usage",
+        "vkcube_whole.gfxr",
         "50:pCreateInfo.usage=16",
-    ]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let (before, after) = (dir.join("before.json"), dir.join("after.json"));
-    import(&source, &before);
-    import(&planted, &after);
-    assert!(framelab_vuids(&before).is_empty());
-    let ours = framelab_vuids(&after);
+    );
     let vuids: BTreeSet<&str> = ours.iter().map(|(_, v, _)| v.as_str()).collect();
     assert_eq!(
         vuids,
@@ -816,10 +817,6 @@ fn image_usage_against_its_use_is_flagged_by_framelab_and_the_layer() {
             "VUID-VkWriteDescriptorSet-descriptorType-00337"
         ])
     );
-    let layer: BTreeSet<_> = layer_vuids(&planted, &display, &dir)
-        .difference(&layer_vuids(&source, &display, &dir))
-        .cloned()
-        .collect();
     assert_eq!(ours, layer, "framelab (left) and the layer (right)");
 }
 
@@ -830,24 +827,11 @@ fn image_usage_against_its_use_is_flagged_by_framelab_and_the_layer() {
 /// first barrier, its old one at the second).
 #[test]
 fn a_copy_into_an_image_without_transfer_usage_is_flagged_by_framelab_and_the_layer() {
-    let dir = temp("planted-transfer");
-    let display = start_display();
-    let source = gfxr_fixture("vkcube_staging.gfxr");
-    let planted = dir.join("vkcube_no_transfer_dst.gfxr");
-    let run = framelab(&[
-        "edit",
-        source.to_str().unwrap(),
-        "-o",
-        planted.to_str().unwrap(),
-        "--set",
+    let (ours, layer) = planted_vuids(
+        "planted-transfer",
+        "vkcube_staging.gfxr",
         "57:pCreateInfo.usage=4",
-    ]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let (before, after) = (dir.join("before.json"), dir.join("after.json"));
-    import(&source, &before);
-    import(&planted, &after);
-    assert!(framelab_vuids(&before).is_empty());
-    let ours = framelab_vuids(&after);
+    );
     let barrier = |member: &str| {
         (
             "vkCmdPipelineBarrier".to_owned(),
@@ -865,10 +849,6 @@ fn a_copy_into_an_image_without_transfer_usage_is_flagged_by_framelab_and_the_la
         ),
     ]);
     assert_eq!(ours, expected);
-    let layer: BTreeSet<_> = layer_vuids(&planted, &display, &dir)
-        .difference(&layer_vuids(&source, &display, &dir))
-        .cloned()
-        .collect();
     assert_eq!(ours, layer, "framelab (left) and the layer (right)");
 }
 
@@ -879,24 +859,11 @@ fn a_copy_into_an_image_without_transfer_usage_is_flagged_by_framelab_and_the_la
 /// `DEPTH_STENCIL_ATTACHMENT_OPTIMAL` (`VUID-vkCmdBeginRenderPass-initialLayout-00896`).
 #[test]
 fn an_attachment_without_attachment_usage_is_flagged_by_framelab_and_the_layer() {
-    let dir = temp("planted-framebuffer");
-    let display = start_display();
-    let source = gfxr_fixture("vkcube_whole.gfxr");
-    let planted = dir.join("vkcube_depth_not_attachment.gfxr");
-    let run = framelab(&[
-        "edit",
-        source.to_str().unwrap(),
-        "-o",
-        planted.to_str().unwrap(),
-        "--set",
+    let (ours, layer) = planted_vuids(
+        "planted-framebuffer",
+        "vkcube_whole.gfxr",
         "44:pCreateInfo.usage=4",
-    ]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let (before, after) = (dir.join("before.json"), dir.join("after.json"));
-    import(&source, &before);
-    import(&planted, &after);
-    assert!(framelab_vuids(&before).is_empty());
-    let ours = framelab_vuids(&after);
+    );
     let expected = BTreeSet::from([
         (
             "vkCreateFramebuffer".to_owned(),
@@ -910,10 +877,6 @@ fn an_attachment_without_attachment_usage_is_flagged_by_framelab_and_the_layer()
         ),
     ]);
     assert_eq!(ours, expected);
-    let layer: BTreeSet<_> = layer_vuids(&planted, &display, &dir)
-        .difference(&layer_vuids(&source, &display, &dir))
-        .cloned()
-        .collect();
     assert_eq!(ours, layer, "framelab (left) and the layer (right)");
 }
 
