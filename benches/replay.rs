@@ -453,7 +453,7 @@ fn replay(c: &mut Criterion) {
     };
     eprintln!("adapter: {}", ctx.summary);
     // The same stages `framelab replay` walks: load, validate, analyse, lower, start.
-    let replaying = framelab_core::pipeline::Analysed::load(
+    let replaying = framelab_core::pipeline::Analysed::for_replay(
         std::path::Path::new(capture_path),
         &Default::default(),
         Default::default(),

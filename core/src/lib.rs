@@ -12,6 +12,7 @@
 
 pub mod analysis;
 pub mod atomic;
+pub mod buffer_views;
 pub mod capture;
 pub mod coverage;
 pub mod files;

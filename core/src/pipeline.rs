@@ -192,6 +192,21 @@ impl Analysed {
         Validated::load(path, options)?.analyse(analyse)
     }
 
+    /// The journey of every front end that replays (`replay`, `diff`, `inspect`, the MCP
+    /// server's worker, the benchmarks): a capture file read with its digest (a replay's
+    /// timing report names the capture by it), validated, analysed, and refused here where it
+    /// cannot be replayed, before any device opens.
+    pub fn for_replay(
+        path: &Path,
+        options: &Options,
+        analyse: AnalyzeOptions,
+    ) -> Result<Analysed, StageError> {
+        Loaded::read_hashed(path)?
+            .validate(options)?
+            .analyse(analyse)?
+            .replayable()
+    }
+
     /// Why this capture cannot be replayed (an import without shaders or contents), if so:
     /// asked before any device opens.
     pub fn replayable(self) -> Result<Analysed, StageError> {

@@ -385,21 +385,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     }
 }
 
-/// The first few of `names`, comma-separated, with `...` when there are more: a message names
-/// what is in the way without listing a whole folder.
-pub(crate) fn first_few<S: AsRef<str>>(names: &[S]) -> String {
-    const SHOWN: usize = 5;
-    let mut text = names
-        .iter()
-        .take(SHOWN)
-        .map(AsRef::as_ref)
-        .collect::<Vec<_>>()
-        .join(", ");
-    if names.len() > SHOWN {
-        text.push_str(", ...");
-    }
-    text
-}
+/// A message names what is in the way without listing a whole folder.
+pub(crate) use framelab_core::text::first_few;
 
 /// Writes to stdout, treating a closed pipe (`| head`) as success rather than a panic; a
 /// control character that came from an input is written as an escape (JSON output has none

@@ -95,9 +95,10 @@ pub fn analysed_for_device(path: &Path, scale: f64, cull: bool) -> anyhow::Resul
 /// An analysed capture to replay: one that cannot be (an import) is refused before any device
 /// opens.
 pub fn for_replay(path: &Path, scale: f64, cull: bool) -> anyhow::Result<Analysed> {
-    analysed_for_device(path, scale, cull)?
-        .replayable()
-        .map_err(device_error)
+    let a = Analysed::for_replay(path, &options(scale), AnalyzeOptions { cull })
+        .map_err(device_error)?;
+    note_scale(&a.capture, scale);
+    Ok(a)
 }
 
 /// The capture's plan for this device.

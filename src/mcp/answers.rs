@@ -223,7 +223,11 @@ pub fn passes_through(o: &Opened, after: Option<&str>) -> Result<usize, String> 
 
 /// The rows of `choice`'s layout that lie wholly in `bytes` (read from byte `offset`), each
 /// field decoded as the inspector's buffer table decodes it; at most 256 rows.
-pub fn decode_rows(choice: &framelab_ui::model::LayoutChoice, offset: u64, bytes: &[u8]) -> Value {
+pub fn decode_rows(
+    choice: &framelab_core::buffer_views::LayoutChoice,
+    offset: u64,
+    bytes: &[u8],
+) -> Value {
     let l = &choice.layout;
     let stride = l.stride.max(1);
     let end = offset + bytes.len() as u64;

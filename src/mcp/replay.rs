@@ -60,7 +60,7 @@ pub struct BufferRequest {
 pub struct BufferBytes {
     pub bytes: Vec<u8>,
     pub size: u64,
-    pub layouts: Vec<framelab_ui::model::LayoutChoice>,
+    pub layouts: Vec<framelab_core::buffer_views::LayoutChoice>,
 }
 
 /// What the worker is asked to do.
@@ -118,7 +118,7 @@ struct Held {
     /// The plan buffer of each capture buffer.
     buffer_of: std::collections::BTreeMap<framelab_core::capture::model::ResourceId, usize>,
     /// How each plan buffer can be read as rows.
-    buffer_views: Vec<framelab_ui::model::BufferView>,
+    buffer_views: Vec<framelab_core::buffer_views::BufferView>,
     /// The last plan pass submitted in the open frame, if one is open.
     at: Option<usize>,
     /// The last subresource read back, by (plan texture, pass held at, mip, layer, slice):
@@ -131,11 +131,7 @@ fn start(path: &std::path::Path, scale: f64) -> Result<Held, String> {
         scale,
         ..Options::default()
     };
-    // Hashed, as a replay's timing report names the capture by its digest.
-    let analysed = Loaded::read_hashed(path)
-        .and_then(|l| l.validate(&options))
-        .and_then(|v| v.analyse(AnalyzeOptions { cull: false }))
-        .and_then(Analysed::replayable)
+    let analysed = Analysed::for_replay(path, &options, AnalyzeOptions { cull: false })
         .map_err(|e| e.to_string())?;
     let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
         .map_err(|e| e.to_string())?;
@@ -144,7 +140,7 @@ fn start(path: &std::path::Path, scale: f64) -> Result<Held, String> {
         .map_err(|e| e.to_string())?;
     let texture_of = lowered.texture_of.clone();
     let buffer_of = lowered.buffer_of.clone();
-    let buffer_views = framelab_ui::project::buffer_views(&lowered.plan);
+    let buffer_views = framelab_core::buffer_views::buffer_views(&lowered.plan);
     let replaying = Replaying::start(&ctx, lowered).map_err(|e| e.to_string())?;
     Ok(Held {
         replaying,

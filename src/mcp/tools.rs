@@ -695,8 +695,8 @@ impl Framelab {
             let mut program = vec![a.program];
             program.extend(a.args);
             let gfxr = dir.join(format!("{stem}_frame{frame}.gfxr"));
-            let written = crate::cli::capture::take(&program, frame, timeout, &gfxr)
-                .map_err(|e| format!("{e:#}"))?;
+            let written = framelab_core::import::program::take(&program, frame, timeout, &gfxr)
+                .map_err(|e| e.to_string())?;
             std::fs::rename(&written, &gfxr)
                 .map_err(|e| format!("moving the capture to {}: {e}", gfxr.display()))?;
             let json = gfxr.with_extension("json");

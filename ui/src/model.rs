@@ -4,6 +4,7 @@
 //! that anything naming one (the command line, a test) finds it without matching names.
 
 pub use framelab_core::analysis::graph::EdgeKind;
+pub use framelab_core::buffer_views::{BufferView, LayoutChoice};
 pub use framelab_core::capture::model::{PassId, ResourceId};
 pub use framelab_core::layout::{BufferLayout, Field, Scalar};
 
@@ -201,29 +202,6 @@ pub struct TextureView {
     pub unviewable: Option<String>,
     /// Has a stencil aspect the viewer can show instead of depth.
     pub stencil: bool,
-}
-
-/// How the buffer viewer reads a plan buffer.
-#[derive(Clone, Debug)]
-pub struct BufferView {
-    /// The replay plan's buffer index.
-    pub plan_index: usize,
-    pub size: u64,
-    /// Ways to read it as rows, best first: the indirect-argument records it feeds, then the
-    /// WGSL types of the variables bound to it; none means raw bytes only.
-    pub layouts: Vec<LayoutChoice>,
-    /// Where it is consumed as indirect arguments: `pass: draw "label" at byte N`.
-    pub indirect: Vec<String>,
-}
-
-/// One way to read a buffer as rows.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LayoutChoice {
-    /// Where the type comes from: `var lights in shaders/lighting.wgsl`, `indirect draws`.
-    pub source: String,
-    /// Byte offset of row 0 (a binding's offset).
-    pub base: u64,
-    pub layout: BufferLayout,
 }
 
 #[derive(Clone, Debug)]

@@ -11,10 +11,12 @@ mod commands;
 mod contents;
 mod emit;
 mod extended_state;
+pub mod file;
 pub mod gfxr;
 mod host_writes;
 mod packed;
 mod pipelines;
+pub mod program;
 mod queue_calls;
 pub mod rdc;
 mod record;
@@ -159,6 +161,7 @@ pub struct Imported {
 }
 
 pub use contents::SideFile;
+pub use file::{FileImportError, Source, Written, import_file, sniff, sniff_file};
 
 /// What only a binary capture brings, for `finish` to attach.
 struct Extras<'a> {
