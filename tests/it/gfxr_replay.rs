@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 30] = [
+const REPLAYED: [&str; 31] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -41,6 +41,7 @@ const REPLAYED: [&str; 30] = [
     "mpv_gpunext_f30",
     "vlc_zink_f40",
     "vkbasalt_rgb10a2_f30",
+    "zeroad_zink_menu_f60",
 ];
 
 fn temp(name: &str) -> Scratch {

@@ -252,7 +252,7 @@ fn import(input: &Path, out: &Path) {
 /// GFXReconstruct captures, with the hazards framelab finds that the layer does not because
 /// of its ordering rule where the specification has none (expected count): rasterization
 /// order across render passes.
-const GFXR: [(&str, usize); 33] = [
+const GFXR: [(&str, usize); 34] = [
     ("vkcube_f3", 0),
     ("vkcube_staging", 0),
     ("template_compute", 0),
@@ -284,6 +284,7 @@ const GFXR: [(&str, usize); 33] = [
     ("vkbasalt_rgb10a2_f30", 1),
     ("mpv_gpunext_f30", 0),
     ("vlc_zink_f40", 0),
+    ("zeroad_zink_menu_f60", 0),
     ("ffmpeg_chain", 0),
     ("ffmpeg_overlay", 0),
 ];
@@ -621,10 +622,28 @@ fn layer_vuids(
     ))
 }
 
-/// The VUIDs of the classes framelab checks from the calls (`import/valid_usage.rs`): load
-/// operations from `UNDEFINED`, descriptors and layout transitions against image usage.
+/// The VUIDs of the classes framelab checks from the calls (`import/valid_usage.rs`,
+/// `import/valid_usage_buffers.rs`): load operations from `UNDEFINED`, descriptors, layout
+/// transitions, attachments and transfers against image usage, and each use of a buffer
+/// against its usage.
 fn checked_class(vuid: &str) -> bool {
     vuid.starts_with("VUID-VkAttachmentDescription")
+        || [
+            "VUID-vkCmdBindVertexBuffers-pBuffers-00627",
+            "VUID-vkCmdBindVertexBuffers2-pBuffers-03359",
+            "VUID-vkCmdBindIndexBuffer-buffer-00433",
+            "VUID-vkCmdDrawIndirect-buffer-02709",
+            "VUID-vkCmdDrawIndexedIndirect-buffer-02709",
+            "VUID-vkCmdDispatchIndirect-buffer-02709",
+            "VUID-vkCmdCopyBuffer-srcBuffer-00118",
+            "VUID-vkCmdCopyBuffer-dstBuffer-00120",
+            "VUID-vkCmdCopyBufferToImage-srcBuffer-00174",
+            "VUID-vkCmdCopyImageToBuffer-dstBuffer-00191",
+            "VUID-vkCmdFillBuffer-dstBuffer-00029",
+            "VUID-vkCmdUpdateBuffer-dstBuffer-00034",
+            "VUID-VkBufferViewCreateInfo-buffer-00932",
+        ]
+        .contains(&vuid)
         || vuid.starts_with("VUID-VkWriteDescriptorSet-descriptorType-0033")
         || vuid.starts_with("VUID-vkCmdBeginRenderPass-initialLayout-0089")
         || [
@@ -876,6 +895,45 @@ fn an_attachment_without_attachment_usage_is_flagged_by_framelab_and_the_layer()
             "pAttachments[1]".to_owned(),
         ),
     ]);
+    assert_eq!(ours, expected);
+    assert_eq!(ours, layer, "framelab (left) and the layer (right)");
+}
+
+/// vkcube's first uniform buffer (the whole capture, which writes its descriptors) created
+/// without `VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT` (usage `TRANSFER_SRC`): framelab and the layer
+/// both report the uniform-buffer descriptor written of it
+/// (`VUID-VkWriteDescriptorSet-descriptorType-00330`) at the same call, and nothing else new.
+#[test]
+fn a_uniform_buffer_without_uniform_usage_is_flagged_by_framelab_and_the_layer() {
+    let (ours, layer) = planted_vuids(
+        "planted-uniform",
+        "vkcube_whole.gfxr",
+        "61:pCreateInfo.usage=1",
+    );
+    let expected = BTreeSet::from([(
+        "vkUpdateDescriptorSets".to_owned(),
+        "VUID-VkWriteDescriptorSet-descriptorType-00330".to_owned(),
+        "pDescriptorWrites[0]".to_owned(),
+    )]);
+    assert_eq!(ours, expected);
+    assert_eq!(ours, layer, "framelab (left) and the layer (right)");
+}
+
+/// vkcube `--use_staging`'s staging buffer created without `VK_BUFFER_USAGE_TRANSFER_SRC_BIT`
+/// (usage `UNIFORM_BUFFER`): framelab and the layer both report the copy out of it into the
+/// texture (`VUID-vkCmdCopyBufferToImage-srcBuffer-00174`).
+#[test]
+fn a_copy_from_a_buffer_without_transfer_usage_is_flagged_by_framelab_and_the_layer() {
+    let (ours, layer) = planted_vuids(
+        "planted-staging",
+        "vkcube_staging.gfxr",
+        "50:pCreateInfo.usage=16",
+    );
+    let expected = BTreeSet::from([(
+        "vkCmdCopyBufferToImage".to_owned(),
+        "VUID-vkCmdCopyBufferToImage-srcBuffer-00174".to_owned(),
+        "srcBuffer".to_owned(),
+    )]);
     assert_eq!(ours, expected);
     assert_eq!(ours, layer, "framelab (left) and the layer (right)");
 }

@@ -96,16 +96,24 @@ fn image_resource(img: &ImageInfo, name: &str, before_capture: bool) -> Resource
         _ => ResourceKind::Texture2D,
     };
     let mut flags = Vec::new();
-    if img.usage & 0x10 != 0 {
+    // Usage the image's own format cannot have is for views of another format
+    // (`VK_IMAGE_CREATE_EXTENDED_USAGE_BIT`: zink gives its block-compressed textures attachment
+    // and storage usage): no flag here, and a use through such a view, a reinterpretation of
+    // the format, is judged by the lowering.
+    let own = dxgi::lookup_vk(&img.format);
+    let compressed = own.is_some_and(|f| f.is_block_compressed());
+    let depth = own.is_some_and(|f| f.is_depth_format());
+    if img.usage & 0x10 != 0 && !compressed && !depth {
         flags.push(ResourceFlag::AllowRenderTarget);
     }
-    if img.usage & 0x20 != 0 {
+    let colour = own.is_some_and(|f| !f.is_depth_format());
+    if img.usage & 0x20 != 0 && !colour {
         flags.push(ResourceFlag::AllowDepthStencil);
         if img.usage & (0x4 | 0x80) == 0 {
             flags.push(ResourceFlag::DenyShaderResource);
         }
     }
-    if img.usage & 0x8 != 0 {
+    if img.usage & 0x8 != 0 && !compressed && !depth {
         flags.push(ResourceFlag::AllowUnorderedAccess);
     }
     Resource {

@@ -9,7 +9,8 @@
 //! layout transitions from or to a layout its usage does not allow, transfer commands (copies,
 //! blits, colour clears) that read or write it without `TRANSFER_SRC`/`TRANSFER_DST`,
 //! framebuffers whose render pass uses it as an attachment of a kind its usage lacks, and
-//! render passes begun that put it in a layout its usage does not allow. Layouts at use (a barrier's old
+//! render passes begun that put it in a layout its usage does not allow. Buffers' usage
+//! against their use is checked in `valid_usage_buffers`. Layouts at use (a barrier's old
 //! layout, a render pass's initial layout, a descriptor's layout) are checked with the
 //! synchronization rules, which track the layouts (`sync`).
 

@@ -113,6 +113,11 @@ fn direct(name: &str) -> Option<TextureFormat> {
         "R32G32B32A32_FLOAT" => F::Rgba32Float,
         "BC1_UNORM" => F::Bc1RgbaUnorm,
         "BC1_UNORM_SRGB" => F::Bc1RgbaUnormSrgb,
+        // The same blocks as BC1 with alpha: its three-colour blocks' fourth entry decodes to
+        // black with alpha 0 there and 1 here, so a sampled view of it reads alpha as one
+        // (`lower::vulkan::bindings`, `opaque_bc1`).
+        "VK_FORMAT_BC1_RGB_UNORM_BLOCK" => F::Bc1RgbaUnorm,
+        "VK_FORMAT_BC1_RGB_SRGB_BLOCK" => F::Bc1RgbaUnormSrgb,
         "BC2_UNORM" => F::Bc2RgbaUnorm,
         "BC2_UNORM_SRGB" => F::Bc2RgbaUnormSrgb,
         "BC3_UNORM" => F::Bc3RgbaUnorm,
@@ -127,6 +132,15 @@ fn direct(name: &str) -> Option<TextureFormat> {
         "BC7_UNORM_SRGB" => F::Bc7RgbaUnormSrgb,
         _ => return None,
     })
+}
+
+/// Whether `VK_FORMAT_*` `name` is BC1 without alpha, held as BC1 with alpha: every texel
+/// it decodes has alpha one, which a sampled view of it reads whatever the blocks say.
+pub fn opaque_bc1(name: &str) -> bool {
+    matches!(
+        name,
+        "VK_FORMAT_BC1_RGB_UNORM_BLOCK" | "VK_FORMAT_BC1_RGB_SRGB_BLOCK"
+    )
 }
 
 /// How a format held in another wgpu format has its bytes rearranged: the replay holds the

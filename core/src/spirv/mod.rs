@@ -24,6 +24,7 @@ mod params;
 mod reclass;
 mod reflect;
 mod rewrite;
+mod scaled;
 mod specop;
 mod std140;
 mod storage;
@@ -248,6 +249,10 @@ pub struct RewriteOptions<'a> {
     /// The fragment output locations with a colour attachment, a bit each (`outputs`): the
     /// others become private variables. `None` leaves every output.
     pub attached_outputs: Option<u32>,
+    /// The vertex inputs, by (location, signed), whose attribute is in a scaled format and
+    /// fetched as integers: each becomes an integer input converted to float where loaded
+    /// (`scaled`).
+    pub scaled_inputs: &'a [(u32, bool)],
 }
 
 impl fmt::Debug for RewriteOptions<'_> {

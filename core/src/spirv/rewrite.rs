@@ -36,6 +36,9 @@ pub fn rewrite(
     super::subpass::subpass_as_texture(&mut loaded.module)?;
     super::bias::add_lod_bias(&mut loaded.module, opts.lod_bias)?;
     super::unnormalized::normalize_coordinates(&mut loaded.module, opts.unnormalized)?;
+    if model == ExecutionModel::Vertex {
+        super::scaled::scaled_inputs(&mut loaded.module, opts.scaled_inputs)?;
+    }
     super::swizzle::apply_swizzles(&mut loaded.module, opts.swizzles)?;
     super::demote::demote_as_kill(&mut loaded.module)?;
     super::memory_model::as_glsl450(&mut loaded.module)?;

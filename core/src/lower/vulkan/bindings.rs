@@ -675,8 +675,11 @@ fn sampled_swizzle(
         return None;
     }
     let d = d?;
-    let sw = model.views[d.view?].swizzle;
-    if sw.is_none() && permutation.is_none() {
+    let view = &model.views[d.view?];
+    let sw = view.swizzle;
+    // BC1 without alpha is held as BC1 with alpha: the view's alpha is one.
+    let opaque = crate::lower::formats::opaque_bc1(&view.format);
+    if sw.is_none() && permutation.is_none() && !opaque {
         return None;
     }
     // The view's channels are the image's permuted (`lower::packed16`); its swizzle picks
@@ -694,6 +697,13 @@ fn sampled_swizzle(
             Component::Zero => crate::spirv::SWIZZLE_ZERO,
             Component::One => crate::spirv::SWIZZLE_ONE,
         })
+    });
+    let codes = codes.map(|c| {
+        if opaque && c == 3 {
+            crate::spirv::SWIZZLE_ONE
+        } else {
+            c
+        }
     });
     Some(codes.map(through))
 }

@@ -414,7 +414,7 @@ impl<'c> Lowering<'c> {
                     .ok_or_else(|| {
                         VkProblem::Missing(format!("pipeline {} has no compute stage", pipe.name))
                     })?;
-                let shader = self.vk_shader(pipe, stage, (false, false), &sets, None)?;
+                let shader = self.vk_shader(pipe, stage, (false, false), &sets, None, &[])?;
                 let layout = &model.pipeline_layouts[pipe.layout];
                 self.plan.vk.pipelines.push(VkPipelineSpec {
                     name: pipe.name.clone(),
@@ -597,6 +597,13 @@ impl<'c> Lowering<'c> {
         } else {
             g
         };
+        // Attributes in scaled formats are fetched as integers and converted in the shader.
+        let mut scaled = Vec::new();
+        for a in &g.vertex_attributes {
+            if let Some(signed) = states::scaled_signed(&a.format) {
+                scaled.push((a.location, signed));
+            }
+        }
         let mut vertex = None;
         let mut fragment = None;
         // Attachment i takes the output at location i.
@@ -612,6 +619,7 @@ impl<'c> Lowering<'c> {
                 (key.flip, g.depth_negative_one_to_one),
                 sets,
                 Some(attached),
+                &scaled,
             )?;
             if s == wgpu::ShaderStages::VERTEX {
                 vertex = Some(shader);

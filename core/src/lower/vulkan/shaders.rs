@@ -41,6 +41,8 @@ pub(super) struct ShaderKey {
     unnormalized: Vec<(u32, u32)>,
     /// Fragment output locations with an attachment (`RewriteOptions::attached_outputs`).
     outputs: Option<u32>,
+    /// Vertex inputs fetched as integers from scaled formats (`RewriteOptions::scaled_inputs`).
+    scaled: Vec<(u32, bool)>,
 }
 
 /// wgpu's binding for the number `b` stands for (`bindings::wgpu_base`) in the role asked.
@@ -79,7 +81,14 @@ impl<'c> Lowering<'c> {
         (flip, gl_depth): (bool, bool),
         bound: &super::bindings::Bound,
         attached: Option<u32>,
+        scaled: &[(u32, bool)],
     ) -> Result<usize, Fail> {
+        // Only the vertex stage fetches attributes.
+        let scaled = if stage.stage == "VK_SHADER_STAGE_VERTEX_BIT" {
+            scaled
+        } else {
+            &[]
+        };
         let (sets, texel_formats) = (&bound.sets, &bound.texel_formats[..]);
         let lod_bias: Vec<(u32, u32, f32)> = bound
             .lod_bias
@@ -103,6 +112,7 @@ impl<'c> Lowering<'c> {
             std140_blocks: bound.std140_blocks.clone(),
             unnormalized: bound.unnormalized.clone(),
             outputs,
+            scaled: scaled.to_vec(),
         };
         if let Some(&i) = self.vk.shaders.get(&key) {
             return Ok(i);
@@ -158,6 +168,7 @@ impl<'c> Lowering<'c> {
                 std140_blocks: &bound.std140_blocks,
                 unnormalized: &bound.unnormalized,
                 attached_outputs: outputs,
+                scaled_inputs: scaled,
             },
         )
         .map_err(spirv_error)?;
@@ -184,6 +195,7 @@ impl<'c> Lowering<'c> {
                 std140_blocks: &bound.std140_blocks,
                 unnormalized: &bound.unnormalized,
                 attached_outputs: outputs,
+                scaled_inputs: scaled,
             },
         )
         .map_err(spirv_error)?;

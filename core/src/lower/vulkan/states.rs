@@ -379,8 +379,32 @@ pub(super) fn vertex_format(name: &str) -> Result<wgpu::VertexFormat, VkProblem>
         "R32G32B32_SINT" => V::Sint32x3,
         "R32G32B32A32_SINT" => V::Sint32x4,
         "A2B10G10R10_UNORM_PACK32" => V::Unorm10_10_10_2,
+        // Scaled formats (integers read as floats) fetched as the integers they hold; the
+        // vertex shader converts them (`spirv::scaled`, `scaled_signed`).
+        "R8_USCALED" => V::Uint8,
+        "R8G8_USCALED" => V::Uint8x2,
+        "R8G8B8A8_USCALED" => V::Uint8x4,
+        "R8_SSCALED" => V::Sint8,
+        "R8G8_SSCALED" => V::Sint8x2,
+        "R8G8B8A8_SSCALED" => V::Sint8x4,
+        "R16_USCALED" => V::Uint16,
+        "R16G16_USCALED" => V::Uint16x2,
+        "R16G16B16A16_USCALED" => V::Uint16x4,
+        "R16_SSCALED" => V::Sint16,
+        "R16G16_SSCALED" => V::Sint16x2,
+        "R16G16B16A16_SSCALED" => V::Sint16x4,
         _ => return Err(unsupported("vertex format", name)),
     })
+}
+
+/// Whether the vertex format `name` is a scaled one fetched as integers (`vertex_format`):
+/// `Some(true)` signed, `Some(false)` unsigned, `None` for any other.
+pub(super) fn scaled_signed(name: &str) -> Option<bool> {
+    let bare = strip(name, "VK_FORMAT_");
+    let signed = bare.ends_with("_SSCALED");
+    (signed || bare.ends_with("_USCALED"))
+        .then_some(signed)
+        .filter(|_| vertex_format(name).is_ok())
 }
 
 /// Whether sampler `s`'s LOD bias changes nothing read through a view of `levels` mip

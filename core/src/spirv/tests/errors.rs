@@ -65,6 +65,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             std140_blocks: &[],
             unnormalized: &[],
             attached_outputs: None,
+            scaled_inputs: &[],
         },
     )
     .unwrap_err();
@@ -92,6 +93,7 @@ fn binding_missing_from_the_layout_is_an_error() {
             std140_blocks: &[],
             unnormalized: &[],
             attached_outputs: None,
+            scaled_inputs: &[],
         },
     )
     .unwrap_err();

@@ -73,6 +73,7 @@ fn opts(flip_y: bool) -> RewriteOptions<'static> {
         std140_blocks: &[],
         unnormalized: &[],
         attached_outputs: None,
+        scaled_inputs: &[],
     }
 }
 
@@ -310,6 +311,7 @@ mod errors;
 /// specialization constants it was given become plain constants without SpecId.
 mod reflect;
 mod rewrite;
+mod scaled;
 mod specop;
 mod subpass;
 mod unnormalized;

@@ -85,6 +85,7 @@ fn renumbers_every_binding() {
             std140_blocks: &[],
             unnormalized: &[],
             attached_outputs: None,
+            scaled_inputs: &[],
         },
     )
     .unwrap();
@@ -242,6 +243,7 @@ fn flips_a_position_variable() {
             std140_blocks: &[],
             unnormalized: &[],
             attached_outputs: None,
+            scaled_inputs: &[],
         },
     )
     .unwrap();
@@ -361,6 +363,7 @@ fn texel_buffer_reads_become_word_loads_and_specialization_applies() {
             std140_blocks: &[],
             unnormalized: &[],
             attached_outputs: None,
+            scaled_inputs: &[],
         },
     )
     .unwrap();
