@@ -168,6 +168,17 @@ pub enum PassError {
         format: &'static str,
         how: &'static str,
     },
+    #[error(
+        "copy {index}: {bytes} bytes from byte {src_offset} of \"{src}\" to byte {dst_offset} of \"{dst}\": a buffer copy whose offsets or size are not whole 4-byte words (Vulkan copies bytes; WebGPU copies words, and the bytes that share the copy's first and last words are not known before the frame runs)"
+    )]
+    UnalignedBufferCopy {
+        index: usize,
+        src: String,
+        dst: String,
+        src_offset: u64,
+        dst_offset: u64,
+        bytes: u64,
+    },
 }
 
 /// A lowered frame: the plan, the plan index of each capture resource and the capture pass of

@@ -413,6 +413,23 @@ impl<'c> Lowering<'c> {
                 .or(c.dst.size)
                 .unwrap_or(src_r.bytes.saturating_sub(c.src.offset));
             let (src, dst) = (self.copy_end(p, &c.src)?, self.copy_end(p, &c.dst)?);
+            let bytes = self.whole_words(c, &src, &dst, bytes);
+            if let (CopyEnd::Buffer { offset: a, .. }, CopyEnd::Buffer { offset: b, .. }) =
+                (&src, &dst)
+                && (a % 4 != 0 || b % 4 != 0 || bytes % 4 != 0)
+            {
+                return Err(pass_error(
+                    p,
+                    PassError::UnalignedBufferCopy {
+                        index: copies.len(),
+                        src: self.capture.resource(c.src.resource).name.clone(),
+                        dst: self.capture.resource(c.dst.resource).name.clone(),
+                        src_offset: *a,
+                        dst_offset: *b,
+                        bytes,
+                    },
+                ));
+            }
             let unpack = self.copy_keeps_bytes(p, copies.len(), &src, &dst)?;
             copies.push(CopyOp {
                 src,
@@ -423,6 +440,29 @@ impl<'c> Lowering<'c> {
             });
         }
         Ok(PassOp::Copy(copies))
+    }
+
+    /// The bytes a buffer copy moves on the GPU, in whole words where that changes nothing the
+    /// frame holds: a copy from word-aligned offsets that ends at the end of the destination
+    /// (a host write over a whole buffer of 39,198 bytes) runs on into the padding that rounds
+    /// each replay buffer up to a whole word, which no Vulkan buffer has. Any other copy keeps
+    /// its size.
+    fn whole_words(&self, c: &CopyDesc, src: &CopyEnd, dst: &CopyEnd, bytes: u64) -> u64 {
+        let (CopyEnd::Buffer { offset: a, .. }, CopyEnd::Buffer { offset: b, .. }) = (src, dst)
+        else {
+            return bytes;
+        };
+        let size = |r| self.capture.resource(r).bytes;
+        let rounded = bytes.next_multiple_of(4);
+        let ends_dst = b.checked_add(bytes) == Some(size(c.dst.resource));
+        let fits_src = a
+            .checked_add(rounded)
+            .is_some_and(|end| end <= size(c.src.resource).next_multiple_of(4));
+        if a % 4 == 0 && b % 4 == 0 && ends_dst && fits_src {
+            rounded
+        } else {
+            bytes
+        }
     }
 
     /// Blits, drawn by the replay: refused where a draw cannot do what the blit does (depth,
