@@ -416,7 +416,7 @@ impl<'c> Lowering<'c> {
             let bytes = self.whole_words(c, &src, &dst, bytes);
             if let (CopyEnd::Buffer { offset: a, .. }, CopyEnd::Buffer { offset: b, .. }) =
                 (&src, &dst)
-                && (a % 4 != 0 || b % 4 != 0 || bytes % 4 != 0)
+                && (!a.is_multiple_of(4) || !b.is_multiple_of(4) || !bytes.is_multiple_of(4))
             {
                 return Err(pass_error(
                     p,
@@ -458,7 +458,7 @@ impl<'c> Lowering<'c> {
         let fits_src = a
             .checked_add(rounded)
             .is_some_and(|end| end <= size(c.src.resource).next_multiple_of(4));
-        if a % 4 == 0 && b % 4 == 0 && ends_dst && fits_src {
+        if a.is_multiple_of(4) && b.is_multiple_of(4) && ends_dst && fits_src {
             rounded
         } else {
             bytes
