@@ -274,6 +274,14 @@ fn transfer_images(call: &str) -> Option<(Option<&'static str>, &'static [ImageA
     })
 }
 
+/// Where a command's arguments are: in the `*Info2` structure `info` names, or the call's own.
+pub(super) fn holder<'a>(args: &Arg<'a>, info: Option<&str>) -> Got<Arg<'a>> {
+    match info {
+        Some(key) => args.get(key),
+        None => Ok(*args),
+    }
+}
+
 /// The images transfer command `command` (named `call`) reads or writes without the
 /// `TRANSFER_SRC` or `TRANSFER_DST` usage it needs.
 pub fn transfer_usage(
@@ -286,10 +294,7 @@ pub fn transfer_usage(
     let Some((info, images)) = transfer_images(call) else {
         return Ok(out);
     };
-    let holder = match info {
-        Some(key) => args.get(key)?,
-        None => *args,
-    };
+    let holder = holder(args, info)?;
     for &(member, bit, vuid) in images {
         let Some(image) = objects.images.get(&holder.get(member)?.handle()?) else {
             continue;

@@ -152,10 +152,7 @@ pub fn command_usage(
     let Some((info, arguments)) = buffer_arguments(call) else {
         return Ok(out);
     };
-    let holder = match info {
-        Some(key) => args.get(key)?,
-        None => *args,
-    };
+    let holder = super::valid_usage::holder(args, info)?;
     for &(member, need, vuid) in arguments {
         if member == "pBuffers" {
             for (i, b) in holder.list(member)?.iter().enumerate() {
