@@ -19,7 +19,7 @@ use wgpu_types::Features;
 use crate::analysis::graph::CycleError;
 use crate::analysis::report::{Analysis, AnalyzeOptions};
 use crate::capture::format::RawCapture;
-use crate::capture::model::{Capture, PassId, ResourceId};
+use crate::capture::model::{Capture, InitialDesc, PassId, ResourceId};
 use crate::capture::{CaptureError, Diagnostic, Options};
 use crate::lower::{self, LowerError};
 use crate::plan::Plan;
@@ -223,15 +223,50 @@ impl Analysed {
     /// errors), passes in the analysis's order.
     pub fn lower(self, available: Features, adapter: &str) -> Result<Lowered, StageError> {
         let frame = lower::lower(&self.capture, &self.analysis.order, available, adapter)?;
+        let mut notes = frame.notes;
+        notes.extend(
+            unknown_reads(&self.capture, &frame.pass_ids)
+                .into_iter()
+                .map(|(resource, pass)| {
+                    format!(
+                        "\"{resource}\" is read by pass \"{pass}\" before the frame writes it, and the capture holds no contents for it (earlier GPU work, or memory only in the driver's own layout): it starts cleared, so what that pass reads may not be what the program read"
+                    )
+                }),
+        );
         Ok(Lowered {
             analysed: self,
             plan: frame.plan,
             texture_of: frame.texture_of,
             buffer_of: frame.buffer_of,
             pass_ids: frame.pass_ids,
-            notes: frame.notes,
+            notes,
         })
     }
+}
+
+/// The resources the frame reads before anything in it writes them and whose contents at its
+/// start the capture does not hold (an imported frame's `before_capture`), each with the
+/// first pass that reads it, in execution order (`order`, capture passes). Swapchain images
+/// are left out: an acquired image's contents are undefined to the program too.
+pub fn unknown_reads(capture: &Capture, order: &[PassId]) -> Vec<(String, String)> {
+    let mut settled = std::collections::BTreeSet::new();
+    let mut out = Vec::new();
+    for &p in order {
+        let pass = capture.pass(p);
+        for a in &pass.accesses {
+            let r = capture.resource(a.resource);
+            if r.initial != InitialDesc::BeforeCapture || r.swapchain {
+                continue;
+            }
+            if (a.reads || !a.writes) && settled.insert(a.resource) {
+                out.push((r.name.clone(), pass.name.clone()));
+            }
+            if a.writes {
+                settled.insert(a.resource);
+            }
+        }
+    }
+    out
 }
 
 /// An analysed capture lowered to a replay plan for one device.

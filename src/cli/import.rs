@@ -95,7 +95,19 @@ fn replay_verdict(out: &Path, capture: RawCapture) -> String {
         .and_then(|v| v.analyse(framelab_core::analysis::report::AnalyzeOptions { cull: false }))
         .and_then(|a| a.lower(framelab_core::lower::wanted_features(), "any adapter"));
     match lowered {
-        Ok(_) => "yes (on an adapter with the features framelab asks for)".to_owned(),
+        Ok(l) => {
+            let unknown = framelab_core::pipeline::unknown_reads(l.capture(), &l.pass_ids);
+            let mut yes = "yes (on an adapter with the features framelab asks for)".to_owned();
+            if let Some((resource, pass)) = unknown.first() {
+                yes += &format!(
+                    ", but {} it reads before writing start{} cleared: the capture holds no contents for {} (first \"{resource}\", read by pass \"{pass}\"; `replay` names each)",
+                    count(unknown.len(), "resource", "resources"),
+                    if unknown.len() == 1 { "s" } else { "" },
+                    if unknown.len() == 1 { "it" } else { "them" },
+                );
+            }
+            yes
+        }
         Err(e) => format!("no — {}", one_line_within(&e.to_string(), 600)),
     }
 }

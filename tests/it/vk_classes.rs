@@ -1274,3 +1274,40 @@ fn buffer_copies_of_partial_words_are_refused_with_their_pass() {
         "{err}"
     );
 }
+
+/// A frame that reads what the capture holds no contents for before it writes it is said to,
+/// at import (in its replay verdict) and by each replay (a note naming the resource and the
+/// pass): the planted write-after-read stream's `buffer_53` is copied from before the frame
+/// writes it, and its contents from earlier frames are not in the capture, so it starts
+/// cleared. A frame whose reads all follow its writes or the capture's contents says nothing.
+#[test]
+fn reads_of_contents_the_capture_lacks_are_named() {
+    let dir = temp("unknown-reads");
+    let capture = dir.join("war.json");
+    let said = import(&gfxr_fixture("write_after_read.gfxr"), &capture);
+    assert!(
+        said.contains("replays: yes")
+            && said.contains("but 1 resource it reads before writing starts cleared")
+            && said.contains("first \"buffer_53\", read by pass \"copy_buffer 2\""),
+        "{said}"
+    );
+    let out = dir.join("out");
+    let run = framelab(&[
+        "replay",
+        capture.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    assert!(
+        stderr(&run).contains(
+            "note: \"buffer_53\" is read by pass \"copy_buffer 2\" before the frame writes it"
+        ),
+        "{}",
+        stderr(&run)
+    );
+    let cube = import(&gfxr_fixture("vkcube_f3.gfxr"), &dir.join("cube.json"));
+    assert!(!cube.contains("start cleared") && !cube.contains("starts cleared"), "{cube}");
+}
