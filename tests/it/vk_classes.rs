@@ -1309,5 +1309,8 @@ fn reads_of_contents_the_capture_lacks_are_named() {
         stderr(&run)
     );
     let cube = import(&gfxr_fixture("vkcube_f3.gfxr"), &dir.join("cube.json"));
-    assert!(!cube.contains("start cleared") && !cube.contains("starts cleared"), "{cube}");
+    assert!(
+        !cube.contains("start cleared") && !cube.contains("starts cleared"),
+        "{cube}"
+    );
 }
