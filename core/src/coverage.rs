@@ -473,7 +473,7 @@ pub fn format(name: &str) -> Option<Verdict> {
                 "held as wgpu's RGBA8, each channel widened to 8 bits (sampled within half a step of 255 of the program's value): contents unpacked on upload, a copy from a buffer drawn texel by texel from the buffer's words, a view of the same bit fields in another order read through a swizzle; rendering into it and a copy out of it to a buffer are refused",
             ),
             None if crate::lower::formats::opaque_bc1(name) => Verdict::Emulated(
-                "held as BC1 with alpha where the adapter has BC compression: the same blocks, whose three-colour entries decode to alpha 0 there and 1 here, so each sampled view of it reads alpha as one",
+                "held as BC1 with alpha where the adapter has BC compression: the same blocks, whose three-colour entries decode to alpha 0 there and 1 here, so each sampled view of it reads alpha as one; a blit from it is refused",
             ),
             None if name.starts_with("VK_FORMAT_BC") => Verdict::Emulated(
                 "native where the adapter has BC compression (wgpu's TEXTURE_COMPRESSION_BC, asked for by the pass)",

@@ -1291,22 +1291,12 @@ fn reads_of_contents_the_capture_lacks_are_named() {
             && said.contains("first \"buffer_53\", read by pass \"copy_buffer 2\""),
         "{said}"
     );
-    let out = dir.join("out");
-    let run = framelab(&[
-        "replay",
-        capture.to_str().unwrap(),
-        "--frames",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(run.status.success(), "{}", stderr(&run));
+    let (_, said) = crate::common::replay_export(&capture, &dir.join("out"));
     assert!(
-        stderr(&run).contains(
+        said.contains(
             "note: \"buffer_53\" is read by pass \"copy_buffer 2\" before the frame writes it"
         ),
-        "{}",
-        stderr(&run)
+        "{said}"
     );
     let cube = import(&gfxr_fixture("vkcube_f3.gfxr"), &dir.join("cube.json"));
     assert!(

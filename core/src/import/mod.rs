@@ -276,31 +276,13 @@ impl Importer {
                             valid_usage::barrier_usage(&command, v2, args, &self.objects)
                         }
                         CmdFunc::PushDescriptorSet => {
-                            valid_usage::descriptor_usage(&command, args, &self.objects).and_then(
-                                |mut found| {
-                                    found.extend(valid_usage_buffers::descriptor_usage(
-                                        &command,
-                                        args,
-                                        &self.objects,
-                                    )?);
-                                    Ok(found)
-                                },
-                            )
+                            valid_usage::descriptor_usage(&command, args, &self.objects)
                         }
                         CmdFunc::BeginRenderPass => {
                             let v2 = call.name.contains('2');
                             valid_usage::begin_usage(&command, v2, args, &self.objects)
                         }
-                        _ => valid_usage::transfer_usage(&call.name, &command, args, &self.objects)
-                            .and_then(|mut found| {
-                                found.extend(valid_usage_buffers::command_usage(
-                                    &call.name,
-                                    &command,
-                                    args,
-                                    &self.objects,
-                                )?);
-                                Ok(found)
-                            }),
+                        _ => valid_usage::command_usage(&call.name, &command, args, &self.objects),
                     };
                     // A call too malformed to check is skipped by the recording below.
                     self.valid_usage.extend(found.unwrap_or_default());
@@ -353,8 +335,6 @@ impl Importer {
             Func::UpdateDescriptorSets if self.checks_valid_usage() => {
                 let command = format!("{} #{}", call.name, call.index);
                 let found = valid_usage::descriptor_usage(&command, args, &self.objects);
-                self.valid_usage.extend(found.unwrap_or_default());
-                let found = valid_usage_buffers::descriptor_usage(&command, args, &self.objects);
                 self.valid_usage.extend(found.unwrap_or_default());
                 return self.objects.apply(call.func, args);
             }

@@ -88,9 +88,38 @@ fn descriptor_needs(kind: &str) -> Option<(u64, &'static str, &'static str)> {
     }
 }
 
-/// The image descriptors `vkUpdateDescriptorSets` or `vkCmdPushDescriptorSetKHR` call
-/// `command` writes whose image was created without the usage their type needs.
+/// The descriptors `vkUpdateDescriptorSets` or `vkCmdPushDescriptorSetKHR` call `command`
+/// writes whose image or buffer was created without the usage their type needs.
 pub fn descriptor_usage(
+    command: &str,
+    args: &Arg<'_>,
+    objects: &Objects,
+) -> Got<Vec<ValidUsageFinding>> {
+    let mut found = image_descriptor_usage(command, args, objects)?;
+    found.extend(super::valid_usage_buffers::descriptor_usage(
+        command, args, objects,
+    )?);
+    Ok(found)
+}
+
+/// The images and buffers command `call` (recorded as `command`) reads, writes or binds
+/// without the usage that use needs: transfers of images here, every buffer use in
+/// `valid_usage_buffers`.
+pub fn command_usage(
+    call: &str,
+    command: &str,
+    args: &Arg<'_>,
+    objects: &Objects,
+) -> Got<Vec<ValidUsageFinding>> {
+    let mut found = transfer_usage(call, command, args, objects)?;
+    found.extend(super::valid_usage_buffers::command_usage(
+        call, command, args, objects,
+    )?);
+    Ok(found)
+}
+
+/// The image descriptors of such a call whose image lacks the usage their type needs.
+fn image_descriptor_usage(
     command: &str,
     args: &Arg<'_>,
     objects: &Objects,
@@ -284,7 +313,7 @@ pub(super) fn holder<'a>(args: &Arg<'a>, info: Option<&str>) -> Got<Arg<'a>> {
 
 /// The images transfer command `command` (named `call`) reads or writes without the
 /// `TRANSFER_SRC` or `TRANSFER_DST` usage it needs.
-pub fn transfer_usage(
+fn transfer_usage(
     call: &str,
     command: &str,
     args: &Arg<'_>,

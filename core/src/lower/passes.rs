@@ -476,6 +476,15 @@ impl<'c> Lowering<'c> {
             for (side, t) in [(&b.src, src), (&b.dst, dst)] {
                 let spec = &self.plan.textures[t];
                 let r = self.capture.resource(side.resource);
+                // Held as BC1 with alpha, it has alpha one only where a sampled view says so
+                // (`formats::opaque_bc1`); the blit's draw reads the blocks as held.
+                if r.format.is_some_and(|f| formats::opaque_bc1(f.name)) {
+                    return Err(refuse(format!(
+                        "\"{}\" is {}: a blit of BC1 without alpha is not replayed (held as BC1 with alpha, its blocks would give alpha 0 where Vulkan gives 1)",
+                        r.name,
+                        r.format.map_or("", |f| f.name)
+                    )));
+                }
                 if spec.format.is_depth_stencil_format() {
                     return Err(refuse(format!(
                         "\"{}\" is {:?}: depth and stencil blits are not replayed (a draw writes no stencil, and depth only through the depth attachment)",
