@@ -1009,3 +1009,35 @@ fn the_benchmark_floors_read_what_the_import_reads() {
     assert!(gfxr::decompress_only(Cursor::new(truncated), cut).is_err());
     assert!(gfxr::decode_only(Cursor::new(truncated), cut).is_err());
 }
+
+/// A clear value is a union the binary holds as four words; a depth attachment's clear reads
+/// its first as a float depth and its second as the stencil value. vkcube's depth clear set
+/// to 0.25 (`0x3E800000`) with `framelab edit` reaches the pass; the program's own 1.0 does
+/// too.
+#[test]
+fn depth_clear_values_are_read_from_the_clear_values_words() {
+    let dir = temp_dir("depth-clear");
+    let edited = dir.join("quarter.gfxr");
+    let run = framelab(&[
+        "edit",
+        gfxr_fixture("vkcube_f3.gfxr").to_str().unwrap(),
+        "-o",
+        edited.to_str().unwrap(),
+        "--set",
+        "91:pRenderPassBegin.pClearValues[1].color.uint32[0]=1048576000",
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    for (capture, depth) in [(gfxr_fixture("vkcube_f3.gfxr"), 1.0), (edited, 0.25)] {
+        let out = dir.join("cube.json");
+        import(&capture, &out);
+        let c: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        let ds = &c["passes"][0]["depth_stencil"];
+        assert_eq!(ds["depth_load"], "clear", "{}", capture.display());
+        assert_eq!(
+            ds["depth_clear"].as_f64(),
+            Some(depth),
+            "{}",
+            capture.display()
+        );
+    }
+}

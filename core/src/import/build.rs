@@ -596,6 +596,21 @@ impl Builder {
         if let Some(d) = &s.depth
             && let Some((name, mip, layer)) = self.view(objects, d.view)
         {
+            // Vulkan takes a clear depth outside [0, 1] only with
+            // VK_EXT_depth_range_unrestricted (a valid-usage finding otherwise); wgpu takes
+            // none. A value that is cleared is taken at the nearest end, said once per pass.
+            let depth_clear = if (0.0..=1.0).contains(&d.depth_clear) {
+                d.depth_clear
+            } else {
+                let clamped = if d.depth_clear > 1.0 { 1.0 } else { 0.0 };
+                if load_op(&d.load) == LoadOp::Clear {
+                    self.note(format!(
+                        "depth clear value {} of \"{}\" outside [0, 1]: cleared to {clamped}",
+                        d.depth_clear, self.passes[pass].name
+                    ));
+                }
+                clamped
+            };
             self.passes[pass].depth_stencil = Some(DepthStencilAttachment {
                 resource: name,
                 mip,
@@ -603,7 +618,7 @@ impl Builder {
                 format: None,
                 depth_load: load_op(&d.load),
                 depth_store: store_op(&d.store),
-                depth_clear: d.depth_clear,
+                depth_clear,
                 stencil_load: load_op(&d.stencil_load),
                 stencil_store: store_op(&d.stencil_store),
                 stencil_clear: d.stencil_clear,

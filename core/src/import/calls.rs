@@ -62,6 +62,9 @@ pub enum Func {
     GetDeviceQueue,
     GetDeviceQueue2,
     AllocateMemory,
+    /// `vkCreateInstance`, `vkCreateDevice`: the extensions they enable.
+    CreateInstance,
+    CreateDevice,
     CreateImage,
     CreateBuffer,
     MemoryRequirements(Object),
@@ -308,6 +311,8 @@ impl Func {
             "vkGetDeviceQueue2" => Func::GetDeviceQueue2,
             "vkAllocateMemory" => Func::AllocateMemory,
             "vkCreateImage" => Func::CreateImage,
+            "vkCreateDevice" => Func::CreateDevice,
+            "vkCreateInstance" => Func::CreateInstance,
             "vkCreateBuffer" => Func::CreateBuffer,
             "vkGetImageMemoryRequirements"
             | "vkGetImageMemoryRequirements2"
@@ -440,6 +445,27 @@ impl CmdFunc {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The importer looks commands up by binary search: the generated table must be sorted,
+    /// and say core commands' versions and extension commands' extensions.
+    #[test]
+    fn what_provides_each_command_is_sorted_by_name() {
+        use super::super::provided::PROVIDED;
+        assert!(PROVIDED.windows(2).all(|w| w[0].0 < w[1].0));
+        let of = |name: &str| {
+            PROVIDED
+                .binary_search_by(|(n, _)| (*n).cmp(name))
+                .map(|i| PROVIDED[i].1)
+        };
+        assert_eq!(of("vkCmdDraw"), Ok("1.0"));
+        assert_eq!(of("vkCmdBeginRendering"), Ok("1.3"));
+        assert_eq!(of("vkCmdBeginRenderingKHR"), Ok("VK_KHR_dynamic_rendering"));
+        assert_eq!(of("vkCmdBeginDebugUtilsLabelEXT"), Ok("VK_EXT_debug_utils"));
+        assert_eq!(
+            of("vkAcquireNextImage2KHR"),
+            Ok("VK_KHR_swapchain,VK_KHR_device_group")
+        );
+    }
 
     #[test]
     fn aliases_fold_into_one_function() {

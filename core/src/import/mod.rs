@@ -17,6 +17,7 @@ mod host_writes;
 mod packed;
 mod pipelines;
 pub mod program;
+mod provided;
 mod queue_calls;
 pub mod rdc;
 mod record;
@@ -29,6 +30,7 @@ mod transfers;
 mod tree;
 mod valid_usage;
 mod valid_usage_buffers;
+mod valid_usage_clears;
 mod value;
 mod vk_work;
 
@@ -41,7 +43,7 @@ type HashSet<K> = std::collections::HashSet<K, foldhash::fast::RandomState>;
 /// Most emptied recordings kept for reuse.
 const SPARE_RECORDINGS: usize = 64;
 
-use crate::capture::vulkan::PipelineStages;
+use crate::capture::vulkan::{ImageLayout, PipelineStages};
 use std::collections::BTreeMap;
 use std::io::BufRead;
 
@@ -205,6 +207,14 @@ struct Importer {
     /// `keep_submitted_before` is set, as the binary route drains it after every call.
     submitted_before: Vec<u64>,
     keep_submitted_before: bool,
+    /// Whether the stream says every image's layout before the frames: its creation and,
+    /// in a trimmed capture, the layout its snapshot restores (the binary route's metadata;
+    /// the JSON Lines stream of a trimmed capture lacks the snapshot's layouts).
+    layouts_known: bool,
+    /// Inside a trimmed capture's state snapshot: calls the capture tool made to rebuild the
+    /// program's state, not always as the program made them (surface queries through
+    /// `VK_KHR_get_surface_capabilities2` it never enabled).
+    in_snapshot: bool,
     /// Commands the submissions so far asked to walk (`MAX_WALKED`).
     walked: u64,
     /// Valid-usage statements the calls break (`valid_usage`), at most `MAX_FINDINGS`.
@@ -239,8 +249,37 @@ impl Importer {
         }
     }
 
+    /// A call of `name` (at `index`) where no extension that provides it is enabled: the
+    /// specification's rule (an extension's commands need it enabled) has no VUID; the
+    /// finding takes the validation layer's id. Core commands need none; nothing is said
+    /// before the stream creates its instance, nor of a trimmed capture's snapshot.
+    fn check_provided(&mut self, name: &str, index: u64) {
+        if self.in_snapshot || !self.objects.instance_created || !self.checks_valid_usage() {
+            return;
+        }
+        let Ok(at) = provided::PROVIDED.binary_search_by(|(n, _)| (*n).cmp(name)) else {
+            return;
+        };
+        let by = provided::PROVIDED[at].1;
+        if by.starts_with(|c: char| c.is_ascii_digit())
+            || by.split(',').any(|e| self.objects.extensions.contains(e))
+        {
+            return;
+        }
+        self.valid_usage
+            .push(crate::capture::format::ValidUsageFinding {
+                vuid: "UNASSIGNED-GeneralParameterError-ExtensionNotEnabled".to_owned(),
+                command: format!("{name} #{index}"),
+                detail: format!(
+                    "calls a command of {}, which neither the instance nor the device enabled",
+                    by.replace(',', " or ")
+                ),
+            });
+    }
+
     fn call(&mut self, call: &Call) {
         self.calls += 1;
+        self.check_provided(&call.name, call.index);
         if call.index > self.last_index.saturating_add(1) && self.builder.first_submit.is_none() {
             self.hidden_blocks = true;
         }
@@ -280,7 +319,17 @@ impl Importer {
                         }
                         CmdFunc::BeginRenderPass => {
                             let v2 = call.name.contains('2');
-                            valid_usage::begin_usage(&command, v2, args, &self.objects)
+                            let mut found =
+                                valid_usage::begin_usage(&command, v2, args, &self.objects)
+                                    .unwrap_or_default();
+                            let clears = valid_usage::clear_values(
+                                &call.name,
+                                &command,
+                                args,
+                                &self.objects,
+                            );
+                            found.extend(clears.unwrap_or_default());
+                            Ok(found)
                         }
                         _ => valid_usage::command_usage(&call.name, &command, args, &self.objects),
                     };
@@ -323,7 +372,17 @@ impl Importer {
                     self.free_recording(cb);
                 }
             }
-            Func::QueueSubmit { v2 } => self.submit(args, v2)?,
+            Func::QueueSubmit { v2 } => self.submit(call, args, v2)?,
+            Func::CreateImage if self.layouts_known => {
+                let applied = self.objects.apply(call.func, args)?;
+                let ci = args.get("pCreateInfo")?;
+                if let Some(layout) = ImageLayout::from_name(&ci.get("initialLayout")?.name()?) {
+                    let image = args.get("pImage")?.handle()?;
+                    let origin = Origin::call(&call.name, call.index);
+                    self.sync.start_layout(image, layout, origin);
+                }
+                return Ok(applied);
+            }
             Func::QueuePresent => self.present(call, args)?,
             Func::AcquireNextImage { v2 } => self.acquire(call, args, v2)?,
             Func::HostWait(wait) => self.host_wait(args, wait)?,
@@ -540,6 +599,8 @@ impl Importer {
             pools: HashMap::default(),
             submitted_before: Vec::new(),
             keep_submitted_before: false,
+            layouts_known: false,
+            in_snapshot: false,
             walked: 0,
             builder: Builder::new(options.frames),
             submitted_in_frame: false,

@@ -4,7 +4,8 @@
 use super::*;
 
 impl Importer {
-    pub(super) fn submit(&mut self, args: &Arg<'_>, v2: bool) -> Got<()> {
+    pub(super) fn submit(&mut self, call: &Call, args: &Arg<'_>, v2: bool) -> Got<()> {
+        let origin = Origin::call(&call.name, call.index);
         // The two submit structures differ only in where the handles sit.
         let (waits, cbs, signals) = if v2 {
             (
@@ -127,6 +128,7 @@ impl Importer {
                         queue,
                         self.objects.queues.get(&queue).map(|(family, _)| *family),
                     ),
+                    &origin,
                 );
             }
             self.builder.submit(

@@ -80,6 +80,8 @@ pub struct ViewInfo {
 
 #[derive(Clone, Debug)]
 pub struct AttachmentDesc {
+    /// `VK_FORMAT_*`.
+    pub format: String,
     pub load: String,
     pub store: String,
     pub stencil_load: String,
@@ -198,6 +200,13 @@ pub struct Objects {
     pub concurrent: std::collections::HashSet<u64>,
     /// Timeline semaphores.
     pub timeline: std::collections::HashSet<u64>,
+    /// Whether the device enabled `VK_EXT_depth_range_unrestricted` (depth values outside
+    /// [0, 1] allowed).
+    pub depth_range_unrestricted: bool,
+    /// The extensions the instance and the devices enabled, and whether the stream created
+    /// its instance (before that, nothing is known to be enabled or not).
+    pub extensions: std::collections::HashSet<String>,
+    pub instance_created: bool,
 }
 
 /// Whether a create info asks for `VK_SHARING_MODE_CONCURRENT` (by name or value).
@@ -258,6 +267,17 @@ impl Objects {
                 );
             }
             Func::CreateImage => self.create_image(args)?,
+            Func::CreateInstance | Func::CreateDevice => {
+                let ci = args.get("pCreateInfo")?;
+                for n in ci.list("ppEnabledExtensionNames").unwrap_or_default() {
+                    if let Ok(name) = n.str() {
+                        self.extensions.insert(name.to_owned());
+                    }
+                }
+                self.instance_created = true;
+                self.depth_range_unrestricted =
+                    self.extensions.contains("VK_EXT_depth_range_unrestricted");
+            }
             Func::CreateBuffer => self.create_buffer(args)?,
             Func::MemoryRequirements(object) => self.memory_requirements(object, args)?,
             Func::BindMemory(object) => {
@@ -883,6 +903,7 @@ fn render_pass(ci: &Arg<'_>) -> Got<RenderPassInfo> {
         .iter()
         .map(|a| {
             Ok(AttachmentDesc {
+                format: a.get("format")?.name()?,
                 load: a.get("loadOp")?.name()?,
                 store: a.get("storeOp")?.name()?,
                 stencil_load: a.get("stencilLoadOp")?.name()?,

@@ -102,6 +102,8 @@ pub fn descriptor_usage(
     Ok(found)
 }
 
+pub use super::valid_usage_clears::clear_values;
+
 /// The images and buffers command `call` (recorded as `command`) reads, writes or binds
 /// without the usage that use needs: transfers of images here, every buffer use in
 /// `valid_usage_buffers`.
@@ -113,6 +115,9 @@ pub fn command_usage(
 ) -> Got<Vec<ValidUsageFinding>> {
     let mut found = transfer_usage(call, command, args, objects)?;
     found.extend(super::valid_usage_buffers::command_usage(
+        call, command, args, objects,
+    )?);
+    found.extend(super::valid_usage_clears::clear_values(
         call, command, args, objects,
     )?);
     Ok(found)

@@ -58,6 +58,17 @@ pub struct Registry {
     /// Every enumerant name, aliases included, to its value: `values=` may name either.
     pub enumerants: HashMap<String, i64>,
     pub commands: HashMap<String, CommandInfo>,
+    /// Each command to what provides it: the first core version that has it, and every
+    /// extension that does (a command of a core version needs no extension).
+    pub provided: HashMap<String, Provided>,
+}
+
+/// What provides a command.
+#[derive(Debug, Default)]
+pub struct Provided {
+    /// `1.0`, `1.1`, ...: the first core version with the command under this name.
+    pub core: Option<String>,
+    pub extensions: Vec<String>,
 }
 
 impl Registry {
@@ -102,6 +113,7 @@ pub fn read(path: &Path) -> Result<Registry> {
         enums: HashMap::new(),
         enumerants: HashMap::new(),
         commands: HashMap::new(),
+        provided: HashMap::new(),
     };
     let mut header_version = None;
     let mut complete_version = None;
@@ -182,11 +194,23 @@ pub fn read(path: &Path) -> Result<Registry> {
         match child {
             RegistryChild::Feature(f) if for_vulkan(Some(&f.api)) => {
                 add_extends(&mut reg, &f.children, None, &mut aliases)?;
+                for command in required_commands(&f.children) {
+                    let p = reg.provided.entry(command).or_default();
+                    if p.core.is_none() {
+                        p.core.clone_from(&f.number);
+                    }
+                }
             }
             RegistryChild::Extensions(exts) => {
                 for ext in &exts.children {
                     if for_vulkan(ext.supported.as_deref()) {
                         add_extends(&mut reg, &ext.children, ext.number, &mut aliases)?;
+                        for command in required_commands(&ext.children) {
+                            let p = reg.provided.entry(command).or_default();
+                            if !p.extensions.contains(&ext.name) {
+                                p.extensions.push(ext.name.clone());
+                            }
+                        }
                     }
                 }
             }
@@ -295,6 +319,25 @@ fn own_value(spec: &EnumSpec) -> Result<Option<i64>> {
 }
 
 /// The `<enum extends=...>` of one feature's or extension's `<require>` blocks.
+/// The commands a feature's or an extension's `<require>` blocks for Vulkan name.
+fn required_commands(children: &[ExtensionChild]) -> Vec<String> {
+    let mut out = Vec::new();
+    for child in children {
+        let ExtensionChild::Require { api, items, .. } = child else {
+            continue;
+        };
+        if !for_vulkan(api.as_deref()) {
+            continue;
+        }
+        for item in items {
+            if let InterfaceItem::Command { name, .. } = item {
+                out.push(name.clone());
+            }
+        }
+    }
+    out
+}
+
 fn add_extends(
     reg: &mut Registry,
     children: &[ExtensionChild],

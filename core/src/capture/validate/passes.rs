@@ -616,6 +616,13 @@ impl<'a> Validator<'a> {
                     ));
                 }
             }
+            // Both APIs clear depth within [0, 1] (D3D12's ClearDepthStencilView, Vulkan
+            // without VK_EXT_depth_range_unrestricted); so does wgpu.
+            if d.depth_load == LoadOp::Clear && !(0.0..=1.0).contains(&d.depth_clear) {
+                self.diags.error("attachment", &dpath.field("depth_clear"), format!(
+                    "pass \"{name}\" clears depth to {}, outside [0, 1]", d.depth_clear
+                ));
+            }
             if d.read_only && state.depth_write {
                 self.diags.error("attachment", &dpath.field("read_only"), format!(
                     "pass \"{name}\" binds depth read-only but its state has depth_write"

@@ -311,6 +311,12 @@ impl<'a> Reader<'a, '_> {
         for m in def.members {
             let v = self.within(Part::Name(m.name), |r| r.value(m.ty))?;
             self.tree.member(Text::Static(m.name), v);
+            // The union's other view: the same first two words as a depth and a stencil
+            // value, which a depth/stencil attachment's clear reads.
+            if def.name == "VkClearValue" && m.name == "color" {
+                let ds = self.clear_depth_stencil_view(v);
+                self.tree.member(Text::Static("depthStencil"), ds);
+            }
         }
         self.depth -= 1;
         let object = self.tree.object(mark);
@@ -342,6 +348,31 @@ impl<'a> Reader<'a, '_> {
         let index = registry::struct_index_of_stype(stype)
             .ok_or_else(|| format!("{}: a structure with unknown sType {stype}", self.at()))?;
         self.structure(index)
+    }
+
+    /// A clear value's `depthStencil` view of the colour words already read (`color`): the
+    /// first as a 32-bit float depth, the second as the stencil value, as the JSON Lines
+    /// stream shows it.
+    fn clear_depth_stencil_view(&mut self, color: usize) -> usize {
+        let tree = &mut *self.tree;
+        let words: Vec<u32> = match tree.get(color, "uint32").map(|a| tree.node(a)) {
+            Some(Node::Array(run)) => tree
+                .kids(run)
+                .iter()
+                .filter_map(|k| match tree.node(k.node) {
+                    Node::U64(w) => Some(w as u32),
+                    _ => None,
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        let word = |i: usize| words.get(i).copied().unwrap_or(0);
+        let mark = tree.mark();
+        let depth = tree.leaf(Node::F64(shortest(f32::from_bits(word(0)))));
+        tree.member(Text::Static("depth"), depth);
+        let stencil = tree.leaf(Node::U64(u64::from(word(1))));
+        tree.member(Text::Static("stencil"), stencil);
+        tree.object(mark)
     }
 
     /// A clear colour is a union GFXReconstruct writes as its four `uint32` words; it is

@@ -57,6 +57,8 @@ pub enum Meta {
     InitImage {
         image: u64,
         aspect: u32,
+        /// The `VkImageLayout` the snapshot restores the image to.
+        layout: u32,
         level_sizes: Vec<u64>,
         data: Vec<u8>,
     },
@@ -207,7 +209,7 @@ pub fn read(block: &Block, how: Compression, room: Room<'_>) -> Result<Meta, Str
             let image = f.u64()?;
             let size = f.u64()?;
             let aspect = f.u32()?;
-            let _layout = f.u32()?;
+            let layout = f.u32()?;
             let levels = f.u32()?;
             // Each level size takes 8 bytes; a count past what the block holds is corrupt.
             if u64::from(levels) * 8 > (f.body.len() - f.pos) as u64 {
@@ -233,6 +235,7 @@ pub fn read(block: &Block, how: Compression, room: Room<'_>) -> Result<Meta, Str
             Meta::InitImage {
                 image,
                 aspect,
+                layout,
                 level_sizes,
                 data,
             }

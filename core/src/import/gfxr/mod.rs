@@ -22,12 +22,14 @@ use std::collections::BTreeMap;
 use std::io::Read;
 
 use super::calls::{CmdFunc, Func};
+use super::commands::Origin;
 use super::contents::Contents;
 use super::state::Objects;
 use super::stream::Call;
 use super::tree::Tree;
 use super::value::Arg;
 use super::{ImportError, ImportOptions, Imported, Importer};
+use crate::capture::vulkan::ImageLayout;
 use blocks::{Block, Blocks, Kind};
 pub use blocks::{MAX_BLOCK_BYTES, is_gfxr};
 use meta::{Fills, Meta};
@@ -182,6 +184,7 @@ fn call(
     let extra = binary_only(def.name) || func == Func::MapMemory;
     if !is_decoded(def.name, func) {
         imp.calls += 1;
+        imp.check_provided(def.name, block.at.block);
         imp.count_not_modelled(def.name);
         return Ok(());
     }
@@ -205,6 +208,7 @@ fn call(
                 }
                 if func == Func::Other {
                     imp.calls += 1;
+                    imp.check_provided(def.name, block.at.block);
                     imp.count_not_modelled(def.name);
                     reading.args = args;
                     return Ok(());
@@ -225,6 +229,7 @@ fn call(
             imp.call(&call);
             for cb in std::mem::take(&mut imp.submitted_before) {
                 contents.submitted_before(&imp.objects, &imp.recordings, cb);
+                imp.sync.submitted_before(&imp.objects, &imp.recordings, cb);
             }
             call.args
         }
@@ -256,6 +261,7 @@ pub fn import(
     let compression = blocks.header.compression;
     let mut imp = Importer::new(options);
     imp.keep_submitted_before = true;
+    imp.layouts_known = true;
     let mut reading = Reading {
         tool: "GFXReconstruct (version not in the capture)".to_owned(),
         blocks: 0,
@@ -303,10 +309,16 @@ pub fn import(
                     Meta::InitImage {
                         image,
                         aspect,
+                        layout,
                         level_sizes,
                         data,
-                        ..
-                    } => contents.init_image(image, aspect, level_sizes, data),
+                    } => {
+                        if let Some(layout) = ImageLayout::from_value(u64::from(layout)) {
+                            let origin = Origin::none("the capture's state snapshot");
+                            imp.sync.start_layout(image, layout, origin);
+                        }
+                        contents.init_image(image, aspect, level_sizes, data)
+                    }
                     Meta::MemoryProperties { type_flags } => {
                         imp.objects.memory_type_flags =
                             type_flags.into_iter().map(u64::from).collect();
@@ -328,6 +340,7 @@ pub fn import(
                 } else if block.id == 2 {
                     snapshot_end = Some(at.block);
                 }
+                imp.in_snapshot = block.id == 1;
             }
             Kind::Annotation => reading.annotation(&block),
             Kind::MethodCall => reading.count("(D3D12 method calls)"),

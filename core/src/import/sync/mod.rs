@@ -68,6 +68,8 @@ enum What {
     Text(&'static str),
     /// A use in a layout (`descriptor in` `SHADER_READ_ONLY_OPTIMAL`).
     InLayout(&'static str, ImageLayout),
+    /// A use in a layout by a command, judged when its command buffer is submitted.
+    InLayoutAt(&'static str, ImageLayout, Origin),
     Transition(ImageLayout, ImageLayout),
     /// A descriptor a draw or dispatch reaches, with its type without `VK_DESCRIPTOR_TYPE_`.
     Binding {
@@ -83,6 +85,7 @@ impl fmt::Display for What {
         match self {
             What::Text(t) => f.write_str(t),
             What::InLayout(what, l) => write!(f, "{what} {l}"),
+            What::InLayoutAt(what, l, at) => write!(f, "{what} {l} at {at}"),
             What::Transition(from, to) => write!(f, "layout transition {from} -> {to}"),
             What::Binding { set, binding, kind } => {
                 write!(f, "set {set} binding {binding} ({kind})")
@@ -145,6 +148,14 @@ pub struct Sync {
     queue: u64,
     /// Resources any queue family may use (`VK_SHARING_MODE_CONCURRENT`).
     concurrent: std::collections::HashSet<u64>,
+    /// Each image's layout before the imported frames where no command of theirs or before
+    /// them set one: its creation's `initialLayout`, or the layout a trimmed capture's
+    /// snapshot restores it to, with what said so.
+    start: HashMap<u64, (ImageLayout, Origin)>,
+    /// The primary command buffer being walked (0: none).
+    walking: u64,
+    /// The submission being walked.
+    submission: Option<Origin>,
 }
 
 impl Sync {
@@ -153,6 +164,62 @@ impl Sync {
             enabled,
             ..Sync::default()
         }
+    }
+
+    /// `image` stands in `layout` before the imported frames (said by `origin`) unless a
+    /// command submitted before them, or in them, puts it in another.
+    pub fn start_layout(&mut self, image: u64, layout: ImageLayout, origin: Origin) {
+        if self.enabled {
+            self.start.insert(image, (layout, origin));
+        }
+    }
+
+    /// The layouts command buffer `cb`, submitted before the imported frames, leaves its
+    /// images in; its accesses are not checked (they are not the frames').
+    pub fn submitted_before(&mut self, objects: &Objects, recordings: &Recordings, cb: u64) {
+        if let Some(r) = recordings.get(&cb).filter(|_| self.enabled) {
+            self.walking = 0;
+            self.layouts_of(objects, recordings, r, 0);
+        }
+    }
+
+    fn layouts_of(
+        &mut self,
+        objects: &Objects,
+        recordings: &Recordings,
+        r: &Recording,
+        depth: u32,
+    ) {
+        for (i, cmd) in r.cmds.iter().enumerate() {
+            let command = r.at.get(i).unwrap_or(&UNKNOWN);
+            match cmd {
+                Cmd::Barrier(bs) => {
+                    for b in bs {
+                        if let Some((_, to)) = b.layouts {
+                            for key in self.barrier_keys(objects, &b.target) {
+                                self.set_layout(key, to, &b.origin);
+                            }
+                        }
+                    }
+                }
+                Cmd::BeginRender(ri) => self.leave_layouts(objects, ri, command),
+                Cmd::Execute(list) if depth < crate::import::record::MAX_EXECUTE_DEPTH => {
+                    for cb in list {
+                        if let Some(sub) = recordings.get(cb) {
+                            self.layouts_of(objects, recordings, sub, depth + 1);
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// `key` is now in `layout`, put there by `origin` in the command buffer being walked.
+    fn set_layout(&mut self, key: Key, layout: ImageLayout, origin: &Origin) {
+        let st = self.states.entry(key).or_default();
+        st.layout = Some((layout, origin.clone()));
+        st.layout_in = self.walking;
     }
 
     pub fn enabled(&self) -> bool {
@@ -324,10 +391,13 @@ impl Sync {
         let transition = b.layouts.filter(|(from, to)| from != to);
         for key in keys {
             if let Some((from, to)) = b.layouts {
-                if check_old && from != ImageLayout::Undefined {
+                // The old layout must be the image's only where the barrier transitions it
+                // (VUID-VkImageMemoryBarrier-oldLayout-01197); one from a layout to itself
+                // changes nothing (zink's depth barriers between draws).
+                if check_old && from != ImageLayout::Undefined && from != to {
                     self.expect_layout(key, from, &b.origin, What::InLayout("old layout", from));
                 }
-                self.states.entry(key).or_default().layout = Some((to, b.origin.clone()));
+                self.set_layout(key, to, &b.origin);
             }
             let st = self.states.entry(key).or_default();
             match transition {
@@ -343,17 +413,40 @@ impl Sync {
     }
 
     /// A use of `key` in `layout` by `command`: a finding when the subresource is known to
-    /// be in another.
+    /// be in another. Where a command of the same command buffer put it there, the finding is
+    /// the command's, as recording it shows; otherwise the layout it stands in is known only
+    /// when the command buffer is submitted, and the finding is the submission's.
     fn expect_layout(&mut self, key: Key, layout: ImageLayout, command: &Origin, what: What) {
-        let Some((current, by)) = self.states.get(&key).and_then(|s| s.layout.as_ref()) else {
+        let Key::Image { image, .. } = key else {
             return;
         };
-        if *current == layout {
+        let known = self
+            .states
+            .get(&key)
+            .and_then(|s| s.layout.as_ref().map(|(l, by)| (*l, by, s.layout_in)));
+        let (current, by, within) = match known {
+            Some((l, by, cb)) => (l, by, cb != 0 && cb == self.walking),
+            None => match self.start.get(&image) {
+                Some((l, by)) => (*l, by, false),
+                None => return,
+            },
+        };
+        if current == layout {
             return;
         }
-        let prior = Access::event(by, What::InLayout("layout", *current));
-        let access = Access::event(command, what);
-        self.note(command, key, HazardKind::LayoutMismatch, access, prior);
+        let prior = Access::event(by, What::InLayout("layout", current));
+        if within {
+            let access = Access::event(command, what);
+            self.note(command, key, HazardKind::LayoutMismatch, access, prior);
+            return;
+        }
+        let what = match what {
+            What::InLayout(what, l) => What::InLayoutAt(what, l, command.clone()),
+            other => other,
+        };
+        let at = self.submission.clone().unwrap_or_else(|| UNKNOWN.clone());
+        let access = Access::event(&at, what);
+        self.note(&at, key, HazardKind::LayoutMismatch, access, prior);
     }
 
     /// A render pass's attachments at its start: each in the layout the render pass
@@ -376,7 +469,7 @@ impl Sync {
     fn leave_layouts(&mut self, objects: &Objects, ri: &RenderInstance, command: &Origin) {
         for (view, _, last) in &ri.layouts {
             for key in Self::view_keys(objects, *view) {
-                self.states.entry(key).or_default().layout = Some((*last, command.clone()));
+                self.set_layout(key, *last, command);
             }
         }
     }
@@ -785,10 +878,12 @@ impl Sync {
         signals: &[(u64, Option<u64>)],
         fence: u64,
         (queue, family): (u64, Option<u32>),
+        submission: &Origin,
     ) {
         if !self.enabled {
             return;
         }
+        self.submission = Some(submission.clone());
         self.family = family;
         self.queue = queue;
         self.concurrent.clone_from(&objects.concurrent);
@@ -798,9 +893,11 @@ impl Sync {
         self.seq += 1;
         for cb in command_buffers {
             if let Some(r) = recordings.get(cb) {
+                self.walking = *cb;
                 self.walk(objects, pipelines, recordings, r, 0);
             }
         }
+        self.walking = 0;
         for &(s, value) in signals {
             let list = self.signalled.entry(s).or_default();
             if list.len() >= SIGNALS_KEPT {

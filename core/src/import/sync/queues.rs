@@ -87,6 +87,7 @@ impl Sync {
             }
         } else if family == dst {
             let later_stages = later(b.dst_stages);
+            let walking = self.walking;
             for key in keys {
                 let st = self.states.entry(key).or_default();
                 st.released = None;
@@ -102,6 +103,7 @@ impl Sync {
                 }
                 if let Some((_, to)) = b.layouts {
                     st.layout = Some((to, b.origin.clone()));
+                    st.layout_in = walking;
                 }
             }
         }

@@ -31,9 +31,11 @@ pub(super) struct Read {
 pub(super) struct State {
     pub(super) write: Option<Write>,
     pub(super) reads: Vec<Read>,
-    /// An image subresource's layout and the command that put it there; `None` until the
-    /// imported frames set it (what the capture's snapshot left is not checked).
+    /// An image subresource's layout and the command that put it there; `None` where
+    /// neither the imported frames nor what stood before them say (`Sync::start`).
     pub(super) layout: Option<(ImageLayout, Origin)>,
+    /// The primary command buffer whose commands set `layout` (0: none, before the frames).
+    pub(super) layout_in: u64,
     /// The queue family that last used it (an exclusive resource's owner), and a release
     /// to another family not yet acquired.
     pub(super) owner: Option<u32>,

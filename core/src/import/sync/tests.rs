@@ -364,3 +364,69 @@ fn a_timeline_wait_orders_the_layout_transitions_after_it() {
     assert!(transition_after(true).is_empty());
     assert_eq!(transition_after(false), [HazardKind::WriteAfterWrite]);
 }
+
+fn call(name: &'static str, index: u64) -> Origin {
+    Origin::call(&Cow::Borrowed(name), index)
+}
+
+#[test]
+fn a_layout_set_outside_the_command_buffer_is_judged_at_its_submission() {
+    use ImageLayout as L;
+    let mut sync = Sync::new(true);
+    let key = Key::Image {
+        image: 7,
+        mip: 0,
+        layer: 0,
+    };
+    let sampled = |at: u64| {
+        (
+            call("vkCmdDraw", at),
+            What::InLayout("descriptor in", L::ShaderReadOnlyOptimal),
+        )
+    };
+    sync.start_layout(7, L::Undefined, call("vkCreateImage", 3));
+    sync.submission = Some(call("vkQueueSubmit", 30));
+    sync.walking = 11;
+    // Never transitioned since its creation: the command buffer's expectation is the
+    // submission's finding, naming the draw that expects it.
+    let (draw, what) = sampled(20);
+    sync.expect_layout(key, L::ShaderReadOnlyOptimal, &draw, what);
+    // Put in another layout by a command of the same command buffer: the command's own.
+    sync.set_layout(
+        key,
+        L::TransferDstOptimal,
+        &call("vkCmdPipelineBarrier", 21),
+    );
+    let (draw, what) = sampled(22);
+    sync.expect_layout(key, L::ShaderReadOnlyOptimal, &draw, what);
+    // In the layout it is used in: nothing.
+    sync.set_layout(
+        key,
+        L::ShaderReadOnlyOptimal,
+        &call("vkCmdPipelineBarrier", 23),
+    );
+    let (draw, what) = sampled(24);
+    sync.expect_layout(key, L::ShaderReadOnlyOptimal, &draw, what);
+    let (found, _) = sync.hazards(|_| Some("image_7".to_owned()));
+    let found: Vec<(String, String, String, String)> = found
+        .into_iter()
+        .map(|(_, h)| (h.command, h.access, h.prior, h.prior_command))
+        .collect();
+    assert_eq!(
+        found,
+        [
+            (
+                "vkCmdDraw #22".to_owned(),
+                "descriptor in SHADER_READ_ONLY_OPTIMAL".to_owned(),
+                "layout TRANSFER_DST_OPTIMAL".to_owned(),
+                "vkCmdPipelineBarrier #21".to_owned()
+            ),
+            (
+                "vkQueueSubmit #30".to_owned(),
+                "descriptor in SHADER_READ_ONLY_OPTIMAL at vkCmdDraw #20".to_owned(),
+                "layout UNDEFINED".to_owned(),
+                "vkCreateImage #3".to_owned()
+            ),
+        ]
+    );
+}
