@@ -786,7 +786,13 @@ fn vuids_in_log(log: &Path) -> BTreeSet<(String, String, String)> {
                     format!("pAttachments[{n}]"),
                 ));
             }
-            let call = said.split(['(', ':', ' ']).next().unwrap_or("").to_owned();
+            let mut call = said.split(['(', ':', ' ']).next().unwrap_or("").to_owned();
+            // A push through a template is named without `Cmd`, its writes as
+            // `VkWriteDescriptorSet[N]`.
+            if call == "vkPushDescriptorSetWithTemplateKHR" {
+                call = "vkCmdPushDescriptorSetWithTemplateKHR".to_owned();
+            }
+            let said = said.replace("VkWriteDescriptorSet[", "pDescriptorWrites[");
             let member = said
                 .split_whitespace()
                 .map(|w| {
@@ -1062,6 +1068,33 @@ fn a_depth_clear_value_out_of_range_is_flagged_by_framelab_and_the_layer() {
         "VUID-VkClearDepthStencilValue-depth-02506".to_owned(),
         String::new(),
     )]);
+    assert_eq!(ours, expected);
+    assert_eq!(ours, layer, "framelab (left) and the layer (right)");
+}
+
+/// The update-template program's uniform buffer created with storage usage only (`framelab
+/// edit`): framelab and the layer both report the template's uniform buffer entry
+/// (`VUID-VkWriteDescriptorSet-descriptorType-00330`, the third entry taken as the write
+/// `pDescriptorWrites[2]`) at the set updated through the template and at the push through
+/// the push template.
+#[test]
+fn descriptors_written_through_templates_are_checked_like_writes() {
+    let (ours, layer) = planted_vuids(
+        "planted-template",
+        "template_compute.gfxr",
+        "28:pCreateInfo.usage=32",
+    );
+    let at = |call: &str| {
+        (
+            call.to_owned(),
+            "VUID-VkWriteDescriptorSet-descriptorType-00330".to_owned(),
+            "pDescriptorWrites[2]".to_owned(),
+        )
+    };
+    let expected = BTreeSet::from([
+        at("vkUpdateDescriptorSetWithTemplate"),
+        at("vkCmdPushDescriptorSetWithTemplateKHR"),
+    ]);
     assert_eq!(ours, expected);
     assert_eq!(ours, layer, "framelab (left) and the layer (right)");
 }

@@ -317,6 +317,14 @@ impl Importer {
                         CmdFunc::PushDescriptorSet => {
                             valid_usage::descriptor_usage(&command, args, &self.objects)
                         }
+                        // A call too malformed to check is left to the recording below.
+                        CmdFunc::PushDescriptorSetWithTemplate => args
+                            .get("descriptorUpdateTemplate")
+                            .and_then(|t| t.handle())
+                            .and_then(|t| {
+                                let data = args.get("pData")?;
+                                valid_usage::template_usage(&command, t, &data, &self.objects)
+                            }),
                         CmdFunc::BeginRenderPass => {
                             let v2 = call.name.contains('2');
                             let mut found =
@@ -391,6 +399,14 @@ impl Importer {
             | Func::CreateDescriptorSetLayout
             | Func::CreatePipelineLayout
             | Func::CreatePipelines { .. } => return self.pipelines.apply(call.func, args),
+            Func::UpdateDescriptorSetWithTemplate if self.checks_valid_usage() => {
+                let command = format!("{} #{}", call.name, call.index);
+                let template = args.get("descriptorUpdateTemplate")?.handle()?;
+                let data = args.get("pData")?;
+                let found = valid_usage::template_usage(&command, template, &data, &self.objects);
+                self.valid_usage.extend(found.unwrap_or_default());
+                return self.objects.apply(call.func, args);
+            }
             Func::UpdateDescriptorSets if self.checks_valid_usage() => {
                 let command = format!("{} #{}", call.name, call.index);
                 let found = valid_usage::descriptor_usage(&command, args, &self.objects);

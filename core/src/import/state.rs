@@ -737,6 +737,20 @@ impl Objects {
         template: u64,
         data: &Arg<'_>,
     ) -> Got<Vec<((u32, u32), Descriptor)>> {
+        Ok(self
+            .template_entry_writes(template, data)?
+            .into_iter()
+            .flat_map(|(_, written)| written)
+            .collect())
+    }
+
+    /// What [`Objects::template_writes`] writes, entry by entry: each entry's index in the
+    /// template (the write it stands for) with its descriptors.
+    pub fn template_entry_writes(
+        &self,
+        template: u64,
+        data: &Arg<'_>,
+    ) -> Got<Vec<(usize, Vec<((u32, u32), Descriptor)>)>> {
         let Some(t) = self.templates.get(&template) else {
             return Err(Skip(format!(
                 "update template {template} was never created in the stream"
@@ -755,7 +769,7 @@ impl Objects {
         ];
         let mut next = [0usize; 3];
         let mut out = Vec::new();
-        for e in &t.entries {
+        for (index, e) in t.entries.iter().enumerate() {
             let kind = descriptor_kind(&e.ty);
             let Some(holds) = Holds::of(&kind) else {
                 continue;
@@ -770,7 +784,7 @@ impl Objects {
                 )));
             };
             next[at] += n;
-            out.extend(descriptors(e.binding, e.element, &kind, items)?);
+            out.push((index, descriptors(e.binding, e.element, &kind, items)?));
         }
         Ok(out)
     }

@@ -9,12 +9,13 @@
 //! layout transitions from or to a layout its usage does not allow, transfer commands (copies,
 //! blits, colour clears) that read or write it without `TRANSFER_SRC`/`TRANSFER_DST`,
 //! framebuffers whose render pass uses it as an attachment of a kind its usage lacks, and
-//! render passes begun that put it in a layout its usage does not allow. Buffers' usage
+//! render passes begun that put it in a layout its usage does not allow; descriptors
+//! written through update templates, as the writes they stand for. Buffers' usage
 //! against their use is checked in `valid_usage_buffers`. Layouts at use (a barrier's old
 //! layout, a render pass's initial layout, a descriptor's layout) are checked with the
 //! synchronization rules, which track the layouts (`sync`).
 
-use super::state::{Objects, descriptor_kind};
+use super::state::{Descriptor, Objects, descriptor_kind};
 use super::value::{Arg, Got};
 use crate::capture::format::ValidUsageFinding;
 use crate::capture::vulkan::ImageLayout;
@@ -156,6 +157,50 @@ fn image_descriptor_usage(
             }
         }
     }
+    Ok(out)
+}
+
+/// The descriptors update template call `command` writes (`template` with its data `data`)
+/// whose image or buffer lacks the usage their type needs. The layer takes each entry of the
+/// template as the write `pDescriptorWrites[entry]`, and so do the findings.
+pub fn template_usage(
+    command: &str,
+    template: u64,
+    data: &Arg<'_>,
+    objects: &Objects,
+) -> Got<Vec<ValidUsageFinding>> {
+    let entries = objects.template_entry_writes(template, data)?;
+    let mut out = Vec::new();
+    for (i, written) in &entries {
+        for (j, (_, d)) in written.iter().enumerate() {
+            let Descriptor::Image { view, ty, .. } = d else {
+                continue;
+            };
+            let Some((bits, names, number)) = descriptor_needs(ty) else {
+                continue;
+            };
+            let Some(image) = objects
+                .views
+                .get(view)
+                .and_then(|v| objects.images.get(&v.image))
+            else {
+                continue;
+            };
+            if image.usage & bits == 0 {
+                out.push(ValidUsageFinding {
+                    vuid: format!("VUID-VkWriteDescriptorSet-descriptorType-{number}"),
+                    command: command.to_owned(),
+                    detail: format!(
+                        "pDescriptorWrites[{i}] (pImageInfo[{j}]): a {ty} descriptor of an image created without {names} (usage {:#x})",
+                        image.usage
+                    ),
+                });
+            }
+        }
+    }
+    out.extend(super::valid_usage_buffers::written_usage(
+        command, &entries, objects,
+    ));
     Ok(out)
 }
 

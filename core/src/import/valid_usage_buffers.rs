@@ -5,7 +5,7 @@
 //! buffer views) and texel buffer views created. Descriptor update templates are not read
 //! here. A finding is not a refusal: drivers run such frames, and so does the replay.
 
-use super::state::{Objects, descriptor_kind};
+use super::state::{Descriptor, Objects, descriptor_kind};
 use super::value::{Arg, Got};
 use crate::capture::format::ValidUsageFinding;
 
@@ -179,12 +179,8 @@ pub fn descriptor_usage(
     let mut out = Vec::new();
     for (i, w) in args.list("pDescriptorWrites")?.iter().enumerate() {
         let kind = descriptor_kind(&w.get("descriptorType")?.symbol()?);
-        let (need, number, texel) = match &*kind {
-            "UNIFORM_BUFFER" | "UNIFORM_BUFFER_DYNAMIC" => (UNIFORM, "00330", false),
-            "STORAGE_BUFFER" | "STORAGE_BUFFER_DYNAMIC" => (STORAGE, "00331", false),
-            "UNIFORM_TEXEL_BUFFER" => (UNIFORM_TEXEL, "00334", true),
-            "STORAGE_TEXEL_BUFFER" => (STORAGE_TEXEL, "00335", true),
-            _ => continue,
+        let Some((need, number, texel)) = descriptor_needs(&kind) else {
+            continue;
         };
         let vuid = format!("VkWriteDescriptorSet-descriptorType-{number}");
         if texel {
@@ -204,6 +200,54 @@ pub fn descriptor_usage(
         }
     }
     Ok(out)
+}
+
+/// What a buffer descriptor type needs of its buffer's usage, the number of the
+/// `VUID-VkWriteDescriptorSet-descriptorType-*` that says so, and whether it is a texel
+/// buffer view.
+fn descriptor_needs(kind: &str) -> Option<((u64, &'static str), &'static str, bool)> {
+    Some(match kind {
+        "UNIFORM_BUFFER" | "UNIFORM_BUFFER_DYNAMIC" => (UNIFORM, "00330", false),
+        "STORAGE_BUFFER" | "STORAGE_BUFFER_DYNAMIC" => (STORAGE, "00331", false),
+        "UNIFORM_TEXEL_BUFFER" => (UNIFORM_TEXEL, "00334", true),
+        "STORAGE_TEXEL_BUFFER" => (STORAGE_TEXEL, "00335", true),
+        _ => return None,
+    })
+}
+
+/// The buffer descriptors a template writes (`entries`: each entry's index and what it
+/// writes, which the layer takes as the write `pDescriptorWrites[index]`) whose buffer lacks
+/// the usage their type needs.
+pub fn written_usage(
+    command: &str,
+    entries: &[(usize, Vec<((u32, u32), Descriptor)>)],
+    objects: &Objects,
+) -> Vec<ValidUsageFinding> {
+    let mut out = Vec::new();
+    for (i, written) in entries {
+        for (j, (_, d)) in written.iter().enumerate() {
+            let (buffer, kind) = match d {
+                Descriptor::Buffer { buffer, ty, .. } => (*buffer, ty),
+                Descriptor::TexelBuffer { view, ty } => match objects.buffer_views.get(view) {
+                    Some(&(buffer, ..)) => (buffer, ty),
+                    None => continue,
+                },
+                _ => continue,
+            };
+            let Some((need, number, texel)) = descriptor_needs(kind) else {
+                continue;
+            };
+            let vuid = format!("VkWriteDescriptorSet-descriptorType-{number}");
+            let list = if texel {
+                "pTexelBufferView"
+            } else {
+                "pBufferInfo"
+            };
+            let at = format!("pDescriptorWrites[{i}] ({list}[{j}], a {kind})");
+            out.extend(check(objects, buffer, need, &vuid, command, &at));
+        }
+    }
+    out
 }
 
 /// `vkCreateBufferView` call `command`: a texel buffer view of a buffer created with neither
