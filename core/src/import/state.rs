@@ -127,6 +127,10 @@ pub struct FramebufferInfo {
     pub layers: u32,
 }
 
+/// What an update template writes, entry by entry: each entry's index in the template with
+/// the descriptors it writes, by (binding, array element).
+pub type EntryWrites = Vec<(usize, Vec<((u32, u32), Descriptor)>)>;
+
 /// One descriptor written to a set.
 #[derive(Clone, Debug)]
 pub enum Descriptor {
@@ -746,11 +750,7 @@ impl Objects {
 
     /// What [`Objects::template_writes`] writes, entry by entry: each entry's index in the
     /// template (the write it stands for) with its descriptors.
-    pub fn template_entry_writes(
-        &self,
-        template: u64,
-        data: &Arg<'_>,
-    ) -> Got<Vec<(usize, Vec<((u32, u32), Descriptor)>)>> {
+    pub fn template_entry_writes(&self, template: u64, data: &Arg<'_>) -> Got<EntryWrites> {
         let Some(t) = self.templates.get(&template) else {
             return Err(Skip(format!(
                 "update template {template} was never created in the stream"

@@ -5,7 +5,7 @@
 //! buffer views) and texel buffer views created. Descriptor update templates are not read
 //! here. A finding is not a refusal: drivers run such frames, and so does the replay.
 
-use super::state::{Descriptor, Objects, descriptor_kind};
+use super::state::{Descriptor, EntryWrites, Objects, descriptor_kind};
 use super::value::{Arg, Got};
 use crate::capture::format::ValidUsageFinding;
 
@@ -220,7 +220,7 @@ fn descriptor_needs(kind: &str) -> Option<((u64, &'static str), &'static str, bo
 /// the usage their type needs.
 pub fn written_usage(
     command: &str,
-    entries: &[(usize, Vec<((u32, u32), Descriptor)>)],
+    entries: &EntryWrites,
     objects: &Objects,
 ) -> Vec<ValidUsageFinding> {
     let mut out = Vec::new();
