@@ -507,7 +507,7 @@ impl Builder {
         for b in bs {
             let (resource, mips, layers) = match &b.target {
                 BarrierTarget::Global => (None, None, None),
-                BarrierTarget::Buffer { buffer } => match self.resource(objects, *buffer) {
+                BarrierTarget::Buffer { buffer, .. } => match self.resource(objects, *buffer) {
                     Some(n) => (Some(n), None, None),
                     None => continue,
                 },
@@ -764,7 +764,7 @@ impl Builder {
                 };
                 self.clear_image(objects, queue, base, *target, (*value, *stencil), ranges);
             }
-            TransferCmd::Fill { update, buffer } => {
+            TransferCmd::Fill { update, buffer, .. } => {
                 let base = if *update {
                     "update_buffer"
                 } else {

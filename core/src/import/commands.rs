@@ -59,6 +59,8 @@ pub enum BarrierTarget {
     Global,
     Buffer {
         buffer: u64,
+        /// The bytes it covers: offset and size (`VK_WHOLE_SIZE` as `u64::MAX`).
+        range: (u64, u64),
     },
     Image {
         image: u64,
@@ -229,6 +231,8 @@ pub enum TransferCmd {
         /// `vkCmdUpdateBuffer` rather than `vkCmdFillBuffer`.
         update: bool,
         buffer: u64,
+        /// The bytes written: offset and size (`VK_WHOLE_SIZE` as `u64::MAX`).
+        range: (u64, u64),
     },
     Resolve {
         src: u64,

@@ -290,10 +290,15 @@ impl Recording {
             CmdFunc::Copy { kind, v2: true } => copy(kind, name, &args.get(kind.info_key())?)?,
             CmdFunc::ClearImage => clear_image(name, args)?,
             CmdFunc::ClearAttachments => clear_attachments(args)?,
-            CmdFunc::FillBuffer => Cmd::Transfer(Box::new(TransferCmd::Fill {
-                update: name.contains("Update"),
-                buffer: args.get("dstBuffer")?.handle()?,
-            })),
+            CmdFunc::FillBuffer => {
+                let update = name.contains("Update");
+                let size = if update { "dataSize" } else { "size" };
+                Cmd::Transfer(Box::new(TransferCmd::Fill {
+                    update,
+                    buffer: args.get("dstBuffer")?.handle()?,
+                    range: byte_range(args, "dstOffset", size),
+                }))
+            }
             CmdFunc::ResolveImage => Cmd::Transfer(Box::new(TransferCmd::Resolve {
                 src: args.get("srcImage")?.handle()?,
                 dst: args.get("dstImage")?.handle()?,
@@ -786,6 +791,7 @@ fn barriers(
             origin: origin.clone(),
             target: BarrierTarget::Buffer {
                 buffer: b.get("buffer")?.handle()?,
+                range: byte_range(&b, "offset", "size"),
             },
             src_stages: ss,
             dst_stages: ds,
@@ -814,4 +820,15 @@ fn barriers(
         });
     }
     Ok(out)
+}
+
+/// The bytes a command or barrier names by its `offset` and `size` members: the whole buffer
+/// where either is missing or unreadable (the synchronization check is then as coarse as
+/// before, never finer than the stream says).
+fn byte_range(a: &Arg<'_>, offset: &str, size: &str) -> (u64, u64) {
+    let get = |k: &str| a.get(k).and_then(|v| v.u64()).ok();
+    match (get(offset), get(size)) {
+        (Some(o), Some(s)) => (o, s),
+        _ => (0, u64::MAX),
+    }
 }

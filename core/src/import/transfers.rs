@@ -446,6 +446,7 @@ mod tests {
             TransferCmd::Fill {
                 update: false,
                 buffer: 1,
+                range: (0, u64::MAX),
             },
         );
         assert_eq!(c.buffer_bytes(1, &objects), None);

@@ -18,8 +18,10 @@
 //! render passes on the same attachment need a dependency of their own. What existed before
 //! the imported frames is initial contents, not an access.
 //!
-//! Images are tracked per mip and layer, buffers whole. A finding names the command by its
-//! index in the captured stream, the resource and subresource, and both accesses.
+//! Images are tracked per mip and layer, buffers by byte range: each buffer's bytes are split
+//! into the ranges its accesses and barriers name, so accesses to disjoint ranges of one
+//! buffer need no dependency (`buffer_keys`). A finding names the command by its index in
+//! the captured stream, the resource and subresource, and both accesses.
 
 use std::collections::BTreeMap;
 
@@ -48,6 +50,9 @@ use crate::capture::vulkan::{AccessFlags as A, ImageLayout, PipelineStages as S}
 const MAX_UNITS: u32 = 4096;
 /// Most findings kept; the rest are counted.
 const MAX_HAZARDS: usize = 10_000;
+/// Most ranges one buffer is split into; past them its accesses take every range it has
+/// (coarser, never missing a hazard the ranges would show).
+const MAX_RANGES: usize = 4096;
 
 /// One access: where, what, by which command.
 #[derive(Clone, Debug)]
@@ -120,8 +125,16 @@ impl Access {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 enum Key {
-    Buffer(u64),
-    Image { image: u64, mip: u32, layer: u32 },
+    /// The range of a buffer's bytes that starts at `start` (`Sync::ranges` holds its end).
+    Buffer {
+        buffer: u64,
+        start: u64,
+    },
+    Image {
+        image: u64,
+        mip: u32,
+        layer: u32,
+    },
 }
 
 /// The checker's state across the imported frames' submissions.
@@ -156,6 +169,8 @@ pub struct Sync {
     walking: u64,
     /// The submission being walked.
     submission: Option<Origin>,
+    /// Each buffer's tracked ranges: start to end, disjoint.
+    ranges: HashMap<u64, BTreeMap<u64, u64>>,
 }
 
 impl Sync {
@@ -299,7 +314,7 @@ impl Sync {
     ) {
         let (kind, prior) = self.unwaited_acquire(key, kind, prior);
         let id = match key {
-            Key::Buffer(b) => b,
+            Key::Buffer { buffer, .. } => buffer,
             Key::Image { image, .. } => image,
         };
         let k = (command.clone(), id, kind);
@@ -348,12 +363,63 @@ impl Sync {
         (kind, prior)
     }
 
-    /// What a barrier covers: its buffer, its image's subresources, or (a global memory
-    /// barrier) everything tracked.
-    fn barrier_keys(&self, objects: &Objects, target: &BarrierTarget) -> Vec<Key> {
+    /// The bytes `[offset, offset + size)` of `buffer` (`size` `VK_WHOLE_SIZE` or past its
+    /// end: to its end), as the tracked ranges that make them up: ranges that straddle
+    /// either end are split in two (each half keeps what happened to the whole), and bytes
+    /// no range covers yet get one of their own.
+    fn buffer_keys(
+        &mut self,
+        objects: &Objects,
+        buffer: u64,
+        (offset, size): (u64, u64),
+    ) -> Vec<Key> {
+        let len = objects
+            .buffers
+            .get(&buffer)
+            .map_or(u64::MAX, |b| b.size.max(1));
+        let start = offset.min(len.saturating_sub(1));
+        let end = offset.saturating_add(size.max(1)).min(len).max(start + 1);
+        let key = |start: u64| Key::Buffer { buffer, start };
+        let ranges = self.ranges.entry(buffer).or_default();
+        if ranges.len() >= MAX_RANGES {
+            return ranges.keys().map(|&s| key(s)).collect();
+        }
+        for at in [start, end] {
+            let Some((&s, &e)) = ranges.range(..at).next_back() else {
+                continue;
+            };
+            if e > at {
+                ranges.insert(s, at);
+                ranges.insert(at, e);
+                if let Some(st) = self.states.get(&key(s)).cloned() {
+                    self.states.insert(key(at), st);
+                }
+            }
+        }
+        let mut keys = Vec::new();
+        let mut pos = start;
+        let within: Vec<(u64, u64)> = ranges.range(start..end).map(|(&s, &e)| (s, e)).collect();
+        for (s, e) in within {
+            if s > pos {
+                ranges.insert(pos, s);
+                keys.push(key(pos));
+            }
+            keys.push(key(s));
+            pos = e;
+        }
+        if pos < end {
+            ranges.insert(pos, end);
+            keys.push(key(pos));
+        }
+        keys
+    }
+
+    /// What a barrier covers: its buffer's range, its image's subresources, or (a global
+    /// memory barrier) everything tracked.
+    fn barrier_keys(&mut self, objects: &Objects, target: &BarrierTarget) -> Vec<Key> {
         match target {
             BarrierTarget::Global => self.states.keys().copied().collect(),
-            BarrierTarget::Buffer { buffer } => vec![Key::Buffer(*buffer)],
+            BarrierTarget::Buffer { buffer, range } => self.buffer_keys(objects, *buffer, *range),
             BarrierTarget::Image {
                 image,
                 mips,
@@ -363,14 +429,15 @@ impl Sync {
     }
 
     /// A draw's or dispatch's indirect arguments, read at the draw-indirect stage.
-    fn indirect(&mut self, buffer: u64, command: &Origin) {
+    fn indirect(&mut self, objects: &Objects, (buffer, offset): (u64, u64), command: &Origin) {
         let a = Access {
             stage: S::DRAW_INDIRECT,
             access: A::INDIRECT_COMMAND_READ,
             command: command.clone(),
             what: What::Text("indirect arguments"),
         };
-        self.access(&[Key::Buffer(buffer)], false, &a);
+        let keys = self.buffer_keys(objects, buffer, (offset, u64::MAX));
+        self.access(&keys, false, &a);
     }
 
     fn barrier(&mut self, objects: &Objects, b: &BarrierCmd, check_old: bool) {
@@ -508,13 +575,17 @@ impl Sync {
                 }
                 (keys, ty)
             }
-            Descriptor::Buffer { buffer, ty, .. } => (vec![Key::Buffer(*buffer)], ty),
+            Descriptor::Buffer {
+                buffer,
+                offset,
+                range,
+                ty,
+            } => (self.buffer_keys(objects, *buffer, (*offset, *range)), ty),
             Descriptor::TexelBuffer { view, ty } => (
-                objects
-                    .buffer_views
-                    .get(view)
-                    .map(|(b, _, _)| vec![Key::Buffer(*b)])
-                    .unwrap_or_default(),
+                match objects.buffer_views.get(view) {
+                    Some(&(b, offset, range)) => self.buffer_keys(objects, b, (offset, range)),
+                    None => Vec::new(),
+                },
                 ty,
             ),
             Descriptor::Sampler { .. } => return,
@@ -659,12 +730,43 @@ impl Sync {
         }
     }
 
+    /// What one side (`src` or not) of a copy covers: an image's subresources, or the byte
+    /// ranges of a buffer (a buffer-to-buffer region's own bytes; with an image on the other
+    /// side, from the region's offset on).
+    fn copy_keys(
+        &mut self,
+        objects: &Objects,
+        h: u64,
+        regions: &[super::commands::Region],
+        src: bool,
+    ) -> Vec<Key> {
+        if objects.images.contains_key(&h) {
+            let pick = |r: &super::commands::Region| {
+                if src {
+                    (r.src_mip, r.src_layer)
+                } else {
+                    (r.dst_mip, r.dst_layer)
+                }
+            };
+            return Self::subresource_keys(objects, h, regions.iter().map(pick));
+        }
+        let mut keys = Vec::new();
+        for r in regions {
+            let offset = if src { r.src_offset } else { r.dst_offset };
+            keys.extend(self.buffer_keys(objects, h, (offset, r.size.unwrap_or(u64::MAX))));
+        }
+        keys.sort_unstable();
+        keys.dedup();
+        keys
+    }
+
     fn transfer(&mut self, objects: &Objects, t: &TransferCmd, command: &Origin) {
-        let buffer_or_image = |h: u64| -> Vec<Key> {
+        // Resolves name images only; anything else is taken whole.
+        let mut buffer_or_image = |h: u64| -> Vec<Key> {
             if objects.images.contains_key(&h) {
                 Self::image_keys(objects, h, (0, None), (0, None))
             } else {
-                vec![Key::Buffer(h)]
+                self.buffer_keys(objects, h, (0, u64::MAX))
             }
         };
         // The part of TRANSFER each command runs in, as synchronization2 names it (and the
@@ -689,15 +791,8 @@ impl Sync {
                 layouts,
                 ..
             } => {
-                let keys = |h: u64, pick: &dyn Fn(&super::commands::Region) -> (u32, u32)| {
-                    if objects.images.contains_key(&h) {
-                        Self::subresource_keys(objects, h, regions.iter().map(pick))
-                    } else {
-                        vec![Key::Buffer(h)]
-                    }
-                };
-                let s = keys(*src, &|r| (r.src_mip, r.src_layer));
-                let d = keys(*dst, &|r| (r.dst_mip, r.dst_layer));
+                let s = self.copy_keys(objects, *src, regions, true);
+                let d = self.copy_keys(objects, *dst, regions, false);
                 for (keys, layout, side) in [
                     (&s, layouts.0, "copy source in"),
                     (&d, layouts.1, "copy destination in"),
@@ -730,9 +825,14 @@ impl Sync {
                 }
                 self.access(&keys, true, &mk(A::TRANSFER_WRITE, "clear"));
             }
-            TransferCmd::Fill { buffer, update } => {
+            TransferCmd::Fill {
+                buffer,
+                update,
+                range,
+            } => {
                 let what = if *update { "update" } else { "fill" };
-                self.access(&[Key::Buffer(*buffer)], true, &mk(A::TRANSFER_WRITE, what));
+                let keys = self.buffer_keys(objects, *buffer, *range);
+                self.access(&keys, true, &mk(A::TRANSFER_WRITE, what));
             }
             TransferCmd::Blit {
                 src,
@@ -821,27 +921,31 @@ impl Sync {
                         command: command.clone(),
                         what,
                     };
-                    for (binding, buffer, _) in &d.vertex_buffers {
+                    // From the bound offset on: which vertices and indices a draw reads is
+                    // its own parameters' business, and the bytes past them are not others'.
+                    for (binding, buffer, offset) in &d.vertex_buffers {
                         let a = read(
                             A::VERTEX_ATTRIBUTE_READ,
                             What::Spelt(format!("vertex buffer {binding}")),
                         );
-                        self.access(&[Key::Buffer(*buffer)], false, &a);
+                        let keys = self.buffer_keys(objects, *buffer, (*offset, u64::MAX));
+                        self.access(&keys, false, &a);
                     }
-                    if let Some((buffer, _, _)) = &d.index_buffer {
+                    if let Some((buffer, offset, _)) = &d.index_buffer {
                         let a = read(A::INDEX_READ, What::Text("index buffer"));
-                        self.access(&[Key::Buffer(*buffer)], false, &a);
+                        let keys = self.buffer_keys(objects, *buffer, (*offset, u64::MAX));
+                        self.access(&keys, false, &a);
                     }
-                    if let Some((buffer, _)) = d.indirect {
-                        self.indirect(buffer, command);
+                    if let Some(at) = d.indirect {
+                        self.indirect(objects, at, command);
                     }
                 }
                 Cmd::Dispatch(d) => {
                     for u in &d.uses {
                         self.descriptor(objects, pipelines, d.pipeline, u, true, command);
                     }
-                    if let Some((buffer, _)) = d.indirect {
-                        self.indirect(buffer, command);
+                    if let Some(at) = d.indirect {
+                        self.indirect(objects, at, command);
                     }
                 }
                 Cmd::Transfer(t) => self.transfer(objects, t, command),
@@ -922,7 +1026,7 @@ impl Sync {
             .map(|((command, id, kind), (key, access, prior))| {
                 let (mip, layer) = match key {
                     Key::Image { mip, layer, .. } => (Some(*mip), Some(*layer)),
-                    Key::Buffer(_) => (None, None),
+                    Key::Buffer { .. } => (None, None),
                 };
                 (
                     command.clone(),

@@ -31,7 +31,7 @@ impl Sync {
     pub(super) fn own(&mut self, key: Key, write: bool, a: &Access) {
         let Some(family) = self.family else { return };
         let handle = match key {
-            Key::Buffer(b) => b,
+            Key::Buffer { buffer, .. } => buffer,
             Key::Image { image, .. } => image,
         };
         if self.concurrent.contains(&handle) {

@@ -175,7 +175,10 @@ fn across_families(release_and_acquire: bool) -> Vec<HazardKind> {
     };
     let transfer = |family_side: bool| BarrierCmd {
         origin: Origin::none(if family_side { "release" } else { "acquire" }),
-        target: BarrierTarget::Buffer { buffer: 1 },
+        target: BarrierTarget::Buffer {
+            buffer: 1,
+            range: (0, u64::MAX),
+        },
         src_stages: S::TRANSFER,
         dst_stages: S::COMPUTE_SHADER,
         src_access: A::TRANSFER_WRITE,
@@ -186,7 +189,10 @@ fn across_families(release_and_acquire: bool) -> Vec<HazardKind> {
     sync.family = Some(0);
     sync.seq = 1;
     sync.access(
-        &[Key::Buffer(1)],
+        &[Key::Buffer {
+            buffer: 1,
+            start: 0,
+        }],
         true,
         &at("write", S::COPY, A::TRANSFER_WRITE),
     );
@@ -201,7 +207,10 @@ fn across_families(release_and_acquire: bool) -> Vec<HazardKind> {
         sync.barrier(&objects, &transfer(false), true);
     }
     sync.access(
-        &[Key::Buffer(1)],
+        &[Key::Buffer {
+            buffer: 1,
+            start: 0,
+        }],
         false,
         &at("read", S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),
     );
@@ -428,5 +437,69 @@ fn a_layout_set_outside_the_command_buffer_is_judged_at_its_submission() {
                 "vkCreateImage #3".to_owned()
             ),
         ]
+    );
+}
+
+#[test]
+fn disjoint_ranges_of_one_buffer_need_no_dependency() {
+    let mut sync = Sync::new(true);
+    let mut objects = Objects::default();
+    objects.buffers.insert(
+        9,
+        crate::import::state::BufferInfo {
+            created_at: 0,
+            destroyed_at: None,
+            size: 1024,
+            usage: 0,
+            bound: None,
+            alignment: None,
+        },
+    );
+    let write = |at: u64| Access {
+        command: call("vkCmdCopyBuffer", at),
+        ..acc(S::COPY, A::TRANSFER_WRITE)
+    };
+    let read = |at: u64| Access {
+        command: call("vkCmdDraw", at),
+        ..acc(S::VERTEX_INPUT, A::VERTEX_ATTRIBUTE_READ)
+    };
+    // A copy into the second half, then a draw reading the first half: no hazard.
+    let second = sync.buffer_keys(&objects, 9, (512, 512));
+    sync.access(&second, true, &write(1));
+    let first = sync.buffer_keys(&objects, 9, (0, 512));
+    sync.access(&first, false, &read(2));
+    assert!(sync.hazards(|_| None).0.is_empty());
+    // A read of bytes 256.. reaches into the written half: a read after write, and the range
+    // it split keeps the write it came from.
+    let across = sync.buffer_keys(&objects, 9, (256, u64::MAX));
+    assert_eq!(across.len(), 2, "{across:?}");
+    sync.access(&across, false, &read(3));
+    let found: Vec<(String, HazardKind)> = sync
+        .hazards(|_| None)
+        .0
+        .into_iter()
+        .map(|(_, h)| (h.command, h.kind))
+        .collect();
+    assert_eq!(
+        found,
+        [("vkCmdDraw #3".to_owned(), HazardKind::ReadAfterWrite)]
+    );
+    // Split at 768 by a barrier-sized range: both halves still hold the write.
+    let tail = sync.buffer_keys(&objects, 9, (768, 256));
+    assert_eq!(
+        tail,
+        [Key::Buffer {
+            buffer: 9,
+            start: 768
+        }]
+    );
+    assert!(sync.states[&tail[0]].write.is_some());
+    assert!(
+        sync.states[&Key::Buffer {
+            buffer: 9,
+            start: 512
+        }]
+            .write
+            .is_some()
     );
 }
