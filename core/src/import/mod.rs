@@ -215,6 +215,8 @@ struct Importer {
     /// program's state, not always as the program made them (surface queries through
     /// `VK_KHR_get_surface_capabilities2` it never enabled).
     in_snapshot: bool,
+    /// Functions already reported as called without the extension that provides them.
+    unprovided: std::collections::HashSet<String>,
     /// Commands the submissions so far asked to walk (`MAX_WALKED`).
     walked: u64,
     /// Valid-usage statements the calls break (`valid_usage`), at most `MAX_FINDINGS`.
@@ -252,9 +254,16 @@ impl Importer {
     /// A call of `name` (at `index`) where no extension that provides it is enabled: the
     /// specification's rule (an extension's commands need it enabled) has no VUID; the
     /// finding takes the validation layer's id. Core commands need none; nothing is said
-    /// before the stream creates its instance, nor of a trimmed capture's snapshot.
+    /// before the stream creates its instance, nor of a trimmed capture's snapshot, so only
+    /// the binary route, which marks the snapshot, checks (the JSON Lines stream of a trimmed
+    /// capture does not say where its snapshot ends; RenderDoc's holds no instance call).
     fn check_provided(&mut self, name: &str, index: u64) {
-        if self.in_snapshot || !self.objects.instance_created || !self.checks_valid_usage() {
+        if !self.layouts_known
+            || self.in_snapshot
+            || !self.objects.instance_created
+            || !self.checks_valid_usage()
+            || self.unprovided.contains(name)
+        {
             return;
         }
         let Ok(at) = provided::PROVIDED.binary_search_by(|(n, _)| (*n).cmp(name)) else {
@@ -266,12 +275,14 @@ impl Importer {
         {
             return;
         }
+        // Once per function: a label around every draw would crowd out every other finding.
+        self.unprovided.insert(name.to_owned());
         self.valid_usage
             .push(crate::capture::format::ValidUsageFinding {
                 vuid: "UNASSIGNED-GeneralParameterError-ExtensionNotEnabled".to_owned(),
                 command: format!("{name} #{index}"),
                 detail: format!(
-                    "calls a command of {}, which neither the instance nor the device enabled",
+                    "calls a command of {}, which neither the instance nor the device enabled (its first call; every later one too)",
                     by.replace(',', " or ")
                 ),
             });
@@ -383,9 +394,14 @@ impl Importer {
             Func::QueueSubmit { v2 } => self.submit(call, args, v2)?,
             Func::CreateImage if self.layouts_known => {
                 let applied = self.objects.apply(call.func, args)?;
-                let ci = args.get("pCreateInfo")?;
-                if let Some(layout) = ImageLayout::from_name(&ci.get("initialLayout")?.name()?) {
-                    let image = args.get("pImage")?.handle()?;
+                // The image is made: a layout it does not say is only left unknown.
+                let layout = args
+                    .get("pCreateInfo")
+                    .and_then(|ci| ci.get("initialLayout")?.name())
+                    .ok()
+                    .and_then(|l| ImageLayout::from_name(&l));
+                let image = args.get("pImage").and_then(|i| i.handle());
+                if let (Some(layout), Ok(image)) = (layout, image) {
                     let origin = Origin::call(&call.name, call.index);
                     self.sync.start_layout(image, layout, origin);
                 }
@@ -617,6 +633,7 @@ impl Importer {
             keep_submitted_before: false,
             layouts_known: false,
             in_snapshot: false,
+            unprovided: Default::default(),
             walked: 0,
             builder: Builder::new(options.frames),
             submitted_in_frame: false,

@@ -96,6 +96,8 @@ impl Importer {
                 self.builder.note(format!(
                     "submissions of over {MAX_SUBMIT_COMMANDS} commands (secondary command buffers expanded), or past {MAX_WALKED} in all: not walked"
                 ));
+                // What it did to image layouts is not known either.
+                self.sync.layouts_unknown();
                 continue;
             }
             self.walked += walk;

@@ -211,6 +211,9 @@ pub struct Objects {
     /// its instance (before that, nothing is known to be enabled or not).
     pub extensions: std::collections::HashSet<String>,
     pub instance_created: bool,
+    /// Whether the device enabled the `synchronization2` feature: a barrier from a layout to
+    /// itself is then no transition and its layouts are ignored.
+    pub synchronization2: bool,
 }
 
 /// Whether a create info asks for `VK_SHARING_MODE_CONCURRENT` (by name or value).
@@ -278,9 +281,20 @@ impl Objects {
                         self.extensions.insert(name.to_owned());
                     }
                 }
-                self.instance_created = true;
+                self.instance_created |= func == Func::CreateInstance;
                 self.depth_range_unrestricted =
                     self.extensions.contains("VK_EXT_depth_range_unrestricted");
+                // VkPhysicalDeviceSynchronization2Features or VkPhysicalDeviceVulkan13Features.
+                let mut next = ci.opt("pNext");
+                while let Some(n) = next {
+                    if n.opt("synchronization2")
+                        .and_then(|v| v.u64().ok())
+                        .is_some_and(|v| v != 0)
+                    {
+                        self.synchronization2 = true;
+                    }
+                    next = n.opt("pNext");
+                }
             }
             Func::CreateBuffer => self.create_buffer(args)?,
             Func::MemoryRequirements(object) => self.memory_requirements(object, args)?,

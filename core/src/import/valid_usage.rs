@@ -118,9 +118,10 @@ pub fn command_usage(
     found.extend(super::valid_usage_buffers::command_usage(
         call, command, args, objects,
     )?);
-    found.extend(super::valid_usage_clears::clear_values(
-        call, command, args, objects,
-    )?);
+    // A call too malformed for this check keeps what the others found.
+    found.extend(
+        super::valid_usage_clears::clear_values(call, command, args, objects).unwrap_or_default(),
+    );
     Ok(found)
 }
 
@@ -172,7 +173,7 @@ pub fn template_usage(
     let entries = objects.template_entry_writes(template, data)?;
     let mut out = Vec::new();
     for (i, written) in &entries {
-        for (j, (_, d)) in written.iter().enumerate() {
+        for ((binding, element), d) in written {
             let Descriptor::Image { view, ty, .. } = d else {
                 continue;
             };
@@ -191,7 +192,7 @@ pub fn template_usage(
                     vuid: format!("VUID-VkWriteDescriptorSet-descriptorType-{number}"),
                     command: command.to_owned(),
                     detail: format!(
-                        "pDescriptorWrites[{i}] (pImageInfo[{j}]): a {ty} descriptor of an image created without {names} (usage {:#x})",
+                        "pDescriptorWrites[{i}] (binding {binding} element {element}): a {ty} descriptor of an image created without {names} (usage {:#x})",
                         image.usage
                     ),
                 });

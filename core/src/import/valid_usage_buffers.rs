@@ -2,8 +2,8 @@
 //! each use a call makes of it, each finding with its VUID, as the validation layer reports
 //! it: vertex, index and indirect buffers bound or read, transfer sources and destinations
 //! (copies, fills, updates), buffer descriptors written (uniform and storage buffers, texel
-//! buffer views) and texel buffer views created. Descriptor update templates are not read
-//! here. A finding is not a refusal: drivers run such frames, and so does the replay.
+//! buffer views, also through update templates) and texel buffer views created. A finding is
+//! not a refusal: drivers run such frames, and so does the replay.
 
 use super::state::{Descriptor, EntryWrites, Objects, descriptor_kind};
 use super::value::{Arg, Got};
@@ -225,7 +225,7 @@ pub fn written_usage(
 ) -> Vec<ValidUsageFinding> {
     let mut out = Vec::new();
     for (i, written) in entries {
-        for (j, (_, d)) in written.iter().enumerate() {
+        for ((binding, element), d) in written {
             let (buffer, kind) = match d {
                 Descriptor::Buffer { buffer, ty, .. } => (*buffer, ty),
                 Descriptor::TexelBuffer { view, ty } => match objects.buffer_views.get(view) {
@@ -234,16 +234,12 @@ pub fn written_usage(
                 },
                 _ => continue,
             };
-            let Some((need, number, texel)) = descriptor_needs(kind) else {
+            let Some((need, number, _)) = descriptor_needs(kind) else {
                 continue;
             };
             let vuid = format!("VkWriteDescriptorSet-descriptorType-{number}");
-            let list = if texel {
-                "pTexelBufferView"
-            } else {
-                "pBufferInfo"
-            };
-            let at = format!("pDescriptorWrites[{i}] ({list}[{j}], a {kind})");
+            let at =
+                format!("pDescriptorWrites[{i}] (binding {binding} element {element}, a {kind})");
             out.extend(check(objects, buffer, need, &vuid, command, &at));
         }
     }

@@ -318,7 +318,6 @@ fn own_value(spec: &EnumSpec) -> Result<Option<i64>> {
     })
 }
 
-/// The `<enum extends=...>` of one feature's or extension's `<require>` blocks.
 /// The commands a feature's or an extension's `<require>` blocks for Vulkan name.
 fn required_commands(children: &[ExtensionChild]) -> Vec<String> {
     let mut out = Vec::new();
@@ -338,6 +337,7 @@ fn required_commands(children: &[ExtensionChild]) -> Vec<String> {
     out
 }
 
+/// The `<enum extends=...>` of one feature's or extension's `<require>` blocks.
 fn add_extends(
     reg: &mut Registry,
     children: &[ExtensionChild],

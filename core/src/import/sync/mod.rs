@@ -20,8 +20,11 @@
 //!
 //! Images are tracked per mip and layer, buffers by byte range: each buffer's bytes are split
 //! into the ranges its accesses and barriers name, so accesses to disjoint ranges of one
-//! buffer need no dependency (`buffer_keys`). A finding names the command by its index in
-//! the captured stream, the resource and subresource, and both accesses.
+//! buffer need no dependency (`buffer_keys`). Vertex, index and indirect reads and the buffer
+//! side of a copy to or from an image are taken from their offset to the buffer's end (their
+//! own extent is in the draw's parameters or the image region), which is coarser, never
+//! finer. A finding names the command by its index in the captured stream, the resource and
+//! subresource, and both accesses.
 
 use std::collections::BTreeMap;
 
@@ -52,7 +55,7 @@ const MAX_UNITS: u32 = 4096;
 const MAX_HAZARDS: usize = 10_000;
 /// Most ranges one buffer is split into; past them its accesses take every range it has
 /// (coarser, never missing a hazard the ranges would show).
-const MAX_RANGES: usize = 4096;
+const MAX_RANGES: usize = 256;
 
 /// One access: where, what, by which command.
 #[derive(Clone, Debug)]
@@ -165,8 +168,10 @@ pub struct Sync {
     /// them set one: its creation's `initialLayout`, or the layout a trimmed capture's
     /// snapshot restores it to, with what said so.
     start: HashMap<u64, (ImageLayout, Origin)>,
-    /// The primary command buffer being walked (0: none).
+    /// The walk of a primary command buffer under way (each walk its own number; 0: none,
+    /// before the frames): a command buffer submitted again is another walk.
     walking: u64,
+    walks: u64,
     /// The submission being walked.
     submission: Option<Origin>,
     /// Each buffer's tracked ranges: start to end, disjoint.
@@ -210,10 +215,14 @@ impl Sync {
             match cmd {
                 Cmd::Barrier(bs) => {
                     for b in bs {
-                        if let Some((_, to)) = b.layouts {
-                            for key in self.barrier_keys(objects, &b.target) {
-                                self.set_layout(key, to, &b.origin);
-                            }
+                        let Some((from, to)) = b.layouts else {
+                            continue;
+                        };
+                        if from == to && objects.synchronization2 {
+                            continue;
+                        }
+                        for key in self.barrier_keys(objects, &b.target) {
+                            self.set_layout(key, to, &b.origin);
                         }
                     }
                 }
@@ -227,6 +236,15 @@ impl Sync {
                 }
                 _ => {}
             }
+        }
+    }
+
+    /// A submission before the frames was not walked: what it did to layouts is unknown, so
+    /// no layout is held against a use until the frames set it.
+    pub fn layouts_unknown(&mut self) {
+        self.start.clear();
+        for st in self.states.values_mut() {
+            st.layout = None;
         }
     }
 
@@ -457,11 +475,14 @@ impl Sync {
         }
         let transition = b.layouts.filter(|(from, to)| from != to);
         for key in keys {
-            if let Some((from, to)) = b.layouts {
-                // The old layout must be the image's only where the barrier transitions it
-                // (VUID-VkImageMemoryBarrier-oldLayout-01197); one from a layout to itself
-                // changes nothing (zink's depth barriers between draws).
-                if check_old && from != ImageLayout::Undefined && from != to {
+            // With synchronization2 a barrier from a layout to itself is no transition and its
+            // layouts are ignored (zink's depth barriers between draws); otherwise its old
+            // layout must be the image's (VUID-VkImageMemoryBarrier-oldLayout-01197). Its
+            // dependency holds either way.
+            if let Some((from, to)) = b.layouts
+                && !(from == to && objects.synchronization2)
+            {
+                if check_old && from != ImageLayout::Undefined {
                     self.expect_layout(key, from, &b.origin, What::InLayout("old layout", from));
                 }
                 self.set_layout(key, to, &b.origin);
@@ -997,7 +1018,8 @@ impl Sync {
         self.seq += 1;
         for cb in command_buffers {
             if let Some(r) = recordings.get(cb) {
-                self.walking = *cb;
+                self.walks += 1;
+                self.walking = self.walks;
                 self.walk(objects, pipelines, recordings, r, 0);
             }
         }

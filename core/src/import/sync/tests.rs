@@ -503,3 +503,50 @@ fn disjoint_ranges_of_one_buffer_need_no_dependency() {
             .is_some()
     );
 }
+
+#[test]
+fn a_barrier_from_a_layout_to_itself_transitions_only_without_synchronization2() {
+    use ImageLayout as L;
+    let key = Key::Image {
+        image: 5,
+        mip: 0,
+        layer: 0,
+    };
+    let same = BarrierCmd {
+        origin: call("vkCmdPipelineBarrier2", 40),
+        target: BarrierTarget::Image {
+            image: 5,
+            mips: (0, None),
+            layers: (0, None),
+        },
+        src_stages: S::LATE_FRAGMENT_TESTS,
+        dst_stages: S::EARLY_FRAGMENT_TESTS,
+        src_access: A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+        dst_access: A::DEPTH_STENCIL_ATTACHMENT_READ,
+        layouts: Some((
+            L::DepthStencilAttachmentOptimal,
+            L::DepthStencilAttachmentOptimal,
+        )),
+        families: None,
+    };
+    for sync2 in [true, false] {
+        let objects = Objects {
+            synchronization2: sync2,
+            ..Objects::default()
+        };
+        let mut sync = Sync::new(true);
+        sync.start_layout(5, L::Undefined, call("vkCreateImage", 3));
+        sync.submission = Some(call("vkQueueSubmit", 50));
+        sync.walking = 1;
+        sync.barrier(&objects, &same, true);
+        let found = sync.hazards(|_| None).0.len();
+        if sync2 {
+            // Its layouts are ignored: nothing found, and the image is still where it was.
+            assert_eq!(found, 0);
+            assert!(sync.states.get(&key).is_none_or(|s| s.layout.is_none()));
+        } else {
+            // A transition whose old layout is not the image's.
+            assert_eq!(found, 1);
+        }
+    }
+}
