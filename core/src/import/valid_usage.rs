@@ -125,6 +125,30 @@ pub fn command_usage(
     Ok(found)
 }
 
+/// The finding for an image descriptor of type `kind` (written at `at`) whose view's image
+/// lacks the usage `needs` (bits, their names, the VUID's number) says its type needs.
+fn view_lacks(
+    objects: &Objects,
+    view: u64,
+    kind: &str,
+    (bits, names, number): (u64, &str, &str),
+    command: &str,
+    at: &str,
+) -> Option<ValidUsageFinding> {
+    let image = objects
+        .views
+        .get(&view)
+        .and_then(|v| objects.images.get(&v.image))?;
+    (image.usage & bits == 0).then(|| ValidUsageFinding {
+        vuid: format!("VUID-VkWriteDescriptorSet-descriptorType-{number}"),
+        command: command.to_owned(),
+        detail: format!(
+            "{at}: a {kind} descriptor of an image created without {names} (usage {:#x})",
+            image.usage
+        ),
+    })
+}
+
 /// The image descriptors of such a call whose image lacks the usage their type needs.
 fn image_descriptor_usage(
     command: &str,
@@ -139,23 +163,9 @@ fn image_descriptor_usage(
         };
         for (j, info) in w.list("pImageInfo")?.iter().enumerate() {
             let view = info.get("imageView")?.handle()?;
-            let Some(image) = objects
-                .views
-                .get(&view)
-                .and_then(|v| objects.images.get(&v.image))
-            else {
-                continue;
-            };
-            if image.usage & bits == 0 {
-                out.push(ValidUsageFinding {
-                    vuid: format!("VUID-VkWriteDescriptorSet-descriptorType-{number}"),
-                    command: command.to_owned(),
-                    detail: format!(
-                        "pDescriptorWrites[{i}] (pImageInfo[{j}]): a {kind} descriptor of an image created without {names} (usage {:#x})",
-                        image.usage
-                    ),
-                });
-            }
+            let at = format!("pDescriptorWrites[{i}] (pImageInfo[{j}])");
+            let needs = (bits, names, number);
+            out.extend(view_lacks(objects, view, &kind, needs, command, &at));
         }
     }
     Ok(out)
@@ -177,26 +187,11 @@ pub fn template_usage(
             let Descriptor::Image { view, ty, .. } = d else {
                 continue;
             };
-            let Some((bits, names, number)) = descriptor_needs(ty) else {
+            let Some(needs) = descriptor_needs(ty) else {
                 continue;
             };
-            let Some(image) = objects
-                .views
-                .get(view)
-                .and_then(|v| objects.images.get(&v.image))
-            else {
-                continue;
-            };
-            if image.usage & bits == 0 {
-                out.push(ValidUsageFinding {
-                    vuid: format!("VUID-VkWriteDescriptorSet-descriptorType-{number}"),
-                    command: command.to_owned(),
-                    detail: format!(
-                        "pDescriptorWrites[{i}] (binding {binding} element {element}): a {ty} descriptor of an image created without {names} (usage {:#x})",
-                        image.usage
-                    ),
-                });
-            }
+            let at = format!("pDescriptorWrites[{i}] (binding {binding} element {element})");
+            out.extend(view_lacks(objects, *view, ty, needs, command, &at));
         }
     }
     out.extend(super::valid_usage_buffers::written_usage(

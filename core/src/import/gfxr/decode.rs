@@ -355,17 +355,7 @@ impl<'a> Reader<'a, '_> {
     /// stream shows it.
     fn clear_depth_stencil_view(&mut self, color: usize) -> usize {
         let tree = &mut *self.tree;
-        let words: Vec<u32> = match tree.get(color, "uint32").map(|a| tree.node(a)) {
-            Some(Node::Array(run)) => tree
-                .kids(run)
-                .iter()
-                .filter_map(|k| match tree.node(k.node) {
-                    Node::U64(w) => Some(w as u32),
-                    _ => None,
-                })
-                .collect(),
-            _ => Vec::new(),
-        };
+        let words = union_words(tree, color);
         let word = |i: usize| words.get(i).copied().unwrap_or(0);
         let mark = tree.mark();
         let depth = tree.leaf(Node::F64(shortest(f32::from_bits(word(0)))));
@@ -379,17 +369,7 @@ impl<'a> Reader<'a, '_> {
     /// given back in all three of its views, as the JSON Lines stream shows it.
     fn clear_color_views(&mut self, object: usize) -> usize {
         let tree = &mut *self.tree;
-        let words: Vec<u32> = match tree.get(object, "uint32").map(|a| tree.node(a)) {
-            Some(Node::Array(run)) => tree
-                .kids(run)
-                .iter()
-                .filter_map(|k| match tree.node(k.node) {
-                    Node::U64(w) => Some(w as u32),
-                    _ => None,
-                })
-                .collect(),
-            _ => Vec::new(),
-        };
+        let words = union_words(tree, object);
         let views: [(&'static str, View); 3] = [
             ("float32", |w| Node::F64(shortest(f32::from_bits(w)))),
             ("int32", |w| int(i64::from(w as i32))),
@@ -640,4 +620,19 @@ fn decode_with<'a>(
         },
         r.found,
     ))
+}
+
+/// The four `uint32` words of a clear colour union (`object`) as decoded.
+fn union_words(tree: &Tree, object: usize) -> Vec<u32> {
+    match tree.get(object, "uint32").map(|a| tree.node(a)) {
+        Some(Node::Array(run)) => tree
+            .kids(run)
+            .iter()
+            .filter_map(|k| match tree.node(k.node) {
+                Node::U64(w) => Some(w as u32),
+                _ => None,
+            })
+            .collect(),
+        _ => Vec::new(),
+    }
 }
