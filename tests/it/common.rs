@@ -60,6 +60,20 @@ pub fn framelab(args: &[&str]) -> Output {
         .expect("run framelab")
 }
 
+/// Writes the GFXReconstruct fixture `fixture` to `out` with one number set by `framelab
+/// edit` (`set`, as `--set` takes it), which must succeed.
+pub fn edited_fixture(fixture: &str, out: &std::path::Path, set: &str) {
+    let run = framelab(&[
+        "edit",
+        gfxr_fixture(fixture).to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        set,
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+}
+
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }

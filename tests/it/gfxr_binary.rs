@@ -1018,15 +1018,11 @@ fn the_benchmark_floors_read_what_the_import_reads() {
 fn depth_clear_values_are_read_from_the_clear_values_words() {
     let dir = temp_dir("depth-clear");
     let edited = dir.join("quarter.gfxr");
-    let run = framelab(&[
-        "edit",
-        gfxr_fixture("vkcube_f3.gfxr").to_str().unwrap(),
-        "-o",
-        edited.to_str().unwrap(),
-        "--set",
+    crate::common::edited_fixture(
+        "vkcube_f3.gfxr",
+        &edited,
         "91:pRenderPassBegin.pClearValues[1].color.uint32[0]=1048576000",
-    ]);
-    assert!(run.status.success(), "{}", stderr(&run));
+    );
     for (capture, depth) in [(gfxr_fixture("vkcube_f3.gfxr"), 1.0), (edited, 0.25)] {
         let out = dir.join("cube.json");
         import(&capture, &out);

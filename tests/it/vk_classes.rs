@@ -699,15 +699,11 @@ fn the_import_says_whether_the_frame_replays() {
     assert!(said.contains("replays: yes"), "{said}");
 
     let edited = dir.join("edited.gfxr");
-    let run = framelab(&[
-        "edit",
-        gfxr_fixture("vkcube_f3.gfxr").to_str().unwrap(),
-        "-o",
-        edited.to_str().unwrap(),
-        "--set",
+    crate::common::edited_fixture(
+        "vkcube_f3.gfxr",
+        &edited,
         "73:pCreateInfos[0].pDynamicState.pDynamicStates[1]=VK_DYNAMIC_STATE_POLYGON_MODE_EXT",
-    ]);
-    assert!(run.status.success(), "{}", stderr(&run));
+    );
     let capture = dir.join("edited.json");
     let said = import(&edited, &capture);
     for part in [

@@ -25,6 +25,7 @@ mod render_pass;
 mod state;
 mod stream;
 mod sync;
+mod templates;
 mod transfer_calls;
 mod transfers;
 mod tree;

@@ -695,14 +695,11 @@ pub struct Template {
     pub compute: bool,
 }
 
-/// Most elements one template entry is read for: a hostile count stops here.
-const MAX_TEMPLATE_ELEMENTS: u32 = 4096;
-
 /// Which list of a write holds a descriptor type's data: image infos (samplers included),
 /// buffer infos or texel buffer views. `None` for types that reach no resource framelab
 /// models (acceleration structures, inline uniform blocks).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Holds {
+pub(super) enum Holds {
     Images = 0,
     Buffers = 1,
     TexelViews = 2,
@@ -710,7 +707,7 @@ enum Holds {
 
 impl Holds {
     /// `kind` is the type as `descriptor_kind` gives it.
-    fn of(kind: &str) -> Option<Holds> {
+    pub(super) fn of(kind: &str) -> Option<Holds> {
         match kind {
             "SAMPLER"
             | "COMBINED_IMAGE_SAMPLER"
@@ -743,65 +740,6 @@ pub fn storage_descriptor(kind: &str) -> bool {
         kind,
         "STORAGE_IMAGE" | "STORAGE_BUFFER" | "STORAGE_BUFFER_DYNAMIC" | "STORAGE_TEXEL_BUFFER"
     )
-}
-
-impl Objects {
-    /// The descriptors a template's data writes. The data lists image infos, buffer infos and
-    /// texel buffer views apart (as the binary capture holds them, and `gfxrecon-convert` 1.x
-    /// writes them), each list in the template's entry order; each entry takes its count from
-    /// the list of its kind, as the write it stands for would hold them.
-    pub fn template_writes(
-        &self,
-        template: u64,
-        data: &Arg<'_>,
-    ) -> Got<Vec<((u32, u32), Descriptor)>> {
-        Ok(self
-            .template_entry_writes(template, data)?
-            .into_iter()
-            .flat_map(|(_, written)| written)
-            .collect())
-    }
-
-    /// What [`Objects::template_writes`] writes, entry by entry: each entry's index in the
-    /// template (the write it stands for) with its descriptors.
-    pub fn template_entry_writes(&self, template: u64, data: &Arg<'_>) -> Got<EntryWrites> {
-        let Some(t) = self.templates.get(&template) else {
-            return Err(Skip(format!(
-                "update template {template} was never created in the stream"
-            )));
-        };
-        if data.opt("imageInfos").is_none() && data.opt("bufferInfos").is_none() {
-            return Err(Skip(
-                "the template's data is not in the stream (gfxrecon-convert 0.9.x writes none; import the .gfxr capture)".to_owned(),
-            ));
-        }
-        // In `Holds` order.
-        let lists = [
-            (data.list("imageInfos")?, "image infos"),
-            (data.list("bufferInfos")?, "buffer infos"),
-            (data.list("bufferViews")?, "texel buffer views"),
-        ];
-        let mut next = [0usize; 3];
-        let mut out = Vec::new();
-        for (index, e) in t.entries.iter().enumerate() {
-            let kind = descriptor_kind(&e.ty);
-            let Some(holds) = Holds::of(&kind) else {
-                continue;
-            };
-            let at = holds as usize;
-            let (list, what) = &lists[at];
-            let n = e.count.min(MAX_TEMPLATE_ELEMENTS) as usize;
-            let Some(items) = list.get(next[at]..next[at] + n) else {
-                return Err(Skip(format!(
-                    "the template's data holds {} {what} but its entries ask for more",
-                    list.len()
-                )));
-            };
-            next[at] += n;
-            out.push((index, descriptors(e.binding, e.element, &kind, items)?));
-        }
-        Ok(out)
-    }
 }
 
 /// A descriptor type as every descriptor holds it and everything that reads one compares it:
@@ -842,7 +780,7 @@ pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
 // The `Cow` itself, not its text, so that a type borrowed from the tables stays borrowed in
 // every descriptor.
 #[allow(clippy::ptr_arg)]
-fn descriptors(
+pub(super) fn descriptors(
     binding: u32,
     first: u32,
     kind: &Cow<'static, str>,

@@ -30,7 +30,9 @@ use std::collections::BTreeMap;
 
 use super::HashMap;
 
+mod layouts;
 mod queues;
+mod ranges;
 mod stages;
 mod state;
 
@@ -186,75 +188,6 @@ impl Sync {
         }
     }
 
-    /// `image` stands in `layout` before the imported frames (said by `origin`) unless a
-    /// command submitted before them, or in them, puts it in another.
-    pub fn start_layout(&mut self, image: u64, layout: ImageLayout, origin: Origin) {
-        if self.enabled {
-            self.start.insert(image, (layout, origin));
-        }
-    }
-
-    /// The layouts command buffer `cb`, submitted before the imported frames, leaves its
-    /// images in; its accesses are not checked (they are not the frames').
-    pub fn submitted_before(&mut self, objects: &Objects, recordings: &Recordings, cb: u64) {
-        if let Some(r) = recordings.get(&cb).filter(|_| self.enabled) {
-            self.walking = 0;
-            self.layouts_of(objects, recordings, r, 0);
-        }
-    }
-
-    fn layouts_of(
-        &mut self,
-        objects: &Objects,
-        recordings: &Recordings,
-        r: &Recording,
-        depth: u32,
-    ) {
-        for (i, cmd) in r.cmds.iter().enumerate() {
-            let command = r.at.get(i).unwrap_or(&UNKNOWN);
-            match cmd {
-                Cmd::Barrier(bs) => {
-                    for b in bs {
-                        let Some((from, to)) = b.layouts else {
-                            continue;
-                        };
-                        if from == to && objects.synchronization2 {
-                            continue;
-                        }
-                        for key in self.barrier_keys(objects, &b.target) {
-                            self.set_layout(key, to, &b.origin);
-                        }
-                    }
-                }
-                Cmd::BeginRender(ri) => self.leave_layouts(objects, ri, command),
-                Cmd::Execute(list) if depth < crate::import::record::MAX_EXECUTE_DEPTH => {
-                    for cb in list {
-                        if let Some(sub) = recordings.get(cb) {
-                            self.layouts_of(objects, recordings, sub, depth + 1);
-                        }
-                    }
-                }
-                _ => {}
-            }
-        }
-    }
-
-    /// A submission before the frames was not walked: what it did to layouts is unknown, so
-    /// no layout is held against a use until the frames set it.
-    pub fn layouts_unknown(&mut self) {
-        self.start.clear();
-        for st in self.states.values_mut() {
-            st.layout = None;
-        }
-    }
-
-    /// `key` is now in `layout`, put there by `origin` in the command buffer being walked.
-    fn set_layout(&mut self, key: Key, layout: ImageLayout, origin: &Origin) {
-        let st = self.states.entry(key).or_default();
-        st.layout = Some((layout, origin.clone()));
-        st.layout_in = self.walking;
-    }
-
     pub fn enabled(&self) -> bool {
         self.enabled
     }
@@ -381,57 +314,6 @@ impl Sync {
         (kind, prior)
     }
 
-    /// The bytes `[offset, offset + size)` of `buffer` (`size` `VK_WHOLE_SIZE` or past its
-    /// end: to its end), as the tracked ranges that make them up: ranges that straddle
-    /// either end are split in two (each half keeps what happened to the whole), and bytes
-    /// no range covers yet get one of their own.
-    fn buffer_keys(
-        &mut self,
-        objects: &Objects,
-        buffer: u64,
-        (offset, size): (u64, u64),
-    ) -> Vec<Key> {
-        let len = objects
-            .buffers
-            .get(&buffer)
-            .map_or(u64::MAX, |b| b.size.max(1));
-        let start = offset.min(len.saturating_sub(1));
-        let end = offset.saturating_add(size.max(1)).min(len).max(start + 1);
-        let key = |start: u64| Key::Buffer { buffer, start };
-        let ranges = self.ranges.entry(buffer).or_default();
-        if ranges.len() >= MAX_RANGES {
-            return ranges.keys().map(|&s| key(s)).collect();
-        }
-        for at in [start, end] {
-            let Some((&s, &e)) = ranges.range(..at).next_back() else {
-                continue;
-            };
-            if e > at {
-                ranges.insert(s, at);
-                ranges.insert(at, e);
-                if let Some(st) = self.states.get(&key(s)).cloned() {
-                    self.states.insert(key(at), st);
-                }
-            }
-        }
-        let mut keys = Vec::new();
-        let mut pos = start;
-        let within: Vec<(u64, u64)> = ranges.range(start..end).map(|(&s, &e)| (s, e)).collect();
-        for (s, e) in within {
-            if s > pos {
-                ranges.insert(pos, s);
-                keys.push(key(pos));
-            }
-            keys.push(key(s));
-            pos = e;
-        }
-        if pos < end {
-            ranges.insert(pos, end);
-            keys.push(key(pos));
-        }
-        keys
-    }
-
     /// What a barrier covers: its buffer's range, its image's subresources, or (a global
     /// memory barrier) everything tracked.
     fn barrier_keys(&mut self, objects: &Objects, target: &BarrierTarget) -> Vec<Key> {
@@ -496,68 +378,6 @@ impl Sync {
                     }
                 }
                 None => st.depend(&d),
-            }
-        }
-    }
-
-    /// A use of `key` in `layout` by `command`: a finding when the subresource is known to
-    /// be in another. Where a command of the same command buffer put it there, the finding is
-    /// the command's, as recording it shows; otherwise the layout it stands in is known only
-    /// when the command buffer is submitted, and the finding is the submission's.
-    fn expect_layout(&mut self, key: Key, layout: ImageLayout, command: &Origin, what: What) {
-        let Key::Image { image, .. } = key else {
-            return;
-        };
-        let known = self
-            .states
-            .get(&key)
-            .and_then(|s| s.layout.as_ref().map(|(l, by)| (*l, by, s.layout_in)));
-        let (current, by, within) = match known {
-            Some((l, by, cb)) => (l, by, cb != 0 && cb == self.walking),
-            None => match self.start.get(&image) {
-                Some((l, by)) => (*l, by, false),
-                None => return,
-            },
-        };
-        if current == layout {
-            return;
-        }
-        let prior = Access::event(by, What::InLayout("layout", current));
-        if within {
-            let access = Access::event(command, what);
-            self.note(command, key, HazardKind::LayoutMismatch, access, prior);
-            return;
-        }
-        let what = match what {
-            What::InLayout(what, l) => What::InLayoutAt(what, l, command.clone()),
-            other => other,
-        };
-        let at = self.submission.clone().unwrap_or_else(|| UNKNOWN.clone());
-        let access = Access::event(&at, what);
-        self.note(&at, key, HazardKind::LayoutMismatch, access, prior);
-    }
-
-    /// A render pass's attachments at its start: each in the layout the render pass
-    /// declares (`initialLayout`; dynamic rendering: the attachment's own).
-    fn expect_layouts(&mut self, objects: &Objects, ri: &RenderInstance, command: &Origin) {
-        for (view, initial, _) in &ri.layouts {
-            let Some(initial) = initial else { continue };
-            for key in Self::view_keys(objects, *view) {
-                self.expect_layout(
-                    key,
-                    *initial,
-                    command,
-                    What::InLayout("attachment in", *initial),
-                );
-            }
-        }
-    }
-
-    /// A render pass's attachments at its end, in their final layouts.
-    fn leave_layouts(&mut self, objects: &Objects, ri: &RenderInstance, command: &Origin) {
-        for (view, _, last) in &ri.layouts {
-            for key in Self::view_keys(objects, *view) {
-                self.set_layout(key, *last, command);
             }
         }
     }
@@ -749,36 +569,6 @@ impl Sync {
                 st.reads.clear();
             }
         }
-    }
-
-    /// What one side (`src` or not) of a copy covers: an image's subresources, or the byte
-    /// ranges of a buffer (a buffer-to-buffer region's own bytes; with an image on the other
-    /// side, from the region's offset on).
-    fn copy_keys(
-        &mut self,
-        objects: &Objects,
-        h: u64,
-        regions: &[super::commands::Region],
-        src: bool,
-    ) -> Vec<Key> {
-        if objects.images.contains_key(&h) {
-            let pick = |r: &super::commands::Region| {
-                if src {
-                    (r.src_mip, r.src_layer)
-                } else {
-                    (r.dst_mip, r.dst_layer)
-                }
-            };
-            return Self::subresource_keys(objects, h, regions.iter().map(pick));
-        }
-        let mut keys = Vec::new();
-        for r in regions {
-            let offset = if src { r.src_offset } else { r.dst_offset };
-            keys.extend(self.buffer_keys(objects, h, (offset, r.size.unwrap_or(u64::MAX))));
-        }
-        keys.sort_unstable();
-        keys.dedup();
-        keys
     }
 
     fn transfer(&mut self, objects: &Objects, t: &TransferCmd, command: &Origin) {
