@@ -185,13 +185,14 @@ fn written_by(r: &Replaying, k: usize) -> BTreeSet<String> {
 }
 
 /// Runs frame `f` of both replays stopped after each pass of `a` that `b` has too (by name and
-/// occurrence), and compares the textures that pass writes on both sides: the passes whose
+/// occurrence; a pass `renamed` names there by that name), and compares the textures that pass writes on both sides: the passes whose
 /// outputs differ, in `a`'s order. Each stop replays the frame from its start, so this costs
 /// about half as many frames as there are passes, on each side; the frames are not timed.
 pub fn after_each_pass(
     a: &mut Replaying,
     b: &mut Replaying,
     f: u32,
+    renamed: &BTreeMap<String, String>,
 ) -> Result<Vec<PassComparison>, ReplayError> {
     let theirs = passes_by_name(b);
     let mut seen: BTreeMap<String, usize> = BTreeMap::new();
@@ -202,7 +203,7 @@ pub fn after_each_pass(
         let name = a.capture().pass(a.pass_ids[k]).name.clone();
         let occurrence = seen.entry(name.clone()).or_default();
         let there = theirs
-            .get(&name)
+            .get(renamed.get(&name).unwrap_or(&name))
             .and_then(|ks| ks.get(*occurrence))
             .copied();
         *occurrence += 1;

@@ -12,7 +12,7 @@ use serde::Serialize;
 use framelab_core::pipeline::{Analysed, StageError};
 use framelab_core::timing::diff::{DiffError, DiffOptions, DiffReport, RowKind, Verdict, diff};
 use framelab_core::timing::work_diff::{WorkDiff, WorkDiffError, work_diff};
-use framelab_core::whatif::{Pair, StaticVerdict, static_verdict};
+use framelab_core::whatif::{Pair, StaticVerdict, merged_into, static_verdict};
 
 use crate::compare::{
     PassComparison, TextureComparison, TextureState, after_each_pass, compare_textures,
@@ -160,6 +160,7 @@ pub fn measure(
     o: &Options,
 ) -> Result<(), WhatIfError> {
     let writers = first_writers(&pair.frame);
+    let renamed = merged_into(&pair.frame.capture, &pair.variant.capture);
     // The frame's output, where it presents none (it renders into its swapchain image and
     // marks it an output).
     let output = pair
@@ -210,7 +211,7 @@ pub fn measure(
     }
     // After the timing reports are taken: these frames are not timed.
     if !o.final_only {
-        report.passes_changed = Some(after_each_pass(&mut ra, &mut rb, end - 1)?);
+        report.passes_changed = Some(after_each_pass(&mut ra, &mut rb, end - 1, &renamed)?);
     }
     report.presented = presented(&ra).or(output);
     let first = report

@@ -6,9 +6,15 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
+use std::io::Write;
+
 use anyhow::{Context, bail};
+use framelab_core::capture::Options;
 use framelab_core::lower;
+use framelab_core::pipeline::{Analysed, Loaded};
+use framelab_core::text::printable;
 use framelab_core::timing::TimingReport;
+use framelab_core::whatif::{Edit, VariantError, static_verdict, variant};
 use framelab_ui::Inspector;
 use framelab_ui::app::Pane;
 use framelab_ui::headless;
@@ -36,6 +42,11 @@ pub struct InspectArgs {
     /// structural diff pairs passes, and FLIP's error map between them.
     #[arg(long)]
     pub against: Option<PathBuf>,
+    /// What-if edits (as `framelab what-if` takes them): the frame they make is replayed
+    /// beside this one, as `--against` does with a second capture, after its static verdict is
+    /// printed.
+    #[command(flatten)]
+    pub edits: super::what_if::EditArgs,
     /// Use the adapter whose name contains this text.
     #[arg(long)]
     pub adapter: Option<String>,
@@ -118,10 +129,69 @@ fn report(path: &Path) -> anyhow::Result<TimingReport> {
     Ok(TimingReport::from_json(&path.display().to_string(), &text)?)
 }
 
+/// The frame and the variant the edits make of it, its static verdict printed; the variant
+/// named by its edits, so the image diff says which side it is.
+fn what_if(args: &InspectArgs, edits: &[Edit]) -> anyhow::Result<(Analysed, Analysed)> {
+    if args.against.is_some() {
+        bail!("--against and what-if edits each give the second frame: give one of them");
+    }
+    let loaded = Loaded::read_hashed(&args.capture).map_err(stages::device_error)?;
+    let options = Options {
+        scale: args.scale,
+        ..Options::default()
+    };
+    let mut pair = variant(loaded, None, edits, &options).map_err(|e| match e {
+        VariantError::Frame(e) => stages::device_error(e),
+        VariantError::Invalid(e) => {
+            stages::device_error(e).context("the edited frame is not a valid capture")
+        }
+        e => e.into(),
+    })?;
+    let (a, b) = (&pair.frame, &pair.variant);
+    let verdict = static_verdict(&a.capture, &a.analysis.lints, &b.capture, &b.analysis.lints);
+    let mut said = pair.changes.join("; ");
+    if verdict.safe() {
+        said.push_str("; static: safe");
+    } else {
+        let errors: Vec<String> = verdict
+            .errors()
+            .map(|l| format!("{} {}", l.code, l.message))
+            .collect();
+        said.push_str(&format!("; static: UNSAFE: {}", errors.join("; ")));
+    }
+    let _ = writeln!(std::io::stderr(), "what if: {}", printable(&said));
+    let spelt: Vec<String> = edits.iter().map(Edit::spelling).collect();
+    pair.variant.capture.name = format!(
+        "{} (what if {})",
+        pair.variant.capture.name,
+        spelt.join(" ")
+    );
+    Ok((pair.frame, pair.variant))
+}
+
 pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
-    let analysed = stages::analysed_for_device(&args.capture, args.scale, false)?;
-    let against = match &args.against {
-        Some(path) => {
+    let edits = args.edits.edits();
+    let (analysed, variant) = if edits.is_empty() {
+        (
+            stages::analysed_for_device(&args.capture, args.scale, false)?,
+            None,
+        )
+    } else {
+        let (a, b) = what_if(args, &edits)?;
+        (a, Some(b))
+    };
+    let against = match (&args.against, variant) {
+        (_, Some(b)) => {
+            if b.capture.not_replayable().is_some() {
+                bail!(
+                    "{} is not replayed, so its variant has no images to compare",
+                    args.capture.display()
+                );
+            }
+            let pairs = framelab_core::whatif::pass_pairs(&analysed.capture, &b.capture);
+            Some((b, pairs))
+        }
+        (Some(path), None) => {
             let b = stages::analysed_for_device(path, args.scale, false)?;
             if b.capture.not_replayable().is_some() {
                 bail!(
@@ -132,7 +202,7 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
             let pairs = framelab_core::structure::pass_pairs(&analysed.capture, &b.capture);
             Some((b, pairs))
         }
-        None => None,
+        (None, None) => None,
     };
     let timings = args.timings.as_deref().map(report).transpose()?;
     let compare = args.compare.as_deref().map(report).transpose()?;

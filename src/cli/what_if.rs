@@ -20,10 +20,9 @@ use framelab_replay::what_if::{self, Changed, WhatIf, judge, measure};
 
 use super::{parse_percent, parse_scale, print_stdout, stages};
 
-#[derive(Debug, Clone, clap::Args)]
-pub struct WhatIfArgs {
-    /// The capture (JSON).
-    pub capture: PathBuf,
+/// The edits `what-if` makes, which `inspect` takes too to open the comparison.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct EditArgs {
     /// Apply the fix of every finding of lint CODE (`FL005`), or of those about one pass or
     /// resource (`FL005:ssao`); `analyze` marks the fixable findings.
     #[arg(long = "fix", value_name = "CODE[:WHERE]", value_parser = Edit::fix)]
@@ -43,6 +42,37 @@ pub struct WhatIfArgs {
     /// Multiply a texture's width and height by F (relative sizes stay relative).
     #[arg(long = "scale-resource", value_name = "RESOURCE=F", value_parser = Edit::scale_resource)]
     pub scale_resource: Vec<Edit>,
+    /// Make two raster passes one render pass, the second's draws after the first's (they
+    /// need the same attachments, and the second must load them).
+    #[arg(long, value_name = "FIRST+SECOND", value_parser = Edit::merge)]
+    pub merge: Vec<Edit>,
+}
+
+impl EditArgs {
+    /// Every edit given, in the order of the kinds above.
+    pub fn edits(&self) -> Vec<Edit> {
+        [
+            &self.fix,
+            &self.cull,
+            &self.drop_barrier,
+            &self.format,
+            &self.queue,
+            &self.scale_resource,
+            &self.merge,
+        ]
+        .into_iter()
+        .flatten()
+        .cloned()
+        .collect()
+    }
+}
+
+#[derive(Debug, Clone, clap::Args)]
+pub struct WhatIfArgs {
+    /// The capture (JSON).
+    pub capture: PathBuf,
+    #[command(flatten)]
+    pub edits: EditArgs,
     /// On a GFXReconstruct capture: set a number in one call, as `framelab edit` does
     /// (BLOCK:PATH=VALUE); the stream and its edited copy are both imported and compared.
     #[arg(long = "set", value_name = "BLOCK:PATH=VALUE")]
@@ -78,23 +108,6 @@ pub struct WhatIfArgs {
     /// Use the adapter whose name contains this text.
     #[arg(long)]
     pub adapter: Option<String>,
-}
-
-impl WhatIfArgs {
-    fn edits(&self) -> Vec<Edit> {
-        [
-            &self.fix,
-            &self.cull,
-            &self.drop_barrier,
-            &self.format,
-            &self.queue,
-            &self.scale_resource,
-        ]
-        .into_iter()
-        .flatten()
-        .cloned()
-        .collect()
-    }
 }
 
 /// Bad input or a bad edit: exit 2.
@@ -356,11 +369,11 @@ fn failed(e: &anyhow::Error, code: u8) -> ExitCode {
 }
 
 pub fn run(args: &WhatIfArgs) -> ExitCode {
-    let edits = args.edits();
+    let edits = args.edits.edits();
     if edits.is_empty() && args.set.is_empty() {
         return failed(
             &anyhow::anyhow!(
-                "what-if needs at least one edit (--fix, --cull, --drop-barrier, --format, --queue, --scale-resource, --set)"
+                "what-if needs at least one edit (--fix, --cull, --drop-barrier, --format, --queue, --scale-resource, --merge, --set)"
             ),
             2,
         );

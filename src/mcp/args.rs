@@ -192,6 +192,9 @@ pub struct WhatIfArgs {
     /// Textures to resize, as `RESOURCE=F` (width and height times F).
     #[serde(default)]
     pub scale_resource: Vec<String>,
+    /// Pairs of raster passes to make one render pass, as `FIRST+SECOND`.
+    #[serde(default)]
+    pub merge: Vec<String>,
     /// Measured frames per side (default 5, 2..=100).
     pub frames: Option<u32>,
     /// Compare textures after the last frame only, not also after every pass (default false).

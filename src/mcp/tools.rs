@@ -591,7 +591,7 @@ impl Framelab {
     }
 
     #[tool(
-        description = "What if the frame were changed: apply edits to an opened capture (a lint's fixes, `fix: [\"FL005\"]` or `[\"all\"]`; `cull` passes; `drop_barrier` `PASS:N`; `format` `RESOURCE=FORMAT`; `queue` `PASS=QUEUE`; `scale_resource` `RESOURCE=F`), as `framelab what-if --json` does. The variant is checked first: an error the edits introduce (a missing barrier, a hazard, a read of what nothing wrote) is answered with `safe: false` and nothing runs. Otherwise both frames replay here interleaved, and the answer holds the timing diff, the work diff, memory, every texture compared after the last frame and after every pass (the first pass whose outputs differ), and one summary line; each changed texture comes back as two PNGs, the variant's image and the FLIP error map. A bad edit is a tool error naming it.",
+        description = "What if the frame were changed: apply edits to an opened capture (a lint's fixes, `fix: [\"FL005\"]` or `[\"all\"]`; `cull` passes; `drop_barrier` `PASS:N`; `format` `RESOURCE=FORMAT`; `queue` `PASS=QUEUE`; `scale_resource` `RESOURCE=F`; `merge` `FIRST+SECOND`, two raster passes made one render pass), as `framelab what-if --json` does. The variant is checked first: an error the edits introduce (a missing barrier, a hazard, a read of what nothing wrote) is answered with `safe: false` and nothing runs. Otherwise both frames replay here interleaved, and the answer holds the timing diff, the work diff, memory, every texture compared after the last frame and after every pass (the first pass whose outputs differ), and one summary line; each changed texture comes back as two PNGs, the variant's image and the FLIP error map. A bad edit is a tool error naming it.",
         input_schema = schema_for_type::<WhatIfArgs>()
     )]
     async fn what_if(&self, object: JsonObject) -> Answer {
@@ -613,11 +613,12 @@ impl Framelab {
             .chain(a.format.iter().map(|x| Edit::format(x)))
             .chain(a.queue.iter().map(|x| Edit::queue(x)))
             .chain(a.scale_resource.iter().map(|x| Edit::scale_resource(x)))
+            .chain(a.merge.iter().map(|x| Edit::merge(x)))
             .collect();
         let edits = take!(parsed.map_err(|e| e.to_string()));
         if edits.is_empty() {
             return refuse(
-                "what_if needs at least one edit (fix, cull, drop_barrier, format, queue, scale_resource)",
+                "what_if needs at least one edit (fix, cull, drop_barrier, format, queue, scale_resource, merge)",
             );
         }
         let (path, scale) = {

@@ -778,6 +778,81 @@ fn bad_inspector_options_are_named() {
     assert!(!repo().join("unused.png").exists());
 }
 
+/// What-if edits given to `inspect` replay the variant beside the frame, its static verdict said
+/// first; the variant and `--against` cannot both be the second frame.
+#[test]
+fn a_what_if_variant_opens_beside_its_frame() {
+    let dir = Scratch::temp("framelab-inspect-what-if");
+    let shot = dir.join("what_if.png");
+    let out = framelab(&[
+        "inspect",
+        "captures/example/frame_sync.json",
+        "--scale",
+        "0.25",
+        "--format",
+        "bloom=R11G11B10_FLOAT",
+        "--select",
+        "bright_pass",
+        "--view",
+        "bloom",
+        "--panel",
+        "Image diff",
+        "--screenshot",
+        shot.to_str().unwrap(),
+        "--size",
+        "1000x700",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(
+        stderr(&out)
+            .contains("what if: \"bloom\" R16G16B16A16_FLOAT -> R11G11B10_FLOAT; static: safe"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(image::open(&shot).unwrap().width(), 1000);
+    // An unsafe variant opens all the same (to look at what it breaks), said so first.
+    let unsafe_edit = framelab(&[
+        "inspect",
+        "captures/example/frame_sync.json",
+        "--scale",
+        "0.25",
+        "--drop-barrier",
+        "simulate:0",
+        "--screenshot",
+        shot.to_str().unwrap(),
+        "--size",
+        "640x480",
+    ]);
+    assert_eq!(
+        unsafe_edit.status.code(),
+        Some(0),
+        "{}",
+        stderr(&unsafe_edit)
+    );
+    assert!(
+        stderr(&unsafe_edit).contains("static: UNSAFE: FL020"),
+        "{}",
+        stderr(&unsafe_edit)
+    );
+    let both = framelab(&[
+        "inspect",
+        "captures/example/frame_sync.json",
+        "--cull",
+        "present",
+        "--against",
+        "captures/example/frame.json",
+        "--screenshot",
+        "unused.png",
+    ]);
+    assert_eq!(both.status.code(), Some(1));
+    assert!(
+        stderr(&both).contains("--against and what-if edits"),
+        "{}",
+        stderr(&both)
+    );
+    assert!(!repo().join("unused.png").exists());
+}
+
 /// Reports taken at different scales are still compared, under a warning; a pass renamed
 /// there is matched as a rename, one moved to another queue is shown but not compared.
 #[test]

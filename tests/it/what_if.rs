@@ -1,7 +1,8 @@
 //! `framelab what-if` end to end on the example frame with recorded barriers: a safe fix
 //! replayed with images identical, a format change measured and its changed images named, a
 //! barrier the frame needs refused statically at its pass before anything runs, and bad edits
-//! refused with exit 2 and nothing written.
+//! refused with exit 2 and nothing written; on Night City, two passes merged into one render
+//! pass.
 
 use crate::common::{Scratch, framelab, json, stderr};
 
@@ -117,7 +118,7 @@ fn bad_edits_exit_2_naming_them_and_write_nothing() {
     let dir = Scratch::temp("what_if_bad");
     let out = dir.join("out");
     let out_s = out.to_str().unwrap();
-    let cases: [(&[&str], &str); 7] = [
+    let cases: [(&[&str], &str); 10] = [
         (
             &["--cull", "nope"],
             "--cull nope: the capture has no pass \"nope\"",
@@ -140,6 +141,18 @@ fn bad_edits_exit_2_naming_them_and_write_nothing() {
             &["--format", "depth=R8G8B8A8_UNORM"],
             "the edited frame is not a valid capture",
         ),
+        (
+            &["--merge", "scene+bright_pass"],
+            "--merge scene+bright_pass: \"scene\" renders to \"scene_color\" mip 0 layer 0, depth \"depth\" mip 0 layer 0 and \"bright_pass\" to \"bloom\" mip 0 layer 0: one render pass has one set of attachments",
+        ),
+        (
+            &["--merge", "scene+tonemap"],
+            "\"tonemap\" is a compute pass: only raster passes merge",
+        ),
+        (
+            &["--merge", "scene+nope"],
+            "the capture has no pass \"nope\"",
+        ),
     ];
     for (edit, said) in cases {
         let mut args = vec!["what-if", SYNC, "--out", out_s];
@@ -153,6 +166,8 @@ fn bad_edits_exit_2_naming_them_and_write_nothing() {
     for args in [
         &["what-if", SYNC, "--drop-barrier", "scene"][..],
         &["what-if", SYNC, "--fix", "FL999"],
+        &["what-if", SYNC, "--merge", "scene"],
+        &["what-if", SYNC, "--merge", "scene+scene"],
         &["what-if", SYNC],
     ] {
         assert_eq!(framelab(args).status.code(), Some(2), "{args:?}");
@@ -292,4 +307,45 @@ fn a_pass_moved_to_the_async_queue_needs_fences_and_a_smaller_texture_is_reshape
     );
     let ratio = (4 * b) as f64 / a as f64;
     assert!((0.97..1.03).contains(&ratio), "{a} {b}");
+}
+
+#[test]
+fn two_passes_merged_into_one_render_pass_load_and_store_their_target_once() {
+    let o = framelab(&[
+        "what-if",
+        "captures/night_city/main_street_day.json",
+        "--merge",
+        "gi_shadow+volumetric_fog",
+        "--frames",
+        "2",
+        "--warmup",
+        "0",
+        "--scale",
+        "0.1",
+        "--final-only",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let r = json(&o);
+    assert_eq!(r["safe"], true);
+    assert_eq!(
+        r["changes"][0],
+        "passes \"gi_shadow\" and \"volumetric_fog\" merged into one render pass \"gi_shadow+volumetric_fog\""
+    );
+    // The composite (R16G16B16A16_FLOAT, 192x108 at this scale) is loaded and stored once
+    // instead of twice: eight bytes a texel, once read and once written.
+    let bytes = &row(&r, "frame total")["bytes_moved"];
+    let (a, b) = (bytes[0].as_u64().unwrap(), bytes[1].as_u64().unwrap());
+    assert_eq!(a - b, 2 * 192 * 108 * 8, "{a} -> {b}");
+    // The same draws run, so the same work; the image is the same.
+    let frame = &r["work"]["rows"][0];
+    assert_eq!(frame["name"], "(frame)");
+    assert_eq!(frame["work"]["draws"]["a"], frame["work"]["draws"]["b"]);
+    assert_eq!(
+        frame["counters"]["fragment_invocations"]["a"],
+        frame["counters"]["fragment_invocations"]["b"]
+    );
+    let compared = r["textures_compared"].as_u64().unwrap();
+    assert!(compared > 50, "{compared}");
+    assert_eq!(r["textures_identical"].as_u64().unwrap(), compared);
 }

@@ -9,6 +9,8 @@ use crate::analysis::lints::{Fix, Lint, LintKind};
 use crate::capture::format::{Extent, RawCapture, RelativeSize, ResourceFlag, ResourceKind};
 use crate::capture::model::Capture;
 
+use super::merge::merge;
+
 /// `--fix all`: every finding that has a fix.
 const ALL: &str = "ALL";
 
@@ -28,6 +30,9 @@ pub enum Edit {
     Queue { pass: String, queue: String },
     /// Multiply a texture's width and height by a factor.
     ScaleResource { resource: String, factor: f64 },
+    /// Make two raster passes one render pass (`A+B`; a pass name may hold `+`, so the split
+    /// is the one that names two passes).
+    Merge { passes: String },
 }
 
 /// Why an edit cannot be made.
@@ -61,6 +66,8 @@ pub enum EditError {
     NotATexture { edit: String, resource: String },
     #[error("{edit}: the capture has no queue \"{queue}\"")]
     UnknownQueue { edit: String, queue: String },
+    #[error("{edit}: {why}")]
+    CannotMerge { edit: String, why: String },
 }
 
 fn nothing_to_fix(at: &Option<String>, unfixable: usize) -> String {
@@ -163,6 +170,23 @@ impl Edit {
         })
     }
 
+    /// `--merge A+B`.
+    pub fn merge(s: &str) -> Result<Edit, EditError> {
+        let edit = format!("--merge {s}");
+        let two = s
+            .match_indices('+')
+            .any(|(i, _)| i > 0 && i + 1 < s.len() && s[..i] != s[i + 1..]);
+        if !two {
+            return Err(EditError::Syntax {
+                edit,
+                why: "expected FIRST+SECOND, two different passes",
+            });
+        }
+        Ok(Edit::Merge {
+            passes: s.to_owned(),
+        })
+    }
+
     /// The edit as the command line spells it.
     pub fn spelling(&self) -> String {
         match self {
@@ -175,6 +199,7 @@ impl Edit {
             Edit::ScaleResource { resource, factor } => {
                 format!("--scale-resource {resource}={factor}")
             }
+            Edit::Merge { passes } => format!("--merge {passes}"),
         }
     }
 }
@@ -205,6 +230,11 @@ enum Change {
     Scale {
         resource: String,
         factor_bits: u64,
+    },
+    /// Merges are made in the order given (`seq`), one merge's pass open to the next.
+    Merge {
+        seq: usize,
+        passes: String,
     },
 }
 
@@ -261,7 +291,7 @@ pub fn apply(
     edits: &[Edit],
 ) -> Result<(RawCapture, Vec<String>), EditError> {
     let mut changes = BTreeSet::new();
-    for e in edits {
+    for (seq, e) in edits.iter().enumerate() {
         match e {
             Edit::Fix { code, at } => changes.extend(fixes(capture, lints, code, at.as_deref())?),
             Edit::Cull { pass } => {
@@ -291,12 +321,19 @@ pub fn apply(
                     factor_bits: factor.to_bits(),
                 });
             }
+            Edit::Merge { passes } => {
+                changes.insert(Change::Merge {
+                    seq,
+                    passes: passes.clone(),
+                });
+            }
         }
     }
     let mut out = raw.clone();
     let mut said = Vec::new();
     // Barriers first, from the highest place down, so each index means what it meant in the
-    // frame as captured; culls last, so a barrier of a culled pass is still found.
+    // frame as captured; merges after the changes to single passes, so the merged pass takes
+    // them; culls last, so a barrier of a culled pass is still found.
     let mut ordered: Vec<&Change> = changes.iter().collect();
     ordered.sort_by_key(|c| match c {
         Change::DropBarrier { index, .. } => (0, usize::MAX - index),
@@ -304,10 +341,11 @@ pub fn apply(
         | Change::Format { .. }
         | Change::Queue { .. }
         | Change::Scale { .. } => (1, 0),
-        Change::Cull { .. } => (2, 0),
+        Change::Merge { seq, .. } => (2, *seq),
+        Change::Cull { .. } => (3, 0),
     });
     for c in ordered {
-        said.push(change(&mut out, c, edits)?);
+        said.push(change(&mut out, capture, c, edits)?);
     }
     Ok((out, said))
 }
@@ -324,13 +362,19 @@ fn origin(edits: &[Edit], c: &Change) -> String {
             resource == r
         }
         (Edit::Queue { pass, .. }, Change::Queue { pass: p, .. }) => pass == p,
+        (Edit::Merge { passes }, Change::Merge { passes: p, .. }) => passes == p,
         _ => false,
     });
     direct.map_or_else(|| "--fix".to_owned(), Edit::spelling)
 }
 
 /// Makes one change; what it did, in words.
-fn change(raw: &mut RawCapture, c: &Change, edits: &[Edit]) -> Result<String, EditError> {
+fn change(
+    raw: &mut RawCapture,
+    frame: &Capture,
+    c: &Change,
+    edits: &[Edit],
+) -> Result<String, EditError> {
     let edit = || origin(edits, c);
     let pass_index = |raw: &RawCapture, pass: &str| {
         raw.passes
@@ -351,6 +395,32 @@ fn change(raw: &mut RawCapture, c: &Change, edits: &[Edit]) -> Result<String, Ed
             })
     };
     match c {
+        Change::Merge { passes, .. } => {
+            let split = passes
+                .match_indices('+')
+                .map(|(i, _)| (&passes[..i], &passes[i + 1..]))
+                .find(|(a, b)| {
+                    a != b
+                        && [a, b]
+                            .iter()
+                            .all(|n| raw.passes.iter().any(|p| p.name == **n))
+                });
+            match split {
+                Some(pair) => merge(raw, frame, pair, &edit()),
+                None => {
+                    let (a, b) = passes.split_once('+').unwrap_or((passes, ""));
+                    let missing = if raw.passes.iter().any(|p| p.name == a) {
+                        b
+                    } else {
+                        a
+                    };
+                    Err(EditError::UnknownPass {
+                        edit: edit(),
+                        pass: missing.to_owned(),
+                    })
+                }
+            }
+        }
         Change::Cull { pass } => {
             let i = pass_index(raw, pass)?;
             raw.passes.remove(i);

@@ -1,16 +1,20 @@
 //! What if: a variant of a frame made by edits (a lint's fix applied, a pass culled, a recorded
-//! barrier dropped, a resource's format changed), and the static verdict on it: the errors the
+//! barrier dropped, a resource's format changed, two passes merged), and the static verdict on it: the errors the
 //! variant has that the frame had not (hazards, reads of what nothing wrote), before anything
 //! runs. The command line replays both and measures; this module needs no device.
 
 mod edit;
+mod merge;
 mod verdict;
 
 pub use edit::{Edit, EditError, apply};
 pub use verdict::{StaticVerdict, static_verdict};
 
+use std::collections::{BTreeMap, BTreeSet};
+
 use crate::analysis::report::AnalyzeOptions;
 use crate::capture::Options;
+use crate::capture::model::Capture;
 use crate::pipeline::{Analysed, Loaded, StageError};
 
 /// Why a frame and its variant could not both be made.
@@ -64,5 +68,53 @@ pub fn variant(
     })
 }
 
+/// For each pass of the variant that a merge made (`first+second`, named by the edit), the
+/// frame's pass it ends as: the last one merged into it, whose name is the longest that follows
+/// a `+` (so `a+b+c` ends as `c`). Keyed by the frame's pass name.
+pub fn merged_into(frame: &Capture, variant: &Capture) -> BTreeMap<String, String> {
+    let here: BTreeSet<&str> = frame.passes.iter().map(|p| p.name.as_str()).collect();
+    let mut out = BTreeMap::new();
+    for p in variant
+        .passes
+        .iter()
+        .filter(|p| !here.contains(p.name.as_str()))
+    {
+        let last = p
+            .name
+            .match_indices('+')
+            .map(|(i, _)| &p.name[i + 1..])
+            .find(|tail| here.contains(tail));
+        if let Some(last) = last {
+            out.insert(last.to_owned(), p.name.clone());
+        }
+    }
+    out
+}
+
+/// The passes of the frame and its variant that end in the same state, as indices into each
+/// one's passes, with whether the pair is a rename: a pass the edits kept, by its name; a
+/// merged pass, with the last pass merged into it. Culled passes, and the passes merged into
+/// another before its last, have none.
+pub fn pass_pairs(frame: &Capture, variant: &Capture) -> Vec<(usize, usize, bool)> {
+    let merged = merged_into(frame, variant);
+    let there: BTreeMap<&str, usize> = variant
+        .passes
+        .iter()
+        .enumerate()
+        .map(|(j, p)| (p.name.as_str(), j))
+        .collect();
+    frame
+        .passes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| match merged.get(&p.name) {
+            Some(m) => Some((i, *there.get(m.as_str())?, true)),
+            None => Some((i, *there.get(p.name.as_str())?, false)),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod merge_tests;
 #[cfg(test)]
 mod tests;
