@@ -67,7 +67,10 @@ pub enum EditError {
     #[error("{edit}: the capture has no queue \"{queue}\"")]
     UnknownQueue { edit: String, queue: String },
     #[error("{edit}: {why}")]
-    CannotMerge { edit: String, why: String },
+    CannotMerge {
+        edit: String,
+        why: Box<super::merge::Unmergeable>,
+    },
 }
 
 fn nothing_to_fix(at: &Option<String>, unfixable: usize) -> String {

@@ -1,15 +1,119 @@
 //! `--merge A+B`: two raster passes made one render pass where they can be: the second's draws
 //! follow the first's on the same attachments, so what the first stores and the second loads
-//! stays in the render pass. Every reason two passes cannot be one is an error naming it; what
-//! the merged frame does to synchronization is then the static verdict's to say.
-
-use std::collections::BTreeMap;
+//! stays in the render pass. Every reason two passes cannot be one is an `Unmergeable` naming
+//! it; what the merged frame does to synchronization is then the static verdict's to say.
 
 use serde::Serialize;
 
 use super::EditError;
-use crate::capture::format::{LoadOp, Pass, PassKind, RawCapture};
+use crate::capture::format::{LoadOp, Pass, PassKind, RawCapture, ShaderRef};
 use crate::capture::model::{AccessSource, Capture, PassDesc, ResourceAccess};
+
+/// Why two passes cannot be one render pass.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum Unmergeable {
+    #[error("the capture already has a pass \"{0}\"")]
+    NameTaken(String),
+    #[error("\"{pass}\" is a {kind} pass: only raster passes merge into one render pass")]
+    NotRaster { pass: String, kind: &'static str },
+    #[error(
+        "\"{a}\" runs on queue {queue_a} and \"{b}\" on {queue_b}: one render pass is on one queue"
+    )]
+    Queues {
+        a: String,
+        queue_a: String,
+        b: String,
+        queue_b: String,
+    },
+    #[error(
+        "\"{a}\" renders to {targets_a} and \"{b}\" to {targets_b}: one render pass has one set of attachments"
+    )]
+    Attachments {
+        a: String,
+        targets_a: String,
+        b: String,
+        targets_b: String,
+    },
+    #[error(
+        "colour attachment {index} (\"{resource}\") blends or masks differently in the two passes: a pass has one blend state per attachment"
+    )]
+    Blend { index: usize, resource: String },
+    #[error("\"{a}\" and \"{b}\" bind depth \"{resource}\" one read-only and the other writable")]
+    DepthAccess {
+        a: String,
+        b: String,
+        resource: String,
+    },
+    #[error("\"{pass}\" {} \"{resource}\" as it begins: a render pass keeps its attachments from one draw to the next", begins(*.load))]
+    Begins {
+        pass: String,
+        resource: String,
+        load: LoadOp,
+    },
+    #[error(
+        "\"{a}\" and \"{b}\" differ in fixed-function state (depth, stencil or rasterizer): a pass has one"
+    )]
+    State { a: String, b: String },
+    #[error(
+        "\"{a}\" draws with {shader_a} and \"{b}\" with {shader_b}: a pass has one shader file"
+    )]
+    Shaders {
+        a: String,
+        shader_a: String,
+        b: String,
+        shader_b: String,
+    },
+    #[error(
+        "\"{pass}\" waits on fence \"{fence}\" before it begins: its draws cannot move ahead of the wait into \"{first}\""
+    )]
+    Waits {
+        pass: String,
+        fence: String,
+        first: String,
+    },
+    #[error("both passes bind \"{0}\", to different views: one render pass binds one")]
+    Binding(String),
+    #[error("both passes set parameter \"{0}\", to different values: a pass has one")]
+    Parameter(String),
+    #[error(
+        "\"{writer}\" writes \"{resource}\", which \"{reader}\" uses ({access}): inside one render pass no barrier can order them"
+    )]
+    Within {
+        writer: String,
+        resource: String,
+        reader: String,
+        access: &'static str,
+    },
+    #[error("\"{between}\", recorded between them, {} \"{resource}\", which \"{second}\" {}: \"{second}\" cannot move ahead of it", verb(*.between_writes), verb(*.second_writes))]
+    Between {
+        between: String,
+        between_writes: bool,
+        resource: String,
+        second: String,
+        second_writes: bool,
+    },
+    #[error(
+        "\"{second}\"'s recorded barrier {index} is on \"{resource}\", which \"{first}\" uses: no barrier fits between the draws of one render pass"
+    )]
+    Barrier {
+        second: String,
+        index: usize,
+        resource: String,
+        first: String,
+    },
+}
+
+fn begins(load: LoadOp) -> &'static str {
+    match load {
+        LoadOp::Clear => "clears",
+        LoadOp::Discard => "discards",
+        LoadOp::Load => "loads",
+    }
+}
+
+fn verb(writes: bool) -> &'static str {
+    if writes { "writes" } else { "reads" }
+}
 
 /// Merges the passes named `a` and `b` (in either order) into one pass at the earlier one's
 /// place, named `a+b`; what was done, in words.
@@ -19,9 +123,9 @@ pub(super) fn merge(
     (a, b): (&str, &str),
     edit: &str,
 ) -> Result<String, EditError> {
-    let no = |why: String| EditError::CannotMerge {
+    let no = |why: Unmergeable| EditError::CannotMerge {
         edit: edit.to_owned(),
-        why,
+        why: Box::new(why),
     };
     let place = |name: &str| {
         raw.passes
@@ -39,7 +143,7 @@ pub(super) fn merge(
     let (first, second) = (&raw.passes[i], &raw.passes[j]);
     let name = format!("{}+{}", first.name, second.name);
     if raw.passes.iter().any(|p| p.name == name) {
-        return Err(no(format!("the capture already has a pass \"{name}\"")));
+        return Err(no(Unmergeable::NameTaken(name)));
     }
     compatible(first, second).map_err(no)?;
     if let (Some(fa), Some(fb)) = (
@@ -71,38 +175,29 @@ fn same<T: Serialize>(a: &T, b: &T) -> bool {
     serde_json::to_value(a).ok() == serde_json::to_value(b).ok()
 }
 
-/// What the two passes are, apart from their draws, must be one render pass's.
-fn compatible(a: &Pass, b: &Pass) -> Result<(), String> {
-    for p in [a, b] {
-        if p.kind != PassKind::Raster {
-            return Err(format!(
-                "\"{}\" is a {} pass: only raster passes merge into one render pass",
-                p.name,
-                p.kind.as_str()
-            ));
-        }
-    }
-    if a.queue != b.queue {
-        return Err(format!(
-            "\"{}\" runs on queue {} and \"{}\" on {}: one render pass is on one queue",
-            a.name, a.queue, b.name, b.queue
+/// A pass's attachments in words: `"composite" mip 0 layer 0, depth "depth" mip 0 layer 0`.
+fn targets(p: &Pass) -> String {
+    let mut t: Vec<String> = p
+        .color_attachments
+        .iter()
+        .map(|c| format!("\"{}\" mip {} layer {}", c.resource, c.mip, c.layer))
+        .collect();
+    if let Some(d) = &p.depth_stencil {
+        t.push(format!(
+            "depth \"{}\" mip {} layer {}",
+            d.resource, d.mip, d.layer
         ));
     }
-    let targets = |p: &Pass| {
-        let mut t: Vec<String> = p
-            .color_attachments
-            .iter()
-            .map(|c| format!("\"{}\" mip {} layer {}", c.resource, c.mip, c.layer))
-            .collect();
-        if let Some(d) = &p.depth_stencil {
-            t.push(format!(
-                "depth \"{}\" mip {} layer {}",
-                d.resource, d.mip, d.layer
-            ));
-        }
+    if t.is_empty() {
+        "nothing".to_owned()
+    } else {
         t.join(", ")
-    };
-    let same_targets = a.color_attachments.len() == b.color_attachments.len()
+    }
+}
+
+/// The same views: resource, subresource and view format of every attachment.
+fn same_targets(a: &Pass, b: &Pass) -> bool {
+    a.color_attachments.len() == b.color_attachments.len()
         && a.color_attachments
             .iter()
             .zip(&b.color_attachments)
@@ -115,97 +210,101 @@ fn compatible(a: &Pass, b: &Pass) -> Result<(), String> {
                 (&x.resource, x.mip, x.layer, &x.format) == (&y.resource, y.mip, y.layer, &y.format)
             }
             _ => false,
-        };
-    if !same_targets {
-        return Err(format!(
-            "\"{}\" renders to {} and \"{}\" to {}: one render pass has one set of attachments",
-            a.name,
-            or_none(targets(a)),
-            b.name,
-            or_none(targets(b))
-        ));
+        }
+}
+
+/// What the two passes are, apart from their draws, must be one render pass's.
+fn compatible(a: &Pass, b: &Pass) -> Result<(), Unmergeable> {
+    for p in [a, b] {
+        if p.kind != PassKind::Raster {
+            return Err(Unmergeable::NotRaster {
+                pass: p.name.clone(),
+                kind: p.kind.as_str(),
+            });
+        }
     }
-    for (k, (x, y)) in a
+    if a.queue != b.queue {
+        return Err(Unmergeable::Queues {
+            a: a.name.clone(),
+            queue_a: a.queue.clone(),
+            b: b.name.clone(),
+            queue_b: b.queue.clone(),
+        });
+    }
+    if !same_targets(a, b) {
+        return Err(Unmergeable::Attachments {
+            a: a.name.clone(),
+            targets_a: targets(a),
+            b: b.name.clone(),
+            targets_b: targets(b),
+        });
+    }
+    loaded(a, b)?;
+    if !same(&a.state, &b.state) {
+        return Err(Unmergeable::State {
+            a: a.name.clone(),
+            b: b.name.clone(),
+        });
+    }
+    let file = |s: &Option<ShaderRef>| s.as_ref().map(|s| s.file.clone());
+    if file(&a.shader) != file(&b.shader) {
+        let or_none = |s: Option<String>| s.unwrap_or_else(|| "no WGSL shader".to_owned());
+        return Err(Unmergeable::Shaders {
+            a: a.name.clone(),
+            shader_a: or_none(file(&a.shader)),
+            b: b.name.clone(),
+            shader_b: or_none(file(&b.shader)),
+        });
+    }
+    if let Some(f) = b.wait.first() {
+        return Err(Unmergeable::Waits {
+            pass: b.name.clone(),
+            fence: f.clone(),
+            first: a.name.clone(),
+        });
+    }
+    Ok(())
+}
+
+/// The second pass takes the attachments as the first leaves them, with the same blend and
+/// depth access.
+fn loaded(a: &Pass, b: &Pass) -> Result<(), Unmergeable> {
+    let begun = |resource: &str, load| Unmergeable::Begins {
+        pass: b.name.clone(),
+        resource: resource.to_owned(),
+        load,
+    };
+    for (index, (x, y)) in a
         .color_attachments
         .iter()
         .zip(&b.color_attachments)
         .enumerate()
     {
         if !same(&x.blend, &y.blend) || x.write_mask != y.write_mask {
-            return Err(format!(
-                "colour attachment {k} (\"{}\") blends or masks differently in the two passes: \
-                 a pass has one blend state per attachment",
-                x.resource
-            ));
+            return Err(Unmergeable::Blend {
+                index,
+                resource: x.resource.clone(),
+            });
         }
         if y.load != LoadOp::Load {
-            return Err(begins(b, &y.resource, y.load));
+            return Err(begun(&y.resource, y.load));
         }
     }
     if let (Some(x), Some(y)) = (&a.depth_stencil, &b.depth_stencil) {
         if x.read_only != y.read_only || x.stencil_read_only != y.stencil_read_only {
-            return Err(format!(
-                "\"{}\" binds depth \"{}\" read-only in one pass and writable in the other",
-                a.name, x.resource
-            ));
+            return Err(Unmergeable::DepthAccess {
+                a: a.name.clone(),
+                b: b.name.clone(),
+                resource: x.resource.clone(),
+            });
         }
         for load in [y.depth_load, y.stencil_load] {
             if load != LoadOp::Load {
-                return Err(begins(b, &y.resource, load));
+                return Err(begun(&y.resource, load));
             }
         }
     }
-    if !same(&a.state, &b.state) {
-        return Err(format!(
-            "\"{}\" and \"{}\" differ in fixed-function state (depth, stencil or rasterizer): \
-             a pass has one",
-            a.name, b.name
-        ));
-    }
-    match (&a.shader, &b.shader) {
-        (Some(x), Some(y)) if x.file != y.file => {
-            return Err(format!(
-                "\"{}\" draws with {} and \"{}\" with {}: a pass has one shader file",
-                a.name, x.file, b.name, y.file
-            ));
-        }
-        (Some(_), None) | (None, Some(_)) => {
-            return Err(format!(
-                "one of \"{}\" and \"{}\" names a WGSL shader and the other none",
-                a.name, b.name
-            ));
-        }
-        _ => {}
-    }
-    if let Some(f) = b.wait.first() {
-        return Err(format!(
-            "\"{}\" waits on fence \"{f}\" before it begins: its draws cannot move ahead of the \
-             wait into \"{}\"",
-            b.name, a.name
-        ));
-    }
     Ok(())
-}
-
-fn or_none(s: String) -> String {
-    if s.is_empty() {
-        "nothing".to_owned()
-    } else {
-        s
-    }
-}
-
-fn begins(p: &Pass, resource: &str, load: LoadOp) -> String {
-    let what = match load {
-        LoadOp::Clear => "clears",
-        LoadOp::Discard => "discards",
-        LoadOp::Load => "loads",
-    };
-    format!(
-        "\"{}\" {what} \"{resource}\" as it begins: a render pass keeps its attachments from \
-         one draw to the next",
-        p.name
-    )
 }
 
 fn attachment(access: &ResourceAccess) -> bool {
@@ -223,24 +322,23 @@ fn conflict(x: &ResourceAccess, y: &ResourceAccess) -> bool {
 /// Within one render pass nothing orders a draw's shader accesses after an earlier draw's but
 /// the attachments' rasterization order: the second pass may not read or write what the first
 /// touches, other than through the attachments both share.
-pub(super) fn within(frame: &Capture, a: &PassDesc, b: &PassDesc) -> Result<(), String> {
+pub(super) fn within(frame: &Capture, a: &PassDesc, b: &PassDesc) -> Result<(), Unmergeable> {
     for x in &a.accesses {
         for y in b.accesses.iter().filter(|y| conflict(x, y)) {
             if attachment(x) && attachment(y) {
                 continue;
             }
-            let (writer, reader, how) = if x.writes {
+            let (writer, reader, access) = if x.writes {
                 (a, b, y.access.as_str())
             } else {
                 (b, a, x.access.as_str())
             };
-            return Err(format!(
-                "\"{}\" writes \"{}\", which \"{}\" uses ({how}): inside one render pass no \
-                 barrier can order them",
-                writer.name,
-                frame.resource(x.resource).name,
-                reader.name
-            ));
+            return Err(Unmergeable::Within {
+                writer: writer.name.clone(),
+                resource: frame.resource(x.resource).name.clone(),
+                reader: reader.name.clone(),
+                access,
+            });
         }
     }
     Ok(())
@@ -248,19 +346,16 @@ pub(super) fn within(frame: &Capture, a: &PassDesc, b: &PassDesc) -> Result<(), 
 
 /// A pass recorded between the two keeps its place after the second moves ahead of it: it may
 /// not write what the second uses, nor use what the second writes.
-fn crossed(frame: &Capture, between: &PassDesc, b: &PassDesc) -> Result<(), String> {
+fn crossed(frame: &Capture, between: &PassDesc, b: &PassDesc) -> Result<(), Unmergeable> {
     for x in &between.accesses {
         if let Some(y) = b.accesses.iter().find(|y| conflict(x, y)) {
-            return Err(format!(
-                "\"{}\", recorded between them, {} \"{}\", which \"{}\" {}: \"{}\" cannot move \
-                 ahead of it",
-                between.name,
-                if x.writes { "writes" } else { "reads" },
-                frame.resource(x.resource).name,
-                b.name,
-                if y.writes { "writes" } else { "reads" },
-                b.name
-            ));
+            return Err(Unmergeable::Between {
+                between: between.name.clone(),
+                between_writes: x.writes,
+                resource: frame.resource(x.resource).name.clone(),
+                second: b.name.clone(),
+                second_writes: y.writes,
+            });
         }
     }
     Ok(())
@@ -268,21 +363,38 @@ fn crossed(frame: &Capture, between: &PassDesc, b: &PassDesc) -> Result<(), Stri
 
 /// The second pass's recorded barriers move ahead of the first's draws: none may touch what the
 /// first uses.
-fn hoisted(frame: &Capture, a: &PassDesc, b: &PassDesc) -> Result<(), String> {
-    for (k, barrier) in b.barriers.iter().enumerate() {
+fn hoisted(frame: &Capture, a: &PassDesc, b: &PassDesc) -> Result<(), Unmergeable> {
+    for (index, barrier) in b.barriers.iter().enumerate() {
         let touched = [barrier.resource, barrier.resource_before]
             .into_iter()
             .flatten();
         for r in touched {
             if a.accesses.iter().any(|x| x.resource == r) {
-                return Err(format!(
-                    "\"{}\"'s recorded barrier {k} is on \"{}\", which \"{}\" uses: no barrier \
-                     fits between the draws of one render pass",
-                    b.name,
-                    frame.resource(r).name,
-                    a.name
-                ));
+                return Err(Unmergeable::Barrier {
+                    second: b.name.clone(),
+                    index,
+                    resource: frame.resource(r).name.clone(),
+                    first: a.name.clone(),
+                });
             }
+        }
+    }
+    Ok(())
+}
+
+/// The bindings and parameters both set must agree.
+fn agreed(a: &Pass, b: &Pass) -> Result<(), Unmergeable> {
+    for (variable, binding) in &b.bindings {
+        if a.bindings
+            .get(variable)
+            .is_some_and(|have| !same(have, binding))
+        {
+            return Err(Unmergeable::Binding(variable.clone()));
+        }
+    }
+    for (name, value) in &b.params {
+        if a.params.get(name).is_some_and(|have| !same(have, value)) {
+            return Err(Unmergeable::Parameter(name.clone()));
         }
     }
     Ok(())
@@ -290,37 +402,16 @@ fn hoisted(frame: &Capture, a: &PassDesc, b: &PassDesc) -> Result<(), String> {
 
 /// `b` appended to `a`: draws after draws, bindings and parameters joined, the second's stores
 /// and signals kept, its barriers ahead of the merged pass.
-fn joined(a: &mut Pass, b: Pass, name: String) -> Result<(), String> {
+fn joined(a: &mut Pass, b: Pass, name: String) -> Result<(), Unmergeable> {
+    agreed(a, &b)?;
     for (variable, binding) in b.bindings {
-        match a.bindings.get(&variable) {
-            Some(have) if !same(have, &binding) => {
-                return Err(format!(
-                    "both passes bind \"{variable}\", to different views: one render pass binds \
-                     one"
-                ));
-            }
-            Some(_) => {}
-            None => {
-                a.bindings.insert(variable, binding);
-            }
-        }
+        a.bindings.entry(variable).or_insert(binding);
     }
-    let mut params = BTreeMap::new();
     for (k, v) in b.params {
-        match a.params.get(&k) {
-            Some(have) if !same(have, &v) => {
-                return Err(format!(
-                    "both passes set parameter \"{k}\", to different values: a pass has one"
-                ));
-            }
-            _ => {
-                params.insert(k, v);
-            }
-        }
+        a.params.entry(k).or_insert(v);
     }
-    a.params.extend(params);
     let offset = a.draws.len() as u32;
-    let entries = |s: &Option<crate::capture::format::ShaderRef>| {
+    let entries = |s: &Option<ShaderRef>| {
         s.as_ref()
             .map_or((None, None), |s| (s.vertex.clone(), s.fragment.clone()))
     };

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::merge::within;
+use super::merge::{Unmergeable, within};
 use super::*;
 use crate::analysis::report::AnalyzeOptions;
 use crate::capture::Options;
@@ -161,9 +161,14 @@ fn shader_accesses_one_pass_writes_and_the_other_uses_cannot_share_a_render_pass
     let pass = |n: &str| a.capture.passes.iter().find(|p| p.name == n).unwrap();
     // The tiled lighting writes lit_diffuse from its shader; the sky renders into it.
     let e = within(&a.capture, pass("tiled_direct_lighting"), pass("sky")).unwrap_err();
-    assert!(
-        e.starts_with("\"tiled_direct_lighting\" writes \"lit_diffuse\", which \"sky\" uses"),
-        "{e}"
+    assert_eq!(
+        e,
+        Unmergeable::Within {
+            writer: "tiled_direct_lighting".into(),
+            resource: "lit_diffuse".into(),
+            reader: "sky".into(),
+            access: "color_attachment",
+        }
     );
     // Two passes blending into one attachment are ordered by rasterization.
     assert!(within(&a.capture, pass("gi_shadow"), pass("volumetric_fog")).is_ok());

@@ -8,6 +8,7 @@ mod merge;
 mod verdict;
 
 pub use edit::{Edit, EditError, apply};
+pub use merge::Unmergeable;
 pub use verdict::{StaticVerdict, static_verdict};
 
 use std::collections::{BTreeMap, BTreeSet};
