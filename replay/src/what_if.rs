@@ -12,7 +12,7 @@ use serde::Serialize;
 use framelab_core::pipeline::{Analysed, StageError};
 use framelab_core::timing::diff::{DiffError, DiffOptions, DiffReport, RowKind, Verdict, diff};
 use framelab_core::timing::work_diff::{WorkDiff, WorkDiffError, work_diff};
-use framelab_core::whatif::{Pair, StaticVerdict, merged_into, static_verdict};
+use framelab_core::whatif::{Pair, StaticVerdict, merged_into};
 
 use crate::compare::{
     PassComparison, TextureComparison, TextureState, after_each_pass, compare_textures,
@@ -91,7 +91,7 @@ pub struct WhatIf {
 /// the edits introduce an error).
 pub fn judge(pair: &Pair, capture: String, edits: Vec<String>, tolerance: f64) -> WhatIf {
     let (a, b) = (&pair.frame, &pair.variant);
-    let verdict = static_verdict(&a.capture, &a.analysis.lints, &b.capture, &b.analysis.lints);
+    let verdict = framelab_core::whatif::verdict(pair);
     let memory = |x: &Analysed| {
         let t = &x.analysis.memory.total;
         [t.unaliased_bytes, t.aliased_bytes]

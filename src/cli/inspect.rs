@@ -14,7 +14,7 @@ use framelab_core::lower;
 use framelab_core::pipeline::{Analysed, Loaded};
 use framelab_core::text::printable;
 use framelab_core::timing::TimingReport;
-use framelab_core::whatif::{Edit, VariantError, static_verdict, variant};
+use framelab_core::whatif::{Edit, VariantError, variant};
 use framelab_ui::Inspector;
 use framelab_ui::app::Pane;
 use framelab_ui::headless;
@@ -147,8 +147,7 @@ fn what_if(args: &InspectArgs, edits: &[Edit]) -> anyhow::Result<(Analysed, Anal
         }
         e => e.into(),
     })?;
-    let (a, b) = (&pair.frame, &pair.variant);
-    let verdict = static_verdict(&a.capture, &a.analysis.lints, &b.capture, &b.analysis.lints);
+    let verdict = framelab_core::whatif::verdict(&pair);
     let mut said = pair.changes.join("; ");
     if verdict.safe() {
         said.push_str("; static: safe");
@@ -158,6 +157,9 @@ fn what_if(args: &InspectArgs, edits: &[Edit]) -> anyhow::Result<(Analysed, Anal
             .map(|l| format!("{} {}", l.code, l.message))
             .collect();
         said.push_str(&format!("; static: UNSAFE: {}", errors.join("; ")));
+    }
+    if let Some(note) = &verdict.note {
+        said.push_str(&format!(" ({note})"));
     }
     let _ = writeln!(std::io::stderr(), "what if: {}", printable(&said));
     let spelt: Vec<String> = edits.iter().map(Edit::spelling).collect();

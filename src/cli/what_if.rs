@@ -237,6 +237,9 @@ fn text(r: &WhatIf) -> String {
     } else {
         s.push_str("static: UNSAFE, the edits introduce:\n");
     }
+    if let Some(note) = &r.verdict.note {
+        s.push_str(&format!("  ({note})\n"));
+    }
     for l in &r.verdict.introduced {
         s.push_str(&format!("{}\n", lint_line(l)));
     }

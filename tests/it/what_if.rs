@@ -349,3 +349,42 @@ fn two_passes_merged_into_one_render_pass_load_and_store_their_target_once() {
     assert!(compared > 50, "{compared}");
     assert_eq!(r["textures_identical"].as_u64().unwrap(), compared);
 }
+
+/// On an imported frame, an edit of the model is judged by the pass-level rules on both sides
+/// (the import's command-by-command check read the stream as captured), and says so:
+/// vkd3d-triangle's two render passes on the swapchain image, with the read-after-write between
+/// them that the stream check and the Khronos layer report, merged into one, lose it.
+#[test]
+fn merging_an_imported_frames_render_passes_removes_the_hazard_between_them() {
+    let o = framelab(&[
+        "what-if",
+        "tests/fixtures/gfxr/vkd3d_triangle_f1.gfxr",
+        "--merge",
+        "render_pass+render_pass 2",
+        "--frames",
+        "2",
+        "--warmup",
+        "0",
+        "--final-only",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let r = json(&o);
+    assert_eq!(r["safe"], true);
+    assert!(
+        r["static"]["note"]
+            .as_str()
+            .unwrap()
+            .starts_with("judged by framelab's pass-level rules on both frames"),
+        "{r}"
+    );
+    assert!(r["static"]["introduced"].as_array().unwrap().is_empty());
+    let resolved = r["static"]["resolved"].as_array().unwrap();
+    assert_eq!(resolved.len(), 1, "{r}");
+    assert_eq!(resolved[0]["code"], "FL020");
+    assert_eq!(resolved[0]["pass"], "render_pass 2");
+    assert_eq!(resolved[0]["resource"], "swapchain_0");
+    let compared = r["textures_compared"].as_u64().unwrap();
+    assert!(compared >= 1);
+    assert_eq!(r["textures_identical"].as_u64().unwrap(), compared);
+}

@@ -38,6 +38,30 @@ pub struct Pair {
     pub variant: Analysed,
     /// Each change made, in words.
     pub changes: Vec<String>,
+    /// Both judged by framelab's pass-level rules (`PASS_LEVEL` says why), not by the
+    /// import's command-by-command check of the stream.
+    pub pass_level: bool,
+}
+
+/// Why an edited imported frame is judged pass by pass.
+pub const PASS_LEVEL: &str = "judged by framelab's pass-level rules on both frames: the import's command-by-command synchronization check read the stream as captured, which an edit of the model leaves as it was; edit the stream itself with --set to judge command by command";
+
+/// Leaves out the hazards the import found in the stream; whether there were any findings to
+/// leave out (the stream was checked).
+fn without_stream_check(raw: &mut crate::capture::format::RawCapture) -> bool {
+    raw.source
+        .as_mut()
+        .is_some_and(|s| s.sync_hazards.take().is_some())
+}
+
+/// The static verdict on the pair, saying how it was judged.
+pub fn verdict(pair: &Pair) -> StaticVerdict {
+    let (a, b) = (&pair.frame, &pair.variant);
+    let mut v = static_verdict(&a.capture, &a.analysis.lints, &b.capture, &b.analysis.lints);
+    if pair.pass_level {
+        v.note = Some(PASS_LEVEL.to_owned());
+    }
+    v
 }
 
 fn analysed(loaded: Loaded, options: &Options) -> Result<Analysed, StageError> {
@@ -49,15 +73,23 @@ fn analysed(loaded: Loaded, options: &Options) -> Result<Analysed, StageError> {
 /// The frame `loaded` and the variant `edits` make of `start` (the frame itself when `None`;
 /// the import of an edited stream otherwise), fixes taken from the frame's own findings.
 pub fn variant(
-    loaded: Loaded,
+    mut loaded: Loaded,
     start: Option<Loaded>,
     edits: &[Edit],
     options: &Options,
 ) -> Result<Pair, VariantError> {
-    let raw = match start {
+    let mut raw = match start {
         Some(s) => s,
         None => Loaded::from_raw(&loaded.path, loaded.raw.clone()),
     };
+    // The import's synchronization check judged the commands of the stream it read; an edit
+    // of the model (a barrier dropped, passes merged) changes no command it saw, so its
+    // findings would stand unchanged in the variant. Both frames are then judged by the same
+    // pass-level rules, which read the model; an edited stream (`--set`) alone keeps them.
+    let pass_level = !edits.is_empty() && without_stream_check(&mut raw.raw);
+    if pass_level {
+        without_stream_check(&mut loaded.raw);
+    }
     let frame = analysed(loaded, options).map_err(VariantError::Frame)?;
     let (edited, changes) = apply(&raw.raw, &frame.capture, &frame.analysis.lints, edits)?;
     let variant =
@@ -66,6 +98,7 @@ pub fn variant(
         frame,
         variant,
         changes,
+        pass_level,
     })
 }
 

@@ -18,6 +18,9 @@ pub struct StaticVerdict {
     pub introduced: Vec<LintReport>,
     /// Findings of the frame the variant no longer has.
     pub resolved: Vec<LintReport>,
+    /// How the findings were judged, where not as `analyze` judges the frame.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
 }
 
 impl StaticVerdict {
@@ -69,5 +72,6 @@ pub fn static_verdict(
             .filter(|l| !kb.contains(&key(l)))
             .cloned()
             .collect(),
+        note: None,
     }
 }
