@@ -124,6 +124,9 @@ fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
     }
 }
 
+/// A second frame with the pass pairs between the first and it.
+type Second = (Analysed, Vec<(usize, usize, bool)>);
+
 fn report(path: &Path) -> anyhow::Result<TimingReport> {
     let text = framelab_core::files::read_to_string(path, framelab_core::files::TIMING_REPORT)?;
     Ok(TimingReport::from_json(&path.display().to_string(), &text)?)
@@ -171,7 +174,9 @@ fn what_if(args: &InspectArgs, edits: &[Edit]) -> anyhow::Result<(Analysed, Anal
     Ok((pair.frame, pair.variant))
 }
 
-pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
+/// The frame, and the second one to replay beside it with the pass pairs: the variant of the
+/// what-if edits, or the `--against` capture.
+fn frames(args: &InspectArgs) -> anyhow::Result<(Analysed, Option<Second>)> {
     let edits = args.edits.edits();
     let (analysed, variant) = if edits.is_empty() {
         (
@@ -206,6 +211,75 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         }
         (None, None) => None,
     };
+    Ok((analysed, against))
+}
+
+/// The pass and resource the command line names, as positions in the inspector's model, and
+/// every choice that cannot be shown refused by name.
+fn chosen(
+    args: &InspectArgs,
+    model: &framelab_ui::model::Inspection,
+    not_replayed: bool,
+    select_id: Option<(&String, Option<framelab_core::capture::model::PassId>)>,
+    view_id: Option<(&String, Option<framelab_core::capture::model::ResourceId>)>,
+) -> anyhow::Result<(Option<usize>, Option<usize>)> {
+    let select = match select_id {
+        Some((name, id)) => Some(id.and_then(|id| model.pass_position(id)).with_context(|| {
+            let names: Vec<&str> = model.passes.iter().map(|p| p.name.as_str()).collect();
+            format!(
+                "--select: no pass \"{name}\" (passes: {})",
+                names.join(", ")
+            )
+        })?),
+        None => None,
+    };
+    let view = match view_id {
+        Some((name, id)) => Some(
+            id.and_then(|id| model.resource_position(id))
+                .with_context(|| format!("--view: no resource \"{name}\" in {}", model.capture))?,
+        ),
+        None => None,
+    };
+    if let Some(v) = view
+        && model.resources[v].texture.is_none()
+        && model.resources[v].buffer.is_none()
+    {
+        bail!(
+            "--view: \"{}\" is neither a texture nor a buffer the replay creates{}",
+            model.resources[v].name,
+            if not_replayed {
+                " (an imported capture is not replayed)"
+            } else {
+                ""
+            }
+        );
+    }
+    if let Some(v) = view
+        && args.stencil
+        && !model.resources[v]
+            .texture
+            .as_ref()
+            .is_some_and(|t| t.stencil || t.sampling == framelab_ui::model::Sampling::Stencil)
+    {
+        bail!(
+            "--stencil: \"{}\" has no stencil aspect the viewer can read",
+            model.resources[v].name
+        );
+    }
+    if let (Some(p), Some(d)) = (select, args.draw) {
+        let steps = model.passes[p].steps;
+        if d >= steps {
+            bail!(
+                "--draw {d}: pass \"{}\" has {steps} draws or dispatches",
+                model.passes[p].name
+            );
+        }
+    }
+    Ok((select, view))
+}
+
+pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
+    let (analysed, against) = frames(args)?;
     let timings = args.timings.as_deref().map(report).transpose()?;
     let compare = args.compare.as_deref().map(report).transpose()?;
     let reports = Reports {
@@ -263,58 +337,7 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
         let (model, worker) = project::launch(analysed, ctx, &reports, options)?;
         (model, Some(worker))
     };
-    let select = match select_id {
-        Some((name, id)) => Some(id.and_then(|id| model.pass_position(id)).with_context(|| {
-            let names: Vec<&str> = model.passes.iter().map(|p| p.name.as_str()).collect();
-            format!(
-                "--select: no pass \"{name}\" (passes: {})",
-                names.join(", ")
-            )
-        })?),
-        None => None,
-    };
-    let view = match view_id {
-        Some((name, id)) => Some(
-            id.and_then(|id| model.resource_position(id))
-                .with_context(|| format!("--view: no resource \"{name}\" in {}", model.capture))?,
-        ),
-        None => None,
-    };
-    if let Some(v) = view
-        && model.resources[v].texture.is_none()
-        && model.resources[v].buffer.is_none()
-    {
-        bail!(
-            "--view: \"{}\" is neither a texture nor a buffer the replay creates{}",
-            model.resources[v].name,
-            if worker.is_none() {
-                " (an imported capture is not replayed)"
-            } else {
-                ""
-            }
-        );
-    }
-    if let Some(v) = view
-        && args.stencil
-        && !model.resources[v]
-            .texture
-            .as_ref()
-            .is_some_and(|t| t.stencil || t.sampling == framelab_ui::model::Sampling::Stencil)
-    {
-        bail!(
-            "--stencil: \"{}\" has no stencil aspect the viewer can read",
-            model.resources[v].name
-        );
-    }
-    if let (Some(p), Some(d)) = (select, args.draw) {
-        let steps = model.passes[p].steps;
-        if d >= steps {
-            bail!(
-                "--draw {d}: pass \"{}\" has {steps} draws or dispatches",
-                model.passes[p].name
-            );
-        }
-    }
+    let (select, view) = chosen(args, &model, worker.is_none(), select_id, view_id)?;
     let stencil = args.stencil;
     let pixel = args.pixel;
     let (draw, history) = (args.draw, args.history);
