@@ -67,7 +67,7 @@ pub fn parse_deny(text: &str) -> Result<Deny, String> {
         "warnings" => return Ok(Deny::Warnings),
         _ => {}
     }
-    LintKind::ALL
+    LintKind::all()
         .iter()
         .find(|k| k.code().eq_ignore_ascii_case(text) || k.name() == text)
         .map(|k| Deny::Code(k.code()))

@@ -103,7 +103,7 @@ impl Edit {
             None => (s, None),
         };
         let code = code.to_ascii_uppercase();
-        if code != ALL && !LintKind::ALL.iter().any(|k| k.code() == code) {
+        if code != ALL && !LintKind::all().iter().any(|k| k.code() == code) {
             return Err(EditError::UnknownLint { code });
         }
         Ok(Edit::Fix { code, at })

@@ -3,11 +3,73 @@
 
 use std::collections::BTreeMap;
 
-use super::{Fix, Lint, LintKind, lint};
+use super::{Fix, Lint, LintDef, LintKind, LintSeverity, Linter, Rule, lint};
 use crate::analysis::barriers::{Barrier, BarrierKind, BarrierPlan};
 use crate::analysis::model::{FrameModel, MPass, MResource, State};
 use crate::capture::format::{BarrierType, ResourceState, SplitFlag};
 use crate::capture::model::{Capture, Subresources};
+
+/// FL020 `barrier-missing`: a transition or UAV barrier the frame needs was not recorded.
+pub const BARRIER_MISSING: LintKind = LintKind::new(&LintDef {
+    code: "FL020",
+    name: "barrier-missing",
+    severity: LintSeverity::Error,
+    description: "a transition or UAV barrier the frame needs was not recorded",
+});
+
+/// FL021 `barrier-redundant`: a recorded barrier the frame does not need.
+pub const BARRIER_REDUNDANT: LintKind = LintKind::new(&LintDef {
+    code: "FL021",
+    name: "barrier-redundant",
+    severity: LintSeverity::Warning,
+    description: "a recorded barrier the frame does not need",
+});
+
+/// FL022 `barrier-over-broad`: a recorded barrier covers more subresources or states than
+/// needed.
+pub const BARRIER_OVER_BROAD: LintKind = LintKind::new(&LintDef {
+    code: "FL022",
+    name: "barrier-over-broad",
+    severity: LintSeverity::Warning,
+    description: "a recorded barrier covers more subresources or states than needed",
+});
+
+/// FL023 `barrier-could-split`: a recorded barrier could be split.
+pub const BARRIER_COULD_SPLIT: LintKind = LintKind::new(&LintDef {
+    code: "FL023",
+    name: "barrier-could-split",
+    severity: LintSeverity::Info,
+    description: "a recorded barrier could be split (begin after the last use, end before the next)",
+});
+
+/// FL024 `barrier-wrong-before-state`: a recorded transition names a before-state the
+/// resource is not in.
+pub const BARRIER_WRONG_BEFORE_STATE: LintKind = LintKind::new(&LintDef {
+    code: "FL024",
+    name: "barrier-wrong-before-state",
+    severity: LintSeverity::Error,
+    description: "a recorded transition names a before-state the resource is not in",
+});
+
+/// The D3D12 barriers a capture recorded against the ones its frame needs (the Vulkan ones are
+/// `vulkan`'s, which reports with these kinds too).
+pub(super) struct RecordedBarriers;
+
+impl Rule for RecordedBarriers {
+    fn kinds(&self) -> &'static [LintKind] {
+        &[
+            BARRIER_MISSING,
+            BARRIER_REDUNDANT,
+            BARRIER_OVER_BROAD,
+            BARRIER_COULD_SPLIT,
+            BARRIER_WRONG_BEFORE_STATE,
+        ]
+    }
+
+    fn check(&self, l: &Linter<'_>, out: &mut Vec<Lint>) {
+        out.extend(compare_recorded(l.capture, l.model, l.plan));
+    }
+}
 
 fn state_of(s: ResourceState) -> State {
     match s {
@@ -50,11 +112,7 @@ pub(super) fn covers(outer: Option<&Subresources>, inner: &Subresources) -> bool
 
 /// Compares the barriers a capture recorded with the derived ones, PIX style. Runs only when
 /// the capture recorded barriers at all.
-pub(super) fn compare_recorded(
-    capture: &Capture,
-    model: &FrameModel,
-    plan: &BarrierPlan,
-) -> Vec<Lint> {
+fn compare_recorded(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -> Vec<Lint> {
     let mut out = Vec::new();
     let d3d12 =
         |b: &&crate::capture::model::RecordedBarrierDesc| b.barrier_type != BarrierType::Vulkan;
@@ -121,7 +179,7 @@ pub(super) fn compare_recorded(
                     BarrierKind::Uav => "UAV barrier".to_owned(),
                     _ => format!("transition {} -> {}", d.before.name(), d.after.name()),
                 };
-                out.push(lint(LintKind::BarrierMissing, format!("\"{}\" needs a {what} on \"{}\" that the capture did not record (a hazard)", pass.name, name(resource)), Some(pass.id), Some(resource_id)));
+                out.push(lint(BARRIER_MISSING, format!("\"{}\" needs a {what} on \"{}\" that the capture did not record (a hazard)", pass.name, name(resource)), Some(pass.id), Some(resource_id)));
                 continue;
             };
             used[i] = true;
@@ -138,7 +196,7 @@ pub(super) fn compare_recorded(
                 .fold(State::COMMON, |s, x| s.union(state_of(*x)));
             if before != d.before {
                 out.push(lint(
-                    LintKind::BarrierWrongBeforeState,
+                    BARRIER_WRONG_BEFORE_STATE,
                     format!(
                         "\"{}\" records \"{}\" going from {} but it is in {}",
                         pass.name,
@@ -157,7 +215,7 @@ pub(super) fn compare_recorded(
                 .map_or(d.range != whole, |rr| *rr != d.range);
             if after != d.after || wider_range {
                 out.push(lint(
-                    LintKind::BarrierOverBroad,
+                    BARRIER_OVER_BROAD,
                     format!(
                         "\"{}\" transitions \"{}\" to {} over {}; {} over {} is enough",
                         pass.name,
@@ -172,14 +230,14 @@ pub(super) fn compare_recorded(
                 ));
             }
             if let (Some(q), SplitFlag::None) = (d.split_begin_after, r.split) {
-                out.push(lint(LintKind::BarrierCouldSplit, format!("the transition of \"{}\" before \"{}\" could begin after \"{}\" (split barrier)", name(resource), pass.name, model.passes[q.index()].name), Some(pass.id), Some(resource_id)));
+                out.push(lint(BARRIER_COULD_SPLIT, format!("the transition of \"{}\" before \"{}\" could begin after \"{}\" (split barrier)", name(resource), pass.name, model.passes[q.index()].name), Some(pass.id), Some(resource_id)));
             }
         }
         for (i, r) in recorded.iter().enumerate() {
             if !used[i] && r.barrier_type != BarrierType::Aliasing {
                 let res = r.resource.map(|x| capture.resource(x).name.clone());
                 let mut l = lint(
-                    LintKind::BarrierRedundant,
+                    BARRIER_REDUNDANT,
                     format!(
                         "\"{}\" records a {:?} barrier on {} that the frame does not need",
                         pass.name,

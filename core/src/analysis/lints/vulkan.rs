@@ -13,13 +13,38 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::recorded::covers;
-use super::{Lint, LintKind, lint};
+use super::recorded::{
+    BARRIER_MISSING, BARRIER_OVER_BROAD, BARRIER_REDUNDANT, BARRIER_WRONG_BEFORE_STATE,
+};
+use super::{Lint, LintDef, LintKind, LintSeverity, Linter, Rule, lint};
 use crate::analysis::model::FrameModel;
 use crate::capture::format::{Access, BarrierType, HazardKind, PassKind};
 use crate::capture::model::{
     Capture, PassDesc, PassId, QueueId, ResourceAccess, ResourceId, Subresources, VulkanBarrierDesc,
 };
 use crate::capture::vulkan::{AccessFlags as A, ImageLayout as L, PipelineStages as S};
+
+/// FL025 `valid-usage`: a call breaks a valid-usage statement of the specification.
+pub const VALID_USAGE: LintKind = LintKind::new(&LintDef {
+    code: "FL025",
+    name: "valid-usage",
+    severity: LintSeverity::Error,
+    description: "a call breaks a valid-usage statement of the specification (its VUID given)",
+});
+
+/// A Vulkan frame's recorded barriers against what its passes need, and what the import found
+/// in its stream (hazards command by command, valid-usage statements broken).
+pub(super) struct VulkanBarriers;
+
+impl Rule for VulkanBarriers {
+    fn kinds(&self) -> &'static [LintKind] {
+        &[VALID_USAGE]
+    }
+
+    fn check(&self, l: &Linter<'_>, out: &mut Vec<Lint>) {
+        out.extend(compare_vulkan(l.capture, l.model, l.uses));
+    }
+}
 
 /// Vulkan's scope of one access: stages, access bits and the image layout that serves it.
 fn scope(a: Access, raster: bool) -> (S, A, Option<L>) {
@@ -247,7 +272,7 @@ impl Need {
 
 /// Compares the Vulkan barriers of an imported capture with the ones its accesses need.
 /// `uses` holds, per resource index, every pass's accesses of it in capture order.
-pub(super) fn compare_vulkan(
+fn compare_vulkan(
     capture: &Capture,
     model: &FrameModel,
     uses: &[Vec<(&PassDesc, &ResourceAccess)>],
@@ -261,9 +286,7 @@ pub(super) fn compare_vulkan(
         .as_ref()
         .and_then(|o| o.sync_hazards.as_ref())
     {
-        out.retain(|l| {
-            l.kind != LintKind::BarrierMissing && l.kind != LintKind::BarrierWrongBeforeState
-        });
+        out.retain(|l| l.kind != BARRIER_MISSING && l.kind != BARRIER_WRONG_BEFORE_STATE);
         for h in hazards {
             let resource = capture
                 .resources
@@ -278,9 +301,9 @@ pub(super) fn compare_vulkan(
                 // A barrier from the wrong old layout names a wrong before-state; anything
                 // else used in the wrong layout lacks the transition that would put it there.
                 let kind = if h.access.starts_with("old layout") {
-                    LintKind::BarrierWrongBeforeState
+                    BARRIER_WRONG_BEFORE_STATE
                 } else {
-                    LintKind::BarrierMissing
+                    BARRIER_MISSING
                 };
                 let message = format!(
                     "{}: \"{}\"{sub}: {}, but it is in {} (since {})",
@@ -297,7 +320,7 @@ pub(super) fn compare_vulkan(
                     h.prior,
                     h.prior_command
                 );
-                (LintKind::BarrierMissing, message)
+                (BARRIER_MISSING, message)
             };
             let pass = h
                 .pass
@@ -318,7 +341,7 @@ pub(super) fn compare_vulkan(
     if let Some(found) = capture.origin.as_ref().and_then(|o| o.valid_usage.as_ref()) {
         for f in found {
             let mut l = lint(
-                LintKind::ValidUsage,
+                VALID_USAGE,
                 format!("{}: {}: {}", f.command, f.vuid, f.detail),
                 None,
                 None,
@@ -500,7 +523,7 @@ fn pass_level(
             |r| format!("\"{}\"", capture.resource(r).name),
         );
         out.push(lint(
-            LintKind::BarrierRedundant,
+            BARRIER_REDUNDANT,
             format!(
                 "\"{}\": {} ({what} on {on}) orders nothing the frame needs",
                 capture.passes[p as usize].name, v.origin
@@ -562,12 +585,12 @@ fn judge(
                 && old != L::Undefined
                 && !old.serves(current)
             {
-                out.push(lint(LintKind::BarrierWrongBeforeState, format!(
+                out.push(lint(BARRIER_WRONG_BEFORE_STATE, format!(
                     "\"{pname}\": {} takes \"{name}\" from {old}, but it is in {current}", v.origin
                 ), Some(pass), Some(resource)));
             }
             if v.old_layout == Some(L::Undefined) && need.old_layout.is_some() && !need.src_writes.is_empty() && need.reads {
-                out.push(lint(LintKind::BarrierWrongBeforeState, format!(
+                out.push(lint(BARRIER_WRONG_BEFORE_STATE, format!(
                     "\"{pname}\": {} takes \"{name}\" from UNDEFINED, discarding what an earlier pass wrote", v.origin
                 ), Some(pass), Some(resource)));
             }
@@ -577,7 +600,7 @@ fn judge(
             let broad_access = (v.src_access.intersects(A::MEMORY_WRITE) && !need.src_writes.is_empty())
                 || (v.dst_access.intersects(every) && !need.dst_access.is_empty());
             if (broad_src || broad_dst || broad_access) && !v.origin.contains("implicit") {
-                out.push(lint(LintKind::BarrierOverBroad, format!(
+                out.push(lint(BARRIER_OVER_BROAD, format!(
                     "\"{pname}\": {} on \"{name}\" waits on {}/{} -> {}/{}; {} is enough",
                     v.origin,
                     v.src_stages, v.src_access, v.dst_stages, v.dst_access,
@@ -589,12 +612,12 @@ fn judge(
         None => match candidates.iter().find(|c| c.2 == Some(resource)) {
             Some(&&(p, i, _, v, _)) => {
                 used.insert((p, i));
-                out.push(lint(LintKind::BarrierMissing, format!(
+                out.push(lint(BARRIER_MISSING, format!(
                     "\"{pname}\" needs {} on \"{name}\"; {} records one but its {} (a hazard)",
                     need.describe(), v.origin, need.lacks(v).join("; ")
                 ), Some(pass), Some(resource)));
             }
-            None => out.push(lint(LintKind::BarrierMissing, format!(
+            None => out.push(lint(BARRIER_MISSING, format!(
                 "\"{pname}\" needs a barrier on \"{name}\" ({}) that the capture did not record (a hazard)",
                 need.describe()
             ), Some(pass), Some(resource))),
