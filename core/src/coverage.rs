@@ -6,7 +6,7 @@
 //!
 //! The importer and the lowering ask this table, so what it says is what they do; a test
 //! holds it against the registry (the generated decoding tables), so a member nobody thought
-//! of still gets a row, and the README's copy is checked against `markdown()`.
+//! of still gets a row, and docs/coverage.md is checked against `markdown()`.
 
 /// The replay's answer for one member of a class.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -564,7 +564,8 @@ pub fn registry_members(class: &Class) -> Vec<&'static str> {
     out
 }
 
-/// How many members of each class get each verdict, as the README's Markdown table.
+/// How many members of each class get each verdict, as the Markdown table the README and
+/// docs/importing.md show.
 pub fn summary() -> String {
     let mut s = String::from(
         "| class (registry) | members | native | emulated | no effect | setters | refused |\n| --- | --- | --- | --- | --- | --- | --- |\n",

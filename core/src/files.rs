@@ -8,7 +8,7 @@
 //! pass the limit either. Streams read incrementally (an import) are opened through `open`,
 //! which makes the same check of what the file is.
 //!
-//! The limits (also in the README's "Files framelab reads"):
+//! The limits (also in docs/capture-format.md, where files are read):
 //!
 //! | file                       | limit                                         |
 //! |----------------------------|-----------------------------------------------|

@@ -14,6 +14,7 @@ mod capture;
 mod cli;
 mod counters;
 mod diff_cli;
+mod docs;
 mod driver_rejects;
 mod dxgi_ddsfile;
 mod fuzz;

@@ -628,12 +628,14 @@ fn the_coverage_table_covers_the_registry() {
             class.title
         );
     }
-    let readme = std::fs::read_to_string(crate::common::repo().join("README.md")).unwrap();
-    assert!(
-        readme.contains(&coverage::summary()),
-        "the README's coverage summary is out of date; it is:\n{}",
-        coverage::summary()
-    );
+    for page in ["README.md", "docs/importing.md"] {
+        let text = std::fs::read_to_string(crate::common::repo().join(page)).unwrap();
+        assert!(
+            text.contains(&coverage::summary()),
+            "{page}: the coverage summary is out of date; it is:\n{}",
+            coverage::summary()
+        );
+    }
     let doc = std::fs::read_to_string(crate::common::repo().join("docs/coverage.md")).unwrap();
     let table = coverage::markdown();
     assert!(

@@ -40,7 +40,7 @@ pub enum Edit {
 pub enum EditError {
     #[error("{edit}: {why}")]
     Syntax { edit: String, why: &'static str },
-    #[error("--fix {code}: no lint has that code (the README's table of lints lists them)")]
+    #[error("--fix {code}: no lint has that code (docs/analysis.md lists them)")]
     UnknownLint { code: String },
     #[error("--fix {code}: {}", nothing_to_fix(.at, *.unfixable))]
     NothingToFix {
