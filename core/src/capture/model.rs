@@ -422,7 +422,7 @@ pub struct ShaderDesc {
     pub compute: Option<String>,
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum BindingTarget {
     Resource {
         resource: ResourceId,
@@ -432,7 +432,7 @@ pub enum BindingTarget {
     Sampler(SamplerId),
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct BindingDesc {
     pub variable: String,
     pub target: BindingTarget,

@@ -245,8 +245,8 @@ enum Change {
 fn fixes(
     capture: &Capture,
     lints: &[Lint],
-    code: &str,
-    at: Option<&str>,
+    (code, at): (&str, Option<&str>),
+    seq: usize,
 ) -> Result<Vec<Change>, EditError> {
     let about = |l: &Lint| {
         at.is_none_or(|a| {
@@ -273,6 +273,10 @@ fn fixes(
                 pass: capture.pass(pass).name.clone(),
                 index,
             },
+            Fix::MergePasses { first, second } => Change::Merge {
+                seq,
+                passes: format!("{}+{}", capture.pass(first).name, capture.pass(second).name),
+            },
         })
         .collect();
     if changes.is_empty() {
@@ -296,7 +300,9 @@ pub fn apply(
     let mut changes = BTreeSet::new();
     for (seq, e) in edits.iter().enumerate() {
         match e {
-            Edit::Fix { code, at } => changes.extend(fixes(capture, lints, code, at.as_deref())?),
+            Edit::Fix { code, at } => {
+                changes.extend(fixes(capture, lints, (code, at.as_deref()), seq)?)
+            }
             Edit::Cull { pass } => {
                 changes.insert(Change::Cull { pass: pass.clone() });
             }

@@ -6,8 +6,9 @@
 use serde::Serialize;
 
 use super::EditError;
+use crate::analysis::lints::{conflict, unordered_inside};
 use crate::capture::format::{LoadOp, Pass, PassKind, RawCapture, ShaderRef};
-use crate::capture::model::{AccessSource, Capture, PassDesc, ResourceAccess};
+use crate::capture::model::{Capture, PassDesc};
 
 /// Why two passes cannot be one render pass.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -307,41 +308,19 @@ fn loaded(a: &Pass, b: &Pass) -> Result<(), Unmergeable> {
     Ok(())
 }
 
-fn attachment(access: &ResourceAccess) -> bool {
-    matches!(
-        access.source,
-        AccessSource::ColorAttachment(_) | AccessSource::DepthStencil
-    )
-}
-
-/// Whether `x` and `y` touch the same bytes or texels, one of them writing.
-fn conflict(x: &ResourceAccess, y: &ResourceAccess) -> bool {
-    x.resource == y.resource && (x.writes || y.writes) && x.range.overlaps(&y.range)
-}
-
 /// Within one render pass nothing orders a draw's shader accesses after an earlier draw's but
 /// the attachments' rasterization order: the second pass may not read or write what the first
 /// touches, other than through the attachments both share.
 pub(super) fn within(frame: &Capture, a: &PassDesc, b: &PassDesc) -> Result<(), Unmergeable> {
-    for x in &a.accesses {
-        for y in b.accesses.iter().filter(|y| conflict(x, y)) {
-            if attachment(x) && attachment(y) {
-                continue;
-            }
-            let (writer, reader, access) = if x.writes {
-                (a, b, y.access.as_str())
-            } else {
-                (b, a, x.access.as_str())
-            };
-            return Err(Unmergeable::Within {
-                writer: writer.name.clone(),
-                resource: frame.resource(x.resource).name.clone(),
-                reader: reader.name.clone(),
-                access,
-            });
-        }
+    match unordered_inside(frame, a, b) {
+        Some(u) => Err(Unmergeable::Within {
+            writer: u.writer.name.clone(),
+            resource: u.resource.to_owned(),
+            reader: u.reader.name.clone(),
+            access: u.access,
+        }),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// A pass recorded between the two keeps its place after the second moves ahead of it: it may

@@ -173,3 +173,53 @@ fn shader_accesses_one_pass_writes_and_the_other_uses_cannot_share_a_render_pass
     // Two passes blending into one attachment are ordered by rasterization.
     assert!(within(&a.capture, pass("gi_shadow"), pass("volumetric_fog")).is_ok());
 }
+
+#[test]
+fn the_merge_lint_finds_the_pair_and_its_fix_makes_the_merge() {
+    let a = analysed(raw());
+    let found: Vec<_> = a
+        .analysis
+        .lints
+        .iter()
+        .filter(|l| l.kind.code() == "FL017")
+        .collect();
+    assert_eq!(found.len(), 1, "{found:?}");
+    let first = found[0].pass.map(|p| a.capture.pass(p).name.as_str());
+    assert_eq!(first, Some("gi_shadow"));
+    let fix = [Edit::fix("FL017").unwrap()];
+    let (edited, said) = apply(&raw(), &a.capture, &a.analysis.lints, &fix).unwrap();
+    assert_eq!(
+        said,
+        [
+            "passes \"gi_shadow\" and \"volumetric_fog\" merged into one render pass \"gi_shadow+volumetric_fog\""
+        ]
+    );
+    let b = analysed(edited);
+    assert!(!b.analysis.lints.iter().any(|l| l.kind.code() == "FL017"));
+    let v = static_verdict(&a.capture, &a.analysis.lints, &b.capture, &b.analysis.lints);
+    assert!(v.safe(), "{:?}", v.introduced);
+    assert_eq!(v.resolved.len(), 1);
+    assert_eq!(v.resolved[0].code, "FL017");
+}
+
+#[test]
+fn passes_with_another_between_them_are_not_reported() {
+    // Between them a pass that reads what the second writes: the merge would refuse to move
+    // the second ahead of it, and the lint takes only passes recorded one after the other.
+    let mut r = raw();
+    let at = r
+        .passes
+        .iter()
+        .position(|p| p.name == "volumetric_fog")
+        .unwrap();
+    let mut reader = r
+        .passes
+        .iter()
+        .find(|p| p.name == "water_reflection")
+        .unwrap()
+        .clone();
+    reader.name = "reads_composite".into();
+    r.passes.insert(at, reader);
+    let a = analysed(r);
+    assert!(!a.analysis.lints.iter().any(|l| l.kind.code() == "FL017"));
+}

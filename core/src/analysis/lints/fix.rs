@@ -19,6 +19,8 @@ pub enum Fix {
     CullPass { pass: PassId },
     /// Drop the pass's recorded barrier at `index` (in the pass's own list).
     DropBarrier { pass: PassId, index: usize },
+    /// Make two raster passes one render pass (`what-if --merge FIRST+SECOND`).
+    MergePasses { first: PassId, second: PassId },
 }
 
 impl Fix {
@@ -34,6 +36,11 @@ impl Fix {
             Fix::DropBarrier { pass, index } => format!(
                 "drop barrier {index} of pass \"{}\"",
                 capture.pass(pass).name
+            ),
+            Fix::MergePasses { first, second } => format!(
+                "merge passes \"{}\" and \"{}\" into one render pass",
+                capture.pass(first).name,
+                capture.pass(second).name
             ),
         }
     }

@@ -15,6 +15,7 @@ mod depth_read_only;
 mod descriptor_heaps;
 mod fix;
 mod missing_fences;
+mod passes_could_merge;
 mod read_before_write;
 mod recorded;
 mod redundant_copies;
@@ -27,6 +28,7 @@ mod vulkan;
 mod written_never_read;
 
 pub use fix::Fix;
+pub use passes_could_merge::{Unordered, conflict, unordered_inside};
 
 use super::barriers::BarrierPlan;
 use super::graph::PassGraph;
@@ -130,6 +132,7 @@ const RULES: &[&dyn Rule] = &[
     &missing_fences::MissingFences,
     &upload_heap::UploadHeapReads,
     &anisotropic::AnisotropicWithoutMips,
+    &passes_could_merge::PassesCouldMerge,
     &recorded::RecordedBarriers,
     &vulkan::VulkanBarriers,
 ];
