@@ -7,7 +7,7 @@ use super::{Fix, Lint, LintDef, LintKind, LintSeverity, Linter, Rule, lint};
 use crate::analysis::barriers::{Barrier, BarrierKind, BarrierPlan};
 use crate::analysis::model::{FrameModel, MPass, MResource, State};
 use crate::capture::format::{BarrierType, ResourceState, SplitFlag};
-use crate::capture::model::{Capture, Subresources};
+use crate::capture::model::{Capture, RecordedBarrierDesc, ResourceId, Subresources};
 
 /// FL020 `barrier-missing`: a transition or UAV barrier the frame needs was not recorded.
 pub const BARRIER_MISSING: LintKind = LintKind::new(&LintDef {
@@ -112,10 +112,44 @@ pub(super) fn covers(outer: Option<&Subresources>, inner: &Subresources) -> bool
 
 /// Compares the barriers a capture recorded with the derived ones, PIX style. Runs only when
 /// the capture recorded barriers at all.
+/// The union of a recorded barrier's states (COMMON when none).
+fn states(list: &[ResourceState]) -> State {
+    list.iter()
+        .fold(State::COMMON, |s, x| s.union(state_of(*x)))
+}
+
+/// The recorded barrier (and its place among `recorded`) that does what the derived barrier
+/// `d` on `resource` needs: a transition into at least its after-state over its range, or a
+/// UAV barrier on it or on every resource.
+fn matching<'r>(
+    recorded: &[&'r RecordedBarrierDesc],
+    d: &Barrier,
+    resource: ResourceId,
+) -> Option<(usize, &'r RecordedBarrierDesc)> {
+    let direct = recorded.iter().enumerate().find(|(_, r)| {
+        r.resource == Some(resource)
+            && match d.kind {
+                BarrierKind::Transition => {
+                    r.barrier_type == BarrierType::Transition
+                        && covers(r.range.as_ref(), &d.range)
+                        && states(&r.after).contains(d.after)
+                }
+                BarrierKind::Uav => r.barrier_type == BarrierType::Uav,
+                BarrierKind::Aliasing => false,
+            }
+    });
+    // A global UAV barrier (no resource) covers every UAV barrier.
+    let global = || {
+        recorded.iter().enumerate().find(|(_, r)| {
+            d.kind == BarrierKind::Uav && r.barrier_type == BarrierType::Uav && r.resource.is_none()
+        })
+    };
+    direct.or_else(global).map(|(i, r)| (i, *r))
+}
+
 fn compare_recorded(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -> Vec<Lint> {
     let mut out = Vec::new();
-    let d3d12 =
-        |b: &&crate::capture::model::RecordedBarrierDesc| b.barrier_type != BarrierType::Vulkan;
+    let d3d12 = |b: &&RecordedBarrierDesc| b.barrier_type != BarrierType::Vulkan;
     if capture
         .passes
         .iter()
@@ -145,36 +179,8 @@ fn compare_recorded(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -
                 .previous_of
                 .unwrap_or(d.resource);
             let resource_id = model.resources[resource.index()].id;
-            let matching = recorded
-                .iter()
-                .enumerate()
-                .find(|(_, r)| {
-                    r.resource == Some(resource_id)
-                        && match d.kind {
-                            BarrierKind::Transition => {
-                                r.barrier_type == BarrierType::Transition
-                                    && covers(r.range.as_ref(), &d.range)
-                                    && {
-                                        let after = r
-                                            .after
-                                            .iter()
-                                            .fold(State::COMMON, |s, x| s.union(state_of(*x)));
-                                        after.contains(d.after)
-                                    }
-                            }
-                            BarrierKind::Uav => r.barrier_type == BarrierType::Uav,
-                            BarrierKind::Aliasing => false,
-                        }
-                })
-                .or_else(|| {
-                    // A global UAV barrier (no resource) covers every UAV barrier.
-                    recorded.iter().enumerate().find(|(_, r)| {
-                        d.kind == BarrierKind::Uav
-                            && r.barrier_type == BarrierType::Uav
-                            && r.resource.is_none()
-                    })
-                });
-            let Some((i, r)) = matching else {
+            let found = matching(&recorded, d, resource_id);
+            let Some((i, r)) = found else {
                 let what = match d.kind {
                     BarrierKind::Uav => "UAV barrier".to_owned(),
                     _ => format!("transition {} -> {}", d.before.name(), d.after.name()),
@@ -186,14 +192,7 @@ fn compare_recorded(capture: &Capture, model: &FrameModel, plan: &BarrierPlan) -
             if d.kind != BarrierKind::Transition {
                 continue;
             }
-            let before = r
-                .before
-                .iter()
-                .fold(State::COMMON, |s, x| s.union(state_of(*x)));
-            let after = r
-                .after
-                .iter()
-                .fold(State::COMMON, |s, x| s.union(state_of(*x)));
+            let (before, after) = (states(&r.before), states(&r.after));
             if before != d.before {
                 out.push(lint(
                     BARRIER_WRONG_BEFORE_STATE,

@@ -374,13 +374,9 @@ fn layout_vuid(command: &str, access: &str) -> Option<String> {
 }
 
 /// The pass-level comparison of the barriers each resource's uses need with those recorded.
-fn pass_level(
-    capture: &Capture,
-    model: &FrameModel,
-    uses: &[Vec<(&PassDesc, &ResourceAccess)>],
-) -> Vec<Lint> {
-    let mut out = Vec::new();
-    let recorded: Vec<Recorded<'_>> = capture
+/// Every Vulkan barrier the capture recorded, pass by pass in recording order.
+fn vulkan_recorded(capture: &Capture) -> Vec<Recorded<'_>> {
+    capture
         .passes
         .iter()
         .flat_map(|p| {
@@ -392,7 +388,16 @@ fn pass_level(
                 Some((p.id.0, i, b.resource, v, b.range.as_ref()))
             })
         })
-        .collect();
+        .collect()
+}
+
+fn pass_level(
+    capture: &Capture,
+    model: &FrameModel,
+    uses: &[Vec<(&PassDesc, &ResourceAccess)>],
+) -> Vec<Lint> {
+    let mut out = Vec::new();
+    let recorded = vulkan_recorded(capture);
     if recorded.is_empty() {
         return out;
     }

@@ -25,17 +25,7 @@ impl Builder {
         let mut compute: Option<usize> = None;
         let mut render = inherited;
         for (i, cmd) in recording.cmds.iter().enumerate() {
-            // The work of these goes into the pass last started on the queue once it is done.
-            let origin = recording.at.get(i).filter(|_| {
-                matches!(
-                    cmd,
-                    Cmd::BeginRender(_)
-                        | Cmd::Draw(_)
-                        | Cmd::ClearAttachments(_)
-                        | Cmd::Dispatch(_)
-                        | Cmd::Transfer(_)
-                )
-            });
+            let origin = work_origin(recording, i, cmd);
             if !matches!(cmd, Cmd::Dispatch(_)) {
                 compute = None;
             }
@@ -200,4 +190,18 @@ impl Builder {
         self.work += n;
         true
     }
+}
+
+/// The call a command of `recording` came from, for the commands whose work goes into the pass
+/// last started on the queue once it is done.
+fn work_origin<'a>(recording: &'a Recording, i: usize, cmd: &Cmd) -> Option<&'a Origin> {
+    let work = matches!(
+        cmd,
+        Cmd::BeginRender(_)
+            | Cmd::Draw(_)
+            | Cmd::ClearAttachments(_)
+            | Cmd::Dispatch(_)
+            | Cmd::Transfer(_)
+    );
+    recording.at.get(i).filter(|_| work)
 }
