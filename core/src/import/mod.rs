@@ -32,6 +32,7 @@ mod tree;
 mod valid_usage;
 mod valid_usage_buffers;
 mod valid_usage_clears;
+mod valid_usage_spirv;
 mod value;
 mod vk_work;
 
@@ -222,6 +223,9 @@ struct Importer {
     walked: u64,
     /// Valid-usage statements the calls break (`valid_usage`), at most `MAX_FINDINGS`.
     valid_usage: Vec<crate::capture::format::ValidUsageFinding>,
+    /// Each shader module's creating call (`vkCreateShaderModule #N`), where its code is
+    /// validated.
+    module_calls: BTreeMap<u64, String>,
 }
 
 /// Most valid-usage findings one import keeps: a program that breaks a rule in every call
@@ -411,8 +415,14 @@ impl Importer {
             Func::QueuePresent => self.present(call, args)?,
             Func::AcquireNextImage { v2 } => self.acquire(call, args, v2)?,
             Func::HostWait(wait) => self.host_wait(args, wait)?,
-            Func::CreateShaderModule
-            | Func::CreateSampler
+            Func::CreateShaderModule => {
+                if let Ok(h) = args.get("pShaderModule").and_then(|h| h.handle()) {
+                    self.module_calls
+                        .insert(h, format!("{} #{}", call.name, call.index));
+                }
+                return self.pipelines.apply(call.func, args);
+            }
+            Func::CreateSampler
             | Func::CreateDescriptorSetLayout
             | Func::CreatePipelineLayout
             | Func::CreatePipelines { .. } => return self.pipelines.apply(call.func, args),
@@ -646,6 +656,7 @@ impl Importer {
             hidden_blocks: false,
             sync: sync::Sync::new(!options.skip_sync_check),
             valid_usage: Vec::new(),
+            module_calls: BTreeMap::new(),
         }
     }
 
@@ -700,6 +711,33 @@ fn refusal(refused: &BTreeMap<String, u64>) -> Option<String> {
 }
 
 /// The capture and summary from everything the importer gathered.
+/// Every module whose code the capture holds, validated at its creating call (a module the
+/// stream holds no call for, at its handle), in the order of the calls.
+fn spirv_validity(
+    calls: &BTreeMap<u64, String>,
+    modules: &BTreeMap<u64, Vec<u8>>,
+    rules: valid_usage_spirv::Rules,
+) -> (Vec<crate::capture::format::ValidUsageFinding>, Vec<String>) {
+    let index = |command: &str| {
+        command
+            .rsplit_once('#')
+            .and_then(|(_, n)| n.parse::<u64>().ok())
+            .unwrap_or(u64::MAX)
+    };
+    let mut list: Vec<(String, &[u8])> = modules
+        .iter()
+        .map(|(h, code)| {
+            let command = calls
+                .get(h)
+                .cloned()
+                .unwrap_or_else(|| format!("vkCreateShaderModule (module {h})"));
+            (command, code.as_slice())
+        })
+        .collect();
+    list.sort_by_key(|(command, _)| index(command));
+    valid_usage_spirv::check(&list, rules)
+}
+
 fn finish(
     mut imp: Importer,
     read: Read,
@@ -761,6 +799,16 @@ fn finish(
         });
     }
     let mut valid_usage = std::mem::take(&mut imp.valid_usage);
+    if imp_checked && let Some(x) = &extras {
+        let (found, notes) =
+            spirv_validity(&imp.module_calls, &x.contents.modules, imp.objects.spirv);
+        valid_usage.extend(found);
+        skipped.extend(notes.into_iter().map(|what| Skipped {
+            what,
+            count: 1,
+            first_line: None,
+        }));
+    }
     valid_usage.truncate(MAX_FINDINGS);
     let valid_usage_count = valid_usage.len();
     let pipelines_used = std::mem::take(&mut imp.builder.pipelines_used);

@@ -214,6 +214,8 @@ pub struct Objects {
     /// Whether the device enabled the `synchronization2` feature: a barrier from a layout to
     /// itself is then no transition and its layouts are ignored.
     pub synchronization2: bool,
+    /// What the device allows its SPIR-V, as the validator's options.
+    pub spirv: super::valid_usage_spirv::Rules,
 }
 
 /// Whether a create info asks for `VK_SHARING_MODE_CONCURRENT` (by name or value).
@@ -284,14 +286,31 @@ impl Objects {
                 self.instance_created |= func == Func::CreateInstance;
                 self.depth_range_unrestricted =
                     self.extensions.contains("VK_EXT_depth_range_unrestricted");
-                // VkPhysicalDeviceSynchronization2Features or VkPhysicalDeviceVulkan13Features.
+                self.spirv.spirv_1_4 = self.extensions.contains("VK_KHR_spirv_1_4");
+                if func == Func::CreateInstance {
+                    let version = ci
+                        .opt("pApplicationInfo")
+                        .and_then(|a| a.opt("apiVersion"))
+                        .and_then(|v| v.u64().ok())
+                        .unwrap_or(0);
+                    // VK_API_VERSION_MINOR.
+                    self.spirv.api_minor = ((version >> 12) & 0x3ff) as u32;
+                }
+                // Features in their own structures or in VkPhysicalDeviceVulkan1xFeatures.
                 let mut next = ci.opt("pNext");
-                while let Some(n) = next {
-                    if n.opt("synchronization2")
+                let on = |n: &Arg<'_>, member: &str| {
+                    n.opt(member)
                         .and_then(|v| v.u64().ok())
                         .is_some_and(|v| v != 0)
-                    {
+                };
+                while let Some(n) = next {
+                    if on(&n, "synchronization2") {
                         self.synchronization2 = true;
+                    }
+                    for feature in super::valid_usage_spirv::Rules::FEATURES {
+                        if on(&n, feature) {
+                            self.spirv.enable(feature);
+                        }
                     }
                     next = n.opt("pNext");
                 }

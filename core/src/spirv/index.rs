@@ -80,6 +80,28 @@ impl Consumer for Tracking<'_> {
     }
 }
 
+/// The words with every `OpSource` whose language this SPIR-V grammar does not know said to
+/// be of an unknown language (0), or `None` where there is none. The language is debug
+/// information drivers ignore; SPIRV-Tools and rspirv reject a value they do not know (a
+/// newer language, or a compiler's own), which would refuse a module a driver runs. The
+/// words keep their places. Runs after `check_stream`, which bounds every instruction.
+fn known_source_language(words: &[u32]) -> Option<Vec<u32>> {
+    let mut out: Option<Vec<u32>> = None;
+    let mut at = HEADER_WORDS;
+    while let Some(&first) = words.get(at) {
+        let count = ((first >> 16) as usize).max(1);
+        if first & 0xffff == Op::Source as u32
+            && count >= 2
+            && let Some(&language) = words.get(at + 1)
+            && rspirv::spirv::SourceLanguage::from_u32(language).is_none()
+        {
+            out.get_or_insert_with(|| words.to_vec())[at + 1] = 0;
+        }
+        at += count;
+    }
+    out
+}
+
 /// Checks the header and loads the module, converting rspirv's errors to `Malformed` with the
 /// word offset of the instruction at fault.
 pub(super) fn load(words: &[u32]) -> Result<Loaded, SpirvError> {
@@ -96,6 +118,8 @@ pub(super) fn load(words: &[u32]) -> Result<Loaded, SpirvError> {
         return Err(SpirvError::BadMagic { found: magic });
     }
     check_stream(words)?;
+    let relabelled = known_source_language(words);
+    let words = relabelled.as_deref().unwrap_or(words);
     let split = super::specop::split_spec_ops(words)?;
     let original = |at: usize| split.as_ref().map_or(at, |s| s.original(at));
     let words = split.as_ref().map_or(words, |s| s.words.as_slice());

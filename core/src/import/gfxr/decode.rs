@@ -286,6 +286,19 @@ impl<'a> Reader<'a, '_> {
             if !self.track {
                 return Err(RETRACK.to_owned().into());
             }
+            // An element of the blob (`pCreateInfo.pCode[5]`, a word of shader code) is found
+            // as any scalar is.
+            if let Some(seek) = self.seek
+                && self.found.is_none()
+                && let Some(i) = seek
+                    .strip_prefix(self.at().as_str())
+                    .and_then(|rest| rest.strip_prefix('['))
+                    .and_then(|rest| rest.strip_suffix(']'))
+                    .and_then(|i| i.parse::<usize>().ok())
+                    .filter(|i| *i < n)
+            {
+                self.found = Some((self.pos + i * width, width));
+            }
             let bytes = self.take(n * width)?.to_vec();
             let shown = self.tree.string(&format!("({} bytes)", bytes.len()));
             self.blobs.push((self.at(), bytes));

@@ -253,3 +253,23 @@ fn damaged_modules_never_panic() {
     }
     assert_eq!(variants, 1500 * inputs.len());
 }
+
+#[test]
+fn a_source_language_the_grammar_does_not_know_is_no_refusal() {
+    // vkcube's fragment shader with its OpSource (word 25: GLSL) said to be of language 99,
+    // which SPIRV-Tools rejects and drivers run: reflected and rewritten as the original.
+    let original = fixture("vkcube_f3/sh37");
+    assert_eq!(original[25] & 0xffff, 3, "an OpSource at word 25");
+    let mut words = original.clone();
+    words[26] = 99;
+    assert_eq!(reflect(&words).unwrap(), reflect(&original).unwrap());
+    let out = rewrite(&words, ExecutionModel::Vertex, "main", &opts(false)).unwrap();
+    // rspirv loads what the rewrite wrote: the language, where kept, is one it knows.
+    let module = load(&out);
+    assert!(
+        module
+            .debug_string_source
+            .iter()
+            .all(|i| i.class.opcode != Op::Source || i.operands[0] != Operand::LiteralBit32(99))
+    );
+}
