@@ -316,8 +316,8 @@ pub fn command(name: &str) -> Option<Verdict> {
         ),
         (_, "DrawIndirectCount" | "DrawIndexedIndirectCount")
         | (_, "DrawIndirectCountKHR" | "DrawIndexedIndirectCountKHR")
-        | (_, "DrawIndirectCountAMD" | "DrawIndexedIndirectCountAMD") => Verdict::Refused(
-            "a draw count read from a buffer on the GPU (wgpu's multi-draw-indirect-count is not used yet)",
+        | (_, "DrawIndirectCountAMD" | "DrawIndexedIndirectCountAMD") => Verdict::Emulated(
+            "wgpu's multi_draw_indirect_count (the adapter's MULTI_DRAW_INDIRECT_COUNT feature, refused by name without it); records a stride apart other than their own size are refused",
         ),
         (_, "DrawMultiEXT" | "DrawMultiIndexedEXT") => Verdict::Emulated(
             "one draw per list entry, with the call's instances (and `pVertexOffset` for every indexed entry where given)",

@@ -221,6 +221,8 @@ pub struct DrawOp {
     pub first_instance: u32,
     pub base_vertex: i32,
     pub indirect: Option<(usize, u64)>,
+    /// Count buffer, offset and most records of a draw whose count the GPU reads.
+    pub draw_count: Option<(usize, u64, u32)>,
     pub stencil_reference: Option<u32>,
     /// No fragment stage (see the format's `Draw::depth_only`).
     pub depth_only: bool,

@@ -170,6 +170,8 @@ pub struct VkDrawOp {
     pub first_instance: u32,
     pub base_vertex: i32,
     pub indirect: Option<(usize, u64)>,
+    /// Count buffer, offset and most records of a draw whose count the GPU reads.
+    pub draw_count: Option<(usize, u64, u32)>,
 }
 
 #[derive(Debug, Clone)]

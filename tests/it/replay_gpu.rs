@@ -720,3 +720,72 @@ fn frames_with_more_stamps_than_a_query_set_holds_are_timed_whole() {
         assert!(untimed.is_empty(), "untimed: {untimed:?}");
     }
 }
+
+/// An indirect draw whose count the GPU reads (`indirect.count`, replayed by wgpu's
+/// `multi_draw_indirect_count`): the example's orb draw given a count buffer that its reset
+/// pass clears to 1 draws the frame as the example does, pixel for pixel; cleared to 0, as
+/// the example without the orb draw. Both under the validation layer without a message.
+#[test]
+fn indirect_draw_counts_are_read_on_the_gpu() {
+    use serde_json::json;
+    let dir = temp("draw-count");
+    let variant = |name: &str, change: &dyn Fn(&mut serde_json::Value)| -> PathBuf {
+        let at = dir.join(name);
+        let mut capture = crate::common::example_copy(&at);
+        change(&mut capture);
+        let file = at.join("frame.json");
+        std::fs::write(&file, serde_json::to_string_pretty(&capture).unwrap()).unwrap();
+        file
+    };
+    let counted = |n: u32| {
+        move |c: &mut serde_json::Value| {
+            c["resources"].as_array_mut().unwrap().push(json!({
+                "name": "draw_count", "kind": "buffer", "buffer_kind": "byte_address",
+                "size": 4, "flags": ["ALLOW_UNORDERED_ACCESS"]
+            }));
+            let reset = &mut c["passes"][2];
+            assert_eq!(reset["name"], "reset_args");
+            reset["clears"]
+                .as_array_mut()
+                .unwrap()
+                .push(json!({"resource": "draw_count", "value": [n, n, n, n]}));
+            let orb = &mut c["passes"][4]["draws"][1];
+            assert_eq!(orb["mesh"], "orb");
+            orb["indirect"]["count"] = json!({"buffer": "draw_count", "max_draws": 1});
+        }
+    };
+    let ldr = |capture: &Path, name: &str| {
+        let out = dir.join(format!("{name}_out"));
+        crate::common::replay_export(capture, &out);
+        png(&out.join("ldr.png")).to_rgba8()
+    };
+    let example = variant("example", &|_| {});
+    let one = variant("one", &counted(1));
+    let zero = variant("zero", &counted(0));
+    let without = variant("without", &|c| {
+        c["passes"][4]["draws"].as_array_mut().unwrap().remove(1);
+    });
+    let (a, b) = (ldr(&example, "example"), ldr(&one, "one"));
+    assert!(a == b, "a count of 1 draws the orbs as the example does");
+    let (c, d) = (ldr(&zero, "zero"), ldr(&without, "without"));
+    assert!(
+        c == d,
+        "a count of 0 draws what the frame without the draw does"
+    );
+    assert!(a != c, "the orbs are drawn at all");
+    for capture in [&one, &zero] {
+        let out = dir.join("layer_out");
+        crate::common::assert_clean_under_validation_layer(
+            &dir,
+            &[
+                "replay",
+                capture.to_str().unwrap(),
+                "--frames",
+                "1",
+                "--quiet",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+    }
+}

@@ -402,9 +402,68 @@ fn secondary_command_buffers_continue_their_render_pass() {
     assert_eq!(names(&inline), names(&nested));
 }
 
+/// `vkCmdDrawIndirectCount` (and its indexed, KHR and AMD names) becomes an indirect draw whose
+/// count the GPU reads: the arguments' buffer and offset, the count's buffer and offset and the
+/// most records, each buffer by its name; its records must lie packed, as wgpu reads them
+/// (records any other distance apart refuse the frame, naming the call and pass; with one
+/// record the distance is never used). Here vkcube's draws replaced by such a call over its
+/// first uniform buffer.
+#[test]
+fn draw_counts_read_on_the_gpu_are_imported_as_counted_indirect_draws() {
+    let dir = temp("draw-count");
+    let counted = |max: u64, stride: u64| {
+        move |lines: Vec<String>| -> Vec<String> {
+            lines
+                .into_iter()
+                .map(|line| match call_of(&line) {
+                    Some((cb, name)) if name == "vkCmdDraw" => cmd_line(
+                        7,
+                        "vkCmdDrawIndirectCountKHR",
+                        cb,
+                        json!({"buffer": 28, "offset": 64, "countBuffer": 28,
+                               "countBufferOffset": 4, "maxDrawCount": max, "stride": stride}),
+                    ),
+                    _ => line,
+                })
+                .collect()
+        }
+    };
+    // (A JSON Lines stream never replays: it holds no shader code. Nothing more is said.)
+    let refused = |v: &Value| {
+        v["source"]["not_replayable"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("vkCmdDrawIndirectCount")
+    };
+    let (v, said) = import_stream(&dir, counted(3, 16));
+    assert!(!refused(&v), "{said}");
+    let d = draws(&v);
+    assert_eq!(d.len(), 1, "the frame's one draw");
+    let buffer = d[0]["indirect"]["buffer"].clone();
+    assert!(buffer.is_string(), "{}", d[0]);
+    assert_eq!(
+        d[0]["indirect"],
+        json!({"buffer": buffer, "offset": 64,
+               "count": {"buffer": buffer, "offset": 4, "max_draws": 3}})
+    );
+    // One record: its distance from the next is never used.
+    let (v, said) = import_stream(&dir, counted(1, 40));
+    assert!(!refused(&v), "{said}");
+    let (v, said) = import_stream(&dir, counted(2, 32));
+    let why = v["source"]["not_replayable"].as_str().unwrap_or_default();
+    for part in [
+        "an indirect draw count over records 32 bytes apart (wgpu reads them packed, 16 bytes each)",
+        "vkCmdDrawIndirectCountKHR #7",
+        "pass \"render_pass\"",
+    ] {
+        assert!(why.contains(part), "missing {part:?} in {why:?}");
+        assert!(said.contains(part), "missing {part:?} in:\n{said}");
+    }
+}
+
 /// Work the replay cannot reproduce, met in an imported frame, makes the frame refuse to
-/// replay with the command and the pass named: here a draw count read from a buffer, a clear
-/// of attachment layers beyond the first, and draws recorded outside any render pass.
+/// replay with the command and the pass named: here a vertex count from transform feedback,
+/// a clear of attachment layers beyond the first, and draws recorded outside any render pass.
 #[test]
 fn work_the_replay_cannot_do_is_refused_with_its_pass() {
     let dir = temp("refused");
@@ -416,7 +475,7 @@ fn work_the_replay_cannot_do_is_refused_with_its_pass() {
             if let Some((cb, name)) = call
                 && name == "vkCmdBeginRenderPass"
             {
-                out.push(cmd_line(7, "vkCmdDrawIndirectCount", cb, json!({})));
+                out.push(cmd_line(7, "vkCmdDrawIndirectByteCountEXT", cb, json!({})));
                 out.push(cmd_line(
                     8,
                     "vkCmdClearAttachments",
@@ -432,9 +491,9 @@ fn work_the_replay_cannot_do_is_refused_with_its_pass() {
     });
     let why = v["source"]["not_replayable"].as_str().unwrap_or_default();
     for part in [
-        "vkCmdDrawIndirectCount",
-        "a draw count read from a buffer on the GPU",
-        "vkCmdDrawIndirectCount #7",
+        "vkCmdDrawIndirectByteCountEXT",
+        "transform feedback: wgpu has none",
+        "vkCmdDrawIndirectByteCountEXT #7",
         "pass \"render_pass\"",
         "vkCmdClearAttachments: clears of layers other than the first",
         "vkCmdClearAttachments #8",

@@ -485,6 +485,9 @@ pub struct DrawDesc {
     pub first_instance: u32,
     pub base_vertex: i32,
     pub indirect: Option<(ResourceId, u64)>,
+    /// The count buffer, offset and most records of an indirect draw whose count the GPU
+    /// reads (`IndirectArgs::count`).
+    pub draw_count: Option<(ResourceId, u64, u32)>,
     pub stencil_reference: Option<u32>,
     /// Runs no fragment shader (see the format's `Draw::depth_only`).
     pub depth_only: bool,

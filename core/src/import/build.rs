@@ -18,8 +18,8 @@ use super::state::Objects;
 use crate::capture::dxgi;
 use crate::capture::format::{
     BarrierType, Clear, ColorAttachment, Copy, CopyLocation, DepthStencilAttachment, Dispatch,
-    Draw, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range, RecordedBarrier, Resolve,
-    SplitFlag, StoreOp, VkImageView, VkIndexBuffer, VkVertexBuffer, VulkanBarrier,
+    Draw, DrawCount, IndirectArgs, LoadOp, Pass, PassKind, QueueType, Range, RecordedBarrier,
+    Resolve, SplitFlag, StoreOp, VkImageView, VkIndexBuffer, VkVertexBuffer, VulkanBarrier,
 };
 
 mod attachment_clears;
@@ -686,9 +686,24 @@ impl Builder {
             }
         }
         let index_buffer = vk_index.as_ref().map(|i| i.resource.clone());
+        let count = match &d.draw_count {
+            Some(c) => match self.resource(objects, c.buffer) {
+                Some(buffer) => Some(DrawCount {
+                    buffer,
+                    offset: c.offset,
+                    max_draws: c.max_draws,
+                }),
+                None => return,
+            },
+            None => None,
+        };
         let indirect = match d.indirect {
             Some((b, offset)) => match self.resource(objects, b) {
-                Some(buffer) => Some(IndirectArgs { buffer, offset }),
+                Some(buffer) => Some(IndirectArgs {
+                    buffer,
+                    offset,
+                    count,
+                }),
                 None => return,
             },
             None => None,
@@ -722,7 +737,11 @@ impl Builder {
         self.bind(objects, pass, &d.uses, d.pipeline.map(|p| (pipelines, p)));
         let indirect = match d.indirect {
             Some((b, offset)) => match self.resource(objects, b) {
-                Some(buffer) => Some(IndirectArgs { buffer, offset }),
+                Some(buffer) => Some(IndirectArgs {
+                    buffer,
+                    offset,
+                    count: None,
+                }),
                 None => return,
             },
             None => None,

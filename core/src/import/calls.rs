@@ -149,6 +149,10 @@ pub enum CmdFunc {
     DrawIndirect {
         indexed: bool,
     },
+    /// `vkCmdDrawIndirectCount` and its KHR and AMD names: the count read on the GPU.
+    DrawIndirectCount {
+        indexed: bool,
+    },
     /// `vkCmdDrawMultiEXT` / `vkCmdDrawMultiIndexedEXT`: a list of draws in one call.
     DrawMulti {
         indexed: bool,
@@ -390,6 +394,12 @@ impl CmdFunc {
             "vkCmdDrawIndexed" => C::Draw { indexed: true },
             "vkCmdDrawIndirect" => C::DrawIndirect { indexed: false },
             "vkCmdDrawIndexedIndirect" => C::DrawIndirect { indexed: true },
+            "vkCmdDrawIndirectCount"
+            | "vkCmdDrawIndirectCountKHR"
+            | "vkCmdDrawIndirectCountAMD" => C::DrawIndirectCount { indexed: false },
+            "vkCmdDrawIndexedIndirectCount"
+            | "vkCmdDrawIndexedIndirectCountKHR"
+            | "vkCmdDrawIndexedIndirectCountAMD" => C::DrawIndirectCount { indexed: true },
             "vkCmdDrawMultiEXT" => C::DrawMulti { indexed: false },
             "vkCmdDrawMultiIndexedEXT" => C::DrawMulti { indexed: true },
             "vkCmdDispatch" | "vkCmdDispatchBase" | "vkCmdDispatchBaseKHR" => C::Dispatch,
@@ -502,7 +512,11 @@ mod tests {
             Func::Cmd(CmdFunc::ClearAttachments)
         );
         assert_eq!(
-            Func::of("vkCmdDrawIndirectCount"),
+            Func::of("vkCmdDrawIndexedIndirectCountAMD"),
+            Func::Cmd(CmdFunc::DrawIndirectCount { indexed: true })
+        );
+        assert_eq!(
+            Func::of("vkCmdDrawIndirectByteCountEXT"),
             Func::Cmd(CmdFunc::Refused)
         );
         assert_eq!(Func::of("vkCmdFutureThing"), Func::Cmd(CmdFunc::Refused));

@@ -34,6 +34,8 @@ pub struct DrawCmd {
     pub base_vertex: i32,
     pub first_instance: u32,
     pub indirect: Option<(u64, u64)>,
+    /// Where the GPU reads the draw's count (`vkCmdDrawIndirectCount`).
+    pub draw_count: Option<DrawCountCmd>,
     pub uses: Vec<Use>,
     /// (binding, buffer, offset).
     pub vertex_buffers: Vec<(u32, u64, u64)>,
@@ -42,6 +44,16 @@ pub struct DrawCmd {
     /// The graphics pipeline bound.
     pub pipeline: Option<u64>,
     pub state: VkCommandState,
+}
+
+/// `vkCmdDrawIndirectCount`'s count buffer, the most records it draws, and how far apart
+/// they are.
+#[derive(Clone, Debug)]
+pub struct DrawCountCmd {
+    pub buffer: u64,
+    pub offset: u64,
+    pub max_draws: u32,
+    pub stride: u32,
 }
 
 #[derive(Clone, Debug)]

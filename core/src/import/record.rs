@@ -9,8 +9,8 @@ use std::collections::BTreeMap;
 use super::calls::CmdFunc;
 use super::calls::SetState;
 use super::commands::{
-    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, LevelRange, MAX_INDIRECT_DRAWS, Origin,
-    TransferCmd, Use,
+    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, DrawCountCmd, LevelRange,
+    MAX_INDIRECT_DRAWS, Origin, TransferCmd, Use,
 };
 use super::render_pass;
 use super::state::{Descriptor, Objects, debug_text};
@@ -239,6 +239,18 @@ impl Recording {
             CmdFunc::Draw { indexed } => self.draw_call(indexed, args)?,
             CmdFunc::DrawIndirect { indexed } => {
                 return self.draw_indirect(indexed, args, &origin()).map(|()| true);
+            }
+            CmdFunc::DrawIndirectCount { indexed } => {
+                let indirect = (args.get("buffer")?.handle()?, args.get("offset")?.u64()?);
+                Cmd::Draw(Box::new(DrawCmd {
+                    draw_count: Some(DrawCountCmd {
+                        buffer: args.get("countBuffer")?.handle()?,
+                        offset: args.get("countBufferOffset")?.u64()?,
+                        max_draws: args.get("maxDrawCount")?.u32()?,
+                        stride: args.get("stride")?.u32()?,
+                    }),
+                    ..self.draw(indexed, Some(indirect))
+                }))
             }
             CmdFunc::DrawMulti { indexed } => {
                 return self.draw_multi(indexed, args, &origin()).map(|()| true);
@@ -722,6 +734,7 @@ impl Recording {
             base_vertex: 0,
             first_instance: 0,
             indirect,
+            draw_count: None,
             uses: self.uses(false),
             vertex_buffers: self
                 .bound

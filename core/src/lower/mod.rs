@@ -56,6 +56,8 @@ pub fn wanted_features() -> Features {
         | Features::SHADER_I16
         | Features::SHADER_F16
         | Features::SHADER_DRAW_INDEX
+        // Imported indirect draws whose count the GPU reads (`vkCmdDrawIndirectCount`).
+        | Features::MULTI_DRAW_INDIRECT_COUNT
 }
 
 #[derive(Debug, thiserror::Error)]

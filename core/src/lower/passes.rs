@@ -124,6 +124,20 @@ impl<'c> Lowering<'c> {
             .transpose()
     }
 
+    /// A draw count's buffer at plan level; the pass then needs wgpu's
+    /// `MULTI_DRAW_INDIRECT_COUNT`.
+    pub(super) fn draw_count(
+        &mut self,
+        p: &'c PassDesc,
+        count: Option<(ResourceId, u64, u32)>,
+    ) -> Result<Option<(usize, u64, u32)>, LowerError> {
+        let Some((b, offset, most)) = count else {
+            return Ok(None);
+        };
+        *self.pass_features.entry(&p.name).or_default() |= Features::MULTI_DRAW_INDIRECT_COUNT;
+        Ok(Some((self.buf(p, b)?, offset, most)))
+    }
+
     pub(super) fn buf(&self, p: &PassDesc, r: ResourceId) -> Result<usize, LowerError> {
         self.buffer_of.get(&r).copied().ok_or_else(|| {
             pass_error(
@@ -228,6 +242,7 @@ impl<'c> Lowering<'c> {
                     first_instance: d.first_instance,
                     base_vertex: d.base_vertex,
                     indirect: self.indirect(p, d.indirect)?,
+                    draw_count: self.draw_count(p, d.draw_count)?,
                     stencil_reference: d.stencil_reference,
                     depth_only: d.depth_only,
                     params: params(&d.params),

@@ -229,9 +229,19 @@ impl Session {
             match (mesh.and_then(|m| m.index.as_ref()), d.indirect) {
                 (Some((ib, format, _)), Some((b, offset))) => {
                     rp.set_index_buffer(ib.slice(..), *format);
-                    rp.draw_indexed_indirect(buf(b), offset);
+                    match d.draw_count {
+                        Some((c, at, most)) => {
+                            rp.multi_draw_indexed_indirect_count(buf(b), offset, buf(c), at, most);
+                        }
+                        None => rp.draw_indexed_indirect(buf(b), offset),
+                    }
                 }
-                (None, Some((b, offset))) => rp.draw_indirect(buf(b), offset),
+                (None, Some((b, offset))) => match d.draw_count {
+                    Some((c, at, most)) => {
+                        rp.multi_draw_indirect_count(buf(b), offset, buf(c), at, most)
+                    }
+                    None => rp.draw_indirect(buf(b), offset),
+                },
                 (Some((ib, format, n)), None) => {
                     rp.set_index_buffer(ib.slice(..), *format);
                     let count = d.count.unwrap_or(*n);

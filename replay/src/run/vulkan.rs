@@ -555,9 +555,19 @@ impl Session {
             match (d.index, d.indirect) {
                 (Some((ib, offset, format)), Some((b, at))) => {
                     rp.set_index_buffer(buf(ib).slice(offset..), format);
-                    rp.draw_indexed_indirect(buf(b), at);
+                    match d.draw_count {
+                        Some((c, c_at, most)) => {
+                            rp.multi_draw_indexed_indirect_count(buf(b), at, buf(c), c_at, most);
+                        }
+                        None => rp.draw_indexed_indirect(buf(b), at),
+                    }
                 }
-                (None, Some((b, at))) => rp.draw_indirect(buf(b), at),
+                (None, Some((b, at))) => match d.draw_count {
+                    Some((c, c_at, most)) => {
+                        rp.multi_draw_indirect_count(buf(b), at, buf(c), c_at, most);
+                    }
+                    None => rp.draw_indirect(buf(b), at),
+                },
                 (Some((ib, offset, format)), None) => {
                     rp.set_index_buffer(buf(ib).slice(offset..), format);
                     rp.draw_indexed(

@@ -78,6 +78,21 @@ pub struct IndirectArgs {
     pub buffer: String,
     #[serde(default)]
     pub offset: u64,
+    /// A draw's count read from a buffer on the GPU (`vkCmdDrawIndirectCount`, D3D12's
+    /// `ExecuteIndirect` with a count buffer): that many records, at most `max_draws`, packed
+    /// one after another from `offset`. Draws only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<DrawCount>,
+}
+
+/// Where an indirect draw's count is read (a 32-bit number), and the most records it draws.
+#[derive(Clone, Debug, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DrawCount {
+    pub buffer: String,
+    #[serde(default)]
+    pub offset: u64,
+    pub max_draws: u32,
 }
 
 /// One compute dispatch.

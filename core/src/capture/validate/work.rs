@@ -7,7 +7,7 @@ use super::{DISPATCH_ARGS, DRAW_ARGS, DRAW_INDEXED_ARGS, Validator};
 use crate::capture::diag::JsonPath;
 use crate::capture::format::ResourceKind;
 use crate::capture::format::StepMode;
-use crate::capture::format::{Access, Draw, Pass, PassKind};
+use crate::capture::format::{Access, Draw, IndirectArgs, Pass, PassKind};
 use crate::capture::model::{
     AccessSource, DispatchDesc, DrawDesc, MeshDesc, MeshId, PassDesc, ResourceAccess, ResourceDesc,
     Subresources,
@@ -122,20 +122,45 @@ impl<'a> Validator<'a> {
             let indexed =
                 mesh_desc.is_some_and(|m| m.index_format.is_some()) || d.index_buffer.is_some();
             let indirect = d.indirect.as_ref().and_then(|ind| {
-                let args = if indexed {
+                let record = if indexed {
                     DRAW_INDEXED_ARGS
                 } else {
                     DRAW_ARGS
                 };
+                // Records packed one after another, as many as the count may name.
+                let records = ind
+                    .count
+                    .as_ref()
+                    .map_or(1, |c| u64::from(c.max_draws.max(1)));
                 self.check_indirect(
                     ind,
-                    args,
+                    record.saturating_mul(records),
                     &dpath.field("indirect"),
                     resources,
                     accesses,
                     AccessSource::Indirect(i),
                 )
             });
+            let draw_count = d
+                .indirect
+                .as_ref()
+                .and_then(|ind| ind.count.as_ref())
+                .and_then(|c| {
+                    let at = IndirectArgs {
+                        buffer: c.buffer.clone(),
+                        offset: c.offset,
+                        count: None,
+                    };
+                    let (buffer, offset) = self.check_indirect(
+                        &at,
+                        4,
+                        &dpath.field("indirect").field("count"),
+                        resources,
+                        accesses,
+                        AccessSource::Indirect(i),
+                    )?;
+                    Some((buffer, offset, c.max_draws))
+                });
             draws.push(DrawDesc {
                 label: d.label.clone(),
                 vertex: d.vertex.clone(),
@@ -147,6 +172,7 @@ impl<'a> Validator<'a> {
                 first_instance: d.first_instance,
                 base_vertex: d.base_vertex,
                 indirect,
+                draw_count,
                 stencil_reference: d.stencil_reference,
                 depth_only: d.depth_only,
                 params: d.params.clone(),
@@ -199,6 +225,13 @@ impl<'a> Validator<'a> {
                     }
                 }
                 (None, Some(_)) | (Some(_), Some(_)) => {}
+            }
+            if d.indirect.as_ref().is_some_and(|ind| ind.count.is_some()) {
+                self.diags.error(
+                    "indirect",
+                    &dpath.field("indirect").field("count"),
+                    "a dispatch reads one record of indirect arguments; a draw count is for draws",
+                );
             }
             let indirect = d.indirect.as_ref().and_then(|ind| {
                 self.check_indirect(

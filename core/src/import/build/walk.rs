@@ -74,7 +74,12 @@ impl Builder {
                     }
                 }
                 Cmd::Draw(d) => match render {
-                    Some((_, _, Some(pass))) => self.draw(objects, pipelines, pass, d),
+                    Some((_, _, Some(pass))) => {
+                        if let Some(why) = unpacked_records(d) {
+                            self.refuse_in(Some(pass), recording.at.get(i), &why);
+                        }
+                        self.draw(objects, pipelines, pass, d);
+                    }
                     Some((_, _, None)) => {}
                     None => self.refuse(
                         queue,
@@ -190,6 +195,20 @@ impl Builder {
         self.work += n;
         true
     }
+}
+
+/// Why a draw whose count the GPU reads cannot replay: wgpu reads its records packed, one
+/// after another; Vulkan's may be any multiple of four bytes apart. (With at most one record
+/// the distance is never used.)
+fn unpacked_records(d: &DrawCmd) -> Option<String> {
+    let c = d.draw_count.as_ref()?;
+    let size = if d.index_buffer.is_some() { 20 } else { 16 };
+    (c.max_draws > 1 && c.stride != size).then(|| {
+        format!(
+            "an indirect draw count over records {} bytes apart (wgpu reads them packed, {size} bytes each)",
+            c.stride
+        )
+    })
 }
 
 /// The call a command of `recording` came from, for the commands whose work goes into the pass

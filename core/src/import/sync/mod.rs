@@ -750,6 +750,9 @@ impl Sync {
                     if let Some(at) = d.indirect {
                         self.indirect(objects, at, command);
                     }
+                    if let Some(c) = &d.draw_count {
+                        self.indirect(objects, (c.buffer, c.offset), command);
+                    }
                 }
                 Cmd::Dispatch(d) => {
                     for u in &d.uses {

@@ -378,6 +378,7 @@ impl<'c> Lowering<'c> {
             first_instance: d.first_instance,
             base_vertex,
             indirect: self.indirect(p, d.indirect)?,
+            draw_count: self.draw_count(p, d.draw_count)?,
         })
     }
 
