@@ -52,6 +52,35 @@ fn buffer_arguments(call: &str) -> Option<(Option<&'static str>, &'static [Buffe
             None,
             &[("buffer", INDIRECT, "vkCmdDispatchIndirect-buffer-02709")],
         ),
+        // The KHR and AMD names are the core command's, and so are its rules' ids.
+        "vkCmdDrawIndirectCount" | "vkCmdDrawIndirectCountKHR" | "vkCmdDrawIndirectCountAMD" => (
+            None,
+            &[
+                ("buffer", INDIRECT, "vkCmdDrawIndirectCount-buffer-02709"),
+                (
+                    "countBuffer",
+                    INDIRECT,
+                    "vkCmdDrawIndirectCount-countBuffer-02715",
+                ),
+            ],
+        ),
+        "vkCmdDrawIndexedIndirectCount"
+        | "vkCmdDrawIndexedIndirectCountKHR"
+        | "vkCmdDrawIndexedIndirectCountAMD" => (
+            None,
+            &[
+                (
+                    "buffer",
+                    INDIRECT,
+                    "vkCmdDrawIndexedIndirectCount-buffer-02709",
+                ),
+                (
+                    "countBuffer",
+                    INDIRECT,
+                    "vkCmdDrawIndexedIndirectCount-countBuffer-02715",
+                ),
+            ],
+        ),
         "vkCmdCopyBuffer" => (
             None,
             &[
@@ -315,6 +344,12 @@ mod tests {
             "vkCmdDrawIndirect",
             "vkCmdDrawIndexedIndirect",
             "vkCmdDispatchIndirect",
+            "vkCmdDrawIndirectCount",
+            "vkCmdDrawIndirectCountKHR",
+            "vkCmdDrawIndirectCountAMD",
+            "vkCmdDrawIndexedIndirectCount",
+            "vkCmdDrawIndexedIndirectCountKHR",
+            "vkCmdDrawIndexedIndirectCountAMD",
             "vkCmdCopyBuffer",
             "vkCmdCopyBuffer2",
             "vkCmdCopyBuffer2KHR",
@@ -358,7 +393,10 @@ mod tests {
             let (info, arguments) = buffer_arguments(call).unwrap();
             for (_, _, vuid) in arguments {
                 let named = vuid.split('-').next().unwrap();
-                let stem = call.trim_end_matches("KHR").trim_end_matches("EXT");
+                let stem = call
+                    .trim_end_matches("KHR")
+                    .trim_end_matches("EXT")
+                    .trim_end_matches("AMD");
                 assert!(
                     named == stem || info.is_some() && named.starts_with("Vk"),
                     "{call}: {vuid}"
