@@ -14,7 +14,7 @@ use framelab_core::lower;
 use framelab_core::pipeline::{Analysed, Loaded};
 use framelab_core::text::printable;
 use framelab_core::timing::TimingReport;
-use framelab_core::whatif::{Edit, VariantError, variant};
+use framelab_core::whatif::{Edit, variant};
 use framelab_ui::Inspector;
 use framelab_ui::app::Pane;
 use framelab_ui::headless;
@@ -143,13 +143,7 @@ fn what_if(args: &InspectArgs, edits: &[Edit]) -> anyhow::Result<(Analysed, Anal
         scale: args.scale,
         ..Options::default()
     };
-    let mut pair = variant(loaded, None, edits, &options).map_err(|e| match e {
-        VariantError::Frame(e) => stages::device_error(e),
-        VariantError::Invalid(e) => {
-            stages::device_error(e).context("the edited frame is not a valid capture")
-        }
-        e => e.into(),
-    })?;
+    let mut pair = variant(loaded, None, edits, &options).map_err(stages::variant_error)?;
     let verdict = framelab_core::whatif::verdict(&pair);
     let mut said = pair.changes.join("; ");
     if verdict.safe() {

@@ -20,6 +20,18 @@ fn options(scale: f64) -> Options {
     }
 }
 
+/// Why an edited frame could not be made, in the words `what-if` and `inspect` both use.
+pub(super) fn variant_error(e: framelab_core::whatif::VariantError) -> anyhow::Error {
+    use framelab_core::whatif::VariantError;
+    match e {
+        VariantError::Frame(e) => device_error(e),
+        VariantError::Invalid(e) => {
+            device_error(e).context("the edited frame is not a valid capture")
+        }
+        e => e.into(),
+    }
+}
+
 /// A stage's error as the device commands report it.
 pub(super) fn device_error(e: StageError) -> anyhow::Error {
     match e {

@@ -14,7 +14,7 @@ use framelab_core::analysis::report::LintReport;
 use framelab_core::capture::Options;
 use framelab_core::pipeline::Loaded;
 use framelab_core::text::printable;
-use framelab_core::whatif::{Edit, Pair, VariantError, variant};
+use framelab_core::whatif::{Edit, Pair, variant};
 use framelab_replay::compare::{PassComparison, TextureComparison, TextureState};
 use framelab_replay::what_if::{self, Changed, WhatIf, judge, measure};
 
@@ -196,13 +196,8 @@ fn frames(args: &WhatIfArgs, inputs: &Inputs, edits: &[Edit]) -> Result<Pair, Us
         scale: args.scale,
         ..Options::default()
     };
-    let mut pair = variant(loaded, start, edits, &options).map_err(|e| match e {
-        VariantError::Frame(e) => Usage(stages::device_error(e)),
-        VariantError::Invalid(e) => {
-            Usage(stages::device_error(e).context("the edited frame is not a valid capture"))
-        }
-        e => Usage(e.into()),
-    })?;
+    let mut pair =
+        variant(loaded, start, edits, &options).map_err(|e| Usage(stages::variant_error(e)))?;
     let set = args.set.iter().map(|e| format!("set {e}"));
     pair.changes = set.chain(pair.changes).collect();
     Ok(pair)
