@@ -226,6 +226,8 @@ struct Importer {
     /// Each shader module's creating call (`vkCreateShaderModule #N`), where its code is
     /// validated.
     module_calls: BTreeMap<u64, String>,
+    /// Shader code validated in the background as the stream creates it.
+    spirv: valid_usage_spirv::Checker,
 }
 
 /// Most valid-usage findings one import keeps: a program that breaks a rule in every call
@@ -657,6 +659,7 @@ impl Importer {
             sync: sync::Sync::new(!options.skip_sync_check),
             valid_usage: Vec::new(),
             module_calls: BTreeMap::new(),
+            spirv: valid_usage_spirv::Checker::default(),
         }
     }
 
@@ -711,33 +714,6 @@ fn refusal(refused: &BTreeMap<String, u64>) -> Option<String> {
 }
 
 /// The capture and summary from everything the importer gathered.
-/// Every module whose code the capture holds, validated at its creating call (a module the
-/// stream holds no call for, at its handle), in the order of the calls.
-fn spirv_validity(
-    calls: &BTreeMap<u64, String>,
-    modules: &BTreeMap<u64, Vec<u8>>,
-    rules: valid_usage_spirv::Rules,
-) -> (Vec<crate::capture::format::ValidUsageFinding>, Vec<String>) {
-    let index = |command: &str| {
-        command
-            .rsplit_once('#')
-            .and_then(|(_, n)| n.parse::<u64>().ok())
-            .unwrap_or(u64::MAX)
-    };
-    let mut list: Vec<(String, &[u8])> = modules
-        .iter()
-        .map(|(h, code)| {
-            let command = calls
-                .get(h)
-                .cloned()
-                .unwrap_or_else(|| format!("vkCreateShaderModule (module {h})"));
-            (command, code.as_slice())
-        })
-        .collect();
-    list.sort_by_key(|(command, _)| index(command));
-    valid_usage_spirv::check(&list, rules)
-}
-
 fn finish(
     mut imp: Importer,
     read: Read,
@@ -800,8 +776,12 @@ fn finish(
     }
     let mut valid_usage = std::mem::take(&mut imp.valid_usage);
     if imp_checked && let Some(x) = &extras {
-        let (found, notes) =
-            spirv_validity(&imp.module_calls, &x.contents.modules, imp.objects.spirv);
+        // Modules the route did not hand over as it read are validated now.
+        for (h, code) in &x.contents.modules {
+            imp.spirv.submit(*h, code, imp.objects.spirv);
+        }
+        let checker = std::mem::take(&mut imp.spirv);
+        let (found, notes) = checker.findings(&imp.module_calls);
         valid_usage.extend(found);
         skipped.extend(notes.into_iter().map(|what| Skipped {
             what,

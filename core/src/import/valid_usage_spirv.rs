@@ -8,15 +8,16 @@
 //! takes still replays where wgpu takes it.
 //!
 //! The validator is the installed `spirv-val` (Debian's `spirv-tools`), run once per distinct
-//! module, on as many threads as there are cores: the `spirv-tools` crate either builds
+//! module, in the background on as many threads as there are cores while the import reads on: the `spirv-tools` crate either builds
 //! SPIRV-Tools' C++ from source (minutes on a two-core machine, for every clean build) or,
 //! with its `use-installed-tools` feature, runs this same program. Where it is not installed
 //! the import says the code went unchecked.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::io::Write;
 use std::process::{Command, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, mpsc};
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crate::capture::format::ValidUsageFinding;
@@ -106,87 +107,132 @@ enum Verdict {
     Unchecked(String),
 }
 
-/// The findings for `modules` (each creating call, as `vkCreateShaderModule #N`, and its
-/// code), in the order given, and notes on what could not be checked.
-pub fn check(modules: &[(String, &[u8])], rules: Rules) -> (Vec<ValidUsageFinding>, Vec<String>) {
-    if modules.is_empty() {
-        return (Vec::new(), Vec::new());
-    }
-    // Equal code is checked once.
-    let mut distinct: BTreeMap<&[u8], usize> = BTreeMap::new();
-    let mut codes: Vec<&[u8]> = Vec::new();
-    let slot: Vec<usize> = modules
-        .iter()
-        .map(|(_, code)| {
-            *distinct.entry(code).or_insert_with(|| {
-                codes.push(code);
-                codes.len() - 1
-            })
-        })
-        .collect();
-    let verdicts = validate_all(&codes, rules);
-    let mut findings = Vec::new();
-    let mut notes = Vec::new();
-    for ((command, _), s) in modules.iter().zip(slot) {
-        match &verdicts[s] {
-            Verdict::Valid => {}
-            Verdict::Invalid(message) => findings.push(ValidUsageFinding {
-                vuid: VUID.to_owned(),
-                command: command.clone(),
-                detail: format!("SPIR-V module not valid: {message}"),
-            }),
-            Verdict::Unchecked(why) => {
-                notes.push(format!("the SPIR-V of {command} was not validated: {why}"))
-            }
-        }
-    }
-    // One note where the validator is missing, not one per module.
-    notes.dedup_by(|a, b| a.split_once(": ").map(|x| x.1) == b.split_once(": ").map(|x| x.1));
-    (findings, notes)
+/// Most distinct modules one import validates: each is a process of its own, and a stream
+/// of a million modules must not hold the import for hours.
+const MAX_DISTINCT: usize = 4096;
+
+type Job = (usize, Vec<u8>, Rules);
+
+/// Modules validated in the background while the import reads on: each distinct code goes
+/// to the validator as soon as the stream creates it, on threads of its own (one per core),
+/// and the verdicts are gathered when the import finishes. Equal code is validated once.
+#[derive(Default)]
+pub struct Checker {
+    /// Each distinct code's slot.
+    distinct: HashMap<Vec<u8>, usize>,
+    /// Each module's slot.
+    modules: BTreeMap<u64, usize>,
+    /// Slots past `MAX_DISTINCT`, not validated.
+    over: Vec<usize>,
+    jobs: Option<mpsc::Sender<Job>>,
+    workers: Vec<JoinHandle<Vec<(usize, Verdict)>>>,
 }
 
-/// Every code validated, on as many threads as there are cores.
-fn validate_all(codes: &[&[u8]], rules: Rules) -> Vec<Verdict> {
-    let workers = std::thread::available_parallelism()
-        .map_or(1, usize::from)
-        .min(codes.len());
-    let next = AtomicUsize::new(0);
-    let mut out: Vec<(usize, Verdict)> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..workers)
-            .map(|_| {
-                scope.spawn(|| {
-                    let mut mine = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(code) = codes.get(i) else { break };
-                        mine.push((i, validate(code, rules)));
-                    }
-                    mine
+impl Checker {
+    /// Hands module `module`'s code to the validator, under `rules`; a module already given
+    /// keeps its first code (a handle is not reused within what one import validates).
+    pub fn submit(&mut self, module: u64, code: &[u8], rules: Rules) {
+        if self.modules.contains_key(&module) {
+            return;
+        }
+        if let Some(&slot) = self.distinct.get(code) {
+            self.modules.insert(module, slot);
+            return;
+        }
+        let slot = self.distinct.len();
+        self.distinct.insert(code.to_vec(), slot);
+        self.modules.insert(module, slot);
+        if slot >= MAX_DISTINCT {
+            self.over.push(slot);
+            return;
+        }
+        let jobs = self.jobs.get_or_insert_with(|| {
+            let (tx, rx) = mpsc::channel::<Job>();
+            let rx = Arc::new(Mutex::new(rx));
+            let n = std::thread::available_parallelism().map_or(1, usize::from);
+            self.workers = (0..n)
+                .map(|_| {
+                    let rx = Arc::clone(&rx);
+                    std::thread::spawn(move || {
+                        let mut done = Vec::new();
+                        loop {
+                            let job = match rx.lock() {
+                                Ok(r) => r.recv(),
+                                Err(_) => break,
+                            };
+                            let Ok((slot, code, rules)) = job else { break };
+                            done.push((slot, validate(&code, rules)));
+                        }
+                        done
+                    })
                 })
+                .collect();
+            tx
+        });
+        // A worker that has stopped leaves the module unchecked, and says so at the end.
+        let _ = jobs.send((slot, code.to_vec(), rules));
+    }
+
+    /// The findings, at each module's creating call (`calls`: `vkCreateShaderModule #N`; a
+    /// module without one at its handle), in the order of the calls, and notes on what went
+    /// unchecked.
+    pub fn findings(
+        mut self,
+        calls: &BTreeMap<u64, String>,
+    ) -> (Vec<ValidUsageFinding>, Vec<String>) {
+        drop(self.jobs.take());
+        let mut verdicts: HashMap<usize, Verdict> = HashMap::new();
+        for w in self.workers.drain(..) {
+            verdicts.extend(w.join().unwrap_or_default());
+        }
+        for slot in &self.over {
+            verdicts.insert(
+                *slot,
+                Verdict::Unchecked(format!(
+                    "the capture has more than {MAX_DISTINCT} distinct modules, and only that many are validated"
+                )),
+            );
+        }
+        let index = |command: &str| {
+            command
+                .rsplit_once('#')
+                .and_then(|(_, n)| n.parse::<u64>().ok())
+                .unwrap_or(u64::MAX)
+        };
+        let mut list: Vec<(String, usize)> = self
+            .modules
+            .iter()
+            .map(|(h, slot)| {
+                let command = calls
+                    .get(h)
+                    .cloned()
+                    .unwrap_or_else(|| format!("vkCreateShaderModule (module {h})"));
+                (command, *slot)
             })
             .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| {
-                h.join().unwrap_or_else(|_| {
-                    vec![(
-                        usize::MAX,
-                        Verdict::Unchecked("the validator's thread failed".to_owned()),
-                    )]
-                })
-            })
-            .collect()
-    });
-    out.sort_by_key(|(i, _)| *i);
-    let mut verdicts: Vec<Verdict> = (0..codes.len())
-        .map(|_| Verdict::Unchecked("the validator's thread failed".to_owned()))
-        .collect();
-    for (i, v) in out {
-        if let Some(slot) = verdicts.get_mut(i) {
-            *slot = v;
+        list.sort_by_key(|(command, _)| index(command));
+        let mut findings = Vec::new();
+        let mut notes = Vec::new();
+        for (command, slot) in list {
+            match verdicts.get(&slot) {
+                Some(Verdict::Valid) => {}
+                Some(Verdict::Invalid(message)) => findings.push(ValidUsageFinding {
+                    vuid: VUID.to_owned(),
+                    command,
+                    detail: format!("SPIR-V module not valid: {message}"),
+                }),
+                Some(Verdict::Unchecked(why)) => {
+                    notes.push(format!("the SPIR-V of {command} was not validated: {why}"));
+                }
+                None => notes.push(format!(
+                    "the SPIR-V of {command} was not validated: the validator's thread stopped"
+                )),
+            }
         }
+        // One note where the validator is missing, not one per module.
+        notes.dedup_by(|a, b| a.split_once(": ").map(|x| x.1) == b.split_once(": ").map(|x| x.1));
+        (findings, notes)
     }
-    verdicts
 }
 
 /// One module through `spirv-val`.
@@ -336,12 +382,19 @@ mod tests {
     fn modules_are_validated_by_spirv_val() {
         let good = compute(None);
         let bad = compute(Some(999));
-        let modules = [
-            ("vkCreateShaderModule #3".to_owned(), good.as_slice()),
-            ("vkCreateShaderModule #5".to_owned(), bad.as_slice()),
-            ("vkCreateShaderModule #9".to_owned(), bad.as_slice()),
-        ];
-        let (findings, notes) = check(&modules, Rules::default());
+        let mut checker = Checker::default();
+        // Given out of the calls' order: the findings come in it.
+        checker.submit(30, &bad, Rules::default());
+        checker.submit(10, &good, Rules::default());
+        checker.submit(20, &bad, Rules::default());
+        checker.submit(20, &good, Rules::default());
+        let calls = BTreeMap::from([
+            (10, "vkCreateShaderModule #3".to_owned()),
+            (20, "vkCreateShaderModule #5".to_owned()),
+            (30, "vkCreateShaderModule #9".to_owned()),
+        ]);
+        assert_eq!(checker.distinct.len(), 2, "equal code validated once");
+        let (findings, notes) = checker.findings(&calls);
         assert!(notes.is_empty(), "{notes:?}");
         let at: Vec<_> = findings.iter().map(|f| f.command.as_str()).collect();
         assert_eq!(at, ["vkCreateShaderModule #5", "vkCreateShaderModule #9"]);

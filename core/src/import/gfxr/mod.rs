@@ -205,6 +205,9 @@ fn call(
                     && let Some(code) = contents.modules.get(&h)
                 {
                     imp.pipelines.learn_module(h, code);
+                    if imp.sync.enabled() {
+                        imp.spirv.submit(h, code, imp.objects.spirv);
+                    }
                 }
                 if func == Func::Other {
                     imp.calls += 1;
