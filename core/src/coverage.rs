@@ -78,7 +78,7 @@ pub fn dynamic_state(name: &str) -> Option<Verdict> {
         | "STENCIL_OP"
         | "VERTEX_INPUT_BINDING_STRIDE" => BAKED,
         "RASTERIZER_DISCARD_ENABLE" => Verdict::Emulated(
-            "baked while off; a draw with discard on is refused (wgpu has no rasterizer discard)",
+            "baked while off; a draw with discard on rasterizes nothing and is replayed as one of no vertices (refused where a stage before rasterization writes storage)",
         ),
         "COLOR_WRITE_ENABLE_EXT" => {
             Verdict::Emulated("baked into the colour targets' write masks per value")

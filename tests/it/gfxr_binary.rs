@@ -1037,3 +1037,25 @@ fn depth_clear_values_are_read_from_the_clear_values_words() {
         );
     }
 }
+
+/// A colour clear component that is not a finite number (zink leaves the channels a
+/// one-channel float attachment lacks as NaN) is written as 0, JSON holding no NaN, and the
+/// imported capture loads; the other components keep their values. vkcube's green clear
+/// component set to `0xFFFFFFFF`, a NaN, with `framelab edit`.
+#[test]
+fn colour_clears_that_are_not_numbers_are_written_as_zero() {
+    let dir = temp_dir("nan-clear");
+    let edited = dir.join("nan.gfxr");
+    crate::common::edited_fixture(
+        "vkcube_f3.gfxr",
+        &edited,
+        "91:pRenderPassBegin.pClearValues[0].color.uint32[1]=4294967295",
+    );
+    let out = dir.join("cube.json");
+    import(&edited, &out);
+    let c: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let clear = &c["passes"][0]["color_attachments"][0]["clear"];
+    assert_eq!(clear, &serde_json::json!([0.2, 0.0, 0.2, 0.2]));
+    let run = crate::common::framelab(&["validate", out.to_str().unwrap()]);
+    assert!(run.status.success(), "{}", crate::common::stderr(&run));
+}

@@ -1361,3 +1361,32 @@ fn reads_of_contents_the_capture_lacks_are_named() {
         "{cube}"
     );
 }
+
+/// A draw that rasterizes nothing (cull mode `FRONT_AND_BACK` on triangles, or the rasterizer
+/// discarding; wgpu has neither) replays as a draw of no vertices: vkcube's pipeline so edited
+/// presents its clear colour alone. `FRONT_AND_BACK` culls polygons only: as a line list the
+/// cube's edges are drawn.
+#[test]
+fn draws_that_rasterize_nothing_replay_as_no_vertices() {
+    let dir = temp("nothing");
+    let presented = |name: &str, change: &dyn Fn(&mut Value)| -> image::RgbaImage {
+        let at = dir.join(name);
+        std::fs::create_dir_all(&at).unwrap();
+        let capture = vkcube(&at);
+        edit(&capture, |v| change(draw_and_state(v).1));
+        crate::common::replay_presented(&capture, &at.join("out"))
+    };
+    let clear_only = |img: &image::RgbaImage| img.pixels().all(|p| p.0[..3] == [51, 51, 51]);
+    assert!(!clear_only(&reference()), "vkcube draws its cube");
+    assert!(clear_only(
+        &presented("cull", &|g| g["cull_mode"] = json!(3))
+    ));
+    assert!(clear_only(&presented("discard", &|g| {
+        g["rasterizer_discard"] = json!(true);
+    })));
+    let lines = presented("lines", &|g| {
+        g["cull_mode"] = json!(3);
+        g["topology"] = json!("VK_PRIMITIVE_TOPOLOGY_LINE_LIST");
+    });
+    assert!(!clear_only(&lines), "lines are not culled");
+}

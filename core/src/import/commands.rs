@@ -293,12 +293,26 @@ pub enum Cmd {
 
 /// A clear value as `[r, g, b, a]`; whichever of the float, uint or int members is present.
 pub fn clear_color(v: &Arg<'_>) -> [f64; 4] {
+    clear_color_of(v, None)
+}
+
+/// A `VkClearColorValue` read through the view the attachment's format `format`
+/// (`VK_FORMAT_*`) reads it by: `uint32` for unsigned integer formats, `int32` for signed
+/// ones, `float32` otherwise (and where the format is not known). A component that is not a
+/// finite number is 0: JSON holds none, and programs leave the channels a format lacks
+/// unset (zink clears a one-channel float attachment with NaN in the other three).
+pub fn clear_color_of(v: &Arg<'_>, format: Option<&str>) -> [f64; 4] {
     let mut out = [0.0; 4];
     let color = v.opt("color").unwrap_or(*v);
-    for key in ["float32", "uint32", "int32"] {
+    let first = match format {
+        Some(f) if f.ends_with("_UINT") => "uint32",
+        Some(f) if f.ends_with("_SINT") => "int32",
+        _ => "float32",
+    };
+    for key in [first, "float32", "uint32", "int32"] {
         if let Some(list) = color.opt(key).and_then(|l| l.items().ok()) {
             for (o, x) in out.iter_mut().zip(&list) {
-                *o = x.f64().unwrap_or(0.0);
+                *o = x.f64().ok().filter(|x| x.is_finite()).unwrap_or(0.0);
             }
             break;
         }

@@ -5,6 +5,7 @@
 
 use super::commands::{
     AttUse, BarrierCmd, BarrierTarget, DepthUse, Origin, RenderInstance, SubpassUse, clear_color,
+    clear_color_of,
 };
 use super::state::{AttachmentDesc, Dependency, Objects, RenderPassInfo, SubpassDesc};
 use super::value::{Arg, Got, Skip};
@@ -176,7 +177,11 @@ fn subpass_use(
             return Err(lacks(a));
         }
         let (load, store, ..) = ops(rp, si, a);
-        let clear = clears.get(a as usize).map(clear_color).unwrap_or_default();
+        let format = rp.attachments.get(a as usize).map(|d| d.format.as_str());
+        let clear = clears
+            .get(a as usize)
+            .map(|c| clear_color_of(c, format))
+            .unwrap_or_default();
         sub.colors.push(AttUse {
             view: views.get(a)?,
             slot: s.color_slots.get(k).copied().unwrap_or(k as u32),

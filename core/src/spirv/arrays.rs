@@ -1,4 +1,5 @@
-//! Descriptor arrays indexed by constants, split into one variable per element. wgpu binds an
+//! Descriptor arrays indexed by constants (and arrays of one, however indexed), split into one
+//! variable per element. wgpu binds an
 //! array of descriptors only as a binding array, whose dynamic indexing its Vulkan backend
 //! turns on for some descriptor types and never for storage images, and programs mostly index
 //! such arrays with constants: FFmpeg's filters keep one image per plane and hand the plane to
@@ -74,7 +75,7 @@ pub fn split_descriptor_arrays(words: &[u32]) -> Result<Option<Vec<u32>>, SpirvE
     Ok(Some(module.assemble()))
 }
 
-/// The descriptor variables that are arrays of a constant length above one.
+/// The descriptor variables that are arrays of a constant length.
 fn descriptor_arrays(module: &Module) -> Result<BTreeMap<Word, Array>, SpirvError> {
     let globals: HashMap<Word, &Instruction> = module
         .types_global_values
@@ -127,7 +128,10 @@ fn descriptor_arrays(module: &Module) -> Result<BTreeMap<Word, Array>, SpirvErro
         ) else {
             continue;
         };
-        if len <= 1 {
+        // An array of one is split too: it is one descriptor, and the rest of the rewrite
+        // (a combined image sampler's split into an image and a sampler) takes single
+        // variables only.
+        if len == 0 {
             continue;
         }
         let name = module
@@ -215,13 +219,18 @@ fn split(
                     )));
                 }
                 let index = id_ref(i.operands.get(1)).unwrap_or(0);
-                let Value::Constant(c) = facts.value(index, VALUE_DEPTH) else {
-                    return Err(refused(format!(
-                        "set {} binding {} ({}) is indexed by a value known only at run time (%{index}); wgpu's binding arrays are not used",
-                        a.set, a.binding, a.name
-                    )));
+                let k = match facts.value(index, VALUE_DEPTH) {
+                    Value::Constant(c) => constants[&c],
+                    // An array of one has one element to name: any other index is out of
+                    // bounds, which Vulkan leaves undefined.
+                    _ if a.len == 1 => 0,
+                    _ => {
+                        return Err(refused(format!(
+                            "set {} binding {} ({}) is indexed by a value known only at run time (%{index}); wgpu's binding arrays are not used",
+                            a.set, a.binding, a.name
+                        )));
+                    }
                 };
-                let k = constants[&c];
                 if k >= a.len {
                     return Err(refused(format!(
                         "set {} binding {} ({}) has {} elements and the code names element {k}",

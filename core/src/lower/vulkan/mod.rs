@@ -86,6 +86,14 @@ struct PipelineKey {
 }
 
 /// The wgpu stage and SPIR-V execution model of a `VK_SHADER_STAGE_*_BIT`.
+/// Whether a draw under `g` produces no fragments: every polygon culled (`FRONT_AND_BACK`, which
+/// culls triangles whatever their polygon mode, and not points or lines), or the rasterizer
+/// discarding every primitive. wgpu has neither state; the draw is replayed as one of no
+/// vertices, which writes what it does: nothing.
+fn rasterizes_nothing(g: &crate::capture::format::GraphicsState) -> bool {
+    g.rasterizer_discard || (g.cull_mode == 3 && g.topology.contains("TRIANGLE"))
+}
+
 fn stage_of(stage: &str) -> Result<(wgpu::ShaderStages, rspirv::spirv::ExecutionModel), VkProblem> {
     use rspirv::spirv::ExecutionModel as M;
     Ok(match stage {
@@ -261,7 +269,18 @@ impl<'c> Lowering<'c> {
             depth,
             Some(wgpu::TextureFormat::Depth32Float | wgpu::TextureFormat::Depth32FloatStencil8)
         ) && work.viewport.is_none_or(|v| v[4] == 0.0 && v[5] == 1.0);
-        let baked = dynamic::bake(pipe, g, work.dynamic.as_deref(), clamp_moot)?;
+        let mut baked = dynamic::bake(pipe, g, work.dynamic.as_deref(), clamp_moot)?;
+        let nothing = rasterizes_nothing(&baked.state);
+        if nothing {
+            self.no_writes_before_rasterization(pipe)?;
+            let state = baked.state.to_mut();
+            state.cull_mode = 0;
+            state.rasterizer_discard = false;
+            baked.key = Some(format!(
+                "{}, rasterizes nothing",
+                baked.key.unwrap_or_default()
+            ));
+        }
         let g = &*baked.state;
         // Vulkan's viewport may have a negative height (the application flips y itself):
         // then its clip space is already wgpu's, and the shader is left as it is.
@@ -313,7 +332,7 @@ impl<'c> Lowering<'c> {
             .transpose()?;
         // Flat inputs from the last vertex, and fans, are drawn as a rearranged list.
         let last = g.provoking_vertex_last && self.fragment_has_flat(pipe);
-        let listed = if last || g.topology.ends_with("TRIANGLE_FAN") {
+        let listed = if !nothing && (last || g.topology.ends_with("TRIANGLE_FAN")) {
             Some(self.as_triangle_list(p, d, work, g, last)?)
         } else {
             None
@@ -372,14 +391,54 @@ impl<'c> Lowering<'c> {
                     .map(f64::from)
             }),
             stencil_reference: self.stencil_reference(pipe, g, work)?,
-            count,
-            instances: d.instances,
+            // A draw that rasterizes nothing is one of no vertices.
+            count: if nothing { 0 } else { count },
+            instances: if nothing { 0 } else { d.instances },
             first,
             first_instance: d.first_instance,
             base_vertex,
-            indirect: self.indirect(p, d.indirect)?,
-            draw_count: self.draw_count(p, d.draw_count)?,
+            indirect: if nothing {
+                None
+            } else {
+                self.indirect(p, d.indirect)?
+            },
+            draw_count: if nothing {
+                None
+            } else {
+                self.draw_count(p, d.draw_count)?
+            },
         })
+    }
+
+    /// A draw that rasterizes nothing still runs its vertex stage, whose storage writes would
+    /// be lost with the draw: refused where a stage before rasterization writes storage.
+    fn no_writes_before_rasterization(&mut self, pipe: &VkPipeline) -> Result<(), Fail> {
+        let model = self.vk_model()?;
+        for stage in &pipe.stages {
+            let (s, _) = stage_of(&stage.stage)?;
+            if s == wgpu::ShaderStages::FRAGMENT {
+                continue;
+            }
+            let shader = model.modules[stage.module].name.clone();
+            for var in &self.vk_reflect(stage.module, &stage.entry)?.resources {
+                let storage = matches!(
+                    var.kind,
+                    crate::spirv::ResourceKind::StorageBuffer
+                        | crate::spirv::ResourceKind::StorageImage(_)
+                        | crate::spirv::ResourceKind::StorageTexelBuffer(_)
+                );
+                if storage && !var.non_writable {
+                    return Err(VkProblem::Unsupported {
+                        feature: format!(
+                            "a draw that rasterizes nothing (every polygon culled, or the rasterizer discarding) whose shader {shader} writes set {} binding {} before rasterization",
+                            var.set, var.binding
+                        ),
+                    }
+                    .into());
+                }
+            }
+        }
+        Ok(())
     }
 
     fn vk_dispatch(&mut self, p: &'c PassDesc, d: &DispatchDesc) -> Result<VkDispatchOp, Fail> {

@@ -80,7 +80,10 @@ pub(super) fn primitive(
         "POINT" => wgpu::PolygonMode::Point,
         _ => return Err(unsupported("polygon mode", &g.polygon_mode)),
     };
+    // Culling applies to polygons: points and lines are never culled.
+    let polygons = g.topology.contains("TRIANGLE");
     let cull_mode = match g.cull_mode {
+        _ if !polygons => None,
         0 => None,
         1 => Some(wgpu::Face::Front),
         2 => Some(wgpu::Face::Back),

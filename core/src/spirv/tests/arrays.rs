@@ -154,3 +154,19 @@ fn a_module_without_arrays_is_left_as_it_is() {
         None
     );
 }
+
+/// FFmpeg 5.1's `scale_vulkan` from RGBA (`ffmpeg_filters/scale_array_of_one`, from a capture
+/// of `format=rgba,hwupload,vflip_vulkan,scale_vulkan=format=yuv420p`): its input is an array
+/// of one combined image sampler and its output an array of one storage image. An array of
+/// one is split too (its element keeps the binding), so the combined image sampler is a single
+/// variable the rewrite can split into an image and a sampler; the result validates.
+#[test]
+fn arrays_of_one_are_split_so_their_combined_image_samplers_rewrite() {
+    let words = ffmpeg("scale_array_of_one");
+    assert_eq!(declared(&words), [(0, 0, Some(1)), (0, 1, Some(1))]);
+    let split = split_descriptor_arrays(&words).unwrap().expect("split");
+    assert_eq!(declared(&split), [(0, 0, None), (0, 1, None)]);
+    let out = rewrite(&split, ExecutionModel::GLCompute, "main", &opts(false)).unwrap();
+    spirv_val(&out, "scale_array_of_one").unwrap();
+    assert!(rewrite(&words, ExecutionModel::GLCompute, "main", &opts(false)).is_err());
+}
