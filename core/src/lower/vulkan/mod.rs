@@ -17,6 +17,7 @@ mod extended;
 mod provoking;
 mod shaders;
 mod states;
+mod strides;
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -63,6 +64,8 @@ pub(super) struct VkLowering {
     /// Each shader module's words with its descriptor arrays split (`spirv::arrays`), where
     /// it has any (by module index).
     split_words: BTreeMap<usize, Option<std::sync::Arc<Vec<u32>>>>,
+    /// Vertex buffers copied to a stride wgpu takes (`strides`), by (buffer, offset, stride).
+    repacked: HashMap<(ResourceId, u64, u32), usize>,
 }
 
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -281,6 +284,32 @@ impl<'c> Lowering<'c> {
                 baked.key.unwrap_or_default()
             ));
         }
+        // Vertex strides that are not a multiple of 4 read a copy at the padded stride.
+        let mut rebound: Vec<(u32, usize)> = Vec::new();
+        let unaligned: Vec<(u32, u32)> = baked
+            .state
+            .vertex_bindings
+            .iter()
+            .filter(|b| b.stride % 4 != 0)
+            .map(|b| (b.binding, b.stride))
+            .collect();
+        for (binding, stride) in unaligned {
+            let Some(&(_, buffer, offset)) = work.vertex_buffers.iter().find(|v| v.0 == binding)
+            else {
+                continue;
+            };
+            rebound.push((binding, self.vk_repacked(p, buffer, offset, stride)?));
+            let wide = strides::padded(stride);
+            for b in baked.state.to_mut().vertex_bindings.iter_mut() {
+                if b.binding == binding {
+                    b.stride = wide;
+                }
+            }
+            baked.key = Some(format!(
+                "{}, binding {binding} at stride {wide}",
+                baked.key.unwrap_or_default()
+            ));
+        }
         let g = &*baked.state;
         // Vulkan's viewport may have a negative height (the application flips y itself):
         // then its clip space is already wgpu's, and the shader is left as it is.
@@ -374,7 +403,12 @@ impl<'c> Lowering<'c> {
         let vertex_buffers = work
             .vertex_buffers
             .iter()
-            .map(|&(slot, b, offset)| Ok::<_, Fail>((slot, self.buf(p, b)?, offset)))
+            .map(
+                |&(slot, b, offset)| match rebound.iter().find(|r| r.0 == slot) {
+                    Some(&(_, copy)) => Ok((slot, copy, 0)),
+                    None => Ok::<_, Fail>((slot, self.buf(p, b)?, offset)),
+                },
+            )
             .collect::<Result<Vec<_>, _>>()?;
         let layout = &model.pipeline_layouts[pipe.layout];
         Ok(VkDrawOp {
@@ -408,6 +442,52 @@ impl<'c> Lowering<'c> {
                 self.draw_count(p, d.draw_count)?
             },
         })
+    }
+
+    /// Vertex buffer `buffer` from `offset` copied to the stride wgpu takes for `stride`, once;
+    /// refused where a pass of the frame writes those bytes.
+    fn vk_repacked(
+        &mut self,
+        p: &'c PassDesc,
+        buffer: ResourceId,
+        offset: u64,
+        stride: u32,
+    ) -> Result<usize, Fail> {
+        if let Some(&i) = self.vk.repacked.get(&(buffer, offset, stride)) {
+            return Ok(i);
+        }
+        let name = self.capture.resource(buffer).name.clone();
+        let written = self
+            .vk
+            .written
+            .get_or_insert_with(|| provoking::written(self.capture));
+        if written.overlaps(buffer, offset, u64::MAX) {
+            return Err(VkProblem::Unsupported {
+                feature: format!(
+                    "a vertex stride of {stride} bytes (wgpu's are multiples of 4) over \"{name}\", which a pass of the frame writes"
+                ),
+            }
+            .into());
+        }
+        let plan = self.buf(p, buffer)?;
+        let source = &self.plan.buffers[plan];
+        let bytes = strides::repack(
+            source.initial.as_deref().unwrap_or_default(),
+            source.size,
+            offset,
+            stride,
+        );
+        let wide = strides::padded(stride);
+        self.plan.buffers.push(BufferSpec {
+            name: format!("{name}: from byte {offset} at a vertex stride of {wide}"),
+            size: bytes.len() as u64,
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            initial: Some(bytes),
+            history: false,
+        });
+        let i = self.plan.buffers.len() - 1;
+        self.vk.repacked.insert((buffer, offset, stride), i);
+        Ok(i)
     }
 
     /// A draw that rasterizes nothing still runs its vertex stage, whose storage writes would
