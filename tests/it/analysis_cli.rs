@@ -496,3 +496,35 @@ fn queue_ownership_transfers_are_listed_in_the_text() {
         "{text}"
     );
 }
+
+/// FL006 names a read of contents nothing wrote: the example without its upload pass reads its
+/// noise texture unwritten. Within one pass of several dispatches, whose order the pass's
+/// accesses do not keep, what one writes another may read after it: FFmpeg's two-pass blurs
+/// (one imported pass each, its first dispatch writing the image its second reads) are no
+/// finding.
+#[test]
+fn reads_of_unwritten_contents_are_flagged_but_not_a_passs_own_writes() {
+    let dir = Scratch::temp("framelab-fl006");
+    let fl006 = |capture: &str| -> Vec<String> {
+        let r = json(&framelab(&["analyze", "--json", capture]));
+        r["lints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|l| l["code"] == "FL006")
+            .map(|l| l["resource"].as_str().unwrap_or_default().to_owned())
+            .collect()
+    };
+    assert!(fl006("captures/example/frame.json").is_empty());
+    let mut edited = crate::common::example_copy(&dir);
+    let passes = edited["passes"].as_array_mut().unwrap();
+    assert_eq!(passes[0]["name"], "upload_noise");
+    passes.remove(0);
+    // The pass after it waited on the upload's fence.
+    passes[0]["wait"] = serde_json::json!([]);
+    let file = dir.join("frame.json");
+    std::fs::write(&file, serde_json::to_string_pretty(&edited).unwrap()).unwrap();
+    assert_eq!(fl006(file.to_str().unwrap()), ["noise"]);
+    let blurs = imported(&dir, "ffmpeg_chain.gfxr");
+    assert!(fl006(&blurs).is_empty(), "{:?}", fl006(&blurs));
+}

@@ -1,4 +1,6 @@
-//! Lint rule FL006: a read of contents nothing wrote (no initial contents, not history).
+//! Lint rule FL006: a read of contents nothing wrote (no initial contents, not history). A
+//! pass's own writes count where it holds several draws, dispatches or copies, whose order
+//! within it the pass's accesses do not keep.
 
 use std::collections::BTreeSet;
 
@@ -34,11 +36,35 @@ impl Rule for ReadBeforeWrite {
         let mut reported: BTreeSet<MResource> = BTreeSet::new();
         for &p in order {
             let pass = &model.passes[p.index()];
+            // A pass of several draws, dispatches or copies keeps their order, which the
+            // pass's accesses do not: what one of them writes another may read after it (a
+            // two-pass blur recorded as two dispatches of one pass).
+            let works = capture
+                .passes
+                .iter()
+                .find(|c| c.id == pass.id)
+                .map_or(1, |c| {
+                    c.draws.len()
+                        + c.dispatches.len()
+                        + c.copies.len()
+                        + c.clears.len()
+                        + c.blits.len()
+                });
+            let own_writes: BTreeSet<MResource> = if works > 1 {
+                pass.accesses
+                    .iter()
+                    .filter(|a| a.writes)
+                    .map(|a| a.resource)
+                    .collect()
+            } else {
+                BTreeSet::new()
+            };
             for a in &pass.accesses {
                 let r = &model.resources[a.resource.index()];
                 if a.reads
                     && (!assumed_reads || !a.uav || !a.writes)
                     && !written.contains(&a.resource)
+                    && !own_writes.contains(&a.resource)
                     && !r.initialised
                     && r.previous_of.is_none()
                     && reported.insert(a.resource)
