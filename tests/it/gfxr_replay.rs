@@ -104,6 +104,7 @@ fn real_frames_are_clean_under_the_validation_layer() {
         "write_after_read",
         "ffmpeg_chain",
         "ffmpeg_overlay",
+        "ffmpeg_bgra_gblur",
     ]);
     crate::common::replays_clean_under_validation_layer(&dir, &captures, import);
 }
@@ -151,6 +152,37 @@ fn frames_bound_through_update_templates_compute_what_the_program_did() {
             "{file}: {wrong} of 256 texels differ from the shader's result"
         );
     }
+}
+
+/// FFmpeg 5.1's `gblur_vulkan` on BGRA frames (one plane): its shaders read the frame through
+/// an array of one combined image sampler, which the replay splits like longer arrays so that
+/// the sampler can be split from the image. The second video frame's blurred image is, byte
+/// for byte, the one FFmpeg itself wrote out (`-f rawvideo`, the reference PNG).
+#[test]
+fn one_plane_frames_read_through_arrays_of_one_are_what_ffmpeg_wrote() {
+    let name = "ffmpeg_bgra_gblur";
+    let dir = temp(name);
+    let capture = import(name, &dir);
+    let out = dir.join("out");
+    let m = crate::common::replay_one_frame(&capture, &out);
+    let file = m["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["resource"] == "image_74")
+        .and_then(|f| f["file"].as_str())
+        .expect("the blurred image exported");
+    let ours = image::open(out.join(file)).unwrap().to_rgb8();
+    let theirs = image::open(gfxr_fixture(&format!("{name}.ref.png")))
+        .unwrap()
+        .to_rgb8();
+    assert_eq!(ours.dimensions(), theirs.dimensions());
+    let differing = ours
+        .pixels()
+        .zip(theirs.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differing, 0, "{differing} pixels differ from FFmpeg's");
 }
 
 /// FFmpeg 5.1's Vulkan filters (compute, no swapchain; each capture holds two video frames): each keeps a descriptor array of one image per plane and indexes it
