@@ -64,8 +64,9 @@ pub(super) struct VkLowering {
     /// Each shader module's words with its descriptor arrays split (`spirv::arrays`), where
     /// it has any (by module index).
     split_words: BTreeMap<usize, Option<std::sync::Arc<Vec<u32>>>>,
-    /// Vertex buffers copied to a stride wgpu takes (`strides`), by (buffer, offset, stride).
-    repacked: HashMap<(ResourceId, u64, u32), usize>,
+    /// Vertex buffers copied to a layout wgpu takes (`strides`), by buffer, offset, stride and
+    /// layout.
+    repacked: HashMap<(ResourceId, u64, u32, strides::Relayout), usize>,
 }
 
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -284,30 +285,57 @@ impl<'c> Lowering<'c> {
                 baked.key.unwrap_or_default()
             ));
         }
-        // Vertex strides that are not a multiple of 4 read a copy at the padded stride.
+        // Bindings wgpu does not take as laid out (a stride not a multiple of 4, three
+        // 8- or 16-bit channels) read a copy laid out as it does (`strides`).
         let mut rebound: Vec<(u32, usize)> = Vec::new();
-        let unaligned: Vec<(u32, u32)> = baked
-            .state
-            .vertex_bindings
-            .iter()
-            .filter(|b| b.stride % 4 != 0)
-            .map(|b| (b.binding, b.stride))
-            .collect();
-        for (binding, stride) in unaligned {
+        let mut relayouts = Vec::new();
+        for b in &baked.state.vertex_bindings {
+            let attributes = baked
+                .state
+                .vertex_attributes
+                .iter()
+                .filter(|a| a.binding == b.binding)
+                .map(|a| {
+                    let size = strides::widened(&a.format).map_or_else(
+                        || states::vertex_format(&a.format).map(|f| f.size() as u32),
+                        |(_, channel)| Ok(3 * channel),
+                    )?;
+                    Ok((a, size))
+                })
+                .collect::<Result<Vec<_>, VkProblem>>()?;
+            if let Some(layout) = strides::relayout(b.stride, &attributes) {
+                relayouts.push((b.binding, b.stride, layout));
+            }
+        }
+        for (binding, stride, layout) in relayouts {
             let Some(&(_, buffer, offset)) = work.vertex_buffers.iter().find(|v| v.0 == binding)
             else {
                 continue;
             };
-            rebound.push((binding, self.vk_repacked(p, buffer, offset, stride)?));
-            let wide = strides::padded(stride);
-            for b in baked.state.to_mut().vertex_bindings.iter_mut() {
-                if b.binding == binding {
-                    b.stride = wide;
-                }
+            rebound.push((
+                binding,
+                self.vk_repacked(p, buffer, offset, stride, &layout)?,
+            ));
+            let state = baked.state.to_mut();
+            for b in state
+                .vertex_bindings
+                .iter_mut()
+                .filter(|b| b.binding == binding)
+            {
+                b.stride = layout.stride;
+            }
+            let mine = state
+                .vertex_attributes
+                .iter_mut()
+                .filter(|a| a.binding == binding);
+            for (a, (at, format)) in mine.zip(&layout.attributes) {
+                a.offset = *at;
+                a.format.clone_from(format);
             }
             baked.key = Some(format!(
-                "{}, binding {binding} at stride {wide}",
-                baked.key.unwrap_or_default()
+                "{}, binding {binding} laid out as {:?}",
+                baked.key.unwrap_or_default(),
+                layout
             ));
         }
         let g = &*baked.state;
@@ -452,8 +480,10 @@ impl<'c> Lowering<'c> {
         buffer: ResourceId,
         offset: u64,
         stride: u32,
+        layout: &strides::Relayout,
     ) -> Result<usize, Fail> {
-        if let Some(&i) = self.vk.repacked.get(&(buffer, offset, stride)) {
+        let key = (buffer, offset, stride, layout.clone());
+        if let Some(&i) = self.vk.repacked.get(&key) {
             return Ok(i);
         }
         let name = self.capture.resource(buffer).name.clone();
@@ -464,7 +494,7 @@ impl<'c> Lowering<'c> {
         if written.overlaps(buffer, offset, u64::MAX) {
             return Err(VkProblem::Unsupported {
                 feature: format!(
-                    "a vertex stride of {stride} bytes (wgpu's are multiples of 4) over \"{name}\", which a pass of the frame writes"
+                    "a vertex buffer laid out as wgpu does not take it (a stride of {stride} bytes, or three 8- or 16-bit channels) over \"{name}\", which a pass of the frame writes"
                 ),
             }
             .into());
@@ -476,17 +506,20 @@ impl<'c> Lowering<'c> {
             source.size,
             offset,
             stride,
+            layout,
         );
-        let wide = strides::padded(stride);
         self.plan.buffers.push(BufferSpec {
-            name: format!("{name}: from byte {offset} at a vertex stride of {wide}"),
+            name: format!(
+                "{name}: from byte {offset} at a vertex stride of {}",
+                layout.stride
+            ),
             size: bytes.len() as u64,
             usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
             initial: Some(bytes),
             history: false,
         });
         let i = self.plan.buffers.len() - 1;
-        self.vk.repacked.insert((buffer, offset, stride), i);
+        self.vk.repacked.insert(key, i);
         Ok(i)
     }
 
