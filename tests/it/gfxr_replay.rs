@@ -105,6 +105,7 @@ fn real_frames_are_clean_under_the_validation_layer() {
         "ffmpeg_chain",
         "ffmpeg_overlay",
         "ffmpeg_bgra_gblur",
+        "ffmpeg_rgba_scale_yuv",
     ]);
     crate::common::replays_clean_under_validation_layer(&dir, &captures, import);
 }
@@ -183,6 +184,46 @@ fn one_plane_frames_read_through_arrays_of_one_are_what_ffmpeg_wrote() {
         .filter(|(a, b)| a != b)
         .count();
     assert_eq!(differing, 0, "{differing} pixels differ from FFmpeg's");
+}
+
+/// FFmpeg 5.1's `scale_vulkan` from RGBA to YUV 4:2:0 (after `vflip_vulkan` and
+/// `flip_vulkan`): its shader writes an output array of three plane images, of which FFmpeg
+/// binds the first and leaves the other two null (the layer reports
+/// `VUID-vkCmdDispatch-None-02699`; the program never writes its U and V planes, and its own
+/// output there is whatever the memory held). The replay binds a blank image for each empty
+/// element, named in a note, as Vulkan's null descriptors behave; the Y plane of the second
+/// video frame is, byte for byte, the one FFmpeg wrote out.
+#[test]
+fn empty_storage_descriptors_stand_in_as_blank_images() {
+    let name = "ffmpeg_rgba_scale_yuv";
+    let dir = temp(name);
+    let capture = import(name, &dir);
+    let out = dir.join("out");
+    let (m, said) = crate::common::replay_export(&capture, &out);
+    for element in [1, 2] {
+        let note = format!(
+            "pass \"dispatch 3\": set 0 binding 1 element {element} (a storage image) is empty in the captured descriptor set; a blank image stands in"
+        );
+        assert!(said.contains(&note), "missing {note:?} in:\n{said}");
+    }
+    let file = m["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["resource"] == "image_132")
+        .and_then(|f| f["file"].as_str())
+        .expect("the Y plane exported");
+    let ours = image::open(out.join(file)).unwrap().to_rgba8();
+    let theirs = image::open(gfxr_fixture(&format!("{name}.ref.y.png")))
+        .unwrap()
+        .to_luma8();
+    assert_eq!(ours.dimensions(), theirs.dimensions());
+    let differing = ours
+        .pixels()
+        .zip(theirs.pixels())
+        .filter(|(a, b)| a.0[0] != b.0[0])
+        .count();
+    assert_eq!(differing, 0, "{differing} texels of the Y plane differ");
 }
 
 /// FFmpeg 5.1's Vulkan filters (compute, no swapchain; each capture holds two video frames): each keeps a descriptor array of one image per plane and indexes it

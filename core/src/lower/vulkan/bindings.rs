@@ -290,7 +290,7 @@ impl<'c> Lowering<'c> {
                 }
             }
             let d = work.descriptors.iter().find(at);
-            let (entries, bias) = self.vk_entries(p, d, (set, binding, base), u, lb)?;
+            let (entries, bias) = self.vk_entries(p, d, (set, binding, element, base), u, lb)?;
             if let Some(bias) = bias {
                 lod_bias.push((set, split_binding, bias.to_bits()));
             }
@@ -366,7 +366,7 @@ impl<'c> Lowering<'c> {
         &mut self,
         p: &PassDesc,
         d: Option<&VkBound>,
-        (set, binding, base): (u32, u32, u32),
+        (set, binding, element, base): (u32, u32, u32, u32),
         u: &Used,
         (lb, immutable): (&crate::capture::format::LayoutBinding, Option<usize>),
     ) -> Result<(Vec<Entry>, Option<f32>), Fail> {
@@ -493,12 +493,18 @@ impl<'c> Lowering<'c> {
                 }
                 out
             }
-            "STORAGE_IMAGE" => {
-                let d = d.ok_or_else(missing)?;
-                let view = d.view.ok_or_else(missing)?;
-                let (ty, resource) = self.vk_texture(p, view, &u.var, true)?;
-                vec![(entry(wb, ty), resource)]
-            }
+            "STORAGE_IMAGE" => match d.and_then(|d| d.view) {
+                Some(view) => {
+                    let (ty, resource) = self.vk_texture(p, view, &u.var, true)?;
+                    vec![(entry(wb, ty), resource)]
+                }
+                None => {
+                    let (ty, resource) = self
+                        .vk_blank_storage(p, (set, binding, element), &u.var)
+                        .ok_or_else(missing)?;
+                    vec![(entry(wb, ty), resource)]
+                }
+            },
             other => {
                 return Err(VkProblem::Unsupported {
                     feature: format!(
@@ -541,6 +547,82 @@ impl<'c> Lowering<'c> {
             },
             VkResource::Sampler(index),
         ))
+    }
+
+    /// A blank 1x1 storage image for a storage-image descriptor the captured set leaves empty
+    /// (FFmpeg's output array of three planes with one written for a one-plane frame): writes
+    /// to it are lost and reads give zero, as Vulkan's null descriptors behave; any other use
+    /// of an empty descriptor is undefined in Vulkan. Said in a note. `None` where the shader's
+    /// declared format or dimension has no wgpu storage twin.
+    fn vk_blank_storage(
+        &mut self,
+        p: &PassDesc,
+        (set, binding, element): (u32, u32, u32),
+        var: &ResourceVar,
+    ) -> Option<(wgpu::BindingType, VkResource)> {
+        let ResourceKind::StorageImage(info) = &var.kind else {
+            return None;
+        };
+        let format = states::storage_format(info.format)?;
+        let (dimension, view) = match (info.dim, info.arrayed) {
+            (rspirv::spirv::Dim::Dim2D, false) => {
+                (wgpu::TextureDimension::D2, wgpu::TextureViewDimension::D2)
+            }
+            _ => return None,
+        };
+        let name = format!("blank {format:?} storage image");
+        let texture = match self.plan.textures.iter().position(|t| t.name == name) {
+            Some(t) => t,
+            None => {
+                self.plan.textures.push(TextureSpec {
+                    name,
+                    format,
+                    dimension,
+                    size: wgpu::Extent3d {
+                        width: 1,
+                        height: 1,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_levels: 1,
+                    samples: 1,
+                    usage: wgpu::TextureUsages::STORAGE_BINDING,
+                    view_formats: Vec::new(),
+                    initial: None,
+                    history: false,
+                    cube: false,
+                });
+                self.plan.textures.len() - 1
+            }
+        };
+        let note = format!(
+            "pass \"{}\": set {set} binding {binding} element {element} (a storage image) is empty in the captured descriptor set; a blank image stands in (writes to it are lost, reads give zero, as Vulkan's null descriptors)",
+            p.name
+        );
+        if !self.notes.contains(&note) {
+            self.notes.push(note);
+        }
+        let ty = wgpu::BindingType::StorageTexture {
+            access: if var.non_writable {
+                wgpu::StorageTextureAccess::ReadOnly
+            } else if var.non_readable {
+                wgpu::StorageTextureAccess::WriteOnly
+            } else {
+                wgpu::StorageTextureAccess::ReadWrite
+            },
+            format,
+            view_dimension: view,
+        };
+        let resource = VkResource::Texture {
+            texture,
+            format: Some(format),
+            dimension: view,
+            aspect: wgpu::TextureAspect::All,
+            base_mip: 0,
+            mips: Some(1),
+            base_layer: 0,
+            layers: Some(1),
+        };
+        Some((ty, resource))
     }
 
     /// A sampled or storage texture through image view `v`.

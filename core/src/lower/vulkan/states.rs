@@ -512,3 +512,29 @@ fn lod_clamp(min: f32, max: f32) -> (f32, f32) {
     let min = finite(min, 0.0).max(0.0);
     (min, finite(max, 1000.0).max(min))
 }
+
+/// The wgpu storage format of a SPIR-V storage image's declared format, among those WebGPU
+/// can bind as storage.
+pub(super) fn storage_format(f: rspirv::spirv::ImageFormat) -> Option<wgpu::TextureFormat> {
+    use rspirv::spirv::ImageFormat as I;
+    use wgpu::TextureFormat as T;
+    Some(match f {
+        I::Rgba8 => T::Rgba8Unorm,
+        I::Rgba8Snorm => T::Rgba8Snorm,
+        I::Rgba8ui => T::Rgba8Uint,
+        I::Rgba8i => T::Rgba8Sint,
+        I::Rgba16f => T::Rgba16Float,
+        I::Rgba16ui => T::Rgba16Uint,
+        I::Rgba16i => T::Rgba16Sint,
+        I::Rgba32f => T::Rgba32Float,
+        I::Rgba32ui => T::Rgba32Uint,
+        I::Rgba32i => T::Rgba32Sint,
+        I::Rg32f => T::Rg32Float,
+        I::Rg32ui => T::Rg32Uint,
+        I::Rg32i => T::Rg32Sint,
+        I::R32f => T::R32Float,
+        I::R32ui => T::R32Uint,
+        I::R32i => T::R32Sint,
+        _ => return None,
+    })
+}
