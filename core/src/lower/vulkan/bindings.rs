@@ -602,13 +602,7 @@ impl<'c> Lowering<'c> {
             self.notes.push(note);
         }
         let ty = wgpu::BindingType::StorageTexture {
-            access: if var.non_writable {
-                wgpu::StorageTextureAccess::ReadOnly
-            } else if var.non_readable {
-                wgpu::StorageTextureAccess::WriteOnly
-            } else {
-                wgpu::StorageTextureAccess::ReadWrite
-            },
+            access: storage_access(var),
             format,
             view_dimension: view,
         };
@@ -705,13 +699,7 @@ impl<'c> Lowering<'c> {
                 feature: format!("a depth or stencil storage image (view {})", view.name),
             })?;
             wgpu::BindingType::StorageTexture {
-                access: if var.non_writable {
-                    wgpu::StorageTextureAccess::ReadOnly
-                } else if var.non_readable {
-                    wgpu::StorageTextureAccess::WriteOnly
-                } else {
-                    wgpu::StorageTextureAccess::ReadWrite
-                },
+                access: storage_access(var),
                 format,
                 view_dimension: dimension,
             }
@@ -742,6 +730,17 @@ impl<'c> Lowering<'c> {
             }
         };
         Ok((ty, resource))
+    }
+}
+
+/// How a storage image variable is accessed, from its decorations.
+fn storage_access(var: &ResourceVar) -> wgpu::StorageTextureAccess {
+    if var.non_writable {
+        wgpu::StorageTextureAccess::ReadOnly
+    } else if var.non_readable {
+        wgpu::StorageTextureAccess::WriteOnly
+    } else {
+        wgpu::StorageTextureAccess::ReadWrite
     }
 }
 
