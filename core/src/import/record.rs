@@ -295,7 +295,7 @@ impl Recording {
             CmdFunc::NextSubpass => Cmd::NextSubpass,
             CmdFunc::EndRender => Cmd::EndRender,
             CmdFunc::BeginRendering => {
-                let instance = render_pass::begin_rendering(&args.get("pRenderingInfo")?)?;
+                let instance = render_pass::begin_rendering(&args.get("pRenderingInfo")?, objects)?;
                 Cmd::BeginRender(Box::new(instance))
             }
             CmdFunc::Copy { kind, v2: false } => copy(kind, name, args)?,

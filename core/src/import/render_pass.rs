@@ -4,8 +4,7 @@
 //! its start and end, as barriers.
 
 use super::commands::{
-    AttUse, BarrierCmd, BarrierTarget, DepthUse, Origin, RenderInstance, SubpassUse, clear_color,
-    clear_color_of,
+    AttUse, BarrierCmd, BarrierTarget, DepthUse, Origin, RenderInstance, SubpassUse, clear_color_of,
 };
 use super::state::{AttachmentDesc, Dependency, Objects, RenderPassInfo, SubpassDesc};
 use super::value::{Arg, Got, Skip};
@@ -325,7 +324,7 @@ fn attachment_barriers(
     (begin, end)
 }
 
-pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
+pub(super) fn begin_rendering(info: &Arg<'_>, objects: &Objects) -> Got<RenderInstance> {
     let mut sub = SubpassUse::default();
     // Dynamic rendering neither transitions nor expects anything but each view's own layout.
     let mut layouts = Vec::new();
@@ -351,7 +350,7 @@ pub(super) fn begin_rendering(info: &Arg<'_>) -> Got<RenderInstance> {
             store: c.get("storeOp")?.name()?,
             clear: c
                 .opt("clearValue")
-                .map(|v| clear_color(&v))
+                .map(|v| clear_color_of(&v, objects.view_kinds.get(&view).map(|k| k.1.as_str())))
                 .unwrap_or_default(),
         });
         if let Some(r) = c.opt("resolveImageView") {
