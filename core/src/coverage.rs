@@ -278,9 +278,9 @@ pub fn command(name: &str) -> Option<Verdict> {
         ("CopyBuffer" | "CopyBufferToImage" | "CopyImageToBuffer" | "CopyImage", _) => {
             Verdict::Native
         }
-        ("ClearColorImage" | "ClearDepthStencilImage", _) => {
-            Verdict::Emulated("a clear pass of the image's subresources")
-        }
+        ("ClearColorImage" | "ClearDepthStencilImage", _) => Verdict::Emulated(
+            "a clear pass of the image's subresources, the colour read through the image's format (integers for an integer image)",
+        ),
         ("FillBuffer" | "UpdateBuffer", _) => {
             Verdict::Emulated("a copy pass writing the bytes the program wrote")
         }
@@ -312,7 +312,7 @@ pub fn command(name: &str) -> Option<Verdict> {
             "query results are the capturing device's timings and counts, which no other device reproduces: the destination keeps the contents it had (wgpu resolves its timestamps this way, into buffers only the host reads)",
         ),
         ("ClearAttachments", _) => Verdict::Emulated(
-            "a draw of each rectangle inside the render pass, writing the clear value to the attachments named and nothing else (colour blending off, depth and stencil tests always pass; clears of other than the first layer, and of integer colour attachments, refused)",
+            "a draw of each rectangle inside the render pass, writing the clear value to the attachments named and nothing else (colour blending off, depth and stencil tests always pass; an integer colour attachment takes the value's integers, read through its format; clears of other than the first layer refused)",
         ),
         (_, "DrawIndirectCount" | "DrawIndexedIndirectCount")
         | (_, "DrawIndirectCountKHR" | "DrawIndexedIndirectCountKHR")
@@ -419,9 +419,16 @@ pub fn sampler_field(name: &str) -> Option<Verdict> {
 /// Every `VK_DESCRIPTOR_TYPE_*`.
 pub fn descriptor_type(name: &str) -> Option<Verdict> {
     Some(match name.strip_prefix("VK_DESCRIPTOR_TYPE_")? {
-        "SAMPLER" | "SAMPLED_IMAGE" | "STORAGE_IMAGE" | "STORAGE_BUFFER" => Verdict::Native,
+        "SAMPLER" => Verdict::Native,
+        "SAMPLED_IMAGE" => Verdict::Emulated(NULL_IMAGE),
+        "STORAGE_IMAGE" => Verdict::Emulated(
+            "native; a null descriptor (or one never written) is a blank 1x1 2D storage image of the shader's format, its writes lost and its reads zero, named in a note; other dimensions refused",
+        ),
+        "STORAGE_BUFFER" => Verdict::Emulated(
+            "native; a null descriptor is a blank buffer of zeros the size of the shader's block, its writes lost (kept apart from the blanks only read), named in a note",
+        ),
         "UNIFORM_BUFFER" => Verdict::Emulated(
-            "native for std140 blocks; a std430 block's arrays of 32-bit scalars (zink's word arrays) are widened in the SPIR-V to arrays of 4-vectors at stride 16, the same bytes, so it stays a uniform block; another std430 block is bound as a read-only storage buffer, the SPIR-V moved to the StorageBuffer class; scalar layout past std430 is refused",
+            "native for std140 blocks; a std430 block's arrays of 32-bit scalars (zink's word arrays) are widened in the SPIR-V to arrays of 4-vectors at stride 16, the same bytes, so it stays a uniform block; another std430 block is bound as a read-only storage buffer, the SPIR-V moved to the StorageBuffer class; scalar layout past std430 is refused; a null descriptor reads a blank buffer of zeros, named in a note",
         ),
         "STORAGE_BUFFER_DYNAMIC" => {
             Verdict::Emulated("the dynamic offset is added to the binding's offset at import")
@@ -430,13 +437,13 @@ pub fn descriptor_type(name: &str) -> Option<Verdict> {
             "the dynamic offset is added to the binding's offset at import; std430 blocks as for uniform buffers",
         ),
         "COMBINED_IMAGE_SAMPLER" => Verdict::Emulated(
-            "split into a texture and a sampler binding, the SPIR-V rewritten to match",
+            "split into a texture and a sampler binding, the SPIR-V rewritten to match; a null image view as for sampled images",
         ),
         "UNIFORM_TEXEL_BUFFER" | "STORAGE_TEXEL_BUFFER" => Verdict::Emulated(
-            "where the code only reads it, in a format the rewrite unpacks: a read-only storage buffer of words, each texel read rewritten into a load and unpack; a written texel buffer is refused",
+            "where the code only reads it, in a format the rewrite unpacks: a read-only storage buffer of words, each texel read rewritten into a load and unpack; a written texel buffer and a null one are refused",
         ),
         "INPUT_ATTACHMENT" => Verdict::Emulated(
-            "bound as a texture of the attachment's view, each subpassLoad rewritten to a fetch at the fragment's own position (OpImageFetch at ivec2(gl_FragCoord.xy)); an attachment the same subpass renders to (framebuffer fetch) is refused as a feedback loop",
+            "bound as a texture of the attachment's view, each subpassLoad rewritten to a fetch at the fragment's own position (OpImageFetch at ivec2(gl_FragCoord.xy)); an attachment the same subpass renders to (framebuffer fetch) is refused as a feedback loop, and so is a null one",
         ),
         "INLINE_UNIFORM_BLOCK" => Verdict::Refused("inline uniform blocks are not imported yet"),
         "ACCELERATION_STRUCTURE_KHR" | "ACCELERATION_STRUCTURE_NV" => {
@@ -449,6 +456,9 @@ pub fn descriptor_type(name: &str) -> Option<Verdict> {
         _ => return None,
     })
 }
+
+/// What a null sampled image reads (the nullDescriptor feature of VK_EXT_robustness2).
+const NULL_IMAGE: &str = "native; a null descriptor reads a blank 1x1 image of the shader's sample type and dimension, zero in every channel (its size queries give 1 where Vulkan's give 0), named in a note; a null multisampled or depth-compared image is refused";
 
 /// Every `VK_FORMAT_*` an image can be made in: every one is imported (with its DXGI twin or
 /// under its Vulkan name), and the lowering replays it in the wgpu format with the same bits,

@@ -202,7 +202,7 @@ fn empty_storage_descriptors_stand_in_as_blank_images() {
     let (m, said) = crate::common::replay_export(&capture, &out);
     for element in [1, 2] {
         let note = format!(
-            "pass \"dispatch 3\": set 0 binding 1 element {element} (a storage image) is empty in the captured descriptor set; a blank image stands in"
+            "pass \"dispatch 3\": set 0 binding 1 element {element} is empty in the captured descriptor set; a blank storage image stands in"
         );
         assert!(said.contains(&note), "missing {note:?} in:\n{said}");
     }

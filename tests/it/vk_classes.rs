@@ -1390,3 +1390,234 @@ fn draws_that_rasterize_nothing_replay_as_no_vertices() {
     });
     assert!(!clear_only(&lines), "lines are not culled");
 }
+
+/// Null descriptors (VK_EXT_robustness2's nullDescriptor: `VK_NULL_HANDLE` written where a
+/// resource goes): vkcube's stream with its texture's view and its uniform buffer written
+/// null imports descriptors of their type with no resource (the sampler kept), where before
+/// the write left the slot as it was. Replayed, a blank stands in, said in a note: with the
+/// texture null every face reads zero (black) on the program's own background; with the
+/// uniform buffer null every vertex sits at the origin and only the clear is left. A null image
+/// read through a comparing sampler is refused by name.
+#[test]
+fn null_descriptors_read_zero_through_blank_stand_ins() {
+    let dir = temp("null");
+    let (v, _) = import_stream(&dir, |lines| {
+        lines
+            .into_iter()
+            .map(|l| {
+                if l.contains("vkUpdateDescriptorSets") {
+                    l.replace("\"imageView\":27", "\"imageView\":0")
+                        .replace("\"buffer\":28", "\"buffer\":0")
+                } else {
+                    l
+                }
+            })
+            .collect()
+    });
+    let draw = draws(&v)[0].clone();
+    let descriptors = draw["vulkan_state"]["descriptors"].as_array().unwrap();
+    assert_eq!(
+        descriptors,
+        &vec![
+            json!({"set": 0, "binding": 0, "element": 0, "descriptor_type": "UNIFORM_BUFFER"}),
+            json!({"set": 0, "binding": 1, "element": 0, "descriptor_type": "COMBINED_IMAGE_SAMPLER", "sampler": "sampler_26"}),
+        ]
+    );
+
+    let capture = vkcube(&dir);
+    let reference = reference();
+    let background = *reference.get_pixel(0, 0);
+    let null_at = |capture: &Path, binding: usize| {
+        edit(capture, |v| {
+            let (state, _) = draw_and_state(v);
+            let d = state["descriptors"][binding].as_object_mut().unwrap();
+            d.remove("resource");
+            d.remove("view");
+        })
+    };
+    null_at(&capture, 1);
+    let out = dir.join("texture");
+    let (m, said) = crate::common::replay_export(&capture, &out);
+    let note =
+        "set 0 binding 1 element 0 is empty in the captured descriptor set; a blank 1x1 image";
+    assert!(said.contains(note), "missing {note:?} in:\n{said}");
+    let file = m["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["presented"] == json!(true))
+        .and_then(|f| f["file"].as_str())
+        .unwrap();
+    let image = image::open(out.join(file)).unwrap().to_rgba8();
+    let (mut cube, mut black) = (0, 0);
+    for (ours, theirs) in image.pixels().zip(reference.pixels()) {
+        if *theirs == background {
+            assert_eq!(
+                ours.0[..3],
+                background.0[..3],
+                "the background is the program's"
+            );
+        } else {
+            cube += 1;
+            black += usize::from(ours.0[..3] == [0, 0, 0]);
+        }
+    }
+    assert!(cube > 10_000, "the cube covers {cube} pixels");
+    // Edge pixels blend the background in.
+    assert!(
+        black * 100 > cube * 95,
+        "{black} of {cube} cube pixels black"
+    );
+
+    let bare = dir.join("bare.json");
+    std::fs::copy(&capture, &bare).unwrap();
+    null_at(&bare, 0);
+    let image = crate::common::replay_presented(&bare, &dir.join("bare"));
+    assert!(
+        image.pixels().all(|p| p.0[..3] == background.0[..3]),
+        "with no transforms nothing is drawn but the clear"
+    );
+
+    edit(&capture, |v| {
+        v["vulkan"]["samplers"][0]["compare_op"] = json!("VK_COMPARE_OP_LESS");
+    });
+    let err = replay_fails(&capture);
+    let refusal = "a null depth-compared image descriptor (set 0 binding 1 element 0";
+    assert!(err.contains(refusal), "missing {refusal:?} in:\n{err}");
+}
+
+/// Clear colours are read through the format of what they clear, as the union member the
+/// program filled for it: vkcube's stream with its swapchain made `R8G8B8A8_UINT` and its
+/// texture `R8G8B8A8_SINT`, a `vkCmdClearAttachments` of the colour attachment and a
+/// `vkCmdClearColorImage` of the texture added, each value's members disagreeing: the
+/// attachment clear holds the `uint32` words, the image clear the `int32` ones.
+#[test]
+fn integer_clear_values_are_read_as_integers() {
+    let dir = temp("integer-clears");
+    let color =
+        |f: [f64; 4], i: [i64; 4], u: [u64; 4]| json!({"float32": f, "int32": i, "uint32": u});
+    let (v, said) = import_stream(&dir, |lines| {
+        let mut out = Vec::new();
+        for line in lines {
+            let line = line
+                .replace("VK_FORMAT_B8G8R8A8_UNORM", "VK_FORMAT_R8G8B8A8_UINT")
+                .replace("VK_FORMAT_R8G8B8A8_UNORM", "VK_FORMAT_R8G8B8A8_SINT");
+            match call_of(&line) {
+                Some((cb, name)) if name == "vkCmdEndRenderPass" => {
+                    let mut args = clear_args(
+                        &[(1, 0)],
+                        json!([{"rect": rect(0, 0, 8, 8), "baseArrayLayer": 0, "layerCount": 1}]),
+                    );
+                    args["pAttachments"][0]["clearValue"]["color"] =
+                        color([1.0, 0.25, 0.0, 1.0], [0; 4], [7, 8, 9, 255]);
+                    out.push(cmd_line(9, "vkCmdClearAttachments", cb, args));
+                }
+                Some((cb, name)) if name == "vkCmdBeginRenderPass" => {
+                    let range = json!({"aspectMask": 1, "baseMipLevel": 0, "levelCount": 1, "baseArrayLayer": 0, "layerCount": 1});
+                    out.push(cmd_line(
+                        9,
+                        "vkCmdClearColorImage",
+                        cb,
+                        json!({
+                            "image": 24,
+                            "imageLayout": "VK_IMAGE_LAYOUT_GENERAL",
+                            "pColor": color([0.5; 4], [-3, 4, 5, 6], [4_294_967_293, 4, 5, 6]),
+                            "rangeCount": 1,
+                            "pRanges": [range],
+                        }),
+                    ));
+                }
+                _ => {}
+            }
+            out.push(line);
+        }
+        out
+    });
+    let passes = v["passes"].as_array().unwrap();
+    let attachment = passes
+        .iter()
+        .find_map(|p| p["attachment_clears"].as_array())
+        .unwrap_or_else(|| panic!("no attachment clear in:\n{said}"));
+    assert_eq!(
+        attachment[0]["colors"],
+        json!([{"attachment": 0, "value": [7.0, 8.0, 9.0, 255.0]}])
+    );
+    let image = passes
+        .iter()
+        .flat_map(|p| p["clears"].as_array().into_iter().flatten())
+        .find(|c| c["resource"] == "image_24")
+        .unwrap_or_else(|| panic!("no clear of the texture in:\n{said}"));
+    assert_eq!(image["value"], json!([-3.0, 4.0, 5.0, 6.0]));
+}
+
+/// An attachment clear of an integer colour attachment writes integers: vkcube's pass, its
+/// draw taken out, given a second attachment in `R8G8B8A8_UINT` (loaded as `[1, 2, 3, 4]`)
+/// and a clear of a 16x16 corner of both: the integer target holds `[7, 8, 9, 255]` there
+/// and its load value elsewhere, the swapchain image red there.
+#[test]
+fn integer_attachment_clears_write_integers() {
+    let dir = temp("integer-attachment");
+    let capture = vkcube(&dir);
+    edit(&capture, |v| {
+        v["resources"].as_array_mut().unwrap().push(json!({
+            "name": "integers", "kind": "texture_2d", "format": "R8G8B8A8_UINT",
+            "width": 500, "height": 500, "flags": ["ALLOW_RENDER_TARGET"],
+        }));
+        let pass = &mut v["passes"][0];
+        pass["draws"] = json!([]);
+        pass["bindings"] = json!({});
+        pass["color_attachments"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!({
+                "resource": "integers", "mip": 0, "layer": 0, "load": "clear", "store": "store",
+                "clear": [1, 2, 3, 4],
+            }));
+        pass["attachment_clears"] = json!([{
+            "before_draw": 0,
+            "colors": [
+                {"attachment": 1, "value": [7, 8, 9, 255]},
+                {"attachment": 0, "value": [1, 0, 0, 1]},
+            ],
+            "rects": [[0, 0, 16, 16]],
+        }]);
+    });
+    let out = dir.join("out");
+    let (m, _) = crate::common::replay_export(&capture, &out);
+    let file = |name: &str| {
+        m["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|f| f["resource"] == name)
+            .cloned()
+            .unwrap()
+    };
+    // Integer targets are written as 16-bit PNGs spanning the data's range.
+    let integers = file("integers");
+    let (lo, hi) = (
+        integers["min"].as_f64().unwrap(),
+        integers["max"].as_f64().unwrap(),
+    );
+    let image = image::open(out.join(integers["file"].as_str().unwrap()))
+        .unwrap()
+        .to_rgba16();
+    let value = |x: u32, y: u32| -> Vec<f64> {
+        image.get_pixel(x, y).0[..3]
+            .iter()
+            .map(|&c| (lo + f64::from(c) / 65535.0 * (hi - lo)).round())
+            .collect()
+    };
+    assert_eq!(value(0, 0), [7.0, 8.0, 9.0]);
+    assert_eq!(value(15, 15), [7.0, 8.0, 9.0]);
+    assert_eq!(value(16, 16), [1.0, 2.0, 3.0]);
+    assert_eq!(
+        (lo, hi),
+        (1.0, 255.0),
+        "alpha 255 in the corner, 4 elsewhere"
+    );
+    let swapchain = image::open(out.join(file("swapchain_0")["file"].as_str().unwrap()))
+        .unwrap()
+        .to_rgba8();
+    assert_eq!(swapchain.get_pixel(8, 8).0[..3], [255, 0, 0]);
+}

@@ -56,7 +56,8 @@ impl Builder {
                 continue;
             }
             let (handle, access, bytes, mips, layers) = match &u.descriptor {
-                Descriptor::Sampler { .. } => continue,
+                // A null descriptor reaches no resource.
+                Descriptor::Sampler { .. } | Descriptor::Null { .. } => continue,
                 Descriptor::Image { view, ty, .. } => {
                     let Some(v) = objects.views.get(view) else {
                         self.note(

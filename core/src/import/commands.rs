@@ -266,7 +266,7 @@ pub enum TransferCmd {
 /// depth and stencil values, and rectangles (`[x, y, width, height]`, base layer, layers).
 #[derive(Clone, Debug, Default)]
 pub struct AttachmentClearCmd {
-    pub colors: Vec<(u32, [f64; 4])>,
+    pub colors: Vec<(u32, ClearColorValue)>,
     pub depth: Option<f32>,
     pub stencil: Option<u32>,
     pub rects: Vec<([i64; 4], u32, u32)>,
@@ -291,31 +291,57 @@ pub enum Cmd {
     Refused(Box<str>),
 }
 
-/// A clear value as `[r, g, b, a]`; whichever of the float, uint or int members is present.
-pub fn clear_color(v: &Arg<'_>) -> [f64; 4] {
-    clear_color_of(v, None)
+/// A `VkClearColorValue` read through the view the attachment's format `format`
+/// (`VK_FORMAT_*`) reads it by (`ClearColorValue::through`).
+pub fn clear_color_of(v: &Arg<'_>, format: Option<&str>) -> [f64; 4] {
+    ClearColorValue::read(v).through(format)
 }
 
-/// A `VkClearColorValue` read through the view the attachment's format `format`
-/// (`VK_FORMAT_*`) reads it by: `uint32` for unsigned integer formats, `int32` for signed
-/// ones, `float32` otherwise (and where the format is not known). A component that is not a
-/// finite number is 0: JSON holds none, and programs leave the channels a format lacks
-/// unset (zink clears a one-channel float attachment with NaN in the other three).
-pub fn clear_color_of(v: &Arg<'_>, format: Option<&str>) -> [f64; 4] {
-    let mut out = [0.0; 4];
-    let color = v.opt("color").unwrap_or(*v);
-    let first = match format {
-        Some(f) if f.ends_with("_UINT") => "uint32",
-        Some(f) if f.ends_with("_SINT") => "int32",
-        _ => "float32",
-    };
-    for key in [first, "float32", "uint32", "int32"] {
-        if let Some(list) = color.opt(key).and_then(|l| l.items().ok()) {
+/// A `VkClearColorValue` as each member of the union reads it, for a command whose
+/// attachment's format is known only later (`vkCmdClearAttachments` names its attachment by
+/// its index in the subpass).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ClearColorValue {
+    float32: Option<[f64; 4]>,
+    uint32: Option<[f64; 4]>,
+    int32: Option<[f64; 4]>,
+}
+
+impl ClearColorValue {
+    /// The members `v` (a `VkClearColorValue`, or a `VkClearValue` holding one) has. A
+    /// component that is not a finite number is 0: JSON holds none, and programs leave the
+    /// channels a format lacks unset (zink clears a one-channel float attachment with NaN in
+    /// the other three).
+    pub fn read(v: &Arg<'_>) -> Self {
+        let color = v.opt("color").unwrap_or(*v);
+        let member = |key: &str| {
+            let list = color.opt(key)?.items().ok()?;
+            let mut out = [0.0; 4];
             for (o, x) in out.iter_mut().zip(&list) {
                 *o = x.f64().ok().filter(|x| x.is_finite()).unwrap_or(0.0);
             }
-            break;
+            Some(out)
+        };
+        ClearColorValue {
+            float32: member("float32"),
+            uint32: member("uint32"),
+            int32: member("int32"),
         }
     }
-    out
+
+    /// The value as the format `format` reads it: `uint32` for unsigned integer formats,
+    /// `int32` for signed ones, `float32` otherwise (and where the format is not known); a
+    /// member the source lacks gives way to the others, in that order.
+    pub fn through(&self, format: Option<&str>) -> [f64; 4] {
+        let first = match format {
+            Some(f) if f.ends_with("_UINT") => self.uint32,
+            Some(f) if f.ends_with("_SINT") => self.int32,
+            _ => self.float32,
+        };
+        first
+            .or(self.float32)
+            .or(self.uint32)
+            .or(self.int32)
+            .unwrap_or_default()
+    }
 }

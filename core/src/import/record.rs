@@ -300,7 +300,7 @@ impl Recording {
             }
             CmdFunc::Copy { kind, v2: false } => copy(kind, name, args)?,
             CmdFunc::Copy { kind, v2: true } => copy(kind, name, &args.get(kind.info_key())?)?,
-            CmdFunc::ClearImage => clear_image(name, args)?,
+            CmdFunc::ClearImage => clear_image(name, args, objects)?,
             CmdFunc::ClearAttachments => clear_attachments(args)?,
             CmdFunc::FillBuffer => {
                 let update = name.contains("Update");

@@ -157,6 +157,14 @@ pub enum Descriptor {
         view: u64,
         ty: Cow<'static, str>,
     },
+    /// `VK_NULL_HANDLE` written where a resource goes (the nullDescriptor feature of
+    /// VK_EXT_robustness2): reads give zero and writes are discarded. It replaces what the
+    /// slot held, where a slot never written holds nothing. A combined image sampler keeps
+    /// its sampler (0 for none).
+    Null {
+        ty: Cow<'static, str>,
+        sampler: u64,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -795,7 +803,8 @@ pub fn descriptor_writes(w: &Arg<'_>) -> Got<Vec<((u32, u32), Descriptor)>> {
 }
 
 /// The descriptors of type `kind` that `items` (the list `Holds::of(kind)` names) put at
-/// `binding` from element `first` on; null handles write nothing.
+/// `binding` from element `first` on; a null handle writes a null descriptor (a null sampler
+/// nothing: no feature allows one).
 // The `Cow` itself, not its text, so that a type borrowed from the tables stays borrowed in
 // every descriptor.
 #[allow(clippy::ptr_arg)]
@@ -820,17 +829,27 @@ pub(super) fn descriptors(
                 } else {
                     0
                 };
-                (view != 0).then(|| Descriptor::Image {
-                    view,
-                    sampler,
-                    ty: kind.clone(),
-                    layout: i.opt("imageLayout").and_then(|l| l.layout().ok()),
+                Some(if view == 0 {
+                    Descriptor::Null {
+                        ty: kind.clone(),
+                        sampler,
+                    }
+                } else {
+                    Descriptor::Image {
+                        view,
+                        sampler,
+                        ty: kind.clone(),
+                        layout: i.opt("imageLayout").and_then(|l| l.layout().ok()),
+                    }
                 })
             }
             Some(Holds::Buffers) => {
                 let buffer = i.get("buffer")?.handle()?;
                 if buffer == 0 {
-                    None
+                    Some(Descriptor::Null {
+                        ty: kind.clone(),
+                        sampler: 0,
+                    })
                 } else {
                     Some(Descriptor::Buffer {
                         buffer,
@@ -842,9 +861,16 @@ pub(super) fn descriptors(
             }
             Some(Holds::TexelViews) => {
                 let view = i.handle()?;
-                (view != 0).then(|| Descriptor::TexelBuffer {
-                    view,
-                    ty: kind.clone(),
+                Some(if view == 0 {
+                    Descriptor::Null {
+                        ty: kind.clone(),
+                        sampler: 0,
+                    }
+                } else {
+                    Descriptor::TexelBuffer {
+                        view,
+                        ty: kind.clone(),
+                    }
                 })
             }
             None => None,

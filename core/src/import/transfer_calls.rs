@@ -3,14 +3,21 @@
 //! build turns into a pass.
 
 use super::calls::CopyKind;
-use super::commands::{AttachmentClearCmd, BlitRegionCmd, Cmd, Region, TransferCmd, clear_color};
+use super::commands::{
+    AttachmentClearCmd, BlitRegionCmd, ClearColorValue, Cmd, Region, TransferCmd, clear_color_of,
+};
 use super::record::{extent3, layer_count, offset3, range, subresource};
+use super::state::Objects;
 use super::value::{ASPECTS, Arg, Got, Skip};
 use crate::capture::vulkan::ImageLayout;
 
-pub(super) fn clear_image(name: &str, args: &Arg<'_>) -> Got<Cmd> {
+/// `vkCmdClearColorImage` or `vkCmdClearDepthStencilImage`; a colour read through the
+/// image's format (integers for an integer image).
+pub(super) fn clear_image(name: &str, args: &Arg<'_>, objects: &Objects) -> Got<Cmd> {
+    let target = args.get("image")?.handle()?;
+    let format = objects.images.get(&target).map(|i| i.format.as_str());
     let (value, stencil) = match args.opt("pColor") {
-        Some(c) => (clear_color(&c), 0),
+        Some(c) => (clear_color_of(&c, format), 0),
         None => {
             let ds = args.get("pDepthStencil")?;
             (
@@ -24,7 +31,7 @@ pub(super) fn clear_image(name: &str, args: &Arg<'_>) -> Got<Cmd> {
         layout: args
             .opt("imageLayout")
             .and_then(|l| ImageLayout::from_name(&l.symbol().ok()?)),
-        target: args.get("image")?.handle()?,
+        target,
         value,
         stencil,
         ranges: args
@@ -44,7 +51,7 @@ pub(super) fn clear_attachments(args: &Arg<'_>) -> Got<Cmd> {
         let value = a.get("clearValue")?;
         if aspects & 0x1 != 0 {
             let slot = a.get("colorAttachment")?.u32()?;
-            clear.colors.push((slot, clear_color(&value)));
+            clear.colors.push((slot, ClearColorValue::read(&value)));
         }
         let ds = value.opt("depthStencil");
         if aspects & 0x2 != 0 {

@@ -50,6 +50,11 @@ impl Builder {
                     d.descriptor_type = "SAMPLER".to_owned();
                     d.sampler = Some(pipelines::sampler_name(*sampler));
                 }
+                // Neither a resource nor a view: the replay's stand-in reads zero.
+                Descriptor::Null { ty, sampler } => {
+                    d.descriptor_type = ty.to_string();
+                    d.sampler = (*sampler != 0).then(|| pipelines::sampler_name(*sampler));
+                }
                 Descriptor::Image {
                     view, sampler, ty, ..
                 } => {

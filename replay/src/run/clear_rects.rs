@@ -40,10 +40,26 @@ impl ClearDesc {
     fn of(r: &VkRasterOp, c: &VkClearOp) -> Self {
         let mut outputs = String::new();
         let mut values = Vec::new();
-        for (i, v) in c.colors.iter().enumerate() {
-            outputs.push_str(&format!("@location({i}) c{i}: vec4<f32>, "));
-            let [x, y, z, w] = v.unwrap_or_default().map(literal);
-            values.push(format!("vec4<f32>({x:?}, {y:?}, {z:?}, {w:?})"));
+        for (i, (v, t)) in c.colors.iter().zip(&r.color).enumerate() {
+            let v = v.unwrap_or_default();
+            // An integer target takes integers (the import read the value through its format).
+            let (ty, [x, y, z, w]) = match t.format.sample_type(None, None) {
+                Some(wgpu::TextureSampleType::Uint) => (
+                    "vec4<u32>",
+                    v.map(|c| format!("{}u", c.clamp(0.0, f64::from(u32::MAX)) as u32)),
+                ),
+                Some(wgpu::TextureSampleType::Sint) => (
+                    "vec4<i32>",
+                    v.map(|c| {
+                        let c = c.clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32;
+                        // WGSL has no negative literal: `-2147483648i` is out of range.
+                        format!("i32({c})")
+                    }),
+                ),
+                _ => ("vec4<f32>", v.map(|c| format!("{:?}", literal(c)))),
+            };
+            outputs.push_str(&format!("@location({i}) c{i}: {ty}, "));
+            values.push(format!("{ty}({x}, {y}, {z}, {w})"));
         }
         let fragment = if values.is_empty() {
             "@fragment fn fs() {}".to_owned()

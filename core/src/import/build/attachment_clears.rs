@@ -19,11 +19,16 @@ impl Builder {
             return Ok(());
         };
         // The pass has the subpass's colour attachments whose views resolved (`raster`).
-        let slots: Vec<u32> = s
+        let slots: Vec<(u32, Option<&str>)> = s
             .colors
             .iter()
             .filter(|a| objects.views.contains_key(&a.view))
-            .map(|a| a.slot)
+            .map(|a| {
+                (
+                    a.slot,
+                    objects.view_kinds.get(&a.view).map(|k| k.1.as_str()),
+                )
+            })
             .collect();
         // A colour attachment the subpass leaves unused is cleared by nothing, as the
         // specification says.
@@ -31,10 +36,11 @@ impl Builder {
             .colors
             .iter()
             .filter_map(|&(slot, value)| {
-                let i = slots.iter().position(|&s| s == slot)?;
+                let i = slots.iter().position(|&(s, _)| s == slot)?;
+                // Read through the attachment's view: integers for an integer attachment.
                 Some(AttachmentClearColor {
                     attachment: i as u32,
-                    value,
+                    value: value.through(slots[i].1),
                 })
             })
             .collect();

@@ -429,7 +429,7 @@ impl Sync {
                 },
                 ty,
             ),
-            Descriptor::Sampler { .. } => return,
+            Descriptor::Sampler { .. } | Descriptor::Null { .. } => return,
         };
         // Whether a shader reads or writes a storage binding is in its code, which a binary
         // capture holds (`spirv::usage`). Where the code is unknown, a storage access is

@@ -256,11 +256,15 @@ impl<'c> Lowering<'c> {
             };
             let at = |d: &&VkBound| d.set == set && d.binding == binding && d.element == element;
             if matches!(u.var.kind, ResourceKind::UniformTexelBuffer) {
-                let view = work
-                    .descriptors
-                    .iter()
-                    .find(at)
-                    .and_then(|d| d.format.as_deref());
+                let found = work.descriptors.iter().find(at);
+                if found.is_some_and(|d| d.resource.is_none()) {
+                    return Err(super::blanks::refused(
+                        "UNIFORM_TEXEL_BUFFER",
+                        (set, binding, element),
+                        &u.shader,
+                    ));
+                }
+                let view = found.and_then(|d| d.format.as_deref());
                 match view.and_then(texel_format) {
                     Some(f) => texel_formats.push((set, split_binding, f)),
                     None => {
@@ -381,6 +385,7 @@ impl<'c> Lowering<'c> {
                 u.shader
             ))
         };
+        let null = |what: &str| super::blanks::refused(what, (set, binding, element), &u.shader);
         let entry = |b: u32, ty: wgpu::BindingType| wgpu::BindGroupLayoutEntry {
             binding: b,
             visibility: u.stages,
@@ -394,7 +399,10 @@ impl<'c> Lowering<'c> {
             | "STORAGE_BUFFER"
             | "STORAGE_BUFFER_DYNAMIC" => {
                 let d = d.ok_or_else(missing)?;
-                let buffer = self.buf(p, d.resource.ok_or_else(missing)?)?;
+                let buffer = match d.resource {
+                    Some(r) => self.buf(p, r)?,
+                    None => self.vk_blank_buffer(p, (set, binding, element), &u.var),
+                };
                 let kind = if ty.starts_with("UNIFORM") && !u.as_storage {
                     wgpu::BufferBindingType::Uniform
                 } else {
@@ -436,7 +444,10 @@ impl<'c> Lowering<'c> {
             // Read as words: the rewrite unpacks each texel (`crate::spirv`).
             "STORAGE_TEXEL_BUFFER" | "UNIFORM_TEXEL_BUFFER" => {
                 let d = d.ok_or_else(missing)?;
-                let buffer = self.buf(p, d.resource.ok_or_else(missing)?)?;
+                let Some(r) = d.resource else {
+                    return Err(null(ty));
+                };
+                let buffer = self.buf(p, r)?;
                 vec![(
                     entry(
                         wb,
@@ -470,8 +481,23 @@ impl<'c> Lowering<'c> {
             // (`spirv::subpass`): the subpass that wrote it is a render pass of its own.
             "SAMPLED_IMAGE" | "COMBINED_IMAGE_SAMPLER" | "INPUT_ATTACHMENT" => {
                 let d = d.ok_or_else(missing)?;
-                let view = d.view.ok_or_else(missing)?;
-                let (ty, resource) = self.vk_texture(p, view, &u.var, false)?;
+                let (ty, resource) = match d.view {
+                    Some(view) => self.vk_texture(p, view, &u.var, false)?,
+                    None if ty == "INPUT_ATTACHMENT" => return Err(null(ty)),
+                    None => {
+                        let compares = d.sampler.or(immutable).is_some_and(|s| {
+                            self.vk_model()
+                                .is_ok_and(|m| m.samplers[s].compare_op.is_some())
+                        });
+                        self.vk_blank_sampled(
+                            p,
+                            (set, binding, element),
+                            &u.var,
+                            &u.shader,
+                            compares,
+                        )?
+                    }
+                };
                 let levels = match &resource {
                     VkResource::Texture {
                         texture,
@@ -547,76 +573,6 @@ impl<'c> Lowering<'c> {
             },
             VkResource::Sampler(index),
         ))
-    }
-
-    /// A blank 1x1 storage image for a storage-image descriptor the captured set leaves empty
-    /// (FFmpeg's output array of three planes with one written for a one-plane frame): writes
-    /// to it are lost and reads give zero, as Vulkan's null descriptors behave; any other use
-    /// of an empty descriptor is undefined in Vulkan. Said in a note. `None` where the shader's
-    /// declared format or dimension has no wgpu storage twin.
-    fn vk_blank_storage(
-        &mut self,
-        p: &PassDesc,
-        (set, binding, element): (u32, u32, u32),
-        var: &ResourceVar,
-    ) -> Option<(wgpu::BindingType, VkResource)> {
-        let ResourceKind::StorageImage(info) = &var.kind else {
-            return None;
-        };
-        let format = states::storage_format(info.format)?;
-        let (dimension, view) = match (info.dim, info.arrayed) {
-            (rspirv::spirv::Dim::Dim2D, false) => {
-                (wgpu::TextureDimension::D2, wgpu::TextureViewDimension::D2)
-            }
-            _ => return None,
-        };
-        let name = format!("blank {format:?} storage image");
-        let texture = match self.plan.textures.iter().position(|t| t.name == name) {
-            Some(t) => t,
-            None => {
-                self.plan.textures.push(TextureSpec {
-                    name,
-                    format,
-                    dimension,
-                    size: wgpu::Extent3d {
-                        width: 1,
-                        height: 1,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_levels: 1,
-                    samples: 1,
-                    usage: wgpu::TextureUsages::STORAGE_BINDING,
-                    view_formats: Vec::new(),
-                    initial: None,
-                    history: false,
-                    cube: false,
-                });
-                self.plan.textures.len() - 1
-            }
-        };
-        let note = format!(
-            "pass \"{}\": set {set} binding {binding} element {element} (a storage image) is empty in the captured descriptor set; a blank image stands in (writes to it are lost, reads give zero, as Vulkan's null descriptors)",
-            p.name
-        );
-        if !self.notes.contains(&note) {
-            self.notes.push(note);
-        }
-        let ty = wgpu::BindingType::StorageTexture {
-            access: storage_access(var),
-            format,
-            view_dimension: view,
-        };
-        let resource = VkResource::Texture {
-            texture,
-            format: Some(format),
-            dimension: view,
-            aspect: wgpu::TextureAspect::All,
-            base_mip: 0,
-            mips: Some(1),
-            base_layer: 0,
-            layers: Some(1),
-        };
-        Some((ty, resource))
     }
 
     /// A sampled or storage texture through image view `v`.
@@ -734,7 +690,7 @@ impl<'c> Lowering<'c> {
 }
 
 /// How a storage image variable is accessed, from its decorations.
-fn storage_access(var: &ResourceVar) -> wgpu::StorageTextureAccess {
+pub(super) fn storage_access(var: &ResourceVar) -> wgpu::StorageTextureAccess {
     if var.non_writable {
         wgpu::StorageTextureAccess::ReadOnly
     } else if var.non_readable {

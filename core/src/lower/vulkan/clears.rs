@@ -1,9 +1,7 @@
 //! Attachment clears of an imported render pass (`vkCmdClearAttachments`) at wgpu level: a
 //! value per colour target, the depth and stencil values, rectangles clipped to the targets.
-//! What a draw cannot write is refused: integer colour targets (the capture keeps a clear
-//! value as numbers, not as the union member the program filled) and read-only depth.
-
-use wgpu_types as wgpu;
+//! Integer colour targets take the value as the import read it through their format
+//! (integers); what a draw cannot write is refused: read-only or absent depth and stencil.
 
 use super::VkProblem;
 use crate::capture::model::AttachmentClearDesc;
@@ -18,22 +16,11 @@ pub(super) fn clear_op(
 ) -> Result<VkClearOp, VkProblem> {
     let mut colors = vec![None; color.len()];
     for &(i, value) in &c.colors {
-        let Some(target) = color.get(i) else {
+        if i >= color.len() {
             return Err(VkProblem::Missing(format!(
                 "colour attachment {i} of a pass with {}",
                 color.len()
             )));
-        };
-        if matches!(
-            target.format.sample_type(None, None),
-            Some(wgpu::TextureSampleType::Uint | wgpu::TextureSampleType::Sint)
-        ) {
-            return Err(VkProblem::Unsupported {
-                feature: format!(
-                    "vkCmdClearAttachments of the integer colour attachment {i} ({:?})",
-                    target.format
-                ),
-            });
         }
         colors[i] = Some(value);
     }

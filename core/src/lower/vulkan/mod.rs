@@ -10,6 +10,7 @@
 //! `b` take wgpu binding `2b`, `Role::SplitSampler` takes `2b + 1`.
 
 mod bindings;
+mod blanks;
 mod capabilities;
 mod clears;
 mod dynamic;
