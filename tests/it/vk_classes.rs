@@ -599,7 +599,8 @@ fn attachment_clears_reach_their_pass() {
 /// vkcube's pass with a rectangle cleared to red across the cube's left edge: after the
 /// cube's draw the whole rectangle is red; before it, the cube covers the red where it lies;
 /// before it with the depth cleared to 0 as well, the cube fails its depth test there and the
-/// rectangle stays red. Outside the rectangle the image is vkcube's own. A clear of an
+/// rectangle stays red, and so it does with the depth attachment in a read-only layout.
+/// Outside the rectangle the image is vkcube's own. A clear of an
 /// attachment the pass lacks is refused before anything is replayed.
 #[test]
 fn attachment_clears_are_drawn_between_the_draws() {
@@ -655,6 +656,16 @@ fn attachment_clears_are_drawn_between_the_draws() {
     check("before", &|x, y| background(x, y));
     set(0, Some(0.0), 0);
     check("before-depth", &|_, _| true);
+    // The depth attachment in a read-only layout, cleared anyway (zink clears OpenArena's
+    // depth under its 3D HUD icons so): writable for the pass, the same image.
+    edit(&capture, |v| {
+        let passes = v["passes"].as_array_mut().unwrap();
+        let pass = passes
+            .iter_mut()
+            .find(|p| p["attachment_clears"].is_array());
+        pass.unwrap()["depth_stencil"]["read_only"] = json!(true);
+    });
+    check("read-only-depth", &|_, _| true);
 
     set(1, None, 3);
     let err = replay_fails(&capture);
@@ -1620,4 +1631,26 @@ fn integer_attachment_clears_write_integers() {
         .unwrap()
         .to_rgba8();
     assert_eq!(swapchain.get_pixel(8, 8).0[..3], [255, 0, 0]);
+}
+
+/// A draw whose attributes read a vertex binding with no buffer bound (a null buffer, or
+/// none ever bound) is refused naming the binding and the locations, not left to fail in the
+/// driver: vkd3d's triangle with its vertex buffer taken out of the draw.
+#[test]
+fn a_vertex_binding_without_a_buffer_is_refused_by_name() {
+    let dir = temp("no-vertex-buffer");
+    let capture = dir.join("triangle.json");
+    import(&gfxr_fixture("vkd3d_triangle_f1.gfxr"), &capture);
+    edit(&capture, |v| {
+        for p in v["passes"].as_array_mut().unwrap() {
+            let draws = p.get_mut("draws").and_then(Value::as_array_mut);
+            for d in draws.into_iter().flatten() {
+                d["vulkan_state"]["vertex_buffers"] = json!([]);
+                d.as_object_mut().unwrap().remove("vertex_buffers");
+            }
+        }
+    });
+    let err = replay_fails(&capture);
+    let named = "draw 0: uses vertex binding 0 with no buffer bound (null, or never bound), which the attributes at locations [0, 1] read";
+    assert!(err.contains(named), "missing {named:?} in:\n{err}");
 }

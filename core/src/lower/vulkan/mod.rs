@@ -184,7 +184,21 @@ impl<'c> Lowering<'c> {
 
     pub(super) fn vk_raster(&mut self, p: &'c PassDesc) -> Result<PassOp, LowerError> {
         let color = self.color_targets(p)?;
-        let depth = self.depth_target(p)?;
+        let mut depth = self.depth_target(p)?;
+        // A depth or stencil aspect in a read-only layout that `vkCmdClearAttachments` clears
+        // anyway (zink clears OpenArena's depth under each 3D HUD icon while the attachment is
+        // DEPTH_STENCIL_READ_ONLY_OPTIMAL; drivers clear it): writable for the pass, which
+        // changes nothing else, since no valid draw writes a read-only aspect.
+        let cleared_read_only = depth.as_mut().is_some_and(|d| {
+            let depth_cleared = p.attachment_clears.iter().any(|c| c.depth.is_some());
+            let stencil_cleared = p.attachment_clears.iter().any(|c| c.stencil.is_some());
+            let widen = depth_cleared && d.read_only || stencil_cleared && d.stencil_read_only;
+            if widen {
+                d.read_only &= !depth_cleared;
+                d.stencil_read_only &= !stencil_cleared;
+            }
+            widen
+        });
         let size = color
             .first()
             .map(|c| (c.texture, c.mip))
@@ -209,12 +223,25 @@ impl<'c> Lowering<'c> {
         }
         for (i, op) in draws.iter().enumerate() {
             if let Some(feature) = feedback(&op.groups, &color, depth.as_ref()) {
+                let feature = if cleared_read_only {
+                    format!(
+                        "vkCmdClearAttachments of a depth/stencil attachment in a read-only layout that the pass's draws also sample ({feature})"
+                    )
+                } else {
+                    feature
+                };
                 return Err(vk_error(
                     p,
                     format!("draw {i}"),
                     VkProblem::Unsupported { feature },
                 ));
             }
+        }
+        if cleared_read_only {
+            self.notes.push(format!(
+                "pass \"{}\": vkCmdClearAttachments clears its depth/stencil attachment, which is in a read-only layout; the replay makes the attachment writable for the pass, as drivers clear it",
+                p.name
+            ));
         }
         let mut clears = Vec::new();
         for (i, c) in p.attachment_clears.iter().enumerate() {
@@ -285,6 +312,27 @@ impl<'c> Lowering<'c> {
                 "{}, rasterizes nothing",
                 baked.key.unwrap_or_default()
             ));
+        }
+        // An attribute reads its binding's buffer; with none bound (a null buffer, which the
+        // nullDescriptor feature lets read zeros, or none ever bound) wgpu has nothing to
+        // read from.
+        for b in &baked.state.vertex_bindings {
+            let reading: Vec<u32> = baked
+                .state
+                .vertex_attributes
+                .iter()
+                .filter(|a| a.binding == b.binding)
+                .map(|a| a.location)
+                .collect();
+            if !reading.is_empty() && !work.vertex_buffers.iter().any(|v| v.0 == b.binding) {
+                return Err(VkProblem::Unsupported {
+                    feature: format!(
+                        "vertex binding {} with no buffer bound (null, or never bound), which the attributes at locations {reading:?} read",
+                        b.binding
+                    ),
+                }
+                .into());
+            }
         }
         // Bindings wgpu does not take as laid out (a stride not a multiple of 4, three
         // 8- or 16-bit channels) read a copy laid out as it does (`strides`).
