@@ -31,7 +31,7 @@ const ORDERS: [&[S]; 3] = [
 ];
 
 /// A stage with the parts the `*2` enum splits it into, so one bit stands for them all.
-fn canonical(s: S) -> S {
+pub(super) fn canonical(s: S) -> S {
     let mut out = s.expand();
     if out.intersects(S::TRANSFER_PARTS) {
         out |= S::TRANSFER;

@@ -3,6 +3,7 @@
 //! and the hazards each finds. The checker (`super`) walks commands and applies these.
 
 use super::Origin;
+use super::stages::canonical;
 use super::{A, Access, BarrierCmd, HazardKind, S, What, earlier, later};
 use crate::capture::vulkan::ImageLayout;
 
@@ -42,12 +43,17 @@ pub(super) struct State {
     pub(super) released: Option<(u32, u32)>,
 }
 
-/// The first synchronization and access scope of a dependency, and its second.
+/// The first synchronization and access scope of a dependency, and its second. The second
+/// synchronization scope (`dst`) reaches logically later stages; its access scope
+/// (`dst_visible`, with `dst_access`) only the stages the mask names, as the specification
+/// says access scopes are not extended (a barrier to the vertex shader orders a fragment
+/// shader's read but does not make the write visible to it).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Dep {
     pub(super) src: S,
     pub(super) src_access: A,
     pub(super) dst: S,
+    pub(super) dst_visible: S,
     pub(super) dst_access: A,
 }
 
@@ -57,6 +63,7 @@ impl Dep {
             src: earlier(b.src_stages),
             src_access: b.src_access.expand(),
             dst: later(b.dst_stages),
+            dst_visible: canonical(b.dst_stages),
             dst_access: b.dst_access.expand(),
         }
     }
@@ -147,7 +154,7 @@ impl State {
                 let available = d.src_access.intersects(w.access.access) || !w.visible.is_empty();
                 w.exec |= d.dst;
                 if available {
-                    w.visible.push((d.dst, d.dst_access));
+                    w.visible.push((d.dst_visible, d.dst_access));
                 }
             }
         }
@@ -191,7 +198,7 @@ impl State {
             seq,
             queue,
             exec: d.dst,
-            visible: vec![(d.dst, d.dst_access)],
+            visible: vec![(d.dst_visible, d.dst_access)],
         });
         self.reads.clear();
         hazards

@@ -23,6 +23,36 @@ fn acc(stage: S, access: A) -> Access {
     }
 }
 
+/// vkBasalt's mip chain: a blit's write transitioned by a barrier whose second scope is the
+/// vertex shader, then sampled by a fragment shader. The barrier orders the fragment read (a
+/// logically later stage) but makes the write visible only to the vertex shader's accesses:
+/// access scopes are not extended to later stages, and the validation layer reports the read.
+#[test]
+fn a_barrier_makes_writes_visible_only_to_the_stages_it_names() {
+    let mut st = State::default();
+    assert!(
+        st.write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0, 0)
+            .is_empty()
+    );
+    let to_vertex = Dep {
+        src: earlier(S::TRANSFER),
+        src_access: A::TRANSFER_WRITE,
+        dst: later(S::VERTEX_SHADER),
+        dst_visible: stages::canonical(S::VERTEX_SHADER),
+        dst_access: A::SHADER_READ.expand(),
+    };
+    st.depend(&to_vertex);
+    assert!(to_vertex.dst.intersects(S::FRAGMENT_SHADER), "ordered");
+    let h = st
+        .clone()
+        .read(acc(S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ), 0);
+    assert_eq!(h.map(|h| h.0), Some(HazardKind::ReadAfterWrite));
+    assert!(
+        st.read(acc(S::VERTEX_SHADER, A::SHADER_SAMPLED_READ), 0)
+            .is_none()
+    );
+}
+
 #[test]
 fn a_write_needs_a_memory_dependency_to_be_read() {
     let mut st = State::default();
@@ -40,6 +70,7 @@ fn a_write_needs_a_memory_dependency_to_be_read() {
         src: earlier(S::TRANSFER),
         src_access: A::EMPTY,
         dst: later(S::FRAGMENT_SHADER),
+        dst_visible: S::FRAGMENT_SHADER,
         dst_access: A::SHADER_READ.expand(),
     });
     assert!(
@@ -52,6 +83,7 @@ fn a_write_needs_a_memory_dependency_to_be_read() {
         src: earlier(S::TRANSFER),
         src_access: A::TRANSFER_WRITE,
         dst: later(S::FRAGMENT_SHADER),
+        dst_visible: S::FRAGMENT_SHADER,
         dst_access: A::SHADER_READ.expand(),
     });
     assert!(
@@ -75,6 +107,7 @@ fn a_write_unordered_with_the_read_before_it_is_a_write_after_read() {
         src: earlier(S::TRANSFER),
         src_access: A::TRANSFER_WRITE,
         dst: later(S::COMPUTE_SHADER),
+        dst_visible: S::COMPUTE_SHADER,
         dst_access: A::SHADER_READ.expand(),
     };
     assert!(
@@ -89,6 +122,7 @@ fn a_write_unordered_with_the_read_before_it_is_a_write_after_read() {
         src: earlier(S::TRANSFER),
         src_access: A::EMPTY,
         dst: later(S::COMPUTE_SHADER),
+        dst_visible: S::COMPUTE_SHADER,
         dst_access: A::SHADER_WRITE.expand(),
     };
     let mut unordered = st.clone();
@@ -118,6 +152,7 @@ fn a_layout_transition_is_a_write_its_barrier_must_make_visible() {
         src: earlier(S::TRANSFER),
         src_access: A::TRANSFER_WRITE,
         dst: later(S::COLOR_ATTACHMENT_OUTPUT),
+        dst_visible: S::COLOR_ATTACHMENT_OUTPUT,
         dst_access: A::COLOR_ATTACHMENT_WRITE,
     };
     st.write(acc(S::TRANSFER, A::TRANSFER_WRITE), 0, 0);
@@ -137,6 +172,7 @@ fn sequential_layout_transitions_on_one_queue_are_ordered() {
         src: S::EMPTY,
         src_access: A::EMPTY,
         dst: later(S::COLOR_ATTACHMENT_OUTPUT),
+        dst_visible: S::COLOR_ATTACHMENT_OUTPUT,
         dst_access: A::COLOR_ATTACHMENT_WRITE,
     };
     let transition = || Access {
@@ -258,6 +294,7 @@ fn a_read_ordered_after_a_read_of_the_write_is_no_hazard() {
         src: earlier(S::COLOR_ATTACHMENT_OUTPUT),
         src_access: A::COLOR_ATTACHMENT_WRITE,
         dst: later(S::FRAGMENT_SHADER),
+        dst_visible: S::FRAGMENT_SHADER,
         dst_access: A::SHADER_READ.expand(),
     };
     st.transition(
@@ -277,6 +314,7 @@ fn a_read_ordered_after_a_read_of_the_write_is_no_hazard() {
         src: earlier(S::COLOR_ATTACHMENT_OUTPUT),
         src_access: A::COLOR_ATTACHMENT_WRITE,
         dst: later(S::VERTEX_SHADER),
+        dst_visible: S::VERTEX_SHADER,
         dst_access: A::SHADER_READ.expand(),
     };
     // Without the barrier the vertex read is not ordered after the fragment read.
@@ -322,6 +360,7 @@ fn a_host_wait_on_queue_work_does_not_retire_an_acquire() {
         src: earlier(S::TOP_OF_PIPE),
         src_access: A::EMPTY,
         dst: later(S::COLOR_ATTACHMENT_OUTPUT),
+        dst_visible: S::COLOR_ATTACHMENT_OUTPUT,
         dst_access: A::COLOR_ATTACHMENT_WRITE,
     };
     let found = sync.states.get_mut(&key).unwrap().transition(
@@ -361,6 +400,7 @@ fn a_timeline_wait_orders_the_layout_transitions_after_it() {
             src: earlier(S::TOP_OF_PIPE),
             src_access: A::EMPTY,
             dst: later(S::TRANSFER),
+            dst_visible: S::TRANSFER,
             dst_access: A::TRANSFER_READ,
         };
         let transition = Access::event(&Origin::none("barrier"), What::Text("transition"));
