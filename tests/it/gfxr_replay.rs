@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 32] = [
+const REPLAYED: [&str; 34] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -43,6 +43,8 @@ const REPLAYED: [&str; 32] = [
     "vkbasalt_rgb10a2_f30",
     "zeroad_zink_menu_f60",
     "kitty_zink_f40",
+    "vkbasalt_mrt_f30",
+    "love_zink_min_f10",
 ];
 
 fn temp(name: &str) -> Scratch {

@@ -36,6 +36,7 @@ fn wsi(capture: &Path) -> &'static [&'static str] {
         | "vkbasalt_all_f30"
         | "vkbasalt_reshade_f30"
         | "vkbasalt_rgb10a2_f30"
+        | "vkbasalt_mrt_f30"
         | "mpv_gpunext_f30"
         | "vlc_zink_f40" => &["--wsi", "xlib"],
         _ => &[],
@@ -281,7 +282,7 @@ fn import(input: &Path, out: &Path) {
 /// GFXReconstruct captures, with the hazards framelab finds that the layer does not because
 /// of its ordering rule where the specification has none (expected count): rasterization
 /// order across render passes.
-const GFXR: [(&str, usize); 34] = [
+const GFXR: [(&str, usize); 35] = [
     ("vkcube_f3", 0),
     ("vkcube_staging", 0),
     ("template_compute", 0),
@@ -316,6 +317,7 @@ const GFXR: [(&str, usize); 34] = [
     ("zeroad_zink_menu_f60", 0),
     ("ffmpeg_chain", 0),
     ("ffmpeg_overlay", 0),
+    ("vkbasalt_mrt_f30", 0),
 ];
 
 /// Captures whose submissions wait on timeline semaphores (FFmpeg's filters: each submission

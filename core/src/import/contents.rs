@@ -213,6 +213,11 @@ pub struct Contents {
     /// Linear images: (row pitch, offset of the first texel in their memory binding) from
     /// `vkGetImageSubresourceLayout`, for images the application writes through a mapping.
     linear: HashMap<u64, (u64, u64)>,
+    /// How the capturing driver lays out images in memory, where known: images without a
+    /// snapshot are read from their memory's bytes by it.
+    pub(super) layout: super::driver_layout::DriverLayout,
+    /// Images whose contents were read so.
+    laid_out: usize,
 }
 
 /// Largest contents of one resource or range read back: what one GFXReconstruct block can hold.
@@ -421,7 +426,9 @@ impl Contents {
             }
             return unpad(img, &a.level_sizes, data);
         }
-        let &(pitch, first) = self.linear.get(&handle)?;
+        let Some(&(pitch, first)) = self.linear.get(&handle) else {
+            return self.laid_out(img, size);
+        };
         let (memory, bound) = img.bound?;
         let rows = u64::from(img.extent[1]);
         if img.mips != 1 || img.layers != 1 || img.extent[2] != 1 || rows == 0 {
@@ -440,6 +447,28 @@ impl Contents {
             let at = (r * pitch) as usize;
             out.extend_from_slice(&whole[at..at + row as usize]);
         }
+        Some(out)
+    }
+
+    /// An image without a snapshot, read from the bytes of the memory bound to it as the
+    /// capturing driver lays images out (`driver_layout`), where that is known and the
+    /// capture wrote that memory.
+    fn laid_out(&mut self, img: &ImageInfo, size: u64) -> Option<Vec<u8>> {
+        let (slices, span) = self.layout.slices(img)?;
+        let (memory, bound) = img.bound?;
+        let whole = self.memory.get(&memory)?.read(bound, span)?;
+        let mut out = Vec::new();
+        out.try_reserve_exact(size as usize).ok()?;
+        for (at, pitch, rows, row) in slices {
+            for r in 0..rows {
+                let from = usize::try_from(at + r * pitch).ok()?;
+                out.extend_from_slice(whole.get(from..from.checked_add(row as usize)?)?);
+            }
+        }
+        if out.len() as u64 != size {
+            return None;
+        }
+        self.laid_out += 1;
         Some(out)
     }
 
@@ -509,6 +538,12 @@ impl Contents {
                 "contents of {} resource(s) from before the frame that the capture does not hold (earlier GPU work, or never written): {}",
                 unknown.len(),
                 crate::text::listed(&unknown, LISTED)
+            ));
+        }
+        if self.laid_out > 0 {
+            notes.push(format!(
+                "contents of {} image(s) read from the bytes of their memory as {:?} lays images out (the capture's state snapshot holds none for them)",
+                self.laid_out, self.layout
             ));
         }
         if !over_budget.is_empty() {

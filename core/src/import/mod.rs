@@ -9,6 +9,7 @@ mod build;
 mod calls;
 mod commands;
 mod contents;
+mod driver_layout;
 mod emit;
 mod extended_state;
 pub mod file;

@@ -65,6 +65,9 @@ pub enum Meta {
     /// The property flags of each memory type of the capturing device: a trimmed capture
     /// records them here rather than as the application's query.
     MemoryProperties { type_flags: Vec<u32> },
+    /// The capturing device: its vendor and name (`VkPhysicalDeviceProperties`), which say
+    /// how its driver lays out image texels in memory.
+    DeviceProperties { vendor_id: u32, device_name: String },
     /// Anything else, by name.
     Other(&'static str),
 }
@@ -76,7 +79,7 @@ impl Meta {
             Meta::FillMemory { data, .. }
             | Meta::InitBuffer { data, .. }
             | Meta::InitImage { data, .. } => data.len() as u64,
-            Meta::MemoryProperties { .. } | Meta::Other(_) => 0,
+            Meta::MemoryProperties { .. } | Meta::DeviceProperties { .. } | Meta::Other(_) => 0,
         }
     }
 
@@ -87,6 +90,7 @@ impl Meta {
             Meta::InitBuffer { .. } => "init buffer",
             Meta::InitImage { .. } => "init image",
             Meta::MemoryProperties { .. } => "set device memory properties",
+            Meta::DeviceProperties { .. } => "set device properties",
             Meta::Other(name) => name,
         }
     }
@@ -256,6 +260,21 @@ pub fn read(block: &Block, how: Compression, room: Room<'_>) -> Result<Meta, Str
                 let _heap = f.u32()?;
             }
             Meta::MemoryProperties { type_flags }
+        }
+        11 => {
+            let (_thread, _device) = (f.u64()?, f.u64()?);
+            let (_api, _driver) = (f.u32()?, f.u32()?);
+            let vendor_id = f.u32()?;
+            let (_device_id, _type) = (f.u32()?, f.u32()?);
+            let _uuid = f.bytes(16)?;
+            let len = f.u32()? as usize;
+            let name = f.bytes(len)?;
+            Meta::DeviceProperties {
+                vendor_id,
+                device_name: String::from_utf8_lossy(name)
+                    .trim_end_matches('\0')
+                    .to_owned(),
+            }
         }
         other => Meta::Other(name(other)),
     })

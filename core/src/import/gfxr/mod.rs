@@ -326,6 +326,13 @@ pub fn import(
                         imp.objects.memory_type_flags =
                             type_flags.into_iter().map(u64::from).collect();
                     }
+                    Meta::DeviceProperties {
+                        vendor_id,
+                        device_name,
+                    } => {
+                        contents.layout =
+                            super::driver_layout::DriverLayout::of(vendor_id, &device_name);
+                    }
                     Meta::Other(_) => {}
                 }
             }
