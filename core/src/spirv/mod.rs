@@ -249,10 +249,26 @@ pub struct RewriteOptions<'a> {
     /// The fragment output locations with a colour attachment, a bit each (`outputs`): the
     /// others become private variables. `None` leaves every output.
     pub attached_outputs: Option<u32>,
-    /// The vertex inputs, by (location, signed), whose attribute is in a scaled format and
-    /// fetched as integers: each becomes an integer input converted to float where loaded
-    /// (`scaled`).
-    pub scaled_inputs: &'a [(u32, bool)],
+    /// The vertex inputs, by location, whose attribute wgpu has no format for and that are
+    /// fetched as integers: each becomes an integer input converted to the float it declared
+    /// where loaded (`scaled`).
+    pub scaled_inputs: &'a [(u32, IntegerFetch)],
+}
+
+/// How a vertex input whose attribute wgpu has no format for is fetched, and so how the
+/// rewrite turns what is fetched into the float the shader declared (`scaled`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum IntegerFetch {
+    /// A scaled format (`USCALED`, `SSCALED`: 3 read as 3.0) fetched as the integers it holds.
+    Scaled { signed: bool },
+    /// A packed 2-10-10-10 format fetched as its 32-bit word: red in the low ten bits
+    /// (`A2B10G10R10`) or in bits 20 to 29 (`A2R10G10B10`), its channels signed or not,
+    /// normalized (`UNORM`, `SNORM`) or scaled.
+    Packed {
+        red_low: bool,
+        signed: bool,
+        normalized: bool,
+    },
 }
 
 impl fmt::Debug for RewriteOptions<'_> {

@@ -6,15 +6,21 @@
 //! the attribute lacks are filled as Vulkan fills them (0, 0, 1), the same numbers either way.
 //! Loads through an access chain into the input (one component) are converted the same way;
 //! any other use of the input is refused by name.
+//!
+//! Packed 2-10-10-10 formats (`A2B10G10R10_SNORM_PACK32`: OpenGL's packed normals, which zink
+//! passes on) are fetched as their 32-bit word (`Uint32`); each whole load of the input takes
+//! its channels apart (`OpBitFieldSExtract`, `OpBitFieldUExtract`) and converts each as Vulkan
+//! does: normalized signed values divided by 511 (or 1 for the 2-bit alpha) and clamped at -1,
+//! unsigned by 1023 (or 3), scaled ones as they are.
 
 use std::collections::HashMap;
 
 use rspirv::dr::{Instruction, Module, Operand};
 use rspirv::spirv::{Decoration, Op, StorageClass, Word};
 
-use super::SpirvError;
 use super::index::{first_free_id, id_ref, literal};
 use super::ops::{Ids, inst, int32, type_id, vector};
+use super::{IntegerFetch, SpirvError};
 
 fn unsupported(detail: String) -> SpirvError {
     SpirvError::Unsupported {
@@ -44,9 +50,13 @@ fn float_shape(module: &Module, ty: Word) -> Option<u32> {
     }
 }
 
-/// Gives each `Input` variable at a location of `scaled` (location, signed) the integer type of
-/// its float type's shape, and converts every value loaded from it back to that float type.
-pub fn scaled_inputs(module: &mut Module, scaled: &[(u32, bool)]) -> Result<(), SpirvError> {
+/// Gives each `Input` variable at a location of `scaled` the integer type it is fetched as (of
+/// its float type's shape; one word for a packed format), and converts every value loaded
+/// from it back to that float type.
+pub fn scaled_inputs(
+    module: &mut Module,
+    scaled: &[(u32, IntegerFetch)],
+) -> Result<(), SpirvError> {
     if scaled.is_empty() {
         return Ok(());
     }
@@ -77,6 +87,8 @@ pub fn scaled_inputs(module: &mut Module, scaled: &[(u32, bool)]) -> Result<(), 
         component: (Word, Word, Word),
         signed: bool,
     }
+    // Packed inputs: their float type, its component count, and the packing.
+    let mut packed: HashMap<Word, (Word, u32, IntegerFetch)> = HashMap::new();
     let mut vars: HashMap<Word, Var> = HashMap::new();
     let globals: Vec<(usize, Word, Word)> = module
         .types_global_values
@@ -92,7 +104,7 @@ pub fn scaled_inputs(module: &mut Module, scaled: &[(u32, bool)]) -> Result<(), 
         let Some(location) = locations.get(&var) else {
             continue;
         };
-        let Some(&(_, signed)) = scaled.iter().find(|(l, _)| l == location) else {
+        let Some(&(_, fetch)) = scaled.iter().find(|(l, _)| l == location) else {
             continue;
         };
         let float = pointee(module, ptr)
@@ -102,6 +114,20 @@ pub fn scaled_inputs(module: &mut Module, scaled: &[(u32, bool)]) -> Result<(), 
                 "the input at location {location} (%{var}) is not a 32-bit float or float vector"
             ))
         })?;
+        let signed = match fetch {
+            IntegerFetch::Scaled { signed } => signed,
+            IntegerFetch::Packed { .. } => {
+                let word = int32(module, &mut added, &mut ids, false)?;
+                let operands = vec![
+                    Operand::StorageClass(StorageClass::Input),
+                    Operand::IdRef(word),
+                ];
+                let ptr = type_id(module, &mut added, &mut ids, Op::TypePointer, operands)?;
+                module.types_global_values[n].result_type = Some(ptr);
+                packed.insert(var, (float, shape, fetch));
+                continue;
+            }
+        };
         let int = int32(module, &mut added, &mut ids, signed)?;
         let float_scalar = if shape == 1 {
             float
@@ -137,9 +163,14 @@ pub fn scaled_inputs(module: &mut Module, scaled: &[(u32, bool)]) -> Result<(), 
             },
         );
     }
-    if vars.is_empty() {
+    if vars.is_empty() && packed.is_empty() {
         return Ok(());
     }
+    let mut unpack = if packed.is_empty() {
+        None
+    } else {
+        Some(Unpack::new(module, &mut added, &mut ids)?)
+    };
     // Pointers into a rewritten input: the variable itself (whole) and chains into it (one
     // component), with the float and int types a load through each gives.
     let mut pointers: HashMap<Word, (Word, Word, bool)> = vars
@@ -168,6 +199,19 @@ pub fn scaled_inputs(module: &mut Module, scaled: &[(u32, bool)]) -> Result<(), 
                         }
                         out.push(i);
                     }
+                    Op::Load if first.is_some_and(|p| packed.contains_key(&p)) => {
+                        let (float, n, fetch) = packed[&first.unwrap_or_default()];
+                        let (Some(result), Some(unpack)) = (i.result_id, unpack.as_mut()) else {
+                            out.push(i);
+                            continue;
+                        };
+                        let word = ids.fresh()?;
+                        i.result_id = Some(word);
+                        i.result_type = Some(unpack.uint);
+                        out.push(i);
+                        let fetched = (word, float, n, fetch);
+                        unpack.emit(fetched, result, &mut out, &mut added, &mut ids)?;
+                    }
                     Op::Load if first.is_some_and(|p| pointers.contains_key(&p)) => {
                         let (float, int, signed) = pointers[&first.unwrap_or_default()];
                         let (Some(result), Some(_)) = (i.result_id, i.result_type) else {
@@ -192,7 +236,11 @@ pub fn scaled_inputs(module: &mut Module, scaled: &[(u32, bool)]) -> Result<(), 
                     }
                     _ => {
                         if let Some(p) = i.operands.iter().find_map(|o| match o {
-                            Operand::IdRef(x) if pointers.contains_key(x) => Some(*x),
+                            Operand::IdRef(x)
+                                if pointers.contains_key(x) || packed.contains_key(x) =>
+                            {
+                                Some(*x)
+                            }
                             _ => None,
                         }) {
                             return Err(unsupported(format!(
@@ -213,7 +261,10 @@ pub fn scaled_inputs(module: &mut Module, scaled: &[(u32, bool)]) -> Result<(), 
     let (moved, kept): (Vec<Instruction>, Vec<Instruction>) =
         std::mem::take(&mut module.types_global_values)
             .into_iter()
-            .partition(|i| i.result_id.is_some_and(|id| vars.contains_key(&id)));
+            .partition(|i| {
+                i.result_id
+                    .is_some_and(|id| vars.contains_key(&id) || packed.contains_key(&id))
+            });
     module.types_global_values = kept;
     module.types_global_values.extend(added);
     module.types_global_values.extend(moved);
@@ -221,4 +272,165 @@ pub fn scaled_inputs(module: &mut Module, scaled: &[(u32, bool)]) -> Result<(), 
         h.bound = h.bound.max(ids.next);
     }
     Ok(())
+}
+
+/// The types and constants a packed input's loads are taken apart with, added once.
+struct Unpack {
+    uint: Word,
+    int: Word,
+    float: Word,
+    boolean: Word,
+    constants: HashMap<(Word, u32), Word>,
+}
+
+impl Unpack {
+    fn new(
+        module: &Module,
+        added: &mut Vec<Instruction>,
+        ids: &mut Ids,
+    ) -> Result<Self, SpirvError> {
+        Ok(Unpack {
+            uint: int32(module, added, ids, false)?,
+            int: int32(module, added, ids, true)?,
+            float: super::ops::float32(module, added, ids)?,
+            boolean: type_id(module, added, ids, Op::TypeBool, Vec::new())?,
+            constants: HashMap::new(),
+        })
+    }
+
+    fn constant(
+        &mut self,
+        added: &mut Vec<Instruction>,
+        ids: &mut Ids,
+        ty: Word,
+        bits: u32,
+    ) -> Result<Word, SpirvError> {
+        if let Some(&id) = self.constants.get(&(ty, bits)) {
+            return Ok(id);
+        }
+        let id = ids.fresh()?;
+        added.push(inst(
+            Op::Constant,
+            Some(ty),
+            Some(id),
+            vec![Operand::LiteralBit32(bits)],
+        ));
+        self.constants.insert((ty, bits), id);
+        Ok(id)
+    }
+
+    /// The float value (`float`, `n` components) of packed word `word`, as `result`.
+    fn emit(
+        &mut self,
+        (word, float, n, fetch): (Word, Word, u32, IntegerFetch),
+        result: Word,
+        out: &mut Vec<Instruction>,
+        added: &mut Vec<Instruction>,
+        ids: &mut Ids,
+    ) -> Result<(), SpirvError> {
+        let IntegerFetch::Packed {
+            red_low,
+            signed,
+            normalized,
+        } = fetch
+        else {
+            return Ok(());
+        };
+        // (bit offset, bits) of R, G, B and A in the word.
+        let red = if red_low { 0 } else { 20 };
+        let blue = if red_low { 20 } else { 0 };
+        let channels = [(red, 10u32), (10, 10), (blue, 10), (30, 2)];
+        let base = if signed {
+            let b = ids.fresh()?;
+            out.push(inst(
+                Op::Bitcast,
+                Some(self.int),
+                Some(b),
+                vec![Operand::IdRef(word)],
+            ));
+            b
+        } else {
+            word
+        };
+        let (ty, extract, convert) = if signed {
+            (self.int, Op::BitFieldSExtract, Op::ConvertSToF)
+        } else {
+            (self.uint, Op::BitFieldUExtract, Op::ConvertUToF)
+        };
+        let mut parts = Vec::new();
+        for &(offset, bits) in channels.iter().take(n as usize) {
+            let (o, c) = (
+                self.constant(added, ids, ty, offset)?,
+                self.constant(added, ids, ty, bits)?,
+            );
+            let field = ids.fresh()?;
+            out.push(inst(
+                extract,
+                Some(ty),
+                Some(field),
+                vec![Operand::IdRef(base), Operand::IdRef(o), Operand::IdRef(c)],
+            ));
+            let mut value = ids.fresh()?;
+            out.push(inst(
+                convert,
+                Some(self.float),
+                Some(value),
+                vec![Operand::IdRef(field)],
+            ));
+            if normalized {
+                let max = if signed {
+                    (1u32 << (bits - 1)) - 1
+                } else {
+                    (1u32 << bits) - 1
+                };
+                let divisor = self.constant(added, ids, self.float, (max as f32).to_bits())?;
+                let scaled = ids.fresh()?;
+                out.push(inst(
+                    Op::FDiv,
+                    Some(self.float),
+                    Some(scaled),
+                    vec![Operand::IdRef(value), Operand::IdRef(divisor)],
+                ));
+                value = scaled;
+                if signed {
+                    // The most negative value reads as -1, as the one above it does.
+                    let minus_one = self.constant(added, ids, self.float, (-1.0f32).to_bits())?;
+                    let below = ids.fresh()?;
+                    out.push(inst(
+                        Op::FOrdLessThan,
+                        Some(self.boolean),
+                        Some(below),
+                        vec![Operand::IdRef(value), Operand::IdRef(minus_one)],
+                    ));
+                    let clamped = ids.fresh()?;
+                    out.push(inst(
+                        Op::Select,
+                        Some(self.float),
+                        Some(clamped),
+                        vec![
+                            Operand::IdRef(below),
+                            Operand::IdRef(minus_one),
+                            Operand::IdRef(value),
+                        ],
+                    ));
+                    value = clamped;
+                }
+            }
+            parts.push(value);
+        }
+        if n == 1 {
+            // A scalar input: the last instruction's result becomes the load's.
+            if let Some(last) = out.last_mut() {
+                last.result_id = Some(result);
+            }
+        } else {
+            out.push(inst(
+                Op::CompositeConstruct,
+                Some(float),
+                Some(result),
+                parts.into_iter().map(Operand::IdRef).collect(),
+            ));
+        }
+        Ok(())
+    }
 }

@@ -34,6 +34,12 @@ pub(super) fn texel_layout(f: ImageFormat) -> Option<(u32, u32, ScalarKind)> {
         ImageFormat::R32f => (32, 1, K::Float),
         ImageFormat::R32ui => (32, 1, K::Uint),
         ImageFormat::R32i => (32, 1, K::Sint),
+        ImageFormat::Rg32f => (32, 2, K::Float),
+        ImageFormat::Rg32ui => (32, 2, K::Uint),
+        ImageFormat::Rg32i => (32, 2, K::Sint),
+        ImageFormat::Rgba32f => (32, 4, K::Float),
+        ImageFormat::Rgba32ui => (32, 4, K::Uint),
+        ImageFormat::Rgba32i => (32, 4, K::Sint),
         _ => return None,
     })
 }
@@ -332,6 +338,32 @@ pub(super) fn texel_buffers(
                 let mut values = Vec::new();
                 for ch in 0..channels {
                     let v = if bits == 32 {
+                        // A channel a word: texel i's channel c is word i * channels + c.
+                        let word = if channels == 1 {
+                            word
+                        } else {
+                            let n = constant(&mut added, ids, &mut consts, uint, channels)?;
+                            let c = constant(&mut added, ids, &mut consts, uint, ch)?;
+                            let first = emit(
+                                Op::IMul,
+                                uint,
+                                vec![Operand::IdRef(texel_index), Operand::IdRef(n)],
+                                ids,
+                            )?;
+                            let at = emit(
+                                Op::IAdd,
+                                uint,
+                                vec![Operand::IdRef(first), Operand::IdRef(c)],
+                                ids,
+                            )?;
+                            let chain = vec![
+                                Operand::IdRef(t.var),
+                                Operand::IdRef(zero),
+                                Operand::IdRef(at),
+                            ];
+                            let p = emit(Op::AccessChain, word_ptr, chain, ids)?;
+                            emit(Op::Load, uint, vec![Operand::IdRef(p)], ids)?
+                        };
                         match kind {
                             ScalarKind::Uint => word,
                             ScalarKind::Sint => {

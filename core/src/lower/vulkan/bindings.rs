@@ -61,6 +61,12 @@ fn texel_format(vk: &str) -> Option<rspirv::spirv::ImageFormat> {
         "R32_SFLOAT" => F::R32f,
         "R32_UINT" => F::R32ui,
         "R32_SINT" => F::R32i,
+        "R32G32_SFLOAT" => F::Rg32f,
+        "R32G32_UINT" => F::Rg32ui,
+        "R32G32_SINT" => F::Rg32i,
+        "R32G32B32A32_SFLOAT" => F::Rgba32f,
+        "R32G32B32A32_UINT" => F::Rgba32ui,
+        "R32G32B32A32_SINT" => F::Rgba32i,
         _ => return None,
     })
 }

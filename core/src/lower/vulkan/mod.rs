@@ -819,11 +819,12 @@ impl<'c> Lowering<'c> {
         } else {
             g
         };
-        // Attributes in scaled formats are fetched as integers and converted in the shader.
+        // Attributes in scaled and packed formats are fetched as integers and converted in
+        // the shader.
         let mut scaled = Vec::new();
         for a in &g.vertex_attributes {
-            if let Some(signed) = states::scaled_signed(&a.format) {
-                scaled.push((a.location, signed));
+            if let Some(fetch) = states::integer_fetch(&a.format) {
+                scaled.push((a.location, fetch));
             }
         }
         let mut vertex = None;

@@ -42,7 +42,7 @@ pub(super) struct ShaderKey {
     /// Fragment output locations with an attachment (`RewriteOptions::attached_outputs`).
     outputs: Option<u32>,
     /// Vertex inputs fetched as integers from scaled formats (`RewriteOptions::scaled_inputs`).
-    scaled: Vec<(u32, bool)>,
+    scaled: Vec<(u32, crate::spirv::IntegerFetch)>,
 }
 
 /// wgpu's binding for the number `b` stands for (`bindings::wgpu_base`) in the role asked.
@@ -81,7 +81,7 @@ impl<'c> Lowering<'c> {
         (flip, gl_depth): (bool, bool),
         bound: &super::bindings::Bound,
         attached: Option<u32>,
-        scaled: &[(u32, bool)],
+        scaled: &[(u32, crate::spirv::IntegerFetch)],
     ) -> Result<usize, Fail> {
         // Only the vertex stage fetches attributes.
         let scaled = if stage.stage == "VK_SHADER_STAGE_VERTEX_BIT" {

@@ -4,6 +4,8 @@
 
 use wgpu_types as wgpu;
 
+use crate::spirv::IntegerFetch;
+
 use super::VkProblem;
 use crate::capture::format::{
     BlendAttachment, DepthStencilVk, GraphicsState, StencilFaceVk, VkSampler,
@@ -383,7 +385,7 @@ pub(super) fn vertex_format(name: &str) -> Result<wgpu::VertexFormat, VkProblem>
         "R32G32B32A32_SINT" => V::Sint32x4,
         "A2B10G10R10_UNORM_PACK32" => V::Unorm10_10_10_2,
         // Scaled formats (integers read as floats) fetched as the integers they hold; the
-        // vertex shader converts them (`spirv::scaled`, `scaled_signed`).
+        // vertex shader converts them (`spirv::scaled`, `integer_fetch`).
         "R8_USCALED" => V::Uint8,
         "R8G8_USCALED" => V::Uint8x2,
         "R8G8B8A8_USCALED" => V::Uint8x4,
@@ -396,18 +398,38 @@ pub(super) fn vertex_format(name: &str) -> Result<wgpu::VertexFormat, VkProblem>
         "R16_SSCALED" => V::Sint16,
         "R16G16_SSCALED" => V::Sint16x2,
         "R16G16B16A16_SSCALED" => V::Sint16x4,
+        // Packed 2-10-10-10 formats wgpu lacks, fetched as their word and taken apart in
+        // the vertex shader (`spirv::scaled`, `integer_fetch`).
+        "A2B10G10R10_SNORM_PACK32"
+        | "A2B10G10R10_USCALED_PACK32"
+        | "A2B10G10R10_SSCALED_PACK32"
+        | "A2R10G10B10_UNORM_PACK32"
+        | "A2R10G10B10_SNORM_PACK32"
+        | "A2R10G10B10_USCALED_PACK32"
+        | "A2R10G10B10_SSCALED_PACK32" => V::Uint32,
         _ => return Err(unsupported("vertex format", name)),
     })
 }
 
-/// Whether the vertex format `name` is a scaled one fetched as integers (`vertex_format`):
-/// `Some(true)` signed, `Some(false)` unsigned, `None` for any other.
-pub(super) fn scaled_signed(name: &str) -> Option<bool> {
+/// How the vertex format `name` is fetched where wgpu has no format for it (`vertex_format`):
+/// a scaled format as its integers, a packed 2-10-10-10 one as its word; `None` for any other.
+pub(super) fn integer_fetch(name: &str) -> Option<IntegerFetch> {
     let bare = strip(name, "VK_FORMAT_");
+    vertex_format(name).ok()?;
+    if let Some(packing) = bare.strip_suffix("_PACK32") {
+        let red_low = packing.starts_with("A2B10G10R10");
+        let kind = packing.rsplit('_').next()?;
+        if bare == "A2B10G10R10_UNORM_PACK32" {
+            return None;
+        }
+        return Some(IntegerFetch::Packed {
+            red_low,
+            signed: kind.starts_with('S'),
+            normalized: kind.ends_with("NORM"),
+        });
+    }
     let signed = bare.ends_with("_SSCALED");
-    (signed || bare.ends_with("_USCALED"))
-        .then_some(signed)
-        .filter(|_| vertex_format(name).is_ok())
+    (signed || bare.ends_with("_USCALED")).then_some(IntegerFetch::Scaled { signed })
 }
 
 /// Whether sampler `s`'s LOD bias changes nothing read through a view of `levels` mip

@@ -9,8 +9,10 @@ use super::validators::{naga_accepts, spirv_val};
 use super::*;
 
 const VERTEX: &str = "zeroad_zink_menu_f60/sh171";
+const SIGNED: IntegerFetch = IntegerFetch::Scaled { signed: true };
+const UNSIGNED: IntegerFetch = IntegerFetch::Scaled { signed: false };
 
-fn rewritten(scaled: &[(u32, bool)]) -> Result<Vec<u32>, SpirvError> {
+fn rewritten(scaled: &[(u32, IntegerFetch)]) -> Result<Vec<u32>, SpirvError> {
     // zink's uniform block of words is widened to std140 as the lowering does, so that
     // spirv-val takes the module under Vulkan's uniform layout rules.
     let opts = RewriteOptions {
@@ -61,7 +63,7 @@ fn a_scaled_input_is_fetched_as_integers_and_converted_where_loaded() {
         input_type(&before, 0),
         (Op::TypeVector, Some((Op::TypeFloat, None)))
     );
-    let words = rewritten(&[(0, true)]).unwrap();
+    let words = rewritten(&[(0, SIGNED)]).unwrap();
     let module = load(&words);
     // A signed 32-bit vector, converted by OpConvertSToF at each load; location 1 untouched.
     assert_eq!(
@@ -77,7 +79,7 @@ fn a_scaled_input_is_fetched_as_integers_and_converted_where_loaded() {
     spirv_val(&words, "scaled-signed").unwrap();
     naga_accepts(&words).unwrap();
     // Unsigned, both inputs.
-    let words = rewritten(&[(0, false), (1, false)]).unwrap();
+    let words = rewritten(&[(0, UNSIGNED), (1, UNSIGNED)]).unwrap();
     let module = load(&words);
     assert_eq!(
         input_type(&module, 1),
@@ -87,7 +89,37 @@ fn a_scaled_input_is_fetched_as_integers_and_converted_where_loaded() {
     spirv_val(&words, "scaled-unsigned").unwrap();
     naga_accepts(&words).unwrap();
     // No scaled input: the module is what it was.
-    assert_eq!(rewritten(&[]).unwrap(), rewritten(&[(7, true)]).unwrap());
+    assert_eq!(rewritten(&[]).unwrap(), rewritten(&[(7, SIGNED)]).unwrap());
+}
+
+/// A packed 2-10-10-10 input (OpenGL's packed normals, `A2B10G10R10_SNORM_PACK32` through
+/// zink): fetched as one unsigned word, each load taking its channels apart with sign
+/// extension, dividing by 511 and clamping at -1; unsigned and scaled packings likewise. The
+/// module stays valid for both shader paths.
+#[test]
+fn a_packed_input_is_fetched_as_its_word_and_taken_apart_where_loaded() {
+    for (signed, normalized) in [(true, true), (false, true), (true, false), (false, false)] {
+        let fetch = IntegerFetch::Packed {
+            red_low: signed,
+            signed,
+            normalized,
+        };
+        let words = rewritten(&[(0, fetch)]).unwrap();
+        let module = load(&words);
+        assert_eq!(input_type(&module, 0), (Op::TypeInt, None));
+        let (extract, other) = if signed {
+            (Op::BitFieldSExtract, Op::BitFieldUExtract)
+        } else {
+            (Op::BitFieldUExtract, Op::BitFieldSExtract)
+        };
+        // 0 A.D.'s position is a vec2: two channels a load.
+        assert!(count_op(&module, extract) >= 2, "{fetch:?}");
+        assert_eq!(count_op(&module, other), 0);
+        assert_eq!(count_op(&module, Op::FDiv) >= 2, normalized, "{fetch:?}");
+        assert_eq!(count_op(&module, Op::Select) >= 2, signed && normalized);
+        spirv_val(&words, "packed").unwrap();
+        naga_accepts(&words).unwrap();
+    }
 }
 
 #[test]
@@ -118,7 +150,7 @@ fn an_input_used_other_than_by_a_load_is_refused_by_name() {
     }
     let words = module.assemble();
     let opts = RewriteOptions {
-        scaled_inputs: &[(0, true), (1, true)],
+        scaled_inputs: &[(0, SIGNED), (1, SIGNED)],
         std140_blocks: &[(0, 0)],
         ..opts(false)
     };
