@@ -25,6 +25,10 @@ pub enum DriverLayout {
     Lavapipe,
 }
 
+/// Where one (level, slice) of an image lies from its binding's start: its offset, row pitch,
+/// rows, and bytes of texels in a row.
+pub type Slice = (u64, u64, u64, u64);
+
 /// Mesa's Vulkan vendor id (`VK_VENDOR_ID_MESA`).
 const VENDOR_MESA: u32 = 0x10005;
 /// llvmpipe's row and level alignment: the x86 cache line.
@@ -42,12 +46,11 @@ impl DriverLayout {
         }
     }
 
-    /// Where each (level, slice) of `img` starts from the binding and how its rows lie:
-    /// (offset, row pitch, rows, bytes of texels in a row), level by level, slice by slice,
+    /// Where each (level, slice) of `img` lies (`Slice`), level by level, slice by slice,
     /// in the order of a packed image; with the bytes the binding spans. `None` where the
     /// layout is not known for this image (another driver, a depth or stencil format,
     /// several samples, an unknown format).
-    pub fn slices(self, img: &ImageInfo) -> Option<(Vec<(u64, u64, u64, u64)>, u64)> {
+    pub fn slices(self, img: &ImageInfo) -> Option<(Vec<Slice>, u64)> {
         if self != DriverLayout::Lavapipe || img.samples > 1 {
             return None;
         }
