@@ -58,6 +58,10 @@ pub fn wanted_features() -> Features {
         | Features::SHADER_DRAW_INDEX
         // Imported indirect draws whose count the GPU reads (`vkCmdDrawIndirectCount`).
         | Features::MULTI_DRAW_INDIRECT_COUNT
+        // Imported polygons drawn as lines or points, and vertex shaders that write storage.
+        | Features::POLYGON_MODE_LINE
+        | Features::POLYGON_MODE_POINT
+        | Features::VERTEX_WRITABLE_STORAGE
 }
 
 #[derive(Debug, thiserror::Error)]

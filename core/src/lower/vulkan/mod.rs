@@ -176,6 +176,28 @@ fn immediate_size(layout: &VkPipelineLayout) -> u32 {
 }
 
 impl<'c> Lowering<'c> {
+    /// Whether the pipeline's vertex shader declares a storage buffer or image it may write
+    /// (wgpu's `VERTEX_WRITABLE_STORAGE`).
+    fn vertex_writes_storage(&mut self, pipe: &VkPipeline) -> Result<bool, Fail> {
+        for stage in &pipe.stages {
+            if stage.stage != "VK_SHADER_STAGE_VERTEX_BIT" {
+                continue;
+            }
+            let reflection = self.vk_reflect(stage.module, &stage.entry)?;
+            if reflection.resources.iter().any(|r| {
+                !r.non_writable
+                    && matches!(
+                        r.kind,
+                        crate::spirv::ResourceKind::StorageBuffer
+                            | crate::spirv::ResourceKind::StorageImage(_)
+                    )
+            }) {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
     fn vk_model(&self) -> Result<&'c VkModel, LowerError> {
         self.capture.vulkan.as_ref().ok_or_else(|| {
             LowerError::NotReplayable("an imported pass has no `vulkan` section".to_owned())
@@ -450,6 +472,17 @@ impl<'c> Lowering<'c> {
         let (groups, sets) = self.vk_groups(p, pipe, work)?;
         if g.blend.iter().any(states::uses_second_source) {
             *self.pass_features.entry(&p.name).or_default() |= wgpu::Features::DUAL_SOURCE_BLENDING;
+        }
+        // Polygons drawn as lines or points (zink's glPolygonMode) need the adapter's feature.
+        let mode = match g.polygon_mode.trim_start_matches("VK_POLYGON_MODE_") {
+            "LINE" if g.topology.contains("TRIANGLE") => wgpu::Features::POLYGON_MODE_LINE,
+            "POINT" if g.topology.contains("TRIANGLE") => wgpu::Features::POLYGON_MODE_POINT,
+            _ => wgpu::Features::empty(),
+        };
+        *self.pass_features.entry(&p.name).or_default() |= mode;
+        if self.vertex_writes_storage(pipe)? {
+            *self.pass_features.entry(&p.name).or_default() |=
+                wgpu::Features::VERTEX_WRITABLE_STORAGE;
         }
         let key = PipelineKey {
             pipeline: work.pipeline,
