@@ -834,16 +834,46 @@ impl Builder {
         let src_is_buffer = objects.buffers.contains_key(&src);
         let dst_is_buffer = objects.buffers.contains_key(&dst);
         let both_buffers = src_is_buffer && dst_is_buffer;
-        for r in regions {
-            let row = |r: &Region| {
-                let (bytes, bw) = footprint?;
-                let texels = if r.row_texels == 0 {
-                    r.extent?[0]
-                } else {
-                    r.row_texels
-                };
-                u32::try_from(u64::from(texels.div_ceil(bw)) * bytes).ok()
+        let row = |r: &Region| {
+            let (bytes, bw) = footprint?;
+            let texels = if r.row_texels == 0 {
+                r.extent?[0]
+            } else {
+                r.row_texels
             };
+            u32::try_from(u64::from(texels.div_ceil(bw)) * bytes).ok()
+        };
+        // A region of several array layers is one copy a layer: the image side's layer
+        // advances, and a buffer side by one layer's bytes (its rows at the row pitch, as
+        // many as `bufferImageHeight` or the extent's height, in blocks).
+        let per_layer: Vec<Region> = regions
+            .iter()
+            .flat_map(|r| {
+                let layer_bytes = (|| {
+                    let (_, bw) = footprint?;
+                    let rows = if r.image_rows == 0 { r.extent?[1] } else { r.image_rows };
+                    Some(u64::from(row(r)?) * u64::from(rows.div_ceil(bw)))
+                })()
+                .unwrap_or(0);
+                (0..r.layers.max(1)).map(move |k| {
+                    let mut one = r.clone();
+                    one.layers = 1;
+                    let skip = u64::from(k) * layer_bytes;
+                    if src_is_buffer && !both_buffers {
+                        one.src_offset += skip;
+                    } else {
+                        one.src_layer += k;
+                    }
+                    if dst_is_buffer && !both_buffers {
+                        one.dst_offset += skip;
+                    } else {
+                        one.dst_layer += k;
+                    }
+                    one
+                })
+            })
+            .collect();
+        for r in &per_layer {
             self.passes[pass].copies.push(Copy {
                 src: CopyLocation {
                     resource: sn.clone(),
