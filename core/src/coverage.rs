@@ -389,9 +389,10 @@ pub fn border_color(name: &str) -> Option<Verdict> {
 /// Every member of `VkSamplerCreateInfo`.
 pub fn sampler_field(name: &str) -> Option<Verdict> {
     Some(match name {
-        "sType" | "pNext" | "flags" => {
-            Verdict::NoEffect("structure bookkeeping; no flag changes what a sample returns")
-        }
+        "sType" | "pNext" => Verdict::NoEffect("structure bookkeeping"),
+        "flags" => Verdict::Emulated(
+            "NON_SEAMLESS_CUBE_MAP (zink's, for OpenGL's default): the same samples through nearest filters; a cube map filtered linearly through it is refused (wgpu filters across the faces' edges); the subsampled flags concern fragment density maps, which no imported frame renders",
+        ),
         "magFilter" | "minFilter" | "mipmapMode" | "compareOp" => Verdict::Native,
         "minLod" | "maxLod" => Verdict::Emulated(
             "wgpu's LOD clamps, with a negative bound taken as 0 (the same levels and filter: Vulkan magnifies at LOD 0 or less)",

@@ -851,7 +851,11 @@ impl Builder {
             .flat_map(|r| {
                 let layer_bytes = (|| {
                     let (_, bw) = footprint?;
-                    let rows = if r.image_rows == 0 { r.extent?[1] } else { r.image_rows };
+                    let rows = if r.image_rows == 0 {
+                        r.extent?[1]
+                    } else {
+                        r.image_rows
+                    };
                     Some(u64::from(row(r)?) * u64::from(rows.div_ceil(bw)))
                 })()
                 .unwrap_or(0);

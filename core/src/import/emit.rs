@@ -103,7 +103,10 @@ fn image_resource(img: &ImageInfo, name: &str, before_capture: bool) -> Resource
     let own = dxgi::lookup_vk(&img.format);
     let compressed = own.is_some_and(|f| f.is_block_compressed());
     let depth = own.is_some_and(|f| f.is_depth_format());
-    if img.usage & 0x10 != 0 && !compressed && !depth {
+    // Nor for a format that cannot be rendered to (zink gives an E5B9G9R9 texture attachment
+    // usage for its views of another format).
+    let renders = own.is_some_and(|f| crate::capture::support::Support::of(f).render_target);
+    if img.usage & 0x10 != 0 && !compressed && !depth && renders {
         flags.push(ResourceFlag::AllowRenderTarget);
     }
     let colour = own.is_some_and(|f| !f.is_depth_format());

@@ -392,6 +392,8 @@ fn sampler(ci: &Arg<'_>, h: u64) -> Got<VkSampler> {
         max_lod: float(ci, "maxLod")?,
         border_color: ci.get("borderColor")?.name()?,
         unnormalized_coordinates: boolean(ci, "unnormalizedCoordinates")?,
+        // VK_SAMPLER_CREATE_NON_SEAMLESS_CUBE_MAP_BIT_EXT.
+        non_seamless_cube: ci.opt("flags").and_then(|f| f.u64().ok()).unwrap_or(0) & 0x4 != 0,
     })
 }
 

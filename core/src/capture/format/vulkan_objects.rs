@@ -64,6 +64,10 @@ pub struct VkSampler {
     pub border_color: String,
     #[serde(default)]
     pub unnormalized_coordinates: bool,
+    /// `VK_SAMPLER_CREATE_NON_SEAMLESS_CUBE_MAP_BIT_EXT`: a cube map filtered within each
+    /// face (zink sets it for OpenGL's default, seamless filtering off).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub non_seamless_cube: bool,
 }
 
 /// A `VkImageView`: the image (a resource) and what of it the view sees.

@@ -517,9 +517,20 @@ impl<'c> Lowering<'c> {
                     ),
                     _ => u32::MAX,
                 };
+                let cube = matches!(
+                    &resource,
+                    VkResource::Texture {
+                        dimension: wgpu::TextureViewDimension::Cube
+                            | wgpu::TextureViewDimension::CubeArray,
+                        ..
+                    }
+                );
                 let mut out = vec![(entry(wb, ty), resource)];
                 if ty_is_combined(&lb.descriptor_type) {
                     let s = d.sampler.or(immutable).ok_or_else(missing)?;
+                    if cube {
+                        self.vk_seamless(s)?;
+                    }
                     bias = self.vk_bias(s, Some(levels));
                     out.push(self.vk_sampler_entry(wb + 1, u.stages, s)?);
                 }
@@ -548,6 +559,25 @@ impl<'c> Lowering<'c> {
             }
         };
         Ok((entries, bias))
+    }
+
+    /// Refuses sampler `s` on a cube map where it filters within each face
+    /// (`VK_SAMPLER_CREATE_NON_SEAMLESS_CUBE_MAP_BIT_EXT`) and filters linearly: wgpu filters
+    /// across the faces' edges. With nearest filters every texel read is the same.
+    fn vk_seamless(&self, s: usize) -> Result<(), Fail> {
+        let sampler = &self.vk_model()?.samplers[s];
+        let linear = |f: &str| f.ends_with("LINEAR");
+        if sampler.non_seamless_cube && (linear(&sampler.mag_filter) || linear(&sampler.min_filter))
+        {
+            return Err(VkProblem::Unsupported {
+                feature: format!(
+                    "a cube map filtered linearly within each face (sampler {} with VK_SAMPLER_CREATE_NON_SEAMLESS_CUBE_MAP_BIT_EXT): wgpu filters cube maps across their faces",
+                    sampler.name
+                ),
+            }
+            .into());
+        }
+        Ok(())
     }
 
     /// Sampler `s`'s LOD bias where it would change what is read through a view of `levels`
