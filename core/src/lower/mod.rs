@@ -185,6 +185,14 @@ pub enum PassError {
         dst_offset: u64,
         bytes: u64,
     },
+    #[error(
+        "copy {index}: from a buffer into \"{resource}\" ({format:?}): WebGPU copies no buffer into a 24-bit or 32-bit float depth texture"
+    )]
+    CopyIntoDepth {
+        index: usize,
+        resource: String,
+        format: wgpu_types::TextureFormat,
+    },
 }
 
 /// A lowered frame: the plan, the plan index of each capture resource and the capture pass of

@@ -445,6 +445,25 @@ impl<'c> Lowering<'c> {
                     },
                 ));
             }
+            if let (CopyEnd::Buffer { .. }, CopyEnd::Texture { texture, .. }) = (&src, &dst) {
+                let t = &self.plan.textures[*texture];
+                if matches!(
+                    t.format,
+                    wgpu::TextureFormat::Depth32Float
+                        | wgpu::TextureFormat::Depth32FloatStencil8
+                        | wgpu::TextureFormat::Depth24Plus
+                        | wgpu::TextureFormat::Depth24PlusStencil8
+                ) {
+                    return Err(pass_error(
+                        p,
+                        PassError::CopyIntoDepth {
+                            index: copies.len(),
+                            resource: t.name.clone(),
+                            format: t.format,
+                        },
+                    ));
+                }
+            }
             let unpack = self.copy_keeps_bytes(p, copies.len(), &src, &dst)?;
             copies.push(CopyOp {
                 src,

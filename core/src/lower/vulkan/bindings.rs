@@ -715,10 +715,18 @@ impl<'c> Lowering<'c> {
                 f.sample_type(None, Some(self.available))
                     .unwrap_or(wgpu::TextureSampleType::Float { filterable: false })
             };
+            // A multisampled texture is only fetched, never filtered (WebGPU's rule).
+            let multisampled = spec.samples > 1;
+            let sample_type = match sample_type {
+                wgpu::TextureSampleType::Float { .. } if multisampled => {
+                    wgpu::TextureSampleType::Float { filterable: false }
+                }
+                other => other,
+            };
             wgpu::BindingType::Texture {
                 sample_type,
                 view_dimension: dimension,
-                multisampled: spec.samples > 1,
+                multisampled,
             }
         };
         Ok((ty, resource))
