@@ -233,9 +233,10 @@ impl<'a> Validator<'a> {
                 "bytes_per_row {pitch} must be a multiple of 256 (D3D12_TEXTURE_DATA_PITCH_ALIGNMENT)"
             ));
         }
-        let needed = pitch * rows.saturating_sub(1) * u64::from(extent[2].max(1))
-            + row_bytes
-            + pitch * rows * u64::from(extent[2].max(1).saturating_sub(1));
+        // Every slice but the last whole, then the last one's rows up to its last texel.
+        let needed = pitch * rows * u64::from(extent[2].max(1).saturating_sub(1))
+            + pitch * rows.saturating_sub(1)
+            + row_bytes;
         if bloc
             .offset
             .checked_add(needed)
