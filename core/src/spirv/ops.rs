@@ -1,6 +1,8 @@
 //! Making instructions for a rewrite: fresh ids past every one in use, instructions, and
 //! global types found or added once. Shared by the rewrites that add code.
 
+use std::collections::HashMap;
+
 use rspirv::dr::{Instruction, Module, Operand};
 use rspirv::spirv::{Op, Word};
 
@@ -109,4 +111,27 @@ pub(super) fn vector(
 ) -> Result<Word, SpirvError> {
     let operands = vec![Operand::IdRef(component), Operand::LiteralBit32(n)];
     type_id(module, added, ids, rspirv::spirv::Op::TypeVector, operands)
+}
+
+/// A 32-bit constant of type `ty` with the bits `bits`, made once per (type, bits) in `cache`
+/// and added to `added`.
+pub(super) fn constant(
+    added: &mut Vec<Instruction>,
+    ids: &mut Ids,
+    cache: &mut HashMap<(Word, u32), Word>,
+    ty: Word,
+    bits: u32,
+) -> Result<Word, SpirvError> {
+    if let Some(&id) = cache.get(&(ty, bits)) {
+        return Ok(id);
+    }
+    let id = ids.fresh()?;
+    added.push(inst(
+        Op::Constant,
+        Some(ty),
+        Some(id),
+        vec![Operand::LiteralBit32(bits)],
+    ));
+    cache.insert((ty, bits), id);
+    Ok(id)
 }

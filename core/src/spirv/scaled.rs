@@ -305,18 +305,7 @@ impl Unpack {
         ty: Word,
         bits: u32,
     ) -> Result<Word, SpirvError> {
-        if let Some(&id) = self.constants.get(&(ty, bits)) {
-            return Ok(id);
-        }
-        let id = ids.fresh()?;
-        added.push(inst(
-            Op::Constant,
-            Some(ty),
-            Some(id),
-            vec![Operand::LiteralBit32(bits)],
-        ));
-        self.constants.insert((ty, bits), id);
-        Ok(id)
+        super::ops::constant(added, ids, &mut self.constants, ty, bits)
     }
 
     /// The float value (`float`, `n` components) of packed word `word`, as `result`.

@@ -7,11 +7,11 @@
 
 use std::collections::HashMap;
 
-use rspirv::dr::{Instruction, Module, Operand};
+use rspirv::dr::{Module, Operand};
 use rspirv::spirv::{Decoration, ImageFormat, Op, StorageClass, Word};
 
 use super::index::id_ref;
-use super::ops::{Ids, inst, type_id};
+use super::ops::{Ids, constant, inst, type_id};
 use super::{ScalarKind, SpirvError};
 
 /// A storage texel buffer wgpu has no binding for: it becomes a storage buffer of 32-bit
@@ -42,27 +42,6 @@ pub(super) fn texel_layout(f: ImageFormat) -> Option<(u32, u32, ScalarKind)> {
         ImageFormat::Rgba32i => (32, 4, K::Sint),
         _ => return None,
     })
-}
-
-fn constant(
-    added: &mut Vec<Instruction>,
-    ids: &mut Ids,
-    cache: &mut HashMap<(Word, u32), Word>,
-    ty: Word,
-    bits: u32,
-) -> Result<Word, SpirvError> {
-    if let Some(&id) = cache.get(&(ty, bits)) {
-        return Ok(id);
-    }
-    let id = ids.fresh()?;
-    added.push(inst(
-        Op::Constant,
-        Some(ty),
-        Some(id),
-        vec![Operand::LiteralBit32(bits)],
-    ));
-    cache.insert((ty, bits), id);
-    Ok(id)
 }
 
 fn unsupported(t: &Texel, detail: String) -> SpirvError {

@@ -26,7 +26,58 @@ pub(super) fn refused(what: &str, (set, binding, element): Slot, shader: &str) -
     .into()
 }
 
+/// The whole of blank texture `texture`, seen as `view` with `layers` layers.
+fn blank_view(
+    texture: usize,
+    format: wgpu::TextureFormat,
+    view: wgpu::TextureViewDimension,
+    layers: u32,
+) -> VkResource {
+    VkResource::Texture {
+        texture,
+        format: Some(format),
+        dimension: view,
+        aspect: wgpu::TextureAspect::All,
+        base_mip: 0,
+        mips: Some(1),
+        base_layer: 0,
+        layers: Some(layers),
+    }
+}
+
 impl Lowering<'_> {
+    /// The plan's blank texture `name`, made on first use: `extent.0` texels square,
+    /// `extent.1` layers, one level, zero-filled (wgpu clears what nothing wrote).
+    fn vk_blank_texture(
+        &mut self,
+        name: String,
+        (format, dimension): (wgpu::TextureFormat, wgpu::TextureDimension),
+        (side, layers): (u32, u32),
+        usage: wgpu::TextureUsages,
+    ) -> usize {
+        if let Some(t) = self.plan.textures.iter().position(|t| t.name == name) {
+            return t;
+        }
+        self.plan.textures.push(TextureSpec {
+            name,
+            format,
+            dimension,
+            size: wgpu::Extent3d {
+                width: side,
+                height: side,
+                depth_or_array_layers: layers,
+            },
+            mip_levels: 1,
+            samples: 1,
+            usage,
+            view_formats: Vec::new(),
+            initial: None,
+            history: false,
+            cube: layers == 6,
+        });
+        self.plan.textures.len() - 1
+    }
+
     fn vk_blank_note(&mut self, p: &PassDesc, (set, binding, element): Slot, what: &str) {
         let note = format!(
             "pass \"{}\": set {set} binding {binding} element {element} is empty in the captured descriptor set; {what} stands in (reads give zero, writes are lost, as Vulkan's null descriptors)",
@@ -117,30 +168,13 @@ impl Lowering<'_> {
                 wgpu::TextureSampleType::Uint,
             ),
         };
-        let name = format!("blank {format:?} {view:?} image");
-        let texture = match self.plan.textures.iter().position(|t| t.name == name) {
-            Some(t) => t,
-            None => {
-                self.plan.textures.push(TextureSpec {
-                    name,
-                    format,
-                    dimension,
-                    size: wgpu::Extent3d {
-                        width: 1,
-                        height: 1,
-                        depth_or_array_layers: layers,
-                    },
-                    mip_levels: 1,
-                    samples: 1,
-                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: Vec::new(),
-                    initial: None,
-                    history: false,
-                    cube: layers == 6,
-                });
-                self.plan.textures.len() - 1
-            }
-        };
+        let (extent, usage) = ((1, layers), wgpu::TextureUsages::TEXTURE_BINDING);
+        let texture = self.vk_blank_texture(
+            format!("blank {format:?} {view:?} image"),
+            (format, dimension),
+            extent,
+            usage,
+        );
         self.vk_blank_note(
             p,
             at,
@@ -151,17 +185,7 @@ impl Lowering<'_> {
             view_dimension: view,
             multisampled: false,
         };
-        let resource = VkResource::Texture {
-            texture,
-            format: Some(format),
-            dimension: view,
-            aspect: wgpu::TextureAspect::All,
-            base_mip: 0,
-            mips: Some(1),
-            base_layer: 0,
-            layers: Some(layers),
-        };
-        Ok((ty, resource))
+        Ok((ty, blank_view(texture, format, view, layers)))
     }
 
     /// A blank 1x1 storage image for a storage-image descriptor the captured set leaves
@@ -183,46 +207,19 @@ impl Lowering<'_> {
             }
             _ => return None,
         };
-        let name = format!("blank {format:?} storage image");
-        let texture = match self.plan.textures.iter().position(|t| t.name == name) {
-            Some(t) => t,
-            None => {
-                self.plan.textures.push(TextureSpec {
-                    name,
-                    format,
-                    dimension,
-                    size: wgpu::Extent3d {
-                        width: 1,
-                        height: 1,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_levels: 1,
-                    samples: 1,
-                    usage: wgpu::TextureUsages::STORAGE_BINDING,
-                    view_formats: Vec::new(),
-                    initial: None,
-                    history: false,
-                    cube: false,
-                });
-                self.plan.textures.len() - 1
-            }
-        };
+        let usage = wgpu::TextureUsages::STORAGE_BINDING;
+        let texture = self.vk_blank_texture(
+            format!("blank {format:?} storage image"),
+            (format, dimension),
+            (1, 1),
+            usage,
+        );
         self.vk_blank_note(p, at, "a blank storage image");
         let ty = wgpu::BindingType::StorageTexture {
             access: super::bindings::storage_access(var),
             format,
             view_dimension: view,
         };
-        let resource = VkResource::Texture {
-            texture,
-            format: Some(format),
-            dimension: view,
-            aspect: wgpu::TextureAspect::All,
-            base_mip: 0,
-            mips: Some(1),
-            base_layer: 0,
-            layers: Some(1),
-        };
-        Some((ty, resource))
+        Some((ty, blank_view(texture, format, view, 1)))
     }
 }
