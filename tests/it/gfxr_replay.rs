@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 34] = [
+const REPLAYED: [&str; 35] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -45,6 +45,7 @@ const REPLAYED: [&str; 34] = [
     "kitty_zink_f40",
     "vkbasalt_mrt_f30",
     "love_zink_min_f10",
+    "glxgears_zink_unassisted_f30",
 ];
 
 fn temp(name: &str) -> Scratch {

@@ -162,6 +162,12 @@ fn feedback(
     None
 }
 
+/// `len` bytes of `data` from `at`, where it holds them.
+fn bytes_at(data: Option<&[u8]>, at: u64, len: u64) -> Option<&[u8]> {
+    let at = usize::try_from(at).ok()?;
+    data?.get(at..at.checked_add(usize::try_from(len).ok()?)?)
+}
+
 fn vk_error(p: &PassDesc, work: String, problem: VkProblem) -> LowerError {
     LowerError::Vulkan {
         pass: p.name.clone(),
@@ -196,6 +202,25 @@ impl<'c> Lowering<'c> {
             }
         }
         Ok(false)
+    }
+
+    /// Whether a pass of the frame may change bytes `start..end` of buffer `r` from what
+    /// they start as (`provoking::Written::changes`): copies of the same bytes do not.
+    fn vk_frame_changes(&mut self, r: ResourceId, start: u64, end: u64) -> bool {
+        let written = self
+            .vk
+            .written
+            .get_or_insert_with(|| provoking::written(self.capture));
+        let (buffer_of, buffers) = (&self.buffer_of, &self.plan.buffers);
+        let initial = |r: ResourceId| {
+            buffer_of
+                .get(&r)
+                .and_then(|&i| buffers[i].initial.as_deref())
+        };
+        let dst = initial(r);
+        written.changes(r, start, end, |src, at, dst_at, len| {
+            bytes_at(initial(src), at, len).is_some_and(|s| Some(s) == bytes_at(dst, dst_at, len))
+        })
     }
 
     fn vk_model(&self) -> Result<&'c VkModel, LowerError> {
@@ -569,11 +594,7 @@ impl<'c> Lowering<'c> {
             return Ok(i);
         }
         let name = self.capture.resource(buffer).name.clone();
-        let written = self
-            .vk
-            .written
-            .get_or_insert_with(|| provoking::written(self.capture));
-        if written.overlaps(buffer, offset, u64::MAX) {
+        if self.vk_frame_changes(buffer, offset, u64::MAX) {
             return Err(VkProblem::Unsupported {
                 feature: format!(
                     "a vertex buffer laid out as wgpu does not take it (a stride of {stride} bytes, or three 8- or 16-bit channels) over \"{name}\", which a pass of the frame writes"
@@ -799,15 +820,11 @@ impl<'c> Lowering<'c> {
         g: &crate::capture::format::GraphicsState,
         last: bool,
     ) -> Result<provoking::Listed, Fail> {
-        let written = self
-            .vk
-            .written
-            .get_or_insert_with(|| provoking::written(self.capture));
         let indices = match work.index_buffer {
             Some((b, offset, wide)) => {
                 let (start, end) =
                     provoking::index_bytes(offset, d.first, d.count.unwrap_or(0), wide);
-                let held = !written.overlaps(b, start, end);
+                let held = !self.vk_frame_changes(b, start, end);
                 let plan = self.buf(p, b)?;
                 let bytes = self.plan.buffers[plan].initial.as_deref().filter(|_| held);
                 Some((bytes, offset, wide))

@@ -199,18 +199,22 @@ pub(super) fn index_buffer(
 
 /// The byte ranges of each resource that some pass of the frame writes: indices there may
 /// differ when a draw reads them from what the frame starts with. A buffer copy writes its
-/// destination range; any other write, the whole resource.
+/// destination range, from its source's range; any other write, the whole resource.
 pub(super) fn written(capture: &Capture) -> Written {
     let mut w = Written::default();
     for p in &capture.passes {
         for a in p.accesses.iter().filter(|a| a.access.writes()) {
-            let copied: Vec<(u64, u64)> = p
+            let copied: Vec<WriteRange> = p
                 .copies
                 .iter()
                 .filter(|c| c.dst.resource == a.resource)
                 .map(|c| match c.dst.size {
-                    Some(size) => (c.dst.offset, c.dst.offset.saturating_add(size)),
-                    None => (0, u64::MAX),
+                    Some(size) => WriteRange {
+                        start: c.dst.offset,
+                        end: c.dst.offset.saturating_add(size),
+                        from: Some((c.src.resource, c.src.offset)),
+                    },
+                    None => WriteRange::whole(),
                 })
                 .collect();
             let only_copies = a.access == Access::CopyDst
@@ -220,23 +224,59 @@ pub(super) fn written(capture: &Capture) -> Written {
             if only_copies {
                 ranges.extend(copied);
             } else {
-                ranges.push((0, u64::MAX));
+                ranges.push(WriteRange::whole());
             }
         }
     }
     w
 }
 
+/// Bytes `start..end` of a resource a pass writes, and where a buffer copy writes them from:
+/// its source and the offset there of `start`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct WriteRange {
+    start: u64,
+    end: u64,
+    from: Option<(ResourceId, u64)>,
+}
+
+impl WriteRange {
+    fn whole() -> Self {
+        WriteRange {
+            start: 0,
+            end: u64::MAX,
+            from: None,
+        }
+    }
+}
+
 /// Byte ranges written during the frame, by resource (`written`).
 #[derive(Debug, Default)]
-pub(super) struct Written(BTreeMap<ResourceId, Vec<(u64, u64)>>);
+pub(super) struct Written(BTreeMap<ResourceId, Vec<WriteRange>>);
 
 impl Written {
-    /// Whether any byte of `start..end` of `r` is written during the frame.
-    pub(super) fn overlaps(&self, r: ResourceId, start: u64, end: u64) -> bool {
-        self.0
-            .get(&r)
-            .is_some_and(|ranges| ranges.iter().any(|&(s, e)| s < end && start < e))
+    /// Whether any byte of `start..end` of `r` may change during the frame: a write overlaps
+    /// it that is not a copy of the same bytes. `same(source, at, dst_at, len)` says whether
+    /// `source` (which the frame must not write) holds at `at` the `len` bytes `r` starts
+    /// with at `dst_at` (gfxrecon's `unassisted` tracking writes mapped memory back whole,
+    /// unchanged, after the draws that read it).
+    pub(super) fn changes(
+        &self,
+        r: ResourceId,
+        start: u64,
+        end: u64,
+        same: impl Fn(ResourceId, u64, u64, u64) -> bool,
+    ) -> bool {
+        self.0.get(&r).is_some_and(|ranges| {
+            ranges.iter().any(|w| {
+                let (from, to) = (w.start.max(start), w.end.min(end));
+                from < to
+                    && !w.from.is_some_and(|(src, at)| {
+                        !self.0.contains_key(&src)
+                            && same(src, at + (from - w.start), from, to - from)
+                    })
+            })
+        })
     }
 }
 
@@ -254,6 +294,33 @@ mod tests {
             indirect: false,
             indices,
         }
+    }
+
+    /// A copy that writes back the bytes a range starts with changes nothing (gfxrecon's
+    /// `unassisted` tracking); one of other bytes, or from a source the frame writes, does.
+    #[test]
+    fn a_copy_of_the_same_bytes_changes_nothing() {
+        let (dst, src, other) = (ResourceId(0), ResourceId(1), ResourceId(2));
+        let copy = |from| WriteRange {
+            start: 8,
+            end: 24,
+            from: Some((from, 100)),
+        };
+        let mut w = Written::default();
+        w.0.insert(dst, vec![copy(src)]);
+        let same = |s: ResourceId, at: u64, dst_at: u64, len: u64| {
+            s == src && at == 100 + (dst_at - 8) && len > 0
+        };
+        assert!(!w.changes(dst, 0, 16, same));
+        assert!(w.changes(dst, 0, 16, |_, _, _, _| false));
+        assert!(
+            !w.changes(dst, 24, 40, |_, _, _, _| false),
+            "outside the copy"
+        );
+        w.0.insert(src, vec![WriteRange::whole()]);
+        assert!(w.changes(dst, 0, 16, same), "a source the frame writes");
+        w.0.insert(other, vec![WriteRange::whole()]);
+        assert!(w.changes(other, 0, 1, same));
     }
 
     #[test]
