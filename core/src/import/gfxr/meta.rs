@@ -175,6 +175,23 @@ impl Fields<'_> {
     }
 }
 
+/// The capturing device's vendor and name from a "set device properties" record.
+fn device_properties(f: &mut Fields<'_>) -> Result<Meta, String> {
+    let (_thread, _device) = (f.u64()?, f.u64()?);
+    let (_api, _driver) = (f.u32()?, f.u32()?);
+    let vendor_id = f.u32()?;
+    let (_device_id, _type) = (f.u32()?, f.u32()?);
+    let _uuid = f.bytes(16)?;
+    let len = f.u32()? as usize;
+    let name = f.bytes(len)?;
+    Ok(Meta::DeviceProperties {
+        vendor_id,
+        device_name: String::from_utf8_lossy(name)
+            .trim_end_matches('\0')
+            .to_owned(),
+    })
+}
+
 /// Reads a meta-data block.
 pub fn read(block: &Block, how: Compression, room: Room<'_>) -> Result<Meta, String> {
     let mut f = Fields {
@@ -261,21 +278,8 @@ pub fn read(block: &Block, how: Compression, room: Room<'_>) -> Result<Meta, Str
             }
             Meta::MemoryProperties { type_flags }
         }
-        11 => {
-            let (_thread, _device) = (f.u64()?, f.u64()?);
-            let (_api, _driver) = (f.u32()?, f.u32()?);
-            let vendor_id = f.u32()?;
-            let (_device_id, _type) = (f.u32()?, f.u32()?);
-            let _uuid = f.bytes(16)?;
-            let len = f.u32()? as usize;
-            let name = f.bytes(len)?;
-            Meta::DeviceProperties {
-                vendor_id,
-                device_name: String::from_utf8_lossy(name)
-                    .trim_end_matches('\0')
-                    .to_owned(),
-            }
-        }
+        // Informational: a record this reader does not follow is counted, not an error.
+        11 => device_properties(&mut f).unwrap_or(Meta::Other(name(11))),
         other => Meta::Other(name(other)),
     })
 }
