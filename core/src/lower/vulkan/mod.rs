@@ -15,6 +15,8 @@ mod capabilities;
 mod clears;
 mod dynamic;
 mod extended;
+mod feedback;
+mod frame_writes;
 mod provoking;
 mod shaders;
 mod states;
@@ -113,61 +115,6 @@ fn stage_of(stage: &str) -> Result<(wgpu::ShaderStages, rspirv::spirv::Execution
     })
 }
 
-/// A texture a draw binds that is also an attachment the pass writes: Vulkan lets a subpass
-/// read its own attachment (an input attachment, "framebuffer fetch"; a feedback-loop
-/// layout), wgpu does not read and render one subresource in a pass.
-fn feedback(
-    groups: &[Option<VkGroup>],
-    color: &[ColorTarget],
-    depth: Option<&DepthTarget>,
-) -> Option<String> {
-    let within =
-        |x: u32, base: u32, count: Option<u32>| x >= base && count.is_none_or(|n| x - base < n);
-    for (set, g) in groups.iter().enumerate() {
-        let Some(g) = g else { continue };
-        for (binding, r) in &g.entries {
-            let VkResource::Texture {
-                texture,
-                base_mip,
-                mips,
-                base_layer,
-                layers,
-                ..
-            } = r
-            else {
-                continue;
-            };
-            let seen = |t: usize, mip: u32, layer: u32| {
-                t == *texture
-                    && within(mip, *base_mip, *mips)
-                    && within(layer, *base_layer, *layers)
-            };
-            let attachment = color
-                .iter()
-                .position(|c| seen(c.texture, c.mip, c.layer))
-                .map(|k| format!("colour attachment {k}"))
-                .or_else(|| {
-                    depth
-                        .filter(|d| !(d.read_only && d.stencil_read_only))
-                        .filter(|d| seen(d.texture, d.mip, d.layer))
-                        .map(|_| "the depth/stencil attachment".to_owned())
-                });
-            if let Some(a) = attachment {
-                return Some(format!(
-                    "{a} read through set {set} (wgpu binding {binding}) in the pass that renders to it (framebuffer fetch or a feedback loop: wgpu cannot read and render one subresource in a pass)"
-                ));
-            }
-        }
-    }
-    None
-}
-
-/// `len` bytes of `data` from `at`, where it holds them.
-fn bytes_at(data: Option<&[u8]>, at: u64, len: u64) -> Option<&[u8]> {
-    let at = usize::try_from(at).ok()?;
-    data?.get(at..at.checked_add(usize::try_from(len).ok()?)?)
-}
-
 fn vk_error(p: &PassDesc, work: String, problem: VkProblem) -> LowerError {
     LowerError::Vulkan {
         pass: p.name.clone(),
@@ -202,25 +149,6 @@ impl<'c> Lowering<'c> {
             }
         }
         Ok(false)
-    }
-
-    /// Whether a pass of the frame may change bytes `start..end` of buffer `r` from what
-    /// they start as (`provoking::Written::changes`): copies of the same bytes do not.
-    fn vk_frame_changes(&mut self, r: ResourceId, start: u64, end: u64) -> bool {
-        let written = self
-            .vk
-            .written
-            .get_or_insert_with(|| provoking::written(self.capture));
-        let (buffer_of, buffers) = (&self.buffer_of, &self.plan.buffers);
-        let initial = |r: ResourceId| {
-            buffer_of
-                .get(&r)
-                .and_then(|&i| buffers[i].initial.as_deref())
-        };
-        let dst = initial(r);
-        written.changes(r, start, end, |src, at, dst_at, len| {
-            bytes_at(initial(src), at, len).is_some_and(|s| Some(s) == bytes_at(dst, dst_at, len))
-        })
     }
 
     fn vk_model(&self) -> Result<&'c VkModel, LowerError> {
@@ -269,7 +197,7 @@ impl<'c> Lowering<'c> {
             draws.push(op);
         }
         for (i, op) in draws.iter().enumerate() {
-            if let Some(feature) = feedback(&op.groups, &color, depth.as_ref()) {
+            if let Some(feature) = feedback::feedback(&op.groups, &color, depth.as_ref()) {
                 let feature = if cleared_read_only {
                     format!(
                         "vkCmdClearAttachments of a depth/stencil attachment in a read-only layout that the pass's draws also sample ({feature})"
@@ -577,53 +505,6 @@ impl<'c> Lowering<'c> {
                 self.draw_count(p, d.draw_count)?
             },
         })
-    }
-
-    /// Vertex buffer `buffer` from `offset` copied to the stride wgpu takes for `stride`, once;
-    /// refused where a pass of the frame writes those bytes.
-    fn vk_repacked(
-        &mut self,
-        p: &'c PassDesc,
-        buffer: ResourceId,
-        offset: u64,
-        stride: u32,
-        layout: &strides::Relayout,
-    ) -> Result<usize, Fail> {
-        let key = (buffer, offset, stride, layout.clone());
-        if let Some(&i) = self.vk.repacked.get(&key) {
-            return Ok(i);
-        }
-        let name = self.capture.resource(buffer).name.clone();
-        if self.vk_frame_changes(buffer, offset, u64::MAX) {
-            return Err(VkProblem::Unsupported {
-                feature: format!(
-                    "a vertex buffer laid out as wgpu does not take it (a stride of {stride} bytes, or three 8- or 16-bit channels) over \"{name}\", which a pass of the frame writes"
-                ),
-            }
-            .into());
-        }
-        let plan = self.buf(p, buffer)?;
-        let source = &self.plan.buffers[plan];
-        let bytes = strides::repack(
-            source.initial.as_deref().unwrap_or_default(),
-            source.size,
-            offset,
-            stride,
-            layout,
-        );
-        self.plan.buffers.push(BufferSpec {
-            name: format!(
-                "{name}: from byte {offset} at a vertex stride of {}",
-                layout.stride
-            ),
-            size: bytes.len() as u64,
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-            initial: Some(bytes),
-            history: false,
-        });
-        let i = self.plan.buffers.len() - 1;
-        self.vk.repacked.insert(key, i);
-        Ok(i)
     }
 
     /// A draw that rasterizes nothing still runs its vertex stage, whose storage writes would
