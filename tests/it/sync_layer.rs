@@ -703,14 +703,16 @@ fn replays_own_stencil_shader(v: &(String, String, String), capture: &Path) -> b
 const INVALID_SPIRV: &str = "UNASSIGNED-CoreValidation-Shader-InconsistentSpirv";
 
 /// The VUIDs of the classes framelab checks from the calls (`import/valid_usage.rs`,
-/// `import/valid_usage_buffers.rs`): load operations from `UNDEFINED`, descriptors, layout
-/// transitions, attachments and transfers against image usage, and each use of a buffer
-/// against its usage.
+/// `import/valid_usage_buffers.rs`, `import/valid_usage_sets.rs`): load operations from
+/// `UNDEFINED`, descriptors, layout transitions, attachments and transfers against image
+/// usage, each use of a buffer against its usage, and the sets a draw's pipeline uses bound.
 fn checked_class(vuid: &str) -> bool {
     vuid.starts_with("VUID-VkAttachmentDescription")
         || vuid == "VUID-VkClearDepthStencilValue-depth-02506"
         || vuid == EXTENSION_NOT_ENABLED
         || vuid == INVALID_SPIRV
+        // A draw or dispatch whose pipeline uses a set not bound through a compatible layout.
+        || vuid.ends_with("-None-02697")
         || [
             "VUID-vkCmdBindVertexBuffers-pBuffers-00627",
             "VUID-vkCmdBindVertexBuffers2-pBuffers-03359",
@@ -864,6 +866,9 @@ fn framelab_vuids(capture: &Path) -> BTreeSet<(String, String, String)> {
             // The layer does not say which clear value is out of range.
             let attachment = if s("vuid") == INVALID_SPIRV {
                 s("detail")
+            } else if s("vuid").ends_with("-None-02697") {
+                // A draw's own rule: the layer's id names no member.
+                "None".to_owned()
             } else if s("vuid").starts_with("VUID-VkClearDepthStencilValue")
                 || s("vuid") == EXTENSION_NOT_ENABLED
             {

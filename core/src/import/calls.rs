@@ -363,6 +363,19 @@ impl Func {
 }
 
 impl CmdFunc {
+    /// For draws (`Some(false)`) and dispatches (`Some(true)`): the bind point whose
+    /// pipeline and descriptor sets they run with.
+    pub fn work_point(self) -> Option<bool> {
+        match self {
+            CmdFunc::Draw { .. }
+            | CmdFunc::DrawIndirect { .. }
+            | CmdFunc::DrawIndirectCount { .. }
+            | CmdFunc::DrawMulti { .. } => Some(false),
+            CmdFunc::Dispatch | CmdFunc::DispatchIndirect => Some(true),
+            _ => None,
+        }
+    }
+
     pub fn of(name: &str) -> CmdFunc {
         use CmdFunc as C;
         use CopyKind as K;

@@ -33,6 +33,7 @@ mod tree;
 mod valid_usage;
 mod valid_usage_buffers;
 mod valid_usage_clears;
+mod valid_usage_sets;
 mod valid_usage_spirv;
 mod value;
 mod vk_work;
@@ -369,7 +370,22 @@ impl Importer {
                     .recordings
                     .entry(cb)
                     .or_insert_with(|| spare.pop().unwrap_or_default());
-                return recording.record(cmd, &call.name, call.index, args, &self.objects);
+                let recorded = recording.record(cmd, &call.name, call.index, args, &self.objects);
+                if let Some(compute) = cmd.work_point()
+                    && recorded.is_ok()
+                    && self.checks_valid_usage()
+                    && let Some(recording) = self.recordings.get(&cb)
+                {
+                    let found = valid_usage_sets::draw_usage(
+                        &call.name,
+                        call.index,
+                        compute,
+                        recording,
+                        &self.pipelines,
+                    );
+                    self.valid_usage.extend(found);
+                }
+                return recorded;
             }
             Func::AllocateCommandBuffers => {
                 let pool = args.get("pAllocateInfo")?.get("commandPool")?.handle()?;
@@ -425,9 +441,17 @@ impl Importer {
                 }
                 return self.pipelines.apply(call.func, args);
             }
+            Func::CreatePipelineLayout => {
+                let applied = self.pipelines.apply(call.func, args)?;
+                // The recordings tell compatible binds apart by these ids.
+                let h = args.get("pPipelineLayout")?.handle()?;
+                if let Some(ids) = self.pipelines.compat_ids(h) {
+                    self.objects.layout_compat.insert(h, ids);
+                }
+                return Ok(applied);
+            }
             Func::CreateSampler
             | Func::CreateDescriptorSetLayout
-            | Func::CreatePipelineLayout
             | Func::CreatePipelines { .. } => return self.pipelines.apply(call.func, args),
             Func::UpdateDescriptorSetWithTemplate if self.checks_valid_usage() => {
                 let command = format!("{} #{}", call.name, call.index);

@@ -43,6 +43,28 @@ pub struct Pipelines {
     storage: HashMap<u64, usize>,
     learned: Vec<Learned>,
     by_code: HashMap<Arc<[u8]>, usize>,
+    /// Pipeline layout -> its compatibility id for each set (`compat_ids`).
+    compat: HashMap<u64, Arc<[u64]>>,
+    /// What each compatibility id stands for, so that equal definitions share one.
+    compat_keys: HashMap<CompatKey, u64>,
+}
+
+/// What a pipeline layout's compatibility for set N depends on: N, the definitions of its set
+/// layouts 0 to N, and its push-constant ranges (the specification's Pipeline Layout
+/// Compatibility).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct CompatKey {
+    set: u32,
+    sets: Vec<SetDefinition>,
+    push_constants: Vec<(u32, u32, u32)>,
+}
+
+/// A descriptor set layout as defined: its flags and bindings (number, type, count, stages,
+/// immutable samplers), or the handle of one the stream never created (equal only to itself).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum SetDefinition {
+    Known(u32, Vec<(u32, String, u32, u32, Vec<u64>)>),
+    Unknown(u64),
 }
 
 /// A shader module's code and what parsing it taught, once asked.
@@ -226,6 +248,66 @@ impl Pipelines {
             .map(|b| b.stages)
     }
 
+    /// Pipeline layout `layout`'s compatibility id for each of its sets: two layouts are
+    /// compatible for set N exactly where their ids for N are equal. `None` for a layout the
+    /// stream never created.
+    pub fn compat_ids(&self, layout: u64) -> Option<Arc<[u64]>> {
+        self.compat.get(&layout).cloned()
+    }
+
+    fn compat_ids_of(&mut self, sets: &[u64], push: &[PushConstantRange]) -> Vec<u64> {
+        let push_constants: Vec<(u32, u32, u32)> =
+            push.iter().map(|r| (r.stages, r.offset, r.size)).collect();
+        let mut defined = Vec::with_capacity(sets.len());
+        let mut ids = Vec::with_capacity(sets.len());
+        for (n, &s) in sets.iter().enumerate() {
+            defined.push(match self.set_layouts.get(&s) {
+                Some((layout, immutable)) => SetDefinition::Known(
+                    layout.flags,
+                    layout
+                        .bindings
+                        .iter()
+                        .zip(immutable)
+                        .map(|(b, fixed)| {
+                            let ty = b.descriptor_type.clone();
+                            (b.binding, ty, b.count, b.stages, fixed.clone())
+                        })
+                        .collect::<BTreeSet<_>>()
+                        .into_iter()
+                        .collect(),
+                ),
+                None => SetDefinition::Unknown(s),
+            });
+            let key = CompatKey {
+                set: n as u32,
+                sets: defined.clone(),
+                push_constants: push_constants.clone(),
+            };
+            let next = self.compat_keys.len() as u64 + 1;
+            ids.push(*self.compat_keys.entry(key).or_insert(next));
+        }
+        ids
+    }
+
+    /// Pipeline `pipeline`'s layout and the descriptor sets its shaders statically use
+    /// (through the functions each entry point calls): `None` when the pipeline or the code
+    /// of one of its modules is not known or does not parse.
+    pub fn used_sets(&self, pipeline: u64) -> Option<(u64, BTreeSet<u32>)> {
+        let made = self.pipelines.get(&pipeline)?;
+        let mut sets = BTreeSet::new();
+        for (stage, m) in made.pipeline.stages.iter().zip(&made.modules) {
+            let learned = self.learned.get(*self.storage.get(m)?)?;
+            sets.extend(
+                learned
+                    .bindings(&stage.entry)?
+                    .iter()
+                    .filter(|b| b.used)
+                    .map(|b| b.set),
+            );
+        }
+        Some((made.layout, sets))
+    }
+
     /// Applies a call that creates a pipeline object; `Ok(false)` for other calls.
     pub fn apply(&mut self, func: Func, args: &Arg<'_>) -> Got<bool> {
         match func {
@@ -290,6 +372,8 @@ impl Pipelines {
                     set_layouts: sets.iter().map(|s| format!("set_layout_{s}")).collect(),
                     push_constants,
                 };
+                let ids = self.compat_ids_of(&sets, &layout.push_constants);
+                self.compat.insert(h, ids.into());
                 self.layouts.insert(h, (layout, sets));
             }
             Func::CreatePipelines { compute } => {

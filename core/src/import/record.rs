@@ -15,6 +15,7 @@ use super::commands::{
 use super::render_pass;
 use super::state::{Descriptor, Objects, debug_text};
 use super::transfer_calls::{blit, clear_attachments, clear_image, copy};
+use super::valid_usage_sets::SetSlots;
 use super::value::{ASPECTS, Arg, Got, Skip};
 use crate::capture::format::{VkCommandState, VkDynamicValues, VkStencilOps};
 use crate::capture::vulkan::MAX_PUSH_CONSTANT_BYTES;
@@ -42,6 +43,8 @@ struct Bound {
     /// source.
     push: Option<Vec<u8>>,
     pushed: bool,
+    /// Graphics (0) and compute (1): the sets bound as their layouts define them.
+    slots: [SetSlots; 2],
 }
 
 /// Command buffers' recordings by handle, boxed so that moving one is a pointer's copy.
@@ -221,7 +224,7 @@ impl Recording {
             }
             CmdFunc::PushConstants => return self.push_constants(args).map(|()| true),
             CmdFunc::BindDescriptorSets => return self.bind_sets(args, objects).map(|()| true),
-            CmdFunc::PushDescriptorSet => return self.push_set(args).map(|()| true),
+            CmdFunc::PushDescriptorSet => return self.push_set(args, objects).map(|()| true),
             CmdFunc::BindVertexBuffers => return self.bind_vertex_buffers(args).map(|()| true),
             CmdFunc::BindIndexBuffer => {
                 let b = args.get("buffer")?.handle()?;
@@ -533,6 +536,8 @@ impl Recording {
     fn bind_sets(&mut self, args: &Arg<'_>, objects: &Objects) -> Got<()> {
         let compute = compute_point(&args.get("pipelineBindPoint")?)?;
         let first = args.get("firstSet")?.u32()?;
+        let count = args.list("pDescriptorSets")?.len() as u32;
+        self.bind_slots(compute, args, objects, first, count)?;
         let mut dynamic: Vec<u64> = args
             .list("pDynamicOffsets")?
             .iter()
@@ -568,10 +573,36 @@ impl Recording {
         Ok(())
     }
 
+    /// Sets `first..first + count` bound at a bind point through the call's `layout`.
+    fn bind_slots(
+        &mut self,
+        compute: bool,
+        args: &Arg<'_>,
+        objects: &Objects,
+        first: u32,
+        count: u32,
+    ) -> Got<()> {
+        let layout = args.get("layout")?.handle()?;
+        let compat = objects.layout_compat.get(&layout).map(|c| &c[..]);
+        self.bound.slots[usize::from(compute)].bind(layout, compat, first, count);
+        Ok(())
+    }
+
+    /// The sets bound at a bind point (`compute`), for what a draw or dispatch needs of them.
+    pub fn set_slots(&self, compute: bool) -> &SetSlots {
+        &self.bound.slots[usize::from(compute)]
+    }
+
+    /// The pipeline bound at a bind point.
+    pub fn pipeline(&self, compute: bool) -> Option<u64> {
+        self.bound.pipelines.get(&compute).copied()
+    }
+
     /// Pushed descriptors replace the ones bound at the same binding and element.
-    fn push_set(&mut self, args: &Arg<'_>) -> Got<()> {
+    fn push_set(&mut self, args: &Arg<'_>, objects: &Objects) -> Got<()> {
         let compute = compute_point(&args.get("pipelineBindPoint")?)?;
         let set = args.get("set")?.u32()?;
+        self.bind_slots(compute, args, objects, set, 1)?;
         let mut written = Vec::new();
         for w in args.list("pDescriptorWrites")? {
             written.extend(super::state::descriptor_writes(&w)?);
@@ -585,7 +616,9 @@ impl Recording {
         let template = args.get("descriptorUpdateTemplate")?.handle()?;
         let written = objects.template_writes(template, &args.get("pData")?)?;
         let compute = objects.templates.get(&template).is_some_and(|t| t.compute);
-        self.push(compute, args.get("set")?.u32()?, written);
+        let set = args.get("set")?.u32()?;
+        self.bind_slots(compute, args, objects, set, 1)?;
+        self.push(compute, set, written);
         Ok(())
     }
 

@@ -203,6 +203,8 @@ pub struct Objects {
     pub render_passes: HashMap<u64, RenderPassInfo>,
     pub framebuffers: HashMap<u64, FramebufferInfo>,
     pub sets: HashMap<u64, BTreeMap<(u32, u32), Descriptor>>,
+    /// Pipeline layout -> its compatibility id per set (`Pipelines::compat_ids`).
+    pub layout_compat: HashMap<u64, std::sync::Arc<[u64]>>,
     /// Descriptor update templates: their entries, and for push templates the bind point.
     pub templates: HashMap<u64, Template>,
     pub swapchains: HashMap<u64, SwapchainInfo>,

@@ -32,13 +32,25 @@ pub const VALID_USAGE: LintKind = LintKind::new(&LintDef {
     description: "a call breaks a valid-usage statement of the specification (its VUID given)",
 });
 
+/// FL026 `rendering-layout`: a dynamic rendering attachment is not in the layout its
+/// `VkRenderingAttachmentInfo` says. What it is used in is the image's layout as the
+/// specification has it, but no valid-usage statement says so and the Khronos validation layer
+/// (1.3.239) does not check it, so it is a warning rather than `barrier-missing`'s error: a
+/// load from it reads undefined contents on drivers that lay the layouts out differently.
+pub const RENDERING_LAYOUT: LintKind = LintKind::new(&LintDef {
+    code: "FL026",
+    name: "rendering-layout",
+    severity: LintSeverity::Warning,
+    description: "a dynamic rendering attachment is not in the layout its rendering info names",
+});
+
 /// A Vulkan frame's recorded barriers against what its passes need, and what the import found
 /// in its stream (hazards command by command, valid-usage statements broken).
 pub(super) struct VulkanBarriers;
 
 impl Rule for VulkanBarriers {
     fn kinds(&self) -> &'static [LintKind] {
-        &[VALID_USAGE]
+        &[VALID_USAGE, RENDERING_LAYOUT]
     }
 
     fn check(&self, l: &Linter<'_>, out: &mut Vec<Lint>) {
@@ -302,6 +314,11 @@ fn compare_vulkan(
                 // else used in the wrong layout lacks the transition that would put it there.
                 let kind = if h.access.starts_with("old layout") {
                     BARRIER_WRONG_BEFORE_STATE
+                } else if h.access.starts_with("attachment in")
+                    && (h.access.contains(" at vkCmdBeginRendering")
+                        || h.command.starts_with("vkCmdBeginRendering"))
+                {
+                    RENDERING_LAYOUT
                 } else {
                     BARRIER_MISSING
                 };
@@ -354,10 +371,20 @@ fn compare_vulkan(
 }
 
 /// The valid-usage ID a use in the wrong layout breaks: a barrier's old layout, a render
-/// pass's initial layout, a descriptor's layout (the sync check's `access` says which).
+/// pass's initial layout, a descriptor's layout (the sync check's `access` says which). Found
+/// at a submission (the command buffer expects a layout the image is not in when it is
+/// submitted), it takes the id the Khronos validation layer gives that check whatever the use,
+/// as the layer is the reference these findings are compared with.
 fn layout_vuid(command: &str, access: &str) -> Option<String> {
     let call = command.split(" #").next().unwrap_or(command);
-    let vuid = if access.starts_with("old layout") {
+    let submitted = call.starts_with("vkQueueSubmit");
+    let vuid = if submitted
+        && (access.starts_with("old layout")
+            || access.starts_with("descriptor in")
+            || (access.starts_with("attachment in") && access.contains("vkCmdBeginRenderPass")))
+    {
+        "UNASSIGNED-CoreValidation-DrawState-InvalidImageLayout"
+    } else if access.starts_with("old layout") {
         if call.ends_with('2') || call.ends_with("2KHR") {
             "VUID-VkImageMemoryBarrier2-oldLayout-01197"
         } else {
