@@ -563,12 +563,11 @@ impl Contents {
 }
 
 /// A snapshot the driver padded, packed. GFXReconstruct's snapshot of an optimal image gives
-/// each level a size that may exceed its texels; two layouts are known, tried in order for
-/// each level: each layer's slab of equal size, its rows tightly packed and its height
-/// rounded up (lavapipe: a 300-row depth buffer's slab holds 304); or the level's texels
-/// tightly packed from its start and the level padded at its end (lavapipe's snapshots of
-/// small textures: a 197x13 RGBA8 level of 10,244 bytes comes in 13,312). `None` where a
-/// level is smaller than its texels or fits neither.
+/// each level the size the driver lays it out in, which may exceed its texels; the level's
+/// texels come tightly packed from its start, its layers and slices one after the other, and
+/// the rest is padding (lavapipe: a 197x13 RGBA8 level of 10,244 bytes comes in 13,312, a
+/// 300-row depth buffer's in the size of 304 rows, a 2x2x2 volume's 32 bytes in 512, a 4x4
+/// cube's six faces in 1,536 bytes). `None` where a level is smaller than its texels.
 fn unpad(img: &ImageInfo, level_sizes: &[u64], mut data: Vec<u8>) -> Option<Vec<u8>> {
     let f = dxgi::lookup_vk(&img.format)?;
     let (block, bytes) = (
@@ -578,7 +577,7 @@ fn unpad(img: &ImageInfo, level_sizes: &[u64], mut data: Vec<u8>) -> Option<Vec<
     if bytes == 0 || level_sizes.len() != img.mips as usize {
         return None;
     }
-    // Packed, each slab is no longer than its padded self, so the rows move down in place.
+    // Packed, each level is no longer than its padded self, so its texels move down in place.
     let (mut from, mut to) = (0usize, 0usize);
     for (l, &size) in level_sizes.iter().enumerate() {
         let dim = |d: u32| u64::from((d >> l).max(1));
@@ -589,22 +588,14 @@ fn unpad(img: &ImageInfo, level_sizes: &[u64], mut data: Vec<u8>) -> Option<Vec<
         if row == 0 || size < keep.checked_mul(slabs)? {
             return None;
         }
-        let slab = size / slabs;
-        // Slabs of whole padded rows, or one tight run of them all.
-        let stride = if size % slabs == 0 && slab % row == 0 {
-            slab
-        } else {
-            keep
-        };
         let end = from.checked_add(size as usize)?;
         if end > data.len() {
             return None;
         }
-        for s in 0..slabs as usize {
-            let at = from + s * stride as usize;
-            data.copy_within(at..at + keep as usize, to);
-            to += keep as usize;
-        }
+        // The level's layers and slices, tightly packed from its start.
+        let tight = (keep * slabs) as usize;
+        data.copy_within(from..from + tight, to);
+        to += tight;
         from = end;
     }
     data.truncate(to);
@@ -663,14 +654,22 @@ pub(super) mod tests {
         let img = image("VK_FORMAT_R8G8B8A8_UNORM", [4, 4, 1], 1, 1);
         let packed = unpad(&img, &[256], data.clone()).unwrap();
         assert_eq!(packed, (1..=64u8).collect::<Vec<_>>());
-        // Two layers, each slab padded: each keeps its own rows.
+        // Two layers in a padded level: both tightly packed from its start.
         let img = image("VK_FORMAT_R8G8B8A8_UNORM", [4, 4, 1], 1, 2);
-        let mut two = data.clone();
-        two.extend(data.iter().map(|b| b.wrapping_mul(2)));
-        let packed = unpad(&img, &[512], two.clone()).unwrap();
-        assert_eq!(packed.len(), 128);
-        assert_eq!(packed[64], 2);
-        // A size that is not whole padded slabs: the texels tightly packed from the start.
+        let two: Vec<u8> = (0..512u32)
+            .map(|i| if i < 128 { i as u8 } else { 0x33 })
+            .collect();
+        assert_eq!(unpad(&img, &[512], two.clone()).unwrap(), two[..128]);
+        // The two slices of a volume likewise (lavapipe's 2x2x2 lookup table in 512 bytes).
+        let volume = image("VK_FORMAT_R8G8B8A8_UNORM", [2, 2, 2], 1, 1);
+        let bytes: Vec<u8> = (0..512u32)
+            .map(|i| if i < 32 { i as u8 } else { 0x33 })
+            .collect();
+        assert_eq!(
+            unpad(&volume, &[512], bytes).unwrap(),
+            (0..32u8).collect::<Vec<_>>()
+        );
+        // A size that is not whole padded rows: the same.
         assert_eq!(unpad(&img, &[500], two.clone()).unwrap(), two[..128]);
         // Smaller than the texels, or levels the image does not have: refused.
         assert!(unpad(&img, &[100], two.clone()).is_none());

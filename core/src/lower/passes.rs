@@ -264,6 +264,15 @@ impl<'c> Lowering<'c> {
         }))
     }
 
+    /// Whether attachments stored with "don't care" are stored anyway: in a frame recorded
+    /// from a Vulkan program, whose `VK_ATTACHMENT_STORE_OP_DONT_CARE` leaves the contents
+    /// undefined, and whose drivers mostly keep them, which programs come to rely on (a
+    /// post-processing layer sampling the depth a program discarded). wgpu's discard makes
+    /// the next read see zeros, an image no driver of the program's showed.
+    fn keeps_discarded(&self) -> bool {
+        self.capture.origin.as_ref().is_some_and(|o| o.is_vulkan())
+    }
+
     pub(super) fn depth_target(&self, p: &PassDesc) -> Result<Option<DepthTarget>, LowerError> {
         let Some(d) = &p.depth_stencil else {
             return Ok(None);
@@ -275,9 +284,9 @@ impl<'c> Lowering<'c> {
             mip: d.mip,
             layer: d.layer,
             depth_clear: (d.depth_load == LoadOp::Clear).then_some(d.depth_clear as f32),
-            depth_store: d.depth_store == StoreOp::Store,
+            depth_store: d.depth_store == StoreOp::Store || self.keeps_discarded(),
             stencil_clear: (d.stencil_load == LoadOp::Clear).then_some(d.stencil_clear),
-            stencil_store: d.stencil_store == StoreOp::Store,
+            stencil_store: d.stencil_store == StoreOp::Store || self.keeps_discarded(),
             read_only: d.read_only,
             stencil_read_only: d.stencil_read_only,
             sampled: false,
@@ -308,7 +317,7 @@ impl<'c> Lowering<'c> {
                     a: c.clear[3],
                 }),
                 discard_load: c.load == LoadOp::Discard,
-                store: c.store == StoreOp::Store,
+                store: c.store == StoreOp::Store || self.keeps_discarded(),
                 blend: c.blend.as_ref().and_then(states::blend),
                 write_mask: states::write_mask(c.write_mask.as_ref()),
             });

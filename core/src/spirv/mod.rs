@@ -20,6 +20,7 @@ mod layout;
 mod memory_model;
 mod ops;
 mod outputs;
+mod param_copies;
 mod params;
 mod reclass;
 mod reflect;

@@ -4,8 +4,9 @@
 //! first to the one variable every call passes (through other such parameters too), and
 //! removed: loads of the parameter become loads of the variable, the argument leaves every
 //! call, and the function takes a type without it. Then the variable is only ever loaded,
-//! which the split rewrites. A parameter that calls fill with different variables, or that is
-//! used other than by loading it or passing it on, is refused by name.
+//! which the split rewrites. A function whose calls fill a parameter with different variables
+//! is first copied per list of variables (`param_copies`); a parameter used other than by
+//! loading it or passing it on is refused by name.
 
 use std::collections::{HashMap, HashSet};
 
@@ -60,6 +61,8 @@ pub(super) fn inline_sampler_params(
         .filter(|i| i.result_id.is_some_and(|id| vars.contains(&id)))
         .filter_map(|i| i.result_type)
         .collect();
+    // A parameter different calls fill with different variables gets a function per list.
+    super::param_copies::copy_per_sampler(module, vars, &var_types)?;
     // Function id -> its parameters (id, type), in order.
     let params: HashMap<Word, Vec<(Word, Word)>> = module
         .functions

@@ -30,7 +30,16 @@ pub(super) fn texel_layout(f: ImageFormat) -> Option<(u32, u32, ScalarKind)> {
     Some(match f {
         ImageFormat::R8 => (8, 1, K::Float),
         ImageFormat::R8ui => (8, 1, K::Uint),
+        ImageFormat::Rg8 => (8, 2, K::Float),
+        ImageFormat::Rg8ui => (8, 2, K::Uint),
         ImageFormat::Rgba8 => (8, 4, K::Float),
+        ImageFormat::Rgba8ui => (8, 4, K::Uint),
+        // Two 16-bit texels a word, or one of two channels: a 64-bit texel would span two
+        // words, which the unpacking below does not follow.
+        ImageFormat::R16 => (16, 1, K::Float),
+        ImageFormat::R16ui => (16, 1, K::Uint),
+        ImageFormat::Rg16 => (16, 2, K::Float),
+        ImageFormat::Rg16ui => (16, 2, K::Uint),
         ImageFormat::R32f => (32, 1, K::Float),
         ImageFormat::R32ui => (32, 1, K::Uint),
         ImageFormat::R32i => (32, 1, K::Sint),

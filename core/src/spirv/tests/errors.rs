@@ -151,15 +151,6 @@ fn uses_the_split_cannot_follow_are_refused() {
             "descriptor decorated through a decoration group",
             "",
         ),
-        (
-            Shape {
-                via_function: true,
-                second_call: true,
-                ..Shape::default()
-            },
-            "combined image sampler passed to a function",
-            "different combined image samplers",
-        ),
     ] {
         let err = rewrite(
             &combined_sampler_module(shape),

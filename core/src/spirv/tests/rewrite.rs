@@ -442,6 +442,47 @@ fn combined_sampler_passed_to_a_function_is_split_there() {
     assert_eq!(calls[0].operands.len(), 1, "the call passes nothing");
 }
 
+/// A helper called with two different combined image samplers (Qt Quick 3D's shadow-map
+/// sampling per light): the helper is copied, each copy loads one pair of split variables,
+/// and the result is valid SPIR-V that naga takes.
+#[test]
+fn a_function_given_different_samplers_is_copied_per_sampler() {
+    let words = combined_sampler_module(Shape {
+        via_function: true,
+        second_call: true,
+        ..Shape::default()
+    });
+    let out = rewrite(&words, ExecutionModel::Fragment, "main", &opts(false)).unwrap();
+    let module = load(&out);
+    let r = reflect(&out).unwrap();
+    for (image, sampler) in [(6, 7), (8, 9)] {
+        assert_eq!(
+            binding_of(&r, 1, image),
+            vec![&ResourceKind::SampledImage(TEXTURE_2D)]
+        );
+        assert_eq!(
+            binding_of(&r, 1, sampler),
+            vec![&ResourceKind::Sampler { comparison: false }]
+        );
+    }
+    assert!(binding_of(&r, 1, 3).is_empty() && binding_of(&r, 1, 4).is_empty());
+    assert_eq!(module.functions.len(), 3, "main and a helper per sampler");
+    assert_eq!(count_op(&module, Op::SampledImage), 2);
+    let callees: BTreeSet<Word> = module
+        .functions
+        .iter()
+        .flat_map(|f| f.all_inst_iter())
+        .filter(|i| i.class.opcode == Op::FunctionCall)
+        .filter_map(|i| match i.operands.first() {
+            Some(Operand::IdRef(f)) => Some(*f),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(callees.len(), 2, "each call its own copy");
+    super::validators::spirv_val(&out, "copied_helper").unwrap();
+    assert!(super::validators::naga_accepts(&out).is_ok());
+}
+
 /// A sampler's LOD bias reaches the samples taken through it: an implicit-LOD sample gets a
 /// Bias image operand holding the bias; a module with no biased binding is left alone.
 #[test]
