@@ -646,6 +646,9 @@ impl Builder {
             return;
         };
         for &(src, dst) in &s.resolves {
+            if self.single_sample_resolve(objects, queue, src, dst) {
+                continue;
+            }
             let (Some(src), Some(dst)) = (self.view(objects, src), self.view(objects, dst)) else {
                 continue;
             };
@@ -657,6 +660,48 @@ impl Builder {
                 });
             }
         }
+    }
+
+    /// A resolve attachment whose colour attachment has one sample: invalid
+    /// (`VUID-VkSubpassDescription-pResolveAttachments-00848`, reported at the render pass's
+    /// creation), but drivers take it and copy the texels (Qt asking for more samples than
+    /// lavapipe has keeps the resolve of the single-sampled fallback), so the replay copies
+    /// them too. `false` where the source is multisampled, or unknown.
+    fn single_sample_resolve(&mut self, objects: &Objects, queue: u64, src: u64, dst: u64) -> bool {
+        let (Some(sv), Some(dv)) = (objects.views.get(&src), objects.views.get(&dst)) else {
+            return false;
+        };
+        let Some(image) = objects.images.get(&sv.image).filter(|i| i.samples <= 1) else {
+            return false;
+        };
+        let extent = [
+            (image.extent[0] >> sv.base_mip).max(1),
+            (image.extent[1] >> sv.base_mip).max(1),
+            1,
+        ];
+        let region = Region {
+            src_mip: sv.base_mip,
+            src_layer: sv.base_layer,
+            src_origin: [0; 3],
+            src_offset: 0,
+            dst_mip: dv.base_mip,
+            dst_layer: dv.base_layer,
+            dst_origin: [0; 3],
+            dst_offset: 0,
+            size: None,
+            extent: Some(extent),
+            row_texels: 0,
+            image_rows: 0,
+            layers: 1,
+        };
+        self.copy(
+            objects,
+            queue,
+            "resolve (single-sampled: a copy)",
+            (sv.image, dv.image),
+            &[region],
+        );
+        true
     }
 
     fn draw(&mut self, objects: &Objects, pipelines: &Pipelines, pass: usize, d: &DrawCmd) {

@@ -242,7 +242,7 @@ fn concurrent(ci: &Arg<'_>) -> bool {
 }
 
 /// A sample count, by name (`VK_SAMPLE_COUNT_4_BIT`) or value.
-fn samples(a: &Arg<'_>) -> Got<u32> {
+pub(super) fn samples(a: &Arg<'_>) -> Got<u32> {
     let name = a.symbol()?;
     name.trim_start_matches("VK_SAMPLE_COUNT_")
         .trim_end_matches("_BIT")

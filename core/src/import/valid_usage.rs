@@ -24,7 +24,7 @@ const UNDEFINED: &str = "VK_IMAGE_LAYOUT_UNDEFINED";
 const LOAD: &str = "VK_ATTACHMENT_LOAD_OP_LOAD";
 
 /// `vkCreateRenderPass` (`v2`: `vkCreateRenderPass2`) call `command`: every attachment it
-/// loads from `initialLayout` UNDEFINED.
+/// loads from `initialLayout` UNDEFINED, and every resolve of a single-sampled attachment.
 pub fn render_pass(command: &str, v2: bool, args: &Arg<'_>) -> Got<Vec<ValidUsageFinding>> {
     let ci = args.get("pCreateInfo")?;
     let structure = if v2 {
@@ -55,6 +55,45 @@ pub fn render_pass(command: &str, v2: bool, args: &Arg<'_>) -> Got<Vec<ValidUsag
                     command: command.to_owned(),
                     detail: format!(
                         "pAttachments[{i}] ({format}): {member} {LOAD} with initialLayout {UNDEFINED}"
+                    ),
+                });
+            }
+        }
+    }
+    out.extend(single_sample_resolves(&ci, v2, command)?);
+    Ok(out)
+}
+
+/// Resolve attachments of a render pass's subpasses whose colour attachment has one sample
+/// (`VUID-VkSubpassDescription-pResolveAttachments-00848`; the second structure's `03067`):
+/// drivers copy the texels, which the replay does too.
+fn single_sample_resolves(ci: &Arg<'_>, v2: bool, command: &str) -> Got<Vec<ValidUsageFinding>> {
+    const UNUSED: u64 = 0xFFFF_FFFF;
+    let (structure, number) = if v2 {
+        ("VkSubpassDescription2", "03067")
+    } else {
+        ("VkSubpassDescription", "00848")
+    };
+    let attachments = ci.list("pAttachments")?;
+    let mut out = Vec::new();
+    for (s, sub) in ci.list("pSubpasses")?.iter().enumerate() {
+        let colors = sub.list("pColorAttachments")?;
+        for (k, r) in sub.list("pResolveAttachments")?.iter().enumerate() {
+            let resolve = r.get("attachment")?.u64()?;
+            let Some(color) = colors.get(k) else { continue };
+            let color = color.get("attachment")?.u64()?;
+            if resolve == UNUSED || color == UNUSED {
+                continue;
+            }
+            let Some(a) = attachments.get(color as usize) else {
+                continue;
+            };
+            if super::state::samples(&a.get("samples")?)? == 1 {
+                out.push(ValidUsageFinding {
+                    vuid: format!("VUID-{structure}-pResolveAttachments-{number}"),
+                    command: command.to_owned(),
+                    detail: format!(
+                        "pSubpasses[{s}].pResolveAttachments[{k}]: attachment {resolve} resolves colour attachment {color}, which has one sample"
                     ),
                 });
             }

@@ -18,9 +18,6 @@ impl Builder {
         else {
             return;
         };
-        let Some(pass) = self.new_pass(objects, queue, PassKind::Copy, name) else {
-            return;
-        };
         let texel_bytes = |h: u64| {
             objects
                 .images
@@ -75,6 +72,26 @@ impl Builder {
                 })
             })
             .collect();
+        // Rows closer than a row's width overlap as a driver reads them: invalid, and nothing
+        // the replay's copies can do, so the frame is refused where it copies so.
+        let (overlapping, per_layer): (Vec<Region>, Vec<Region>) =
+            per_layer.into_iter().partition(|r| {
+                !both_buffers && r.row_texels != 0 && r.extent.is_some_and(|e| r.row_texels < e[0])
+            });
+        if let Some(r) = overlapping.first() {
+            let what = format!(
+                "{name} with a bufferRowLength of {} texels, shorter than the {} it copies a row (VUID-VkBufferImageCopy-bufferRowLength-00195): its rows overlap",
+                r.row_texels,
+                r.extent.map_or(0, |e| e[0])
+            );
+            self.refuse(queue, None, &what);
+        }
+        if per_layer.is_empty() {
+            return;
+        }
+        let Some(pass) = self.new_pass(objects, queue, PassKind::Copy, name) else {
+            return;
+        };
         for r in &per_layer {
             self.passes[pass].copies.push(Copy {
                 src: CopyLocation {
