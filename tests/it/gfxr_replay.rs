@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 35] = [
+const REPLAYED: [&str; 41] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -46,6 +46,12 @@ const REPLAYED: [&str; 35] = [
     "vkbasalt_mrt_f30",
     "love_zink_min_f10",
     "glxgears_zink_unassisted_f30",
+    "qt6_layer_samples8b_f30",
+    "vkbasalt_lut_size2_f30",
+    "vkbasalt_fn_sampler_param_f30",
+    "mpv_next_rgb48_f40",
+    "qt6_q3d_2dirshadow_f30",
+    "vkbasalt_depth_qt3d_f30",
 ];
 
 fn temp(name: &str) -> Scratch {
@@ -435,6 +441,45 @@ fn a_uniform_block_past_std430_is_refused_by_name() {
         "draw 0",
         "a uniform block in scalar layout (set 0 binding 0",
         "stride 2, not a multiple of its element's alignment 4",
+    ] {
+        assert!(said.contains(part), "missing {part:?} in:\n{said}");
+    }
+    assert!(!frames.join("manifest.json").exists());
+}
+
+/// Qt's P010 upload copies rows at a pitch shorter than the rows it copies (invalid; drivers
+/// read them overlapping): the import writes the frame, says it does not replay and why, and
+/// `replay` exits 1 with the copy and its VUID named, writing nothing.
+#[test]
+fn overlapping_buffer_rows_are_refused_by_name() {
+    let dir = temp("overlapping-rows");
+    let capture = dir.join("p010.json");
+    let fixture = gfxr_fixture("qt6_video_p010le_f60.gfxr");
+    let out = framelab(&[
+        "import",
+        fixture.to_str().unwrap(),
+        "-o",
+        capture.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let said = String::from_utf8_lossy(&out.stdout).to_string() + &stderr(&out);
+    assert!(
+        !said.contains("replays: yes") && said.contains("bufferRowLength of 159 texels"),
+        "{said}"
+    );
+    let frames = dir.join("out");
+    let out = framelab(&[
+        "replay",
+        capture.to_str().unwrap(),
+        "--out",
+        frames.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let said = stderr(&out);
+    for part in [
+        "copy_buffer_to_image",
+        "bufferRowLength of 159 texels",
+        "VUID-VkBufferImageCopy-bufferRowLength-00195",
     ] {
         assert!(said.contains(part), "missing {part:?} in:\n{said}");
     }

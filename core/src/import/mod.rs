@@ -417,6 +417,11 @@ impl Importer {
             }
             Func::QueueSubmit { v2 } => self.submit(call, args, v2)?,
             Func::CreateImage if self.layouts_known => {
+                if self.checks_valid_usage() {
+                    let command = format!("{} #{}", call.name, call.index);
+                    let found = valid_usage::image_usage(&command, args).unwrap_or_default();
+                    self.valid_usage.extend(found);
+                }
                 let applied = self.objects.apply(call.func, args)?;
                 // The image is made: a layout it does not say is only left unknown.
                 let layout = args

@@ -102,6 +102,26 @@ fn single_sample_resolves(ci: &Arg<'_>, v2: bool, command: &str) -> Got<Vec<Vali
     Ok(out)
 }
 
+/// `vkCreateImage` call `command`: a transient attachment with a use besides attachments
+/// (`VUID-VkImageCreateInfo-usage-00963`; vkBasalt adds `SAMPLED` to the transient depth
+/// buffer Qt asks for, to read it later).
+pub fn image_usage(command: &str, args: &Arg<'_>) -> Got<Vec<ValidUsageFinding>> {
+    const TRANSIENT: u64 = 0x40;
+    const ATTACHMENTS: u64 = COLOR_ATTACHMENT | DEPTH_STENCIL_ATTACHMENT | INPUT_ATTACHMENT;
+    let usage = args.get("pCreateInfo")?.get("usage")?.u64()?;
+    let others = usage & !(TRANSIENT | ATTACHMENTS);
+    if usage & TRANSIENT == 0 || others == 0 {
+        return Ok(Vec::new());
+    }
+    Ok(vec![ValidUsageFinding {
+        vuid: "VUID-VkImageCreateInfo-usage-00963".to_owned(),
+        command: command.to_owned(),
+        detail: format!(
+            "pCreateInfo->usage {usage:#x}: TRANSIENT_ATTACHMENT with usage {others:#x} besides the attachment bits"
+        ),
+    }])
+}
+
 /// `VkImageUsageFlagBits` a use needs.
 const TRANSFER_SRC: u64 = 0x1;
 const TRANSFER_DST: u64 = 0x2;

@@ -488,7 +488,7 @@ impl<'c> Lowering<'c> {
                     .ok_or_else(missing)?;
                 // A separate sampler meets its views in the shader: any view may be mipped.
                 bias = self.vk_bias(s, None);
-                vec![self.vk_sampler_entry(wb, u.stages, s)?]
+                vec![self.vk_sampler_entry(wb, u.stages, s, None)?]
             }
             // An input attachment is read as a texture at the fragment's position
             // (`spirv::subpass`): the subpass that wrote it is a render pass of its own.
@@ -532,6 +532,10 @@ impl<'c> Lowering<'c> {
                         ..
                     }
                 );
+                let texture = match &resource {
+                    VkResource::Texture { texture, .. } => Some(*texture),
+                    _ => None,
+                };
                 let mut out = vec![(entry(wb, ty), resource)];
                 if ty_is_combined(&lb.descriptor_type) {
                     let s = d.sampler.or(immutable).ok_or_else(missing)?;
@@ -539,7 +543,7 @@ impl<'c> Lowering<'c> {
                         self.vk_seamless(s)?;
                     }
                     bias = self.vk_bias(s, Some(levels));
-                    out.push(self.vk_sampler_entry(wb + 1, u.stages, s)?);
+                    out.push(self.vk_sampler_entry(wb + 1, u.stages, s, texture)?);
                 }
                 out
             }
@@ -594,21 +598,45 @@ impl<'c> Lowering<'c> {
         (!states::bias_is_moot(sampler, levels.unwrap_or(u32::MAX))).then_some(sampler.mip_lod_bias)
     }
 
+    /// Sampler `s`'s binding; `texture`, the plan texture a combined image sampler pairs it
+    /// with. A depth or stencil texture read through a linear sampler that does not compare
+    /// is read nearest: no format of those aspects need be filterable (lavapipe's are not;
+    /// `VUID-vkCmdDraw-magFilter-04553`, which vkBasalt's depth effects break), and where the
+    /// driver filters anyway its reads at texel centres are the nearest texel's.
     fn vk_sampler_entry(
         &mut self,
         binding: u32,
         visibility: wgpu::ShaderStages,
         s: usize,
+        texture: Option<usize>,
     ) -> Result<Entry, Fail> {
         let model = self.vk_model()?;
-        let comparison = model.samplers[s].compare_op.is_some();
-        let index = self.vk_sampler(s)?;
+        let sampler = &model.samplers[s];
+        let comparison = sampler.compare_op.is_some();
+        let linear = [&sampler.mag_filter, &sampler.min_filter]
+            .iter()
+            .any(|f| f.ends_with("LINEAR"));
+        let nearest = !comparison
+            && linear
+            && texture.is_some_and(|t| {
+                let f = self.plan.textures[t].format;
+                f.has_depth_aspect() || f.has_stencil_aspect()
+            });
+        if nearest {
+            self.notes.push(format!(
+                "sampler {} reads a depth or stencil texture linearly without comparing, which needs a filterable format: read nearest",
+                sampler.name
+            ));
+        }
+        let index = self.vk_sampler(s, nearest)?;
         Ok((
             wgpu::BindGroupLayoutEntry {
                 binding,
                 visibility,
                 ty: wgpu::BindingType::Sampler(if comparison {
                     wgpu::SamplerBindingType::Comparison
+                } else if nearest {
+                    wgpu::SamplerBindingType::NonFiltering
                 } else {
                     wgpu::SamplerBindingType::Filtering
                 }),

@@ -57,7 +57,8 @@ pub(super) struct VkLowering {
     reflections: BTreeMap<(usize, String), Reflection>,
     shaders: HashMap<shaders::ShaderKey, usize>,
     pipelines: HashMap<PipelineKey, usize>,
-    samplers: BTreeMap<usize, usize>,
+    /// (Vulkan sampler, made nearest) -> plan sampler.
+    samplers: BTreeMap<(usize, bool), usize>,
     /// Whether each shader module decorates anything flat (by module index).
     flat_modules: BTreeMap<usize, bool>,
     /// What the frame's passes write (`provoking::written`), found on first need.
@@ -865,19 +866,27 @@ impl<'c> Lowering<'c> {
         })
     }
 
-    /// The plan sampler of a Vulkan sampler, added on first use.
-    fn vk_sampler(&mut self, s: usize) -> Result<usize, Fail> {
-        if let Some(&i) = self.vk.samplers.get(&s) {
+    /// The plan sampler of a Vulkan sampler, added on first use; `nearest`: with every filter
+    /// nearest and no anisotropy (`vk_sampler_entry` says when).
+    fn vk_sampler(&mut self, s: usize, nearest: bool) -> Result<usize, Fail> {
+        if let Some(&i) = self.vk.samplers.get(&(s, nearest)) {
             return Ok(i);
         }
         let model = self.vk_model()?;
-        let spec = states::sampler(&model.samplers[s])?;
+        let mut spec = states::sampler(&model.samplers[s])?;
+        if nearest {
+            spec.name = format!("{} (nearest)", spec.name);
+            spec.mag = wgpu::FilterMode::Nearest;
+            spec.min = wgpu::FilterMode::Nearest;
+            spec.mip = wgpu::MipmapFilterMode::Nearest;
+            spec.anisotropy = 1;
+        }
         if let Some(note) = states::anisotropic_nearest(&model.samplers[s]) {
             self.notes.push(note);
         }
         self.plan.samplers.push(spec);
         let i = self.plan.samplers.len() - 1;
-        self.vk.samplers.insert(s, i);
+        self.vk.samplers.insert((s, nearest), i);
         Ok(i)
     }
 
