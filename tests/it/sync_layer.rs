@@ -37,6 +37,7 @@ fn wsi(capture: &Path) -> &'static [&'static str] {
         | "vkbasalt_reshade_f30"
         | "vkbasalt_rgb10a2_f30"
         | "vkbasalt_mrt_f30"
+        | "vkbasalt_depth_qt3d_f30"
         | "mpv_gpunext_f30"
         | "vlc_zink_f40" => &["--wsi", "xlib"],
         _ => &[],
@@ -282,7 +283,7 @@ fn import(input: &Path, out: &Path) {
 /// GFXReconstruct captures, with the hazards framelab finds that the layer does not because
 /// of its ordering rule where the specification has none (expected count): rasterization
 /// order across render passes.
-const GFXR: [(&str, usize); 35] = [
+const GFXR: [(&str, usize); 36] = [
     ("vkcube_f3", 0),
     ("vkcube_staging", 0),
     ("template_compute", 0),
@@ -318,6 +319,7 @@ const GFXR: [(&str, usize); 35] = [
     ("ffmpeg_chain", 0),
     ("ffmpeg_overlay", 0),
     ("vkbasalt_mrt_f30", 0),
+    ("vkbasalt_depth_qt3d_f30", 0),
 ];
 
 /// Captures whose submissions wait on timeline semaphores (FFmpeg's filters: each submission
@@ -705,7 +707,8 @@ const INVALID_SPIRV: &str = "UNASSIGNED-CoreValidation-Shader-InconsistentSpirv"
 /// The VUIDs of the classes framelab checks from the calls (`import/valid_usage.rs`,
 /// `import/valid_usage_buffers.rs`, `import/valid_usage_sets.rs`): load operations from
 /// `UNDEFINED`, descriptors, layout transitions, attachments and transfers against image
-/// usage, each use of a buffer against its usage, and the sets a draw's pipeline uses bound.
+/// usage, each use of a buffer against its usage, the sets a draw's pipeline uses bound, and
+/// what it filters linearly against what the device can.
 fn checked_class(vuid: &str) -> bool {
     vuid.starts_with("VUID-VkAttachmentDescription")
         || vuid == "VUID-VkClearDepthStencilValue-depth-02506"
@@ -714,6 +717,8 @@ fn checked_class(vuid: &str) -> bool {
         // A draw or dispatch whose pipeline uses a set not bound through a compatible layout.
         || vuid.ends_with("-None-02697")
         || vuid == "VUID-VkImageCreateInfo-usage-00963"
+        // A linear sampler over a view the device cannot filter linearly.
+        || vuid.ends_with("-magFilter-04553")
         || [
             "VUID-vkCmdBindVertexBuffers-pBuffers-00627",
             "VUID-vkCmdBindVertexBuffers2-pBuffers-03359",
@@ -873,6 +878,8 @@ fn framelab_vuids(capture: &Path) -> BTreeSet<(String, String, String)> {
             } else if s("vuid").ends_with("-None-02697") {
                 // A draw's own rule: the layer's id names no member.
                 "None".to_owned()
+            } else if s("vuid").ends_with("-magFilter-04553") {
+                "magFilter".to_owned()
             } else if s("vuid").starts_with("VUID-VkClearDepthStencilValue")
                 || s("vuid") == EXTENSION_NOT_ENABLED
             {

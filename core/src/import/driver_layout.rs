@@ -46,6 +46,21 @@ impl DriverLayout {
         }
     }
 
+    /// Whether the device filters views of `VK_FORMAT_*` `format` linearly
+    /// (`VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT`): `None` where framelab does not
+    /// know. Lavapipe filters no depth or stencil format and no integer one.
+    pub fn filters_linearly(self, format: &str) -> Option<bool> {
+        if self != DriverLayout::Lavapipe {
+            return None;
+        }
+        let name = format.strip_prefix("VK_FORMAT_").unwrap_or(format);
+        let depth_stencil = name.starts_with('D') || name.starts_with("S8");
+        let integer = ["_UINT", "_SINT", "_UINT_PACK32", "_SINT_PACK32"]
+            .iter()
+            .any(|t| name.ends_with(t));
+        Some(!(depth_stencil || integer))
+    }
+
     /// Where each (level, slice) of `img` lies (`Slice`), level by level, slice by slice,
     /// in the order of a packed image; with the bytes the binding spans. `None` where the
     /// layout is not known for this image (another driver, a depth or stencil format,

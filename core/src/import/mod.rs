@@ -33,6 +33,7 @@ mod tree;
 mod valid_usage;
 mod valid_usage_buffers;
 mod valid_usage_clears;
+mod valid_usage_filters;
 mod valid_usage_sets;
 mod valid_usage_spirv;
 mod value;
@@ -382,6 +383,16 @@ impl Importer {
                         compute,
                         recording,
                         &self.pipelines,
+                        self.in_snapshot,
+                    );
+                    self.valid_usage.extend(found);
+                    let found = valid_usage_filters::draw_filters(
+                        &call.name,
+                        call.index,
+                        compute,
+                        recording,
+                        &self.pipelines,
+                        &self.objects,
                     );
                     self.valid_usage.extend(found);
                 }

@@ -248,6 +248,11 @@ impl Pipelines {
             .map(|b| b.stages)
     }
 
+    /// Sampler `h` as created.
+    pub fn sampler_of(&self, h: u64) -> Option<&VkSampler> {
+        self.samplers.get(&h)
+    }
+
     /// Pipeline layout `layout`'s compatibility id for each of its sets: two layouts are
     /// compatible for set N exactly where their ids for N are equal. `None` for a layout the
     /// stream never created.

@@ -593,6 +593,15 @@ impl Recording {
         &self.bound.slots[usize::from(compute)]
     }
 
+    /// The descriptors bound at a bind point (`compute`), set by set.
+    pub fn bound_uses(&self, compute: bool) -> impl Iterator<Item = &Use> {
+        self.bound
+            .sets
+            .iter()
+            .filter(move |((c, _), _)| *c == compute)
+            .flat_map(|(_, u)| u.iter())
+    }
+
     /// The pipeline bound at a bind point.
     pub fn pipeline(&self, compute: bool) -> Option<u64> {
         self.bound.pipelines.get(&compute).copied()

@@ -229,6 +229,8 @@ pub struct Objects {
     pub synchronization2: bool,
     /// What the device allows its SPIR-V, as the validator's options.
     pub spirv: super::valid_usage_spirv::Rules,
+    /// The device the capture was made on, where the capture says and framelab knows it.
+    pub device: super::driver_layout::DriverLayout,
 }
 
 /// Whether a create info asks for `VK_SHARING_MODE_CONCURRENT` (by name or value).

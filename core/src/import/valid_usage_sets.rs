@@ -117,12 +117,15 @@ impl SetSlots {
 /// ids: the highest set used not bound through a compatible layout, or a used set left
 /// unbound below it, is the command's `None-02697`.
 /// Nothing is said without a bound pipeline whose code and layout are known.
+/// `snapshot`: the command is in a trimmed capture's state snapshot, where GFXReconstruct
+/// records again a command buffer made before the frame (without its push descriptors).
 pub fn draw_usage(
     name: &str,
     index: u64,
     compute: bool,
     recording: &Recording,
     pipelines: &Pipelines,
+    snapshot: bool,
 ) -> Vec<ValidUsageFinding> {
     let Some(pipeline) = recording.pipeline(compute) else {
         return Vec::new();
@@ -135,6 +138,11 @@ pub fn draw_usage(
     };
     // The KHR and AMD names share the core command's VUIDs.
     let command = name.trim_end_matches("KHR").trim_end_matches("AMD");
+    let whence = if snapshot {
+        " (in the capture's state snapshot, which records the command buffer again)"
+    } else {
+        ""
+    };
     let named = |l: u64| {
         if l == 0 {
             "none".to_owned()
@@ -151,7 +159,7 @@ pub fn draw_usage(
                 vuid: format!("VUID-{command}-None-02697"),
                 command: format!("{name} #{index}"),
                 detail: format!(
-                    "{} (created with pipeline_layout_{layout}) statically uses descriptor set {set}, which is not bound through a layout compatible for it (the last bind's layout: {})",
+                    "{} (created with pipeline_layout_{layout}) statically uses descriptor set {set}, which is not bound through a layout compatible for it (the last bind's layout: {}){whence}",
                     pipeline_name(pipeline),
                     named(bound)
                 ),
@@ -160,7 +168,7 @@ pub fn draw_usage(
                 vuid: format!("VUID-{command}-None-02697"),
                 command: format!("{name} #{index}"),
                 detail: format!(
-                    "{} statically uses descriptor set {set}, which is not bound (never, or disturbed by a bind through an incompatible layout)",
+                    "{} statically uses descriptor set {set}, which is not bound (never, or disturbed by a bind through an incompatible layout){whence}",
                     pipeline_name(pipeline)
                 ),
             },

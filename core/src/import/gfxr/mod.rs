@@ -332,6 +332,7 @@ pub fn import(
                     } => {
                         contents.layout =
                             super::driver_layout::DriverLayout::of(vendor_id, &device_name);
+                        imp.objects.device = contents.layout;
                     }
                     Meta::Other(_) => {}
                 }
