@@ -244,9 +244,10 @@ pub struct RewriteOptions<'a> {
     /// The uniform blocks, by (set, binding), whose arrays of 32-bit scalars at stride 4 are
     /// widened to arrays of 4-vectors (`std140`), so that they stay uniform blocks.
     pub std140_blocks: &'a [(u32, u32)],
-    /// The samplers, by (set, binding), that take unnormalized coordinates: each sample
-    /// through them has its coordinate divided by the image's size (`unnormalized`).
-    pub unnormalized: &'a [(u32, u32)],
+    /// The samplers, by (set, binding), that take unnormalized coordinates, and whether they
+    /// filter nearest: each sample through them has its coordinate divided by the image's
+    /// size (`unnormalized`), a nearest one's first put at its texel's centre.
+    pub unnormalized: &'a [(u32, u32, bool)],
     /// The fragment output locations with a colour attachment, a bit each (`outputs`): the
     /// others become private variables. `None` leaves every output.
     pub attached_outputs: Option<u32>,

@@ -1,7 +1,10 @@
 //! Samplers with unnormalized coordinates, in the shader: wgpu's samplers always take
 //! coordinates in [0, 1], where Vulkan's `unnormalizedCoordinates` takes them in texels. Each
 //! sample through such a sampler has its coordinate divided by the size of the image's level
-//! 0 (`OpImageQuerySizeLod`), which the sampler then multiplies back; Vulkan allows such a
+//! 0 (`OpImageQuerySizeLod`), which the sampler then multiplies back. Through a nearest
+//! sampler the coordinate is first moved to its texel's centre (`floor(u) + 0.5`): Vulkan
+//! reads texel `floor(u)`, and at a whole `u` the division and the multiplication back can
+//! round just below it (FFmpeg's overlay samples at whole texels). Vulkan allows such a
 //! sampler only level 0, one filter, clamping addresses and the plain explicit-LOD samples
 //! of 1D and 2D images, so nothing else changes. Any other instruction sampling through it
 //! is refused by name.
@@ -55,13 +58,17 @@ fn samples(op: Op) -> bool {
 /// combined or separate) by its image's size.
 pub(super) fn normalize_coordinates(
     module: &mut Module,
-    at: &[(u32, u32)],
+    at: &[(u32, u32, bool)],
 ) -> Result<(), SpirvError> {
     if at.is_empty() {
         return Ok(());
     }
-    let vars: HashMap<Word, ()> =
-        super::carry::variables_at(module, |s, b| at.contains(&(s, b)).then_some(()));
+    // Variable -> whether its sampler filters nearest.
+    let vars: HashMap<Word, bool> = super::carry::variables_at(module, |s, b| {
+        at.iter()
+            .find(|&&(set, binding, _)| (set, binding) == (s, b))
+            .map(|&(_, _, nearest)| nearest)
+    });
     if vars.is_empty() {
         return Ok(());
     }
@@ -86,17 +93,28 @@ pub(super) fn normalize_coordinates(
         vec![Operand::LiteralBit32(0)],
     ));
     let mut touched = false;
+    // GLSL.std.450, imported where a nearest sample needs its `Floor`, and one half of each
+    // coordinate type.
+    let mut glsl: Option<Word> = module
+        .ext_inst_imports
+        .iter()
+        .find(|i| {
+            matches!(i.operands.first(), Some(Operand::LiteralString(n)) if n == "GLSL.std.450")
+        })
+        .and_then(|i| i.result_id);
+    let mut halves: HashMap<Word, Word> = HashMap::new();
     let mut functions = std::mem::take(&mut module.functions);
     for f in &mut functions {
         for block in &mut f.blocks {
             let mut out = Vec::with_capacity(block.instructions.len());
             for mut s in std::mem::take(&mut block.instructions) {
-                let through = samples(s.class.opcode)
-                    && id_ref(s.operands.first()).is_some_and(|x| root.contains_key(&x));
-                if !through {
-                    out.push(s);
-                    continue;
-                }
+                let nearest = match id_ref(s.operands.first()).and_then(|x| root.get(&x)) {
+                    Some(var) if samples(s.class.opcode) => vars.get(var).copied().unwrap_or(false),
+                    _ => {
+                        out.push(s);
+                        continue;
+                    }
+                };
                 let what = format!("%{} (Op{:?})", s.result_id.unwrap_or(0), s.class.opcode);
                 if !matches!(
                     s.class.opcode,
@@ -158,6 +176,44 @@ pub(super) fn normalize_coordinates(
                     Some(fsize),
                     vec![Operand::IdRef(size)],
                 ));
+                let coord = if nearest {
+                    let set = match glsl {
+                        Some(id) => id,
+                        None => {
+                            let id = ids.fresh()?;
+                            glsl = Some(id);
+                            id
+                        }
+                    };
+                    let half = match halves.get(&coord_ty) {
+                        Some(&h) => h,
+                        None => {
+                            let h = half_of(&globals, &mut added, &mut ids, coord_ty)?;
+                            halves.insert(coord_ty, h);
+                            h
+                        }
+                    };
+                    let (floor, centre) = (ids.fresh()?, ids.fresh()?);
+                    out.push(inst(
+                        Op::ExtInst,
+                        Some(coord_ty),
+                        Some(floor),
+                        vec![
+                            Operand::IdRef(set),
+                            Operand::LiteralExtInstInteger(GLSL_FLOOR),
+                            Operand::IdRef(coord),
+                        ],
+                    ));
+                    out.push(inst(
+                        Op::FAdd,
+                        Some(coord_ty),
+                        Some(centre),
+                        vec![Operand::IdRef(floor), Operand::IdRef(half)],
+                    ));
+                    centre
+                } else {
+                    coord
+                };
                 out.push(inst(
                     Op::FDiv,
                     Some(coord_ty),
@@ -174,6 +230,15 @@ pub(super) fn normalize_coordinates(
     module.functions = functions;
     if touched {
         module.types_global_values.extend(added);
+        let imported = module.ext_inst_imports.iter().any(|i| i.result_id == glsl);
+        if let Some(id) = glsl.filter(|_| !imported) {
+            module.ext_inst_imports.push(inst(
+                Op::ExtInstImport,
+                None,
+                Some(id),
+                vec![Operand::LiteralString("GLSL.std.450".to_owned())],
+            ));
+        }
         let has_query = module
             .capabilities
             .iter()
@@ -188,4 +253,45 @@ pub(super) fn normalize_coordinates(
         }
     }
     Ok(())
+}
+
+/// `Floor` of the GLSL.std.450 instruction set.
+const GLSL_FLOOR: u32 = 8;
+
+/// A constant one half of `ty` (a float, or a vector of floats), added to `added`.
+fn half_of(
+    globals: &HashMap<Word, Instruction>,
+    added: &mut Vec<Instruction>,
+    ids: &mut Ids,
+    ty: Word,
+) -> Result<Word, SpirvError> {
+    let t = globals
+        .get(&ty)
+        .ok_or_else(|| unsupported(format!("coordinate type %{ty} is not declared")))?;
+    let (scalar, n) = match t.class.opcode {
+        Op::TypeFloat => (ty, 1),
+        Op::TypeVector => match (id_ref(t.operands.first()), t.operands.get(1)) {
+            (Some(s), Some(Operand::LiteralBit32(n))) => (s, *n),
+            _ => return Err(unsupported(format!("coordinate type %{ty} is malformed"))),
+        },
+        _ => return Err(unsupported(format!("coordinate type %{ty} is not a float"))),
+    };
+    let half = ids.fresh()?;
+    added.push(inst(
+        Op::Constant,
+        Some(scalar),
+        Some(half),
+        vec![Operand::LiteralBit32(0.5f32.to_bits())],
+    ));
+    if n == 1 {
+        return Ok(half);
+    }
+    let vector = ids.fresh()?;
+    added.push(inst(
+        Op::ConstantComposite,
+        Some(ty),
+        Some(vector),
+        (0..n).map(|_| Operand::IdRef(half)).collect(),
+    ));
+    Ok(vector)
 }

@@ -36,7 +36,7 @@ pub(super) struct Bound {
     pub std140_blocks: Vec<(u32, u32)>,
     /// The samplers that take unnormalized coordinates (`spirv::RewriteOptions::unnormalized`):
     /// wgpu's take normalized ones, so the rewrite divides each sample's coordinate.
-    pub unnormalized: Vec<(u32, u32)>,
+    pub unnormalized: Vec<(u32, u32, bool)>,
     /// The wgpu binding (before the doubling that makes room for split samplers) of each
     /// element past the first of a split descriptor array, by (set, binding the split gave):
     /// numbered on past the set layout's highest binding, in order.
@@ -315,8 +315,12 @@ impl<'c> Lowering<'c> {
             let samples = entries
                 .iter()
                 .any(|(_, r)| matches!(r, VkResource::Sampler(_)));
-            if samples && sampler.is_some_and(|s| model.samplers[s].unnormalized_coordinates) {
-                unnormalized.push((set, split_binding));
+            if let Some(s) =
+                sampler.filter(|&s| samples && model.samplers[s].unnormalized_coordinates)
+            {
+                // Vulkan allows such a sampler one filter for both.
+                let nearest = model.samplers[s].mag_filter.ends_with("NEAREST");
+                unnormalized.push((set, split_binding, nearest));
             }
             let permutation = d
                 .and_then(|d| d.view)

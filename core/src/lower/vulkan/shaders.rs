@@ -38,7 +38,7 @@ pub(super) struct ShaderKey {
     /// Uniform blocks whose scalar arrays are widened to std140, by (set, binding).
     std140_blocks: Vec<(u32, u32)>,
     /// Samplers taking unnormalized coordinates, by (set, binding).
-    unnormalized: Vec<(u32, u32)>,
+    unnormalized: Vec<(u32, u32, bool)>,
     /// Fragment output locations with an attachment (`RewriteOptions::attached_outputs`).
     outputs: Option<u32>,
     /// Vertex inputs fetched as integers from scaled formats (`RewriteOptions::scaled_inputs`).
