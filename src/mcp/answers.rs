@@ -142,9 +142,17 @@ pub fn progress_sender(
         )
         .with_total(total as f64)
         .with_message(format!("pass {done} of {total}"));
-        runtime.spawn(async move {
-            let _ = peer.notify_progress(param).await;
-        });
+        // The replay workers call this from threads of their own, outside the runtime:
+        // there the notification is sent before the call returns, so that every one reaches
+        // the client before the tool's answer, which the worker sends after its last. Inside
+        // the runtime's context it is only queued.
+        if tokio::runtime::Handle::try_current().is_err() {
+            let _ = runtime.block_on(peer.notify_progress(param));
+        } else {
+            runtime.spawn(async move {
+                let _ = peer.notify_progress(param).await;
+            });
+        }
     })
 }
 
