@@ -157,6 +157,12 @@ pub fn dynamic_state(name: &str) -> Option<Verdict> {
     })
 }
 
+/// The dynamic state `vkCmdSet*` command `command` sets (`vkCmdSetCullModeEXT`:
+/// `VK_DYNAMIC_STATE_CULL_MODE`), for the commands that set one.
+pub fn state_set_by(command: &str) -> Option<&'static str> {
+    setter_state(command.strip_prefix("vkCmdSet")?)
+}
+
 /// The dynamic state a `vkCmdSet*` command sets, for the commands that set one.
 fn setter_state(short: &str) -> Option<&'static str> {
     let base = ["EXT", "KHR", "NV"]

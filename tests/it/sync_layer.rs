@@ -716,6 +716,8 @@ fn checked_class(vuid: &str) -> bool {
         || vuid == INVALID_SPIRV
         // A draw or dispatch whose pipeline uses a set not bound through a compatible layout.
         || vuid.ends_with("-None-02697")
+        // A dynamic state set that the draw's pipeline does not declare dynamic.
+        || vuid.ends_with("-None-02859")
         || vuid == "VUID-VkImageCreateInfo-usage-00963"
         // A linear sampler over a view the device cannot filter linearly.
         || vuid.ends_with("-magFilter-04553")
@@ -875,7 +877,7 @@ fn framelab_vuids(capture: &Path) -> BTreeSet<(String, String, String)> {
             } else if s("vuid").starts_with("VUID-VkImageCreateInfo") {
                 // The layer names the usage without a member path.
                 String::new()
-            } else if s("vuid").ends_with("-None-02697") {
+            } else if s("vuid").ends_with("-None-02697") || s("vuid").ends_with("-None-02859") {
                 // A draw's own rule: the layer's id names no member.
                 "None".to_owned()
             } else if s("vuid").ends_with("-magFilter-04553") {

@@ -386,6 +386,15 @@ impl Importer {
                         self.in_snapshot,
                     );
                     self.valid_usage.extend(found);
+                    if !compute {
+                        let found = valid_usage_sets::undeclared_states(
+                            &call.name,
+                            call.index,
+                            recording,
+                            &self.pipelines,
+                        );
+                        self.valid_usage.extend(found);
+                    }
                     let found = valid_usage_filters::draw_filters(
                         &call.name,
                         call.index,

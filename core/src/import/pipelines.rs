@@ -248,6 +248,13 @@ impl Pipelines {
             .map(|b| b.stages)
     }
 
+    /// Graphics pipeline `pipeline`'s dynamic states (`None`: not a graphics pipeline the
+    /// stream created).
+    pub fn dynamic_states(&self, pipeline: u64) -> Option<&[String]> {
+        let made = self.pipelines.get(&pipeline)?;
+        Some(&made.pipeline.graphics.as_ref()?.dynamic_states)
+    }
+
     /// Sampler `h` as created.
     pub fn sampler_of(&self, h: u64) -> Option<&VkSampler> {
         self.samplers.get(&h)

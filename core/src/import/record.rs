@@ -45,6 +45,8 @@ struct Bound {
     pushed: bool,
     /// Graphics (0) and compute (1): the sets bound as their layouts define them.
     slots: [SetSlots; 2],
+    /// The dynamic states `vkCmdSet*` calls set since the graphics pipeline was bound.
+    set_states: std::collections::BTreeSet<&'static str>,
 }
 
 /// Command buffers' recordings by handle, boxed so that moving one is a pointer's copy.
@@ -167,9 +169,15 @@ impl Recording {
         objects: &Objects,
     ) -> Got<bool> {
         let origin = || Origin::call(name, call_index);
+        if let Some(state) = crate::coverage::state_set_by(name) {
+            self.bound.set_states.insert(state);
+        }
         let cmd = match func {
             CmdFunc::BindPipeline => {
                 let point = compute_point(&args.get("pipelineBindPoint")?)?;
+                if !point {
+                    self.bound.set_states.clear();
+                }
                 self.bound
                     .pipelines
                     .insert(point, args.get("pipeline")?.handle()?);
@@ -600,6 +608,11 @@ impl Recording {
             .iter()
             .filter(move |((c, _), _)| *c == compute)
             .flat_map(|(_, u)| u.iter())
+    }
+
+    /// The dynamic states set since the graphics pipeline was bound.
+    pub fn states_set(&self) -> &std::collections::BTreeSet<&'static str> {
+        &self.bound.set_states
     }
 
     /// The pipeline bound at a bind point.

@@ -176,6 +176,48 @@ pub fn draw_usage(
         .collect()
 }
 
+/// Draw call `name` (at `index`): the dynamic states set since its pipeline was bound that
+/// the pipeline does not declare dynamic (`VUID-vkCmdDraw-None-02859` and its siblings; zink
+/// sets its colour blend states after binding a depth-only pipeline that has none). Names
+/// are compared without their `_EXT` or `_KHR`, which core promotion dropped.
+pub fn undeclared_states(
+    name: &str,
+    index: u64,
+    recording: &Recording,
+    pipelines: &Pipelines,
+) -> Vec<ValidUsageFinding> {
+    let Some(pipeline) = recording.pipeline(false) else {
+        return Vec::new();
+    };
+    let Some(dynamic) = pipelines.dynamic_states(pipeline) else {
+        return Vec::new();
+    };
+    let bare = |s: &str| {
+        let s = s.trim_end_matches("_EXT").trim_end_matches("_KHR");
+        s.to_owned()
+    };
+    let declared: BTreeSet<String> = dynamic.iter().map(|s| bare(s)).collect();
+    let undeclared: Vec<&str> = recording
+        .states_set()
+        .iter()
+        .filter(|s| !declared.contains(&bare(s)))
+        .copied()
+        .collect();
+    if undeclared.is_empty() {
+        return Vec::new();
+    }
+    let command = name.trim_end_matches("KHR").trim_end_matches("AMD");
+    vec![ValidUsageFinding {
+        vuid: format!("VUID-{command}-None-02859"),
+        command: format!("{name} #{index}"),
+        detail: format!(
+            "{} does not declare {} dynamic, which calls since it was bound set",
+            pipeline_name(pipeline),
+            undeclared.join("|")
+        ),
+    }]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
