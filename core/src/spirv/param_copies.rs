@@ -196,7 +196,7 @@ fn first_divided(
 }
 
 /// Every call: (callee, arguments).
-fn calls(module: &Module) -> Vec<(Word, Vec<Option<Word>>)> {
+pub(super) fn calls(module: &Module) -> Vec<(Word, Vec<Option<Word>>)> {
     module
         .functions
         .iter()

@@ -90,19 +90,7 @@ pub(super) fn inline_sampler_params(
         return Ok(false);
     }
     // Every call: (callee, arguments).
-    let calls: Vec<(Word, Vec<Option<Word>>)> = module
-        .functions
-        .iter()
-        .flat_map(|f| f.all_inst_iter())
-        .filter(|i| i.class.opcode == Op::FunctionCall)
-        .filter_map(|i| {
-            let callee = id_ref(i.operands.first())?;
-            Some((
-                callee,
-                i.operands[1..].iter().map(|o| id_ref(Some(o))).collect(),
-            ))
-        })
-        .collect();
+    let calls = super::param_copies::calls(module);
     let name = |var: Word| {
         let literal = |d: Decoration| {
             module
