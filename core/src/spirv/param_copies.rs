@@ -134,7 +134,11 @@ fn passed(
 
 /// The parameters every call agrees on, to a fixed point (a parameter passed on settles
 /// once its caller's does).
-fn settled(module: &Module, candidates: &[Candidate], vars: &HashSet<Word>) -> HashMap<Word, Word> {
+pub(super) fn settled(
+    module: &Module,
+    candidates: &[Candidate],
+    vars: &HashSet<Word>,
+) -> HashMap<Word, Word> {
     let calls = calls(module);
     let mut source: HashMap<Word, Word> = HashMap::new();
     for _ in 0..=candidates.len() {

@@ -11,12 +11,11 @@
 use std::collections::{HashMap, HashSet};
 
 use rspirv::dr::{Instruction, Module, Operand};
-use rspirv::spirv::{Decoration, Op, Word};
+use rspirv::spirv::{Op, Word};
 
 use super::SpirvError;
 use super::index::{first_free_id, id_ref};
 use super::ops::{Ids, type_id};
-use super::reflect::describe;
 
 fn unsupported(detail: String) -> SpirvError {
     SpirvError::Unsupported {
@@ -91,29 +90,7 @@ pub(super) fn inline_sampler_params(
     }
     // Every call: (callee, arguments).
     let calls = super::param_copies::calls(module);
-    let name = |var: Word| {
-        let literal = |d: Decoration| {
-            module
-                .annotations
-                .iter()
-                .find_map(|i| match i.operands.as_slice() {
-                    [
-                        Operand::IdRef(t),
-                        Operand::Decoration(x),
-                        Operand::LiteralBit32(v),
-                    ] if *t == var && *x == d => Some(*v),
-                    _ => None,
-                })
-        };
-        match (
-            literal(Decoration::DescriptorSet),
-            literal(Decoration::Binding),
-        ) {
-            (Some(set), Some(binding)) => describe(set, binding, var),
-            _ => format!("%{var}"),
-        }
-    };
-    let source = resolve(&candidates, &calls, vars, &name)?;
+    let source = resolve(module, &candidates, &calls, vars)?;
     if source.is_empty() {
         return Ok(false);
     }
@@ -182,55 +159,16 @@ fn forget(module: &mut Module, gone: &HashSet<Word>) {
     }
 }
 
-/// The variable each candidate parameter carries, found to a fixed point over the calls.
+/// The variable each candidate parameter carries, found to a fixed point over the calls
+/// (`param_copies::settled`; a function whose calls differ was copied per list before). A
+/// parameter some call fills with what no variable resolves to is refused by name.
 fn resolve(
+    module: &Module,
     candidates: &[(Word, usize, Word)],
     calls: &[(Word, Vec<Option<Word>>)],
     vars: &HashSet<Word>,
-    name: &dyn Fn(Word) -> String,
 ) -> Result<HashMap<Word, Word>, SpirvError> {
-    let mut source: HashMap<Word, Word> = HashMap::new();
-    // Each round settles at least one more parameter, or nothing more can be settled.
-    for _ in 0..=candidates.len() {
-        let mut changed = false;
-        for &(f, k, p) in candidates {
-            if source.contains_key(&p) {
-                continue;
-            }
-            let args: Vec<Option<Word>> = calls
-                .iter()
-                .filter(|(callee, _)| *callee == f)
-                .map(|(_, args)| {
-                    args.get(k).copied().flatten().and_then(|a| {
-                        if vars.contains(&a) {
-                            Some(a)
-                        } else {
-                            source.get(&a).copied()
-                        }
-                    })
-                })
-                .collect();
-            if args.is_empty() || args.iter().any(Option::is_none) {
-                continue;
-            }
-            let first = args[0];
-            if let Some(other) = args.iter().find(|a| **a != first) {
-                return Err(unsupported(format!(
-                    "parameter %{p} of function %{f} is given different combined image samplers by different calls: {} and {}",
-                    name(first.unwrap_or_default()),
-                    name(other.unwrap_or_default())
-                )));
-            }
-            if let Some(v) = first {
-                source.insert(p, v);
-                changed = true;
-            }
-        }
-        if !changed {
-            break;
-        }
-    }
-    // A parameter some call fills with what no variable resolves to stays unresolved.
+    let source = super::param_copies::settled(module, candidates, vars);
     for &(f, _, p) in candidates {
         let called = calls.iter().any(|(callee, _)| *callee == f);
         if called && !source.contains_key(&p) {
