@@ -38,6 +38,7 @@ fn wsi(capture: &Path) -> &'static [&'static str] {
         | "vkbasalt_rgb10a2_f30"
         | "vkbasalt_mrt_f30"
         | "vkbasalt_depth_qt3d_f30"
+        | "qt6_video_p010le_f60"
         | "mpv_gpunext_f30"
         | "vlc_zink_f40" => &["--wsi", "xlib"],
         _ => &[],
@@ -283,7 +284,7 @@ fn import(input: &Path, out: &Path) {
 /// GFXReconstruct captures, with the hazards framelab finds that the layer does not because
 /// of its ordering rule where the specification has none (expected count): rasterization
 /// order across render passes.
-const GFXR: [(&str, usize); 36] = [
+const GFXR: [(&str, usize); 39] = [
     ("vkcube_f3", 0),
     ("vkcube_staging", 0),
     ("template_compute", 0),
@@ -320,6 +321,9 @@ const GFXR: [(&str, usize); 36] = [
     ("ffmpeg_overlay", 0),
     ("vkbasalt_mrt_f30", 0),
     ("vkbasalt_depth_qt3d_f30", 0),
+    ("ffmpeg_rgba_scale_yuv", 0),
+    ("qt6_video_p010le_f60", 0),
+    ("glmark2_zink_shadow_f30", 0),
 ];
 
 /// Captures whose submissions wait on timeline semaphores (FFmpeg's filters: each submission
@@ -328,7 +332,7 @@ const GFXR: [(&str, usize); 36] = [
 /// work). The layer of Debian 12 (1.3.239) does not follow timeline waits between submissions
 /// and reports each layout transition after the earlier submission's writes as a
 /// WRITE_AFTER_WRITE; framelab, by the specification's rule, does not.
-const TIMELINE_WAITS: [&str; 2] = ["ffmpeg_chain", "ffmpeg_overlay"];
+const TIMELINE_WAITS: [&str; 3] = ["ffmpeg_chain", "ffmpeg_overlay", "ffmpeg_rgba_scale_yuv"];
 
 /// The layer's findings on a capture of [`TIMELINE_WAITS`] less the layout transitions after
 /// writes that a timeline wait orders, which must be all it reports beyond framelab, and some.
@@ -719,6 +723,17 @@ fn checked_class(vuid: &str) -> bool {
         // A dynamic state set that the draw's pipeline does not declare dynamic.
         || vuid.ends_with("-None-02859")
         || vuid == "VUID-VkImageCreateInfo-usage-00963"
+        || vuid == "VUID-VkDeviceCreateInfo-pNext-00373"
+        // A statically used descriptor that is not valid: null without the feature, or its
+        // image in another layout.
+        || vuid.ends_with("-None-02699")
+        // A count the registry requires non-zero.
+        || vuid.ends_with("-arraylength")
+        || vuid.ends_with("-newLayout-01198")
+        || vuid.ends_with("-bufferRowLength-00195")
+        || vuid.ends_with("-bufferImageHeight-00196")
+        || vuid.ends_with("-pRegions-00171")
+        || vuid.ends_with("-pRegions-00183")
         // A linear sampler over a view the device cannot filter linearly.
         || vuid.ends_with("-magFilter-04553")
         || [
@@ -785,6 +800,7 @@ fn checked_class(vuid: &str) -> bool {
 fn vuids_in_log(log: &Path) -> BTreeSet<(String, String, String)> {
     let text = std::fs::read_to_string(log).expect("the validation layer wrote no log");
     text.lines()
+        .map(undefined_array_length)
         .filter(|l| {
             l.starts_with("VUID-")
                 || l.starts_with(EXTENSION_NOT_ENABLED)
@@ -817,6 +833,17 @@ fn vuids_in_log(log: &Path) -> BTreeSet<(String, String, String)> {
                     .to_owned();
                 return Some((call, vuid, String::new()));
             }
+            // A count the registry requires non-zero: the command and the count, in the id.
+            if let Some(rest) = vuid.strip_suffix("-arraylength") {
+                let mut parts = rest.trim_start_matches("VUID-").split('-');
+                let call = parts.next().unwrap_or("").to_owned();
+                let member = parts.next().unwrap_or("").to_owned();
+                return Some((call, vuid, member));
+            }
+            // The layer words the device's create info without its call.
+            if vuid == "VUID-VkDeviceCreateInfo-pNext-00373" {
+                return Some(("vkCreateDevice".to_owned(), vuid, String::new()));
+            }
             // The layer does not name the module's call; both quote the validator.
             if vuid == INVALID_SPIRV {
                 return Some(("vkCreateShaderModule".to_owned(), vuid, said.to_owned()));
@@ -847,7 +874,10 @@ fn vuids_in_log(log: &Path) -> BTreeSet<(String, String, String)> {
             if call == "vkPushDescriptorSetWithTemplateKHR" {
                 call = "vkCmdPushDescriptorSetWithTemplateKHR".to_owned();
             }
-            let said = said.replace("VkWriteDescriptorSet[", "pDescriptorWrites[");
+            // A copy's region is `pRegion[N]` in the layer's words.
+            let said = said
+                .replace("VkWriteDescriptorSet[", "pDescriptorWrites[")
+                .replace("pRegion[", "pRegions[");
             let member = said
                 .split_whitespace()
                 .map(|w| {
@@ -860,6 +890,22 @@ fn vuids_in_log(log: &Path) -> BTreeSet<(String, String, String)> {
             Some((call, vuid, member))
         })
         .collect()
+}
+
+/// The layer's `arraylength` rules its version lacks an id for come as `VUID_Undefined`
+/// (`vkCmdSetColorBlendEnableEXT: parameter attachmentCount must be greater than 0.`): the
+/// line with the specification's id, `VUID-<command>-<count>-arraylength`, in its place.
+fn undefined_array_length(line: &str) -> std::borrow::Cow<'_, str> {
+    let said = line.rsplit_once("| ").map_or("", |(_, s)| s);
+    let parsed = line
+        .starts_with("VUID_Undefined")
+        .then(|| said.split_once(": parameter "))
+        .flatten()
+        .and_then(|(call, rest)| Some((call, rest.strip_suffix(" must be greater than 0.")?)));
+    match parsed {
+        Some((call, count)) => format!("VUID-{call}-{count}-arraylength(ERROR) | {said}").into(),
+        None => line.into(),
+    }
 }
 
 /// framelab's valid-usage findings on an imported capture, in the layer's terms.
@@ -877,12 +923,16 @@ fn framelab_vuids(capture: &Path) -> BTreeSet<(String, String, String)> {
             } else if s("vuid").starts_with("VUID-VkImageCreateInfo") {
                 // The layer names the usage without a member path.
                 String::new()
-            } else if s("vuid").ends_with("-None-02697") || s("vuid").ends_with("-None-02859") {
-                // A draw's own rule: the layer's id names no member.
-                "None".to_owned()
-            } else if s("vuid").ends_with("-magFilter-04553") {
-                "magFilter".to_owned()
+            } else if let Some(rest) = s("vuid")
+                .strip_prefix("VUID-")
+                .filter(|v| v.starts_with("vkCmd") || v.ends_with("-arraylength"))
+                .filter(|v| !v.starts_with("vkCmdBeginRenderPass"))
+            {
+                // A command's own rule: the layer is read by the member its id names
+                // (`None` for a draw's state).
+                rest.split('-').nth(1).unwrap_or("").to_owned()
             } else if s("vuid").starts_with("VUID-VkClearDepthStencilValue")
+                || s("vuid").starts_with("VUID-VkDeviceCreateInfo")
                 || s("vuid") == EXTENSION_NOT_ENABLED
             {
                 String::new()

@@ -5,7 +5,9 @@
 use super::Call;
 use super::calls::CmdFunc;
 use super::value::{Arg, Got};
-use super::{Importer, valid_usage, valid_usage_filters, valid_usage_sets};
+use super::{
+    Importer, valid_usage, valid_usage_descriptors, valid_usage_filters, valid_usage_sets,
+};
 
 impl Importer {
     pub(super) fn cmd_call(&mut self, cmd: CmdFunc, call: &Call, args: &Arg<'_>) -> Got<bool> {
@@ -72,6 +74,15 @@ impl Importer {
                 self.valid_usage.extend(found);
             }
             let found = valid_usage_filters::draw_filters(
+                &call.name,
+                call.index,
+                compute,
+                recording,
+                &self.pipelines,
+                &self.objects,
+            );
+            self.valid_usage.extend(found);
+            let found = valid_usage_descriptors::null_descriptors(
                 &call.name,
                 call.index,
                 compute,

@@ -34,7 +34,10 @@ mod tree;
 mod valid_usage;
 mod valid_usage_buffers;
 mod valid_usage_clears;
+mod valid_usage_copies;
+mod valid_usage_descriptors;
 mod valid_usage_filters;
+mod valid_usage_params;
 mod valid_usage_sets;
 mod valid_usage_spirv;
 mod value;
@@ -319,6 +322,10 @@ impl Importer {
             return;
         }
         let args = Arg::root(&call.args);
+        if self.checks_valid_usage() {
+            let found = valid_usage_params::array_lengths(&call.name, call.index, &args);
+            self.valid_usage.extend(found);
+        }
         match self.dispatch(call, &args) {
             Ok(true) => {}
             Ok(false) => self.count_not_modelled(&call.name),
@@ -424,6 +431,12 @@ impl Importer {
                 let command = format!("{} #{}", call.name, call.index);
                 let found = valid_usage::framebuffer_usage(&command, args, &self.objects);
                 self.valid_usage.extend(found.unwrap_or_default());
+                return self.objects.apply(call.func, args);
+            }
+            Func::CreateDevice if self.checks_valid_usage() => {
+                let command = format!("{} #{}", call.name, call.index);
+                let found = valid_usage::device_features(&command, args).unwrap_or_default();
+                self.valid_usage.extend(found);
                 return self.objects.apply(call.func, args);
             }
             Func::CreateRenderPass => {
@@ -760,6 +773,9 @@ fn finish(
             count: 1,
             first_line: None,
         }));
+    }
+    if imp_checked {
+        valid_usage.extend(valid_usage_descriptors::layout_mismatches(&hazards));
     }
     valid_usage.truncate(MAX_FINDINGS);
     let valid_usage_count = valid_usage.len();

@@ -227,6 +227,9 @@ pub struct Objects {
     /// Whether the device enabled the `synchronization2` feature: a barrier from a layout to
     /// itself is then no transition and its layouts are ignored.
     pub synchronization2: bool,
+    /// Whether the device enabled the `nullDescriptor` feature (VK_EXT_robustness2): a null
+    /// descriptor is then valid where a shader uses it.
+    pub null_descriptor: bool,
     /// What the device allows its SPIR-V, as the validator's options.
     pub spirv: super::valid_usage_spirv::Rules,
     /// The device the capture was made on, where the capture says and framelab knows it.
@@ -321,6 +324,9 @@ impl Objects {
                 while let Some(n) = next {
                     if on(&n, "synchronization2") {
                         self.synchronization2 = true;
+                    }
+                    if on(&n, "nullDescriptor") {
+                        self.null_descriptor = true;
                     }
                     for feature in super::valid_usage_spirv::Rules::FEATURES {
                         if on(&n, feature) {

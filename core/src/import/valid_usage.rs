@@ -10,7 +10,9 @@
 //! blits, colour clears) that read or write it without `TRANSFER_SRC`/`TRANSFER_DST`,
 //! framebuffers whose render pass uses it as an attachment of a kind its usage lacks, and
 //! render passes begun that put it in a layout its usage does not allow; descriptors
-//! written through update templates, as the writes they stand for. Buffers' usage
+//! written through update templates, as the writes they stand for; barriers that transition
+//! to `UNDEFINED` or `PREINITIALIZED`. Regions of buffer-image copies are checked in
+//! `valid_usage_copies`. Buffers' usage
 //! against their use is checked in `valid_usage_buffers`. Layouts at use (a barrier's old
 //! layout, a render pass's initial layout, a descriptor's layout) are checked with the
 //! synchronization rules, which track the layouts (`sync`).
@@ -122,6 +124,32 @@ pub fn image_usage(command: &str, args: &Arg<'_>) -> Got<Vec<ValidUsageFinding>>
     }])
 }
 
+/// `vkCreateDevice` call `command`: features asked for twice, in a `VkPhysicalDeviceFeatures2`
+/// of the `pNext` chain and in `pEnabledFeatures` (`VUID-VkDeviceCreateInfo-pNext-00373`; a
+/// layer between the program and the driver that adds its own feature structure does so).
+pub fn device_features(command: &str, args: &Arg<'_>) -> Got<Vec<ValidUsageFinding>> {
+    const FEATURES_2: &str = "VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2";
+    // The structure's value, where a stream spells it as a number.
+    const FEATURES_2_VALUE: &str = "1000059000";
+    let ci = args.get("pCreateInfo")?;
+    if ci.opt("pEnabledFeatures").is_none() {
+        return Ok(Vec::new());
+    }
+    let mut next = ci.opt("pNext");
+    while let Some(n) = next {
+        let s_type = n.opt("sType").and_then(|t| t.symbol().ok());
+        if s_type.is_some_and(|t| t == FEATURES_2 || t == FEATURES_2_VALUE) {
+            return Ok(vec![ValidUsageFinding {
+                vuid: "VUID-VkDeviceCreateInfo-pNext-00373".to_owned(),
+                command: command.to_owned(),
+                detail: "pCreateInfo->pNext holds a VkPhysicalDeviceFeatures2 and pEnabledFeatures is not NULL".to_owned(),
+            }]);
+        }
+        next = n.opt("pNext");
+    }
+    Ok(Vec::new())
+}
+
 /// `VkImageUsageFlagBits` a use needs.
 const TRANSFER_SRC: u64 = 0x1;
 const TRANSFER_DST: u64 = 0x2;
@@ -180,6 +208,9 @@ pub fn command_usage(
     // A call too malformed for this check keeps what the others found.
     found.extend(
         super::valid_usage_clears::clear_values(call, command, args, objects).unwrap_or_default(),
+    );
+    found.extend(
+        super::valid_usage_copies::regions(call, command, args, objects).unwrap_or_default(),
     );
     Ok(found)
 }
@@ -293,7 +324,8 @@ fn layout_needs(layout: ImageLayout) -> Option<(u64, &'static str, &'static str)
 }
 
 /// The image barriers of `vkCmdPipelineBarrier` (`v2`: `vkCmdPipelineBarrier2`) call
-/// `command` that transition an image from or to a layout its usage does not allow.
+/// `command` that transition an image from or to a layout its usage does not allow, or to
+/// `UNDEFINED` or `PREINITIALIZED` (`-newLayout-01198`: FFmpeg hands unused planes over so).
 pub fn barrier_usage(
     command: &str,
     v2: bool,
@@ -316,6 +348,16 @@ pub fn barrier_usage(
         // The rule holds for a layout transition or a queue family ownership transfer.
         if old == new && !ownership {
             continue;
+        }
+        if matches!(new, ImageLayout::Undefined | ImageLayout::Preinitialized) {
+            out.push(ValidUsageFinding {
+                vuid: format!("VUID-{structure}-newLayout-01198"),
+                command: command.to_owned(),
+                detail: format!(
+                    "pImageMemoryBarriers[{i}].newLayout {}: a transition cannot go to it",
+                    new.name()
+                ),
+            });
         }
         let Some(image) = objects.images.get(&b.get("image")?.handle()?) else {
             continue;

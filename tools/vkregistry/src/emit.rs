@@ -151,5 +151,49 @@ pub fn render_provided(registry: &crate::vkxml::Registry) -> String {
         out.push_str(&format!("    ({name:?}, {by:?}),\n"));
     }
     out.push_str("];\n");
+    out.push_str(
+        "\n/// Every command with a count parameter that must not be zero, sorted by name: a\n\
+         /// parameter another one takes as its `len` and that the registry does not mark\n\
+         /// `optional` (`VUID-<command>-<count>-arraylength`).\n\
+         pub static ARRAY_LENGTHS: &[(&str, &[&str])] = &[\n",
+    );
+    for (name, counts) in array_lengths(registry) {
+        out.push_str(&format!("    ({name:?}, &{counts:?}),\n"));
+    }
+    out.push_str("];\n");
     out
+}
+
+/// The commands' count parameters that must be greater than zero: passed by value, named as
+/// the `len` of another parameter, and not `optional`. A count passed by pointer (an
+/// enumeration's `pPropertyCount`) is the command's answer, not a rule on the caller.
+fn array_lengths(registry: &crate::vkxml::Registry) -> Vec<(&String, Vec<&str>)> {
+    let mut rows: Vec<(&String, Vec<&str>)> = registry
+        .commands
+        .iter()
+        // Only the commands a Vulkan feature or supported extension provides: the
+        // registry also holds those of disabled extensions, which the specification omits.
+        .filter(|(name, _)| registry.provided.contains_key(*name))
+        .filter_map(|(name, info)| {
+            let crate::vkxml::CommandInfo::Def { params, .. } = info else {
+                return None;
+            };
+            let counts: Vec<&str> = params
+                .iter()
+                .filter(|p| {
+                    p.optional.as_deref() != Some("true")
+                        && p.decl.pointers == 0
+                        && params.iter().any(|q| {
+                            q.len
+                                .as_deref()
+                                .is_some_and(|l| l.split(',').next() == Some(p.decl.name.as_str()))
+                        })
+                })
+                .map(|p| p.decl.name.as_str())
+                .collect();
+            (!counts.is_empty()).then_some((name, counts))
+        })
+        .collect();
+    rows.sort();
+    rows
 }

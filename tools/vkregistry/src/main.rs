@@ -7,7 +7,8 @@
 //!
 //! With `--requires <provided.rs>` instead of the call ids and the tables, it writes what
 //! provides each command of the registry (a core version or extensions), from which the
-//! importer tells a call of an extension the stream never enabled.
+//! importer tells a call of an extension the stream never enabled, and the count parameters
+//! each command requires to be non-zero (its `arraylength` valid usage).
 
 mod call_ids;
 mod collect;

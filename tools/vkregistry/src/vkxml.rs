@@ -33,6 +33,8 @@ pub struct Member {
     pub len: Option<String>,
     /// The `values` attribute; on `sType` it names the structure's `VkStructureType`.
     pub values: Option<String>,
+    /// The `optional` attribute: `true` where zero (a count) or null (a pointer) is allowed.
+    pub optional: Option<String>,
 }
 
 #[derive(Debug)]
@@ -278,6 +280,7 @@ fn read_type(t: &vk_parse::Type) -> Result<(String, TypeInfo)> {
                     decl: Decl::parse(&def.code, &type_name, &member_name)?,
                     len: def.len.clone(),
                     values: def.values.clone(),
+                    optional: def.optional.clone(),
                 });
             }
         }
@@ -304,6 +307,7 @@ fn read_command(def: &CommandDefinition) -> Result<(String, CommandInfo)> {
             decl: Decl::parse(&d.code, type_name, &d.name)?,
             len: p.len.clone(),
             values: None,
+            optional: p.optional.clone(),
         });
     }
     Ok((def.proto.name.clone(), CommandInfo::Def { ret, params }))
