@@ -486,6 +486,9 @@ pub fn format(name: &str) -> Option<Verdict> {
             Some(Repack::SwapRb8) => Verdict::Emulated(
                 "held as wgpu's RGBA8 with red and blue exchanged in its contents; a copy between it and a buffer is refused",
             ),
+            Some(Repack::Widen3 { .. }) => Verdict::Emulated(
+                "held as wgpu's four-channel twin (RGBA8, RGBA16, RGBA32 in the same numbers), its contents widened on upload with a fourth channel of one, which is what a sampled view of a format without alpha reads; rendering into it, a blit into it and a copy between it and a buffer are refused",
+            ),
             Some(Repack::Unpack16(_)) => Verdict::Emulated(
                 "held as wgpu's RGBA8, each channel widened to 8 bits (sampled within half a step of 255 of the program's value): contents unpacked on upload, a copy from a buffer drawn texel by texel from the buffer's words, a view of the same bit fields in another order read through a swizzle; rendering into it and a copy out of it to a buffer are refused",
             ),

@@ -657,3 +657,105 @@ fn a_16_bit_packed_texture_copied_from_a_buffer_is_unpacked() {
     let (worst, _) = compare(&edited("VK_FORMAT_B5G6R5_UNORM_PACK16"));
     assert!(worst > 64, "red and blue trade places: {worst}");
 }
+
+/// vkcube's first frame with its texture edited into each family of three-channel format
+/// (`R8G8B8`, `B8G8R8`, `R32G32B32`), its contents rewritten in that format from the logo:
+/// the replay holds each with a fourth channel of one and draws the cube as the original
+/// does; the `B8G8R8` contents read as `R8G8B8` trade red and blue.
+#[test]
+fn three_channel_textures_are_held_with_a_fourth_channel() {
+    let dir = temp("three-channel");
+    let original = dir.join("vkcube.json");
+    let fixture = gfxr_fixture("vkcube_f3.gfxr");
+    let out = framelab(&[
+        "import",
+        fixture.to_str().unwrap(),
+        "-o",
+        original.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let reference = crate::common::replay_presented(&original, &dir.join("out"));
+    let frame: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&original).unwrap()).unwrap();
+    let texture = frame["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["format"] == "R8G8B8A8_UNORM")
+        .expect("the logo texture");
+    let name = texture["name"].as_str().unwrap().to_owned();
+    let file = &texture["initial"]["file"];
+    let pack = std::fs::read(dir.join(file["path"].as_str().unwrap())).unwrap();
+    let at = file["offset"].as_u64().unwrap() as usize;
+    let logo = &pack[at..at + 256 * 256 * 4];
+    let edited = |tag: &str, format: &str, view: &str, texel: &dyn Fn(&[u8]) -> Vec<u8>| {
+        let bytes: Vec<u8> = logo.chunks_exact(4).flat_map(texel).collect();
+        std::fs::write(dir.join(format!("{tag}.bin")), &bytes).unwrap();
+        let mut f = frame.clone();
+        for r in f["resources"].as_array_mut().unwrap() {
+            if r["name"] == name.as_str() {
+                r["format"] = format.into();
+                r["initial"]["file"] =
+                    serde_json::json!({ "path": format!("{tag}.bin"), "offset": 0 });
+                // Its own memory: 96-bit texels outgrow the heap the RGBA8 image was placed in.
+                r.as_object_mut().unwrap().remove("placement");
+            }
+        }
+        for v in f["vulkan"]["image_views"].as_array_mut().unwrap() {
+            if v["image"] == name.as_str() {
+                v["format"] = view.into();
+            }
+        }
+        let path = dir.join(format!("{tag}.json"));
+        std::fs::write(&path, serde_json::to_string(&f).unwrap()).unwrap();
+        crate::common::replay_presented(&path, &dir.join(format!("out-{tag}")))
+    };
+    let worst = |image: &image::RgbaImage| {
+        image
+            .pixels()
+            .zip(reference.pixels())
+            .map(|(a, b)| (0..3).map(|i| a.0[i].abs_diff(b.0[i])).max().unwrap())
+            .max()
+            .unwrap()
+    };
+    let rgb = |p: &[u8]| p[..3].to_vec();
+    let bgr = |p: &[u8]| vec![p[2], p[1], p[0]];
+    let floats = |p: &[u8]| {
+        p[..3]
+            .iter()
+            .flat_map(|&v| (f32::from(v) / 255.0).to_le_bytes())
+            .collect()
+    };
+    let r8 = edited(
+        "r8g8b8",
+        "VK_FORMAT_R8G8B8_UNORM",
+        "VK_FORMAT_R8G8B8_UNORM",
+        &rgb,
+    );
+    assert_eq!(worst(&r8), 0, "R8G8B8 draws the cube as RGBA8 does");
+    let b8 = edited(
+        "b8g8r8",
+        "VK_FORMAT_B8G8R8_UNORM",
+        "VK_FORMAT_B8G8R8_UNORM",
+        &bgr,
+    );
+    assert_eq!(worst(&b8), 0, "B8G8R8 draws the cube as RGBA8 does");
+    let f32 = edited(
+        "r32g32b32",
+        "R32G32B32_FLOAT",
+        "VK_FORMAT_R32G32B32_SFLOAT",
+        &floats,
+    );
+    assert!(
+        worst(&f32) <= 1,
+        "R32G32B32 within a rounding: {}",
+        worst(&f32)
+    );
+    let swapped = edited(
+        "swapped",
+        "VK_FORMAT_R8G8B8_UNORM",
+        "VK_FORMAT_R8G8B8_UNORM",
+        &bgr,
+    );
+    assert!(worst(&swapped) > 64, "red and blue trade places");
+}

@@ -69,6 +69,25 @@ const WEBGPU_TWINS: &[&str] = &[
     "VK_FORMAT_B8G8R8A8_UINT",
     "VK_FORMAT_B8G8R8A8_SINT",
     "VK_FORMAT_S8_UINT",
+    // Three-channel formats, held with a fourth channel of one (`lower::formats::Repack`).
+    "R32G32B32_FLOAT",
+    "R32G32B32_UINT",
+    "R32G32B32_SINT",
+    "VK_FORMAT_R8G8B8_UNORM",
+    "VK_FORMAT_R8G8B8_SNORM",
+    "VK_FORMAT_R8G8B8_UINT",
+    "VK_FORMAT_R8G8B8_SINT",
+    "VK_FORMAT_R8G8B8_SRGB",
+    "VK_FORMAT_B8G8R8_UNORM",
+    "VK_FORMAT_B8G8R8_SNORM",
+    "VK_FORMAT_B8G8R8_UINT",
+    "VK_FORMAT_B8G8R8_SINT",
+    "VK_FORMAT_B8G8R8_SRGB",
+    "VK_FORMAT_R16G16B16_UNORM",
+    "VK_FORMAT_R16G16B16_SNORM",
+    "VK_FORMAT_R16G16B16_UINT",
+    "VK_FORMAT_R16G16B16_SINT",
+    "VK_FORMAT_R16G16B16_SFLOAT",
     "R16G16B16A16_UNORM",
     "R16G16B16A16_SNORM",
     "R16G16B16A16_UINT",
@@ -241,6 +260,10 @@ pub enum NotRenderable {
         "16-bit packed BGR formats do not exist in WebGPU: the replay holds them as RGBA8 to read, and would not render at their 4 to 6 bits a channel"
     )]
     Packed16,
+    #[error(
+        "three-channel formats do not exist in WebGPU: the replay holds them with a fourth channel of one to read, which rendering would write"
+    )]
+    ThreeChannel,
 }
 
 /// Why a colour format cannot be rendered to on any GPU, if it cannot: WebGPU has no such
@@ -253,6 +276,12 @@ pub fn not_renderable(info: &FormatInfo) -> Option<NotRenderable> {
     }
     if crate::lower::packed16::layout(info.name).is_some() {
         return Some(NotRenderable::Packed16);
+    }
+    if matches!(
+        crate::lower::formats::Repack::of(info.name),
+        Some(crate::lower::formats::Repack::Widen3 { .. })
+    ) {
+        return Some(NotRenderable::ThreeChannel);
     }
     (info.numeric() == Some(Numeric::SharedExp)).then_some(NotRenderable::SharedExponent)
 }
@@ -276,9 +305,10 @@ mod tests {
             webgpu_gap("VK_FORMAT_R16G16B16A16_USCALED"),
             Some(NoWebGpuFormat::Scaled)
         );
+        assert_eq!(webgpu_gap("VK_FORMAT_R8G8B8_UNORM"), None);
         assert_eq!(
-            webgpu_gap("VK_FORMAT_R8G8B8_UNORM"),
-            Some(NoWebGpuFormat::Rgb24Or48)
+            webgpu_gap("VK_FORMAT_R8G8B8_USCALED"),
+            Some(NoWebGpuFormat::Scaled)
         );
         assert_eq!(webgpu_gap("VK_FORMAT_A2R10G10B10_UNORM_PACK32"), None);
         assert_eq!(webgpu_gap("VK_FORMAT_X8_D24_UNORM_PACK32"), None);
@@ -300,8 +330,9 @@ mod tests {
             not("R9G9B9E5_SHAREDEXP"),
             Some(NotRenderable::SharedExponent)
         );
+        assert_eq!(not("R32G32B32_FLOAT"), Some(NotRenderable::ThreeChannel));
         assert_eq!(
-            not("R32G32B32_FLOAT").map(|n| n.to_string()),
+            not("R32G32B32_TYPELESS").map(|n| n.to_string()),
             Some("96-bit RGB textures do not exist in WebGPU".to_owned())
         );
         let shared: Vec<_> = all()

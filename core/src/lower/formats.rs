@@ -9,8 +9,9 @@
 //!   Depth24PlusStencil8 without that feature), otherwise the format of their first typed view.
 //!   Views of a depth format read its depth aspect (R16_UNORM on a D16 target samples the depth).
 //! - **Held otherwise** (`Repack`): channels in an order wgpu lacks, exchanged in the contents;
-//!   16-bit packed formats as RGBA8, unpacked (`packed16`).
-//! - **Unsupported**, with the reason `capture::formats` gives (validation gives the same): 96-bit RGB, A8, R1, shared-
+//!   16-bit packed formats as RGBA8, unpacked (`packed16`); three-channel formats as their
+//!   four-channel twin with alpha one.
+//! - **Unsupported**, with the reason `capture::formats` gives (validation gives the same): A8, R1, shared-
 //!   exponent and XR-bias variants wgpu lacks, video and palette formats.
 
 use wgpu_types::{Features, TextureFormat};
@@ -111,6 +112,20 @@ fn direct(name: &str) -> Option<TextureFormat> {
         "R32G32B32A32_UINT" => F::Rgba32Uint,
         "R32G32B32A32_SINT" => F::Rgba32Sint,
         "R32G32B32A32_FLOAT" => F::Rgba32Float,
+        // Three-channel formats held with a fourth channel of one (`Repack::Widen3`).
+        "R32G32B32_FLOAT" => F::Rgba32Float,
+        "R32G32B32_UINT" => F::Rgba32Uint,
+        "R32G32B32_SINT" => F::Rgba32Sint,
+        "VK_FORMAT_R8G8B8_UNORM" | "VK_FORMAT_B8G8R8_UNORM" => F::Rgba8Unorm,
+        "VK_FORMAT_R8G8B8_SRGB" | "VK_FORMAT_B8G8R8_SRGB" => F::Rgba8UnormSrgb,
+        "VK_FORMAT_R8G8B8_SNORM" | "VK_FORMAT_B8G8R8_SNORM" => F::Rgba8Snorm,
+        "VK_FORMAT_R8G8B8_UINT" | "VK_FORMAT_B8G8R8_UINT" => F::Rgba8Uint,
+        "VK_FORMAT_R8G8B8_SINT" | "VK_FORMAT_B8G8R8_SINT" => F::Rgba8Sint,
+        "VK_FORMAT_R16G16B16_UNORM" => F::Rgba16Unorm,
+        "VK_FORMAT_R16G16B16_SNORM" => F::Rgba16Snorm,
+        "VK_FORMAT_R16G16B16_UINT" => F::Rgba16Uint,
+        "VK_FORMAT_R16G16B16_SINT" => F::Rgba16Sint,
+        "VK_FORMAT_R16G16B16_SFLOAT" => F::Rgba16Float,
         "BC1_UNORM" => F::Bc1RgbaUnorm,
         "BC1_UNORM_SRGB" => F::Bc1RgbaUnormSrgb,
         // The same blocks as BC1 with alpha: its three-colour blocks' fourth entry decodes to
@@ -156,6 +171,15 @@ pub enum Repack {
     SwapRb8,
     /// 16-bit texels of 4-, 5- or 6-bit channels held as RGBA8 (`packed16`): twice the bytes.
     Unpack16(crate::plan::Packed16),
+    /// Three channels of `channel_bytes` each (`R8G8B8`, `B8G8R8`, `R16G16B16`,
+    /// `R32G32B32`), held as four: red, green and blue (exchanged from `B8G8R8` where
+    /// `swap_rb`), then the little-endian bits of one in the format's numbers (`one`), which
+    /// is what Vulkan reads as the alpha of a format without it.
+    Widen3 {
+        channel_bytes: u8,
+        swap_rb: bool,
+        one: u32,
+    },
 }
 
 impl Repack {
@@ -168,7 +192,9 @@ impl Repack {
             "VK_FORMAT_B8G8R8A8_SNORM" | "VK_FORMAT_B8G8R8A8_UINT" | "VK_FORMAT_B8G8R8A8_SINT" => {
                 Some(Repack::SwapRb8)
             }
-            _ => super::packed16::layout(name).map(Repack::Unpack16),
+            _ => super::packed16::layout(name)
+                .map(Repack::Unpack16)
+                .or_else(|| widen3(name)),
         }
     }
 
@@ -191,6 +217,23 @@ impl Repack {
                     texel.swap(0, 2);
                 }
             }
+            Repack::Widen3 {
+                channel_bytes,
+                swap_rb,
+                one,
+            } => {
+                let c = usize::from(channel_bytes);
+                let alpha = &one.to_le_bytes()[..c];
+                let mut out = Vec::with_capacity(bytes.len() / 3 * 4);
+                for texel in bytes.chunks_exact(3 * c) {
+                    let (r, g, b) = (&texel[..c], &texel[c..2 * c], &texel[2 * c..]);
+                    let (r, b) = if swap_rb { (b, r) } else { (r, b) };
+                    for channel in [r, g, b, alpha] {
+                        out.extend_from_slice(channel);
+                    }
+                }
+                *bytes = out;
+            }
         }
     }
 
@@ -200,8 +243,38 @@ impl Repack {
             Repack::SwapRb10 => "held as RGB10A2 with red and blue exchanged",
             Repack::SwapRb8 => "held as RGBA8 with red and blue exchanged",
             Repack::Unpack16(_) => "held as RGBA8, each 4-, 5- or 6-bit channel widened",
+            Repack::Widen3 { .. } => "held with a fourth channel of one after its three",
         }
     }
+}
+
+/// How a three-channel format is held as four (`Repack::Widen3`), by its name: the channel
+/// size, the order, and the bits of one in its numbers.
+fn widen3(name: &str) -> Option<Repack> {
+    let (channel_bytes, swap_rb, numbers) = match name {
+        n if n.starts_with("R32G32B32_") => (4, false, &n["R32G32B32_".len()..]),
+        n if n.starts_with("VK_FORMAT_R8G8B8_") => (1, false, &n["VK_FORMAT_R8G8B8_".len()..]),
+        n if n.starts_with("VK_FORMAT_B8G8R8_") => (1, true, &n["VK_FORMAT_B8G8R8_".len()..]),
+        n if n.starts_with("VK_FORMAT_R16G16B16_") => {
+            (2, false, &n["VK_FORMAT_R16G16B16_".len()..])
+        }
+        _ => return None,
+    };
+    let one = match (numbers, channel_bytes) {
+        ("UINT" | "SINT", _) => 1,
+        ("UNORM" | "SRGB", 1) => 0xff,
+        ("SNORM", 1) => 0x7f,
+        ("UNORM", 2) => 0xffff,
+        ("SNORM", 2) => 0x7fff,
+        ("SFLOAT", 2) => 0x3c00,
+        ("FLOAT" | "SFLOAT", 4) => 1.0f32.to_bits(),
+        _ => return None,
+    };
+    Some(Repack::Widen3 {
+        channel_bytes,
+        swap_rb,
+        one,
+    })
 }
 
 /// Why a resource's format cannot be lowered.
@@ -358,15 +431,56 @@ mod tests {
             .format,
             TextureFormat::Rg11b10Ufloat
         );
+        let rgb96 = lower(
+            lookup("R32G32B32_FLOAT").unwrap(),
+            false,
+            None,
+            Features::all(),
+        )
+        .unwrap();
+        assert_eq!(rgb96.format, TextureFormat::Rgba32Float);
         assert!(
             lower(
-                lookup("R32G32B32_FLOAT").unwrap(),
+                lookup("VK_FORMAT_R64_SFLOAT").unwrap(),
                 false,
                 None,
                 Features::all()
             )
             .is_err()
         );
+    }
+
+    #[test]
+    fn three_channel_texels_gain_an_alpha_of_one_in_their_numbers() {
+        let widen = |name: &str, bytes: &[u8]| {
+            let mut v = bytes.to_vec();
+            Repack::of(name).unwrap().apply(&mut v);
+            v
+        };
+        assert_eq!(
+            widen("VK_FORMAT_R8G8B8_UNORM", &[1, 2, 3, 4, 5, 6]),
+            [1, 2, 3, 255, 4, 5, 6, 255]
+        );
+        assert_eq!(widen("VK_FORMAT_B8G8R8_SNORM", &[1, 2, 3]), [3, 2, 1, 0x7f]);
+        assert_eq!(widen("VK_FORMAT_R8G8B8_UINT", &[1, 2, 3]), [1, 2, 3, 1]);
+        assert_eq!(
+            widen("VK_FORMAT_R16G16B16_SFLOAT", &[0, 1, 2, 3, 4, 5]),
+            [0, 1, 2, 3, 4, 5, 0x00, 0x3c]
+        );
+        let one = 1.0f32.to_le_bytes();
+        let rgb = widen("R32G32B32_FLOAT", &[0u8; 12]);
+        assert_eq!((&rgb[..12], &rgb[12..]), (&[0u8; 12][..], &one[..]));
+        // Every three-channel format the lowering takes is held so.
+        for f in crate::capture::dxgi::all() {
+            let three = f.channels.len() == 3 && f.bits_per_element % 3 == 0;
+            if three && direct(f.name).is_some() {
+                assert!(
+                    matches!(Repack::of(f.name), Some(Repack::Widen3 { .. })),
+                    "{}",
+                    f.name
+                );
+            }
+        }
     }
 
     #[test]

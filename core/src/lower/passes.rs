@@ -550,11 +550,20 @@ impl<'c> Lowering<'c> {
                     )));
                 }
             }
-            // Drawn into RGBA8, a 16-bit packed destination would keep 8 bits a channel.
-            if let Some(&(format, formats::Repack::Unpack16(_))) = self.repacked.get(&dst) {
-                return Err(refuse(format!(
-                    "the destination is {format}, held as RGBA8: a blit drawn into it would not keep its 4 to 6 bits a channel"
-                )));
+            // Drawn into RGBA8, a 16-bit packed destination would keep 8 bits a channel; a
+            // three-channel one would take the source's alpha where it reads one.
+            match self.repacked.get(&dst) {
+                Some(&(format, formats::Repack::Unpack16(_))) => {
+                    return Err(refuse(format!(
+                        "the destination is {format}, held as RGBA8: a blit drawn into it would not keep its 4 to 6 bits a channel"
+                    )));
+                }
+                Some(&(format, formats::Repack::Widen3 { .. })) => {
+                    return Err(refuse(format!(
+                        "the destination is {format}, held with a fourth channel of one: a blit drawn into it would write that channel"
+                    )));
+                }
+                _ => {}
             }
             let (sf, df) = (
                 self.plan.textures[src].format,
