@@ -370,7 +370,9 @@ pub fn address_mode(name: &str) -> Option<Verdict> {
         "CLAMP_TO_BORDER" => Verdict::Emulated(
             "wgpu's ADDRESS_MODE_CLAMP_TO_BORDER feature where the adapter has it, refused where it does not",
         ),
-        "MIRROR_CLAMP_TO_EDGE" => Verdict::Refused("wgpu has no mirror-once address mode"),
+        "MIRROR_CLAMP_TO_EDGE" => Verdict::Emulated(
+            "wgpu has no mirror-once address mode: the sampler clamps to the edge and each sample through it takes the absolute value of the coordinate on that axis in the shader (texel -1-i is where -u falls, so the same texels are picked and weighed); cube maps ignore it",
+        ),
         _ => return None,
     })
 }

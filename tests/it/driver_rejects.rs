@@ -501,7 +501,7 @@ fn d3d12(f: &framelab_core::capture::dxgi::FormatInfo) -> D3d12 {
 #[test]
 fn every_use_of_every_format_follows_d3d12_support() {
     use framelab_core::capture::dxgi;
-    use framelab_core::capture::formats::webgpu_gap;
+    use framelab_core::capture::formats::not_renderable;
     let minimal: Value = serde_json::from_str(
         &std::fs::read_to_string(repo().join("tests/fixtures/minimal.json")).unwrap(),
     )
@@ -578,7 +578,7 @@ fn every_use_of_every_format_follows_d3d12_support() {
             } else {
                 check(
                     "attachment",
-                    !support.render_target || webgpu_gap(f.name).is_some(),
+                    !support.render_target || not_renderable(f).is_some(),
                     &errs,
                     &[at, "$.resources[7].flags"],
                 );

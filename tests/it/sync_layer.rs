@@ -1253,3 +1253,60 @@ fn invalid_spirv_is_flagged_by_framelab_and_the_layer() {
     assert_eq!(ours, expected);
     assert_eq!(ours, layer, "framelab (left) and the layer (right)");
 }
+
+/// vkcube `--use_staging` edited one number at a time with `framelab edit`: the copy of the
+/// logo given a `bufferImageHeight` below its height (`VUID-VkBufferImageCopy-bufferImageHeight-00196`)
+/// or a `bufferOffset` that runs its last row past the staging buffer
+/// (`VUID-vkCmdCopyBufferToImage-pRegions-00171`), the barrier after it transitioning to
+/// `UNDEFINED` (`VUID-VkImageMemoryBarrier-newLayout-01198`), and a viewport set with a count
+/// of zero (`VUID-vkCmdSetViewport-viewportCount-arraylength`): framelab and the layer report
+/// each at the same call and member, and nothing else of the classes framelab checks.
+#[test]
+fn copy_regions_barrier_layouts_and_counts_are_flagged_by_framelab_and_the_layer() {
+    let one = |call: &str, vuid: &str, member: &str| {
+        BTreeSet::from([(call.to_owned(), vuid.to_owned(), member.to_owned())])
+    };
+    let plants = [
+        (
+            "planted-image-height",
+            "62:pRegions[0].bufferImageHeight=255",
+            one(
+                "vkCmdCopyBufferToImage",
+                "VUID-VkBufferImageCopy-bufferImageHeight-00196",
+                "pRegions[0]",
+            ),
+        ),
+        (
+            "planted-buffer-end",
+            "62:pRegions[0].bufferOffset=4",
+            one(
+                "vkCmdCopyBufferToImage",
+                "VUID-vkCmdCopyBufferToImage-pRegions-00171",
+                "pRegions",
+            ),
+        ),
+        (
+            "planted-to-undefined",
+            "63:pImageMemoryBarriers[0].newLayout=0",
+            one(
+                "vkCmdPipelineBarrier",
+                "VUID-VkImageMemoryBarrier-newLayout-01198",
+                "pImageMemoryBarriers[0].newLayout",
+            ),
+        ),
+        (
+            "planted-no-viewports",
+            "107:viewportCount=0",
+            one(
+                "vkCmdSetViewport",
+                "VUID-vkCmdSetViewport-viewportCount-arraylength",
+                "viewportCount",
+            ),
+        ),
+    ];
+    for (name, set, expected) in plants {
+        let (ours, layer) = planted_vuids(name, "vkcube_staging.gfxr", set);
+        assert_eq!(ours, expected, "{set}: framelab");
+        assert_eq!(ours, layer, "{set}: framelab (left) and the layer (right)");
+    }
+}

@@ -18,6 +18,7 @@ mod index_params;
 mod indexing;
 mod layout;
 mod memory_model;
+mod mirror_once;
 mod ops;
 mod outputs;
 mod param_copies;
@@ -248,6 +249,10 @@ pub struct RewriteOptions<'a> {
     /// filter nearest: each sample through them has its coordinate divided by the image's
     /// size (`unnormalized`), a nearest one's first put at its texel's centre.
     pub unnormalized: &'a [(u32, u32, bool)],
+    /// The samplers, by (set, binding), that mirror once and clamp on some axes (bit 0 `u`,
+    /// 1 `v`, 2 `w`): each sample through them takes those coordinate components' absolute
+    /// value (`mirror_once`), and the sampler clamps to the edge.
+    pub mirror_once: &'a [(u32, u32, u8)],
     /// The fragment output locations with a colour attachment, a bit each (`outputs`): the
     /// others become private variables. `None` leaves every output.
     pub attached_outputs: Option<u32>,

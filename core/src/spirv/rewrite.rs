@@ -36,6 +36,7 @@ pub fn rewrite(
     super::subpass::subpass_as_texture(&mut loaded.module)?;
     super::bias::add_lod_bias(&mut loaded.module, opts.lod_bias)?;
     super::unnormalized::normalize_coordinates(&mut loaded.module, opts.unnormalized)?;
+    super::mirror_once::mirror_coordinates(&mut loaded.module, opts.mirror_once)?;
     if model == ExecutionModel::Vertex {
         super::scaled::scaled_inputs(&mut loaded.module, opts.scaled_inputs)?;
     }

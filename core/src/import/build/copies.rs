@@ -86,6 +86,37 @@ impl Builder {
             );
             self.refuse(queue, None, &what);
         }
+        // A buffer side that runs past its buffer's end (to its last texel, as Vulkan addresses
+        // it) reads or writes bytes the buffer does not have: undefined, and nothing a copy can
+        // be given, so the frame is refused where it copies so.
+        let buffer_end = |r: &Region| -> Option<(u64, u64, u64)> {
+            let (buffer, offset) = match (src_is_buffer, dst_is_buffer) {
+                (true, false) => (src, r.src_offset),
+                (false, true) => (dst, r.dst_offset),
+                _ => return None,
+            };
+            let size = objects.buffers.get(&buffer)?.size;
+            let ((bytes, bw), e, pitch) = (footprint?, r.extent?, u64::from(row(r)?));
+            let rows = u64::from(e[1].div_ceil(bw));
+            let row_bytes = u64::from(e[0].div_ceil(bw)) * bytes;
+            let needed = pitch * rows * u64::from(e[2].max(1) - 1)
+                + pitch * rows.saturating_sub(1)
+                + row_bytes;
+            (offset.saturating_add(needed) > size).then_some((offset, needed, size))
+        };
+        let (past_end, per_layer): (Vec<Region>, Vec<Region>) =
+            per_layer.into_iter().partition(|r| buffer_end(r).is_some());
+        if let Some((offset, needed, size)) = past_end.first().and_then(buffer_end) {
+            let vuid = if src_is_buffer {
+                "VUID-vkCmdCopyBufferToImage-pRegions-00171"
+            } else {
+                "VUID-vkCmdCopyImageToBuffer-pRegions-00183"
+            };
+            let what = format!(
+                "{name} whose region runs past the end of its buffer ({needed} bytes from offset {offset} of {size}; {vuid}): the bytes past it are undefined"
+            );
+            self.refuse(queue, None, &what);
+        }
         if per_layer.is_empty() {
             return;
         }

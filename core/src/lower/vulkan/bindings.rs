@@ -37,6 +37,9 @@ pub(super) struct Bound {
     /// The samplers that take unnormalized coordinates (`spirv::RewriteOptions::unnormalized`):
     /// wgpu's take normalized ones, so the rewrite divides each sample's coordinate.
     pub unnormalized: Vec<(u32, u32, bool)>,
+    /// The samplers that mirror once and clamp on some axes (`spirv::RewriteOptions::
+    /// mirror_once`): wgpu has no such address mode, so the rewrite mirrors the coordinate.
+    pub mirror_once: Vec<(u32, u32, u8)>,
     /// The wgpu binding (before the doubling that makes room for split samplers) of each
     /// element past the first of a split descriptor array, by (set, binding the split gave):
     /// numbered on past the set layout's highest binding, in order.
@@ -196,6 +199,7 @@ impl<'c> Lowering<'c> {
         let mut texel_formats = Vec::new();
         let mut lod_bias = Vec::new();
         let mut unnormalized = Vec::new();
+        let mut mirror_once = Vec::new();
         let mut swizzles = Vec::new();
         let mut storage_blocks = Vec::new();
         let mut std140_blocks = Vec::new();
@@ -322,6 +326,13 @@ impl<'c> Lowering<'c> {
                 let nearest = model.samplers[s].mag_filter.ends_with("NEAREST");
                 unnormalized.push((set, split_binding, nearest));
             }
+            if let Some(axes) = sampler
+                .filter(|_| samples)
+                .map(|s| super::states::mirror_once_axes(&model.samplers[s]))
+                .filter(|&a| a != 0)
+            {
+                mirror_once.push((set, split_binding, axes));
+            }
             let permutation = d
                 .and_then(|d| d.view)
                 .and_then(|v| self.vk_view_permutation(v));
@@ -366,6 +377,7 @@ impl<'c> Lowering<'c> {
                 storage_blocks,
                 std140_blocks,
                 unnormalized,
+                mirror_once,
                 elements,
             },
         ))

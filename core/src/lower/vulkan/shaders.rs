@@ -39,6 +39,8 @@ pub(super) struct ShaderKey {
     std140_blocks: Vec<(u32, u32)>,
     /// Samplers taking unnormalized coordinates, by (set, binding).
     unnormalized: Vec<(u32, u32, bool)>,
+    /// Samplers mirroring once, by (set, binding), with their axes.
+    mirror_once: Vec<(u32, u32, u8)>,
     /// Fragment output locations with an attachment (`RewriteOptions::attached_outputs`).
     outputs: Option<u32>,
     /// Vertex inputs fetched as integers from scaled formats (`RewriteOptions::scaled_inputs`).
@@ -111,6 +113,7 @@ impl<'c> Lowering<'c> {
             storage_blocks: bound.storage_blocks.clone(),
             std140_blocks: bound.std140_blocks.clone(),
             unnormalized: bound.unnormalized.clone(),
+            mirror_once: bound.mirror_once.clone(),
             outputs,
             scaled: scaled.to_vec(),
         };
@@ -167,6 +170,7 @@ impl<'c> Lowering<'c> {
                 storage_blocks: &bound.storage_blocks,
                 std140_blocks: &bound.std140_blocks,
                 unnormalized: &bound.unnormalized,
+                mirror_once: &bound.mirror_once,
                 attached_outputs: outputs,
                 scaled_inputs: scaled,
             },
@@ -194,6 +198,7 @@ impl<'c> Lowering<'c> {
                 storage_blocks: &bound.storage_blocks,
                 std140_blocks: &bound.std140_blocks,
                 unnormalized: &bound.unnormalized,
+                mirror_once: &bound.mirror_once,
                 attached_outputs: outputs,
                 scaled_inputs: scaled,
             },

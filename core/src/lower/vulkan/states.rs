@@ -440,6 +440,16 @@ pub(super) fn bias_is_moot(s: &VkSampler, levels: u32) -> bool {
     s.mip_lod_bias == 0.0 || (one_level && s.mag_filter == s.min_filter)
 }
 
+/// The axes on which sampler `s` mirrors once and clamps (bit 0 `u`, 1 `v`, 2 `w`), which
+/// the shader's rewrite mirrors (`spirv::mirror_once`) before the sampler clamps to the edge.
+pub(super) fn mirror_once_axes(s: &VkSampler) -> u8 {
+    [&s.address_mode_u, &s.address_mode_v, &s.address_mode_w]
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| strip(m, "VK_SAMPLER_ADDRESS_MODE_") == "MIRROR_CLAMP_TO_EDGE")
+        .fold(0, |axes, (i, _)| axes | (1 << i))
+}
+
 /// A Vulkan sampler at wgpu level (its LOD bias is checked where it meets a view:
 /// `bias_is_moot`).
 pub(super) fn sampler(s: &VkSampler) -> Result<SamplerSpec, VkProblem> {
@@ -453,6 +463,9 @@ pub(super) fn sampler(s: &VkSampler) -> Result<SamplerSpec, VkProblem> {
         "MIRRORED_REPEAT" => Ok(wgpu::AddressMode::MirrorRepeat),
         "CLAMP_TO_EDGE" => Ok(wgpu::AddressMode::ClampToEdge),
         "CLAMP_TO_BORDER" => Ok(wgpu::AddressMode::ClampToBorder),
+        // Mirrored once in the shader (`spirv::mirror_once`, `mirror_once_axes`), then
+        // clamped here.
+        "MIRROR_CLAMP_TO_EDGE" => Ok(wgpu::AddressMode::ClampToEdge),
         _ => Err(unsupported(
             &format!("sampler {} with address mode", s.name),
             n,

@@ -72,6 +72,7 @@ fn opts(flip_y: bool) -> RewriteOptions<'static> {
         storage_blocks: &[],
         std140_blocks: &[],
         unnormalized: &[],
+        mirror_once: &[],
         attached_outputs: None,
         scaled_inputs: &[],
     }
@@ -306,6 +307,7 @@ fn geometry_module() -> Vec<u32> {
 mod arrays;
 mod demote;
 mod errors;
+mod mirror_once;
 /// mpv's upload shader: its R8 storage texel buffer becomes a read-only storage buffer of
 /// words at the same set and binding, read by no OpImageRead any more, and the three
 /// specialization constants it was given become plain constants without SpecId.

@@ -17,6 +17,7 @@ fn an_unnormalized_coordinate_is_divided_by_the_image_size() {
         "main",
         &RewriteOptions {
             unnormalized: &[(0, 1, false)],
+            mirror_once: &[],
             ..opts(false)
         },
     )
@@ -66,6 +67,7 @@ fn a_nearest_unnormalized_coordinate_is_centred_on_its_texel() {
         "main",
         &RewriteOptions {
             unnormalized: &[(0, 1, true)],
+            mirror_once: &[],
             ..opts(false)
         },
     )

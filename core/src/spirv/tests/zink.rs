@@ -115,6 +115,7 @@ fn storage_opts() -> RewriteOptions<'static> {
         storage_blocks: &[(0, 0)],
         std140_blocks: &[],
         unnormalized: &[],
+        mirror_once: &[],
         ..opts(false)
     }
 }
