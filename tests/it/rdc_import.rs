@@ -13,11 +13,12 @@ use serde_json::Value;
 use crate::common::{Scratch, framelab, gfxr_fixture, json, repo, stderr};
 
 /// RenderDoc captures, each with `<name>.rdc.renderdoc.json` and `<name>.rdc.ref.png`.
-const CAPTURES: [&str; 4] = [
+const CAPTURES: [&str; 5] = [
     "vkcube_frame183",
     "vkd3d_gears_f3445",
     "mpv_testsrc_f73",
     "framelab_inspect_f117",
+    "qt6quick_text_f296",
 ];
 
 fn fixture(name: &str) -> PathBuf {
@@ -52,6 +53,7 @@ fn renderdoc_format(ours: &str) -> &str {
     match ours {
         "D16_UNORM" => "D16",
         "D32_FLOAT" => "D32",
+        "D24_UNORM_S8_UINT" => "D24S8",
         other => other,
     }
 }

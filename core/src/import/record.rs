@@ -210,7 +210,8 @@ impl Recording {
                 return Ok(true);
             }
             CmdFunc::SetBlendConstants => {
-                let k = args.list("blendConstants")?;
+                // Required: constants read as zero would blend a wrong image silently.
+                let k = args.get("blendConstants")?.items()?;
                 let mut c = [0.0f32; 4];
                 for (i, v) in k.iter().take(4).enumerate() {
                     c[i] = v.f64()? as f32;

@@ -64,35 +64,112 @@ enum Part {
     Index(usize),
 }
 
-/// Why a call could not be decoded. Boxed so that every result on the path each value takes
-/// is two words, returned in registers rather than through memory (a `Box<str>` would be
-/// two words itself, making the result three).
-#[derive(Debug)]
-#[allow(clippy::box_collection)]
-struct Fail(Box<String>);
+/// Why a call's parameters could not be decoded, and where: the parameter's path
+/// (`pRegions[0].bufferOffset`; `the return value`), the byte of the call's parameters the
+/// decoder had reached, and what it met there.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{}", self.text())]
+pub struct DecodeError {
+    pub field: String,
+    pub byte: usize,
+    pub problem: Problem,
+}
 
-impl From<String> for Fail {
-    #[cold]
-    fn from(message: String) -> Self {
-        Fail(Box::new(message))
+/// What a call's parameters break (`DecodeError`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Problem {
+    /// `need` bytes asked for with `left` left.
+    Truncated { need: usize, left: usize },
+    /// A length of more elements than there are bytes left.
+    Count { elements: u64, left: usize },
+    /// A parameter type the tables give no way to read.
+    UnreadableType,
+    /// A structure index past the tables.
+    NoStructure(u16),
+    /// Structures nested deeper than `MAX_DEPTH`.
+    TooDeep,
+    /// A `pNext` element whose data ends before its `sType`.
+    EndsBeforeSType,
+    /// A `pNext` element of an `sType` the registry does not have.
+    UnknownSType(u32),
+    /// Update-template data written as an array, not in GFXReconstruct's layout.
+    TemplateArray(u64),
+    /// Update-template data whose counts need more bytes than are left.
+    TemplateCounts {
+        images: u64,
+        buffers: u64,
+        views: u64,
+        left: usize,
+    },
+    /// An update-template data section of a descriptor type the decoder does not know.
+    TemplateSection(u32),
+    /// `locate`: the call has no number at the path asked for.
+    NoNumber { call: &'static str, path: String },
+    /// Not an error of the data: the call is decoded again with its path kept, so that a
+    /// blob's elements can be found (see `Reader::track`).
+    Retrack,
+}
+
+impl DecodeError {
+    fn text(&self) -> String {
+        let f = &self.field;
+        match &self.problem {
+            Problem::Truncated { need, left } => format!(
+                "{f} needs {need} bytes at parameter byte {}, {left} left",
+                self.byte
+            ),
+            Problem::Count { elements, left } => {
+                format!("{f} says {elements} elements, but only {left} bytes are left")
+            }
+            Problem::UnreadableType => format!("{f} has a type this decoder cannot read"),
+            Problem::NoStructure(i) => format!("{f}: no structure {i} in the tables"),
+            Problem::TooDeep => format!("{f}: structures nested deeper than {MAX_DEPTH}"),
+            Problem::EndsBeforeSType => format!("{f}: the data ends before the sType"),
+            Problem::UnknownSType(t) => format!("{f}: a structure with unknown sType {t}"),
+            Problem::TemplateArray(len) => format!(
+                "{f}: template data written as an array of {len}, not GFXReconstruct's layout"
+            ),
+            Problem::TemplateCounts {
+                images,
+                buffers,
+                views,
+                left,
+            } => format!(
+                "{f}: {images} image infos, {buffers} buffer infos and {views} texel buffer views need more than the {left} bytes left"
+            ),
+            Problem::TemplateSection(t) => format!(
+                "{f}: a template data section of descriptor type {t} this decoder does not know"
+            ),
+            Problem::NoNumber { call, path } => format!(
+                "{call} has no number at `{path}` (a path is spelt like `pImageMemoryBarriers[0].oldLayout`)"
+            ),
+            Problem::Retrack => "(decode again with the path kept)".to_owned(),
+        }
     }
 }
 
+/// Why a call could not be decoded, boxed so that every result on the path each value takes
+/// is two words, returned in registers rather than through memory.
+#[derive(Debug)]
+struct Fail(Box<DecodeError>);
+
 type Res<T> = Result<T, Fail>;
 
-/// The error that sends a call back to be decoded with its path kept (see `Reader::track`).
-const RETRACK: &str = "(decode again with the path kept)";
-
 impl<'a> Reader<'a, '_> {
+    /// `problem` where the decoder is.
+    #[cold]
+    fn fail(&self, problem: Problem) -> Fail {
+        Fail(Box::new(DecodeError {
+            field: self.at(),
+            byte: self.pos,
+            problem,
+        }))
+    }
+
     fn take(&mut self, n: usize) -> Res<&'a [u8]> {
         let left = self.buf.len() - self.pos;
         if n > left {
-            return Err(format!(
-                "{} needs {n} bytes at parameter byte {}, {left} left",
-                self.at(),
-                self.pos
-            )
-            .into());
+            return Err(self.fail(Problem::Truncated { need: n, left }));
         }
         let s = &self.buf[self.pos..self.pos + n];
         self.pos += n;
@@ -170,12 +247,10 @@ impl<'a> Reader<'a, '_> {
     /// A length read from the data, refused when even one byte per element would not fit.
     fn count(&self, len: u64) -> Res<usize> {
         if len > self.left() as u64 {
-            return Err(format!(
-                "{} says {len} elements, but only {} bytes are left",
-                self.at(),
-                self.left()
-            )
-            .into());
+            return Err(self.fail(Problem::Count {
+                elements: len,
+                left: self.left(),
+            }));
         }
         Ok(len as usize)
     }
@@ -244,7 +319,7 @@ impl<'a> Reader<'a, '_> {
                 }
                 _ => self.leaf(Node::Null),
             },
-            _ => Err(format!("{} has a type this decoder cannot read", self.at()).into()),
+            _ => Err(self.fail(Problem::UnreadableType)),
         }
     }
 
@@ -284,7 +359,7 @@ impl<'a> Reader<'a, '_> {
         };
         if width > 0 && n * width > limit {
             if !self.track {
-                return Err(RETRACK.to_owned().into());
+                return Err(self.fail(Problem::Retrack));
             }
             // An element of the blob (`pCreateInfo.pCode[5]`, a word of shader code) is found
             // as any scalar is.
@@ -315,10 +390,10 @@ impl<'a> Reader<'a, '_> {
     fn structure(&mut self, index: u16) -> Res<usize> {
         let def = STRUCTS
             .get(usize::from(index))
-            .ok_or_else(|| format!("{}: no structure {index} in the tables", self.at()))?;
+            .ok_or_else(|| self.fail(Problem::NoStructure(index)))?;
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(format!("{}: structures nested deeper than {MAX_DEPTH}", self.at()).into());
+            return Err(self.fail(Problem::TooDeep));
         }
         let mark = self.tree.mark();
         for m in def.members {
@@ -356,10 +431,10 @@ impl<'a> Reader<'a, '_> {
             self.buf
                 .get(self.pos..self.pos + 4)
                 .and_then(|s| s.try_into().ok())
-                .ok_or_else(|| format!("{}: the data ends before the sType", self.at()))?,
+                .ok_or_else(|| self.fail(Problem::EndsBeforeSType))?,
         );
         let index = registry::struct_index_of_stype(stype)
-            .ok_or_else(|| format!("{}: a structure with unknown sType {stype}", self.at()))?;
+            .ok_or_else(|| self.fail(Problem::UnknownSType(stype)))?;
         self.structure(index)
     }
 
@@ -442,11 +517,7 @@ impl Reader<'_, '_> {
             if len == 0 {
                 return self.leaf(Node::Null);
             }
-            return Err(format!(
-                "{}: template data written as an array of {len}, not GFXReconstruct's layout",
-                self.at()
-            )
-            .into());
+            return Err(self.fail(Problem::TemplateArray(len)));
         }
         if attrib & HAS_DATA == 0 {
             return self.leaf(Node::Null);
@@ -458,14 +529,12 @@ impl Reader<'_, '_> {
             .zip(counts[2].checked_mul(8))
             .and_then(|((a, b), c)| a.checked_add(b)?.checked_add(c));
         if needed.is_none_or(|n| n > self.left() as u64) {
-            return Err(format!(
-                "{}: {} image infos, {} buffer infos and {} texel buffer views need more than the {} bytes left",
-                self.at(),
-                counts[0],
-                counts[1],
-                counts[2],
-                self.left()
-            ).into());
+            return Err(self.fail(Problem::TemplateCounts {
+                images: counts[0],
+                buffers: counts[1],
+                views: counts[2],
+                left: self.left(),
+            }));
         }
         let layouts = registry::enum_named("VkImageLayout");
         let out = self.tree.mark();
@@ -517,10 +586,7 @@ impl Reader<'_, '_> {
                 ),
                 INLINE_UNIFORM_BLOCK => ("inlineUniformBlock", self.count(count)?, 1),
                 other => {
-                    return Err(format!(
-                        "{}: a template data section of descriptor type {other} this decoder does not know",
-                        self.at()
-                    ).into());
+                    return Err(self.fail(Problem::TemplateSection(other)));
                 }
             };
             let items = self.tree.mark();
@@ -548,19 +614,27 @@ impl Reader<'_, '_> {
 
 /// Decodes `params` (the bytes after the thread id) as the parameters of `def` into `tree`
 /// (emptied first).
-pub fn decode_call(def: &CommandDef, params: &[u8], tree: &mut Tree) -> Result<Decoded, String> {
+pub fn decode_call(
+    def: &CommandDef,
+    params: &[u8],
+    tree: &mut Tree,
+) -> Result<Decoded, DecodeError> {
     decode(def, params, None, tree).map(|(d, _)| d)
 }
 
 /// Where the scalar parameter at `path` (`pImageMemoryBarriers[0].oldLayout`) lies in
 /// `params`: its byte offset and width.
-pub fn locate(def: &CommandDef, params: &[u8], path: &str) -> Result<(usize, usize), String> {
+pub fn locate(def: &CommandDef, params: &[u8], path: &str) -> Result<(usize, usize), DecodeError> {
     match decode(def, params, Some(path), &mut Tree::default())? {
         (_, Some(found)) => Ok(found),
-        (_, None) => Err(format!(
-            "{} has no number at `{path}` (a path is spelt like `pImageMemoryBarriers[0].oldLayout`)",
-            def.name
-        )),
+        (_, None) => Err(DecodeError {
+            field: path.to_owned(),
+            byte: 0,
+            problem: Problem::NoNumber {
+                call: def.name,
+                path: path.to_owned(),
+            },
+        }),
     }
 }
 
@@ -569,7 +643,7 @@ fn decode<'a>(
     params: &'a [u8],
     seek: Option<&'a str>,
     tree: &mut Tree,
-) -> Result<(Decoded, Option<(usize, usize)>), String> {
+) -> Result<(Decoded, Option<(usize, usize)>), DecodeError> {
     let tracked = if seek.is_some() {
         decode_with(def, params, seek, tree, true)
     } else {
@@ -647,5 +721,40 @@ fn union_words(tree: &Tree, object: usize) -> Vec<u32> {
             })
             .collect(),
         _ => Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn command(name: &str) -> &'static CommandDef {
+        registry::COMMANDS.iter().find(|c| c.name == name).unwrap()
+    }
+
+    /// A call cut short says which parameter ran out, at which byte of the parameters, and
+    /// how many bytes it needed and had; a path with no number says the call and the path.
+    #[test]
+    fn a_call_that_ends_early_is_located_by_parameter_and_byte() {
+        // vkCmdDraw: a command buffer handle and four 32-bit counts, 24 bytes; 14 given.
+        let def = command("vkCmdDraw");
+        let e = decode_call(def, &[0; 14], &mut Tree::default()).unwrap_err();
+        assert_eq!(e.field, "instanceCount");
+        assert_eq!(e.byte, 12);
+        assert_eq!(e.problem, Problem::Truncated { need: 4, left: 2 });
+        assert_eq!(
+            e.to_string(),
+            "instanceCount needs 4 bytes at parameter byte 12, 2 left"
+        );
+        let whole = decode_call(def, &[0; 24], &mut Tree::default());
+        assert!(whole.is_ok());
+        let e = locate(def, &[0; 24], "vertexCount.x").unwrap_err();
+        assert!(matches!(
+            e.problem,
+            Problem::NoNumber {
+                call: "vkCmdDraw",
+                ..
+            }
+        ));
     }
 }

@@ -34,6 +34,10 @@ pub fn param(def: &CommandDef, rdc: &str) -> Option<&'static Field> {
         "values" => "pValues",
         "Label" => "pLabelInfo",
         "Marker" => "pMarkerInfo",
+        "blendConst" => "blendConstants",
+        "writeCount" => "descriptorWriteCount",
+        "copyCount" => "descriptorCopyCount",
+        "memRangeCount" => "memoryRangeCount",
         other => other,
     };
     // RenderDoc spells the registry's `dst` as `dest` (`destStageMask`, `destBuffer`).
@@ -233,6 +237,18 @@ mod tests {
             ("vkCmdDispatch", "y", "groupCountY"),
             ("vkCmdPushConstants", "values", "pValues"),
             ("vkCmdBindDescriptorSets", "setCount", "descriptorSetCount"),
+            ("vkCmdSetBlendConstants", "blendConst", "blendConstants"),
+            (
+                "vkUpdateDescriptorSets",
+                "writeCount",
+                "descriptorWriteCount",
+            ),
+            ("vkUpdateDescriptorSets", "copyCount", "descriptorCopyCount"),
+            (
+                "vkFlushMappedMemoryRanges",
+                "memRangeCount",
+                "memoryRangeCount",
+            ),
         ];
         for (cmd, rdc, ours) in cases {
             assert_eq!(
