@@ -29,33 +29,6 @@ fn unsupported(detail: String) -> SpirvError {
 /// `FAbs` of the GLSL.std.450 instruction set.
 const GLSL_FABS: u32 = 4;
 
-/// Whether `op` samples through a sampler, with its coordinate as operand 1.
-fn samples(op: Op) -> bool {
-    matches!(
-        op,
-        Op::ImageSampleImplicitLod
-            | Op::ImageSampleExplicitLod
-            | Op::ImageSampleDrefImplicitLod
-            | Op::ImageSampleDrefExplicitLod
-            | Op::ImageSampleProjImplicitLod
-            | Op::ImageSampleProjExplicitLod
-            | Op::ImageSampleProjDrefImplicitLod
-            | Op::ImageSampleProjDrefExplicitLod
-            | Op::ImageGather
-            | Op::ImageDrefGather
-            | Op::ImageSparseSampleImplicitLod
-            | Op::ImageSparseSampleExplicitLod
-            | Op::ImageSparseSampleDrefImplicitLod
-            | Op::ImageSparseSampleDrefExplicitLod
-            | Op::ImageSparseSampleProjImplicitLod
-            | Op::ImageSparseSampleProjExplicitLod
-            | Op::ImageSparseSampleProjDrefImplicitLod
-            | Op::ImageSparseSampleProjDrefExplicitLod
-            | Op::ImageSparseGather
-            | Op::ImageSparseDrefGather
-    )
-}
-
 /// The spatial dimensions of an image type (`None` for a cube map, which ignores address
 /// modes).
 fn spatial(dim: Option<&Operand>) -> Option<u32> {
@@ -95,13 +68,7 @@ pub(super) fn mirror_coordinates(
     let mut ids = Ids {
         next: first_free_id(module).ok_or(SpirvError::IdsExhausted { bound: u32::MAX })?,
     };
-    let mut glsl: Option<Word> = module
-        .ext_inst_imports
-        .iter()
-        .find(|i| {
-            matches!(i.operands.first(), Some(Operand::LiteralString(n)) if n == "GLSL.std.450")
-        })
-        .and_then(|i| i.result_id);
+    let mut glsl: Option<Word> = super::ops::glsl_import(module);
     let mut touched = false;
     let mut functions = std::mem::take(&mut module.functions);
     for f in &mut functions {
@@ -109,7 +76,9 @@ pub(super) fn mirror_coordinates(
             let mut out = Vec::with_capacity(block.instructions.len());
             for mut s in std::mem::take(&mut block.instructions) {
                 let axes = match id_ref(s.operands.first()).and_then(|x| root.get(&x)) {
-                    Some(var) if samples(s.class.opcode) => vars.get(var).copied().unwrap_or(0),
+                    Some(var) if super::ops::samples_through_sampler(s.class.opcode) => {
+                        vars.get(var).copied().unwrap_or(0)
+                    }
                     _ => 0,
                 };
                 if axes == 0 {
@@ -204,15 +173,7 @@ pub(super) fn mirror_coordinates(
     }
     module.functions = functions;
     if touched {
-        let imported = module.ext_inst_imports.iter().any(|i| i.result_id == glsl);
-        if let Some(id) = glsl.filter(|_| !imported) {
-            module.ext_inst_imports.push(inst(
-                Op::ExtInstImport,
-                None,
-                Some(id),
-                vec![Operand::LiteralString("GLSL.std.450".to_owned())],
-            ));
-        }
+        super::ops::add_glsl_import(module, glsl);
     }
     Ok(())
 }

@@ -135,3 +135,56 @@ pub(super) fn constant(
     cache.insert((ty, bits), id);
     Ok(id)
 }
+
+/// Whether `op` samples through a sampler, its sampled image operand 0 and its coordinate
+/// operand 1: the instructions a sampler's state reaches (its coordinate rewrites).
+pub(super) fn samples_through_sampler(op: Op) -> bool {
+    matches!(
+        op,
+        Op::ImageSampleImplicitLod
+            | Op::ImageSampleExplicitLod
+            | Op::ImageSampleDrefImplicitLod
+            | Op::ImageSampleDrefExplicitLod
+            | Op::ImageSampleProjImplicitLod
+            | Op::ImageSampleProjExplicitLod
+            | Op::ImageSampleProjDrefImplicitLod
+            | Op::ImageSampleProjDrefExplicitLod
+            | Op::ImageGather
+            | Op::ImageDrefGather
+            | Op::ImageSparseSampleImplicitLod
+            | Op::ImageSparseSampleExplicitLod
+            | Op::ImageSparseSampleDrefImplicitLod
+            | Op::ImageSparseSampleDrefExplicitLod
+            | Op::ImageSparseSampleProjImplicitLod
+            | Op::ImageSparseSampleProjExplicitLod
+            | Op::ImageSparseSampleProjDrefImplicitLod
+            | Op::ImageSparseSampleProjDrefExplicitLod
+            | Op::ImageSparseGather
+            | Op::ImageSparseDrefGather
+    )
+}
+
+/// The module's GLSL.std.450 import, if it has one.
+pub(super) fn glsl_import(module: &Module) -> Option<Word> {
+    module
+        .ext_inst_imports
+        .iter()
+        .find(|i| {
+            matches!(i.operands.first(), Some(Operand::LiteralString(n)) if n == "GLSL.std.450")
+        })
+        .and_then(|i| i.result_id)
+}
+
+/// Imports GLSL.std.450 as `id` where a rewrite took a fresh id for it (`glsl_import` found
+/// none).
+pub(super) fn add_glsl_import(module: &mut Module, id: Option<Word>) {
+    let imported = module.ext_inst_imports.iter().any(|i| i.result_id == id);
+    if let Some(id) = id.filter(|_| !imported) {
+        module.ext_inst_imports.push(inst(
+            Op::ExtInstImport,
+            None,
+            Some(id),
+            vec![Operand::LiteralString("GLSL.std.450".to_owned())],
+        ));
+    }
+}

@@ -27,33 +27,6 @@ fn unsupported(detail: String) -> SpirvError {
     }
 }
 
-/// Whether `op` samples through a sampler (and so must be one the rewrite takes).
-fn samples(op: Op) -> bool {
-    matches!(
-        op,
-        Op::ImageSampleImplicitLod
-            | Op::ImageSampleExplicitLod
-            | Op::ImageSampleDrefImplicitLod
-            | Op::ImageSampleDrefExplicitLod
-            | Op::ImageSampleProjImplicitLod
-            | Op::ImageSampleProjExplicitLod
-            | Op::ImageSampleProjDrefImplicitLod
-            | Op::ImageSampleProjDrefExplicitLod
-            | Op::ImageGather
-            | Op::ImageDrefGather
-            | Op::ImageSparseSampleImplicitLod
-            | Op::ImageSparseSampleExplicitLod
-            | Op::ImageSparseSampleDrefImplicitLod
-            | Op::ImageSparseSampleDrefExplicitLod
-            | Op::ImageSparseSampleProjImplicitLod
-            | Op::ImageSparseSampleProjExplicitLod
-            | Op::ImageSparseSampleProjDrefImplicitLod
-            | Op::ImageSparseSampleProjDrefExplicitLod
-            | Op::ImageSparseGather
-            | Op::ImageSparseDrefGather
-    )
-}
-
 /// Divides the coordinate of every sample taken through the samplers at `at` ((set, binding),
 /// combined or separate) by its image's size.
 pub(super) fn normalize_coordinates(
@@ -95,13 +68,7 @@ pub(super) fn normalize_coordinates(
     let mut touched = false;
     // GLSL.std.450, imported where a nearest sample needs its `Floor`, and one half of each
     // coordinate type.
-    let mut glsl: Option<Word> = module
-        .ext_inst_imports
-        .iter()
-        .find(|i| {
-            matches!(i.operands.first(), Some(Operand::LiteralString(n)) if n == "GLSL.std.450")
-        })
-        .and_then(|i| i.result_id);
+    let mut glsl: Option<Word> = super::ops::glsl_import(module);
     let mut halves: HashMap<Word, Word> = HashMap::new();
     let mut functions = std::mem::take(&mut module.functions);
     for f in &mut functions {
@@ -109,7 +76,9 @@ pub(super) fn normalize_coordinates(
             let mut out = Vec::with_capacity(block.instructions.len());
             for mut s in std::mem::take(&mut block.instructions) {
                 let nearest = match id_ref(s.operands.first()).and_then(|x| root.get(&x)) {
-                    Some(var) if samples(s.class.opcode) => vars.get(var).copied().unwrap_or(false),
+                    Some(var) if super::ops::samples_through_sampler(s.class.opcode) => {
+                        vars.get(var).copied().unwrap_or(false)
+                    }
                     _ => {
                         out.push(s);
                         continue;
@@ -230,15 +199,7 @@ pub(super) fn normalize_coordinates(
     module.functions = functions;
     if touched {
         module.types_global_values.extend(added);
-        let imported = module.ext_inst_imports.iter().any(|i| i.result_id == glsl);
-        if let Some(id) = glsl.filter(|_| !imported) {
-            module.ext_inst_imports.push(inst(
-                Op::ExtInstImport,
-                None,
-                Some(id),
-                vec![Operand::LiteralString("GLSL.std.450".to_owned())],
-            ));
-        }
+        super::ops::add_glsl_import(module, glsl);
         let has_query = module
             .capabilities
             .iter()
