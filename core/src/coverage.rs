@@ -163,6 +163,13 @@ pub fn state_set_by(command: &str) -> Option<&'static str> {
     setter_state(command.strip_prefix("vkCmdSet")?)
 }
 
+/// Whether two dynamic-state names are one state, an extension's spelling or the core one.
+pub fn same_state(a: &str, b: &str) -> bool {
+    let bare = |s: &str| s.trim_end_matches("_EXT").trim_end_matches("_KHR").len();
+    let (la, lb) = (bare(a), bare(b));
+    la == lb && a[..la] == b[..lb]
+}
+
 /// The dynamic state a `vkCmdSet*` command sets, for the commands that set one.
 fn setter_state(short: &str) -> Option<&'static str> {
     let base = ["EXT", "KHR", "NV"]

@@ -350,6 +350,61 @@ fn dynamic_state_calls_reach_the_draws() {
     }
 }
 
+/// A `vkCmdSet*` the import cannot read leaves its state unknown, not at the value set
+/// before: a draw whose pipeline takes that state dynamically is refused with the setter
+/// named; a state the pipeline does not take, or one set again readably, changes nothing.
+#[test]
+fn a_dynamic_state_set_by_an_unreadable_call_refuses_the_draws_that_use_it() {
+    let dir = temp("unread-state");
+    let unreadable = |extra: Option<String>| {
+        move |lines: Vec<String>| {
+            let mut out = Vec::new();
+            for line in lines {
+                if let Some((cb, name)) = call_of(&line)
+                    && name == "vkCmdDraw"
+                {
+                    // No height: the viewport cannot be read.
+                    let broken = json!({"firstViewport": 0, "viewportCount": 1,
+                        "pViewports": [{"x": 0.0, "y": 0.0, "width": 64.0, "minDepth": 0.0, "maxDepth": 1.0}]});
+                    out.push(cmd_line(9, "vkCmdSetViewport", cb, broken));
+                    out.push(cmd_line(10, "vkCmdSetDepthBias", cb, json!({})));
+                    if let Some(e) = &extra {
+                        out.push(e.replace("CB", &cb.to_string()));
+                    }
+                }
+                out.push(line);
+            }
+            out
+        }
+    };
+    let (v, said) = import_stream(&dir, unreadable(None));
+    let why = v["source"]["not_replayable"].as_str().unwrap_or_default();
+    for part in [
+        "VK_DYNAMIC_STATE_VIEWPORT dynamically",
+        "vkCmdSetViewport #9",
+        "(vkCmdDraw #",
+    ] {
+        assert!(why.contains(part), "missing {part:?} in {why:?}");
+        assert!(said.contains(part), "missing {part:?} in:\n{said}");
+    }
+    assert!(!why.contains("DEPTH_BIAS"), "{why:?}");
+
+    let again = json!({"firstViewport": 0, "viewportCount": 1,
+        "pViewports": [{"x": 0.0, "y": 0.0, "width": 64.0, "height": 64.0, "minDepth": 0.0, "maxDepth": 1.0}]});
+    let set = cmd_line(11, "vkCmdSetViewport", 0, again)
+        .replace("\"commandBuffer\":0", "\"commandBuffer\":CB");
+    let (v, _) = import_stream(&dir, unreadable(Some(set)));
+    let why = v["source"]["not_replayable"].as_str().unwrap_or_default();
+    assert!(!why.contains("VK_DYNAMIC_STATE"), "{why:?}");
+    assert!(!draws(&v).is_empty());
+    for d in draws(&v) {
+        assert_eq!(
+            d["vulkan_state"]["viewport"],
+            json!([0.0, 0.0, 64.0, 64.0, 0.0, 1.0])
+        );
+    }
+}
+
 /// The draws of each render pass moved into a secondary command buffer executed inside it
 /// (`VK_SUBPASS_CONTENTS_SECONDARY_COMMAND_BUFFERS`): imported into the same passes, with
 /// the same draws, as the program recorded them inline.

@@ -44,6 +44,8 @@ pub struct DrawCmd {
     /// The graphics pipeline bound.
     pub pipeline: Option<u64>,
     pub state: VkCommandState,
+    /// Dynamic states whose latest setter could not be read (state, the call and why).
+    pub unread: Vec<(&'static str, Box<str>)>,
 }
 
 /// `vkCmdDrawIndirectCount`'s count buffer, the most records it draws, and how far apart

@@ -47,6 +47,9 @@ struct Bound {
     slots: [SetSlots; 2],
     /// The dynamic states `vkCmdSet*` calls set since the graphics pipeline was bound.
     set_states: std::collections::BTreeSet<&'static str>,
+    /// Dynamic states whose latest `vkCmdSet*` could not be read, with that call and why:
+    /// the value the draws after it hold is not known.
+    unread: BTreeMap<&'static str, Box<str>>,
 }
 
 /// Command buffers' recordings by handle, boxed so that moving one is a pointer's copy.
@@ -168,10 +171,33 @@ impl Recording {
         args: &Arg<'_>,
         objects: &Objects,
     ) -> Got<bool> {
+        let Some(state) = crate::coverage::state_set_by(name) else {
+            return self.record_cmd(func, name, call_index, args, objects);
+        };
+        self.bound.set_states.insert(state);
+        let recorded = self.record_cmd(func, name, call_index, args, objects);
+        // A setter that cannot be read leaves the state unknown, not at its earlier value:
+        // draws whose pipeline takes it dynamically are refused rather than drawn with it.
+        match &recorded {
+            Ok(_) => self.bound.unread.remove(state),
+            Err(Skip(why)) => self
+                .bound
+                .unread
+                .insert(state, format!("{name} #{call_index}: {why}").into()),
+        };
+        recorded
+    }
+
+    #[allow(clippy::ptr_arg)]
+    fn record_cmd(
+        &mut self,
+        func: CmdFunc,
+        name: &Cow<'static, str>,
+        call_index: u64,
+        args: &Arg<'_>,
+        objects: &Objects,
+    ) -> Got<bool> {
         let origin = || Origin::call(name, call_index);
-        if let Some(state) = crate::coverage::state_set_by(name) {
-            self.bound.set_states.insert(state);
-        }
         let cmd = match func {
             CmdFunc::BindPipeline => {
                 let point = compute_point(&args.get("pipelineBindPoint")?)?;
@@ -805,6 +831,12 @@ impl Recording {
             },
             pipeline: self.bound.pipelines.get(&false).copied(),
             state: self.state(false),
+            unread: self
+                .bound
+                .unread
+                .iter()
+                .map(|(&s, why)| (s, why.clone()))
+                .collect(),
         }
     }
 }

@@ -78,6 +78,9 @@ impl Builder {
                         if let Some(why) = unpacked_records(d) {
                             self.refuse_in(Some(pass), recording.at.get(i), &why);
                         }
+                        if let Some(why) = unread_state(d, pipelines) {
+                            self.refuse_in(Some(pass), recording.at.get(i), &why);
+                        }
                         self.draw(objects, pipelines, pass, d);
                     }
                     Some((_, _, None)) => {}
@@ -209,6 +212,19 @@ fn unpacked_records(d: &DrawCmd) -> Option<String> {
             c.stride
         )
     })
+}
+
+/// A draw whose pipeline takes a dynamic state that the command buffer last set with a call
+/// the import could not read: the value it draws with is not known.
+fn unread_state(d: &DrawCmd, pipelines: &Pipelines) -> Option<String> {
+    let declared = pipelines.dynamic_states(d.pipeline?)?;
+    let (state, why) = d
+        .unread
+        .iter()
+        .find(|(s, _)| declared.iter().any(|x| crate::coverage::same_state(x, s)))?;
+    Some(format!(
+        "a draw whose pipeline takes {state} dynamically, last set by a call that could not be read ({why})"
+    ))
 }
 
 /// The call a command of `recording` came from, for the commands whose work goes into the pass
