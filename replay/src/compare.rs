@@ -78,17 +78,25 @@ pub struct TextureComparison {
     pub images: Option<(image::RgbaImage, image::RgbaImage, Option<image::RgbImage>)>,
 }
 
-fn read(session: &Session, index: usize) -> Result<Vec<DecodedImage>, String> {
+/// Why a texture was not read back for the comparison.
+#[derive(Debug, thiserror::Error)]
+enum NotRead {
+    #[error("{}", .0.0)]
+    Format(decode::Unreadable),
+    #[error(transparent)]
+    Read(#[from] decode::ReadError),
+}
+
+fn read(session: &Session, index: usize) -> Result<Vec<DecodedImage>, NotRead> {
     let spec = &session.plan.textures[index];
-    let format = decode::readable_format(spec).map_err(|u| u.0.to_owned())?;
-    decode::read_texture(
+    let format = decode::readable_format(spec).map_err(NotRead::Format)?;
+    Ok(decode::read_texture(
         &session.device,
         &session.queue,
         session.texture(index),
         spec,
         format,
-    )
-    .map_err(|e| e.to_string())
+    )?)
 }
 
 fn compare_one(
@@ -106,7 +114,11 @@ fn compare_one(
     };
     let (da, db) = match (read(a, ia), read(b, ib)) {
         (Ok(x), Ok(y)) => (x, y),
-        (Err(why), _) | (_, Err(why)) => return state(TextureState::NotCompared { why }),
+        (Err(why), _) | (_, Err(why)) => {
+            return state(TextureState::NotCompared {
+                why: why.to_string(),
+            });
+        }
     };
     let shape = |d: &[DecodedImage]| -> Vec<(u32, u32, u32, u32)> {
         d.iter()

@@ -61,7 +61,7 @@ impl Deny {
 }
 
 /// `errors`, `warnings`, a lint code (`FL020`) or a lint name (`barrier-missing`).
-pub fn parse_deny(text: &str) -> Result<Deny, String> {
+pub fn parse_deny(text: &str) -> anyhow::Result<Deny> {
     match text {
         "errors" => return Ok(Deny::Errors),
         "warnings" => return Ok(Deny::Warnings),
@@ -72,7 +72,9 @@ pub fn parse_deny(text: &str) -> Result<Deny, String> {
         .find(|k| k.code().eq_ignore_ascii_case(text) || k.name() == text)
         .map(|k| Deny::Code(k.code()))
         .ok_or_else(|| {
-            format!("\"{text}\" is not `errors`, `warnings`, a lint code (FL001..) or a lint name")
+            anyhow::anyhow!(
+                "\"{text}\" is not `errors`, `warnings`, a lint code (FL001..) or a lint name"
+            )
         })
 }
 

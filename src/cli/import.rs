@@ -19,17 +19,17 @@ use framelab_core::import::{
 use super::{count, print_diagnostics, print_stdout};
 
 /// `N` or `A-B` (0-based, inclusive).
-pub(crate) fn parse_frames(text: &str) -> Result<(u32, u32), String> {
+pub(crate) fn parse_frames(text: &str) -> anyhow::Result<(u32, u32)> {
     let num = |s: &str| {
         s.trim()
             .parse::<u32>()
-            .map_err(|_| format!("\"{s}\" is not a frame number"))
+            .map_err(|_| anyhow::anyhow!("\"{s}\" is not a frame number"))
     };
     match text.split_once('-') {
         Some((a, b)) => {
             let (a, b) = (num(a)?, num(b)?);
             if a > b {
-                return Err(format!("frame range {a}-{b} is empty"));
+                return Err(anyhow::anyhow!("frame range {a}-{b} is empty"));
             }
             Ok((a, b))
         }

@@ -93,34 +93,36 @@ pub struct InspectArgs {
     pub cache_mb: u64,
 }
 
-fn parse_size(text: &str) -> Result<(u32, u32), String> {
+fn parse_size(text: &str) -> anyhow::Result<(u32, u32)> {
     let (w, h) = text
         .split_once('x')
-        .ok_or_else(|| format!("\"{text}\" is not WxH"))?;
+        .ok_or_else(|| anyhow::anyhow!("\"{text}\" is not WxH"))?;
     let parse = |s: &str| s.parse::<u32>().ok().filter(|v| (64..=8192).contains(v));
     match (parse(w), parse(h)) {
         (Some(w), Some(h)) => Ok((w, h)),
-        _ => Err(format!("\"{text}\": width and height must be 64..8192")),
+        _ => Err(anyhow::anyhow!(
+            "\"{text}\": width and height must be 64..8192"
+        )),
     }
 }
 
-fn parse_pane(text: &str) -> Result<Pane, String> {
+fn parse_pane(text: &str) -> anyhow::Result<Pane> {
     Pane::ALL
         .into_iter()
         .find(|p| p.title().eq_ignore_ascii_case(text))
         .ok_or_else(|| {
             let names: Vec<&str> = Pane::ALL.iter().map(|p| p.title()).collect();
-            format!("\"{text}\" is not a panel ({})", names.join(", "))
+            anyhow::anyhow!("\"{text}\" is not a panel ({})", names.join(", "))
         })
 }
 
-fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
+fn parse_pixel(text: &str) -> anyhow::Result<(u32, u32)> {
     let (x, y) = text
         .split_once(',')
-        .ok_or_else(|| format!("\"{text}\" is not X,Y"))?;
+        .ok_or_else(|| anyhow::anyhow!("\"{text}\" is not X,Y"))?;
     match (x.trim().parse(), y.trim().parse()) {
         (Ok(x), Ok(y)) => Ok((x, y)),
-        _ => Err(format!("\"{text}\": X and Y must be whole numbers")),
+        _ => Err(anyhow::anyhow!("\"{text}\": X and Y must be whole numbers")),
     }
 }
 
@@ -397,10 +399,10 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
     }
 }
 
-fn parse_measure(s: &str) -> Result<usize, String> {
+fn parse_measure(s: &str) -> anyhow::Result<usize> {
     let measures = framelab_ui::panels::work::MEASURES;
     measures
         .iter()
         .position(|m| *m == s)
-        .ok_or_else(|| format!("not a measure; one of {}", measures.join(", ")))
+        .ok_or_else(|| anyhow::anyhow!("not a measure; one of {}", measures.join(", ")))
 }

@@ -412,25 +412,27 @@ pub(crate) fn print_diagnostics(diagnostics: &[Diagnostic], file: &std::path::Pa
     }
 }
 
-pub(crate) fn parse_scale(text: &str) -> Result<f64, String> {
+pub(crate) fn parse_scale(text: &str) -> anyhow::Result<f64> {
     let v: f64 = text
         .parse()
-        .map_err(|_| format!("\"{text}\" is not a number"))?;
+        .map_err(|_| anyhow::anyhow!("\"{text}\" is not a number"))?;
     if v.is_finite() && v > 0.0 && v <= 16.0 {
         Ok(v)
     } else {
-        Err(format!("scale must be in (0, 16], not {v}"))
+        Err(anyhow::anyhow!("scale must be in (0, 16], not {v}"))
     }
 }
 
-pub(crate) fn parse_percent(text: &str) -> Result<f64, String> {
+pub(crate) fn parse_percent(text: &str) -> anyhow::Result<f64> {
     let v: f64 = text
         .parse()
-        .map_err(|_| format!("\"{text}\" is not a number"))?;
+        .map_err(|_| anyhow::anyhow!("\"{text}\" is not a number"))?;
     if v.is_finite() && (0.0..=1000.0).contains(&v) {
         Ok(v)
     } else {
-        Err(format!("a percentage must be in [0, 1000], not {v}"))
+        Err(anyhow::anyhow!(
+            "a percentage must be in [0, 1000], not {v}"
+        ))
     }
 }
 

@@ -15,10 +15,10 @@ pub fn page<T: serde::Serialize>(
     rows: &[T],
     name: impl Fn(&T) -> &str,
     a: &ListArgs,
-) -> Result<Value, String> {
+) -> anyhow::Result<Value> {
     let limit = a.limit.unwrap_or(DEFAULT_ROWS);
     if limit > MAX_ROWS {
-        return Err(format!(
+        return Err(anyhow::anyhow!(
             "limit {limit} is over the {MAX_ROWS} rows one call returns; page with offset"
         ));
     }
@@ -35,7 +35,7 @@ pub fn page<T: serde::Serialize>(
     }))
 }
 
-pub fn pass_details(o: &Opened, pass: &str) -> Result<Value, String> {
+pub fn pass_details(o: &Opened, pass: &str) -> anyhow::Result<Value> {
     let Some(info) = o.info.passes.iter().find(|p| p.name == pass) else {
         return Err(unknown(
             "pass",
@@ -77,29 +77,31 @@ pub struct Target<'a> {
 /// The texture request checked against the capture before any replay: the resource is a
 /// texture, the pass exists, the subresource is in range; and what the summary says before
 /// the pixels: the format and whether a pass up to `after_pass` writes it.
-pub fn texture_checks(o: &Opened, a: &Target<'_>) -> Result<Value, String> {
+pub fn texture_checks(o: &Opened, a: &Target<'_>) -> anyhow::Result<Value> {
     let (mip, layer, slice) = a.sub;
     let r = find_resource(o, a.resource)?;
     if r.format.is_none() {
-        return Err(format!("\"{}\" is a buffer, not a texture", r.name));
+        return Err(anyhow::anyhow!("\"{}\" is a buffer, not a texture", r.name));
     }
     let order = &o.report.order;
     let upto = passes_through(o, a.after_pass)?;
     if mip >= r.mip_levels {
-        return Err(format!(
+        return Err(anyhow::anyhow!(
             "mip {mip}: \"{}\" has {} mip level(s)",
-            r.name, r.mip_levels
+            r.name,
+            r.mip_levels
         ));
     }
     if layer >= r.array_layers {
-        return Err(format!(
+        return Err(anyhow::anyhow!(
             "layer {layer}: \"{}\" has {} layer(s)",
-            r.name, r.array_layers
+            r.name,
+            r.array_layers
         ));
     }
     let depth = (r.depth >> mip).max(1);
     if slice >= depth {
-        return Err(format!(
+        return Err(anyhow::anyhow!(
             "slice {slice}: mip {mip} of \"{}\" has {depth} slice(s)",
             r.name
         ));
@@ -196,7 +198,7 @@ pub fn fit(img: image::RgbaImage, side: u32) -> image::RgbaImage {
 }
 
 /// The capture's resource `name`, or an error with the closest names.
-pub fn find_resource<'o>(o: &'o Opened, name: &str) -> Result<&'o ResourceDesc, String> {
+pub fn find_resource<'o>(o: &'o Opened, name: &str) -> anyhow::Result<&'o ResourceDesc> {
     let resources = &o.analysed.capture.resources;
     resources.iter().find(|r| r.name == name).ok_or_else(|| {
         unknown(
@@ -210,7 +212,7 @@ pub fn find_resource<'o>(o: &'o Opened, name: &str) -> Result<&'o ResourceDesc, 
 
 /// How many passes of the order run up to and including `after` (all of them for `None`), or
 /// an error with the closest pass names.
-pub fn passes_through(o: &Opened, after: Option<&str>) -> Result<usize, String> {
+pub fn passes_through(o: &Opened, after: Option<&str>) -> anyhow::Result<usize> {
     let order = &o.report.order;
     let Some(p) = after else {
         return Ok(order.len());

@@ -12,11 +12,11 @@ use framelab_core::import::{FileImportError, ImportOptions, import_file, sniff_f
 /// Whether `path` is one `framelab import` reads rather than a framelab capture, by its first
 /// bytes: a file that cannot begin an import stream (a framelab capture among them) is left to
 /// the capture loader, which says what is wrong with it.
-pub fn is_import(path: &Path) -> Result<bool, String> {
+pub fn is_import(path: &Path) -> anyhow::Result<bool> {
     match sniff_file(path) {
         Ok(_) => Ok(true),
         Err(FileImportError::NotAStream { .. }) => Ok(false),
-        Err(e) => Err(e.to_string()),
+        Err(e) => Err(e.into()),
     }
 }
 
@@ -27,7 +27,7 @@ pub fn scratch() -> PathBuf {
 
 /// Imports `path` and writes the capture and its side files into `dir` (made anew); returns
 /// the capture file written there.
-pub fn import_into(path: &Path, dir: &Path) -> Result<PathBuf, String> {
+pub fn import_into(path: &Path, dir: &Path) -> anyhow::Result<PathBuf> {
     let stem = path.file_stem().map_or_else(
         || "imported".to_owned(),
         |s| s.to_string_lossy().into_owned(),
@@ -40,21 +40,21 @@ pub fn import_into(path: &Path, dir: &Path) -> Result<PathBuf, String> {
 
 /// Imports `path` and writes the capture at `capture`, its side files beside it; a capture
 /// that does not validate is refused with its first problems.
-pub fn import_to(path: &Path, capture: &Path) -> Result<(), String> {
+pub fn import_to(path: &Path, capture: &Path) -> anyhow::Result<()> {
     if let Some(parent) = capture.parent() {
         std::fs::create_dir_all(parent)
-            .map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
+            .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", parent.display()))?;
     }
     match import_file(path, capture, &ImportOptions::default()) {
         Ok(_) => Ok(()),
         Err(FileImportError::Invalid { name, diagnostics }) => {
             let shown: Vec<String> = diagnostics.iter().take(5).map(|d| d.to_string()).collect();
-            Err(format!(
+            Err(anyhow::anyhow!(
                 "the capture imported from {name} does not validate ({} problems; nothing was written): {}",
                 diagnostics.len(),
                 shown.join("; ")
             ))
         }
-        Err(e) => Err(e.to_string()),
+        Err(e) => Err(e.into()),
     }
 }

@@ -31,7 +31,7 @@ pub struct Request {
     /// Called with (passes submitted, passes to submit) as the replay goes.
     pub progress: Box<dyn Fn(usize, usize) + Send>,
     pub cancel: CancellationToken,
-    pub reply: tokio::sync::oneshot::Sender<Result<Arc<DecodedImage>, String>>,
+    pub reply: tokio::sync::oneshot::Sender<anyhow::Result<Arc<DecodedImage>>>,
 }
 
 /// Frames replayed and timed, as `framelab replay --timings` does.
@@ -42,7 +42,7 @@ pub struct Timings {
     /// Called with (frames done, frames to run).
     pub progress: Box<dyn Fn(usize, usize) + Send>,
     pub cancel: CancellationToken,
-    pub reply: tokio::sync::oneshot::Sender<Result<framelab_core::timing::TimingReport, String>>,
+    pub reply: tokio::sync::oneshot::Sender<anyhow::Result<framelab_core::timing::TimingReport>>,
 }
 
 /// Bytes of a buffer as they stood after a pass of frame 0.
@@ -53,7 +53,7 @@ pub struct BufferRequest {
     pub length: u64,
     pub progress: Box<dyn Fn(usize, usize) + Send>,
     pub cancel: CancellationToken,
-    pub reply: tokio::sync::oneshot::Sender<Result<BufferBytes, String>>,
+    pub reply: tokio::sync::oneshot::Sender<anyhow::Result<BufferBytes>>,
 }
 
 /// The bytes read, and the ways the buffer can be read as rows (the inspector's).
@@ -89,11 +89,11 @@ impl Worker {
         }
     }
 
-    pub fn send(&self, request: Job) -> Result<(), String> {
+    pub fn send(&self, request: Job) -> anyhow::Result<()> {
         self.jobs
             .as_ref()
             .and_then(|j| j.send(request).ok())
-            .ok_or_else(|| "the replay worker has stopped".to_owned())
+            .ok_or_else(|| anyhow::anyhow!("the replay worker has stopped"))
     }
 }
 
@@ -126,22 +126,18 @@ struct Held {
     read_back: Option<(ReadKey, Arc<DecodedImage>)>,
 }
 
-fn start(path: &std::path::Path, scale: f64) -> Result<Held, String> {
+fn start(path: &std::path::Path, scale: f64) -> anyhow::Result<Held> {
     let options = Options {
         scale,
         ..Options::default()
     };
-    let analysed = Analysed::for_replay(path, &options, AnalyzeOptions { cull: false })
-        .map_err(|e| e.to_string())?;
-    let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
-        .map_err(|e| e.to_string())?;
-    let lowered = analysed
-        .lower(ctx.device.features(), &ctx.summary.name)
-        .map_err(|e| e.to_string())?;
+    let analysed = Analysed::for_replay(path, &options, AnalyzeOptions { cull: false })?;
+    let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())?;
+    let lowered = analysed.lower(ctx.device.features(), &ctx.summary.name)?;
     let texture_of = lowered.texture_of.clone();
     let buffer_of = lowered.buffer_of.clone();
     let buffer_views = framelab_core::buffer_views::buffer_views(&lowered.plan);
-    let replaying = Replaying::start(&ctx, lowered).map_err(|e| e.to_string())?;
+    let replaying = Replaying::start(&ctx, lowered)?;
     Ok(Held {
         replaying,
         ctx,
@@ -154,7 +150,7 @@ fn start(path: &std::path::Path, scale: f64) -> Result<Held, String> {
 }
 
 fn serve(path: &std::path::Path, scale: f64, inbox: &mpsc::Receiver<Job>) {
-    let mut held: Option<Result<Held, String>> = None;
+    let mut held: Option<anyhow::Result<Held>> = None;
     while let Ok(job) = inbox.recv() {
         let after = match &job {
             Job::Timings(_) => None,
@@ -177,14 +173,14 @@ fn serve(path: &std::path::Path, scale: f64, inbox: &mpsc::Receiver<Job>) {
             Job::Texture(r) => {
                 let answer = match held.get_or_insert_with(|| start(path, scale)) {
                     Ok(h) => read(h, &r),
-                    Err(e) => Err(format!("the capture cannot be replayed here: {e}")),
+                    Err(e) => Err(anyhow::anyhow!("the capture cannot be replayed here: {e}")),
                 };
                 let _ = r.reply.send(answer);
             }
             Job::Buffer(r) => {
                 let answer = match held.get_or_insert_with(|| start(path, scale)) {
                     Ok(h) => read_buffer(h, &r),
-                    Err(e) => Err(format!("the capture cannot be replayed here: {e}")),
+                    Err(e) => Err(anyhow::anyhow!("the capture cannot be replayed here: {e}")),
                 };
                 let _ = r.reply.send(answer);
             }
@@ -197,12 +193,12 @@ fn timings(
     path: &std::path::Path,
     scale: f64,
     t: &Timings,
-) -> Result<framelab_core::timing::TimingReport, String> {
-    let mut h =
-        start(path, scale).map_err(|e| format!("the capture cannot be replayed here: {e}"))?;
+) -> anyhow::Result<framelab_core::timing::TimingReport> {
+    let mut h = start(path, scale)
+        .map_err(|e| anyhow::anyhow!("the capture cannot be replayed here: {e}"))?;
     let frames = t.frames as usize;
     if !h.replaying.session.set_counting(t.counters) {
-        return Err(format!(
+        return Err(anyhow::anyhow!(
             "{} has no pipeline statistics queries: work counters cannot be measured on it",
             h.ctx.summary.name
         ));
@@ -214,16 +210,16 @@ fn timings(
                 h.replaying.capture().name,
                 f + 1
             );
-            return Err("cancelled".to_owned());
+            anyhow::bail!("cancelled");
         }
-        h.replaying.frame(f, None).map_err(|e| e.to_string())?;
+        h.replaying.frame(f, None)?;
         (t.progress)(f as usize + 1, frames);
     }
     Ok(h.replaying.report(0))
 }
 
 /// The plan pass after which a request reads (the last one when it names none).
-fn stop_of(h: &Held, after: &Option<String>) -> Result<Option<usize>, String> {
+fn stop_of(h: &Held, after: &Option<String>) -> anyhow::Result<Option<usize>> {
     match after {
         None => Ok(h.replaying.session.plan.passes.len().checked_sub(1)),
         Some(name) => {
@@ -233,7 +229,7 @@ fn stop_of(h: &Held, after: &Option<String>) -> Result<Option<usize>, String> {
                 .passes
                 .iter()
                 .find(|p| &p.name == name)
-                .ok_or_else(|| format!("no pass \"{name}\""))?
+                .ok_or_else(|| anyhow::anyhow!("no pass \"{name}\""))?
                 .id;
             h.replaying
                 .pass_ids
@@ -241,7 +237,7 @@ fn stop_of(h: &Held, after: &Option<String>) -> Result<Option<usize>, String> {
                 .position(|&p| p == id)
                 .map(Some)
                 .ok_or_else(|| {
-                    format!(
+                    anyhow::anyhow!(
                         "pass \"{name}\" is not replayed (culled, or outside the replayed order)"
                     )
                 })
@@ -255,21 +251,21 @@ fn plan_index(
     of: &std::collections::BTreeMap<framelab_core::capture::model::ResourceId, usize>,
     name: &str,
     kind: &str,
-) -> Result<usize, String> {
+) -> anyhow::Result<usize> {
     let resource = h
         .replaying
         .capture()
         .resources
         .iter()
         .find(|x| x.name == name)
-        .ok_or_else(|| format!("no resource \"{name}\""))?
+        .ok_or_else(|| anyhow::anyhow!("no resource \"{name}\""))?
         .id;
     of.get(&resource)
         .copied()
-        .ok_or_else(|| format!("\"{name}\" is not a {kind} the replay creates"))
+        .ok_or_else(|| anyhow::anyhow!("\"{name}\" is not a {kind} the replay creates"))
 }
 
-fn read(h: &mut Held, r: &Request) -> Result<Arc<DecodedImage>, String> {
+fn read(h: &mut Held, r: &Request) -> anyhow::Result<Arc<DecodedImage>> {
     let texture = plan_index(h, &h.texture_of, &r.resource, "texture")?;
     advance(h, &r.after, &r.cancel, &r.progress)?;
     let key = (texture, h.at, r.mip, r.layer, r.slice);
@@ -279,7 +275,7 @@ fn read(h: &mut Held, r: &Request) -> Result<Arc<DecodedImage>, String> {
         return Ok(image.clone());
     }
     let spec = &h.replaying.session.plan.textures[texture];
-    let format = decode::readable_format(spec).map_err(|e| e.0.to_owned())?;
+    let format = decode::readable_format(spec).map_err(|e| anyhow::anyhow!(e.0))?;
     let images = decode::read_subresource(
         &h.ctx.device,
         &h.ctx.queue,
@@ -288,13 +284,14 @@ fn read(h: &mut Held, r: &Request) -> Result<Arc<DecodedImage>, String> {
         format,
         r.mip,
         r.layer,
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     let image = Arc::new(
         images
             .into_iter()
             .find(|i| i.z.unwrap_or(0) == r.slice)
-            .ok_or_else(|| format!("no slice {} of mip {} layer {}", r.slice, r.mip, r.layer))?,
+            .ok_or_else(|| {
+                anyhow::anyhow!("no slice {} of mip {} layer {}", r.slice, r.mip, r.layer)
+            })?,
     );
     h.read_back = Some((key, image.clone()));
     Ok(image)
@@ -307,17 +304,14 @@ fn advance(
     after: &Option<String>,
     cancel: &CancellationToken,
     progress: &(dyn Fn(usize, usize) + Send),
-) -> Result<(), String> {
+) -> anyhow::Result<()> {
     let stop = stop_of(h, after)?;
     let from = match (h.at, stop) {
         (Some(at), Some(stop)) if at <= stop => at + 1,
         // A fresh session (`serve` starts one again for an earlier pass): begin the frame.
         _ => {
             let constants = h.replaying.constants(0);
-            h.replaying
-                .session
-                .begin_frame(&constants)
-                .map_err(|e| e.to_string())?;
+            h.replaying.session.begin_frame(&constants)?;
             h.at = None;
             0
         }
@@ -333,12 +327,9 @@ fn advance(
                     i + 1,
                     stop + 1
                 );
-                return Err("cancelled".to_owned());
+                anyhow::bail!("cancelled");
             }
-            h.replaying
-                .session
-                .submit_pass(i)
-                .map_err(|e| e.to_string())?;
+            h.replaying.session.submit_pass(i)?;
             h.at = Some(i);
             progress(i + 1, stop + 1);
         }
@@ -346,15 +337,16 @@ fn advance(
     Ok(())
 }
 
-fn read_buffer(h: &mut Held, r: &BufferRequest) -> Result<BufferBytes, String> {
+fn read_buffer(h: &mut Held, r: &BufferRequest) -> anyhow::Result<BufferBytes> {
     let buffer = plan_index(h, &h.buffer_of, &r.resource, "buffer")?;
     advance(h, &r.after, &r.cancel, &r.progress)?;
     let source = h.replaying.session.buffer_in_frame(buffer);
     let size = source.size();
     if r.offset >= size {
-        return Err(format!(
+        return Err(anyhow::anyhow!(
             "offset {} is past the end of \"{}\" ({size} bytes)",
-            r.offset, r.resource
+            r.offset,
+            r.resource
         ));
     }
     let length = r.length.min(size - r.offset);
@@ -365,8 +357,7 @@ fn read_buffer(h: &mut Held, r: &BufferRequest) -> Result<BufferBytes, String> {
         r.offset,
         length,
         &r.resource,
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     let layouts = h
         .buffer_views
         .iter()
@@ -387,21 +378,19 @@ pub fn what_if(
     scale: f64,
     edits: &[framelab_core::whatif::Edit],
     options: &framelab_replay::what_if::Options,
-) -> Result<framelab_replay::what_if::WhatIf, String> {
+) -> anyhow::Result<framelab_replay::what_if::WhatIf> {
     use framelab_replay::what_if::{judge, measure};
-    let loaded = Loaded::read_hashed(path).map_err(|e| e.to_string())?;
+    let loaded = Loaded::read_hashed(path)?;
     let capture_options = Options {
         scale,
         ..Options::default()
     };
-    let pair = framelab_core::whatif::variant(loaded, None, edits, &capture_options)
-        .map_err(|e| e.to_string())?;
+    let pair = framelab_core::whatif::variant(loaded, None, edits, &capture_options)?;
     let given = edits.iter().map(|e| e.spelling()).collect();
     let mut report = judge(&pair, path.display().to_string(), given, options.tolerance);
     if report.safe {
-        let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())
-            .map_err(|e| e.to_string())?;
-        measure(&mut report, &ctx, pair, options).map_err(|e| e.to_string())?;
+        let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())?;
+        measure(&mut report, &ctx, pair, options)?;
     }
     Ok(report)
 }

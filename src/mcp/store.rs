@@ -56,16 +56,16 @@ impl Store {
     }
 
     /// Refuses another capture once `MAX_OPEN` are open (checked before loading one).
-    pub fn room(&self) -> Result<(), String> {
+    pub fn room(&self) -> anyhow::Result<()> {
         if self.open.len() >= MAX_OPEN {
-            return Err(format!(
+            return Err(anyhow::anyhow!(
                 "{MAX_OPEN} captures are open: close one (close_capture) before opening another"
             ));
         }
         Ok(())
     }
 
-    pub fn insert(&mut self, opened: Opened) -> Result<(String, &Opened), String> {
+    pub fn insert(&mut self, opened: Opened) -> anyhow::Result<(String, &Opened)> {
         self.room()?;
         self.next += 1;
         let id = format!("c{}", self.next);
@@ -73,7 +73,7 @@ impl Store {
         Ok((id, entry))
     }
 
-    pub fn get(&self, id: &str) -> Result<&Opened, String> {
+    pub fn get(&self, id: &str) -> anyhow::Result<&Opened> {
         self.open.get(id).ok_or_else(|| {
             unknown(
                 "capture id",
@@ -84,18 +84,18 @@ impl Store {
         })
     }
 
-    pub fn get_mut(&mut self, id: &str) -> Result<&mut Opened, String> {
+    pub fn get_mut(&mut self, id: &str) -> anyhow::Result<&mut Opened> {
         self.get(id)?;
         self.open
             .get_mut(id)
-            .ok_or_else(|| format!("no capture \"{id}\""))
+            .ok_or_else(|| anyhow::anyhow!("no capture \"{id}\""))
     }
 
-    pub fn close(&mut self, id: &str) -> Result<Opened, String> {
+    pub fn close(&mut self, id: &str) -> anyhow::Result<Opened> {
         self.get(id)?;
         self.open
             .remove(id)
-            .ok_or_else(|| format!("no capture \"{id}\""))
+            .ok_or_else(|| anyhow::anyhow!("no capture \"{id}\""))
     }
 }
 
@@ -110,8 +110,8 @@ impl Opened {
 
 /// Loads, validates and analyses a capture file as every command does; the error is the
 /// command line's message (the file's diagnostics listed).
-pub fn load(path: &Path, scale: f64) -> Result<Opened, String> {
-    let loaded = Loaded::read(path).map_err(|e| stage_error(&e))?;
+pub fn load(path: &Path, scale: f64) -> anyhow::Result<Opened> {
+    let loaded = Loaded::read(path).map_err(|e| anyhow::anyhow!(stage_error(&e)))?;
     let recorded = loaded
         .raw
         .passes
@@ -122,10 +122,12 @@ pub fn load(path: &Path, scale: f64) -> Result<Opened, String> {
         scale,
         ..Options::default()
     };
-    let validated = loaded.validate(&options).map_err(|e| stage_error(&e))?;
+    let validated = loaded
+        .validate(&options)
+        .map_err(|e| anyhow::anyhow!(stage_error(&e)))?;
     let analysed = validated
         .analyse(AnalyzeOptions { cull: false })
-        .map_err(|e| stage_error(&e))?;
+        .map_err(|e| anyhow::anyhow!(stage_error(&e)))?;
     let info = framelab_core::info::report(&analysed.capture);
     let report = report::report(&analysed.capture, &analysed.analysis);
     let graph = report::graph_report(&analysed.analysis);
@@ -161,14 +163,14 @@ pub fn unknown<'a>(
     name: &str,
     known: impl Iterator<Item = &'a str>,
     hint: &str,
-) -> String {
+) -> anyhow::Error {
     let mut scored: Vec<(f64, &str)> = known
         .map(|k| (strsim::jaro_winkler(name, k), k))
         .filter(|(s, _)| *s > 0.8)
         .collect();
     scored.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(b.1)));
     match scored.first() {
-        Some((_, best)) => format!("no {what} \"{name}\": did you mean \"{best}\"?"),
-        None => format!("no {what} \"{name}\" ({hint})"),
+        Some((_, best)) => anyhow::anyhow!("no {what} \"{name}\": did you mean \"{best}\"?"),
+        None => anyhow::anyhow!("no {what} \"{name}\" ({hint})"),
     }
 }

@@ -50,9 +50,9 @@ fn answer(value: impl serde::Serialize) -> Answer {
 }
 
 /// The arguments as `T`, or a message naming what breaks its schema.
-fn args<T: DeserializeOwned>(tool: &str, object: JsonObject) -> Result<T, String> {
+fn args<T: DeserializeOwned>(tool: &str, object: JsonObject) -> anyhow::Result<T> {
     serde_json::from_value(Value::Object(object))
-        .map_err(|e| format!("{tool}: the arguments do not match its input schema: {e}"))
+        .map_err(|e| anyhow::anyhow!("{tool}: the arguments do not match its input schema: {e}"))
 }
 
 /// `Ok(value)` or an early tool error.
@@ -60,7 +60,7 @@ macro_rules! take {
     ($e:expr) => {
         match $e {
             Ok(v) => v,
-            Err(message) => return refuse(message),
+            Err(message) => return refuse(message.to_string()),
         }
     };
 }
@@ -94,7 +94,7 @@ impl Framelab {
         peer: &Peer<RoleServer>,
         meta: &rmcp::model::RequestMetaObject,
         cancel: tokio_util::sync::CancellationToken,
-    ) -> Result<(Value, std::sync::Arc<framelab_replay::decode::DecodedImage>), String> {
+    ) -> anyhow::Result<(Value, std::sync::Arc<framelab_replay::decode::DecodedImage>)> {
         let (reply, answer) = tokio::sync::oneshot::channel();
         let summary = {
             let mut store = self.store();
@@ -115,7 +115,7 @@ impl Framelab {
         };
         let image = answer
             .await
-            .map_err(|_| "the replay stopped".to_owned())??;
+            .map_err(|_| anyhow::anyhow!("the replay stopped"))??;
         Ok((summary, image))
     }
 
@@ -127,7 +127,7 @@ impl Framelab {
         peer: &Peer<RoleServer>,
         meta: &rmcp::model::RequestMetaObject,
         cancel: tokio_util::sync::CancellationToken,
-    ) -> Result<framelab_core::timing::TimingReport, String> {
+    ) -> anyhow::Result<framelab_core::timing::TimingReport> {
         let (reply, report) = tokio::sync::oneshot::channel();
         {
             let mut store = self.store();
@@ -141,7 +141,9 @@ impl Framelab {
             };
             o.worker().send(super::replay::Job::Timings(job))?;
         }
-        report.await.map_err(|_| "the replay stopped".to_owned())?
+        report
+            .await
+            .map_err(|_| anyhow::anyhow!("the replay stopped"))?
     }
 
     /// The canonical `path` if it lies inside every root that applies: the `--root`
@@ -150,13 +152,13 @@ impl Framelab {
     // Roots are deprecated by a protocol revision newer than the clients framelab is used
     // with, which still send them; until they stop, they are what bounds the files read.
     #[allow(deprecated)]
-    async fn allowed(&self, peer: &Peer<RoleServer>, path: &str) -> Result<PathBuf, String> {
+    async fn allowed(&self, peer: &Peer<RoleServer>, path: &str) -> anyhow::Result<PathBuf> {
         let file = Path::new(path)
             .canonicalize()
-            .map_err(|e| format!("cannot open {path}: {e}"))?;
+            .map_err(|e| anyhow::anyhow!("cannot open {path}: {e}"))?;
         let inside = |roots: &[PathBuf]| roots.iter().any(|r| file.starts_with(r));
         if !self.roots.is_empty() && !inside(&self.roots) {
-            return Err(format!(
+            return Err(anyhow::anyhow!(
                 "{} is outside the server's --root ({})",
                 file.display(),
                 list(&self.roots)
@@ -169,7 +171,7 @@ impl Framelab {
             let listed = peer
                 .list_roots()
                 .await
-                .map_err(|e| format!("cannot list the client's roots: {e}"))?;
+                .map_err(|e| anyhow::anyhow!("cannot list the client's roots: {e}"))?;
             listed
                 .roots
                 .iter()
@@ -180,7 +182,7 @@ impl Framelab {
             std::env::current_dir().into_iter().collect()
         };
         if !inside(&client) {
-            return Err(format!(
+            return Err(anyhow::anyhow!(
                 "{} is outside the client's roots ({})",
                 file.display(),
                 list(&client)
@@ -231,7 +233,9 @@ impl Framelab {
             }
         })
         .await;
-        let opened = take!(take!(loaded.map_err(|e| format!("loading stopped: {e}"))));
+        let opened = take!(take!(
+            loaded.map_err(|e| anyhow::anyhow!("loading stopped: {e}"))
+        ));
         let mut store = self.store();
         let (id, o) = take!(store.insert(opened));
         answer(json!({
@@ -299,11 +303,7 @@ impl Framelab {
             capture: o.analysed.capture.clone(),
             warnings: Vec::new(),
         };
-        let culled = take!(
-            validated
-                .analyse(AnalyzeOptions { cull: true })
-                .map_err(|e| e.to_string())
-        );
+        let culled = take!(validated.analyse(AnalyzeOptions { cull: true }));
         answer(report::report(&culled.capture, &culled.analysis))
     }
 
@@ -355,14 +355,11 @@ impl Framelab {
                     self.replay_timings(&a.b, (frames, false), &peer, &meta, cancel)
                         .await
                 );
-                let report = take!(
-                    framelab_core::timing::diff::diff(
-                        &x,
-                        &y,
-                        &framelab_core::timing::diff::DiffOptions::default()
-                    )
-                    .map_err(|e| e.to_string())
-                );
+                let report = take!(framelab_core::timing::diff::diff(
+                    &x,
+                    &y,
+                    &framelab_core::timing::diff::DiffOptions::default()
+                ));
                 answer(report)
             }
             DiffMode::Work => {
@@ -384,9 +381,7 @@ impl Framelab {
                     self.replay_timings(&a.b, (1, true), &peer, &meta, cancel)
                         .await
                 );
-                answer(take!(
-                    framelab_core::timing::work_diff::work_diff(&x, &y).map_err(|e| e.to_string())
-                ))
+                answer(take!(framelab_core::timing::work_diff::work_diff(&x, &y)))
             }
         }
     }
@@ -427,7 +422,7 @@ impl Framelab {
         take!(
             shown
                 .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
-                .map_err(|e| format!("encoding the PNG: {e}"))
+                .map_err(|e| anyhow::anyhow!("encoding the PNG: {e}"))
         );
         let mut summary = summary;
         summary["width"] = json!(image.width);
@@ -543,7 +538,9 @@ impl Framelab {
             take!(o.worker().send(super::replay::Job::Buffer(request)));
         }
         let read = take!(take!(
-            answer_rx.await.map_err(|_| "the replay stopped".to_owned())
+            answer_rx
+                .await
+                .map_err(|_| anyhow::anyhow!("the replay stopped"))
         ));
         let rows = read
             .layouts
@@ -615,7 +612,7 @@ impl Framelab {
             .chain(a.scale_resource.iter().map(|x| Edit::scale_resource(x)))
             .chain(a.merge.iter().map(|x| Edit::merge(x)))
             .collect();
-        let edits = take!(parsed.map_err(|e| e.to_string()));
+        let edits = take!(parsed);
         if edits.is_empty() {
             return refuse(
                 "what_if needs at least one edit (fix, cull, drop_barrier, format, queue, scale_resource, merge)",
@@ -639,7 +636,9 @@ impl Framelab {
             super::replay::what_if(&path, scale, &edits, &options)
         })
         .await;
-        let report = take!(take!(ran.map_err(|e| format!("what_if stopped: {e}"))));
+        let report = take!(take!(
+            ran.map_err(|e| anyhow::anyhow!("what_if stopped: {e}"))
+        ));
         let mut content = vec![ContentBlock::text(report.summary.clone())];
         for c in &report.changed {
             let Some((_, b, map)) = &c.texture.images else {
@@ -655,7 +654,7 @@ impl Framelab {
                 take!(
                     fit(img, max_size)
                         .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
-                        .map_err(|e| format!("encoding the PNG: {e}"))
+                        .map_err(|e| anyhow::anyhow!("encoding the PNG: {e}"))
                 );
                 use base64::Engine as _;
                 let data = base64::engine::general_purpose::STANDARD.encode(&png);
@@ -663,9 +662,7 @@ impl Framelab {
             }
         }
         let mut result = CallToolResult::success(content);
-        result.structured_content = Some(take!(
-            serde_json::to_value(&report).map_err(|e| e.to_string())
-        ));
+        result.structured_content = Some(take!(serde_json::to_value(&report)));
         Ok(result)
     }
 
@@ -696,16 +693,17 @@ impl Framelab {
             let mut program = vec![a.program];
             program.extend(a.args);
             let gfxr = dir.join(format!("{stem}_frame{frame}.gfxr"));
-            let written = framelab_core::import::program::take(&program, frame, timeout, &gfxr)
-                .map_err(|e| e.to_string())?;
+            let written = framelab_core::import::program::take(&program, frame, timeout, &gfxr)?;
             std::fs::rename(&written, &gfxr)
-                .map_err(|e| format!("moving the capture to {}: {e}", gfxr.display()))?;
+                .map_err(|e| anyhow::anyhow!("moving the capture to {}: {e}", gfxr.display()))?;
             let json = gfxr.with_extension("json");
             super::imports::import_to(&gfxr, &json)?;
             store::load(&json, 1.0)
         })
         .await;
-        let opened = take!(take!(loaded.map_err(|e| format!("capturing stopped: {e}"))));
+        let opened = take!(take!(
+            loaded.map_err(|e| anyhow::anyhow!("capturing stopped: {e}"))
+        ));
         let mut store = self.store();
         let (id, o) = take!(store.insert(opened));
         answer(json!({

@@ -402,7 +402,14 @@ fn pixel_history_lists_the_pass_and_draws_that_wrote_a_texel() {
     let after_scene = readout(&h, "(80, 70)");
     h.state_mut().request_history();
     settle(&mut h);
-    let history = h.state().history.clone().unwrap().unwrap();
+    let history = h
+        .state()
+        .history
+        .as_ref()
+        .unwrap()
+        .as_ref()
+        .unwrap()
+        .clone();
     // scene_color is written by the scene pass alone: its draws, then the pass.
     let passes: Vec<usize> = history
         .rows

@@ -23,6 +23,7 @@ mod gfxr_binary;
 mod gfxr_fuzz;
 mod gfxr_limits;
 mod gfxr_replay;
+mod house;
 mod import;
 mod inspector;
 mod invalid_corpus;

@@ -21,7 +21,18 @@ pub struct Shown {
 /// FLIP between the two images as shown: its mean and 99th percentile, and the error map.
 pub struct Flip {
     pub key: (ViewRequest, ViewRequest),
-    pub result: Result<FlipResult, String>,
+    pub result: Result<FlipResult, SizesDiffer>,
+}
+
+/// FLIP compares images of one size.
+#[derive(Clone, Copy, Debug, thiserror::Error)]
+#[error(
+    "the images differ in size ({}x{} here, {}x{} there): FLIP compares equal sizes",
+    .here[0], .here[1], .there[0], .there[1]
+)]
+pub struct SizesDiffer {
+    pub here: [usize; 2],
+    pub there: [usize; 2],
 }
 
 pub struct FlipResult {
@@ -84,7 +95,7 @@ pub(crate) type FlipOutput = (f32, f32, egui::ColorImage);
 /// A FLIP being computed: the two views it compares and where its result arrives.
 pub(crate) type FlipJob = (
     (ViewRequest, ViewRequest),
-    Receiver<Result<FlipOutput, String>>,
+    Receiver<Result<FlipOutput, SizesDiffer>>,
 );
 
 impl Against {
@@ -151,17 +162,15 @@ fn rgba(i: &egui::ColorImage) -> image::RgbaImage {
 pub(crate) fn flip(
     reference: &egui::ColorImage,
     test: &egui::ColorImage,
-) -> Result<FlipOutput, String> {
-    let size_error = || {
-        format!(
-            "the images differ in size ({}x{} here, {}x{} there): FLIP compares equal sizes",
-            reference.size[0], reference.size[1], test.size[0], test.size[1]
-        )
+) -> Result<FlipOutput, SizesDiffer> {
+    let differ = SizesDiffer {
+        here: reference.size,
+        there: test.size,
     };
     if reference.size != test.size {
-        return Err(size_error());
+        return Err(differ);
     }
-    let f = framelab_replay::compare::flip(&rgba(reference), &rgba(test)).ok_or_else(size_error)?;
+    let f = framelab_replay::compare::flip(&rgba(reference), &rgba(test)).ok_or(differ)?;
     let map: Vec<u8> = f
         .map
         .pixels()

@@ -240,7 +240,7 @@ impl Inspector {
                 }
                 Reply::Shown(s) => shown.push(s),
                 Reply::History(h) => {
-                    self.view.history = Some(h.map_err(|e| e.to_string()));
+                    self.view.history = Some(h);
                     self.view.history_pending = false;
                 }
                 Reply::Thumbnail {

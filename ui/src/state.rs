@@ -202,7 +202,7 @@ pub struct View {
     /// A second capture replayed beside this one for the image diff (`--against`).
     pub against: Option<crate::against::Against>,
     /// The last pixel history answered, or why not.
-    pub history: Option<Result<Arc<PixelHistory>, String>>,
+    pub history: Option<Result<Arc<PixelHistory>, crate::worker::WorkerError>>,
     /// A pixel history was asked for and not yet answered.
     pub history_pending: bool,
     /// A history a panel asked for, sent by the inspector after the frame's panels.

@@ -12,6 +12,25 @@ use super::index::{self, Index, id_ref, literal};
 /// How deep a block's types may nest before the walk stops (malformed modules included).
 const MAX_DEPTH: usize = 32;
 
+/// Where a block's layout breaks a rule of std430 (or both layouts' rule for vectors).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum LayoutBreak {
+    #[error("nests too deep")]
+    TooDeep,
+    #[error("type %{0} is not defined")]
+    Undefined(Word),
+    #[error("has an array with stride {stride}, not a multiple of its element's alignment {align}")]
+    ArrayStride { stride: u32, align: u32 },
+    #[error("has a member at offset {offset}, not a multiple of its alignment {align}")]
+    MemberOffset { offset: u32, align: u32 },
+    #[error("has a matrix with stride {stride}, not a multiple of its alignment {align}")]
+    MatrixStride { stride: u32, align: u32 },
+    #[error("holds a {0:?}")]
+    Holds(Op),
+    #[error("has a {size}-byte vector at offset {offset}")]
+    Vector { size: u32, offset: u32 },
+}
+
 /// A uniform block laid out past std140.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct BeyondStd140 {
@@ -22,7 +41,7 @@ pub struct BeyondStd140 {
     /// The first place it breaks std430's rules too (each member, array stride and matrix
     /// stride a multiple of its type's base alignment), where it does: scalar layout, which
     /// no binding wgpu makes reads.
-    pub beyond_std430: Option<String>,
+    pub beyond_std430: Option<LayoutBreak>,
     /// Where the block's widened arrays end, where its only breaks are arrays of 32-bit
     /// scalars that `std140` widens to vectors in place (the block then stays uniform).
     pub widened_end: Option<u64>,
@@ -88,14 +107,11 @@ fn block_of(index: &Index, var: &rspirv::dr::Instruction) -> Option<Word> {
 }
 
 /// The base alignment of `ty` by std430's rules, or the first place its layout breaks them.
-fn align430(index: &Index, ty: Word, depth: usize) -> Result<u32, String> {
+fn align430(index: &Index, ty: Word, depth: usize) -> Result<u32, LayoutBreak> {
     if depth > MAX_DEPTH {
-        return Err("nests too deep".to_owned());
+        return Err(LayoutBreak::TooDeep);
     }
-    let inst = index
-        .globals
-        .get(&ty)
-        .ok_or_else(|| format!("type %{ty} is not defined"))?;
+    let inst = index.globals.get(&ty).ok_or(LayoutBreak::Undefined(ty))?;
     let lit = |n: usize| literal(inst.operands.get(n)).unwrap_or(0);
     match inst.class.opcode {
         Op::TypeInt | Op::TypeFloat => Ok(lit(0) / 8),
@@ -111,9 +127,10 @@ fn align430(index: &Index, ty: Word, depth: usize) -> Result<u32, String> {
             if let Some(stride) = index.decoration_literal(ty, Decoration::ArrayStride)
                 && stride % element.max(1) != 0
             {
-                return Err(format!(
-                    "has an array with stride {stride}, not a multiple of its element's alignment {element}"
-                ));
+                return Err(LayoutBreak::ArrayStride {
+                    stride,
+                    align: element,
+                });
             }
             Ok(element)
         }
@@ -138,23 +155,19 @@ fn align430(index: &Index, ty: Word, depth: usize) -> Result<u32, String> {
                             return Err(problem);
                         }
                     } else if offset % a.max(1) != 0 {
-                        return Err(format!(
-                            "has a member at offset {offset}, not a multiple of its alignment {a}"
-                        ));
+                        return Err(LayoutBreak::MemberOffset { offset, align: a });
                     }
                 }
                 if let Some(stride) = decoration(Decoration::MatrixStride)
                     && stride % a.max(1) != 0
                 {
-                    return Err(format!(
-                        "has a matrix with stride {stride}, not a multiple of its alignment {a}"
-                    ));
+                    return Err(LayoutBreak::MatrixStride { stride, align: a });
                 }
                 align = align.max(a);
             }
             Ok(align)
         }
-        op => Err(format!("holds a {op:?}")),
+        op => Err(LayoutBreak::Holds(op)),
     }
 }
 
@@ -210,7 +223,7 @@ fn members_problem(index: &Index, ty: Word, depth: usize, skip: &[u32]) -> Optio
             return Some(format!("has a matrix with stride {stride}"));
         }
         if let Some(problem) = offset.and_then(|o| vector_placement(index, member, o)) {
-            return Some(problem);
+            return Some(problem.to_string());
         }
         if let Some(problem) = walk(index, member, depth + 1) {
             return Some(problem);
@@ -222,7 +235,7 @@ fn members_problem(index: &Index, ty: Word, depth: usize, skip: &[u32]) -> Optio
 /// Where a vector member at `offset` breaks the relaxed rule both layouts share (Vulkan 1.1's
 /// relaxed block layout): at a multiple of its component's size, and not across a 16-byte
 /// boundary unless it starts on one. `None` for other types.
-fn vector_placement(index: &Index, ty: Word, offset: u32) -> Option<String> {
+fn vector_placement(index: &Index, ty: Word, offset: u32) -> Option<LayoutBreak> {
     let inst = index.globals.get(&ty)?;
     if inst.class.opcode != Op::TypeVector {
         return None;
@@ -235,6 +248,5 @@ fn vector_placement(index: &Index, ty: Word, offset: u32) -> Option<String> {
     } else {
         !offset.is_multiple_of(16)
     };
-    (!offset.is_multiple_of(c.max(1)) || straddles)
-        .then(|| format!("has a {size}-byte vector at offset {offset}"))
+    (!offset.is_multiple_of(c.max(1)) || straddles).then_some(LayoutBreak::Vector { size, offset })
 }

@@ -72,40 +72,69 @@ fn constant_value(index: &Index, id: Word) -> Option<u32> {
     }
 }
 
+/// Why a uniform block cannot be widened to std140 in place.
+#[derive(Debug, thiserror::Error)]
+pub(super) enum NotWidened {
+    #[error("not a variable")]
+    NotVariable,
+    #[error("not a uniform variable")]
+    NotUniform,
+    #[error("no pointee")]
+    NoPointee,
+    #[error("not a block")]
+    NotBlock,
+    #[error("too many members")]
+    TooManyMembers,
+    #[error("a member with no type")]
+    MemberType,
+    #[error("a member with no offset")]
+    MemberOffset,
+    #[error("an array whose length is not a constant")]
+    LengthNotConstant,
+    #[error("an array at offset {0}, not on 16 bytes")]
+    Unaligned(u32),
+    #[error("the array at offset {start} would reach past the member at offset {next}")]
+    Overlaps { start: u64, next: u64 },
+    #[error("a pointer to the block or an array in it is used by Op{op:?} (operand {operand})")]
+    PointerUse { op: Op, operand: usize },
+    #[error("a struct member chosen by a value that is not a constant")]
+    MemberNotConstant,
+}
+
 /// How the uniform block variable `var` would be widened (`None`: it has no array to widen),
 /// or why it cannot be (an array that would overlap the next member, a pointer used otherwise
 /// than by access chains to elements).
-pub(super) fn plan(loaded: &Loaded, var: Word) -> Result<Option<Widening>, String> {
+pub(super) fn plan(loaded: &Loaded, var: Word) -> Result<Option<Widening>, NotWidened> {
     let index = Index::new(loaded);
     let g = &index;
     let ptr = g
         .globals
         .get(&var)
         .and_then(|v| v.result_type)
-        .ok_or("not a variable")?;
+        .ok_or(NotWidened::NotVariable)?;
     let Some((Op::TypePointer, [Operand::StorageClass(StorageClass::Uniform), pointee])) =
         op(g, ptr)
     else {
-        return Err("not a uniform variable".into());
+        return Err(NotWidened::NotUniform);
     };
-    let mut block = id_ref(Some(pointee)).ok_or("no pointee")?;
+    let mut block = id_ref(Some(pointee)).ok_or(NotWidened::NoPointee)?;
     let mut outer = None;
     if let Some((Op::TypeArray, [Operand::IdRef(element), Operand::IdRef(len)])) = op(g, block) {
         outer = Some(*len);
         block = *element;
     }
     let Some((Op::TypeStruct, members)) = op(g, block) else {
-        return Err("not a block".into());
+        return Err(NotWidened::NotBlock);
     };
     let mut widen = Vec::new();
     let mut offsets = Vec::new();
     for (m, ty) in members.iter().enumerate() {
-        let m = u32::try_from(m).map_err(|_| "too many members")?;
-        let ty = id_ref(Some(ty)).ok_or("a member with no type")?;
+        let m = u32::try_from(m).map_err(|_| NotWidened::TooManyMembers)?;
+        let ty = id_ref(Some(ty)).ok_or(NotWidened::MemberType)?;
         let offset = g
             .member_decoration(block, m, Decoration::Offset)
             .and_then(|ops| literal(ops.first()))
-            .ok_or("a member with no offset")?;
+            .ok_or(NotWidened::MemberOffset)?;
         offsets.push(offset);
         let Some((Op::TypeArray, [Operand::IdRef(element), Operand::IdRef(len)])) = op(g, ty)
         else {
@@ -118,9 +147,9 @@ pub(super) fn plan(loaded: &Loaded, var: Word) -> Result<Option<Widening>, Strin
         if !scalar32 || g.decoration_literal(ty, Decoration::ArrayStride) != Some(4) {
             continue;
         }
-        let n = constant_value(g, *len).ok_or("an array whose length is not a constant")?;
+        let n = constant_value(g, *len).ok_or(NotWidened::LengthNotConstant)?;
         if offset % 16 != 0 {
-            return Err(format!("an array at offset {offset}, not on 16 bytes"));
+            return Err(NotWidened::Unaligned(offset));
         }
         widen.push((m, *element, n));
     }
@@ -136,9 +165,7 @@ pub(super) fn plan(loaded: &Loaded, var: Word) -> Result<Option<Widening>, Strin
             .map(|&o| u64::from(o))
             .find(|&o| o > start && o < stop)
         {
-            return Err(format!(
-                "the array at offset {start} would reach past the member at offset {o}"
-            ));
+            return Err(NotWidened::Overlaps { start, next: o });
         }
         end = end.max(stop);
     }
@@ -160,7 +187,7 @@ fn pointers(
     var: Word,
     w: &Widening,
     g: &Index,
-) -> Result<HashMap<Word, At>, String> {
+) -> Result<HashMap<Word, At>, NotWidened> {
     let mut at: HashMap<Word, At> = HashMap::from([(var, At::Root)]);
     // Blocks are laid out with each after its dominators, so a pointer is defined before
     // every use but a phi's, which is refused below.
@@ -185,9 +212,7 @@ fn pointers(
                     if let Operand::IdRef(id) = o
                         && at.contains_key(id)
                     {
-                        return Err(format!(
-                            "a pointer to the block or an array in it is used by Op{op:?} (operand {n})"
-                        ));
+                        return Err(NotWidened::PointerUse { op, operand: n });
                     }
                 }
             }
@@ -198,7 +223,7 @@ fn pointers(
 
 /// Where an access chain from `start` through `indices` ends: `None` past the widened part
 /// (an element, or a member left as it is).
-fn walk(start: At, indices: &[Operand], w: &Widening, g: &Index) -> Result<Option<At>, String> {
+fn walk(start: At, indices: &[Operand], w: &Widening, g: &Index) -> Result<Option<At>, NotWidened> {
     let mut at = Some(start);
     for index in indices {
         at = match at {
@@ -206,7 +231,7 @@ fn walk(start: At, indices: &[Operand], w: &Widening, g: &Index) -> Result<Optio
             Some(At::Root | At::Block) => {
                 let m = id_ref(Some(index))
                     .and_then(|i| constant_value(g, i))
-                    .ok_or("a struct member chosen by a value that is not a constant")?;
+                    .ok_or(NotWidened::MemberNotConstant)?;
                 w.members().any(|x| x == m).then_some(At::Array(m))
             }
             Some(At::Array(_)) => None,
@@ -232,7 +257,7 @@ pub(super) fn widen_uniform_blocks(
     let mut vars: Vec<(Word, (u32, u32))> = at.into_iter().collect();
     vars.sort_unstable();
     for (var, (set, binding)) in vars {
-        let refuse = |detail: String| SpirvError::Unsupported {
+        let refuse = |detail: NotWidened| SpirvError::Unsupported {
             feature: "a uniform block widened to std140",
             detail: format!("the uniform block at set {set} binding {binding}: {detail}"),
         };

@@ -142,6 +142,27 @@ pub struct Sample {
 }
 
 /// Why a timing report could not be read.
+/// Where a timing report disagrees with itself.
+#[derive(Debug, thiserror::Error)]
+pub enum Inconsistency {
+    #[error("${0} holds a control character")]
+    ControlCharacter(String),
+    #[error("{0} frames, more than the {MAX_FRAMES} a replay or a diff times")]
+    TooManyFrames(u32),
+    #[error("warmup {warmup} is more than its {frames} frames")]
+    Warmup { warmup: u32, frames: u32 },
+    #[error(
+        "passes[{pass}] ({name}) has {samples} {what} samples, but the report says {frames} frames"
+    )]
+    Samples {
+        pass: usize,
+        name: String,
+        samples: usize,
+        what: &'static str,
+        frames: u32,
+    },
+}
+
 #[derive(Debug, thiserror::Error)]
 pub enum ReadError {
     #[error("{path}: not a timing report: {source}")]
@@ -150,8 +171,11 @@ pub enum ReadError {
         #[source]
         source: serde_json::Error,
     },
-    #[error("{path}: {message}")]
-    Inconsistent { path: String, message: String },
+    #[error("{path}: {problem}")]
+    Inconsistent {
+        path: String,
+        problem: Inconsistency,
+    },
     #[error(
         "{path}: timing report format_version {found} is newer than this framelab reads ({supported})"
     )]
@@ -206,7 +230,7 @@ impl TimingReport {
         if let Some(at) = hidden_text(&value) {
             return Err(ReadError::Inconsistent {
                 path: path.to_owned(),
-                message: format!("${at} holds a control character"),
+                problem: Inconsistency::ControlCharacter(at),
             });
         }
         let report: TimingReport =
@@ -223,35 +247,34 @@ impl TimingReport {
         }
         report
             .consistent()
-            .map_err(|message| ReadError::Inconsistent {
+            .map_err(|problem| ReadError::Inconsistent {
                 path: path.to_owned(),
-                message,
+                problem,
             })?;
         Ok(report)
     }
 
     /// Whether the declared frame counts agree with the samples: every per-frame list holds
     /// one sample a frame, so no reader walks frames the report does not have.
-    fn consistent(&self) -> Result<(), String> {
-        if self.frames > MAX_FRAMES {
-            return Err(format!(
-                "{} frames, more than the {MAX_FRAMES} a replay or a diff times",
-                self.frames
-            ));
+    fn consistent(&self) -> Result<(), Inconsistency> {
+        let frames = self.frames;
+        if frames > MAX_FRAMES {
+            return Err(Inconsistency::TooManyFrames(frames));
         }
-        if self.warmup > self.frames {
-            return Err(format!(
-                "warmup {} is more than its {} frames",
-                self.warmup, self.frames
-            ));
+        if self.warmup > frames {
+            let warmup = self.warmup;
+            return Err(Inconsistency::Warmup { warmup, frames });
         }
         for (i, p) in self.passes.iter().enumerate() {
             for (what, n) in [("gpu_ns", p.gpu_ns.len()), ("cpu_ns", p.cpu_ns.len())] {
-                if n as u64 != u64::from(self.frames) {
-                    return Err(format!(
-                        "passes[{i}] ({}) has {n} {what} samples, but the report says {} frames",
-                        p.name, self.frames
-                    ));
+                if n as u64 != u64::from(frames) {
+                    return Err(Inconsistency::Samples {
+                        pass: i,
+                        name: p.name.clone(),
+                        samples: n,
+                        what,
+                        frames,
+                    });
                 }
             }
         }

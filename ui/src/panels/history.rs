@@ -25,7 +25,7 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
     let h = match &app.history {
         None => return,
         Some(Err(e)) => {
-            ui.colored_label(egui::Color32::LIGHT_RED, e);
+            ui.colored_label(egui::Color32::LIGHT_RED, e.to_string());
             return;
         }
         Some(Ok(h)) => h.clone(),

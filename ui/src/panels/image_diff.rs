@@ -95,7 +95,7 @@ pub fn ui(app: &mut View, ui: &mut egui::Ui) {
             });
         }
         Some(Err(why)) => {
-            ui.colored_label(Color32::from_rgb(240, 180, 60), why);
+            ui.colored_label(Color32::from_rgb(240, 180, 60), why.to_string());
         }
         None => {}
     }

@@ -333,7 +333,7 @@ impl<R: Read> Blocks<R> {
                 }
                 let mut body = data[4..fixed - 8].to_vec();
                 let params = compress::decompress(compression, &data[fixed..], size)
-                    .map_err(|e| err(at, e))?;
+                    .map_err(|e| err(at, e.to_string()))?;
                 body.extend_from_slice(&params);
                 Ok(body)
             }

@@ -40,49 +40,67 @@ impl Compression {
 /// LZ4's block format can expand one input byte to at most 255 output bytes.
 const LZ4_MAX_RATIO: u64 = 255;
 
+/// Why a compressed payload cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum DecompressError {
+    #[error("payload marked compressed in an uncompressed capture")]
+    NotCompressed,
+    #[error(
+        "corrupt LZ4 data: {compressed} compressed bytes cannot hold the {size} bytes the block says"
+    )]
+    PastLz4Ratio { compressed: usize, size: u64 },
+    #[error("corrupt {} data: {why}", .how.name())]
+    Corrupt { how: Compression, why: String },
+    #[error("corrupt {} data: it decompresses to {got} bytes, the block says {size}", .how.name())]
+    WrongSize {
+        how: Compression,
+        got: usize,
+        size: u64,
+    },
+}
+
 /// Decompresses `data` to exactly `size` bytes.
-pub fn decompress(how: Compression, data: &[u8], size: u64) -> Result<Vec<u8>, String> {
-    let name = how.name();
+pub fn decompress(how: Compression, data: &[u8], size: u64) -> Result<Vec<u8>, DecompressError> {
+    let corrupt = |why: &dyn std::fmt::Display| DecompressError::Corrupt {
+        how,
+        why: why.to_string(),
+    };
     let out = match how {
-        Compression::None => {
-            return Err("payload marked compressed in an uncompressed capture".to_owned());
-        }
+        Compression::None => return Err(DecompressError::NotCompressed),
         Compression::Lz4 => {
             let bound = (data.len() as u64)
                 .saturating_mul(LZ4_MAX_RATIO)
                 .saturating_add(16);
             if size > bound {
-                return Err(format!(
-                    "corrupt LZ4 data: {} compressed bytes cannot hold the {size} bytes the block says",
-                    data.len()
-                ));
+                return Err(DecompressError::PastLz4Ratio {
+                    compressed: data.len(),
+                    size,
+                });
             }
-            lz4_flex::block::decompress(data, size as usize)
-                .map_err(|e| format!("corrupt LZ4 data: {e}"))?
+            lz4_flex::block::decompress(data, size as usize).map_err(|e| corrupt(&e))?
         }
-        Compression::Zlib => read_bounded(flate2::read::ZlibDecoder::new(data), size, name)?,
+        Compression::Zlib => {
+            read_bounded(flate2::read::ZlibDecoder::new(data), size).map_err(|e| corrupt(&e))?
+        }
         Compression::Zstd => {
-            let decoder = ruzstd::decoding::StreamingDecoder::new(data)
-                .map_err(|e| format!("corrupt zstd data: {e}"))?;
-            read_bounded(decoder, size, name)?
+            let decoder = ruzstd::decoding::StreamingDecoder::new(data).map_err(|e| corrupt(&e))?;
+            read_bounded(decoder, size).map_err(|e| corrupt(&e))?
         }
     };
     if out.len() as u64 != size {
-        return Err(format!(
-            "corrupt {name} data: it decompresses to {} bytes, the block says {size}",
-            out.len()
-        ));
+        return Err(DecompressError::WrongSize {
+            how,
+            got: out.len(),
+            size,
+        });
     }
     Ok(out)
 }
 
 /// Reads at most `size + 1` bytes (one more shows a payload longer than stated).
-fn read_bounded(reader: impl Read, size: u64, name: &str) -> Result<Vec<u8>, String> {
+fn read_bounded(reader: impl Read, size: u64) -> std::io::Result<Vec<u8>> {
     let mut out = Vec::new();
-    reader
-        .take(size.saturating_add(1))
-        .read_to_end(&mut out)
-        .map_err(|e| format!("corrupt {name} data: {e}"))?;
+    reader.take(size.saturating_add(1)).read_to_end(&mut out)?;
     Ok(out)
 }
 
@@ -97,7 +115,10 @@ mod tests {
         assert_eq!(decompress(Compression::Lz4, &packed, 4096).unwrap(), data);
         assert!(decompress(Compression::Lz4, &packed, 4095).is_err());
         let huge = decompress(Compression::Lz4, &packed, u64::MAX).unwrap_err();
-        assert!(huge.contains("cannot hold"), "{huge}");
+        assert!(
+            matches!(huge, DecompressError::PastLz4Ratio { .. }),
+            "{huge}"
+        );
         assert!(decompress(Compression::Lz4, &[0xff, 0xff, 0x00], 300).is_err());
     }
 

@@ -10,7 +10,7 @@
 
 use std::io::Cursor;
 
-use super::blocks::{Blocks, Kind};
+use super::blocks::{BlockError, Blocks, Kind};
 use super::decode;
 use super::registry::{self, ENUMS};
 
@@ -23,6 +23,39 @@ pub struct FieldEdit {
     pub value: u64,
 }
 
+/// Why an edit cannot be read or cannot land.
+#[derive(Debug, thiserror::Error)]
+pub enum EditError {
+    #[error("`{0}`: an edit is BLOCK:PATH=VALUE, e.g. 233:srcStageMask=1")]
+    Form(String),
+    #[error("`{0}` is neither a number nor a Vulkan enum name")]
+    Value(String),
+    #[error("{}", .0.message)]
+    Header(BlockError),
+    #[error("block {:?}: {}", .0.at, .0.message)]
+    Block(BlockError),
+    #[error("block {block}: call id {id:#x} is not in the tables")]
+    UnknownCall { block: u64, id: u32 },
+    #[error("block {block} is {kind}, not a call")]
+    NotACall { block: u64, kind: String },
+    #[error("block {block} ({call}): {problem}")]
+    NoField {
+        block: u64,
+        call: &'static str,
+        problem: super::decode::DecodeError,
+    },
+    #[error("block {block} ({call}): {value} does not fit the {width}-byte field `{path}`")]
+    TooWide {
+        block: u64,
+        call: &'static str,
+        value: u64,
+        width: usize,
+        path: String,
+    },
+    #[error("the capture has no block {0}")]
+    NoBlock(u64),
+}
+
 impl std::fmt::Display for FieldEdit {
     /// As it is written on the command line (the value as a number).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -31,12 +64,12 @@ impl std::fmt::Display for FieldEdit {
 }
 
 impl std::str::FromStr for FieldEdit {
-    type Err = String;
+    type Err = EditError;
 
     /// `BLOCK:PATH=VALUE`, the value a number (decimal or `0x` hex) or a Vulkan enum name
     /// (`VK_IMAGE_LAYOUT_GENERAL`).
-    fn from_str(s: &str) -> Result<Self, String> {
-        let form = || format!("`{s}`: an edit is BLOCK:PATH=VALUE, e.g. 233:srcStageMask=1");
+    fn from_str(s: &str) -> Result<Self, EditError> {
+        let form = || EditError::Form(s.to_owned());
         let (block, rest) = s.split_once(':').ok_or_else(form)?;
         let (path, value) = rest.split_once('=').ok_or_else(form)?;
         let block = block.trim().parse().map_err(|_| form())?;
@@ -47,8 +80,7 @@ impl std::str::FromStr for FieldEdit {
         };
         let value = match number {
             Some(v) => v,
-            None => enum_value(value)
-                .ok_or_else(|| format!("`{value}` is neither a number nor a Vulkan enum name"))?,
+            None => enum_value(value).ok_or_else(|| EditError::Value(value.to_owned()))?,
         };
         Ok(FieldEdit {
             block,
@@ -76,9 +108,9 @@ fn u64_at(b: &[u8], i: usize) -> u64 {
 /// `input` with `edits` applied. Every edit must land: a block that is not a call, a call
 /// the tables do not know, a path with no number, or a value wider than its field is an
 /// error naming the edit.
-pub fn apply(input: &[u8], edits: &[FieldEdit]) -> Result<Vec<u8>, String> {
+pub fn apply(input: &[u8], edits: &[FieldEdit]) -> Result<Vec<u8>, EditError> {
     let mut blocks =
-        Blocks::new(Cursor::new(input), Some(input.len() as u64)).map_err(|e| e.message.clone())?;
+        Blocks::new(Cursor::new(input), Some(input.len() as u64)).map_err(EditError::Header)?;
     // The header was read by `Blocks::new`: 16 bytes, then 8 per option.
     let mut options = [0u8; 4];
     options.copy_from_slice(&input[12..16]);
@@ -86,7 +118,7 @@ pub fn apply(input: &[u8], edits: &[FieldEdit]) -> Result<Vec<u8>, String> {
     let mut out = input[..header_len].to_vec();
     let mut done = vec![false; edits.len()];
     while let Some(block) = blocks.next_block() {
-        let block = block.map_err(|e| format!("block {:?}: {}", e.at, e.message))?;
+        let block = block.map_err(EditError::Block)?;
         let start = block.at.offset as usize;
         let end = start + 12 + u64_at(input, start) as usize;
         let mine: Vec<usize> = (0..edits.len())
@@ -97,25 +129,35 @@ pub fn apply(input: &[u8], edits: &[FieldEdit]) -> Result<Vec<u8>, String> {
             continue;
         }
         let def = match block.kind {
-            Kind::FunctionCall => registry::command(block.id).ok_or_else(|| {
-                format!(
-                    "block {}: call id {:#x} is not in the tables",
-                    block.at.block, block.id
-                )
+            Kind::FunctionCall => registry::command(block.id).ok_or(EditError::UnknownCall {
+                block: block.at.block,
+                id: block.id,
             })?,
-            other => return Err(format!("block {} is {other:?}, not a call", block.at.block)),
+            other => {
+                return Err(EditError::NotACall {
+                    block: block.at.block,
+                    kind: format!("{other:?}"),
+                });
+            }
         };
         // The body is the thread id, then the parameters.
         let mut body = block.body;
         for i in mine {
             let e = &edits[i];
-            let (at, width) = decode::locate(def, &body[8..], &e.path)
-                .map_err(|m| format!("block {} ({}): {m}", e.block, def.name))?;
+            let (at, width) =
+                decode::locate(def, &body[8..], &e.path).map_err(|problem| EditError::NoField {
+                    block: e.block,
+                    call: def.name,
+                    problem,
+                })?;
             if width < 8 && e.value >> (8 * width) != 0 {
-                return Err(format!(
-                    "block {} ({}): {} does not fit the {width}-byte field `{}`",
-                    e.block, def.name, e.value, e.path
-                ));
+                return Err(EditError::TooWide {
+                    block: e.block,
+                    call: def.name,
+                    value: e.value,
+                    width,
+                    path: e.path.clone(),
+                });
             }
             body[8 + at..8 + at + width].copy_from_slice(&e.value.to_le_bytes()[..width]);
             done[i] = true;
@@ -126,7 +168,7 @@ pub fn apply(input: &[u8], edits: &[FieldEdit]) -> Result<Vec<u8>, String> {
         out.extend_from_slice(&body);
     }
     if let Some(i) = done.iter().position(|d| !d) {
-        return Err(format!("the capture has no block {}", edits[i].block));
+        return Err(EditError::NoBlock(edits[i].block));
     }
     Ok(out)
 }

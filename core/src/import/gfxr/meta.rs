@@ -37,8 +37,58 @@ impl Fills {
     }
 }
 
+/// Why the capture has no room for a payload (the importer's answer to a `Fills`).
+#[derive(Debug, thiserror::Error)]
+pub enum NoRoom {
+    #[error("fills {size} bytes of memory {memory:#x}, which the capture never allocated")]
+    MemoryNeverAllocated { size: u64, memory: u64 },
+    #[error(
+        "fills {size} bytes at offset {offset} of memory {memory:#x}, which holds {holds} bytes"
+    )]
+    PastMemory {
+        size: u64,
+        offset: u64,
+        memory: u64,
+        holds: u64,
+    },
+    #[error("holds {size} bytes of contents for {what}, which the capture never created")]
+    NeverCreated { size: u64, what: String },
+    #[error("holds {size} bytes of contents for {what}, more than the {holds} bytes of {there}")]
+    PastBound {
+        size: u64,
+        what: String,
+        holds: u64,
+        there: &'static str,
+    },
+}
+
 /// The importer's answer to a `Fills`: why the payload cannot be, if it cannot.
-pub type Room<'a> = &'a dyn Fn(Fills) -> Result<(), String>;
+pub type Room<'a> = &'a dyn Fn(Fills) -> Result<(), NoRoom>;
+
+/// Why a meta-data command cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum MetaError {
+    #[error("meta-data command needs {needs} more bytes at byte {at}, {left} left")]
+    Short {
+        needs: usize,
+        at: usize,
+        left: usize,
+    },
+    #[error("meta-data command says {size} bytes of data, the block holds {holds}")]
+    PayloadSize { size: u64, holds: usize },
+    #[error("init image command lists {levels} mip levels, more than the block holds")]
+    TooManyLevels { levels: u32 },
+    #[error(
+        "init image command: the mip level sizes {level_sizes:?} do not add up to its {size} bytes"
+    )]
+    LevelSum { level_sizes: Vec<u64>, size: u64 },
+    #[error("memory properties command lists {types} memory types, more than Vulkan's 32")]
+    TooManyTypes { types: u32 },
+    #[error(transparent)]
+    NoRoom(#[from] NoRoom),
+    #[error(transparent)]
+    Decompress(#[from] super::compress::DecompressError),
+}
 
 /// A meta-data command framelab uses.
 #[derive(Debug)]
@@ -127,25 +177,26 @@ struct Fields<'a> {
 }
 
 impl Fields<'_> {
-    fn u32(&mut self) -> Result<u32, String> {
+    fn u32(&mut self) -> Result<u32, MetaError> {
         let b = self.bytes(4)?;
         Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
     }
 
-    fn u64(&mut self) -> Result<u64, String> {
+    fn u64(&mut self) -> Result<u64, MetaError> {
         let b = self.bytes(8)?;
         let mut a = [0; 8];
         a.copy_from_slice(b);
         Ok(u64::from_le_bytes(a))
     }
 
-    fn bytes(&mut self, n: usize) -> Result<&[u8], String> {
+    fn bytes(&mut self, n: usize) -> Result<&[u8], MetaError> {
         let left = self.body.len() - self.pos;
         if n > left {
-            return Err(format!(
-                "meta-data command needs {n} more bytes at byte {}, {left} left",
-                self.pos
-            ));
+            return Err(MetaError::Short {
+                needs: n,
+                at: self.pos,
+                left,
+            });
         }
         self.pos += n;
         Ok(&self.body[self.pos - n..self.pos])
@@ -158,25 +209,25 @@ impl Fields<'_> {
         how: Compression,
         fills: Fills,
         room: Room<'_>,
-    ) -> Result<Vec<u8>, String> {
+    ) -> Result<Vec<u8>, MetaError> {
         let size = fills.size();
         let rest = &self.body[self.pos..];
         if block.compressed {
             room(fills)?;
-            return compress::decompress(how, rest, size);
+            return Ok(compress::decompress(how, rest, size)?);
         }
         if rest.len() as u64 != size {
-            return Err(format!(
-                "meta-data command says {size} bytes of data, the block holds {}",
-                rest.len()
-            ));
+            return Err(MetaError::PayloadSize {
+                size,
+                holds: rest.len(),
+            });
         }
         Ok(rest.to_vec())
     }
 }
 
 /// The capturing device's vendor and name from a "set device properties" record.
-fn device_properties(f: &mut Fields<'_>) -> Result<Meta, String> {
+fn device_properties(f: &mut Fields<'_>) -> Result<Meta, MetaError> {
     let (_thread, _device) = (f.u64()?, f.u64()?);
     let (_api, _driver) = (f.u32()?, f.u32()?);
     let vendor_id = f.u32()?;
@@ -193,7 +244,7 @@ fn device_properties(f: &mut Fields<'_>) -> Result<Meta, String> {
 }
 
 /// Reads a meta-data block.
-pub fn read(block: &Block, how: Compression, room: Room<'_>) -> Result<Meta, String> {
+pub fn read(block: &Block, how: Compression, room: Room<'_>) -> Result<Meta, MetaError> {
     let mut f = Fields {
         body: &block.body,
         pos: 0,
@@ -234,9 +285,7 @@ pub fn read(block: &Block, how: Compression, room: Room<'_>) -> Result<Meta, Str
             let levels = f.u32()?;
             // Each level size takes 8 bytes; a count past what the block holds is corrupt.
             if u64::from(levels) * 8 > (f.body.len() - f.pos) as u64 {
-                return Err(format!(
-                    "init image command lists {levels} mip levels, more than the block holds"
-                ));
+                return Err(MetaError::TooManyLevels { levels });
             }
             let mut level_sizes = Vec::with_capacity(levels as usize);
             for _ in 0..levels {
@@ -244,9 +293,7 @@ pub fn read(block: &Block, how: Compression, room: Room<'_>) -> Result<Meta, Str
             }
             let sum = level_sizes.iter().try_fold(0u64, |a, b| a.checked_add(*b));
             if sum != Some(size) {
-                return Err(format!(
-                    "init image command: the mip level sizes {level_sizes:?} do not add up to its {size} bytes"
-                ));
+                return Err(MetaError::LevelSum { level_sizes, size });
             }
             let data = if size == 0 {
                 Vec::new()
@@ -267,9 +314,7 @@ pub fn read(block: &Block, how: Compression, room: Room<'_>) -> Result<Meta, Str
             let _heaps = f.u32()?;
             // Vulkan has at most 32 memory types; each is its flags and its heap index.
             if types > 32 {
-                return Err(format!(
-                    "memory properties command lists {types} memory types, more than Vulkan's 32"
-                ));
+                return Err(MetaError::TooManyTypes { types });
             }
             let mut type_flags = Vec::with_capacity(types as usize);
             for _ in 0..types {

@@ -32,7 +32,7 @@ use super::{ImportError, ImportOptions, Imported, Importer};
 use crate::capture::vulkan::ImageLayout;
 use blocks::{Block, Blocks, Kind};
 pub use blocks::{MAX_BLOCK_BYTES, is_gfxr};
-use meta::{Fills, Meta};
+use meta::{Fills, Meta, NoRoom};
 
 /// What reading the blocks gathered besides the importer's own state.
 struct Reading {
@@ -45,12 +45,12 @@ struct Reading {
     args: Tree,
 }
 
-fn located(file: &str, at: blocks::At, message: impl Into<String>) -> ImportError {
+fn located(file: &str, at: blocks::At, problem: impl std::fmt::Display) -> ImportError {
     ImportError::Block {
         file: file.to_owned(),
         block: at.block,
         offset: at.offset,
-        message: message.into(),
+        message: problem.to_string(),
     }
 }
 
@@ -97,20 +97,20 @@ impl Reading {
 /// is filled within its allocation, and a resource's contents fit in the memory bound to it
 /// (or, not bound yet, in all the memory allocated), so a small block cannot claim gigabytes
 /// nothing backs.
-fn room(objects: &Objects, fills: Fills) -> Result<(), String> {
+fn room(objects: &Objects, fills: Fills) -> Result<(), NoRoom> {
     let size = fills.size();
     let (what, bound) = match fills {
         Fills::Memory { memory, offset, .. } => {
             let Some(m) = objects.memories.get(&memory) else {
-                return Err(format!(
-                    "fills {size} bytes of memory {memory:#x}, which the capture never allocated"
-                ));
+                return Err(NoRoom::MemoryNeverAllocated { size, memory });
             };
             if offset.checked_add(size).is_none_or(|end| end > m.size) {
-                return Err(format!(
-                    "fills {size} bytes at offset {offset} of memory {memory:#x}, which holds {} bytes",
-                    m.size
-                ));
+                return Err(NoRoom::PastMemory {
+                    size,
+                    offset,
+                    memory,
+                    holds: m.size,
+                });
             }
             return Ok(());
         }
@@ -124,9 +124,7 @@ fn room(objects: &Objects, fills: Fills) -> Result<(), String> {
         ),
     };
     let Some(bound) = bound else {
-        return Err(format!(
-            "holds {size} bytes of contents for {what}, which the capture never created"
-        ));
+        return Err(NoRoom::NeverCreated { size, what });
     };
     let (holds, there) =
         match bound.and_then(|(m, at)| Some(objects.memories.get(&m)?.size.saturating_sub(at))) {
@@ -137,9 +135,12 @@ fn room(objects: &Objects, fills: Fills) -> Result<(), String> {
             ),
         };
     if size > holds {
-        return Err(format!(
-            "holds {size} bytes of contents for {what}, more than the {holds} bytes of {there}"
-        ));
+        return Err(NoRoom::PastBound {
+            size,
+            what,
+            holds,
+            there,
+        });
     }
     Ok(())
 }
@@ -164,13 +165,18 @@ fn is_decoded(name: &str, func: Func) -> bool {
         || func == Func::MapMemory
 }
 
+/// A function call block too short for the thread id every call starts with.
+#[derive(Debug, thiserror::Error)]
+#[error("call block of {0} bytes has no thread id")]
+struct NoThreadId(usize);
+
 /// One function call block: decoded and given to the importer, or counted.
 fn call(
     imp: &mut Importer,
     reading: &mut Reading,
     contents: &mut Contents,
     block: &Block,
-) -> Result<(), String> {
+) -> Result<(), NoThreadId> {
     let Some((def, func)) = registry::command_index(block.id)
         .and_then(|i| Some((&registry::COMMANDS[i], registry::func(i)?)))
     else {
@@ -189,10 +195,7 @@ fn call(
         return Ok(());
     }
     if block.body.len() < 8 {
-        return Err(format!(
-            "call block of {} bytes has no thread id",
-            block.body.len()
-        ));
+        return Err(NoThreadId(block.body.len()));
     }
     let mut args = std::mem::take(&mut reading.args);
     let mut args = match decode::decode_call(def, &block.body[8..], &mut args) {
@@ -490,7 +493,7 @@ mod tests {
             size,
         };
         assert!(room(&objects, fill(0, 4096)).is_ok());
-        let e = room(&objects, fill(4000, 100)).unwrap_err();
+        let e = room(&objects, fill(4000, 100)).unwrap_err().to_string();
         assert!(
             e.contains("at offset 4000 of memory 0x1, which holds 4096"),
             "{e}"
@@ -499,15 +502,15 @@ mod tests {
         let into = |buffer, size| room(&objects, Fills::Buffer { buffer, size });
         // Bound at 1024: 3072 bytes of memory are its to fill.
         assert!(into(2, 3072).is_ok());
-        let e = into(2, 3073).unwrap_err();
+        let e = into(2, 3073).unwrap_err().to_string();
         assert!(
             e.contains("more than the 3072 bytes of the memory bound to it"),
             "{e}"
         );
         // Not bound yet: all the memory allocated.
-        let e = into(3, 1 << 30).unwrap_err();
+        let e = into(3, 1 << 30).unwrap_err().to_string();
         assert!(e.contains("4096 bytes of all the device memory"), "{e}");
-        let e = into(9, 1).unwrap_err();
+        let e = into(9, 1).unwrap_err().to_string();
         assert!(
             e.contains("buffer 0x9, which the capture never created"),
             "{e}"

@@ -9,6 +9,7 @@ use serde_json::{Map, Value};
 
 use super::super::gfxr::registry::{self, CommandDef, ENUMS, Field, STRUCTS, Ty};
 use super::super::value::shortest;
+use super::chunks::ChunkError;
 use super::xml::Node;
 
 /// Byte buffers read inline as numbers (push constant values, small data); longer ones are
@@ -16,7 +17,60 @@ use super::xml::Node;
 const INLINE_BYTES: u64 = 64 << 10;
 
 /// Reads a `<buffer>`'s bytes from the zip.
-pub type Load<'a> = dyn FnMut(&Node) -> Result<Vec<u8>, String> + 'a;
+pub type Load<'a> = dyn FnMut(&Node) -> Result<Vec<u8>, ChunkError> + 'a;
+
+/// A parameter that cannot be read: where (the parameter and the members and elements down
+/// to the value, `CreateInfo: extent: width`) and why.
+#[derive(Debug)]
+pub struct ArgError {
+    /// Innermost first: each level adds its name as the error passes up.
+    path: Vec<String>,
+    pub problem: ArgProblem,
+}
+
+impl std::fmt::Display for ArgError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for part in self.path.iter().rev() {
+            write!(f, "{part}: ")?;
+        }
+        write!(f, "{}", self.problem)
+    }
+}
+
+impl std::error::Error for ArgError {}
+
+impl ArgError {
+    fn within(mut self, part: impl std::fmt::Display) -> ArgError {
+        self.path.push(part.to_string());
+        self
+    }
+}
+
+impl From<ArgProblem> for ArgError {
+    fn from(problem: ArgProblem) -> ArgError {
+        ArgError {
+            path: Vec::new(),
+            problem,
+        }
+    }
+}
+
+impl From<ChunkError> for ArgError {
+    fn from(e: ChunkError) -> ArgError {
+        ArgProblem::Bytes(Box::new(e)).into()
+    }
+}
+
+/// What is wrong with a parameter's value.
+#[derive(Debug, thiserror::Error)]
+pub enum ArgProblem {
+    #[error("\"{0}\" is not an unsigned number")]
+    NotUnsigned(String),
+    #[error("\"{0}\" is not a number")]
+    NotNumber(String),
+    #[error(transparent)]
+    Bytes(Box<ChunkError>),
+}
 
 /// The registry parameter a RenderDoc parameter stands for: the same name; the same name in
 /// another case; the registry's `p`-prefixed pointer to it (`CreateInfo` -> `pCreateInfo`);
@@ -74,12 +128,12 @@ pub fn param(def: &CommandDef, rdc: &str) -> Option<&'static Field> {
 /// The call's arguments: each parameter RenderDoc wrote that the registry knows, converted
 /// by its registry type. Parameters RenderDoc adds of its own (`DebugMessages`,
 /// `memoryRequirements`) are left to the chunk's reader.
-pub fn call_args(def: &CommandDef, chunk: &Node, load: &mut Load<'_>) -> Result<Value, String> {
+pub fn call_args(def: &CommandDef, chunk: &Node, load: &mut Load<'_>) -> Result<Value, ArgError> {
     let mut args = Map::new();
     for c in &chunk.children {
         let Some(name) = &c.name else { continue };
         if let Some(f) = param(def, name) {
-            let v = value(c, Some(f.ty), load).map_err(|e| format!("{name}: {e}"))?;
+            let v = value(c, Some(f.ty), load).map_err(|e| e.within(name))?;
             args.insert(f.name.to_owned(), v);
         }
     }
@@ -87,7 +141,7 @@ pub fn call_args(def: &CommandDef, chunk: &Node, load: &mut Load<'_>) -> Result<
 }
 
 /// One element as JSON, typed by `ty` where the registry knows it, else by its own tag.
-pub fn value(node: &Node, ty: Option<Ty>, load: &mut Load<'_>) -> Result<Value, String> {
+pub fn value(node: &Node, ty: Option<Ty>, load: &mut Load<'_>) -> Result<Value, ArgError> {
     if let Some(Ty::Arr(elem)) = ty
         && node.tag != "array"
         && node.tag != "null"
@@ -111,7 +165,7 @@ pub fn value(node: &Node, ty: Option<Ty>, load: &mut Load<'_>) -> Result<Value, 
                 let mty = def
                     .and_then(|d| d.members.iter().find(|m| m.name == name))
                     .map(|m| m.ty);
-                let v = value(c, mty, load).map_err(|e| format!("{name}: {e}"))?;
+                let v = value(c, mty, load).map_err(|e| e.within(name))?;
                 map.insert(name.clone(), v);
             }
             Value::Object(map)
@@ -123,14 +177,14 @@ pub fn value(node: &Node, ty: Option<Ty>, load: &mut Load<'_>) -> Result<Value, 
             };
             let mut items = Vec::with_capacity(node.children.len());
             for (i, c) in node.children.iter().enumerate() {
-                items.push(value(c, elem, load).map_err(|e| format!("[{i}]: {e}"))?);
+                items.push(value(c, elem, load).map_err(|e| e.within(format_args!("[{i}]")))?);
             }
             Value::Array(items)
         }
         "enum" => enumerant(node, ty),
         "uint" | "ResourceId" => match node.text.trim().parse::<u64>() {
             Ok(v) => enum_or(v as i64, ty, Value::from(v)),
-            Err(_) => return Err(format!("\"{}\" is not an unsigned number", node.text)),
+            Err(_) => return Err(ArgProblem::NotUnsigned(node.text.clone()).into()),
         },
         "int" => match node.text.trim().parse::<i64>() {
             // RenderDoc writes some unsigned members signed (`VK_QUEUE_FAMILY_IGNORED` as -1).
@@ -139,14 +193,14 @@ pub fn value(node: &Node, ty: Option<Ty>, load: &mut Load<'_>) -> Result<Value, 
                 Value::from(v as u64)
             }
             Ok(v) => enum_or(v, ty, Value::from(v)),
-            Err(_) => return Err(format!("\"{}\" is not a number", node.text)),
+            Err(_) => return Err(ArgProblem::NotNumber(node.text.clone()).into()),
         },
         "float" | "double" => {
             let v: f64 = node
                 .text
                 .trim()
                 .parse()
-                .map_err(|_| format!("\"{}\" is not a number", node.text))?;
+                .map_err(|_| ArgProblem::NotNumber(node.text.clone()))?;
             if node.tag == "float" {
                 Value::from(shortest(v as f32))
             } else {
@@ -296,7 +350,7 @@ mod tests {
             children: vec![ci, leaf("ResourceId", "Image", "160", None)],
             ..Node::default()
         };
-        let mut load = |_: &Node| -> Result<Vec<u8>, String> { Err("no zip".to_owned()) };
+        let mut load = |_: &Node| -> Result<Vec<u8>, ChunkError> { Err(ChunkError::NoByteLength) };
         let args = call_args(command("vkCreateImage"), &chunk, &mut load).unwrap();
         assert_eq!(args["pImage"], 160);
         let ci = &args["pCreateInfo"];

@@ -23,8 +23,30 @@ use super::super::gfxr::registry::{self, CommandDef};
 use super::super::stream::Call;
 use super::super::tree::Tree;
 use super::args;
-use super::members::Members;
+use super::members::{MemberError, Members};
 use super::xml::{Chunk, Node};
+
+/// Why a chunk cannot be fed to the importer: a damaged file (a member missing or of the
+/// wrong size, a parameter that is not what its type says, a chunk without its parts).
+#[derive(Debug, thiserror::Error)]
+pub enum ChunkError {
+    #[error("a <buffer> without a byteLength")]
+    NoByteLength,
+    #[error("vkGetSwapchainImagesKHR without Swapchain, SwapchainImageIndex and SwapchainImage")]
+    SwapchainParts,
+    #[error("initial contents without an id")]
+    NoId,
+    #[error(transparent)]
+    Member(#[from] MemberError),
+    #[error(transparent)]
+    Arg(#[from] Box<args::ArgError>),
+}
+
+impl From<args::ArgError> for ChunkError {
+    fn from(e: args::ArgError) -> ChunkError {
+        ChunkError::Arg(Box::new(e))
+    }
+}
 
 /// One binding of a descriptor set layout: its number, type and element count.
 #[derive(Debug, Clone)]
@@ -81,16 +103,14 @@ impl<R: Read + Seek> Reader<R> {
     }
 
     /// The bytes a `<buffer>` element points at.
-    fn bytes(&mut self, node: &Node) -> Result<Vec<u8>, String> {
-        let len = node
-            .byte_length
-            .ok_or_else(|| "a <buffer> without a byteLength".to_owned())?;
-        self.members.bytes(&node.text, len)
+    fn bytes(&mut self, node: &Node) -> Result<Vec<u8>, ChunkError> {
+        let len = node.byte_length.ok_or(ChunkError::NoByteLength)?;
+        Ok(self.members.bytes(&node.text, len)?)
     }
 
     /// Feeds one chunk to the importer. An error is a damaged file (a member missing or of
     /// the wrong size); a call the importer cannot use is left out by the importer itself.
-    pub fn chunk(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), String> {
+    pub fn chunk(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), ChunkError> {
         let name = chunk.name.as_str();
         match name {
             "Internal::Initial Contents" => return self.initial_contents(imp, chunk),
@@ -223,7 +243,7 @@ impl<R: Read + Seek> Reader<R> {
 
     /// `vkEnumeratePhysicalDevices` with the device's memory and queue family properties,
     /// which an application reads with calls of their own.
-    fn physical_device(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), String> {
+    fn physical_device(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), ChunkError> {
         let root = &chunk.root;
         let device = handle_of(root.child("PhysicalDevice")).unwrap_or(0);
         let mut load = |n: &Node| self.bytes(n);
@@ -257,7 +277,7 @@ impl<R: Read + Seek> Reader<R> {
 
     /// An object's debug name: RenderDoc keeps the object and the name, not the structure
     /// the application passed.
-    fn object_name(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), String> {
+    fn object_name(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), ChunkError> {
         let root = &chunk.root;
         let (Some(object), Some(name), Some(def)) = (
             handle_of(root.child("Object")),
@@ -280,17 +300,14 @@ impl<R: Read + Seek> Reader<R> {
     }
 
     /// One swapchain image; the importer is given the swapchain's images so far, in order.
-    fn swapchain_image(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), String> {
+    fn swapchain_image(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), ChunkError> {
         let root = &chunk.root;
         let (Some(chain), Some(index), Some(image)) = (
             handle_of(root.child("Swapchain")),
             handle_of(root.child("SwapchainImageIndex")),
             handle_of(root.child("SwapchainImage")),
         ) else {
-            return Err(
-                "vkGetSwapchainImagesKHR without Swapchain, SwapchainImageIndex and SwapchainImage"
-                    .to_owned(),
-            );
+            return Err(ChunkError::SwapchainParts);
         };
         let images = self.swapchain_images.entry(chain).or_default();
         images.insert(index as u32, image);
@@ -312,7 +329,7 @@ impl<R: Read + Seek> Reader<R> {
 
     /// Bytes the application wrote through a mapping: contents before the frame's first
     /// submission, the frame's own host writes after it.
-    fn mapped_write(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), String> {
+    fn mapped_write(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), ChunkError> {
         let root = &chunk.root;
         let range = root.child("MemRange");
         let memory = handle_of(range.and_then(|r| r.child("memory")))
@@ -337,13 +354,13 @@ impl<R: Read + Seek> Reader<R> {
     }
 
     /// A resource's contents when the frame began, or a descriptor set's descriptors.
-    fn initial_contents(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), String> {
+    fn initial_contents(&mut self, imp: &mut Importer, chunk: &Chunk) -> Result<(), ChunkError> {
         let root = &chunk.root;
         let kind = root
             .child("type")
             .and_then(|t| t.string.clone())
             .unwrap_or_default();
-        let id = handle_of(root.child("id")).ok_or("initial contents without an id")?;
+        let id = handle_of(root.child("id")).ok_or(ChunkError::NoId)?;
         match kind.as_str() {
             "eResDeviceMemory" => {
                 if root.child("IsSparse").is_some_and(|s| s.text == "true") {

@@ -27,8 +27,54 @@ impl Drop for Converted {
     }
 }
 
+/// Why a RenderDoc capture could not be converted.
+#[derive(Debug, thiserror::Error)]
+pub enum ConvertError {
+    #[error("FRAMELAB_RENDERDOC_TIMEOUT is \"{0}\", not a number of seconds")]
+    Timeout(String),
+    #[error("cannot create {}: {source}", .dir.display())]
+    Folder {
+        dir: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("cannot create a log file: {0}")]
+    Log(std::io::Error),
+    #[error(
+        "{0} was not found: reading a RenderDoc capture needs RenderDoc's command-line tool (Debian and Ubuntu: apt-get install renderdoc), or FRAMELAB_RENDERDOCCMD naming it"
+    )]
+    NotFound(String),
+    #[error("cannot run {program}: {source}")]
+    Run {
+        program: String,
+        source: std::io::Error,
+    },
+    #[error(
+        "{program} convert did not finish within {:.0} s and was stopped (FRAMELAB_RENDERDOC_TIMEOUT sets the limit)",
+        .limit.as_secs_f64()
+    )]
+    TimedOut { program: String, limit: Duration },
+    #[error("cannot wait for {program}: {source}")]
+    Wait {
+        program: String,
+        source: std::io::Error,
+    },
+    #[error("{program} convert failed ({status}): {messages}")]
+    Failed {
+        program: String,
+        status: std::process::ExitStatus,
+        messages: String,
+    },
+    #[error("{program} convert wrote no {xml} and {zip} ({messages})")]
+    NoOutput {
+        program: String,
+        xml: String,
+        zip: String,
+        messages: String,
+    },
+}
+
 /// The converter and its time limit, from the environment.
-pub fn from_env() -> Result<(OsString, Duration), String> {
+pub fn from_env() -> Result<(OsString, Duration), ConvertError> {
     let program = std::env::var_os("FRAMELAB_RENDERDOCCMD").unwrap_or_else(|| PROGRAM.into());
     let timeout = match std::env::var("FRAMELAB_RENDERDOC_TIMEOUT") {
         Ok(s) => Duration::from_secs_f64(
@@ -36,9 +82,7 @@ pub fn from_env() -> Result<(OsString, Duration), String> {
                 .parse::<f64>()
                 .ok()
                 .filter(|t| t.is_finite() && *t > 0.0 && *t < 1e6)
-                .ok_or_else(|| {
-                    format!("FRAMELAB_RENDERDOC_TIMEOUT is \"{s}\", not a number of seconds")
-                })?,
+                .ok_or_else(|| ConvertError::Timeout(s.clone()))?,
         ),
         Err(_) => DEFAULT_TIMEOUT,
     };
@@ -55,21 +99,25 @@ fn tail(path: &Path) -> String {
 }
 
 /// Converts `rdc` with `program`, waiting at most `timeout`.
-pub fn convert(rdc: &Path, program: &OsString, timeout: Duration) -> Result<Converted, String> {
+pub fn convert(
+    rdc: &Path,
+    program: &OsString,
+    timeout: Duration,
+) -> Result<Converted, ConvertError> {
     let nanos = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.subsec_nanos());
     let dir = std::env::temp_dir().join(format!("framelab-rdc-{}-{nanos:08x}", std::process::id()));
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    if let Err(source) = std::fs::create_dir_all(&dir) {
+        return Err(ConvertError::Folder { dir, source });
+    }
     let converted = Converted {
         xml: dir.join("capture.zip.xml"),
         zip: dir.join("capture.zip"),
         dir,
     };
-    let out = std::fs::File::create(converted.dir.join("stdout.txt"))
-        .map_err(|e| format!("cannot create a log file: {e}"))?;
-    let err = std::fs::File::create(converted.dir.join("stderr.txt"))
-        .map_err(|e| format!("cannot create a log file: {e}"))?;
+    let out = std::fs::File::create(converted.dir.join("stdout.txt")).map_err(ConvertError::Log)?;
+    let err = std::fs::File::create(converted.dir.join("stderr.txt")).map_err(ConvertError::Log)?;
     let shown = Path::new(program).display().to_string();
     let mut child = Command::new(program)
         .arg("convert")
@@ -83,11 +131,12 @@ pub fn convert(rdc: &Path, program: &OsString, timeout: Duration) -> Result<Conv
         .stdout(out)
         .stderr(err)
         .spawn()
-        .map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound => format!(
-                "{shown} was not found: reading a RenderDoc capture needs RenderDoc's command-line tool (Debian and Ubuntu: apt-get install renderdoc), or FRAMELAB_RENDERDOCCMD naming it"
-            ),
-            _ => format!("cannot run {shown}: {e}"),
+        .map_err(|source| match source.kind() {
+            std::io::ErrorKind::NotFound => ConvertError::NotFound(shown.clone()),
+            _ => ConvertError::Run {
+                program: shown.clone(),
+                source,
+            },
         })?;
     let start = Instant::now();
     let status = loop {
@@ -96,13 +145,18 @@ pub fn convert(rdc: &Path, program: &OsString, timeout: Duration) -> Result<Conv
             Ok(None) if start.elapsed() >= timeout => {
                 let _ = child.kill();
                 let _ = child.wait();
-                return Err(format!(
-                    "{shown} convert did not finish within {:.0} s and was stopped (FRAMELAB_RENDERDOC_TIMEOUT sets the limit)",
-                    timeout.as_secs_f64()
-                ));
+                return Err(ConvertError::TimedOut {
+                    program: shown,
+                    limit: timeout,
+                });
             }
             Ok(None) => std::thread::sleep(Duration::from_millis(20)),
-            Err(e) => return Err(format!("cannot wait for {shown}: {e}")),
+            Err(source) => {
+                return Err(ConvertError::Wait {
+                    program: shown,
+                    source,
+                });
+            }
         }
     };
     let messages = || {
@@ -114,21 +168,23 @@ pub fn convert(rdc: &Path, program: &OsString, timeout: Duration) -> Result<Conv
         }
     };
     if !status.success() {
-        return Err(format!("{shown} convert failed ({status}): {}", messages()));
+        return Err(ConvertError::Failed {
+            program: shown,
+            status,
+            messages: messages(),
+        });
     }
     if !converted.xml.is_file() || !converted.zip.is_file() {
-        return Err(format!(
-            "{shown} convert wrote no {} and {} ({})",
-            converted
-                .xml
-                .file_name()
-                .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
-            converted
-                .zip
-                .file_name()
-                .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
-            messages()
-        ));
+        let name = |p: &Path| {
+            p.file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+        };
+        return Err(ConvertError::NoOutput {
+            program: shown,
+            xml: name(&converted.xml),
+            zip: name(&converted.zip),
+            messages: messages(),
+        });
     }
     Ok(converted)
 }

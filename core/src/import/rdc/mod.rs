@@ -143,8 +143,8 @@ pub fn import_file(
         .and_then(|mut f| f.read(&mut head))
         .map_err(|e| stream(format!("cannot read: {e}")))?;
     let writer = writer_version(&head[..n]);
-    let (program, timeout) = convert::from_env().map_err(stream)?;
-    let converted = convert::convert(rdc, &program, timeout).map_err(stream)?;
+    let (program, timeout) = convert::from_env().map_err(|e| stream(e.to_string()))?;
+    let converted = convert::convert(rdc, &program, timeout).map_err(|e| stream(e.to_string()))?;
     let xml = std::fs::File::open(&converted.xml)
         .map_err(|e| stream(format!("cannot read the converted XML: {e}")))?;
     let zip = std::fs::File::open(&converted.zip)

@@ -283,13 +283,15 @@ impl<R: BufRead> Chunks<R> {
                     let text = t
                         .decode()
                         .map_err(|e| fail(self, format!("text is not UTF-8: {e}")))?;
-                    push_text(&mut stack, &text, &mut text_bytes).map_err(|m| fail(self, m))?;
+                    push_text(&mut stack, &text, &mut text_bytes)
+                        .map_err(|m| fail(self, m.to_string()))?;
                 }
                 Event::CData(t) => {
                     let text = t
                         .decode()
                         .map_err(|e| fail(self, format!("text is not UTF-8: {e}")))?;
-                    push_text(&mut stack, &text, &mut text_bytes).map_err(|m| fail(self, m))?;
+                    push_text(&mut stack, &text, &mut text_bytes)
+                        .map_err(|m| fail(self, m.to_string()))?;
                 }
                 Event::GeneralRef(r) => {
                     let c = match r.resolve_char_ref() {
@@ -309,7 +311,7 @@ impl<R: BufRead> Chunks<R> {
                         },
                     };
                     push_text(&mut stack, c.encode_utf8(&mut [0; 4]), &mut text_bytes)
-                        .map_err(|m| fail(self, m))?;
+                        .map_err(|m| fail(self, m.to_string()))?;
                 }
                 Event::End(_) => {
                     let Some(mut done) = stack.pop() else {
@@ -335,20 +337,23 @@ impl<R: BufRead> Chunks<R> {
     }
 }
 
-fn push_text(stack: &mut [Node], text: &str, total: &mut usize) -> Result<(), String> {
+/// Text past what a chunk or an element may hold.
+#[derive(Debug, thiserror::Error)]
+enum TooMuchText {
+    #[error("a chunk with more than {} MiB of text", MAX_CHUNK_TEXT >> 20)]
+    Chunk,
+    #[error("an element's text is longer than {} KiB", MAX_TEXT >> 10)]
+    Element,
+}
+
+fn push_text(stack: &mut [Node], text: &str, total: &mut usize) -> Result<(), TooMuchText> {
     *total += text.len();
     if *total > MAX_CHUNK_TEXT {
-        return Err(format!(
-            "a chunk with more than {} MiB of text",
-            MAX_CHUNK_TEXT >> 20
-        ));
+        return Err(TooMuchText::Chunk);
     }
     if let Some(top) = stack.last_mut() {
         if top.text.len() + text.len() > MAX_TEXT {
-            return Err(format!(
-                "an element's text is longer than {} KiB",
-                MAX_TEXT >> 10
-            ));
+            return Err(TooMuchText::Element);
         }
         top.text.push_str(text);
     }

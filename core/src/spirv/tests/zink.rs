@@ -367,7 +367,11 @@ fn a_scalar_block_is_past_std430_too() {
     let found = uniform_blocks_beyond_std140(&b.module().assemble());
     assert_eq!(found.len(), 1);
     assert_eq!((found[0].set, found[0].binding), (1, 2));
-    let why = found[0].beyond_std430.as_deref().expect("past std430");
+    let why = found[0]
+        .beyond_std430
+        .as_ref()
+        .expect("past std430")
+        .to_string();
     assert_eq!(found[0].problem, "has a 12-byte vector at offset 8");
     assert_eq!(why, "has a 12-byte vector at offset 8");
 }
