@@ -698,6 +698,179 @@ fn refusal(refused: &BTreeMap<String, u64>) -> Option<String> {
     ))
 }
 
+/// Each hazard on the pass its command's work went into, or its barrier did.
+fn on_their_passes(
+    builder: &Builder,
+    found: Vec<(Origin, crate::capture::format::SyncHazard)>,
+) -> Vec<crate::capture::format::SyncHazard> {
+    let mut barrier_pass: HashMap<&str, usize> = HashMap::default();
+    if !found.is_empty() {
+        for (i, pass) in builder.passes.iter().enumerate() {
+            for b in &pass.barriers {
+                if let Some(v) = &b.vulkan {
+                    barrier_pass.entry(v.origin.as_str()).or_insert(i);
+                }
+            }
+        }
+    }
+    let mut hazards = Vec::with_capacity(found.len());
+    for (origin, mut h) in found {
+        let pass = match origin.attachment {
+            None => builder.pass_of_command.get(&origin.index).copied(),
+            Some(_) => None,
+        };
+        h.pass = pass
+            .or_else(|| barrier_pass.get(h.command.as_str()).copied())
+            .map(|i| builder.passes[i].name.clone());
+        hazards.push(h);
+    }
+    hazards
+}
+
+/// Pipelines and samplers the work names that the stream never created are taken off it;
+/// how many descriptors lost their sampler.
+fn forget_unknown_objects(
+    capture: &mut RawCapture,
+    vulkan: &crate::capture::format::VulkanObjects,
+) -> u64 {
+    let known: std::collections::BTreeSet<String> =
+        vulkan.pipelines.iter().map(|p| p.name.clone()).collect();
+    let samplers: std::collections::BTreeSet<String> =
+        vulkan.samplers.iter().map(|s| s.name.clone()).collect();
+    let mut unknown_samplers = 0u64;
+    for pass in &mut capture.passes {
+        let named = pass
+            .draws
+            .iter_mut()
+            .map(|d| (&mut d.pipeline, &mut d.vulkan_state))
+            .chain(
+                pass.dispatches
+                    .iter_mut()
+                    .map(|d| (&mut d.pipeline, &mut d.vulkan_state)),
+            );
+        for (p, state) in named {
+            if p.as_ref().is_some_and(|n| !known.contains(n)) {
+                *p = None;
+            }
+            for d in &mut state.descriptors {
+                if d.sampler.as_ref().is_some_and(|n| !samplers.contains(n)) {
+                    d.sampler = None;
+                    unknown_samplers += 1;
+                }
+            }
+        }
+    }
+    unknown_samplers
+}
+
+/// What attaching a binary capture's contents and shader code to the capture made.
+struct Attached {
+    side_files: Vec<SideFile>,
+    modules: usize,
+    contents: ContentsSummary,
+    notes: Vec<String>,
+}
+
+/// The contents a binary capture holds, packed into one side file and matched to the
+/// capture's resources (with the buffers uploads read from), and its shader modules, one
+/// side file each.
+fn attach(
+    x: Extras<'_>,
+    names: &BTreeMap<u64, String>,
+    objects: &Objects,
+    capture: &mut RawCapture,
+    uploads: Vec<(String, Vec<u8>)>,
+) -> Attached {
+    let mut pack = contents::Pack::new(&format!("{}.contents", x.stem));
+    let ((resources, bytes), notes) = x.contents.attach(names, objects, capture, &mut pack);
+    let contents = ContentsSummary {
+        resources,
+        bytes,
+        memory_writes: x.contents.fills,
+    };
+    for (name, bytes) in uploads {
+        let size = bytes.len() as u64;
+        let offset = pack.add(bytes);
+        capture
+            .resources
+            .push(emit::upload_buffer(&name, size, (&pack.path, offset)));
+    }
+    let mut side_files: Vec<SideFile> = pack.into_side_file().into_iter().collect();
+    let modules = std::mem::take(&mut x.contents.modules);
+    let count = modules.len();
+    for (handle, bytes) in modules {
+        side_files.push(SideFile::one(
+            format!("{}.shaders/module_{handle}.spv", x.stem),
+            bytes,
+        ));
+    }
+    Attached {
+        side_files,
+        modules: count,
+        contents,
+        notes,
+    }
+}
+
+/// Something left out `count` times, if any were.
+fn counted(what: &str, count: u64) -> Option<Skipped> {
+    (count > 0).then(|| Skipped {
+        what: what.to_owned(),
+        count,
+        first_line: None,
+    })
+}
+
+/// A note of the import, once.
+fn note(what: String) -> Skipped {
+    Skipped {
+        what,
+        count: 1,
+        first_line: None,
+    }
+}
+
+/// Findings made once the stream is read: the SPIR-V of modules the route did not hand over
+/// as it read, then descriptors whose image the command buffer left in another layout.
+fn late_findings(
+    imp: &mut Importer,
+    extras: Option<&Extras<'_>>,
+    hazards: &[crate::capture::format::SyncHazard],
+) -> (Vec<crate::capture::format::ValidUsageFinding>, Vec<String>) {
+    let (mut found, mut notes) = (Vec::new(), Vec::new());
+    if let Some(x) = extras {
+        for (h, code) in &x.contents.modules {
+            imp.spirv.submit(*h, code, imp.objects.spirv);
+        }
+        let checker = std::mem::take(&mut imp.spirv);
+        (found, notes) = checker.findings(&imp.module_calls);
+    }
+    found.extend(valid_usage_descriptors::layout_mismatches(hazards));
+    (found, notes)
+}
+
+/// How many passes of each kind the capture has.
+fn passes_by_kind(capture: &RawCapture) -> BTreeMap<String, usize> {
+    let mut by_kind = BTreeMap::new();
+    for p in &capture.passes {
+        *by_kind.entry(p.kind.as_str().to_owned()).or_default() += 1;
+    }
+    by_kind
+}
+
+/// Where each shader module's side file goes, by handle.
+fn module_files(extras: Option<&Extras<'_>>) -> BTreeMap<u64, String> {
+    match extras {
+        Some(x) => x
+            .contents
+            .modules
+            .keys()
+            .map(|h| (*h, format!("{}.shaders/module_{h}.spv", x.stem)))
+            .collect(),
+        None => BTreeMap::new(),
+    }
+}
+
 /// The capture and summary from everything the importer gathered.
 fn finish(
     mut imp: Importer,
@@ -730,52 +903,16 @@ fn finish(
     let names = imp.builder.names.clone();
     let imp_checked = imp.sync.enabled();
     let (found, hazards_dropped) = imp.sync.hazards(|h| names.get(&h).cloned());
-    // Each finding on the pass its command's work, or its barrier, went into.
-    let mut barrier_pass: HashMap<&str, usize> = HashMap::default();
-    if !found.is_empty() {
-        for (i, pass) in imp.builder.passes.iter().enumerate() {
-            for b in &pass.barriers {
-                if let Some(v) = &b.vulkan {
-                    barrier_pass.entry(v.origin.as_str()).or_insert(i);
-                }
-            }
-        }
-    }
-    let mut hazards = Vec::with_capacity(found.len());
-    for (origin, mut h) in found {
-        let pass = match origin.attachment {
-            None => imp.builder.pass_of_command.get(&origin.index).copied(),
-            Some(_) => None,
-        };
-        h.pass = pass
-            .or_else(|| barrier_pass.get(h.command.as_str()).copied())
-            .map(|i| imp.builder.passes[i].name.clone());
-        hazards.push(h);
-    }
-    if hazards_dropped > 0 {
-        skipped.push(Skipped {
-            what: "synchronization hazards past the first 10000 (not listed)".to_owned(),
-            count: hazards_dropped,
-            first_line: None,
-        });
-    }
+    let hazards = on_their_passes(&imp.builder, found);
+    skipped.extend(counted(
+        "synchronization hazards past the first 10000 (not listed)",
+        hazards_dropped,
+    ));
     let mut valid_usage = std::mem::take(&mut imp.valid_usage);
-    if imp_checked && let Some(x) = &extras {
-        // Modules the route did not hand over as it read are validated now.
-        for (h, code) in &x.contents.modules {
-            imp.spirv.submit(*h, code, imp.objects.spirv);
-        }
-        let checker = std::mem::take(&mut imp.spirv);
-        let (found, notes) = checker.findings(&imp.module_calls);
-        valid_usage.extend(found);
-        skipped.extend(notes.into_iter().map(|what| Skipped {
-            what,
-            count: 1,
-            first_line: None,
-        }));
-    }
     if imp_checked {
-        valid_usage.extend(valid_usage_descriptors::layout_mismatches(&hazards));
+        let (found, notes) = late_findings(&mut imp, extras.as_ref(), &hazards);
+        valid_usage.extend(found);
+        skipped.extend(notes.into_iter().map(note));
     }
     valid_usage.truncate(MAX_FINDINGS);
     let valid_usage_count = valid_usage.len();
@@ -790,69 +927,23 @@ fn finish(
         &read.tool,
         imp.hidden_blocks,
     );
-    skipped.extend(emitted.notes.iter().map(|n| Skipped {
-        what: n.clone(),
-        count: 1,
-        first_line: None,
-    }));
+    skipped.extend(emitted.notes.iter().cloned().map(note));
     let mut not_modelled = imp.not_modelled;
     for (kind, n) in read.other {
         *not_modelled.entry(kind).or_default() += n;
     }
     let mut capture = emitted.capture;
-    let module_files: BTreeMap<u64, String> = match &extras {
-        Some(x) => x
-            .contents
-            .modules
-            .keys()
-            .map(|h| (*h, format!("{}.shaders/module_{h}.spv", x.stem)))
-            .collect(),
-        None => BTreeMap::new(),
-    };
+    let module_files = module_files(extras.as_ref());
     let (mut vulkan, vulkan_notes) = imp.pipelines.emit(&pipelines_used, &module_files);
     vulkan.image_views = views_used.into_values().collect();
-    skipped.extend(vulkan_notes.into_iter().map(|what| Skipped {
-        what,
-        count: 1,
-        first_line: None,
-    }));
+    skipped.extend(vulkan_notes.into_iter().map(note));
     // A pipeline whose creation the stream does not hold is named in a note, not by draws.
     // So is a sampler whose creation it does not hold.
-    let known: std::collections::BTreeSet<String> =
-        vulkan.pipelines.iter().map(|p| p.name.clone()).collect();
-    let samplers: std::collections::BTreeSet<String> =
-        vulkan.samplers.iter().map(|s| s.name.clone()).collect();
-    let mut unknown_samplers = 0u64;
-    for pass in &mut capture.passes {
-        let named = pass
-            .draws
-            .iter_mut()
-            .map(|d| (&mut d.pipeline, &mut d.vulkan_state))
-            .chain(
-                pass.dispatches
-                    .iter_mut()
-                    .map(|d| (&mut d.pipeline, &mut d.vulkan_state)),
-            );
-        for (p, state) in named {
-            if p.as_ref().is_some_and(|n| !known.contains(n)) {
-                *p = None;
-            }
-            for d in &mut state.descriptors {
-                if d.sampler.as_ref().is_some_and(|n| !samplers.contains(n)) {
-                    d.sampler = None;
-                    unknown_samplers += 1;
-                }
-            }
-        }
-    }
-    if unknown_samplers > 0 {
-        skipped.push(Skipped {
-            what: "descriptors naming samplers the stream never created: sampler left out"
-                .to_owned(),
-            count: unknown_samplers,
-            first_line: None,
-        });
-    }
+    let unknown_samplers = forget_unknown_objects(&mut capture, &vulkan);
+    skipped.extend(counted(
+        "descriptors naming samplers the stream never created: sampler left out",
+        unknown_samplers,
+    ));
     capture.vulkan = (vulkan != Default::default()).then_some(vulkan);
     let hazard_count = hazards.len();
     if let Some(source) = &mut capture.source {
@@ -862,36 +953,11 @@ fn finish(
     let mut side_files = Vec::new();
     let (mut shader_modules, mut contents) = (None, None);
     if let Some(x) = extras {
-        let mut pack = contents::Pack::new(&format!("{}.contents", x.stem));
-        let ((resources, bytes), notes) =
-            x.contents
-                .attach(&names, &imp.objects, &mut capture, &mut pack);
-        contents = Some(ContentsSummary {
-            resources,
-            bytes,
-            memory_writes: x.contents.fills,
-        });
-        for (name, bytes) in uploads {
-            let size = bytes.len() as u64;
-            let offset = pack.add(bytes);
-            capture
-                .resources
-                .push(emit::upload_buffer(&name, size, (&pack.path, offset)));
-        }
-        side_files.extend(pack.into_side_file());
-        let modules = std::mem::take(&mut x.contents.modules);
-        shader_modules = Some(modules.len());
-        for (handle, bytes) in modules {
-            side_files.push(SideFile::one(
-                format!("{}.shaders/module_{handle}.spv", x.stem),
-                bytes,
-            ));
-        }
-        skipped.extend(notes.into_iter().map(|what| Skipped {
-            what,
-            count: 1,
-            first_line: None,
-        }));
+        let attached = attach(x, &names, &imp.objects, &mut capture, uploads);
+        side_files = attached.side_files;
+        shader_modules = Some(attached.modules);
+        contents = Some(attached.contents);
+        skipped.extend(attached.notes.into_iter().map(note));
         // The binary capture holds the code and the contents: the frame replays, unless it
         // runs work the replay cannot reproduce.
         if let Some(source) = &mut capture.source {
@@ -916,12 +982,6 @@ fn finish(
             file, selected, frames, imp.calls, &skipped,
         ));
     }
-    let mut passes_by_kind = BTreeMap::new();
-    for p in &capture.passes {
-        *passes_by_kind
-            .entry(p.kind.as_str().to_owned())
-            .or_default() += 1;
-    }
     let summary = Summary {
         file: file.to_owned(),
         tool: read.tool,
@@ -932,7 +992,7 @@ fn finish(
         stopped_after_selection,
         frames_imported: selected,
         passes: capture.passes.len(),
-        passes_by_kind,
+        passes_by_kind: passes_by_kind(&capture),
         draws,
         dispatches,
         images: emitted.images,

@@ -626,33 +626,7 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
         g.primitive_restart = boolean(&ia, "primitiveRestartEnable")?;
     }
     if let Some(r) = ci.opt("pRasterizationState") {
-        g.polygon_mode = r.get("polygonMode")?.name()?;
-        g.cull_mode = r.get("cullMode")?.u32()?;
-        g.front_face = r.get("frontFace")?.name()?;
-        g.depth_clamp = boolean(&r, "depthClampEnable")?;
-        g.rasterizer_discard = boolean(&r, "rasterizerDiscardEnable")?;
-        g.line_width = float(&r, "lineWidth")?;
-        // `VkPipelineRasterizationProvokingVertexStateCreateInfoEXT` and
-        // `VkPipelineRasterizationLineStateCreateInfoEXT`.
-        let mut next = r.opt("pNext");
-        while let Some(n) = next {
-            if let Some(m) = n.opt("provokingVertexMode") {
-                g.provoking_vertex_last = m.name()?.contains("LAST_VERTEX");
-            }
-            if let Some(m) = n.opt("lineRasterizationMode") {
-                let m = m.name()?;
-                g.line_rasterization_mode = (!m.ends_with("DEFAULT_EXT")).then_some(m);
-                g.line_stipple = boolean(&n, "stippledLineEnable")?;
-            }
-            next = n.opt("pNext");
-        }
-        if boolean(&r, "depthBiasEnable")? || bias_switched {
-            g.depth_bias = Some([
-                float(&r, "depthBiasConstantFactor")?,
-                float(&r, "depthBiasClamp")?,
-                float(&r, "depthBiasSlopeFactor")?,
-            ]);
-        }
+        rasterization(&mut g, &r, bias_switched)?;
     }
     if let Some(m) = ci.opt("pMultisampleState") {
         g.samples = m.get("rasterizationSamples")?.name()?;
@@ -698,52 +672,97 @@ fn graphics(ci: &Arg<'_>) -> Got<GraphicsState> {
         });
     }
     if let Some(c) = ci.opt("pColorBlendState") {
-        for a in c.list("pAttachments")? {
-            g.blend.push(BlendAttachment {
-                enable: boolean(&a, "blendEnable")?,
-                src_color: a.get("srcColorBlendFactor")?.name()?,
-                dst_color: a.get("dstColorBlendFactor")?.name()?,
-                color_op: a.get("colorBlendOp")?.name()?,
-                src_alpha: a.get("srcAlphaBlendFactor")?.name()?,
-                dst_alpha: a.get("dstAlphaBlendFactor")?.name()?,
-                alpha_op: a.get("alphaBlendOp")?.name()?,
-                write_mask: a.get("colorWriteMask")?.u32()?,
-            });
-        }
-        let k = c.list("blendConstants")?;
-        for (i, v) in k.iter().take(4).enumerate() {
-            g.blend_constants[i] = v.f64()? as f32;
-        }
-        if boolean(&c, "logicOpEnable")? {
-            g.logic_op = Some(c.get("logicOp")?.name()?);
-        }
+        color_blend(&mut g, &c)?;
     }
     if let Some(v) = ci.opt("pViewportState") {
-        // OpenGL's depth range (`VkPipelineViewportDepthClipControlCreateInfoEXT`).
-        let mut next = v.opt("pNext");
-        while let Some(n) = next {
-            if n.opt("negativeOneToOne").is_some() {
-                g.depth_negative_one_to_one = boolean(&n, "negativeOneToOne")?;
-            }
-            next = n.opt("pNext");
-        }
-        for vp in v.list("pViewports")? {
-            g.viewports.push([
-                float(&vp, "x")?,
-                float(&vp, "y")?,
-                float(&vp, "width")?,
-                float(&vp, "height")?,
-            ]);
-        }
-        for s in v.list("pScissors")? {
-            let (o, e) = (s.get("offset")?, s.get("extent")?);
-            g.scissors.push([
-                o.get("x")?.i64()?,
-                o.get("y")?.i64()?,
-                e.get("width")?.i64()?,
-                e.get("height")?.i64()?,
-            ]);
-        }
+        viewport_state(&mut g, &v)?;
     }
     Ok(g)
+}
+
+/// `VkPipelineRasterizationStateCreateInfo` and its chain (the depth bias kept where the
+/// draws may switch it on).
+fn rasterization(g: &mut GraphicsState, r: &Arg<'_>, bias_switched: bool) -> Got<()> {
+    g.polygon_mode = r.get("polygonMode")?.name()?;
+    g.cull_mode = r.get("cullMode")?.u32()?;
+    g.front_face = r.get("frontFace")?.name()?;
+    g.depth_clamp = boolean(r, "depthClampEnable")?;
+    g.rasterizer_discard = boolean(r, "rasterizerDiscardEnable")?;
+    g.line_width = float(r, "lineWidth")?;
+    // `VkPipelineRasterizationProvokingVertexStateCreateInfoEXT` and
+    // `VkPipelineRasterizationLineStateCreateInfoEXT`.
+    let mut next = r.opt("pNext");
+    while let Some(n) = next {
+        if let Some(m) = n.opt("provokingVertexMode") {
+            g.provoking_vertex_last = m.name()?.contains("LAST_VERTEX");
+        }
+        if let Some(m) = n.opt("lineRasterizationMode") {
+            let m = m.name()?;
+            g.line_rasterization_mode = (!m.ends_with("DEFAULT_EXT")).then_some(m);
+            g.line_stipple = boolean(&n, "stippledLineEnable")?;
+        }
+        next = n.opt("pNext");
+    }
+    if boolean(r, "depthBiasEnable")? || bias_switched {
+        g.depth_bias = Some([
+            float(r, "depthBiasConstantFactor")?,
+            float(r, "depthBiasClamp")?,
+            float(r, "depthBiasSlopeFactor")?,
+        ]);
+    }
+    Ok(())
+}
+
+/// `VkPipelineColorBlendStateCreateInfo`: each attachment's blend, the constants, the logic op.
+fn color_blend(g: &mut GraphicsState, c: &Arg<'_>) -> Got<()> {
+    for a in c.list("pAttachments")? {
+        g.blend.push(BlendAttachment {
+            enable: boolean(&a, "blendEnable")?,
+            src_color: a.get("srcColorBlendFactor")?.name()?,
+            dst_color: a.get("dstColorBlendFactor")?.name()?,
+            color_op: a.get("colorBlendOp")?.name()?,
+            src_alpha: a.get("srcAlphaBlendFactor")?.name()?,
+            dst_alpha: a.get("dstAlphaBlendFactor")?.name()?,
+            alpha_op: a.get("alphaBlendOp")?.name()?,
+            write_mask: a.get("colorWriteMask")?.u32()?,
+        });
+    }
+    let k = c.list("blendConstants")?;
+    for (i, v) in k.iter().take(4).enumerate() {
+        g.blend_constants[i] = v.f64()? as f32;
+    }
+    if boolean(c, "logicOpEnable")? {
+        g.logic_op = Some(c.get("logicOp")?.name()?);
+    }
+    Ok(())
+}
+
+/// `VkPipelineViewportStateCreateInfo`: viewports, scissors and OpenGL's depth range.
+fn viewport_state(g: &mut GraphicsState, v: &Arg<'_>) -> Got<()> {
+    // OpenGL's depth range (`VkPipelineViewportDepthClipControlCreateInfoEXT`).
+    let mut next = v.opt("pNext");
+    while let Some(n) = next {
+        if n.opt("negativeOneToOne").is_some() {
+            g.depth_negative_one_to_one = boolean(&n, "negativeOneToOne")?;
+        }
+        next = n.opt("pNext");
+    }
+    for vp in v.list("pViewports")? {
+        g.viewports.push([
+            float(&vp, "x")?,
+            float(&vp, "y")?,
+            float(&vp, "width")?,
+            float(&vp, "height")?,
+        ]);
+    }
+    for s in v.list("pScissors")? {
+        let (o, e) = (s.get("offset")?, s.get("extent")?);
+        g.scissors.push([
+            o.get("x")?.i64()?,
+            o.get("y")?.i64()?,
+            e.get("width")?.i64()?,
+            e.get("height")?.i64()?,
+        ]);
+    }
+    Ok(())
 }

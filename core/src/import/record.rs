@@ -209,54 +209,10 @@ impl Recording {
                     .insert(point, args.get("pipeline")?.handle()?);
                 return Ok(true);
             }
-            CmdFunc::SetViewport => {
-                if let Some(v) = args.list("pViewports")?.first() {
-                    let f = |k: &str| -> Got<f32> { Ok(v.get(k)?.f64()? as f32) };
-                    self.bound.viewport = Some([
-                        f("x")?,
-                        f("y")?,
-                        f("width")?,
-                        f("height")?,
-                        f("minDepth")?,
-                        f("maxDepth")?,
-                    ]);
-                }
-                return Ok(true);
-            }
-            CmdFunc::SetScissor => {
-                if let Some(r) = args.list("pScissors")?.first() {
-                    let (o, e) = (r.get("offset")?, r.get("extent")?);
-                    self.bound.scissor = Some([
-                        o.get("x")?.i64()?,
-                        o.get("y")?.i64()?,
-                        e.get("width")?.i64()?,
-                        e.get("height")?.i64()?,
-                    ]);
-                }
-                return Ok(true);
-            }
-            CmdFunc::SetBlendConstants => {
-                // Required: constants read as zero would blend a wrong image silently.
-                let k = args.get("blendConstants")?.items()?;
-                let mut c = [0.0f32; 4];
-                for (i, v) in k.iter().take(4).enumerate() {
-                    c[i] = v.f64()? as f32;
-                }
-                self.bound.blend_constants = Some(c);
-                return Ok(true);
-            }
-            CmdFunc::SetStencilReference => {
-                // VkStencilFaceFlags: front 1, back 2.
-                let faces = args.get("faceMask")?.u64()?;
-                let reference = args.get("reference")?.u32()?;
-                if faces & 1 != 0 {
-                    self.bound.stencil_reference.0 = Some(reference);
-                }
-                if faces & 2 != 0 {
-                    self.bound.stencil_reference.1 = Some(reference);
-                }
-                return Ok(true);
-            }
+            CmdFunc::SetViewport
+            | CmdFunc::SetScissor
+            | CmdFunc::SetBlendConstants
+            | CmdFunc::SetStencilReference => return self.set_fixed(func, args).map(|()| true),
             CmdFunc::PushConstants => return self.push_constants(args).map(|()| true),
             CmdFunc::BindDescriptorSets => return self.bind_sets(args, objects).map(|()| true),
             CmdFunc::PushDescriptorSet => return self.push_set(args, objects).map(|()| true),
@@ -378,6 +334,59 @@ impl Recording {
         self.cmds.push(cmd);
         self.at.push(origin());
         Ok(true)
+    }
+
+    /// Viewport, scissor, blend constants and stencil reference, which every pipeline may
+    /// take dynamically: the values the draws after them hold.
+    fn set_fixed(&mut self, func: CmdFunc, args: &Arg<'_>) -> Got<()> {
+        match func {
+            CmdFunc::SetViewport => {
+                if let Some(v) = args.list("pViewports")?.first() {
+                    let f = |k: &str| -> Got<f32> { Ok(v.get(k)?.f64()? as f32) };
+                    self.bound.viewport = Some([
+                        f("x")?,
+                        f("y")?,
+                        f("width")?,
+                        f("height")?,
+                        f("minDepth")?,
+                        f("maxDepth")?,
+                    ]);
+                }
+            }
+            CmdFunc::SetScissor => {
+                if let Some(r) = args.list("pScissors")?.first() {
+                    let (o, e) = (r.get("offset")?, r.get("extent")?);
+                    self.bound.scissor = Some([
+                        o.get("x")?.i64()?,
+                        o.get("y")?.i64()?,
+                        e.get("width")?.i64()?,
+                        e.get("height")?.i64()?,
+                    ]);
+                }
+            }
+            CmdFunc::SetBlendConstants => {
+                // Required: constants read as zero would blend a wrong image silently.
+                let k = args.get("blendConstants")?.items()?;
+                let mut c = [0.0f32; 4];
+                for (i, v) in k.iter().take(4).enumerate() {
+                    c[i] = v.f64()? as f32;
+                }
+                self.bound.blend_constants = Some(c);
+            }
+            CmdFunc::SetStencilReference => {
+                // VkStencilFaceFlags: front 1, back 2.
+                let faces = args.get("faceMask")?.u64()?;
+                let reference = args.get("reference")?.u32()?;
+                if faces & 1 != 0 {
+                    self.bound.stencil_reference.0 = Some(reference);
+                }
+                if faces & 2 != 0 {
+                    self.bound.stencil_reference.1 = Some(reference);
+                }
+            }
+            _ => {}
+        }
+        Ok(())
     }
 
     /// Push constants: bytes at an offset, kept while every push so far had its values.

@@ -294,48 +294,7 @@ impl Objects {
                 );
             }
             Func::CreateImage => self.create_image(args)?,
-            Func::CreateInstance | Func::CreateDevice => {
-                let ci = args.get("pCreateInfo")?;
-                for n in ci.list("ppEnabledExtensionNames").unwrap_or_default() {
-                    if let Ok(name) = n.str() {
-                        self.extensions.insert(name.to_owned());
-                    }
-                }
-                self.instance_created |= func == Func::CreateInstance;
-                self.depth_range_unrestricted =
-                    self.extensions.contains("VK_EXT_depth_range_unrestricted");
-                self.spirv.spirv_1_4 = self.extensions.contains("VK_KHR_spirv_1_4");
-                if func == Func::CreateInstance {
-                    let version = ci
-                        .opt("pApplicationInfo")
-                        .and_then(|a| a.opt("apiVersion"))
-                        .and_then(|v| v.u64().ok())
-                        .unwrap_or(0);
-                    // VK_API_VERSION_MINOR.
-                    self.spirv.api_minor = ((version >> 12) & 0x3ff) as u32;
-                }
-                // Features in their own structures or in VkPhysicalDeviceVulkan1xFeatures.
-                let mut next = ci.opt("pNext");
-                let on = |n: &Arg<'_>, member: &str| {
-                    n.opt(member)
-                        .and_then(|v| v.u64().ok())
-                        .is_some_and(|v| v != 0)
-                };
-                while let Some(n) = next {
-                    if on(&n, "synchronization2") {
-                        self.synchronization2 = true;
-                    }
-                    if on(&n, "nullDescriptor") {
-                        self.null_descriptor = true;
-                    }
-                    for feature in super::valid_usage_spirv::Rules::FEATURES {
-                        if on(&n, feature) {
-                            self.spirv.enable(feature);
-                        }
-                    }
-                    next = n.opt("pNext");
-                }
-            }
+            Func::CreateInstance | Func::CreateDevice => self.create_instance(func, args)?,
             Func::CreateBuffer => self.create_buffer(args)?,
             Func::MemoryRequirements(object) => self.memory_requirements(object, args)?,
             Func::BindMemory(object) => {
@@ -353,71 +312,21 @@ impl Objects {
                 }
             }
             Func::CreateImageView => self.create_image_view(args)?,
-            Func::CreateBufferView => {
-                let ci = args.get("pCreateInfo")?;
-                let view = args.get("pView")?.handle()?;
-                self.buffer_view_formats
-                    .insert(view, ci.get("format")?.name()?);
-                self.buffer_views.insert(
-                    view,
-                    (
-                        ci.get("buffer")?.handle()?,
-                        ci.get("offset")?.u64()?,
-                        ci.get("range")?.u64()?,
-                    ),
-                );
-            }
+            Func::CreateBufferView => self.create_buffer_view(args)?,
             Func::CreateRenderPass => {
                 let ci = args.get("pCreateInfo")?;
                 let rp = render_pass(&ci)?;
                 self.render_passes
                     .insert(args.get("pRenderPass")?.handle()?, rp);
             }
-            Func::CreateFramebuffer => {
-                let ci = args.get("pCreateInfo")?;
-                let attachments = ci
-                    .list("pAttachments")?
-                    .iter()
-                    .map(Arg::handle)
-                    .collect::<Got<_>>()?;
-                let layers = ci.opt("layers").and_then(|l| l.u32().ok()).unwrap_or(1);
-                self.framebuffers.insert(
-                    args.get("pFramebuffer")?.handle()?,
-                    FramebufferInfo {
-                        attachments,
-                        layers,
-                    },
-                );
-            }
+            Func::CreateFramebuffer => self.create_framebuffer(args)?,
             Func::AllocateDescriptorSets => {
                 for s in args.list("pDescriptorSets")? {
                     self.sets.insert(s.handle()?, BTreeMap::new());
                 }
             }
             Func::UpdateDescriptorSets => self.update_descriptor_sets(args)?,
-            Func::CreateDescriptorUpdateTemplate => {
-                let ci = args.get("pCreateInfo")?;
-                let entries = ci
-                    .list("pDescriptorUpdateEntries")?
-                    .iter()
-                    .map(|e| {
-                        Ok(TemplateEntry {
-                            binding: e.get("dstBinding")?.u32()?,
-                            element: e.get("dstArrayElement")?.u32()?,
-                            count: e.get("descriptorCount")?.u32()?,
-                            ty: e.get("descriptorType")?.name()?,
-                        })
-                    })
-                    .collect::<Got<_>>()?;
-                let compute = ci
-                    .opt("pipelineBindPoint")
-                    .and_then(|p| p.name().ok())
-                    .is_some_and(|n| n.contains("COMPUTE") || n == "1");
-                self.templates.insert(
-                    args.get("pDescriptorUpdateTemplate")?.handle()?,
-                    Template { entries, compute },
-                );
-            }
+            Func::CreateDescriptorUpdateTemplate => self.create_template(args)?,
             Func::UpdateDescriptorSetWithTemplate => {
                 let set = args.get("descriptorSet")?.handle()?;
                 let template = args.get("descriptorUpdateTemplate")?.handle()?;
@@ -425,20 +334,7 @@ impl Objects {
                 self.sets.entry(set).or_default().extend(written);
             }
             Func::CreateSwapchain => self.create_swapchain(args)?,
-            Func::CreateSemaphore => {
-                // VkSemaphoreTypeCreateInfo in the chain: timeline semaphores are waited on by
-                // value, binary ones by their last signal.
-                let mut next = args.get("pCreateInfo")?.opt("pNext");
-                while let Some(n) = next {
-                    if n.opt("semaphoreType").is_some_and(|t| {
-                        t.symbol()
-                            .is_ok_and(|n| n == "1" || n.ends_with("TIMELINE"))
-                    }) {
-                        self.timeline.insert(args.get("pSemaphore")?.handle()?);
-                    }
-                    next = n.opt("pNext");
-                }
-            }
+            Func::CreateSemaphore => self.create_semaphore(args)?,
             Func::GetSwapchainImages => self.swapchain_images(args)?,
             Func::SetDebugUtilsObjectName => {
                 let info = args.get("pNameInfo")?;
@@ -474,6 +370,126 @@ impl Objects {
             _ => return Ok(false),
         }
         Ok(true)
+    }
+
+    /// `vkCreateInstance` or `vkCreateDevice`: the extensions, the API version and the
+    /// features enabled.
+    fn create_instance(&mut self, func: Func, args: &Arg<'_>) -> Got<()> {
+        let ci = args.get("pCreateInfo")?;
+        for n in ci.list("ppEnabledExtensionNames").unwrap_or_default() {
+            if let Ok(name) = n.str() {
+                self.extensions.insert(name.to_owned());
+            }
+        }
+        self.instance_created |= func == Func::CreateInstance;
+        self.depth_range_unrestricted = self.extensions.contains("VK_EXT_depth_range_unrestricted");
+        self.spirv.spirv_1_4 = self.extensions.contains("VK_KHR_spirv_1_4");
+        if func == Func::CreateInstance {
+            let version = ci
+                .opt("pApplicationInfo")
+                .and_then(|a| a.opt("apiVersion"))
+                .and_then(|v| v.u64().ok())
+                .unwrap_or(0);
+            // VK_API_VERSION_MINOR.
+            self.spirv.api_minor = ((version >> 12) & 0x3ff) as u32;
+        }
+        // Features in their own structures or in VkPhysicalDeviceVulkan1xFeatures.
+        let mut next = ci.opt("pNext");
+        let on = |n: &Arg<'_>, member: &str| {
+            n.opt(member)
+                .and_then(|v| v.u64().ok())
+                .is_some_and(|v| v != 0)
+        };
+        while let Some(n) = next {
+            if on(&n, "synchronization2") {
+                self.synchronization2 = true;
+            }
+            if on(&n, "nullDescriptor") {
+                self.null_descriptor = true;
+            }
+            for feature in super::valid_usage_spirv::Rules::FEATURES {
+                if on(&n, feature) {
+                    self.spirv.enable(feature);
+                }
+            }
+            next = n.opt("pNext");
+        }
+        Ok(())
+    }
+
+    fn create_buffer_view(&mut self, args: &Arg<'_>) -> Got<()> {
+        let ci = args.get("pCreateInfo")?;
+        let view = args.get("pView")?.handle()?;
+        self.buffer_view_formats
+            .insert(view, ci.get("format")?.name()?);
+        self.buffer_views.insert(
+            view,
+            (
+                ci.get("buffer")?.handle()?,
+                ci.get("offset")?.u64()?,
+                ci.get("range")?.u64()?,
+            ),
+        );
+        Ok(())
+    }
+
+    fn create_framebuffer(&mut self, args: &Arg<'_>) -> Got<()> {
+        let ci = args.get("pCreateInfo")?;
+        let attachments = ci
+            .list("pAttachments")?
+            .iter()
+            .map(Arg::handle)
+            .collect::<Got<_>>()?;
+        let layers = ci.opt("layers").and_then(|l| l.u32().ok()).unwrap_or(1);
+        self.framebuffers.insert(
+            args.get("pFramebuffer")?.handle()?,
+            FramebufferInfo {
+                attachments,
+                layers,
+            },
+        );
+        Ok(())
+    }
+
+    fn create_template(&mut self, args: &Arg<'_>) -> Got<()> {
+        let ci = args.get("pCreateInfo")?;
+        let entries = ci
+            .list("pDescriptorUpdateEntries")?
+            .iter()
+            .map(|e| {
+                Ok(TemplateEntry {
+                    binding: e.get("dstBinding")?.u32()?,
+                    element: e.get("dstArrayElement")?.u32()?,
+                    count: e.get("descriptorCount")?.u32()?,
+                    ty: e.get("descriptorType")?.name()?,
+                })
+            })
+            .collect::<Got<_>>()?;
+        let compute = ci
+            .opt("pipelineBindPoint")
+            .and_then(|p| p.name().ok())
+            .is_some_and(|n| n.contains("COMPUTE") || n == "1");
+        self.templates.insert(
+            args.get("pDescriptorUpdateTemplate")?.handle()?,
+            Template { entries, compute },
+        );
+        Ok(())
+    }
+
+    fn create_semaphore(&mut self, args: &Arg<'_>) -> Got<()> {
+        // VkSemaphoreTypeCreateInfo in the chain: timeline semaphores are waited on by
+        // value, binary ones by their last signal.
+        let mut next = args.get("pCreateInfo")?.opt("pNext");
+        while let Some(n) = next {
+            if n.opt("semaphoreType").is_some_and(|t| {
+                t.symbol()
+                    .is_ok_and(|n| n == "1" || n.ends_with("TIMELINE"))
+            }) {
+                self.timeline.insert(args.get("pSemaphore")?.handle()?);
+            }
+            next = n.opt("pNext");
+        }
+        Ok(())
     }
 
     /// An object's debug name, cleaned by `debug_text` (the capture format refuses control

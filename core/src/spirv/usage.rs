@@ -69,19 +69,7 @@ pub(super) fn usage_loaded(
     });
     let index = Index::new(loaded);
     let module = &loaded.module;
-    let mut binding_of: HashMap<Word, (u32, u32)> = HashMap::new();
-    for inst in &module.types_global_values {
-        if inst.class.opcode != Op::Variable {
-            continue;
-        }
-        let var = inst.result_id.unwrap_or(0);
-        if let (Some(set), Some(binding)) = (
-            index.decoration_literal(var, Decoration::DescriptorSet),
-            index.decoration_literal(var, Decoration::Binding),
-        ) {
-            binding_of.insert(var, (set, binding));
-        }
-    }
+    let binding_of = descriptor_variables(module, &index);
     // Every id derived from a descriptor variable, mapped to the variable.
     let mut root: HashMap<Word, Word> = binding_of.keys().map(|&v| (v, v)).collect();
     // Per variable: (loaded, stored, image read, image written).
@@ -181,13 +169,42 @@ pub(super) fn usage_loaded(
             root.insert(result, var);
         }
     }
+    Ok(by_binding(&index, binding_of, &seen, &named))
+}
+
+/// Each descriptor variable's (set, binding).
+fn descriptor_variables(module: &rspirv::dr::Module, index: &Index) -> HashMap<Word, (u32, u32)> {
+    let mut binding_of: HashMap<Word, (u32, u32)> = HashMap::new();
+    for inst in &module.types_global_values {
+        if inst.class.opcode != Op::Variable {
+            continue;
+        }
+        let var = inst.result_id.unwrap_or(0);
+        if let (Some(set), Some(binding)) = (
+            index.decoration_literal(var, Decoration::DescriptorSet),
+            index.decoration_literal(var, Decoration::Binding),
+        ) {
+            binding_of.insert(var, (set, binding));
+        }
+    }
+    binding_of
+}
+
+/// The usage of each (set, binding) from what was seen of its variables: loaded, stored,
+/// image read, image written, named at all.
+fn by_binding(
+    index: &Index,
+    binding_of: HashMap<Word, (u32, u32)>,
+    seen: &HashMap<Word, [bool; 4]>,
+    named: &std::collections::HashSet<Word>,
+) -> BTreeMap<(u32, u32), Usage> {
     let mut out = BTreeMap::new();
     for (var, at) in binding_of {
         let [loaded, stored, image_read, image_written] =
             seen.get(&var).copied().unwrap_or_default();
         // An image variable is loaded to get the image; its texels are read and written by
         // the image instructions. A buffer's loads and stores are its reads and writes.
-        let image = image_read || image_written || is_image(&index, var);
+        let image = image_read || image_written || is_image(index, var);
         let u = if image {
             Usage {
                 reads: image_read,
@@ -206,7 +223,7 @@ pub(super) fn usage_loaded(
         e.writes |= u.writes;
         e.used |= named.contains(&var);
     }
-    Ok(out)
+    out
 }
 
 /// Whether the variable points at an image (or an array of them).

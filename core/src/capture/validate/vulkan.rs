@@ -177,6 +177,32 @@ impl Validator<'_> {
                 .map(|(i, v)| (v.name.as_str(), root.field("image_views").index(i))),
             "image view",
         );
+        self.check_image_views(vk, &root);
+        self.check_descriptors(&resources, &views, &samplers);
+        let modules = self.check_modules(vk, &root);
+        self.check_pipelines(vk, &root, &layouts, &modules);
+        self.check_pipeline_uses(Some(vk));
+        if !self.diags.has_errors() {
+            let model = self.vk_model(vk, modules);
+            let index = |names: Vec<&String>| {
+                names
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, n)| (n.clone(), i))
+                    .collect()
+            };
+            self.vk_names = Some(VkNames {
+                pipelines: index(vk.pipelines.iter().map(|p| &p.name).collect()),
+                views: index(model.views.iter().map(|v| &v.name).collect()),
+                samplers: index(model.samplers.iter().map(|s| &s.name).collect()),
+            });
+            self.vk_model = Some(model);
+        }
+    }
+
+    /// Each image view names a resource, lies within it and swizzles by Vulkan's letters.
+    fn check_image_views(&mut self, vk: &VulkanObjects, root: &JsonPath) {
+        let raw = self.raw;
         for (i, v) in vk.image_views.iter().enumerate() {
             let path = root.field("image_views").index(i);
             if let Some(text) = &v.swizzle
@@ -205,8 +231,16 @@ impl Validator<'_> {
                 }
             }
         }
-        self.check_descriptors(&resources, &views, &samplers);
-        let modules = self.check_modules(vk, &root);
+    }
+
+    /// Each pipeline names a known layout, and each stage a module with that entry point.
+    fn check_pipelines(
+        &mut self,
+        vk: &VulkanObjects,
+        root: &JsonPath,
+        layouts: &BTreeSet<&str>,
+        modules: &ModuleCode<'_>,
+    ) {
         for (i, p) in vk.pipelines.iter().enumerate() {
             let path = root.field("pipelines").index(i);
             if !layouts.contains(p.layout.as_str()) {
@@ -244,23 +278,6 @@ impl Validator<'_> {
                     }
                 }
             }
-        }
-        self.check_pipeline_uses(Some(vk));
-        if !self.diags.has_errors() {
-            let model = self.vk_model(vk, modules);
-            let index = |names: Vec<&String>| {
-                names
-                    .into_iter()
-                    .enumerate()
-                    .map(|(i, n)| (n.clone(), i))
-                    .collect()
-            };
-            self.vk_names = Some(VkNames {
-                pipelines: index(vk.pipelines.iter().map(|p| &p.name).collect()),
-                views: index(model.views.iter().map(|v| &v.name).collect()),
-                samplers: index(model.samplers.iter().map(|s| &s.name).collect()),
-            });
-            self.vk_model = Some(model);
         }
     }
 

@@ -31,7 +31,6 @@ impl<'a> Validator<'a> {
         accesses: &mut Vec<ResourceAccess>,
         cx: &PassContext<'_>,
     ) -> Vec<DrawDesc> {
-        let name = &p.name;
         let mut draws = Vec::new();
         for (i, d) in p.draws.iter().enumerate() {
             let dpath = path.field("draws").index(i);
@@ -47,31 +46,7 @@ impl<'a> Validator<'a> {
                     "a draw without a mesh needs a `count` (vertices generated in the shader)",
                 );
             }
-            if d.instances == 0 {
-                self.diags
-                    .warning("draw", &dpath.field("instances"), "draw of zero instances");
-            }
-            if d.instances > MAX_DRAW_INSTANCES {
-                self.diags.error(
-                    "limit",
-                    &dpath.field("instances"),
-                    format!(
-                        "{} instances is over the limit of {MAX_DRAW_INSTANCES} per draw",
-                        d.instances
-                    ),
-                );
-            } else if let Some(count) = d.count
-                && u64::from(count) * u64::from(d.instances) > MAX_DRAW_VERTICES
-            {
-                self.diags.error(
-                    "limit",
-                    &dpath.field("count"),
-                    format!(
-                        "{count} vertices x {} instances is over the limit of {MAX_DRAW_VERTICES} vertex invocations per draw",
-                        d.instances
-                    ),
-                );
-            }
+            self.draw_limits(d, &dpath);
             if let (Some(m), Some(count)) = (mesh_desc, d.count)
                 && let Some(avail) = m.drawn_elements()
                 && u64::from(d.first) + u64::from(count) > avail
@@ -88,36 +63,7 @@ impl<'a> Validator<'a> {
                 );
             }
             self.draw_ranges(d, &dpath, mesh_desc);
-            if d.stencil_reference.is_some_and(|r| r > 255) {
-                self.diags.error(
-                    "draw",
-                    &dpath.field("stencil_reference"),
-                    "stencil reference is 8 bits (0..255)",
-                );
-            }
-            if d.depth_only && d.fragment.is_some() {
-                self.diags.error(
-                    "draw",
-                    &dpath.field("fragment"),
-                    "a depth-only draw runs no fragment shader: drop `fragment` or `depth_only`",
-                );
-            }
-            if d.depth_only && (!p.color_attachments.is_empty() || p.depth_stencil.is_none()) {
-                self.diags.error(
-                    "draw",
-                    &dpath.field("depth_only"),
-                    format!(
-                        "a depth-only draw runs no fragment shader, so pass \"{name}\" must have a depth target and no colour targets"
-                    ),
-                );
-            }
-            if d.stencil_reference.is_some() && cx.state.stencil.is_none() {
-                self.diags.error(
-                    "draw",
-                    &dpath.field("stencil_reference"),
-                    format!("pass \"{name}\" sets a stencil reference but has no stencil state"),
-                );
-            }
+            self.draw_rules(p, d, &dpath, cx);
             self.draw_buffers(d, &dpath, resources, accesses, i);
             let indexed =
                 mesh_desc.is_some_and(|m| m.index_format.is_some()) || d.index_buffer.is_some();
@@ -181,6 +127,70 @@ impl<'a> Validator<'a> {
         }
 
         draws
+    }
+
+    /// A draw's instances and vertex invocations within what a draw may run.
+    fn draw_limits(&mut self, d: &Draw, dpath: &JsonPath) {
+        if d.instances == 0 {
+            self.diags
+                .warning("draw", &dpath.field("instances"), "draw of zero instances");
+        }
+        if d.instances > MAX_DRAW_INSTANCES {
+            self.diags.error(
+                "limit",
+                &dpath.field("instances"),
+                format!(
+                    "{} instances is over the limit of {MAX_DRAW_INSTANCES} per draw",
+                    d.instances
+                ),
+            );
+        } else if let Some(count) = d.count
+            && u64::from(count) * u64::from(d.instances) > MAX_DRAW_VERTICES
+        {
+            self.diags.error(
+            "limit",
+            &dpath.field("count"),
+            format!(
+                "{count} vertices x {} instances is over the limit of {MAX_DRAW_VERTICES} vertex invocations per draw",
+                d.instances
+            ),
+        );
+        }
+    }
+
+    /// Stencil reference and depth-only draws against their pass's state and targets.
+    fn draw_rules(&mut self, p: &Pass, d: &Draw, dpath: &JsonPath, cx: &PassContext<'_>) {
+        let name = &p.name;
+        if d.stencil_reference.is_some_and(|r| r > 255) {
+            self.diags.error(
+                "draw",
+                &dpath.field("stencil_reference"),
+                "stencil reference is 8 bits (0..255)",
+            );
+        }
+        if d.depth_only && d.fragment.is_some() {
+            self.diags.error(
+                "draw",
+                &dpath.field("fragment"),
+                "a depth-only draw runs no fragment shader: drop `fragment` or `depth_only`",
+            );
+        }
+        if d.depth_only && (!p.color_attachments.is_empty() || p.depth_stencil.is_none()) {
+            self.diags.error(
+            "draw",
+            &dpath.field("depth_only"),
+            format!(
+                "a depth-only draw runs no fragment shader, so pass \"{name}\" must have a depth target and no colour targets"
+            ),
+        );
+        }
+        if d.stencil_reference.is_some() && cx.state.stencil.is_none() {
+            self.diags.error(
+                "draw",
+                &dpath.field("stencil_reference"),
+                format!("pass \"{name}\" sets a stencil reference but has no stencil state"),
+            );
+        }
     }
 
     pub(super) fn pass_dispatches(

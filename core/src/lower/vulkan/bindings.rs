@@ -154,46 +154,7 @@ impl<'c> Lowering<'c> {
         work: &VkWork,
     ) -> Result<(Vec<Option<VkGroup>>, Bound), Fail> {
         let model = self.vk_model()?;
-        let mut used: BTreeMap<(u32, u32), Used> = BTreeMap::new();
-        for stage in &pipe.stages {
-            let (s, _) = stage_of(&stage.stage)?;
-            let shader = model.modules[stage.module].name.clone();
-            for var in &self.vk_reflect(stage.module, &stage.entry)?.resources {
-                used.entry((var.set, var.binding))
-                    .and_modify(|u| {
-                        u.stages |= s;
-                        u.var.non_writable &= var.non_writable;
-                        u.var.non_readable &= var.non_readable;
-                        u.var.block_size = u.var.block_size.max(var.block_size);
-                    })
-                    .or_insert_with(|| Used {
-                        var: var.clone(),
-                        stages: s,
-                        shader: shader.clone(),
-                        as_storage: false,
-                        widen: false,
-                    });
-            }
-            for b in self.vk_beyond_std140(stage.module)? {
-                if let Some(u) = used.get_mut(&(b.set, b.binding)) {
-                    if let Some(end) = b.widened_end {
-                        u.var.block_size = u.var.block_size.max(Some(end));
-                        u.widen = true;
-                        continue;
-                    }
-                    if let Some(why) = &b.beyond_std430 {
-                        return Err(VkProblem::Unsupported {
-                            feature: format!(
-                                "a uniform block in scalar layout (set {} binding {} of shader {shader}: {}, and {why}; a storage buffer reads by std430's rules, and scalar layout needs a device feature wgpu does not enable)",
-                                b.set, b.binding, b.problem
-                            ),
-                        }
-                        .into());
-                    }
-                    u.as_storage = true;
-                }
-            }
-        }
+        let mut used = self.vk_used(pipe)?;
         let layout = &model.pipeline_layouts[pipe.layout];
         let mut per_set: BTreeMap<u32, Vec<Entry>> = BTreeMap::new();
         let mut texel_formats = Vec::new();
@@ -247,54 +208,19 @@ impl<'c> Lowering<'c> {
             let base = if element == 0 {
                 binding
             } else {
-                let highest = layout
-                    .sets
-                    .get(set as usize)
-                    .and_then(|&s| {
-                        model.set_layouts[s]
-                            .bindings
-                            .iter()
-                            .map(|b| b.binding)
-                            .max()
-                    })
-                    .unwrap_or(0);
-                let before = elements.range((set, 0)..(set, split_binding)).count() as u32;
-                let base = highest
-                    .checked_add(1 + before)
-                    .filter(|b| b.checked_mul(2).is_some_and(|w| w < u32::MAX))
-                    .ok_or_else(|| VkProblem::Unsupported {
-                        feature: format!(
-                            "element {element} of set {set} binding {binding} in shader {}: the set layout's bindings leave no number for it",
-                            u.shader
-                        ),
-                    })?;
+                let base =
+                    split_element_binding(model, layout, &elements, (set, split_binding), u)?;
                 elements.insert((set, split_binding), base);
                 base
             };
             let at = |d: &&VkBound| d.set == set && d.binding == binding && d.element == element;
             if matches!(u.var.kind, ResourceKind::UniformTexelBuffer) {
-                let found = work.descriptors.iter().find(at);
-                if found.is_some_and(|d| d.resource.is_none()) {
-                    return Err(super::blanks::refused(
-                        "UNIFORM_TEXEL_BUFFER",
-                        (set, binding, element),
-                        &u.shader,
-                    ));
-                }
-                let view = found.and_then(|d| d.format.as_deref());
-                match view.and_then(texel_format) {
-                    Some(f) => texel_formats.push((set, split_binding, f)),
-                    None => {
-                        return Err(VkProblem::Unsupported {
-                            feature: format!(
-                                "a uniform texel buffer of format {} (set {set} binding {binding} of shader {})",
-                                view.unwrap_or("unknown"),
-                                u.shader
-                            ),
-                        }
-                        .into());
-                    }
-                }
+                let f = texel_view_format(
+                    work.descriptors.iter().find(at),
+                    (set, binding, element),
+                    u,
+                )?;
+                texel_formats.push((set, split_binding, f));
             }
             if let Some(takes) = descriptor_types_of(&u.var.kind) {
                 let declared =
@@ -341,6 +267,75 @@ impl<'c> Lowering<'c> {
             }
             per_set.entry(set).or_default().extend(entries);
         }
+        let (groups, sets) = self.vk_group_layouts(per_set);
+        Ok((
+            groups,
+            Bound {
+                sets,
+                texel_formats,
+                lod_bias,
+                swizzles,
+                storage_blocks,
+                std140_blocks,
+                unnormalized,
+                mirror_once,
+                elements,
+            },
+        ))
+    }
+
+    /// Each (set, binding) the pipeline's stages use: the stages, the variable as every
+    /// stage declares it, and whether a uniform block is widened or read as storage.
+    fn vk_used(&mut self, pipe: &VkPipeline) -> Result<BTreeMap<(u32, u32), Used>, Fail> {
+        let model = self.vk_model()?;
+        let mut used: BTreeMap<(u32, u32), Used> = BTreeMap::new();
+        for stage in &pipe.stages {
+            let (s, _) = stage_of(&stage.stage)?;
+            let shader = model.modules[stage.module].name.clone();
+            for var in &self.vk_reflect(stage.module, &stage.entry)?.resources {
+                used.entry((var.set, var.binding))
+                    .and_modify(|u| {
+                        u.stages |= s;
+                        u.var.non_writable &= var.non_writable;
+                        u.var.non_readable &= var.non_readable;
+                        u.var.block_size = u.var.block_size.max(var.block_size);
+                    })
+                    .or_insert_with(|| Used {
+                        var: var.clone(),
+                        stages: s,
+                        shader: shader.clone(),
+                        as_storage: false,
+                        widen: false,
+                    });
+            }
+            for b in self.vk_beyond_std140(stage.module)? {
+                if let Some(u) = used.get_mut(&(b.set, b.binding)) {
+                    if let Some(end) = b.widened_end {
+                        u.var.block_size = u.var.block_size.max(Some(end));
+                        u.widen = true;
+                        continue;
+                    }
+                    if let Some(why) = &b.beyond_std430 {
+                        return Err(VkProblem::Unsupported {
+                        feature: format!(
+                            "a uniform block in scalar layout (set {} binding {} of shader {shader}: {}, and {why}; a storage buffer reads by std430's rules, and scalar layout needs a device feature wgpu does not enable)",
+                            b.set, b.binding, b.problem
+                        ),
+                    }
+                    .into());
+                    }
+                    u.as_storage = true;
+                }
+            }
+        }
+        Ok(used)
+    }
+
+    /// The bind group of each set, its layout shared with every equal one of the plan.
+    fn vk_group_layouts(
+        &mut self,
+        per_set: BTreeMap<u32, Vec<Entry>>,
+    ) -> (Vec<Option<VkGroup>>, SetBindings) {
         let last = per_set.keys().next_back().map_or(0, |&s| s as usize + 1);
         let mut groups = vec![None; last];
         let mut sets = SetBindings::new();
@@ -367,20 +362,7 @@ impl<'c> Lowering<'c> {
                 entries: entries.into_iter().map(|(e, r)| (e.binding, r)).collect(),
             });
         }
-        Ok((
-            groups,
-            Bound {
-                sets,
-                texel_formats,
-                lod_bias,
-                swizzles,
-                storage_blocks,
-                std140_blocks,
-                unnormalized,
-                mirror_once,
-                elements,
-            },
-        ))
+        (groups, sets)
     }
 
     /// The uniform blocks of module `m` laid out past std140, found once.
@@ -428,20 +410,8 @@ impl<'c> Lowering<'c> {
             | "STORAGE_BUFFER"
             | "STORAGE_BUFFER_DYNAMIC" => {
                 let d = d.ok_or_else(missing)?;
-                let buffer = match d.resource {
-                    Some(r) => self.buf(p, r)?,
-                    None => self.vk_blank_buffer(p, (set, binding, element), &u.var),
-                };
-                let kind = if ty.starts_with("UNIFORM") && !u.as_storage {
-                    wgpu::BufferBindingType::Uniform
-                } else {
-                    wgpu::BufferBindingType::Storage {
-                        read_only: u.var.non_writable || u.as_storage,
-                    }
-                };
-                if u.as_storage {
-                    self.plan.buffers[buffer].usage |= wgpu::BufferUsages::STORAGE;
-                }
+                let (kind, resource) =
+                    self.vk_buffer_binding(p, d, ty, (set, binding, element), u)?;
                 vec![(
                     entry(
                         wb,
@@ -451,23 +421,7 @@ impl<'c> Lowering<'c> {
                             min_binding_size: None,
                         },
                     ),
-                    VkResource::Buffer {
-                        buffer,
-                        offset: d.offset.unwrap_or(0),
-                        // A uniform block's size is whole 16-byte steps (std140) where a
-                        // program may bind only to its last member's end, or less than the
-                        // block where the shader reads only the start (Vulkan asks only that
-                        // reads stay inside the range); wgpu asks for the whole block. The
-                        // replay pads past the buffer's end.
-                        size: d.range.filter(|&r| r != u64::MAX).map(|r| {
-                            let r = r.max(u.var.block_size.unwrap_or(0));
-                            if matches!(kind, wgpu::BufferBindingType::Uniform) {
-                                r.div_ceil(16) * 16
-                            } else {
-                                r
-                            }
-                        }),
-                    },
+                    resource,
                 )]
             }
             // Read as words: the rewrite unpacks each texel (`crate::spirv`).
@@ -527,31 +481,7 @@ impl<'c> Lowering<'c> {
                         )?
                     }
                 };
-                let levels = match &resource {
-                    VkResource::Texture {
-                        texture,
-                        base_mip,
-                        mips,
-                        ..
-                    } => mips.unwrap_or(
-                        self.plan.textures[*texture]
-                            .mip_levels
-                            .saturating_sub(*base_mip),
-                    ),
-                    _ => u32::MAX,
-                };
-                let cube = matches!(
-                    &resource,
-                    VkResource::Texture {
-                        dimension: wgpu::TextureViewDimension::Cube
-                            | wgpu::TextureViewDimension::CubeArray,
-                        ..
-                    }
-                );
-                let texture = match &resource {
-                    VkResource::Texture { texture, .. } => Some(*texture),
-                    _ => None,
-                };
+                let (levels, cube, texture) = texture_facts(&resource, &self.plan.textures);
                 let mut out = vec![(entry(wb, ty), resource)];
                 if ty_is_combined(&lb.descriptor_type) {
                     let s = d.sampler.or(immutable).ok_or_else(missing)?;
@@ -586,6 +516,50 @@ impl<'c> Lowering<'c> {
             }
         };
         Ok((entries, bias))
+    }
+
+    /// A uniform or storage buffer descriptor: how wgpu binds it (a uniform block that
+    /// cannot be widened to std140 is read as storage) and the range bound, a null descriptor
+    /// reading a blank buffer.
+    fn vk_buffer_binding(
+        &mut self,
+        p: &PassDesc,
+        d: &VkBound,
+        ty: &str,
+        at: (u32, u32, u32),
+        u: &Used,
+    ) -> Result<(wgpu::BufferBindingType, VkResource), Fail> {
+        let kind = if ty.starts_with("UNIFORM") && !u.as_storage {
+            wgpu::BufferBindingType::Uniform
+        } else {
+            wgpu::BufferBindingType::Storage {
+                read_only: u.var.non_writable || u.as_storage,
+            }
+        };
+        let buffer = match d.resource {
+            Some(r) => self.buf(p, r)?,
+            None => self.vk_blank_buffer(p, at, &u.var),
+        };
+        if u.as_storage {
+            self.plan.buffers[buffer].usage |= wgpu::BufferUsages::STORAGE;
+        }
+        let resource = VkResource::Buffer {
+            buffer,
+            offset: d.offset.unwrap_or(0),
+            // A uniform block's size is whole 16-byte steps (std140) where a program may bind
+            // only to its last member's end, or less than the block where the shader reads
+            // only the start (Vulkan asks only that reads stay inside the range); wgpu asks
+            // for the whole block. The replay pads past the buffer's end.
+            size: d.range.filter(|&r| r != u64::MAX).map(|r| {
+                let r = r.max(u.var.block_size.unwrap_or(0));
+                if matches!(kind, wgpu::BufferBindingType::Uniform) {
+                    r.div_ceil(16) * 16
+                } else {
+                    r
+                }
+            }),
+        };
+        Ok((kind, resource))
     }
 
     /// Refuses sampler `s` on a cube map where it filters within each face
@@ -856,4 +830,89 @@ fn descriptor_types_of(kind: &ResourceKind) -> Option<&'static [&'static str]> {
 
 fn ty_is_combined(descriptor_type: &str) -> bool {
     descriptor_type.ends_with("COMBINED_IMAGE_SAMPLER")
+}
+
+/// The binding number an element of a split descriptor array takes: past the set layout's
+/// highest binding, after the elements split before it.
+fn split_element_binding(
+    model: &VkModel,
+    layout: &VkPipelineLayout,
+    elements: &BTreeMap<(u32, u32), u32>,
+    (set, split_binding): (u32, u32),
+    u: &Used,
+) -> Result<u32, Fail> {
+    let (binding, element) = crate::spirv::binding_element(split_binding);
+    let highest = layout
+        .sets
+        .get(set as usize)
+        .and_then(|&s| {
+            model.set_layouts[s]
+                .bindings
+                .iter()
+                .map(|b| b.binding)
+                .max()
+        })
+        .unwrap_or(0);
+    let before = elements.range((set, 0)..(set, split_binding)).count() as u32;
+    let base = highest
+        .checked_add(1 + before)
+        .filter(|b| b.checked_mul(2).is_some_and(|w| w < u32::MAX))
+        .ok_or_else(|| VkProblem::Unsupported {
+            feature: format!(
+                "element {element} of set {set} binding {binding} in shader {}: the set layout's bindings leave no number for it",
+                u.shader
+            ),
+        })?;
+    Ok(base)
+}
+
+/// The format a uniform texel buffer's view reads as, or why the replay cannot read it.
+fn texel_view_format(
+    found: Option<&VkBound>,
+    (set, binding, element): (u32, u32, u32),
+    u: &Used,
+) -> Result<rspirv::spirv::ImageFormat, Fail> {
+    if found.is_some_and(|d| d.resource.is_none()) {
+        return Err(super::blanks::refused(
+            "UNIFORM_TEXEL_BUFFER",
+            (set, binding, element),
+            &u.shader,
+        ));
+    }
+    let view = found.and_then(|d| d.format.as_deref());
+    view.and_then(texel_format).ok_or_else(|| {
+        VkProblem::Unsupported {
+            feature: format!(
+                "a uniform texel buffer of format {} (set {set} binding {binding} of shader {})",
+                view.unwrap_or("unknown"),
+                u.shader
+            ),
+        }
+        .into()
+    })
+}
+
+/// A sampled resource's mip levels seen through its view, whether it is a cube, and its
+/// texture (blank stand-ins have none).
+fn texture_facts(
+    resource: &VkResource,
+    textures: &[crate::plan::TextureSpec],
+) -> (u32, bool, Option<usize>) {
+    match resource {
+        VkResource::Texture {
+            texture,
+            base_mip,
+            mips,
+            dimension,
+            ..
+        } => (
+            mips.unwrap_or(textures[*texture].mip_levels.saturating_sub(*base_mip)),
+            matches!(
+                dimension,
+                wgpu::TextureViewDimension::Cube | wgpu::TextureViewDimension::CubeArray
+            ),
+            Some(*texture),
+        ),
+        _ => (u32::MAX, false, None),
+    }
 }

@@ -61,30 +61,7 @@ pub(super) fn extended(
 ) -> Result<(), VkProblem> {
     let has = |s: &str| declared.contains(&s);
     if has("VERTEX_INPUT_EXT") {
-        let vi = x
-            .vertex_input
-            .as_ref()
-            .ok_or_else(|| missing("vertex input"))?;
-        if let Some(b) = vi
-            .bindings
-            .iter()
-            .find(|b| b.divisor != 1 && b.input_rate.ends_with("INSTANCE"))
-        {
-            refuse(format!(
-                "an instance divisor of {} on vertex binding {} (wgpu steps every instance)",
-                b.divisor, b.binding
-            ))?;
-        }
-        e.vertex_bindings = vi
-            .bindings
-            .iter()
-            .map(|b| VertexBinding {
-                binding: b.binding,
-                stride: b.stride,
-                input_rate: b.input_rate.clone(),
-            })
-            .collect();
-        e.vertex_attributes.clone_from(&vi.attributes);
+        vertex_input(e, x, missing)?;
     }
     if has("POLYGON_MODE_EXT") {
         e.polygon_mode = x
@@ -147,33 +124,7 @@ pub(super) fn extended(
         // Devices have at most 32 samples here: the first word is the whole mask.
         e.sample_mask = Some(mask.first().copied().unwrap_or(0));
     }
-    if has("COLOR_BLEND_ENABLE_EXT") {
-        for (i, v) in x.color_blend_enable.iter().enumerate() {
-            if let Some(v) = v {
-                attachment(e, i).enable = *v;
-            }
-        }
-    }
-    if has("COLOR_BLEND_EQUATION_EXT") {
-        for (i, q) in x.color_blend_equation.iter().enumerate() {
-            if let Some(q) = q {
-                let a = attachment(e, i);
-                a.src_color.clone_from(&q.src_color);
-                a.dst_color.clone_from(&q.dst_color);
-                a.color_op.clone_from(&q.color_op);
-                a.src_alpha.clone_from(&q.src_alpha);
-                a.dst_alpha.clone_from(&q.dst_alpha);
-                a.alpha_op.clone_from(&q.alpha_op);
-            }
-        }
-    }
-    if has("COLOR_WRITE_MASK_EXT") {
-        for (i, m) in x.color_write_mask.iter().enumerate() {
-            if let Some(m) = m {
-                attachment(e, i).write_mask = *m;
-            }
-        }
-    }
+    blend_attachments(&has, e, x);
     if has("LOGIC_OP_ENABLE_EXT") {
         let enable = x
             .logic_op_enable
@@ -205,4 +156,72 @@ pub(super) fn extended(
         e.line_stipple = x.line_stipple_enable == Some(true);
     }
     Ok(())
+}
+
+/// `vkCmdSetVertexInputEXT`'s bindings and attributes in place of the pipeline's.
+fn vertex_input(
+    e: &mut GraphicsState,
+    x: &VkExtendedDynamicValues,
+    missing: &dyn Fn(&str) -> VkProblem,
+) -> Result<(), VkProblem> {
+    let vi = x
+        .vertex_input
+        .as_ref()
+        .ok_or_else(|| missing("vertex input"))?;
+    if let Some(b) = vi
+        .bindings
+        .iter()
+        .find(|b| b.divisor != 1 && b.input_rate.ends_with("INSTANCE"))
+    {
+        refuse(format!(
+            "an instance divisor of {} on vertex binding {} (wgpu steps every instance)",
+            b.divisor, b.binding
+        ))?;
+    }
+    e.vertex_bindings = vi
+        .bindings
+        .iter()
+        .map(|b| VertexBinding {
+            binding: b.binding,
+            stride: b.stride,
+            input_rate: b.input_rate.clone(),
+        })
+        .collect();
+    e.vertex_attributes.clone_from(&vi.attributes);
+    Ok(())
+}
+
+/// The per-attachment blend enables, equations and write masks set dynamically.
+fn blend_attachments(
+    has: &dyn Fn(&str) -> bool,
+    e: &mut GraphicsState,
+    x: &VkExtendedDynamicValues,
+) {
+    if has("COLOR_BLEND_ENABLE_EXT") {
+        for (i, v) in x.color_blend_enable.iter().enumerate() {
+            if let Some(v) = v {
+                attachment(e, i).enable = *v;
+            }
+        }
+    }
+    if has("COLOR_BLEND_EQUATION_EXT") {
+        for (i, q) in x.color_blend_equation.iter().enumerate() {
+            if let Some(q) = q {
+                let a = attachment(e, i);
+                a.src_color.clone_from(&q.src_color);
+                a.dst_color.clone_from(&q.dst_color);
+                a.color_op.clone_from(&q.color_op);
+                a.src_alpha.clone_from(&q.src_alpha);
+                a.dst_alpha.clone_from(&q.dst_alpha);
+                a.alpha_op.clone_from(&q.alpha_op);
+            }
+        }
+    }
+    if has("COLOR_WRITE_MASK_EXT") {
+        for (i, m) in x.color_write_mask.iter().enumerate() {
+            if let Some(m) = m {
+                attachment(e, i).write_mask = *m;
+            }
+        }
+    }
 }

@@ -289,115 +289,9 @@ impl<'c> Lowering<'c> {
                 baked.key.unwrap_or_default()
             ));
         }
-        // An attribute reads its binding's buffer; with none bound (a null buffer, which the
-        // nullDescriptor feature lets read zeros, or none ever bound) wgpu has nothing to
-        // read from.
-        for b in &baked.state.vertex_bindings {
-            let reading: Vec<u32> = baked
-                .state
-                .vertex_attributes
-                .iter()
-                .filter(|a| a.binding == b.binding)
-                .map(|a| a.location)
-                .collect();
-            if !reading.is_empty() && !work.vertex_buffers.iter().any(|v| v.0 == b.binding) {
-                return Err(VkProblem::Unsupported {
-                    feature: format!(
-                        "vertex binding {} with no buffer bound (null, or never bound), which the attributes at locations {reading:?} read",
-                        b.binding
-                    ),
-                }
-                .into());
-            }
-        }
-        // Bindings wgpu does not take as laid out (a stride not a multiple of 4, three
-        // 8- or 16-bit channels) read a copy laid out as it does (`strides`).
-        let mut rebound: Vec<(u32, usize)> = Vec::new();
-        let mut relayouts = Vec::new();
-        for b in &baked.state.vertex_bindings {
-            let attributes = baked
-                .state
-                .vertex_attributes
-                .iter()
-                .filter(|a| a.binding == b.binding)
-                .map(|a| {
-                    let size = strides::widened(&a.format).map_or_else(
-                        || states::vertex_format(&a.format).map(|f| f.size() as u32),
-                        |(_, channel)| Ok(3 * channel),
-                    )?;
-                    Ok((a, size))
-                })
-                .collect::<Result<Vec<_>, VkProblem>>()?;
-            if let Some(layout) = strides::relayout(b.stride, &attributes) {
-                relayouts.push((b.binding, b.stride, layout));
-            }
-        }
-        for (binding, stride, layout) in relayouts {
-            let Some(&(_, buffer, offset)) = work.vertex_buffers.iter().find(|v| v.0 == binding)
-            else {
-                continue;
-            };
-            rebound.push((
-                binding,
-                self.vk_repacked(p, buffer, offset, stride, &layout)?,
-            ));
-            let state = baked.state.to_mut();
-            for b in state
-                .vertex_bindings
-                .iter_mut()
-                .filter(|b| b.binding == binding)
-            {
-                b.stride = layout.stride;
-            }
-            let mine = state
-                .vertex_attributes
-                .iter_mut()
-                .filter(|a| a.binding == binding);
-            for (a, (at, format)) in mine.zip(&layout.attributes) {
-                a.offset = *at;
-                a.format.clone_from(format);
-            }
-            baked.key = Some(format!(
-                "{}, binding {binding} laid out as {:?}",
-                baked.key.unwrap_or_default(),
-                layout
-            ));
-        }
+        let rebound = self.vk_vertex_layout(p, work, &mut baked)?;
         let g = &*baked.state;
-        // Vulkan's viewport may have a negative height (the application flips y itself):
-        // then its clip space is already wgpu's, and the shader is left as it is.
-        let viewport = match work.viewport {
-            Some(v) => v,
-            None => {
-                let v = g.viewports.first().ok_or_else(|| {
-                    VkProblem::Missing(format!(
-                        "pipeline {} has a dynamic viewport the draw never set",
-                        pipe.name
-                    ))
-                })?;
-                [v[0], v[1], v[2], v[3], 0.0, 1.0]
-            }
-        };
-        let flip = viewport[3] >= 0.0;
-        let viewport = if flip {
-            viewport
-        } else {
-            [
-                viewport[0],
-                viewport[1] + viewport[3],
-                viewport[2],
-                -viewport[3],
-                viewport[4],
-                viewport[5],
-            ]
-        };
-        let scissor = work.scissor.or(g.scissors.first().copied()).map(|s| {
-            let x0 = s[0].clamp(0, i64::from(width));
-            let y0 = s[1].clamp(0, i64::from(height));
-            let x1 = s[0].saturating_add(s[2]).clamp(x0, i64::from(width));
-            let y1 = s[1].saturating_add(s[3]).clamp(y0, i64::from(height));
-            [x0 as u32, y0 as u32, (x1 - x0) as u32, (y1 - y0) as u32]
-        });
+        let (viewport, flip, scissor) = viewport_and_scissor(pipe, g, work, (width, height))?;
         let index = work
             .index_buffer
             .map(|(b, offset, wide)| {
@@ -506,6 +400,92 @@ impl<'c> Lowering<'c> {
                 self.draw_count(p, d.draw_count)?
             },
         })
+    }
+
+    /// The draw's vertex bindings as wgpu takes them: each attribute's binding has a buffer,
+    /// and bindings wgpu does not take as laid out read a repacked copy, the baked state
+    /// changed to match (binding, plan buffer of the copy).
+    fn vk_vertex_layout(
+        &mut self,
+        p: &'c PassDesc,
+        work: &VkWork,
+        baked: &mut dynamic::Baked<'_>,
+    ) -> Result<Vec<(u32, usize)>, Fail> {
+        // An attribute reads its binding's buffer; with none bound (a null buffer, which the
+        // nullDescriptor feature lets read zeros, or none ever bound) wgpu has nothing to
+        // read from.
+        for b in &baked.state.vertex_bindings {
+            let reading: Vec<u32> = baked
+                .state
+                .vertex_attributes
+                .iter()
+                .filter(|a| a.binding == b.binding)
+                .map(|a| a.location)
+                .collect();
+            if !reading.is_empty() && !work.vertex_buffers.iter().any(|v| v.0 == b.binding) {
+                return Err(VkProblem::Unsupported {
+                feature: format!(
+                    "vertex binding {} with no buffer bound (null, or never bound), which the attributes at locations {reading:?} read",
+                    b.binding
+                ),
+            }
+            .into());
+            }
+        }
+        // Bindings wgpu does not take as laid out (a stride not a multiple of 4, three
+        // 8- or 16-bit channels) read a copy laid out as it does (`strides`).
+        let mut rebound: Vec<(u32, usize)> = Vec::new();
+        let mut relayouts = Vec::new();
+        for b in &baked.state.vertex_bindings {
+            let attributes = baked
+                .state
+                .vertex_attributes
+                .iter()
+                .filter(|a| a.binding == b.binding)
+                .map(|a| {
+                    let size = strides::widened(&a.format).map_or_else(
+                        || states::vertex_format(&a.format).map(|f| f.size() as u32),
+                        |(_, channel)| Ok(3 * channel),
+                    )?;
+                    Ok((a, size))
+                })
+                .collect::<Result<Vec<_>, VkProblem>>()?;
+            if let Some(layout) = strides::relayout(b.stride, &attributes) {
+                relayouts.push((b.binding, b.stride, layout));
+            }
+        }
+        for (binding, stride, layout) in relayouts {
+            let Some(&(_, buffer, offset)) = work.vertex_buffers.iter().find(|v| v.0 == binding)
+            else {
+                continue;
+            };
+            rebound.push((
+                binding,
+                self.vk_repacked(p, buffer, offset, stride, &layout)?,
+            ));
+            let state = baked.state.to_mut();
+            for b in state
+                .vertex_bindings
+                .iter_mut()
+                .filter(|b| b.binding == binding)
+            {
+                b.stride = layout.stride;
+            }
+            let mine = state
+                .vertex_attributes
+                .iter_mut()
+                .filter(|a| a.binding == binding);
+            for (a, (at, format)) in mine.zip(&layout.attributes) {
+                a.offset = *at;
+                a.format.clone_from(format);
+            }
+            baked.key = Some(format!(
+                "{}, binding {binding} laid out as {:?}",
+                baked.key.take().unwrap_or_default(),
+                layout
+            ));
+        }
+        Ok(rebound)
     }
 
     /// A draw that rasterizes nothing still runs its vertex stage, whose storage writes would
@@ -963,4 +943,53 @@ impl From<LowerError> for Fail {
     fn from(e: LowerError) -> Self {
         Fail::Lower(e)
     }
+}
+
+/// A draw's viewport (x, y, width, height, min and max depth), whether its shader flips y,
+/// and its scissor (x, y, width, height).
+type DrawArea = ([f32; 6], bool, Option<[u32; 4]>);
+
+/// The viewport a draw renders with (wgpu's clip space: a Vulkan viewport of negative height
+/// turned over), whether the shader must flip y, and the scissor within the target.
+fn viewport_and_scissor(
+    pipe: &VkPipeline,
+    g: &crate::capture::format::GraphicsState,
+    work: &VkWork,
+    (width, height): (u32, u32),
+) -> Result<DrawArea, Fail> {
+    // Vulkan's viewport may have a negative height (the application flips y itself):
+    // then its clip space is already wgpu's, and the shader is left as it is.
+    let viewport = match work.viewport {
+        Some(v) => v,
+        None => {
+            let v = g.viewports.first().ok_or_else(|| {
+                VkProblem::Missing(format!(
+                    "pipeline {} has a dynamic viewport the draw never set",
+                    pipe.name
+                ))
+            })?;
+            [v[0], v[1], v[2], v[3], 0.0, 1.0]
+        }
+    };
+    let flip = viewport[3] >= 0.0;
+    let viewport = if flip {
+        viewport
+    } else {
+        [
+            viewport[0],
+            viewport[1] + viewport[3],
+            viewport[2],
+            -viewport[3],
+            viewport[4],
+            viewport[5],
+        ]
+    };
+    let scissor = work.scissor.or(g.scissors.first().copied()).map(|s| {
+        let x0 = s[0].clamp(0, i64::from(width));
+        let y0 = s[1].clamp(0, i64::from(height));
+        let x1 = s[0].saturating_add(s[2]).clamp(x0, i64::from(width));
+        let y1 = s[1].saturating_add(s[3]).clamp(y0, i64::from(height));
+        [x0 as u32, y0 as u32, (x1 - x0) as u32, (y1 - y0) as u32]
+    });
+    Ok((viewport, flip, scissor))
 }

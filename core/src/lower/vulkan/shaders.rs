@@ -154,28 +154,24 @@ impl<'c> Lowering<'c> {
             shader: name.clone(),
             error,
         };
+        let options = RewriteOptions {
+            flip_y: flip,
+            binding: &used,
+            specialization: &specialization,
+            texel_formats,
+            lod_bias: &lod_bias,
+            gl_depth,
+            swizzles: &bound.swizzles,
+            storage_blocks: &bound.storage_blocks,
+            std140_blocks: &bound.std140_blocks,
+            unnormalized: &bound.unnormalized,
+            mirror_once: &bound.mirror_once,
+            attached_outputs: outputs,
+            scaled_inputs: scaled,
+        };
         let words = self.vk_words(stage.module)?;
-        let naga_words = crate::spirv::rewrite(
-            &words,
-            execution_model,
-            &stage.entry,
-            &RewriteOptions {
-                flip_y: flip,
-                binding: &used,
-                specialization: &specialization,
-                texel_formats,
-                lod_bias: &lod_bias,
-                gl_depth,
-                swizzles: &bound.swizzles,
-                storage_blocks: &bound.storage_blocks,
-                std140_blocks: &bound.std140_blocks,
-                unnormalized: &bound.unnormalized,
-                mirror_once: &bound.mirror_once,
-                attached_outputs: outputs,
-                scaled_inputs: scaled,
-            },
-        )
-        .map_err(spirv_error)?;
+        let naga_words = crate::spirv::rewrite(&words, execution_model, &stage.entry, &options)
+            .map_err(spirv_error)?;
         let rank = |set: u32, b: u32, role: Role| -> Option<u32> {
             let w = wgpu_binding(base(set, b), role);
             sets.get(&set)?
@@ -188,25 +184,38 @@ impl<'c> Lowering<'c> {
             execution_model,
             &stage.entry,
             &RewriteOptions {
-                flip_y: flip,
                 binding: &rank,
-                specialization: &specialization,
-                texel_formats,
-                lod_bias: &lod_bias,
-                gl_depth,
-                swizzles: &bound.swizzles,
-                storage_blocks: &bound.storage_blocks,
-                std140_blocks: &bound.std140_blocks,
-                unnormalized: &bound.unnormalized,
-                mirror_once: &bound.mirror_once,
-                attached_outputs: outputs,
-                scaled_inputs: scaled,
+                ..options
             },
         )
         .map_err(spirv_error)?;
+        let after = crate::spirv::reflect(&passthrough).map_err(spirv_error)?;
+        let naga = self.vk_shader_checks(stage, &name, &after, naga_words)?;
+        self.plan.vk.shaders.push(SpirvShader {
+            name,
+            entry: stage.entry.clone(),
+            stage: wgpu_stage,
+            naga,
+            passthrough,
+            workgroup: [1, 1, 1],
+        });
+        let i = self.plan.vk.shaders.len() - 1;
+        self.vk.shaders.insert(key, i);
+        Ok(i)
+    }
+
+    /// What the replay cannot run of a rewritten shader (texel buffers left, capabilities
+    /// the device lacks), a note for demoted invocations, and the module naga takes, if it
+    /// takes it (`None`: handed over as it is).
+    fn vk_shader_checks(
+        &mut self,
+        stage: &VkStage,
+        name: &str,
+        after: &crate::spirv::Reflection,
+        naga_words: Vec<u32>,
+    ) -> Result<Option<Vec<u32>>, Fail> {
         // wgpu binds no texel buffer: the rewrite turns those a shader only reads into word
         // buffers, and what is left the replay cannot do.
-        let after = crate::spirv::reflect(&passthrough).map_err(spirv_error)?;
         if let Some(r) = after.resources.iter().find(|r| {
             matches!(
                 r.kind,
@@ -254,16 +263,6 @@ impl<'c> Lowering<'c> {
                 .into());
             }
         }
-        self.plan.vk.shaders.push(SpirvShader {
-            name,
-            entry: stage.entry.clone(),
-            stage: wgpu_stage,
-            naga,
-            passthrough,
-            workgroup: [1, 1, 1],
-        });
-        let i = self.plan.vk.shaders.len() - 1;
-        self.vk.shaders.insert(key, i);
-        Ok(i)
+        Ok(naga)
     }
 }
