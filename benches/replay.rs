@@ -75,6 +75,118 @@ fn one_mip(t: &wgpu::Texture, mip: u32) -> wgpu::TextureView {
     })
 }
 
+/// The pipeline drawing a full-screen triangle into a packed target with depth.
+fn fullscreen_draw(device: &wgpu::Device, module: &wgpu::ShaderModule) -> wgpu::RenderPipeline {
+    use wgpu::TextureFormat as F;
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: None,
+        layout: None,
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_fullscreen"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: F::Depth32Float,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_color"),
+            compilation_options: Default::default(),
+            targets: &[Some(F::Rgb10a2Unorm.into())],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// The pipeline sampling one mip into the next.
+fn blit_pipeline(device: &wgpu::Device) -> wgpu::RenderPipeline {
+    use wgpu::TextureFormat as F;
+    let blit_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("blit"),
+        source: wgpu::ShaderSource::Wgsl(BLIT.into()),
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: None,
+        layout: None,
+        vertex: wgpu::VertexState {
+            module: &blit_module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: Default::default(),
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &blit_module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets: &[Some(F::Rgba8Unorm.into())],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// A bind group for each mip the blit reads (levels 0 and 1 of the checker).
+fn mip_groups(
+    device: &wgpu::Device,
+    blit: &wgpu::RenderPipeline,
+    checker: &wgpu::Texture,
+    sampler: &wgpu::Sampler,
+) -> Vec<wgpu::BindGroup> {
+    (1..3)
+        .map(|m| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &blit.get_bind_group_layout(0),
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&one_mip(checker, m - 1)),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::Sampler(sampler),
+                    },
+                ],
+            })
+        })
+        .collect()
+}
+
+/// A buffer holding `bytes`: a uniform buffer, or one copied from and to.
+fn buffer_of(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    bytes: &[u8],
+    uniform: bool,
+) -> wgpu::Buffer {
+    let usage = if uniform {
+        wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST
+    } else {
+        wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST
+    };
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.len() as u64,
+        usage,
+        mapped_at_creation: false,
+    });
+    queue.write_buffer(&buffer, 0, bytes);
+    buffer
+}
+
 impl HandWritten {
     fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
         use wgpu::TextureFormat as F;
@@ -144,13 +256,7 @@ impl HandWritten {
             U::RENDER_ATTACHMENT,
         );
         let resolved = texture(device, "resolved", 16, 16, 1, 1, F::Rgba8Unorm, rt);
-        let texel_data = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("texel_data"),
-            size: 1024,
-            usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        queue.write_buffer(&texel_data, 0, &[7u8; 1024]);
+        let texel_data = buffer_of(device, queue, "texel_data", &[7u8; 1024], false);
         let source = std::fs::read_to_string(concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/tests/fixtures/replay_kinds/kinds.wgsl"
@@ -186,44 +292,12 @@ impl HandWritten {
                 },
             ],
         });
-        let params = device.create_buffer(&wgpu::BufferDescriptor {
-            label: None,
-            size: 32,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         let values: Vec<u8> = [1.0f32, 0.5, 0.0, 1.0, 0.25, 0.0, 0.0, 0.0]
             .iter()
             .flat_map(|v| v.to_le_bytes())
             .collect();
-        queue.write_buffer(&params, 0, &values);
-        let draw = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: None,
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_fullscreen"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: F::Depth32Float,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_color"),
-                compilation_options: Default::default(),
-                targets: &[Some(F::Rgb10a2Unorm.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let params = buffer_of(device, queue, "params", &values, true);
+        let draw = fullscreen_draw(device, &module);
         let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
             layout: &draw.get_bind_group_layout(0),
@@ -232,54 +306,13 @@ impl HandWritten {
                 resource: params.as_entire_binding(),
             }],
         });
-        let blit_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("blit"),
-            source: wgpu::ShaderSource::Wgsl(BLIT.into()),
-        });
-        let blit = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: None,
-            layout: None,
-            vertex: wgpu::VertexState {
-                module: &blit_module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &blit_module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[Some(F::Rgba8Unorm.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let blit = blit_pipeline(device);
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        let mip_groups = (1..3)
-            .map(|m| {
-                device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: None,
-                    layout: &blit.get_bind_group_layout(0),
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: wgpu::BindingResource::TextureView(&one_mip(&checker, m - 1)),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::Sampler(&sampler),
-                        },
-                    ],
-                })
-            })
-            .collect();
+        let mip_groups = mip_groups(device, &blit, &checker, &sampler);
         Self {
             color: color_tex.create_view(&Default::default()),
             color_tex,

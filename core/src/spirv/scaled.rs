@@ -60,109 +60,11 @@ pub fn scaled_inputs(
     if scaled.is_empty() {
         return Ok(());
     }
-    let locations: HashMap<Word, u32> = module
-        .annotations
-        .iter()
-        .filter(|a| {
-            a.class.opcode == Op::Decorate
-                && a.operands.get(1) == Some(&Operand::Decoration(Decoration::Location))
-        })
-        .filter_map(|a| Some((id_ref(a.operands.first())?, literal(a.operands.get(2))?)))
-        .collect();
-    let pointee = |module: &Module, ptr: Word| -> Option<Word> {
-        module
-            .types_global_values
-            .iter()
-            .find(|i| i.result_id == Some(ptr) && i.class.opcode == Op::TypePointer)
-            .and_then(|p| id_ref(p.operands.get(1)))
-    };
     let mut ids = Ids {
         next: first_free_id(module).ok_or(SpirvError::IdsExhausted { bound: u32::MAX })?,
     };
     let mut added: Vec<Instruction> = Vec::new();
-    // Each variable rewritten: its new pointer type, and the (float, int) types of a value
-    // loaded whole and of one component.
-    struct Var {
-        whole: (Word, Word),
-        component: (Word, Word, Word),
-        signed: bool,
-    }
-    // Packed inputs: their float type, its component count, and the packing.
-    let mut packed: HashMap<Word, (Word, u32, IntegerFetch)> = HashMap::new();
-    let mut vars: HashMap<Word, Var> = HashMap::new();
-    let globals: Vec<(usize, Word, Word)> = module
-        .types_global_values
-        .iter()
-        .enumerate()
-        .filter(|(_, i)| {
-            i.class.opcode == Op::Variable
-                && i.operands.first() == Some(&Operand::StorageClass(StorageClass::Input))
-        })
-        .filter_map(|(n, i)| Some((n, i.result_id?, i.result_type?)))
-        .collect();
-    for (n, var, ptr) in globals {
-        let Some(location) = locations.get(&var) else {
-            continue;
-        };
-        let Some(&(_, fetch)) = scaled.iter().find(|(l, _)| l == location) else {
-            continue;
-        };
-        let float = pointee(module, ptr)
-            .ok_or_else(|| unsupported(format!("input %{var} has no pointer type")))?;
-        let shape = float_shape(module, float).ok_or_else(|| {
-            unsupported(format!(
-                "the input at location {location} (%{var}) is not a 32-bit float or float vector"
-            ))
-        })?;
-        let signed = match fetch {
-            IntegerFetch::Scaled { signed } => signed,
-            IntegerFetch::Packed { .. } => {
-                let word = int32(module, &mut added, &mut ids, false)?;
-                let operands = vec![
-                    Operand::StorageClass(StorageClass::Input),
-                    Operand::IdRef(word),
-                ];
-                let ptr = type_id(module, &mut added, &mut ids, Op::TypePointer, operands)?;
-                module.types_global_values[n].result_type = Some(ptr);
-                packed.insert(var, (float, shape, fetch));
-                continue;
-            }
-        };
-        let int = int32(module, &mut added, &mut ids, signed)?;
-        let float_scalar = if shape == 1 {
-            float
-        } else {
-            module
-                .types_global_values
-                .iter()
-                .find(|i| i.result_id == Some(float))
-                .and_then(|t| id_ref(t.operands.first()))
-                .unwrap_or(float)
-        };
-        let int_whole = if shape == 1 {
-            int
-        } else {
-            vector(module, &mut added, &mut ids, int, shape)?
-        };
-        let input_ptr = |module: &Module, added: &mut Vec<Instruction>, ids: &mut Ids, t| {
-            let operands = vec![
-                Operand::StorageClass(StorageClass::Input),
-                Operand::IdRef(t),
-            ];
-            type_id(module, added, ids, Op::TypePointer, operands)
-        };
-        let whole_ptr = input_ptr(module, &mut added, &mut ids, int_whole)?;
-        let component_ptr = input_ptr(module, &mut added, &mut ids, int)?;
-        module.types_global_values[n].result_type = Some(whole_ptr);
-        vars.insert(
-            var,
-            Var {
-                whole: (float, int_whole),
-                component: (float_scalar, int, component_ptr),
-                signed,
-            },
-        );
-    }
+    let (vars, packed) = retype_inputs(module, scaled, &mut added, &mut ids)?;
     if vars.is_empty() && packed.is_empty() {
         return Ok(());
     }
@@ -272,6 +174,120 @@ pub fn scaled_inputs(
         h.bound = h.bound.max(ids.next);
     }
     Ok(())
+}
+
+/// A rewritten input: the (float, int) types of a value loaded whole, and the (float, int,
+/// pointer) types of one component.
+struct Var {
+    whole: (Word, Word),
+    component: (Word, Word, Word),
+    signed: bool,
+}
+
+/// Packed inputs: their float type, its component count, and the packing.
+type Packed = HashMap<Word, (Word, u32, IntegerFetch)>;
+
+/// Each input at a location of `scaled` given the integer type it is fetched as: the scaled
+/// ones by variable, and the packed ones (one word each).
+fn retype_inputs(
+    module: &mut Module,
+    scaled: &[(u32, IntegerFetch)],
+    added: &mut Vec<Instruction>,
+    ids: &mut Ids,
+) -> Result<(HashMap<Word, Var>, Packed), SpirvError> {
+    let locations: HashMap<Word, u32> = module
+        .annotations
+        .iter()
+        .filter(|a| {
+            a.class.opcode == Op::Decorate
+                && a.operands.get(1) == Some(&Operand::Decoration(Decoration::Location))
+        })
+        .filter_map(|a| Some((id_ref(a.operands.first())?, literal(a.operands.get(2))?)))
+        .collect();
+    let pointee = |module: &Module, ptr: Word| -> Option<Word> {
+        module
+            .types_global_values
+            .iter()
+            .find(|i| i.result_id == Some(ptr) && i.class.opcode == Op::TypePointer)
+            .and_then(|p| id_ref(p.operands.get(1)))
+    };
+    // Packed inputs: their float type, its component count, and the packing.
+    let mut packed: Packed = HashMap::new();
+    let mut vars: HashMap<Word, Var> = HashMap::new();
+    let globals: Vec<(usize, Word, Word)> = module
+        .types_global_values
+        .iter()
+        .enumerate()
+        .filter(|(_, i)| {
+            i.class.opcode == Op::Variable
+                && i.operands.first() == Some(&Operand::StorageClass(StorageClass::Input))
+        })
+        .filter_map(|(n, i)| Some((n, i.result_id?, i.result_type?)))
+        .collect();
+    for (n, var, ptr) in globals {
+        let Some(location) = locations.get(&var) else {
+            continue;
+        };
+        let Some(&(_, fetch)) = scaled.iter().find(|(l, _)| l == location) else {
+            continue;
+        };
+        let float = pointee(module, ptr)
+            .ok_or_else(|| unsupported(format!("input %{var} has no pointer type")))?;
+        let shape = float_shape(module, float).ok_or_else(|| {
+            unsupported(format!(
+                "the input at location {location} (%{var}) is not a 32-bit float or float vector"
+            ))
+        })?;
+        let signed = match fetch {
+            IntegerFetch::Scaled { signed } => signed,
+            IntegerFetch::Packed { .. } => {
+                let word = int32(module, added, ids, false)?;
+                let operands = vec![
+                    Operand::StorageClass(StorageClass::Input),
+                    Operand::IdRef(word),
+                ];
+                let ptr = type_id(module, added, ids, Op::TypePointer, operands)?;
+                module.types_global_values[n].result_type = Some(ptr);
+                packed.insert(var, (float, shape, fetch));
+                continue;
+            }
+        };
+        let int = int32(module, added, ids, signed)?;
+        let float_scalar = if shape == 1 {
+            float
+        } else {
+            module
+                .types_global_values
+                .iter()
+                .find(|i| i.result_id == Some(float))
+                .and_then(|t| id_ref(t.operands.first()))
+                .unwrap_or(float)
+        };
+        let int_whole = if shape == 1 {
+            int
+        } else {
+            vector(module, added, ids, int, shape)?
+        };
+        let input_ptr = |module: &Module, added: &mut Vec<Instruction>, ids: &mut Ids, t| {
+            let operands = vec![
+                Operand::StorageClass(StorageClass::Input),
+                Operand::IdRef(t),
+            ];
+            type_id(module, added, ids, Op::TypePointer, operands)
+        };
+        let whole_ptr = input_ptr(module, added, ids, int_whole)?;
+        let component_ptr = input_ptr(module, added, ids, int)?;
+        module.types_global_values[n].result_type = Some(whole_ptr);
+        vars.insert(
+            var,
+            Var {
+                whole: (float, int_whole),
+                component: (float_scalar, int, component_ptr),
+                signed,
+            },
+        );
+    }
+    Ok((vars, packed))
 }
 
 /// The types and constants a packed input's loads are taken apart with, added once.

@@ -279,54 +279,7 @@ fn apply(module: &mut Module, var: Word, w: &Widening) -> Result<(), SpirvError>
     let mut added: Vec<Instruction> = Vec::new();
     let mut annotations: Vec<Instruction> = Vec::new();
     let uint = int32(module, &mut added, &mut ids, false)?;
-    let old_members: Vec<Word> = module
-        .types_global_values
-        .iter()
-        .find(|i| i.result_id == Some(w.block))
-        .map(|i| i.operands.iter().filter_map(|o| id_ref(Some(o))).collect())
-        .unwrap_or_default();
-    let mut new_members = old_members.clone();
-    let mut arrays: HashMap<u32, Word> = HashMap::new();
-    for &(m, scalar, n) in &w.members {
-        let vec4 = vector(module, &mut added, &mut ids, scalar, 4)?;
-        let len = constant(module, &mut added, &mut ids, uint, n.div_ceil(4))?;
-        let array = ids.fresh()?;
-        added.push(inst(
-            Op::TypeArray,
-            None,
-            Some(array),
-            vec![Operand::IdRef(vec4), Operand::IdRef(len)],
-        ));
-        annotations.push(inst(
-            Op::Decorate,
-            None,
-            None,
-            vec![
-                Operand::IdRef(array),
-                Operand::Decoration(Decoration::ArrayStride),
-                Operand::LiteralBit32(16),
-            ],
-        ));
-        new_members[m as usize] = array;
-        arrays.insert(m, array);
-    }
-    let block = ids.fresh()?;
-    added.push(inst(
-        Op::TypeStruct,
-        None,
-        Some(block),
-        new_members.into_iter().map(Operand::IdRef).collect(),
-    ));
-    // The new block keeps the old one's decorations (Block, each member's Offset).
-    for a in &module.annotations {
-        if a.operands.first() == Some(&Operand::IdRef(w.block))
-            && matches!(a.class.opcode, Op::Decorate | Op::MemberDecorate)
-        {
-            let mut copy = a.clone();
-            copy.operands[0] = Operand::IdRef(block);
-            annotations.push(copy);
-        }
-    }
+    let (block, arrays) = widened_block(module, w, uint, (&mut added, &mut annotations), &mut ids)?;
     let root = match w.outer {
         Some(len) => {
             let r = ids.fresh()?;
@@ -409,30 +362,12 @@ fn apply(module: &mut Module, var: Word, w: &Widening) -> Result<(), SpirvError>
                                     None => (local_types.get(&id).copied(), None),
                                 };
                                 let ty = ty.unwrap_or(uint);
-                                let (q, r) = match value {
-                                    Some(v) => (
-                                        constant(module, &mut added, &mut ids, ty, v >> 2)?,
-                                        constant(module, &mut added, &mut ids, ty, v & 3)?,
-                                    ),
-                                    None => {
-                                        let two = constant(module, &mut added, &mut ids, ty, 2)?;
-                                        let three = constant(module, &mut added, &mut ids, ty, 3)?;
-                                        let (q, r) = (ids.fresh()?, ids.fresh()?);
-                                        out.push(inst(
-                                            Op::ShiftRightLogical,
-                                            Some(ty),
-                                            Some(q),
-                                            vec![Operand::IdRef(id), Operand::IdRef(two)],
-                                        ));
-                                        out.push(inst(
-                                            Op::BitwiseAnd,
-                                            Some(ty),
-                                            Some(r),
-                                            vec![Operand::IdRef(id), Operand::IdRef(three)],
-                                        ));
-                                        (q, r)
-                                    }
-                                };
+                                let (q, r) = split_index(
+                                    module,
+                                    (&mut added, &mut out),
+                                    &mut ids,
+                                    (id, ty, value),
+                                )?;
                                 operands.push(Operand::IdRef(q));
                                 operands.push(Operand::IdRef(r));
                                 None
@@ -472,6 +407,100 @@ fn apply(module: &mut Module, var: Word, w: &Widening) -> Result<(), SpirvError>
     module.types_global_values.extend(added);
     module.annotations.extend(annotations);
     Ok(())
+}
+
+/// The block type with each widened array as an array of `vec4`s (stride 16), declared
+/// anew with the old block's decorations: the new block and the widened arrays by member.
+fn widened_block(
+    module: &Module,
+    w: &Widening,
+    uint: Word,
+    (added, annotations): (&mut Vec<Instruction>, &mut Vec<Instruction>),
+    ids: &mut Ids,
+) -> Result<(Word, HashMap<u32, Word>), SpirvError> {
+    let old_members: Vec<Word> = module
+        .types_global_values
+        .iter()
+        .find(|i| i.result_id == Some(w.block))
+        .map(|i| i.operands.iter().filter_map(|o| id_ref(Some(o))).collect())
+        .unwrap_or_default();
+    let mut new_members = old_members.clone();
+    let mut arrays: HashMap<u32, Word> = HashMap::new();
+    for &(m, scalar, n) in &w.members {
+        let vec4 = vector(module, added, ids, scalar, 4)?;
+        let len = constant(module, added, ids, uint, n.div_ceil(4))?;
+        let array = ids.fresh()?;
+        added.push(inst(
+            Op::TypeArray,
+            None,
+            Some(array),
+            vec![Operand::IdRef(vec4), Operand::IdRef(len)],
+        ));
+        annotations.push(inst(
+            Op::Decorate,
+            None,
+            None,
+            vec![
+                Operand::IdRef(array),
+                Operand::Decoration(Decoration::ArrayStride),
+                Operand::LiteralBit32(16),
+            ],
+        ));
+        new_members[m as usize] = array;
+        arrays.insert(m, array);
+    }
+    let block = ids.fresh()?;
+    added.push(inst(
+        Op::TypeStruct,
+        None,
+        Some(block),
+        new_members.into_iter().map(Operand::IdRef).collect(),
+    ));
+    // The new block keeps the old one's decorations (Block, each member's Offset).
+    for a in &module.annotations {
+        if a.operands.first() == Some(&Operand::IdRef(w.block))
+            && matches!(a.class.opcode, Op::Decorate | Op::MemberDecorate)
+        {
+            let mut copy = a.clone();
+            copy.operands[0] = Operand::IdRef(block);
+            annotations.push(copy);
+        }
+    }
+    Ok((block, arrays))
+}
+
+/// A scalar array index `id` (of type `ty`, `value` where constant) as the `vec4` element
+/// and the component in it: constants for a constant, a shift and a mask emitted otherwise.
+fn split_index(
+    module: &Module,
+    (added, out): (&mut Vec<Instruction>, &mut Vec<Instruction>),
+    ids: &mut Ids,
+    (id, ty, value): (Word, Word, Option<u32>),
+) -> Result<(Word, Word), SpirvError> {
+    Ok(match value {
+        Some(v) => (
+            constant(module, added, ids, ty, v >> 2)?,
+            constant(module, added, ids, ty, v & 3)?,
+        ),
+        None => {
+            let two = constant(module, added, ids, ty, 2)?;
+            let three = constant(module, added, ids, ty, 3)?;
+            let (q, r) = (ids.fresh()?, ids.fresh()?);
+            out.push(inst(
+                Op::ShiftRightLogical,
+                Some(ty),
+                Some(q),
+                vec![Operand::IdRef(id), Operand::IdRef(two)],
+            ));
+            out.push(inst(
+                Op::BitwiseAnd,
+                Some(ty),
+                Some(r),
+                vec![Operand::IdRef(id), Operand::IdRef(three)],
+            ));
+            (q, r)
+        }
+    })
 }
 
 /// A 32-bit constant of integer type `ty` with `value`, found or added.

@@ -47,56 +47,7 @@ pub(super) fn subpass_as_texture(module: &mut Module) -> Result<(), SpirvError> 
         next: first_free_id(module).ok_or(SpirvError::IdsExhausted { bound: u32::MAX })?,
     };
     let mut added: Vec<Instruction> = Vec::new();
-    // The same type as a sampled 2D image (Sampled 1, format Unknown); a type declared so
-    // already is used in its place, since SPIR-V declares each non-aggregate type once.
-    let mut replaced: HashMap<Word, Word> = HashMap::new();
-    for &t in &subpass_types {
-        let old = module
-            .types_global_values
-            .iter()
-            .find(|i| i.result_id == Some(t))
-            .cloned()
-            .ok_or_else(|| unsupported(format!("type %{t} is not global")))?;
-        let mut operands = old.operands.clone();
-        operands[1] = Operand::Dim(Dim::Dim2D);
-        operands[5] = Operand::LiteralBit32(1);
-        let new = type_id(module, &mut added, &mut ids, Op::TypeImage, operands)?;
-        replaced.insert(t, new);
-    }
-    // Pointers to the old types become pointers to the new ones (found or added).
-    let pointers: Vec<(Word, StorageClass, Word)> = module
-        .types_global_values
-        .iter()
-        .filter(|i| i.class.opcode == Op::TypePointer)
-        .filter_map(|i| match i.operands.as_slice() {
-            [Operand::StorageClass(c), Operand::IdRef(to)] if replaced.contains_key(to) => {
-                Some((i.result_id?, *c, replaced[to]))
-            }
-            _ => None,
-        })
-        .collect();
-    for (old, class, to) in pointers {
-        let new = type_id(
-            module,
-            &mut added,
-            &mut ids,
-            Op::TypePointer,
-            vec![Operand::StorageClass(class), Operand::IdRef(to)],
-        )?;
-        replaced.insert(old, new);
-    }
-    // A subpass image passed to a function would need the function retyped too.
-    if let Some(f) = module.types_global_values.iter().find(|i| {
-        i.class.opcode == Op::TypeFunction
-            && i.operands
-                .iter()
-                .any(|o| matches!(o, Operand::IdRef(t) if replaced.contains_key(t)))
-    }) {
-        return Err(unsupported(format!(
-            "subpass data passed to a function (%{})",
-            f.result_id.unwrap_or(0)
-        )));
-    }
+    let replaced = retyped(module, &subpass_types, &mut added, &mut ids)?;
     // The subpass variables and every value loaded from them.
     let vars: HashMap<Word, ()> = module
         .types_global_values
@@ -119,6 +70,13 @@ pub(super) fn subpass_as_texture(module: &mut Module) -> Result<(), SpirvError> 
         Some(zero),
         vec![Operand::LiteralBit32(0)],
     ));
+    let fetch = FetchTypes {
+        fragcoord,
+        ivec2,
+        vec2,
+        vec4,
+        zero,
+    };
     let ms: HashMap<Word, bool> = subpass_types
         .iter()
         .map(|&t| {
@@ -149,9 +107,6 @@ pub(super) fn subpass_as_texture(module: &mut Module) -> Result<(), SpirvError> 
                 match i.class.opcode {
                     Op::Load | Op::CopyObject => {}
                     Op::ImageRead => {
-                        let what = format!("%{}", i.result_id.unwrap_or(0));
-                        let offset = id_ref(i.operands.get(1))
-                            .ok_or_else(|| unsupported(format!("{what} has no coordinate")))?;
                         let img = image.unwrap_or(0);
                         let multisampled = image_type_of
                             .get(&img)
@@ -159,68 +114,7 @@ pub(super) fn subpass_as_texture(module: &mut Module) -> Result<(), SpirvError> 
                             .and_then(|t| ms.get(t))
                             .copied()
                             .unwrap_or(false);
-                        let (coord, xy, pos, at) =
-                            (ids.fresh()?, ids.fresh()?, ids.fresh()?, ids.fresh()?);
-                        out.push(inst(
-                            Op::Load,
-                            Some(vec4),
-                            Some(coord),
-                            vec![Operand::IdRef(fragcoord)],
-                        ));
-                        out.push(inst(
-                            Op::VectorShuffle,
-                            Some(vec2),
-                            Some(xy),
-                            vec![
-                                Operand::IdRef(coord),
-                                Operand::IdRef(coord),
-                                Operand::LiteralBit32(0),
-                                Operand::LiteralBit32(1),
-                            ],
-                        ));
-                        out.push(inst(
-                            Op::ConvertFToS,
-                            Some(ivec2),
-                            Some(pos),
-                            vec![Operand::IdRef(xy)],
-                        ));
-                        out.push(inst(
-                            Op::IAdd,
-                            Some(ivec2),
-                            Some(at),
-                            vec![Operand::IdRef(pos), Operand::IdRef(offset)],
-                        ));
-                        // A multisampled read names its sample; a single-sampled one gets level 0.
-                        let rest: Vec<Operand> = if multisampled {
-                            match i.operands.get(2..) {
-                                Some([Operand::ImageOperands(o), Operand::IdRef(s)])
-                                    if *o == ImageOperands::SAMPLE =>
-                                {
-                                    vec![
-                                        Operand::ImageOperands(ImageOperands::SAMPLE),
-                                        Operand::IdRef(*s),
-                                    ]
-                                }
-                                _ => {
-                                    return Err(unsupported(format!(
-                                        "{what} reads multisampled subpass data without a sample"
-                                    )));
-                                }
-                            }
-                        } else {
-                            if i.operands.len() > 2 {
-                                return Err(unsupported(format!(
-                                    "{what} reads subpass data with image operands"
-                                )));
-                            }
-                            vec![
-                                Operand::ImageOperands(ImageOperands::LOD),
-                                Operand::IdRef(zero),
-                            ]
-                        };
-                        let mut operands = vec![Operand::IdRef(img), Operand::IdRef(at)];
-                        operands.extend(rest);
-                        out.push(inst(Op::ImageFetch, i.result_type, i.result_id, operands));
+                        fetch_at_fragment(&i, img, multisampled, &fetch, &mut ids, &mut out)?;
                         continue;
                     }
                     op => {
@@ -264,6 +158,151 @@ pub(super) fn subpass_as_texture(module: &mut Module) -> Result<(), SpirvError> 
     module
         .capabilities
         .retain(|c| c.operands.first() != Some(&Operand::Capability(Capability::InputAttachment)));
+    Ok(())
+}
+
+/// The subpass-data image types as sampled 2D images, and pointers to them, found or added:
+/// old type -> new. Refused where a function takes one (it would need retyping too).
+fn retyped(
+    module: &Module,
+    subpass_types: &[Word],
+    added: &mut Vec<Instruction>,
+    ids: &mut Ids,
+) -> Result<HashMap<Word, Word>, SpirvError> {
+    // The same type as a sampled 2D image (Sampled 1, format Unknown); a type declared so
+    // already is used in its place, since SPIR-V declares each non-aggregate type once.
+    let mut replaced: HashMap<Word, Word> = HashMap::new();
+    for &t in subpass_types {
+        let old = module
+            .types_global_values
+            .iter()
+            .find(|i| i.result_id == Some(t))
+            .cloned()
+            .ok_or_else(|| unsupported(format!("type %{t} is not global")))?;
+        let mut operands = old.operands.clone();
+        operands[1] = Operand::Dim(Dim::Dim2D);
+        operands[5] = Operand::LiteralBit32(1);
+        let new = type_id(module, added, ids, Op::TypeImage, operands)?;
+        replaced.insert(t, new);
+    }
+    // Pointers to the old types become pointers to the new ones (found or added).
+    let pointers: Vec<(Word, StorageClass, Word)> = module
+        .types_global_values
+        .iter()
+        .filter(|i| i.class.opcode == Op::TypePointer)
+        .filter_map(|i| match i.operands.as_slice() {
+            [Operand::StorageClass(c), Operand::IdRef(to)] if replaced.contains_key(to) => {
+                Some((i.result_id?, *c, replaced[to]))
+            }
+            _ => None,
+        })
+        .collect();
+    for (old, class, to) in pointers {
+        let new = type_id(
+            module,
+            added,
+            ids,
+            Op::TypePointer,
+            vec![Operand::StorageClass(class), Operand::IdRef(to)],
+        )?;
+        replaced.insert(old, new);
+    }
+    // A subpass image passed to a function would need the function retyped too.
+    if let Some(f) = module.types_global_values.iter().find(|i| {
+        i.class.opcode == Op::TypeFunction
+            && i.operands
+                .iter()
+                .any(|o| matches!(o, Operand::IdRef(t) if replaced.contains_key(t)))
+    }) {
+        return Err(unsupported(format!(
+            "subpass data passed to a function (%{})",
+            f.result_id.unwrap_or(0)
+        )));
+    }
+    Ok(replaced)
+}
+
+/// The types and ids a rewritten subpass read uses.
+struct FetchTypes {
+    fragcoord: Word,
+    ivec2: Word,
+    vec2: Word,
+    vec4: Word,
+    zero: Word,
+}
+
+/// `i`, an `OpImageRead` of subpass data `img`, as a fetch at the fragment's coordinates plus
+/// the read's offset (its sample, where multisampled; level 0 where not).
+fn fetch_at_fragment(
+    i: &Instruction,
+    img: Word,
+    multisampled: bool,
+    t: &FetchTypes,
+    ids: &mut Ids,
+    out: &mut Vec<Instruction>,
+) -> Result<(), SpirvError> {
+    let what = format!("%{}", i.result_id.unwrap_or(0));
+    let offset = id_ref(i.operands.get(1))
+        .ok_or_else(|| unsupported(format!("{what} has no coordinate")))?;
+    let (coord, xy, pos, at) = (ids.fresh()?, ids.fresh()?, ids.fresh()?, ids.fresh()?);
+    out.push(inst(
+        Op::Load,
+        Some(t.vec4),
+        Some(coord),
+        vec![Operand::IdRef(t.fragcoord)],
+    ));
+    out.push(inst(
+        Op::VectorShuffle,
+        Some(t.vec2),
+        Some(xy),
+        vec![
+            Operand::IdRef(coord),
+            Operand::IdRef(coord),
+            Operand::LiteralBit32(0),
+            Operand::LiteralBit32(1),
+        ],
+    ));
+    out.push(inst(
+        Op::ConvertFToS,
+        Some(t.ivec2),
+        Some(pos),
+        vec![Operand::IdRef(xy)],
+    ));
+    out.push(inst(
+        Op::IAdd,
+        Some(t.ivec2),
+        Some(at),
+        vec![Operand::IdRef(pos), Operand::IdRef(offset)],
+    ));
+    // A multisampled read names its sample; a single-sampled one gets level 0.
+    let rest: Vec<Operand> = if multisampled {
+        match i.operands.get(2..) {
+            Some([Operand::ImageOperands(o), Operand::IdRef(s)]) if *o == ImageOperands::SAMPLE => {
+                vec![
+                    Operand::ImageOperands(ImageOperands::SAMPLE),
+                    Operand::IdRef(*s),
+                ]
+            }
+            _ => {
+                return Err(unsupported(format!(
+                    "{what} reads multisampled subpass data without a sample"
+                )));
+            }
+        }
+    } else {
+        if i.operands.len() > 2 {
+            return Err(unsupported(format!(
+                "{what} reads subpass data with image operands"
+            )));
+        }
+        vec![
+            Operand::ImageOperands(ImageOperands::LOD),
+            Operand::IdRef(t.zero),
+        ]
+    };
+    let mut operands = vec![Operand::IdRef(img), Operand::IdRef(at)];
+    operands.extend(rest);
+    out.push(inst(Op::ImageFetch, i.result_type, i.result_id, operands));
     Ok(())
 }
 

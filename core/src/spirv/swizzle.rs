@@ -115,19 +115,7 @@ pub(super) fn apply_swizzles(
                 };
                 let sw = *sw;
                 let what = format!("%{} (Op{:?})", s.result_id.unwrap_or(0), s.class.opcode);
-                let (Some(vec4), Some(result)) = (s.result_type, s.result_id) else {
-                    return Err(unsupported(format!("{what} has no result")));
-                };
-                let scalar = match globals.get(&vec4) {
-                    Some(v) if v.class.opcode == Op::TypeVector => id_ref(v.operands.first()),
-                    _ => None,
-                }
-                .ok_or_else(|| unsupported(format!("{what} does not read a vector")))?;
-                let one_bits = match globals.get(&scalar).map(|t| t.class.opcode) {
-                    Some(Op::TypeFloat) => 1.0f32.to_bits(),
-                    Some(Op::TypeInt) => 1,
-                    _ => return Err(unsupported(format!("{what} reads an unknown type"))),
-                };
+                let (vec4, result, scalar, one_bits) = read_types(s, &globals, &what)?;
                 let mut scalar_const = |bits: u32, ids: &mut Ids, added: &mut Vec<Instruction>| {
                     if let Some(&c) = scalars.get(&(scalar, bits)) {
                         return Ok::<Word, SpirvError>(c);
@@ -149,22 +137,7 @@ pub(super) fn apply_swizzles(
                         )));
                     }
                     Read::Gather => {
-                        // The component operand must be a constant to be swizzled here.
-                        let component = id_ref(s.operands.get(2))
-                            .and_then(|c| globals.get(&c))
-                            .filter(|c| c.class.opcode == Op::Constant)
-                            .and_then(|c| match c.operands.first() {
-                                Some(Operand::LiteralBit32(v)) => Some(*v),
-                                _ => None,
-                            })
-                            .filter(|&v| v < 4)
-                            .ok_or_else(|| {
-                                unsupported(format!("{what} gathers a component not constant"))
-                            })?;
-                        let component_ty = id_ref(s.operands.get(2))
-                            .and_then(|c| globals.get(&c))
-                            .and_then(|c| c.result_type)
-                            .ok_or_else(|| unsupported(format!("{what}: untyped component")))?;
+                        let (component, component_ty) = gathered_component(s, &globals, &what)?;
                         let picked = sw[component as usize];
                         if picked < 4 {
                             let c = ids.fresh()?;
@@ -243,4 +216,48 @@ pub(super) fn apply_swizzles(
         h.bound = h.bound.max(ids.next);
     }
     Ok(())
+}
+
+/// A swizzled read's result type and id, its scalar type, and that type's one as bits.
+fn read_types(
+    s: &Instruction,
+    globals: &HashMap<Word, Instruction>,
+    what: &str,
+) -> Result<(Word, Word, Word, u32), SpirvError> {
+    let (Some(vec4), Some(result)) = (s.result_type, s.result_id) else {
+        return Err(unsupported(format!("{what} has no result")));
+    };
+    let scalar = match globals.get(&vec4) {
+        Some(v) if v.class.opcode == Op::TypeVector => id_ref(v.operands.first()),
+        _ => None,
+    }
+    .ok_or_else(|| unsupported(format!("{what} does not read a vector")))?;
+    let one_bits = match globals.get(&scalar).map(|t| t.class.opcode) {
+        Some(Op::TypeFloat) => 1.0f32.to_bits(),
+        Some(Op::TypeInt) => 1,
+        _ => return Err(unsupported(format!("{what} reads an unknown type"))),
+    };
+    Ok((vec4, result, scalar, one_bits))
+}
+
+/// The component a gather reads and its type: a constant, to be swizzled here.
+fn gathered_component(
+    s: &Instruction,
+    globals: &HashMap<Word, Instruction>,
+    what: &str,
+) -> Result<(u32, Word), SpirvError> {
+    let component = id_ref(s.operands.get(2))
+        .and_then(|c| globals.get(&c))
+        .filter(|c| c.class.opcode == Op::Constant)
+        .and_then(|c| match c.operands.first() {
+            Some(Operand::LiteralBit32(v)) => Some(*v),
+            _ => None,
+        })
+        .filter(|&v| v < 4)
+        .ok_or_else(|| unsupported(format!("{what} gathers a component not constant")))?;
+    let component_ty = id_ref(s.operands.get(2))
+        .and_then(|c| globals.get(&c))
+        .and_then(|c| c.result_type)
+        .ok_or_else(|| unsupported(format!("{what}: untyped component")))?;
+    Ok((component, component_ty))
 }

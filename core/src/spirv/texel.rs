@@ -7,7 +7,7 @@
 
 use std::collections::HashMap;
 
-use rspirv::dr::{Module, Operand};
+use rspirv::dr::{Instruction, Module, Operand};
 use rspirv::spirv::{Decoration, ImageFormat, Op, StorageClass, Word};
 
 use super::index::id_ref;
@@ -63,31 +63,41 @@ fn unsupported(t: &Texel, detail: String) -> SpirvError {
     }
 }
 
-pub(super) fn texel_buffers(
-    module: &mut Module,
-    texels: &[Texel],
+/// The word buffer's types: the 32-bit scalars a read unpacks to, the pointer a texel buffer
+/// variable becomes and the pointer to one of its words.
+struct WordTypes {
+    uint: Word,
+    float: Word,
+    int: Word,
+    block_ptr: Word,
+    word_ptr: Word,
+}
+
+/// Declares a storage block of 32-bit words (fresh array and struct types, which carry their
+/// own layout) and the scalar types reads unpack to.
+fn word_buffer(
+    module: &Module,
+    added: &mut Vec<Instruction>,
+    decorations: &mut Vec<Instruction>,
     ids: &mut Ids,
-) -> Result<(), SpirvError> {
-    let mut added = Vec::new();
-    let mut decorations = Vec::new();
-    let mut consts = HashMap::new();
+) -> Result<WordTypes, SpirvError> {
     let uint = type_id(
         module,
-        &mut added,
+        added,
         ids,
         Op::TypeInt,
         vec![Operand::LiteralBit32(32), Operand::LiteralBit32(0)],
     )?;
     let float = type_id(
         module,
-        &mut added,
+        added,
         ids,
         Op::TypeFloat,
         vec![Operand::LiteralBit32(32)],
     )?;
     let int = type_id(
         module,
-        &mut added,
+        added,
         ids,
         Op::TypeInt,
         vec![Operand::LiteralBit32(32), Operand::LiteralBit32(1)],
@@ -119,7 +129,7 @@ pub(super) fn texel_buffers(
     ));
     let word_ptr = type_id(
         module,
-        &mut added,
+        added,
         ids,
         Op::TypePointer,
         vec![
@@ -159,9 +169,19 @@ pub(super) fn texel_buffers(
             Operand::Decoration(Decoration::NonWritable),
         ],
     ));
-    let by_var: HashMap<Word, &Texel> = texels.iter().map(|t| (t.var, t)).collect();
-    // Scalar type of each vector type, for the reads' results.
-    let components: HashMap<Word, (Word, u32)> = module
+    Ok(WordTypes {
+        uint,
+        float,
+        int,
+        block_ptr,
+        word_ptr,
+    })
+}
+
+/// Each vector type's scalar type and width, and each 32-bit scalar type's kind: what a
+/// read's result is made of.
+fn scalar_types(module: &Module) -> (HashMap<Word, (Word, u32)>, HashMap<Word, ScalarKind>) {
+    let components = module
         .types_global_values
         .iter()
         .filter(|i| i.class.opcode == Op::TypeVector)
@@ -173,7 +193,7 @@ pub(super) fn texel_buffers(
             Some((i.result_id?, (id_ref(i.operands.first())?, n)))
         })
         .collect();
-    let kinds: HashMap<Word, ScalarKind> = module
+    let kinds = module
         .types_global_values
         .iter()
         .filter_map(|i| {
@@ -190,6 +210,201 @@ pub(super) fn texel_buffers(
             Some((i.result_id?, kind))
         })
         .collect();
+    (components, kinds)
+}
+
+/// Where a rewritten read's instructions go: constants and types to the module's globals
+/// (each constant once), the unpacking to the block being rewritten.
+struct Emit<'a> {
+    added: &'a mut Vec<Instruction>,
+    consts: &'a mut HashMap<(Word, u32), Word>,
+    ids: &'a mut Ids,
+    out: &'a mut Vec<Instruction>,
+}
+
+impl Emit<'_> {
+    fn op(&mut self, op: Op, ty: Word, operands: Vec<Operand>) -> Result<Word, SpirvError> {
+        let id = self.ids.fresh()?;
+        self.out.push(inst(op, Some(ty), Some(id), operands));
+        Ok(id)
+    }
+
+    fn constant(&mut self, ty: Word, bits: u32) -> Result<Word, SpirvError> {
+        constant(self.added, self.ids, self.consts, ty, bits)
+    }
+}
+
+/// One read of texel buffer `t` at `coord` in format (`bits` a channel, `channels`): the
+/// word holding the texel loaded, each channel unpacked, the missing ones filled as Vulkan
+/// fills them, into a vector of `n` of `kind` (the read's `result` of type `result_ty`).
+fn unpack_read(
+    e: &mut Emit<'_>,
+    w: &WordTypes,
+    t: &Texel,
+    coord: Word,
+    (bits, channels, kind): (u32, u32, ScalarKind),
+    (result, result_ty, n): (Word, Word, u32),
+) -> Result<(), SpirvError> {
+    let uint = w.uint;
+    let zero = e.constant(uint, 0)?;
+    let texel_index = e.op(Op::Bitcast, uint, vec![Operand::IdRef(coord)])?;
+    let per_word = 32 / (bits * channels).min(32);
+    let (word_index, shift) = if per_word > 1 {
+        let log = per_word.trailing_zeros();
+        let log_c = e.constant(uint, log)?;
+        let mask = e.constant(uint, per_word - 1)?;
+        let three = e.constant(uint, (bits * channels).trailing_zeros())?;
+        let word = e.op(
+            Op::ShiftRightLogical,
+            uint,
+            vec![Operand::IdRef(texel_index), Operand::IdRef(log_c)],
+        )?;
+        let lane = e.op(
+            Op::BitwiseAnd,
+            uint,
+            vec![Operand::IdRef(texel_index), Operand::IdRef(mask)],
+        )?;
+        let sh = e.op(
+            Op::ShiftLeftLogical,
+            uint,
+            vec![Operand::IdRef(lane), Operand::IdRef(three)],
+        )?;
+        (word, Some(sh))
+    } else {
+        (texel_index, None)
+    };
+    let chain = vec![
+        Operand::IdRef(t.var),
+        Operand::IdRef(zero),
+        Operand::IdRef(word_index),
+    ];
+    let ptr = e.op(Op::AccessChain, w.word_ptr, chain)?;
+    let word = e.op(Op::Load, uint, vec![Operand::IdRef(ptr)])?;
+    let mut values = Vec::new();
+    for ch in 0..channels {
+        let v = if bits == 32 {
+            whole_word_channel(e, w, t, (texel_index, word, zero), (channels, ch, kind))?
+        } else {
+            packed_channel(e, w, (word, shift), (bits, ch, kind))?
+        };
+        values.push(v);
+    }
+    let (fill, one) = match kind {
+        ScalarKind::Float => (
+            e.constant(w.float, 0.0f32.to_bits())?,
+            e.constant(w.float, 1.0f32.to_bits())?,
+        ),
+        ScalarKind::Uint => (zero, e.constant(uint, 1)?),
+        ScalarKind::Sint => (e.constant(w.int, 0)?, e.constant(w.int, 1)?),
+    };
+    while values.len() < 3 {
+        values.push(fill);
+    }
+    if values.len() < 4 {
+        values.push(one);
+    }
+    values.truncate(n as usize);
+    e.out.push(inst(
+        Op::CompositeConstruct,
+        Some(result_ty),
+        Some(result),
+        values.into_iter().map(Operand::IdRef).collect(),
+    ));
+    Ok(())
+}
+
+/// Channel `ch` of a format with a channel a word: texel i's channel c is word
+/// i * channels + c, bitcast to the read's kind.
+fn whole_word_channel(
+    e: &mut Emit<'_>,
+    w: &WordTypes,
+    t: &Texel,
+    (texel_index, word, zero): (Word, Word, Word),
+    (channels, ch, kind): (u32, u32, ScalarKind),
+) -> Result<Word, SpirvError> {
+    let uint = w.uint;
+    let word = if channels == 1 {
+        word
+    } else {
+        let n = e.constant(uint, channels)?;
+        let c = e.constant(uint, ch)?;
+        let first = e.op(
+            Op::IMul,
+            uint,
+            vec![Operand::IdRef(texel_index), Operand::IdRef(n)],
+        )?;
+        let at = e.op(
+            Op::IAdd,
+            uint,
+            vec![Operand::IdRef(first), Operand::IdRef(c)],
+        )?;
+        let chain = vec![
+            Operand::IdRef(t.var),
+            Operand::IdRef(zero),
+            Operand::IdRef(at),
+        ];
+        let p = e.op(Op::AccessChain, w.word_ptr, chain)?;
+        e.op(Op::Load, uint, vec![Operand::IdRef(p)])?
+    };
+    match kind {
+        ScalarKind::Uint => Ok(word),
+        ScalarKind::Sint => e.op(Op::Bitcast, w.int, vec![Operand::IdRef(word)]),
+        ScalarKind::Float => e.op(Op::Bitcast, w.float, vec![Operand::IdRef(word)]),
+    }
+}
+
+/// Channel `ch` of a packed format: `bits` bits from the texel's place in its word (`shift`
+/// where several texels share it), unorm scaled to 0..1.
+fn packed_channel(
+    e: &mut Emit<'_>,
+    w: &WordTypes,
+    (word, shift): (Word, Option<Word>),
+    (bits, ch, kind): (u32, u32, ScalarKind),
+) -> Result<Word, SpirvError> {
+    let uint = w.uint;
+    let width = e.constant(uint, bits)?;
+    let offset = match shift {
+        Some(sh) if ch == 0 => sh,
+        Some(sh) => {
+            let k = e.constant(uint, ch * bits)?;
+            e.op(Op::IAdd, uint, vec![Operand::IdRef(sh), Operand::IdRef(k)])?
+        }
+        None => e.constant(uint, ch * bits)?,
+    };
+    let raw = e.op(
+        Op::BitFieldUExtract,
+        uint,
+        vec![
+            Operand::IdRef(word),
+            Operand::IdRef(offset),
+            Operand::IdRef(width),
+        ],
+    )?;
+    match kind {
+        ScalarKind::Float => {
+            let f = e.op(Op::ConvertUToF, w.float, vec![Operand::IdRef(raw)])?;
+            let scale = e.constant(w.float, (1.0f32 / ((1u32 << bits) - 1) as f32).to_bits())?;
+            e.op(
+                Op::FMul,
+                w.float,
+                vec![Operand::IdRef(f), Operand::IdRef(scale)],
+            )
+        }
+        _ => Ok(raw),
+    }
+}
+
+pub(super) fn texel_buffers(
+    module: &mut Module,
+    texels: &[Texel],
+    ids: &mut Ids,
+) -> Result<(), SpirvError> {
+    let mut added = Vec::new();
+    let mut decorations = Vec::new();
+    let mut consts = HashMap::new();
+    let types = word_buffer(module, &mut added, &mut decorations, ids)?;
+    let by_var: HashMap<Word, &Texel> = texels.iter().map(|t| (t.var, t)).collect();
+    let (components, kinds) = scalar_types(module);
 
     // The variables become storage buffers, defined after the types they now point to.
     let mut moved = Vec::new();
@@ -199,7 +414,7 @@ pub(super) fn texel_buffers(
         if texel {
             moved.push(inst(
                 Op::Variable,
-                Some(block_ptr),
+                Some(types.block_ptr),
                 i.result_id,
                 vec![Operand::StorageClass(StorageClass::StorageBuffer)],
             ));
@@ -266,173 +481,20 @@ pub(super) fn texel_buffers(
                         format!("format {:?} read as {kind:?}", t.format),
                     ));
                 }
-                let mut c = |ty: Word, bits: u32| constant(&mut added, ids, &mut consts, ty, bits);
-                let zero = c(uint, 0)?;
-                let mut emit = |op: Op,
-                                ty: Word,
-                                operands: Vec<Operand>,
-                                ids: &mut Ids|
-                 -> Result<Word, SpirvError> {
-                    let id = ids.fresh()?;
-                    out.push(inst(op, Some(ty), Some(id), operands));
-                    Ok(id)
-                };
-                let texel_index = emit(Op::Bitcast, uint, vec![Operand::IdRef(coord)], ids)?;
-                let per_word = 32 / (bits * channels).min(32);
-                let (word_index, shift) = if per_word > 1 {
-                    let log = per_word.trailing_zeros();
-                    let log_c = constant(&mut added, ids, &mut consts, uint, log)?;
-                    let mask = constant(&mut added, ids, &mut consts, uint, per_word - 1)?;
-                    let three = constant(
-                        &mut added,
-                        ids,
-                        &mut consts,
-                        uint,
-                        (bits * channels).trailing_zeros(),
-                    )?;
-                    let w = emit(
-                        Op::ShiftRightLogical,
-                        uint,
-                        vec![Operand::IdRef(texel_index), Operand::IdRef(log_c)],
-                        ids,
-                    )?;
-                    let lane = emit(
-                        Op::BitwiseAnd,
-                        uint,
-                        vec![Operand::IdRef(texel_index), Operand::IdRef(mask)],
-                        ids,
-                    )?;
-                    let sh = emit(
-                        Op::ShiftLeftLogical,
-                        uint,
-                        vec![Operand::IdRef(lane), Operand::IdRef(three)],
-                        ids,
-                    )?;
-                    (w, Some(sh))
-                } else {
-                    (texel_index, None)
-                };
-                let ptr = emit(
-                    Op::AccessChain,
-                    word_ptr,
-                    vec![
-                        Operand::IdRef(t.var),
-                        Operand::IdRef(zero),
-                        Operand::IdRef(word_index),
-                    ],
+                let mut e = Emit {
+                    added: &mut added,
+                    consts: &mut consts,
                     ids,
-                )?;
-                let word = emit(Op::Load, uint, vec![Operand::IdRef(ptr)], ids)?;
-                let mut values = Vec::new();
-                for ch in 0..channels {
-                    let v = if bits == 32 {
-                        // A channel a word: texel i's channel c is word i * channels + c.
-                        let word = if channels == 1 {
-                            word
-                        } else {
-                            let n = constant(&mut added, ids, &mut consts, uint, channels)?;
-                            let c = constant(&mut added, ids, &mut consts, uint, ch)?;
-                            let first = emit(
-                                Op::IMul,
-                                uint,
-                                vec![Operand::IdRef(texel_index), Operand::IdRef(n)],
-                                ids,
-                            )?;
-                            let at = emit(
-                                Op::IAdd,
-                                uint,
-                                vec![Operand::IdRef(first), Operand::IdRef(c)],
-                                ids,
-                            )?;
-                            let chain = vec![
-                                Operand::IdRef(t.var),
-                                Operand::IdRef(zero),
-                                Operand::IdRef(at),
-                            ];
-                            let p = emit(Op::AccessChain, word_ptr, chain, ids)?;
-                            emit(Op::Load, uint, vec![Operand::IdRef(p)], ids)?
-                        };
-                        match kind {
-                            ScalarKind::Uint => word,
-                            ScalarKind::Sint => {
-                                emit(Op::Bitcast, int, vec![Operand::IdRef(word)], ids)?
-                            }
-                            ScalarKind::Float => {
-                                emit(Op::Bitcast, float, vec![Operand::IdRef(word)], ids)?
-                            }
-                        }
-                    } else {
-                        let width = constant(&mut added, ids, &mut consts, uint, bits)?;
-                        let offset = match shift {
-                            Some(sh) if ch == 0 => sh,
-                            Some(sh) => {
-                                let k = constant(&mut added, ids, &mut consts, uint, ch * bits)?;
-                                emit(
-                                    Op::IAdd,
-                                    uint,
-                                    vec![Operand::IdRef(sh), Operand::IdRef(k)],
-                                    ids,
-                                )?
-                            }
-                            None => constant(&mut added, ids, &mut consts, uint, ch * bits)?,
-                        };
-                        let raw = emit(
-                            Op::BitFieldUExtract,
-                            uint,
-                            vec![
-                                Operand::IdRef(word),
-                                Operand::IdRef(offset),
-                                Operand::IdRef(width),
-                            ],
-                            ids,
-                        )?;
-                        match kind {
-                            ScalarKind::Float => {
-                                let f =
-                                    emit(Op::ConvertUToF, float, vec![Operand::IdRef(raw)], ids)?;
-                                let scale = constant(
-                                    &mut added,
-                                    ids,
-                                    &mut consts,
-                                    float,
-                                    (1.0f32 / ((1u32 << bits) - 1) as f32).to_bits(),
-                                )?;
-                                emit(
-                                    Op::FMul,
-                                    float,
-                                    vec![Operand::IdRef(f), Operand::IdRef(scale)],
-                                    ids,
-                                )?
-                            }
-                            _ => raw,
-                        }
-                    };
-                    values.push(v);
-                }
-                let (fill, one) = match kind {
-                    ScalarKind::Float => (
-                        constant(&mut added, ids, &mut consts, float, 0.0f32.to_bits())?,
-                        constant(&mut added, ids, &mut consts, float, 1.0f32.to_bits())?,
-                    ),
-                    ScalarKind::Uint => (zero, constant(&mut added, ids, &mut consts, uint, 1)?),
-                    ScalarKind::Sint => (
-                        constant(&mut added, ids, &mut consts, int, 0)?,
-                        constant(&mut added, ids, &mut consts, int, 1)?,
-                    ),
+                    out: &mut out,
                 };
-                while values.len() < 3 {
-                    values.push(fill);
-                }
-                if values.len() < 4 {
-                    values.push(one);
-                }
-                values.truncate(n as usize);
-                out.push(inst(
-                    Op::CompositeConstruct,
-                    Some(result_ty),
-                    Some(result),
-                    values.into_iter().map(Operand::IdRef).collect(),
-                ));
+                unpack_read(
+                    &mut e,
+                    &types,
+                    t,
+                    coord,
+                    (bits, channels, kind),
+                    (result, result_ty, n),
+                )?;
             }
             b.instructions = out;
         }

@@ -98,26 +98,14 @@ pub(super) fn normalize_coordinates(
                 else {
                     return Err(unsupported(format!("{what} has no image or coordinate")));
                 };
-                // The coordinate's type: a float for 1D, a vector of two floats for 2D.
-                let coord_ty = types
-                    .get(&coord)
-                    .copied()
-                    .or_else(|| globals.get(&coord).and_then(|c| c.result_type))
-                    .ok_or_else(|| unsupported(format!("{what}: untyped coordinate")))?;
-                let size_ty = match globals.get(&coord_ty).map(|t| t.class.opcode) {
-                    Some(Op::TypeFloat) => int,
-                    Some(Op::TypeVector)
-                        if globals[&coord_ty].operands.get(1)
-                            == Some(&Operand::LiteralBit32(2)) =>
-                    {
-                        vector(module, &mut added, &mut ids, int, 2)?
-                    }
-                    _ => {
-                        return Err(unsupported(format!(
-                            "{what} samples with a coordinate of more than two components"
-                        )));
-                    }
-                };
+                let (coord_ty, size_ty) = coordinate_types(
+                    module,
+                    (&types, &globals),
+                    (coord, int),
+                    &mut added,
+                    &mut ids,
+                    &what,
+                )?;
                 // The image of the sampled image, its level 0's size, as floats.
                 let sampled_ty = types
                     .get(&sampled)
@@ -146,40 +134,9 @@ pub(super) fn normalize_coordinates(
                     vec![Operand::IdRef(size)],
                 ));
                 let coord = if nearest {
-                    let set = match glsl {
-                        Some(id) => id,
-                        None => {
-                            let id = ids.fresh()?;
-                            glsl = Some(id);
-                            id
-                        }
-                    };
-                    let half = match halves.get(&coord_ty) {
-                        Some(&h) => h,
-                        None => {
-                            let h = half_of(&globals, &mut added, &mut ids, coord_ty)?;
-                            halves.insert(coord_ty, h);
-                            h
-                        }
-                    };
-                    let (floor, centre) = (ids.fresh()?, ids.fresh()?);
-                    out.push(inst(
-                        Op::ExtInst,
-                        Some(coord_ty),
-                        Some(floor),
-                        vec![
-                            Operand::IdRef(set),
-                            Operand::LiteralExtInstInteger(GLSL_FLOOR),
-                            Operand::IdRef(coord),
-                        ],
-                    ));
-                    out.push(inst(
-                        Op::FAdd,
-                        Some(coord_ty),
-                        Some(centre),
-                        vec![Operand::IdRef(floor), Operand::IdRef(half)],
-                    ));
-                    centre
+                    let at = (&globals, coord_ty);
+                    let found = (&mut glsl, &mut halves);
+                    texel_centre(coord, at, found, (&mut added, &mut out), &mut ids)?
                 } else {
                     coord
                 };
@@ -214,6 +171,83 @@ pub(super) fn normalize_coordinates(
         }
     }
     Ok(())
+}
+
+/// The centre of the texel `coord` (of float type `ty`) falls in, `floor(coord) + 0.5`: a
+/// nearest filter reads that texel whatever the size it is divided by. The GLSL.std.450
+/// import and each type's half are made once, as first needed.
+fn texel_centre(
+    coord: Word,
+    (globals, coord_ty): (&HashMap<Word, Instruction>, Word),
+    (glsl, halves): (&mut Option<Word>, &mut HashMap<Word, Word>),
+    (added, out): (&mut Vec<Instruction>, &mut Vec<Instruction>),
+    ids: &mut Ids,
+) -> Result<Word, SpirvError> {
+    let set = match *glsl {
+        Some(id) => id,
+        None => {
+            let id = ids.fresh()?;
+            *glsl = Some(id);
+            id
+        }
+    };
+    let half = match halves.get(&coord_ty) {
+        Some(&h) => h,
+        None => {
+            let h = half_of(globals, added, ids, coord_ty)?;
+            halves.insert(coord_ty, h);
+            h
+        }
+    };
+    let (floor, centre) = (ids.fresh()?, ids.fresh()?);
+    out.push(inst(
+        Op::ExtInst,
+        Some(coord_ty),
+        Some(floor),
+        vec![
+            Operand::IdRef(set),
+            Operand::LiteralExtInstInteger(GLSL_FLOOR),
+            Operand::IdRef(coord),
+        ],
+    ));
+    out.push(inst(
+        Op::FAdd,
+        Some(coord_ty),
+        Some(centre),
+        vec![Operand::IdRef(floor), Operand::IdRef(half)],
+    ));
+    Ok(centre)
+}
+
+/// A sample's coordinate type (a float for 1D, a vector of two floats for 2D) and the type
+/// of its image's size query (`int` or a vector of two).
+fn coordinate_types(
+    module: &Module,
+    (types, globals): (&HashMap<Word, Word>, &HashMap<Word, Instruction>),
+    (coord, int): (Word, Word),
+    added: &mut Vec<Instruction>,
+    ids: &mut Ids,
+    what: &str,
+) -> Result<(Word, Word), SpirvError> {
+    let coord_ty = types
+        .get(&coord)
+        .copied()
+        .or_else(|| globals.get(&coord).and_then(|c| c.result_type))
+        .ok_or_else(|| unsupported(format!("{what}: untyped coordinate")))?;
+    let size_ty = match globals.get(&coord_ty).map(|t| t.class.opcode) {
+        Some(Op::TypeFloat) => int,
+        Some(Op::TypeVector)
+            if globals[&coord_ty].operands.get(1) == Some(&Operand::LiteralBit32(2)) =>
+        {
+            vector(module, added, ids, int, 2)?
+        }
+        _ => {
+            return Err(unsupported(format!(
+                "{what} samples with a coordinate of more than two components"
+            )));
+        }
+    };
+    Ok((coord_ty, size_ty))
 }
 
 /// `Floor` of the GLSL.std.450 instruction set.

@@ -107,6 +107,19 @@ impl Session {
         }
     }
 
+    /// The sample count of a raster pass: its first colour target's, else its depth
+    /// target's, else one.
+    fn raster_samples(&self, r: &RasterOp) -> u32 {
+        r.color
+            .first()
+            .map(|c| self.plan.textures[c.texture].samples)
+            .or(r
+                .depth
+                .as_ref()
+                .map(|d| self.plan.textures[d.texture].samples))
+            .unwrap_or(1)
+    }
+
     pub(super) fn prepare_raster(&self, name: &str, r: &RasterOp) -> Result<Prepared, ReplayError> {
         let m = &self.modules[r.shader];
         let err = |message: String| ReplayError::Pass {
@@ -122,26 +135,8 @@ impl Session {
                 fragment: r.fragment.clone(),
             });
         }
-        let targets: Vec<Option<wgpu::ColorTargetState>> = r
-            .color
-            .iter()
-            .map(|c| {
-                Some(wgpu::ColorTargetState {
-                    format: c.format,
-                    blend: c.blend,
-                    write_mask: c.write_mask,
-                })
-            })
-            .collect();
-        let samples = r
-            .color
-            .first()
-            .map(|c| self.plan.textures[c.texture].samples)
-            .or(r
-                .depth
-                .as_ref()
-                .map(|d| self.plan.textures[d.texture].samples))
-            .unwrap_or(1);
+        let targets = color_targets(r);
+        let samples = self.raster_samples(r);
         let mut pipelines = BTreeMap::new();
         let mut groups = BTreeMap::new();
         let all_used = self.used_by(
@@ -388,4 +383,18 @@ pub(super) fn fullscreen_pipeline(
         multiview_mask: None,
         cache: None,
     })
+}
+
+/// A raster pass's colour targets as its pipelines write them.
+fn color_targets(r: &RasterOp) -> Vec<Option<wgpu::ColorTargetState>> {
+    r.color
+        .iter()
+        .map(|c| {
+            Some(wgpu::ColorTargetState {
+                format: c.format,
+                blend: c.blend,
+                write_mask: c.write_mask,
+            })
+        })
+        .collect()
 }
