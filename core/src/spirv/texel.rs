@@ -232,6 +232,23 @@ impl Emit<'_> {
     fn constant(&mut self, ty: Word, bits: u32) -> Result<Word, SpirvError> {
         constant(self.added, self.ids, self.consts, ty, bits)
     }
+
+    /// Word `index` of texel buffer `t`'s words (`zero` the block's one member).
+    fn load_word(
+        &mut self,
+        w: &WordTypes,
+        t: &Texel,
+        zero: Word,
+        index: Word,
+    ) -> Result<Word, SpirvError> {
+        let chain = vec![
+            Operand::IdRef(t.var),
+            Operand::IdRef(zero),
+            Operand::IdRef(index),
+        ];
+        let ptr = self.op(Op::AccessChain, w.word_ptr, chain)?;
+        self.op(Op::Load, w.uint, vec![Operand::IdRef(ptr)])
+    }
 }
 
 /// One read of texel buffer `t` at `coord` in format (`bits` a channel, `channels`): the
@@ -273,13 +290,7 @@ fn unpack_read(
     } else {
         (texel_index, None)
     };
-    let chain = vec![
-        Operand::IdRef(t.var),
-        Operand::IdRef(zero),
-        Operand::IdRef(word_index),
-    ];
-    let ptr = e.op(Op::AccessChain, w.word_ptr, chain)?;
-    let word = e.op(Op::Load, uint, vec![Operand::IdRef(ptr)])?;
+    let word = e.load_word(w, t, zero, word_index)?;
     let mut values = Vec::new();
     for ch in 0..channels {
         let v = if bits == 32 {
@@ -338,13 +349,7 @@ fn whole_word_channel(
             uint,
             vec![Operand::IdRef(first), Operand::IdRef(c)],
         )?;
-        let chain = vec![
-            Operand::IdRef(t.var),
-            Operand::IdRef(zero),
-            Operand::IdRef(at),
-        ];
-        let p = e.op(Op::AccessChain, w.word_ptr, chain)?;
-        e.op(Op::Load, uint, vec![Operand::IdRef(p)])?
+        e.load_word(w, t, zero, at)?
     };
     match kind {
         ScalarKind::Uint => Ok(word),

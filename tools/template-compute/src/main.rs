@@ -179,8 +179,19 @@ fn storage_image(
     }
 }
 
-fn main() -> Result<()> {
-    let code = spirv()?;
+/// The loader, instance and first device with a compute queue (and push descriptors).
+struct Vulkan {
+    /// Holds the loader for as long as the instance lives.
+    _entry: ash::Entry,
+    instance: ash::Instance,
+    physical: vk::PhysicalDevice,
+    name: String,
+    family: u32,
+    device: ash::Device,
+    queue: vk::Queue,
+}
+
+fn open() -> Result<Vulkan> {
     let entry = unsafe { ash::Entry::load() }.context("the Vulkan loader")?;
     let app = vk::ApplicationInfo::default()
         .application_name(c"framelab-template-compute")
@@ -216,28 +227,24 @@ fn main() -> Result<()> {
             None,
         )?
     };
-    let push = ash::khr::push_descriptor::Device::new(&instance, &device);
     let queue = unsafe { device.get_device_queue(family, 0) };
-
-    let bytes = (COUNT * 4) as u64;
-    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    let input = buffer(&instance, physical, &device, bytes, storage)?;
-    let output = buffer(&instance, physical, &device, bytes, storage)?;
-    let params = buffer(
-        &instance,
+    Ok(Vulkan {
+        _entry: entry,
+        instance,
         physical,
-        &device,
-        16,
-        vk::BufferUsageFlags::UNIFORM_BUFFER,
-    )?;
-    let values: Vec<u32> = (0..COUNT as u32).map(|i| i * 5 + 1).collect();
-    write_u32s(&device, &input, &values)?;
-    write_u32s(&device, &params, &[SCALE, BIAS, 0, 0])?;
+        name,
+        family,
+        device,
+        queue,
+    })
+}
 
-    let first = storage_image(&instance, physical, &device)?;
-    let second = storage_image(&instance, physical, &device)?;
-    let output2 = buffer(&instance, physical, &device, bytes, storage)?;
-
+/// The set layout's bindings (two storage buffers, a uniform buffer, a storage image) and
+/// the template entries reading them from `Descriptors`.
+fn bindings_and_entries() -> (
+    Vec<vk::DescriptorSetLayoutBinding<'static>>,
+    Vec<vk::DescriptorUpdateTemplateEntry>,
+) {
     let kinds = [
         vk::DescriptorType::STORAGE_BUFFER,
         vk::DescriptorType::STORAGE_BUFFER,
@@ -274,15 +281,38 @@ fn main() -> Result<()> {
             stride: 0,
         })
         .collect();
+    (bindings, entries)
+}
+
+/// The descriptor objects both dispatches use: a set written through a template, and the
+/// push-descriptor layout and template, with their pipeline layouts.
+struct Layouts {
+    set_layout: vk::DescriptorSetLayout,
+    push_layout: vk::DescriptorSetLayout,
+    pool: vk::DescriptorPool,
+    set: vk::DescriptorSet,
+    pipeline_layout: vk::PipelineLayout,
+    push_pipeline_layout: vk::PipelineLayout,
+    template: vk::DescriptorUpdateTemplate,
+    push_template: vk::DescriptorUpdateTemplate,
+}
+
+/// # Safety
+/// `device` is a live device; the caller destroys what this creates.
+unsafe fn descriptor_objects(
+    device: &ash::Device,
+    bindings: &[vk::DescriptorSetLayoutBinding<'_>],
+    entries: &[vk::DescriptorUpdateTemplateEntry],
+) -> Result<Layouts> {
     unsafe {
         let set_layout = device.create_descriptor_set_layout(
-            &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
+            &vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings),
             None,
         )?;
         let push_layout = device.create_descriptor_set_layout(
             &vk::DescriptorSetLayoutCreateInfo::default()
                 .flags(vk::DescriptorSetLayoutCreateFlags::PUSH_DESCRIPTOR_KHR)
-                .bindings(&bindings),
+                .bindings(bindings),
             None,
         )?;
         let sizes = [
@@ -322,20 +352,136 @@ fn main() -> Result<()> {
         )?;
         let template = device.create_descriptor_update_template(
             &vk::DescriptorUpdateTemplateCreateInfo::default()
-                .descriptor_update_entries(&entries)
+                .descriptor_update_entries(entries)
                 .template_type(vk::DescriptorUpdateTemplateType::DESCRIPTOR_SET)
                 .descriptor_set_layout(set_layout),
             None,
         )?;
         let push_template = device.create_descriptor_update_template(
             &vk::DescriptorUpdateTemplateCreateInfo::default()
-                .descriptor_update_entries(&entries)
+                .descriptor_update_entries(entries)
                 .template_type(vk::DescriptorUpdateTemplateType::PUSH_DESCRIPTORS_KHR)
                 .pipeline_bind_point(vk::PipelineBindPoint::COMPUTE)
                 .pipeline_layout(push_pipeline_layout)
                 .set(0),
             None,
         )?;
+        Ok(Layouts {
+            set_layout,
+            push_layout,
+            pool,
+            set,
+            pipeline_layout,
+            push_pipeline_layout,
+            template,
+            push_template,
+        })
+    }
+}
+
+/// Records both dispatches: the images made general, one through the set, one through the
+/// pushed descriptors, and their writes made visible to the host.
+///
+/// # Safety
+/// `cb` is a command buffer of `device` in the initial state.
+unsafe fn record(
+    (device, push): (&ash::Device, &ash::khr::push_descriptor::Device),
+    cb: vk::CommandBuffer,
+    images: [vk::Image; 2],
+    (pipelines, l): (&[vk::Pipeline], &Layouts),
+    pushed: &Descriptors,
+) -> Result<()> {
+    unsafe {
+        device.begin_command_buffer(cb, &vk::CommandBufferBeginInfo::default())?;
+        let to_general = |image: vk::Image| {
+            vk::ImageMemoryBarrier::default()
+                .image(image)
+                .old_layout(vk::ImageLayout::UNDEFINED)
+                .new_layout(vk::ImageLayout::GENERAL)
+                .dst_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .subresource_range(color_range())
+        };
+        device.cmd_pipeline_barrier(
+            cb,
+            vk::PipelineStageFlags::TOP_OF_PIPE,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::DependencyFlags::empty(),
+            &[],
+            &[],
+            &[to_general(images[0]), to_general(images[1])],
+        );
+        device.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipelines[0]);
+        device.cmd_bind_descriptor_sets(
+            cb,
+            vk::PipelineBindPoint::COMPUTE,
+            l.pipeline_layout,
+            0,
+            &[l.set],
+            &[],
+        );
+        device.cmd_dispatch(cb, 1, 1, 1);
+        device.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipelines[1]);
+        push.cmd_push_descriptor_set_with_template(
+            cb,
+            l.push_template,
+            l.push_pipeline_layout,
+            0,
+            std::ptr::from_ref(pushed).cast::<c_void>(),
+        );
+        device.cmd_dispatch(cb, 1, 1, 1);
+        device.cmd_pipeline_barrier(
+            cb,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::PipelineStageFlags::HOST,
+            vk::DependencyFlags::empty(),
+            &[vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(vk::AccessFlags::HOST_READ)],
+            &[],
+            &[],
+        );
+        device.end_command_buffer(cb)?;
+        Ok(())
+    }
+}
+
+fn main() -> Result<()> {
+    let code = spirv()?;
+    let Vulkan {
+        _entry,
+        instance,
+        physical,
+        name,
+        family,
+        device,
+        queue,
+    } = open()?;
+    let push = ash::khr::push_descriptor::Device::new(&instance, &device);
+
+    let bytes = (COUNT * 4) as u64;
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    let input = buffer(&instance, physical, &device, bytes, storage)?;
+    let output = buffer(&instance, physical, &device, bytes, storage)?;
+    let params = buffer(
+        &instance,
+        physical,
+        &device,
+        16,
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+    )?;
+    let values: Vec<u32> = (0..COUNT as u32).map(|i| i * 5 + 1).collect();
+    write_u32s(&device, &input, &values)?;
+    write_u32s(&device, &params, &[SCALE, BIAS, 0, 0])?;
+
+    let first = storage_image(&instance, physical, &device)?;
+    let second = storage_image(&instance, physical, &device)?;
+    let output2 = buffer(&instance, physical, &device, bytes, storage)?;
+
+    let (bindings, entries) = bindings_and_entries();
+    unsafe {
+        let l = descriptor_objects(&device, &bindings, &entries)?;
         let whole = |b: &Buffer| vk::DescriptorBufferInfo {
             buffer: b.buffer,
             offset: 0,
@@ -357,8 +503,8 @@ fn main() -> Result<()> {
         };
         let data = descriptors(&output, first.2);
         device.update_descriptor_set_with_template(
-            set,
-            template,
+            l.set,
+            l.template,
             std::ptr::from_ref(&data).cast::<c_void>(),
         );
         let pushed = descriptors(&output2, second.2);
@@ -375,10 +521,10 @@ fn main() -> Result<()> {
                 &[
                     vk::ComputePipelineCreateInfo::default()
                         .stage(stage)
-                        .layout(pipeline_layout),
+                        .layout(l.pipeline_layout),
                     vk::ComputePipelineCreateInfo::default()
                         .stage(stage)
-                        .layout(push_pipeline_layout),
+                        .layout(l.push_pipeline_layout),
                 ],
                 None,
             )
@@ -393,57 +539,13 @@ fn main() -> Result<()> {
                 .command_pool(command_pool)
                 .command_buffer_count(1),
         )?[0];
-        device.begin_command_buffer(cb, &vk::CommandBufferBeginInfo::default())?;
-        let to_general = |image: vk::Image| {
-            vk::ImageMemoryBarrier::default()
-                .image(image)
-                .old_layout(vk::ImageLayout::UNDEFINED)
-                .new_layout(vk::ImageLayout::GENERAL)
-                .dst_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .subresource_range(color_range())
-        };
-        device.cmd_pipeline_barrier(
+        record(
+            (&device, &push),
             cb,
-            vk::PipelineStageFlags::TOP_OF_PIPE,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::DependencyFlags::empty(),
-            &[],
-            &[],
-            &[to_general(first.0), to_general(second.0)],
-        );
-        device.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipelines[0]);
-        device.cmd_bind_descriptor_sets(
-            cb,
-            vk::PipelineBindPoint::COMPUTE,
-            pipeline_layout,
-            0,
-            &[set],
-            &[],
-        );
-        device.cmd_dispatch(cb, 1, 1, 1);
-        device.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipelines[1]);
-        push.cmd_push_descriptor_set_with_template(
-            cb,
-            push_template,
-            push_pipeline_layout,
-            0,
-            std::ptr::from_ref(&pushed).cast::<c_void>(),
-        );
-        device.cmd_dispatch(cb, 1, 1, 1);
-        device.cmd_pipeline_barrier(
-            cb,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::PipelineStageFlags::HOST,
-            vk::DependencyFlags::empty(),
-            &[vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ)],
-            &[],
-            &[],
-        );
-        device.end_command_buffer(cb)?;
+            [first.0, second.0],
+            (&pipelines, &l),
+            &pushed,
+        )?;
         let cbs = [cb];
         device.queue_submit(
             queue,
@@ -467,13 +569,13 @@ fn main() -> Result<()> {
             device.destroy_pipeline(p, None);
         }
         device.destroy_shader_module(module, None);
-        device.destroy_descriptor_update_template(template, None);
-        device.destroy_descriptor_update_template(push_template, None);
-        device.destroy_pipeline_layout(pipeline_layout, None);
-        device.destroy_pipeline_layout(push_pipeline_layout, None);
-        device.destroy_descriptor_pool(pool, None);
-        device.destroy_descriptor_set_layout(set_layout, None);
-        device.destroy_descriptor_set_layout(push_layout, None);
+        device.destroy_descriptor_update_template(l.template, None);
+        device.destroy_descriptor_update_template(l.push_template, None);
+        device.destroy_pipeline_layout(l.pipeline_layout, None);
+        device.destroy_pipeline_layout(l.push_pipeline_layout, None);
+        device.destroy_descriptor_pool(l.pool, None);
+        device.destroy_descriptor_set_layout(l.set_layout, None);
+        device.destroy_descriptor_set_layout(l.push_layout, None);
         for (image, memory, view) in [first, second] {
             device.destroy_image_view(view, None);
             device.destroy_image(image, None);
