@@ -37,6 +37,43 @@ pub enum ValueKind {
 }
 
 impl DecodedImage {
+    /// The exact value of a texel as the format stores it: `R v  G v ...` (10- and 16-bit
+    /// normalised channels with their integer code), or the stencil value in decimal and binary.
+    pub fn texel_values(&self, x: u32, y: u32) -> Option<String> {
+        let d = self;
+        if x >= d.width || y >= d.height {
+            return None;
+        }
+        let v = d.values[(y * d.width + x) as usize];
+        if d.format == wgpu::TextureFormat::Stencil8 {
+            let s = v[0] as u32;
+            return Some(format!("S {s} (0b{s:08b})"));
+        }
+        let names = ["R", "G", "B", "A"];
+        let parts: Vec<String> = (0..d.channels)
+            .map(|c| match d.kind {
+                ValueKind::Integer => format!("{} {}", names[c], v[c] as i64),
+                ValueKind::Unorm8 => format!(
+                    "{} {:.4} ({})",
+                    names[c],
+                    v[c],
+                    (v[c] * 255.0).round() as u32
+                ),
+                ValueKind::UnormWide => match unorm_bits(d.format, c) {
+                    Some(bits) => format!(
+                        "{} {:.5} ({})",
+                        names[c],
+                        v[c],
+                        (f64::from(v[c]) * f64::from((1u32 << bits) - 1)).round() as u32
+                    ),
+                    None => format!("{} {}", names[c], v[c]),
+                },
+                _ => format!("{} {}", names[c], v[c]),
+            })
+            .collect();
+        Some(parts.join("  "))
+    }
+
     /// Smallest and largest finite channel value, (0, 0) when there is none.
     pub fn range(&self) -> (f32, f32) {
         let (min, max) = self
@@ -529,6 +566,16 @@ fn read_aspect(
         }
     }
     Ok(images)
+}
+
+/// Bits of channel `c` of a normalised format wider than 8 bits, for its integer code.
+fn unorm_bits(f: wgpu::TextureFormat, c: usize) -> Option<u32> {
+    use wgpu::TextureFormat as F;
+    match f {
+        F::Rgb10a2Unorm => Some(if c == 3 { 2 } else { 10 }),
+        F::R16Unorm | F::Rg16Unorm | F::Rgba16Unorm => Some(16),
+        _ => None,
+    }
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@
 //! cursor in the texture's own format, and a histogram of the shown channels.
 
 use egui::{Color32, Pos2, Rect, Sense, Vec2};
-use framelab_replay::decode::{DecodedImage, ValueKind};
+use framelab_replay::decode::DecodedImage;
 
 use crate::model::Sampling;
 use crate::state::{View, Zoom};
@@ -14,53 +14,7 @@ use crate::worker::{SaveAs, Written};
 
 /// The exact value of a texel as the format stores it, after its position.
 pub fn texel_text(d: &DecodedImage, x: u32, y: u32) -> Option<String> {
-    Some(format!("({x}, {y}) {}", texel_values(d, x, y)?))
-}
-
-/// The exact value of a texel as the format stores it: `R v  G v ...` (10- and 16-bit
-/// normalised channels with their integer code), or the stencil value in decimal and binary.
-pub fn texel_values(d: &DecodedImage, x: u32, y: u32) -> Option<String> {
-    if x >= d.width || y >= d.height {
-        return None;
-    }
-    let v = d.values[(y * d.width + x) as usize];
-    if d.format == wgpu::TextureFormat::Stencil8 {
-        let s = v[0] as u32;
-        return Some(format!("S {s} (0b{s:08b})"));
-    }
-    let names = ["R", "G", "B", "A"];
-    let parts: Vec<String> = (0..d.channels)
-        .map(|c| match d.kind {
-            ValueKind::Integer => format!("{} {}", names[c], v[c] as i64),
-            ValueKind::Unorm8 => format!(
-                "{} {:.4} ({})",
-                names[c],
-                v[c],
-                (v[c] * 255.0).round() as u32
-            ),
-            ValueKind::UnormWide => match unorm_bits(d.format, c) {
-                Some(bits) => format!(
-                    "{} {:.5} ({})",
-                    names[c],
-                    v[c],
-                    (f64::from(v[c]) * f64::from((1u32 << bits) - 1)).round() as u32
-                ),
-                None => format!("{} {}", names[c], v[c]),
-            },
-            _ => format!("{} {}", names[c], v[c]),
-        })
-        .collect();
-    Some(parts.join("  "))
-}
-
-/// Bits of channel `c` of a normalised format wider than 8 bits, for its integer code.
-fn unorm_bits(f: wgpu::TextureFormat, c: usize) -> Option<u32> {
-    use wgpu::TextureFormat as F;
-    match f {
-        F::Rgb10a2Unorm => Some(if c == 3 { 2 } else { 10 }),
-        F::R16Unorm | F::Rg16Unorm | F::Rgba16Unorm => Some(16),
-        _ => None,
-    }
+    Some(format!("({x}, {y}) {}", d.texel_values(x, y)?))
 }
 
 fn controls(app: &mut View, ui: &mut egui::Ui) {

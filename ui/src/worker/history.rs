@@ -50,7 +50,7 @@ fn texel(s: &State, texture: &wgpu::Texture, h: &HistoryRequest) -> String {
     }
     let images: Vec<_> = images.into_iter().map(|d| (d, ())).collect();
     super::subresource(&images, t)
-        .and_then(|(d, _)| crate::panels::texture::texel_values(d, h.x, h.y))
+        .and_then(|(d, _)| d.texel_values(h.x, h.y))
         .unwrap_or_else(|| "outside the subresource".to_owned())
 }
 

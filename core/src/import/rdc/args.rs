@@ -9,7 +9,7 @@ use serde_json::{Map, Value};
 
 use super::super::gfxr::registry::{self, CommandDef, ENUMS, Field, STRUCTS, Ty};
 use super::super::value::shortest;
-use super::chunks::ChunkError;
+use super::errors::{ArgError, ArgProblem, ChunkError};
 use super::xml::Node;
 
 /// Byte buffers read inline as numbers (push constant values, small data); longer ones are
@@ -18,59 +18,6 @@ const INLINE_BYTES: u64 = 64 << 10;
 
 /// Reads a `<buffer>`'s bytes from the zip.
 pub type Load<'a> = dyn FnMut(&Node) -> Result<Vec<u8>, ChunkError> + 'a;
-
-/// A parameter that cannot be read: where (the parameter and the members and elements down
-/// to the value, `CreateInfo: extent: width`) and why.
-#[derive(Debug)]
-pub struct ArgError {
-    /// Innermost first: each level adds its name as the error passes up.
-    path: Vec<String>,
-    pub problem: ArgProblem,
-}
-
-impl std::fmt::Display for ArgError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        for part in self.path.iter().rev() {
-            write!(f, "{part}: ")?;
-        }
-        write!(f, "{}", self.problem)
-    }
-}
-
-impl std::error::Error for ArgError {}
-
-impl ArgError {
-    fn within(mut self, part: impl std::fmt::Display) -> ArgError {
-        self.path.push(part.to_string());
-        self
-    }
-}
-
-impl From<ArgProblem> for ArgError {
-    fn from(problem: ArgProblem) -> ArgError {
-        ArgError {
-            path: Vec::new(),
-            problem,
-        }
-    }
-}
-
-impl From<ChunkError> for ArgError {
-    fn from(e: ChunkError) -> ArgError {
-        ArgProblem::Bytes(Box::new(e)).into()
-    }
-}
-
-/// What is wrong with a parameter's value.
-#[derive(Debug, thiserror::Error)]
-pub enum ArgProblem {
-    #[error("\"{0}\" is not an unsigned number")]
-    NotUnsigned(String),
-    #[error("\"{0}\" is not a number")]
-    NotNumber(String),
-    #[error(transparent)]
-    Bytes(Box<ChunkError>),
-}
 
 /// The registry parameter a RenderDoc parameter stands for: the same name; the same name in
 /// another case; the registry's `p`-prefixed pointer to it (`CreateInfo` -> `pCreateInfo`);

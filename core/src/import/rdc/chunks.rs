@@ -23,30 +23,9 @@ use super::super::gfxr::registry::{self, CommandDef};
 use super::super::stream::Call;
 use super::super::tree::Tree;
 use super::args;
-use super::members::{MemberError, Members};
+use super::errors::ChunkError;
+use super::members::Members;
 use super::xml::{Chunk, Node};
-
-/// Why a chunk cannot be fed to the importer: a damaged file (a member missing or of the
-/// wrong size, a parameter that is not what its type says, a chunk without its parts).
-#[derive(Debug, thiserror::Error)]
-pub enum ChunkError {
-    #[error("a <buffer> without a byteLength")]
-    NoByteLength,
-    #[error("vkGetSwapchainImagesKHR without Swapchain, SwapchainImageIndex and SwapchainImage")]
-    SwapchainParts,
-    #[error("initial contents without an id")]
-    NoId,
-    #[error(transparent)]
-    Member(#[from] MemberError),
-    #[error(transparent)]
-    Arg(#[from] Box<args::ArgError>),
-}
-
-impl From<args::ArgError> for ChunkError {
-    fn from(e: args::ArgError) -> ChunkError {
-        ChunkError::Arg(Box::new(e))
-    }
-}
 
 /// One binding of a descriptor set layout: its number, type and element count.
 #[derive(Debug, Clone)]

@@ -11,6 +11,7 @@
 mod args;
 mod chunks;
 pub mod convert;
+mod errors;
 mod members;
 mod xml;
 
