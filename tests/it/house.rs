@@ -290,3 +290,224 @@ fn no_function_is_longer_than_150_lines() {
         long.join("\n")
     );
 }
+
+/// Crates whose files are checked for import circles, by source folder.
+const CRATES: &[&str] = &["src", "core/src", "replay/src", "ui/src", "testkit/src"];
+
+/// Circles between files still to be broken, each as its modules sorted and joined by `, `.
+/// The list only shrinks: a circle broken must leave it, and no other may appear.
+const STILL_CIRCLES: &[&str] = &[
+    "analysis::model, analysis::units",
+    "capture::formats, lower::formats",
+    "coverage, import::calls, import::commands, import::contents, import::driver_layout, import::gfxr, import::gfxr::registry, import::state, import::stream, import::tree, import::value",
+    "import::record, import::transfer_calls, import::valid_usage_sets",
+    "import::valid_usage, import::valid_usage_buffers, import::valid_usage_copies",
+    "plan, vk_plan",
+    "spirv::arrays, spirv::index_params",
+];
+
+/// A file's module path in its crate (`import::gfxr::blocks`; a `mod.rs` is its folder).
+fn module_path(src: &Path, path: &Path) -> Vec<String> {
+    let rel = path.strip_prefix(src).unwrap().with_extension("");
+    let mut parts: Vec<String> = rel
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .collect();
+    if matches!(
+        parts.last().map(String::as_str),
+        Some("mod" | "lib" | "main")
+    ) {
+        parts.pop();
+    }
+    parts
+}
+
+/// The module paths `code` names through `crate::`, `super::` and `self::` (one level of
+/// braces followed), resolved from module `at`.
+fn named_paths(code: &str, at: &[String]) -> Vec<Vec<String>> {
+    let mut out = Vec::new();
+    let b = code.as_bytes();
+    let word = |from: usize| -> (String, usize) {
+        let end = code[from..]
+            .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+            .map_or(code.len(), |e| from + e);
+        (code[from..end].to_owned(), end)
+    };
+    let mut i = 0;
+    while i < code.len() {
+        let (w, end) = word(i);
+        if w.is_empty()
+            || (i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b':'))
+        {
+            i = if w.is_empty() {
+                i + code[i..].chars().next().map_or(1, char::len_utf8)
+            } else {
+                end
+            };
+            continue;
+        }
+        let mut base: Vec<String> = match w.as_str() {
+            "crate" => Vec::new(),
+            "self" => at.to_vec(),
+            "super" => at[..at.len().saturating_sub(1)].to_vec(),
+            _ => {
+                i = end;
+                continue;
+            }
+        };
+        let mut j = end;
+        // Further `super::` steps, then names.
+        let mut names = Vec::new();
+        while code[j..].starts_with("::") {
+            j += 2;
+            if code[j..].starts_with('{') {
+                let close = code[j..].find('}').map_or(code.len(), |c| j + c);
+                for item in code[j + 1..close].split(',') {
+                    let first: Vec<String> = item
+                        .trim()
+                        .split("::")
+                        .map(|s| s.trim().to_owned())
+                        .take_while(|s| {
+                            !s.is_empty() && s.chars().all(|c| c.is_alphanumeric() || c == '_')
+                        })
+                        .collect();
+                    let mut p = base.clone();
+                    p.extend(names.iter().cloned());
+                    p.extend(first);
+                    out.push(p);
+                }
+                j = close;
+                names.clear();
+                base.clear();
+                break;
+            }
+            let (n, e) = word(j);
+            if n.is_empty() {
+                break;
+            }
+            if n == "super" && names.is_empty() {
+                base.pop();
+            } else {
+                names.push(n);
+            }
+            j = e;
+        }
+        if !names.is_empty() || !base.is_empty() {
+            base.extend(names);
+            out.push(base);
+        }
+        i = j.max(end);
+    }
+    out
+}
+
+/// Files of one crate that import each other, directly or round a loop (a module and the
+/// modules inside it left out: a parent and its children share by design).
+fn circles(src: &Path) -> Vec<String> {
+    let mut files = Vec::new();
+    for path in sources() {
+        if path.starts_with(src) {
+            files.push(module_path(src, &path));
+        }
+    }
+    let known: std::collections::BTreeSet<&Vec<String>> = files.iter().collect();
+    let mut edges: std::collections::BTreeMap<
+        Vec<String>,
+        std::collections::BTreeSet<Vec<String>>,
+    > = std::collections::BTreeMap::new();
+    for path in sources().into_iter().filter(|p| p.starts_with(src)) {
+        let at = module_path(src, &path);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let code = code_only(&text);
+        let code = code.split("#[cfg(test)]").next().unwrap_or_default();
+        for named in named_paths(code, &at) {
+            let Some(target) = (0..=named.len())
+                .rev()
+                .map(|k| named[..k].to_vec())
+                .find(|p| known.contains(p))
+            else {
+                continue;
+            };
+            let related = target.starts_with(&at) || at.starts_with(&target);
+            if !related {
+                edges.entry(at.clone()).or_default().insert(target);
+            }
+        }
+    }
+    // Strongly connected components of more than one file (Tarjan's, iteratively small).
+    let nodes: Vec<&Vec<String>> = files.iter().collect();
+    let reach = |from: &Vec<String>| {
+        let mut seen = std::collections::BTreeSet::new();
+        let mut stack = vec![from.clone()];
+        while let Some(n) = stack.pop() {
+            for m in edges.get(&n).into_iter().flatten() {
+                if seen.insert(m.clone()) {
+                    stack.push(m.clone());
+                }
+            }
+        }
+        seen
+    };
+    let reached: std::collections::BTreeMap<&Vec<String>, _> =
+        nodes.iter().map(|n| (*n, reach(n))).collect();
+    let mut out = std::collections::BTreeSet::new();
+    for n in &nodes {
+        let mut comp: Vec<String> = nodes
+            .iter()
+            .filter(|m| reached[*n].contains(**m) && reached[**m].contains(*n))
+            .map(|m| m.join("::"))
+            .collect();
+        if comp.len() > 1 {
+            comp.sort();
+            out.insert(comp.join(", "));
+        }
+    }
+    out.into_iter().collect()
+}
+
+/// No two files of a crate import each other, directly or round a loop (but those
+/// `STILL_CIRCLES` names, which only shrink).
+#[test]
+fn no_files_import_each_other() {
+    let root = workspace();
+    let mut found = Vec::new();
+    for src in CRATES {
+        found.extend(circles(&root.join(src)));
+    }
+    let new: Vec<&String> = found
+        .iter()
+        .filter(|c| !STILL_CIRCLES.contains(&c.as_str()))
+        .collect();
+    assert!(
+        new.is_empty(),
+        "files importing each other: {new:#?}\nall circles found: {found:#?}"
+    );
+    let broken: Vec<&&str> = STILL_CIRCLES
+        .iter()
+        .filter(|c| !found.iter().any(|f| f == **c))
+        .collect();
+    assert!(
+        broken.is_empty(),
+        "no longer circles, take them off STILL_CIRCLES: {broken:?}"
+    );
+}
+
+/// The path reader resolves `crate::`, `super::`, `self::` and one level of braces.
+#[test]
+fn named_paths_resolve_from_the_module() {
+    let at: Vec<String> = ["import", "rdc", "args"].map(String::from).to_vec();
+    let code = "use super::errors::{ArgError, ChunkError};\nuse crate::plan::Plan;\nlet x = super::super::value::shortest(1);";
+    let found: Vec<String> = named_paths(code, &at)
+        .iter()
+        .map(|p| p.join("::"))
+        .collect();
+    assert_eq!(
+        found,
+        [
+            "import::rdc::errors::ArgError",
+            "import::rdc::errors::ChunkError",
+            "plan::Plan",
+            "import::value::shortest"
+        ]
+    );
+}

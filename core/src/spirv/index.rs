@@ -14,8 +14,7 @@ use rspirv::spirv::{Decoration, Op, Word};
 
 use super::SpirvError;
 
-/// Words in the module header (magic, version, generator, bound, schema).
-pub(super) const HEADER_WORDS: usize = 5;
+use super::HEADER_WORDS;
 
 /// Deeper than any real type (a few levels of struct and array); a cycle in malformed input
 /// would otherwise recurse until the stack runs out.

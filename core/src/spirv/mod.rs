@@ -39,6 +39,9 @@ mod unnormalized;
 mod unused;
 mod usage;
 
+/// Words in the module header (magic, version, generator, bound, schema).
+const HEADER_WORDS: usize = 5;
+
 use std::fmt;
 
 use rspirv::spirv::{Capability, Dim, ExecutionModel, ImageFormat};

@@ -19,8 +19,8 @@ use std::collections::HashMap;
 use rspirv::grammar::{INSTRUCTION_TABLE, OperandQuantifier};
 use rspirv::spirv::Op;
 
+use super::HEADER_WORDS;
 use super::SpirvError;
-use super::index::HEADER_WORDS;
 
 /// A module whose spec-constant operations were split, with where each of its instructions
 /// came from.

@@ -716,7 +716,7 @@ impl<'c> Lowering<'c> {
                 feature: format!("a depth or stencil storage image (view {})", view.name),
             })?;
             wgpu::BindingType::StorageTexture {
-                access: storage_access(var),
+                access: super::states::storage_access(var),
                 format,
                 view_dimension: dimension,
             }
@@ -755,17 +755,6 @@ impl<'c> Lowering<'c> {
             }
         };
         Ok((ty, resource))
-    }
-}
-
-/// How a storage image variable is accessed, from its decorations.
-pub(super) fn storage_access(var: &ResourceVar) -> wgpu::StorageTextureAccess {
-    if var.non_writable {
-        wgpu::StorageTextureAccess::ReadOnly
-    } else if var.non_readable {
-        wgpu::StorageTextureAccess::WriteOnly
-    } else {
-        wgpu::StorageTextureAccess::ReadWrite
     }
 }
 

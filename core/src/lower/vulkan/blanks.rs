@@ -216,7 +216,7 @@ impl Lowering<'_> {
         );
         self.vk_blank_note(p, at, "a blank storage image");
         let ty = wgpu::BindingType::StorageTexture {
-            access: super::bindings::storage_access(var),
+            access: super::states::storage_access(var),
             format,
             view_dimension: view,
         };

@@ -573,3 +573,14 @@ pub(super) fn storage_format(f: rspirv::spirv::ImageFormat) -> Option<wgpu::Text
         _ => return None,
     })
 }
+
+/// How a storage image variable is accessed, from its decorations.
+pub(super) fn storage_access(var: &crate::spirv::ResourceVar) -> wgpu::StorageTextureAccess {
+    if var.non_writable {
+        wgpu::StorageTextureAccess::ReadOnly
+    } else if var.non_readable {
+        wgpu::StorageTextureAccess::WriteOnly
+    } else {
+        wgpu::StorageTextureAccess::ReadWrite
+    }
+}

@@ -9,9 +9,8 @@ use super::helpers::{
     GBUFFER, color, compute, cover, fullscreen_pass, groups, raster, sampled, sampled_each,
     sampler, stencil_view, storage, with,
 };
-use super::passes::LIGHTS;
 use super::scene::{
-    SceneError, World, d, depth_attach, scene_bindings, scene_defaults, world_draws,
+    LIGHTS, SceneError, World, d, depth_attach, scene_bindings, scene_defaults, world_draws,
 };
 
 /// Where the street probe of pass 30 sits, and the radius it is trusted within.

@@ -11,14 +11,13 @@ use super::helpers::{
 };
 use super::scene::{
     BOX_INDICES, BUILDINGS, BUILDINGS_PER_BLOCK, CAPSULE_INDICES, Depth, DepthOnly, KIND_COUNTS,
-    SHADOWED_LIGHTS, SceneError, World, d, depth_attach, depth_only, light_count,
+    LIGHTS, SHADOWED_LIGHTS, SceneError, World, d, depth_attach, depth_only, light_count,
     opaque_depth_only, opaque_gbuffer, scene_bindings, scene_defaults, with_view, world_draws,
 };
 
 const PRE: &[&str] = &["Pre-geometry"];
 const GEO: &[&str] = &["Geometry"];
 const MASKS: &[&str] = &["Masks and LUTs"];
-pub(super) const LIGHTS: &[&str] = &["Lights and shadows"];
 
 /// Every pass, or what `scene.wgsl` lacks that a pass asks of it.
 pub(super) fn passes(day: bool) -> Result<Vec<Value>, SceneError> {

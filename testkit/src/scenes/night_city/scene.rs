@@ -26,6 +26,8 @@ pub(super) fn light_count(day: bool) -> u32 {
     if day { LIGHT_COUNT } else { 1024 }
 }
 pub(super) const SHADOWED_LIGHTS: u32 = 10;
+/// The debug group of the lighting and shadow passes.
+pub(super) const LIGHTS: &[&str] = &["Lights and shadows"];
 
 const FIRST_CAR: u32 = CANDIDATES;
 const FIRST_PEDESTRIAN: u32 = CANDIDATES + KIND_COUNTS[0];
