@@ -459,7 +459,7 @@ pub fn descriptor_type(name: &str) -> Option<Verdict> {
             "where the code only reads it, in a format the rewrite unpacks: a read-only storage buffer of words, each texel read rewritten into a load and unpack; a written texel buffer and a null one are refused",
         ),
         "INPUT_ATTACHMENT" => Verdict::Emulated(
-            "bound as a texture of the attachment's view, each subpassLoad rewritten to a fetch at the fragment's own position (OpImageFetch at ivec2(gl_FragCoord.xy)); an attachment the same subpass renders to (framebuffer fetch) is refused as a feedback loop, and so is a null one",
+            "bound as a texture of the attachment's view, each subpassLoad rewritten to a fetch at the fragment's own position (OpImageFetch at ivec2(gl_FragCoord.xy)); an attachment the same subpass renders to (framebuffer fetch) is read from a copy taken before each draw that reads it (the render pass ended and begun again around the copy; multisampled and depth/stencil attachments refused), and a null one is refused",
         ),
         "INLINE_UNIFORM_BLOCK" => Verdict::Refused("inline uniform blocks are not imported yet"),
         "ACCELERATION_STRUCTURE_KHR" | "ACCELERATION_STRUCTURE_NV" => {

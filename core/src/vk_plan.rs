@@ -134,6 +134,39 @@ pub struct VkRasterOp {
     pub extent: [u32; 2],
     /// The attachments' sample count.
     pub samples: u32,
+    /// Attachments copied between the draws for draws that read what the pass renders, in
+    /// draw order: the render pass is ended before each one and begun again after it.
+    pub fetches: Vec<VkFetch>,
+}
+
+/// A copy of colour attachment `color`'s subresource into texture `copy`, taken before draw
+/// `before` (after the clears recorded before it): Vulkan lets a subpass read its own
+/// attachment (an input attachment, "framebuffer fetch"; a feedback-loop layout), wgpu does
+/// not read and render one subresource in one pass, so the draws read the copy. What they
+/// see is everything drawn before them, which a pipeline barrier inside the subpass gives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VkFetch {
+    pub before: usize,
+    pub color: usize,
+    pub copy: usize,
+}
+
+impl VkRasterOp {
+    /// The draws of each render pass the op is replayed as: split before each fetch. A
+    /// fetch before the first draw leaves a first pass of no draws, which still loads or
+    /// clears the attachments and runs the clears recorded before it.
+    pub fn segments(&self) -> Vec<std::ops::Range<usize>> {
+        let mut starts: Vec<usize> = self.fetches.iter().map(|f| f.before).collect();
+        starts.dedup();
+        let mut out = Vec::with_capacity(starts.len() + 1);
+        let mut from = 0;
+        for s in starts {
+            out.push(from..s);
+            from = s;
+        }
+        out.push(from..self.draws.len());
+        out
+    }
 }
 
 /// A `vkCmdClearAttachments`, drawn before draw `before` (after the last where it is the draw

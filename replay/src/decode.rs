@@ -449,9 +449,11 @@ fn read_texture_part(
     read_aspect(device, queue, texture, spec, format, aspect, only)
 }
 
-/// Whether a texture has a stencil aspect that [`read_stencil`] can read.
+/// Whether a texture has a stencil aspect besides its depth that [`read_stencil`] can read.
+/// A stencil-only texture's stencil is its one aspect, which `read_texture` reads (reading it
+/// twice wrote the same file from two threads at once).
 pub fn has_stencil(spec: &TextureSpec) -> bool {
-    spec.samples == 1 && spec.format.has_stencil_aspect()
+    spec.samples == 1 && spec.format.has_stencil_aspect() && spec.format.has_depth_aspect()
 }
 
 /// Reads back the stencil aspect of a depth-stencil (or stencil) texture as `Stencil8`

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 41] = [
+const REPLAYED: [&str; 42] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -52,6 +52,7 @@ const REPLAYED: [&str; 41] = [
     "mpv_next_rgb48_f40",
     "qt6_q3d_2dirshadow_f30",
     "vkbasalt_depth_qt3d_f30",
+    "libreoffice_skia_f60",
 ];
 
 fn temp(name: &str) -> Scratch {

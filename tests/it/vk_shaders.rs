@@ -7,14 +7,17 @@ use std::path::Path;
 
 use serde_json::json;
 
-use crate::vk_classes::{draw_and_state, edit, read_the_pass_target, replay_fails, temp, vkcube};
+use crate::vk_classes::{
+    draw_and_state, edit, point_the_texture_at_the_pass_target, replay_fails, temp, vkcube,
+};
 
 /// vkcube's fragment shader replaced by one that writes `subpassLoad` of an input attachment
 /// at set 0 binding 1 (`tests/fixtures/subpass/subpass_load.spvasm`), the attachment being
 /// vkcube's texture, which an earlier subpass would have written: every pixel the cube covers
 /// is the texture's texel at the same position (black past the texture's 256x256, where a
 /// fetch is out of bounds). The same input attachment pointed at the image the pass renders
-/// to (framebuffer fetch) is refused by name.
+/// to (framebuffer fetch) reads the attachment as it was before the draw: the clear colour,
+/// so the cube, drawn with what is under it, is not seen.
 #[test]
 fn input_attachments_are_read_at_the_fragments_position() {
     let dir = temp("input-attachment");
@@ -47,7 +50,14 @@ fn input_attachments_are_read_at_the_fragments_position() {
         "{wrong} covered pixels are not the texel at their position"
     );
 
-    read_the_pass_target(&capture);
+    point_the_texture_at_the_pass_target(&capture);
+    let fetched = crate::common::replay_presented(&capture, &dir.join("fetched"));
+    let background = *original.get_pixel(0, 0);
+    let seen = fetched
+        .pixels()
+        .filter(|p| p.0[..3] != background.0[..3])
+        .count();
+    assert_eq!(seen, 0, "{seen} pixels are not the clear colour under them");
 }
 
 /// Replays `capture` into `out` and compares every pixel vkcube's cube covers in `original`

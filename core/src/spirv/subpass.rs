@@ -6,9 +6,9 @@
 //! `OpImageFetch` at `ivec2(gl_FragCoord.xy) + offset`, level 0 (or the sample asked, for
 //! multisampled subpass data), and the image type becomes a sampled 2D image.
 //!
-//! An input attachment that the same subpass also renders to (framebuffer fetch) is a
-//! feedback loop in wgpu: the lowering refuses it by name, as for any texture read in the pass
-//! that renders it.
+//! An input attachment that the same subpass also renders to (framebuffer fetch) would be a
+//! feedback loop in wgpu: the lowering points it at a copy of the attachment taken before the
+//! draw (`lower::vulkan::feedback`), which this fetch then reads.
 
 use std::collections::HashMap;
 

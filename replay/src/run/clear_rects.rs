@@ -257,4 +257,24 @@ pub(super) struct Restore {
     pub(super) viewport: Option<[f32; 6]>,
     pub(super) scissor: Option<[u32; 4]>,
     pub(super) stencil_reference: Option<u32>,
+    pub(super) blend_constant: Option<[f64; 4]>,
+}
+
+impl Restore {
+    /// Sets the state again in a render pass begun again in the middle of an imported pass
+    /// (a new pass starts from wgpu's defaults).
+    pub(super) fn apply(&self, rp: &mut wgpu::RenderPass<'_>) {
+        if let Some([x, y, w, h, min, max]) = self.viewport {
+            rp.set_viewport(x, y, w, h, min, max);
+        }
+        if let Some([x, y, w, h]) = self.scissor {
+            rp.set_scissor_rect(x, y, w, h);
+        }
+        if let Some(s) = self.stencil_reference {
+            rp.set_stencil_reference(s);
+        }
+        if let Some([r, g, b, a]) = self.blend_constant {
+            rp.set_blend_constant(wgpu::Color { r, g, b, a });
+        }
+    }
 }

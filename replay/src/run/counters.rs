@@ -28,11 +28,32 @@ pub(super) struct Statistics {
     staging: wgpu::Buffer,
 }
 
-/// Which query each plan pass writes in a frame, and how many the frame writes.
+/// Which queries each plan pass writes in a frame (the first and how many), and how many the
+/// frame writes.
 #[derive(Clone, Debug, Default)]
 pub(super) struct CountPlan {
-    pub slots: Vec<Option<u32>>,
+    pub slots: Vec<Option<(u32, u32)>>,
     pub count: u32,
+}
+
+/// The queries of one pass: one per render or compute pass object it is replayed as (an
+/// imported render pass whose draws read its own attachment is several), summed when read.
+#[derive(Clone, Copy)]
+pub(super) struct PassQueries<'q> {
+    sets: &'q [wgpu::QuerySet],
+    first: u32,
+    count: u32,
+}
+
+impl<'q> PassQueries<'q> {
+    /// The set and index of the pass's `k`th query.
+    pub fn get(&self, k: u32) -> Option<(&'q wgpu::QuerySet, u32)> {
+        if k >= self.count {
+            return None;
+        }
+        let q = self.first + k;
+        Some((self.sets.get((q / PER_SET) as usize)?, q % PER_SET))
+    }
 }
 
 /// Whether a pass has a render or compute pass object of its own that draws or dispatches.
@@ -43,6 +64,14 @@ pub(super) fn counted(pass: &PassSpec) -> bool {
     )
 }
 
+/// How many queries a pass writes: one per pass object it is replayed as.
+fn queries(pass: &PassSpec) -> u32 {
+    match &pass.op {
+        PassOp::VkRaster(r) => r.segments().len() as u32,
+        _ => u32::from(counted(pass)),
+    }
+}
+
 impl Statistics {
     pub fn create(device: &wgpu::Device, passes: &[PassSpec]) -> Option<Self> {
         if !device
@@ -51,7 +80,7 @@ impl Statistics {
         {
             return None;
         }
-        let queries = (passes.iter().filter(|p| counted(p)).count() as u32).max(1);
+        let queries = passes.iter().map(queries).sum::<u32>().max(1);
         let set_count = queries.div_ceil(PER_SET);
         let sets = (0..set_count)
             .map(|k| {
@@ -75,18 +104,23 @@ impl Statistics {
     pub fn plan(passes: &[PassSpec], last: usize) -> CountPlan {
         let mut plan = CountPlan::default();
         for p in passes.iter().take(last.saturating_add(1)) {
-            plan.slots.push(counted(p).then(|| {
-                plan.count += 1;
-                plan.count - 1
+            let n = queries(p);
+            plan.slots.push((n > 0).then(|| {
+                plan.count += n;
+                (plan.count - n, n)
             }));
         }
         plan
     }
 
-    /// The query set and index pass `i` writes.
-    pub fn query(&self, plan: &CountPlan, i: usize) -> Option<(&wgpu::QuerySet, u32)> {
-        let q = plan.slots.get(i).copied().flatten()?;
-        Some((self.sets.get((q / PER_SET) as usize)?, q % PER_SET))
+    /// The queries pass `i` writes.
+    pub fn query(&self, plan: &CountPlan, i: usize) -> Option<PassQueries<'_>> {
+        let (first, count) = plan.slots.get(i).copied().flatten()?;
+        Some(PassQueries {
+            sets: &self.sets,
+            first,
+            count,
+        })
     }
 
     /// Resolves the frame's queries and copies them to the mappable buffer.
@@ -125,9 +159,14 @@ impl Statistics {
             .slots
             .iter()
             .map(|slot| {
-                let at = (*slot)? as usize * 5;
-                let mut c = [0; 5];
-                c.copy_from_slice(values.get(at..at + 5)?);
+                let (first, n) = (*slot)?;
+                let mut c = [0u64; 5];
+                for q in first..first + n {
+                    let at = q as usize * 5;
+                    for (sum, v) in c.iter_mut().zip(values.get(at..at + 5)?) {
+                        *sum = sum.saturating_add(*v);
+                    }
+                }
                 Some(c)
             })
             .collect())

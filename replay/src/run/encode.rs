@@ -91,8 +91,9 @@ impl Session {
         encoder: &mut wgpu::CommandEncoder,
         stamps: Stamps<'_>,
         inside_encoders: bool,
-        stat: Stat<'_>,
+        stat: Option<super::counters::PassQueries<'_>>,
     ) -> Result<(), ReplayError> {
+        let first_query = stat.and_then(|q| q.get(0));
         let pass = &self.plan.passes[i];
         let err = |e: EncodeError| ReplayError::Pass {
             pass: pass.name.clone(),
@@ -108,22 +109,35 @@ impl Session {
         };
         match (&pass.op, &self.prepared[i]) {
             (PassOp::Raster(r), prepared @ Prepared::Raster { .. }) => self
-                .encode_raster(&pass.name, r, prepared, parity, encoder, (stamps, stat))
+                .encode_raster(
+                    &pass.name,
+                    r,
+                    prepared,
+                    parity,
+                    encoder,
+                    (stamps, first_query),
+                )
                 .map_err(err)?,
             (PassOp::Compute(c), prepared @ Prepared::Compute { .. }) => self
-                .encode_compute(&pass.name, c, prepared, parity, encoder, (stamps, stat))
+                .encode_compute(
+                    &pass.name,
+                    c,
+                    prepared,
+                    parity,
+                    encoder,
+                    (stamps, first_query),
+                )
                 .map_err(err)?,
             (PassOp::VkRaster(r), Prepared::VkWork(groups)) => {
                 self.shadows_in(groups, encoder);
-                let rp = self.begin_render(
-                    &pass.name,
-                    &r.color,
-                    r.depth.as_ref(),
+                self.encode_vk_render_passes(
+                    (i, &pass.name),
+                    r,
+                    groups,
                     parity,
                     encoder,
-                    stamps,
+                    (stamps, stat),
                 );
-                self.encode_vk_raster((i, &pass.name), r, groups, rp, stat);
                 self.shadows_out(groups, encoder);
             }
             (PassOp::VkCompute(c), Prepared::VkWork(groups)) => {
@@ -132,7 +146,7 @@ impl Session {
                     label: Some(&pass.name),
                     timestamp_writes: compute_stamps(stamps),
                 });
-                self.encode_vk_compute(c, groups, cp, stat);
+                self.encode_vk_compute(c, groups, cp, first_query);
                 self.shadows_out(groups, encoder);
             }
             (PassOp::Copy(copies), _) => {
@@ -203,7 +217,13 @@ impl Session {
             return Err(EncodeError::NotPrepared);
         };
         let buf = |b: usize| self.buf_at(b, parity);
-        let mut rp = self.begin_render(name, &r.color, r.depth.as_ref(), parity, encoder, stamps);
+        let mut rp = self.begin_render(
+            name,
+            (&r.color, r.depth.as_ref()),
+            parity,
+            encoder,
+            render_stamps(stamps),
+        );
         if let Some((set, q)) = stat {
             rp.begin_pipeline_statistics_query(set, q);
         }
@@ -277,14 +297,13 @@ impl Session {
     }
 
     /// Begins a render pass on the targets' views, with the pass's timestamps.
-    fn begin_render<'e>(
+    pub(super) fn begin_render<'e>(
         &self,
         name: &str,
-        color: &[ColorTarget],
-        depth: Option<&DepthTarget>,
+        (color, depth): (&[ColorTarget], Option<&DepthTarget>),
         parity: usize,
         encoder: &'e mut wgpu::CommandEncoder,
-        stamps: Stamps<'_>,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) -> wgpu::RenderPass<'e> {
         let color_views: Vec<wgpu::TextureView> = color
             .iter()
@@ -353,7 +372,7 @@ impl Session {
             label: Some(name),
             color_attachments: &attachments,
             depth_stencil_attachment: depth_attachment,
-            timestamp_writes: render_stamps(stamps),
+            timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,
         })

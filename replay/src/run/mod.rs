@@ -14,6 +14,7 @@ mod clear_rects;
 mod counters;
 mod create;
 mod encode;
+mod fetch;
 mod frame;
 mod pipelines;
 mod stamps;

@@ -504,6 +504,9 @@ impl Session {
         }
     }
 
+    /// One render pass of an imported pass: the draws of `segment` (all of them unless the
+    /// pass reads its own attachments, `fetch`), with the attachment clears recorded among
+    /// them, and the dynamic state the draws before it set (`carried`) set again first.
     pub(super) fn encode_vk_raster(
         &self,
         (pass, name): (usize, &str),
@@ -511,17 +514,32 @@ impl Session {
         groups: &WorkGroups,
         mut rp: wgpu::RenderPass<'_>,
         stat: super::encode::Stat<'_>,
+        segment: &super::fetch::Segment,
+        carried: &mut super::clear_rects::Restore,
     ) {
         if let Some((set, q)) = stat {
             rp.begin_pipeline_statistics_query(set, q);
         }
+        if !segment.first {
+            carried.apply(&mut rp);
+        }
         let buf = |b: usize| &self.buffers[b][0];
-        let mut restore = super::clear_rects::Restore::default();
-        let mut clears = r.clears.iter().enumerate().peekable();
-        for (i, (d, sets)) in r.draws.iter().zip(groups).take(self.steps()).enumerate() {
+        let steps = self.steps();
+        let (lo, hi) = (segment.draws.start, segment.draws.end);
+        // Clears recorded before draw `lo` ran at the end of the segment before.
+        let mut clears = r
+            .clears
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| segment.first || c.before > lo)
+            .peekable();
+        for i in lo..hi.min(steps) {
             while let Some((k, _)) = clears.next_if(|(_, c)| c.before <= i) {
-                self.encode_attachment_clear((pass, k), r, &mut rp, &restore);
+                self.encode_attachment_clear((pass, k), r, &mut rp, carried);
             }
+            let (d, Some(sets)) = (&r.draws[i], groups.get(i)) else {
+                continue;
+            };
             let VkGpuPipeline::Render(pipeline) = &self.vk.pipelines[d.pipeline] else {
                 continue;
             };
@@ -536,62 +554,73 @@ impl Session {
             }
             if let Some([x, y, w, h, min, max]) = d.viewport {
                 rp.set_viewport(x, y, w, h, min, max);
-                restore.viewport = d.viewport;
+                carried.viewport = d.viewport;
             }
             if let Some([x, y, w, h]) = d.scissor {
                 rp.set_scissor_rect(x, y, w, h);
-                restore.scissor = d.scissor;
+                carried.scissor = d.scissor;
             }
             if !d.immediates.is_empty() {
                 rp.set_immediates(0, &d.immediates);
             }
             if let Some([r, g, b, a]) = d.blend_constant {
                 rp.set_blend_constant(wgpu::Color { r, g, b, a });
+                carried.blend_constant = d.blend_constant;
             }
             if let Some(s) = d.stencil_reference {
                 rp.set_stencil_reference(s);
-                restore.stencil_reference = Some(s);
+                carried.stencil_reference = Some(s);
             }
-            match (d.index, d.indirect) {
-                (Some((ib, offset, format)), Some((b, at))) => {
-                    rp.set_index_buffer(buf(ib).slice(offset..), format);
-                    match d.draw_count {
-                        Some((c, c_at, most)) => {
-                            rp.multi_draw_indexed_indirect_count(buf(b), at, buf(c), c_at, most);
-                        }
-                        None => rp.draw_indexed_indirect(buf(b), at),
-                    }
-                }
-                (None, Some((b, at))) => match d.draw_count {
-                    Some((c, c_at, most)) => {
-                        rp.multi_draw_indirect_count(buf(b), at, buf(c), c_at, most);
-                    }
-                    None => rp.draw_indirect(buf(b), at),
-                },
-                (Some((ib, offset, format)), None) => {
-                    rp.set_index_buffer(buf(ib).slice(offset..), format);
-                    rp.draw_indexed(
-                        d.first..d.first.saturating_add(d.count),
-                        d.base_vertex,
-                        d.first_instance..d.first_instance.saturating_add(d.instances),
-                    );
-                }
-                (None, None) => rp.draw(
-                    d.first..d.first.saturating_add(d.count),
-                    d.first_instance..d.first_instance.saturating_add(d.instances),
-                ),
-            }
+            self.vk_draw_call(&mut rp, d);
         }
-        // Clears after the last draw (or after the step the inspector stopped at).
-        if self.steps() >= r.draws.len() {
-            for (k, _) in clears {
-                self.encode_attachment_clear((pass, k), r, &mut rp, &restore);
+        // Clears before the next segment's first draw (so before its copies), or after the
+        // last draw; none past the step the inspector stopped at.
+        for (k, c) in clears {
+            if !segment.last && c.before > hi {
+                break;
+            }
+            if c.before < steps || steps >= r.draws.len() {
+                self.encode_attachment_clear((pass, k), r, &mut rp, carried);
             }
         }
         if stat.is_some() {
             rp.end_pipeline_statistics_query();
         }
         let _ = name;
+    }
+
+    /// The draw call itself: direct or indirect, indexed or not, with a GPU count or not.
+    fn vk_draw_call(&self, rp: &mut wgpu::RenderPass<'_>, d: &framelab_core::plan::VkDrawOp) {
+        let buf = |b: usize| &self.buffers[b][0];
+        match (d.index, d.indirect) {
+            (Some((ib, offset, format)), Some((b, at))) => {
+                rp.set_index_buffer(buf(ib).slice(offset..), format);
+                match d.draw_count {
+                    Some((c, c_at, most)) => {
+                        rp.multi_draw_indexed_indirect_count(buf(b), at, buf(c), c_at, most);
+                    }
+                    None => rp.draw_indexed_indirect(buf(b), at),
+                }
+            }
+            (None, Some((b, at))) => match d.draw_count {
+                Some((c, c_at, most)) => {
+                    rp.multi_draw_indirect_count(buf(b), at, buf(c), c_at, most);
+                }
+                None => rp.draw_indirect(buf(b), at),
+            },
+            (Some((ib, offset, format)), None) => {
+                rp.set_index_buffer(buf(ib).slice(offset..), format);
+                rp.draw_indexed(
+                    d.first..d.first.saturating_add(d.count),
+                    d.base_vertex,
+                    d.first_instance..d.first_instance.saturating_add(d.instances),
+                );
+            }
+            (None, None) => rp.draw(
+                d.first..d.first.saturating_add(d.count),
+                d.first_instance..d.first_instance.saturating_add(d.instances),
+            ),
+        }
     }
 
     pub(super) fn encode_vk_compute(

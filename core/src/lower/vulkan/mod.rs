@@ -197,21 +197,46 @@ impl<'c> Lowering<'c> {
                 })?;
             draws.push(op);
         }
-        for (i, op) in draws.iter().enumerate() {
-            if let Some(feature) = feedback::feedback(&op.groups, &color, depth.as_ref()) {
-                let feature = if cleared_read_only {
-                    format!(
-                        "vkCmdClearAttachments of a depth/stencil attachment in a read-only layout that the pass's draws also sample ({feature})"
-                    )
-                } else {
-                    feature
-                };
-                return Err(vk_error(
-                    p,
-                    format!("draw {i}"),
-                    VkProblem::Unsupported { feature },
-                ));
+        let mut fetches = Vec::new();
+        for (i, op) in draws.iter_mut().enumerate() {
+            let fetched = feedback::feedback(&op.groups, &color, depth.as_ref(), &self.plan.textures)
+                .map_err(|feature| {
+                    let feature = if cleared_read_only {
+                        format!(
+                            "vkCmdClearAttachments of a depth/stencil attachment in a read-only layout that the pass's draws also sample ({feature})"
+                        )
+                    } else {
+                        feature
+                    };
+                    vk_error(p, format!("draw {i}"), VkProblem::Unsupported { feature })
+                })?;
+            if fetched.is_empty() {
+                continue;
             }
+            let mut copies = vec![usize::MAX; color.len()];
+            for f in &fetched {
+                if copies[f.color] == usize::MAX {
+                    copies[f.color] = self.vk_attachment_copy(&color[f.color]);
+                }
+            }
+            feedback::redirect(&mut op.groups, &fetched, &copies);
+            let mut read: Vec<usize> = fetched.iter().map(|f| f.color).collect();
+            read.sort_unstable();
+            read.dedup();
+            fetches.extend(read.into_iter().map(|k| VkFetch {
+                before: i,
+                color: k,
+                copy: copies[k],
+            }));
+        }
+        if !fetches.is_empty() {
+            let mut draws_reading: Vec<usize> = fetches.iter().map(|f| f.before).collect();
+            draws_reading.dedup();
+            self.notes.push(format!(
+                "pass \"{}\": {} draw(s) read a colour attachment the pass renders to (framebuffer fetch, or a feedback loop); the replay ends the render pass before each, copies the attachment and lets the draw read the copy",
+                p.name,
+                draws_reading.len()
+            ));
         }
         if cleared_read_only {
             self.notes.push(format!(
@@ -239,6 +264,7 @@ impl<'c> Lowering<'c> {
             clears,
             extent: [size.0, size.1],
             samples,
+            fetches,
         }))
     }
 
