@@ -220,3 +220,56 @@ pub struct VkDispatchOp {
     pub workgroups: Option<[u32; 3]>,
     pub indirect: Option<(usize, u64)>,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn raster(draws: usize, befores: &[usize]) -> VkRasterOp {
+        let draw = VkDrawOp {
+            pipeline: 0,
+            groups: Vec::new(),
+            vertex_buffers: Vec::new(),
+            index: None,
+            viewport: None,
+            scissor: None,
+            immediates: Vec::new(),
+            blend_constant: None,
+            stencil_reference: None,
+            count: 3,
+            instances: 1,
+            first: 0,
+            first_instance: 0,
+            base_vertex: 0,
+            indirect: None,
+            draw_count: None,
+        };
+        VkRasterOp {
+            color: Vec::new(),
+            depth: None,
+            draws: vec![draw; draws],
+            clears: Vec::new(),
+            extent: [1, 1],
+            samples: 1,
+            fetches: befores
+                .iter()
+                .enumerate()
+                .map(|(k, &before)| VkFetch {
+                    before,
+                    color: k % 2,
+                    copy: 9,
+                })
+                .collect(),
+        }
+    }
+
+    /// A pass is split before each draw that reads a copy, once however many attachments it
+    /// copies there; a copy before the first draw leaves a first pass of no draws, which
+    /// still runs the load and clear.
+    #[test]
+    fn a_pass_is_split_before_each_fetching_draw() {
+        assert_eq!(raster(3, &[]).segments(), vec![0..3]);
+        assert_eq!(raster(4, &[2, 2]).segments(), vec![0..2, 2..4]);
+        assert_eq!(raster(4, &[0, 3]).segments(), vec![0..0, 0..3, 3..4]);
+    }
+}

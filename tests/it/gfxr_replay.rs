@@ -760,3 +760,21 @@ fn three_channel_textures_are_held_with_a_fourth_channel() {
     );
     assert!(worst(&swapped) > 64, "red and blue trade places");
 }
+
+/// LibreOffice's stencil-only attachment (`VK_FORMAT_S8_UINT`) is exported as one file: its
+/// one aspect is the stencil (it had been read back twice, once as the texture and once as its
+/// stencil, and the two writes of one file raced).
+#[test]
+fn a_stencil_only_texture_is_exported_once() {
+    let dir = temp("stencil-only");
+    let capture = import("libreoffice_skia_f60", &dir);
+    let m = crate::common::replay_one_frame(&capture, &dir.join("out"));
+    let files: Vec<&str> = m["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|f| f["file"].as_str())
+        .filter(|f| f.starts_with("image_445"))
+        .collect();
+    assert_eq!(files, ["image_445.stencil.png"]);
+}

@@ -5,21 +5,12 @@
 //! every pass between loads and stores everything; the pass's timestamps go on the first
 //! pass's start and the last's end, and its statistics are one query per pass, summed.
 
-use std::ops::Range;
-
 use framelab_core::plan::{ColorTarget, DepthTarget, VkRasterOp};
 
 use super::Session;
 use super::clear_rects::Restore;
 use super::stamps::Stamps;
-use super::vulkan::WorkGroups;
-
-/// The draws one wgpu render pass of an imported pass records.
-pub(super) struct Segment {
-    pub draws: Range<usize>,
-    pub first: bool,
-    pub last: bool,
-}
+use super::vulkan::{Segment, WorkGroups};
 
 /// The attachments of segment `first`/`last`: later ones load what the one before stored,
 /// earlier ones store what the next loads.
@@ -87,7 +78,7 @@ impl Session {
             });
             let rp = self.begin_render(name, (&color, depth.as_ref()), parity, encoder, timestamps);
             let query = stat.and_then(|q| q.get(s as u32));
-            self.encode_vk_raster((i, name), r, groups, rp, query, &segment, &mut carried);
+            self.encode_vk_raster((i, name), r, groups, rp, query, (&segment, &mut carried));
         }
     }
 

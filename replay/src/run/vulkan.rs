@@ -58,6 +58,14 @@ struct Modules {
 /// Bind group indices of each draw or dispatch of a pass, by set.
 pub(super) type WorkGroups = Vec<Vec<Option<usize>>>;
 
+/// The draws one wgpu render pass of an imported pass records: all of them, or a piece of a
+/// pass split where its draws read what it renders (`fetch`).
+pub(super) struct Segment {
+    pub draws: std::ops::Range<usize>,
+    pub first: bool,
+    pub last: bool,
+}
+
 /// The one place framelab hands the driver code wgpu has not checked.
 #[allow(unsafe_code)]
 fn passthrough(device: &wgpu::Device, s: &SpirvShader) -> wgpu::ShaderModule {
@@ -514,8 +522,7 @@ impl Session {
         groups: &WorkGroups,
         mut rp: wgpu::RenderPass<'_>,
         stat: super::encode::Stat<'_>,
-        segment: &super::fetch::Segment,
-        carried: &mut super::clear_rects::Restore,
+        (segment, carried): (&Segment, &mut super::clear_rects::Restore),
     ) {
         if let Some((set, q)) = stat {
             rp.begin_pipeline_statistics_query(set, q);

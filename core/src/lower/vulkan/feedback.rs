@@ -15,6 +15,18 @@ pub(super) struct Fetched {
     pub color: usize,
 }
 
+/// A read of an attachment the pass renders that a copy cannot stand in for.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{attachment} read through set {set} (wgpu binding {binding}) in the pass that renders to it ({why}: wgpu cannot read and render one subresource in a pass)"
+)]
+pub(super) struct Unfetchable {
+    attachment: String,
+    set: usize,
+    binding: u32,
+    why: &'static str,
+}
+
 /// The bindings of one draw that read an attachment of its pass, or why one cannot be
 /// replayed.
 pub(super) fn feedback(
@@ -22,7 +34,7 @@ pub(super) fn feedback(
     color: &[ColorTarget],
     depth: Option<&DepthTarget>,
     textures: &[TextureSpec],
-) -> Result<Vec<Fetched>, String> {
+) -> Result<Vec<Fetched>, Unfetchable> {
     let within =
         |x: u32, base: u32, count: Option<u32>| x >= base && count.is_none_or(|n| x - base < n);
     let mut out = Vec::new();
@@ -45,10 +57,11 @@ pub(super) fn feedback(
                     && within(mip, *base_mip, *mips)
                     && within(layer, *base_layer, *layers)
             };
-            let loop_text = |a: String, why: &str| {
-                format!(
-                    "{a} read through set {set} (wgpu binding {binding}) in the pass that renders to it ({why}: wgpu cannot read and render one subresource in a pass)"
-                )
+            let unfetchable = |attachment: String, why: &'static str| Unfetchable {
+                attachment,
+                set,
+                binding: *binding,
+                why,
             };
             if let Some(k) = color.iter().position(|c| seen(c.texture, c.mip, c.layer)) {
                 let spec = &textures[color[k].texture];
@@ -68,7 +81,7 @@ pub(super) fn feedback(
                     None
                 };
                 match why {
-                    Some(why) => return Err(loop_text(format!("colour attachment {k}"), why)),
+                    Some(why) => return Err(unfetchable(format!("colour attachment {k}"), why)),
                     None => out.push(Fetched {
                         set,
                         binding: *binding,
@@ -81,7 +94,7 @@ pub(super) fn feedback(
                 .filter(|d| !(d.read_only && d.stencil_read_only))
                 .is_some_and(|d| seen(d.texture, d.mip, d.layer))
             {
-                return Err(loop_text(
+                return Err(unfetchable(
                     "the depth/stencil attachment".to_owned(),
                     "a feedback loop on a writable depth/stencil attachment",
                 ));

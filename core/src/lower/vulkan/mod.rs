@@ -200,7 +200,8 @@ impl<'c> Lowering<'c> {
         let mut fetches = Vec::new();
         for (i, op) in draws.iter_mut().enumerate() {
             let fetched = feedback::feedback(&op.groups, &color, depth.as_ref(), &self.plan.textures)
-                .map_err(|feature| {
+                .map_err(|e| {
+                    let feature = e.to_string();
                     let feature = if cleared_read_only {
                         format!(
                             "vkCmdClearAttachments of a depth/stencil attachment in a read-only layout that the pass's draws also sample ({feature})"
