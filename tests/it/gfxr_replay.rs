@@ -778,3 +778,45 @@ fn a_stencil_only_texture_is_exported_once() {
         .collect();
     assert_eq!(files, ["image_445.stencil.png"]);
 }
+
+/// LibreOffice's cursor drawn with a stencil test that reads no reference, as Skia's
+/// stencil-then-cover paths draw (ALWAYS, INVERT, write mask 1, on its `S8_UINT` attachment):
+/// the image is the same, and the Khronos layer says nothing. wgpu had left the stencil
+/// reference, a dynamic state of all its pipelines, unset (`VUID-vkCmdDraw-None-07839`, which
+/// Debian 12's layer words as an unset line width).
+#[test]
+fn a_stencil_test_that_reads_no_reference_is_clean_under_the_validation_layer() {
+    let dir = temp("stencil-no-reference");
+    let capture = import("libreoffice_skia_f60", &dir);
+    crate::vk_classes::edit(&capture, |v| {
+        let face = serde_json::json!({
+            "fail_op": "VK_STENCIL_OP_KEEP", "pass_op": "VK_STENCIL_OP_INVERT",
+            "depth_fail_op": "VK_STENCIL_OP_KEEP", "compare_op": "VK_COMPARE_OP_ALWAYS",
+            "compare_mask": 0, "write_mask": 1, "reference": 0,
+        });
+        let pipelines = v["vulkan"]["pipelines"].as_array_mut().unwrap();
+        let cursor = pipelines
+            .iter_mut()
+            .find(|p| p["name"] == "pipeline_1036")
+            .expect("the cursor's pipeline");
+        let ds = &mut cursor["graphics"]["depth_stencil"];
+        ds["stencil_test"] = serde_json::json!(true);
+        ds["front"] = face.clone();
+        ds["back"] = face;
+    });
+    let image = crate::common::replay_presented(&capture, &dir.join("out"));
+    let reference = image::open(gfxr_fixture("libreoffice_skia_f60.ref.png"))
+        .unwrap()
+        .to_rgba8();
+    crate::golden::within("libreoffice_skia_f60", &image, &reference).unwrap();
+    crate::common::assert_clean_under_validation_layer(
+        &dir,
+        &[
+            "replay",
+            capture.to_str().unwrap(),
+            "--frames",
+            "2",
+            "--quiet",
+        ],
+    );
+}
