@@ -93,6 +93,27 @@ pub(super) fn blend(b: &cf::Blend) -> Option<wgpu::BlendState> {
     }
 }
 
+/// A stencil test that reads no reference (each face always or never passes, nothing
+/// replaced: Skia's stencil-then-cover paths invert with ALWAYS) compared through a read mask
+/// of zero instead: EQUAL then always passes and NOT_EQUAL never does, as ALWAYS and NEVER did.
+/// wgpu makes the stencil reference a dynamic state of every pipeline but sets it only where
+/// the pipeline reads it, and Vulkan asks it set whenever the test is on
+/// (`VUID-vkCmdDraw-None-07839`); reading it makes wgpu set it.
+pub(super) fn reference_read(mut s: wgpu::StencilState) -> wgpu::StencilState {
+    use wgpu::CompareFunction as C;
+    if !s.is_enabled() || s.needs_ref_value() {
+        return s;
+    }
+    for face in [&mut s.front, &mut s.back] {
+        face.compare = match face.compare {
+            C::Never => C::NotEqual,
+            _ => C::Equal,
+        };
+    }
+    s.read_mask = 0;
+    s
+}
+
 /// The depth-stencil state of a raster pass with depth target `d`.
 pub(super) fn depth_stencil(st: &RenderState, d: &DepthTarget) -> wgpu::DepthStencilState {
     let face = |f: &cf::StencilFace| wgpu::StencilFaceState {
@@ -104,11 +125,13 @@ pub(super) fn depth_stencil(st: &RenderState, d: &DepthTarget) -> wgpu::DepthSte
     let stencil = st
         .stencil
         .as_ref()
-        .map_or(wgpu::StencilState::default(), |s| wgpu::StencilState {
-            front: face(&s.front),
-            back: face(&s.back),
-            read_mask: s.read_mask,
-            write_mask: s.write_mask,
+        .map_or(wgpu::StencilState::default(), |s| {
+            reference_read(wgpu::StencilState {
+                front: face(&s.front),
+                back: face(&s.back),
+                read_mask: s.read_mask,
+                write_mask: s.write_mask,
+            })
         });
     wgpu::DepthStencilState {
         format: d.format,

@@ -68,6 +68,8 @@ pub(super) struct VkLowering {
     /// Each shader module's words with its descriptor arrays split (`spirv::arrays`), where
     /// it has any (by module index).
     split_words: BTreeMap<usize, Option<std::sync::Arc<Vec<u32>>>>,
+    /// (texture, level, layer) of a colour attachment -> the copy draws that read it bind.
+    attachment_copies: HashMap<(usize, u32, u32), usize>,
     /// Vertex buffers copied to a layout wgpu takes (`strides`), by buffer, offset, stride and
     /// layout.
     repacked: HashMap<(ResourceId, u64, u32, strides::Relayout), usize>,
@@ -197,48 +199,8 @@ impl<'c> Lowering<'c> {
                 })?;
             draws.push(op);
         }
-        let mut fetches = Vec::new();
-        for (i, op) in draws.iter_mut().enumerate() {
-            let fetched = feedback::feedback(&op.groups, &color, depth.as_ref(), &self.plan.textures)
-                .map_err(|e| {
-                    let feature = e.to_string();
-                    let feature = if cleared_read_only {
-                        format!(
-                            "vkCmdClearAttachments of a depth/stencil attachment in a read-only layout that the pass's draws also sample ({feature})"
-                        )
-                    } else {
-                        feature
-                    };
-                    vk_error(p, format!("draw {i}"), VkProblem::Unsupported { feature })
-                })?;
-            if fetched.is_empty() {
-                continue;
-            }
-            let mut copies = vec![usize::MAX; color.len()];
-            for f in &fetched {
-                if copies[f.color] == usize::MAX {
-                    copies[f.color] = self.vk_attachment_copy(&color[f.color]);
-                }
-            }
-            feedback::redirect(&mut op.groups, &fetched, &copies);
-            let mut read: Vec<usize> = fetched.iter().map(|f| f.color).collect();
-            read.sort_unstable();
-            read.dedup();
-            fetches.extend(read.into_iter().map(|k| VkFetch {
-                before: i,
-                color: k,
-                copy: copies[k],
-            }));
-        }
-        if !fetches.is_empty() {
-            let mut draws_reading: Vec<usize> = fetches.iter().map(|f| f.before).collect();
-            draws_reading.dedup();
-            self.notes.push(format!(
-                "pass \"{}\": {} draw(s) read a colour attachment the pass renders to (framebuffer fetch, or a feedback loop); the replay ends the render pass before each, copies the attachment and lets the draw read the copy",
-                p.name,
-                draws_reading.len()
-            ));
-        }
+        let fetches =
+            self.vk_fetches(p, &mut draws, (&color, depth.as_ref()), cleared_read_only)?;
         if cleared_read_only {
             self.notes.push(format!(
                 "pass \"{}\": vkCmdClearAttachments clears its depth/stencil attachment, which is in a read-only layout; the replay makes the attachment writable for the pass, as drivers clear it",

@@ -212,7 +212,7 @@ pub(super) fn depth_stencil(
                     feature: "different stencil masks per face".to_owned(),
                 });
             }
-            reference_read(wgpu::StencilState {
+            crate::lower::states::reference_read(wgpu::StencilState {
                 front: stencil_face(f)?,
                 back: stencil_face(b)?,
                 read_mask: f.compare_mask,
@@ -247,27 +247,6 @@ pub(super) fn depth_stencil(
         stencil,
         bias,
     })
-}
-
-/// A stencil test that reads no reference (each face always or never passes, nothing
-/// replaced: Skia's stencil-then-cover paths invert with ALWAYS) compared through a read mask
-/// of zero instead: EQUAL then always passes and NOT_EQUAL never does, as ALWAYS and NEVER did.
-/// wgpu makes the stencil reference a dynamic state of every pipeline but sets it only where
-/// the pipeline reads it, and Vulkan asks it set whenever the test is on
-/// (`VUID-vkCmdDraw-None-07839`); reading it makes wgpu set it.
-fn reference_read(mut s: wgpu::StencilState) -> wgpu::StencilState {
-    use wgpu::CompareFunction as C;
-    if !s.is_enabled() || s.needs_ref_value() {
-        return s;
-    }
-    for face in [&mut s.front, &mut s.back] {
-        face.compare = match face.compare {
-            C::Never => C::NotEqual,
-            _ => C::Equal,
-        };
-    }
-    s.read_mask = 0;
-    s
 }
 
 fn blend_factor(name: &str) -> Result<wgpu::BlendFactor, VkProblem> {
