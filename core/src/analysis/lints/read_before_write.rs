@@ -39,17 +39,10 @@ impl Rule for ReadBeforeWrite {
             // A pass of several draws, dispatches or copies keeps their order, which the
             // pass's accesses do not: what one of them writes another may read after it (a
             // two-pass blur recorded as two dispatches of one pass).
-            let works = capture
-                .passes
-                .iter()
-                .find(|c| c.id == pass.id)
-                .map_or(1, |c| {
-                    c.draws.len()
-                        + c.dispatches.len()
-                        + c.copies.len()
-                        + c.clears.len()
-                        + c.blits.len()
-                });
+            let works = {
+                let c = capture.pass(pass.id);
+                c.draws.len() + c.dispatches.len() + c.copies.len() + c.clears.len() + c.blits.len()
+            };
             let own_writes: BTreeSet<MResource> = if works > 1 {
                 pass.accesses
                     .iter()

@@ -299,12 +299,19 @@ fn compare_vulkan(
         .and_then(|o| o.sync_hazards.as_ref())
     {
         out.retain(|l| l.kind != BARRIER_MISSING && l.kind != BARRIER_WRONG_BEFORE_STATE);
+        // Looked up by name once: a frame may hold thousands of findings and of passes.
+        let resources: std::collections::HashMap<&str, _> = capture
+            .resources
+            .iter()
+            .map(|r| (r.name.as_str(), r.id))
+            .collect();
+        let passes: std::collections::HashMap<&str, _> = capture
+            .passes
+            .iter()
+            .map(|p| (p.name.as_str(), p.id))
+            .collect();
         for h in hazards {
-            let resource = capture
-                .resources
-                .iter()
-                .find(|r| r.name == h.resource)
-                .map(|r| r.id);
+            let resource = resources.get(h.resource.as_str()).copied();
             let sub = match (h.mip, h.layer) {
                 (Some(m), Some(l)) => format!(" mip {m} layer {l}"),
                 _ => String::new(),
@@ -342,8 +349,7 @@ fn compare_vulkan(
             let pass = h
                 .pass
                 .as_ref()
-                .and_then(|name| capture.passes.iter().find(|p| &p.name == name))
-                .map(|p| p.id);
+                .and_then(|name| passes.get(name.as_str()).copied());
             let mut l = lint(kind, message, pass, resource);
             if h.kind == HazardKind::LayoutMismatch {
                 l.vuid = layout_vuid(&h.command, &h.access);

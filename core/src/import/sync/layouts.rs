@@ -75,7 +75,7 @@ impl Sync {
 
     /// `key` is now in `layout`, put there by `origin` in the command buffer being walked.
     pub(super) fn set_layout(&mut self, key: Key, layout: ImageLayout, origin: &Origin) {
-        let st = self.states.entry(key).or_default();
+        let st = self.states.entry(key);
         st.layout = Some((layout, origin.clone()));
         st.layout_in = self.walking;
     }

@@ -30,6 +30,7 @@ use std::collections::BTreeMap;
 
 use super::HashMap;
 
+mod chains;
 mod layouts;
 mod queues;
 mod ranges;
@@ -38,7 +39,7 @@ mod state;
 
 use queues::SIGNALS_KEPT;
 use stages::{earlier, later, shader_stages, stages_of};
-use state::{Dep, Read, State, Write};
+use state::{Dep, Read, Write};
 
 use std::borrow::Cow;
 use std::fmt;
@@ -145,7 +146,7 @@ enum Key {
 /// The checker's state across the imported frames' submissions.
 #[derive(Debug, Default)]
 pub struct Sync {
-    states: HashMap<Key, State>,
+    states: chains::States,
     found: BTreeMap<(Origin, u64, HazardKind), (Key, Access, Access)>,
     dropped: u64,
     /// Submissions so far: each access carries the one it was made in.
@@ -282,7 +283,7 @@ impl Sync {
     fn access(&mut self, keys: &[Key], write: bool, a: &Access) {
         for &key in keys {
             self.own(key, write, a);
-            let st = self.states.entry(key).or_default();
+            let st = self.states.entry(key);
             let hazards = if write {
                 st.write(a.clone(), self.seq, self.queue)
             } else {
@@ -347,16 +348,8 @@ impl Sync {
         }
         let d = Dep::of(b);
         let keys = self.barrier_keys(objects, &b.target);
-        if !matches!(b.target, BarrierTarget::Global) {
-            let own: std::collections::HashSet<Key> = keys.iter().copied().collect();
-            for (key, st) in &mut self.states {
-                if !own.contains(key) {
-                    st.order(&d);
-                }
-            }
-        }
         let transition = b.layouts.filter(|(from, to)| from != to);
-        for key in keys {
+        for &key in &keys {
             // With synchronization2 a barrier from a layout to itself is no transition and its
             // layouts are ignored (zink's depth barriers between draws); otherwise its old
             // layout must be the image's (VUID-VkImageMemoryBarrier-oldLayout-01197). Its
@@ -369,7 +362,7 @@ impl Sync {
                 }
                 self.set_layout(key, to, &b.origin);
             }
-            let st = self.states.entry(key).or_default();
+            let st = self.states.entry(key);
             match transition {
                 Some((from, to)) => {
                     let a = Access::event(&b.origin, What::Transition(from, to));
@@ -379,6 +372,11 @@ impl Sync {
                 }
                 None => st.depend(&d),
             }
+        }
+        // Its execution dependency reaches everything else (the states of a global
+        // barrier's keys are all there are).
+        if !matches!(b.target, BarrierTarget::Global) {
+            self.states.order_all_but(&keys, &d);
         }
     }
 
@@ -549,7 +547,7 @@ impl Sync {
                 continue;
             }
             for key in Self::view_keys(objects, view) {
-                let st = self.states.entry(key).or_default();
+                let st = self.states.entry(key);
                 st.write = Some(Write {
                     queue: self.queue,
                     access: Access {

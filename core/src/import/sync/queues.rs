@@ -37,7 +37,7 @@ impl Sync {
         if self.concurrent.contains(&handle) {
             return;
         }
-        let st = self.states.entry(key).or_default();
+        let st = self.states.entry(key);
         let previous = st.owner.replace(family);
         if let Some(owner) = previous.filter(|o| *o != family && !write) {
             let by = st
@@ -78,7 +78,7 @@ impl Sync {
             };
             self.barrier(objects, &release, true);
             for key in keys {
-                let st = self.states.entry(key).or_default();
+                let st = self.states.entry(key);
                 st.released = Some((src, dst));
                 // Made available by the release, visible to nothing yet.
                 if let Some(w) = st.write.as_mut().filter(|w| w.visible.is_empty()) {
@@ -89,7 +89,7 @@ impl Sync {
             let later_stages = later(b.dst_stages);
             let walking = self.walking;
             for key in keys {
-                let st = self.states.entry(key).or_default();
+                let st = self.states.entry(key);
                 st.released = None;
                 st.owner = Some(dst);
                 if let Some(w) = st.write.as_mut().filter(|w| !w.exec.is_empty()) {
@@ -162,7 +162,7 @@ impl Sync {
         }
         let keys = Self::image_keys(objects, image, (0, None), (0, None));
         for &key in &keys {
-            let st = self.states.entry(key).or_default();
+            let st = self.states.entry(key);
             st.write = None;
             st.reads = vec![Read {
                 access: Access::event(command, What::Text(super::ACQUIRE_READ)),

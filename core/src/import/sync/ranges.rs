@@ -32,9 +32,7 @@ impl Sync {
             if e > at {
                 ranges.insert(s, at);
                 ranges.insert(at, e);
-                if let Some(st) = self.states.get(&key(s)).cloned() {
-                    self.states.insert(key(at), st);
-                }
+                self.states.copy(key(s), key(at));
             }
         }
         let mut keys = Vec::new();

@@ -129,21 +129,6 @@ impl State {
         hazards
     }
 
-    /// The execution dependency of a barrier on another resource: execution dependencies
-    /// are not limited to a barrier's resources, its memory dependency is.
-    pub(super) fn order(&mut self, d: &Dep) {
-        if let Some(w) = &mut self.write
-            && (d.src.intersects(w.access.stage) || w.exec.intersects(d.src))
-        {
-            w.exec |= d.dst;
-        }
-        for r in &mut self.reads {
-            if d.src.intersects(r.access.stage) || r.exec.intersects(d.src) {
-                r.exec |= d.dst;
-            }
-        }
-    }
-
     /// A memory dependency without a layout transition.
     pub(super) fn depend(&mut self, d: &Dep) {
         if let Some(w) = &mut self.write {
