@@ -219,6 +219,8 @@ fn a_command_buffer_submitted_over_and_over_stops_at_the_pass_ceiling() {
         skipped.contains("passes beyond the limit of 65536"),
         "{skipped}"
     );
+    let why = s["not_replayable"].to_string();
+    assert!(why.contains("passes beyond the limit of 65536"), "{why}");
     let o = framelab(&["info", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
 }

@@ -816,6 +816,12 @@ fn what_a_few_lines_ask_to_walk_or_emit_is_bounded() {
         left_out(&repeated, "beyond the limit of 131072: not imported"),
         "{repeated}"
     );
+    // What is left is not the frame: it does not replay, and says why.
+    let why = repeated["not_replayable"].as_str().unwrap_or_default();
+    assert!(
+        why.contains("beyond the limit of 131072: not imported in or after pass"),
+        "{why}"
+    );
 }
 
 #[test]

@@ -322,7 +322,7 @@ impl Builder {
             return None;
         }
         if self.passes.len() >= MAX_PASSES {
-            self.note(format!(
+            self.cut(format!(
                 "passes beyond the limit of {MAX_PASSES}: not imported"
             ));
             self.pending_barriers.remove(&queue);

@@ -167,6 +167,16 @@ impl Builder {
         self.refuse_in(pass, at, what);
     }
 
+    /// Work past one of the import's ceilings is left out, so the frame as imported is not
+    /// the frame: noted each time, and refused once, in the last pass imported, so that
+    /// `replay` does not draw what is left as if it were all.
+    pub(super) fn cut(&mut self, what: String) {
+        if !self.notes.contains_key(&what) {
+            self.refuse_in(self.passes.len().checked_sub(1), None, &what);
+        }
+        self.note(what);
+    }
+
     fn refuse_in(&mut self, pass: Option<usize>, at: Option<&Origin>, what: &str) {
         if !self.emitting() {
             return;
@@ -190,7 +200,7 @@ impl Builder {
             _ => return true,
         };
         if self.work.saturating_add(n) > MAX_WORK {
-            self.note(format!(
+            self.cut(format!(
                 "draws, dispatches, copies and barriers beyond the limit of {MAX_WORK}: not imported"
             ));
             return false;
