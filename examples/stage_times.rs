@@ -7,7 +7,8 @@
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-use framelab_core::analysis::model::{FrameModel, MPass, Units};
+use framelab_core::analysis::model::{FrameModel, MPass};
+use framelab_core::analysis::units::Units;
 use framelab_core::analysis::{barriers, derive_frame, graph, memory};
 use framelab_testkit::synthetic;
 use std::hint::black_box;

@@ -31,7 +31,6 @@ pub mod structure;
 pub mod text;
 pub mod timing;
 pub mod uniforms;
-pub mod vk_plan;
 pub mod whatif;
 
 pub use wgpu_types;

@@ -2,13 +2,14 @@
 //! one by one, and the recorded order against the topological one.
 
 use framelab_core::analysis::graph::{build, recorded_order, topological_order};
-use framelab_core::analysis::model::{MPass, MQueue, MResource, Units};
+use framelab_core::analysis::model::{MPass, MQueue, MResource};
+use framelab_core::analysis::units::Units;
 use framelab_core::analysis::{barriers, derive_frame, graph, memory, model};
 use framelab_testkit::synthetic;
 
 /// What `derive_frame` returns must not depend on which threads did the work.
 fn same_as_one_thread(model: &model::FrameModel) {
-    let units = model::Units::new(model);
+    let units = Units::new(model);
     let g = graph::build(model, &units);
     let order = graph::order(model, &g).unwrap();
     let plan = barriers::derive(model, &units, &g, &order);

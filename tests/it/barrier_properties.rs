@@ -4,8 +4,8 @@
 
 use framelab_core::analysis::model::{
     FrameModel, MPass, MQueue, MResource, ModelAccess, ModelPass, ModelResource, QueueInfo, State,
-    Units,
 };
+use framelab_core::analysis::units::Units;
 use framelab_core::analysis::{barriers, graph, hazards, to_sync};
 use framelab_core::capture::format::{HeapType, QueueType};
 use framelab_core::capture::model::{ResourceCategory, Subresources};

@@ -2,7 +2,7 @@
 //! bound (the largest sum of simultaneously live bytes). The worst case is printed for the
 //! README. This is a property of the placement, not a timing.
 
-use framelab_core::analysis::model::Units;
+use framelab_core::analysis::units::Units;
 use framelab_core::analysis::{graph, memory};
 use framelab_testkit::synthetic;
 

@@ -1,7 +1,7 @@
 //! The analyses handle frames of benchmark size, and the loader accepts the synthetic capture
 //! the load benchmark uses (so the benchmark measures a successful validation).
 
-use framelab_core::analysis::model::Units;
+use framelab_core::analysis::units::Units;
 use framelab_core::analysis::{barriers, graph, memory};
 use framelab_testkit::synthetic;
 

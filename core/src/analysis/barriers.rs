@@ -14,7 +14,8 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use super::graph::PassGraph;
-use super::model::{FrameModel, MPass, MQueue, MResource, OptPass, State, Unit, UnitUse, Units};
+use super::model::{FrameModel, MPass, MQueue, MResource, OptPass, State, Unit};
+use super::units::{UnitUse, Units};
 use crate::capture::format::QueueType;
 use crate::capture::model::Subresources;
 use petgraph::visit::EdgeRef;

@@ -13,7 +13,8 @@ use petgraph::graph::{DiGraph, NodeIndex};
 use petgraph::visit::EdgeRef;
 use serde::Serialize;
 
-use super::model::{FirstAccess, FrameModel, MPass, MResource, OptPass, Units};
+use super::model::{FirstAccess, FrameModel, MPass, MResource, OptPass};
+use super::units::Units;
 use crate::capture::model::Subresources;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]

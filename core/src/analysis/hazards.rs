@@ -18,7 +18,8 @@
 use serde::Serialize;
 
 use super::clocks::Clocks;
-use super::model::{FrameModel, MPass, MQueue, MResource, State, Unit, Units};
+use super::model::{FrameModel, MPass, MQueue, MResource, State, Unit};
+use super::units::Units;
 use crate::capture::format::QueueType;
 use crate::capture::model::Subresources;
 

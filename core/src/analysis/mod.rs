@@ -41,7 +41,7 @@ pub fn to_sync(b: &Barrier) -> Option<SyncBarrier> {
 /// A frame's units, pass graph and order, and what is derived from the order.
 #[derive(Debug)]
 pub struct Derived {
-    pub units: model::Units,
+    pub units: units::Units,
     pub graph: graph::PassGraph,
     pub order: Vec<model::MPass>,
     pub plan: barriers::BarrierPlan,
@@ -62,7 +62,7 @@ pub fn check_order(capture: &crate::capture::model::Capture) -> Result<(), graph
     if graph::recorded_order(&model).is_some() {
         return Ok(());
     }
-    let units = model::Units::new(&model);
+    let units = units::Units::new(&model);
     let g = graph::build(&model, &units);
     graph::topological_order(&model, &g).map(drop)
 }
@@ -83,7 +83,7 @@ pub fn derive_frame(
     {
         let (units, graph, plan, memory) = std::thread::scope(|s| {
             let memory = s.spawn(|| memory::plan(model, &order));
-            let units = model::Units::new(model);
+            let units = units::Units::new(model);
             let graph = graph::build(model, &units);
             let plan = barriers::derive(model, &units, &graph, &order);
             // A panic in the planner is a bug: carry it on to this thread.
@@ -100,7 +100,7 @@ pub fn derive_frame(
             memory: Some(memory),
         });
     }
-    let units = model::Units::new(model);
+    let units = units::Units::new(model);
     let graph = graph::build(model, &units);
     let order = graph::order(model, &graph)?;
     let (plan, memory) = if with_memory {
@@ -122,7 +122,7 @@ pub fn derive_frame(
 /// other, so they are derived on two threads when the machine has two cores.
 pub fn barriers_and_memory(
     model: &model::FrameModel,
-    units: &model::Units,
+    units: &units::Units,
     graph: &graph::PassGraph,
     order: &[model::MPass],
 ) -> (barriers::BarrierPlan, memory::MemoryPlan) {

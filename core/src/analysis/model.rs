@@ -10,7 +10,6 @@ use std::fmt;
 
 use serde::Serialize;
 
-pub use super::units::{UnitUse, Units};
 use crate::capture::format::{Access, HeapType, PassKind, QueueType, ResourceKind};
 use crate::capture::model::{
     AccessSource, Capture, InitialDesc, PassDesc, PassId, ResourceCategory, ResourceId,
@@ -568,6 +567,7 @@ impl FrameModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::units::Units;
 
     #[test]
     fn state_names_and_sets() {

@@ -4,7 +4,7 @@
 //! own pipeline, bind groups, vertex and index buffers, dynamic state and push constants, as
 //! the application recorded them. Re-exported by `crate::plan`.
 
-use crate::plan::{ColorTarget, DepthTarget};
+use super::targets::{ColorTarget, DepthTarget};
 
 #[derive(Debug, Clone, Default)]
 pub struct VkPlan {
