@@ -301,7 +301,6 @@ const STILL_CIRCLES: &[&str] = &[
     "coverage, import::calls, import::commands, import::contents, import::driver_layout, import::gfxr, import::gfxr::registry, import::state, import::stream, import::tree, import::value",
     "import::record, import::transfer_calls, import::valid_usage_sets",
     "import::valid_usage, import::valid_usage_buffers, import::valid_usage_copies",
-    "spirv::arrays, spirv::index_params",
 ];
 
 /// A file's module path in its crate (`import::gfxr::blocks`; a `mod.rs` is its folder).

@@ -10,16 +10,17 @@
 //! lowering decodes with [`binding_element`]. An index known only at run time, or an array
 //! used other than through access chains, is refused by name.
 
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap};
 
 use rspirv::binary::Assemble;
 use rspirv::dr::{Instruction, Module, Operand};
 use rspirv::spirv::{Decoration, Op, StorageClass, Word};
 
 use super::SpirvError;
+use super::array_decl::{Array, refused};
 use super::index::{self, first_free_id, id_ref, literal};
 use super::index_params::{Facts, VALUE_DEPTH, Value};
-use super::ops::{Ids, inst, type_id};
+use super::ops::{Ids, inst, int_constants, is_chain, type_id};
 
 /// Bits of a split binding that hold the array's own binding; the element is above them.
 const ELEMENT_SHIFT: u32 = 20;
@@ -36,23 +37,6 @@ pub fn binding_element(binding: u32) -> (u32, u32) {
         binding & ((1 << ELEMENT_SHIFT) - 1),
         binding >> ELEMENT_SHIFT,
     )
-}
-
-pub(super) fn refused(detail: String) -> SpirvError {
-    SpirvError::Unsupported {
-        feature: "descriptor array",
-        detail,
-    }
-}
-
-/// One array of more than one descriptor.
-pub(super) struct Array {
-    pub(super) set: u32,
-    pub(super) binding: u32,
-    pub(super) len: u32,
-    pub(super) class: StorageClass,
-    pub(super) element_ty: Word,
-    pub(super) name: String,
 }
 
 /// The module with its descriptor arrays split, or None where it has none (the words are
@@ -163,31 +147,6 @@ fn descriptor_arrays(module: &Module) -> Result<BTreeMap<Word, Array>, SpirvErro
         );
     }
     Ok(out)
-}
-
-pub(super) fn is_chain(i: &Instruction) -> bool {
-    matches!(i.class.opcode, Op::AccessChain | Op::InBoundsAccessChain)
-}
-
-/// The 32-bit integer constants, by id, with their values.
-pub(super) fn int_constants(module: &Module) -> HashMap<Word, u32> {
-    let ints: HashSet<Word> = super::ops::int32_types(module).into_iter().collect();
-    module
-        .types_global_values
-        .iter()
-        .filter(|c| {
-            c.class.opcode == Op::Constant && c.result_type.is_some_and(|t| ints.contains(&t))
-        })
-        .filter_map(|c| Some((c.result_id?, literal(c.operands.first())?)))
-        .collect()
-}
-
-pub(super) fn arrays_named(arrays: &BTreeMap<Word, Array>) -> String {
-    let names: Vec<String> = arrays
-        .values()
-        .map(|a| format!("set {} binding {} ({})", a.set, a.binding, a.name))
-        .collect();
-    names.join(", ")
 }
 
 /// Every access chain into an array becomes one into (or is replaced by) the variable of the

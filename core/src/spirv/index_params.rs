@@ -10,10 +10,10 @@ use rspirv::dr::{Function, Instruction, Module, Operand};
 use rspirv::spirv::{Op, StorageClass, Word};
 
 use super::SpirvError;
-use super::arrays::{Array, arrays_named, int_constants, is_chain, refused};
+use super::array_decl::{Array, arrays_named, refused};
 use super::entry::reached;
 use super::index::{id_ref, literal};
-use super::ops::{Ids, inst};
+use super::ops::{Ids, inst, int_constants, is_chain};
 
 /// Calls through which an index may be handed on before the split gives up.
 const MAX_CALL_DEPTH: usize = 64;

@@ -7,6 +7,7 @@
 //! renumbered, gl_Position's y negated for wgpu's flipped viewport). `usage` says which
 //! bindings the code reads and writes, for the synchronization check.
 
+mod array_decl;
 mod arrays;
 mod bias;
 mod carry;

@@ -1,7 +1,7 @@
 //! Making instructions for a rewrite: fresh ids past every one in use, instructions, and
 //! global types found or added once. Shared by the rewrites that add code.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use rspirv::dr::{Instruction, Module, Operand};
 use rspirv::spirv::{Op, Word};
@@ -187,4 +187,22 @@ pub(super) fn add_glsl_import(module: &mut Module, id: Option<Word>) {
             vec![Operand::LiteralString("GLSL.std.450".to_owned())],
         ));
     }
+}
+
+/// An access chain (in bounds or not).
+pub(super) fn is_chain(i: &Instruction) -> bool {
+    matches!(i.class.opcode, Op::AccessChain | Op::InBoundsAccessChain)
+}
+
+/// The 32-bit integer constants, by id, with their values.
+pub(super) fn int_constants(module: &Module) -> HashMap<Word, u32> {
+    let ints: HashSet<Word> = int32_types(module).into_iter().collect();
+    module
+        .types_global_values
+        .iter()
+        .filter(|c| {
+            c.class.opcode == Op::Constant && c.result_type.is_some_and(|t| ints.contains(&t))
+        })
+        .filter_map(|c| Some((c.result_id?, super::index::literal(c.operands.first())?)))
+        .collect()
 }
