@@ -222,7 +222,24 @@ impl Analysed {
     /// The replay plan for a device with the `available` features (`adapter` names it in
     /// errors), passes in the analysis's order.
     pub fn lower(self, available: Features, adapter: &str) -> Result<Lowered, StageError> {
-        let frame = lower::lower(&self.capture, &self.analysis.order, available, adapter)?;
+        self.lower_with(available, adapter, lower::Texels::Load)
+    }
+
+    /// As [`Analysed::lower`], with textures' contents loaded or left out (`texels`: left out
+    /// to judge whether the frame replays, as `import` does).
+    pub fn lower_with(
+        self,
+        available: Features,
+        adapter: &str,
+        texels: lower::Texels,
+    ) -> Result<Lowered, StageError> {
+        let frame = lower::lower_with(
+            &self.capture,
+            &self.analysis.order,
+            available,
+            adapter,
+            texels,
+        )?;
         let mut notes = frame.notes;
         notes.extend(
             unknown_reads(&self.capture, &frame.pass_ids)

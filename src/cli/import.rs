@@ -93,7 +93,13 @@ fn replay_verdict(out: &Path, capture: RawCapture) -> String {
     let lowered = framelab_core::pipeline::Loaded::from_raw(out, capture)
         .validate(&Options::default())
         .and_then(|v| v.analyse(framelab_core::analysis::report::AnalyzeOptions { cull: false }))
-        .and_then(|a| a.lower(framelab_core::lower::wanted_features(), "any adapter"));
+        .and_then(|a| {
+            a.lower_with(
+                framelab_core::lower::wanted_features(),
+                "any adapter",
+                framelab_core::lower::Texels::LeaveOut,
+            )
+        });
     match lowered {
         Ok(l) => {
             let unknown = framelab_core::pipeline::unknown_reads(l.capture(), &l.pass_ids);

@@ -222,6 +222,18 @@ struct Lowering<'c> {
     /// Textures held with their bytes rearranged (`formats::Repack`), by plan index.
     repacked: BTreeMap<usize, (&'static str, formats::Repack)>,
     vk: vulkan::VkLowering,
+    texels: Texels,
+}
+
+/// What the lowering does with textures' contents: read them into the plan, to replay; or
+/// leave them out, to judge whether the frame would replay. No decision of the lowering reads
+/// a texel (buffers' bytes it does read: index lists, vertex strides), and validation has held
+/// each texture's side file to its size, so the judgement is the same at a fraction of the
+/// memory: a game's frame holds tens of megabytes of textures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Texels {
+    Load,
+    LeaveOut,
 }
 
 /// Lowers `capture`'s passes in `order` for an adapter with the `available` features.
@@ -230,6 +242,17 @@ pub fn lower(
     order: &[PassId],
     available: Features,
     adapter: &str,
+) -> Result<LoweredFrame, LowerError> {
+    lower_with(capture, order, available, adapter, Texels::Load)
+}
+
+/// As [`lower`], with textures' contents loaded or left out (`texels`).
+pub fn lower_with(
+    capture: &Capture,
+    order: &[PassId],
+    available: Features,
+    adapter: &str,
+    texels: Texels,
 ) -> Result<LoweredFrame, LowerError> {
     if let Some(why) = capture.not_replayable() {
         return Err(LowerError::NotReplayable(why));
@@ -255,6 +278,7 @@ pub fn lower(
         shader_index: BTreeMap::new(),
         repacked: BTreeMap::new(),
         vk: vulkan::VkLowering::default(),
+        texels,
     };
     for r in &capture.resources {
         l.resource(r)?;

@@ -106,6 +106,7 @@ impl<'c> Lowering<'c> {
                 ));
                 None
             }
+            InitialDesc::File(..) if self.texels == super::Texels::LeaveOut => None,
             InitialDesc::File(path, offset) => {
                 let mut mips = texture_file(r, info, (path, *offset)).map_err(contents_err)?;
                 if let Some(repack) = lowered.repack {
