@@ -820,3 +820,49 @@ fn a_stencil_test_that_reads_no_reference_is_clean_under_the_validation_layer() 
         ],
     );
 }
+
+/// GTK writes its glyphs, icons and spinner into linear images through mapped memory as its
+/// frames run (images it creates in them, read at the row pitch the driver reported): each
+/// such write is a host-write copy into the image's texels at its place in the frame. The
+/// second frame of the untrimmed capture, imported with the first, presents what
+/// `gfxrecon-replay` shows for it, pixel for pixel (without the copies, 306 pixels of the
+/// spinner and icons were what the first frame, or nothing, left there), and no read before
+/// a write (FL006) is left to report.
+#[test]
+fn linear_images_the_host_writes_while_the_frames_run_are_replayed_with_their_texels() {
+    let dir = temp("linear-host-writes");
+    let capture = dir.join("gtk.json");
+    let fixture = gfxr_fixture("gtk4_whole.gfxr");
+    let out = framelab(&[
+        "import",
+        fixture.to_str().unwrap(),
+        "-o",
+        capture.to_str().unwrap(),
+        "--frames",
+        "0-1",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let image = crate::common::replay_presented(&capture, &dir.join("out"));
+    let reference = image::open(gfxr_fixture("gtk4_whole_f2.ref.png"))
+        .unwrap()
+        .to_rgba8();
+    assert_eq!(image.dimensions(), reference.dimensions());
+    let off = image
+        .pixels()
+        .zip(reference.pixels())
+        .filter(|(a, b)| a.0[..3] != b.0[..3])
+        .count();
+    assert_eq!(
+        off, 0,
+        "pixels that differ from gfxrecon-replay's second frame"
+    );
+    let analysed = framelab(&["analyze", capture.to_str().unwrap(), "--json"]);
+    let report: serde_json::Value = serde_json::from_slice(&analysed.stdout).unwrap();
+    let fl006 = report["lints"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|l| l["code"] == "FL006")
+        .count();
+    assert_eq!(fl006, 0, "{}", report["lints"]);
+}

@@ -233,7 +233,11 @@ impl Contents {
         if self.frozen
             && !matches!(
                 name,
-                "vkCreateShaderModule" | "vkMapMemory" | "vkMapMemory2KHR" | "vkMapMemory2"
+                "vkCreateShaderModule"
+                    | "vkMapMemory"
+                    | "vkMapMemory2KHR"
+                    | "vkMapMemory2"
+                    | "vkGetImageSubresourceLayout"
             )
         {
             return;
@@ -299,6 +303,12 @@ impl Contents {
             }
             _ => {}
         }
+    }
+
+    /// A linear image's row pitch and the offset of its first texel in its memory binding,
+    /// where the driver gave them (`vkGetImageSubresourceLayout` of its first subresource).
+    pub fn linear_layout(&self, image: u64) -> Option<(u64, u64)> {
+        self.linear.get(&image).copied()
     }
 
     /// Where a fill of `memory` at `offset` lands: offsets of fills count from the start of

@@ -1,17 +1,64 @@
 //! What the application's CPU writes through a mapping while the imported frames run (vkd3d's
-//! vertex data, egui's staging buffers, per-frame constants): each write becomes a
-//! `host_write` copy pass at its place in the frame, from a buffer holding the bytes into every
-//! buffer bound over the memory written. The copies are marked `host`: the next submission
-//! makes host writes visible, so they need no barrier and take none of the queue's.
+//! vertex data, egui's staging buffers, per-frame constants, GTK's glyphs and icons written
+//! into linear images): each write becomes a `host_write` copy pass at its place in the frame,
+//! from a buffer holding the bytes into every buffer bound over the memory written, and into
+//! the texels of every linear image there whose row pitch the driver gave
+//! (`vkGetImageSubresourceLayout`). The copies are marked `host`: the next submission makes
+//! host writes visible, so they need no barrier and take none of the queue's.
 
 use super::Importer;
 use super::build::Builder;
-use super::state::Objects;
+use super::state::{ImageInfo, Objects};
+use crate::capture::dxgi;
 use crate::capture::format::{Copy, CopyLocation, PassKind};
 
+/// Bytes a host write puts in a rectangle of a linear image's texels: the bytes from the
+/// rectangle's first texel, rows `pitch` apart.
+#[derive(Debug)]
+pub struct ImageWrite {
+    pub bytes: Vec<u8>,
+    pub origin: [u32; 3],
+    pub extent: [u32; 3],
+    pub pitch: u32,
+}
+
 impl Importer {
+    /// Host writes of `data` at `offset` in `memory`, into every buffer bound over them and
+    /// every linear image whose texels they reach (`linear`: an image's row pitch and the
+    /// offset of its first texel in its binding, where the driver gave them).
+    pub(super) fn host_write(
+        &mut self,
+        memory: u64,
+        offset: u64,
+        data: &[u8],
+        linear: &dyn Fn(u64) -> Option<(u64, u64)>,
+    ) {
+        self.buffer_host_write(memory, offset, data);
+        let mut images: Vec<u64> = self
+            .objects
+            .images
+            .iter()
+            .filter(|(_, i)| i.destroyed_at.is_none() && i.bound.is_some_and(|b| b.0 == memory))
+            .map(|(h, _)| *h)
+            .collect();
+        images.sort_unstable();
+        for image in images {
+            let (Some(img), Some(layout)) = (self.objects.images.get(&image), linear(image)) else {
+                continue;
+            };
+            match image_writes(img, layout, offset, data) {
+                Ok(writes) if writes.is_empty() => {}
+                Ok(writes) => self.builder.upload_image(&self.objects, image, writes),
+                Err(why) => {
+                    let queue = self.builder.last_queue.unwrap_or_default();
+                    self.builder.refuse(queue, None, &why);
+                }
+            }
+        }
+    }
+
     /// Host writes of `data` at `offset` in `memory`, into every buffer bound over them.
-    pub(super) fn host_write(&mut self, memory: u64, offset: u64, data: &[u8]) {
+    fn buffer_host_write(&mut self, memory: u64, offset: u64, data: &[u8]) {
         let end = offset.saturating_add(data.len() as u64);
         let bound = self
             .objects
@@ -43,39 +90,93 @@ impl Importer {
     }
 }
 
+/// The rectangles of `img`'s texels a host write of `data` at `offset` of its memory reaches:
+/// its whole rows as one, each row it reaches in part as one of its own. Only a 2D image of
+/// one level, one layer and one sample, of a format of whole texels, is laid out by the pitch
+/// alone; others are left alone (their bytes are the driver's). A write that ends inside a
+/// texel is refused: part of the texel is the write's and the rest is not known.
+fn image_writes(
+    img: &ImageInfo,
+    (pitch, first): (u64, u64),
+    offset: u64,
+    data: &[u8],
+) -> Result<Vec<ImageWrite>, String> {
+    let Some((_, at)) = img.bound else {
+        return Ok(Vec::new());
+    };
+    let Some(f) = dxgi::lookup_vk(&img.format) else {
+        return Ok(Vec::new());
+    };
+    let texel = u64::from(f.bits_per_element / 8);
+    let [width, rows, depth] = img.extent;
+    if img.mips != 1 || img.layers != 1 || depth != 1 || img.samples > 1 || f.block_width > 1 {
+        return Ok(Vec::new());
+    }
+    let row_bytes = u64::from(width) * texel;
+    let Ok(pitch32) = u32::try_from(pitch) else {
+        return Ok(Vec::new());
+    };
+    if texel == 0 || row_bytes == 0 || pitch < row_bytes {
+        return Ok(Vec::new());
+    }
+    let end = offset.saturating_add(data.len() as u64);
+    let base = at.saturating_add(first);
+    let bytes = |from: u64, len: u64| {
+        data[(from - offset) as usize..(from - offset + len) as usize].to_vec()
+    };
+    let mut out = Vec::new();
+    let mut whole: Option<(u32, u32)> = None;
+    for r in 0..rows {
+        let start = base.saturating_add(u64::from(r) * pitch);
+        let stop = start + row_bytes;
+        let (from, to) = (offset.max(start), end.min(stop));
+        if from >= to {
+            continue;
+        }
+        if from == start && to == stop {
+            whole = Some(whole.map_or((r, r + 1), |(a, _)| (a, r + 1)));
+            continue;
+        }
+        if (from - start) % texel != 0 || (to - start) % texel != 0 {
+            return Err(format!(
+                "a host write that ends inside a texel of a linear {} image (row {r}, bytes {}..{} of the row)",
+                img.format,
+                from - start,
+                to - start
+            ));
+        }
+        let x = ((from - start) / texel) as u32;
+        out.push(ImageWrite {
+            bytes: bytes(from, to - from),
+            origin: [x, r, 0],
+            extent: [((to - from) / texel) as u32, 1, 1],
+            pitch: pitch32,
+        });
+    }
+    if let Some((a, b)) = whole {
+        let from = base + u64::from(a) * pitch;
+        let len = u64::from(b - a - 1) * pitch + row_bytes;
+        out.push(ImageWrite {
+            bytes: bytes(from, len),
+            origin: [0, a, 0],
+            extent: [width, b - a, 1],
+            pitch: pitch32,
+        });
+    }
+    Ok(out)
+}
+
 impl Builder {
     /// A host write of `bytes` into `buffer` at `offset` during the imported frames: a copy
     /// pass from a buffer holding the bytes, on the queue of the latest pass.
     pub fn upload(&mut self, objects: &Objects, buffer: u64, offset: u64, bytes: Vec<u8>) {
-        let Some(queue) = self
-            .last_queue
-            .or_else(|| self.queue_names.keys().next().copied())
-        else {
-            self.note("host writes before any queue was seen: not imported");
-            return;
-        };
         let Some(dst) = self.resource(objects, buffer) else {
             return;
         };
-        // Barriers and waits recorded for the queue belong to its next GPU pass, not to this.
-        let barriers = self.pending_barriers.remove(&queue);
-        let waits = self.pending_waits.remove(&queue);
-        let pass = self.new_pass(objects, queue, PassKind::Copy, "host_write");
-        if let Some(b) = barriers {
-            self.pending_barriers.insert(queue, b);
-        }
-        if let Some(w) = waits {
-            self.pending_waits.insert(queue, w);
-        }
-        let Some(pass) = pass else {
+        let Some(pass) = self.host_pass(objects) else {
             return;
         };
-        let mut k = self.uploads.len();
-        let mut name = format!("host_write_{k}");
-        while !self.taken.insert(name.clone()) {
-            k += 1;
-            name = format!("host_write_{k}");
-        }
+        let name = self.host_source();
         let size = Some(bytes.len() as u64);
         let at = |resource: String, offset: u64| CopyLocation {
             resource,
@@ -93,6 +194,77 @@ impl Builder {
             host: true,
         });
         self.uploads.push((name, bytes));
+    }
+
+    /// A host write into the texels of linear `image` during the imported frames: a copy
+    /// pass from a buffer holding each rectangle's bytes, rows as far apart as in the image.
+    pub fn upload_image(&mut self, objects: &Objects, image: u64, writes: Vec<ImageWrite>) {
+        let Some(dst) = self.resource(objects, image) else {
+            return;
+        };
+        let Some(pass) = self.host_pass(objects) else {
+            return;
+        };
+        for w in writes {
+            let name = self.host_source();
+            self.passes[pass].copies.push(Copy {
+                src: CopyLocation {
+                    resource: name.clone(),
+                    mip: 0,
+                    layer: 0,
+                    origin: [0; 3],
+                    offset: 0,
+                    size: None,
+                    bytes_per_row: Some(w.pitch),
+                },
+                dst: CopyLocation {
+                    resource: dst.clone(),
+                    mip: 0,
+                    layer: 0,
+                    origin: w.origin,
+                    offset: 0,
+                    size: None,
+                    bytes_per_row: None,
+                },
+                extent: Some(w.extent),
+                host: true,
+            });
+            self.uploads.push((name, w.bytes));
+        }
+    }
+
+    /// The pass a host write becomes, on the queue of the latest pass; `None` where no queue
+    /// was seen yet (noted) or no pass can be made.
+    fn host_pass(&mut self, objects: &Objects) -> Option<usize> {
+        let Some(queue) = self
+            .last_queue
+            .or_else(|| self.queue_names.keys().next().copied())
+        else {
+            self.note("host writes before any queue was seen: not imported");
+            return None;
+        };
+        // Barriers and waits recorded for the queue belong to its next GPU pass, not to this.
+        let barriers = self.pending_barriers.remove(&queue);
+        let waits = self.pending_waits.remove(&queue);
+        let pass = self.new_pass(objects, queue, PassKind::Copy, "host_write");
+        if let Some(b) = barriers {
+            self.pending_barriers.insert(queue, b);
+        }
+        if let Some(w) = waits {
+            self.pending_waits.insert(queue, w);
+        }
+        pass
+    }
+
+    /// A fresh name for a buffer holding host-written bytes.
+    fn host_source(&mut self) -> String {
+        let mut k = self.uploads.len();
+        let mut name = format!("host_write_{k}");
+        while !self.taken.insert(name.clone()) {
+            k += 1;
+            name = format!("host_write_{k}");
+        }
+        name
     }
 
     /// Drops the host writes after the imported frames' last GPU work. Nothing the import
@@ -118,5 +290,58 @@ impl Builder {
         for _ in 0..dropped {
             self.note("host writes after the frames' last GPU work: left out (nothing in them reads the bytes; a read-back through a mapping is captured the same way)");
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 4x3 RGBA8 linear image bound at 100, its first texel 16 bytes in, rows 32 apart.
+    fn image() -> ImageInfo {
+        let mut img =
+            crate::import::contents::tests::image("VK_FORMAT_R8G8B8A8_UNORM", [4, 3, 1], 1, 1);
+        img.bound = Some((7, 100));
+        img
+    }
+
+    #[test]
+    fn a_write_over_whole_rows_is_one_rectangle_at_the_pitch() {
+        // From the image's first texel to the end of its last row: 2 x 32 + 16 bytes.
+        let data: Vec<u8> = (0..80u8).collect();
+        let w = image_writes(&image(), (32, 16), 116, &data).unwrap();
+        assert_eq!(w.len(), 1);
+        assert_eq!(
+            (w[0].origin, w[0].extent, w[0].pitch),
+            ([0, 0, 0], [4, 3, 1], 32)
+        );
+        assert_eq!(w[0].bytes, data);
+    }
+
+    #[test]
+    fn rows_reached_in_part_are_rectangles_of_their_own() {
+        // Bytes 124..160: texels 2-3 of row 0 (124..132), and row 1 whole (148..164) but for
+        // its last texel, which the write stops before.
+        let data = vec![9u8; 36];
+        let w = image_writes(&image(), (32, 16), 124, &data).unwrap();
+        let rects: Vec<([u32; 3], [u32; 3])> = w.iter().map(|w| (w.origin, w.extent)).collect();
+        assert_eq!(rects, [([2, 0, 0], [2, 1, 1]), ([0, 1, 0], [3, 1, 1])]);
+        // Writes that miss the texels (the padding between rows, or another binding) are none.
+        assert!(
+            image_writes(&image(), (32, 16), 132, &[1u8; 16])
+                .unwrap()
+                .is_empty()
+        );
+        assert!(
+            image_writes(&image(), (32, 16), 0, &[1u8; 100])
+                .unwrap()
+                .is_empty()
+        );
+    }
+
+    #[test]
+    fn a_write_that_ends_inside_a_texel_is_refused() {
+        let why = image_writes(&image(), (32, 16), 118, &[0u8; 6]).unwrap_err();
+        assert!(why.contains("ends inside a texel"), "{why}");
     }
 }

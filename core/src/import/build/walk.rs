@@ -162,7 +162,7 @@ impl Builder {
     /// Work of the imported frames the replay cannot reproduce: the frame does not replay,
     /// and `refused` says why, naming the command and the pass it was in (or the latest pass
     /// on `queue`).
-    pub(super) fn refuse(&mut self, queue: u64, at: Option<&Origin>, what: &str) {
+    pub(in crate::import) fn refuse(&mut self, queue: u64, at: Option<&Origin>, what: &str) {
         let pass = self.last_pass_on.get(&queue).copied();
         self.refuse_in(pass, at, what);
     }

@@ -304,7 +304,7 @@ pub fn import(
                         data,
                     } if contents.frozen => {
                         let at = contents.absolute(memory, offset);
-                        imp.host_write(memory, at, &data);
+                        imp.host_write(memory, at, &data, &|i| contents.linear_layout(i));
                     }
                     Meta::FillMemory {
                         memory,

@@ -325,7 +325,8 @@ impl<R: Read + Seek> Reader<R> {
         }
         let bytes = self.bytes(data)?;
         if self.contents.frozen {
-            imp.host_write(memory, offset, &bytes);
+            let contents = &self.contents;
+            imp.host_write(memory, offset, &bytes, &|i| contents.linear_layout(i));
         } else {
             self.contents.fill(memory, offset, bytes);
         }
