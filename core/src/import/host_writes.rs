@@ -51,7 +51,7 @@ impl Importer {
                 Ok(writes) => self.builder.upload_image(&self.objects, image, writes),
                 Err(why) => {
                     let queue = self.builder.last_queue.unwrap_or_default();
-                    self.builder.refuse(queue, None, &why);
+                    self.builder.refuse(queue, None, &why.to_string());
                 }
             }
         }
@@ -90,6 +90,19 @@ impl Importer {
     }
 }
 
+/// A host write that ends inside a texel of a linear image: part of the texel is the write's
+/// and the rest is not known, so the frame is refused.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "a host write that ends inside a texel of a linear {format} image (row {row}, bytes {from}..{to} of the row)"
+)]
+pub struct InsideTexel {
+    format: String,
+    row: u32,
+    from: u64,
+    to: u64,
+}
+
 /// The rectangles of `img`'s texels a host write of `data` at `offset` of its memory reaches:
 /// its whole rows as one, each row it reaches in part as one of its own. Only a 2D image of
 /// one level, one layer and one sample, of a format of whole texels, is laid out by the pitch
@@ -100,7 +113,7 @@ fn image_writes(
     (pitch, first): (u64, u64),
     offset: u64,
     data: &[u8],
-) -> Result<Vec<ImageWrite>, String> {
+) -> Result<Vec<ImageWrite>, InsideTexel> {
     let Some((_, at)) = img.bound else {
         return Ok(Vec::new());
     };
@@ -138,12 +151,12 @@ fn image_writes(
             continue;
         }
         if (from - start) % texel != 0 || (to - start) % texel != 0 {
-            return Err(format!(
-                "a host write that ends inside a texel of a linear {} image (row {r}, bytes {}..{} of the row)",
-                img.format,
-                from - start,
-                to - start
-            ));
+            return Err(InsideTexel {
+                format: img.format.clone(),
+                row: r,
+                from: from - start,
+                to: to - start,
+            });
         }
         let x = ((from - start) / texel) as u32;
         out.push(ImageWrite {
@@ -341,7 +354,9 @@ mod tests {
 
     #[test]
     fn a_write_that_ends_inside_a_texel_is_refused() {
-        let why = image_writes(&image(), (32, 16), 118, &[0u8; 6]).unwrap_err();
+        let why = image_writes(&image(), (32, 16), 118, &[0u8; 6])
+            .unwrap_err()
+            .to_string();
         assert!(why.contains("ends inside a texel"), "{why}");
     }
 }

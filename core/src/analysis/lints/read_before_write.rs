@@ -1,11 +1,17 @@
 //! Lint rule FL006: a read of contents nothing wrote (no initial contents, not history). A
 //! pass's own writes count where it holds several draws, dispatches or copies, whose order
-//! within it the pass's accesses do not keep.
+//! within it the pass's accesses do not keep, and so does a clear of a single-subresource
+//! attachment at the pass's start, before anything in it reads (a draw reading what its own
+//! pass renders: framebuffer fetch). An imported swapchain image is left out: an acquired
+//! image's contents are undefined to the program too, and loading them is allowed (the
+//! validation layer accepts it; `replay` says nothing of them either).
 
 use std::collections::BTreeSet;
 
 use super::{Lint, LintDef, LintKind, LintSeverity, Linter, Rule, lint};
 use crate::analysis::model::MResource;
+use crate::capture::format::LoadOp;
+use crate::capture::model::{Capture, PassDesc, ResourceId};
 
 /// FL006 `read-before-write`: a read of contents nothing wrote (no initial contents, not history).
 pub const READ_BEFORE_WRITE: LintKind = LintKind::new(&LintDef {
@@ -39,10 +45,13 @@ impl Rule for ReadBeforeWrite {
             // A pass of several draws, dispatches or copies keeps their order, which the
             // pass's accesses do not: what one of them writes another may read after it (a
             // two-pass blur recorded as two dispatches of one pass).
-            let works = {
-                let c = capture.pass(pass.id);
-                c.draws.len() + c.dispatches.len() + c.copies.len() + c.clears.len() + c.blits.len()
-            };
+            let c = capture.pass(pass.id);
+            let works = c.draws.len()
+                + c.dispatches.len()
+                + c.copies.len()
+                + c.clears.len()
+                + c.blits.len();
+            let cleared = cleared_at_load(capture, c);
             let own_writes: BTreeSet<MResource> = if works > 1 {
                 pass.accesses
                     .iter()
@@ -58,6 +67,8 @@ impl Rule for ReadBeforeWrite {
                     && (!assumed_reads || !a.uav || !a.writes)
                     && !written.contains(&a.resource)
                     && !own_writes.contains(&a.resource)
+                    && !cleared.contains(&r.id)
+                    && !capture.resource(r.id).swapchain
                     && !r.initialised
                     && r.previous_of.is_none()
                     && reported.insert(a.resource)
@@ -72,4 +83,25 @@ impl Rule for ReadBeforeWrite {
             }
         }
     }
+}
+
+/// The attachments `pass` clears as it begins that are one subresource whole: whatever in
+/// the pass reads them reads after the clear. (Of a texture of several mips or layers the
+/// read may be of another, which the clear does not write.)
+fn cleared_at_load(capture: &Capture, pass: &PassDesc) -> BTreeSet<ResourceId> {
+    let whole = |id: ResourceId| {
+        let r = capture.resource(id);
+        r.mip_levels <= 1 && r.array_layers <= 1
+    };
+    let colors = pass
+        .color_attachments
+        .iter()
+        .filter(|a| a.load == LoadOp::Clear)
+        .map(|a| a.resource);
+    let depth = pass
+        .depth_stencil
+        .iter()
+        .filter(|d| d.depth_load == LoadOp::Clear)
+        .map(|d| d.resource);
+    colors.chain(depth).filter(|&id| whole(id)).collect()
 }
