@@ -11,7 +11,12 @@
 
 #![allow(clippy::expect_used)]
 
-use std::path::{Path, PathBuf};
+// Only its capturing is used here, not the stream it is named for.
+#[allow(dead_code)]
+#[path = "common/sync_stream.rs"]
+mod sync_stream;
+
+use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
@@ -67,34 +72,6 @@ fn frame_json(buffers: usize, passes: usize) -> String {
         resources.join(","),
         passes.join(",")
     )
-}
-
-/// The capture of one size, made on first use.
-fn capture(dir: &Path, buffers: usize, passes: usize) -> PathBuf {
-    let file = dir.join(format!("scale_{buffers}.gfxr"));
-    if file.exists() {
-        return file;
-    }
-    let json = dir.join(format!("scale_{buffers}.json"));
-    std::fs::write(&json, frame_json(buffers, passes)).expect("frame");
-    let partial = dir.join(format!("scale_{buffers}.partial.gfxr"));
-    let out = Command::new(env!("CARGO_BIN_EXE_framelab"))
-        .args(["replay", "--frames", "1", "--quiet"])
-        .arg(&json)
-        .current_dir(dir)
-        .env("VK_INSTANCE_LAYERS", "VK_LAYER_LUNARG_gfxreconstruct")
-        .env("GFXRECON_CAPTURE_FILE", &partial)
-        .env("GFXRECON_CAPTURE_FILE_TIMESTAMP", "false")
-        .env("GFXRECON_PAGE_GUARD_ALIGN_BUFFER_SIZES", "true")
-        .output()
-        .expect("framelab replay");
-    assert!(
-        out.status.success() && partial.exists(),
-        "capturing the frame failed (is gfxreconstruct installed?): {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    std::fs::rename(&partial, &file).expect("rename");
-    file
 }
 
 /// One run of `program` with `args` under GNU time (Debian's `time`): its wall time, peak
@@ -161,12 +138,6 @@ fn count(summary: &str, what: &str) -> u64 {
 
 fn main() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("import-scale");
-    std::fs::create_dir_all(&dir).expect("target folder");
-    std::fs::copy(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/compute.wgsl"),
-        dir.join("compute.wgsl"),
-    )
-    .expect("shader");
     let only: Option<Vec<usize>> = std::env::var("FRAMELAB_SCALE")
         .ok()
         .map(|v| v.split(',').filter_map(|s| s.trim().parse().ok()).collect());
@@ -178,7 +149,9 @@ fn main() {
         if only.as_ref().is_some_and(|o| !o.contains(&buffers)) {
             continue;
         }
-        let file = capture(&dir, buffers, passes);
+        let file = sync_stream::capture_frame(&dir, &format!("scale_{buffers}"), &|| {
+            frame_json(buffers, passes)
+        });
         let out = dir.join(format!("scale_{buffers}_import"));
         let written = out.join("f.json");
         let (t, peak, summary) = best(

@@ -1,6 +1,7 @@
 //! The long real command stream two benchmarks share: a synthetic frame of 1,440 compute
 //! and copy passes replayed by `framelab replay` under GFXReconstruct's capture layer, made
-//! once in Cargo's target folder.
+//! once in Cargo's target folder; and the capturing itself, which the import scale benchmark
+//! uses for its own frames.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -53,21 +54,28 @@ fn frame_json() -> String {
 /// The captured stream, made on first use.
 pub fn stream() -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("sync-bench");
-    let capture = dir.join("sync_bench.gfxr");
+    capture_frame(&dir, "sync_bench", &frame_json)
+}
+
+/// `dir/name.gfxr`: the framelab frame `json` makes, replayed once by `framelab replay` under
+/// GFXReconstruct's capture layer, made on first use (with the compute shader the frames use).
+pub fn capture_frame(dir: &Path, name: &str, json: &dyn Fn() -> String) -> PathBuf {
+    let capture = dir.join(format!("{name}.gfxr"));
     if capture.exists() {
         return capture;
     }
-    std::fs::create_dir_all(&dir).expect("target folder");
-    std::fs::write(dir.join("sync_bench.json"), frame_json()).expect("frame");
+    std::fs::create_dir_all(dir).expect("target folder");
+    let frame = format!("{name}.json");
+    std::fs::write(dir.join(&frame), json()).expect("frame");
     std::fs::copy(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/compute.wgsl"),
         dir.join("compute.wgsl"),
     )
     .expect("shader");
-    let partial = dir.join("sync_bench.partial.gfxr");
+    let partial = dir.join(format!("{name}.partial.gfxr"));
     let out = Command::new(env!("CARGO_BIN_EXE_framelab"))
-        .args(["replay", "sync_bench.json", "--frames", "1"])
-        .current_dir(&dir)
+        .args(["replay", &frame, "--frames", "1", "--quiet"])
+        .current_dir(dir)
         .env("VK_INSTANCE_LAYERS", "VK_LAYER_LUNARG_gfxreconstruct")
         .env("GFXRECON_CAPTURE_FILE", &partial)
         .env("GFXRECON_CAPTURE_FILE_TIMESTAMP", "false")
@@ -76,7 +84,7 @@ pub fn stream() -> PathBuf {
         .expect("framelab replay");
     assert!(
         out.status.success() && partial.exists(),
-        "capturing the stream failed (is gfxreconstruct installed?): {}",
+        "capturing the frame failed (is gfxreconstruct installed?): {}",
         String::from_utf8_lossy(&out.stderr)
     );
     std::fs::rename(&partial, &capture).expect("rename");
