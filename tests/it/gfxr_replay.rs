@@ -72,6 +72,11 @@ fn frame_of(name: &str) -> &'static [&'static str] {
 
 /// Imports `name` into `dir`, returning the capture's path.
 fn import(name: &str, dir: &Path) -> PathBuf {
+    import_frames(name, dir, frame_of(name))
+}
+
+/// Imports the frames `frames` (`import`'s frame options) of `name` into `dir`.
+fn import_frames(name: &str, dir: &Path, frames: &[&str]) -> PathBuf {
     let capture = dir.join(format!("{name}.json"));
     let fixture = gfxr_fixture(&format!("{name}.gfxr"));
     let mut args = vec![
@@ -80,7 +85,7 @@ fn import(name: &str, dir: &Path) -> PathBuf {
         "-o",
         capture.to_str().unwrap(),
     ];
-    args.extend(frame_of(name));
+    args.extend(frames);
     let out = framelab(&args);
     assert!(out.status.success(), "{name}: {}", stderr(&out));
     capture
@@ -831,17 +836,7 @@ fn a_stencil_test_that_reads_no_reference_is_clean_under_the_validation_layer() 
 #[test]
 fn linear_images_the_host_writes_while_the_frames_run_are_replayed_with_their_texels() {
     let dir = temp("linear-host-writes");
-    let capture = dir.join("gtk.json");
-    let fixture = gfxr_fixture("gtk4_whole.gfxr");
-    let out = framelab(&[
-        "import",
-        fixture.to_str().unwrap(),
-        "-o",
-        capture.to_str().unwrap(),
-        "--frames",
-        "0-1",
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
+    let capture = import_frames("gtk4_whole", &dir, &["--frames", "0-1"]);
     let image = crate::common::replay_presented(&capture, &dir.join("out"));
     let reference = image::open(gfxr_fixture("gtk4_whole_f2.ref.png"))
         .unwrap()

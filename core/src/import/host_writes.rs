@@ -90,50 +90,83 @@ impl Importer {
     }
 }
 
-/// A host write that ends inside a texel of a linear image: part of the texel is the write's
-/// and the rest is not known, so the frame is refused.
+/// A host write into a linear image's texels that the replay cannot carry out: the frame is
+/// refused, never replayed with the image as it was.
 #[derive(Debug, thiserror::Error)]
-#[error(
-    "a host write that ends inside a texel of a linear {format} image (row {row}, bytes {from}..{to} of the row)"
-)]
-pub struct InsideTexel {
-    format: String,
-    row: u32,
-    from: u64,
-    to: u64,
+pub enum LinearWrite {
+    /// Part of the texel is the write's and the rest is not known.
+    #[error(
+        "a host write that ends inside a texel of a linear {format} image (row {row}, bytes {from}..{to} of the row)"
+    )]
+    InsideTexel {
+        format: String,
+        row: u32,
+        from: u64,
+        to: u64,
+    },
+    /// Laid out by more than the row pitch of its first level and layer, which is all the
+    /// driver was asked for, or with rows the pitch cannot hold.
+    #[error(
+        "a host write into a linear {format} image {what}, whose texels the replay cannot place"
+    )]
+    Unplaced { format: String, what: String },
 }
 
 /// The rectangles of `img`'s texels a host write of `data` at `offset` of its memory reaches:
 /// its whole rows as one, each row it reaches in part as one of its own. Only a 2D image of
 /// one level, one layer and one sample, of a format of whole texels, is laid out by the pitch
-/// alone; others are left alone (their bytes are the driver's). A write that ends inside a
-/// texel is refused: part of the texel is the write's and the rest is not known.
+/// alone; a write that reaches any other linear image (up to where its subresources could
+/// reach at that pitch) is refused, and so is a write that ends inside a texel.
 fn image_writes(
     img: &ImageInfo,
     (pitch, first): (u64, u64),
     offset: u64,
     data: &[u8],
-) -> Result<Vec<ImageWrite>, InsideTexel> {
+) -> Result<Vec<ImageWrite>, LinearWrite> {
     let Some((_, at)) = img.bound else {
         return Ok(Vec::new());
     };
-    let Some(f) = dxgi::lookup_vk(&img.format) else {
-        return Ok(Vec::new());
-    };
-    let texel = u64::from(f.bits_per_element / 8);
     let [width, rows, depth] = img.extent;
-    if img.mips != 1 || img.layers != 1 || depth != 1 || img.samples > 1 || f.block_width > 1 {
-        return Ok(Vec::new());
-    }
-    let row_bytes = u64::from(width) * texel;
-    let Ok(pitch32) = u32::try_from(pitch) else {
-        return Ok(Vec::new());
-    };
-    if texel == 0 || row_bytes == 0 || pitch < row_bytes {
-        return Ok(Vec::new());
-    }
     let end = offset.saturating_add(data.len() as u64);
     let base = at.saturating_add(first);
+    let f = dxgi::lookup_vk(&img.format);
+    let texel = f.map_or(0, |f| u64::from(f.bits_per_element / 8));
+    let row_bytes = u64::from(width) * texel;
+    let unplaced = |what: String| LinearWrite::Unplaced {
+        format: img.format.clone(),
+        what,
+    };
+    let why = if f.is_none() {
+        Some("of a format framelab does not know".to_owned())
+    } else if f.is_some_and(|f| f.block_width > 1) {
+        Some("of compressed blocks".to_owned())
+    } else if img.mips != 1 || img.layers != 1 || depth != 1 || img.samples > 1 {
+        Some(format!(
+            "of {} levels, {} layers, depth {depth} and {} samples",
+            img.mips, img.layers, img.samples
+        ))
+    } else if texel == 0 || row_bytes == 0 || pitch < row_bytes || u32::try_from(pitch).is_err() {
+        Some(format!(
+            "with a row pitch of {pitch} bytes for rows of {row_bytes}"
+        ))
+    } else {
+        None
+    };
+    if let Some(what) = why {
+        // Every subresource at the first one's pitch, and the levels below it in as much again.
+        let span = pitch
+            .max(row_bytes)
+            .saturating_mul(u64::from(rows.max(1)))
+            .saturating_mul(u64::from(depth.max(1)) * u64::from(img.layers.max(1)))
+            .saturating_mul(if img.mips > 1 { 2 } else { 1 });
+        let reached = offset < base.saturating_add(span.max(1)) && end > base;
+        return if reached {
+            Err(unplaced(what))
+        } else {
+            Ok(Vec::new())
+        };
+    }
+    let pitch32 = u32::try_from(pitch).unwrap_or(u32::MAX);
     let bytes = |from: u64, len: u64| {
         data[(from - offset) as usize..(from - offset + len) as usize].to_vec()
     };
@@ -151,7 +184,7 @@ fn image_writes(
             continue;
         }
         if (from - start) % texel != 0 || (to - start) % texel != 0 {
-            return Err(InsideTexel {
+            return Err(LinearWrite::InsideTexel {
                 format: img.format.clone(),
                 row: r,
                 from: from - start,
@@ -350,6 +383,30 @@ mod tests {
                 .unwrap()
                 .is_empty()
         );
+    }
+
+    /// A linear image the pitch alone does not lay out (two layers, compressed blocks) is
+    /// refused where a write reaches it, never left as it was; a write elsewhere is no matter.
+    #[test]
+    fn a_write_into_a_linear_image_the_pitch_does_not_place_is_refused() {
+        let mut layers = image();
+        layers.layers = 2;
+        let why = image_writes(&layers, (32, 16), 116, &[0u8; 16])
+            .unwrap_err()
+            .to_string();
+        assert!(why.contains("2 layers"), "{why}");
+        // Past both layers at that pitch (2 x 3 rows of 32 bytes from 116).
+        assert!(
+            image_writes(&layers, (32, 16), 400, &[0u8; 16])
+                .unwrap()
+                .is_empty()
+        );
+        let mut blocks = image();
+        blocks.format = "VK_FORMAT_BC1_RGB_UNORM_BLOCK".to_owned();
+        let why = image_writes(&blocks, (32, 16), 116, &[0u8; 8])
+            .unwrap_err()
+            .to_string();
+        assert!(why.contains("compressed blocks"), "{why}");
     }
 
     #[test]

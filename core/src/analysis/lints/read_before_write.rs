@@ -86,12 +86,12 @@ impl Rule for ReadBeforeWrite {
 }
 
 /// The attachments `pass` clears as it begins that are one subresource whole: whatever in
-/// the pass reads them reads after the clear. (Of a texture of several mips or layers the
-/// read may be of another, which the clear does not write.)
+/// the pass reads them reads after the clear. (Of a texture of several mips, layers or slices
+/// the read may be of another, which the clear does not write.)
 fn cleared_at_load(capture: &Capture, pass: &PassDesc) -> BTreeSet<ResourceId> {
     let whole = |id: ResourceId| {
         let r = capture.resource(id);
-        r.mip_levels <= 1 && r.array_layers <= 1
+        r.mip_levels <= 1 && r.array_layers <= 1 && r.depth <= 1
     };
     let colors = pass
         .color_attachments
