@@ -41,7 +41,8 @@ fn wsi(capture: &Path) -> &'static [&'static str] {
         | "qt6_video_p010le_f60"
         | "mpv_gpunext_f30"
         | "vlc_zink_f40"
-        | "libreoffice_skia_f60" => &["--wsi", "xlib"],
+        | "libreoffice_skia_f60"
+        | "qt5_hellovulkanwindow_f30" => &["--wsi", "xlib"],
         _ => &[],
     }
 }
@@ -285,7 +286,7 @@ fn import(input: &Path, out: &Path) {
 /// GFXReconstruct captures, with the hazards framelab finds that the layer does not because
 /// of its ordering rule where the specification has none (expected count): rasterization
 /// order across render passes.
-const GFXR: [(&str, usize); 40] = [
+const GFXR: [(&str, usize); 41] = [
     ("vkcube_f3", 0),
     ("vkcube_staging", 0),
     ("template_compute", 0),
@@ -326,6 +327,7 @@ const GFXR: [(&str, usize); 40] = [
     ("qt6_video_p010le_f60", 0),
     ("glmark2_zink_shadow_f30", 0),
     ("libreoffice_skia_f60", 0),
+    ("qt5_hellovulkanwindow_f30", 0),
 ];
 
 /// Captures whose submissions wait on timeline semaphores (FFmpeg's filters: each submission

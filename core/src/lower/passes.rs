@@ -50,8 +50,9 @@ pub(super) fn pass_error(p: &PassDesc, problem: PassError) -> LowerError {
 impl<'c> Lowering<'c> {
     pub(super) fn pass(&mut self, p: &'c PassDesc) -> Result<(), LowerError> {
         // An imported frame's draws and dispatches run with their Vulkan pipelines (a render
-        // pass without draws still loads, clears and stores its attachments).
-        let imported = self.capture.vulkan.is_some();
+        // pass without draws still loads, clears and stores its attachments, also in a frame
+        // that binds no pipeline at all and so has no `vulkan` section).
+        let imported = self.imported();
         let shader = self.shader(p);
         let bindings = if imported {
             Vec::new()
@@ -270,7 +271,19 @@ impl<'c> Lowering<'c> {
     /// post-processing layer sampling the depth a program discarded). wgpu's discard makes
     /// the next read see zeros, an image no driver of the program's showed.
     fn keeps_discarded(&self) -> bool {
+        self.recorded_from_vulkan()
+    }
+
+    /// Whether the frame was recorded from a Vulkan program.
+    fn recorded_from_vulkan(&self) -> bool {
         self.capture.origin.as_ref().is_some_and(|o| o.is_vulkan())
+    }
+
+    /// Whether the frame was imported from a Vulkan program: its pipelines are Vulkan's, or
+    /// it says it was recorded from one (a frame that binds no pipeline has no `vulkan`
+    /// section: Qt's `hellovulkanwindow` only clears).
+    pub(super) fn imported(&self) -> bool {
+        self.capture.vulkan.is_some() || self.recorded_from_vulkan()
     }
 
     pub(super) fn depth_target(&self, p: &PassDesc) -> Result<Option<DepthTarget>, LowerError> {

@@ -98,7 +98,7 @@ impl<'c> Lowering<'c> {
             InitialDesc::File(..)
                 if lowered.format.is_depth_stencil_format()
                     && lowered.format != wgpu::TextureFormat::Depth16Unorm
-                    && self.capture.vulkan.is_some() =>
+                    && self.imported() =>
             {
                 self.notes.push(format!(
                     "\"{}\": its {:?} contents are not loaded (wgpu cannot copy into that format); it starts cleared",

@@ -28,7 +28,7 @@
 
 use std::collections::BTreeMap;
 
-use super::HashMap;
+use super::{HashMap, HashSet};
 
 mod chains;
 mod layouts;
@@ -159,6 +159,9 @@ pub struct Sync {
     /// presentation engine's read.
     acquire_semaphores: HashMap<u64, Vec<Key>>,
     acquire_fences: HashMap<u64, Vec<Key>>,
+    /// Swapchain images whose last acquire a semaphore wait or a host wait on its fence has
+    /// ordered: a write after it races the acquire's read, not the last present.
+    acquires_waited: HashSet<Key>,
     /// Off: every call returns at once and nothing is found.
     enabled: bool,
     /// The queue family of the submission being walked, when the stream says.
@@ -301,11 +304,12 @@ impl Sync {
     /// WRITE_AFTER_PRESENT too). Other hazards pass unchanged.
     fn unwaited_acquire(&self, key: Key, kind: HazardKind, prior: Access) -> (HazardKind, Access) {
         let acquired = matches!(prior.what, What::Text(t) if t == ACQUIRE_READ);
-        let unwaited = self
-            .acquire_semaphores
-            .values()
-            .any(|keys| keys.contains(&key))
-            || self.acquire_fences.values().any(|keys| keys.contains(&key));
+        let unwaited = !self.acquires_waited.contains(&key)
+            && (self
+                .acquire_semaphores
+                .values()
+                .any(|keys| keys.contains(&key))
+                || self.acquire_fences.values().any(|keys| keys.contains(&key)));
         if kind == HazardKind::WriteAfterRead && acquired && unwaited {
             let what = What::Text(
                 "presentation engine read (its last present; the acquire's semaphore and fence are not waited on)",

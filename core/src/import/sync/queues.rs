@@ -116,6 +116,7 @@ impl Sync {
     pub(super) fn semaphore_wait(&mut self, semaphore: u64, mask: S, value: Option<u64>) {
         let dst = later(mask);
         if let Some(keys) = self.acquire_semaphores.remove(&semaphore) {
+            self.acquires_waited.extend(keys.iter().copied());
             for key in keys {
                 if let Some(st) = self.states.get_mut(&key) {
                     for r in &mut st.reads {
@@ -162,6 +163,7 @@ impl Sync {
         }
         let keys = Self::image_keys(objects, image, (0, None), (0, None));
         for &key in &keys {
+            self.acquires_waited.remove(&key);
             let st = self.states.entry(key);
             st.write = None;
             st.reads = vec![Read {
@@ -218,6 +220,7 @@ impl Sync {
         }
         for f in fences {
             if let Some(keys) = self.acquire_fences.remove(f) {
+                self.acquires_waited.extend(keys.iter().copied());
                 for key in keys {
                     if let Some(st) = self.states.get_mut(&key) {
                         st.reads.clear();

@@ -383,6 +383,39 @@ fn a_host_wait_on_queue_work_does_not_retire_an_acquire() {
     );
 }
 
+/// Qt's `QVulkanWindow` acquires with a semaphore and a fence and waits on the semaphore
+/// only: the acquire is ordered (at the semaphore's wait stage), so a write racing it is a
+/// write after the acquire's read, as the validation layer reports; a write after an acquire
+/// nothing waited on is one after the image's last present. A new acquire starts over.
+#[test]
+fn an_acquire_whose_semaphore_is_waited_on_is_no_longer_the_last_present() {
+    let key = Key::Image {
+        image: 1,
+        mip: 0,
+        layer: 0,
+    };
+    let acquire = Access::event(&Origin::none("acquire"), What::Text(ACQUIRE_READ));
+    let kind = |sync: &Sync| {
+        sync.unwaited_acquire(key, HazardKind::WriteAfterRead, acquire.clone())
+            .0
+    };
+    let mut sync = Sync::new(true);
+    sync.acquire_semaphores.insert(5, vec![key]);
+    sync.acquire_fences.insert(6, vec![key]);
+    assert_eq!(kind(&sync), HazardKind::WriteAfterPresent);
+    sync.semaphore_wait(5, S::COLOR_ATTACHMENT_OUTPUT, None);
+    assert!(
+        sync.acquire_fences.contains_key(&6),
+        "the fence is still to be waited on"
+    );
+    assert_eq!(kind(&sync), HazardKind::WriteAfterRead);
+    let mut by_fence = Sync::new(true);
+    by_fence.acquire_fences.insert(6, vec![key]);
+    by_fence.host_wait(&[6], &[], true);
+    by_fence.acquire_semaphores.insert(7, vec![key]);
+    assert_eq!(kind(&by_fence), HazardKind::WriteAfterRead);
+}
+
 /// FFmpeg's filters: a compute write in one submission, then a submission that waits on the
 /// timeline semaphore the first signalled, at `TOP_OF_PIPE` (in a second scope: all
 /// commands), and transitions the image from `TOP_OF_PIPE`. Everything the waiting batch
