@@ -236,6 +236,28 @@ fn sampler_fields_replay_or_are_refused_by_name() {
     for part in ["sampler_26", "VK_BORDER_COLOR_INT_OPAQUE_BLACK", "draw 0"] {
         assert!(err.contains(part), "missing {part:?} in:\n{err}");
     }
+    // A custom border colour wgpu has as one of its own replays; another is refused, named.
+    let custom = |colour: Value, out: &str| {
+        edit(&capture, |v| {
+            let s = &mut v["vulkan"]["samplers"][0];
+            s["border_color"] = json!("VK_BORDER_COLOR_FLOAT_CUSTOM_EXT");
+            s["custom_border_color"] = colour.clone();
+        });
+        crate::common::replay_presented(&capture, &dir.join(out))
+    };
+    let image = custom(json!([1.0, 1.0, 1.0, 1.0]), "custom");
+    crate::golden::within("vkcube, custom white border", &image, &reference()).unwrap();
+    edit(&capture, |v| {
+        v["vulkan"]["samplers"][0]["custom_border_color"] = json!([0.5, 0.25, 0.0, 1.0]);
+    });
+    let err = replay_fails(&capture);
+    for part in [
+        "sampler_26 with a custom border colour (0.5, 0.25, 0, 1;",
+        "VK_BORDER_COLOR_FLOAT_CUSTOM_EXT",
+        "draw 0",
+    ] {
+        assert!(err.contains(part), "missing {part:?} in:\n{err}");
+    }
 
     let biased = |bias: f32, out: &str| {
         edit(&capture, |v| {
@@ -261,6 +283,55 @@ fn sampler_fields_replay_or_are_refused_by_name() {
         "the sampler's bias reached the shader's samples: {differing} pixels differ"
     );
     crate::golden::within("bias -8: nearest, as the program drew", &down, &reference()).unwrap();
+}
+
+/// A sampler's custom border colour comes in from its create info's chain
+/// (`VkSamplerCustomBorderColorCreateInfoEXT`), as the border's type reads it.
+#[test]
+fn custom_border_colours_are_imported_from_the_samplers_chain() {
+    let dir = temp("custom-border");
+    for (border, colour, expected) in [
+        (
+            "VK_BORDER_COLOR_FLOAT_CUSTOM_EXT",
+            "float32",
+            json!([0.25, 0.5, 0.75, 1.0]),
+        ),
+        (
+            "VK_BORDER_COLOR_INT_CUSTOM_EXT",
+            "int32",
+            json!([3.0, 0.0, 7.0, 1.0]),
+        ),
+    ] {
+        let (v, _) = import_stream(&dir, |lines| {
+            lines
+                .into_iter()
+                .map(|l| {
+                    if !l.contains("\"vkCreateSampler\"") {
+                        return l;
+                    }
+                    let mut call: Value = serde_json::from_str(&l).unwrap();
+                    let ci = &mut call["vkFunc"]["args"]["pCreateInfo"];
+                    ci["borderColor"] = json!(border);
+                    let mut value = json!({"float32": [0.0, 0.0, 0.0, 0.0], "int32": [0, 0, 0, 0], "uint32": [0, 0, 0, 0]});
+                    value[colour] = if colour == "int32" {
+                        json!([3, 0, 7, 1])
+                    } else {
+                        json!([0.25, 0.5, 0.75, 1.0])
+                    };
+                    ci["pNext"] = json!({
+                        "sType": "VK_STRUCTURE_TYPE_SAMPLER_CUSTOM_BORDER_COLOR_CREATE_INFO_EXT",
+                        "pNext": null,
+                        "customBorderColor": value,
+                        "format": "VK_FORMAT_R8G8B8A8_UNORM",
+                    });
+                    call.to_string()
+                })
+                .collect()
+        });
+        let s = &v["vulkan"]["samplers"][0];
+        assert_eq!(s["border_color"], json!(border));
+        assert_eq!(s["custom_border_color"], expected, "{border}");
+    }
 }
 
 /// vkcube's JSON Lines stream, its lines edited by `change`, imported; the capture and what

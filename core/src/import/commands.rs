@@ -304,9 +304,9 @@ pub fn clear_color_of(v: &Arg<'_>, format: Option<&str>) -> [f64; 4] {
 /// its index in the subpass).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ClearColorValue {
-    float32: Option<[f64; 4]>,
-    uint32: Option<[f64; 4]>,
-    int32: Option<[f64; 4]>,
+    pub(super) float32: Option<[f64; 4]>,
+    pub(super) uint32: Option<[f64; 4]>,
+    pub(super) int32: Option<[f64; 4]>,
 }
 
 impl ClearColorValue {

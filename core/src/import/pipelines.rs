@@ -487,10 +487,30 @@ fn sampler(ci: &Arg<'_>, h: u64) -> Got<VkSampler> {
         min_lod: float(ci, "minLod")?,
         max_lod: float(ci, "maxLod")?,
         border_color: ci.get("borderColor")?.name()?,
+        custom_border_color: custom_border_color(ci)?,
         unnormalized_coordinates: boolean(ci, "unnormalizedCoordinates")?,
         // VK_SAMPLER_CREATE_NON_SEAMLESS_CUBE_MAP_BIT_EXT.
         non_seamless_cube: ci.opt("flags").and_then(|f| f.u64().ok()).unwrap_or(0) & 0x4 != 0,
     })
+}
+
+/// A custom border's colour (`VkSamplerCustomBorderColorCreateInfoEXT` in the chain), read as
+/// the border's type says: `int32` for `VK_BORDER_COLOR_INT_CUSTOM_EXT`, else `float32`.
+fn custom_border_color(ci: &Arg<'_>) -> Got<Option<[f64; 4]>> {
+    let border = ci.get("borderColor")?.name()?;
+    if !border.ends_with("_CUSTOM_EXT") {
+        return Ok(None);
+    }
+    let mut next = ci.opt("pNext");
+    while let Some(n) = next {
+        if let Some(c) = n.opt("customBorderColor") {
+            let v = super::commands::ClearColorValue::read(&c);
+            let int = border.contains("_INT_");
+            return Ok(if int { v.int32 } else { v.float32 });
+        }
+        next = n.opt("pNext");
+    }
+    Ok(None)
 }
 
 /// One stage: its module, entry point and specialization constants.

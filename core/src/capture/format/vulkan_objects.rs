@@ -62,6 +62,10 @@ pub struct VkSampler {
     pub min_lod: f32,
     pub max_lod: f32,
     pub border_color: String,
+    /// The colour of a `VK_BORDER_COLOR_*_CUSTOM_EXT` border
+    /// (`VkSamplerCustomBorderColorCreateInfoEXT`): `float32`, or `int32` for an integer one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub custom_border_color: Option<[f64; 4]>,
     #[serde(default)]
     pub unnormalized_coordinates: bool,
     /// `VK_SAMPLER_CREATE_NON_SEAMLESS_CUBE_MAP_BIT_EXT`: a cube map filtered within each

@@ -485,18 +485,7 @@ pub(super) fn sampler(s: &VkSampler) -> Result<SamplerSpec, VkProblem> {
     ];
     // The border colour is read only where an address clamps to it.
     let border = if address.contains(&wgpu::AddressMode::ClampToBorder) {
-        use wgpu::SamplerBorderColor as B;
-        Some(match strip(&s.border_color, "VK_BORDER_COLOR_") {
-            "FLOAT_TRANSPARENT_BLACK" | "INT_TRANSPARENT_BLACK" => B::TransparentBlack,
-            "FLOAT_OPAQUE_BLACK" => B::OpaqueBlack,
-            "FLOAT_OPAQUE_WHITE" => B::OpaqueWhite,
-            _ => {
-                return Err(unsupported(
-                    &format!("sampler {} with border colour", s.name),
-                    &s.border_color,
-                ));
-            }
-        })
+        Some(border_color(s)?)
     } else {
         None
     };
@@ -521,6 +510,37 @@ pub(super) fn sampler(s: &VkSampler) -> Result<SamplerSpec, VkProblem> {
             spec.mip = wgpu::MipmapFilterMode::Linear;
         }
         spec
+    })
+}
+
+/// Sampler `s`'s border colour as wgpu has it. A custom colour wgpu has as one of its own is
+/// that one: transparent black of either type (all bits zero), opaque black or white as
+/// floats.
+fn border_color(s: &VkSampler) -> Result<wgpu::SamplerBorderColor, VkProblem> {
+    use wgpu::SamplerBorderColor as B;
+    let kind = strip(&s.border_color, "VK_BORDER_COLOR_");
+    Ok(match (kind, s.custom_border_color) {
+        ("FLOAT_TRANSPARENT_BLACK" | "INT_TRANSPARENT_BLACK", _) => B::TransparentBlack,
+        ("FLOAT_OPAQUE_BLACK", _) => B::OpaqueBlack,
+        ("FLOAT_OPAQUE_WHITE", _) => B::OpaqueWhite,
+        ("FLOAT_CUSTOM_EXT" | "INT_CUSTOM_EXT", Some([0.0, 0.0, 0.0, 0.0])) => B::TransparentBlack,
+        ("FLOAT_CUSTOM_EXT", Some([0.0, 0.0, 0.0, 1.0])) => B::OpaqueBlack,
+        ("FLOAT_CUSTOM_EXT", Some([1.0, 1.0, 1.0, 1.0])) => B::OpaqueWhite,
+        (_, Some(c)) => {
+            return Err(unsupported(
+                &format!(
+                    "sampler {} with a custom border colour ({}, {}, {}, {}; wgpu has transparent black, opaque black and opaque white) of type",
+                    s.name, c[0], c[1], c[2], c[3]
+                ),
+                &s.border_color,
+            ));
+        }
+        _ => {
+            return Err(unsupported(
+                &format!("sampler {} with border colour", s.name),
+                &s.border_color,
+            ));
+        }
     })
 }
 
