@@ -299,8 +299,6 @@ const CRATES: &[&str] = &["src", "core/src", "replay/src", "ui/src", "testkit/sr
 const STILL_CIRCLES: &[&str] = &[
     "capture::formats, lower::formats",
     "coverage, import::calls, import::commands, import::contents, import::driver_layout, import::gfxr, import::gfxr::registry, import::state, import::stream, import::tree, import::value",
-    "import::record, import::transfer_calls, import::valid_usage_sets",
-    "import::valid_usage, import::valid_usage_buffers, import::valid_usage_copies",
 ];
 
 /// A file's module path in its crate (`import::gfxr::blocks`; a `mod.rs` is its folder).

@@ -9,14 +9,15 @@ use std::collections::BTreeMap;
 use super::calls::CmdFunc;
 use super::calls::SetState;
 use super::commands::{
-    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, DrawCountCmd, LevelRange,
-    MAX_INDIRECT_DRAWS, Origin, TransferCmd, Use,
+    BarrierCmd, BarrierTarget, Cmd, DispatchCmd, DrawCmd, DrawCountCmd, MAX_INDIRECT_DRAWS, Origin,
+    TransferCmd, Use,
 };
 use super::render_pass;
+use super::set_slots::SetSlots;
 use super::state::{Descriptor, Objects, debug_text};
+use super::subresources::range;
 use super::transfer_calls::{blit, clear_attachments, clear_image, copy};
-use super::valid_usage_sets::SetSlots;
-use super::value::{ASPECTS, Arg, Got, Skip};
+use super::value::{Arg, Got, Skip};
 use crate::capture::format::{VkCommandState, VkDynamicValues, VkStencilOps};
 use crate::capture::vulkan::MAX_PUSH_CONSTANT_BYTES;
 use crate::capture::vulkan::{AccessFlags, PipelineStages};
@@ -121,41 +122,6 @@ impl Recording {
 fn compute_point(a: &Arg<'_>) -> Got<bool> {
     let n = a.symbol()?;
     Ok(n.contains("COMPUTE") || n == "1")
-}
-
-pub(super) fn range(r: &Arg<'_>) -> Got<(LevelRange, LevelRange)> {
-    let count = |a: Arg<'_>| -> Got<Option<u32>> {
-        let v = a.u64()?;
-        Ok((v < u64::from(u32::MAX)).then_some(v as u32))
-    };
-    let _ = r.get("aspectMask")?.flags(ASPECTS)?;
-    Ok((
-        (r.get("baseMipLevel")?.u32()?, count(r.get("levelCount")?)?),
-        (
-            r.get("baseArrayLayer")?.u32()?,
-            count(r.get("layerCount")?)?,
-        ),
-    ))
-}
-
-pub(super) fn offset3(a: &Arg<'_>) -> Got<[u32; 3]> {
-    Ok([a.get("x")?.u32()?, a.get("y")?.u32()?, a.get("z")?.u32()?])
-}
-
-pub(super) fn extent3(a: &Arg<'_>) -> Got<[u32; 3]> {
-    Ok([
-        a.get("width")?.u32()?,
-        a.get("height")?.u32()?,
-        a.get("depth")?.u32()?,
-    ])
-}
-
-pub(super) fn subresource(a: &Arg<'_>) -> Got<(u32, u32)> {
-    Ok((a.get("mipLevel")?.u32()?, a.get("baseArrayLayer")?.u32()?))
-}
-
-pub(super) fn layer_count(a: &Arg<'_>) -> u32 {
-    a.opt("layerCount").and_then(|c| c.u32().ok()).unwrap_or(1)
 }
 
 impl Recording {

@@ -6,8 +6,8 @@ use super::calls::CopyKind;
 use super::commands::{
     AttachmentClearCmd, BlitRegionCmd, ClearColorValue, Cmd, Region, TransferCmd, clear_color_of,
 };
-use super::record::{extent3, layer_count, offset3, range, subresource};
 use super::state::Objects;
+use super::subresources::{extent3, layer_count, offset3, range, subresource};
 use super::value::{ASPECTS, Arg, Got, Skip};
 use crate::capture::vulkan::ImageLayout;
 

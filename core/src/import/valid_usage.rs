@@ -18,6 +18,7 @@
 //! synchronization rules, which track the layouts (`sync`).
 
 use super::state::{Descriptor, Objects, descriptor_kind};
+use super::valid_usage_params::holder;
 use super::value::{Arg, Got};
 use crate::capture::format::ValidUsageFinding;
 use crate::capture::vulkan::ImageLayout;
@@ -448,14 +449,6 @@ fn transfer_images(call: &str) -> Option<(Option<&'static str>, &'static [ImageA
         ),
         _ => return None,
     })
-}
-
-/// Where a command's arguments are: in the `*Info2` structure `info` names, or the call's own.
-pub(super) fn holder<'a>(args: &Arg<'a>, info: Option<&str>) -> Got<Arg<'a>> {
-    match info {
-        Some(key) => args.get(key),
-        None => Ok(*args),
-    }
 }
 
 /// The images transfer command `command` (named `call`) reads or writes without the

@@ -181,7 +181,7 @@ pub fn command_usage(
     let Some((info, arguments)) = buffer_arguments(call) else {
         return Ok(out);
     };
-    let holder = super::valid_usage::holder(args, info)?;
+    let holder = super::valid_usage_params::holder(args, info)?;
     for &(member, need, vuid) in arguments {
         if member == "pBuffers" {
             for (i, b) in holder.list(member)?.iter().enumerate() {

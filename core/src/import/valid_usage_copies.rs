@@ -7,7 +7,7 @@
 //! staging buffer). The `2` commands' regions are `VkBufferImageCopy2` in their `*Info2`.
 
 use super::state::Objects;
-use super::valid_usage::holder;
+use super::valid_usage_params::holder;
 use super::value::{Arg, Got};
 use crate::capture::dxgi;
 use crate::capture::format::ValidUsageFinding;
@@ -97,7 +97,7 @@ pub fn regions(
     let buffer = objects.buffers.get(&holder.get(shape.buffer)?.handle()?);
     let mut out = Vec::new();
     for (i, r) in holder.list("pRegions")?.iter().enumerate() {
-        let extent = super::record::extent3(&r.get("imageExtent")?)?;
+        let extent = super::subresources::extent3(&r.get("imageExtent")?)?;
         let row = r.get("bufferRowLength")?.u64()?;
         let height = r.get("bufferImageHeight")?.u64()?;
         let structure = shape.structure;
@@ -123,7 +123,7 @@ pub fn regions(
         let Some((bytes, bw, bh)) = element(&image.format, aspect) else {
             continue;
         };
-        let layers = super::record::layer_count(&sub).max(1);
+        let layers = super::subresources::layer_count(&sub).max(1);
         let needed = addressed(
             r.get("bufferOffset")?.u64()?,
             extent,

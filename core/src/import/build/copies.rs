@@ -3,6 +3,114 @@
 
 use super::*;
 
+/// The two ends of a copy: which is a buffer, and the image's block footprint.
+struct Sides {
+    src: u64,
+    dst: u64,
+    src_is_buffer: bool,
+    dst_is_buffer: bool,
+    /// Bytes and width of the image's texel blocks.
+    footprint: Option<(u64, u32)>,
+    /// Height of the image's texel blocks.
+    block_height: u32,
+}
+
+impl Sides {
+    fn of(objects: &Objects, src: u64, dst: u64) -> Sides {
+        let format = |h: u64| {
+            objects
+                .images
+                .get(&h)
+                .and_then(|i| dxgi::lookup_vk(&i.format))
+        };
+        let block = format(src).or_else(|| format(dst));
+        Sides {
+            src,
+            dst,
+            src_is_buffer: objects.buffers.contains_key(&src),
+            dst_is_buffer: objects.buffers.contains_key(&dst),
+            footprint: block.map(|f| (u64::from(f.bits_per_element) / 8, f.block_width.max(1))),
+            block_height: block.map_or(1, |f| f.block_height.max(1)),
+        }
+    }
+
+    fn both_buffers(&self) -> bool {
+        self.src_is_buffer && self.dst_is_buffer
+    }
+
+    /// Bytes, width and height of the image's texel blocks.
+    fn blocks(&self) -> Option<(u64, u32, u32)> {
+        self.footprint
+            .map(|(bytes, bw)| (bytes, bw, self.block_height))
+    }
+
+    /// The row pitch of region `r`'s buffer side, in bytes.
+    fn row(&self, r: &Region) -> Option<u32> {
+        let (bytes, bw) = self.footprint?;
+        let texels = if r.row_texels == 0 {
+            r.extent?[0]
+        } else {
+            r.row_texels
+        };
+        u32::try_from(u64::from(texels.div_ceil(bw)) * bytes).ok()
+    }
+
+    /// A region of several array layers as one a layer: the image side's layer advances, and
+    /// a buffer side by one layer's bytes (its rows at the row pitch, as many as
+    /// `bufferImageHeight` or the extent's height, in blocks).
+    fn per_layer(&self, regions: &[Region]) -> Vec<Region> {
+        let both_buffers = self.both_buffers();
+        regions
+            .iter()
+            .flat_map(|r| {
+                let layer_bytes = (|| {
+                    let (_, bw) = self.footprint?;
+                    let rows = if r.image_rows == 0 {
+                        r.extent?[1]
+                    } else {
+                        r.image_rows
+                    };
+                    Some(u64::from(self.row(r)?) * u64::from(rows.div_ceil(bw)))
+                })()
+                .unwrap_or(0);
+                (0..r.layers.max(1)).map(move |k| {
+                    let mut one = r.clone();
+                    one.layers = 1;
+                    let skip = u64::from(k) * layer_bytes;
+                    if self.src_is_buffer && !both_buffers {
+                        one.src_offset += skip;
+                    } else {
+                        one.src_layer += k;
+                    }
+                    if self.dst_is_buffer && !both_buffers {
+                        one.dst_offset += skip;
+                    } else {
+                        one.dst_layer += k;
+                    }
+                    one
+                })
+            })
+            .collect()
+    }
+
+    /// Where region `r`'s buffer side runs past its buffer's end (to its last texel, as
+    /// Vulkan addresses it): its offset, the bytes it reaches and the buffer's size.
+    fn past_end(&self, objects: &Objects, r: &Region) -> Option<(u64, u64, u64)> {
+        let (buffer, offset) = match (self.src_is_buffer, self.dst_is_buffer) {
+            (true, false) => (self.src, r.src_offset),
+            (false, true) => (self.dst, r.dst_offset),
+            _ => return None,
+        };
+        let size = objects.buffers.get(&buffer)?.size;
+        let ((bytes, bw), e, pitch) = (self.footprint?, r.extent?, u64::from(self.row(r)?));
+        let rows = u64::from(e[1].div_ceil(bw));
+        let row_bytes = u64::from(e[0].div_ceil(bw)) * bytes;
+        let needed =
+            pitch * rows * u64::from(e[2].max(1) - 1) + pitch * rows.saturating_sub(1) + row_bytes;
+        (offset.saturating_add(needed) > size).then_some((offset, needed, size))
+    }
+}
+
 impl Builder {
     /// A copy pass with one copy per region; rows of buffer sides are sized from the image's
     /// format, as a capture's copies need them.
@@ -18,79 +126,72 @@ impl Builder {
         else {
             return;
         };
-        let texel_bytes = |h: u64| {
-            objects
-                .images
-                .get(&h)
-                .and_then(|i| dxgi::lookup_vk(&i.format))
-                .map(|f| (u64::from(f.bits_per_element) / 8, f.block_width.max(1)))
+        let sides = Sides::of(objects, src, dst);
+        let per_layer = sides.per_layer(regions);
+        let apart = self.rows_apart(queue, name, &sides, per_layer);
+        let regions = self.inside_buffer(objects, queue, name, &sides, apart);
+        if regions.is_empty() {
+            return;
+        }
+        let Some(pass) = self.new_pass(objects, queue, PassKind::Copy, name) else {
+            return;
         };
-        let footprint = texel_bytes(src).or_else(|| texel_bytes(dst));
-        let block_height = |src: u64, dst: u64| {
-            [src, dst]
-                .iter()
-                .find_map(|h| objects.images.get(h))
-                .and_then(|i| dxgi::lookup_vk(&i.format))
-                .map_or(1, |f| f.block_height.max(1))
+        let both_buffers = sides.both_buffers();
+        let side = |resource: &String, is_buffer: bool, mip, layer, origin, offset, r: &Region| {
+            CopyLocation {
+                resource: resource.clone(),
+                mip,
+                layer,
+                origin,
+                offset,
+                size: if both_buffers { r.size } else { None },
+                bytes_per_row: (is_buffer && !both_buffers).then(|| sides.row(r)).flatten(),
+            }
         };
-        let src_is_buffer = objects.buffers.contains_key(&src);
-        let dst_is_buffer = objects.buffers.contains_key(&dst);
-        let both_buffers = src_is_buffer && dst_is_buffer;
-        let row = |r: &Region| {
-            let (bytes, bw) = footprint?;
-            let texels = if r.row_texels == 0 {
-                r.extent?[0]
-            } else {
-                r.row_texels
-            };
-            u32::try_from(u64::from(texels.div_ceil(bw)) * bytes).ok()
-        };
-        // A region of several array layers is one copy a layer: the image side's layer
-        // advances, and a buffer side by one layer's bytes (its rows at the row pitch, as
-        // many as `bufferImageHeight` or the extent's height, in blocks).
-        let per_layer: Vec<Region> = regions
-            .iter()
-            .flat_map(|r| {
-                let layer_bytes = (|| {
-                    let (_, bw) = footprint?;
-                    let rows = if r.image_rows == 0 {
-                        r.extent?[1]
-                    } else {
-                        r.image_rows
-                    };
-                    Some(u64::from(row(r)?) * u64::from(rows.div_ceil(bw)))
-                })()
-                .unwrap_or(0);
-                (0..r.layers.max(1)).map(move |k| {
-                    let mut one = r.clone();
-                    one.layers = 1;
-                    let skip = u64::from(k) * layer_bytes;
-                    if src_is_buffer && !both_buffers {
-                        one.src_offset += skip;
-                    } else {
-                        one.src_layer += k;
-                    }
-                    if dst_is_buffer && !both_buffers {
-                        one.dst_offset += skip;
-                    } else {
-                        one.dst_layer += k;
-                    }
-                    one
-                })
-            })
-            .collect();
-        // Rows closer than a row's width (or slices closer than a slice's height) overlap as a
-        // driver addresses them: invalid, but every driver reads or writes each texel at the
-        // offset Vulkan's formula gives, so one copy a row of blocks reproduces it exactly.
-        let footprint_blocks = footprint.map(|(bytes, bw)| (bytes, bw, block_height(src, dst)));
+        for r in &regions {
+            self.passes[pass].copies.push(Copy {
+                src: side(
+                    &sn,
+                    sides.src_is_buffer,
+                    r.src_mip,
+                    r.src_layer,
+                    r.src_origin,
+                    r.src_offset,
+                    r,
+                ),
+                dst: side(
+                    &dn,
+                    sides.dst_is_buffer,
+                    r.dst_mip,
+                    r.dst_layer,
+                    r.dst_origin,
+                    r.dst_offset,
+                    r,
+                ),
+                extent: r.extent,
+                host: false,
+            });
+        }
+    }
+
+    /// Rows closer than a row's width (or slices closer than a slice's height) overlap as a
+    /// driver addresses them: invalid, but every driver reads or writes each texel at the
+    /// offset Vulkan's formula gives, so one copy a row of blocks reproduces it exactly.
+    fn rows_apart(
+        &mut self,
+        queue: u64,
+        name: &str,
+        sides: &Sides,
+        regions: Vec<Region>,
+    ) -> Vec<Region> {
         let mut overlapping = 0u64;
         let mut too_many = None;
-        let per_layer: Vec<Region> = per_layer
+        let out: Vec<Region> = regions
             .into_iter()
-            .flat_map(|r| match footprint_blocks {
-                Some(f) if !both_buffers && overlaps(&r) => {
+            .flat_map(|r| match sides.blocks() {
+                Some(f) if !sides.both_buffers() && overlaps(&r) => {
                     overlapping += 1;
-                    rows_apart(&r, f, src_is_buffer).unwrap_or_else(|| {
+                    rows_apart(&r, f, sides.src_is_buffer).unwrap_or_else(|| {
                         too_many = Some(r);
                         Vec::new()
                     })
@@ -112,94 +213,59 @@ impl Builder {
                 overlapping,
             );
         }
-        // A buffer side that runs past its buffer's end (to its last texel, as Vulkan addresses
-        // it) reads or writes bytes the buffer does not have.
-        let buffer_end = |r: &Region| -> Option<(u64, u64, u64)> {
-            let (buffer, offset) = match (src_is_buffer, dst_is_buffer) {
-                (true, false) => (src, r.src_offset),
-                (false, true) => (dst, r.dst_offset),
-                _ => return None,
-            };
-            let size = objects.buffers.get(&buffer)?.size;
-            let ((bytes, bw), e, pitch) = (footprint?, r.extent?, u64::from(row(r)?));
-            let rows = u64::from(e[1].div_ceil(bw));
-            let row_bytes = u64::from(e[0].div_ceil(bw)) * bytes;
-            let needed = pitch * rows * u64::from(e[2].max(1) - 1)
-                + pitch * rows.saturating_sub(1)
-                + row_bytes;
-            (offset.saturating_add(needed) > size).then_some((offset, needed, size))
-        };
-        let (past_end, mut per_layer): (Vec<Region>, Vec<Region>) =
-            per_layer.into_iter().partition(|r| buffer_end(r).is_some());
-        // Reading past the end reads whatever the memory holds there, which Vulkan leaves
-        // undefined: the rows and texels inside the buffer are copied, the rest of the image
-        // keeps what it held, and the import says so. Writing past it would overwrite what
-        // else the memory holds, which no copy can be given: refused.
-        let (clipped, past_end): (Vec<Region>, Vec<Region>) = past_end
+        out
+    }
+
+    /// The regions whose buffer side stays inside its buffer. Reading past the end reads
+    /// whatever the memory holds there, which Vulkan leaves undefined: the rows and texels
+    /// inside the buffer are copied, the rest of the image keeps what it held, and the import
+    /// says so. Writing past it would overwrite what else the memory holds, which no copy can
+    /// be given: refused.
+    fn inside_buffer(
+        &mut self,
+        objects: &Objects,
+        queue: u64,
+        name: &str,
+        sides: &Sides,
+        regions: Vec<Region>,
+    ) -> Vec<Region> {
+        let (past_end, mut out): (Vec<Region>, Vec<Region>) = regions
             .into_iter()
-            .partition(|_| src_is_buffer && footprint_blocks.is_some());
-        if let (Some(f), Some(first)) = (footprint_blocks, clipped.first()) {
-            let size = objects.buffers.get(&src).map_or(0, |b| b.size);
-            let texels = clipped
-                .iter()
-                .map(|r| {
-                    r.extent.map_or(0, |e| {
-                        u64::from(e[0]) * u64::from(e[1]) * u64::from(e[2].max(1))
-                    })
-                })
-                .sum::<u64>();
-            let kept: Vec<Region> = clipped
-                .iter()
-                .flat_map(|r| rows_apart(r, f, true).unwrap_or_default())
-                .filter_map(|r| inside(r, f, size))
-                .collect();
-            let copied = kept
-                .iter()
-                .map(|r| r.extent.map_or(0, |e| u64::from(e[0]) * u64::from(e[1])))
-                .sum::<u64>();
-            let (offset, needed, _) = buffer_end(first).unwrap_or_default();
-            self.note(format!(
-                "{name} reading past the end of its buffer ({needed} bytes from offset {offset} of {size}; VUID-vkCmdCopyBufferToImage-pRegions-00171): {} of {texels} texels, whose bytes are undefined, keep what the image held",
-                texels.saturating_sub(copied)
-            ));
-            per_layer.extend(kept);
-        }
-        if let Some((offset, needed, size)) = past_end.first().and_then(buffer_end) {
+            .partition(|r| sides.past_end(objects, r).is_some());
+        let Some(first) = past_end.first() else {
+            return out;
+        };
+        let (offset, needed, size) = sides.past_end(objects, first).unwrap_or_default();
+        let Some(f) = sides.blocks().filter(|_| sides.src_is_buffer) else {
             let what = format!(
                 "{name} whose region runs past the end of its buffer ({needed} bytes from offset {offset} of {size}; VUID-vkCmdCopyImageToBuffer-pRegions-00183): it would overwrite what else the memory holds"
             );
             self.refuse(queue, None, &what);
-        }
-        if per_layer.is_empty() {
-            return;
-        }
-        let Some(pass) = self.new_pass(objects, queue, PassKind::Copy, name) else {
-            return;
+            return out;
         };
-        for r in &per_layer {
-            self.passes[pass].copies.push(Copy {
-                src: CopyLocation {
-                    resource: sn.clone(),
-                    mip: r.src_mip,
-                    layer: r.src_layer,
-                    origin: r.src_origin,
-                    offset: r.src_offset,
-                    size: if both_buffers { r.size } else { None },
-                    bytes_per_row: (src_is_buffer && !both_buffers).then(|| row(r)).flatten(),
-                },
-                dst: CopyLocation {
-                    resource: dn.clone(),
-                    mip: r.dst_mip,
-                    layer: r.dst_layer,
-                    origin: r.dst_origin,
-                    offset: r.dst_offset,
-                    size: if both_buffers { r.size } else { None },
-                    bytes_per_row: (dst_is_buffer && !both_buffers).then(|| row(r)).flatten(),
-                },
-                extent: r.extent,
-                host: false,
-            });
-        }
+        let texels = past_end
+            .iter()
+            .map(|r| {
+                r.extent.map_or(0, |e| {
+                    u64::from(e[0]) * u64::from(e[1]) * u64::from(e[2].max(1))
+                })
+            })
+            .sum::<u64>();
+        let kept: Vec<Region> = past_end
+            .iter()
+            .flat_map(|r| rows_apart(r, f, true).unwrap_or_default())
+            .filter_map(|r| inside(r, f, size))
+            .collect();
+        let copied = kept
+            .iter()
+            .map(|r| r.extent.map_or(0, |e| u64::from(e[0]) * u64::from(e[1])))
+            .sum::<u64>();
+        self.note(format!(
+            "{name} reading past the end of its buffer ({needed} bytes from offset {offset} of {size}; VUID-vkCmdCopyBufferToImage-pRegions-00171): {} of {texels} texels, whose bytes are undefined, keep what the image held",
+            texels.saturating_sub(copied)
+        ));
+        out.extend(kept);
+        out
     }
 }
 
