@@ -868,3 +868,59 @@ fn linear_images_the_host_writes_while_the_frames_run_are_replayed_with_their_te
         .count();
     assert_eq!(fl006, 0, "{}", report["lints"]);
 }
+
+/// A depth snapshot (wgpu copies into no depth format but `Depth16Unorm`) is drawn into the
+/// texture: Qt's window, its depth-stencil attachment made `D32_SFLOAT` and loaded instead of
+/// cleared, its snapshot a gradient across each row, exports exactly that gradient after the
+/// frame (it had been left out and read 0 everywhere).
+#[test]
+fn depth_snapshots_are_drawn_into_their_textures() {
+    let dir = temp("depth-snapshot");
+    let capture = import("qt5_hellovulkanwindow_f30", &dir);
+    let text = std::fs::read_to_string(&capture)
+        .unwrap()
+        .replace("\"D24_UNORM_S8_UINT\"", "\"D32_FLOAT\"")
+        .replace("VK_FORMAT_D24_UNORM_S8_UINT", "VK_FORMAT_D32_SFLOAT");
+    let mut c: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let ds = c["passes"][0]["depth_stencil"].as_object_mut().unwrap();
+    ds.insert("depth_load".into(), "load".into());
+    ds.insert("depth_store".into(), "store".into());
+    for k in ["stencil_load", "stencil_store", "stencil_clear"] {
+        ds.remove(k);
+    }
+    let depth = c["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["format"] == "D32_FLOAT")
+        .expect("the depth attachment");
+    let (w, h) = (1024usize, 768usize);
+    assert_eq!(
+        (depth["width"].as_u64(), depth["height"].as_u64()),
+        (Some(1024), Some(768))
+    );
+    let file = dir.join(depth["initial"]["file"]["path"].as_str().unwrap());
+    assert_eq!(depth["initial"]["file"]["offset"], 0);
+    let row: Vec<u8> = (0..w)
+        .flat_map(|x| (x as f32 / (w - 1) as f32).to_le_bytes())
+        .collect();
+    std::fs::write(&file, row.repeat(h)).unwrap();
+    std::fs::write(&capture, serde_json::to_string_pretty(&c).unwrap()).unwrap();
+    let out = dir.join("out");
+    let m = crate::common::replay_one_frame(&capture, &out);
+    let exported = m["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["read_as"] == "Depth32Float")
+        .expect("the depth texture exported");
+    let (width, pixels) = crate::common::exr_image(&out.join(exported["file"].as_str().unwrap()));
+    assert_eq!(width, w);
+    for (x, y) in [(0, 0), (1, 5), (511, 300), (512, 767), (1023, 100)] {
+        assert_eq!(
+            pixels[y * w + x][0],
+            x as f32 / (w - 1) as f32,
+            "texel {x},{y}"
+        );
+    }
+}

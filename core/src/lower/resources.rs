@@ -93,18 +93,36 @@ impl<'c> Lowering<'c> {
                 }
             }
             // wgpu copies into no depth format but Depth16Unorm (and no stencil): an imported
-            // frame's depth snapshot is left out, said in a note, and the texture starts
-            // cleared, as the render passes that use one nearly always begin by clearing it.
-            InitialDesc::File(..)
+            // frame's depth snapshot is drawn into the texture instead (the replay writes each
+            // texel's depth from a float copy of the snapshot), which it must render to; its
+            // stencil, which the snapshot's depth aspect does not hold, starts cleared, and a
+            // multisampled one, which no draw writes sample by sample, is left out. Both said.
+            InitialDesc::File(path, offset)
                 if lowered.format.is_depth_stencil_format()
                     && lowered.format != wgpu::TextureFormat::Depth16Unorm
                     && self.imported() =>
             {
-                self.notes.push(format!(
-                    "\"{}\": its {:?} contents are not loaded (wgpu cannot copy into that format); it starts cleared",
-                    r.name, lowered.format
-                ));
-                None
+                if r.samples > 1 || volume {
+                    self.notes.push(format!(
+                        "\"{}\": its multisampled {:?} contents are not loaded (wgpu copies into no depth format and draws no sample apart); it starts cleared",
+                        r.name, lowered.format
+                    ));
+                    None
+                } else {
+                    if lowered.format.has_stencil_aspect() {
+                        self.notes.push(format!(
+                            "\"{}\": its depth is drawn from the capture's snapshot; its stencil, which the snapshot does not hold, starts cleared",
+                            r.name
+                        ));
+                    }
+                    usage |= wgpu::TextureUsages::RENDER_ATTACHMENT;
+                    match self.texels {
+                        super::Texels::LeaveOut => None,
+                        super::Texels::Load => {
+                            Some(texture_file(r, info, (path, *offset)).map_err(contents_err)?)
+                        }
+                    }
+                }
             }
             InitialDesc::File(..) if self.texels == super::Texels::LeaveOut => None,
             InitialDesc::File(path, offset) => {

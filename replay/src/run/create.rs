@@ -125,7 +125,11 @@ pub(super) fn textures(
         };
         if let Some(data) = &t.initial {
             for tex in if t.history { vec![&a, &b] } else { vec![&a] } {
-                write_texture(queue, tex, t, data);
+                if super::depth_upload::drawn(t) {
+                    super::depth_upload::draw(device, queue, tex, t, data);
+                } else {
+                    write_texture(queue, tex, t, data);
+                }
             }
         }
         setup(&format!("texture \"{}\"", t.name), g)?;

@@ -13,6 +13,7 @@ mod blit;
 mod clear_rects;
 mod counters;
 mod create;
+mod depth_upload;
 mod encode;
 mod fetch;
 mod frame;
