@@ -869,14 +869,14 @@ fn linear_images_the_host_writes_while_the_frames_run_are_replayed_with_their_te
     assert_eq!(fl006, 0, "{}", report["lints"]);
 }
 
-/// A depth snapshot (wgpu copies into no depth format but `Depth16Unorm`) is drawn into the
-/// texture: Qt's window, its depth-stencil attachment made `D32_SFLOAT` and loaded instead of
-/// cleared, its snapshot a gradient across each row, exports exactly that gradient after the
-/// frame (it had been left out and read 0 everywhere).
-#[test]
-fn depth_snapshots_are_drawn_into_their_textures() {
-    let dir = temp("depth-snapshot");
-    let capture = import("qt5_hellovulkanwindow_f30", &dir);
+/// Qt's window imported into `dir`, its depth-stencil attachment made `D32_SFLOAT` and loaded
+/// and stored instead of cleared, its snapshot's file filled by `snapshot(x)` for every row;
+/// the capture's path and JSON (written back by the caller).
+fn loaded_depth_window(
+    dir: &Path,
+    snapshot: impl Fn(usize) -> f32,
+) -> (PathBuf, serde_json::Value) {
+    let capture = import("qt5_hellovulkanwindow_f30", dir);
     let text = std::fs::read_to_string(&capture)
         .unwrap()
         .replace("\"D24_UNORM_S8_UINT\"", "\"D32_FLOAT\"")
@@ -894,20 +894,22 @@ fn depth_snapshots_are_drawn_into_their_textures() {
         .iter()
         .find(|r| r["format"] == "D32_FLOAT")
         .expect("the depth attachment");
-    let (w, h) = (1024usize, 768usize);
     assert_eq!(
         (depth["width"].as_u64(), depth["height"].as_u64()),
         (Some(1024), Some(768))
     );
     let file = dir.join(depth["initial"]["file"]["path"].as_str().unwrap());
     assert_eq!(depth["initial"]["file"]["offset"], 0);
-    let row: Vec<u8> = (0..w)
-        .flat_map(|x| (x as f32 / (w - 1) as f32).to_le_bytes())
-        .collect();
-    std::fs::write(&file, row.repeat(h)).unwrap();
-    std::fs::write(&capture, serde_json::to_string_pretty(&c).unwrap()).unwrap();
+    let row: Vec<u8> = (0..1024).flat_map(|x| snapshot(x).to_le_bytes()).collect();
+    std::fs::write(&file, row.repeat(768)).unwrap();
+    (capture, c)
+}
+
+/// Replays `capture` (written from `c`) one frame and returns the exported depth's pixels.
+fn exported_depth(dir: &Path, capture: &Path, c: &serde_json::Value) -> Vec<[f32; 4]> {
+    std::fs::write(capture, serde_json::to_string_pretty(c).unwrap()).unwrap();
     let out = dir.join("out");
-    let m = crate::common::replay_one_frame(&capture, &out);
+    let m = crate::common::replay_one_frame(capture, &out);
     let exported = m["files"]
         .as_array()
         .unwrap()
@@ -915,12 +917,68 @@ fn depth_snapshots_are_drawn_into_their_textures() {
         .find(|f| f["read_as"] == "Depth32Float")
         .expect("the depth texture exported");
     let (width, pixels) = crate::common::exr_image(&out.join(exported["file"].as_str().unwrap()));
-    assert_eq!(width, w);
+    assert_eq!(width, 1024);
+    pixels
+}
+
+/// A depth snapshot (wgpu copies into no depth format but `Depth16Unorm`) is drawn into the
+/// texture: Qt's window with its depth loaded, its snapshot a gradient across each row,
+/// exports exactly that gradient after the frame (it had been left out and read 0 everywhere).
+#[test]
+fn depth_snapshots_are_drawn_into_their_textures() {
+    let dir = temp("depth-snapshot");
+    let gradient = |x: usize| x as f32 / 1023.0;
+    let (capture, c) = loaded_depth_window(&dir, gradient);
+    let pixels = exported_depth(&dir, &capture, &c);
     for (x, y) in [(0, 0), (1, 5), (511, 300), (512, 767), (1023, 100)] {
-        assert_eq!(
-            pixels[y * w + x][0],
-            x as f32 / (w - 1) as f32,
-            "texel {x},{y}"
-        );
+        assert_eq!(pixels[y * 1024 + x][0], gradient(x), "texel {x},{y}");
+    }
+}
+
+/// A copy from a buffer into a float depth texture (which WebGPU does not copy) is drawn:
+/// a 64x32 region at (100, 50), rows 256 bytes apart, lands texel for texel, and the rest
+/// keeps the snapshot (it had been refused by name).
+#[test]
+fn buffer_copies_into_depth_textures_are_drawn() {
+    let dir = temp("depth-copy");
+    let (capture, mut c) = loaded_depth_window(&dir, |_| 0.75);
+    let value = |x: u32, y: u32| (x + 64 * y) as f32 / 4096.0;
+    let words: Vec<u8> = (0..32)
+        .flat_map(|y| (0..64).flat_map(move |x| value(x, y).to_le_bytes()))
+        .collect();
+    std::fs::write(dir.join("upload.bin"), &words).unwrap();
+    let mut heap = c["heaps"][0].clone();
+    heap["name"] = "upload".into();
+    heap["size"] = 65536.into();
+    c["heaps"].as_array_mut().unwrap().push(heap);
+    c["resources"]
+        .as_array_mut()
+        .unwrap()
+        .push(serde_json::json!({
+            "name": "depth_upload", "kind": "buffer", "size": 8192,
+            "placement": {"placed": {"heap": "upload", "offset": 0}},
+            "initial": {"file": {"path": "upload.bin", "offset": 0}}
+        }));
+    let depth = c["passes"][0]["depth_stencil"]["resource"].clone();
+    let queue = c["passes"][0]["queue"].clone();
+    c["passes"].as_array_mut().unwrap().insert(
+        0,
+        serde_json::json!({
+            "name": "upload_depth", "queue": queue, "kind": "copy",
+            "copies": [{
+                "src": {"resource": "depth_upload", "mip": 0, "layer": 0, "origin": [0, 0, 0],
+                        "offset": 0, "bytes_per_row": 256},
+                "dst": {"resource": depth, "mip": 0, "layer": 0, "origin": [100, 50, 0], "offset": 0},
+                "extent": [64, 32, 1]
+            }]
+        }),
+    );
+    let pixels = exported_depth(&dir, &capture, &c);
+    for (x, y) in [(0u32, 0u32), (1, 0), (63, 0), (0, 1), (17, 9), (63, 31)] {
+        let at = (50 + y) as usize * 1024 + (100 + x) as usize;
+        assert_eq!(pixels[at][0], value(x, y), "copied texel {x},{y}");
+    }
+    for (x, y) in [(99, 50), (164, 50), (100, 49), (100, 82), (0, 0)] {
+        assert_eq!(pixels[y * 1024 + x][0], 0.75, "untouched texel {x},{y}");
     }
 }

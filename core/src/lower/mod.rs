@@ -186,7 +186,7 @@ pub enum PassError {
         bytes: u64,
     },
     #[error(
-        "copy {index}: from a buffer into \"{resource}\" ({format:?}): WebGPU copies no buffer into a 24-bit or 32-bit float depth texture"
+        "copy {index}: from a buffer into \"{resource}\" ({format:?}): WebGPU copies no buffer into a 24-bit or 32-bit float depth texture, and with stencil the copy may be the stencil's (the capture does not say which aspect), so it cannot be drawn either"
     )]
     CopyIntoDepth {
         index: usize,

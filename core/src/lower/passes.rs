@@ -467,15 +467,26 @@ impl<'c> Lowering<'c> {
                     },
                 ));
             }
+            // WebGPU copies no buffer into these depth formats: one without stencil (whose
+            // aspect is then surely depth) is drawn, each texel's depth read from the buffer;
+            // with stencil the copy may be the stencil's, which the capture does not say.
+            let mut depth = false;
             if let (CopyEnd::Buffer { .. }, CopyEnd::Texture { texture, .. }) = (&src, &dst) {
                 let t = &self.plan.textures[*texture];
-                if matches!(
+                depth = matches!(
                     t.format,
-                    wgpu::TextureFormat::Depth32Float
-                        | wgpu::TextureFormat::Depth32FloatStencil8
-                        | wgpu::TextureFormat::Depth24Plus
-                        | wgpu::TextureFormat::Depth24PlusStencil8
-                ) {
+                    wgpu::TextureFormat::Depth32Float | wgpu::TextureFormat::Depth24Plus
+                ) && t.samples == 1
+                    && t.dimension == wgpu::TextureDimension::D2;
+                if !depth
+                    && matches!(
+                        t.format,
+                        wgpu::TextureFormat::Depth32Float
+                            | wgpu::TextureFormat::Depth32FloatStencil8
+                            | wgpu::TextureFormat::Depth24Plus
+                            | wgpu::TextureFormat::Depth24PlusStencil8
+                    )
+                {
                     return Err(pass_error(
                         p,
                         PassError::CopyIntoDepth {
@@ -491,6 +502,7 @@ impl<'c> Lowering<'c> {
                 src,
                 dst,
                 unpack,
+                depth,
                 extent,
                 bytes,
             });

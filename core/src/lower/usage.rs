@@ -54,8 +54,9 @@ impl<'c> Usage<'c> {
                     *t |= wgpu::TextureUsages::RENDER_ATTACHMENT;
                 }
             }
-            // A copy from a buffer into a 16-bit packed image is drawn (`packed16`): the
-            // buffer is read as storage, the image rendered to.
+            // A copy from a buffer into a 16-bit packed image is drawn (`packed16`), and one
+            // into a 24-bit or float depth image without stencil: the buffer is read as
+            // storage, the image rendered to.
             for c in &p.copies {
                 let (src, dst) = (
                     capture.resource(c.src.resource),
@@ -63,9 +64,10 @@ impl<'c> Usage<'c> {
                 );
                 if !src.is_texture()
                     && dst.is_texture()
-                    && dst
-                        .format
-                        .is_some_and(|f| super::packed16::layout(f.name).is_some())
+                    && dst.format.is_some_and(|f| {
+                        super::packed16::layout(f.name).is_some()
+                            || (f.is_depth_format() && f.stencil_bits == 0 && f.depth_bits > 16)
+                    })
                 {
                     if let Some(b) = u.buffers.get_mut(&src.id) {
                         *b |= wgpu::BufferUsages::STORAGE;

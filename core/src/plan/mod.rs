@@ -262,6 +262,10 @@ pub struct CopyOp {
     /// A copy from a buffer into a texture held as RGBA8 for a 16-bit packed format: drawn,
     /// each texel unpacked from the buffer's words in this layout.
     pub unpack: Option<Packed16>,
+    /// A copy from a buffer into a depth texture without stencil that WebGPU copies no buffer
+    /// into (`Depth32Float`, `Depth24Plus`): drawn, each texel's depth read from the buffer's
+    /// words (a float, or 24 normalized bits in the low bits of a word).
+    pub depth: bool,
     /// Texel extent for texture copies; byte count for buffer-to-buffer copies in `[0]`.
     pub extent: [u32; 3],
     pub bytes: u64,

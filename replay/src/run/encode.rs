@@ -429,6 +429,10 @@ impl Session {
             self.encode_unpack(c, layout, parity, encoder);
             return;
         }
+        if c.depth {
+            self.encode_depth_copy(c, parity, encoder);
+            return;
+        }
         let tex = |t: usize| self.tex_at(t, parity);
         let buf = |b: usize| self.buf_at(b, parity);
         match (&c.src, &c.dst) {

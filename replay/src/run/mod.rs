@@ -13,6 +13,7 @@ mod blit;
 mod clear_rects;
 mod counters;
 mod create;
+mod depth_copy;
 mod depth_upload;
 mod encode;
 mod fetch;
@@ -121,6 +122,7 @@ pub struct Session {
     mip_pipelines: BTreeMap<String, (wgpu::RenderPipeline, wgpu::Sampler)>,
     blits: blit::BlitPipelines,
     unpacks: unpack::UnpackPipeline,
+    depth_copies: depth_copy::DepthCopyPipelines,
     clear_rects: clear_rects::ClearPipelines,
     timestamps: Option<stamps::Timestamps>,
     /// The queries the last submitted frame writes.
@@ -197,6 +199,7 @@ impl Session {
             mip_pipelines: BTreeMap::new(),
             blits: Default::default(),
             unpacks: Default::default(),
+            depth_copies: Default::default(),
             clear_rects: Default::default(),
             timestamps,
             stamp_plan: Default::default(),

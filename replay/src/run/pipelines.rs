@@ -3,7 +3,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use framelab_core::plan::{ComputeOp, DrawOp, PassOp, RasterOp, StreamSpec, TextureSpec};
+use framelab_core::plan::{ComputeOp, CopyEnd, DrawOp, PassOp, RasterOp, StreamSpec, TextureSpec};
 
 use super::bindings::set_indices;
 use super::{Prepared, ReplayError, Session, close, scope};
@@ -87,8 +87,15 @@ impl Session {
                 self.vk_work_groups(&name, c.dispatches.iter().map(|d| &d.groups[..]).collect())?,
             ),
             PassOp::Blit(blits) => Prepared::Blit(self.prepare_blits(blits)),
-            PassOp::Copy(copies) if copies.iter().any(|c| c.unpack.is_some()) => {
-                self.unpack_pipeline();
+            PassOp::Copy(copies) if copies.iter().any(|c| c.unpack.is_some() || c.depth) => {
+                if copies.iter().any(|c| c.unpack.is_some()) {
+                    self.unpack_pipeline();
+                }
+                for c in copies.iter().filter(|c| c.depth) {
+                    if let CopyEnd::Texture { texture, .. } = c.dst {
+                        self.depth_copy_pipeline(self.plan.textures[texture].format);
+                    }
+                }
                 Prepared::Other
             }
             PassOp::GenerateMips { texture, .. } => {

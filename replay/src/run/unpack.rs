@@ -204,6 +204,7 @@ mod tests {
                 origin: [2, 3, 0],
             },
             unpack: None,
+            depth: false,
             extent,
             bytes: 0,
         }
