@@ -15,6 +15,7 @@ mod counters;
 mod create;
 mod depth_copy;
 mod depth_upload;
+mod drawn_copies;
 mod encode;
 mod fetch;
 mod frame;
