@@ -88,21 +88,13 @@ impl Session {
         for (z, r) in regions(c, 4, source.size()).into_iter().enumerate() {
             let group = self.storage_group(pipeline, source, &r, &words(&r, float_words));
             let dst = self.view(*texture, parity, *mip, layer + z as u32, None);
-            let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("depth copy"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &dst,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut rp = super::depth_upload::depth_pass(
+                encoder,
+                "depth copy",
+                &dst,
+                wgpu::LoadOp::Load,
+                false,
+            );
             super::drawn_copies::draw_region(&mut rp, pipeline, &group, &r);
         }
     }

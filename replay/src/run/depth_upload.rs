@@ -5,6 +5,8 @@
 //! would: a float as it is, a 24-bit normalized depth as the float it stands for, which the
 //! attachment rounds back to the same 24 bits.
 
+use std::collections::BTreeMap;
+
 use framelab_core::plan::TextureSpec;
 
 const SHADER: &str = r"
@@ -80,20 +82,46 @@ pub(super) fn depth_pipeline(
     })
 }
 
-/// Writes `mips` (the capture's bytes, one entry a mip level, its layers one after another)
-/// into depth texture `t` by drawing them.
-pub(super) fn draw(
+/// The upload pipelines, one a depth format, made on first use while the textures are made.
+#[derive(Default)]
+pub(super) struct DepthUploads {
+    pipelines: BTreeMap<String, wgpu::RenderPipeline>,
+}
+
+impl DepthUploads {
+    /// Writes `mips` (the capture's bytes, one entry a mip level, its layers one after
+    /// another) into depth texture `t` by drawing them.
+    pub(super) fn draw(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        t: &wgpu::Texture,
+        spec: &TextureSpec,
+        mips: &[Vec<u8>],
+    ) {
+        let pipeline = self
+            .pipelines
+            .entry(format!("{:?}", spec.format))
+            .or_insert_with(|| {
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("framelab depth upload"),
+                    source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+                });
+                depth_pipeline(device, "framelab depth upload", &module, spec.format)
+            });
+        upload(device, queue, pipeline, t, spec, mips);
+    }
+}
+
+/// Draws `mips` into `t` with `pipeline`, a float copy of each level its source.
+fn upload(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
+    pipeline: &wgpu::RenderPipeline,
     t: &wgpu::Texture,
     spec: &TextureSpec,
     mips: &[Vec<u8>],
 ) {
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("framelab depth upload"),
-        source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-    });
-    let pipeline = depth_pipeline(device, "framelab depth upload", &module, spec.format);
     let layers = spec.size.depth_or_array_layers.max(1);
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("framelab depth upload"),
@@ -137,7 +165,7 @@ pub(super) fn draw(
             },
         );
         for layer in 0..layers {
-            layer_pass(device, &mut encoder, &pipeline, (t, &source), (m, layer));
+            layer_pass(device, &mut encoder, pipeline, (t, &source), (m, layer));
         }
         sources.push(source);
     }
@@ -170,28 +198,46 @@ fn layer_pass(
             resource: wgpu::BindingResource::TextureView(&read),
         }],
     });
-    let stencil = t.format().has_stencil_aspect().then_some(wgpu::Operations {
-        load: wgpu::LoadOp::Clear(0),
-        store: wgpu::StoreOp::Store,
-    });
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("framelab depth upload"),
+    let stencil = t.format().has_stencil_aspect();
+    let mut pass = depth_pass(
+        encoder,
+        "framelab depth upload",
+        &target,
+        wgpu::LoadOp::Clear(0.0),
+        stencil,
+    );
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, &group, &[]);
+    pass.draw(0..3, 0..1);
+}
+
+/// A render pass over depth attachment `view` alone, its depth loaded by `load` and stored;
+/// a stencil aspect (`stencil`) is cleared and stored, so that the pass is valid on it.
+pub(super) fn depth_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<f32>,
+    stencil: bool,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
         color_attachments: &[],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &target,
+            view,
             depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(0.0),
+                load,
                 store: wgpu::StoreOp::Store,
             }),
-            stencil_ops: stencil,
+            stencil_ops: stencil.then_some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(0),
+                store: wgpu::StoreOp::Store,
+            }),
         }),
         timestamp_writes: None,
         occlusion_query_set: None,
         multiview_mask: None,
-    });
-    pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, &group, &[]);
-    pass.draw(0..3, 0..1);
+    })
 }
 
 #[cfg(test)]

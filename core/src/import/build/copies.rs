@@ -251,11 +251,17 @@ impl Builder {
                 })
             })
             .sum::<u64>();
-        let kept: Vec<Region> = past_end
-            .iter()
-            .flat_map(|r| rows_apart(r, f, true).unwrap_or_default())
-            .filter_map(|r| inside(r, f, size))
-            .collect();
+        let mut kept = Vec::new();
+        for r in &past_end {
+            let Some(rows) = rows_apart(r, f, true) else {
+                let what = format!(
+                    "{name} reading past the end of its buffer ({needed} bytes from offset {offset} of {size}; VUID-vkCmdCopyBufferToImage-pRegions-00171) in more than {MAX_ROWS_APART} rows, each of which would be its own copy"
+                );
+                self.refuse(queue, None, &what);
+                return out;
+            };
+            kept.extend(rows.into_iter().filter_map(|r| inside(r, f, size)));
+        }
         let copied = kept
             .iter()
             .map(|r| r.extent.map_or(0, |e| u64::from(e[0]) * u64::from(e[1])))
