@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::common::{Scratch, framelab, gfxr_fixture, stderr};
 
 /// Captures whose presented image is compared with `<name>.ref.png`.
-const REPLAYED: [&str; 44] = [
+const REPLAYED: [&str; 45] = [
     "vkcube_f3",
     "vkcube_staging",
     "vkcube_f3_zstd",
@@ -55,6 +55,7 @@ const REPLAYED: [&str; 44] = [
     "libreoffice_skia_f60",
     "qt6_video_p010le_f60",
     "qt5_hellovulkanwindow_f30",
+    "mame_menu_f60",
 ];
 
 fn temp(name: &str) -> Scratch {

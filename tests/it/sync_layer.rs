@@ -42,7 +42,8 @@ fn wsi(capture: &Path) -> &'static [&'static str] {
         | "mpv_gpunext_f30"
         | "vlc_zink_f40"
         | "libreoffice_skia_f60"
-        | "qt5_hellovulkanwindow_f30" => &["--wsi", "xlib"],
+        | "qt5_hellovulkanwindow_f30"
+        | "mame_menu_f60" => &["--wsi", "xlib"],
         _ => &[],
     }
 }
@@ -286,7 +287,7 @@ fn import(input: &Path, out: &Path) {
 /// GFXReconstruct captures, with the hazards framelab finds that the layer does not because
 /// of its ordering rule where the specification has none (expected count): rasterization
 /// order across render passes.
-const GFXR: [(&str, usize); 41] = [
+const GFXR: [(&str, usize); 42] = [
     ("vkcube_f3", 0),
     ("vkcube_staging", 0),
     ("template_compute", 0),
@@ -328,6 +329,7 @@ const GFXR: [(&str, usize); 41] = [
     ("glmark2_zink_shadow_f30", 0),
     ("libreoffice_skia_f60", 0),
     ("qt5_hellovulkanwindow_f30", 0),
+    ("mame_menu_f60", 0),
 ];
 
 /// Captures whose submissions wait on timeline semaphores (FFmpeg's filters: each submission
