@@ -5,9 +5,11 @@
 //! validated capture (`run`), reads textures back and decodes them (`decode`, `decompress`),
 //! writes them as images (`export`), compares two sessions' textures (`compare`), measures a
 //! frame and its variant side by side (`what_if`), and ends the core's staged journey with the
-//! one stage that needs a device (`replaying`).
+//! one stage that needs a device (`replaying`), held at any pass by one frame cursor (`cursor`)
+//! on a thread of its own (`worker`).
 
 pub mod compare;
+pub mod cursor;
 pub mod decode;
 pub mod decompress;
 pub mod device;
@@ -16,9 +18,12 @@ pub mod readback;
 pub mod replaying;
 pub mod run;
 pub mod what_if;
+pub mod worker;
 
+pub use cursor::NameError;
 pub use device::{AdapterSummary, DeviceError, Faults, GpuContext, list_adapters, open_device};
 pub use readback::{ReadbackError, read_buffer, read_buffer_range};
-pub use replaying::Replaying;
+pub use replaying::{Open, Replaying};
 pub use run::{PassTime, ReplayError, Session};
 pub use wgpu;
+pub use worker::Worker;

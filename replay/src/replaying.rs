@@ -3,13 +3,28 @@
 //! be built at the end. `replay` drives one, `diff` two on one device frame by frame in turn,
 //! and the inspector's worker one on its own thread.
 
-use framelab_core::capture::model::{Capture, PassId};
+use std::collections::BTreeMap;
+
+use framelab_core::capture::model::{Capture, PassId, ResourceId};
 use framelab_core::pipeline::{Analysed, Lowered};
 use framelab_core::plan::Params;
 use framelab_core::timing::{self, PassTiming, Sample, TimingReport};
 
 use crate::device::GpuContext;
 use crate::run::{ReplayError, Session};
+
+/// A frame being replayed a pass at a time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Open {
+    /// The frame's index: which frame constants it runs with (camera, time, jitter).
+    pub frame: u32,
+    /// How many of the plan's passes were submitted whole.
+    pub done: usize,
+    /// A pass submitted only up to one of its draws or dispatches (`Replaying::step`): what
+    /// it writes is part way, so nothing can run on from here until the caller puts it back
+    /// (`Replaying::restored`).
+    pub partial: Option<usize>,
+}
 
 /// A capture running on the device, with the samples of every frame so far.
 #[derive(Debug)]
@@ -25,6 +40,12 @@ pub struct Replaying {
     adapter: String,
     device_type: wgpu::DeviceType,
     backend: String,
+    /// The plan texture of each capture texture, and the plan buffer of each capture buffer.
+    pub(crate) texture_of: BTreeMap<ResourceId, usize>,
+    pub(crate) buffer_of: BTreeMap<ResourceId, usize>,
+    /// The frame held open a pass at a time (`cursor`), and the last frame run whole.
+    pub(crate) open: Option<Open>,
+    pub(crate) last_whole: Option<u32>,
 }
 
 impl Replaying {
@@ -39,6 +60,10 @@ impl Replaying {
             adapter: ctx.summary.name.clone(),
             device_type: ctx.summary.device_type,
             backend: ctx.summary.backend.clone(),
+            texture_of: lowered.texture_of,
+            buffer_of: lowered.buffer_of,
+            open: None,
+            last_whole: None,
         })
     }
 
@@ -65,10 +90,16 @@ impl Replaying {
             .collect()
     }
 
-    /// Runs frame `f` (stopping after plan pass `stop`, if given) and keeps its samples.
+    /// Runs frame `f` (stopping after plan pass `stop`, if given) and keeps its samples; the
+    /// open frame, if any, is ended first.
     pub fn frame(&mut self, f: u32, stop: Option<usize>) -> Result<(), ReplayError> {
+        self.release();
         let constants = self.constants(f);
+        self.last_whole = None;
         let measured = self.session.run_frame(&constants, stop)?;
+        if stop.is_none() {
+            self.last_whole = Some(f);
+        }
         self.times.push(
             measured
                 .iter()

@@ -11,7 +11,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use framelab_core::capture::Capture;
-use framelab_core::capture::model::{PassId, ResourceId};
+use framelab_core::capture::model::PassId;
 use framelab_core::lower;
 use framelab_core::timing::{self, TimingReport};
 use framelab_core::wgpu_types::Features;
@@ -59,34 +59,27 @@ struct Manifest<'a> {
     skipped: &'a [framelab_replay::export::Skipped],
 }
 
-/// `--after` and `--resource`, checked against the capture and the replayed order.
-fn resolve_targets(
+/// `--after` and `--resource`, checked against the capture and the replayed order before a
+/// device is opened (the frame cursor resolves them to the plan's once it is lowered).
+fn check_targets(
     capture: &Capture,
     order: &[PassId],
     options: &ReplayOptions,
-) -> anyhow::Result<(Option<PassId>, Option<ResourceId>)> {
-    let after = match &options.after {
-        Some(name) => Some(
-            order
-                .iter()
-                .copied()
-                .find(|&p| &capture.pass(p).name == name)
-                .with_context(|| format!("--after: no pass \"{name}\" in the replayed order"))?,
-        ),
-        None => None,
-    };
-    let resource = match &options.resource {
-        Some(name) => Some(
-            capture
-                .resources
-                .iter()
-                .find(|r| &r.name == name && r.is_texture())
-                .map(|r| r.id)
-                .with_context(|| format!("--resource: no texture \"{name}\" is replayed"))?,
-        ),
-        None => None,
-    };
-    Ok((after, resource))
+) -> anyhow::Result<()> {
+    if let Some(name) = &options.after
+        && !order.iter().any(|&p| &capture.pass(p).name == name)
+    {
+        bail!("--after: no pass \"{name}\" in the replayed order");
+    }
+    if let Some(name) = &options.resource
+        && !capture
+            .resources
+            .iter()
+            .any(|r| &r.name == name && r.is_texture())
+    {
+        bail!("--resource: no texture \"{name}\" is replayed");
+    }
+    Ok(())
 }
 
 pub fn replay(
@@ -102,7 +95,7 @@ pub fn replay(
         );
     }
     let analysed = stages::for_replay(path, options.scale, options.cull)?;
-    let (after, only) = resolve_targets(&analysed.capture, &analysed.analysis.order, options)?;
+    check_targets(&analysed.capture, &analysed.analysis.order, options)?;
     // Before the device and the replay: a refused --out should cost nothing.
     if let Some(out) = &options.out {
         check_out(out)?;
@@ -118,16 +111,6 @@ pub fn replay(
             "the adapter has no timestamp queries: GPU times are not measured",
         ));
     }
-    let stop_after = after.and_then(|p| lowered.pass_ids.iter().position(|&q| q == p));
-    let export_texture = match only {
-        Some(r) => Some(*lowered.texture_of.get(&r).with_context(|| {
-            format!(
-                "--resource: no texture \"{}\" is replayed",
-                lowered.capture().resource(r).name
-            )
-        })?),
-        None => None,
-    };
     // The capture's (DXGI) name of each plan texture's format, for the export manifest.
     let mut formats = vec![String::new(); lowered.plan.textures.len()];
     for (&r, &t) in &lowered.texture_of {
@@ -136,6 +119,14 @@ pub fn replay(
         }
     }
     let mut replayer = Replaying::start(&ctx, lowered)?;
+    let stop_after = match &options.after {
+        Some(name) => Some(replayer.plan_pass(name).context("--after")?),
+        None => None,
+    };
+    let export_texture = match &options.resource {
+        Some(name) => Some(replayer.plan_texture(name).context("--resource")?),
+        None => None,
+    };
     for (shader, path) in replayer.session.shader_paths() {
         on(Event::Note(&format!(
             "shader {shader}: {} path",

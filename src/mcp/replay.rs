@@ -10,7 +10,6 @@
 
 use std::path::PathBuf;
 use std::sync::{Arc, mpsc};
-use std::thread::JoinHandle;
 
 use framelab_core::analysis::report::AnalyzeOptions;
 use framelab_core::capture::Options;
@@ -70,59 +69,36 @@ pub enum Job {
     Timings(Timings),
 }
 
-/// A capture's replay worker.
-pub struct Worker {
-    jobs: Option<mpsc::Sender<Job>>,
-    thread: Option<JoinHandle<()>>,
-}
+/// A capture's replay worker: its jobs served in turn on a thread of its own.
+pub struct Worker(framelab_replay::Worker<Job>);
 
 impl Worker {
     pub fn start(path: PathBuf, scale: f64) -> Worker {
-        let (jobs, inbox) = mpsc::channel::<Job>();
-        let thread = std::thread::Builder::new()
-            .name("mcp-replay".into())
-            .spawn(move || serve(&path, scale, &inbox))
-            .ok();
-        Worker {
-            jobs: Some(jobs),
-            thread,
-        }
+        Worker(framelab_replay::Worker::start("mcp-replay", move |inbox| {
+            serve(&path, scale, &inbox)
+        }))
     }
 
     pub fn send(&self, request: Job) -> anyhow::Result<()> {
-        self.jobs
-            .as_ref()
-            .and_then(|j| j.send(request).ok())
-            .ok_or_else(|| anyhow::anyhow!("the replay worker has stopped"))
-    }
-}
-
-impl Drop for Worker {
-    /// Closing the queue ends the worker after its current request.
-    fn drop(&mut self) {
-        self.jobs = None;
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
+        if self.0.send(request) {
+            Ok(())
+        } else {
+            Err(anyhow::anyhow!("the replay worker has stopped"))
         }
     }
 }
 
-type ReadKey = (usize, Option<usize>, u32, u32, u32);
+/// (plan texture, passes done in the held frame, mip, layer, slice).
+type ReadKey = (usize, usize, u32, u32, u32);
 
-/// The session and where frame 0 is held.
+/// The session, its device, and the last subresource read back.
 struct Held {
     replaying: Replaying,
     ctx: framelab_replay::GpuContext,
-    /// The plan texture of each capture texture.
-    texture_of: std::collections::BTreeMap<framelab_core::capture::model::ResourceId, usize>,
-    /// The plan buffer of each capture buffer.
-    buffer_of: std::collections::BTreeMap<framelab_core::capture::model::ResourceId, usize>,
     /// How each plan buffer can be read as rows.
     buffer_views: Vec<framelab_core::buffer_views::BufferView>,
-    /// The last plan pass submitted in the open frame, if one is open.
-    at: Option<usize>,
-    /// The last subresource read back, by (plan texture, pass held at, mip, layer, slice):
-    /// `texture` then `read_texels` of the same view read the GPU once.
+    /// The last subresource read back: `texture` then `read_texels` of the same view read the
+    /// GPU once.
     read_back: Option<(ReadKey, Arc<DecodedImage>)>,
 }
 
@@ -134,17 +110,12 @@ fn start(path: &std::path::Path, scale: f64) -> anyhow::Result<Held> {
     let analysed = Analysed::for_replay(path, &options, AnalyzeOptions { cull: false })?;
     let ctx = framelab_replay::open_device(None, framelab_core::lower::wanted_features())?;
     let lowered = analysed.lower(ctx.device.features(), &ctx.summary.name)?;
-    let texture_of = lowered.texture_of.clone();
-    let buffer_of = lowered.buffer_of.clone();
     let buffer_views = framelab_core::buffer_views::buffer_views(&lowered.plan);
     let replaying = Replaying::start(&ctx, lowered)?;
     Ok(Held {
         replaying,
         ctx,
-        texture_of,
-        buffer_of,
         buffer_views,
-        at: None,
         read_back: None,
     })
 }
@@ -160,8 +131,8 @@ fn serve(path: &std::path::Path, scale: f64, inbox: &mpsc::Receiver<Job>) {
         // A pass before the one the frame is held at needs the frame's starting contents,
         // which the passes since have overwritten: the session starts again.
         if let (Some(after), Some(Ok(h))) = (after, &held)
-            && let (Some(at), Some(stop)) = (h.at, stop_of(h, after).ok().flatten())
-            && stop < at
+            && let (Some(open), Ok(done)) = (h.replaying.open(), done_after(h, after))
+            && done < open.done
         {
             held = None;
         }
@@ -218,57 +189,18 @@ fn timings(
     Ok(h.replaying.report(0))
 }
 
-/// The plan pass after which a request reads (the last one when it names none).
-fn stop_of(h: &Held, after: &Option<String>) -> anyhow::Result<Option<usize>> {
+/// How many plan passes a request reads after: through the pass it names, or all of them.
+fn done_after(h: &Held, after: &Option<String>) -> anyhow::Result<usize> {
     match after {
-        None => Ok(h.replaying.session.plan.passes.len().checked_sub(1)),
-        Some(name) => {
-            let id = h
-                .replaying
-                .capture()
-                .passes
-                .iter()
-                .find(|p| &p.name == name)
-                .ok_or_else(|| anyhow::anyhow!("no pass \"{name}\""))?
-                .id;
-            h.replaying
-                .pass_ids
-                .iter()
-                .position(|&p| p == id)
-                .map(Some)
-                .ok_or_else(|| {
-                    anyhow::anyhow!(
-                        "pass \"{name}\" is not replayed (culled, or outside the replayed order)"
-                    )
-                })
-        }
+        None => Ok(h.replaying.session.plan.passes.len()),
+        Some(name) => Ok(h.replaying.plan_pass(name)? + 1),
     }
 }
 
-/// The plan texture or buffer (`of`, named `kind`) the capture resource `name` became.
-fn plan_index(
-    h: &Held,
-    of: &std::collections::BTreeMap<framelab_core::capture::model::ResourceId, usize>,
-    name: &str,
-    kind: &str,
-) -> anyhow::Result<usize> {
-    let resource = h
-        .replaying
-        .capture()
-        .resources
-        .iter()
-        .find(|x| x.name == name)
-        .ok_or_else(|| anyhow::anyhow!("no resource \"{name}\""))?
-        .id;
-    of.get(&resource)
-        .copied()
-        .ok_or_else(|| anyhow::anyhow!("\"{name}\" is not a {kind} the replay creates"))
-}
-
 fn read(h: &mut Held, r: &Request) -> anyhow::Result<Arc<DecodedImage>> {
-    let texture = plan_index(h, &h.texture_of, &r.resource, "texture")?;
-    advance(h, &r.after, &r.cancel, &r.progress)?;
-    let key = (texture, h.at, r.mip, r.layer, r.slice);
+    let texture = h.replaying.plan_texture(&r.resource)?;
+    let done = advance(h, &r.after, &r.cancel, &r.progress)?;
+    let key = (texture, done, r.mip, r.layer, r.slice);
     if let Some((k, image)) = &h.read_back
         && *k == key
     {
@@ -297,48 +229,41 @@ fn read(h: &mut Held, r: &Request) -> anyhow::Result<Arc<DecodedImage>> {
     Ok(image)
 }
 
-/// Holds frame 0 open right after the pass `after` names: continues from the pass it is held
-/// at, or begins the frame (a fresh session, see `serve`).
+/// Holds frame 0 open right after the pass `after` names (the frame cursor runs on from where
+/// it is held, or begins the frame: `serve` starts a fresh session for an earlier pass), and
+/// returns how many passes are done.
 fn advance(
     h: &mut Held,
     after: &Option<String>,
     cancel: &CancellationToken,
     progress: &(dyn Fn(usize, usize) + Send),
-) -> anyhow::Result<()> {
-    let stop = stop_of(h, after)?;
-    let from = match (h.at, stop) {
-        (Some(at), Some(stop)) if at <= stop => at + 1,
-        // A fresh session (`serve` starts one again for an earlier pass): begin the frame.
-        _ => {
-            let constants = h.replaying.constants(0);
-            h.replaying.session.begin_frame(&constants)?;
-            h.at = None;
-            0
+) -> anyhow::Result<usize> {
+    let done = done_after(h, after)?;
+    let name = h.replaying.capture().name.clone();
+    let mut replayed = false;
+    h.replaying.hold(0, done, |i| {
+        if cancel.is_cancelled() {
+            // The client hears nothing more of a cancelled request; the log says where the
+            // replay stopped.
+            eprintln!(
+                "framelab mcp: {name}: replay cancelled before pass {} of {done}",
+                i + 1
+            );
+            anyhow::bail!("cancelled");
         }
-    };
-    if let Some(stop) = stop {
-        for i in from..=stop {
-            if cancel.is_cancelled() {
-                // The client hears nothing more of a cancelled request; the log says where
-                // the replay stopped.
-                eprintln!(
-                    "framelab mcp: {}: replay cancelled before pass {} of {}",
-                    h.replaying.capture().name,
-                    i + 1,
-                    stop + 1
-                );
-                anyhow::bail!("cancelled");
-            }
-            h.replaying.session.submit_pass(i)?;
-            h.at = Some(i);
-            progress(i + 1, stop + 1);
-        }
+        progress(i, done);
+        replayed = true;
+        Ok(())
+    })?;
+    // A frame held where it was asked for replays nothing and reports nothing.
+    if replayed {
+        progress(done, done);
     }
-    Ok(())
+    Ok(done)
 }
 
 fn read_buffer(h: &mut Held, r: &BufferRequest) -> anyhow::Result<BufferBytes> {
-    let buffer = plan_index(h, &h.buffer_of, &r.resource, "buffer")?;
+    let buffer = h.replaying.plan_buffer(&r.resource)?;
     advance(h, &r.after, &r.cancel, &r.progress)?;
     let source = h.replaying.session.buffer_in_frame(buffer);
     let size = source.size();

@@ -247,6 +247,11 @@ impl Session {
         }
     }
 
+    /// Frames submitted or ended so far, whole or stopped part way.
+    pub fn frames_run(&self) -> u64 {
+        self.frames_run
+    }
+
     /// Whether every pass writes its own start stamp (`set_timestamp_pairs`).
     pub fn timestamp_pairs(&self) -> bool {
         self.timestamps.as_ref().is_some_and(|t| t.pairs)

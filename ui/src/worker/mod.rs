@@ -188,41 +188,24 @@ pub struct Launch {
 /// waits for it, so no replay is still using the device when the process exits.
 #[derive(Debug)]
 pub struct Worker {
-    requests: Option<Sender<Command>>,
+    requests: framelab_replay::Worker<Command>,
     pub replies: Receiver<Reply>,
-    thread: Option<std::thread::JoinHandle<()>>,
-}
-
-impl Drop for Worker {
-    fn drop(&mut self) {
-        self.requests = None;
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
-    }
 }
 
 impl Worker {
     /// Starts the worker: it sets the replay up on its own thread and reports as it goes.
     pub fn start(launch: Launch) -> Worker {
-        let (requests, rx) = std::sync::mpsc::channel();
         let (tx, replies) = std::sync::mpsc::channel();
-        let thread = std::thread::spawn(move || {
+        let requests = framelab_replay::Worker::start("inspector-replay", move |rx| {
             if let Err(Stop::Failed(e)) = run(launch, &rx, &tx) {
                 let _ = tx.send(Reply::Failed(e));
             }
         });
-        Worker {
-            requests: Some(requests),
-            replies,
-            thread: Some(thread),
-        }
+        Worker { requests, replies }
     }
 
     fn send(&self, command: Command) -> bool {
-        self.requests
-            .as_ref()
-            .is_some_and(|r| r.send(command).is_ok())
+        self.requests.send(command)
     }
 
     /// Asks for a view; `false` when the worker has stopped.
@@ -423,8 +406,7 @@ fn ready(s: &State) -> String {
 fn time_frame(s: &mut State, f: u32) -> Result<Timings, Stop> {
     steps::close(s);
     let untrusted = s.replaying.untrusted();
-    let constants = s.replaying.constants(f);
-    let times = s.replaying.session.run_frame(&constants, None)?;
+    let times = s.replaying.run_whole(f)?;
     let trusted = |i: usize| untrusted.get(i).is_none_or(Option::is_none);
     Ok(Timings {
         source: "replay".into(),
@@ -454,8 +436,9 @@ fn browse_frame(
     pending: &mut Pending,
 ) -> Result<(), Stop> {
     s.browsing = true;
-    let constants = s.replaying.constants(1);
-    s.replaying.session.begin_frame(&constants)?;
+    // Frame 1 begun after frame 0, which `time_frame` ran whole.
+    s.replaying
+        .hold(1, 0, |_| Ok::<(), framelab_replay::ReplayError>(()))?;
     let textures: BTreeSet<usize> = s.writes.iter().flat_map(|w| w.textures.clone()).collect();
     let buffers: BTreeSet<usize> = s.writes.iter().flat_map(|w| w.buffers.clone()).collect();
     keep(s, None, &textures, &buffers);
@@ -467,7 +450,8 @@ fn browse_frame(
             i + 1
         )))
         .map_err(|_| Stop::Closed)?;
-        s.replaying.session.submit_pass(i)?;
+        s.replaying
+            .hold(1, i + 1, |_| Ok::<(), framelab_replay::ReplayError>(()))?;
         let w = s.writes.get(i).cloned().unwrap_or_default();
         keep(
             s,
@@ -481,7 +465,7 @@ fn browse_frame(
         pending.drain(rx)?;
         serve(s, pending, rx, tx)?;
     }
-    s.replaying.session.end_frame();
+    s.replaying.release();
     s.browsing = false;
     Ok(())
 }
@@ -658,17 +642,16 @@ fn save(
     Ok(path.display().to_string())
 }
 
-/// Replays frame 1 up to `pass` after a whole frame 0 (what `replay --frames 2 --after PASS`
-/// exports), to make again a copy the budget evicted.
+/// Holds frame 1 open right after `pass`, after a whole frame 0 (what `replay --frames 2
+/// --after PASS` exports), to make again a copy the budget evicted; a later pass asked for next
+/// runs on from there.
 fn replay_to(s: &mut State, pass: usize) -> Result<(), WorkerError> {
     if s.browsing {
         return Err(WorkerError::Later);
     }
     steps::close(s);
-    for (frame, stop) in [(0, None), (1, Some(pass))] {
-        let constants = s.replaying.constants(frame);
-        s.replaying.session.run_frame(&constants, stop)?;
-    }
+    s.replaying
+        .hold(1, pass + 1, |_| Ok::<(), framelab_replay::ReplayError>(()))?;
     Ok(())
 }
 

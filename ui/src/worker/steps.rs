@@ -1,9 +1,8 @@
-//! The frame as of one draw or dispatch of a pass. The worker replays frame 1 up to the pass
-//! (after a whole frame 0) and holds that frame open: copies of what the pass writes, as it was
-//! before the pass ran, let the pass be replayed up to any of its draws again without a replay
-//! from the frame's start, and a later pass is reached by going on from there (the pass run
-//! whole from its starting contents, then the passes between). Anything else that replays
-//! closes the open frame first.
+//! The frame as of one draw or dispatch of a pass. The frame cursor holds frame 1 (after a
+//! whole frame 0) open up to the pass: copies of what the pass writes, as it was before the pass
+//! ran, let the pass be replayed up to any of its draws again without a replay from the frame's
+//! start, and a later pass is reached by going on from there (the pass put back, then run whole
+//! with the passes between). Anything else that replays closes the open frame first.
 
 use std::collections::BTreeMap;
 
@@ -19,7 +18,7 @@ pub(super) struct Open {
 /// Ends the open frame, if there is one, so a whole frame can be replayed.
 pub(super) fn close(s: &mut State) {
     if s.open.take().is_some() {
-        s.replaying.session.end_frame();
+        s.replaying.release();
     }
 }
 
@@ -57,37 +56,23 @@ fn restore(s: &State, before: &[(usize, wgpu::Texture)]) {
     session.queue.submit([encoder.finish()]);
 }
 
-/// Brings the open frame to just before `pass`: on from the pass held open when `pass` is that
-/// one or a later one, from the frame's start otherwise.
+/// Brings the open frame to just before `pass`: the pass held open put back as it was before
+/// it ran, then the frame cursor runs on from there when `pass` is that one or a later one, and
+/// starts frame 1 again otherwise.
 fn open_at(s: &mut State, pass: usize) -> Result<(), WorkerError> {
     if s.browsing {
         return Err(WorkerError::Later);
     }
-    let first = match s.open.take() {
-        Some(o) if o.pass == pass => {
-            restore(s, &o.before);
+    if let Some(o) = s.open.take() {
+        restore(s, &o.before);
+        s.replaying.restored();
+        if o.pass == pass {
             s.open = Some(o);
             return Ok(());
         }
-        Some(o) if o.pass < pass => {
-            restore(s, &o.before);
-            o.pass
-        }
-        Some(_) => {
-            s.replaying.session.end_frame();
-            start(s)?;
-            0
-        }
-        None => {
-            start(s)?;
-            0
-        }
-    };
-    let ran = (first..pass).try_for_each(|i| s.replaying.session.submit_pass(i));
-    if let Err(e) = ran {
-        s.replaying.session.end_frame();
-        return Err(e.into());
     }
+    s.replaying
+        .hold(1, pass, |_| Ok::<(), framelab_replay::ReplayError>(()))?;
     let outputs = s
         .writes
         .get(pass)
@@ -98,21 +83,13 @@ fn open_at(s: &mut State, pass: usize) -> Result<(), WorkerError> {
     Ok(())
 }
 
-/// Frame 0 whole, then frame 1 begun.
-fn start(s: &mut State) -> Result<(), WorkerError> {
-    let constants = s.replaying.constants(0);
-    s.replaying.session.run_frame(&constants, None)?;
-    let constants = s.replaying.constants(1);
-    s.replaying.session.begin_frame(&constants)?;
-    Ok(())
-}
-
 /// Runs `pass` of the open frame up to draw or dispatch `step`, from its starting contents.
 pub(super) fn run_until(s: &mut State, pass: usize, step: usize) -> Result<(), WorkerError> {
     open_at(s, pass)?;
-    let ran = s.replaying.session.submit_pass_until(pass, step);
+    let ran = s.replaying.step(1, pass, step);
     if ran.is_err() {
-        close(s);
+        // The cursor ended the frame.
+        s.open = None;
     }
     Ok(ran?)
 }
