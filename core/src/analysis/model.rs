@@ -497,15 +497,12 @@ pub fn from_capture(capture: &Capture) -> FrameModel {
             }
         })
         .collect();
-    let mut fences = Vec::new();
-    for waiter in &capture.passes {
-        for f in &waiter.wait {
-            if let Some(signaller) = capture.passes.iter().find(|p| p.signal.contains(f)) {
-                // Capture passes are numbered in recorded order, as the model's are.
-                fences.push((MPass(signaller.id.0), MPass(waiter.id.0)));
-            }
-        }
-    }
+    // Capture passes are numbered in recorded order, as the model's are.
+    let fences = capture
+        .fence_edges()
+        .into_iter()
+        .map(|(s, w)| (MPass(s.0), MPass(w.0)))
+        .collect();
     let mut model = FrameModel {
         queues: capture
             .queues

@@ -69,7 +69,7 @@ const WEBGPU_TWINS: &[&str] = &[
     "VK_FORMAT_B8G8R8A8_UINT",
     "VK_FORMAT_B8G8R8A8_SINT",
     "VK_FORMAT_S8_UINT",
-    // Three-channel formats, held with a fourth channel of one (`lower::formats::Repack`).
+    // Three-channel formats, held with a fourth channel of one (`lower::repack::Repack`).
     "R32G32B32_FLOAT",
     "R32G32B32_UINT",
     "R32G32B32_SINT",
@@ -278,8 +278,8 @@ pub fn not_renderable(info: &FormatInfo) -> Option<NotRenderable> {
         return Some(NotRenderable::Packed16);
     }
     if matches!(
-        crate::lower::formats::Repack::of(info.name),
-        Some(crate::lower::formats::Repack::Widen3 { .. })
+        crate::lower::repack::Repack::of(info.name),
+        Some(crate::lower::repack::Repack::Widen3 { .. })
     ) {
         return Some(NotRenderable::ThreeChannel);
     }

@@ -54,6 +54,23 @@ pub struct Capture {
 }
 
 impl Capture {
+    /// Each declared wait as (the pass signalling the fence, the pass waiting on it), waiting
+    /// passes in recorded order; validation lets a fence be signalled once a frame (the first
+    /// signaller is taken otherwise).
+    pub fn fence_edges(&self) -> Vec<(PassId, PassId)> {
+        let mut signaller: std::collections::BTreeMap<FenceId, PassId> = Default::default();
+        for p in &self.passes {
+            for &f in &p.signal {
+                signaller.entry(f).or_insert(p.id);
+            }
+        }
+        self.passes
+            .iter()
+            .flat_map(|w| w.wait.iter().map(move |f| (f, w.id)))
+            .filter_map(|(f, w)| Some((*signaller.get(f)?, w)))
+            .collect()
+    }
+
     /// Imported from a Vulkan program (see `CaptureSource::is_vulkan`).
     pub fn from_vulkan_program(&self) -> bool {
         self.origin
@@ -350,6 +367,22 @@ pub struct Subresources {
 }
 
 impl Subresources {
+    /// `mips 0..1 layers 0..6` for a texture's range, `bytes 0+256` (offset and size) for a
+    /// buffer's, as a pass's details list it.
+    pub fn describe(&self, texture: bool) -> String {
+        if texture {
+            format!(
+                "mips {}..{} layers {}..{}",
+                self.mip_base,
+                self.mip_base + self.mip_count,
+                self.layer_base,
+                self.layer_base + self.layer_count
+            )
+        } else {
+            format!("bytes {}+{}", self.byte_offset, self.byte_size)
+        }
+    }
+
     pub fn whole(resource: &ResourceDesc) -> Self {
         Self {
             mip_base: 0,
@@ -588,6 +621,20 @@ pub struct VulkanBarrierDesc {
     pub old_layout: Option<ImageLayout>,
     pub new_layout: Option<ImageLayout>,
     pub queue_transfer: Option<(u32, u32)>,
+}
+
+impl VulkanBarrierDesc {
+    /// Layouts, then scopes, then origin: `old -> new; stages/access -> stages/access (origin)`.
+    pub fn describe(&self) -> String {
+        let layouts = match (self.old_layout, self.new_layout) {
+            (Some(a), Some(b)) => format!("{a} -> {b}; "),
+            _ => String::new(),
+        };
+        format!(
+            "{layouts}{}/{} -> {}/{} ({})",
+            self.src_stages, self.src_access, self.dst_stages, self.dst_access, self.origin
+        )
+    }
 }
 
 #[derive(Clone, Debug)]

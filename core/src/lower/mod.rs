@@ -12,6 +12,7 @@ pub mod generate;
 mod meshes;
 pub mod packed16;
 mod passes;
+pub mod repack;
 mod resources;
 mod states;
 mod usage;

@@ -1,9 +1,11 @@
 //! The inspector's model projected from the pipeline's stages by id: passes in execution order
 //! with their bindings, attachments, state, work, parameters, derived and recorded barriers and
 //! lints; resources with sizes, heaps, aliasing-plan offsets, first and last use and what they
-//! alias; queue waits; timings from a report and the diff against a second one. The panels
-//! receive only this plain data (ids, names and preformatted text), never capture types, and
-//! `launch` starts the replay they drive.
+//! alias; queue waits; timings from a report and the diff against a second one. The text of a
+//! pass (work, bindings, attachments, state, recorded barriers) is core's `pass_text`, the
+//! derived barriers core's `BarrierReport`, the waits core's fence edges: this module joins
+//! them by id. The panels receive only this plain data (ids, names and preformatted text),
+//! never capture types, and `launch` starts the replay they drive.
 
 mod launch;
 mod timings;
@@ -18,275 +20,13 @@ use crate::model::{
 };
 pub use framelab_core::buffer_views::buffer_views;
 use framelab_replay::wgpu;
-use serde::Serialize;
 
 use framelab_core::analysis::model::{MPass, MResource};
+use framelab_core::analysis::report::pass_text::{self, spelled};
 use framelab_core::analysis::report::{self, Analysis, BarrierReport};
-use framelab_core::capture::model::{
-    BindingTarget, Capture, PassDesc, PassId, ResourceId, Subresources,
-};
+use framelab_core::capture::model::{Capture, PassId, ResourceId};
 use framelab_core::pipeline::{Analysed, Lowered};
 use framelab_core::timing::TimingReport;
-
-/// A serde enum's name as the capture spells it.
-fn spelled(x: &impl Serialize) -> String {
-    match serde_json::to_value(x) {
-        Ok(serde_json::Value::String(s)) => s,
-        Ok(v) => v.to_string(),
-        Err(_) => String::new(),
-    }
-}
-
-fn range_text(r: &Subresources, texture: bool) -> String {
-    if texture {
-        format!(
-            "mips {}..{} layers {}..{}",
-            r.mip_base,
-            r.mip_base + r.mip_count,
-            r.layer_base,
-            r.layer_base + r.layer_count
-        )
-    } else {
-        format!("bytes {}+{}", r.byte_offset, r.byte_size)
-    }
-}
-
-fn params(
-    p: &BTreeMap<String, framelab_core::capture::format::ParamValue>,
-) -> Vec<(String, String)> {
-    p.iter()
-        .map(|(k, v)| (k.clone(), serde_json::to_string(v).unwrap_or_default()))
-        .collect()
-}
-
-fn work(c: &Capture, p: &PassDesc) -> Vec<String> {
-    let name = |r| c.resource(r).name.clone();
-    // An imported draw or dispatch names the Vulkan pipeline it runs with.
-    let pipeline = |vk: &Option<Box<framelab_core::capture::vk_model::VkWork>>| {
-        vk.as_ref()
-            .and_then(|w| c.vulkan.as_ref()?.pipelines.get(w.pipeline))
-            .map_or(String::new(), |pl| format!(" with {}", pl.name))
-    };
-    let mut out = Vec::new();
-    for (i, d) in p.draws.iter().enumerate() {
-        let what = d.label.clone().unwrap_or_else(|| format!("draw {i}"));
-        let args = match (&d.indirect, d.mesh) {
-            (Some((buf, offset)), _) => format!("indirect from {} @ {offset}", name(*buf)),
-            (None, Some(m)) => format!(
-                "mesh {} x{} instances",
-                c.meshes[m.index()].name,
-                d.instances
-            ),
-            (None, None) => format!(
-                "{} vertices x{} instances",
-                d.count.unwrap_or(0),
-                d.instances
-            ),
-        };
-        out.push(format!("{what}: {args}{}", pipeline(&d.vk)));
-    }
-    for (i, d) in p.dispatches.iter().enumerate() {
-        let what = d.label.clone().unwrap_or_else(|| format!("dispatch {i}"));
-        let args = match (&d.indirect, d.groups) {
-            (Some((buf, offset)), _) => format!("indirect from {} @ {offset}", name(*buf)),
-            (None, Some([x, y, z])) => format!("{x}x{y}x{z} groups"),
-            (None, None) => "no groups".to_owned(),
-        };
-        out.push(format!("{what}: {args}{}", pipeline(&d.vk)));
-    }
-    for cp in &p.copies {
-        out.push(format!(
-            "copy {} mip {} -> {} mip {}",
-            name(cp.src.resource),
-            cp.src.mip,
-            name(cp.dst.resource),
-            cp.dst.mip
-        ));
-    }
-    for cl in &p.clears {
-        out.push(format!("clear {} to {:?}", name(cl.resource), cl.value));
-    }
-    if let Some((src, dst)) = p.resolve {
-        out.push(format!("resolve {} -> {}", name(src), name(dst)));
-    }
-    if let Some((r, range)) = &p.generate_mips {
-        out.push(format!(
-            "generate mips of {} ({})",
-            name(*r),
-            range_text(range, true)
-        ));
-    }
-    if let Some(r) = p.present {
-        out.push(format!("present {}", name(r)));
-    }
-    out
-}
-
-fn bindings(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
-    p.bindings
-        .iter()
-        .map(|b| {
-            let target = match &b.target {
-                BindingTarget::Resource {
-                    resource,
-                    view_format,
-                    view_kind,
-                } => {
-                    let r = c.resource(*resource);
-                    let mut s = format!(
-                        "{}{} as {}",
-                        r.name,
-                        if b.previous_frame {
-                            " (previous frame)"
-                        } else {
-                            ""
-                        },
-                        view_kind.as_str()
-                    );
-                    if let Some(f) = view_format {
-                        s.push_str(&format!(" {}", f.name));
-                    }
-                    if let Some(a) = b.access {
-                        s.push_str(&format!(", {}", a.as_str()));
-                    }
-                    if let Some(range) = &b.range {
-                        s.push_str(&format!(", {}", range_text(range, r.is_texture())));
-                    }
-                    s
-                }
-                BindingTarget::Sampler(s) => format!("sampler {}", c.samplers[s.index()].name),
-            };
-            (b.variable.clone(), target)
-        })
-        .collect()
-}
-
-/// Each attachment: its slot, its resource (model index) and the rest of its line.
-fn attachments(p: &PassDesc) -> Vec<crate::model::Attachment> {
-    let mut out: Vec<crate::model::Attachment> = p
-        .color_attachments
-        .iter()
-        .enumerate()
-        .map(|(i, a)| crate::model::Attachment {
-            slot: format!("color {i}"),
-            resource: a.resource.index(),
-            text: format!(
-                "mip {} layer {} ({}), load {}{}, store {}",
-                a.mip,
-                a.layer,
-                a.format.name,
-                spelled(&a.load),
-                if spelled(&a.load) == "clear" {
-                    format!(" {:?}", a.clear)
-                } else {
-                    String::new()
-                },
-                spelled(&a.store)
-            ),
-        })
-        .collect();
-    if let Some(d) = &p.depth_stencil {
-        out.push(crate::model::Attachment {
-            slot: "depth".into(),
-            resource: d.resource.index(),
-            text: format!(
-                "mip {} ({}), depth load {} ({}) store {}, stencil load {} ({}) store {}{}",
-                d.mip,
-                d.format.name,
-                spelled(&d.depth_load),
-                d.depth_clear,
-                spelled(&d.depth_store),
-                spelled(&d.stencil_load),
-                d.stencil_clear,
-                spelled(&d.stencil_store),
-                if d.read_only { ", read-only" } else { "" }
-            ),
-        });
-    }
-    out
-}
-
-fn state(c: &Capture, p: &PassDesc) -> Vec<(String, String)> {
-    let mut out = Vec::new();
-    if let Some(s) = &p.shader {
-        out.push(("shader".to_owned(), c.shader(s.id).file.clone()));
-        for (stage, entry) in [
-            ("vertex", &s.vertex),
-            ("fragment", &s.fragment),
-            ("compute", &s.compute),
-        ] {
-            if let Some(e) = entry {
-                out.push((stage.to_owned(), e.clone()));
-            }
-        }
-    }
-    // An imported pass's state is its draws' and dispatches' pipelines; a pass-level render
-    // state would be made up.
-    if let Some(vk) = &c.vulkan {
-        let mut used: Vec<usize> = p
-            .draws
-            .iter()
-            .filter_map(|d| d.vk.as_ref())
-            .chain(p.dispatches.iter().filter_map(|d| d.vk.as_ref()))
-            .map(|w| w.pipeline)
-            .collect();
-        used.sort_unstable();
-        used.dedup();
-        for pl in used.iter().filter_map(|&i| vk.pipelines.get(i)) {
-            let stages: Vec<String> = pl
-                .stages
-                .iter()
-                .filter_map(|s| {
-                    let m = vk.modules.get(s.module)?;
-                    Some(format!(
-                        "{} {}",
-                        s.stage
-                            .trim_start_matches("VK_SHADER_STAGE_")
-                            .trim_end_matches("_BIT")
-                            .to_lowercase(),
-                        m.name
-                    ))
-                })
-                .collect();
-            out.push((pl.name.clone(), stages.join(", ")));
-            if let Some(g) = &pl.graphics {
-                let short = |n: &str, prefix: &str| n.trim_start_matches(prefix).to_lowercase();
-                let mut line = format!(
-                    "{}, cull {}, front {}",
-                    short(&g.topology, "VK_PRIMITIVE_TOPOLOGY_"),
-                    ["none", "front", "back", "both"][(g.cull_mode & 3) as usize],
-                    short(&g.front_face, "VK_FRONT_FACE_")
-                );
-                if let Some(d) = g.depth_stencil.as_ref().filter(|d| d.depth_test) {
-                    line += &format!(
-                        ", depth {}{}",
-                        short(&d.depth_compare, "VK_COMPARE_OP_"),
-                        if d.depth_write { " write" } else { "" }
-                    );
-                }
-                if g.blend.iter().any(|b| b.enable) {
-                    line += ", blend";
-                }
-                out.push((String::new(), line));
-            }
-        }
-        return out;
-    }
-    // An import without code records no pipeline state: the defaults would be made up.
-    if p.kind.as_str() == "raster"
-        && c.not_replayable().is_none()
-        && let Ok(serde_json::Value::Object(m)) = serde_json::to_value(&p.state)
-    {
-        for (k, v) in m {
-            let text = match v {
-                serde_json::Value::String(s) => s,
-                other => other.to_string(),
-            };
-            out.push((k, text));
-        }
-    }
-    out
-}
 
 fn derived(b: &BarrierReport, side: BarrierSide) -> Barrier {
     Barrier {
@@ -301,46 +41,6 @@ fn derived(b: &BarrierReport, side: BarrierSide) -> Barrier {
         },
         vulkan: b.vulkan.describe(),
     }
-}
-
-fn recorded(c: &Capture, p: &PassDesc) -> Vec<Barrier> {
-    p.barriers
-        .iter()
-        .map(|b| {
-            let resource = b.resource.map(|r| c.resource(r));
-            let states = |s: &[framelab_core::capture::format::ResourceState]| {
-                s.iter().map(spelled).collect::<Vec<_>>().join("|")
-            };
-            Barrier {
-                side: BarrierSide::Before,
-                source: BarrierSource::Recorded,
-                kind: spelled(&b.barrier_type),
-                resource: resource.map_or("(all)".to_owned(), |r| r.name.clone()),
-                subresource: match (&b.range, resource) {
-                    (Some(range), Some(r)) => range_text(range, r.is_texture()),
-                    _ => "all".to_owned(),
-                },
-                states: match b.resource_before {
-                    Some(before) => format!("{} -> ...", c.resource(before).name),
-                    None if b.before.is_empty() && b.after.is_empty() => String::new(),
-                    None => format!("{} -> {}", states(&b.before), states(&b.after)),
-                },
-                vulkan: b.vulkan.as_ref().map(vulkan_text).unwrap_or_default(),
-            }
-        })
-        .collect()
-}
-
-/// A recorded Vulkan barrier as the details pane lists it: layouts, then scopes, then origin.
-fn vulkan_text(v: &framelab_core::capture::model::VulkanBarrierDesc) -> String {
-    let layouts = match (v.old_layout, v.new_layout) {
-        (Some(a), Some(b)) => format!("{a} -> {b}; "),
-        _ => String::new(),
-    };
-    format!(
-        "{layouts}{}/{} -> {}/{} ({})",
-        v.src_stages, v.src_access, v.dst_stages, v.dst_access, v.origin
-    )
 }
 
 /// How the viewer reads a plan texture, or why it cannot.
@@ -558,7 +258,19 @@ fn model(
         .map(|(i, &id)| {
             let p = c.pass(id);
             let mut barriers = derived_at(Some(&id), BarrierSide::Before);
-            barriers.extend(recorded(c, p));
+            barriers.extend(
+                pass_text::recorded_barriers(c, p)
+                    .into_iter()
+                    .map(|b| Barrier {
+                        side: BarrierSide::Before,
+                        source: BarrierSource::Recorded,
+                        kind: b.kind,
+                        resource: b.resource,
+                        subresource: b.subresource,
+                        states: b.states,
+                        vulkan: b.vulkan,
+                    }),
+            );
             barriers.extend(derived_at(order.get(i + 1), BarrierSide::After));
             let mut pass_lints = lints.remove(&id).unwrap_or_default();
             pass_lints.sort();
@@ -570,12 +282,19 @@ fn model(
                 kind: p.kind.as_str().to_owned(),
                 markers: p.markers.clone(),
                 culled: a.culled.contains(&id),
-                work: work(c, p),
+                work: pass_text::work(c, p),
                 steps: p.draws.len() + p.dispatches.len(),
-                bindings: bindings(c, p),
-                attachments: attachments(p),
-                state: state(c, p),
-                params: params(&p.params),
+                bindings: pass_text::bindings(c, p),
+                attachments: pass_text::attachments(p)
+                    .into_iter()
+                    .map(|a| crate::model::Attachment {
+                        slot: a.slot,
+                        resource: a.resource.index(),
+                        text: a.text,
+                    })
+                    .collect(),
+                state: pass_text::state(c, p),
+                params: pass_text::params(&p.params),
                 barriers,
                 lints: pass_lints
                     .iter()
@@ -593,7 +312,16 @@ fn model(
         queues: c.queues.iter().map(|q| q.name.clone()).collect(),
         passes,
         resources: resources(c, a, lowered, &pass_index),
-        fences: fences(c, order),
+        fences: {
+            // Cross-queue waits between the passes shown, as positions in `order`.
+            let mut f: Vec<(usize, usize)> = c
+                .fence_edges()
+                .into_iter()
+                .filter_map(|(s, w)| Some((*pass_index.get(&s)?, *pass_index.get(&w)?)))
+                .collect();
+            f.sort_unstable();
+            f
+        },
         edges: edges(a, &pass_index),
         memory: memory(a, &pass_index),
         timings: None,
@@ -613,27 +341,6 @@ fn model(
         }
     }
     Ok(m)
-}
-
-/// Cross-queue waits between the passes shown (positions in `order`): each fence's
-/// signalling passes found once, then every pass that waits on it.
-fn fences(c: &Capture, order: &[PassId]) -> Vec<(usize, usize)> {
-    let mut signalled_by: BTreeMap<_, Vec<usize>> = BTreeMap::new();
-    for (j, &id) in order.iter().enumerate() {
-        for &f in &c.pass(id).signal {
-            signalled_by.entry(f).or_default().push(j);
-        }
-    }
-    let mut out = Vec::new();
-    for (i, &id) in order.iter().enumerate() {
-        for f in &c.pass(id).wait {
-            for &j in signalled_by.get(f).map(Vec::as_slice).unwrap_or_default() {
-                out.push((j, i));
-            }
-        }
-    }
-    out.sort_unstable();
-    out
 }
 
 /// The resources (model indices: capture order) pass `p` writes (`writes`) or only reads, each

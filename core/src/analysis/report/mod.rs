@@ -1,8 +1,10 @@
 //! `framelab analyze` and `framelab graph`: runs every analysis on a capture and turns the
 //! results into stable, sorted reports (JSON with names instead of ids) and readable tables,
-//! and the pass graph into JSON or Graphviz DOT (`graph`); `text` renders the tables.
+//! and the pass graph into JSON or Graphviz DOT (`graph`); `text` renders the tables, and
+//! `pass_text` spells one pass (its work, bindings, state, recorded barriers) for viewers.
 
 mod graph_out;
+pub mod pass_text;
 mod text;
 
 pub use graph_out::{GraphEdge, GraphPass, GraphReport, HistoryReadReport, dot, graph_report};
