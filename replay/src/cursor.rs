@@ -131,26 +131,26 @@ impl Replaying {
 
     /// The plan texture the capture's resource `name` became.
     pub fn plan_texture(&self, name: &str) -> Result<usize, NameError> {
-        let id = self.resource_named(name)?;
-        self.texture_of
-            .get(&id)
-            .copied()
-            .ok_or_else(|| NameError::NotReplayed {
-                name: name.to_owned(),
-                kind: "texture",
-            })
+        self.plan_index(name, &self.texture_of, "texture")
     }
 
     /// The plan buffer the capture's resource `name` became.
     pub fn plan_buffer(&self, name: &str) -> Result<usize, NameError> {
+        self.plan_index(name, &self.buffer_of, "buffer")
+    }
+
+    /// Where the capture's resource `name` is in `of` (the plan's textures or buffers, `kind`).
+    fn plan_index(
+        &self,
+        name: &str,
+        of: &std::collections::BTreeMap<framelab_core::capture::model::ResourceId, usize>,
+        kind: &'static str,
+    ) -> Result<usize, NameError> {
         let id = self.resource_named(name)?;
-        self.buffer_of
-            .get(&id)
-            .copied()
-            .ok_or_else(|| NameError::NotReplayed {
-                name: name.to_owned(),
-                kind: "buffer",
-            })
+        of.get(&id).copied().ok_or_else(|| NameError::NotReplayed {
+            name: name.to_owned(),
+            kind,
+        })
     }
 
     fn resource_named(

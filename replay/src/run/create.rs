@@ -103,7 +103,7 @@ pub(super) fn textures(
     plan: &Plan,
 ) -> Result<Vec<[wgpu::Texture; 2]>, ReplayError> {
     let mut textures = Vec::new();
-    let mut depth = super::depth_upload::DepthUploads::default();
+    let mut depth = super::depth_upload::uploads();
     for t in &plan.textures {
         let g = scope(device);
         let make = |suffix: &str| {
@@ -127,7 +127,7 @@ pub(super) fn textures(
         if let Some(data) = &t.initial {
             for tex in if t.history { vec![&a, &b] } else { vec![&a] } {
                 if super::depth_upload::drawn(t) {
-                    depth.draw(device, queue, tex, t, data);
+                    super::depth_upload::draw(&mut depth, device, queue, tex, t, data);
                 } else {
                     write_texture(queue, tex, t, data);
                 }

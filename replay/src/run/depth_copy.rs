@@ -4,12 +4,11 @@
 //! buffer (bound as storage, from the region's first word) and write it as their depth, every
 //! test passing: a float as it is, 24 normalized bits as the float they stand for.
 
-use std::collections::BTreeMap;
-
-use framelab_core::plan::{CopyEnd, CopyOp};
+use framelab_core::plan::CopyOp;
 
 use super::Session;
-use super::drawn_copies::{Region, regions};
+use super::drawn_copies::{Region, buffer_into_texture, regions};
+use super::encode::EncodeError;
 
 const SHADER: &str = "
 struct U { offset: u32, pitch: u32, origin: vec2<u32>, float_words: u32, pad0: u32, pad1: u32, pad2: u32 }
@@ -30,9 +29,8 @@ struct U { offset: u32, pitch: u32, origin: vec2<u32>, float_words: u32, pad0: u
 ";
 
 /// The pipelines depth copies draw with, one a depth format, made before the first frame.
-#[derive(Default)]
-pub(super) struct DepthCopyPipelines {
-    pipelines: BTreeMap<String, wgpu::RenderPipeline>,
+pub(super) fn pipelines() -> super::depth_upload::DepthPipelines {
+    super::depth_upload::DepthPipelines::new("depth copy", SHADER)
 }
 
 /// The uniform words of region `r`: where its first word is, the pitch, the origin, and
@@ -43,51 +41,28 @@ fn words(r: &Region, float_words: bool) -> [u32; 8] {
 }
 
 impl Session {
-    /// The depth copy pipeline for `format`, made on first use.
-    pub(super) fn depth_copy_pipeline(&mut self, format: wgpu::TextureFormat) {
-        let key = format!("{format:?}");
-        if self.depth_copies.pipelines.contains_key(&key) {
-            return;
-        }
-        let module = self
-            .device
-            .create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("depth copy"),
-                source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-            });
-        let pipeline =
-            super::depth_upload::depth_pipeline(&self.device, "depth copy", &module, format);
-        self.depth_copies.pipelines.insert(key, pipeline);
-    }
-
     /// Draws copy `c` into its depth destination, each texel's depth read from the buffer.
     pub(super) fn encode_depth_copy(
         &self,
         c: &CopyOp,
         parity: usize,
         encoder: &mut wgpu::CommandEncoder,
-    ) {
-        let (
-            CopyEnd::Buffer { buffer, .. },
-            CopyEnd::Texture {
-                texture,
-                mip,
-                layer,
-                ..
-            },
-        ) = (&c.src, &c.dst)
-        else {
-            return;
+    ) -> Result<(), EncodeError> {
+        let Some((buffer, texture, mip, layer)) = buffer_into_texture(c) else {
+            return Ok(());
         };
-        let format = self.plan.textures[*texture].format;
-        let Some(pipeline) = self.depth_copies.pipelines.get(&format!("{format:?}")) else {
-            return;
-        };
+        let format = self.plan.textures[texture].format;
+        // Made for every pass with such a copy before the first frame: a copy never goes
+        // undrawn.
+        let pipeline = self
+            .depth_copies
+            .get(format)
+            .ok_or_else(|| EncodeError::NoPipeline(format!("depth copy into {format:?}")))?;
         let float_words = format == wgpu::TextureFormat::Depth32Float;
-        let source = &self.buffers[*buffer][parity];
+        let source = &self.buffers[buffer][parity];
         for (z, r) in regions(c, 4, source.size()).into_iter().enumerate() {
             let group = self.storage_group(pipeline, source, &r, &words(&r, float_words));
-            let dst = self.view(*texture, parity, *mip, layer + z as u32, None);
+            let dst = self.view(texture, parity, mip, layer + z as u32, None);
             let mut rp = super::depth_upload::depth_pass(
                 encoder,
                 "depth copy",
@@ -97,6 +72,7 @@ impl Session {
             );
             super::drawn_copies::draw_region(&mut rp, pipeline, &group, &r);
         }
+        Ok(())
     }
 }
 

@@ -5,7 +5,7 @@
 //! would: a float as it is, a 24-bit normalized depth as the float it stands for, which the
 //! attachment rounds back to the same 24 bits.
 
-use std::collections::BTreeMap;
+use std::collections::HashMap;
 
 use framelab_core::plan::TextureSpec;
 
@@ -82,35 +82,62 @@ pub(super) fn depth_pipeline(
     })
 }
 
-/// The upload pipelines, one a depth format, made on first use while the textures are made.
-#[derive(Default)]
-pub(super) struct DepthUploads {
-    pipelines: BTreeMap<String, wgpu::RenderPipeline>,
+/// Pipelines that write depth from a fragment shader (`depth_pipeline`), one a depth format,
+/// made on first use: the depth uploads' and the depth copies'.
+pub(super) struct DepthPipelines {
+    label: &'static str,
+    shader: &'static str,
+    made: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
 }
 
-impl DepthUploads {
-    /// Writes `mips` (the capture's bytes, one entry a mip level, its layers one after
-    /// another) into depth texture `t` by drawing them.
-    pub(super) fn draw(
+impl DepthPipelines {
+    pub(super) fn new(label: &'static str, shader: &'static str) -> DepthPipelines {
+        DepthPipelines {
+            label,
+            shader,
+            made: HashMap::new(),
+        }
+    }
+
+    /// The pipeline writing `format`, made now if it was not.
+    pub(super) fn make(
         &mut self,
         device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        t: &wgpu::Texture,
-        spec: &TextureSpec,
-        mips: &[Vec<u8>],
-    ) {
-        let pipeline = self
-            .pipelines
-            .entry(format!("{:?}", spec.format))
-            .or_insert_with(|| {
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("framelab depth upload"),
-                    source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-                });
-                depth_pipeline(device, "framelab depth upload", &module, spec.format)
+        format: wgpu::TextureFormat,
+    ) -> &wgpu::RenderPipeline {
+        let (label, shader) = (self.label, self.shader);
+        self.made.entry(format).or_insert_with(|| {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(shader.into()),
             });
-        upload(device, queue, pipeline, t, spec, mips);
+            depth_pipeline(device, label, &module, format)
+        })
     }
+
+    /// The pipeline writing `format`, if it was made.
+    pub(super) fn get(&self, format: wgpu::TextureFormat) -> Option<&wgpu::RenderPipeline> {
+        self.made.get(&format)
+    }
+}
+
+/// The upload pipelines, made while the textures are made.
+pub(super) fn uploads() -> DepthPipelines {
+    DepthPipelines::new("framelab depth upload", SHADER)
+}
+
+/// Writes `mips` (the capture's bytes, one entry a mip level, its layers one after another)
+/// into depth texture `t` by drawing them.
+pub(super) fn draw(
+    pipelines: &mut DepthPipelines,
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    t: &wgpu::Texture,
+    spec: &TextureSpec,
+    mips: &[Vec<u8>],
+) {
+    let pipeline = pipelines.make(device, spec.format);
+    upload(device, queue, pipeline, t, spec, mips);
 }
 
 /// Draws `mips` into `t` with `pipeline`, a float copy of each level its source.

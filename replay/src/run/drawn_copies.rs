@@ -21,6 +21,22 @@ pub(super) struct Region {
     pub scissor: (u32, u32, u32, u32),
 }
 
+/// The ends of a copy from a buffer into a texture: (buffer, texture, mip, first layer).
+pub(super) fn buffer_into_texture(c: &CopyOp) -> Option<(usize, usize, u32, u32)> {
+    match (&c.src, &c.dst) {
+        (
+            CopyEnd::Buffer { buffer, .. },
+            CopyEnd::Texture {
+                texture,
+                mip,
+                layer,
+                ..
+            },
+        ) => Some((*buffer, *texture, *mip, *layer)),
+        _ => None,
+    }
+}
+
 /// The regions of `c` (texels of `texel_bytes` in the buffer), one per layer; none where the
 /// copy is empty, and none for a layer that runs past the buffer.
 pub(super) fn regions(c: &CopyOp, texel_bytes: u32, buffer_size: u64) -> Vec<Region> {

@@ -152,7 +152,7 @@ impl Session {
             (PassOp::Copy(copies), _) => {
                 stamp_encoder(encoder, false);
                 for c in copies {
-                    self.encode_copy(c, parity, encoder);
+                    self.encode_copy(c, parity, encoder).map_err(err)?;
                 }
                 stamp_encoder(encoder, true);
             }
@@ -424,14 +424,17 @@ impl Session {
         Ok(())
     }
 
-    fn encode_copy(&self, c: &CopyOp, parity: usize, encoder: &mut wgpu::CommandEncoder) {
+    fn encode_copy(
+        &self,
+        c: &CopyOp,
+        parity: usize,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<(), EncodeError> {
         if let Some(layout) = c.unpack {
-            self.encode_unpack(c, layout, parity, encoder);
-            return;
+            return self.encode_unpack(c, layout, parity, encoder);
         }
         if c.depth {
-            self.encode_depth_copy(c, parity, encoder);
-            return;
+            return self.encode_depth_copy(c, parity, encoder);
         }
         let tex = |t: usize| self.tex_at(t, parity);
         let buf = |b: usize| self.buf_at(b, parity);
@@ -481,6 +484,7 @@ impl Session {
                 }
             }
         }
+        Ok(())
     }
 
     /// The two ends of a buffer-texture copy, whichever way it goes.

@@ -123,7 +123,7 @@ pub struct Session {
     mip_pipelines: BTreeMap<String, (wgpu::RenderPipeline, wgpu::Sampler)>,
     blits: blit::BlitPipelines,
     unpacks: unpack::UnpackPipeline,
-    depth_copies: depth_copy::DepthCopyPipelines,
+    depth_copies: depth_upload::DepthPipelines,
     clear_rects: clear_rects::ClearPipelines,
     timestamps: Option<stamps::Timestamps>,
     /// The queries the last submitted frame writes.
@@ -200,7 +200,7 @@ impl Session {
             mip_pipelines: BTreeMap::new(),
             blits: Default::default(),
             unpacks: Default::default(),
-            depth_copies: Default::default(),
+            depth_copies: depth_copy::pipelines(),
             clear_rects: Default::default(),
             timestamps,
             stamp_plan: Default::default(),

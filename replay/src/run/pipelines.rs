@@ -93,7 +93,8 @@ impl Session {
                 }
                 for c in copies.iter().filter(|c| c.depth) {
                     if let CopyEnd::Texture { texture, .. } = c.dst {
-                        self.depth_copy_pipeline(self.plan.textures[texture].format);
+                        self.depth_copies
+                            .make(&self.device, self.plan.textures[texture].format);
                     }
                 }
                 Prepared::Other

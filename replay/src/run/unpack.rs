@@ -4,10 +4,11 @@
 //! their texel's 16-bit word from the buffer (bound as storage, from the region's first word)
 //! and widen each channel from its bits; a channel the format lacks reads 1.
 
-use framelab_core::plan::{CopyEnd, CopyOp, Packed16};
+use framelab_core::plan::{CopyOp, Packed16};
 
 use super::Session;
-use super::drawn_copies::{Region, regions};
+use super::drawn_copies::{Region, buffer_into_texture, regions};
+use super::encode::EncodeError;
 
 const SHADER: &str = "
 struct U { offset: u32, pitch: u32, origin: vec2<u32>, shift: vec4<u32>, bits: vec4<u32> }
@@ -76,26 +77,21 @@ impl Session {
         layout: Packed16,
         parity: usize,
         encoder: &mut wgpu::CommandEncoder,
-    ) {
-        let (
-            CopyEnd::Buffer { buffer, .. },
-            CopyEnd::Texture {
-                texture,
-                mip,
-                layer,
-                ..
-            },
-        ) = (&c.src, &c.dst)
-        else {
-            return;
+    ) -> Result<(), EncodeError> {
+        let Some((buffer, texture, mip, layer)) = buffer_into_texture(c) else {
+            return Ok(());
         };
-        let Some(pipeline) = &self.unpacks.pipeline else {
-            return;
-        };
-        let source = &self.buffers[*buffer][parity];
+        // Made for every pass with such a copy before the first frame: a copy never goes
+        // undrawn.
+        let pipeline = self
+            .unpacks
+            .pipeline
+            .as_ref()
+            .ok_or_else(|| EncodeError::NoPipeline("unpack 16-bit texels".into()))?;
+        let source = &self.buffers[buffer][parity];
         for (z, r) in regions(c, 2, source.size()).into_iter().enumerate() {
             let group = self.storage_group(pipeline, source, &r, &words(&r, layout));
-            let dst = self.view(*texture, parity, *mip, layer + z as u32, None);
+            let dst = self.view(texture, parity, mip, layer + z as u32, None);
             let mut rp = super::encode::one_target(
                 encoder,
                 "unpack 16-bit texels",
@@ -104,6 +100,7 @@ impl Session {
             );
             super::drawn_copies::draw_region(&mut rp, pipeline, &group, &r);
         }
+        Ok(())
     }
 }
 
